@@ -1,0 +1,49 @@
+// hbfriction — output: atomic files, CSV tables and their column documentation.
+#pragma once
+
+#include <fstream>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hbf/analytic.hpp"
+
+namespace hbf::io {
+
+/// An output destination that never leaves a partial file behind: the content goes to a
+/// temporary file beside the target and is renamed onto it by commit(). Without commit()
+/// (an error, an exception) the temporary file is removed and the target is untouched.
+/// An empty path or "-" means standard output (written directly).
+class OutputFile {
+public:
+    explicit OutputFile(std::string path);
+    ~OutputFile();
+    OutputFile(const OutputFile&) = delete;
+    OutputFile& operator=(const OutputFile&) = delete;
+
+    std::ostream& stream();
+    /// Flushes and moves the file into place; throws std::runtime_error on failure.
+    void commit();
+
+private:
+    std::string path_;
+    std::string temporary_;
+    std::ofstream file_;
+    bool committed_ = false;
+};
+
+/// A CSV field: shortest round-trip decimal, or empty when there is no value.
+std::string csv_field(const std::optional<double>& value);
+
+/// Column names and meanings of the analytic table, in order (used by the header and --help).
+struct Column {
+    const char* name;
+    const char* meaning;
+};
+const std::vector<Column>& analytic_columns();
+
+/// Writes the header row and one row per frequency.
+void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows);
+
+}  // namespace hbf::io

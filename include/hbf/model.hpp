@@ -1,0 +1,127 @@
+// hbfriction — the structural model: linear structure plus friction contacts.
+//
+// Equations of motion (N degrees of freedom, time t, excitation frequency omega):
+//
+//     M y'' + C y' + K y + sum_c w_c f_c(t) = F cos(omega t),
+//
+// where contact c sees the relative displacement q_c = w_c^T y, with
+// w_c = e_a - e_b (two DOFs a, b) or w_c = e_a (DOF a against the ground), and produces
+// the friction force f_c(t) from its law. f_c acts on DOF a with sign -f_c (it opposes the
+// relative motion q_c) and on DOF b with +f_c.
+//
+// The model holds data only; the friction layer turns a Contact into a force evaluator.
+#pragma once
+
+#include <Eigen/Dense>
+#include <complex>
+#include <string>
+#include <vector>
+
+namespace hbf {
+
+/// Friction laws a contact can carry. Definitions (f = friction force, q = relative
+/// displacement, v = q', F_c = friction_limit, sigma0/sigma1 = contact stiffness/damping):
+///   coulomb: f = F_c sign(v) in slip, |f| <= F_c in stick (set-valued)     (paper eq. 3)
+///   dahl:    f = sigma0 z,              z' = v - sigma0 |v| z / F_c         (paper eq. 16)
+///   lugre:   f = sigma0 z + sigma1 z',  z' = v - sigma0 |v| z / F_c         (paper eq. 17)
+enum class FrictionLaw { coulomb, dahl, lugre };
+
+/// "coulomb", "dahl", "lugre".
+std::string to_string(FrictionLaw law);
+/// Inverse of to_string; throws InvalidInput naming the allowed values.
+FrictionLaw parse_friction_law(const std::string& name);
+
+/// One friction contact. Units are those of the System (nondimensional for the presets).
+struct Contact {
+    static constexpr int ground = -1;
+    int dof = 0;                ///< DOF a (0-based)
+    int other_dof = ground;     ///< DOF b (0-based), or Contact::ground
+    FrictionLaw law = FrictionLaw::coulomb;
+    double friction_limit = 0;  ///< F_c = mu N, the sliding friction force (> 0)
+    double stiffness = 0;       ///< sigma0, contact (bristle) stiffness (Dahl, LuGre; > 0)
+    double damping = 0;         ///< sigma1, contact (bristle) damping (LuGre; >= 0)
+};
+
+/// A linear structure with friction contacts under harmonic excitation F cos(omega t).
+struct System {
+    Eigen::MatrixXd mass;        ///< M, symmetric positive definite
+    Eigen::MatrixXd damping;     ///< C, symmetric positive semi-definite (may be zero)
+    Eigen::MatrixXd stiffness;   ///< K, symmetric
+    Eigen::VectorXd excitation;  ///< F, amplitude of the force F cos(omega t)
+    std::vector<Contact> contacts;
+
+    int dofs() const { return static_cast<int>(mass.rows()); }
+    /// w_c: the relative displacement of contact c is q_c = w_c^T y.
+    Eigen::VectorXd contact_direction(const Contact& contact) const;
+    /// Throws InvalidInput when dimensions, symmetry or contact parameters are wrong.
+    void validate() const;
+};
+
+/// Complex amplitude Y of the steady state y(t) = Re(Y e^{i omega t}) of the linear system
+/// M y'' + C y' + K y = F cos(omega t), i.e. the solution of (K - omega^2 M + i omega C) Y = F.
+Eigen::VectorXcd linear_response(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
+                                 const Eigen::MatrixXd& stiffness,
+                                 const Eigen::VectorXd& excitation, double omega);
+
+// ---------------------------------------------------------------------------------------
+// The paper's friction absorber (2 DOF), in the paper's nondimensional variables (eq. 2):
+//   time tau = omega1 t, displacements y = x / x_s with x_s = N / k1, forces in units of N.
+//
+//   y1'' + (1 + r wa^2) y1 - r wa^2 y2 + f = fe cos(omega tau)
+//   r y2'' - r wa^2 (y1 - y2)          - f = 0          (paper eq. 2, second row times r)
+//
+// so M = diag(1, r), K = [[1 + r wa^2, -r wa^2], [-r wa^2, r wa^2]], C = 0, F = (fe, 0),
+// and one contact between DOF 1 and DOF 2 (q = y1 - y2) with F_c = mu. For Dahl and LuGre
+// the contact stiffness and damping are sigma0 = r wb^2 and sigma1 = 2 xi r wb (paper
+// eqs. 18-19 / B.4: f = r wb^2 y3 + 2 xi r wb y3').
+// ---------------------------------------------------------------------------------------
+struct AbsorberParameters {
+    double mass_ratio = 0.1;               ///< r  = m2 / m1
+    double tuning_ratio = 1.0;             ///< wa = omega2 / omega1, omega2 = sqrt(k2/m2)
+    double friction_coefficient = 0.2;     ///< mu = mu_c (the slip force is mu N)
+    double excitation = 0.5;               ///< fe = F0 / N
+    double contact_stiffness_ratio = 0.4;  ///< wb = omega3 / omega1, omega3 = sqrt(sigma0/m2)
+    double contact_damping_ratio = 0.01;   ///< xi = sigma1 / (2 m2 omega3)
+
+    /// Throws InvalidInput naming the first parameter out of range: r, wa, mu, fe > 0;
+    /// for Dahl and LuGre also wb > 0; for LuGre xi >= 0 (wb, xi are unused by Coulomb).
+    void validate(FrictionLaw law) const;
+};
+
+/// The paper's absorber as a System (see the block comment above).
+System friction_absorber(const AbsorberParameters& parameters, FrictionLaw law);
+
+/// Physical parameters of the absorber (any consistent unit system, e.g. SI).
+struct PhysicalAbsorber {
+    double m1 = 0;                    ///< main mass
+    double k1 = 0;                    ///< main stiffness
+    double m2 = 0;                    ///< absorber mass
+    double k2 = 0;                    ///< absorber stiffness
+    double normal_force = 0;          ///< N, normal load in the contact
+    double force_amplitude = 0;       ///< F0, amplitude of F0 cos(Omega t) on m1
+    double friction_coefficient = 0;  ///< mu_c (dimensionless)
+    double sigma0 = 0;                ///< contact stiffness (Dahl, LuGre)
+    double sigma1 = 0;                ///< contact damping (LuGre)
+
+    void validate() const;
+};
+
+/// Scales between physical and nondimensional quantities:
+/// t = tau * time, Omega = omega * frequency, x = y * displacement, F_nl = f_nl * force.
+struct Scales {
+    double frequency = 1;     ///< omega1 = sqrt(k1 / m1)    [rad / time]
+    double time = 1;          ///< 1 / omega1                [time]
+    double displacement = 1;  ///< x_s = N / k1              [length]
+    double force = 1;         ///< N                         [force]
+};
+
+/// Paper section 2 and Appendix B: r = m2/m1, wa = sqrt(k2/m2)/omega1, fe = F0/N,
+/// wb = sqrt(sigma0/m2)/omega1, xi = sigma1 / (2 m2 sqrt(sigma0/m2)); mu unchanged.
+/// sigma0 = 0 is allowed (Coulomb only); then wb = 0 and xi = 0.
+AbsorberParameters to_nondimensional(const PhysicalAbsorber& physical);
+Scales scales_of(const PhysicalAbsorber& physical);
+/// Inverse of to_nondimensional, given the three reference quantities m1, k1 and N.
+PhysicalAbsorber to_physical(const AbsorberParameters& parameters, double m1, double k1,
+                             double normal_force);
+
+}  // namespace hbf

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Command 2 of the README (and CI): installs the dependencies, builds hbfriction with its
+# tests (Release, warnings as errors) and runs the whole test suite through CTest.
+# SANITIZE=1 builds in build-asan/ with AddressSanitizer and UndefinedBehaviorSanitizer.
+set -euo pipefail
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+source "$ROOT/scripts/common.sh"
+
+"$ROOT/scripts/install-deps.sh"
+if [[ ${SANITIZE:-0} == 1 ]]; then
+  dir="$ROOT/build-asan"
+  echo "== building (Debug, ASan + UBSan) in build-asan/" >&2
+  build_project "$dir" Debug -DHBF_SANITIZE=ON
+else
+  dir="$ROOT/build"
+  echo "== building (Release) in build/" >&2
+  build_project "$dir" Release
+fi
+echo "== running the tests" >&2
+cd "$dir"
+ctest --output-on-failure --parallel "$(nproc 2>/dev/null || echo 2)"

@@ -1,0 +1,156 @@
+#include "hbf/analytic.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "hbf/error.hpp"
+
+namespace hbf::analytic {
+
+namespace {
+constexpr double pi = 3.14159265358979323846;
+constexpr double infinity = std::numeric_limits<double>::infinity();
+const Complex i_unit(0.0, 1.0);
+
+double sign(double x) { return (x > 0.0) - (x < 0.0); }
+
+/// 1 - (1 + r) omega^2
+double stuck_stiffness(const AbsorberParameters& p, double omega) {
+    return 1.0 - (1.0 + p.mass_ratio) * omega * omega;
+}
+
+/// (1 - omega^2)(K2 - omega^2) - r K2 omega^2 for a (possibly complex) absorber stiffness K2.
+Complex two_dof_determinant(double r, Complex k2, double omega) {
+    const double w2 = omega * omega;
+    return (1.0 - w2) * (k2 - w2) - r * k2 * w2;
+}
+
+/// Complex absorber stiffness wa^2 + wb^2 + 2 i xi wb omega of the pre-sliding contact.
+Complex presliding_stiffness(const AbsorberParameters& p, double omega, FrictionLaw law) {
+    if (law != FrictionLaw::dahl && law != FrictionLaw::lugre)
+        throw InvalidInput("law = " + to_string(law) + " has no contact stiffness: allowed dahl, lugre");
+    const double wb = p.contact_stiffness_ratio;
+    const double xi = law == FrictionLaw::lugre ? p.contact_damping_ratio : 0.0;
+    return Complex(p.tuning_ratio * p.tuning_ratio + wb * wb, 2.0 * xi * wb * omega);
+}
+
+std::optional<double> finite(double x) {
+    if (std::isfinite(x)) return x;
+    return std::nullopt;
+}
+}  // namespace
+
+Response coulomb_stick(const AbsorberParameters& p, double omega) {
+    const double s = stuck_stiffness(p, omega);
+    const double y = s == 0.0 ? infinity : p.excitation / s;
+    return {y, y};
+}
+
+double coulomb_limit_friction(const AbsorberParameters& p, double omega) {
+    const double s = stuck_stiffness(p, omega);
+    return s == 0.0 ? infinity : p.excitation * p.mass_ratio * omega * omega / std::abs(s);
+}
+
+std::optional<Response> coulomb_slip(const AbsorberParameters& p, double omega) {
+    const double r = p.mass_ratio, fe = p.excitation, w2 = omega * omega;
+    const double wa2 = p.tuning_ratio * p.tuning_ratio;
+    const double s = stuck_stiffness(p, omega);
+    const double delta = (1.0 - w2) * (wa2 - w2) - r * wa2 * w2;
+    const double force = 4.0 * p.friction_coefficient / pi;  // first-harmonic friction amplitude
+    const double p2 = std::pow(fe * r * w2, 2) - std::pow(force * s, 2);
+    if (!(p2 > 0.0)) return std::nullopt;
+    if (delta == 0.0) return Response{infinity, infinity};
+    // Phase of D: e^{i phi} = -(P sign(Delta) - i (4 mu / pi) s) / (r fe omega^2), |e^{i phi}| = 1.
+    const Complex phase = -Complex(std::sqrt(p2) * sign(delta), -force * s) / (r * fe * w2);
+    // Y = Z^{-1} F - (i (4 mu / pi) e^{i phi}) Z^{-1} w, Z^{-1} w = (-r omega^2, -(1 - omega^2)) / (r Delta).
+    const Complex friction = i_unit * force * phase;
+    return Response{(fe * (wa2 - w2) + friction * w2) / delta,
+                    (fe * wa2 + friction * (1.0 - w2) / r) / delta};
+}
+
+double equivalent_damping(const AbsorberParameters& p, double omega, const Response& slip) {
+    return 4.0 * p.friction_coefficient / (pi * omega * std::abs(slip.y1 - slip.y2));
+}
+
+Response contact_stick(const AbsorberParameters& p, double omega, FrictionLaw law) {
+    const Complex k2 = presliding_stiffness(p, omega, law);
+    const Complex det = two_dof_determinant(p.mass_ratio, k2, omega);
+    if (det == 0.0) return {infinity, infinity};
+    return {p.excitation * (k2 - omega * omega) / det, p.excitation * k2 / det};
+}
+
+double contact_limit_friction(const AbsorberParameters& p, double omega, FrictionLaw law) {
+    const Complex k2 = presliding_stiffness(p, omega, law);
+    const double det = std::abs(two_dof_determinant(p.mass_ratio, k2, omega));
+    const double contact = std::abs(k2 - p.tuning_ratio * p.tuning_ratio);  // |wb^2 + 2 i xi wb omega|
+    return det == 0.0 ? infinity : p.excitation * p.mass_ratio * omega * omega * contact / det;
+}
+
+Response stick(const AbsorberParameters& p, double omega, FrictionLaw law) {
+    return law == FrictionLaw::coulomb ? coulomb_stick(p, omega) : contact_stick(p, omega, law);
+}
+
+double limit_friction(const AbsorberParameters& p, double omega, FrictionLaw law) {
+    return law == FrictionLaw::coulomb ? coulomb_limit_friction(p, omega)
+                                       : contact_limit_friction(p, omega, law);
+}
+
+double den_hartog_tuning(double mass_ratio) {
+    require_positive(mass_ratio, "r", "mass ratio m2/m1");
+    return 1.0 / (1.0 + mass_ratio);
+}
+
+double den_hartog_damping_ratio(double mass_ratio) {
+    require_positive(mass_ratio, "r", "mass ratio m2/m1");
+    return std::sqrt(3.0 * mass_ratio / (8.0 * (1.0 + mass_ratio)));
+}
+
+double den_hartog_friction(const AbsorberParameters& p, double omega) {
+    const double r = p.mass_ratio, w2 = omega * omega;
+    const double wa = den_hartog_tuning(r);
+    const double c = 2.0 * r * wa * den_hartog_damping_ratio(r);  // optimal viscous damper
+    const double delta = (1.0 - w2) * (wa * wa - w2) - r * wa * wa * w2;
+    const double s = stuck_stiffness(p, omega);
+    const double d = p.excitation * w2 / std::hypot(delta, omega * c * s / r);  // |Y1 - Y2|
+    return pi / 4.0 * omega * c * d;
+}
+
+std::vector<double> uniform_grid(double wmin, double wmax, long long points) {
+    require_positive(wmin, "wmin", "lowest frequency");
+    require_positive(wmax, "wmax", "highest frequency");
+    if (!(wmax > wmin))
+        throw InvalidInput("wmax (highest frequency) = " + format_number(wmax) +
+                           " is out of range: allowed wmax > wmin = " + format_number(wmin));
+    if (points < 2 || points > max_grid_points)
+        throw InvalidInput("points (number of frequencies) = " + std::to_string(points) +
+                           " is out of range: allowed 2.." + std::to_string(max_grid_points));
+    std::vector<double> grid(static_cast<std::size_t>(points));
+    const double step = (wmax - wmin) / static_cast<double>(points - 1);
+    for (long long k = 0; k < points; ++k) grid[static_cast<std::size_t>(k)] = wmin + step * static_cast<double>(k);
+    grid.back() = wmax;
+    return grid;
+}
+
+std::vector<Row> table(const AbsorberParameters& p, FrictionLaw law, const std::vector<double>& omegas) {
+    p.validate(law);
+    std::vector<Row> rows;
+    rows.reserve(omegas.size());
+    for (double omega : omegas) {
+        require_positive(omega, "w", "excitation frequency");
+        Row row;
+        row.omega = omega;
+        const Response st = stick(p, omega, law);
+        row.y1_stick = finite(std::abs(st.y1));
+        row.y2_stick = finite(std::abs(st.y2));
+        if (const auto sl = coulomb_slip(p, omega)) {
+            row.y1_slip = finite(std::abs(sl->y1));
+            row.y2_slip = finite(std::abs(sl->y2));
+        }
+        row.mu_limit = finite(limit_friction(p, omega, law));
+        row.mu_opt_den_hartog = finite(den_hartog_friction(p, omega));
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+}  // namespace hbf::analytic

@@ -1,0 +1,63 @@
+// `hbf analytic`: the paper's closed forms on a frequency grid, as CSV.
+#include <memory>
+
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "hbf/analytic.hpp"
+#include "hbf/io.hpp"
+
+namespace hbf::cli {
+
+namespace {
+struct AnalyticOptions {
+    AbsorberFlags absorber;
+    std::string wmin = "0.5", wmax = "1.6", points = "221";
+    std::string out;
+};
+
+std::string columns_help() {
+    std::string text =
+        "Output: CSV with a header row, one row per frequency of the uniform grid "
+        "wmin..wmax (both ends included). All quantities are nondimensional (paper eq. 2): "
+        "y = x / x_s with x_s = N / k1, w = Omega / omega1, omega1 = sqrt(k1/m1). "
+        "An empty field means no finite value exists there (no slipping solution, or an "
+        "exact undamped resonance).\nColumns:\n";
+    for (const auto& c : io::analytic_columns()) text += "  " + std::string(c.name) + ": " + c.meaning + "\n";
+    text +=
+        "For dahl and lugre, y*_stick is the pre-sliding (linear contact) response and y*_slip is "
+        "the same equivalent-viscous solution as coulomb's (the laws coincide in full slip).\n";
+    return text;
+}
+
+int run(const CLI::App& command, const AnalyticOptions& o) {
+    const FrictionLaw law = o.absorber.friction_law();
+    const AbsorberParameters p = o.absorber.parameters(command);
+    const std::vector<double> grid = analytic::uniform_grid(
+        parse_double("--wmin", o.wmin), parse_double("--wmax", o.wmax), parse_integer("--points", o.points));
+    const std::vector<analytic::Row> rows = analytic::table(p, law, grid);
+    io::OutputFile out(o.out);
+    io::write_analytic_csv(out.stream(), rows);
+    out.commit();
+    return exit_success;
+}
+}  // namespace
+
+Runner add_analytic_command(CLI::App& app) {
+    auto options = std::make_shared<AnalyticOptions>();
+    CLI::App* command = app.add_subcommand(
+        "analytic", "Closed-form stick and slip responses, limit and optimal friction coefficients "
+                    "of the paper's friction absorber (nondimensional).");
+    options->absorber.add_to(*command, "friction law: coulomb, dahl or lugre");
+    command->add_option("--wmin", options->wmin, "lowest frequency w, > 0")
+        ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--wmax", options->wmax, "highest frequency w, > wmin")
+        ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--points", options->points, "number of frequencies, 2..1000000")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")
+        ->option_text("FILE");
+    command->footer(columns_help());
+    return [command, options]() { return run(*command, *options); };
+}
+
+}  // namespace hbf::cli

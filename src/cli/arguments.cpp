@@ -1,0 +1,92 @@
+#include "arguments.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "hbf/error.hpp"
+
+namespace hbf::cli {
+
+namespace {
+[[noreturn]] void bad_value(const std::string& flag, const std::string& text, const std::string& why) {
+    throw UsageError(flag + " = '" + text + "' " + why);
+}
+}  // namespace
+
+double parse_double(const std::string& flag, const std::string& text) {
+    if (text.empty()) bad_value(flag, text, "is empty: a number is required");
+    const char* begin = text.c_str();
+    char* end = nullptr;
+    errno = 0;
+    const double value = std::strtod(begin, &end);
+    if (end == begin || *end != '\0' || std::isspace(static_cast<unsigned char>(text.front())))
+        bad_value(flag, text, "is not a number");
+    if (std::isnan(value)) bad_value(flag, text, "is NaN: a finite number is required");
+    if (std::isinf(value)) {
+        if (errno == ERANGE) bad_value(flag, text, "overflows a double: a finite number is required");
+        bad_value(flag, text, "is infinite: a finite number is required");
+    }
+    if (errno == ERANGE) bad_value(flag, text, "underflows a double: use 0 or a larger magnitude");
+    return value;
+}
+
+long long parse_integer(const std::string& flag, const std::string& text) {
+    if (text.empty()) bad_value(flag, text, "is empty: an integer is required");
+    const char* begin = text.c_str();
+    char* end = nullptr;
+    errno = 0;
+    const long long value = std::strtoll(begin, &end, 10);
+    if (end == begin || *end != '\0' || std::isspace(static_cast<unsigned char>(text.front())))
+        bad_value(flag, text, "is not an integer");
+    if (errno == ERANGE) bad_value(flag, text, "is out of the range of integers");
+    return value;
+}
+
+void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help) {
+    const AbsorberParameters d;  // documented defaults
+    auto def = [](double v) { return " [default " + format_number(v) + "]"; };
+    command.add_option("--law", law, laws_help)->capture_default_str()->type_name("LAW");
+    command.add_option("--r", r, "mass ratio r = m2/m1, > 0" + def(d.mass_ratio));
+    command.add_option("--wa", wa, "tuning ratio wa = omega2/omega1, omega2 = sqrt(k2/m2), > 0" +
+                                       def(d.tuning_ratio));
+    command.add_option("--mu", mu, "friction coefficient mu (slip force mu N), > 0" +
+                                       def(d.friction_coefficient));
+    command.add_option("--fe", fe, "excitation amplitude fe = F0/N, > 0" + def(d.excitation));
+    command.add_option("--wb", wb, "contact stiffness ratio wb = sqrt(sigma0/m2)/omega1, > 0 "
+                                   "(dahl, lugre)" + def(d.contact_stiffness_ratio));
+    command.add_option("--xi", xi, "contact damping ratio xi = sigma1/(2 m2 sqrt(sigma0/m2)), >= 0 "
+                                   "(lugre)" + def(d.contact_damping_ratio));
+    for (const char* flag : {"--r", "--wa", "--mu", "--fe", "--wb", "--xi"})
+        command.get_option(flag)->type_name("NUMBER");
+}
+
+FrictionLaw AbsorberFlags::friction_law() const {
+    try {
+        return parse_friction_law(law);
+    } catch (const InvalidInput& e) {
+        throw UsageError(std::string("--") + e.what());
+    }
+}
+
+AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
+    const FrictionLaw chosen = friction_law();
+    if (chosen == FrictionLaw::coulomb && command.count("--wb") > 0)
+        throw UsageError("--wb (contact stiffness ratio) does not apply to --law coulomb: allowed with dahl, lugre");
+    if (chosen != FrictionLaw::lugre && command.count("--xi") > 0)
+        throw UsageError("--xi (contact damping ratio) does not apply to --law " + law + ": allowed with lugre");
+    AbsorberParameters p;
+    auto set = [&](const char* flag, const std::string& text, double& target) {
+        if (command.count(flag) > 0) target = parse_double(flag, text);
+    };
+    set("--r", r, p.mass_ratio);
+    set("--wa", wa, p.tuning_ratio);
+    set("--mu", mu, p.friction_coefficient);
+    set("--fe", fe, p.excitation);
+    set("--wb", wb, p.contact_stiffness_ratio);
+    set("--xi", xi, p.contact_damping_ratio);
+    p.validate(chosen);
+    return p;
+}
+
+}  // namespace hbf::cli

@@ -1,0 +1,14 @@
+// hbf command line — the subcommands. Each registers its flags on the app and returns a
+// runner that is called after parsing if the subcommand was chosen.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace hbf::cli {
+
+using Runner = std::function<int()>;
+
+Runner add_analytic_command(CLI::App& app);
+
+}  // namespace hbf::cli

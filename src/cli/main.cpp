@@ -1,0 +1,60 @@
+// hbf — command-line front end of hbfriction. Thin: parse, validate, call the library, write.
+#include <iostream>
+#include <map>
+
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "hbf/error.hpp"
+
+int main(int argc, char** argv) {
+    using namespace hbf::cli;
+    CLI::App app("hbf: frequency responses of structures with friction contacts "
+                 "(multi-harmonic balance, closed forms of the friction absorber).",
+                 "hbf");
+    app.set_version_flag("--version", "hbf 0.1.0");
+    app.require_subcommand(1);
+    app.footer(
+        "Exit codes: 0 success; 2 bad input (an invalid flag or value: the message names it, no "
+        "output file is written); 1 any other failure (e.g. an output file that cannot be written).\n"
+        "Run 'hbf <command> --help' for a command's flags and output columns.");
+
+    std::map<std::string, Runner> runners;
+    runners["analytic"] = add_analytic_command(app);
+
+    const std::string program = "hbf";
+    if (argc > 1 && argv[1][0] != '-' && runners.count(argv[1]) == 0) {
+        std::string known;
+        for (const auto& entry : runners) known += (known.empty() ? "" : ", ") + entry.first;
+        std::cerr << program << ": error: unknown command '" << argv[1] << "': allowed " << known << "\n"
+                  << "Run 'hbf --help' for usage.\n";
+        return exit_bad_input;
+    }
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << program << ": error: " << e.what() << "\n"
+                  << "Run 'hbf --help' or 'hbf <command> --help' for usage.\n";
+        return exit_bad_input;
+    }
+
+    std::string name;
+    for (const CLI::App* sub : app.get_subcommands()) name = sub->get_name();
+    try {
+        return runners.at(name)();
+    } catch (const UsageError& e) {
+        std::cerr << program << " " << name << ": error: " << e.what() << "\n";
+        return exit_bad_input;
+    } catch (const hbf::InvalidInput& e) {
+        std::cerr << program << " " << name << ": error: " << e.what() << "\n";
+        return exit_bad_input;
+    } catch (const std::exception& e) {
+        std::cerr << program << " " << name << ": error: " << e.what() << "\n";
+        return exit_failure;
+    }
+}

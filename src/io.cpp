@@ -1,0 +1,86 @@
+#include "hbf/io.hpp"
+
+#include <cstdio>
+#include <iostream>
+#include <random>
+#include <stdexcept>
+
+#include "hbf/error.hpp"
+
+namespace hbf::io {
+
+namespace {
+bool is_stdout(const std::string& path) { return path.empty() || path == "-"; }
+
+std::string temporary_name(const std::string& path) {
+    std::random_device device;
+    return path + ".tmp" + std::to_string(device() % 1000000000u);
+}
+}  // namespace
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+    if (is_stdout(path_)) return;
+    temporary_ = temporary_name(path_);
+    file_.open(temporary_, std::ios::out | std::ios::trunc);
+    if (!file_) throw std::runtime_error("cannot open output file '" + path_ + "' for writing");
+}
+
+OutputFile::~OutputFile() {
+    if (!is_stdout(path_) && !committed_) {
+        file_.close();
+        std::remove(temporary_.c_str());
+    }
+}
+
+std::ostream& OutputFile::stream() { return is_stdout(path_) ? std::cout : file_; }
+
+void OutputFile::commit() {
+    if (is_stdout(path_)) {
+        std::cout.flush();
+        if (!std::cout) throw std::runtime_error("cannot write to standard output");
+        committed_ = true;
+        return;
+    }
+    file_.flush();
+    const bool written = static_cast<bool>(file_);
+    file_.close();
+    if (!written || std::rename(temporary_.c_str(), path_.c_str()) != 0) {
+        std::remove(temporary_.c_str());
+        throw std::runtime_error("cannot write output file '" + path_ + "'");
+    }
+    committed_ = true;
+}
+
+std::string csv_field(const std::optional<double>& value) {
+    return value ? format_number(*value) : std::string();
+}
+
+const std::vector<Column>& analytic_columns() {
+    static const std::vector<Column> columns = {
+        {"w", "excitation frequency omega = Omega / omega1 (nondimensional)"},
+        {"y1_stick", "|Y1|, amplitude of y1 = x1 / x_s in full stick (law's stick model)"},
+        {"y2_stick", "|Y2|, amplitude of y2 = x2 / x_s in full stick"},
+        {"y1_slip", "|Y1| in full slip, equivalent viscous (one-harmonic) solution; empty if none exists"},
+        {"y2_slip", "|Y2| in full slip; empty if no slipping solution exists"},
+        {"mu_limit", "limit friction coefficient of the law: full stick (pre-sliding for dahl, lugre) iff "
+                     "mu >= mu_limit; "
+                     "also the minimum-displacement (Ricciardelli-Vickery) coefficient"},
+        {"mu_opt_den_hartog", "mu whose equivalent viscous damping equals Den Hartog's optimum, "
+                              "for the Den Hartog design wa = 1/(1+r)"},
+    };
+    return columns;
+}
+
+void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows) {
+    const auto& columns = analytic_columns();
+    for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
+    out << '\n';
+    for (const analytic::Row& row : rows) {
+        out << format_number(row.omega) << ',' << csv_field(row.y1_stick) << ','
+            << csv_field(row.y2_stick) << ',' << csv_field(row.y1_slip) << ','
+            << csv_field(row.y2_slip) << ',' << csv_field(row.mu_limit) << ','
+            << csv_field(row.mu_opt_den_hartog) << '\n';
+    }
+}
+
+}  // namespace hbf::io

@@ -1,0 +1,179 @@
+#include "hbf/model.hpp"
+
+#include <cmath>
+
+#include "hbf/error.hpp"
+
+namespace hbf {
+
+std::string to_string(FrictionLaw law) {
+    switch (law) {
+        case FrictionLaw::coulomb: return "coulomb";
+        case FrictionLaw::dahl: return "dahl";
+        case FrictionLaw::lugre: return "lugre";
+    }
+    return "unknown";
+}
+
+FrictionLaw parse_friction_law(const std::string& name) {
+    for (FrictionLaw law : {FrictionLaw::coulomb, FrictionLaw::dahl, FrictionLaw::lugre})
+        if (name == to_string(law)) return law;
+    throw InvalidInput("law = '" + name + "' is not a known friction law: allowed coulomb, dahl, lugre");
+}
+
+Eigen::VectorXd System::contact_direction(const Contact& contact) const {
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(dofs());
+    w(contact.dof) = 1.0;
+    if (contact.other_dof != Contact::ground) w(contact.other_dof) = -1.0;
+    return w;
+}
+
+namespace {
+void require_square(const Eigen::MatrixXd& matrix, int n, const char* name) {
+    if (matrix.rows() != n || matrix.cols() != n)
+        throw InvalidInput(std::string(name) + " is " + std::to_string(matrix.rows()) + "x" +
+                           std::to_string(matrix.cols()) + ": allowed " + std::to_string(n) +
+                           "x" + std::to_string(n) + " (the number of DOFs)");
+    if (!matrix.allFinite()) throw InvalidInput(std::string(name) + " has non-finite entries");
+    const double scale = matrix.cwiseAbs().maxCoeff();
+    if ((matrix - matrix.transpose()).cwiseAbs().maxCoeff() > 1e-12 * scale)
+        throw InvalidInput(std::string(name) + " is not symmetric");
+}
+}  // namespace
+
+void System::validate() const {
+    const int n = dofs();
+    if (n < 1) throw InvalidInput("mass matrix is empty: a system needs at least 1 DOF");
+    require_square(mass, n, "mass matrix");
+    require_square(damping, n, "damping matrix");
+    require_square(stiffness, n, "stiffness matrix");
+    if (Eigen::LLT<Eigen::MatrixXd>(mass).info() != Eigen::Success)
+        throw InvalidInput("mass matrix is not positive definite");
+    if (excitation.size() != n)
+        throw InvalidInput("excitation vector has " + std::to_string(excitation.size()) +
+                           " entries: allowed " + std::to_string(n) + " (the number of DOFs)");
+    if (!excitation.allFinite()) throw InvalidInput("excitation vector has non-finite entries");
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        const Contact& k = contacts[c];
+        const std::string where = "contact " + std::to_string(c + 1) + ": ";
+        if (k.dof < 0 || k.dof >= n)
+            throw InvalidInput(where + "dof = " + std::to_string(k.dof) + " is out of range: allowed 0.." +
+                               std::to_string(n - 1));
+        if (k.other_dof != Contact::ground && (k.other_dof < 0 || k.other_dof >= n || k.other_dof == k.dof))
+            throw InvalidInput(where + "other_dof = " + std::to_string(k.other_dof) +
+                               " is out of range: allowed ground (-1) or 0.." + std::to_string(n - 1) +
+                               " other than dof");
+        require_positive(k.friction_limit, (where + "friction_limit").c_str(), "slip force mu N");
+        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre)
+            require_positive(k.stiffness, (where + "stiffness").c_str(), "contact stiffness sigma0");
+        if (k.law == FrictionLaw::lugre)
+            require_non_negative(k.damping, (where + "damping").c_str(), "contact damping sigma1");
+    }
+}
+
+Eigen::VectorXcd linear_response(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
+                                 const Eigen::MatrixXd& stiffness,
+                                 const Eigen::VectorXd& excitation, double omega) {
+    const std::complex<double> i(0.0, 1.0);
+    const Eigen::MatrixXcd dynamic_stiffness =
+        stiffness.cast<std::complex<double>>() - omega * omega * mass.cast<std::complex<double>>() +
+        i * omega * damping.cast<std::complex<double>>();
+    return dynamic_stiffness.fullPivLu().solve(excitation.cast<std::complex<double>>());
+}
+
+void AbsorberParameters::validate(FrictionLaw law) const {
+    require_positive(mass_ratio, "r", "mass ratio m2/m1");
+    require_positive(tuning_ratio, "wa", "tuning ratio omega2/omega1");
+    require_positive(friction_coefficient, "mu", "friction coefficient");
+    require_positive(excitation, "fe", "excitation amplitude F0/N");
+    if (law == FrictionLaw::dahl || law == FrictionLaw::lugre)
+        require_positive(contact_stiffness_ratio, "wb", "contact stiffness ratio omega3/omega1");
+    if (law == FrictionLaw::lugre)
+        require_non_negative(contact_damping_ratio, "xi", "contact damping ratio");
+}
+
+System friction_absorber(const AbsorberParameters& p, FrictionLaw law) {
+    p.validate(law);
+    const double r = p.mass_ratio;
+    const double ka = r * p.tuning_ratio * p.tuning_ratio;  // r wa^2: absorber spring
+    System system;
+    system.mass = Eigen::Vector2d(1.0, r).asDiagonal();
+    system.damping = Eigen::MatrixXd::Zero(2, 2);
+    system.stiffness.resize(2, 2);
+    system.stiffness << 1.0 + ka, -ka, -ka, ka;
+    system.excitation = Eigen::Vector2d(p.excitation, 0.0);
+    Contact contact;
+    contact.dof = 0;
+    contact.other_dof = 1;
+    contact.law = law;
+    contact.friction_limit = p.friction_coefficient;
+    if (law != FrictionLaw::coulomb) {
+        const double wb = p.contact_stiffness_ratio;
+        contact.stiffness = r * wb * wb;
+        contact.damping = law == FrictionLaw::lugre ? 2.0 * p.contact_damping_ratio * r * wb : 0.0;
+    }
+    system.contacts.push_back(contact);
+    return system;
+}
+
+void PhysicalAbsorber::validate() const {
+    require_positive(m1, "m1", "main mass");
+    require_positive(k1, "k1", "main stiffness");
+    require_positive(m2, "m2", "absorber mass");
+    require_positive(k2, "k2", "absorber stiffness");
+    require_positive(normal_force, "N", "normal load");
+    require_positive(force_amplitude, "F0", "excitation force amplitude");
+    require_positive(friction_coefficient, "mu", "friction coefficient");
+    require_non_negative(sigma0, "sigma0", "contact stiffness");
+    require_non_negative(sigma1, "sigma1", "contact damping");
+    if (sigma0 == 0.0 && sigma1 != 0.0)
+        throw InvalidInput("sigma1 (contact damping) = " + format_number(sigma1) +
+                           " needs a contact stiffness: allowed sigma1 = 0 when sigma0 = 0");
+}
+
+Scales scales_of(const PhysicalAbsorber& physical) {
+    physical.validate();
+    Scales s;
+    s.frequency = std::sqrt(physical.k1 / physical.m1);
+    s.time = 1.0 / s.frequency;
+    s.displacement = physical.normal_force / physical.k1;
+    s.force = physical.normal_force;
+    return s;
+}
+
+AbsorberParameters to_nondimensional(const PhysicalAbsorber& physical) {
+    const Scales s = scales_of(physical);  // validates
+    AbsorberParameters p;
+    p.mass_ratio = physical.m2 / physical.m1;
+    p.tuning_ratio = std::sqrt(physical.k2 / physical.m2) / s.frequency;
+    p.friction_coefficient = physical.friction_coefficient;
+    p.excitation = physical.force_amplitude / physical.normal_force;
+    const double omega3 = std::sqrt(physical.sigma0 / physical.m2);
+    p.contact_stiffness_ratio = omega3 / s.frequency;
+    p.contact_damping_ratio = omega3 > 0.0 ? physical.sigma1 / (2.0 * physical.m2 * omega3) : 0.0;
+    return p;
+}
+
+PhysicalAbsorber to_physical(const AbsorberParameters& p, double m1, double k1, double normal_force) {
+    require_positive(m1, "m1", "main mass");
+    require_positive(k1, "k1", "main stiffness");
+    require_positive(normal_force, "N", "normal load");
+    p.validate(FrictionLaw::coulomb);
+    require_non_negative(p.contact_stiffness_ratio, "wb", "contact stiffness ratio");
+    require_non_negative(p.contact_damping_ratio, "xi", "contact damping ratio");
+    const double omega1 = std::sqrt(k1 / m1);
+    PhysicalAbsorber a;
+    a.m1 = m1;
+    a.k1 = k1;
+    a.normal_force = normal_force;
+    a.m2 = p.mass_ratio * m1;
+    a.k2 = a.m2 * std::pow(p.tuning_ratio * omega1, 2);  // omega2^2 m2
+    a.force_amplitude = p.excitation * normal_force;
+    a.friction_coefficient = p.friction_coefficient;
+    const double omega3 = p.contact_stiffness_ratio * omega1;
+    a.sigma0 = a.m2 * omega3 * omega3;
+    a.sigma1 = 2.0 * p.contact_damping_ratio * a.m2 * omega3;
+    return a;
+}
+
+}  // namespace hbf

@@ -1,0 +1,30 @@
+// Shared helpers for the tests: independent reference computations and process running.
+#pragma once
+
+#include <Eigen/Dense>
+#include <complex>
+#include <string>
+
+#include "hbf/model.hpp"
+
+namespace hbf::test {
+
+/// Steady-state complex amplitudes of the absorber when its contact is replaced by a linear
+/// spring k and damper c between the masses, solved with Eigen on the System matrices
+/// (independent of the closed forms).
+inline Eigen::VectorXcd absorber_with_linear_contact(const AbsorberParameters& p, double omega,
+                                                    double k, double c) {
+    const System s = friction_absorber(p, FrictionLaw::coulomb);
+    const Eigen::VectorXd w = s.contact_direction(s.contacts[0]);
+    return linear_response(s.mass, s.damping + c * w * w.transpose(),
+                           s.stiffness + k * w * w.transpose(), s.excitation, omega);
+}
+
+inline double relative_difference(double a, double b) {
+    return std::abs(a - b) / std::max(std::abs(a), std::abs(b));
+}
+inline double relative_difference(std::complex<double> a, std::complex<double> b) {
+    return std::abs(a - b) / std::max(std::abs(a), std::abs(b));
+}
+
+}  // namespace hbf::test

@@ -1,0 +1,194 @@
+// End-to-end tests of the `hbf` executable: output format and values, help, and bad input.
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hbf/analytic.hpp"
+
+namespace fs = std::filesystem;
+namespace an = hbf::analytic;
+
+namespace {
+struct Result {
+    int exit_code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& path) {
+    std::ifstream in(path);
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    return buffer.str();
+}
+
+/// A fresh empty directory per test case, removed afterwards.
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        path = fs::temp_directory_path() / ("hbf_cli_" + std::to_string(::getpid()) + "_" +
+                                            std::to_string(reinterpret_cast<std::uintptr_t>(this)));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    bool empty() const { return fs::is_empty(path); }
+};
+
+/// Runs `hbf <args>` (args are passed through the shell, quote as needed).
+Result run_hbf(const std::string& args, const TempDir& dir) {
+    const fs::path out = dir.path / "stdout.txt", err = dir.path / "stderr.txt";
+    const std::string command = std::string("'") + HBF_EXECUTABLE + "' " + args + " >'" + out.string() +
+                                "' 2>'" + err.string() + "' </dev/null";
+    const int status = std::system(command.c_str());
+    Result r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+}
+
+std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::vector<std::string> fields;
+        std::string field;
+        std::istringstream cells(line);
+        while (std::getline(cells, field, ',')) fields.push_back(field);
+        if (!line.empty() && line.back() == ',') fields.emplace_back();
+        rows.push_back(fields);
+    }
+    return rows;
+}
+
+const char* header = "w,y1_stick,y2_stick,y1_slip,y2_slip,mu_limit,mu_opt_den_hartog";
+}  // namespace
+
+TEST_CASE("hbf analytic prints the documented table with closed-form values", "[cli]") {
+    TempDir dir;
+    const Result r = run_hbf("analytic --law lugre --fe 0.8 --wmin 0.6 --wmax 1.4 --points 9", dir);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.err.empty());
+    const auto rows = parse_csv(r.out);
+    REQUIRE(rows.size() == 10);
+    std::string first_line = r.out.substr(0, r.out.find('\n'));
+    CHECK(first_line == header);
+    hbf::AbsorberParameters p;
+    p.excitation = 0.8;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        REQUIRE(rows[k].size() == 7);
+        const double omega = std::stod(rows[k][0]);
+        CHECK(omega == Approx(0.6 + 0.1 * static_cast<double>(k - 1)).epsilon(1e-14));
+        const auto stick = an::contact_stick(p, omega, hbf::FrictionLaw::lugre);
+        CHECK(std::stod(rows[k][1]) == Approx(std::abs(stick.y1)).epsilon(1e-13));
+        CHECK(std::stod(rows[k][2]) == Approx(std::abs(stick.y2)).epsilon(1e-13));
+        const auto slip = an::coulomb_slip(p, omega);
+        CHECK(rows[k][3].empty() == !slip.has_value());
+        if (slip) CHECK(std::stod(rows[k][3]) == Approx(std::abs(slip->y1)).epsilon(1e-13));
+        CHECK(std::stod(rows[k][5]) == Approx(an::contact_limit_friction(p, omega, hbf::FrictionLaw::lugre)).epsilon(1e-13));
+        CHECK(std::stod(rows[k][6]) == Approx(an::den_hartog_friction(p, omega)).epsilon(1e-13));
+    }
+}
+
+TEST_CASE("hbf analytic defaults: paper system, 221 points on [0.5, 1.6], --out writes a file", "[cli]") {
+    TempDir dir;
+    const fs::path file = dir.path / "frf.csv";
+    const Result r = run_hbf("analytic --out '" + file.string() + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.out.empty());
+    const auto rows = parse_csv(slurp(file));
+    REQUIRE(rows.size() == 222);
+    CHECK(std::stod(rows[1][0]) == 0.5);
+    CHECK(std::stod(rows.back()[0]) == 1.6);
+    const hbf::AbsorberParameters p;  // r = 0.1, wa = 1, mu = 0.2, fe = 0.5
+    const double omega = std::stod(rows[100][0]);
+    CHECK(std::stod(rows[100][1]) == Approx(std::abs(an::coulomb_stick(p, omega).y1)).epsilon(1e-13));
+    CHECK(std::stod(rows[100][5]) == Approx(an::coulomb_limit_friction(p, omega)).epsilon(1e-13));
+    // Nothing but the requested file is left in the directory (no temporary files).
+    CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator{}) == 1);
+}
+
+TEST_CASE("hbf --help documents the commands and exit codes; analytic --help every flag and column", "[cli]") {
+    TempDir dir;
+    const Result top = run_hbf("--help", dir);
+    CHECK(top.exit_code == 0);
+    CHECK_THAT(top.out, Catch::Contains("analytic") && Catch::Contains("Exit codes") &&
+                            Catch::Contains("2 bad input"));
+    const Result sub = run_hbf("analytic --help", dir);
+    CHECK(sub.exit_code == 0);
+    for (const char* word : {"--law", "--r", "--wa", "--mu", "--fe", "--wb", "--xi", "--wmin", "--wmax",
+                             "--points", "--out", "y1_stick", "y2_stick", "y1_slip", "y2_slip", "mu_limit",
+                             "mu_opt_den_hartog", "x_s = N / k1"})
+        CHECK_THAT(sub.out, Catch::Contains(word));
+}
+
+TEST_CASE("hbf analytic rejects bad input with exit code 2, a named parameter and no file", "[cli]") {
+    struct Case {
+        std::string args;
+        std::string names;  // what the message must mention
+    };
+    const std::vector<Case> cases = {
+        {"--r -0.1", "r (mass ratio"},
+        {"--r 0", "r (mass ratio"},
+        {"--mu 0", "mu (friction coefficient"},
+        {"--mu -1", "mu (friction coefficient"},
+        {"--fe 0", "fe (excitation"},
+        {"--wmin 1.6 --wmax 1.6", "wmax"},
+        {"--wmin 1.7", "wmax"},
+        {"--wmin 0", "wmin"},
+        {"--wmin -0.5", "wmin"},
+        {"--points 1", "points"},
+        {"--points 0", "points"},
+        {"--points 100000000", "points"},
+        {"--points 99999999999999999999999", "--points"},
+        {"--points 2.5", "--points"},
+        {"--mu nan", "--mu"},
+        {"--fe inf", "--fe"},
+        {"--wmax -inf", "--wmax"},
+        {"--wa 1e999", "--wa"},
+        {"--r 1e-999", "--r"},
+        {"--mu abc", "--mu"},
+        {"--mu 0.2x", "--mu"},
+        {"--mu ''", "--mu"},
+        {"--law stribeck", "--law"},
+        {"--law dahl --wb 0", "wb"},
+        {"--law lugre --xi -0.1", "xi"},
+        {"--law coulomb --wb 0.4", "--wb"},
+        {"--law dahl --xi 0.1", "--xi"},
+        {"--frobnicate 3", "--frobnicate"},
+        {"--mu", "--mu"},
+    };
+    for (const Case& c : cases) {
+        TempDir dir;
+        const fs::path file = dir.path / "out.csv";
+        const Result r = run_hbf("analytic --out '" + file.string() + "' " + c.args, dir);
+        INFO("args: " << c.args << "\nstderr: " << r.err);
+        CHECK(r.exit_code == 2);
+        CHECK_THAT(r.err, Catch::Contains(c.names));
+        CHECK(r.out.empty());
+        CHECK(dir.empty());  // no output file and no temporary left behind
+    }
+}
+
+TEST_CASE("hbf without a command or with an unknown command is bad input", "[cli]") {
+    TempDir dir;
+    CHECK(run_hbf("", dir).exit_code == 2);
+    const Result r = run_hbf("frobnicate", dir);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Catch::Contains("frobnicate"));
+}
+
+TEST_CASE("an unwritable output file is a failure (exit 1), not bad input", "[cli]") {
+    TempDir dir;
+    const Result r = run_hbf("analytic --out '" + (dir.path / "missing" / "x.csv").string() + "'", dir);
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Catch::Contains("missing/x.csv"));
+    CHECK(dir.empty());
+}
