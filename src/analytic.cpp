@@ -87,12 +87,13 @@ double contact_limit_friction(const AbsorberParameters& p, double omega, Frictio
 }
 
 Response stick(const AbsorberParameters& p, double omega, FrictionLaw law) {
-    return law == FrictionLaw::coulomb ? coulomb_stick(p, omega) : contact_stick(p, omega, law);
+    return law == FrictionLaw::dahl || law == FrictionLaw::lugre ? contact_stick(p, omega, law)
+                                                                 : coulomb_stick(p, omega);
 }
 
 double limit_friction(const AbsorberParameters& p, double omega, FrictionLaw law) {
-    return law == FrictionLaw::coulomb ? coulomb_limit_friction(p, omega)
-                                       : contact_limit_friction(p, omega, law);
+    return law == FrictionLaw::dahl || law == FrictionLaw::lugre ? contact_limit_friction(p, omega, law)
+                                                                 : coulomb_limit_friction(p, omega);
 }
 
 double den_hartog_tuning(double mass_ratio) {

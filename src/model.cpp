@@ -11,14 +11,17 @@ std::string to_string(FrictionLaw law) {
         case FrictionLaw::coulomb: return "coulomb";
         case FrictionLaw::dahl: return "dahl";
         case FrictionLaw::lugre: return "lugre";
+        case FrictionLaw::coulomb_regularized: return "coulomb-reg";
     }
     return "unknown";
 }
 
 FrictionLaw parse_friction_law(const std::string& name) {
-    for (FrictionLaw law : {FrictionLaw::coulomb, FrictionLaw::dahl, FrictionLaw::lugre})
+    for (FrictionLaw law : {FrictionLaw::coulomb, FrictionLaw::dahl, FrictionLaw::lugre,
+                            FrictionLaw::coulomb_regularized})
         if (name == to_string(law)) return law;
-    throw InvalidInput("law = '" + name + "' is not a known friction law: allowed coulomb, dahl, lugre");
+    throw InvalidInput("law = '" + name +
+                       "' is not a known friction law: allowed coulomb, dahl, lugre, coulomb-reg");
 }
 
 Eigen::VectorXd System::contact_direction(const Contact& contact) const {
@@ -66,8 +69,14 @@ void System::validate() const {
         require_positive(k.friction_limit, (where + "friction_limit").c_str(), "slip force mu N");
         if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre)
             require_positive(k.stiffness, (where + "stiffness").c_str(), "contact stiffness sigma0");
-        if (k.law == FrictionLaw::lugre)
+        if (k.law == FrictionLaw::lugre) {
             require_non_negative(k.damping, (where + "damping").c_str(), "contact damping sigma1");
+            require_non_negative(k.viscous, (where + "viscous").c_str(), "viscous friction sigma2");
+            require_non_negative(k.static_limit, (where + "static_limit").c_str(), "static friction force");
+            require_non_negative(k.stribeck_velocity, (where + "stribeck_velocity").c_str(), "Stribeck velocity");
+        }
+        if (k.law == FrictionLaw::coulomb_regularized)
+            require_positive(k.regularization, (where + "regularization").c_str(), "tanh velocity scale eps");
     }
 }
 
@@ -88,8 +97,14 @@ void AbsorberParameters::validate(FrictionLaw law) const {
     require_positive(excitation, "fe", "excitation amplitude F0/N");
     if (law == FrictionLaw::dahl || law == FrictionLaw::lugre)
         require_positive(contact_stiffness_ratio, "wb", "contact stiffness ratio omega3/omega1");
-    if (law == FrictionLaw::lugre)
+    if (law == FrictionLaw::lugre) {
         require_non_negative(contact_damping_ratio, "xi", "contact damping ratio");
+        require_non_negative(static_friction_coefficient, "mu_s", "static friction coefficient");
+        require_non_negative(stribeck_velocity, "vs", "Stribeck velocity");
+        require_non_negative(viscous_coefficient, "sigma2", "viscous friction coefficient");
+    }
+    if (law == FrictionLaw::coulomb_regularized)
+        require_positive(regularization, "eps", "regularisation velocity of tanh");
 }
 
 System friction_absorber(const AbsorberParameters& p, FrictionLaw law) {
@@ -107,11 +122,17 @@ System friction_absorber(const AbsorberParameters& p, FrictionLaw law) {
     contact.other_dof = 1;
     contact.law = law;
     contact.friction_limit = p.friction_coefficient;
-    if (law != FrictionLaw::coulomb) {
+    if (law == FrictionLaw::dahl || law == FrictionLaw::lugre) {
         const double wb = p.contact_stiffness_ratio;
         contact.stiffness = r * wb * wb;
-        contact.damping = law == FrictionLaw::lugre ? 2.0 * p.contact_damping_ratio * r * wb : 0.0;
+        if (law == FrictionLaw::lugre) {
+            contact.damping = 2.0 * p.contact_damping_ratio * r * wb;
+            contact.viscous = p.viscous_coefficient;
+            contact.static_limit = p.static_friction_coefficient;  // in units of N
+            contact.stribeck_velocity = p.stribeck_velocity;
+        }
     }
+    if (law == FrictionLaw::coulomb_regularized) contact.regularization = p.regularization;
     system.contacts.push_back(contact);
     return system;
 }

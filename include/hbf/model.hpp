@@ -23,10 +23,13 @@ namespace hbf {
 /// displacement, v = q', F_c = friction_limit, sigma0/sigma1 = contact stiffness/damping):
 ///   coulomb: f = F_c sign(v) in slip, |f| <= F_c in stick (set-valued)     (paper eq. 3)
 ///   dahl:    f = sigma0 z,              z' = v - sigma0 |v| z / F_c         (paper eq. 16)
-///   lugre:   f = sigma0 z + sigma1 z',  z' = v - sigma0 |v| z / F_c         (paper eq. 17)
-enum class FrictionLaw { coulomb, dahl, lugre };
+///   lugre:   f = sigma0 z + sigma1 z' + sigma2 v,  z' = v - sigma0 |v| z / g(v),
+///            g(v) = F_c + (F_s - F_c) exp(-(v / v_s)^2)   (paper eq. 17: v_s = 0, F_s = F_c,
+///            sigma2 = 0, so g = F_c)
+///   coulomb-reg: f = F_c tanh(v / eps), a smooth (regularised) Coulomb law
+enum class FrictionLaw { coulomb, dahl, lugre, coulomb_regularized };
 
-/// "coulomb", "dahl", "lugre".
+/// "coulomb", "dahl", "lugre", "coulomb-reg".
 std::string to_string(FrictionLaw law);
 /// Inverse of to_string; throws InvalidInput naming the allowed values.
 FrictionLaw parse_friction_law(const std::string& name);
@@ -40,6 +43,10 @@ struct Contact {
     double friction_limit = 0;  ///< F_c = mu N, the sliding friction force (> 0)
     double stiffness = 0;       ///< sigma0, contact (bristle) stiffness (Dahl, LuGre; > 0)
     double damping = 0;         ///< sigma1, contact (bristle) damping (LuGre; >= 0)
+    double viscous = 0;         ///< sigma2, viscous friction (LuGre; >= 0)
+    double static_limit = 0;    ///< F_s, static friction force (LuGre; 0 means F_s = F_c)
+    double stribeck_velocity = 0;  ///< v_s (LuGre; 0 means no Stribeck curve: g = F_c)
+    double regularization = 0;  ///< eps, velocity scale of tanh (coulomb-reg; > 0)
 };
 
 /// A linear structure with friction contacts under harmonic excitation F cos(omega t).
@@ -82,6 +89,10 @@ struct AbsorberParameters {
     double excitation = 0.5;               ///< fe = F0 / N
     double contact_stiffness_ratio = 0.4;  ///< wb = omega3 / omega1, omega3 = sqrt(sigma0/m2)
     double contact_damping_ratio = 0.01;   ///< xi = sigma1 / (2 m2 omega3)
+    double regularization = 0.01;          ///< eps, velocity of the tanh (coulomb-reg)
+    double static_friction_coefficient = 0;  ///< mu_s (LuGre Stribeck; 0 means mu_s = mu)
+    double stribeck_velocity = 0;          ///< v_s, nondimensional (LuGre; 0 means none)
+    double viscous_coefficient = 0;        ///< sigma2 / (m1 omega1) (LuGre viscous term)
 
     /// Throws InvalidInput naming the first parameter out of range: r, wa, mu, fe > 0;
     /// for Dahl and LuGre also wb > 0; for LuGre xi >= 0 (wb, xi are unused by Coulomb).

@@ -1,0 +1,53 @@
+// hbfriction — friction laws evaluated over one period (AFT).
+//
+// A contact sees the relative displacement q(theta) (coefficients, see fourier.hpp) and
+// produces the friction force f(theta). Each law decides how it evaluates the periodic force:
+//
+// * memoryless laws (coulomb-reg: f = F_c tanh(v / eps), v = dq/dtau) map velocity samples
+//   to force samples pointwise: f = P f(E D q).
+// * state laws (Dahl, LuGre) carry an internal state z (bristle deflection, the paper's y3)
+//   whose ODE is balanced like the equations of motion: z is one more harmonic unknown
+//   signal and the law returns the residual of its ODE,
+//       r_z = sigma0 [ D z - D q + P( sigma0 |v| z / g(v) ) ],
+//   (multiplied by sigma0 so that it is in force / time units like the structure's rows),
+//   with the force f = sigma0 z + sigma1 D z + sigma2 D q, linear in the coefficients.
+//
+// Here E and P are the synthesis/analysis matrices of Fourier and D = omega D1 the
+// derivative with respect to tau. The Jacobians are exact: the chain rule through E and P.
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+
+#include "hbf/fourier.hpp"
+#include "hbf/model.hpp"
+
+namespace hbf {
+
+/// Force (and state residual) coefficients of one contact with their Jacobians.
+struct FrictionEvaluation {
+    Eigen::VectorXd force;           ///< f coefficients (2H+1)
+    Eigen::VectorXd state_residual;  ///< r_z coefficients (empty for memoryless laws)
+    Eigen::MatrixXd force_q, force_z, state_q, state_z;  ///< d(force, r_z)/d(q, z)
+    Eigen::VectorXd force_omega, state_omega;            ///< d(force, r_z)/d omega
+};
+
+class FrictionModel {
+public:
+    virtual ~FrictionModel() = default;
+    /// Number of internal-state signals this law adds to the unknowns (0 or 1).
+    virtual int state_signals() const = 0;
+    /// Fills `out` from the coefficients of q and z (z is empty when state_signals() == 0).
+    /// Jacobians are computed only when `jacobian` is true.
+    virtual void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
+                          FrictionEvaluation& out, bool jacobian) const = 0;
+    /// Force samples f(theta_j) on the time grid of `fourier` (for post-processing).
+    virtual Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+                                          const Eigen::VectorXd& z) const = 0;
+};
+
+/// The model for a contact's law. Throws InvalidInput for a law that harmonic balance with
+/// AFT cannot evaluate (exact Coulomb needs the nonsmooth method of a later version).
+std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact);
+
+}  // namespace hbf

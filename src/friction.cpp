@@ -1,0 +1,130 @@
+#include "hbf/friction.hpp"
+
+#include <cmath>
+
+#include "hbf/error.hpp"
+
+namespace hbf {
+
+namespace {
+
+/// f = F_c tanh(v / eps).
+class RegularizedCoulomb final : public FrictionModel {
+public:
+    explicit RegularizedCoulomb(const Contact& c) : limit_(c.friction_limit), eps_(c.regularization) {}
+    int state_signals() const override { return 0; }
+
+    void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd&,
+                  FrictionEvaluation& out, bool jacobian) const override {
+        const Eigen::MatrixXd& E = fourier.synthesis();
+        const Eigen::MatrixXd& P = fourier.analysis();
+        const Eigen::MatrixXd& D1 = fourier.derivative();
+        const Eigen::VectorXd v_coefficients = omega * (D1 * q);
+        Eigen::VectorXd v(fourier.time_samples());
+        fourier.to_time(v_coefficients, v);
+        const Eigen::ArrayXd t = (v.array() / eps_).tanh();
+        out.force.resize(fourier.size());
+        fourier.to_coefficients((limit_ * t).matrix(), out.force);
+        if (!jacobian) return;
+        const Eigen::ArrayXd slope = limit_ / eps_ * (1.0 - t.square());  // df/dv
+        const Eigen::MatrixXd p_slope = P * slope.matrix().asDiagonal();
+        out.force_q = omega * (p_slope * (E * D1));
+        out.force_omega = p_slope * (E * (D1 * q));
+    }
+
+    Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+                                  const Eigen::VectorXd&) const override {
+        Eigen::VectorXd v(fourier.time_samples());
+        fourier.to_time(omega * (fourier.derivative() * q), v);
+        return (limit_ * (v.array() / eps_).tanh()).matrix();
+    }
+
+private:
+    double limit_, eps_;
+};
+
+/// LuGre (Dahl when sigma1 = sigma2 = 0 and no Stribeck curve).
+class LuGre final : public FrictionModel {
+public:
+    explicit LuGre(const Contact& c)
+        : sigma0_(c.stiffness), sigma1_(c.damping), sigma2_(c.viscous), kinetic_(c.friction_limit),
+          static_(c.static_limit > 0.0 ? c.static_limit : c.friction_limit), stribeck_(c.stribeck_velocity) {}
+    int state_signals() const override { return 1; }
+
+    void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
+                  FrictionEvaluation& out, bool jacobian) const override {
+        const Eigen::MatrixXd& E = fourier.synthesis();
+        const Eigen::MatrixXd& P = fourier.analysis();
+        const Eigen::MatrixXd& D1 = fourier.derivative();
+        const int nt = fourier.time_samples();
+        const Eigen::VectorXd dq = D1 * q, dz = D1 * z;  // d/dtheta
+        Eigen::VectorXd v(nt), zt(nt);
+        fourier.to_time(omega * dq, v);
+        fourier.to_time(z, zt);
+        Eigen::ArrayXd g(nt), dg(nt);
+        curve(v.array(), g, dg);
+        // h = sigma0 |v| z / g(v): the bristle relaxation term.
+        const Eigen::ArrayXd h = sigma0_ * v.array().abs() * zt.array() / g;
+        Eigen::VectorXd h_coefficients(fourier.size());
+        fourier.to_coefficients(h.matrix(), h_coefficients);
+        out.state_residual = sigma0_ * (omega * (dz - dq) + h_coefficients);
+        out.force = sigma0_ * z + sigma1_ * omega * dz + sigma2_ * omega * dq;
+        if (!jacobian) return;
+        const Eigen::ArrayXd sign = v.array().sign();
+        // dh/dv = sigma0 z (sign(v) g - |v| g') / g^2 ; dh/dz = sigma0 |v| / g.
+        const Eigen::ArrayXd dh_dv = sigma0_ * zt.array() * (sign * g - v.array().abs() * dg) / g.square();
+        const Eigen::ArrayXd dh_dz = sigma0_ * v.array().abs() / g;
+        const Eigen::MatrixXd ED1 = E * D1;
+        const Eigen::MatrixXd p_dv = P * dh_dv.matrix().asDiagonal();
+        out.state_q = sigma0_ * (-omega * D1 + omega * (p_dv * ED1));
+        out.state_z = sigma0_ * (omega * D1 + P * dh_dz.matrix().asDiagonal() * E);
+        out.state_omega = sigma0_ * (dz - dq + p_dv * (E * dq));
+        const int n = fourier.size();
+        out.force_q = sigma2_ * omega * D1;
+        out.force_z = sigma0_ * Eigen::MatrixXd::Identity(n, n) + sigma1_ * omega * D1;
+        out.force_omega = sigma1_ * dz + sigma2_ * dq;
+    }
+
+    Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+                                  const Eigen::VectorXd& z) const override {
+        Eigen::VectorXd f(fourier.time_samples());
+        const Eigen::VectorXd dq = fourier.derivative() * q, dz = fourier.derivative() * z;
+        fourier.to_time(sigma0_ * z + sigma1_ * omega * dz + sigma2_ * omega * dq, f);
+        return f;
+    }
+
+private:
+    /// g(v) = F_c + (F_s - F_c) exp(-(v/v_s)^2) and its derivative.
+    void curve(const Eigen::ArrayXd& v, Eigen::ArrayXd& g, Eigen::ArrayXd& dg) const {
+        if (stribeck_ > 0.0 && static_ != kinetic_) {
+            const Eigen::ArrayXd e = (-(v / stribeck_).square()).exp();
+            g = kinetic_ + (static_ - kinetic_) * e;
+            dg = (static_ - kinetic_) * e * (-2.0 * v / (stribeck_ * stribeck_));
+        } else {
+            g.setConstant(kinetic_);
+            dg.setZero();
+        }
+    }
+
+    double sigma0_, sigma1_, sigma2_, kinetic_, static_, stribeck_;
+};
+
+}  // namespace
+
+std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact) {
+    switch (contact.law) {
+        case FrictionLaw::coulomb_regularized: return std::make_unique<RegularizedCoulomb>(contact);
+        case FrictionLaw::dahl: {
+            Contact dahl = contact;
+            dahl.damping = dahl.viscous = dahl.stribeck_velocity = 0.0;
+            return std::make_unique<LuGre>(dahl);
+        }
+        case FrictionLaw::lugre: return std::make_unique<LuGre>(contact);
+        case FrictionLaw::coulomb: break;
+    }
+    throw InvalidInput("law = " + to_string(contact.law) +
+                       " (exact, set-valued Coulomb) is not available in harmonic balance yet: allowed "
+                       "dahl, lugre, coulomb-reg");
+}
+
+}  // namespace hbf

@@ -1,0 +1,132 @@
+#include "hbf/harmonic_balance.hpp"
+
+#include <cmath>
+
+#include "hbf/error.hpp"
+
+namespace hbf {
+
+HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
+    : system_(std::move(system)),
+      fourier_(options.harmonics,
+               options.time_samples > 0 ? options.time_samples : Fourier::default_time_samples(options.harmonics)) {
+    if (options.harmonics < 1)
+        throw InvalidInput("harmonics = " + std::to_string(options.harmonics) + " is out of range: allowed >= 1");
+    if (options.time_samples < 0)
+        throw InvalidInput("time_samples = " + std::to_string(options.time_samples) +
+                           " is out of range: allowed 0 (automatic) or > 2 harmonics");
+    system_.validate();
+    const int n = coefficients();
+    unknowns_ = system_.dofs() * n;
+    force_scale_ = system_.excitation.cwiseAbs().maxCoeff();
+    for (const Contact& c : system_.contacts) {
+        models_.push_back(make_friction_model(c));
+        directions_.push_back(system_.contact_direction(c));
+        state_offset_.push_back(models_.back()->state_signals() > 0 ? unknowns_ : -1);
+        unknowns_ += models_.back()->state_signals() * n;
+        force_scale_ = std::max(force_scale_, c.friction_limit);
+    }
+}
+
+Eigen::VectorXd HarmonicBalance::dof(const Eigen::VectorXd& x, int i) const {
+    return x.segment(i * coefficients(), coefficients());
+}
+
+Eigen::VectorXd HarmonicBalance::relative(const Eigen::VectorXd& x, int contact) const {
+    const int n = coefficients();
+    const Eigen::Map<const Eigen::MatrixXd> y(x.data(), n, system_.dofs());
+    return y * directions_[static_cast<std::size_t>(contact)];
+}
+
+Eigen::VectorXd HarmonicBalance::state(const Eigen::VectorXd& x, int contact) const {
+    const int offset = state_offset_[static_cast<std::size_t>(contact)];
+    return offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, coefficients()));
+}
+
+Eigen::VectorXd HarmonicBalance::force_samples(const Eigen::VectorXd& x, double omega, int contact) {
+    return models_[static_cast<std::size_t>(contact)]->force_samples(fourier_, omega, relative(x, contact),
+                                                                     state(x, contact));
+}
+
+void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
+                               Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
+    const int n = coefficients(), dofs = system_.dofs();
+    const Eigen::MatrixXd& D1 = fourier_.derivative();
+    const Eigen::MatrixXd& M = system_.mass;
+    const Eigen::MatrixXd& C = system_.damping;
+    const Eigen::MatrixXd& K = system_.stiffness;
+    const Eigen::Map<const Eigen::MatrixXd> Y(x.data(), n, dofs);
+    residual.resize(unknowns_);
+    Eigen::Map<Eigen::MatrixXd> RY(residual.data(), n, dofs);
+
+    // Linear structure: D^2 Y M + D Y C + Y K - e_cos1 F^T.
+    const Eigen::MatrixXd D1Y = D1 * Y;
+    const Eigen::MatrixXd D2Y = D1 * D1Y;
+    RY = omega * omega * D2Y * M + omega * D1Y * C + Y * K;
+    RY.row(1) -= system_.excitation.transpose();
+    const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
+    if (jacobian) {
+        jacobian->setZero(unknowns_, unknowns_);
+        const Eigen::MatrixXd D2 = D1 * D1;
+        const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
+        for (int i = 0; i < dofs; ++i)
+            for (int j = 0; j < dofs; ++j)
+                jacobian->block(i * n, j * n, n, n) = K(i, j) * I + omega * C(i, j) * D1 + omega * omega * M(i, j) * D2;
+    }
+    if (jacobian_omega) {
+        jacobian_omega->setZero(unknowns_);
+        Eigen::Map<Eigen::MatrixXd>(jacobian_omega->data(), n, dofs) = 2.0 * omega * D2Y * M + D1Y * C;
+    }
+
+    // Friction contacts through the AFT.
+    for (std::size_t c = 0; c < models_.size(); ++c) {
+        const Eigen::VectorXd& w = directions_[c];
+        const Eigen::VectorXd q = Y * w;
+        const int offset = state_offset_[c];
+        const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
+        FrictionEvaluation& e = scratch_;
+        models_[c]->evaluate(fourier_, omega, q, z, e, want_jacobian);
+        RY += e.force * w.transpose();
+        if (offset >= 0) residual.segment(offset, n) = e.state_residual;
+        if (jacobian) {
+            for (int i = 0; i < dofs; ++i) {
+                if (w(i) == 0.0) continue;
+                for (int j = 0; j < dofs; ++j)
+                    if (w(j) != 0.0) jacobian->block(i * n, j * n, n, n) += w(i) * w(j) * e.force_q;
+                if (offset >= 0) {
+                    jacobian->block(i * n, offset, n, n) += w(i) * e.force_z;
+                    jacobian->block(offset, i * n, n, n) += w(i) * e.state_q;
+                }
+            }
+            if (offset >= 0) jacobian->block(offset, offset, n, n) += e.state_z;
+        }
+        if (jacobian_omega) {
+            Eigen::Map<Eigen::MatrixXd>(jacobian_omega->data(), n, dofs) += e.force_omega * w.transpose();
+            if (offset >= 0) jacobian_omega->segment(offset, n) += e.state_omega;
+        }
+    }
+}
+
+Eigen::VectorXd HarmonicBalance::linear_guess(double omega) const {
+    const int n = coefficients(), dofs = system_.dofs();
+    Eigen::MatrixXd C = system_.damping, K = system_.stiffness;
+    for (std::size_t c = 0; c < system_.contacts.size(); ++c) {
+        const Contact& k = system_.contacts[c];
+        if (k.law != FrictionLaw::dahl && k.law != FrictionLaw::lugre) continue;
+        const Eigen::VectorXd& w = directions_[c];
+        K += k.stiffness * w * w.transpose();
+        C += (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0) * w * w.transpose();
+    }
+    const Eigen::VectorXcd amplitude = linear_response(system_.mass, C, K, system_.excitation, omega);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(unknowns_);
+    for (int i = 0; i < dofs; ++i) {
+        if (!std::isfinite(std::abs(amplitude(i)))) continue;  // exact resonance: start from rest
+        x(i * n + 1) = amplitude(i).real();   // y = Re(Y e^{i theta}) = Re Y cos - Im Y sin
+        x(i * n + 2) = -amplitude(i).imag();
+    }
+    for (std::size_t c = 0; c < system_.contacts.size(); ++c)
+        if (state_offset_[c] >= 0) x.segment(state_offset_[c], n) = relative(x, static_cast<int>(c));
+    return x;
+}
+
+}  // namespace hbf

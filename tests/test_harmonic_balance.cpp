@@ -1,0 +1,103 @@
+// Fourier transforms, and the harmonic-balance Jacobians against central finite differences.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+#include "hbf/error.hpp"
+#include "hbf/harmonic_balance.hpp"
+
+using namespace hbf;
+
+TEST_CASE("Fourier: FFTW transforms agree with the definition and invert each other", "[fourier]") {
+    const int H = 7, nt = 64;
+    Fourier f(H, nt);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Eigen::VectorXd c(f.size());
+    for (int k = 0; k < f.size(); ++k) c(k) = u(rng);
+    Eigen::VectorXd x(nt), back(f.size());
+    f.to_time(c, x);
+    for (int j = 0; j < nt; ++j) {
+        const double theta = 2.0 * M_PI * j / nt;
+        double expected = c(0);
+        for (int k = 1; k <= H; ++k) expected += c(2 * k - 1) * std::cos(k * theta) + c(2 * k) * std::sin(k * theta);
+        CHECK(x(j) == Approx(expected).margin(1e-13));
+    }
+    CHECK((f.synthesis() * c - x).norm() < 1e-12);
+    f.to_coefficients(x, back);
+    CHECK((back - c).norm() < 1e-13);
+    CHECK((f.analysis() * x - c).norm() < 1e-13);
+    // Derivative: d/dtheta of the series, checked on the samples by the exact derivative.
+    Eigen::VectorXd dx(nt);
+    f.to_time(f.derivative() * c, dx);
+    for (int j = 0; j < nt; ++j) {
+        const double theta = 2.0 * M_PI * j / nt;
+        double expected = 0.0;
+        for (int k = 1; k <= H; ++k) expected += k * (-c(2 * k - 1) * std::sin(k * theta) + c(2 * k) * std::cos(k * theta));
+        CHECK(dx(j) == Approx(expected).margin(1e-12));
+    }
+    CHECK_THROWS_AS(Fourier(5, 10), InvalidInput);  // N_t must exceed 2H
+    CHECK(Fourier::default_time_samples(10) == 256);
+}
+
+namespace {
+System absorber(FrictionLaw law) {
+    AbsorberParameters p;
+    p.regularization = 0.05;
+    if (law == FrictionLaw::lugre) {  // exercise every LuGre term: Stribeck curve and viscous
+        p.contact_damping_ratio = 0.2;
+        p.static_friction_coefficient = 0.3;
+        p.stribeck_velocity = 0.1;
+        p.viscous_coefficient = 0.02;
+    }
+    return friction_absorber(p, law);
+}
+
+/// Largest entry of |A - B| relative to the largest entry of |B|.
+double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
+}
+}  // namespace
+
+TEST_CASE("Harmonic-balance Jacobians equal central finite differences", "[harmonic_balance]") {
+    for (FrictionLaw law : {FrictionLaw::dahl, FrictionLaw::lugre, FrictionLaw::coulomb_regularized}) {
+        for (int state = 0; state < 3; ++state) {
+            HarmonicBalance hb(absorber(law), HarmonicBalanceOptions{4, 64});
+            const double omega = 0.8 + 0.15 * state;
+            std::mt19937 rng(11 + state);
+            std::normal_distribution<double> normal(0.0, 1.0);
+            // A state with harmonics of decreasing size, around a relative motion of amplitude
+            // ~ 0.5 * (state + 1), so that stick-like, mixed and slipping samples all occur.
+            Eigen::VectorXd x = hb.linear_guess(omega);
+            for (int k = 0; k < x.size(); ++k) x(k) += 0.3 * (state + 1) * normal(rng) / (1 + (k % hb.coefficients()));
+            Eigen::VectorXd r, dr_domega;
+            Eigen::MatrixXd J;
+            hb.evaluate(x, omega, r, &J, &dr_domega);
+            Eigen::MatrixXd fd(x.size(), x.size());
+            const double h = 1e-6;
+            Eigen::VectorXd rp, rm;
+            for (int k = 0; k < x.size(); ++k) {
+                Eigen::VectorXd xp = x, xm = x;
+                xp(k) += h;
+                xm(k) -= h;
+                hb.evaluate(xp, omega, rp);
+                hb.evaluate(xm, omega, rm);
+                fd.col(k) = (rp - rm) / (2 * h);
+            }
+            hb.evaluate(x, omega + h, rp);
+            hb.evaluate(x, omega - h, rm);
+            const Eigen::VectorXd fd_omega = (rp - rm) / (2 * h);
+            INFO("law " << to_string(law) << ", state " << state);
+            // Central differences of a function whose samples are piecewise smooth (|v| has a
+            // kink): the error is O(h^2) away from kinks; 1e-5 relative leaves room for that.
+            CHECK(relative_error(J, fd) < 1e-5);
+            CHECK(relative_error(dr_domega, fd_omega) < 1e-5);
+        }
+    }
+}
+
+TEST_CASE("Exact Coulomb is rejected by the smooth harmonic balance with a clear message", "[harmonic_balance]") {
+    CHECK_THROWS_WITH(HarmonicBalance(friction_absorber(AbsorberParameters{}, FrictionLaw::coulomb),
+                                      HarmonicBalanceOptions{}),
+                      Catch::Contains("coulomb"));
+}
