@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Command 1 of the README: installs the dependencies, builds hbfriction (Release) and
-# computes the default FRF of the paper's friction absorber into results/default.csv.
+# computes the default FRF of the paper's friction absorber (LuGre, harmonic balance) into
+# results/default.csv, with its JSON summary in results/default.json.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 source "$ROOT/scripts/common.sh"
@@ -9,7 +10,7 @@ source "$ROOT/scripts/common.sh"
 echo "== building (Release) in build/" >&2
 build_project "$ROOT/build" Release
 mkdir -p "$ROOT/results"
-echo "== hbf analytic (paper's absorber: r = 0.1, wa = 1, mu = 0.2, fe = 0.5, Coulomb)" >&2
-"$ROOT/build/hbf" analytic --out "$ROOT/results/default.csv"
-echo "== wrote results/default.csv ($(($(wc -l <"$ROOT/results/default.csv") - 1)) frequencies); first rows:" >&2
+echo "== hbf frf (paper's absorber: r = 0.1, wa = 1, mu = 0.2, fe = 0.5, LuGre wb = 0.4, xi = 0.01; H = 10)" >&2
+"$ROOT/build/hbf" frf --out "$ROOT/results/default.csv" --summary "$ROOT/results/default.json"
+echo "== wrote results/default.csv ($(($(wc -l <"$ROOT/results/default.csv") - 1)) points) and results/default.json; first rows:" >&2
 head -n 6 "$ROOT/results/default.csv"

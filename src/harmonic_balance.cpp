@@ -19,12 +19,12 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     const int n = coefficients();
     unknowns_ = system_.dofs() * n;
     force_scale_ = system_.excitation.cwiseAbs().maxCoeff();
+    if (!(force_scale_ > 0.0)) throw InvalidInput("excitation vector is zero: allowed a non-zero force amplitude");
     for (const Contact& c : system_.contacts) {
         models_.push_back(make_friction_model(c));
         directions_.push_back(system_.contact_direction(c));
         state_offset_.push_back(models_.back()->state_signals() > 0 ? unknowns_ : -1);
         unknowns_ += models_.back()->state_signals() * n;
-        force_scale_ = std::max(force_scale_, c.friction_limit);
     }
 }
 
@@ -107,15 +107,18 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::Ve
     }
 }
 
-Eigen::VectorXd HarmonicBalance::linear_guess(double omega) const {
+Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const {
     const int n = coefficients(), dofs = system_.dofs();
     Eigen::MatrixXd C = system_.damping, K = system_.stiffness;
     for (std::size_t c = 0; c < system_.contacts.size(); ++c) {
         const Contact& k = system_.contacts[c];
-        if (k.law != FrictionLaw::dahl && k.law != FrictionLaw::lugre) continue;
-        const Eigen::VectorXd& w = directions_[c];
-        K += k.stiffness * w * w.transpose();
-        C += (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0) * w * w.transpose();
+        if (sliding) break;
+        const Eigen::MatrixXd ww = directions_[c] * directions_[c].transpose();
+        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre) {
+            K += k.stiffness * ww;
+            C += (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0) * ww;
+        }
+        if (k.law == FrictionLaw::coulomb_regularized) C += k.friction_limit / k.regularization * ww;  // tanh'(0)
     }
     const Eigen::VectorXcd amplitude = linear_response(system_.mass, C, K, system_.excitation, omega);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(unknowns_);
@@ -125,7 +128,20 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega) const {
         x(i * n + 2) = -amplitude(i).imag();
     }
     for (std::size_t c = 0; c < system_.contacts.size(); ++c)
-        if (state_offset_[c] >= 0) x.segment(state_offset_[c], n) = relative(x, static_cast<int>(c));
+        if (state_offset_[c] >= 0) {
+            // Pre-sliding: z = q. Sliding: the bristle force sits at the friction limit, in phase
+            // with the velocity (first harmonic of F_c sign(v) is (4/pi) F_c v / |v|).
+            const Eigen::VectorXd q = relative(x, static_cast<int>(c));
+            Eigen::VectorXd z = q;
+            const double speed = std::hypot(q(1), q(2));
+            if (sliding && speed > 0.0) {
+                const double limit = 4.0 / M_PI * system_.contacts[c].friction_limit / system_.contacts[c].stiffness;
+                z.setZero();
+                z(1) = limit * q(2) / speed;  // v ~ -sin: in phase with q' = omega (s1 cos - c1 sin)
+                z(2) = -limit * q(1) / speed;
+            }
+            x.segment(state_offset_[c], n) = z;
+        }
     return x;
 }
 

@@ -83,4 +83,45 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
     }
 }
 
+std::vector<Column> frf_columns(int dofs) {
+    static std::vector<std::string> names;  // keeps the generated names alive
+    std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1)"}};
+    names.clear();
+    names.reserve(static_cast<std::size_t>(2 * dofs));
+    for (int i = 1; i <= dofs; ++i) names.push_back("y" + std::to_string(i) + "_max");
+    for (int i = 1; i <= dofs; ++i) names.push_back("y" + std::to_string(i) + "_amp1");
+    for (int i = 0; i < dofs; ++i) columns.push_back({names[static_cast<std::size_t>(i)].c_str(), "max over one period of |y_i(t)|"});
+    for (int i = 0; i < dofs; ++i)
+        columns.push_back({names[static_cast<std::size_t>(dofs + i)].c_str(), "first-harmonic amplitude sqrt(c1^2 + s1^2) of y_i"});
+    const std::vector<Column> rest = {
+        {"stick_fraction", "share of the period with |q'| <= 1% of omega * max_i y_i_max (contact 1)"},
+        {"regime", "stick (stick_fraction >= 0.99), slip (<= 0.01) or stick-slip"},
+        {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
+        {"branch", "branch number: 1, or 2 for the branch restarted from wmax after an amplitude cap"},
+        {"point", "regular, fold (dw/ds changed sign), or sample (solved exactly at an --at frequency)"},
+        {"iterations", "corrector (Ceres) iterations of this point"},
+        {"residual", "|R|_inf / force scale after correction"},
+        {"step", "arclength step that led to this point"},
+    };
+    columns.insert(columns.end(), rest.begin(), rest.end());
+    return columns;
+}
+
+void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
+                   const std::vector<PointMetrics>& metrics, int dofs) {
+    const auto columns = frf_columns(dofs);
+    for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
+    out << '\n';
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const SolutionPoint& p = points[k];
+        const PointMetrics& m = metrics[k];
+        out << format_number(p.omega);
+        for (double y : m.y_max) out << ',' << format_number(y);
+        for (double y : m.y_amp1) out << ',' << format_number(y);
+        out << ',' << format_number(m.stick_fraction) << ',' << m.regime << ',' << format_number(m.energy) << ','
+            << p.branch << ',' << to_string(p.kind) << ',' << p.iterations << ',' << format_number(p.residual) << ','
+            << format_number(p.step) << '\n';
+    }
+}
+
 }  // namespace hbf::io

@@ -53,9 +53,12 @@ public:
     Eigen::VectorXd force_samples(const Eigen::VectorXd& x, double omega, int contact);
 
     /// A starting point at omega: the linear response with each Dahl/LuGre contact replaced by
-    /// its pre-sliding spring and damper (z = q) and other contacts removed.
-    Eigen::VectorXd linear_guess(double omega) const;
-    /// Force scale against which residuals are judged: max(|F|_inf, largest friction limit).
+    /// its pre-sliding spring and damper (z = q), each regularised Coulomb contact by its
+    /// slope at zero velocity (a damper F_c / eps), and exact Coulomb contacts removed.
+    /// With `sliding`, the slipping limit instead: every contact removed (state laws start at
+    /// their friction limit, in phase with the relative velocity).
+    Eigen::VectorXd linear_guess(double omega, bool sliding = false) const;
+    /// Force scale against which residuals are judged: the excitation amplitude |F|_inf.
     double force_scale() const { return force_scale_; }
 
 private:

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hbf/analytic.hpp"
+#include "hbf/continuation.hpp"
 
 namespace hbf::io {
 
@@ -45,5 +46,12 @@ const std::vector<Column>& analytic_columns();
 
 /// Writes the header row and one row per frequency.
 void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows);
+
+/// Columns of `hbf frf` for a system with `dofs` DOFs (y<i>_max, y<i>_amp1 for each).
+std::vector<Column> frf_columns(int dofs);
+
+/// Writes the header row and one row per point (metrics[k] belongs to points[k]).
+void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
+                   const std::vector<PointMetrics>& metrics, int dofs);
 
 }  // namespace hbf::io

@@ -89,7 +89,7 @@ struct AbsorberParameters {
     double excitation = 0.5;               ///< fe = F0 / N
     double contact_stiffness_ratio = 0.4;  ///< wb = omega3 / omega1, omega3 = sqrt(sigma0/m2)
     double contact_damping_ratio = 0.01;   ///< xi = sigma1 / (2 m2 omega3)
-    double regularization = 0.01;          ///< eps, velocity of the tanh (coulomb-reg)
+    double regularization = 0.05;          ///< eps, velocity of the tanh (coulomb-reg)
     double static_friction_coefficient = 0;  ///< mu_s (LuGre Stribeck; 0 means mu_s = mu)
     double stribeck_velocity = 0;          ///< v_s, nondimensional (LuGre; 0 means none)
     double viscous_coefficient = 0;        ///< sigma2 / (m1 omega1) (LuGre viscous term)

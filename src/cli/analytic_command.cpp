@@ -31,6 +31,8 @@ std::string columns_help() {
 
 int run(const CLI::App& command, const AnalyticOptions& o) {
     const FrictionLaw law = o.absorber.friction_law();
+    if (law == FrictionLaw::coulomb_regularized)
+        throw UsageError("--law = 'coulomb-reg' has no closed form: allowed coulomb, dahl, lugre");
     const AbsorberParameters p = o.absorber.parameters(command);
     const std::vector<double> grid = analytic::uniform_grid(
         parse_double("--wmin", o.wmin), parse_double("--wmax", o.wmax), parse_integer("--points", o.points));
@@ -47,7 +49,7 @@ Runner add_analytic_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "analytic", "Closed-form stick and slip responses, limit and optimal friction coefficients "
                     "of the paper's friction absorber (nondimensional).");
-    options->absorber.add_to(*command, "friction law: coulomb, dahl or lugre");
+    options->absorber.add_to(*command, "friction law: coulomb, dahl or lugre", "coulomb", false);
     command->add_option("--wmin", options->wmin, "lowest frequency w, > 0")
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--wmax", options->wmax, "highest frequency w, > wmin")

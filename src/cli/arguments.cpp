@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <algorithm>
 
 #include "hbf/error.hpp"
 
@@ -43,9 +44,11 @@ long long parse_integer(const std::string& flag, const std::string& text) {
     return value;
 }
 
-void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help) {
+void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help, const std::string& law_default,
+                           bool with_smooth_options) {
     const AbsorberParameters d;  // documented defaults
     auto def = [](double v) { return " [default " + format_number(v) + "]"; };
+    law = law_default;
     command.add_option("--law", law, laws_help)->capture_default_str()->type_name("LAW");
     command.add_option("--r", r, "mass ratio r = m2/m1, > 0" + def(d.mass_ratio));
     command.add_option("--wa", wa, "tuning ratio wa = omega2/omega1, omega2 = sqrt(k2/m2), > 0" +
@@ -57,9 +60,41 @@ void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help) {
                                    "(dahl, lugre)" + def(d.contact_stiffness_ratio));
     command.add_option("--xi", xi, "contact damping ratio xi = sigma1/(2 m2 sqrt(sigma0/m2)), >= 0 "
                                    "(lugre)" + def(d.contact_damping_ratio));
-    for (const char* flag : {"--r", "--wa", "--mu", "--fe", "--wb", "--xi"})
-        command.get_option(flag)->type_name("NUMBER");
+    if (with_smooth_options) {
+        command.add_option("--eps", eps, "regularisation velocity of tanh (coulomb-reg), > 0" + def(d.regularization));
+        command.add_option("--mu-static", mu_static,
+                           "static friction coefficient mu_s of the Stribeck curve (lugre), >= 0; 0 means mu_s = mu "
+                           "[default 0]");
+        command.add_option("--stribeck-velocity", stribeck_velocity,
+                           "Stribeck velocity v_s (lugre, nondimensional: x_s omega1), >= 0; 0 means no Stribeck "
+                           "curve [default 0]");
+        command.add_option("--viscous", viscous,
+                           "viscous friction coefficient sigma2 / (N / (x_s omega1)) (lugre), >= 0 [default 0]");
+    }
+    for (CLI::Option* option : command.get_options())
+        if (option->get_name() != "--law" && option->get_name() != "--help")
+            option->type_name("NUMBER");
 }
+
+namespace {
+/// Which laws each law-specific flag applies to.
+struct FlagScope {
+    const char* flag;
+    const char* meaning;
+    std::vector<FrictionLaw> laws;
+};
+const std::vector<FlagScope>& flag_scopes() {
+    static const std::vector<FlagScope> scopes = {
+        {"--wb", "contact stiffness ratio", {FrictionLaw::dahl, FrictionLaw::lugre}},
+        {"--xi", "contact damping ratio", {FrictionLaw::lugre}},
+        {"--eps", "regularisation velocity", {FrictionLaw::coulomb_regularized}},
+        {"--mu-static", "static friction coefficient", {FrictionLaw::lugre}},
+        {"--stribeck-velocity", "Stribeck velocity", {FrictionLaw::lugre}},
+        {"--viscous", "viscous friction coefficient", {FrictionLaw::lugre}},
+    };
+    return scopes;
+}
+}  // namespace
 
 FrictionLaw AbsorberFlags::friction_law() const {
     try {
@@ -71,13 +106,17 @@ FrictionLaw AbsorberFlags::friction_law() const {
 
 AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
     const FrictionLaw chosen = friction_law();
-    if (chosen == FrictionLaw::coulomb && command.count("--wb") > 0)
-        throw UsageError("--wb (contact stiffness ratio) does not apply to --law coulomb: allowed with dahl, lugre");
-    if (chosen != FrictionLaw::lugre && command.count("--xi") > 0)
-        throw UsageError("--xi (contact damping ratio) does not apply to --law " + law + ": allowed with lugre");
+    for (const FlagScope& scope : flag_scopes()) {
+        if (command.get_option_no_throw(scope.flag) == nullptr || command.count(scope.flag) == 0) continue;
+        if (std::find(scope.laws.begin(), scope.laws.end(), chosen) != scope.laws.end()) continue;
+        std::string allowed;
+        for (FrictionLaw l : scope.laws) allowed += (allowed.empty() ? "" : ", ") + to_string(l);
+        throw UsageError(std::string(scope.flag) + " (" + scope.meaning + ") does not apply to --law " + law +
+                         ": allowed with " + allowed);
+    }
     AbsorberParameters p;
     auto set = [&](const char* flag, const std::string& text, double& target) {
-        if (command.count(flag) > 0) target = parse_double(flag, text);
+        if (command.get_option_no_throw(flag) != nullptr && command.count(flag) > 0) target = parse_double(flag, text);
     };
     set("--r", r, p.mass_ratio);
     set("--wa", wa, p.tuning_ratio);
@@ -85,6 +124,10 @@ AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
     set("--fe", fe, p.excitation);
     set("--wb", wb, p.contact_stiffness_ratio);
     set("--xi", xi, p.contact_damping_ratio);
+    set("--eps", eps, p.regularization);
+    set("--mu-static", mu_static, p.static_friction_coefficient);
+    set("--stribeck-velocity", stribeck_velocity, p.stribeck_velocity);
+    set("--viscous", viscous, p.viscous_coefficient);
     p.validate(chosen);
     return p;
 }

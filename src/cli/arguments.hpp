@@ -27,14 +27,17 @@ long long parse_integer(const std::string& flag, const std::string& text);
 /// The paper absorber's parameter flags --r --wa --mu --fe --wb --xi (values kept as text so
 /// that they are parsed strictly), shared by every subcommand that works on the preset.
 struct AbsorberFlags {
-    std::string r, wa, mu, fe, wb, xi;
-    std::string law = "coulomb";
+    std::string r, wa, mu, fe, wb, xi, eps, mu_static, stribeck_velocity, viscous;
+    std::string law;
 
-    void add_to(CLI::App& command, const std::string& laws_help);
+    /// Adds the flags; `law_default` is the default --law, `with_smooth_options` adds --eps,
+    /// --mu-static, --stribeck-velocity and --viscous (harmonic-balance commands).
+    void add_to(CLI::App& command, const std::string& laws_help, const std::string& law_default,
+                bool with_smooth_options);
     /// The chosen law; throws UsageError for an unknown name.
     FrictionLaw friction_law() const;
     /// Parameters with defaults for flags not given. Throws UsageError for a flag that does
-    /// not apply to the chosen law (--wb for coulomb, --xi for coulomb and dahl).
+    /// not apply to the chosen law (e.g. --wb for coulomb, --xi for coulomb and dahl).
     AbsorberParameters parameters(const CLI::App& command) const;
 };
 

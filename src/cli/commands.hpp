@@ -10,5 +10,6 @@ namespace hbf::cli {
 using Runner = std::function<int()>;
 
 Runner add_analytic_command(CLI::App& app);
+Runner add_frf_command(CLI::App& app);
 
 }  // namespace hbf::cli

@@ -1,0 +1,126 @@
+// hbfriction — corrector (Ceres), pseudo-arclength continuation in omega, and the branch data
+// with its post-processing.
+//
+// The continuation follows u = (X, omega) along R(X, omega) = 0. Distances along the branch are
+// measured in scaled coordinates (X / x_ref, omega), x_ref = the largest coefficient at the
+// start (at least the force scale): the predictor steps by h along the unit tangent t (null
+// vector of [dR/dX dR/domega], oriented like the previous one); the corrector solves the
+// square system
+//     R(X, omega) / force_scale = 0,   t . (u - u_predicted) = 0
+// with Ceres (dense QR, Levenberg-Marquardt, analytic Jacobian). A point is accepted only when
+// |R|_inf / force_scale <= tolerance — checked by us, since Ceres has no absolute test.
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hbf/harmonic_balance.hpp"
+
+namespace hbf {
+
+struct CorrectorOptions {
+    int max_iterations = 20;  ///< Ceres iterations per correction
+    double tolerance = 1e-9;  ///< accept when |R|_inf <= tolerance * force_scale
+};
+
+struct ContinuationOptions {
+    double omega_start = 0.5;     ///< first frequency (the branch starts here)
+    double omega_end = 1.6;       ///< last frequency (the branch stops here)
+    double initial_step = 0.01;   ///< first arclength step (scaled coordinates)
+    double min_step = 1e-6;       ///< below this the continuation stops with status min_step
+    double max_step = 1.0;        ///< the step never grows beyond this
+    double max_turn = 0.2;        ///< largest angle (rad) between successive tangents; a
+                                  ///< sharper turn halves the step and retries
+    int max_points = 5000;        ///< point budget per branch
+    double max_amplitude = 1e3;   ///< stop when any max_t |y_i(t)| bound exceeds this
+    bool restart_past_cap = true; ///< after an amplitude cap, start a second branch at omega_end
+    CorrectorOptions corrector;
+};
+
+enum class PointKind { regular, fold, sample };
+std::string to_string(PointKind kind);
+
+/// One solution: omega, the coefficients X (HarmonicBalance layout) and diagnostics.
+struct SolutionPoint {
+    double omega = 0;
+    Eigen::VectorXd x;
+    int iterations = 0;     ///< corrector (Ceres) iterations
+    double residual = 0;    ///< |R|_inf / force_scale after correction
+    double step = 0;        ///< arclength step that led to this point (0 for the first)
+    PointKind kind = PointKind::regular;
+    int branch = 1;         ///< 1-based branch number
+};
+
+enum class ContinuationStatus { completed, amplitude_cap, min_step, point_budget, start_failed };
+std::string to_string(ContinuationStatus status);
+
+struct BranchResult {
+    std::vector<SolutionPoint> points;  ///< in branch order; branch 2 (if any) after branch 1
+    ContinuationStatus status = ContinuationStatus::completed;
+    std::string message;                ///< where and why it stopped
+    int corrections = 0;                ///< corrector calls, including failed ones
+    int failed_corrections = 0;
+    /// One line: status, points, folds, where it stopped.
+    std::string summary() const;
+};
+
+/// Corrects u = (x, omega) onto R = 0 with Ceres; keeps the Ceres problem between calls.
+class Corrector {
+public:
+    Corrector(HarmonicBalance& hb, CorrectorOptions options);
+    ~Corrector();
+    Corrector(const Corrector&) = delete;
+    Corrector& operator=(const Corrector&) = delete;
+    /// Solves R(x, omega) = 0 together with tangent . (scaled(u) - scaled(u_predicted)) = 0.
+    /// `x` and `omega` hold the prediction on entry and the result on exit. Returns whether
+    /// the residual tolerance was met; iterations and residual are reported.
+    bool correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
+                 int& iterations, double& residual);
+    /// Solves at fixed omega (tangent = e_omega).
+    bool solve_at(Eigen::VectorXd& x, double omega, double x_scale, int& iterations, double& residual);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// Follows the branch from omega_start to omega_end (see the file comment).
+BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& options);
+
+/// Solves exactly at each frequency in `omegas` every solution of the branch there (all of
+/// them where it folds), starting from the branch; returns points of kind `sample`.
+std::vector<SolutionPoint> sample_branch(HarmonicBalance& hb, const BranchResult& branch,
+                                         const std::vector<double>& omegas, const CorrectorOptions& options);
+
+// ---- post-processing -------------------------------------------------------------------
+
+/// Quantities derived from one solution point.
+struct PointMetrics {
+    std::vector<double> y_max;   ///< per DOF: max over one period of |y_i(t)| (fine grid)
+    std::vector<double> y_amp1;  ///< per DOF: first-harmonic amplitude sqrt(c1^2 + s1^2)
+    double stick_fraction = 0;   ///< share of the period with |q'| <= stick threshold (contact 1)
+    std::string regime;          ///< "stick" (fraction >= 0.99), "slip" (<= 0.01) or "stick-slip"
+    double energy = 0;           ///< friction energy dissipated per cycle, all contacts
+    double input_energy = 0;     ///< work of the excitation per cycle, pi sum_i F_i s1_i
+};
+
+/// Relative velocity threshold of the stick fraction, as a share of the largest DOF velocity
+/// amplitude omega * max_i y_max_i.
+constexpr double stick_velocity_threshold = 1e-2;
+/// Samples per period of the fine reconstruction used for y_max and the stick fraction.
+int fine_time_samples(int harmonics);
+
+/// Computes PointMetrics; holds the fine-grid transform (planned once) for many points.
+class Analyser {
+public:
+    explicit Analyser(HarmonicBalance& hb);
+    PointMetrics operator()(const SolutionPoint& point);
+
+private:
+    HarmonicBalance& hb_;
+    Fourier fine_;
+};
+
+}  // namespace hbf

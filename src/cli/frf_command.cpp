@@ -1,0 +1,184 @@
+// `hbf frf`: frequency-response branch of the paper's absorber by harmonic balance and
+// pseudo-arclength continuation, as CSV (+ optional JSON summary).
+#include <unistd.h>
+
+#include <chrono>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "hbf/continuation.hpp"
+#include "hbf/error.hpp"
+#include "hbf/io.hpp"
+
+namespace hbf::cli {
+
+namespace {
+struct FrfOptions {
+    AbsorberFlags absorber;
+    std::string wmin = "0.5", wmax = "1.6", harmonics = "10", time_samples = "0", max_amplitude = "1000",
+                tolerance = "1e-9";
+    std::string at, out, summary;
+    bool quiet = false;
+};
+
+std::vector<double> parse_list(const std::string& flag, const std::string& text) {
+    std::vector<double> values;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = text.find(',', start);
+        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        const double w = parse_double(flag, item);
+        if (!(w > 0.0)) throw UsageError(flag + " = '" + item + "' is out of range: allowed frequencies > 0");
+        values.push_back(w);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return values;
+}
+
+/// Local maxima of y1_max within each branch (w, y1_max).
+nlohmann::json peaks(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics) {
+    nlohmann::json list = nlohmann::json::array();
+    for (std::size_t k = 1; k + 1 < points.size(); ++k) {
+        if (points[k - 1].branch != points[k].branch || points[k + 1].branch != points[k].branch) continue;
+        const double y = metrics[k].y_max[0];
+        if (y > metrics[k - 1].y_max[0] && y >= metrics[k + 1].y_max[0])
+            list.push_back({{"w", points[k].omega}, {"y1_max", y}, {"branch", points[k].branch}});
+    }
+    return list;
+}
+
+int run(const CLI::App& command, const FrfOptions& o) {
+    const auto started = std::chrono::steady_clock::now();
+    const FrictionLaw law = o.absorber.friction_law();
+    const AbsorberParameters p = o.absorber.parameters(command);
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = static_cast<int>(std::clamp<long long>(parse_integer("--harmonics", o.harmonics), -1, 100000));
+    if (hbo.harmonics < 1 || hbo.harmonics > 200)
+        throw UsageError("--harmonics = " + o.harmonics + " is out of range: allowed 1..200");
+    const long long nt = parse_integer("--time-samples", o.time_samples);
+    if (nt != 0 && (nt <= 2 * hbo.harmonics || nt > 65536))
+        throw UsageError("--time-samples = " + o.time_samples + " is out of range: allowed 0 (automatic) or " +
+                         std::to_string(2 * hbo.harmonics + 1) + "..65536");
+    hbo.time_samples = static_cast<int>(nt);
+    ContinuationOptions co;
+    co.omega_start = parse_double("--wmin", o.wmin);
+    co.omega_end = parse_double("--wmax", o.wmax);
+    co.max_amplitude = parse_double("--max-amplitude", o.max_amplitude);
+    co.corrector.tolerance = parse_double("--tolerance", o.tolerance);
+    if (!(co.corrector.tolerance >= 1e-14 && co.corrector.tolerance <= 1e-2))
+        throw UsageError("--tolerance = " + o.tolerance + " is out of range: allowed 1e-14..1e-2");
+    const std::vector<double> at = o.at.empty() ? std::vector<double>{} : parse_list("--at", o.at);
+    HarmonicBalance hb(friction_absorber(p, law), hbo);
+    BranchResult branch = continue_branch(hb, co);  // validates the range options
+
+    std::vector<SolutionPoint> points = branch.points;
+    if (!at.empty()) {
+        const auto samples = sample_branch(hb, branch, at, co.corrector);
+        points.insert(points.end(), samples.begin(), samples.end());
+    }
+    Analyser analyse(hb);
+    std::vector<PointMetrics> metrics;
+    metrics.reserve(points.size());
+    for (const SolutionPoint& point : points) metrics.push_back(analyse(point));
+
+    io::OutputFile out(o.out);
+    io::write_frf_csv(out.stream(), points, metrics, hb.system().dofs());
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    std::unique_ptr<io::OutputFile> summary;
+    if (!o.summary.empty()) {
+        nlohmann::json j;
+        j["parameters"] = {{"law", to_string(law)},
+                           {"r", p.mass_ratio},
+                           {"wa", p.tuning_ratio},
+                           {"mu", p.friction_coefficient},
+                           {"fe", p.excitation},
+                           {"wb", p.contact_stiffness_ratio},
+                           {"xi", p.contact_damping_ratio},
+                           {"eps", p.regularization},
+                           {"mu_static", p.static_friction_coefficient},
+                           {"stribeck_velocity", p.stribeck_velocity},
+                           {"viscous", p.viscous_coefficient},
+                           {"wmin", co.omega_start},
+                           {"wmax", co.omega_end},
+                           {"harmonics", hb.harmonics()},
+                           {"time_samples", hb.time_samples()},
+                           {"max_amplitude", co.max_amplitude},
+                           {"tolerance", co.corrector.tolerance}};
+        long long iterations = 0;
+        for (const SolutionPoint& point : branch.points) iterations += point.iterations;
+        j["points"] = branch.points.size();
+        j["samples"] = points.size() - branch.points.size();
+        j["solver"] = {{"corrections", branch.corrections},
+                       {"failed_corrections", branch.failed_corrections},
+                       {"iterations", iterations},
+                       {"iterations_per_point", branch.points.empty() ? 0.0 : double(iterations) / branch.points.size()}};
+        j["peaks"] = peaks(branch.points, metrics);
+        nlohmann::json folds = nlohmann::json::array();
+        for (std::size_t k = 0; k < branch.points.size(); ++k)
+            if (branch.points[k].kind == PointKind::fold)
+                folds.push_back({{"w", branch.points[k].omega}, {"y1_max", metrics[k].y_max[0]}, {"branch", branch.points[k].branch}});
+        j["folds"] = folds;
+        j["status"] = to_string(branch.status);
+        j["message"] = branch.message;
+        j["wall_time_seconds"] = seconds;
+        summary = std::make_unique<io::OutputFile>(o.summary);
+        summary->stream() << j.dump(2) << '\n';
+    }
+    out.commit();
+    if (summary) summary->commit();
+
+    const bool failed = branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::start_failed;
+    if (failed || branch.status != ContinuationStatus::completed)
+        std::cerr << "hbf frf: " << (failed ? "error: " : "note: ") << branch.summary()
+                  << (failed ? " (the points computed so far are written)" : "") << "\n";
+    else if (!o.quiet && isatty(STDERR_FILENO))
+        std::cerr << "hbf frf: " << branch.summary() << " in " << format_number(seconds) << " s\n";
+    return failed ? exit_failure : exit_success;
+}
+}  // namespace
+
+Runner add_frf_command(CLI::App& app) {
+    auto options = std::make_shared<FrfOptions>();
+    CLI::App* command = app.add_subcommand(
+        "frf", "Frequency response of the paper's friction absorber by multi-harmonic balance (AFT) and "
+               "pseudo-arclength continuation in w (nondimensional).");
+    options->absorber.add_to(*command, "friction law: dahl, lugre or coulomb-reg (regularised Coulomb)", "lugre", true);
+    command->add_option("--wmin", options->wmin, "first frequency w of the branch, > 0")->capture_default_str();
+    command->add_option("--wmax", options->wmax, "last frequency w of the branch, > wmin")->capture_default_str();
+    command->add_option("--harmonics", options->harmonics, "number of harmonics H, 1..200")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--time-samples", options->time_samples,
+                        "AFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "
+                        ">= max(64, 8 (2H + 1))")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--at", options->at,
+                        "comma-separated frequencies W1,W2,...: every solution of the branch there is solved "
+                        "exactly and written as extra rows with point = sample")
+        ->type_name("LIST");
+    command->add_option("--max-amplitude", options->max_amplitude,
+                        "amplitude cap: the branch stops when a bound of max |y_i| exceeds it (unbounded "
+                        "resonance), then restarts from wmax as branch 2")
+        ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--tolerance", options->tolerance,
+                        "corrector acceptance: |R|_inf <= tolerance * |F|_inf (the excitation amplitude), 1e-14..1e-2")
+        ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
+    command->add_option("--summary", options->summary, "write a JSON summary (parameters, solver statistics, "
+                                                       "peaks, folds, status, wall time) to FILE")
+        ->option_text("FILE");
+    command->add_flag("--quiet", options->quiet, "no progress or summary line on standard error");
+    std::string footer = "Output: CSV with a header row, one row per continuation point in branch order, then the "
+                         "--at samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.\n"
+                         "Columns:\n";
+    for (const auto& c : io::frf_columns(2)) footer += "  " + std::string(c.name) + ": " + c.meaning + "\n";
+    footer += "Exit code 1 when the continuation could not start or stalled (min step); the points computed so far "
+              "are still written. An amplitude cap is reported on standard error and is not a failure.";
+    command->footer(footer);
+    return [command, options]() { return run(*command, *options); };
+}
+
+}  // namespace hbf::cli

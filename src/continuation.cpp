@@ -1,0 +1,435 @@
+#include "hbf/continuation.hpp"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "hbf/error.hpp"
+
+namespace hbf {
+
+std::string to_string(PointKind kind) {
+    switch (kind) {
+        case PointKind::regular: return "regular";
+        case PointKind::fold: return "fold";
+        case PointKind::sample: return "sample";
+    }
+    return "unknown";
+}
+
+std::string to_string(ContinuationStatus status) {
+    switch (status) {
+        case ContinuationStatus::completed: return "completed";
+        case ContinuationStatus::amplitude_cap: return "amplitude_cap";
+        case ContinuationStatus::min_step: return "min_step";
+        case ContinuationStatus::point_budget: return "point_budget";
+        case ContinuationStatus::start_failed: return "start_failed";
+    }
+    return "unknown";
+}
+
+std::string BranchResult::summary() const {
+    std::ostringstream s;
+    const auto folds = std::count_if(points.begin(), points.end(), [](const SolutionPoint& p) { return p.kind == PointKind::fold; });
+    s << to_string(status) << ": " << points.size() << " points, " << folds << " folds";
+    if (!message.empty()) s << "; " << message;
+    return s.str();
+}
+
+// ---- corrector --------------------------------------------------------------------------
+
+namespace {
+/// Residual [R(x, omega) / force_scale; t . (p - p_predicted)] of the scaled unknowns
+/// p = (x / x_scale, omega), with its exact Jacobian (Ceres wants it row-major).
+class CorrectionCost final : public ceres::CostFunction {
+public:
+    CorrectionCost(HarmonicBalance& hb) : hb_(hb), n_(hb.unknowns()) {
+        set_num_residuals(n_ + 1);
+        mutable_parameter_block_sizes()->push_back(n_ + 1);
+    }
+    void set_target(const Eigen::VectorXd& tangent, const Eigen::VectorXd& predicted, double x_scale) {
+        tangent_ = tangent;
+        predicted_ = predicted;
+        x_scale_ = x_scale;
+    }
+    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+        const Eigen::Map<const Eigen::VectorXd> p(parameters[0], n_ + 1);
+        const Eigen::VectorXd x = p.head(n_) * x_scale_;
+        const double omega = p(n_);
+        const double f = hb_.force_scale();
+        Eigen::Map<Eigen::VectorXd> r(residuals, n_ + 1);
+        if (jacobians && jacobians[0]) {
+            hb_.evaluate(x, omega, r_, &j_, &j_omega_);
+            using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+            Eigen::Map<RowMajor> J(jacobians[0], n_ + 1, n_ + 1);
+            J.topLeftCorner(n_, n_) = j_ * (x_scale_ / f);
+            J.topRightCorner(n_, 1) = j_omega_ / f;
+            J.row(n_) = tangent_.transpose();
+        } else {
+            hb_.evaluate(x, omega, r_);
+        }
+        if (!r_.allFinite()) return false;
+        r.head(n_) = r_ / f;
+        r(n_) = tangent_.dot(p - predicted_);
+        return true;
+    }
+
+private:
+    HarmonicBalance& hb_;
+    int n_;
+    Eigen::VectorXd tangent_, predicted_;
+    double x_scale_ = 1.0;
+    mutable Eigen::VectorXd r_, j_omega_;
+    mutable Eigen::MatrixXd j_;
+};
+/// Ceres has no absolute residual test: stop as soon as |r|_2 = sqrt(2 cost) is below the
+/// tolerance (which implies |r|_inf below it), instead of iterating on at round-off level.
+class ResidualTest final : public ceres::IterationCallback {
+public:
+    explicit ResidualTest(double tolerance) : tolerance_(tolerance) {}
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+        return std::sqrt(2.0 * summary.cost) <= tolerance_ ? ceres::SOLVER_TERMINATE_SUCCESSFULLY
+                                                           : ceres::SOLVER_CONTINUE;
+    }
+
+private:
+    double tolerance_;
+};
+}  // namespace
+
+struct Corrector::Impl {
+    HarmonicBalance& hb;
+    CorrectorOptions options;
+    CorrectionCost cost;
+    std::vector<double> parameters;
+    ceres::Problem problem;
+    ceres::Solver::Options solver;
+    ResidualTest residual_test;
+
+    Impl(HarmonicBalance& h, CorrectorOptions o)
+        : hb(h), options(o), cost(h), parameters(static_cast<std::size_t>(h.unknowns() + 1)), problem(problem_options()),
+          residual_test(0.1 * o.tolerance) {
+        problem.AddResidualBlock(&cost, nullptr, parameters.data());
+        // Chosen by measurement on the absorber (see README): dense QR is exact and fast at
+        // these sizes; Levenberg-Marquardt with a huge initial radius is Gauss-Newton near the
+        // solution and still damps bad predictions; tolerances are pushed to round-off because
+        // convergence is judged on our own absolute residual test below.
+        solver.linear_solver_type = ceres::DENSE_QR;
+        solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+        solver.initial_trust_region_radius = 1e12;
+        solver.max_num_iterations = o.max_iterations;
+        solver.function_tolerance = 1e-20;
+        solver.gradient_tolerance = 1e-30;
+        solver.parameter_tolerance = 1e-15;
+        solver.logging_type = ceres::SILENT;
+        solver.minimizer_progress_to_stdout = false;
+        solver.num_threads = 1;
+        solver.callbacks.push_back(&residual_test);
+    }
+    static ceres::Problem::Options problem_options() {
+        ceres::Problem::Options p;
+        p.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+        return p;
+    }
+};
+
+Corrector::Corrector(HarmonicBalance& hb, CorrectorOptions options) : impl_(std::make_unique<Impl>(hb, options)) {}
+Corrector::~Corrector() = default;
+
+bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
+                        int& iterations, double& residual) {
+    Impl& m = *impl_;
+    const int n = m.hb.unknowns();
+    Eigen::Map<Eigen::VectorXd> p(m.parameters.data(), n + 1);
+    p.head(n) = x / x_scale;
+    p(n) = omega;
+    m.cost.set_target(tangent, p, x_scale);
+    ceres::Solver::Summary summary;
+    ceres::Solve(m.solver, &m.problem, &summary);
+    iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+    const Eigen::VectorXd x_new = p.head(n) * x_scale;
+    const double omega_new = p(n);
+    Eigen::VectorXd r;
+    m.hb.evaluate(x_new, omega_new, r);
+    residual = r.allFinite() ? r.cwiseAbs().maxCoeff() / m.hb.force_scale() : INFINITY;
+    if (!(residual <= m.options.tolerance) || !(omega_new > 0.0)) return false;
+    x = x_new;
+    omega = omega_new;
+    return true;
+}
+
+bool Corrector::solve_at(Eigen::VectorXd& x, double omega, double x_scale, int& iterations, double& residual) {
+    Eigen::VectorXd tangent = Eigen::VectorXd::Zero(x.size() + 1);
+    tangent(x.size()) = 1.0;
+    double w = omega;
+    return correct(x, w, tangent, x_scale, iterations, residual);
+}
+
+// ---- continuation -----------------------------------------------------------------------
+
+namespace {
+/// Upper bound of max_t |y_i(t)| over all DOFs: |c0| + sum_k hypot(c_k, s_k).
+double amplitude_bound(const HarmonicBalance& hb, const Eigen::VectorXd& x) {
+    double bound = 0.0;
+    for (int i = 0; i < hb.system().dofs(); ++i) {
+        const Eigen::VectorXd c = hb.dof(x, i);
+        double b = std::abs(c(0));
+        for (int k = 1; k <= hb.harmonics(); ++k) b += std::hypot(c(2 * k - 1), c(2 * k));
+        bound = std::max(bound, b);
+    }
+    return bound;
+}
+
+/// Unit tangent (scaled coordinates) of the branch at (x, omega), oriented along `previous`.
+Eigen::VectorXd tangent_at(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega, double x_scale,
+                           const Eigen::VectorXd& previous) {
+    const int n = hb.unknowns();
+    Eigen::VectorXd r, r_omega;
+    Eigen::MatrixXd J;
+    hb.evaluate(x, omega, r, &J, &r_omega);
+    Eigen::MatrixXd A(n + 1, n + 1);
+    A.topLeftCorner(n, n) = J * x_scale;
+    A.topRightCorner(n, 1) = r_omega;
+    A.row(n) = previous.transpose();
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
+    rhs(n) = 1.0;
+    Eigen::VectorXd t = A.fullPivLu().solve(rhs);  // t . previous = 1 > 0: same orientation
+    return t / t.norm();
+}
+
+struct Trace {
+    std::vector<SolutionPoint> points;
+    ContinuationStatus status = ContinuationStatus::completed;
+    std::string message;
+};
+
+/// Follows one branch from the solution (x, omega) in the direction of increasing
+/// (direction = +1) or decreasing (-1) omega until it leaves [omega_low, omega_high].
+Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, Eigen::VectorXd x, double omega,
+            int iterations, double residual, int direction, double omega_low, double omega_high, double x_scale,
+            int branch, int& corrections, int& failures) {
+    Trace out;
+    const int n = hb.unknowns();
+    SolutionPoint first;
+    first.omega = omega;
+    first.x = x;
+    first.iterations = iterations;
+    first.residual = residual;
+    first.branch = branch;
+    out.points.push_back(first);
+    Eigen::VectorXd previous = Eigen::VectorXd::Zero(n + 1);
+    previous(n) = direction;
+    Eigen::VectorXd t = tangent_at(hb, x, omega, x_scale, previous);
+    double h = o.initial_step;
+    const double end = direction > 0 ? omega_high : omega_low;
+    while (true) {
+        if (static_cast<int>(out.points.size()) >= o.max_points) {
+            out.status = ContinuationStatus::point_budget;
+            out.message = "point budget of " + std::to_string(o.max_points) + " reached at w = " + format_number(omega);
+            return out;
+        }
+        Eigen::VectorXd xp = x + h * x_scale * t.head(n);
+        double wp = omega + h * t(n);
+        int it = 0;
+        double res = 0;
+        ++corrections;
+        if (!corrector.correct(xp, wp, t, x_scale, it, res)) {
+            ++failures;
+            h *= 0.5;
+            if (h < o.min_step) {
+                out.status = ContinuationStatus::min_step;
+                out.message = "corrector failed with the minimum step at w = " + format_number(omega) +
+                              " (residual " + format_number(res) + ")";
+                return out;
+            }
+            continue;
+        }
+        // Past the end of the range: land exactly on it and stop.
+        if ((wp - end) * direction >= 0.0) {
+            Eigen::VectorXd xe = x + (xp - x) * ((end - omega) / (wp - omega));
+            ++corrections;
+            if (corrector.solve_at(xe, end, x_scale, it, res)) {
+                SolutionPoint p;
+                p.omega = end;
+                p.x = xe;
+                p.iterations = it;
+                p.residual = res;
+                p.step = h;
+                p.branch = branch;
+                out.points.push_back(p);
+                return out;
+            }
+            ++failures;
+            h *= 0.5;
+            if (h < o.min_step) {
+                out.status = ContinuationStatus::min_step;
+                out.message = "could not land on w = " + format_number(end);
+                return out;
+            }
+            continue;
+        }
+        if (wp < omega_low || wp > omega_high) {  // turned back out of the range
+            out.message = "branch left the frequency range at w = " + format_number(wp);
+            return out;
+        }
+        const Eigen::VectorXd t_new = tangent_at(hb, xp, wp, x_scale, t);
+        if (t_new.dot(t) < std::cos(o.max_turn) && h > o.min_step * 2.0) {  // turned too sharply
+            h *= 0.5;
+            continue;
+        }
+        SolutionPoint p;
+        p.omega = wp;
+        p.x = xp;
+        p.iterations = it;
+        p.residual = res;
+        p.step = h;
+        p.branch = branch;
+        if (t_new(n) * t(n) < 0.0) p.kind = PointKind::fold;
+        out.points.push_back(p);
+        x = xp;
+        omega = wp;
+        t = t_new;
+        if (amplitude_bound(hb, x) > o.max_amplitude) {
+            out.status = ContinuationStatus::amplitude_cap;
+            out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(omega);
+            return out;
+        }
+        if (it <= 3) h = std::min(h * 1.5, o.max_step);
+    }
+}
+}  // namespace
+
+BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) {
+    require_positive(o.omega_start, "wmin", "lowest frequency");
+    require_positive(o.omega_end, "wmax", "highest frequency");
+    if (!(o.omega_end > o.omega_start))
+        throw InvalidInput("wmax (highest frequency) = " + format_number(o.omega_end) +
+                           " is out of range: allowed wmax > wmin = " + format_number(o.omega_start));
+    require_positive(o.initial_step, "initial_step", "first arclength step");
+    require_positive(o.min_step, "min_step", "minimum arclength step");
+    require_positive(o.max_step, "max_step", "maximum arclength step");
+    require_positive(o.max_amplitude, "max_amplitude", "amplitude cap");
+    require_positive(o.corrector.tolerance, "tolerance", "relative residual tolerance");
+    if (o.max_points < 2) throw InvalidInput("max_points = " + std::to_string(o.max_points) + " is out of range: allowed >= 2");
+
+    BranchResult result;
+    Corrector corrector(hb, o.corrector);
+    // Start from the pre-sliding linearisation; if that fails, from the slipping limit (the
+    // structure without its contacts), which is close when the contacts slip from the start.
+    auto start = [&](double omega, Eigen::VectorXd& x, double& x_scale, int& it, double& res) {
+        for (const bool sliding : {false, true}) {
+            x = hb.linear_guess(omega, sliding);
+            x_scale = std::max(hb.force_scale(), x.cwiseAbs().maxCoeff());
+            ++result.corrections;
+            if (corrector.solve_at(x, omega, x_scale, it, res)) return true;
+            ++result.failed_corrections;
+        }
+        return false;
+    };
+    Eigen::VectorXd x;
+    double x_scale = 1.0, res = 0.0;
+    int it = 0;
+    if (!start(o.omega_start, x, x_scale, it, res)) {
+        result.status = ContinuationStatus::start_failed;
+        result.message = "no converged starting point at w = " + format_number(o.omega_start) + " (residual " +
+                         format_number(res) + ")";
+        return result;
+    }
+    Trace first = trace(hb, corrector, o, x, o.omega_start, it, res, +1, o.omega_start, o.omega_end, x_scale, 1,
+                        result.corrections, result.failed_corrections);
+    result.points = std::move(first.points);
+    result.status = first.status;
+    result.message = first.message;
+    if (first.status != ContinuationStatus::amplitude_cap || !o.restart_past_cap) return result;
+
+    // Restart from the other end, walking down in frequency towards the capped peak.
+    const double capped_at = result.points.back().omega;
+    Eigen::VectorXd x2;
+    double scale2 = 1.0;
+    if (!start(o.omega_end, x2, scale2, it, res)) {
+        result.message += "; restart at w = " + format_number(o.omega_end) + " failed";
+        return result;
+    }
+    Trace second = trace(hb, corrector, o, x2, o.omega_end, it, res, -1, capped_at, o.omega_end, scale2, 2,
+                         result.corrections, result.failed_corrections);
+    std::reverse(second.points.begin(), second.points.end());  // written in increasing w like branch 1
+    result.points.insert(result.points.end(), second.points.begin(), second.points.end());
+    result.message += "; branch 2 from w = " + format_number(o.omega_end) + ": " +
+                      (second.message.empty() ? to_string(second.status) : second.message);
+    return result;
+}
+
+std::vector<SolutionPoint> sample_branch(HarmonicBalance& hb, const BranchResult& branch,
+                                         const std::vector<double>& omegas, const CorrectorOptions& options) {
+    Corrector corrector(hb, options);
+    std::vector<SolutionPoint> samples;
+    for (double omega : omegas) {
+        std::vector<SolutionPoint> found;
+        for (std::size_t k = 0; k + 1 < branch.points.size(); ++k) {
+            const SolutionPoint& a = branch.points[k];
+            const SolutionPoint& b = branch.points[k + 1];
+            if (a.branch != b.branch || (a.omega - omega) * (b.omega - omega) > 0.0) continue;
+            const double s = a.omega == b.omega ? 0.0 : (omega - a.omega) / (b.omega - a.omega);
+            Eigen::VectorXd x = a.x + s * (b.x - a.x);
+            const double x_scale = std::max(hb.force_scale(), x.cwiseAbs().maxCoeff());
+            SolutionPoint p;
+            if (!corrector.solve_at(x, omega, x_scale, p.iterations, p.residual)) continue;
+            const bool duplicate = std::any_of(found.begin(), found.end(), [&](const SolutionPoint& q) {
+                return (q.x - x).cwiseAbs().maxCoeff() <= 1e-7 * x_scale;
+            });
+            if (duplicate) continue;
+            p.omega = omega;
+            p.x = x;
+            p.kind = PointKind::sample;
+            p.branch = a.branch;
+            found.push_back(p);
+        }
+        samples.insert(samples.end(), found.begin(), found.end());
+    }
+    return samples;
+}
+
+// ---- post-processing --------------------------------------------------------------------
+
+int fine_time_samples(int harmonics) { return std::max(1024, Fourier::default_time_samples(harmonics) * 4); }
+
+Analyser::Analyser(HarmonicBalance& hb) : hb_(hb), fine_(hb.harmonics(), fine_time_samples(hb.harmonics())) {}
+
+PointMetrics Analyser::operator()(const SolutionPoint& point) {
+    PointMetrics m;
+    const System& s = hb_.system();
+    const double omega = point.omega;
+    Eigen::VectorXd samples(fine_.time_samples());
+    double largest = 0.0;
+    for (int i = 0; i < s.dofs(); ++i) {
+        const Eigen::VectorXd c = hb_.dof(point.x, i);
+        fine_.to_time(c, samples);
+        m.y_max.push_back(samples.cwiseAbs().maxCoeff());
+        m.y_amp1.push_back(std::hypot(c(1), c(2)));
+        m.input_energy += M_PI * s.excitation(i) * c(2);
+        largest = std::max(largest, m.y_max.back());
+    }
+    if (s.contacts.empty()) {
+        m.regime = "none";
+        return m;
+    }
+    // Stick fraction of contact 1 on the fine grid.
+    const Eigen::VectorXd& D1 = fine_.derivative();
+    fine_.to_time(omega * (D1 * hb_.relative(point.x, 0)), samples);
+    const double threshold = stick_velocity_threshold * omega * largest;
+    m.stick_fraction = static_cast<double>((samples.array().abs() <= threshold).count()) / samples.size();
+    m.regime = m.stick_fraction >= 0.99 ? "stick" : m.stick_fraction <= 0.01 ? "slip" : "stick-slip";
+    // Dissipated energy: integral over the period 2 pi / omega of f q', on the AFT grid.
+    Fourier& aft = hb_.fourier();
+    Eigen::VectorXd v(aft.time_samples());
+    for (int c = 0; c < static_cast<int>(s.contacts.size()); ++c) {
+        aft.to_time(omega * (aft.derivative() * hb_.relative(point.x, c)), v);
+        const Eigen::VectorXd f = hb_.force_samples(point.x, omega, c);
+        m.energy += 2.0 * M_PI / omega * f.dot(v) / aft.time_samples();
+    }
+    return m;
+}
+
+}  // namespace hbf

@@ -1,0 +1,167 @@
+// Continuation and harmonic-balance solutions against independent references: exact linear
+// FRFs, the energy balance, the pre-sliding closed forms, convergence in H, and folds.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "hbf/analytic.hpp"
+#include "hbf/continuation.hpp"
+#include "support.hpp"
+
+using namespace hbf;
+
+namespace {
+/// The last point of a short continuation from 0.95 omega to `omega` (lands exactly on it).
+SolutionPoint solve_by_continuation(HarmonicBalance& hb, double omega) {
+    ContinuationOptions o;
+    o.omega_start = 0.95 * omega;
+    o.omega_end = omega;
+    const BranchResult b = continue_branch(hb, o);
+    REQUIRE(b.status == ContinuationStatus::completed);
+    REQUIRE(b.points.back().omega == omega);
+    return b.points.back();
+}
+}  // namespace
+
+TEST_CASE("Linear limit: LuGre with a huge friction limit follows the exact linear FRF", "[continuation]") {
+    AbsorberParameters p;
+    p.friction_coefficient = 1e9;  // the bristle never slides: f = sigma0 q + sigma1 q'
+    p.contact_damping_ratio = 0.05;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::lugre), HarmonicBalanceOptions{3, 0});
+    ContinuationOptions o;
+    const BranchResult b = continue_branch(hb, o);
+    REQUIRE(b.status == ContinuationStatus::completed);
+    REQUIRE(b.points.size() > 5);
+    for (const SolutionPoint& point : b.points) {
+        const analytic::Response exact = analytic::contact_stick(p, point.omega, FrictionLaw::lugre);
+        const Eigen::VectorXd y1 = hb.dof(point.x, 0), y2 = hb.dof(point.x, 1);
+        // y = Re(Y e^{i theta}) = Re Y cos theta - Im Y sin theta.
+        CHECK(std::abs(y1(1) - exact.y1.real()) < 1e-8 * std::abs(exact.y1));
+        CHECK(std::abs(y1(2) + exact.y1.imag()) < 1e-8 * std::abs(exact.y1));
+        CHECK(std::abs(y2(1) - exact.y2.real()) < 1e-8 * std::abs(exact.y2));
+        CHECK(y1.tail(4).norm() < 1e-8 * std::abs(exact.y1));  // no higher harmonics
+    }
+}
+
+TEST_CASE("Linear limit: regularised Coulomb with huge eps is a viscous damper F_c / eps", "[continuation]") {
+    AbsorberParameters p;
+    const double damper = 0.03;
+    p.regularization = 1e6;
+    p.friction_coefficient = damper * p.regularization;  // f = F_c tanh(v / eps) = damper v (1 + O(1e-12))
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb_regularized), HarmonicBalanceOptions{3, 0});
+    const BranchResult b = continue_branch(hb, ContinuationOptions{});
+    REQUIRE(b.status == ContinuationStatus::completed);
+    for (const SolutionPoint& point : b.points) {
+        const Eigen::VectorXcd exact = test::absorber_with_linear_contact(p, point.omega, 0.0, damper);
+        const Eigen::VectorXd y1 = hb.dof(point.x, 0);
+        CHECK(std::abs(std::complex<double>(y1(1), -y1(2)) - exact(0)) < 1e-8 * std::abs(exact(0)));
+    }
+}
+
+TEST_CASE("Energy balance: input work per cycle equals friction dissipation at every point", "[continuation]") {
+    for (FrictionLaw law : {FrictionLaw::dahl, FrictionLaw::lugre, FrictionLaw::coulomb_regularized}) {
+        AbsorberParameters p;
+        HarmonicBalance hb(friction_absorber(p, law), HarmonicBalanceOptions{8, 0});
+        const BranchResult b = continue_branch(hb, ContinuationOptions{});
+        REQUIRE(b.status == ContinuationStatus::completed);
+        Analyser analyse(hb);
+        for (const SolutionPoint& point : b.points) {
+            const PointMetrics m = analyse(point);
+            INFO(to_string(law) << " at w = " << point.omega);
+            // The structure is undamped: all input work goes into the contact. The residual
+            // tolerance 1e-9 (relative to the force scale) bounds the mismatch.
+            CHECK(std::abs(m.input_energy - m.energy) <= 1e-6 * std::max(m.energy, 1e-3));
+            CHECK(m.energy > 0.0);
+        }
+    }
+}
+
+TEST_CASE("Small excitation: Dahl and LuGre tend to the pre-sliding closed form in proportion to fe",
+          "[continuation]") {
+    for (FrictionLaw law : {FrictionLaw::dahl, FrictionLaw::lugre}) {
+        for (double omega : {0.7, 1.3}) {
+            double previous = 0.0;
+            for (double fe : {1e-2, 1e-3, 1e-4}) {
+                AbsorberParameters p;
+                p.excitation = fe;
+                HarmonicBalance hb(friction_absorber(p, law), HarmonicBalanceOptions{5, 0});
+                const SolutionPoint s = solve_by_continuation(hb, omega);
+                // Complex first harmonic: a first-order phase change moves |Y1| only at second
+                // order (measured: Dahl's |Y1| deviates like fe^2), the complex value like fe.
+                const Eigen::VectorXd y1 = hb.dof(s.x, 0);
+                const std::complex<double> first(y1(1), -y1(2));
+                const std::complex<double> exact = analytic::contact_stick(p, omega, law).y1;
+                const double difference = std::abs(first - exact) / std::abs(exact);
+                INFO(to_string(law) << " w = " << omega << " fe = " << fe << " difference " << difference);
+                if (previous > 0.0) {
+                    CHECK(difference / previous > 0.05);  // falls like fe: ratio 0.1
+                    CHECK(difference / previous < 0.2);
+                }
+                previous = difference;
+            }
+        }
+    }
+}
+
+TEST_CASE("Convergence in H: the error against a fine-H solution falls with H", "[continuation]") {
+    // LuGre absorber at w = 0.95 in stick-slip: the force has kinks (|v|), so the error falls
+    // algebraically; require monotone decrease and at least a factor 4 from H = 4 to H = 16.
+    AbsorberParameters p;
+    auto y1_max = [&](int harmonics) {
+        HarmonicBalance hb(friction_absorber(p, FrictionLaw::lugre), HarmonicBalanceOptions{harmonics, 0});
+        const SolutionPoint s = solve_by_continuation(hb, 0.95);
+        Analyser analyse(hb);
+        return analyse(s).y_max[0];
+    };
+    const double reference = y1_max(64);
+    std::vector<double> errors;
+    for (int h : {2, 4, 8, 16}) errors.push_back(std::abs(y1_max(h) - reference) / reference);
+    INFO("errors H = 2, 4, 8, 16: " << errors[0] << " " << errors[1] << " " << errors[2] << " " << errors[3]);
+    for (std::size_t k = 1; k < errors.size(); ++k) CHECK(errors[k] < errors[k - 1]);
+    CHECK(errors[3] < errors[1] / 4.0);
+}
+
+TEST_CASE("Sampling at given frequencies solves exactly there, near the branch", "[continuation]") {
+    HarmonicBalance hb(friction_absorber(AbsorberParameters{}, FrictionLaw::lugre), HarmonicBalanceOptions{6, 0});
+    const BranchResult b = continue_branch(hb, ContinuationOptions{});
+    REQUIRE(b.status == ContinuationStatus::completed);
+    const std::vector<double> at = {0.6, 0.95, 1.25};
+    const auto samples = sample_branch(hb, b, at, CorrectorOptions{});
+    REQUIRE(samples.size() == at.size());  // this branch does not fold: one solution each
+    Analyser analyse(hb);
+    for (std::size_t k = 0; k < at.size(); ++k) {
+        CHECK(samples[k].omega == at[k]);
+        CHECK(samples[k].kind == PointKind::sample);
+        Eigen::VectorXd r;
+        hb.evaluate(samples[k].x, samples[k].omega, r);
+        CHECK(r.cwiseAbs().maxCoeff() <= 1e-9 * hb.force_scale());
+        // Between the two neighbouring branch points in w, y1_max lies between theirs.
+        for (std::size_t i = 0; i + 1 < b.points.size(); ++i) {
+            if (b.points[i].omega <= at[k] && at[k] <= b.points[i + 1].omega) {
+                const double ya = analyse(b.points[i]).y_max[0], yb = analyse(b.points[i + 1]).y_max[0];
+                const double y = analyse(samples[k]).y_max[0];
+                CHECK(y >= std::min(ya, yb) * (1 - 1e-9));
+                CHECK(y <= std::max(ya, yb) * (1 + 1e-9));
+            }
+        }
+    }
+}
+
+TEST_CASE("An unbounded resonance stops at the amplitude cap and restarts from wmax", "[continuation]") {
+    AbsorberParameters p;
+    p.excitation = 1.0;  // Coulomb-like friction cannot absorb the input at the resonances
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb_regularized), HarmonicBalanceOptions{5, 0});
+    ContinuationOptions o;
+    o.max_amplitude = 50.0;
+    const BranchResult b = continue_branch(hb, o);
+    CHECK(b.status == ContinuationStatus::amplitude_cap);
+    CHECK_THAT(b.message, Catch::Contains("amplitude cap"));
+    double cap_w = 0.0;
+    bool second = false;
+    for (const SolutionPoint& point : b.points) {
+        if (point.branch == 1) cap_w = point.omega;
+        second = second || point.branch == 2;
+        if (point.branch == 2) CHECK(point.omega > cap_w);
+    }
+    REQUIRE(second);
+    CHECK(b.points.back().omega == o.omega_end);  // branch 2 is written in increasing w
+}
