@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -191,4 +192,55 @@ TEST_CASE("an unwritable output file is a failure (exit 1), not bad input", "[cl
     CHECK(r.exit_code == 1);
     CHECK_THAT(r.err, Catch::Contains("missing/x.csv"));
     CHECK(dir.empty());
+}
+
+TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "[cli]") {
+    TempDir dir;
+    const fs::path csv = dir.path / "frf.csv", json = dir.path / "frf.json";
+    const Result r = run_hbf("frf --law dahl --harmonics 5 --wmin 0.6 --wmax 1.2 --at 0.7,1.1 --quiet --out '" +
+                                 csv.string() + "' --summary '" + json.string() + "'",
+                             dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(slurp(csv));
+    REQUIRE(rows.size() > 10);
+    const std::vector<std::string> header = {"w",      "y1_max", "y2_max",     "y1_amp1",  "y2_amp1",
+                                             "stick_fraction", "regime", "energy", "branch", "point",
+                                             "iterations", "residual", "step"};
+    CHECK(rows[0] == header);
+    CHECK(std::stod(rows[1][0]) == 0.6);
+    int samples = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        REQUIRE(rows[k].size() == header.size());
+        // max |y1| >= rms(y1) >= amp1 / sqrt(2) (Parseval); not >= amp1: harmonics can flatten a peak.
+        CHECK(std::stod(rows[k][1]) >= std::stod(rows[k][3]) / std::sqrt(2.0));
+        if (rows[k][9] == "sample") {
+            ++samples;
+            CHECK((std::stod(rows[k][0]) == 0.7 || std::stod(rows[k][0]) == 1.1));
+        }
+        CHECK(std::stod(rows[k][11]) <= 1e-9);
+    }
+    CHECK(samples == 2);
+    const std::string summary = slurp(json);
+    for (const char* key : {"\"parameters\"", "\"solver\"", "\"peaks\"", "\"folds\"", "\"status\": \"completed\"",
+                            "\"wall_time_seconds\"", "\"harmonics\": 5"})
+        CHECK_THAT(summary, Catch::Contains(key));
+}
+
+TEST_CASE("hbf frf rejects bad input with exit code 2 and no files", "[cli]") {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"--law coulomb", "coulomb"},       {"--harmonics 0", "--harmonics"}, {"--harmonics 1e3", "--harmonics"},
+        {"--time-samples 5", "--time-samples"}, {"--at 0.7,x", "--at"},       {"--at 0.7,-1", "--at"},
+        {"--max-amplitude 0", "max_amplitude"}, {"--tolerance 1", "--tolerance"}, {"--law lugre --eps 0.1", "--eps"},
+        {"--law dahl --viscous 0.1", "--viscous"}, {"--law coulomb-reg --eps 0", "eps"}, {"--wmin 2", "wmax"},
+    };
+    for (const auto& [args, names] : cases) {
+        TempDir dir;
+        const Result r = run_hbf("frf --out '" + (dir.path / "a.csv").string() + "' --summary '" +
+                                     (dir.path / "a.json").string() + "' " + args,
+                                 dir);
+        INFO("args: " << args << "\nstderr: " << r.err);
+        CHECK(r.exit_code == 2);
+        CHECK_THAT(r.err, Catch::Contains(names));
+        CHECK(dir.empty());
+    }
 }
