@@ -84,18 +84,15 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
 }
 
 std::vector<Column> frf_columns(int dofs) {
-    static std::vector<std::string> names;  // keeps the generated names alive
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1)"}};
-    names.clear();
-    names.reserve(static_cast<std::size_t>(2 * dofs));
-    for (int i = 1; i <= dofs; ++i) names.push_back("y" + std::to_string(i) + "_max");
-    for (int i = 1; i <= dofs; ++i) names.push_back("y" + std::to_string(i) + "_amp1");
-    for (int i = 0; i < dofs; ++i) columns.push_back({names[static_cast<std::size_t>(i)].c_str(), "max over one period of |y_i(t)|"});
-    for (int i = 0; i < dofs; ++i)
-        columns.push_back({names[static_cast<std::size_t>(dofs + i)].c_str(), "first-harmonic amplitude sqrt(c1^2 + s1^2) of y_i"});
+    for (int i = 1; i <= dofs; ++i)
+        columns.push_back({"y" + std::to_string(i) + "_max", "max over one period of |y" + std::to_string(i) + "(t)|"});
+    for (int i = 1; i <= dofs; ++i)
+        columns.push_back({"y" + std::to_string(i) + "_amp1",
+                           "first-harmonic amplitude sqrt(c1^2 + s1^2) of y" + std::to_string(i)});
     const std::vector<Column> rest = {
         {"stick_fraction", "share of the period with |q'| <= 1% of omega * max_i y_i_max (contact 1)"},
-        {"regime", "stick (stick_fraction >= 0.99), slip (<= 0.01) or stick-slip"},
+        {"regime", "stick (stick_fraction >= 0.95), slip (<= 0.05) or stick-slip"},
         {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
         {"branch", "branch number: 1, or 2 for the branch restarted from wmax after an amplitude cap"},
         {"point", "regular, fold (dw/ds changed sign), or sample (solved exactly at an --at frequency)"},

@@ -40,6 +40,18 @@ TEST_CASE("Linear limit: LuGre with a huge friction limit follows the exact line
         CHECK(std::abs(y2(1) - exact.y2.real()) < 1e-8 * std::abs(exact.y2));
         CHECK(y1.tail(4).norm() < 1e-8 * std::abs(exact.y1));  // no higher harmonics
     }
+    // Stick fraction of a sinusoidal relative velocity of amplitude V: the share of the period
+    // with |V sin| <= thr is (2/pi) asin(thr / V), thr = 1% of w max_i y_i_max (to one grid
+    // sample of the fine reconstruction at each of the 4 threshold crossings).
+    Analyser analyse(hb);
+    const double grid = 4.0 / fine_time_samples(hb.harmonics());
+    for (const SolutionPoint& point : b.points) {
+        const analytic::Response exact = analytic::contact_stick(p, point.omega, FrictionLaw::lugre);
+        const double v = point.omega * std::abs(exact.y1 - exact.y2);
+        const double threshold = stick_velocity_threshold * point.omega * std::max(std::abs(exact.y1), std::abs(exact.y2));
+        const double expected = threshold >= v ? 1.0 : 2.0 / M_PI * std::asin(threshold / v);
+        CHECK(std::abs(analyse(point).stick_fraction - expected) <= grid);
+    }
 }
 
 TEST_CASE("Linear limit: regularised Coulomb with huge eps is a viscous damper F_c / eps", "[continuation]") {

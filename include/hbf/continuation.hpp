@@ -101,7 +101,7 @@ struct PointMetrics {
     std::vector<double> y_max;   ///< per DOF: max over one period of |y_i(t)| (fine grid)
     std::vector<double> y_amp1;  ///< per DOF: first-harmonic amplitude sqrt(c1^2 + s1^2)
     double stick_fraction = 0;   ///< share of the period with |q'| <= stick threshold (contact 1)
-    std::string regime;          ///< "stick" (fraction >= 0.99), "slip" (<= 0.01) or "stick-slip"
+    std::string regime;          ///< "stick" (fraction >= 0.95), "slip" (<= 0.05) or "stick-slip"
     double energy = 0;           ///< friction energy dissipated per cycle, all contacts
     double input_energy = 0;     ///< work of the excitation per cycle, pi sum_i F_i s1_i
 };

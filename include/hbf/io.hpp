@@ -39,8 +39,8 @@ std::string csv_field(const std::optional<double>& value);
 
 /// Column names and meanings of the analytic table, in order (used by the header and --help).
 struct Column {
-    const char* name;
-    const char* meaning;
+    std::string name;
+    std::string meaning;
 };
 const std::vector<Column>& analytic_columns();
 

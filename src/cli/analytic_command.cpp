@@ -22,7 +22,7 @@ std::string columns_help() {
         "y = x / x_s with x_s = N / k1, w = Omega / omega1, omega1 = sqrt(k1/m1). "
         "An empty field means no finite value exists there (no slipping solution, or an "
         "exact undamped resonance).\nColumns:\n";
-    for (const auto& c : io::analytic_columns()) text += "  " + std::string(c.name) + ": " + c.meaning + "\n";
+    for (const auto& c : io::analytic_columns()) text += "  " + c.name + ": " + c.meaning + "\n";
     text +=
         "For dahl and lugre, y*_stick is the pre-sliding (linear contact) response and y*_slip is "
         "the same equivalent-viscous solution as coulomb's (the laws coincide in full slip).\n";

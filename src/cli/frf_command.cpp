@@ -174,7 +174,7 @@ Runner add_frf_command(CLI::App& app) {
     std::string footer = "Output: CSV with a header row, one row per continuation point in branch order, then the "
                          "--at samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.\n"
                          "Columns:\n";
-    for (const auto& c : io::frf_columns(2)) footer += "  " + std::string(c.name) + ": " + c.meaning + "\n";
+    for (const auto& c : io::frf_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
     footer += "Exit code 1 when the continuation could not start or stalled (min step); the points computed so far "
               "are still written. An amplitude cap is reported on standard error and is not a failure.";
     command->footer(footer);
