@@ -212,13 +212,17 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             int branch, int& corrections, int& failures) {
     Trace out;
     const int n = hb.unknowns();
-    SolutionPoint first;
-    first.omega = omega;
-    first.x = x;
-    first.iterations = iterations;
-    first.residual = residual;
-    first.branch = branch;
-    out.points.push_back(first);
+    auto make_point = [branch](double w, const Eigen::VectorXd& coefficients, int it, double res, double step) {
+        SolutionPoint p;
+        p.omega = w;
+        p.x = coefficients;
+        p.iterations = it;
+        p.residual = res;
+        p.step = step;
+        p.branch = branch;
+        return p;
+    };
+    out.points.push_back(make_point(omega, x, iterations, residual, 0.0));
     Eigen::VectorXd previous = Eigen::VectorXd::Zero(n + 1);
     previous(n) = direction;
     Eigen::VectorXd t = tangent_at(hb, x, omega, x_scale, previous);
@@ -251,14 +255,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             Eigen::VectorXd xe = x + (xp - x) * ((end - omega) / (wp - omega));
             ++corrections;
             if (corrector.solve_at(xe, end, x_scale, it, res)) {
-                SolutionPoint p;
-                p.omega = end;
-                p.x = xe;
-                p.iterations = it;
-                p.residual = res;
-                p.step = h;
-                p.branch = branch;
-                out.points.push_back(p);
+                out.points.push_back(make_point(end, xe, it, res, h));
                 return out;
             }
             ++failures;
@@ -279,13 +276,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             h *= 0.5;
             continue;
         }
-        SolutionPoint p;
-        p.omega = wp;
-        p.x = xp;
-        p.iterations = it;
-        p.residual = res;
-        p.step = h;
-        p.branch = branch;
+        SolutionPoint p = make_point(wp, xp, it, res, h);
         if (t_new(n) * t(n) < 0.0) p.kind = PointKind::fold;
         out.points.push_back(p);
         x = xp;
