@@ -1,6 +1,8 @@
 #include "hbf/io.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <iostream>
 #include <random>
 #include <stdexcept>
@@ -119,6 +121,45 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
             << p.branch << ',' << to_string(p.kind) << ',' << p.iterations << ',' << format_number(p.residual) << ','
             << format_number(p.step) << '\n';
     }
+}
+
+void write_frf_summary(std::ostream& out, const std::string& law,
+                       const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
+                       const std::vector<PointMetrics>& metrics, std::size_t samples, double wall_seconds) {
+    using nlohmann::json;
+    json j;
+    j["parameters"] = {{"law", law}};
+    for (const auto& [name, value] : parameters) {
+        if (std::abs(value) < 1e15 && value == std::round(value))
+            j["parameters"][name] = static_cast<long long>(value);
+        else
+            j["parameters"][name] = value;
+    }
+    const auto& points = branch.points;
+    long long iterations = 0;
+    for (const SolutionPoint& point : points) iterations += point.iterations;
+    j["points"] = points.size();
+    j["samples"] = samples;
+    j["solver"] = {{"corrections", branch.corrections},
+                   {"failed_corrections", branch.failed_corrections},
+                   {"iterations", iterations},
+                   {"iterations_per_point", points.empty() ? 0.0 : double(iterations) / double(points.size())}};
+    json peaks = json::array(), folds = json::array();
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const double y = metrics[k].y_max[0];
+        if (points[k].kind == PointKind::fold)
+            folds.push_back({{"w", points[k].omega}, {"y1_max", y}, {"branch", points[k].branch}});
+        if (k == 0 || k + 1 == points.size()) continue;
+        if (points[k - 1].branch != points[k].branch || points[k + 1].branch != points[k].branch) continue;
+        if (y > metrics[k - 1].y_max[0] && y >= metrics[k + 1].y_max[0])
+            peaks.push_back({{"w", points[k].omega}, {"y1_max", y}, {"branch", points[k].branch}});
+    }
+    j["peaks"] = peaks;
+    j["folds"] = folds;
+    j["status"] = to_string(branch.status);
+    j["message"] = branch.message;
+    j["wall_time_seconds"] = wall_seconds;
+    out << j.dump(2) << '\n';
 }
 
 }  // namespace hbf::io

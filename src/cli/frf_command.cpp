@@ -5,7 +5,6 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
-#include <nlohmann/json.hpp>
 
 #include "arguments.hpp"
 #include "commands.hpp"
@@ -37,18 +36,6 @@ std::vector<double> parse_list(const std::string& flag, const std::string& text)
         start = comma + 1;
     }
     return values;
-}
-
-/// Local maxima of y1_max within each branch (w, y1_max).
-nlohmann::json peaks(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics) {
-    nlohmann::json list = nlohmann::json::array();
-    for (std::size_t k = 1; k + 1 < points.size(); ++k) {
-        if (points[k - 1].branch != points[k].branch || points[k + 1].branch != points[k].branch) continue;
-        const double y = metrics[k].y_max[0];
-        if (y > metrics[k - 1].y_max[0] && y >= metrics[k + 1].y_max[0])
-            list.push_back({{"w", points[k].omega}, {"y1_max", y}, {"branch", points[k].branch}});
-    }
-    return list;
 }
 
 int run(const CLI::App& command, const FrfOptions& o) {
@@ -90,43 +77,26 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::unique_ptr<io::OutputFile> summary;
     if (!o.summary.empty()) {
-        nlohmann::json j;
-        j["parameters"] = {{"law", to_string(law)},
-                           {"r", p.mass_ratio},
-                           {"wa", p.tuning_ratio},
-                           {"mu", p.friction_coefficient},
-                           {"fe", p.excitation},
-                           {"wb", p.contact_stiffness_ratio},
-                           {"xi", p.contact_damping_ratio},
-                           {"eps", p.regularization},
-                           {"mu_static", p.static_friction_coefficient},
-                           {"stribeck_velocity", p.stribeck_velocity},
-                           {"viscous", p.viscous_coefficient},
-                           {"wmin", co.omega_start},
-                           {"wmax", co.omega_end},
-                           {"harmonics", hb.harmonics()},
-                           {"time_samples", hb.time_samples()},
-                           {"max_amplitude", co.max_amplitude},
-                           {"tolerance", co.corrector.tolerance}};
-        long long iterations = 0;
-        for (const SolutionPoint& point : branch.points) iterations += point.iterations;
-        j["points"] = branch.points.size();
-        j["samples"] = points.size() - branch.points.size();
-        j["solver"] = {{"corrections", branch.corrections},
-                       {"failed_corrections", branch.failed_corrections},
-                       {"iterations", iterations},
-                       {"iterations_per_point", branch.points.empty() ? 0.0 : double(iterations) / branch.points.size()}};
-        j["peaks"] = peaks(branch.points, metrics);
-        nlohmann::json folds = nlohmann::json::array();
-        for (std::size_t k = 0; k < branch.points.size(); ++k)
-            if (branch.points[k].kind == PointKind::fold)
-                folds.push_back({{"w", branch.points[k].omega}, {"y1_max", metrics[k].y_max[0]}, {"branch", branch.points[k].branch}});
-        j["folds"] = folds;
-        j["status"] = to_string(branch.status);
-        j["message"] = branch.message;
-        j["wall_time_seconds"] = seconds;
+        const std::vector<std::pair<std::string, double>> parameters = {
+            {"r", p.mass_ratio},
+            {"wa", p.tuning_ratio},
+            {"mu", p.friction_coefficient},
+            {"fe", p.excitation},
+            {"wb", p.contact_stiffness_ratio},
+            {"xi", p.contact_damping_ratio},
+            {"eps", p.regularization},
+            {"mu_static", p.static_friction_coefficient},
+            {"stribeck_velocity", p.stribeck_velocity},
+            {"viscous", p.viscous_coefficient},
+            {"wmin", co.omega_start},
+            {"wmax", co.omega_end},
+            {"harmonics", hb.harmonics()},
+            {"time_samples", hb.time_samples()},
+            {"max_amplitude", co.max_amplitude},
+            {"tolerance", co.corrector.tolerance}};
         summary = std::make_unique<io::OutputFile>(o.summary);
-        summary->stream() << j.dump(2) << '\n';
+        io::write_frf_summary(summary->stream(), to_string(law), parameters, branch, metrics,
+                              points.size() - branch.points.size(), seconds);
     }
     out.commit();
     if (summary) summary->commit();
