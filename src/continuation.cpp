@@ -199,6 +199,70 @@ Eigen::VectorXd tangent_at(HarmonicBalance& hb, const Eigen::VectorXd& x, double
     return t / t.norm();
 }
 
+/// A converged starting point at omega. Tries the pre-sliding linearisation, then the
+/// slipping limit (the structure without its contacts). When the response at omega is
+/// stick-slip, far from both, ramps the excitation up from a level lambda0 F at which the
+/// pre-sliding guess is accurate: solves at lambda F for increasing lambda, each time from the
+/// previous solution scaled by the load ratio (exact while the response is linear), and halves
+/// the increment of log(lambda) after a failure.
+bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options, double omega,
+                Eigen::VectorXd& x, double& x_scale, int& iterations, double& residual, BranchResult& result) {
+    auto attempt = [&](HarmonicBalance& h, Corrector& c, Eigen::VectorXd& guess) {
+        x_scale = std::max(h.force_scale(), guess.cwiseAbs().maxCoeff());
+        ++result.corrections;
+        if (c.solve_at(guess, omega, x_scale, iterations, residual)) return true;
+        ++result.failed_corrections;
+        return false;
+    };
+    for (const bool sliding : {false, true}) {
+        x = hb.linear_guess(omega, sliding);
+        if (attempt(hb, corrector, x)) return true;
+    }
+    const double first_residual = residual;
+    const HarmonicBalanceOptions layout{hb.harmonics(), hb.time_samples()};
+    auto scaled = [&](double lambda) {
+        System s = hb.system();
+        s.excitation *= lambda;
+        return HarmonicBalance(std::move(s), layout);
+    };
+    // Lowest level: the pre-sliding guess must converge there.
+    double log_lambda = -3.0;
+    Eigen::VectorXd solution;
+    for (; log_lambda >= -9.0; log_lambda -= 3.0) {
+        HarmonicBalance low = scaled(std::pow(10.0, log_lambda));
+        Corrector c(low, options);
+        solution = low.linear_guess(omega);
+        if (attempt(low, c, solution)) break;
+    }
+    if (log_lambda < -9.0) {
+        residual = first_residual;
+        return false;
+    }
+    double increment = 0.5;
+    while (log_lambda < 0.0) {
+        const double next = std::min(0.0, log_lambda + increment);
+        Eigen::VectorXd guess = solution * std::pow(10.0, next - log_lambda);
+        bool converged = false;
+        if (next == 0.0) {
+            converged = attempt(hb, corrector, guess);
+        } else {
+            HarmonicBalance level = scaled(std::pow(10.0, next));
+            Corrector c(level, options);
+            converged = attempt(level, c, guess);
+        }
+        if (converged) {
+            solution = guess;
+            log_lambda = next;
+            increment = std::min(1.0, 1.5 * increment);
+        } else if ((increment *= 0.5) < 1e-4) {
+            residual = first_residual;
+            return false;
+        }
+    }
+    x = solution;
+    return true;
+}
+
 struct Trace {
     std::vector<SolutionPoint> points;
     ContinuationStatus status = ContinuationStatus::completed;
@@ -307,22 +371,10 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
 
     BranchResult result;
     Corrector corrector(hb, o.corrector);
-    // Start from the pre-sliding linearisation; if that fails, from the slipping limit (the
-    // structure without its contacts), which is close when the contacts slip from the start.
-    auto start = [&](double omega, Eigen::VectorXd& x, double& x_scale, int& it, double& res) {
-        for (const bool sliding : {false, true}) {
-            x = hb.linear_guess(omega, sliding);
-            x_scale = std::max(hb.force_scale(), x.cwiseAbs().maxCoeff());
-            ++result.corrections;
-            if (corrector.solve_at(x, omega, x_scale, it, res)) return true;
-            ++result.failed_corrections;
-        }
-        return false;
-    };
     Eigen::VectorXd x;
     double x_scale = 1.0, res = 0.0;
     int it = 0;
-    if (!start(o.omega_start, x, x_scale, it, res)) {
+    if (!find_start(hb, corrector, o.corrector, o.omega_start, x, x_scale, it, res, result)) {
         result.status = ContinuationStatus::start_failed;
         result.message = "no converged starting point at w = " + format_number(o.omega_start) + " (residual " +
                          format_number(res) + ")";
@@ -339,7 +391,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     const double capped_at = result.points.back().omega;
     Eigen::VectorXd x2;
     double scale2 = 1.0;
-    if (!start(o.omega_end, x2, scale2, it, res)) {
+    if (!find_start(hb, corrector, o.corrector, o.omega_end, x2, scale2, it, res, result)) {
         result.message += "; restart at w = " + format_number(o.omega_end) + " failed";
         return result;
     }

@@ -28,3 +28,24 @@ inline double relative_difference(std::complex<double> a, std::complex<double> b
 }
 
 }  // namespace hbf::test
+
+namespace hbf::test {
+
+/// 1-DOF oscillator y'' + c y' + y + f = F cos(omega t) with one Dahl contact to ground
+/// (friction limit F_c, bristle stiffness sigma0): stiffness 1 + sigma0 in stick, 1 in slip.
+inline System dahl_oscillator(double sigma0, double friction_limit, double force, double damping) {
+    System s;
+    s.mass = Eigen::MatrixXd::Identity(1, 1);
+    s.damping = Eigen::MatrixXd::Constant(1, 1, damping);
+    s.stiffness = Eigen::MatrixXd::Identity(1, 1);
+    s.excitation = Eigen::VectorXd::Constant(1, force);
+    Contact contact;
+    contact.dof = 0;
+    contact.law = FrictionLaw::dahl;
+    contact.friction_limit = friction_limit;
+    contact.stiffness = sigma0;
+    s.contacts.push_back(contact);
+    return s;
+}
+
+}  // namespace hbf::test

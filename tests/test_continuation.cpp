@@ -1,6 +1,7 @@
 // Continuation and harmonic-balance solutions against independent references: exact linear
 // FRFs, the energy balance, the pre-sliding closed forms, convergence in H, and folds.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 
 #include "hbf/analytic.hpp"
@@ -19,6 +20,18 @@ SolutionPoint solve_by_continuation(HarmonicBalance& hb, double omega) {
     REQUIRE(b.status == ContinuationStatus::completed);
     REQUIRE(b.points.back().omega == omega);
     return b.points.back();
+}
+
+/// Sign of det(dR/dX) at a point, from the LU factors (the determinant itself under- or
+/// overflows at these sizes).
+int jacobian_determinant_sign(HarmonicBalance& hb, const SolutionPoint& point) {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd J;
+    hb.evaluate(point.x, point.omega, r, &J);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(J);
+    int sign = static_cast<int>(lu.permutationP().determinant());
+    for (int i = 0; i < J.rows(); ++i) sign *= lu.matrixLU()(i, i) < 0.0 ? -1 : 1;
+    return sign;
 }
 }  // namespace
 
@@ -176,4 +189,88 @@ TEST_CASE("An unbounded resonance stops at the amplitude cap and restarts from w
     }
     REQUIRE(second);
     CHECK(b.points.back().omega == o.omega_end);  // branch 2 is written in increasing w
+}
+
+TEST_CASE("Continuation through folds: the branch bends over and comes back", "[continuation][fold]") {
+    // A 1-DOF Dahl oscillator (stiffness 11 in stick, 1 in slip) lightly damped, forced near
+    // the threshold 4 F_c / pi: its superharmonic resonance near w = 0.55 (3w on the softened
+    // stiffness) bends over. Measured fold frequencies: H = 20 and H = 40 agree to 5e-4.
+    HarmonicBalance hb(test::dahl_oscillator(10.0, 1.0, 1.28, 0.003), HarmonicBalanceOptions{20, 0});
+    ContinuationOptions o;
+    o.omega_start = 0.5;
+    o.omega_end = 0.6;
+    const BranchResult b = continue_branch(hb, o);
+    REQUIRE(b.status == ContinuationStatus::completed);
+    CHECK(b.points.back().omega == o.omega_end);  // not lost: the branch reaches wmax
+    std::vector<std::size_t> folds;
+    for (std::size_t k = 0; k < b.points.size(); ++k)
+        if (b.points[k].kind == PointKind::fold) folds.push_back(k);
+    REQUIRE(folds.size() == 2);
+    const double upper = b.points[folds[0]].omega, lower = b.points[folds[1]].omega;
+    INFO("folds at w = " << upper << " and " << lower);
+    CHECK(upper > lower + 1e-3);  // S-shaped: forward, back, forward again
+    CHECK(upper == Approx(0.5471).margin(2e-3));
+    CHECK(lower == Approx(0.5446).margin(2e-3));
+    // Independent of the tangent test that flagged them: at a turning point dR/dX is singular,
+    // so det(dR/dX) changes sign across each fold and nowhere else on the branch.
+    int changes = 0;
+    for (std::size_t k = 0; k + 1 < b.points.size(); ++k) {
+        const bool change = jacobian_determinant_sign(hb, b.points[k]) != jacobian_determinant_sign(hb, b.points[k + 1]);
+        if (!change) continue;
+        ++changes;
+        // The flag sits on the first point past the turn (or on the one before it).
+        const bool near_flag = std::any_of(folds.begin(), folds.end(), [&](std::size_t f) { return f == k || f == k + 1; });
+        CHECK(near_flag);
+    }
+    CHECK(changes == 2);
+    // Between the folds three solutions coexist; each is solved exactly there, is distinct,
+    // and balances its energy.
+    const auto samples = sample_branch(hb, b, {0.5 * (upper + lower)}, CorrectorOptions{});
+    REQUIRE(samples.size() == 3);
+    Analyser analyse(hb);
+    std::vector<double> amplitudes;
+    for (const SolutionPoint& s : samples) {
+        const PointMetrics m = analyse(s);
+        amplitudes.push_back(m.y_max[0]);
+        CHECK(s.residual <= 1e-9);
+        // The viscous damper dissipates too: input = friction + pi c w^2 sum_k k^2 |Y_k|^2.
+        const Eigen::VectorXd y = hb.dof(s.x, 0);
+        double viscous = 0.0;
+        for (int k = 1; k <= hb.harmonics(); ++k)
+            viscous += M_PI * 0.003 * s.omega * k * k * (y(2 * k - 1) * y(2 * k - 1) + y(2 * k) * y(2 * k));
+        CHECK(std::abs(m.input_energy - m.energy - viscous) <= 1e-6 * m.input_energy);
+    }
+    std::sort(amplitudes.begin(), amplitudes.end());
+    CHECK(amplitudes[1] - amplitudes[0] > 1e-3);
+    CHECK(amplitudes[2] - amplitudes[1] > 1e-3);
+}
+
+TEST_CASE("A stick-slip start is found by ramping the excitation, and matches the branch", "[continuation]") {
+    // At w = 0.7 this oscillator is in stick-slip, far from both linear guesses (stiffness
+    // 11 or 1), which do not converge; the start ramps the force up from 1e-3 F.
+    System s = test::dahl_oscillator(10.0, 1.0, 1.4, 0.003);
+    HarmonicBalance hb(s, HarmonicBalanceOptions{10, 0});
+    Corrector corrector(hb, CorrectorOptions{});
+    int iterations = 0;
+    double residual = 0.0;
+    bool direct = false;
+    for (const bool sliding : {false, true}) {
+        Eigen::VectorXd x = hb.linear_guess(0.7, sliding);
+        direct = direct || corrector.solve_at(x, 0.7, std::max(1.4, x.cwiseAbs().maxCoeff()), iterations, residual);
+    }
+    CHECK_FALSE(direct);  // the ramp is really needed here
+    ContinuationOptions o;
+    o.omega_start = 0.7;
+    o.omega_end = 0.75;
+    const BranchResult started = continue_branch(hb, o);
+    REQUIRE(started.status == ContinuationStatus::completed);
+    // Independent path: continue from w = 0.3 (where the pre-sliding guess converges) up to
+    // 0.7; the same periodic solution must be reached.
+    o.omega_start = 0.3;
+    o.omega_end = 0.7;
+    const BranchResult walked = continue_branch(hb, o);
+    REQUIRE(walked.status == ContinuationStatus::completed);
+    const Eigen::VectorXd& a = started.points.front().x;
+    const Eigen::VectorXd& c = walked.points.back().x;
+    CHECK((a - c).cwiseAbs().maxCoeff() <= 1e-8 * c.cwiseAbs().maxCoeff());
 }
