@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "hbf/error.hpp"
+#include "stopwatch.hpp"
 
 namespace hbf {
 
@@ -84,6 +85,10 @@ private:
     mutable Eigen::VectorXd r_, j_omega_;
     mutable Eigen::MatrixXd j_;
 };
+double evaluation_seconds(const EvaluationStatistics& s) {
+    return s.aft_seconds + s.jacobian_seconds + s.structure_seconds;
+}
+
 /// Ceres has no absolute residual test: stop as soon as |r|_2 = sqrt(2 cost) is below the
 /// tolerance (which implies |r|_inf below it), instead of iterating on at round-off level.
 class ResidualTest final : public ceres::IterationCallback {
@@ -107,17 +112,22 @@ struct Corrector::Impl {
     ceres::Problem problem;
     ceres::Solver::Options solver;
     ResidualTest residual_test;
+    CorrectorStatistics statistics;
 
     Impl(HarmonicBalance& h, CorrectorOptions o)
         : hb(h), options(o), cost(h), parameters(static_cast<std::size_t>(h.unknowns() + 1)), problem(problem_options()),
-          residual_test(0.1 * o.tolerance) {
+          residual_test(o.tolerance) {
         problem.AddResidualBlock(&cost, nullptr, parameters.data());
         // Chosen by measurement on the absorber (see README): dense QR is exact and fast at
         // these sizes; Levenberg-Marquardt with a huge initial radius is Gauss-Newton near the
         // solution and still damps bad predictions; tolerances are pushed to round-off because
         // convergence is judged on our own absolute residual test below.
-        solver.linear_solver_type = ceres::DENSE_QR;
-        solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+        solver.linear_solver_type =
+            o.dense_solver == DenseSolver::qr ? ceres::DENSE_QR : ceres::DENSE_NORMAL_CHOLESKY;
+        solver.trust_region_strategy_type =
+            o.trust_region == TrustRegion::dogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+        solver.dense_linear_algebra_library_type =
+            o.dense_library == DenseLibrary::lapack ? ceres::LAPACK : ceres::EIGEN;
         solver.initial_trust_region_radius = 1e12;
         solver.max_num_iterations = o.max_iterations;
         solver.function_tolerance = 1e-20;
@@ -137,6 +147,7 @@ struct Corrector::Impl {
 
 Corrector::Corrector(HarmonicBalance& hb, CorrectorOptions options) : impl_(std::make_unique<Impl>(hb, options)) {}
 Corrector::~Corrector() = default;
+const CorrectorStatistics& Corrector::statistics() const { return impl_->statistics; }
 
 bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
                         int& iterations, double& residual) {
@@ -147,8 +158,15 @@ bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd
     p(n) = omega;
     m.cost.set_target(tangent, p, x_scale);
     ceres::Solver::Summary summary;
+    const double evaluated_before = evaluation_seconds(m.hb.statistics());
+    detail::Stopwatch watch;
     ceres::Solve(m.solver, &m.problem, &summary);
-    iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+    m.statistics.seconds += watch.lap();
+    m.statistics.evaluation_seconds += evaluation_seconds(m.hb.statistics()) - evaluated_before;
+    // summary.iterations[0] is the starting point, not a step.
+    iterations = std::max(0, static_cast<int>(summary.iterations.size()) - 1);
+    ++m.statistics.solves;
+    m.statistics.iterations += iterations;
     const Eigen::VectorXd x_new = p.head(n) * x_scale;
     const double omega_new = p(n);
     Eigen::VectorXd r;
@@ -167,6 +185,23 @@ bool Corrector::solve_at(Eigen::VectorXd& x, double omega, double x_scale, int& 
     return correct(x, w, tangent, x_scale, iterations, residual);
 }
 
+Eigen::VectorXd branch_tangent(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega, double x_scale,
+                               const Eigen::VectorXd& previous) {
+    const int n = hb.unknowns();
+    Eigen::VectorXd r, r_omega;
+    Eigen::MatrixXd J;
+    hb.evaluate(x, omega, r, &J, &r_omega);
+    Eigen::MatrixXd A(n + 1, n + 1);
+    A.topLeftCorner(n, n) = J * x_scale;
+    A.topRightCorner(n, 1) = r_omega;
+    A.row(n) = previous.transpose();
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
+    rhs(n) = 1.0;
+    // The bordered matrix is regular also at folds (where dR/dX alone is singular).
+    Eigen::VectorXd t = A.partialPivLu().solve(rhs);  // t . previous = 1 > 0: same orientation
+    return t / t.norm();
+}
+
 // ---- continuation -----------------------------------------------------------------------
 
 namespace {
@@ -180,23 +215,6 @@ double amplitude_bound(const HarmonicBalance& hb, const Eigen::VectorXd& x) {
         bound = std::max(bound, b);
     }
     return bound;
-}
-
-/// Unit tangent (scaled coordinates) of the branch at (x, omega), oriented along `previous`.
-Eigen::VectorXd tangent_at(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega, double x_scale,
-                           const Eigen::VectorXd& previous) {
-    const int n = hb.unknowns();
-    Eigen::VectorXd r, r_omega;
-    Eigen::MatrixXd J;
-    hb.evaluate(x, omega, r, &J, &r_omega);
-    Eigen::MatrixXd A(n + 1, n + 1);
-    A.topLeftCorner(n, n) = J * x_scale;
-    A.topRightCorner(n, 1) = r_omega;
-    A.row(n) = previous.transpose();
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
-    rhs(n) = 1.0;
-    Eigen::VectorXd t = A.fullPivLu().solve(rhs);  // t . previous = 1 > 0: same orientation
-    return t / t.norm();
 }
 
 /// A converged starting point at omega. Tries the pre-sliding linearisation, then the
@@ -273,8 +291,16 @@ struct Trace {
 /// (direction = +1) or decreasing (-1) omega until it leaves [omega_low, omega_high].
 Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, Eigen::VectorXd x, double omega,
             int iterations, double residual, int direction, double omega_low, double omega_high, double x_scale,
-            int branch, int& corrections, int& failures) {
+            int branch, BranchResult& result) {
     Trace out;
+    int& corrections = result.corrections;
+    int& failures = result.failed_corrections;
+    auto tangent = [&](const Eigen::VectorXd& at, double w, const Eigen::VectorXd& previous) {
+        detail::Stopwatch watch;
+        Eigen::VectorXd t = branch_tangent(hb, at, w, x_scale, previous);
+        result.predictor_seconds += watch.lap();
+        return t;
+    };
     const int n = hb.unknowns();
     auto make_point = [branch](double w, const Eigen::VectorXd& coefficients, int it, double res, double step) {
         SolutionPoint p;
@@ -289,7 +315,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     out.points.push_back(make_point(omega, x, iterations, residual, 0.0));
     Eigen::VectorXd previous = Eigen::VectorXd::Zero(n + 1);
     previous(n) = direction;
-    Eigen::VectorXd t = tangent_at(hb, x, omega, x_scale, previous);
+    Eigen::VectorXd t = tangent(x, omega, previous);
     double h = o.initial_step;
     const double end = direction > 0 ? omega_high : omega_low;
     while (true) {
@@ -309,7 +335,8 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             if (h < o.min_step) {
                 out.status = ContinuationStatus::min_step;
                 out.message = "corrector failed with the minimum step at w = " + format_number(omega) +
-                              " (residual " + format_number(res) + ")";
+                              " (residual " + format_number(res) +
+                              "); stiff contacts and sharp stick-slip may need more harmonics";
                 return out;
             }
             continue;
@@ -335,7 +362,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             out.message = "branch left the frequency range at w = " + format_number(wp);
             return out;
         }
-        const Eigen::VectorXd t_new = tangent_at(hb, xp, wp, x_scale, t);
+        const Eigen::VectorXd t_new = tangent(xp, wp, t);
         if (t_new.dot(t) < std::cos(o.max_turn) && h > o.min_step * 2.0) {  // turned too sharply
             h *= 0.5;
             continue;
@@ -345,14 +372,60 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         out.points.push_back(p);
         x = xp;
         omega = wp;
+        const Eigen::VectorXd t_old = t;
         t = t_new;
+        // Distances are relative to the current amplitude: a branch that grows by orders of
+        // magnitude (a sharp resonance) is not paced by the scale of its starting point.
+        const double new_scale = std::max(hb.force_scale(), x.cwiseAbs().maxCoeff());
+        t.head(n) *= x_scale / new_scale;
+        t.normalize();
+        x_scale = new_scale;
         if (amplitude_bound(hb, x) > o.max_amplitude) {
             out.status = ContinuationStatus::amplitude_cap;
             out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(omega);
             return out;
         }
-        if (it <= 3) h = std::min(h * 1.5, o.max_step);
+        // Next step: grow after an easy correction, at most up to where the tangent would
+        // turn by about 0.7 max_turn (the turn grows about linearly with the step).
+        const double turn = std::acos(std::clamp(t_new.dot(t_old), -1.0, 1.0));
+        double factor = it <= 3 ? 1.5 : it <= 6 ? 1.0 : 0.7;
+        if (turn > 0.0) factor = std::min(factor, std::max(0.5, 0.7 * o.max_turn / turn));
+        h = std::clamp(h * factor, o.min_step, o.max_step);
     }
+}
+
+/// Branch 1 from omega_start and, after an amplitude cap, branch 2 from omega_end.
+void follow_branches(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, BranchResult& result) {
+    Eigen::VectorXd x;
+    double x_scale = 1.0, res = 0.0;
+    int it = 0;
+    if (!find_start(hb, corrector, o.corrector, o.omega_start, x, x_scale, it, res, result)) {
+        result.status = ContinuationStatus::start_failed;
+        result.message = "no converged starting point at w = " + format_number(o.omega_start) + " (residual " +
+                         format_number(res) + ")";
+        return;
+    }
+    Trace first = trace(hb, corrector, o, x, o.omega_start, it, res, +1, o.omega_start, o.omega_end, x_scale, 1,
+                        result);
+    result.points = std::move(first.points);
+    result.status = first.status;
+    result.message = first.message;
+    if (first.status != ContinuationStatus::amplitude_cap || !o.restart_past_cap) return;
+
+    // Restart from the other end, walking down in frequency towards the capped peak.
+    const double capped_at = result.points.back().omega;
+    Eigen::VectorXd x2;
+    double scale2 = 1.0;
+    if (!find_start(hb, corrector, o.corrector, o.omega_end, x2, scale2, it, res, result)) {
+        result.message += "; restart at w = " + format_number(o.omega_end) + " failed";
+        return;
+    }
+    Trace second = trace(hb, corrector, o, x2, o.omega_end, it, res, -1, capped_at, o.omega_end, scale2, 2,
+                         result);
+    std::reverse(second.points.begin(), second.points.end());  // written in increasing w like branch 1
+    result.points.insert(result.points.end(), second.points.begin(), second.points.end());
+    result.message += "; branch 2 from w = " + format_number(o.omega_end) + ": " +
+                      (second.message.empty() ? to_string(second.status) : second.message);
 }
 }  // namespace
 
@@ -369,40 +442,22 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     require_positive(o.corrector.tolerance, "tolerance", "relative residual tolerance");
     if (o.max_points < 2) throw InvalidInput("max_points = " + std::to_string(o.max_points) + " is out of range: allowed >= 2");
 
-    BranchResult result;
+    detail::Stopwatch watch;
+    const EvaluationStatistics before = hb.statistics();
     Corrector corrector(hb, o.corrector);
-    Eigen::VectorXd x;
-    double x_scale = 1.0, res = 0.0;
-    int it = 0;
-    if (!find_start(hb, corrector, o.corrector, o.omega_start, x, x_scale, it, res, result)) {
-        result.status = ContinuationStatus::start_failed;
-        result.message = "no converged starting point at w = " + format_number(o.omega_start) + " (residual " +
-                         format_number(res) + ")";
-        return result;
-    }
-    Trace first = trace(hb, corrector, o, x, o.omega_start, it, res, +1, o.omega_start, o.omega_end, x_scale, 1,
-                        result.corrections, result.failed_corrections);
-    result.points = std::move(first.points);
-    result.status = first.status;
-    result.message = first.message;
-    if (first.status != ContinuationStatus::amplitude_cap || !o.restart_past_cap) return result;
-
-    // Restart from the other end, walking down in frequency towards the capped peak.
-    const double capped_at = result.points.back().omega;
-    Eigen::VectorXd x2;
-    double scale2 = 1.0;
-    if (!find_start(hb, corrector, o.corrector, o.omega_end, x2, scale2, it, res, result)) {
-        result.message += "; restart at w = " + format_number(o.omega_end) + " failed";
-        return result;
-    }
-    Trace second = trace(hb, corrector, o, x2, o.omega_end, it, res, -1, capped_at, o.omega_end, scale2, 2,
-                         result.corrections, result.failed_corrections);
-    std::reverse(second.points.begin(), second.points.end());  // written in increasing w like branch 1
-    result.points.insert(result.points.end(), second.points.begin(), second.points.end());
-    result.message += "; branch 2 from w = " + format_number(o.omega_end) + ": " +
-                      (second.message.empty() ? to_string(second.status) : second.message);
+    BranchResult result;
+    follow_branches(hb, corrector, o, result);
+    result.corrector = corrector.statistics();
+    const EvaluationStatistics& after = hb.statistics();
+    result.evaluation.residuals = after.residuals - before.residuals;
+    result.evaluation.jacobians = after.jacobians - before.jacobians;
+    result.evaluation.aft_seconds = after.aft_seconds - before.aft_seconds;
+    result.evaluation.jacobian_seconds = after.jacobian_seconds - before.jacobian_seconds;
+    result.evaluation.structure_seconds = after.structure_seconds - before.structure_seconds;
+    result.seconds = watch.lap();
     return result;
 }
+
 
 std::vector<SolutionPoint> sample_branch(HarmonicBalance& hb, const BranchResult& branch,
                                          const std::vector<double>& omegas, const CorrectorOptions& options) {

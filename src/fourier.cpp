@@ -86,4 +86,50 @@ void Fourier::to_coefficients(const Eigen::Ref<const Eigen::VectorXd>& samples, 
     }
 }
 
+void Fourier::multiplication_matrix(const Eigen::Ref<const Eigen::VectorXd>& samples,
+                                    Eigen::Ref<Eigen::MatrixXd> out) {
+    const int nt = time_samples_, h = harmonics_;
+    Eigen::Map<Eigen::VectorXd>(real_buffer_, nt) = samples;
+    fftw_execute(static_cast<fftw_plan>(forward_plan_));
+    const auto* spectrum = static_cast<const fftw_complex*>(complex_buffer_);
+    // FFTW: X_m = sum_j d_j e^{-2 pi i m j / N}, so a_m = Re X_m / N, b_m = -Im X_m / N;
+    // beyond N/2 by the Hermitian symmetry X_m = conj(X_{N-m}).
+    Eigen::VectorXd a(2 * h + 1), b(2 * h + 1);
+    for (int m = 0; m <= 2 * h; ++m) {
+        const int mm = m <= nt / 2 ? m : nt - m;
+        const double sign = m <= nt / 2 ? 1.0 : -1.0;
+        a(m) = spectrum[mm][0] / nt;
+        b(m) = -sign * spectrum[mm][1] / nt;
+    }
+    auto B = [&](int m) { return m >= 0 ? b(m) : -b(-m); };
+    out(0, 0) = a(0);
+    for (int k = 1; k <= h; ++k) {
+        out(0, 2 * k - 1) = a(k);
+        out(0, 2 * k) = b(k);
+        out(2 * k - 1, 0) = 2.0 * a(k);
+        out(2 * k, 0) = 2.0 * b(k);
+    }
+    for (int j = 1; j <= h; ++j) {
+        for (int k = 1; k <= h; ++k) {
+            const double a_minus = a(std::abs(j - k)), a_plus = a(j + k);
+            out(2 * j - 1, 2 * k - 1) = a_minus + a_plus;
+            out(2 * j - 1, 2 * k) = B(j + k) - B(j - k);
+            out(2 * j, 2 * k - 1) = B(j + k) + B(j - k);
+            out(2 * j, 2 * k) = a_minus - a_plus;
+        }
+    }
+}
+
+Eigen::MatrixXd Fourier::times_derivative(const Eigen::Ref<const Eigen::MatrixXd>& a) const {
+    // D1(2k-1, 2k) = k and D1(2k, 2k-1) = -k: column c_k of A D1 is -k A(:, s_k), column s_k
+    // is k A(:, c_k), column c0 is zero.
+    Eigen::MatrixXd out(a.rows(), a.cols());
+    out.col(0).setZero();
+    for (int k = 1; k <= harmonics_; ++k) {
+        out.col(2 * k - 1) = -k * a.col(2 * k);
+        out.col(2 * k) = k * a.col(2 * k - 1);
+    }
+    return out;
+}
+
 }  // namespace hbf

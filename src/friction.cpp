@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "hbf/error.hpp"
+#include "stopwatch.hpp"
 
 namespace hbf {
 
@@ -16,8 +17,6 @@ public:
 
     void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd&,
                   FrictionEvaluation& out, bool jacobian) const override {
-        const Eigen::MatrixXd& E = fourier.synthesis();
-        const Eigen::MatrixXd& P = fourier.analysis();
         const Eigen::MatrixXd& D1 = fourier.derivative();
         const Eigen::VectorXd v_coefficients = omega * (D1 * q);
         Eigen::VectorXd v(fourier.time_samples());
@@ -25,11 +24,17 @@ public:
         const Eigen::ArrayXd t = (v.array() / eps_).tanh();
         out.force.resize(fourier.size());
         fourier.to_coefficients((limit_ * t).matrix(), out.force);
+        out.jacobian_seconds = 0.0;
         if (!jacobian) return;
+        detail::Stopwatch watch;
         const Eigen::ArrayXd slope = limit_ / eps_ * (1.0 - t.square());  // df/dv
-        const Eigen::MatrixXd p_slope = P * slope.matrix().asDiagonal();
-        out.force_q = omega * (p_slope * (E * D1));
-        out.force_omega = p_slope * (E * (D1 * q));
+        // f = P f(v), v = omega E D1 q: df/dq = omega P diag(f') E D1, df/domega = P (f' v / omega).
+        const int n = fourier.size();
+        Eigen::MatrixXd p_slope(n, n);
+        fourier.multiplication_matrix(slope.matrix(), p_slope);
+        out.force_q = omega * fourier.times_derivative(p_slope);
+        out.force_omega = p_slope * (D1 * q);
+        out.jacobian_seconds = watch.lap();
     }
 
     Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
@@ -53,8 +58,6 @@ public:
 
     void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
                   FrictionEvaluation& out, bool jacobian) const override {
-        const Eigen::MatrixXd& E = fourier.synthesis();
-        const Eigen::MatrixXd& P = fourier.analysis();
         const Eigen::MatrixXd& D1 = fourier.derivative();
         const int nt = fourier.time_samples();
         const Eigen::VectorXd dq = D1 * q, dz = D1 * z;  // d/dtheta
@@ -69,20 +72,27 @@ public:
         fourier.to_coefficients(h.matrix(), h_coefficients);
         out.state_residual = sigma0_ * (omega * (dz - dq) + h_coefficients);
         out.force = sigma0_ * z + sigma1_ * omega * dz + sigma2_ * omega * dq;
+        out.jacobian_seconds = 0.0;
         if (!jacobian) return;
+        detail::Stopwatch watch;
         const Eigen::ArrayXd sign = v.array().sign();
         // dh/dv = sigma0 z (sign(v) g - |v| g') / g^2 ; dh/dz = sigma0 |v| / g.
         const Eigen::ArrayXd dh_dv = sigma0_ * zt.array() * (sign * g - v.array().abs() * dg) / g.square();
         const Eigen::ArrayXd dh_dz = sigma0_ * v.array().abs() / g;
-        const Eigen::MatrixXd ED1 = E * D1;
-        const Eigen::MatrixXd p_dv = P * dh_dv.matrix().asDiagonal();
-        out.state_q = sigma0_ * (-omega * D1 + omega * (p_dv * ED1));
-        out.state_z = sigma0_ * (omega * D1 + P * dh_dz.matrix().asDiagonal() * E);
-        out.state_omega = sigma0_ * (dz - dq + p_dv * (E * dq));
+        // With v = omega E D1 q and P diag(d) E the multiplication matrix of d:
+        // dr_z/dq = sigma0 omega (-D1 + [dh/dv] D1), dr_z/dz = sigma0 (omega D1 + [dh/dz]),
+        // dr_z/domega = sigma0 (D1 z - D1 q + [dh/dv] D1 q).
         const int n = fourier.size();
+        Eigen::MatrixXd p_dv(n, n), p_dz(n, n);
+        fourier.multiplication_matrix(dh_dv.matrix(), p_dv);
+        fourier.multiplication_matrix(dh_dz.matrix(), p_dz);
+        out.state_q = sigma0_ * omega * (fourier.times_derivative(p_dv) - D1);
+        out.state_z = sigma0_ * (omega * D1 + p_dz);
+        out.state_omega = sigma0_ * (dz - dq + p_dv * dq);
         out.force_q = sigma2_ * omega * D1;
         out.force_z = sigma0_ * Eigen::MatrixXd::Identity(n, n) + sigma1_ * omega * D1;
         out.force_omega = sigma1_ * dz + sigma2_ * dq;
+        out.jacobian_seconds = watch.lap();
     }
 
     Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,

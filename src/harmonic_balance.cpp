@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "hbf/error.hpp"
+#include "stopwatch.hpp"
 
 namespace hbf {
 
@@ -50,6 +51,9 @@ Eigen::VectorXd HarmonicBalance::force_samples(const Eigen::VectorXd& x, double 
 
 void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                                Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
+    detail::Stopwatch watch;
+    ++statistics_.residuals;
+    if (jacobian) ++statistics_.jacobians;
     const int n = coefficients(), dofs = system_.dofs();
     const Eigen::MatrixXd& D1 = fourier_.derivative();
     const Eigen::MatrixXd& M = system_.mass;
@@ -64,6 +68,7 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::Ve
     const Eigen::MatrixXd D2Y = D1 * D1Y;
     RY = omega * omega * D2Y * M + omega * D1Y * C + Y * K;
     RY.row(1) -= system_.excitation.transpose();
+    statistics_.structure_seconds += watch.lap();
     const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
     if (jacobian) {
         jacobian->setZero(unknowns_, unknowns_);
@@ -78,6 +83,8 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::Ve
         Eigen::Map<Eigen::MatrixXd>(jacobian_omega->data(), n, dofs) = 2.0 * omega * D2Y * M + D1Y * C;
     }
 
+    statistics_.jacobian_seconds += watch.lap();
+
     // Friction contacts through the AFT.
     for (std::size_t c = 0; c < models_.size(); ++c) {
         const Eigen::VectorXd& w = directions_[c];
@@ -86,6 +93,9 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::Ve
         const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
         FrictionEvaluation& e = scratch_;
         models_[c]->evaluate(fourier_, omega, q, z, e, want_jacobian);
+        const double model_seconds = watch.lap();
+        statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
+        statistics_.jacobian_seconds += e.jacobian_seconds;
         RY += e.force * w.transpose();
         if (offset >= 0) residual.segment(offset, n) = e.state_residual;
         if (jacobian) {
@@ -104,6 +114,7 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::Ve
             Eigen::Map<Eigen::MatrixXd>(jacobian_omega->data(), n, dofs) += e.force_omega * w.transpose();
             if (offset >= 0) jacobian_omega->segment(offset, n) += e.state_omega;
         }
+        statistics_.jacobian_seconds += watch.lap();  // residual/Jacobian assembly of this contact
     }
 }
 

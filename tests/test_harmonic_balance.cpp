@@ -40,6 +40,23 @@ TEST_CASE("Fourier: FFTW transforms agree with the definition and invert each ot
     CHECK(Fourier::default_time_samples(10) == 256);
 }
 
+TEST_CASE("Fourier: the FFT-built multiplication matrix equals P diag(d) E", "[fourier]") {
+    // Including N_t < 4H + 1, where harmonics 2H of d lie beyond N_t / 2 and alias.
+    for (const auto& [H, nt] : {std::pair{7, 64}, std::pair{7, 16}, std::pair{6, 17}, std::pair{1, 3}}) {
+        Fourier f(H, nt);
+        std::mt19937 rng(static_cast<unsigned>(nt));
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        Eigen::VectorXd d(nt);
+        for (int j = 0; j < nt; ++j) d(j) = u(rng);
+        Eigen::MatrixXd fast(f.size(), f.size());
+        f.multiplication_matrix(d, fast);
+        const Eigen::MatrixXd direct = f.analysis() * d.asDiagonal() * f.synthesis();
+        INFO("H = " << H << ", N_t = " << nt);
+        CHECK((fast - direct).cwiseAbs().maxCoeff() < 1e-14 * nt);
+        CHECK((f.times_derivative(direct) - direct * f.derivative()).cwiseAbs().maxCoeff() < 1e-14);
+    }
+}
+
 namespace {
 System absorber(FrictionLaw law) {
     AbsorberParameters p;

@@ -20,9 +20,17 @@
 
 namespace hbf {
 
+/// Ceres configurations of the corrector (measured in benchmarks/hb_branch; see README).
+enum class TrustRegion { levenberg_marquardt, dogleg };
+enum class DenseSolver { qr, normal_cholesky };
+enum class DenseLibrary { eigen, lapack };
+
 struct CorrectorOptions {
     int max_iterations = 20;  ///< Ceres iterations per correction
     double tolerance = 1e-9;  ///< accept when |R|_inf <= tolerance * force_scale
+    TrustRegion trust_region = TrustRegion::levenberg_marquardt;  ///< Ceres trust-region strategy
+    DenseSolver dense_solver = DenseSolver::normal_cholesky;                 ///< Ceres dense linear solver
+    DenseLibrary dense_library = DenseLibrary::eigen;            ///< Ceres dense linear algebra
 };
 
 struct ContinuationOptions {
@@ -53,6 +61,14 @@ struct SolutionPoint {
     int branch = 1;         ///< 1-based branch number
 };
 
+/// Work counters of a Corrector.
+struct CorrectorStatistics {
+    long long solves = 0;           ///< Ceres Solve calls (corrections, including failed ones)
+    long long iterations = 0;       ///< Ceres iterations (successful and unsuccessful steps)
+    double seconds = 0;             ///< wall time inside Ceres' Solve, evaluations included
+    double evaluation_seconds = 0;  ///< of which in HarmonicBalance::evaluate
+};
+
 enum class ContinuationStatus { completed, amplitude_cap, min_step, point_budget, start_failed };
 std::string to_string(ContinuationStatus status);
 
@@ -62,6 +78,10 @@ struct BranchResult {
     std::string message;                ///< where and why it stopped
     int corrections = 0;                ///< corrector calls, including failed ones
     int failed_corrections = 0;
+    CorrectorStatistics corrector;    ///< Ceres work of the whole continuation
+    EvaluationStatistics evaluation;  ///< residual/Jacobian work (corrector and predictor)
+    double predictor_seconds = 0;     ///< tangents: their evaluations and LU solves
+    double seconds = 0;               ///< wall time of continue_branch
     /// One line: status, points, folds, where it stopped.
     std::string summary() const;
 };
@@ -80,11 +100,19 @@ public:
                  int& iterations, double& residual);
     /// Solves at fixed omega (tangent = e_omega).
     bool solve_at(Eigen::VectorXd& x, double omega, double x_scale, int& iterations, double& residual);
+    /// Counters accumulated over all calls.
+    const CorrectorStatistics& statistics() const;
 
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
+
+/// Unit tangent of the branch R(x, omega) = 0 at a solution, in the scaled coordinates
+/// (x / x_scale, omega): the null vector of [dR/dX x_scale, dR/domega], oriented so that its
+/// dot product with `previous` (any vector of size unknowns + 1 not orthogonal to it) is > 0.
+Eigen::VectorXd branch_tangent(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega, double x_scale,
+                               const Eigen::VectorXd& previous);
 
 /// Follows the branch from omega_start to omega_end (see the file comment).
 BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& options);

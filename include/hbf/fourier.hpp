@@ -35,6 +35,18 @@ public:
     /// Time samples -> coefficients of harmonics 0..H (FFTW); the higher ones are dropped.
     void to_coefficients(const Eigen::Ref<const Eigen::VectorXd>& samples, Eigen::Ref<Eigen::VectorXd> coefficients);
 
+    /// P diag(d) E ((2H+1) x (2H+1)) for samples d: the coefficient-space matrix of the
+    /// multiplication of a signal by d(theta), the building block of every Jacobian through the
+    /// AFT. Computed from one FFT of d in O(N_t log N_t + H^2) (the product itself costs
+    /// O(N_t H^2)); equal to it to rounding, since both are the same discrete sums:
+    ///   (c_j, c_k): a_{j-k} + a_{j+k}   (c_j, s_k): b_{j+k} - b_{j-k}
+    ///   (s_j, c_k): b_{j+k} + b_{j-k}   (s_j, s_k): a_{j-k} - a_{j+k}
+    /// with a_m + i b_m = (1/N_t) sum_j d_j e^{+2 pi i m j / N_t} (a even, b odd in m); the
+    /// row of c0 is (a_0, a_k, b_k), the column of c0 is (a_0; 2 a_j; 2 b_j).
+    void multiplication_matrix(const Eigen::Ref<const Eigen::VectorXd>& samples, Eigen::Ref<Eigen::MatrixXd> out);
+    /// A * D1 for any A with 2H+1 columns, using the 2x2 block structure of D1 (O(rows H)).
+    Eigen::MatrixXd times_derivative(const Eigen::Ref<const Eigen::MatrixXd>& a) const;
+
     /// E (N_t x (2H+1)): samples = E * coefficients. Used for Jacobians through the AFT.
     const Eigen::MatrixXd& synthesis() const { return synthesis_; }
     /// P ((2H+1) x N_t): coefficients = P * samples (the discrete projection).

@@ -30,6 +30,7 @@ struct FrictionEvaluation {
     Eigen::VectorXd state_residual;  ///< r_z coefficients (empty for memoryless laws)
     Eigen::MatrixXd force_q, force_z, state_q, state_z;  ///< d(force, r_z)/d(q, z)
     Eigen::VectorXd force_omega, state_omega;            ///< d(force, r_z)/d omega
+    double jacobian_seconds = 0;  ///< time the last evaluate spent on the Jacobians
 };
 
 class FrictionModel {

@@ -28,6 +28,15 @@ struct HarmonicBalanceOptions {
     int time_samples = 0;  ///< N_t > 2H; 0 chooses Fourier::default_time_samples(H)
 };
 
+/// Work counters of HarmonicBalance::evaluate, for benchmarks and summaries.
+struct EvaluationStatistics {
+    long long residuals = 0;        ///< calls of evaluate
+    long long jacobians = 0;        ///< of them, calls that asked for dR/dX
+    double aft_seconds = 0;         ///< AFT: transforms and friction laws on the time samples
+    double jacobian_seconds = 0;    ///< chain rule through the AFT and assembly of dR/dX, dR/domega
+    double structure_seconds = 0;   ///< the linear structure's part of the residual
+};
+
 class HarmonicBalance {
 public:
     /// Validates the system; throws InvalidInput for bad options or an unsupported law.
@@ -61,6 +70,10 @@ public:
     /// Force scale against which residuals are judged: the excitation amplitude |F|_inf.
     double force_scale() const { return force_scale_; }
 
+    /// Counters accumulated since construction or the last reset_statistics().
+    const EvaluationStatistics& statistics() const { return statistics_; }
+    void reset_statistics() { statistics_ = EvaluationStatistics{}; }
+
 private:
     System system_;
     Fourier fourier_;
@@ -70,6 +83,7 @@ private:
     int unknowns_ = 0;
     double force_scale_ = 1.0;
     FrictionEvaluation scratch_;
+    EvaluationStatistics statistics_;
 };
 
 }  // namespace hbf
