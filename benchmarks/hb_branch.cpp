@@ -66,6 +66,7 @@ struct Figures {
     double aft = 0, jacobian = 0, ceres = 0, predictor = 0, other = 0;  // shares of `seconds`
     int corrections = 0, ceres_iterations = 0, newton_iterations = 0, disagreements = 0;
     double ceres_seconds = 0, newton_seconds = 0;
+    double peak_omega = 0, peak_y1_max = 0;  // the largest y1_max on the branch (accuracy in H)
 };
 
 Figures measure(const AbsorberParameters& p, FrictionLaw law, int harmonics, const ContinuationOptions& o,
@@ -96,6 +97,12 @@ Figures measure(const AbsorberParameters& p, FrictionLaw law, int harmonics, con
     fig.ceres = ceres_own / best.seconds;
     fig.predictor = std::max(0.0, best.predictor_seconds - predictor_evaluations) / best.seconds;
     fig.other = std::max(0.0, 1.0 - fig.aft - fig.jacobian - fig.ceres - fig.predictor);
+    for (const Peak& peak : find_peaks(hb, best, 0, o.corrector)) {
+        if (peak.y_max > fig.peak_y1_max) {
+            fig.peak_y1_max = peak.y_max;
+            fig.peak_omega = peak.omega;
+        }
+    }
 
     // The same corrections by Ceres and by Newton-LU: from each accepted point, predict the
     // next one along the tangent with the step the continuation took.
@@ -208,8 +215,10 @@ int main(int argc, char** argv) {
                 "points", "seconds", "points/s", "it/point", "AFT", "Jac", "Ceres", "pred", "other",
                 "Ceres [s]", "Newton-LU [s]", "ratio");
     nlohmann::json cases = nlohmann::json::array();
+    std::vector<Figures> all;
     for (int h : harmonics) {
         const Figures f = measure(p, law, h, o, repeats);
+        all.push_back(f);
         std::printf("%4d %5d %8d %7d %9.4f %9.0f %8.2f | %4.0f%% %4.0f%% %4.0f%% %4.0f%% %4.0f%% | %12.4f %13.4f %8.2f\n",
                     f.harmonics, f.time_samples, f.unknowns, f.points, f.seconds, f.points_per_second,
                     f.iterations_per_point, 100 * f.aft, 100 * f.jacobian, 100 * f.ceres, 100 * f.predictor,
@@ -235,8 +244,19 @@ int main(int argc, char** argv) {
                          {"ceres_over_newton_lu", f.ceres_seconds / f.newton_seconds},
                          {"ceres_iterations", f.ceres_iterations},
                          {"newton_lu_iterations", f.newton_iterations},
-                         {"disagreements", f.disagreements}});
+                         {"disagreements", f.disagreements},
+                         {"peak_w", f.peak_omega},
+                         {"peak_y1_max", f.peak_y1_max}});
     }
+    // Accuracy in H: the highest peak of y1_max (refined by find_peaks) against the largest H.
+    const Figures& finest = *std::max_element(all.begin(), all.end(), [](const Figures& a, const Figures& b) {
+        return a.harmonics < b.harmonics;
+    });
+    std::printf("\naccuracy in H: highest y1_max on the branch (max over one period of |y1|)\n%4s %10s %12s %22s\n", "H",
+                "w", "y1_max", ("rel. diff vs H = " + std::to_string(finest.harmonics)).c_str());
+    for (const Figures& f : all)
+        std::printf("%4d %10.5f %12.6f %22.2e\n", f.harmonics, f.peak_omega, f.peak_y1_max,
+                    std::abs(f.peak_y1_max - finest.peak_y1_max) / finest.peak_y1_max);
     std::printf("\n(ratio = Ceres corrector time / bare Newton-LU time on the same %s corrections)\n",
                 "predicted");
     std::cout << nlohmann::json{{"cases", cases}}.dump() << std::endl;

@@ -125,7 +125,8 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
-                       const std::vector<PointMetrics>& metrics, std::size_t samples, double wall_seconds) {
+                       const std::vector<PointMetrics>& metrics, const std::vector<Peak>& peaks, std::size_t samples,
+                       double wall_seconds) {
     using nlohmann::json;
     json j;
     j["parameters"] = {{"law", law}};
@@ -140,21 +141,24 @@ void write_frf_summary(std::ostream& out, const std::string& law,
     for (const SolutionPoint& point : points) iterations += point.iterations;
     j["points"] = points.size();
     j["samples"] = samples;
+    const EvaluationStatistics& e = branch.evaluation;
     j["solver"] = {{"corrections", branch.corrections},
                    {"failed_corrections", branch.failed_corrections},
                    {"iterations", iterations},
-                   {"iterations_per_point", points.empty() ? 0.0 : double(iterations) / double(points.size())}};
-    json peaks = json::array(), folds = json::array();
-    for (std::size_t k = 0; k < points.size(); ++k) {
-        const double y = metrics[k].y_max[0];
+                   {"iterations_per_point", points.empty() ? 0.0 : double(iterations) / double(points.size())},
+                   {"residual_evaluations", e.residuals},
+                   {"jacobian_evaluations", e.jacobians},
+                   {"continuation_seconds", branch.seconds},
+                   {"aft_seconds", e.aft_seconds},
+                   {"jacobian_seconds", e.jacobian_seconds + e.structure_seconds},
+                   {"ceres_seconds", branch.corrector.seconds - branch.corrector.evaluation_seconds}};
+    json peak_list = json::array(), folds = json::array();
+    for (const Peak& peak : peaks)
+        peak_list.push_back({{"w", peak.omega}, {"y1_max", peak.y_max}, {"branch", peak.branch}, {"refined", peak.refined}});
+    for (std::size_t k = 0; k < points.size(); ++k)
         if (points[k].kind == PointKind::fold)
-            folds.push_back({{"w", points[k].omega}, {"y1_max", y}, {"branch", points[k].branch}});
-        if (k == 0 || k + 1 == points.size()) continue;
-        if (points[k - 1].branch != points[k].branch || points[k + 1].branch != points[k].branch) continue;
-        if (y > metrics[k - 1].y_max[0] && y >= metrics[k + 1].y_max[0])
-            peaks.push_back({{"w", points[k].omega}, {"y1_max", y}, {"branch", points[k].branch}});
-    }
-    j["peaks"] = peaks;
+            folds.push_back({{"w", points[k].omega}, {"y1_max", metrics[k].y_max[0]}, {"branch", points[k].branch}});
+    j["peaks"] = peak_list;
     j["folds"] = folds;
     j["status"] = to_string(branch.status);
     j["message"] = branch.message;

@@ -67,6 +67,47 @@ TEST_CASE("Linear limit: LuGre with a huge friction limit follows the exact line
     }
 }
 
+TEST_CASE("Peaks: refined maxima of y1_max equal the exact linear resonance peaks", "[continuation]") {
+    AbsorberParameters p;
+    p.friction_coefficient = 1e9;  // linear: f = sigma0 q + sigma1 q'
+    p.contact_damping_ratio = 0.05;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::lugre), HarmonicBalanceOptions{3, 0});
+    const BranchResult b = continue_branch(hb, ContinuationOptions{});
+    REQUIRE(b.status == ContinuationStatus::completed);
+    // y_max of a pure sinusoid is |Y1| (the time grid alone would be off by up to 5e-6;
+    // 1e-8 is the accuracy of the solution itself).
+    Analyser analyse(hb);
+    for (const SolutionPoint& point : b.points)
+        CHECK(analyse(point).y_max[0] ==
+              Approx(std::abs(analytic::contact_stick(p, point.omega, FrictionLaw::lugre).y1)).epsilon(1e-8));
+    // Reference: the local maxima of the closed-form |Y1(w)|, from a fine scan polished by a
+    // golden-section search on the closed form itself.
+    auto exact = [&](double w) { return std::abs(analytic::contact_stick(p, w, FrictionLaw::lugre).y1); };
+    std::vector<std::pair<double, double>> reference;
+    const int n = 20000;
+    for (int k = 1; k < n; ++k) {
+        const double h = 1.1 / n, w = 0.5 + k * h;
+        if (!(exact(w) > exact(w - h) && exact(w) >= exact(w + h))) continue;
+        double lo = w - h, hi = w + h;
+        const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+        while (hi - lo > 1e-12) {
+            const double c = hi - g * (hi - lo), d = lo + g * (hi - lo);
+            (exact(c) >= exact(d) ? hi : lo) = exact(c) >= exact(d) ? d : c;
+        }
+        reference.emplace_back(0.5 * (lo + hi), exact(0.5 * (lo + hi)));
+    }
+    REQUIRE(reference.size() == 2);  // the two resonances of the coupled system
+    const auto peaks = find_peaks(hb, b, 0, CorrectorOptions{});
+    REQUIRE(peaks.size() == reference.size());
+    for (std::size_t k = 0; k < peaks.size(); ++k) {
+        INFO("peak " << k << ": w = " << peaks[k].omega << " vs " << reference[k].first);
+        CHECK(peaks[k].refined);
+        CHECK(peaks[k].y_max == Approx(reference[k].second).epsilon(1e-8));
+        // The maximum is flat: w is located to about sqrt(rounding) relative.
+        CHECK(peaks[k].omega == Approx(reference[k].first).epsilon(1e-5));
+    }
+}
+
 TEST_CASE("Linear limit: regularised Coulomb with huge eps is a viscous damper F_c / eps", "[continuation]") {
     AbsorberParameters p;
     const double damper = 0.03;

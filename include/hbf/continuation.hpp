@@ -126,7 +126,8 @@ std::vector<SolutionPoint> sample_branch(HarmonicBalance& hb, const BranchResult
 
 /// Quantities derived from one solution point.
 struct PointMetrics {
-    std::vector<double> y_max;   ///< per DOF: max over one period of |y_i(t)| (fine grid)
+    std::vector<double> y_max;   ///< per DOF: max over one period of |y_i(t)| (fine grid,
+                                 ///< polished by Newton on y_i' = 0: exact to rounding)
     std::vector<double> y_amp1;  ///< per DOF: first-harmonic amplitude sqrt(c1^2 + s1^2)
     double stick_fraction = 0;   ///< share of the period with |q'| <= stick threshold (contact 1)
     std::string regime;          ///< "stick" (fraction >= 0.95), "slip" (<= 0.05) or "stick-slip"
@@ -150,5 +151,20 @@ private:
     HarmonicBalance& hb_;
     Fourier fine_;
 };
+
+/// A resonance peak: a local maximum of max_t |y_dof(t)| along a branch.
+struct Peak {
+    double omega = 0;
+    double y_max = 0;        ///< max over one period of |y_dof(t)| at the peak
+    int branch = 1;
+    bool refined = false;    ///< located by the search below (false: the best branch point)
+};
+
+/// Peaks of DOF `dof` (0-based): every branch point whose y_max exceeds both neighbours on
+/// the same branch, refined by a golden-section search in omega over the neighbours'
+/// interval, solving exactly at each trial frequency (from the branch interpolation), to
+/// |delta omega| <= 1e-9 omega. Where a fold lies between the neighbours (not a function of
+/// omega there) or a solve fails, the branch point itself is reported (refined = false).
+std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, int dof, const CorrectorOptions& options);
 
 }  // namespace hbf

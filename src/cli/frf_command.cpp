@@ -71,6 +71,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     std::vector<PointMetrics> metrics;
     metrics.reserve(points.size());
     for (const SolutionPoint& point : points) metrics.push_back(analyse(point));
+    const std::vector<Peak> peaks = o.summary.empty() ? std::vector<Peak>{} : find_peaks(hb, branch, 0, co.corrector);
 
     io::OutputFile out(o.out);
     io::write_frf_csv(out.stream(), points, metrics, hb.system().dofs());
@@ -95,7 +96,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
             {"max_amplitude", co.max_amplitude},
             {"tolerance", co.corrector.tolerance}};
         summary = std::make_unique<io::OutputFile>(o.summary);
-        io::write_frf_summary(summary->stream(), to_string(law), parameters, branch, metrics,
+        io::write_frf_summary(summary->stream(), to_string(law), parameters, branch, metrics, peaks,
                               points.size() - branch.points.size(), seconds);
     }
     out.commit();
