@@ -44,9 +44,17 @@ std::string BranchResult::summary() const {
 namespace {
 /// Residual [R(x, omega) / force_scale; t . (p - p_predicted)] of the scaled unknowns
 /// p = (x / x_scale, omega), with its exact Jacobian (Ceres wants it row-major).
-class CorrectionCost final : public ceres::CostFunction {
+///
+/// It is also the problem's EvaluationCallback: Ceres announces each evaluation point first
+/// (and has written it into the parameter block), so one HarmonicBalance pass computes the
+/// residual and the Jacobian together and caches them. Ceres evaluates a candidate step's
+/// residual, then, when it accepts it, the Jacobian at the same point: that second request
+/// costs nothing, and neither do the final residual check and the next tangent, which ask
+/// for the converged point (see Corrector::cached).
+class CorrectionCost final : public ceres::CostFunction, public ceres::EvaluationCallback {
 public:
-    CorrectionCost(HarmonicBalance& hb) : hb_(hb), n_(hb.unknowns()) {
+    CorrectionCost(HarmonicBalance& hb, const double* parameters)
+        : hb_(hb), n_(hb.unknowns()), parameters_(parameters) {
         set_num_residuals(n_ + 1);
         mutable_parameter_block_sizes()->push_back(n_ + 1);
     }
@@ -54,36 +62,48 @@ public:
         tangent_ = tangent;
         predicted_ = predicted;
         x_scale_ = x_scale;
+        valid_ = false;
+    }
+    void PrepareForEvaluation(bool, bool new_evaluation_point) override {
+        if (valid_ && !new_evaluation_point) return;
+        const Eigen::Map<const Eigen::VectorXd> p(parameters_, n_ + 1);
+        x_ = p.head(n_) * x_scale_;
+        omega_ = p(n_);
+        hb_.evaluate(x_, omega_, r_, &j_, &j_omega_);
+        valid_ = true;
     }
     bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+        if (!valid_ || !r_.allFinite()) return false;
         const Eigen::Map<const Eigen::VectorXd> p(parameters[0], n_ + 1);
-        const Eigen::VectorXd x = p.head(n_) * x_scale_;
-        const double omega = p(n_);
         const double f = hb_.force_scale();
         Eigen::Map<Eigen::VectorXd> r(residuals, n_ + 1);
+        r.head(n_) = r_ / f;
+        r(n_) = tangent_.dot(p - predicted_);
         if (jacobians && jacobians[0]) {
-            hb_.evaluate(x, omega, r_, &j_, &j_omega_);
             using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
             Eigen::Map<RowMajor> J(jacobians[0], n_ + 1, n_ + 1);
             J.topLeftCorner(n_, n_) = j_ * (x_scale_ / f);
             J.topRightCorner(n_, 1) = j_omega_ / f;
             J.row(n_) = tangent_.transpose();
-        } else {
-            hb_.evaluate(x, omega, r_);
         }
-        if (!r_.allFinite()) return false;
-        r.head(n_) = r_ / f;
-        r(n_) = tangent_.dot(p - predicted_);
         return true;
     }
+    /// The cached evaluation if it was made exactly at (x, omega), else nullptr-like false.
+    bool cached(const Eigen::VectorXd& x, double omega) const { return valid_ && omega == omega_ && x == x_; }
+    const Eigen::VectorXd& residual() const { return r_; }
+    const Eigen::MatrixXd& jacobian() const { return j_; }
+    const Eigen::VectorXd& jacobian_omega() const { return j_omega_; }
 
 private:
     HarmonicBalance& hb_;
     int n_;
+    const double* parameters_;
     Eigen::VectorXd tangent_, predicted_;
     double x_scale_ = 1.0;
-    mutable Eigen::VectorXd r_, j_omega_;
-    mutable Eigen::MatrixXd j_;
+    bool valid_ = false;
+    Eigen::VectorXd x_, r_, j_omega_;
+    double omega_ = 0.0;
+    Eigen::MatrixXd j_;
 };
 double evaluation_seconds(const EvaluationStatistics& s) {
     return s.aft_seconds + s.jacobian_seconds + s.structure_seconds;
@@ -107,16 +127,16 @@ private:
 struct Corrector::Impl {
     HarmonicBalance& hb;
     CorrectorOptions options;
-    CorrectionCost cost;
     std::vector<double> parameters;
+    CorrectionCost cost;
     ceres::Problem problem;
     ceres::Solver::Options solver;
     ResidualTest residual_test;
     CorrectorStatistics statistics;
 
     Impl(HarmonicBalance& h, CorrectorOptions o)
-        : hb(h), options(o), cost(h), parameters(static_cast<std::size_t>(h.unknowns() + 1)), problem(problem_options()),
-          residual_test(o.tolerance) {
+        : hb(h), options(o), parameters(static_cast<std::size_t>(h.unknowns() + 1)), cost(h, parameters.data()),
+          problem(problem_options(&cost)), residual_test(o.tolerance) {
         problem.AddResidualBlock(&cost, nullptr, parameters.data());
         // Chosen by measurement on the absorber (see README): dense QR is exact and fast at
         // these sizes; Levenberg-Marquardt with a huge initial radius is Gauss-Newton near the
@@ -138,9 +158,10 @@ struct Corrector::Impl {
         solver.num_threads = 1;
         solver.callbacks.push_back(&residual_test);
     }
-    static ceres::Problem::Options problem_options() {
+    static ceres::Problem::Options problem_options(CorrectionCost* cost) {
         ceres::Problem::Options p;
         p.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+        p.evaluation_callback = cost;
         return p;
     }
 };
@@ -148,6 +169,14 @@ struct Corrector::Impl {
 Corrector::Corrector(HarmonicBalance& hb, CorrectorOptions options) : impl_(std::make_unique<Impl>(hb, options)) {}
 Corrector::~Corrector() = default;
 const CorrectorStatistics& Corrector::statistics() const { return impl_->statistics; }
+
+bool Corrector::cached_jacobian(const Eigen::VectorXd& x, double omega, Eigen::MatrixXd& jacobian,
+                                Eigen::VectorXd& jacobian_omega) const {
+    if (!impl_->cost.cached(x, omega)) return false;
+    jacobian = impl_->cost.jacobian();
+    jacobian_omega = impl_->cost.jacobian_omega();
+    return true;
+}
 
 bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
                         int& iterations, double& residual) {
@@ -170,7 +199,10 @@ bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd
     const Eigen::VectorXd x_new = p.head(n) * x_scale;
     const double omega_new = p(n);
     Eigen::VectorXd r;
-    m.hb.evaluate(x_new, omega_new, r);
+    if (m.cost.cached(x_new, omega_new))
+        r = m.cost.residual();
+    else
+        m.hb.evaluate(x_new, omega_new, r);
     residual = r.allFinite() ? r.cwiseAbs().maxCoeff() / m.hb.force_scale() : INFINITY;
     if (!(residual <= m.options.tolerance) || !(omega_new > 0.0)) return false;
     x = x_new;
@@ -187,10 +219,15 @@ bool Corrector::solve_at(Eigen::VectorXd& x, double omega, double x_scale, int& 
 
 Eigen::VectorXd branch_tangent(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega, double x_scale,
                                const Eigen::VectorXd& previous) {
-    const int n = hb.unknowns();
     Eigen::VectorXd r, r_omega;
     Eigen::MatrixXd J;
     hb.evaluate(x, omega, r, &J, &r_omega);
+    return branch_tangent(J, r_omega, x_scale, previous);
+}
+
+Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& J, const Eigen::VectorXd& r_omega, double x_scale,
+                               const Eigen::VectorXd& previous) {
+    const auto n = J.rows();
     Eigen::MatrixXd A(n + 1, n + 1);
     A.topLeftCorner(n, n) = J * x_scale;
     A.topRightCorner(n, 1) = r_omega;
@@ -295,9 +332,13 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     Trace out;
     int& corrections = result.corrections;
     int& failures = result.failed_corrections;
+    Eigen::MatrixXd jacobian;
+    Eigen::VectorXd jacobian_omega;
     auto tangent = [&](const Eigen::VectorXd& at, double w, const Eigen::VectorXd& previous) {
         detail::Stopwatch watch;
-        Eigen::VectorXd t = branch_tangent(hb, at, w, x_scale, previous);
+        Eigen::VectorXd t = corrector.cached_jacobian(at, w, jacobian, jacobian_omega)
+                                ? branch_tangent(jacobian, jacobian_omega, x_scale, previous)
+                                : branch_tangent(hb, at, w, x_scale, previous);
         result.predictor_seconds += watch.lap();
         return t;
     };

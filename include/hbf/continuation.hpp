@@ -102,6 +102,10 @@ public:
     bool solve_at(Eigen::VectorXd& x, double omega, double x_scale, int& iterations, double& residual);
     /// Counters accumulated over all calls.
     const CorrectorStatistics& statistics() const;
+    /// dR/dX and dR/domega at (x, omega) if the last evaluation was made exactly there (as
+    /// after a successful correction); false otherwise.
+    bool cached_jacobian(const Eigen::VectorXd& x, double omega, Eigen::MatrixXd& jacobian,
+                         Eigen::VectorXd& jacobian_omega) const;
 
 private:
     struct Impl;
@@ -112,6 +116,10 @@ private:
 /// (x / x_scale, omega): the null vector of [dR/dX x_scale, dR/domega], oriented so that its
 /// dot product with `previous` (any vector of size unknowns + 1 not orthogonal to it) is > 0.
 Eigen::VectorXd branch_tangent(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega, double x_scale,
+                               const Eigen::VectorXd& previous);
+
+/// The same from given dR/dX (J) and dR/domega (r_omega) at the point.
+Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& J, const Eigen::VectorXd& r_omega, double x_scale,
                                const Eigen::VectorXd& previous);
 
 /// Follows the branch from omega_start to omega_end (see the file comment).
