@@ -7,7 +7,7 @@
 // vector of [dR/dX dR/domega], oriented like the previous one); the corrector solves the
 // square system
 //     R(X, omega) / force_scale = 0,   t . (u - u_predicted) = 0
-// with Ceres (dense QR, Levenberg-Marquardt, analytic Jacobian). A point is accepted only when
+// with Ceres (Levenberg-Marquardt, dense normal Cholesky, analytic Jacobian; see README). A point is accepted only when
 // |R|_inf / force_scale <= tolerance — checked by us, since Ceres has no absolute test.
 #pragma once
 
