@@ -119,6 +119,62 @@ private:
     double sigma0_, sigma1_, sigma2_, kinetic_, static_, stribeck_;
 };
 
+/// Exact Coulomb friction by the dynamic Lagrangian (see friction.hpp).
+class DynamicLagrangianCoulomb final : public FrictionModel {
+public:
+    explicit DynamicLagrangianCoulomb(const Contact& c) : limit_(c.friction_limit), eps_(c.lagrangian_penalty) {}
+    int state_signals() const override { return 1; }
+
+    void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
+                  FrictionEvaluation& out, bool jacobian) const override {
+        const Eigen::MatrixXd& D1 = fourier.derivative();
+        const int nt = fourier.time_samples(), n = fourier.size();
+        Eigen::VectorXd v(nt), lambda(nt);
+        fourier.to_time(omega * (D1 * q), v);
+        fourier.to_time(z, lambda);
+        const Eigen::ArrayXd u = lambda.array() + eps_ * v.array();
+        Eigen::VectorXd projected(n);
+        fourier.to_coefficients(u.max(-limit_).min(limit_).matrix(), projected);
+        out.state_residual = z - projected;
+        out.force = z;
+        const Eigen::ArrayXd stick = (u.abs() < limit_).cast<double>();
+        const bool permanent_stick = stick.minCoeff() == 1.0;
+        Eigen::Index highest = 0, lowest = 0;
+        if (permanent_stick) {
+            // The mean force is free in permanent stick: centre it in the friction cone.
+            out.state_residual(0) = 0.5 * (lambda.maxCoeff(&highest) + lambda.minCoeff(&lowest));
+        }
+        out.jacobian_seconds = 0.0;
+        if (!jacobian) return;
+        detail::Stopwatch watch;
+        Eigen::MatrixXd m(n, n);
+        fourier.multiplication_matrix(stick.matrix(), m);  // P diag(stick) E
+        out.state_z = Eigen::MatrixXd::Identity(n, n) - m;
+        out.state_q = -eps_ * omega * fourier.times_derivative(m);
+        out.state_omega = -eps_ * (m * (D1 * q));
+        if (permanent_stick) {
+            const Eigen::MatrixXd& E = fourier.synthesis();
+            out.state_z.row(0) = 0.5 * (E.row(highest) + E.row(lowest));
+            out.state_q.row(0).setZero();
+            out.state_omega(0) = 0.0;
+        }
+        out.force_q = Eigen::MatrixXd::Zero(n, n);
+        out.force_z = Eigen::MatrixXd::Identity(n, n);
+        out.force_omega = Eigen::VectorXd::Zero(n);
+        out.jacobian_seconds = watch.lap();
+    }
+
+    Eigen::VectorXd force_samples(Fourier& fourier, double, const Eigen::VectorXd&,
+                                  const Eigen::VectorXd& z) const override {
+        Eigen::VectorXd f(fourier.time_samples());
+        fourier.to_time(z, f);
+        return f;
+    }
+
+private:
+    double limit_, eps_;
+};
+
 }  // namespace
 
 std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact) {
@@ -130,11 +186,13 @@ std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact) {
             return std::make_unique<LuGre>(dahl);
         }
         case FrictionLaw::lugre: return std::make_unique<LuGre>(contact);
-        case FrictionLaw::coulomb: break;
+        case FrictionLaw::coulomb:
+            if (!(contact.lagrangian_penalty > 0.0))
+                throw InvalidInput("lagrangian_penalty = " + format_number(contact.lagrangian_penalty) +
+                                   " is out of range: allowed > 0 (HarmonicBalance chooses it when 0)");
+            return std::make_unique<DynamicLagrangianCoulomb>(contact);
     }
-    throw InvalidInput("law = " + to_string(contact.law) +
-                       " (exact, set-valued Coulomb) is not available in harmonic balance yet: allowed "
-                       "dahl, lugre, coulomb-reg");
+    throw InvalidInput("unknown friction law");
 }
 
 }  // namespace hbf

@@ -1,6 +1,8 @@
 #include "hbf/harmonic_balance.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <complex>
 
 #include "hbf/error.hpp"
 #include "stopwatch.hpp"
@@ -21,7 +23,13 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     unknowns_ = system_.dofs() * n;
     force_scale_ = system_.excitation.cwiseAbs().maxCoeff();
     if (!(force_scale_ > 0.0)) throw InvalidInput("excitation vector is zero: allowed a non-zero force amplitude");
-    for (const Contact& c : system_.contacts) {
+    for (Contact& c : system_.contacts) {
+        if (c.law == FrictionLaw::coulomb && c.lagrangian_penalty == 0.0) {
+            // The contact direction's impedance sqrt(k m): lambda and eps v of the same order.
+            const Eigen::VectorXd w = system_.contact_direction(c);
+            const double k = w.dot(system_.stiffness * w), m = w.dot(system_.mass * w);
+            c.lagrangian_penalty = k > 0.0 ? std::sqrt(k * m) : m;
+        }
         models_.push_back(make_friction_model(c));
         directions_.push_back(system_.contact_direction(c));
         state_offset_.push_back(models_.back()->state_signals() > 0 ? unknowns_ : -1);
@@ -121,38 +129,61 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::Ve
 Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const {
     const int n = coefficients(), dofs = system_.dofs();
     Eigen::MatrixXd C = system_.damping, K = system_.stiffness;
-    for (std::size_t c = 0; c < system_.contacts.size(); ++c) {
+    std::vector<std::size_t> stuck;  // exact Coulomb contacts held rigid (pre-sliding guess)
+    for (std::size_t c = 0; c < system_.contacts.size() && !sliding; ++c) {
         const Contact& k = system_.contacts[c];
-        if (sliding) break;
         const Eigen::MatrixXd ww = directions_[c] * directions_[c].transpose();
         if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre) {
             K += k.stiffness * ww;
             C += (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0) * ww;
         }
         if (k.law == FrictionLaw::coulomb_regularized) C += k.friction_limit / k.regularization * ww;  // tanh'(0)
+        if (k.law == FrictionLaw::coulomb) stuck.push_back(c);
     }
-    const Eigen::VectorXcd amplitude = linear_response(system_.mass, C, K, system_.excitation, omega);
+    // First harmonic of (K - w^2 M + i w C) Y + W Lambda = F with W^T Y = 0 for the stuck
+    // contacts (Lambda: their complex force amplitudes).
+    const auto m = static_cast<Eigen::Index>(stuck.size());
+    const std::complex<double> i(0.0, 1.0);
+    Eigen::MatrixXcd A = Eigen::MatrixXcd::Zero(dofs + m, dofs + m);
+    A.topLeftCorner(dofs, dofs) = K.cast<std::complex<double>>() - omega * omega * system_.mass.cast<std::complex<double>>() +
+                                  i * omega * C.cast<std::complex<double>>();
+    for (Eigen::Index j = 0; j < m; ++j) {
+        A.block(0, dofs + j, dofs, 1) = directions_[stuck[static_cast<std::size_t>(j)]].cast<std::complex<double>>();
+        A.block(dofs + j, 0, 1, dofs) = directions_[stuck[static_cast<std::size_t>(j)]].cast<std::complex<double>>().transpose();
+    }
+    Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(dofs + m);
+    rhs.head(dofs) = system_.excitation.cast<std::complex<double>>();
+    const Eigen::VectorXcd amplitude = A.fullPivLu().solve(rhs);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(unknowns_);
-    for (int i = 0; i < dofs; ++i) {
-        if (!std::isfinite(std::abs(amplitude(i)))) continue;  // exact resonance: start from rest
-        x(i * n + 1) = amplitude(i).real();   // y = Re(Y e^{i theta}) = Re Y cos - Im Y sin
-        x(i * n + 2) = -amplitude(i).imag();
-    }
-    for (std::size_t c = 0; c < system_.contacts.size(); ++c)
-        if (state_offset_[c] >= 0) {
-            // Pre-sliding: z = q. Sliding: the bristle force sits at the friction limit, in phase
-            // with the velocity (first harmonic of F_c sign(v) is (4/pi) F_c v / |v|).
-            const Eigen::VectorXd q = relative(x, static_cast<int>(c));
-            Eigen::VectorXd z = q;
-            const double speed = std::hypot(q(1), q(2));
-            if (sliding && speed > 0.0) {
-                const double limit = 4.0 / M_PI * system_.contacts[c].friction_limit / system_.contacts[c].stiffness;
-                z.setZero();
-                z(1) = limit * q(2) / speed;  // v ~ -sin: in phase with q' = omega (s1 cos - c1 sin)
-                z(2) = -limit * q(1) / speed;
+    auto put = [&](Eigen::Index offset, std::complex<double> a) {
+        if (!std::isfinite(std::abs(a))) return;  // exact resonance: start from rest
+        x(offset + 1) = a.real();  // y = Re(Y e^{i theta}) = Re Y cos - Im Y sin
+        x(offset + 2) = -a.imag();
+    };
+    for (int d = 0; d < dofs; ++d) put(d * n, amplitude(d));
+    for (std::size_t c = 0; c < system_.contacts.size(); ++c) {
+        if (state_offset_[c] < 0) continue;
+        const Contact& k = system_.contacts[c];
+        const Eigen::VectorXd q = relative(x, static_cast<int>(c));
+        const double speed = std::hypot(q(1), q(2));
+        auto z = x.segment(state_offset_[c], n);  // zero so far
+        if (sliding && speed > 0.0) {
+            // The friction force sits at its limit, in phase with the velocity: the first
+            // harmonic of F_c sign(v) is (4/pi) F_c v / |v|, v ~ (s1 cos - c1 sin).
+            const double limit = 4.0 / M_PI * k.friction_limit / (k.law == FrictionLaw::coulomb ? 1.0 : k.stiffness);
+            z(1) = limit * q(2) / speed;
+            z(2) = -limit * q(1) / speed;
+        } else if (k.law == FrictionLaw::coulomb) {
+            const auto j = std::find(stuck.begin(), stuck.end(), c) - stuck.begin();
+            const std::complex<double> force = amplitude(dofs + j);
+            if (std::isfinite(std::abs(force))) {
+                z(1) = force.real();
+                z(2) = -force.imag();
             }
-            x.segment(state_offset_[c], n) = z;
+        } else if (!sliding) {
+            z = q;  // pre-sliding bristle: z = q
         }
+    }
     return x;
 }
 

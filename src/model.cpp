@@ -77,6 +77,9 @@ void System::validate() const {
         }
         if (k.law == FrictionLaw::coulomb_regularized)
             require_positive(k.regularization, (where + "regularization").c_str(), "tanh velocity scale eps");
+        if (k.law == FrictionLaw::coulomb)
+            require_non_negative(k.lagrangian_penalty, (where + "lagrangian_penalty").c_str(),
+                                 "dynamic Lagrangian epsilon (0 = automatic)");
     }
 }
 
@@ -133,6 +136,7 @@ System friction_absorber(const AbsorberParameters& p, FrictionLaw law) {
         }
     }
     if (law == FrictionLaw::coulomb_regularized) contact.regularization = p.regularization;
+    if (law == FrictionLaw::coulomb) contact.lagrangian_penalty = p.lagrangian_penalty;
     system.contacts.push_back(contact);
     return system;
 }

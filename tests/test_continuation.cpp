@@ -315,3 +315,49 @@ TEST_CASE("A stick-slip start is found by ramping the excitation, and matches th
     const Eigen::VectorXd& c = walked.points.back().x;
     CHECK((a - c).cwiseAbs().maxCoeff() <= 1e-8 * c.cwiseAbs().maxCoeff());
 }
+
+TEST_CASE("Exact Coulomb with a huge friction limit: permanent stick, the closed form, the symmetric solution",
+          "[continuation][coulomb]") {
+    AbsorberParameters p;
+    p.friction_coefficient = 100.0;  // never slips at fe = 0.5
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb), HarmonicBalanceOptions{5, 0});
+    ContinuationOptions o;
+    o.omega_end = 0.9;  // the stuck structure is undamped: its resonance 1/sqrt(1 + r) is unbounded
+    const BranchResult b = continue_branch(hb, o);
+    REQUIRE(b.status == ContinuationStatus::completed);
+    Analyser analyse(hb);
+    for (const SolutionPoint& point : b.points) {
+        const analytic::Response exact = analytic::coulomb_stick(p, point.omega);
+        const Eigen::VectorXd y1 = hb.dof(point.x, 0), y2 = hb.dof(point.x, 1), force = hb.state(point.x, 0);
+        INFO("w = " << point.omega);
+        CHECK(std::abs(std::complex<double>(y1(1), -y1(2)) - exact.y1) < 1e-8 * std::abs(exact.y1));
+        CHECK((y1 - y2).cwiseAbs().maxCoeff() < 1e-8 * std::abs(exact.y1));  // stuck: q = 0
+        CHECK(y1.tail(8).norm() < 1e-8 * std::abs(exact.y1));                 // no higher harmonics
+        // The convention of permanent stick: the force centred in the cone, i.e. the
+        // symmetric solution: zero mean force and zero mean displacement.
+        CHECK(std::abs(force(0)) < 1e-8 * p.friction_coefficient);
+        CHECK(std::abs(y1(0)) < 1e-8 * std::abs(exact.y1));
+        CHECK(analyse(point).energy == Approx(0.0).margin(1e-8));  // sticking dissipates nothing
+    }
+}
+
+TEST_CASE("Exact Coulomb, H = 1, large fe: the describing-function solution, to the AFT sampling error",
+          "[continuation][coulomb]") {
+    // With one harmonic the force is balanced through its first harmonic only: the
+    // equivalent-viscous (describing-function) solution of the paper, except that the AFT
+    // computes the first harmonic of F_c sign(v) on N_t samples: 4 F_c / pi times a factor
+    // between 1 - (pi / N_t)^2 / 3 (zero crossings on the grid) and 1, depending on where the
+    // zero crossings of v fall: the error is bounded by O(N_t^-2), not monotone in N_t.
+    AbsorberParameters p;
+    p.excitation = 1.0;
+    const double omega = 1.0;
+    const double exact = std::abs(analytic::coulomb_slip(p, omega)->y1);
+    for (int nt : {64, 128, 256}) {
+        HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb), HarmonicBalanceOptions{1, nt});
+        const SolutionPoint s = solve_by_continuation(hb, omega);
+        const Eigen::VectorXd y1 = hb.dof(s.x, 0);
+        const double error = std::abs(std::hypot(y1(1), y1(2)) - exact) / exact;
+        INFO("N_t = " << nt << ": relative difference " << error);
+        CHECK(error < (M_PI / nt) * (M_PI / nt));
+    }
+}

@@ -12,6 +12,19 @@
 //   (multiplied by sigma0 so that it is in force / time units like the structure's rows),
 //   with the force f = sigma0 z + sigma1 D z + sigma2 D q, linear in the coefficients.
 //
+// * exact Coulomb (set-valued: |f| <= F_c in stick, f = F_c sign(v) in slip) by the dynamic
+//   Lagrangian: the contact force lambda itself is the unknown signal (coefficients Lambda)
+//   and the law is written as the fixed point
+//       lambda = proj_[-F_c, F_c](lambda + eps v),
+//   which holds, for any eps > 0, iff v = 0 and |lambda| <= F_c (stick), or lambda = F_c
+//   sign(v) (slip). Balanced like the equations of motion: r = Lambda - P proj(E Lambda + eps v),
+//   with the force f = lambda. Samples with |lambda + eps v| < F_c stick; its Jacobian is
+//   exact on each stick/slip pattern (semi-smooth). In permanent stick the mean force is not
+//   determined (any offset keeping |lambda| <= F_c solves the equations); the c0 row is then
+//   replaced by max lambda + min lambda = 0: the force is centred in the friction cone, which
+//   for a system without static load is the symmetric solution (mean force and mean
+//   displacement zero).
+//
 // Here E and P are the synthesis/analysis matrices of Fourier and D = omega D1 the
 // derivative with respect to tau. The Jacobians are exact: the chain rule through E and P.
 #pragma once
@@ -47,8 +60,8 @@ public:
                                           const Eigen::VectorXd& z) const = 0;
 };
 
-/// The model for a contact's law. Throws InvalidInput for a law that harmonic balance with
-/// AFT cannot evaluate (exact Coulomb needs the nonsmooth method of a later version).
+/// The model for a contact's law. Throws InvalidInput for invalid parameters (exact Coulomb:
+/// lagrangian_penalty must be > 0; HarmonicBalance fills in the automatic value).
 std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact);
 
 }  // namespace hbf

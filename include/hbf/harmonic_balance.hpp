@@ -63,9 +63,10 @@ public:
 
     /// A starting point at omega: the linear response with each Dahl/LuGre contact replaced by
     /// its pre-sliding spring and damper (z = q), each regularised Coulomb contact by its
-    /// slope at zero velocity (a damper F_c / eps), and exact Coulomb contacts removed.
-    /// With `sliding`, the slipping limit instead: every contact removed (state laws start at
-    /// their friction limit, in phase with the relative velocity).
+    /// slope at zero velocity (a damper F_c / eps), and each exact Coulomb contact held rigid
+    /// (q = 0; its force is the constraint's multiplier: the exact permanent-stick solution).
+    /// With `sliding`, the slipping limit instead: every contact removed (friction forces
+    /// start at their limit, in phase with the relative velocity).
     Eigen::VectorXd linear_guess(double omega, bool sliding = false) const;
     /// Force scale against which residuals are judged: the excitation amplitude |F|_inf.
     double force_scale() const { return force_scale_; }

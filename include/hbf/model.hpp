@@ -47,6 +47,9 @@ struct Contact {
     double static_limit = 0;    ///< F_s, static friction force (LuGre; 0 means F_s = F_c)
     double stribeck_velocity = 0;  ///< v_s (LuGre; 0 means no Stribeck curve: g = F_c)
     double regularization = 0;  ///< eps, velocity scale of tanh (coulomb-reg; > 0)
+    /// epsilon of the dynamic Lagrangian (exact coulomb in harmonic balance; >= 0, force per
+    /// velocity; 0 chooses sqrt((w^T K w)(w^T M w)), the contact direction's impedance).
+    double lagrangian_penalty = 0;
 };
 
 /// A linear structure with friction contacts under harmonic excitation F cos(omega t).
@@ -93,6 +96,7 @@ struct AbsorberParameters {
     double static_friction_coefficient = 0;  ///< mu_s (LuGre Stribeck; 0 means mu_s = mu)
     double stribeck_velocity = 0;          ///< v_s, nondimensional (LuGre; 0 means none)
     double viscous_coefficient = 0;        ///< sigma2 / (m1 omega1) (LuGre viscous term)
+    double lagrangian_penalty = 0;         ///< dynamic Lagrangian eps (coulomb in HB; 0 = automatic)
 
     /// Throws InvalidInput naming the first parameter out of range: r, wa, mu, fe > 0;
     /// for Dahl and LuGre also wb > 0; for LuGre xi >= 0 (wb, xi are unused by Coulomb).

@@ -70,6 +70,10 @@ void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help, cons
                            "curve [default 0]");
         command.add_option("--viscous", viscous,
                            "viscous friction coefficient sigma2 / (N / (x_s omega1)) (lugre), >= 0 [default 0]");
+        command.add_option("--dlft-eps", dlft_eps,
+                           "dynamic Lagrangian parameter epsilon of exact Coulomb (coulomb), force per velocity, "
+                           "> 0; results converge to the same solution for any value as H grows [default: "
+                           "sqrt(k m) of the contact direction, 1.24 for the paper's absorber]");
     }
     for (CLI::Option* option : command.get_options())
         if (option->get_name() != "--law" && option->get_name() != "--help")
@@ -91,6 +95,7 @@ const std::vector<FlagScope>& flag_scopes() {
         {"--mu-static", "static friction coefficient", {FrictionLaw::lugre}},
         {"--stribeck-velocity", "Stribeck velocity", {FrictionLaw::lugre}},
         {"--viscous", "viscous friction coefficient", {FrictionLaw::lugre}},
+        {"--dlft-eps", "dynamic Lagrangian parameter", {FrictionLaw::coulomb}},
     };
     return scopes;
 }
@@ -128,6 +133,9 @@ AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
     set("--mu-static", mu_static, p.static_friction_coefficient);
     set("--stribeck-velocity", stribeck_velocity, p.stribeck_velocity);
     set("--viscous", viscous, p.viscous_coefficient);
+    set("--dlft-eps", dlft_eps, p.lagrangian_penalty);
+    if (!dlft_eps.empty() && !(p.lagrangian_penalty > 0.0))
+        throw UsageError("--dlft-eps = " + dlft_eps + " is out of range: allowed > 0");
     p.validate(chosen);
     return p;
 }

@@ -27,11 +27,11 @@ long long parse_integer(const std::string& flag, const std::string& text);
 /// The paper absorber's parameter flags --r --wa --mu --fe --wb --xi (values kept as text so
 /// that they are parsed strictly), shared by every subcommand that works on the preset.
 struct AbsorberFlags {
-    std::string r, wa, mu, fe, wb, xi, eps, mu_static, stribeck_velocity, viscous;
+    std::string r, wa, mu, fe, wb, xi, eps, mu_static, stribeck_velocity, viscous, dlft_eps;
     std::string law;
 
     /// Adds the flags; `law_default` is the default --law, `with_smooth_options` adds --eps,
-    /// --mu-static, --stribeck-velocity and --viscous (harmonic-balance commands).
+    /// --mu-static, --stribeck-velocity, --viscous and --dlft-eps (harmonic-balance commands).
     void add_to(CLI::App& command, const std::string& laws_help, const std::string& law_default,
                 bool with_smooth_options);
     /// The chosen law; throws UsageError for an unknown name.

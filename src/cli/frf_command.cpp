@@ -117,7 +117,10 @@ Runner add_frf_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "frf", "Frequency response of the paper's friction absorber by multi-harmonic balance (AFT) and "
                "pseudo-arclength continuation in w (nondimensional).");
-    options->absorber.add_to(*command, "friction law: dahl, lugre or coulomb-reg (regularised Coulomb)", "lugre", true);
+    options->absorber.add_to(*command,
+                             "friction law: coulomb (exact, set-valued: true sticking, by the dynamic Lagrangian), "
+                             "dahl, lugre or coulomb-reg (regularised Coulomb)",
+                             "lugre", true);
     command->add_option("--wmin", options->wmin, "first frequency w of the branch, > 0")->capture_default_str();
     command->add_option("--wmax", options->wmax, "last frequency w of the branch, > wmin")->capture_default_str();
     command->add_option("--harmonics", options->harmonics, "number of harmonics H, 1..200")
