@@ -121,8 +121,8 @@ Runner add_frf_command(CLI::App& app) {
                              "friction law: coulomb (exact, set-valued: true sticking, by the dynamic Lagrangian), "
                              "dahl, lugre or coulomb-reg (regularised Coulomb)",
                              "lugre", true);
-    command->add_option("--wmin", options->wmin, "first frequency w of the branch, > 0")->capture_default_str();
-    command->add_option("--wmax", options->wmax, "last frequency w of the branch, > wmin")->capture_default_str();
+    command->add_option("--wmin", options->wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
+    command->add_option("--wmax", options->wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
     command->add_option("--harmonics", options->harmonics, "number of harmonics H, 1..200")
         ->capture_default_str()->type_name("INT");
     command->add_option("--time-samples", options->time_samples,
