@@ -50,7 +50,7 @@ namespace {
 /// residual and the Jacobian together and caches them. Ceres evaluates a candidate step's
 /// residual, then, when it accepts it, the Jacobian at the same point: that second request
 /// costs nothing, and neither do the final residual check and the next tangent, which ask
-/// for the converged point (see Corrector::cached).
+/// for the converged point (see Corrector::cached_jacobian).
 class CorrectionCost final : public ceres::CostFunction, public ceres::EvaluationCallback {
 public:
     CorrectionCost(HarmonicBalance& hb, const double* parameters)
@@ -88,7 +88,7 @@ public:
         }
         return true;
     }
-    /// The cached evaluation if it was made exactly at (x, omega), else nullptr-like false.
+    /// Whether the cached evaluation was made exactly at (x, omega).
     bool cached(const Eigen::VectorXd& x, double omega) const { return valid_ && omega == omega_ && x == x_; }
     const Eigen::VectorXd& residual() const { return r_; }
     const Eigen::MatrixXd& jacobian() const { return j_; }
@@ -491,12 +491,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     BranchResult result;
     follow_branches(hb, corrector, o, result);
     result.corrector = corrector.statistics();
-    const EvaluationStatistics& after = hb.statistics();
-    result.evaluation.residuals = after.residuals - before.residuals;
-    result.evaluation.jacobians = after.jacobians - before.jacobians;
-    result.evaluation.aft_seconds = after.aft_seconds - before.aft_seconds;
-    result.evaluation.jacobian_seconds = after.jacobian_seconds - before.jacobian_seconds;
-    result.evaluation.structure_seconds = after.structure_seconds - before.structure_seconds;
+    result.evaluation = hb.statistics() - before;
     result.seconds = watch.lap();
     return result;
 }

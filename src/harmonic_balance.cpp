@@ -9,6 +9,12 @@
 
 namespace hbf {
 
+EvaluationStatistics operator-(const EvaluationStatistics& later, const EvaluationStatistics& earlier) {
+    return {later.residuals - earlier.residuals, later.jacobians - earlier.jacobians,
+            later.aft_seconds - earlier.aft_seconds, later.jacobian_seconds - earlier.jacobian_seconds,
+            later.structure_seconds - earlier.structure_seconds};
+}
+
 HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     : system_(std::move(system)),
       fourier_(options.harmonics,
@@ -143,10 +149,8 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
     // First harmonic of (K - w^2 M + i w C) Y + W Lambda = F with W^T Y = 0 for the stuck
     // contacts (Lambda: their complex force amplitudes).
     const auto m = static_cast<Eigen::Index>(stuck.size());
-    const std::complex<double> i(0.0, 1.0);
     Eigen::MatrixXcd A = Eigen::MatrixXcd::Zero(dofs + m, dofs + m);
-    A.topLeftCorner(dofs, dofs) = K.cast<std::complex<double>>() - omega * omega * system_.mass.cast<std::complex<double>>() +
-                                  i * omega * C.cast<std::complex<double>>();
+    A.topLeftCorner(dofs, dofs) = dynamic_stiffness(system_.mass, C, K, omega);
     for (Eigen::Index j = 0; j < m; ++j) {
         A.block(0, dofs + j, dofs, 1) = directions_[stuck[static_cast<std::size_t>(j)]].cast<std::complex<double>>();
         A.block(dofs + j, 0, 1, dofs) = directions_[stuck[static_cast<std::size_t>(j)]].cast<std::complex<double>>().transpose();

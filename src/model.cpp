@@ -86,11 +86,14 @@ void System::validate() const {
 Eigen::VectorXcd linear_response(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
                                  const Eigen::MatrixXd& stiffness,
                                  const Eigen::VectorXd& excitation, double omega) {
+    return dynamic_stiffness(mass, damping, stiffness, omega).fullPivLu().solve(excitation.cast<std::complex<double>>());
+}
+
+Eigen::MatrixXcd dynamic_stiffness(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
+                                   const Eigen::MatrixXd& stiffness, double omega) {
     const std::complex<double> i(0.0, 1.0);
-    const Eigen::MatrixXcd dynamic_stiffness =
-        stiffness.cast<std::complex<double>>() - omega * omega * mass.cast<std::complex<double>>() +
-        i * omega * damping.cast<std::complex<double>>();
-    return dynamic_stiffness.fullPivLu().solve(excitation.cast<std::complex<double>>());
+    return stiffness.cast<std::complex<double>>() - omega * omega * mass.cast<std::complex<double>>() +
+           i * omega * damping.cast<std::complex<double>>();
 }
 
 void AbsorberParameters::validate(FrictionLaw law) const {

@@ -36,6 +36,8 @@ struct EvaluationStatistics {
     double jacobian_seconds = 0;    ///< chain rule through the AFT and assembly of dR/dX, dR/domega
     double structure_seconds = 0;   ///< the linear structure's part of the residual
 };
+/// The work done between two snapshots of the counters.
+EvaluationStatistics operator-(const EvaluationStatistics& later, const EvaluationStatistics& earlier);
 
 class HarmonicBalance {
 public:

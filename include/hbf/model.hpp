@@ -67,6 +67,10 @@ struct System {
     void validate() const;
 };
 
+/// The dynamic stiffness K - omega^2 M + i omega C.
+Eigen::MatrixXcd dynamic_stiffness(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
+                                   const Eigen::MatrixXd& stiffness, double omega);
+
 /// Complex amplitude Y of the steady state y(t) = Re(Y e^{i omega t}) of the linear system
 /// M y'' + C y' + K y = F cos(omega t), i.e. the solution of (K - omega^2 M + i omega C) Y = F.
 Eigen::VectorXcd linear_response(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,
