@@ -191,6 +191,8 @@ std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact) {
                 throw InvalidInput("lagrangian_penalty = " + format_number(contact.lagrangian_penalty) +
                                    " is out of range: allowed > 0 (HarmonicBalance chooses it when 0)");
             return std::make_unique<DynamicLagrangianCoulomb>(contact);
+        case FrictionLaw::jenkins:
+            throw InvalidInput("law = 'jenkins' is not available in harmonic balance yet");
     }
     throw InvalidInput("unknown friction law");
 }

@@ -12,16 +12,17 @@ std::string to_string(FrictionLaw law) {
         case FrictionLaw::dahl: return "dahl";
         case FrictionLaw::lugre: return "lugre";
         case FrictionLaw::coulomb_regularized: return "coulomb-reg";
+        case FrictionLaw::jenkins: return "jenkins";
     }
     return "unknown";
 }
 
 FrictionLaw parse_friction_law(const std::string& name) {
     for (FrictionLaw law : {FrictionLaw::coulomb, FrictionLaw::dahl, FrictionLaw::lugre,
-                            FrictionLaw::coulomb_regularized})
+                            FrictionLaw::coulomb_regularized, FrictionLaw::jenkins})
         if (name == to_string(law)) return law;
     throw InvalidInput("law = '" + name +
-                       "' is not a known friction law: allowed coulomb, dahl, lugre, coulomb-reg");
+                       "' is not a known friction law: allowed coulomb, dahl, lugre, coulomb-reg, jenkins");
 }
 
 Eigen::VectorXd System::contact_direction(const Contact& contact) const {
@@ -67,8 +68,8 @@ void System::validate() const {
                                " is out of range: allowed ground (-1) or 0.." + std::to_string(n - 1) +
                                " other than dof");
         require_positive(k.friction_limit, (where + "friction_limit").c_str(), "slip force mu N");
-        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre)
-            require_positive(k.stiffness, (where + "stiffness").c_str(), "contact stiffness sigma0");
+        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre || k.law == FrictionLaw::jenkins)
+            require_positive(k.stiffness, (where + "stiffness").c_str(), "contact stiffness sigma0 / k_t");
         if (k.law == FrictionLaw::lugre) {
             require_non_negative(k.damping, (where + "damping").c_str(), "contact damping sigma1");
             require_non_negative(k.viscous, (where + "viscous").c_str(), "viscous friction sigma2");
@@ -101,7 +102,7 @@ void AbsorberParameters::validate(FrictionLaw law) const {
     require_positive(tuning_ratio, "wa", "tuning ratio omega2/omega1");
     require_positive(friction_coefficient, "mu", "friction coefficient");
     require_positive(excitation, "fe", "excitation amplitude F0/N");
-    if (law == FrictionLaw::dahl || law == FrictionLaw::lugre)
+    if (law == FrictionLaw::dahl || law == FrictionLaw::lugre || law == FrictionLaw::jenkins)
         require_positive(contact_stiffness_ratio, "wb", "contact stiffness ratio omega3/omega1");
     if (law == FrictionLaw::lugre) {
         require_non_negative(contact_damping_ratio, "xi", "contact damping ratio");
@@ -128,7 +129,7 @@ System friction_absorber(const AbsorberParameters& p, FrictionLaw law) {
     contact.other_dof = 1;
     contact.law = law;
     contact.friction_limit = p.friction_coefficient;
-    if (law == FrictionLaw::dahl || law == FrictionLaw::lugre) {
+    if (law == FrictionLaw::dahl || law == FrictionLaw::lugre || law == FrictionLaw::jenkins) {
         const double wb = p.contact_stiffness_ratio;
         contact.stiffness = r * wb * wb;
         if (law == FrictionLaw::lugre) {

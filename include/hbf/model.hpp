@@ -27,9 +27,12 @@ namespace hbf {
 ///            g(v) = F_c + (F_s - F_c) exp(-(v / v_s)^2)   (paper eq. 17: v_s = 0, F_s = F_c,
 ///            sigma2 = 0, so g = F_c)
 ///   coulomb-reg: f = F_c tanh(v / eps), a smooth (regularised) Coulomb law
-enum class FrictionLaw { coulomb, dahl, lugre, coulomb_regularized };
+///   jenkins: f = k_t (q - s), a tangential spring k_t (= stiffness) in series with a Coulomb
+///            slider at s: s' = 0 while |k_t (q - s)| < F_c (stick), else the slider moves
+///            with q and f = F_c sign(q') (slip); the elastic-contact variant of Coulomb
+enum class FrictionLaw { coulomb, dahl, lugre, coulomb_regularized, jenkins };
 
-/// "coulomb", "dahl", "lugre", "coulomb-reg".
+/// "coulomb", "dahl", "lugre", "coulomb-reg", "jenkins".
 std::string to_string(FrictionLaw law);
 /// Inverse of to_string; throws InvalidInput naming the allowed values.
 FrictionLaw parse_friction_law(const std::string& name);
@@ -41,7 +44,8 @@ struct Contact {
     int other_dof = ground;     ///< DOF b (0-based), or Contact::ground
     FrictionLaw law = FrictionLaw::coulomb;
     double friction_limit = 0;  ///< F_c = mu N, the sliding friction force (> 0)
-    double stiffness = 0;       ///< sigma0, contact (bristle) stiffness (Dahl, LuGre; > 0)
+    double stiffness = 0;       ///< sigma0, contact (bristle) stiffness (Dahl, LuGre; > 0);
+                                ///< k_t, tangential stiffness (Jenkins; > 0)
     double damping = 0;         ///< sigma1, contact (bristle) damping (LuGre; >= 0)
     double viscous = 0;         ///< sigma2, viscous friction (LuGre; >= 0)
     double static_limit = 0;    ///< F_s, static friction force (LuGre; 0 means F_s = F_c)
@@ -80,6 +84,7 @@ Eigen::VectorXcd linear_response(const Eigen::MatrixXd& mass, const Eigen::Matri
 // ---------------------------------------------------------------------------------------
 // The paper's friction absorber (2 DOF), in the paper's nondimensional variables (eq. 2):
 //   time tau = omega1 t, displacements y = x / x_s with x_s = N / k1, forces in units of N.
+//   (Jenkins: k_t = r wb^2, the same tangential stiffness as Dahl's sigma0.)
 //
 //   y1'' + (1 + r wa^2) y1 - r wa^2 y2 + f = fe cos(omega tau)
 //   r y2'' - r wa^2 (y1 - y2)          - f = 0          (paper eq. 2, second row times r)
@@ -103,7 +108,7 @@ struct AbsorberParameters {
     double lagrangian_penalty = 0;         ///< dynamic Lagrangian eps (coulomb in HB; 0 = automatic)
 
     /// Throws InvalidInput naming the first parameter out of range: r, wa, mu, fe > 0;
-    /// for Dahl and LuGre also wb > 0; for LuGre xi >= 0 (wb, xi are unused by Coulomb).
+    /// for Dahl, LuGre and Jenkins also wb > 0; for LuGre xi >= 0 (wb, xi are unused by Coulomb).
     void validate(FrictionLaw law) const;
 };
 

@@ -31,8 +31,8 @@ std::string columns_help() {
 
 int run(const CLI::App& command, const AnalyticOptions& o) {
     const FrictionLaw law = o.absorber.friction_law();
-    if (law == FrictionLaw::coulomb_regularized)
-        throw UsageError("--law = 'coulomb-reg' has no closed form: allowed coulomb, dahl, lugre");
+    if (law == FrictionLaw::coulomb_regularized || law == FrictionLaw::jenkins)
+        throw UsageError("--law = '" + o.absorber.law + "' has no closed form: allowed coulomb, dahl, lugre");
     const AbsorberParameters p = o.absorber.parameters(command);
     const std::vector<double> grid = analytic::uniform_grid(
         parse_double("--wmin", o.wmin), parse_double("--wmax", o.wmax), parse_integer("--points", o.points));

@@ -57,7 +57,7 @@ void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help, cons
                                        def(d.friction_coefficient));
     command.add_option("--fe", fe, "excitation amplitude fe = F0/N, > 0" + def(d.excitation));
     command.add_option("--wb", wb, "contact stiffness ratio wb = sqrt(sigma0/m2)/omega1, > 0 "
-                                   "(dahl, lugre)" + def(d.contact_stiffness_ratio));
+                                   "(dahl, lugre; jenkins: k_t = r wb^2)" + def(d.contact_stiffness_ratio));
     command.add_option("--xi", xi, "contact damping ratio xi = sigma1/(2 m2 sqrt(sigma0/m2)), >= 0 "
                                    "(lugre)" + def(d.contact_damping_ratio));
     if (with_smooth_options) {
@@ -89,7 +89,7 @@ struct FlagScope {
 };
 const std::vector<FlagScope>& flag_scopes() {
     static const std::vector<FlagScope> scopes = {
-        {"--wb", "contact stiffness ratio", {FrictionLaw::dahl, FrictionLaw::lugre}},
+        {"--wb", "contact stiffness ratio", {FrictionLaw::dahl, FrictionLaw::lugre, FrictionLaw::jenkins}},
         {"--xi", "contact damping ratio", {FrictionLaw::lugre}},
         {"--eps", "regularisation velocity", {FrictionLaw::coulomb_regularized}},
         {"--mu-static", "static friction coefficient", {FrictionLaw::lugre}},
