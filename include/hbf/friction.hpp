@@ -37,6 +37,17 @@
 
 namespace hbf {
 
+/// Stick and slip, per law, from the law's own state (used for the stick fraction, the regime
+/// and the transitions by harmonic balance and by time integration alike):
+///   coulomb:      stick while the relative velocity is zero and |f| <= F_c (in harmonic
+///                 balance: the samples with |lambda + eps v| < F_c);
+///   jenkins:      stick while the slider does not move (|k_t (q - s)| < F_c);
+///   dahl, lugre:  stick (pre-sliding) while the bristle force is below stick_force_ratio of
+///                 its sliding limit: |sigma0 z| < stick_force_ratio g(v);
+///   coulomb-reg:  stick while |f| < stick_force_ratio F_c, i.e. |v| < eps atanh(ratio).
+/// The smooth laws never reach their limit, hence the ratio below 1.
+constexpr double stick_force_ratio = 0.95;
+
 /// Force (and state residual) coefficients of one contact with their Jacobians.
 struct FrictionEvaluation {
     Eigen::VectorXd force;           ///< f coefficients (2H+1)
