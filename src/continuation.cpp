@@ -16,8 +16,18 @@ std::string to_string(PointKind kind) {
         case PointKind::regular: return "regular";
         case PointKind::fold: return "fold";
         case PointKind::sample: return "sample";
+        case PointKind::transition: return "transition";
     }
     return "unknown";
+}
+
+std::string to_string(Boundary boundary) {
+    switch (boundary) {
+        case Boundary::none: return "";
+        case Boundary::stick_stick_slip: return "stick|stick-slip";
+        case Boundary::stick_slip_slip: return "stick-slip|slip";
+    }
+    return "";
 }
 
 std::string to_string(ContinuationStatus status) {
@@ -34,7 +44,8 @@ std::string to_string(ContinuationStatus status) {
 std::string BranchResult::summary() const {
     std::ostringstream s;
     const auto folds = std::count_if(points.begin(), points.end(), [](const SolutionPoint& p) { return p.kind == PointKind::fold; });
-    s << to_string(status) << ": " << points.size() << " points, " << folds << " folds";
+    s << to_string(status) << ": " << points.size() << " points, " << folds << " folds, " << transitions
+      << " stick-slip transitions";
     if (!message.empty()) s << "; " << message;
     return s.str();
 }
@@ -360,6 +371,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     previous(n) = direction;
     Eigen::VectorXd t = tangent(x, omega, previous);
     double h = o.initial_step;
+    double rejected_turn = -1.0;  // turn of the last step rejected for turning too sharply
     const double end = direction > 0 ? omega_high : omega_low;
     while (true) {
         if (static_cast<int>(out.points.size()) >= o.max_points) {
@@ -374,6 +386,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         ++corrections;
         if (!corrector.correct(xp, wp, t, x_scale, it, res)) {
             ++failures;
+            rejected_turn = -1.0;
             h *= 0.5;
             if (h < o.min_step) {
                 out.status = ContinuationStatus::min_step;
@@ -406,16 +419,21 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             return out;
         }
         const Eigen::VectorXd t_new = tangent(xp, wp, t);
-        if (t_new.dot(t) < std::cos(o.max_turn) && h > o.min_step * 2.0) {  // turned too sharply
+        const double turn = std::acos(std::clamp(t_new.dot(t), -1.0, 1.0));
+        // A turn that does not shrink with the step is a kink of the branch (nonsmooth laws:
+        // a time sample switching between stick and slip), not curvature: accept it.
+        const bool kink = rejected_turn > 0.0 && turn > 0.75 * rejected_turn;
+        if (turn > o.max_turn && h > o.min_step * 2.0 && !kink) {  // turned too sharply
+            rejected_turn = turn;
             h *= 0.5;
             continue;
         }
+        rejected_turn = -1.0;
         SolutionPoint p = make_point(wp, xp, it, res, h);
         if (t_new(n) * t(n) < 0.0) p.kind = PointKind::fold;
         out.points.push_back(p);
         x = xp;
         omega = wp;
-        const Eigen::VectorXd t_old = t;
         t = t_new;
         // Distances are relative to the current amplitude: a branch that grows by orders of
         // magnitude (a sharp resonance) is not paced by the scale of its starting point.
@@ -429,10 +447,10 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             return out;
         }
         // Next step: grow after an easy correction, at most up to where the tangent would
-        // turn by about 0.7 max_turn (the turn grows about linearly with the step).
-        const double turn = std::acos(std::clamp(t_new.dot(t_old), -1.0, 1.0));
+        // turn by about 0.7 max_turn (the turn grows about linearly with the step; not at a
+        // kink, whose turn does not depend on the step).
         double factor = it <= 3 ? 1.5 : it <= 6 ? 1.0 : 0.7;
-        if (turn > 0.0) factor = std::min(factor, std::max(0.5, 0.7 * o.max_turn / turn));
+        if (turn > 0.0 && !kink) factor = std::min(factor, std::max(0.5, 0.7 * o.max_turn / turn));
         h = std::clamp(h * factor, o.min_step, o.max_step);
     }
 }
@@ -470,6 +488,95 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     result.message += "; branch 2 from w = " + format_number(o.omega_end) + ": " +
                       (second.message.empty() ? to_string(second.status) : second.message);
 }
+/// The extremes of contact 1's stick indicator: (max phi, min phi).
+std::pair<double, double> indicator_extremes(HarmonicBalance& hb, const SolutionPoint& p) {
+    const Eigen::VectorXd phi = hb.stick_indicator(p.x, p.omega, 0);
+    return {phi.maxCoeff(), phi.minCoeff()};
+}
+
+/// Locates, between successive points a and b of a branch, where g(u) (max phi for
+/// stick|stick-slip, min phi for stick-slip|slip) changes sign, by bisection along the chord
+/// (see continue_branch). Returns false if a correction fails.
+bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const SolutionPoint& a, const SolutionPoint& b,
+                       Boundary boundary, SolutionPoint& out) {
+    const int n = hb.unknowns();
+    const double x_scale = std::max({hb.force_scale(), a.x.cwiseAbs().maxCoeff(), b.x.cwiseAbs().maxCoeff()});
+    Eigen::VectorXd chord(n + 1);
+    chord.head(n) = (b.x - a.x) / x_scale;
+    chord(n) = b.omega - a.omega;
+    const double length = chord.norm();
+    if (!(length > 0.0)) return false;
+    chord /= length;
+    auto side = [&](const SolutionPoint& p) {
+        const auto [highest, lowest] = indicator_extremes(hb, p);
+        return (boundary == Boundary::stick_stick_slip ? highest : lowest) < 0.0;
+    };
+    const bool side_a = side(a);
+    SolutionPoint lo = a, hi = b;  // lo on a's side, hi on b's
+    double t_lo = 0.0, t_hi = 1.0;
+    while ((t_hi - t_lo) * length > 1e-10) {
+        const double t = 0.5 * (t_lo + t_hi);
+        SolutionPoint m = a;
+        m.x = a.x + t * (b.x - a.x);
+        m.omega = a.omega + t * (b.omega - a.omega);
+        if (!corrector.correct(m.x, m.omega, chord, x_scale, m.iterations, m.residual)) return false;
+        if (side(m) == side_a) {
+            lo = m;
+            t_lo = t;
+        } else {
+            hi = m;
+            t_hi = t;
+        }
+    }
+    // The stick-side point of the boundary (phi < 0 side for max phi; min phi < 0 for slip).
+    out = side_a ? lo : hi;
+    out.kind = PointKind::transition;
+    out.boundary = boundary;
+    out.step = 0.0;
+    return true;
+}
+
+/// Inserts the transition points between successive points of each branch (see
+/// continue_branch). Transitions that cannot be located are reported in the message.
+void insert_transitions(HarmonicBalance& hb, Corrector& corrector, BranchResult& result) {
+    if (hb.system().contacts.empty() || result.points.size() < 2) return;
+    std::vector<SolutionPoint> points;
+    points.reserve(result.points.size() + 8);
+    std::pair<double, double> previous = indicator_extremes(hb, result.points.front());
+    points.push_back(result.points.front());
+    int lost = 0;
+    for (std::size_t k = 1; k < result.points.size(); ++k) {
+        const SolutionPoint &a = result.points[k - 1], &b = result.points[k];
+        const std::pair<double, double> current = indicator_extremes(hb, b);
+        if (a.branch == b.branch) {
+            std::vector<SolutionPoint> found;
+            for (const Boundary boundary : {Boundary::stick_stick_slip, Boundary::stick_slip_slip}) {
+                const bool upper = boundary == Boundary::stick_stick_slip;
+                const double ga = upper ? previous.first : previous.second;
+                const double gb = upper ? current.first : current.second;
+                if ((ga < 0.0) == (gb < 0.0)) continue;
+                SolutionPoint t;
+                if (bisect_transition(hb, corrector, a, b, boundary, t))
+                    found.push_back(std::move(t));
+                else
+                    ++lost;
+            }
+            // In branch order: by the distance from a along the chord.
+            std::sort(found.begin(), found.end(), [&](const SolutionPoint& p, const SolutionPoint& q) {
+                return (p.x - a.x).squaredNorm() + std::pow(p.omega - a.omega, 2) <
+                       (q.x - a.x).squaredNorm() + std::pow(q.omega - a.omega, 2);
+            });
+            for (SolutionPoint& t : found) points.push_back(std::move(t));
+        }
+        points.push_back(b);
+        previous = current;
+    }
+    result.transitions = static_cast<int>(points.size() - result.points.size());
+    result.points = std::move(points);
+    if (lost > 0)
+        result.message += (result.message.empty() ? "" : "; ") + std::to_string(lost) +
+                          " stick-slip transition(s) not located (correction failed)";
+}
 }  // namespace
 
 BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) {
@@ -490,6 +597,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     Corrector corrector(hb, o.corrector);
     BranchResult result;
     follow_branches(hb, corrector, o, result);
+    if (o.locate_transitions) insert_transitions(hb, corrector, result);
     result.corrector = corrector.statistics();
     result.evaluation = hb.statistics() - before;
     result.seconds = watch.lap();
@@ -575,27 +683,24 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
     const System& s = hb_.system();
     const double omega = point.omega;
     Eigen::VectorXd samples(fine_.time_samples());
-    double largest = 0.0;
     for (int i = 0; i < s.dofs(); ++i) {
         const Eigen::VectorXd c = hb_.dof(point.x, i);
         fine_.to_time(c, samples);
         m.y_max.push_back(series_max_abs(c, samples));
         m.y_amp1.push_back(std::hypot(c(1), c(2)));
         m.input_energy += M_PI * s.excitation(i) * c(2);
-        largest = std::max(largest, m.y_max.back());
     }
     if (s.contacts.empty()) {
         m.regime = "none";
         return m;
     }
-    // Stick fraction of contact 1 on the fine grid.
-    const Eigen::MatrixXd& D1 = fine_.derivative();
-    fine_.to_time(omega * (D1 * hb_.relative(point.x, 0)), samples);
-    const double threshold = stick_velocity_threshold * omega * largest;
-    m.stick_fraction = static_cast<double>((samples.array().abs() <= threshold).count()) / samples.size();
-    // A sinusoidal |q'| spends (2/pi) asin(0.01 v_ref / V) of the period below the threshold
-    // at its zero crossings: below 5% for V > 0.13 v_ref, so such motion still counts as slip.
-    m.regime = m.stick_fraction >= 0.95 ? "stick" : m.stick_fraction <= 0.05 ? "slip" : "stick-slip";
+    // Stick fraction and regime of contact 1 from its law's own stick samples.
+    const Eigen::VectorXd phi = hb_.stick_indicator(point.x, omega, 0);
+    const auto sticking = (phi.array() < 0.0).count();
+    m.stick_fraction = static_cast<double>(sticking) / static_cast<double>(phi.size());
+    m.regime = sticking == phi.size() ? "stick" : sticking == 0 ? "slip" : "stick-slip";
+    m.stick_indicator_max = phi.maxCoeff();
+    m.stick_indicator_min = phi.minCoeff();
     // Dissipated energy: integral over the period 2 pi / omega of f q', on the AFT grid.
     Fourier& aft = hb_.fourier();
     Eigen::VectorXd v(aft.time_samples());

@@ -1,6 +1,7 @@
 #include "hbf/friction.hpp"
 
 #include <cmath>
+#include <vector>
 
 #include "hbf/error.hpp"
 #include "stopwatch.hpp"
@@ -42,6 +43,13 @@ public:
         Eigen::VectorXd v(fourier.time_samples());
         fourier.to_time(omega * (fourier.derivative() * q), v);
         return (limit_ * (v.array() / eps_).tanh()).matrix();
+    }
+
+    Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+                                    const Eigen::VectorXd&) const override {
+        Eigen::VectorXd v(fourier.time_samples());
+        fourier.to_time(omega * (fourier.derivative() * q), v);
+        return ((v.array() / eps_).tanh().abs() / stick_force_ratio - 1.0).matrix();
     }
 
 private:
@@ -101,6 +109,17 @@ public:
         const Eigen::VectorXd dq = fourier.derivative() * q, dz = fourier.derivative() * z;
         fourier.to_time(sigma0_ * z + sigma1_ * omega * dz + sigma2_ * omega * dq, f);
         return f;
+    }
+
+    Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+                                    const Eigen::VectorXd& z) const override {
+        const int nt = fourier.time_samples();
+        Eigen::VectorXd v(nt), zt(nt);
+        fourier.to_time(omega * (fourier.derivative() * q), v);
+        fourier.to_time(z, zt);
+        Eigen::ArrayXd g(nt), dg(nt);
+        curve(v.array(), g, dg);
+        return (sigma0_ * zt.array().abs() / (stick_force_ratio * g) - 1.0).matrix();
     }
 
 private:
@@ -171,8 +190,117 @@ public:
         return f;
     }
 
+    Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+                                    const Eigen::VectorXd& z) const override {
+        const int nt = fourier.time_samples();
+        Eigen::VectorXd v(nt), lambda(nt);
+        fourier.to_time(omega * (fourier.derivative() * q), v);
+        fourier.to_time(z, lambda);
+        return ((lambda.array() + eps_ * v.array()).abs() / limit_ - 1.0).matrix();
+    }
+
 private:
     double limit_, eps_;
+};
+
+/// Jenkins element: spring k_t in series with a Coulomb slider, marched over the period (see
+/// friction.hpp).
+class Jenkins final : public FrictionModel {
+public:
+    explicit Jenkins(const Contact& c) : limit_(c.friction_limit), stiffness_(c.stiffness) {}
+    int state_signals() const override { return 0; }
+
+    void evaluate(Fourier& fourier, double, const Eigen::VectorXd& q, const Eigen::VectorXd&,
+                  FrictionEvaluation& out, bool jacobian) const override {
+        const int nt = fourier.time_samples(), n = fourier.size();
+        Eigen::VectorXd qt(nt);
+        fourier.to_time(q, qt);
+        const Cycle cycle = march(qt);
+        out.force.resize(n);
+        fourier.to_coefficients(cycle.force, out.force);
+        out.jacobian_seconds = 0.0;
+        if (!jacobian) return;
+        detail::Stopwatch watch;
+        // f_j = k_t (q_j - sum_k W_jk q_k) + const on stick samples, constant on slip samples:
+        // df/dq = k_t P (diag(stick) - W) E, W the anchor weights of each stick sample.
+        Eigen::MatrixXd m(n, n);
+        fourier.multiplication_matrix(cycle.stick, m);
+        const Eigen::MatrixXd& E = fourier.synthesis();
+        const Eigen::MatrixXd& P = fourier.analysis();
+        Eigen::MatrixXd anchored = Eigen::MatrixXd::Zero(n, nt);  // P W, column k: sum of P's
+        for (int j = 0; j < nt; ++j) {                             // columns anchored at k
+            if (cycle.stick(j) == 0.0) continue;
+            if (cycle.anchor[j] >= 0) {
+                anchored.col(cycle.anchor[j]) += P.col(j);
+            } else {  // permanent stick: s = (q_max + q_min) / 2
+                anchored.col(cycle.highest) += 0.5 * P.col(j);
+                anchored.col(cycle.lowest) += 0.5 * P.col(j);
+            }
+        }
+        out.force_q = stiffness_ * (m - anchored * E);
+        out.force_omega = Eigen::VectorXd::Zero(n);
+        out.jacobian_seconds = watch.lap();
+    }
+
+    Eigen::VectorXd force_samples(Fourier& fourier, double, const Eigen::VectorXd& q,
+                                  const Eigen::VectorXd&) const override {
+        Eigen::VectorXd qt(fourier.time_samples());
+        fourier.to_time(q, qt);
+        return march(qt).force;
+    }
+
+    Eigen::VectorXd stick_indicator(Fourier& fourier, double, const Eigen::VectorXd& q,
+                                    const Eigen::VectorXd&) const override {
+        Eigen::VectorXd qt(fourier.time_samples());
+        fourier.to_time(q, qt);
+        const Cycle cycle = march(qt);
+        return (cycle.stick.array() * (cycle.force.array().abs() / limit_ - 1.0)).matrix();
+    }
+
+private:
+    /// The periodic slider cycle on the samples q_j.
+    struct Cycle {
+        Eigen::VectorXd force;    ///< f_j
+        Eigen::VectorXd stick;    ///< 1 where the slider rests at sample j, 0 where it moves
+        std::vector<int> anchor;  ///< stick samples: the last slip sample (-1: permanent stick)
+        Eigen::Index highest = 0, lowest = 0;
+    };
+
+    Cycle march(const Eigen::VectorXd& qt) const {
+        const int nt = static_cast<int>(qt.size());
+        Cycle c;
+        c.force.resize(nt);
+        c.stick.resize(nt);
+        c.anchor.assign(static_cast<std::size_t>(nt), -1);
+        double slider = 0.5 * (qt.maxCoeff(&c.highest) + qt.minCoeff(&c.lowest));
+        int last_slip = -1;
+        // Two periods settle the cycle (the first slip forgets the start); more are marched
+        // only while the slider's position at the period's end still changes. The samples of
+        // the last period before its first slip hang on the previous period's last slip,
+        // which is the same sample once the cycle repeats.
+        constexpr int max_periods = 8;
+        for (int period = 0; period < max_periods; ++period) {
+            const double start = slider;
+            for (int j = 0; j < nt; ++j) {
+                const double trial = stiffness_ * (qt(j) - slider);
+                if (std::abs(trial) > limit_) {
+                    const double sign = trial > 0.0 ? 1.0 : -1.0;
+                    slider = qt(j) - sign * limit_ / stiffness_;
+                    c.force(j) = sign * limit_;
+                    c.stick(j) = 0.0;
+                    last_slip = j;
+                } else {
+                    c.force(j) = trial;
+                    c.stick(j) = 1.0;
+                }
+                c.anchor[static_cast<std::size_t>(j)] = last_slip;
+            }
+            if (last_slip < 0 || (period > 0 && slider == start)) break;
+        }
+        return c;
+    }
+
+    double limit_, stiffness_;
 };
 
 }  // namespace
@@ -191,8 +319,7 @@ std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact) {
                 throw InvalidInput("lagrangian_penalty = " + format_number(contact.lagrangian_penalty) +
                                    " is out of range: allowed > 0 (HarmonicBalance chooses it when 0)");
             return std::make_unique<DynamicLagrangianCoulomb>(contact);
-        case FrictionLaw::jenkins:
-            throw InvalidInput("law = 'jenkins' is not available in harmonic balance yet");
+        case FrictionLaw::jenkins: return std::make_unique<Jenkins>(contact);
     }
     throw InvalidInput("unknown friction law");
 }

@@ -63,6 +63,11 @@ Eigen::VectorXd HarmonicBalance::force_samples(const Eigen::VectorXd& x, double 
                                                                      state(x, contact));
 }
 
+Eigen::VectorXd HarmonicBalance::stick_indicator(const Eigen::VectorXd& x, double omega, int contact) {
+    return models_[static_cast<std::size_t>(contact)]->stick_indicator(fourier_, omega, relative(x, contact),
+                                                                       state(x, contact));
+}
+
 void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                                Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
     detail::Stopwatch watch;
@@ -139,8 +144,8 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
     for (std::size_t c = 0; c < system_.contacts.size() && !sliding; ++c) {
         const Contact& k = system_.contacts[c];
         const Eigen::MatrixXd ww = directions_[c] * directions_[c].transpose();
-        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre) {
-            K += k.stiffness * ww;
+        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre || k.law == FrictionLaw::jenkins) {
+            K += k.stiffness * ww;  // pre-sliding bristle / tangential spring
             C += (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0) * ww;
         }
         if (k.law == FrictionLaw::coulomb_regularized) C += k.friction_limit / k.regularization * ww;  // tanh'(0)

@@ -93,11 +93,14 @@ std::vector<Column> frf_columns(int dofs) {
         columns.push_back({"y" + std::to_string(i) + "_amp1",
                            "first-harmonic amplitude sqrt(c1^2 + s1^2) of y" + std::to_string(i)});
     const std::vector<Column> rest = {
-        {"stick_fraction", "share of the period with |q'| <= 1% of omega * max_i y_i_max (contact 1)"},
-        {"regime", "stick (stick_fraction >= 0.95), slip (<= 0.05) or stick-slip"},
+        {"stick_fraction", "share of the period in stick, contact 1, by the law's own definition (AFT samples; "
+                           "coulomb: |lambda + eps v| < mu; jenkins: slider at rest; dahl/lugre: |sigma0 z| < 0.95 g(v); "
+                           "coulomb-reg: |f| < 0.95 mu)"},
+        {"regime", "stick (stick_fraction = 1), slip (= 0) or stick-slip"},
         {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
         {"branch", "branch number: 1, or 2 for the branch restarted from wmax after an amplitude cap"},
-        {"point", "regular, fold (dw/ds changed sign), or sample (solved exactly at an --at frequency)"},
+        {"point", "regular, fold (dw/ds changed sign), transition (located boundary between stick and stick-slip "
+                  "or between stick-slip and slip, contact 1), or sample (solved exactly at an --at frequency)"},
         {"iterations", "corrector (Ceres) iterations of this point"},
         {"residual", "|R|_inf / force scale after correction"},
         {"step", "arclength step that led to this point"},
@@ -158,8 +161,16 @@ void write_frf_summary(std::ostream& out, const std::string& law,
     for (std::size_t k = 0; k < points.size(); ++k)
         if (points[k].kind == PointKind::fold)
             folds.push_back({{"w", points[k].omega}, {"y1_max", metrics[k].y_max[0]}, {"branch", points[k].branch}});
+    json transitions = json::array();
+    for (std::size_t k = 0; k < points.size(); ++k)
+        if (points[k].kind == PointKind::transition)
+            transitions.push_back({{"w", points[k].omega},
+                                   {"y1_max", metrics[k].y_max[0]},
+                                   {"between", to_string(points[k].boundary)},
+                                   {"branch", points[k].branch}});
     j["peaks"] = peak_list;
     j["folds"] = folds;
+    j["transitions"] = transitions;
     j["status"] = to_string(branch.status);
     j["message"] = branch.message;
     j["wall_time_seconds"] = wall_seconds;

@@ -53,17 +53,20 @@ TEST_CASE("Linear limit: LuGre with a huge friction limit follows the exact line
         CHECK(std::abs(y2(1) - exact.y2.real()) < 1e-8 * std::abs(exact.y2));
         CHECK(y1.tail(4).norm() < 1e-8 * std::abs(exact.y1));  // no higher harmonics
     }
-    // Stick fraction of a sinusoidal relative velocity of amplitude V: the share of the period
-    // with |V sin| <= thr is (2/pi) asin(thr / V), thr = 1% of w max_i y_i_max (to one grid
-    // sample of the fine reconstruction at each of the 4 threshold crossings).
+    // Permanent stick: the bristle force sigma0 |z| = sigma0 |Q| (z = q) stays far below
+    // 0.95 F_c, so every sample sticks, and the indicator's maximum is sigma0 |Q| / (0.95 F_c)
+    // - 1 up to the AFT grid ((pi / N_t)^2 / 2 relative on the maximum of a sinusoid).
     Analyser analyse(hb);
-    const double grid = 4.0 / fine_time_samples(hb.harmonics());
+    const Contact& contact = hb.system().contacts[0];
+    const double grid = 0.5 * std::pow(M_PI / hb.time_samples(), 2);
     for (const SolutionPoint& point : b.points) {
         const analytic::Response exact = analytic::contact_stick(p, point.omega, FrictionLaw::lugre);
-        const double v = point.omega * std::abs(exact.y1 - exact.y2);
-        const double threshold = stick_velocity_threshold * point.omega * std::max(std::abs(exact.y1), std::abs(exact.y2));
-        const double expected = threshold >= v ? 1.0 : 2.0 / M_PI * std::asin(threshold / v);
-        CHECK(std::abs(analyse(point).stick_fraction - expected) <= grid);
+        const PointMetrics m = analyse(point);
+        CHECK(m.stick_fraction == 1.0);
+        CHECK(m.regime == "stick");
+        const double expected = contact.stiffness * std::abs(exact.y1 - exact.y2) / (stick_force_ratio * contact.friction_limit);
+        CHECK(m.stick_indicator_max + 1.0 <= expected * (1.0 + 1e-8));
+        CHECK(m.stick_indicator_max + 1.0 >= expected * (1.0 - grid));
     }
 }
 

@@ -43,11 +43,16 @@ struct ContinuationOptions {
                                   ///< sharper turn halves the step and retries
     int max_points = 5000;        ///< point budget per branch
     double max_amplitude = 1e3;   ///< stop when any max_t |y_i(t)| bound exceeds this
+    bool locate_transitions = true;  ///< insert the stick-slip transitions of contact 1 (below)
     bool restart_past_cap = true; ///< after an amplitude cap, start a second branch at omega_end
     CorrectorOptions corrector;
 };
 
-enum class PointKind { regular, fold, sample };
+enum class PointKind { regular, fold, sample, transition };
+/// The regime boundary a transition point lies on (contact 1).
+enum class Boundary { none, stick_stick_slip, stick_slip_slip };
+/// "", "stick|stick-slip", "stick-slip|slip".
+std::string to_string(Boundary boundary);
 std::string to_string(PointKind kind);
 
 /// One solution: omega, the coefficients X (HarmonicBalance layout) and diagnostics.
@@ -59,6 +64,7 @@ struct SolutionPoint {
     double step = 0;        ///< arclength step that led to this point (0 for the first)
     PointKind kind = PointKind::regular;
     int branch = 1;         ///< 1-based branch number
+    Boundary boundary = Boundary::none;  ///< kind transition: which regimes meet here
 };
 
 /// Work counters of a Corrector.
@@ -78,6 +84,7 @@ struct BranchResult {
     std::string message;                ///< where and why it stopped
     int corrections = 0;                ///< corrector calls, including failed ones
     int failed_corrections = 0;
+    int transitions = 0;                ///< points of kind transition
     CorrectorStatistics corrector;    ///< Ceres work of the whole continuation
     EvaluationStatistics evaluation;  ///< residual/Jacobian work (corrector and predictor)
     double predictor_seconds = 0;     ///< tangents: their evaluations and LU solves
@@ -123,6 +130,13 @@ Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& J, const Eigen::VectorXd& 
                                const Eigen::VectorXd& previous);
 
 /// Follows the branch from omega_start to omega_end (see the file comment).
+/// Stick-slip transitions of contact 1 (with locate_transitions): wherever the regime changes
+/// between two successive points of a branch, the boundary is located by bisection along the
+/// chord between them (each trial point corrected onto the branch on the hyperplane normal to
+/// the chord) on the stick indicator phi (friction.hpp): full stick ends where max phi
+/// crosses 0, full slip where min phi does. Bisection stops when the bracket is below 1e-10
+/// in scaled arclength (both ends solved); the point on the stick side (stick|stick-slip) or
+/// on the stick-slip side (stick-slip|slip) is inserted as a point of kind transition.
 BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& options);
 
 /// Solves exactly at each frequency in `omegas` every solution of the branch there (all of
@@ -137,15 +151,15 @@ struct PointMetrics {
     std::vector<double> y_max;   ///< per DOF: max over one period of |y_i(t)| (fine grid,
                                  ///< polished by Newton on y_i' = 0: exact to rounding)
     std::vector<double> y_amp1;  ///< per DOF: first-harmonic amplitude sqrt(c1^2 + s1^2)
-    double stick_fraction = 0;   ///< share of the period with |q'| <= stick threshold (contact 1)
-    std::string regime;          ///< "stick" (fraction >= 0.95), "slip" (<= 0.05) or "stick-slip"
+    double stick_fraction = 0;   ///< share of the AFT samples of contact 1 that stick, by the
+                                 ///< law's own definition (friction.hpp: stick_indicator < 0)
+    std::string regime;          ///< "stick" (every sample sticks), "slip" (none) or "stick-slip"
+    double stick_indicator_max = 0;  ///< max over the samples of contact 1's stick indicator
+                                     ///< (< 0: permanent stick)
+    double stick_indicator_min = 0;  ///< min over the samples (>= 0: permanent slip)
     double energy = 0;           ///< friction energy dissipated per cycle, all contacts
     double input_energy = 0;     ///< work of the excitation per cycle, pi sum_i F_i s1_i
 };
-
-/// Relative velocity threshold of the stick fraction, as a share of the largest DOF velocity
-/// amplitude omega * max_i y_max_i.
-constexpr double stick_velocity_threshold = 1e-2;
 /// Samples per period of the fine reconstruction used for y_max and the stick fraction.
 int fine_time_samples(int harmonics);
 

@@ -25,6 +25,17 @@
 //   for a system without static load is the symmetric solution (mean force and mean
 //   displacement zero).
 //
+// * Jenkins (a spring k_t in series with a Coulomb slider at s; f = k_t (q - s)) is
+//   hysteretic but needs no extra unknowns: on the samples q_j of one period the slider is
+//   marched, j = 0, 1, ..., N_t - 1, 0, 1, ...: the trial force k_t (q_j - s) either stays
+//   within F_c (stick: s is kept) or the slider moves to s = q_j - F_c sign(trial) / k_t (slip),
+//   period after period until s at the end of a period repeats. Started from the centred
+//   slider s = (max q + min q) / 2, which is the symmetric permanent-stick solution when
+//   k_t (max q - min q) <= 2 F_c (otherwise every period slips and the start is forgotten
+//   after the first slip). Each force sample is linear in the samples of q on its stick/slip
+//   pattern (f_j = k_t (q_j - q_k) + F_c sign_k, k the last slip sample), so the Jacobian
+//   P G E is exact on the pattern, like that of the dynamic Lagrangian.
+//
 // Here E and P are the synthesis/analysis matrices of Fourier and D = omega D1 the
 // derivative with respect to tau. The Jacobians are exact: the chain rule through E and P.
 #pragma once
@@ -69,6 +80,13 @@ public:
     /// Force samples f(theta_j) on the time grid of `fourier` (for post-processing).
     virtual Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
                                           const Eigen::VectorXd& z) const = 0;
+    /// Stick indicator phi(theta_j) on the time grid of `fourier`: the sample sticks iff
+    /// phi < 0 (definitions at the top of this file). phi is a continuous measure of the
+    /// distance to the friction limit: coulomb |lambda + eps v| / F_c - 1; dahl, lugre
+    /// |sigma0 z| / (ratio g(v)) - 1; coulomb-reg |tanh(v / eps)| / ratio - 1; jenkins
+    /// |f| / F_c - 1 where the slider rests and 0 where it moves.
+    virtual Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+                                            const Eigen::VectorXd& z) const = 0;
 };
 
 /// The model for a contact's law. Throws InvalidInput for invalid parameters (exact Coulomb:

@@ -62,9 +62,11 @@ public:
     Eigen::VectorXd state(const Eigen::VectorXd& x, int contact) const;
     /// Friction force samples of contact c on the AFT time grid.
     Eigen::VectorXd force_samples(const Eigen::VectorXd& x, double omega, int contact);
+    /// Stick indicator of contact c on the AFT time grid (sticks where < 0; friction.hpp).
+    Eigen::VectorXd stick_indicator(const Eigen::VectorXd& x, double omega, int contact);
 
     /// A starting point at omega: the linear response with each Dahl/LuGre contact replaced by
-    /// its pre-sliding spring and damper (z = q), each regularised Coulomb contact by its
+    /// its pre-sliding spring and damper (z = q), each Jenkins contact by its spring k_t, each regularised Coulomb contact by its
     /// slope at zero velocity (a damper F_c / eps), and each exact Coulomb contact held rigid
     /// (q = 0; its force is the constraint's multiplier: the exact permanent-stick solution).
     /// With `sliding`, the slipping limit instead: every contact removed (friction forces

@@ -56,7 +56,7 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 
 /// Writes the JSON summary of an FRF run: the parameters (name, value; integral values are
 /// written as integers), the number of branch points and samples, solver statistics, the
-/// peaks (find_peaks of y1), the folds, status, message and wall time.
+/// peaks (find_peaks of y1), the folds, the stick-slip transitions, status, message and wall time.
 /// `metrics[k]` belongs to `branch.points[k]`; `samples` counts the --at rows.
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
