@@ -364,3 +364,63 @@ TEST_CASE("Exact Coulomb, H = 1, large fe: the describing-function solution, to 
         CHECK(error < (M_PI / nt) * (M_PI / nt));
     }
 }
+
+TEST_CASE("Stick-slip transitions of exact Coulomb and Jenkins lie where the stuck closed form reaches the limit",
+          "[continuation][transition]") {
+    // Stuck, the absorber moves with the main mass: y = fe / (1 - (1 + r) w^2) cos, and the
+    // contact carries the absorber's inertia force, amplitude r w^2 |y| (its spring is not
+    // stretched). Stick ends where r w^2 fe / |1 - (1 + r) w^2| = mu, i.e. (derived by hand)
+    //   w^2 = mu / (r fe + mu (1 + r))  below the resonance, mu / (mu (1 + r) - r fe) above.
+    // Jenkins stuck is the linear system with the spring k_t = r wb^2: stick ends where
+    // k_t |Q| = F_c, i.e. where the pre-sliding (Dahl, xi = 0) limit coefficient equals mu.
+    // The bisection stops at 1e-10 in scaled arclength; the closed forms are exact.
+    const AbsorberParameters p;
+    const double r = p.mass_ratio, fe = p.excitation, mu = p.friction_coefficient;
+    const std::vector<double> coulomb = {std::sqrt(mu / (r * fe + mu * (1 + r))),
+                                         std::sqrt(mu / (mu * (1 + r) - r * fe))};
+    for (FrictionLaw law : {FrictionLaw::coulomb, FrictionLaw::jenkins}) {
+        HarmonicBalance hb(friction_absorber(p, law), HarmonicBalanceOptions{10, 0});
+        const BranchResult b = continue_branch(hb, ContinuationOptions{});
+        INFO(to_string(law) << ": " << b.summary());
+        REQUIRE(b.status == ContinuationStatus::completed);
+        std::vector<double> found;
+        Analyser analyse(hb);
+        for (std::size_t k = 0; k < b.points.size(); ++k) {
+            const SolutionPoint& t = b.points[k];
+            if (t.kind != PointKind::transition) continue;
+            found.push_back(t.omega);
+            CHECK(t.boundary == Boundary::stick_stick_slip);
+            CHECK(analyse(t).regime == "stick");  // the stick-side point of the boundary
+            // Its neighbours on the branch: one of them is not stuck.
+            CHECK((analyse(b.points[k - 1]).regime != "stick" || analyse(b.points[k + 1]).regime != "stick"));
+            if (law == FrictionLaw::jenkins)
+                CHECK(analytic::contact_limit_friction(p, t.omega, FrictionLaw::dahl) == Approx(mu).epsilon(1e-7));
+        }
+        if (law == FrictionLaw::coulomb) {
+            REQUIRE(found.size() == coulomb.size());
+            for (std::size_t k = 0; k < found.size(); ++k) CHECK(found[k] == Approx(coulomb[k]).epsilon(1e-8));
+        } else {
+            CHECK(found.size() == 4);  // two stick-slip bands, each around one resonance
+        }
+        CHECK(b.transitions == static_cast<int>(found.size()));
+    }
+}
+
+TEST_CASE("Jenkins with a huge friction limit is the linear spring k_t: the pre-sliding closed form",
+          "[continuation][jenkins]") {
+    AbsorberParameters p;
+    p.friction_coefficient = 1e6;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::jenkins), HarmonicBalanceOptions{3, 0});
+    const BranchResult b = continue_branch(hb, ContinuationOptions{});
+    // Undamped and linear: both resonances are unbounded, so the branches stop at the cap.
+    REQUIRE(b.status == ContinuationStatus::amplitude_cap);
+    REQUIRE(b.points.size() > 5);
+    for (const SolutionPoint& point : b.points) {
+        const analytic::Response exact = analytic::contact_stick(p, point.omega, FrictionLaw::dahl);
+        const Eigen::VectorXd y1 = hb.dof(point.x, 0), y2 = hb.dof(point.x, 1);
+        INFO("w = " << point.omega);
+        CHECK(std::abs(std::complex<double>(y1(1), -y1(2)) - exact.y1) < 1e-8 * std::abs(exact.y1));
+        CHECK(std::abs(std::complex<double>(y2(1), -y2(2)) - exact.y2) < 1e-8 * std::abs(exact.y1));
+        CHECK(y1.tail(4).norm() < 1e-8 * std::abs(exact.y1));
+    }
+}

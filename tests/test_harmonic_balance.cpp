@@ -61,6 +61,7 @@ namespace {
 System absorber(FrictionLaw law) {
     AbsorberParameters p;
     p.regularization = 0.05;
+    if (law == FrictionLaw::jenkins) p.contact_stiffness_ratio = 3.0;  // k_t = 0.9: the slider moves
     if (law == FrictionLaw::lugre) {  // exercise every LuGre term: Stribeck curve and viscous
         p.contact_damping_ratio = 0.2;
         p.static_friction_coefficient = 0.3;
@@ -80,7 +81,8 @@ TEST_CASE("Harmonic-balance Jacobians equal central finite differences", "[harmo
     // Exact Coulomb's residual is piecewise linear in the unknowns (a sample switches between
     // stick and slip at |lambda + eps v| = F_c): its Jacobian is exact on each pattern, which
     // central differences see unless a sample sits within h of a switch.
-    for (FrictionLaw law : {FrictionLaw::dahl, FrictionLaw::lugre, FrictionLaw::coulomb_regularized, FrictionLaw::coulomb}) {
+    for (FrictionLaw law : {FrictionLaw::dahl, FrictionLaw::lugre, FrictionLaw::coulomb_regularized, FrictionLaw::coulomb,
+                            FrictionLaw::jenkins}) {
         for (int state = 0; state < 3; ++state) {
             HarmonicBalance hb(absorber(law), HarmonicBalanceOptions{4, 64});
             const double omega = 0.8 + 0.15 * state;
@@ -123,4 +125,44 @@ TEST_CASE("Exact Coulomb: a negative dynamic Lagrangian parameter is rejected, z
                       Catch::Contains("lagrangian_penalty"));
     p.lagrangian_penalty = 0.0;
     CHECK_NOTHROW(HarmonicBalance(friction_absorber(p, FrictionLaw::coulomb), HarmonicBalanceOptions{}));
+}
+
+TEST_CASE("Jenkins element under q = Q cos: the hysteresis loop's first harmonic (describing function)",
+          "[friction][jenkins]") {
+    // Derived by hand: from q = Q (theta = 0) the slider rests until k_t (q - Q) + F_c = -F_c,
+    // i.e. cos beta = 1 - 2 F_c / (k_t Q), then slides with f = -F_c to theta = pi; the second
+    // half is the mirror image. Its first harmonic f ~ c1 cos + s1 sin:
+    //   c1 = (k_t Q / pi) (beta - sin(2 beta) / 2),   s1 = -(4 F_c / pi) (1 - F_c / (k_t Q)),
+    // (s1: the dissipated energy per cycle -pi Q s1 = 4 F_c (Q - F_c / k_t)). The samples of q
+    // include both turning points, so the marched samples are exact and the error is the
+    // quadrature's: f has two kinks of slope jump <= k_t Q, each costing at most
+    // k_t Q h^2 / 8 on the integral (h = 2 pi / N_t), so |error| <= k_t Q pi / N_t^2.
+    Contact c;
+    c.law = FrictionLaw::jenkins;
+    c.friction_limit = 0.3;
+    c.stiffness = 2.0;
+    const auto model = make_friction_model(c);
+    for (double amplitude : {0.2, 0.5, 3.0}) {  // 0.2: k_t Q < F_c, permanent stick
+        const double kq = c.stiffness * amplitude;
+        double c1 = kq, s1 = 0.0;
+        if (kq > c.friction_limit) {
+            const double beta = std::acos(1.0 - 2.0 * c.friction_limit / kq);
+            c1 = kq / M_PI * (beta - 0.5 * std::sin(2.0 * beta));
+            s1 = -4.0 / M_PI * c.friction_limit * (1.0 - c.friction_limit / kq);
+        }
+        for (int nt : {64, 256, 1024}) {
+            Fourier fourier(1, nt);
+            Eigen::VectorXd q = Eigen::VectorXd::Zero(3), z;
+            q(1) = amplitude;
+            FrictionEvaluation out;
+            model->evaluate(fourier, 1.0, q, z, out, true);
+            const double bound = kq * M_PI / (double(nt) * nt);
+            INFO("Q = " << amplitude << ", N_t = " << nt);
+            CHECK(std::abs(out.force(0)) <= 1e-14 * kq);
+            CHECK(std::abs(out.force(1) - c1) <= bound);
+            CHECK(std::abs(out.force(2) - s1) <= bound);
+            // Permanent stick: the centred slider, f = k_t q exactly.
+            if (kq < c.friction_limit) CHECK(std::abs(out.force(1) - kq) <= 1e-14 * kq);
+        }
+    }
 }
