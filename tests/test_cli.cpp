@@ -226,6 +226,28 @@ TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "
         CHECK_THAT(summary, Catch::Contains(key));
 }
 
+TEST_CASE("hbf frf --law coulomb writes the located stick-slip transitions as rows and in the summary", "[cli]") {
+    TempDir dir;
+    const fs::path csv = dir.path / "frf.csv", json = dir.path / "frf.json";
+    const Result r = run_hbf("frf --law coulomb --quiet --out '" + csv.string() + "' --summary '" + json.string() + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(slurp(csv));
+    REQUIRE(rows.size() > 10);
+    // Closed form (test_continuation): stick ends where r w^2 fe / |1 - (1 + r) w^2| = mu.
+    const double r_ = 0.1, fe = 0.5, mu = 0.2;
+    const std::vector<double> expected = {std::sqrt(mu / (r_ * fe + mu * (1 + r_))), std::sqrt(mu / (mu * (1 + r_) - r_ * fe))};
+    std::vector<double> found;
+    for (std::size_t k = 1; k < rows.size(); ++k)
+        if (rows[k][9] == "transition") {
+            found.push_back(std::stod(rows[k][0]));
+            CHECK(rows[k][6] == "stick");
+        }
+    REQUIRE(found.size() == 2);
+    for (std::size_t k = 0; k < 2; ++k) CHECK(found[k] == Approx(expected[k]).epsilon(1e-8));
+    const std::string summary = slurp(json);
+    CHECK_THAT(summary, Catch::Contains("\"transitions\"") && Catch::Contains("\"between\": \"stick|stick-slip\""));
+}
+
 TEST_CASE("hbf frf rejects bad input with exit code 2 and no files", "[cli]") {
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"--law coulomb --dlft-eps 0", "--dlft-eps"}, {"--law lugre --dlft-eps 1", "--dlft-eps"},
