@@ -251,7 +251,7 @@ TEST_CASE("hbf frf --law coulomb writes the located stick-slip transitions as ro
 TEST_CASE("hbf frf rejects bad input with exit code 2 and no files", "[cli]") {
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"--law coulomb --dlft-eps 0", "--dlft-eps"}, {"--law lugre --dlft-eps 1", "--dlft-eps"},
-        {"--law coulomb --xi 0.1", "--xi"},   {"--harmonics 0", "--harmonics"}, {"--harmonics 1e3", "--harmonics"},
+        {"--law coulomb --xi 0.1", "--xi"},   {"--harmonics -1", "--harmonics"}, {"--harmonics 1e3", "--harmonics"},
         {"--time-samples 5", "--time-samples"}, {"--at 0.7,x", "--at"},       {"--at 0.7,-1", "--at"},
         {"--max-amplitude 0", "max_amplitude"}, {"--tolerance 1", "--tolerance"}, {"--law lugre --eps 0.1", "--eps"},
         {"--law dahl --viscous 0.1", "--viscous"}, {"--law coulomb-reg --eps 0", "eps"}, {"--wmin 2", "wmax"},
