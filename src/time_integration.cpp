@@ -794,7 +794,8 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
     // Newton (shooting) acceleration of the Poincare map: see TimeIntegrationOptions::shooting.
     int next_shooting = options.shooting_interval, shooting_interval = options.shooting_interval;
     int newton_steps = 0, newton_rejected = 0;
-    bool pending_check = false;
+    bool pending_check = false, candidate_is_linear = false;
+    int linear_tried_at = 0;
     Eigen::VectorXd saved;  // P(x) before a Newton step, to revert to
     double saved_change = 0, previous_change = std::numeric_limits<double>::infinity();
     int k = 0;
@@ -809,17 +810,26 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
             break;
         }
         const double change = poincare_change(record.end_state, x, continuous);
-        if (pending_check) {  // the first period after a Newton step: keep it only if it helped
+        if (pending_check) {  // the first period from a candidate start: keep it only if it helped
             pending_check = false;
             if (change > saved_change) {
-                ++newton_rejected;
-                shooting_interval *= 2;
-                next_shooting = k + shooting_interval;
+                if (candidate_is_linear) {
+                    note += "; the linear stuck start was tried after " + std::to_string(linear_tried_at) +
+                            " periods and rejected";
+                } else {
+                    ++newton_rejected;
+                    shooting_interval *= 2;
+                    next_shooting = k + shooting_interval;
+                }
                 x = saved;
                 previous_change = saved_change;
                 continue;
             }
-            ++newton_steps;
+            if (candidate_is_linear)
+                note += "; restarted from the linear stuck steady state after " + std::to_string(linear_tried_at) +
+                        " periods";
+            else
+                ++newton_steps;
         }
         out.poincare_change = change;
         fill_metrics(out, record, x, period);
@@ -833,13 +843,19 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
         stuck_periods = all_stuck ? stuck_periods + 1 : 0;
         const Eigen::VectorXd start = x;
         x = record.end_state;
-        if (options.stick_restart && !restarted && stuck_periods >= options.stick_restart_periods) {
+        const bool shooting_due = options.shooting && k >= next_shooting && change > 0.2 * previous_change;
+        if (options.stick_restart && !restarted && (stuck_periods >= options.stick_restart_periods || shooting_due)) {
+            // candidate start: the linear stuck steady state (kept only if its first period
+            // changes less than the current one)
             restarted = true;
+            candidate_is_linear = true;
+            linear_tried_at = k;
+            saved = x;
+            saved_change = change;
+            pending_check = true;
             x = linear_stuck_state(system, omega);
             integrator.settle_initial(x);
-            note += "; restarted from the linear stuck steady state after " + std::to_string(k) +
-                    " periods in full stick";
-        } else if (options.shooting && k >= next_shooting && change > 0.2 * previous_change &&
+        } else if (shooting_due &&
                    k + continuous + 1 < options.max_periods) {
             // Jacobian of the map by forward differences (one period per continuous state),
             // then x <- x + (I - J)^-1 (P(x) - x).
@@ -864,6 +880,7 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
                     saved = x;
                     saved_change = change;
                     pending_check = true;
+                    candidate_is_linear = false;
                     x.head(continuous) = start.head(continuous) + step;
                     integrator.settle_initial(x);
                 }

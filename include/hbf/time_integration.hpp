@@ -80,12 +80,14 @@ struct TimeIntegrationOptions {
     int max_events_per_period = 1000;
     /// CVODE internal steps allowed per period before giving up (converged = false).
     long max_steps_per_period = 1000000;
-    /// When every contact stayed in stick (exact stick for coulomb/jenkins, the stick
-    /// definition of friction.hpp for the smooth laws) during `stick_restart_periods`
-    /// consecutive periods without Poincare convergence, restart once from
-    /// linear_stuck_state(): an undamped structure (C = 0, like the paper's absorber) in stick
-    /// is a linear oscillator whose free vibration never decays, so the map cannot converge
-    /// from other states. Set false to integrate the given initial state only.
+    /// Try the start linear_stuck_state() once: when every contact stayed in stick
+    /// (exact stick for coulomb/jenkins, the stick definition of friction.hpp for the smooth
+    /// laws) during `stick_restart_periods` consecutive periods without Poincare convergence,
+    /// or at the first shooting step. It is kept only if its first period changes less than
+    /// the current one (else the iteration goes on from where it was). Needed for undamped
+    /// structures (C = 0, like the paper's absorber): in stick they are linear oscillators
+    /// whose free vibration never decays, so the map cannot converge from other states. Set
+    /// false to integrate from the given initial state only.
     bool stick_restart = true;
     int stick_restart_periods = 3;
     /// Newton acceleration of the Poincare map (shooting): every `shooting_interval` periods,
