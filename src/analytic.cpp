@@ -116,6 +116,117 @@ double den_hartog_friction(const AbsorberParameters& p, double omega) {
     return pi / 4.0 * omega * c * d;
 }
 
+namespace {
+/// The upward half period of den_hartog: u(s) for s in [0, theta] from the minimum.
+struct DenHartogHalf {
+    double rho, eta, d, phi, b;
+    double u(double s) const { return -rho + rho * std::cos(s) + b * std::sin(s) + d * std::cos(eta * s + phi); }
+    double du(double s) const { return -rho * std::sin(s) + b * std::cos(s) - eta * d * std::sin(eta * s + phi); }
+};
+
+/// Solves the half period (no validity checks beyond existence); false if none exists.
+bool den_hartog_half(double eta, double rho, DenHartogHalf& half, double& amplitude, std::string& reason) {
+    const double theta = pi / eta;
+    const double d = 1.0 / (1.0 - eta * eta);
+    const double u_factor = std::tan(theta / 2.0) / eta;
+    if (!std::isfinite(d) || !std::isfinite(u_factor) || std::abs(std::cos(theta / 2.0)) < 1e-12) {
+        reason = "eta = " + format_number(eta) + " is a resonance of the closed form (eta = 1 or 1/(2k+1))";
+        return false;
+    }
+    const double sin_phi = rho * u_factor / d;
+    if (!(std::abs(sin_phi) < 1.0)) {
+        reason = "(rho U)^2 >= D^2: no continuous (non-stopping) solution exists (friction too large)";
+        return false;
+    }
+    // A = -D cos phi > 0 picks the sign of cos phi.
+    const double cos_phi = -sign(d) * std::sqrt(1.0 - sin_phi * sin_phi);
+    half = DenHartogHalf{rho, eta, d, std::atan2(sin_phi, cos_phi), rho * std::tan(theta / 2.0)};
+    amplitude = -d * cos_phi;
+    return true;
+}
+}  // namespace
+
+DenHartogCheck den_hartog_check(double eta, double rho) {
+    require_positive(eta, "eta", "frequency ratio Omega / omega_n");
+    require_finite(eta, "eta", "frequency ratio Omega / omega_n");
+    require_positive(rho, "rho", "friction ratio F_c / F0");
+    require_finite(rho, "rho", "friction ratio F_c / F0");
+    DenHartogCheck check;
+    DenHartogHalf half{};
+    double amplitude = 0;
+    if (!den_hartog_half(eta, rho, half, amplitude, check.reason)) return check;
+    const double start_acceleration = -rho - eta * eta * half.d * std::cos(half.phi);
+    if (!(start_acceleration > 0.0)) {
+        check.reason = "the motion sticks at the turning points: spring and forcing (" +
+                       format_number(std::cos(half.phi) + amplitude) + ") do not exceed the friction " +
+                       format_number(rho);
+        return check;
+    }
+    const double theta = pi / eta;
+    constexpr int points = 4096;
+    for (int j = 1; j < points; ++j) {
+        const double s = theta * j / points;
+        if (!(half.du(s) > 0.0)) {
+            check.reason = "the velocity vanishes inside the half period (at eta tau = " +
+                           format_number(eta * s) + " after the stop): more than two stops per cycle";
+            return check;
+        }
+    }
+    check.valid = true;
+    return check;
+}
+
+DenHartogResponse den_hartog(double eta, double rho) {
+    const DenHartogCheck check = den_hartog_check(eta, rho);
+    if (!check.valid)
+        throw InvalidInput("Den Hartog's non-sticking solution does not apply at eta = " + format_number(eta) +
+                           ", rho = " + format_number(rho) + ": " + check.reason);
+    DenHartogHalf half{};
+    double amplitude = 0;
+    std::string reason;
+    den_hartog_half(eta, rho, half, amplitude, reason);
+    DenHartogResponse r;
+    r.frequency_ratio = eta;
+    r.friction_ratio = rho;
+    r.amplitude = amplitude;
+    r.phase = std::fmod(half.phi + pi + 2.0 * pi, 2.0 * pi);
+    return r;
+}
+
+namespace {
+/// s in [0, T) measured from the minimum of u and the sign of the half period.
+void den_hartog_position(const DenHartogResponse& r, double tau, double& s, double& sign_half) {
+    const double period = 2.0 * pi / r.frequency_ratio, half = period / 2.0;
+    // the minimum is at eta tau = phi = psi - pi
+    double t = std::fmod(tau - (r.phase - pi) / r.frequency_ratio, period);
+    if (t < 0.0) t += period;
+    sign_half = 1.0;
+    if (t >= half) {
+        t -= half;
+        sign_half = -1.0;
+    }
+    s = t;
+}
+}  // namespace
+
+double DenHartogResponse::displacement(double tau) const {
+    DenHartogHalf half{};
+    double amplitude_check = 0, s = 0, sign_half = 1;
+    std::string reason;
+    den_hartog_half(frequency_ratio, friction_ratio, half, amplitude_check, reason);
+    den_hartog_position(*this, tau, s, sign_half);
+    return sign_half * half.u(s);
+}
+
+double DenHartogResponse::velocity(double tau) const {
+    DenHartogHalf half{};
+    double amplitude_check = 0, s = 0, sign_half = 1;
+    std::string reason;
+    den_hartog_half(frequency_ratio, friction_ratio, half, amplitude_check, reason);
+    den_hartog_position(*this, tau, s, sign_half);
+    return sign_half * half.du(s);
+}
+
 std::vector<double> uniform_grid(double wmin, double wmax, long long points) {
     require_positive(wmin, "wmin", "lowest frequency");
     require_positive(wmax, "wmax", "highest frequency");

@@ -126,6 +126,49 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
     }
 }
 
+std::vector<Column> timeint_columns(int dofs) {
+    std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1)"}};
+    for (int i = 1; i <= dofs; ++i)
+        columns.push_back({"y" + std::to_string(i) + "_max",
+                           "max over the final period of |y" + std::to_string(i) +
+                               "(t)| (turning points by root finding)"});
+    for (int i = 1; i <= dofs; ++i)
+        columns.push_back({"y" + std::to_string(i) + "_amp1",
+                           "first-harmonic amplitude sqrt(c1^2 + s1^2) of y" + std::to_string(i) +
+                               " over the final period"});
+    const std::vector<Column> rest = {
+        {"stick_fraction", "share of the final period contact 1 is in stick (coulomb, jenkins: exact event times; "
+                           "dahl, lugre: |sigma0 z| < 0.95 g(v); coulomb-reg: |tanh(v/eps)| < 0.95)"},
+        {"regime", "stick (never left stick in the final period), slip (never stuck) or stick-slip"},
+        {"energy", "friction energy dissipated per cycle, integral of f q' over the final period"},
+        {"periods", "periods integrated (including the shooting-Jacobian periods)"},
+        {"converged", "true if the state at the start of consecutive periods changed by <= steady-tol * max(1, "
+                      "|state|); false: the row holds the last period integrated"},
+        {"stick_margin_min", "min over the final period of contact 1's stick indicator (< 0 in stick)"},
+        {"stick_margin_max", "max of the stick indicator (< 0: full stick; coulomb also at each velocity reversal)"},
+        {"switches", "stick/slip mode changes of all contacts in the final period"},
+    };
+    columns.insert(columns.end(), rest.begin(), rest.end());
+    return columns;
+}
+
+void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses, int dofs) {
+    const auto columns = timeint_columns(dofs);
+    for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
+    out << '\n';
+    for (const PeriodicResponse& r : responses) {
+        out << format_number(r.omega);
+        for (int i = 0; i < dofs; ++i)
+            out << ',' << format_number(i < static_cast<int>(r.y_max.size()) ? r.y_max[static_cast<std::size_t>(i)] : 0.0);
+        for (int i = 0; i < dofs; ++i)
+            out << ',' << format_number(i < static_cast<int>(r.y_amp1.size()) ? r.y_amp1[static_cast<std::size_t>(i)] : 0.0);
+        out << ',' << format_number(r.stick_fraction) << ',' << (r.regime.empty() ? "none" : r.regime) << ','
+            << format_number(r.energy) << ',' << r.periods << ',' << (r.converged ? "true" : "false") << ','
+            << format_number(r.stick_margin_min) << ',' << format_number(r.stick_margin_max) << ',' << r.switches
+            << '\n';
+    }
+}
+
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics, const std::vector<Peak>& peaks, std::size_t samples,

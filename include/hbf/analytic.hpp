@@ -11,6 +11,7 @@
 
 #include <complex>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "hbf/model.hpp"
@@ -98,6 +99,58 @@ double den_hartog_damping_ratio(double mass_ratio);
 ///     mu_op = (pi / 4) omega c |D|.
 /// Paper eq. 32 prints (approximately) mu_op^2 instead of mu_op.
 double den_hartog_friction(const AbsorberParameters& p, double omega);
+
+// ---- Den Hartog (1930): the forced Coulomb oscillator without stops ------------------
+
+/// Nondimensional form of m x'' + k x + F_c sign(x') = F0 cos(Omega t): with
+/// x_st = F0 / k, omega_n = sqrt(k / m), u = x / x_st, tau = omega_n t,
+///     u'' + u + rho sign(u') = cos(eta tau),   eta = Omega / omega_n,  rho = F_c / F0.
+///
+/// Derivation (continuous motion, two stops per cycle, each of zero duration). Seek a
+/// T-periodic (T = 2 pi / eta) solution with the antisymmetry u(tau + T/2) = -u(tau) and
+/// put tau = 0 at a minimum: u(0) = -A, u'(0) = 0, forcing cos(eta tau + phi) (phi to be
+/// found). On the upward half period s in [0, theta], theta = pi / eta, sign(u') = +1 and
+///     u = -rho + a cos s + b sin s + D cos(eta s + phi),   D = 1 / (1 - eta^2).
+/// The four conditions u(0) = -A, u'(0) = 0, u(theta) = A, u'(theta) = 0 (the end of the
+/// half period is the maximum, by antisymmetry; cos(eta theta + phi) = -cos phi) give
+///     u'(0) = 0:      b = eta D sin phi
+///     u'(theta) = 0:  a = eta D sin phi (1 + cos theta) / sin theta = eta D sin phi cot(theta/2)
+///     u(0) + u(theta) = 0:  a (1 + cos theta) + b sin theta = 2 rho
+///                     => 2 eta D sin phi cot(theta/2) = 2 rho => D sin phi = rho U,
+///     U(eta) = tan(pi / (2 eta)) / eta = sin(pi/eta) / (eta (1 + cos(pi/eta))),
+/// hence a = rho, b = rho tan(theta/2), and u(theta) - u(0) = 2A gives (the a and b terms
+/// cancel) A = -D cos phi, so
+///     A = sqrt(D^2 - (rho U)^2).
+/// This is Den Hartog's x0 / x_st = sqrt(V^2 - (F_c U / F0)^2) with V = 1/(1 - eta^2) and
+/// his U in trigonometric form (sin, cos: the hyperbolic form sinh/cosh quoted in some
+/// secondary sources is not what the equation of motion gives).
+/// Phase: the maximum of u is at eta tau = psi (mod 2 pi) with cos psi = A / D,
+/// sin psi = -rho U / D (psi = phi + pi): the displacement lags the force by psi.
+/// Valid only if the motion never stops longer than an instant (den_hartog_check).
+struct DenHartogResponse {
+    double frequency_ratio = 0;  ///< eta = Omega / omega_n
+    double friction_ratio = 0;   ///< rho = F_c / F0
+    double amplitude = 0;        ///< A = max |u|
+    double phase = 0;            ///< psi in [0, 2 pi): lag of the maximum of u behind the force
+    /// u(tau) and u'(tau) of the steady state over any tau (closed form, antisymmetric halves).
+    double displacement(double tau) const;
+    double velocity(double tau) const;
+};
+
+/// Whether the non-sticking (two instantaneous stops per cycle) assumption holds:
+/// (1) the solution exists, (rho U)^2 < D^2 (and eta != 1, eta not 1/(2k+1) where U is
+/// infinite); (2) at the stop the spring and forcing overcome friction, u''(0+) =
+/// -rho - eta^2 D cos phi > 0 (Den Hartog's stop condition: cos(phi) + A > rho);
+/// (3) u' > 0 inside the upward half period (no intermediate stop), checked on 4096 points.
+struct DenHartogCheck {
+    bool valid = false;
+    std::string reason;  ///< which condition fails (empty when valid)
+};
+DenHartogCheck den_hartog_check(double frequency_ratio, double friction_ratio);
+
+/// The closed form above. Throws InvalidInput when eta or rho is not positive and finite or
+/// when den_hartog_check fails (the message gives the reason).
+DenHartogResponse den_hartog(double frequency_ratio, double friction_ratio);
 
 // ---- the table of `hbf analytic` -----------------------------------------------------
 

@@ -9,6 +9,7 @@
 
 #include "hbf/analytic.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/time_integration.hpp"
 
 namespace hbf::io {
 
@@ -53,6 +54,14 @@ std::vector<Column> frf_columns(int dofs);
 /// Writes the header row and one row per point (metrics[k] belongs to points[k]).
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
                    const std::vector<PointMetrics>& metrics, int dofs);
+
+/// Columns of `hbf timeint` for a system with `dofs` DOFs: the `hbf frf` columns that apply
+/// (w, y<i>_max, y<i>_amp1, stick_fraction, regime, energy), then periods, converged and the
+/// diagnostics stick_margin_min, stick_margin_max, switches.
+std::vector<Column> timeint_columns(int dofs);
+
+/// Writes the header row and one row per response (time-integration steady states).
+void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses, int dofs);
 
 /// Writes the JSON summary of an FRF run: the parameters (name, value; integral values are
 /// written as integers), the number of branch points and samples, solver statistics, the

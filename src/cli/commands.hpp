@@ -11,5 +11,6 @@ using Runner = std::function<int()>;
 
 Runner add_analytic_command(CLI::App& app);
 Runner add_frf_command(CLI::App& app);
+Runner add_timeint_command(CLI::App& app);
 
 }  // namespace hbf::cli

@@ -1,0 +1,189 @@
+// hbfriction — periodic steady state by time integration (SUNDIALS CVODE): the reference
+// for harmonic balance.
+//
+// The equations of motion of model.hpp,
+//
+//     M y'' + C y' + K y + sum_c w_c f_c(t) = F cos(omega t),
+//
+// are integrated period by period (T = 2 pi / omega, every period restarts at t = 0 with
+// CVodeReInit, so the excitation phase is exact) until the Poincare map x_k -> x_{k+1} (the
+// state at the start of consecutive periods) converges. Each law is integrated as it is
+// defined in model.hpp:
+//
+// * dahl, lugre: one smooth ODE with the bristle deflection z_c as an extra state;
+// * coulomb-reg: f = F_c tanh(v / eps), no extra state;
+// * coulomb (set-valued): event-driven. Each contact is in stick (mode 0) or slip (mode +1 or
+//   -1, the sign of its velocity v_c). In slip f_c = mode F_c. The stuck set S is held by
+//   constraint forces lambda_S solved from w_c^T y'' = 0 (c in S):
+//       a0 = M^-1 (F cos - C y' - K y - sum_{c not in S} w_c f_c),
+//       lambda_S = (W_S^T M^-1 W_S)^+ W_S^T a0,   y'' = a0 - M^-1 W_S lambda_S
+//   (pseudo-inverse: linearly dependent stuck contacts get the minimum-norm forces).
+//   Events (CVODE root finding, every root function is positive while its mode holds):
+//     stick: F_c - |lambda_c| reaches 0 -> slip with mode sign(lambda_c);
+//     slip:  mode v_c reaches 0 -> the contact is tried in stick: it sticks if the force
+//            required to hold it (with the other stuck contacts) is |lambda_c| <= F_c, else
+//            it slips with mode sign(lambda_c) (a reversal, or a touch without stop).
+//   With several contacts the stuck set is settled by releasing the most overloaded contact
+//   one at a time. At every event the velocities of the contacts at rest are projected onto
+//   the constraint (v_c = 0 exactly, minimum kinetic-energy correction) and CVODE restarts.
+// * jenkins: a spring k_t in series with a Coulomb slider s_c (state). Stick (mode 0):
+//   s' = 0, f = k_t (q - s), event when F_c - |f| reaches 0 -> slip with mode sign(f) and
+//   s = q - mode F_c / k_t. Slip: s' = q', f = mode F_c, event when mode v_c reaches 0 ->
+//   stick (unless q'' keeps the direction: a touch without reversal).
+//
+// A cap on events per period guards against chattering (reported, never a hang).
+//
+// Stick and slip follow friction.hpp (stick_force_ratio): coulomb and jenkins by the mode
+// (exact event times), dahl and lugre while |sigma0 z| < ratio g(v), coulomb-reg while
+// |tanh(v / eps)| < ratio; the smooth laws' indicator crossings are root functions too, so
+// every stick fraction is exact to the integration tolerance.
+//
+// Metrics of the final period are integrated with the motion (extra quadrature components of
+// the ODE, reset every period): the first-harmonic coefficients
+// c1_i = (2/T) int y_i cos(omega t) dt, s1_i = (2/T) int y_i sin(omega t) dt, the friction
+// energy int sum_c f_c v_c dt, the viscous energy int y'^T C y' dt and the input work
+// int F^T y' cos(omega t) dt. y_max uses CVODE root finding on y_i' = 0.
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "hbf/model.hpp"
+
+namespace hbf {
+
+/// Linear multistep family of CVODE. Measured on the paper's absorber (README): Adams with
+/// fixed-point iteration is faster for these non-stiff problems; BDF with Newton and a dense
+/// difference-quotient Jacobian is there for stiff contacts (large wb or k_t).
+enum class IntegrationMethod { adams, bdf };
+
+struct TimeIntegrationOptions {
+    /// CVODE relative tolerance (local error per step), 1e-14..1e-3.
+    double relative_tolerance = 1e-10;
+    /// CVODE absolute tolerance for every component, 1e-16..1e-3 (in the System's units:
+    /// for the nondimensional presets the amplitudes are O(1)).
+    double absolute_tolerance = 1e-12;
+    IntegrationMethod method = IntegrationMethod::adams;
+    /// Poincare convergence: |x_{k+1} - x_k|_inf <= steady_tolerance * max(1, |x_{k+1}|_inf)
+    /// over the continuous states (y, y', internal states). 1e-14..1e-2.
+    double steady_tolerance = 1e-8;
+    /// At least this many periods are integrated (>= 1), so a converged answer has seen the
+    /// steady state repeat at least once after min_periods - 1 periods of settling.
+    int min_periods = 3;
+    /// At most this many periods (>= min_periods); then converged = false (never hangs).
+    int max_periods = 3000;
+    /// Equally spaced samples per period of the signals kept for the final period (>= 8).
+    int samples_per_period = 256;
+    /// More contact events (stick/slip switches) than this in one period is treated as
+    /// chattering: the integration stops with converged = false.
+    int max_events_per_period = 1000;
+    /// CVODE internal steps allowed per period before giving up (converged = false).
+    long max_steps_per_period = 1000000;
+    /// Try the start linear_stuck_state() once: when every contact stayed in stick
+    /// (exact stick for coulomb/jenkins, the stick definition of friction.hpp for the smooth
+    /// laws) during `stick_restart_periods` consecutive periods without Poincare convergence,
+    /// or at the first shooting step. It is kept only if its first period changes less than
+    /// the current one (else the iteration goes on from where it was). Needed for undamped
+    /// structures (C = 0, like the paper's absorber): in stick they are linear oscillators
+    /// whose free vibration never decays, so the map cannot converge from other states. Set
+    /// false to integrate from the given initial state only.
+    bool stick_restart = true;
+    int stick_restart_periods = 3;
+    /// Newton acceleration of the Poincare map (shooting): every `shooting_interval` periods,
+    /// if the change did not drop by a factor 5 over the last period (slow contraction), the
+    /// Jacobian J of the map x -> P(x) is built by forward differences (one extra period per
+    /// continuous state, counted in `periods`) and the start is moved to
+    /// x + (I - J)^-1 (P(x) - x). The step is kept only if the next period's change is smaller
+    /// than before it (else reverted and the interval doubled), and convergence is still
+    /// decided by plain periods, so it changes where the iteration starts, not the test.
+    bool shooting = true;
+    int shooting_interval = 10;
+
+    /// Throws InvalidInput naming the first option out of range.
+    void validate() const;
+};
+
+/// Periodic steady state at one frequency and the metrics of its final period.
+///
+/// State vector convention (initial_state and state), size state_size(system) = 2N + 2 n_c
+/// for N DOFs and n_c contacts:
+///   [ y (N), y' (N), internal (n_c), mode (n_c) ]
+/// internal_c = bristle deflection z (dahl, lugre), slider position s (jenkins), 0 otherwise;
+/// mode_c = 0 stick, +1 slip with v_c > 0, -1 slip with v_c < 0 (coulomb, jenkins), 0 for the
+/// smooth laws. Inconsistent given states are repaired at t = 0: a stuck coulomb contact gets
+/// v_c = 0 (and slips if it cannot be held), a slip mode against the velocity takes the
+/// velocity's sign, a jenkins spring beyond F_c is relaxed to the limit.
+struct PeriodicResponse {
+    double omega = 0;
+    bool converged = false;
+    /// Why it did (not) converge: the last Poincare change, an event cap, a CVODE failure.
+    std::string message;
+    int periods = 0;              ///< periods integrated (with the shooting Jacobians' ones)
+    double poincare_change = 0;   ///< last |x_{k+1} - x_k|_inf / max(1, |x_{k+1}|_inf)
+    Eigen::VectorXd state;        ///< state at the start of the final period (convention above)
+
+    // ---- metrics of the final period (columns of `hbf frf`) ----
+    std::vector<double> y_max;    ///< per DOF: max over the period of |y_i(t)|
+    std::vector<double> y_amp1;   ///< per DOF: sqrt(c1^2 + s1^2)
+    /// per DOF: Y_i = c1 - i s1, so that the first harmonic is Re(Y_i e^{i omega t})
+    /// (the convention of linear_response).
+    Eigen::VectorXcd harmonic1;
+    double stick_fraction = 0;    ///< share of the period contact 1 is in stick (0 if no contact)
+    /// "stick" if contact 1 never left stick in the period, "slip" if it never stuck, else
+    /// "stick-slip" ("none" without contacts).
+    std::string regime;
+    /// Stick indicator of contact 1 (friction.hpp), min and max over the period: coulomb
+    /// |lambda|/F_c - 1 in stick and, at each slip -> stick/reversal instant, the required
+    /// |lambda|/F_c - 1; jenkins |f|/F_c - 1; dahl, lugre |sigma0 z| / (ratio g(v)) - 1;
+    /// coulomb-reg |tanh(v/eps)| / ratio - 1. Stick iff < 0; max < 0 means full stick.
+    /// Evaluated at every step, event and sample (not a continuous extremum).
+    double stick_margin_min = 0, stick_margin_max = 0;
+    int switches = 0;             ///< mode changes of all contacts in the period (stick <-> slip,
+                                  ///< reversals; smooth laws: stick-indicator crossings)
+    double energy = 0;            ///< friction energy per cycle: int sum_c f_c v_c dt
+    double viscous_energy = 0;    ///< int y'^T C y' dt over the period
+    double input_energy = 0;      ///< int F^T y' cos(omega t) dt over the period
+
+    // ---- sampled signals of the final period: t_j = j T / samples, j = 0..samples-1 ----
+    Eigen::VectorXd time;
+    Eigen::MatrixXd displacement;    ///< samples x N
+    Eigen::MatrixXd velocity;        ///< samples x N
+    Eigen::MatrixXd friction_force;  ///< samples x n_c (constraint force for stuck coulomb)
+
+    // ---- cost ----
+    long steps = 0;                  ///< CVODE steps, all periods
+    long rhs_evaluations = 0;
+    double seconds = 0;
+
+    /// One line: frequency, converged or why not, periods, y_max, regime.
+    std::string summary() const;
+};
+
+/// 2N + 2 n_c (see PeriodicResponse).
+int state_size(const System& system);
+
+/// The state at t = 0 of the linear steady state with every contact stuck: coulomb contacts
+/// rigid (exact constraint), jenkins as the spring k_t (s = 0), dahl and lugre as their
+/// pre-sliding spring sigma0 and damper sigma1 + sigma2 (z = q), coulomb-reg as the damper
+/// F_c / eps; modes 0. It is the exact periodic solution when the contacts really stick
+/// (coulomb, jenkins); otherwise a start close to the stick regime. Rest (zeros) at an
+/// undamped resonance of that linear system.
+Eigen::VectorXd linear_stuck_state(const System& system, double omega);
+
+/// Integrates from `initial_state` (nullptr: rest, modes stick) period by period until the
+/// Poincare map converges (after at least min_periods) or max_periods is reached. Throws
+/// InvalidInput for an invalid system, omega <= 0, bad options or a state of the wrong size.
+PeriodicResponse integrate_steady_state(const System& system, double omega, const TimeIntegrationOptions& options,
+                                        const Eigen::VectorXd* initial_state = nullptr);
+
+/// integrate_steady_state at each omega in the given order (ascending: sweep up;
+/// descending: sweep down), each starting from the previous point's final state (the first
+/// from `initial_state`, nullptr: rest).
+std::vector<PeriodicResponse> sweep(const System& system, const std::vector<double>& omegas,
+                                    const TimeIntegrationOptions& options,
+                                    const Eigen::VectorXd* initial_state = nullptr);
+
+std::string to_string(IntegrationMethod method);
+
+}  // namespace hbf

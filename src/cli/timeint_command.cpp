@@ -1,0 +1,170 @@
+// `hbf timeint`: periodic steady states of the paper's absorber by time integration (CVODE),
+// at one frequency or along a sweep, as CSV.
+#include <unistd.h>
+
+#include <iostream>
+#include <memory>
+
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "hbf/analytic.hpp"
+#include "hbf/error.hpp"
+#include "hbf/io.hpp"
+#include "hbf/time_integration.hpp"
+
+namespace hbf::cli {
+
+namespace {
+constexpr long long max_points = 10000;
+
+struct TimeintOptions {
+    AbsorberFlags absorber;
+    std::string w, wmin, wmax, points, sweep = "up", method = "adams";
+    std::string rtol = "1e-10", atol = "1e-12", steady_tol = "1e-8", max_periods = "3000", min_periods = "3";
+    std::string out;
+    bool quiet = false;
+};
+
+bool given(const CLI::App& command, const char* flag) { return command.count(flag) > 0; }
+
+double positive_frequency(const std::string& flag, const std::string& text) {
+    const double w = parse_double(flag, text);
+    if (!(w > 0.0)) throw UsageError(flag + " = '" + text + "' is out of range: allowed frequencies > 0");
+    return w;
+}
+
+double tolerance(const std::string& flag, const std::string& text, double low, double high) {
+    const double value = parse_double(flag, text);
+    if (!(value >= low && value <= high))
+        throw UsageError(flag + " = '" + text + "' is out of range: allowed " + format_number(low) + ".." +
+                         format_number(high));
+    return value;
+}
+
+std::vector<double> frequencies(const CLI::App& command, const TimeintOptions& o) {
+    const bool single = given(command, "--w");
+    const bool range = given(command, "--wmin") || given(command, "--wmax") || given(command, "--points");
+    if (single && range) throw UsageError("--w cannot be combined with --wmin, --wmax or --points: give one or the other");
+    if (!single && !range) throw UsageError("no frequency: give --w W, or --wmin A --wmax B --points K");
+    if (single) {
+        if (given(command, "--sweep")) throw UsageError("--sweep applies to --wmin/--wmax/--points only, not to --w");
+        return {positive_frequency("--w", o.w)};
+    }
+    for (const char* flag : {"--wmin", "--wmax", "--points"})
+        if (!given(command, flag))
+            throw UsageError(std::string(flag) + " is missing: a sweep needs --wmin, --wmax and --points");
+    const double wmin = positive_frequency("--wmin", o.wmin);
+    const double wmax = positive_frequency("--wmax", o.wmax);
+    if (!(wmax > wmin))
+        throw UsageError("--wmax = '" + o.wmax + "' is out of range: allowed > --wmin = " + format_number(wmin));
+    const long long points = parse_integer("--points", o.points);
+    if (points < 2 || points > max_points)
+        throw UsageError("--points = '" + o.points + "' is out of range: allowed 2.." + std::to_string(max_points));
+    if (o.sweep != "up" && o.sweep != "down")
+        throw UsageError("--sweep = '" + o.sweep + "' is not allowed: allowed up, down");
+    std::vector<double> grid = analytic::uniform_grid(wmin, wmax, points);
+    if (o.sweep == "down") std::reverse(grid.begin(), grid.end());
+    return grid;
+}
+
+int run(const CLI::App& command, const TimeintOptions& o) {
+    const FrictionLaw law = o.absorber.friction_law();
+    const AbsorberParameters p = o.absorber.parameters(command);
+    const std::vector<double> omegas = frequencies(command, o);
+    TimeIntegrationOptions tio;
+    tio.relative_tolerance = tolerance("--rtol", o.rtol, 1e-14, 1e-3);
+    tio.absolute_tolerance = tolerance("--atol", o.atol, 1e-16, 1e-3);
+    tio.steady_tolerance = tolerance("--steady-tol", o.steady_tol, 1e-14, 1e-2);
+    const long long max_periods = parse_integer("--max-periods", o.max_periods);
+    if (max_periods < 1 || max_periods > 1000000)
+        throw UsageError("--max-periods = '" + o.max_periods + "' is out of range: allowed 1..1000000");
+    const long long min_periods = parse_integer("--min-periods", o.min_periods);
+    if (min_periods < 1 || min_periods > max_periods)
+        throw UsageError("--min-periods = '" + o.min_periods + "' is out of range: allowed 1..--max-periods (" +
+                         std::to_string(max_periods) + ")");
+    tio.max_periods = static_cast<int>(max_periods);
+    tio.min_periods = static_cast<int>(min_periods);
+    if (o.method != "adams" && o.method != "bdf")
+        throw UsageError("--method = '" + o.method + "' is not allowed: allowed adams, bdf");
+    tio.method = o.method == "bdf" ? IntegrationMethod::bdf : IntegrationMethod::adams;
+
+    const System system = friction_absorber(p, law);
+    io::OutputFile out(o.out);  // opened before the work: an unwritable path fails fast
+    const bool progress = !o.quiet && isatty(STDERR_FILENO);
+    std::vector<PeriodicResponse> responses;
+    responses.reserve(omegas.size());
+    Eigen::VectorXd state = linear_stuck_state(system, omegas.front());
+    for (std::size_t k = 0; k < omegas.size(); ++k) {
+        if (progress)
+            std::cerr << "\rhbf timeint: point " << k + 1 << "/" << omegas.size() << ", w = " << format_number(omegas[k])
+                      << "        " << std::flush;
+        responses.push_back(integrate_steady_state(system, omegas[k], tio, &state));
+        state = responses.back().state;
+    }
+    if (progress) std::cerr << "\n";
+    io::write_timeint_csv(out.stream(), responses, system.dofs());
+    out.commit();
+    int failed = 0;
+    for (const PeriodicResponse& r : responses)
+        if (!r.converged) {
+            ++failed;
+            std::cerr << "hbf timeint: warning: " << r.summary() << "\n";
+        }
+    if (failed > 0)
+        std::cerr << "hbf timeint: warning: " << failed << " of " << responses.size()
+                  << " points did not converge (converged = false in the output)\n";
+    return exit_success;
+}
+}  // namespace
+
+Runner add_timeint_command(CLI::App& app) {
+    auto options = std::make_shared<TimeintOptions>();
+    CLI::App* command = app.add_subcommand(
+        "timeint", "Periodic steady states of the paper's friction absorber by time integration (SUNDIALS CVODE): "
+                   "the reference for harmonic balance. One frequency (--w) or a sweep (--wmin --wmax --points).");
+    options->absorber.add_to(*command,
+                             "friction law: coulomb (exact, set-valued, event-driven stick/slip), jenkins (spring "
+                             "k_t = r wb^2 in series with a Coulomb slider), dahl, lugre or coulomb-reg (regularised)",
+                             "lugre", true);
+    command->remove_option(command->get_option("--dlft-eps"));  // harmonic balance only
+    command->add_option("--w", options->w, "a single frequency w, > 0")->type_name("NUMBER");
+    command->add_option("--wmin", options->wmin, "first frequency of the sweep grid, > 0")->type_name("NUMBER");
+    command->add_option("--wmax", options->wmax, "last frequency of the sweep grid, > wmin")->type_name("NUMBER");
+    command->add_option("--points", options->points, "number of frequencies of the uniform sweep grid, 2..10000")
+        ->type_name("INT");
+    command->add_option("--sweep", options->sweep,
+                        "sweep direction: up (wmin to wmax) or down (wmax to wmin); each point starts from the "
+                        "previous point's steady state")
+        ->capture_default_str()->type_name("up|down");
+    command->add_option("--rtol", options->rtol, "CVODE relative tolerance, 1e-14..1e-3")
+        ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--atol", options->atol, "CVODE absolute tolerance, 1e-16..1e-3")
+        ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--steady-tol", options->steady_tol,
+                        "Poincare convergence: the state at the start of consecutive periods changes by <= "
+                        "steady-tol * max(1, |state|_inf), 1e-14..1e-2")
+        ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--max-periods", options->max_periods, "periods per frequency at most, 1..1000000")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--min-periods", options->min_periods, "periods per frequency at least, 1..max-periods")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--method", options->method,
+                        "CVODE method: adams (fixed-point iteration; fastest here) or bdf (Newton, dense "
+                        "difference-quotient Jacobian; for stiff contacts)")
+        ->capture_default_str()->type_name("adams|bdf");
+    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
+    command->add_flag("--quiet", options->quiet, "no progress on standard error");
+    std::string footer =
+        "Each frequency is integrated period by period until the Poincare map converges (with Newton shooting "
+        "steps when it contracts slowly). The first frequency starts from the linear steady state with the contact "
+        "stuck, the next ones from the previous steady state (a sweep follows one branch: hysteresis between up and "
+        "down sweeps). Output: CSV with a header row, one row per frequency in sweep order. Nondimensional as in "
+        "the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.\nColumns:\n";
+    for (const auto& c : io::timeint_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
+    footer += "A point that did not converge is written with converged = false and reported on standard error; "
+              "the exit code is still 0.";
+    command->footer(footer);
+    return [command, options]() { return run(*command, *options); };
+}
+
+}  // namespace hbf::cli
