@@ -488,10 +488,16 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     result.message += "; branch 2 from w = " + format_number(o.omega_end) + ": " +
                       (second.message.empty() ? to_string(second.status) : second.message);
 }
-/// The extremes of contact 1's stick indicator: (max phi, min phi).
-std::pair<double, double> indicator_extremes(HarmonicBalance& hb, const SolutionPoint& p) {
-    const Eigen::VectorXd phi = hb.stick_indicator(p.x, p.omega, 0);
-    return {phi.maxCoeff(), phi.minCoeff()};
+/// The regime of contact 1 at a point (stick_pattern).
+std::string regime_at(HarmonicBalance& hb, const SolutionPoint& p) {
+    return stick_pattern(hb.stick_indicator(p.x, p.omega, 0), stick_phase_samples(hb.harmonics(), hb.time_samples()))
+        .regime;
+}
+
+/// Whether the point lies on the stick side of the boundary (stick|stick-slip: in full
+/// stick; stick-slip|slip: not in full slip).
+bool stick_side(Boundary boundary, const std::string& regime) {
+    return boundary == Boundary::stick_stick_slip ? regime == "stick" : regime != "slip";
 }
 
 /// Locates, between successive points a and b of a branch, where g(u) (max phi for
@@ -507,10 +513,7 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const Solution
     const double length = chord.norm();
     if (!(length > 0.0)) return false;
     chord /= length;
-    auto side = [&](const SolutionPoint& p) {
-        const auto [highest, lowest] = indicator_extremes(hb, p);
-        return (boundary == Boundary::stick_stick_slip ? highest : lowest) < 0.0;
-    };
+    auto side = [&](const SolutionPoint& p) { return stick_side(boundary, regime_at(hb, p)); };
     const bool side_a = side(a);
     SolutionPoint lo = a, hi = b;  // lo on a's side, hi on b's
     double t_lo = 0.0, t_hi = 1.0;
@@ -528,7 +531,7 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const Solution
             t_hi = t;
         }
     }
-    // The stick-side point of the boundary (phi < 0 side for max phi; min phi < 0 for slip).
+    // The stick-side point of the boundary.
     out = side_a ? lo : hi;
     out.kind = PointKind::transition;
     out.boundary = boundary;
@@ -542,19 +545,16 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, BranchResult&
     if (hb.system().contacts.empty() || result.points.size() < 2) return;
     std::vector<SolutionPoint> points;
     points.reserve(result.points.size() + 8);
-    std::pair<double, double> previous = indicator_extremes(hb, result.points.front());
+    std::string previous = regime_at(hb, result.points.front());
     points.push_back(result.points.front());
     int lost = 0;
     for (std::size_t k = 1; k < result.points.size(); ++k) {
         const SolutionPoint &a = result.points[k - 1], &b = result.points[k];
-        const std::pair<double, double> current = indicator_extremes(hb, b);
+        const std::string current = regime_at(hb, b);
         if (a.branch == b.branch) {
             std::vector<SolutionPoint> found;
             for (const Boundary boundary : {Boundary::stick_stick_slip, Boundary::stick_slip_slip}) {
-                const bool upper = boundary == Boundary::stick_stick_slip;
-                const double ga = upper ? previous.first : previous.second;
-                const double gb = upper ? current.first : current.second;
-                if ((ga < 0.0) == (gb < 0.0)) continue;
+                if (stick_side(boundary, previous) == stick_side(boundary, current)) continue;
                 SolutionPoint t;
                 if (bisect_transition(hb, corrector, a, b, boundary, t))
                     found.push_back(std::move(t));
@@ -676,6 +676,37 @@ double series_max_abs(const Eigen::VectorXd& c, const Eigen::VectorXd& samples) 
 }
 }  // namespace
 
+int stick_phase_samples(int harmonics, int time_samples) {
+    return (2 * time_samples + 2 * harmonics) / (2 * harmonics + 1);  // ceil(2 N_t / (2H + 1))
+}
+
+StickPattern stick_pattern(const Eigen::VectorXd& phi, int min_run) {
+    const Eigen::Index n = phi.size();
+    StickPattern p;
+    if (n == 0) return p;
+    const Eigen::Index sticking = (phi.array() < 0.0).count();
+    if (sticking == n) {
+        p.fraction = 1.0;
+        p.regime = "stick";
+        return p;
+    }
+    // Runs of sticking samples, starting after a slipping sample (one exists).
+    Eigen::Index start = 0;
+    while (phi(start) < 0.0) ++start;
+    Eigen::Index in_phases = 0, run = 0;
+    for (Eigen::Index k = 1; k <= n; ++k) {
+        if (phi((start + k) % n) < 0.0) {
+            ++run;
+            continue;
+        }
+        if (run >= min_run) in_phases += run;
+        run = 0;
+    }
+    p.fraction = static_cast<double>(in_phases) / static_cast<double>(n);
+    p.regime = in_phases == 0 ? "slip" : "stick-slip";
+    return p;
+}
+
 Analyser::Analyser(HarmonicBalance& hb) : hb_(hb), fine_(hb.harmonics(), fine_time_samples(hb.harmonics())) {}
 
 PointMetrics Analyser::operator()(const SolutionPoint& point) {
@@ -696,9 +727,9 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
     }
     // Stick fraction and regime of contact 1 from its law's own stick samples.
     const Eigen::VectorXd phi = hb_.stick_indicator(point.x, omega, 0);
-    const auto sticking = (phi.array() < 0.0).count();
-    m.stick_fraction = static_cast<double>(sticking) / static_cast<double>(phi.size());
-    m.regime = sticking == phi.size() ? "stick" : sticking == 0 ? "slip" : "stick-slip";
+    const StickPattern pattern = stick_pattern(phi, stick_phase_samples(hb_.harmonics(), hb_.time_samples()));
+    m.stick_fraction = pattern.fraction;
+    m.regime = pattern.regime;
     m.stick_indicator_max = phi.maxCoeff();
     m.stick_indicator_min = phi.minCoeff();
     // Dissipated energy: integral over the period 2 pi / omega of f q', on the AFT grid.

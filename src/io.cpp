@@ -95,8 +95,8 @@ std::vector<Column> frf_columns(int dofs) {
     const std::vector<Column> rest = {
         {"stick_fraction", "share of the period in stick, contact 1, by the law's own definition (AFT samples; "
                            "coulomb: |lambda + eps v| < mu; jenkins: slider at rest; dahl/lugre: |sigma0 z| < 0.95 g(v); "
-                           "coulomb-reg: |f| < 0.95 mu)"},
-        {"regime", "stick (stick_fraction = 1), slip (= 0) or stick-slip"},
+                           "coulomb-reg: |f| < 0.95 mu); stick phases shorter than 2 / (2H + 1) of the period are not resolved by H harmonics and count as slip"},
+        {"regime", "stick (every sample sticks), slip (no stick phase) or stick-slip"},
         {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
         {"branch", "branch number: 1, or 2 for the branch restarted from wmax after an amplitude cap"},
         {"point", "regular, fold (dw/ds changed sign), transition (located boundary between stick and stick-slip "

@@ -133,8 +133,8 @@ Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& J, const Eigen::VectorXd& 
 /// Stick-slip transitions of contact 1 (with locate_transitions): wherever the regime changes
 /// between two successive points of a branch, the boundary is located by bisection along the
 /// chord between them (each trial point corrected onto the branch on the hyperplane normal to
-/// the chord) on the stick indicator phi (friction.hpp): full stick ends where max phi
-/// crosses 0, full slip where min phi does. Bisection stops when the bracket is below 1e-10
+/// the chord) on the regime of stick_pattern: full stick ends where the first sample
+/// slips (max phi crosses 0), full slip where a stick phase appears. Bisection stops when the bracket is below 1e-10
 /// in scaled arclength (both ends solved); the point on the stick side (stick|stick-slip) or
 /// on the stick-slip side (stick-slip|slip) is inserted as a point of kind transition.
 BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& options);
@@ -151,15 +151,32 @@ struct PointMetrics {
     std::vector<double> y_max;   ///< per DOF: max over one period of |y_i(t)| (fine grid,
                                  ///< polished by Newton on y_i' = 0: exact to rounding)
     std::vector<double> y_amp1;  ///< per DOF: first-harmonic amplitude sqrt(c1^2 + s1^2)
-    double stick_fraction = 0;   ///< share of the AFT samples of contact 1 that stick, by the
-                                 ///< law's own definition (friction.hpp: stick_indicator < 0)
-    std::string regime;          ///< "stick" (every sample sticks), "slip" (none) or "stick-slip"
+    double stick_fraction = 0;   ///< share of the AFT samples of contact 1 in stick phases, by
+                                 ///< the law's own definition (stick_pattern below)
+    std::string regime;          ///< "stick", "slip" or "stick-slip" (stick_pattern below)
     double stick_indicator_max = 0;  ///< max over the samples of contact 1's stick indicator
                                      ///< (< 0: permanent stick)
     double stick_indicator_min = 0;  ///< min over the samples (>= 0: permanent slip)
     double energy = 0;           ///< friction energy dissipated per cycle, all contacts
     double input_energy = 0;     ///< work of the excitation per cycle, pi sum_i F_i s1_i
 };
+/// Stick fraction and regime of a contact from its stick indicator samples phi (friction.hpp:
+/// a sample sticks iff phi < 0). A stick phase is a run of cyclically consecutive sticking
+/// samples at least `min_run` long. H harmonics cannot resolve shorter phases: at an
+/// instantaneous stop (a velocity reversal in continuous slip) the dynamic Lagrangian's force
+/// passes from -F_c to F_c within about one resolution cell 2 pi / (2H + 1), and those
+/// samples stick; measured, such runs last 0.8-1.7 cells. So HB uses min_run = two cells,
+/// ceil(2 N_t / (2H + 1)) samples (stick_phase_samples): shorter runs count as slip. regime:
+/// "stick" (every sample sticks), "slip" (no stick phase) or "stick-slip"; fraction: share
+/// of the samples in stick phases.
+struct StickPattern {
+    double fraction = 0;
+    std::string regime;
+};
+/// Shortest stick phase, in samples, that H harmonics on N_t samples resolve (see above).
+int stick_phase_samples(int harmonics, int time_samples);
+StickPattern stick_pattern(const Eigen::VectorXd& phi, int min_run);
+
 /// Samples per period of the fine reconstruction used for y_max and the stick fraction.
 int fine_time_samples(int harmonics);
 
