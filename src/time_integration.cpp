@@ -828,8 +828,10 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
             if (candidate_is_linear)
                 note += "; restarted from the linear stuck steady state after " + std::to_string(linear_tried_at) +
                         " periods";
-            else
+            else {
                 ++newton_steps;
+                next_shooting = k;  // Newton converges fast: go on with it while it helps
+            }
         }
         out.poincare_change = change;
         fill_metrics(out, record, x, period);
