@@ -95,10 +95,11 @@ struct TimeIntegrationOptions {
     /// Jacobian J of the map x -> P(x) is built by forward differences (one extra period per
     /// continuous state, counted in `periods`) and the start is moved to
     /// x + (I - J)^-1 (P(x) - x). The step is kept only if the next period's change is smaller
-    /// than before it (else reverted and the interval doubled), and convergence is still
+    /// than before it (else reverted and the interval doubled; after a kept step the next
+    /// one follows at once if the change is still too large), and convergence is still
     /// decided by plain periods, so it changes where the iteration starts, not the test.
     bool shooting = true;
-    int shooting_interval = 10;
+    int shooting_interval = 5;
 
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;

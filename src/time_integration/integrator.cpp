@@ -1,0 +1,516 @@
+// The CVODE integrator of one period: right-hand side, root functions, events (see
+// time_integration.hpp).
+#include "integrator.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "hbf/error.hpp"
+#include "hbf/friction.hpp"
+
+namespace hbf::detail {
+
+namespace {
+constexpr double pi = 3.14159265358979323846;
+
+int sign_of(double x) { return (x > 0.0) - (x < 0.0); }
+
+bool has_internal_state(FrictionLaw law) {
+    return law == FrictionLaw::dahl || law == FrictionLaw::lugre || law == FrictionLaw::jenkins;
+}
+bool event_driven(FrictionLaw law) { return law == FrictionLaw::coulomb || law == FrictionLaw::jenkins; }
+
+void silent_error_handler(int, const char*, const char*, char*, void*) {}
+}  // namespace
+
+Integrator::Integrator(const System& system, double omega, const TimeIntegrationOptions& options)
+    : system_(system), omega_(omega), period_(2.0 * pi / omega), options_(options), n_(system.dofs()),
+      nc_(static_cast<int>(system.contacts.size())), length_(4 * n_ + nc_ + 3), quad_(2 * n_ + nc_) {
+    for (const Contact& c : system.contacts) contacts_.emplace_back(c);
+    minv_ = system.mass.llt().solve(Eigen::MatrixXd::Identity(n_, n_));
+    excitation_ = system.excitation;
+    mode_.assign(static_cast<std::size_t>(nc_), 0);
+    f_ = Eigen::VectorXd::Zero(nc_);
+    zdot_ = Eigen::VectorXd::Zero(nc_);
+    velocity_c_ = Eigen::VectorXd::Zero(nc_);
+    acc_ = Eigen::VectorXd::Zero(n_);
+    load_ = Eigen::VectorXd::Zero(n_);
+    ground_stuck_dof_.assign(static_cast<std::size_t>(n_), 0);
+
+    if (SUNContext_Create(nullptr, &context_) != 0) throw std::runtime_error("SUNContext_Create failed");
+    x_ = N_VNew_Serial(length_, context_);
+    dky_ = N_VNew_Serial(length_, context_);
+    if (!x_ || !dky_) throw std::runtime_error("N_VNew_Serial failed");
+    N_VConst(0.0, x_);
+    const bool adams = options_.method == IntegrationMethod::adams;
+    cvode_ = CVodeCreate(adams ? CV_ADAMS : CV_BDF, context_);
+    if (!cvode_) throw std::runtime_error("CVodeCreate failed");
+    throw_on(CVodeInit(cvode_, rhs_callback, 0.0, x_), "CVodeInit");
+    throw_on(CVodeSetErrHandlerFn(cvode_, silent_error_handler, nullptr), "CVodeSetErrHandlerFn");
+    throw_on(CVodeSetUserData(cvode_, this), "CVodeSetUserData");
+    throw_on(CVodeSStolerances(cvode_, options_.relative_tolerance, options_.absolute_tolerance), "CVodeSStolerances");
+    if (adams) {
+        nonlinear_ = SUNNonlinSol_FixedPoint(x_, 0, context_);
+        throw_on(CVodeSetNonlinearSolver(cvode_, nonlinear_), "CVodeSetNonlinearSolver");
+    } else {
+        matrix_ = SUNDenseMatrix(length_, length_, context_);
+        linear_ = SUNLinSol_Dense(x_, matrix_, context_);
+        throw_on(CVodeSetLinearSolver(cvode_, linear_, matrix_), "CVodeSetLinearSolver");
+    }
+    throw_on(CVodeSetMaxNumSteps(cvode_, options_.max_steps_per_period), "CVodeSetMaxNumSteps");
+    throw_on(CVodeRootInit(cvode_, nc_ + n_, root_callback), "CVodeRootInit");
+    std::vector<int> direction(static_cast<std::size_t>(nc_ + n_), 0);
+    for (int c = 0; c < nc_; ++c)
+        if (event_driven(contacts_[static_cast<std::size_t>(c)].law)) direction[static_cast<std::size_t>(c)] = -1;
+    throw_on(CVodeSetRootDirection(cvode_, direction.data()), "CVodeSetRootDirection");
+    throw_on(CVodeSetNoInactiveRootWarn(cvode_), "CVodeSetNoInactiveRootWarn");
+    rebuild_stuck_set();
+}
+
+Integrator::~Integrator() {
+    if (cvode_) CVodeFree(&cvode_);
+    if (nonlinear_) SUNNonlinSolFree(nonlinear_);
+    if (linear_) SUNLinSolFree(linear_);
+    if (matrix_) SUNMatDestroy(matrix_);
+    if (x_) N_VDestroy(x_);
+    if (dky_) N_VDestroy(dky_);
+    if (context_) SUNContext_Free(&context_);
+}
+
+void Integrator::throw_on(int flag, const char* what) const {
+    if (flag < 0) throw std::runtime_error(std::string(what) + " failed: " + CVodeGetReturnFlagName(flag));
+}
+
+long Integrator::rhs_evaluations() const {
+    long count = 0;
+    CVodeGetNumRhsEvals(cvode_, &count);
+    return rhs_total_ + count;
+}
+
+int Integrator::rhs_callback(sunrealtype t, N_Vector x, N_Vector dx, void* data) {
+    static_cast<Integrator*>(data)->derivative(t, N_VGetArrayPointer(x), N_VGetArrayPointer(dx));
+    return 0;
+}
+
+int Integrator::root_callback(sunrealtype t, N_Vector x, sunrealtype* g, void* data) {
+    static_cast<Integrator*>(data)->roots(t, N_VGetArrayPointer(x), g);
+    return 0;
+}
+
+void Integrator::rebuild_stuck_set() {
+    stuck_.clear();
+    std::fill(ground_stuck_dof_.begin(), ground_stuck_dof_.end(), 0);
+    for (int c = 0; c < nc_; ++c) {
+        const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+        if (k.law == FrictionLaw::coulomb && mode_[static_cast<std::size_t>(c)] == 0) {
+            stuck_.push_back(c);
+            if (k.b == Contact::ground) ground_stuck_dof_[static_cast<std::size_t>(k.a)] = 1;
+        }
+    }
+    const int m = static_cast<int>(stuck_.size());
+    ws_ = Eigen::MatrixXd::Zero(n_, m);
+    for (int k = 0; k < m; ++k) ws_.col(k) = system_.contact_direction(system_.contacts[static_cast<std::size_t>(stuck_[static_cast<std::size_t>(k)])]);
+    minv_ws_ = minv_ * ws_;
+    if (m > 0) g_ = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(ws_.transpose() * minv_ws_).pseudoInverse();
+    lambda_ = Eigen::VectorXd::Zero(m);
+}
+
+void Integrator::evaluate(double t, const double* x) {
+    const double* y = x;
+    const double* v = x + n_;
+    const double* z = x + 2 * n_;
+    Eigen::Map<const Eigen::VectorXd> ym(y, n_), vm(v, n_);
+    load_.noalias() = excitation_ * std::cos(omega_ * t);
+    load_.noalias() -= system_.damping * vm;
+    load_.noalias() -= system_.stiffness * ym;
+    for (int c = 0; c < nc_; ++c) {
+        const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+        const double vc = k.relative(v);
+        velocity_c_(c) = vc;
+        double f = 0.0, zd = 0.0;
+        const int mode = mode_[static_cast<std::size_t>(c)];
+        switch (k.law) {
+            case FrictionLaw::dahl:
+                zd = vc - k.stiffness * std::abs(vc) * z[c] / k.limit;
+                f = k.stiffness * z[c];
+                break;
+            case FrictionLaw::lugre:
+                zd = vc - k.stiffness * std::abs(vc) * z[c] / k.sliding_limit(vc);
+                f = k.stiffness * z[c] + k.damping * zd + k.viscous * vc;
+                break;
+            case FrictionLaw::coulomb_regularized: f = k.limit * std::tanh(vc / k.eps); break;
+            case FrictionLaw::jenkins:
+                if (mode == 0) {
+                    f = k.stiffness * (k.relative(y) - z[c]);
+                } else {
+                    f = mode * k.limit;
+                    zd = vc;
+                }
+                break;
+            case FrictionLaw::coulomb: f = mode * k.limit; break;  // stuck: lambda below
+        }
+        f_(c) = f;
+        zdot_(c) = zd;
+        if (k.law == FrictionLaw::coulomb && mode == 0) continue;
+        load_(k.a) -= f;
+        if (k.b != Contact::ground) load_(k.b) += f;
+    }
+    acc_.noalias() = minv_ * load_;
+    if (!stuck_.empty()) {
+        lambda_.noalias() = g_ * (ws_.transpose() * acc_);
+        acc_.noalias() -= minv_ws_ * lambda_;
+        for (std::size_t k = 0; k < stuck_.size(); ++k) f_(stuck_[k]) = lambda_(static_cast<Eigen::Index>(k));
+    }
+}
+
+void Integrator::derivative(double t, const double* x, double* dx) {
+    evaluate(t, x);
+    const double* y = x;
+    const double* v = x + n_;
+    for (int i = 0; i < n_; ++i) {
+        dx[i] = v[i];
+        dx[n_ + i] = acc_(i);
+    }
+    for (int c = 0; c < nc_; ++c) dx[2 * n_ + c] = zdot_(c);
+    const double cs = std::cos(omega_ * t), sn = std::sin(omega_ * t);
+    double* q = dx + quad_;
+    double friction = 0.0, input = 0.0;
+    for (int i = 0; i < n_; ++i) {
+        q[i] = y[i] * cs;
+        q[n_ + i] = y[i] * sn;
+        input += excitation_(i) * v[i];
+    }
+    for (int c = 0; c < nc_; ++c) friction += f_(c) * velocity_c_(c);
+    Eigen::Map<const Eigen::VectorXd> vm(v, n_);
+    q[2 * n_] = friction;
+    q[2 * n_ + 1] = vm.dot(system_.damping * vm);
+    q[2 * n_ + 2] = input * cs;
+}
+
+double Integrator::mode_root(int c, const double* x) const {
+    const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+    const int mode = mode_[static_cast<std::size_t>(c)];
+    if (mode != 0) return mode * velocity_c_(c);
+    if (k.law == FrictionLaw::jenkins) return k.limit - std::abs(k.stiffness * (k.relative(x) - x[2 * n_ + c]));
+    return k.limit - std::abs(f_(c));  // coulomb: lambda
+}
+
+bool Integrator::in_stick(int c, const double* x) const {
+    const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+    if (event_driven(k.law)) return mode_[static_cast<std::size_t>(c)] == 0;
+    return margin(c, x) < 0.0;
+}
+
+double Integrator::margin(int c, const double* x) const {
+    const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+    const double vc = velocity_c_(c);
+    switch (k.law) {
+        case FrictionLaw::coulomb:
+        case FrictionLaw::jenkins: return std::abs(f_(c)) / k.limit - 1.0;
+        case FrictionLaw::dahl:
+        case FrictionLaw::lugre:
+            return std::abs(k.stiffness * x[2 * n_ + c]) / (stick_force_ratio * k.sliding_limit(vc)) - 1.0;
+        case FrictionLaw::coulomb_regularized: return std::abs(std::tanh(vc / k.eps)) / stick_force_ratio - 1.0;
+    }
+    return 0.0;
+}
+
+void Integrator::roots(double t, const double* x, double* g) {
+    evaluate(t, x);
+    for (int c = 0; c < nc_; ++c) {
+        const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+        if (event_driven(k.law)) {
+            g[c] = mode_root(c, x);
+        } else if (k.law == FrictionLaw::coulomb_regularized) {
+            g[c] = stick_force_ratio - std::abs(std::tanh(velocity_c_(c) / k.eps));
+        } else {
+            g[c] = stick_force_ratio * k.sliding_limit(velocity_c_(c)) - std::abs(k.stiffness * x[2 * n_ + c]);
+        }
+    }
+    for (int i = 0; i < n_; ++i) g[nc_ + i] = ground_stuck_dof_[static_cast<std::size_t>(i)] ? 1.0 : x[n_ + i];
+}
+
+void Integrator::project_velocities(double* x, const std::vector<int>& set) const {
+    if (set.empty()) return;
+    const int m = static_cast<int>(set.size());
+    Eigen::MatrixXd w(n_, m);
+    for (int k = 0; k < m; ++k) w.col(k) = system_.contact_direction(system_.contacts[static_cast<std::size_t>(set[static_cast<std::size_t>(k)])]);
+    const Eigen::MatrixXd minv_w = minv_ * w;
+    const Eigen::MatrixXd s = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(w.transpose() * minv_w).pseudoInverse();
+    Eigen::Map<Eigen::VectorXd> v(x + n_, n_);
+    v -= minv_w * (s * (w.transpose() * v));
+    // exact zeros on the constraint (the projection leaves rounding of order 1e-16 |v|)
+    for (int c : set) {
+        const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+        if (k.b == Contact::ground) x[n_ + k.a] = 0.0;
+    }
+}
+
+void Integrator::settle_stuck_set(double t, double* x) {
+    for (int round = 0; round <= nc_; ++round) {
+        rebuild_stuck_set();
+        evaluate(t, x);
+        int worst = -1;
+        double worst_ratio = 1.0;
+        for (int c : stuck_) {
+            const double ratio = std::abs(f_(c)) / contacts_[static_cast<std::size_t>(c)].limit;
+            if (ratio > worst_ratio) {
+                worst_ratio = ratio;
+                worst = c;
+            }
+        }
+        if (worst < 0) return;
+        mode_[static_cast<std::size_t>(worst)] = sign_of(f_(worst));
+    }
+}
+
+int Integrator::handle_events(double t, double* x, const std::vector<int>& hits) {
+    const std::vector<int> before = mode_;
+    evaluate(t, x);
+    std::vector<int> at_rest;  // coulomb contacts whose velocity is zero now
+    std::vector<int> candidates;
+    for (int c : hits) {
+        const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+        int& mode = mode_[static_cast<std::size_t>(c)];
+        if (k.law == FrictionLaw::coulomb) {
+            if (mode == 0) {
+                mode = sign_of(f_(c));  // the limit is reached: slip in the direction of lambda
+                if (mode == 0) mode = 1;
+                at_rest.push_back(c);
+            } else {
+                mode = 0;  // tried in stick below
+                candidates.push_back(c);
+            }
+        } else if (k.law == FrictionLaw::jenkins) {
+            if (mode == 0) {
+                mode = sign_of(f_(c));
+                if (mode == 0) mode = 1;
+                x[2 * n_ + c] = k.relative(x) - mode * k.limit / k.stiffness;
+            } else {
+                // reversal unless the relative acceleration keeps the direction (a touch)
+                const Eigen::VectorXd w = system_.contact_direction(system_.contacts[static_cast<std::size_t>(c)]);
+                if (mode * w.dot(acc_) <= 0.0) mode = 0;
+            }
+        }
+    }
+    for (int c = 0; c < nc_; ++c)
+        if (contacts_[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb && mode_[static_cast<std::size_t>(c)] == 0)
+            at_rest.push_back(c);
+    project_velocities(x, at_rest);
+    rebuild_stuck_set();
+    evaluate(t, x);
+    for (int c : candidates)
+        if (c == 0) margin_at_event_ = std::abs(f_(0)) / contacts_[0].limit - 1.0;
+    settle_stuck_set(t, x);
+    int changes = 0;
+    for (int c = 0; c < nc_; ++c) changes += mode_[static_cast<std::size_t>(c)] != before[static_cast<std::size_t>(c)];
+    return changes;
+}
+
+void Integrator::load(const Eigen::VectorXd& state) {
+    double* x = N_VGetArrayPointer(x_);
+    for (int i = 0; i < 2 * n_ + nc_; ++i) x[i] = state(i);
+    for (int i = 2 * n_ + nc_; i < length_; ++i) x[i] = 0.0;
+    for (int c = 0; c < nc_; ++c) mode_[static_cast<std::size_t>(c)] = static_cast<int>(state(2 * n_ + nc_ + c));
+    rebuild_stuck_set();
+}
+
+Eigen::VectorXd Integrator::store() const {
+    const double* x = N_VGetArrayPointer(x_);
+    Eigen::VectorXd state(2 * n_ + 2 * nc_);
+    for (int i = 0; i < 2 * n_ + nc_; ++i) state(i) = x[i];
+    for (int c = 0; c < nc_; ++c) state(2 * n_ + nc_ + c) = mode_[static_cast<std::size_t>(c)];
+    return state;
+}
+
+void Integrator::reinit(double t) {
+    long count = 0;
+    CVodeGetNumRhsEvals(cvode_, &count);  // CVodeReInit resets the counters
+    rhs_total_ += count;
+    throw_on(CVodeReInit(cvode_, t, x_), "CVodeReInit");
+    throw_on(CVodeSetStopTime(cvode_, period_), "CVodeSetStopTime");
+}
+
+void Integrator::settle_initial(Eigen::VectorXd& state) {
+    for (int c = 0; c < nc_; ++c) {
+        const double m = state(2 * n_ + nc_ + c);
+        const FrictionLaw law = contacts_[static_cast<std::size_t>(c)].law;
+        state(2 * n_ + nc_ + c) = event_driven(law) ? static_cast<double>(sign_of(m)) : 0.0;
+        if (!has_internal_state(law)) state(2 * n_ + c) = 0.0;
+    }
+    load(state);
+    double* x = N_VGetArrayPointer(x_);
+    evaluate(0.0, x);
+    std::vector<int> at_rest;
+    for (int c = 0; c < nc_; ++c) {
+        const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+        int& mode = mode_[static_cast<std::size_t>(c)];
+        const double vc = velocity_c_(c);
+        if (k.law == FrictionLaw::coulomb) {
+            if (mode != 0 && mode * vc < 0.0) mode = sign_of(vc);
+            if (mode == 0) at_rest.push_back(c);
+        } else if (k.law == FrictionLaw::jenkins) {
+            double& s = x[2 * n_ + c];
+            if (mode != 0 && mode * vc < 0.0) mode = 0;
+            if (mode != 0) s = k.relative(x) - mode * k.limit / k.stiffness;
+            const double f = k.stiffness * (k.relative(x) - s);
+            if (mode == 0 && std::abs(f) > k.limit) {
+                s = k.relative(x) - sign_of(f) * k.limit / k.stiffness;
+                if (sign_of(f) * vc > 0.0) mode = sign_of(f);
+            }
+        }
+    }
+    project_velocities(x, at_rest);
+    settle_stuck_set(0.0, x);
+    state = store();
+}
+
+PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
+    PeriodRecord r;
+    load(start);
+    double* x = N_VGetArrayPointer(x_);
+    double* d = N_VGetArrayPointer(dky_);
+    reinit(0.0);
+
+    const int samples = options_.samples_per_period;
+    r.time = Eigen::VectorXd(samples);
+    r.displacement = Eigen::MatrixXd(samples, n_);
+    r.velocity = Eigen::MatrixXd(samples, n_);
+    r.friction_force = Eigen::MatrixXd(samples, nc_);
+    r.y_max.assign(static_cast<std::size_t>(n_), 0.0);
+    r.stick_time.assign(static_cast<std::size_t>(nc_), 0.0);
+    r.always_stuck.assign(static_cast<std::size_t>(nc_), true);
+    r.never_stuck.assign(static_cast<std::size_t>(nc_), true);
+    std::vector<bool> stuck(static_cast<std::size_t>(nc_));
+    std::vector<double> since(static_cast<std::size_t>(nc_), 0.0);
+
+    auto update_extremes = [&](const double* state) {
+        for (int i = 0; i < n_; ++i) r.y_max[static_cast<std::size_t>(i)] = std::max(r.y_max[static_cast<std::size_t>(i)], std::abs(state[i]));
+    };
+    auto update_margin = [&](double m) {
+        r.margin_min = std::min(r.margin_min, m);
+        r.margin_max = std::max(r.margin_max, m);
+    };
+    // contact 1's margin: coulomb only while stuck (slip phases are checked at the events)
+    auto contact_margin = [&](const double* state) {
+        if (nc_ == 0) return;
+        if (contacts_[0].law == FrictionLaw::coulomb && mode_[0] != 0) return;
+        update_margin(margin(0, state));
+    };
+    auto update_stick = [&](double t, const double* state) {
+        for (int c = 0; c < nc_; ++c) {
+            const bool now = in_stick(c, state);
+            const auto k = static_cast<std::size_t>(c);
+            if (now == stuck[k]) continue;
+            if (stuck[k]) r.stick_time[k] += t - since[k];
+            since[k] = t;
+            stuck[k] = now;
+            if (now) r.never_stuck[k] = false; else r.always_stuck[k] = false;
+            if (!event_driven(contacts_[k].law)) ++r.switches;  // event-driven laws count modes
+        }
+    };
+    auto record_sample = [&](int j, double t, const double* state) {
+        evaluate(t, state);
+        r.time(j) = t;
+        for (int i = 0; i < n_; ++i) {
+            r.displacement(j, i) = state[i];
+            r.velocity(j, i) = state[n_ + i];
+        }
+        for (int c = 0; c < nc_; ++c) r.friction_force(j, c) = f_(c);
+        update_extremes(state);
+        contact_margin(state);
+    };
+
+    evaluate(0.0, x);
+    for (int c = 0; c < nc_; ++c) {
+        const auto k = static_cast<std::size_t>(c);
+        stuck[k] = in_stick(c, x);
+        if (stuck[k]) r.never_stuck[k] = false; else r.always_stuck[k] = false;
+    }
+    record_sample(0, 0.0, x);
+    int next_sample = 1;
+    int events = 0;
+    long steps = 0;
+    std::vector<int> found(static_cast<std::size_t>(nc_ + n_));
+    double t = 0.0;
+    const double v_guard = 1e-6, f_guard = 1e-6;  // safety net for missed roots (relative)
+
+    while (true) {
+        const int flag = CVode(cvode_, period_, x_, &t, CV_ONE_STEP);
+        if (flag < 0) {
+            r.ok = false;
+            r.failure = std::string("CVODE failed at t = ") + format_number(t) + " in the period: " +
+                        CVodeGetReturnFlagName(flag);
+            return r;
+        }
+        ++steps;
+        ++steps_;
+        if (steps > options_.max_steps_per_period) {
+            r.ok = false;
+            r.failure = "more than " + std::to_string(options_.max_steps_per_period) + " steps in one period";
+            return r;
+        }
+        while (next_sample < samples) {
+            const double ts = period_ * next_sample / samples;
+            if (ts > t) break;
+            throw_on(CVodeGetDky(cvode_, ts, 0, dky_), "CVodeGetDky");
+            record_sample(next_sample, ts, d);
+            ++next_sample;
+        }
+        evaluate(t, x);
+        update_extremes(x);
+        contact_margin(x);
+
+        std::vector<int> hits;
+        if (flag == CV_ROOT_RETURN) {
+            throw_on(CVodeGetRootInfo(cvode_, found.data()), "CVodeGetRootInfo");
+            for (int c = 0; c < nc_; ++c)
+                if (found[static_cast<std::size_t>(c)] != 0 && event_driven(contacts_[static_cast<std::size_t>(c)].law))
+                    hits.push_back(c);
+        } else {
+            double vscale = 1.0;
+            for (int i = 0; i < n_; ++i) vscale = std::max(vscale, std::abs(x[n_ + i]));
+            for (int c = 0; c < nc_; ++c) {
+                const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+                if (!event_driven(k.law)) continue;
+                const double g = mode_root(c, x);
+                const double guard = mode_[static_cast<std::size_t>(c)] != 0 ? v_guard * vscale : f_guard * k.limit;
+                if (g < -guard) hits.push_back(c);
+            }
+        }
+        update_stick(t, x);
+        if (!hits.empty()) {
+            margin_at_event_ = std::numeric_limits<double>::quiet_NaN();
+            r.switches += handle_events(t, x, hits);
+            if (!std::isnan(margin_at_event_)) update_margin(margin_at_event_);
+            evaluate(t, x);
+            update_extremes(x);
+            contact_margin(x);
+            update_stick(t, x);
+            if (++events > options_.max_events_per_period) {
+                r.ok = false;
+                r.failure = "more than " + std::to_string(options_.max_events_per_period) +
+                            " stick/slip events in one period (chattering?) at t = " + format_number(t);
+                return r;
+            }
+            if (period_ - t <= 1e-12 * period_) break;  // the event closes the period
+            reinit(t);
+        }
+        if (flag == CV_TSTOP_RETURN || t >= period_) break;
+    }
+    for (int c = 0; c < nc_; ++c) {
+        const auto k = static_cast<std::size_t>(c);
+        if (stuck[k]) r.stick_time[k] += period_ - since[k];
+    }
+    const double* q = x + quad_;
+    r.harmonic1 = Eigen::VectorXcd(n_);
+    for (int i = 0; i < n_; ++i)
+        r.harmonic1(i) = std::complex<double>(q[i], -q[n_ + i]) * (omega_ / pi);
+    r.energy = q[2 * n_];
+    r.viscous_energy = q[2 * n_ + 1];
+    r.input_energy = q[2 * n_ + 2];
+    r.end_state = store();
+    return r;
+}
+
+}  // namespace hbf::detail

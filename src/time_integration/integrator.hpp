@@ -1,0 +1,134 @@
+// hbfriction — internal: the CVODE integrator of one period (see time_integration.hpp for the
+// model of each law, the events and the state convention). Not installed.
+#pragma once
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "hbf/time_integration.hpp"
+
+namespace hbf::detail {
+
+/// A contact in the form the integrator evaluates.
+struct ContactData {
+    FrictionLaw law = FrictionLaw::coulomb;
+    int a = 0, b = Contact::ground;
+    double limit = 0;        // F_c
+    double stiffness = 0;    // sigma0 or k_t
+    double damping = 0;      // sigma1
+    double viscous = 0;      // sigma2
+    double static_limit = 0; // F_s (0: F_c)
+    double stribeck = 0;     // v_s (0: none)
+    double eps = 0;          // tanh velocity scale
+
+    explicit ContactData(const Contact& c)
+        : law(c.law), a(c.dof), b(c.other_dof), limit(c.friction_limit), stiffness(c.stiffness),
+          damping(c.damping), viscous(c.viscous), static_limit(c.static_limit), stribeck(c.stribeck_velocity),
+          eps(c.regularization) {}
+
+    double relative(const double* y) const { return y[a] - (b == Contact::ground ? 0.0 : y[b]); }
+    /// LuGre's sliding limit g(v) (F_c for Dahl and without Stribeck curve).
+    double sliding_limit(double v) const {
+        if (law != FrictionLaw::lugre || stribeck <= 0.0 || static_limit <= 0.0) return limit;
+        const double x = v / stribeck;
+        return limit + (static_limit - limit) * std::exp(-x * x);
+    }
+};
+
+/// Everything measured over one period.
+struct PeriodRecord {
+    bool ok = true;
+    std::string failure;
+    Eigen::VectorXd end_state;
+    std::vector<double> y_max;
+    Eigen::VectorXcd harmonic1;
+    std::vector<double> stick_time;   // per contact
+    std::vector<bool> always_stuck;   // per contact: never left stick
+    std::vector<bool> never_stuck;    // per contact: never in stick
+    double margin_min = std::numeric_limits<double>::infinity();
+    double margin_max = -std::numeric_limits<double>::infinity();
+    int switches = 0;
+    double energy = 0, viscous_energy = 0, input_energy = 0;
+    Eigen::VectorXd time;
+    Eigen::MatrixXd displacement, velocity, friction_force;
+};
+
+/// Integrates one period at a time; owns the CVODE memory (created once per frequency).
+class Integrator {
+public:
+    Integrator(const System& system, double omega, const TimeIntegrationOptions& options);
+    ~Integrator();
+    Integrator(const Integrator&) = delete;
+    Integrator& operator=(const Integrator&) = delete;
+
+    /// Makes a public state consistent (modes, projections) at t = 0.
+    void settle_initial(Eigen::VectorXd& state);
+    /// Integrates one period from `start` (public layout, already consistent).
+    PeriodRecord period(const Eigen::VectorXd& start);
+
+    long steps() const { return steps_; }
+    long rhs_evaluations() const;
+
+private:
+    static int rhs_callback(sunrealtype t, N_Vector x, N_Vector dx, void* data);
+    static int root_callback(sunrealtype t, N_Vector x, sunrealtype* g, void* data);
+
+    /// Forces f_ (all contacts, lambda for stuck coulomb), internal rates zdot_ and
+    /// accelerations acc_ at (t, x) with the current modes.
+    void evaluate(double t, const double* x);
+    void derivative(double t, const double* x, double* dx);
+    void roots(double t, const double* x, double* g);
+    /// Rebuilds the stuck-set matrices of the coulomb contacts in mode 0.
+    void rebuild_stuck_set();
+    /// Projects y' so that the coulomb contacts in `set` have v_c = 0 exactly.
+    void project_velocities(double* x, const std::vector<int>& set) const;
+    /// Coulomb: releases the most overloaded stuck contacts until every |lambda| <= F_c.
+    void settle_stuck_set(double t, double* x);
+    /// Handles the mode events of the contacts in `hits` at (t, x); returns mode changes.
+    int handle_events(double t, double* x, const std::vector<int>& hits);
+    /// Stick indicator of contact c at the last evaluate(): > 0 in stick (root function of
+    /// the smooth laws), and the margin of time_integration.hpp.
+    bool in_stick(int c, const double* x) const;
+    double margin(int c, const double* x) const;
+    double mode_root(int c, const double* x) const;
+    void load(const Eigen::VectorXd& state);
+    Eigen::VectorXd store() const;
+    void reinit(double t);
+    void throw_on(int flag, const char* what) const;
+
+    const System& system_;
+    const double omega_, period_;
+    const TimeIntegrationOptions options_;
+    const int n_, nc_, length_, quad_;
+    std::vector<ContactData> contacts_;
+    Eigen::MatrixXd minv_;               // M^-1
+    Eigen::VectorXd excitation_;
+    std::vector<int> mode_;
+    std::vector<int> stuck_;             // coulomb contacts in mode 0
+    Eigen::MatrixXd ws_, minv_ws_, g_;   // W_S, M^-1 W_S, (W_S^T M^-1 W_S)^+
+    std::vector<int> ground_stuck_dof_;  // per DOF: 1 if held to ground by a stuck contact
+    // scratch of evaluate()
+    Eigen::VectorXd f_, zdot_, acc_, load_, lambda_, velocity_c_;
+
+    SUNContext context_ = nullptr;
+    N_Vector x_ = nullptr, dky_ = nullptr;
+    SUNMatrix matrix_ = nullptr;
+    SUNLinearSolver linear_ = nullptr;
+    SUNNonlinearSolver nonlinear_ = nullptr;
+    void* cvode_ = nullptr;
+    long steps_ = 0;
+    long rhs_total_ = 0;  // right-hand side evaluations before the last CVodeReInit
+    double margin_at_event_ = std::numeric_limits<double>::quiet_NaN();
+};
+
+}  // namespace hbf::detail

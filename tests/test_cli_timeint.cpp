@@ -1,0 +1,139 @@
+// End-to-end tests of `hbf timeint`: columns, a value against the library's closed form, bad
+// input (exit code 2, the flag named, no file left).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hbf/analytic.hpp"
+#include "hbf/io.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+struct Run {
+    int exit_code = -1;
+    std::string out, err;
+};
+
+std::string read_all(const fs::path& path) {
+    std::ifstream in(path);
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    return buffer.str();
+}
+
+/// A fresh empty directory, removed afterwards.
+struct ScratchDir {
+    fs::path path;
+    ScratchDir() {
+        path = fs::temp_directory_path() / ("hbf_timeint_" + std::to_string(::getpid()) + "_" +
+                                            std::to_string(reinterpret_cast<std::uintptr_t>(this)));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~ScratchDir() { fs::remove_all(path); }
+};
+
+/// Runs `hbf <args>`; stdout and stderr are captured outside `dir`'s listing.
+Run run_timeint(const std::string& args, const ScratchDir& dir) {
+    const fs::path out = dir.path.string() + ".out", err = dir.path.string() + ".err";
+    const std::string command = std::string("'") + HBF_EXECUTABLE + "' " + args + " >'" + out.string() + "' 2>'" +
+                                err.string() + "' </dev/null";
+    const int status = std::system(command.c_str());
+    Run r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = read_all(out);
+    r.err = read_all(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+}
+
+std::vector<std::vector<std::string>> csv(const std::string& text) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::vector<std::string> fields;
+        std::string field;
+        std::istringstream cells(line);
+        while (std::getline(cells, field, ',')) fields.push_back(field);
+        rows.push_back(fields);
+    }
+    return rows;
+}
+}  // namespace
+
+TEST_CASE("hbf timeint writes the documented columns and the exact stick amplitude", "[cli][timeint]") {
+    ScratchDir dir;
+    const fs::path file = dir.path / "ti.csv";
+    const Run r = run_timeint("timeint --law coulomb --wmin 0.8 --wmax 1.3 --points 3 --out '" + file.string() + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.out.empty());
+    CHECK(r.err.empty());  // every point converged, no progress when not a terminal
+    const auto rows = csv(read_all(file));
+    REQUIRE(rows.size() == 4);
+    const auto columns = hbf::io::timeint_columns(2);
+    REQUIRE(rows[0].size() == columns.size());
+    for (std::size_t k = 0; k < columns.size(); ++k) CHECK(rows[0][k] == columns[k].name);
+    CHECK(rows[0][0] == "w");
+    CHECK(rows[0][1] == "y1_max");
+    CHECK(rows[0][6] == "regime");
+    CHECK(rows[0][8] == "periods");
+    CHECK(rows[0][9] == "converged");
+    // w = 0.8 is in full stick: |Y1| = fe / |1 - (1 + r) w^2| exactly (closed form), to the
+    // integration accuracy (1e-8 relative; measured 1e-11).
+    const hbf::AbsorberParameters p;
+    CHECK(std::stod(rows[1][0]) == 0.8);
+    CHECK(std::stod(rows[1][1]) == Approx(std::abs(hbf::analytic::coulomb_stick(p, 0.8).y1)).epsilon(1e-8));
+    CHECK(rows[1][6] == "stick");
+    CHECK(std::stod(rows[1][5]) == 1.0);
+    for (std::size_t k = 1; k < rows.size(); ++k) CHECK(rows[k][9] == "true");
+    CHECK(std::stod(rows[3][0]) == 1.3);  // ascending by default
+
+    const Run down = run_timeint("timeint --law coulomb --wmin 0.8 --wmax 1.3 --points 3 --sweep down", dir);
+    REQUIRE(down.exit_code == 0);
+    const auto down_rows = csv(down.out);
+    REQUIRE(down_rows.size() == 4);
+    CHECK(std::stod(down_rows[1][0]) == 1.3);
+}
+
+TEST_CASE("hbf timeint --help lists every column", "[cli][timeint]") {
+    ScratchDir dir;
+    const Run r = run_timeint("timeint --help", dir);
+    REQUIRE(r.exit_code == 0);
+    for (const auto& c : hbf::io::timeint_columns(2)) CHECK(r.out.find("  " + c.name + ": ") != std::string::npos);
+    for (const char* flag : {"--w ", "--wmin", "--wmax", "--points", "--sweep", "--rtol", "--atol", "--steady-tol",
+                             "--max-periods", "--law"})
+        CHECK(r.out.find(flag) != std::string::npos);
+}
+
+TEST_CASE("hbf timeint rejects bad input with exit code 2, the flag named and no file", "[cli][timeint]") {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"--law coulomb --wmin 1 --wmax 2 --points 0", "--points"},
+        {"--law coulomb --wmin 1 --wmax 2 --points 3 --sweep sideways", "--sweep"},
+        {"--law coulomb --w 0", "--w"},
+        {"--law coulomb --w 1 --wmin 0.5", "--w"},
+        {"--law coulomb --wmin 2 --wmax 1 --points 3", "--wmax"},
+        {"--law coulomb --w 1 --rtol 1", "--rtol"},
+        {"--law coulomb --w 1 --max-periods 0", "--max-periods"},
+        {"--law coulomb --w 1 --wb 2", "--wb"},
+        {"--law friction --w 1", "law"},
+        {"--law coulomb", "--w"},
+    };
+    for (const auto& [args, flag] : cases) {
+        ScratchDir dir;
+        const fs::path file = dir.path / "ti.csv";
+        const Run r = run_timeint("timeint " + args + " --out '" + file.string() + "'", dir);
+        INFO(args << " -> " << r.err);
+        CHECK(r.exit_code == 2);
+        CHECK(r.err.find(flag) != std::string::npos);
+        CHECK(fs::is_empty(dir.path));  // no output file and no temporary left behind
+    }
+}
