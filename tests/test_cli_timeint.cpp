@@ -104,6 +104,20 @@ TEST_CASE("hbf timeint writes the documented columns and the exact stick amplitu
     CHECK(std::stod(down_rows[1][0]) == 1.3);
 }
 
+TEST_CASE("hbf timeint: a point that does not converge is written as such and the exit code is 1", "[cli][timeint]") {
+    // Coulomb at w = 1 slips and needs about 40 periods (with shooting) to settle to 1e-8;
+    // four periods cannot reach it.
+    ScratchDir dir;
+    const fs::path file = dir.path / "ti.csv";
+    const Run r = run_timeint("timeint --law coulomb --w 1.0 --min-periods 3 --max-periods 4 --out '" + file.string() + "'", dir);
+    CHECK(r.exit_code == 1);
+    CHECK(r.err.find("did not converge") != std::string::npos);
+    const auto rows = csv(read_all(file));
+    REQUIRE(rows.size() == 2);
+    CHECK(rows[1][9] == "false");
+    CHECK(rows[1][8] == "4");
+}
+
 TEST_CASE("hbf timeint --help lists every column", "[cli][timeint]") {
     ScratchDir dir;
     const Run r = run_timeint("timeint --help", dir);

@@ -15,7 +15,8 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.footer(
         "Exit codes: 0 success; 2 bad input (an invalid flag or value: the message names it, no "
-        "output file is written); 1 any other failure (e.g. an output file that cannot be written).\n"
+        "output file is written); 1 any other failure (a solver that did not converge: what was computed is "
+        "written and stderr says where and why; an output file that cannot be written).\n"
         "Run 'hbf <command> --help' for a command's flags and output columns.");
 
     std::map<std::string, Runner> runners;

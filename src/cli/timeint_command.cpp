@@ -113,7 +113,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     if (failed > 0)
         std::cerr << "hbf timeint: warning: " << failed << " of " << responses.size()
                   << " points did not converge (converged = false in the output)\n";
-    return exit_success;
+    return failed > 0 ? exit_failure : exit_success;
 }
 }  // namespace
 
@@ -125,7 +125,7 @@ Runner add_timeint_command(CLI::App& app) {
     options->absorber.add_to(*command,
                              "friction law: coulomb (exact, set-valued, event-driven stick/slip), jenkins (spring "
                              "k_t = r wb^2 in series with a Coulomb slider), dahl, lugre or coulomb-reg (regularised)",
-                             "lugre", true);
+                             "coulomb", true);
     command->remove_option(command->get_option("--dlft-eps"));  // harmonic balance only
     command->add_option("--w", options->w, "a single frequency w, > 0")->type_name("NUMBER");
     command->add_option("--wmin", options->wmin, "first frequency of the sweep grid, > 0")->type_name("NUMBER");
@@ -161,8 +161,8 @@ Runner add_timeint_command(CLI::App& app) {
         "down sweeps). Output: CSV with a header row, one row per frequency in sweep order. Nondimensional as in "
         "the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.\nColumns:\n";
     for (const auto& c : io::timeint_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
-    footer += "A point that did not converge is written with converged = false and reported on standard error; "
-              "the exit code is still 0.";
+    footer += "A point that did not converge is written with converged = false and reported on standard error, "
+              "and the exit code is 1 (like a stalled hbf frf branch: what was computed is written).";
     command->footer(footer);
     return [command, options]() { return run(*command, *options); };
 }
