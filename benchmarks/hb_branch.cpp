@@ -177,7 +177,7 @@ int main(int argc, char** argv) {
     std::string solver = o.corrector.dense_solver == DenseSolver::qr ? "qr" : "cholesky";
     std::string library = o.corrector.dense_library == DenseLibrary::lapack ? "lapack" : "eigen";
     app.add_option("--harmonics", harmonics, "harmonic counts H to time")->delimiter(',')->capture_default_str();
-    app.add_option("--law", law_name, "dahl, lugre or coulomb-reg")->capture_default_str();
+    app.add_option("--law", law_name, "friction law: lugre, dahl, coulomb-reg, coulomb (exact) or jenkins")->capture_default_str();
     app.add_option("--fe", p.excitation, "excitation amplitude fe (paper's nondimensional)")->capture_default_str();
     app.add_option("--wmin", o.omega_start, "first frequency")->capture_default_str();
     app.add_option("--wmax", o.omega_end, "last frequency")->capture_default_str();
