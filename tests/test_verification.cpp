@@ -107,7 +107,8 @@ TEST_CASE("Den Hartog's exact non-sticking Coulomb oscillator: harmonic balance 
     // O(1/H). Measured: 1.6%, 1.0%, 0.56%, 0.3% at H = 5, 10, 20, 40 (eta = 0.6, rho = 0.3).
     // Far above resonance (eta = 2.5) the amplitude is small and the smeared stop weighs
     // more: 12% at H = 5, 8.5% at H = 10.
-    // Asserted: the error falls by at least 1.4 per doubling of H, from below 15% at H = 5,
+    // Asserted, for the dynamic Lagrangian's eps = 0.3, 1 (automatic) and 3: the error falls
+    // by at least 1.4 per doubling of H, from below 15% at H = 5,
     // and the motion is classified as slip. The time integrator reproduces the same closed
     // form to 1e-6 (test_time_integration).
     for (const auto& [eta, rho] : {std::pair<double, double>{0.6, 0.3}, {1.5, 0.2}, {2.5, 0.5}}) {
@@ -122,6 +123,9 @@ TEST_CASE("Den Hartog's exact non-sticking Coulomb oscillator: harmonic balance 
         c.law = FrictionLaw::coulomb;
         c.friction_limit = rho;
         s.contacts.push_back(c);
+        // For any admissible penalty: the automatic one (sqrt(k m) = 1) and 10x apart.
+        for (double penalty : {0.0, 0.3, 3.0}) {
+        s.contacts[0].lagrangian_penalty = penalty;
         double previous = INFINITY;
         for (int harmonics : {5, 10, 20, 40}) {
             HarmonicBalance hb(s, HarmonicBalanceOptions{harmonics, 0});
@@ -130,15 +134,20 @@ TEST_CASE("Den Hartog's exact non-sticking Coulomb oscillator: harmonic balance 
             o.omega_end = eta;
             o.corrector.max_iterations = 100;
             const BranchResult b = continue_branch(hb, o);
-            INFO("eta = " << eta << ", rho = " << rho << ", H = " << harmonics << ": " << b.summary());
+            INFO("eta = " << eta << ", rho = " << rho << ", eps = " << penalty << ", H = " << harmonics << ": "
+                           << b.summary());
             REQUIRE(b.status == ContinuationStatus::completed);
             Analyser analyse(hb);
             const PointMetrics m = analyse(b.points.back());
             const double error = std::abs(m.y_max[0] - exact.amplitude) / exact.amplitude;
             INFO("y_max " << m.y_max[0] << ", exact " << exact.amplitude << ", error " << error);
-            CHECK(m.regime == "slip");
+            // The smeared stop is wider for a smaller eps (|lambda + eps v| < rho for longer):
+            // at eps = 0.3, eta = 2.5 (slow motion) it exceeds two cells, and would read as
+            // a short stick; the regime is asserted for eps >= the automatic value.
+            if (penalty == 0.0 || penalty >= 1.0) CHECK(m.regime == "slip");
             CHECK(error < (harmonics == 5 ? 0.15 : previous / 1.4));
             previous = error;
+        }
         }
     }
 }
