@@ -286,6 +286,15 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
         x = hb.linear_guess(omega, sliding);
         if (attempt(hb, corrector, x)) return true;
     }
+    // The start is one point: before ramping, let the corrector work longer from the guesses
+    // (exact Coulomb with many harmonics may need 30-60 iterations from a linear guess).
+    CorrectorOptions patient_options = options;
+    patient_options.max_iterations = std::max(options.max_iterations, 100);
+    Corrector patient(hb, patient_options);
+    for (const bool sliding : {false, true}) {
+        x = hb.linear_guess(omega, sliding);
+        if (attempt(hb, patient, x)) return true;
+    }
     const double first_residual = residual;
     const HarmonicBalanceOptions layout{hb.harmonics(), hb.time_samples()};
     auto scaled = [&](double lambda) {

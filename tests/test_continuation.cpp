@@ -291,10 +291,13 @@ TEST_CASE("Continuation through folds: the branch bends over and comes back", "[
 
 TEST_CASE("A stick-slip start is found by ramping the excitation, and matches the branch", "[continuation]") {
     // At w = 0.7 this oscillator is in stick-slip, far from both linear guesses (stiffness
-    // 11 or 1), which do not converge; the start ramps the force up from 1e-3 F.
+    // 11 or 1), which do not converge even with the start's 100 iterations; the start ramps
+    // the force up from 1e-3 F.
     System s = test::dahl_oscillator(10.0, 1.0, 1.4, 0.003);
     HarmonicBalance hb(s, HarmonicBalanceOptions{10, 0});
-    Corrector corrector(hb, CorrectorOptions{});
+    CorrectorOptions patient;
+    patient.max_iterations = 100;
+    Corrector corrector(hb, patient);
     int iterations = 0;
     double residual = 0.0;
     bool direct = false;

@@ -132,7 +132,6 @@ TEST_CASE("Den Hartog's exact non-sticking Coulomb oscillator: harmonic balance 
             ContinuationOptions o;
             o.omega_start = 0.97 * eta;
             o.omega_end = eta;
-            o.corrector.max_iterations = 100;
             const BranchResult b = continue_branch(hb, o);
             INFO("eta = " << eta << ", rho = " << rho << ", eps = " << penalty << ", H = " << harmonics << ": "
                            << b.summary());
