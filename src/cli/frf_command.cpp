@@ -38,11 +38,14 @@ std::vector<double> parse_list(const std::string& flag, const std::string& text)
     return values;
 }
 
-/// Default H, measured (README, benchmarks/hb_branch, tests/test_verification.cpp): the smooth
-/// laws and Jenkins (continuous force) converge fast (H = 10: the peak within 6e-5 of
+/// Default H, measured (README, benchmarks/hb_branch, tests/test_verification.cpp): Dahl,
+/// LuGre and Jenkins (continuous force) converge fast (H = 10: the peak within 6e-5 of
 /// H = 40; Jenkins within 4e-6 of time integration); exact Coulomb like 1/H (H = 20: about
-/// 1% at the peak).
-int default_harmonics(FrictionLaw law) { return law == FrictionLaw::coulomb ? 20 : 10; }
+/// 1% at the peak); regularised Coulomb's steep tanh (eps = 0.05) wiggles at H = 10 (13
+/// spurious peaks on the default FRF) and is clean at H = 20.
+int default_harmonics(FrictionLaw law) {
+    return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
+}
 
 int run(const CLI::App& command, const FrfOptions& o) {
     const auto started = std::chrono::steady_clock::now();
@@ -132,8 +135,8 @@ Runner add_frf_command(CLI::App& app) {
     command->add_option("--wmin", options->wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
     command->add_option("--wmax", options->wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
     command->add_option("--harmonics", options->harmonics,
-                        "number of harmonics H, 1..200; 0 = automatic: 20 for coulomb (its error falls like 1/H), "
-                        "10 for the other laws")
+                        "number of harmonics H, 1..200; 0 = automatic: 20 for coulomb (its error falls like 1/H) "
+                        "and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins")
         ->capture_default_str()->type_name("INT");
     command->add_option("--time-samples", options->time_samples,
                         "AFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "
