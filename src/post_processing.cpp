@@ -1,0 +1,181 @@
+// Post-processing of branch points: metrics (y_max, first harmonics, stick pattern, energy)
+// and refined resonance peaks (declared in continuation.hpp, next to the branch data).
+#include <algorithm>
+#include <cmath>
+
+#include "hbf/continuation.hpp"
+
+namespace hbf {
+
+// ---- post-processing --------------------------------------------------------------------
+
+int fine_time_samples(int harmonics) { return std::max(1024, Fourier::default_time_samples(harmonics) * 4); }
+
+namespace {
+/// max over theta of |x(theta)| for the series with coefficients c: the largest of the
+/// samples, polished by Newton on x'(theta) = 0 within one grid spacing (exact to rounding,
+/// where the grid alone would be off by up to (pi / N)^2 / 2 relative).
+double series_max_abs(const Eigen::VectorXd& c, const Eigen::VectorXd& samples) {
+    Eigen::Index j = 0;
+    const double grid_max = samples.cwiseAbs().maxCoeff(&j);
+    const int harmonics = static_cast<int>(c.size() - 1) / 2;
+    const double spacing = 2.0 * M_PI / static_cast<double>(samples.size());
+    const double theta0 = spacing * static_cast<double>(j);
+    double theta = theta0;
+    auto value = [&](double th, double* d1, double* d2) {
+        double x = c(0), dx = 0.0, ddx = 0.0;
+        for (int k = 1; k <= harmonics; ++k) {
+            const double ck = c(2 * k - 1), sk = c(2 * k), co = std::cos(k * th), si = std::sin(k * th);
+            x += ck * co + sk * si;
+            dx += k * (sk * co - ck * si);
+            ddx -= k * k * (ck * co + sk * si);
+        }
+        if (d1) *d1 = dx;
+        if (d2) *d2 = ddx;
+        return x;
+    };
+    for (int iteration = 0; iteration < 8; ++iteration) {
+        double d1 = 0.0, d2 = 0.0;
+        value(theta, &d1, &d2);
+        if (d2 == 0.0) break;
+        const double next = theta - d1 / d2;
+        if (std::abs(next - theta0) > spacing) break;  // left the sample's neighbourhood
+        const bool converged = std::abs(next - theta) <= 1e-14;
+        theta = next;
+        if (converged) break;
+    }
+    return std::max(grid_max, std::abs(value(theta, nullptr, nullptr)));
+}
+}  // namespace
+
+int stick_phase_samples(int harmonics, int time_samples) {
+    return (2 * time_samples + 2 * harmonics) / (2 * harmonics + 1);  // ceil(2 N_t / (2H + 1))
+}
+
+StickPattern stick_pattern(const Eigen::VectorXd& phi, int min_run) {
+    const Eigen::Index n = phi.size();
+    StickPattern p;
+    if (n == 0) return p;
+    const Eigen::Index sticking = (phi.array() < 0.0).count();
+    if (sticking == n) {
+        p.fraction = 1.0;
+        p.regime = "stick";
+        return p;
+    }
+    // Runs of sticking samples, starting after a slipping sample (one exists).
+    Eigen::Index start = 0;
+    while (phi(start) < 0.0) ++start;
+    Eigen::Index in_phases = 0, run = 0;
+    for (Eigen::Index k = 1; k <= n; ++k) {
+        if (phi((start + k) % n) < 0.0) {
+            ++run;
+            continue;
+        }
+        if (run >= min_run) in_phases += run;
+        run = 0;
+    }
+    p.fraction = static_cast<double>(in_phases) / static_cast<double>(n);
+    p.regime = in_phases == 0 ? "slip" : "stick-slip";
+    return p;
+}
+
+Analyser::Analyser(HarmonicBalance& hb) : hb_(hb), fine_(hb.harmonics(), fine_time_samples(hb.harmonics())) {}
+
+PointMetrics Analyser::operator()(const SolutionPoint& point) {
+    PointMetrics m;
+    const System& s = hb_.system();
+    const double omega = point.omega;
+    Eigen::VectorXd samples(fine_.time_samples());
+    for (int i = 0; i < s.dofs(); ++i) {
+        const Eigen::VectorXd c = hb_.dof(point.x, i);
+        fine_.to_time(c, samples);
+        m.y_max.push_back(series_max_abs(c, samples));
+        m.y_amp1.push_back(std::hypot(c(1), c(2)));
+        m.input_energy += M_PI * s.excitation(i) * c(2);
+    }
+    if (s.contacts.empty()) {
+        m.regime = "none";
+        return m;
+    }
+    // Stick fraction and regime of contact 1 from its law's own stick samples.
+    const Eigen::VectorXd phi = hb_.stick_indicator(point.x, omega, 0);
+    const StickPattern pattern = stick_pattern(phi, stick_phase_samples(hb_.harmonics(), hb_.time_samples()));
+    m.stick_fraction = pattern.fraction;
+    m.regime = pattern.regime;
+    m.stick_indicator_max = phi.maxCoeff();
+    m.stick_indicator_min = phi.minCoeff();
+    // Dissipated energy: integral over the period 2 pi / omega of f q', on the AFT grid.
+    Fourier& aft = hb_.fourier();
+    Eigen::VectorXd v(aft.time_samples());
+    for (int c = 0; c < static_cast<int>(s.contacts.size()); ++c) {
+        aft.to_time(omega * (aft.derivative() * hb_.relative(point.x, c)), v);
+        const Eigen::VectorXd f = hb_.force_samples(point.x, omega, c);
+        m.energy += 2.0 * M_PI / omega * f.dot(v) / aft.time_samples();
+    }
+    return m;
+}
+
+std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, int dof, const CorrectorOptions& options) {
+    const auto& points = branch.points;
+    Analyser analyse(hb);
+    std::vector<double> y(points.size());
+    for (std::size_t k = 0; k < points.size(); ++k) y[k] = analyse(points[k]).y_max[static_cast<std::size_t>(dof)];
+    Corrector corrector(hb, options);
+    std::vector<Peak> peaks;
+    for (std::size_t k = 1; k + 1 < points.size(); ++k) {
+        const SolutionPoint &a = points[k - 1], &m = points[k], &b = points[k + 1];
+        if (a.branch != m.branch || b.branch != m.branch || !(y[k] > y[k - 1] && y[k] >= y[k + 1])) continue;
+        Peak peak{m.omega, y[k], m.branch, false};
+        const bool monotone = (m.omega - a.omega) * (b.omega - m.omega) > 0.0 && m.kind != PointKind::fold &&
+                              b.kind != PointKind::fold;
+        if (monotone) {
+            // y(omega) on the segment a-m-b, solved exactly at omega from the interpolation.
+            const SolutionPoint& low = a.omega < b.omega ? a : b;
+            const SolutionPoint& high = a.omega < b.omega ? b : a;
+            bool ok = true;
+            auto value = [&](double omega) {
+                const SolutionPoint& left = omega <= m.omega ? low : m;  // low < m < high in omega
+                const SolutionPoint& right = omega <= m.omega ? m : high;
+                const double s = (omega - left.omega) / (right.omega - left.omega);
+                SolutionPoint p;
+                p.omega = omega;
+                p.x = left.x + s * (right.x - left.x);
+                const double x_scale = std::max(hb.force_scale(), p.x.cwiseAbs().maxCoeff());
+                if (!corrector.solve_at(p.x, omega, x_scale, p.iterations, p.residual)) {
+                    ok = false;
+                    return 0.0;
+                }
+                return analyse(p).y_max[static_cast<std::size_t>(dof)];
+            };
+            const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+            double lo = low.omega, hi = high.omega;
+            double c = hi - golden * (hi - lo), d = lo + golden * (hi - lo);
+            double yc = value(c), yd = value(d);
+            while (ok && hi - lo > 1e-9 * hi) {
+                if (yc >= yd) {
+                    hi = d;
+                    d = c;
+                    yd = yc;
+                    c = hi - golden * (hi - lo);
+                    yc = value(c);
+                } else {
+                    lo = c;
+                    c = d;
+                    yc = yd;
+                    d = lo + golden * (hi - lo);
+                    yd = value(d);
+                }
+            }
+            const double best = yc >= yd ? yc : yd;
+            if (ok && best >= y[k]) {
+                peak.omega = yc >= yd ? c : d;
+                peak.y_max = best;
+                peak.refined = true;
+            }
+        }
+        peaks.push_back(peak);
+    }
+    return peaks;
+}
+
+}  // namespace hbf
