@@ -1,5 +1,6 @@
 #include "hbf/io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -86,12 +87,22 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
 }
 
 std::vector<Column> frf_columns(int dofs) {
-    std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1)"}};
-    for (int i = 1; i <= dofs; ++i)
-        columns.push_back({"y" + std::to_string(i) + "_max", "max over one period of |y" + std::to_string(i) + "(t)|"});
-    for (int i = 1; i <= dofs; ++i)
-        columns.push_back({"y" + std::to_string(i) + "_amp1",
-                           "first-harmonic amplitude sqrt(c1^2 + s1^2) of y" + std::to_string(i)});
+    std::vector<int> all(static_cast<std::size_t>(std::max(0, dofs)));
+    for (int i = 0; i < dofs; ++i) all[static_cast<std::size_t>(i)] = i;
+    return frf_columns(all);
+}
+
+std::vector<Column> frf_columns(const std::vector<int>& report) {
+    std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
+                                         "in the file's units)"}};
+    for (int d : report) {
+        const std::string i = std::to_string(d + 1);
+        columns.push_back({"y" + i + "_max", "max over one period of |y" + i + "(t)|"});
+    }
+    for (int d : report) {
+        const std::string i = std::to_string(d + 1);
+        columns.push_back({"y" + i + "_amp1", "first-harmonic amplitude sqrt(c1^2 + s1^2) of y" + i});
+    }
     const std::vector<Column> rest = {
         {"stick_fraction", "share of the period in stick, contact 1, by the law's own definition (AFT samples; "
                            "coulomb: |lambda + eps v| < mu; jenkins: slider at rest; dahl/lugre: |sigma0 z| < 0.95 g(v); "
@@ -110,16 +121,16 @@ std::vector<Column> frf_columns(int dofs) {
 }
 
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
-                   const std::vector<PointMetrics>& metrics, int dofs) {
-    const auto columns = frf_columns(dofs);
+                   const std::vector<PointMetrics>& metrics, const std::vector<int>& report) {
+    const auto columns = frf_columns(report);
     for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
     out << '\n';
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
         const PointMetrics& m = metrics[k];
         out << format_number(p.omega);
-        for (double y : m.y_max) out << ',' << format_number(y);
-        for (double y : m.y_amp1) out << ',' << format_number(y);
+        for (int d : report) out << ',' << format_number(m.y_max[static_cast<std::size_t>(d)]);
+        for (int d : report) out << ',' << format_number(m.y_amp1[static_cast<std::size_t>(d)]);
         out << ',' << format_number(m.stick_fraction) << ',' << m.regime << ',' << format_number(m.energy) << ','
             << p.branch << ',' << to_string(p.kind) << ',' << p.iterations << ',' << format_number(p.residual) << ','
             << format_number(p.step) << '\n';

@@ -8,67 +8,15 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_support.hpp"
 #include "hbf/analytic.hpp"
 
 namespace fs = std::filesystem;
 namespace an = hbf::analytic;
 
+using namespace test;
+
 namespace {
-struct Result {
-    int exit_code = -1;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path);
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    return buffer.str();
-}
-
-/// A fresh empty directory per test case, removed afterwards.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("hbf_cli_" + std::to_string(::getpid()) + "_" +
-                                            std::to_string(reinterpret_cast<std::uintptr_t>(this)));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    bool empty() const { return fs::is_empty(path); }
-};
-
-/// Runs `hbf <args>` (args are passed through the shell, quote as needed).
-Result run_hbf(const std::string& args, const TempDir& dir) {
-    const fs::path out = dir.path / "stdout.txt", err = dir.path / "stderr.txt";
-    const std::string command = std::string("'") + HBF_EXECUTABLE + "' " + args + " >'" + out.string() +
-                                "' 2>'" + err.string() + "' </dev/null";
-    const int status = std::system(command.c_str());
-    Result r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-}
-
-std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
-    std::vector<std::vector<std::string>> rows;
-    std::istringstream in(text);
-    std::string line;
-    while (std::getline(in, line)) {
-        std::vector<std::string> fields;
-        std::string field;
-        std::istringstream cells(line);
-        while (std::getline(cells, field, ',')) fields.push_back(field);
-        if (!line.empty() && line.back() == ',') fields.emplace_back();
-        rows.push_back(fields);
-    }
-    return rows;
-}
-
 const char* header = "w,y1_stick,y2_stick,y1_slip,y2_slip,mu_limit,mu_opt_den_hartog";
 }  // namespace
 

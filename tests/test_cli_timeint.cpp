@@ -10,74 +10,20 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_support.hpp"
 #include "hbf/analytic.hpp"
 #include "hbf/io.hpp"
 
-namespace fs = std::filesystem;
-
-namespace {
-struct Run {
-    int exit_code = -1;
-    std::string out, err;
-};
-
-std::string read_all(const fs::path& path) {
-    std::ifstream in(path);
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    return buffer.str();
-}
-
-/// A fresh empty directory, removed afterwards.
-struct ScratchDir {
-    fs::path path;
-    ScratchDir() {
-        path = fs::temp_directory_path() / ("hbf_timeint_" + std::to_string(::getpid()) + "_" +
-                                            std::to_string(reinterpret_cast<std::uintptr_t>(this)));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~ScratchDir() { fs::remove_all(path); }
-};
-
-/// Runs `hbf <args>`; stdout and stderr are captured outside `dir`'s listing.
-Run run_timeint(const std::string& args, const ScratchDir& dir) {
-    const fs::path out = dir.path.string() + ".out", err = dir.path.string() + ".err";
-    const std::string command = std::string("'") + HBF_EXECUTABLE + "' " + args + " >'" + out.string() + "' 2>'" +
-                                err.string() + "' </dev/null";
-    const int status = std::system(command.c_str());
-    Run r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = read_all(out);
-    r.err = read_all(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-}
-
-std::vector<std::vector<std::string>> csv(const std::string& text) {
-    std::vector<std::vector<std::string>> rows;
-    std::istringstream in(text);
-    std::string line;
-    while (std::getline(in, line)) {
-        std::vector<std::string> fields;
-        std::string field;
-        std::istringstream cells(line);
-        while (std::getline(cells, field, ',')) fields.push_back(field);
-        rows.push_back(fields);
-    }
-    return rows;
-}
-}  // namespace
+using namespace test;
 
 TEST_CASE("hbf timeint writes the documented columns and the exact stick amplitude", "[cli][timeint]") {
-    ScratchDir dir;
+    TempDir dir;
     const fs::path file = dir.path / "ti.csv";
-    const Run r = run_timeint("timeint --law coulomb --wmin 0.8 --wmax 1.3 --points 3 --out '" + file.string() + "'", dir);
+    const Result r = run_hbf("timeint --law coulomb --wmin 0.8 --wmax 1.3 --points 3 --out '" + file.string() + "'", dir);
     REQUIRE(r.exit_code == 0);
     CHECK(r.out.empty());
     CHECK(r.err.empty());  // every point converged, no progress when not a terminal
-    const auto rows = csv(read_all(file));
+    const auto rows = parse_csv(slurp(file));
     REQUIRE(rows.size() == 4);
     const auto columns = hbf::io::timeint_columns(2);
     REQUIRE(rows[0].size() == columns.size());
@@ -97,9 +43,9 @@ TEST_CASE("hbf timeint writes the documented columns and the exact stick amplitu
     for (std::size_t k = 1; k < rows.size(); ++k) CHECK(rows[k][9] == "true");
     CHECK(std::stod(rows[3][0]) == 1.3);  // ascending by default
 
-    const Run down = run_timeint("timeint --law coulomb --wmin 0.8 --wmax 1.3 --points 3 --sweep down", dir);
+    const Result down = run_hbf("timeint --law coulomb --wmin 0.8 --wmax 1.3 --points 3 --sweep down", dir);
     REQUIRE(down.exit_code == 0);
-    const auto down_rows = csv(down.out);
+    const auto down_rows = parse_csv(down.out);
     REQUIRE(down_rows.size() == 4);
     CHECK(std::stod(down_rows[1][0]) == 1.3);
 }
@@ -107,20 +53,20 @@ TEST_CASE("hbf timeint writes the documented columns and the exact stick amplitu
 TEST_CASE("hbf timeint: a point that does not converge is written as such and the exit code is 1", "[cli][timeint]") {
     // Coulomb at w = 1 slips and needs about 40 periods (with shooting) to settle to 1e-8;
     // four periods cannot reach it.
-    ScratchDir dir;
+    TempDir dir;
     const fs::path file = dir.path / "ti.csv";
-    const Run r = run_timeint("timeint --law coulomb --w 1.0 --min-periods 3 --max-periods 4 --out '" + file.string() + "'", dir);
+    const Result r = run_hbf("timeint --law coulomb --w 1.0 --min-periods 3 --max-periods 4 --out '" + file.string() + "'", dir);
     CHECK(r.exit_code == 1);
     CHECK(r.err.find("did not converge") != std::string::npos);
-    const auto rows = csv(read_all(file));
+    const auto rows = parse_csv(slurp(file));
     REQUIRE(rows.size() == 2);
     CHECK(rows[1][9] == "false");
     CHECK(rows[1][8] == "4");
 }
 
 TEST_CASE("hbf timeint --help lists every column", "[cli][timeint]") {
-    ScratchDir dir;
-    const Run r = run_timeint("timeint --help", dir);
+    TempDir dir;
+    const Result r = run_hbf("timeint --help", dir);
     REQUIRE(r.exit_code == 0);
     for (const auto& c : hbf::io::timeint_columns(2)) CHECK(r.out.find("  " + c.name + ": ") != std::string::npos);
     for (const char* flag : {"--w ", "--wmin", "--wmax", "--points", "--sweep", "--rtol", "--atol", "--steady-tol",
@@ -142,9 +88,9 @@ TEST_CASE("hbf timeint rejects bad input with exit code 2, the flag named and no
         {"--law coulomb", "--w"},
     };
     for (const auto& [args, flag] : cases) {
-        ScratchDir dir;
+        TempDir dir;
         const fs::path file = dir.path / "ti.csv";
-        const Run r = run_timeint("timeint " + args + " --out '" + file.string() + "'", dir);
+        const Result r = run_hbf("timeint " + args + " --out '" + file.string() + "'", dir);
         INFO(args << " -> " << r.err);
         CHECK(r.exit_code == 2);
         CHECK(r.err.find(flag) != std::string::npos);

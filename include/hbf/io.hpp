@@ -48,12 +48,14 @@ const std::vector<Column>& analytic_columns();
 /// Writes the header row and one row per frequency.
 void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows);
 
-/// Columns of `hbf frf` for a system with `dofs` DOFs (y<i>_max, y<i>_amp1 for each).
+/// Columns of `hbf frf` reporting the DOFs `report` (0-based, in this order; columns
+/// y<i+1>_max, y<i+1>_amp1), or all `dofs` DOFs.
+std::vector<Column> frf_columns(const std::vector<int>& report);
 std::vector<Column> frf_columns(int dofs);
 
 /// Writes the header row and one row per point (metrics[k] belongs to points[k]).
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
-                   const std::vector<PointMetrics>& metrics, int dofs);
+                   const std::vector<PointMetrics>& metrics, const std::vector<int>& report);
 
 /// Columns of `hbf timeint` for a system with `dofs` DOFs: the `hbf frf` columns that apply
 /// (w, y<i>_max, y<i>_amp1, stick_fraction, regime, energy), then periods, converged and the

@@ -109,6 +109,14 @@ FrictionLaw AbsorberFlags::friction_law() const {
     }
 }
 
+std::vector<std::string> AbsorberFlags::given(const CLI::App& command) const {
+    std::vector<std::string> flags;
+    for (const char* flag : {"--r", "--wa", "--mu", "--fe", "--wb", "--xi", "--eps", "--mu-static", "--stribeck-velocity",
+                             "--viscous", "--dlft-eps"})
+        if (command.get_option_no_throw(flag) != nullptr && command.count(flag) > 0) flags.emplace_back(flag);
+    return flags;
+}
+
 AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
     const FrictionLaw chosen = friction_law();
     for (const FlagScope& scope : flag_scopes()) {

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "hbf/model.hpp"
 
@@ -39,6 +40,9 @@ struct AbsorberFlags {
     /// Parameters with defaults for flags not given. Throws UsageError for a flag that does
     /// not apply to the chosen law (e.g. --wb for coulomb, --xi for coulomb and dahl).
     AbsorberParameters parameters(const CLI::App& command) const;
+    /// The preset's parameter flags given on the command line (all but --law), e.g. to reject
+    /// them where the system comes from a file.
+    std::vector<std::string> given(const CLI::App& command) const;
 };
 
 }  // namespace hbf::cli

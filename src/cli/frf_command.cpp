@@ -5,9 +5,11 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
 #include "hbf/io.hpp"
@@ -19,7 +21,7 @@ struct FrfOptions {
     AbsorberFlags absorber;
     std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000",
                 tolerance = "1e-9";
-    std::string at, out, summary;
+    std::string at, out, summary, config;
     bool quiet = false;
 };
 
@@ -47,29 +49,78 @@ int default_harmonics(FrictionLaw law) {
     return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
 }
 
+bool given(const CLI::App& command, const char* flag) { return command.count(flag) > 0; }
+
 int run(const CLI::App& command, const FrfOptions& o) {
     const auto started = std::chrono::steady_clock::now();
-    const FrictionLaw law = o.absorber.friction_law();
-    const AbsorberParameters p = o.absorber.parameters(command);
+    // The system: the paper's absorber from its flags, or any structure from --config (whose
+    // frequency range and solver settings the flags override).
+    System system;
+    std::string law_name;
+    std::vector<int> report = {0, 1};
+    std::optional<io::SystemConfig> config;
+    AbsorberParameters p;
+    int automatic_harmonics = 10;
+    if (!o.config.empty()) {
+        const std::vector<std::string> preset = o.absorber.given(command);
+        if (!preset.empty())
+            throw UsageError(preset.front() + " sets a parameter of the paper's absorber preset: with --config, set "
+                             "the structure and its contacts in the file");
+        config = io::read_system_config(o.config);
+        system = config->system;
+        if (given(command, "--law")) {  // every contact takes the law given on the command line
+            const FrictionLaw law = o.absorber.friction_law();
+            for (Contact& c : system.contacts) c.law = law;
+            try {
+                system.validate();
+            } catch (const InvalidInput& e) {
+                throw UsageError("--law = " + o.absorber.law + " does not fit the contacts of " + o.config + ": " +
+                                 e.what());
+            }
+        }
+        for (const Contact& c : system.contacts) {
+            const std::string name = to_string(c.law);
+            if (law_name.find(name) == std::string::npos) law_name += (law_name.empty() ? "" : ",") + name;
+            automatic_harmonics = std::max(automatic_harmonics, default_harmonics(c.law));
+        }
+        report = config->report;
+    } else {
+        const FrictionLaw law = o.absorber.friction_law();
+        p = o.absorber.parameters(command);
+        system = friction_absorber(p, law);
+        law_name = to_string(law);
+        automatic_harmonics = default_harmonics(law);
+    }
     HarmonicBalanceOptions hbo;
+    const bool file_harmonics = config && config->harmonics && !given(command, "--harmonics");
     hbo.harmonics = static_cast<int>(std::clamp<long long>(parse_integer("--harmonics", o.harmonics), -1, 100000));
     if (hbo.harmonics < 0 || hbo.harmonics > 200)
         throw UsageError("--harmonics = " + o.harmonics + " is out of range: allowed 0 (automatic) or 1..200");
-    if (hbo.harmonics == 0) hbo.harmonics = default_harmonics(law);
+    if (file_harmonics) hbo.harmonics = *config->harmonics;
+    if (hbo.harmonics == 0) hbo.harmonics = automatic_harmonics;
     const long long nt = parse_integer("--time-samples", o.time_samples);
     if (nt != 0 && (nt <= 2 * hbo.harmonics || nt > 65536))
         throw UsageError("--time-samples = " + o.time_samples + " is out of range: allowed 0 (automatic) or " +
                          std::to_string(2 * hbo.harmonics + 1) + "..65536");
     hbo.time_samples = static_cast<int>(nt);
+    if (config && config->time_samples && !given(command, "--time-samples")) {
+        hbo.time_samples = *config->time_samples;
+        if (hbo.time_samples != 0 && hbo.time_samples <= 2 * hbo.harmonics)
+            throw UsageError(o.config + ": key 'solver.time_samples': " + std::to_string(hbo.time_samples) +
+                             " is out of range: allowed 0 (automatic) or " + std::to_string(2 * hbo.harmonics + 1) +
+                             "..65536");
+    }
     ContinuationOptions co;
     co.omega_start = parse_double("--wmin", o.wmin);
     co.omega_end = parse_double("--wmax", o.wmax);
+    if (config && config->omega_start && !given(command, "--wmin")) co.omega_start = *config->omega_start;
+    if (config && config->omega_end && !given(command, "--wmax")) co.omega_end = *config->omega_end;
     co.max_amplitude = parse_double("--max-amplitude", o.max_amplitude);
     co.corrector.tolerance = parse_double("--tolerance", o.tolerance);
     if (!(co.corrector.tolerance >= 1e-14 && co.corrector.tolerance <= 1e-2))
         throw UsageError("--tolerance = " + o.tolerance + " is out of range: allowed 1e-14..1e-2");
     const std::vector<double> at = o.at.empty() ? std::vector<double>{} : parse_list("--at", o.at);
-    HarmonicBalance hb(friction_absorber(p, law), hbo);
+    HarmonicBalance hb(system, hbo);
     BranchResult branch = continue_branch(hb, co);  // validates the range options
 
     std::vector<SolutionPoint> points = branch.points;
@@ -84,29 +135,34 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const std::vector<Peak> peaks = o.summary.empty() ? std::vector<Peak>{} : find_peaks(hb, branch, 0, co.corrector);
 
     io::OutputFile out(o.out);
-    io::write_frf_csv(out.stream(), points, metrics, hb.system().dofs());
+    io::write_frf_csv(out.stream(), points, metrics, report);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::unique_ptr<io::OutputFile> summary;
     if (!o.summary.empty()) {
-        const std::vector<std::pair<std::string, double>> parameters = {
-            {"r", p.mass_ratio},
-            {"wa", p.tuning_ratio},
-            {"mu", p.friction_coefficient},
-            {"fe", p.excitation},
-            {"wb", p.contact_stiffness_ratio},
-            {"xi", p.contact_damping_ratio},
-            {"eps", p.regularization},
-            {"mu_static", p.static_friction_coefficient},
-            {"stribeck_velocity", p.stribeck_velocity},
-            {"viscous", p.viscous_coefficient},
-            {"wmin", co.omega_start},
-            {"wmax", co.omega_end},
-            {"harmonics", hb.harmonics()},
-            {"time_samples", hb.time_samples()},
-            {"max_amplitude", co.max_amplitude},
-            {"tolerance", co.corrector.tolerance}};
+        std::vector<std::pair<std::string, double>> parameters;
+        if (config) {
+            parameters = {{"dofs", system.dofs()}, {"contacts", static_cast<double>(system.contacts.size())}};
+        } else {
+            parameters = {{"r", p.mass_ratio},
+                          {"wa", p.tuning_ratio},
+                          {"mu", p.friction_coefficient},
+                          {"fe", p.excitation},
+                          {"wb", p.contact_stiffness_ratio},
+                          {"xi", p.contact_damping_ratio},
+                          {"eps", p.regularization},
+                          {"mu_static", p.static_friction_coefficient},
+                          {"stribeck_velocity", p.stribeck_velocity},
+                          {"viscous", p.viscous_coefficient}};
+        }
+        const std::vector<std::pair<std::string, double>> solver = {{"wmin", co.omega_start},
+                                                                    {"wmax", co.omega_end},
+                                                                    {"harmonics", hb.harmonics()},
+                                                                    {"time_samples", hb.time_samples()},
+                                                                    {"max_amplitude", co.max_amplitude},
+                                                                    {"tolerance", co.corrector.tolerance}};
+        parameters.insert(parameters.end(), solver.begin(), solver.end());
         summary = std::make_unique<io::OutputFile>(o.summary);
-        io::write_frf_summary(summary->stream(), to_string(law), parameters, branch, metrics, peaks,
+        io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks,
                               points.size() - branch.points.size(), seconds);
     }
     out.commit();
@@ -153,6 +209,12 @@ Runner add_frf_command(CLI::App& app) {
     command->add_option("--tolerance", options->tolerance,
                         "corrector acceptance: |R|_inf <= tolerance * |F|_inf (the excitation amplitude), 1e-14..1e-2")
         ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--config", options->config,
+                        "read the structure (any N DOFs: M, C, K, excitation, friction contacts), frequency range, "
+                        "solver settings and reported DOFs from a TOML file (format: include/hbf/config.hpp, "
+                        "examples/systems/); --wmin, --wmax, --harmonics, --time-samples and --law override the "
+                        "file; the preset's parameter flags (--r, --mu, ...) are then rejected")
+        ->option_text("FILE.toml");
     command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
     command->add_option("--summary", options->summary, "write a JSON summary (parameters, solver statistics, "
                                                        "peaks, folds, status, wall time) to FILE")

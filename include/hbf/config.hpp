@@ -1,0 +1,63 @@
+// hbfriction — general systems from a TOML file (`hbf frf --config system.toml`).
+//
+// The file describes any N-DOF structure M y'' + C y' + K y + sum_c w_c f_c = F cos(w t)
+// (model.hpp) in any consistent units:
+//
+//     [structure]
+//     mass       = [[1.0, 0.0], [0.0, 0.1]]   # N x N rows; a flat list [1.0, 0.1] is diagonal;
+//     stiffness  = "stiffness.mtx"            # or a Matrix Market file beside this one
+//     damping    = [0.0, 0.0]                 # optional: zero
+//     excitation = [0.5, 0.0]                 # F, amplitude of F cos(w t)
+//
+//     [[contact]]                 # one table per friction contact, any number
+//     dof = 1                     # DOF a (1-based)
+//     other_dof = 2               # DOF b (1-based); omitted: against the ground
+//     law = "coulomb"             # coulomb, jenkins, dahl, lugre, coulomb-reg
+//     friction_limit = 0.2        # F_c = mu N
+//     stiffness = 0.016           # sigma0 (dahl, lugre) or k_t (jenkins)
+//     damping = 0.0               # sigma1 (lugre)
+//     viscous = 0.0               # sigma2 (lugre)
+//     static_limit = 0.0          # F_s (lugre; 0 means F_c)
+//     stribeck_velocity = 0.0     # v_s (lugre; 0 means none)
+//     regularization = 0.05       # eps of tanh (coulomb-reg)
+//     lagrangian_penalty = 0.0    # dynamic Lagrangian eps (coulomb; 0 = automatic)
+//
+//     [frequency]                 # optional; command-line flags override
+//     wmin = 0.5
+//     wmax = 1.6
+//
+//     [solver]                    # optional; command-line flags override
+//     harmonics = 20
+//     time_samples = 0
+//
+//     [output]
+//     report = [1, 2]             # DOFs written as y<i>_max, y<i>_amp1 (1-based); default all
+//
+// Contact keys that do not apply to the contact's law are rejected, as are unknown keys and
+// tables: a misspelt key is an error, not a silent default. Every error names the file, the
+// line and the key.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hbf/model.hpp"
+
+namespace hbf::io {
+
+struct SystemConfig {
+    System system;
+    std::optional<double> omega_start, omega_end;   ///< [frequency] wmin, wmax
+    std::optional<int> harmonics, time_samples;     ///< [solver]
+    std::vector<int> report;                        ///< 0-based DOFs to report, in file order
+};
+
+/// Reads and validates a system file (see above). Throws InvalidInput with
+/// "FILE:LINE: key 'K': ..." on any error (syntax, type, size, range, unknown key).
+SystemConfig read_system_config(const std::string& path);
+
+/// Reads a Matrix Market file ("%%MatrixMarket matrix coordinate|array real|integer
+/// general|symmetric"). Throws InvalidInput naming the file and line on any error.
+Eigen::MatrixXd read_matrix_market(const std::string& path);
+
+}  // namespace hbf::io

@@ -1,0 +1,333 @@
+#include "hbf/config.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "hbf/error.hpp"
+
+namespace hbf::io {
+
+namespace {
+
+/// Throws InvalidInput "FILE:LINE: key 'K': what".
+[[noreturn]] void fail(const std::string& file, const toml::source_region& where, const std::string& key,
+                       const std::string& what) {
+    std::string message = file;
+    if (where.begin.line > 0) message += ":" + std::to_string(where.begin.line);
+    message += ": ";
+    if (!key.empty()) message += "key '" + key + "': ";
+    throw InvalidInput(message + what);
+}
+
+/// Reading context of one file: its path (for messages) and directory (for .mtx files).
+struct Reader {
+    std::string file, directory;
+
+    double number(const toml::node& node, const std::string& key) const {
+        if (auto v = node.as_floating_point()) return v->get();
+        if (auto v = node.as_integer()) return static_cast<double>(v->get());
+        fail(file, node.source(), key, "expected a number");
+    }
+
+    int integer(const toml::node& node, const std::string& key) const {
+        if (auto v = node.as_integer()) {
+            const auto value = v->get();
+            if (value < -1000000000LL || value > 1000000000LL) fail(file, node.source(), key, "integer out of range");
+            return static_cast<int>(value);
+        }
+        fail(file, node.source(), key, "expected an integer");
+    }
+
+    std::vector<double> list(const toml::node& node, const std::string& key) const {
+        const toml::array* a = node.as_array();
+        if (!a) fail(file, node.source(), key, "expected a list of numbers");
+        std::vector<double> values;
+        for (const toml::node& item : *a) values.push_back(number(item, key));
+        return values;
+    }
+
+    /// A matrix: rows [[...], [...]], a flat list (diagonal), or a Matrix Market file name.
+    Eigen::MatrixXd matrix(const toml::node& node, const std::string& key) const {
+        if (auto name = node.as_string()) {
+            const std::string path = name->get().empty() || name->get().front() == '/' ? name->get()
+                                                                                       : directory + name->get();
+            try {
+                return read_matrix_market(path);
+            } catch (const InvalidInput& e) {
+                fail(file, node.source(), key, e.what());
+            }
+        }
+        const toml::array* a = node.as_array();
+        if (!a || a->empty()) fail(file, node.source(), key, "expected a matrix: rows [[..], ..], a diagonal [..] or a file name");
+        if (!a->front().is_array()) {
+            const std::vector<double> d = list(node, key);
+            return Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size())).asDiagonal();
+        }
+        const auto n = static_cast<Eigen::Index>(a->size());
+        Eigen::MatrixXd m(n, n);
+        for (Eigen::Index i = 0; i < n; ++i) {
+            const toml::node& row_node = *a->get(static_cast<std::size_t>(i));
+            const std::vector<double> row = list(row_node, key);
+            if (static_cast<Eigen::Index>(row.size()) != n)
+                fail(file, row_node.source(), key,
+                     "row " + std::to_string(i + 1) + " has " + std::to_string(row.size()) + " entries: allowed " +
+                         std::to_string(n) + " (a square matrix)");
+            for (Eigen::Index j = 0; j < n; ++j) m(i, j) = row[static_cast<std::size_t>(j)];
+        }
+        return m;
+    }
+
+    /// Rejects keys of `table` outside `allowed`, naming the table.
+    void only(const toml::table& table, const std::set<std::string>& allowed, const std::string& where) const {
+        for (auto&& [key, node] : table) {
+            if (allowed.count(std::string(key.str())) == 0) {
+                std::string list;
+                for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+                fail(file, key.source(), where.empty() ? std::string(key.str()) : where + "." + std::string(key.str()),
+                     "unknown key: allowed " + list);
+            }
+        }
+    }
+};
+
+/// The contact keys that apply to each law (besides dof, other_dof, law, friction_limit).
+const std::map<FrictionLaw, std::set<std::string>>& law_keys() {
+    static const std::map<FrictionLaw, std::set<std::string>> keys = {
+        {FrictionLaw::coulomb, {"lagrangian_penalty"}},
+        {FrictionLaw::jenkins, {"stiffness"}},
+        {FrictionLaw::dahl, {"stiffness"}},
+        {FrictionLaw::lugre, {"stiffness", "damping", "viscous", "static_limit", "stribeck_velocity"}},
+        {FrictionLaw::coulomb_regularized, {"regularization"}},
+    };
+    return keys;
+}
+
+Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs) {
+    const std::string where = "contact[" + std::to_string(index + 1) + "]";
+    Contact c;
+    const toml::node* law_node = t.get("law");
+    if (!law_node || !law_node->is_string()) fail(r.file, t.source(), where + ".law", "missing: a string (coulomb, jenkins, dahl, lugre, coulomb-reg)");
+    try {
+        c.law = parse_friction_law(law_node->as_string()->get());
+    } catch (const InvalidInput& e) {
+        fail(r.file, law_node->source(), where + ".law", e.what());
+    }
+    std::set<std::string> allowed = {"dof", "other_dof", "law", "friction_limit"};
+    for (const std::string& k : law_keys().at(c.law)) allowed.insert(k);
+    for (auto&& [key, node] : t) {
+        const std::string k(key.str());
+        if (allowed.count(k) == 0) {
+            std::string list;
+            for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+            fail(r.file, key.source(), where + "." + k, "does not apply to law '" + to_string(c.law) + "': allowed " + list);
+        }
+    }
+    auto dof = [&](const char* key) {
+        const toml::node* node = t.get(key);
+        const int value = r.integer(*node, where + "." + key);
+        if (value < 1 || value > dofs)
+            fail(r.file, node->source(), where + "." + key,
+                 std::to_string(value) + " is out of range: allowed 1.." + std::to_string(dofs) + " (1-based DOF)");
+        return value - 1;
+    };
+    if (!t.get("dof")) fail(r.file, t.source(), where + ".dof", "missing: the contact's DOF (1-based)");
+    c.dof = dof("dof");
+    if (t.get("other_dof")) {
+        c.other_dof = dof("other_dof");
+        if (c.other_dof == c.dof)
+            fail(r.file, t.get("other_dof")->source(), where + ".other_dof", "equals dof: a contact joins two different DOFs (omit other_dof for the ground)");
+    }
+    if (!t.get("friction_limit")) fail(r.file, t.source(), where + ".friction_limit", "missing: the slip force F_c = mu N (> 0)");
+    const std::map<std::string, double*> numbers = {
+        {"friction_limit", &c.friction_limit}, {"stiffness", &c.stiffness},     {"damping", &c.damping},
+        {"viscous", &c.viscous},               {"static_limit", &c.static_limit}, {"stribeck_velocity", &c.stribeck_velocity},
+        {"regularization", &c.regularization}, {"lagrangian_penalty", &c.lagrangian_penalty}};
+    for (const auto& [key, target] : numbers)
+        if (const toml::node* node = t.get(key)) *target = r.number(*node, where + "." + key);
+    return c;
+}
+
+}  // namespace
+
+SystemConfig read_system_config(const std::string& path) {
+    Reader r;
+    r.file = path;
+    const auto slash = path.find_last_of('/');
+    r.directory = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+    {
+        std::ifstream probe(path);
+        if (!probe) throw InvalidInput("--config = '" + path + "' cannot be read (no such file, or not readable)");
+    }
+    toml::table root;
+    try {
+        root = toml::parse_file(path);
+    } catch (const toml::parse_error& e) {
+        fail(path, e.source(), "", "syntax error: " + std::string(e.description()));
+    }
+    r.only(root, {"structure", "contact", "frequency", "solver", "output"}, "");
+
+    SystemConfig config;
+    System& s = config.system;
+    const toml::table* structure = root["structure"].as_table();
+    if (!structure) fail(path, root.source(), "structure", "missing table [structure] (mass, stiffness, excitation)");
+    r.only(*structure, {"mass", "damping", "stiffness", "excitation"}, "structure");
+    for (const char* key : {"mass", "stiffness", "excitation"})
+        if (!structure->get(key)) fail(path, structure->source(), std::string("structure.") + key, "missing");
+    s.mass = r.matrix(*structure->get("mass"), "structure.mass");
+    const Eigen::Index n = s.mass.rows();
+    s.stiffness = r.matrix(*structure->get("stiffness"), "structure.stiffness");
+    s.damping = structure->get("damping") ? r.matrix(*structure->get("damping"), "structure.damping")
+                                          : Eigen::MatrixXd::Zero(n, n);
+    const std::vector<double> f = r.list(*structure->get("excitation"), "structure.excitation");
+    s.excitation = Eigen::Map<const Eigen::VectorXd>(f.data(), static_cast<Eigen::Index>(f.size()));
+    for (const auto& [key, m] : {std::pair<const char*, const Eigen::MatrixXd*>{"stiffness", &s.stiffness}, {"damping", &s.damping}})
+        if (m->rows() != n)
+            fail(path, structure->get(key) ? structure->get(key)->source() : structure->source(), std::string("structure.") + key,
+                 std::to_string(m->rows()) + " x " + std::to_string(m->cols()) + ": allowed " + std::to_string(n) + " x " +
+                     std::to_string(n) + " (the size of the mass matrix)");
+
+    std::vector<toml::source_region> contact_lines;
+    if (const toml::node* contacts = root.get("contact")) {
+        const toml::array* list = contacts->as_array();
+        if (!list || !list->is_array_of_tables()) fail(path, contacts->source(), "contact", "expected [[contact]] tables");
+        int index = 0;
+        for (const toml::node& node : *list) {
+            s.contacts.push_back(read_contact(r, *node.as_table(), index++, static_cast<int>(n)));
+            contact_lines.push_back(node.source());
+        }
+    }
+    // Matrix properties and contact parameter ranges: System::validate names the item; the
+    // file and line are added here.
+    try {
+        s.validate();
+    } catch (const InvalidInput& e) {
+        const std::string what = e.what();
+        std::string key = "structure";
+        toml::source_region where = structure->source();
+        if (what.rfind("contact ", 0) == 0) {
+            const std::size_t c = std::stoul(what.substr(8)) - 1;
+            key = "contact[" + std::to_string(c + 1) + "]";
+            if (c < contact_lines.size()) where = contact_lines[c];
+        } else {
+            for (const char* k : {"mass", "damping", "stiffness", "excitation"})
+                if (what.find(k) != std::string::npos) {
+                    key = std::string("structure.") + k;
+                    if (const toml::node* node = structure->get(k)) where = node->source();
+                    break;
+                }
+        }
+        fail(path, where, key, what);
+    }
+
+    if (const toml::node* node = root.get("frequency")) {
+        const toml::table* t = node->as_table();
+        if (!t) fail(path, node->source(), "frequency", "expected a table [frequency]");
+        r.only(*t, {"wmin", "wmax"}, "frequency");
+        if (const toml::node* v = t->get("wmin")) config.omega_start = r.number(*v, "frequency.wmin");
+        if (const toml::node* v = t->get("wmax")) config.omega_end = r.number(*v, "frequency.wmax");
+        if (config.omega_start && !(*config.omega_start > 0.0 && std::isfinite(*config.omega_start)))
+            fail(path, t->get("wmin")->source(), "frequency.wmin", format_number(*config.omega_start) + " is out of range: allowed > 0");
+        if (config.omega_end && !(*config.omega_end > 0.0 && std::isfinite(*config.omega_end)))
+            fail(path, t->get("wmax")->source(), "frequency.wmax", format_number(*config.omega_end) + " is out of range: allowed > 0");
+        if (config.omega_start && config.omega_end && !(*config.omega_end > *config.omega_start))
+            fail(path, t->get("wmax")->source(), "frequency.wmax", "must exceed wmin = " + format_number(*config.omega_start));
+    }
+    if (const toml::node* node = root.get("solver")) {
+        const toml::table* t = node->as_table();
+        if (!t) fail(path, node->source(), "solver", "expected a table [solver]");
+        r.only(*t, {"harmonics", "time_samples"}, "solver");
+        if (const toml::node* v = t->get("harmonics")) {
+            config.harmonics = r.integer(*v, "solver.harmonics");
+            if (*config.harmonics < 1 || *config.harmonics > 200)
+                fail(path, v->source(), "solver.harmonics", std::to_string(*config.harmonics) + " is out of range: allowed 1..200");
+        }
+        if (const toml::node* v = t->get("time_samples")) {
+            config.time_samples = r.integer(*v, "solver.time_samples");
+            if (*config.time_samples < 0 || *config.time_samples > 65536)
+                fail(path, v->source(), "solver.time_samples",
+                     std::to_string(*config.time_samples) + " is out of range: allowed 0 (automatic) or > 2H, up to 65536");
+        }
+    }
+    if (const toml::node* node = root.get("output")) {
+        const toml::table* t = node->as_table();
+        if (!t) fail(path, node->source(), "output", "expected a table [output]");
+        r.only(*t, {"report"}, "output");
+        if (const toml::node* v = t->get("report")) {
+            const toml::array* a = v->as_array();
+            if (!a || a->empty()) fail(path, v->source(), "output.report", "expected a non-empty list of DOFs (1-based)");
+            for (const toml::node& item : *a) {
+                const int d = r.integer(item, "output.report");
+                if (d < 1 || d > n)
+                    fail(path, item.source(), "output.report",
+                         std::to_string(d) + " is out of range: allowed 1.." + std::to_string(n) + " (1-based DOF)");
+                config.report.push_back(d - 1);
+            }
+        }
+    }
+    if (config.report.empty())
+        for (int i = 0; i < n; ++i) config.report.push_back(i);
+    return config;
+}
+
+Eigen::MatrixXd read_matrix_market(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InvalidInput("Matrix Market file '" + path + "' cannot be read");
+    auto bad = [&](int line, const std::string& what) -> InvalidInput {
+        return InvalidInput(path + ":" + std::to_string(line) + ": " + what);
+    };
+    std::string line;
+    int number = 0;
+    if (!std::getline(in, line)) throw bad(1, "empty file");
+    ++number;
+    std::istringstream header(line);
+    std::string banner, object, format, field, symmetry;
+    header >> banner >> object >> format >> field >> symmetry;
+    for (std::string* word : {&object, &format, &field, &symmetry})
+        for (char& ch : *word) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (banner != "%%MatrixMarket" || object != "matrix" || (format != "coordinate" && format != "array") ||
+        (field != "real" && field != "integer") || (symmetry != "general" && symmetry != "symmetric"))
+        throw bad(number, "expected '%%MatrixMarket matrix coordinate|array real|integer general|symmetric'");
+    auto next = [&](std::istringstream& s) {
+        while (std::getline(in, line)) {
+            ++number;
+            if (line.empty() || line[0] == '%') continue;
+            s = std::istringstream(line);
+            return true;
+        }
+        return false;
+    };
+    std::istringstream s;
+    long rows = 0, cols = 0, entries = 0;
+    if (!next(s) || !(s >> rows >> cols) || rows < 1 || cols < 1 || rows > 100000 || cols > 100000)
+        throw bad(number, "expected the size line 'rows cols [entries]'");
+    if (format == "coordinate" && !(s >> entries)) throw bad(number, "expected the size line 'rows cols entries'");
+    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(rows, cols);
+    const bool symmetric = symmetry == "symmetric";
+    if (format == "coordinate") {
+        for (long k = 0; k < entries; ++k) {
+            long i = 0, j = 0;
+            double v = 0;
+            if (!next(s) || !(s >> i >> j >> v)) throw bad(number, "expected entry " + std::to_string(k + 1) + " 'row col value'");
+            if (i < 1 || i > rows || j < 1 || j > cols) throw bad(number, "index out of range");
+            m(i - 1, j - 1) = v;
+            if (symmetric) m(j - 1, i - 1) = v;
+        }
+    } else {
+        for (long j = 0; j < cols; ++j)
+            for (long i = symmetric ? j : 0; i < rows; ++i) {
+                double v = 0;
+                if (!next(s) || !(s >> v)) throw bad(number, "expected a value (column-major)");
+                m(i, j) = v;
+                if (symmetric) m(j, i) = v;
+            }
+    }
+    if (!m.allFinite()) throw bad(number, "non-finite entries");
+    return m;
+}
+
+}  // namespace hbf::io

@@ -1,0 +1,161 @@
+// General systems from a TOML file (`hbf frf --config`): the shipped examples against the
+// preset, Den Hartog's exact solution and the time integrator; validation messages.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+
+#include "cli_support.hpp"
+#include "hbf/analytic.hpp"
+#include "hbf/config.hpp"
+#include "hbf/error.hpp"
+#include "hbf/time_integration.hpp"
+
+using namespace test;
+
+namespace {
+const std::string systems = std::string(HBF_SOURCE_DIR) + "/examples/systems/";
+
+void write(const fs::path& path, const std::string& text) {
+    std::ofstream out(path);
+    out << text;
+}
+
+/// The sample rows (point = sample) at frequency w of an `hbf frf` CSV.
+std::vector<std::vector<std::string>> samples_at(const std::vector<std::vector<std::string>>& rows, double w,
+                                                 std::size_t point_column) {
+    std::vector<std::vector<std::string>> found;
+    for (std::size_t k = 1; k < rows.size(); ++k)
+        if (rows[k][point_column] == "sample" && std::stod(rows[k][0]) == w) found.push_back(rows[k]);
+    return found;
+}
+}  // namespace
+
+TEST_CASE("examples/systems/absorber.toml gives exactly the preset's FRF", "[config]") {
+    TempDir dir;
+    const Result preset = run_hbf("frf --quiet", dir);
+    const Result file = run_hbf("frf --quiet --config '" + systems + "absorber.toml'", dir);
+    REQUIRE(preset.exit_code == 0);
+    REQUIRE(file.exit_code == 0);
+    CHECK(parse_csv(file.out).size() > 100);
+    CHECK(file.out == preset.out);  // the same system, the same numbers, bit for bit
+}
+
+TEST_CASE("examples/systems/den_hartog.toml reproduces Den Hartog's exact non-sticking solution", "[config]") {
+    // H = 40 (the file's setting): exact Coulomb's error falls like 1/H, 0.32% at H = 40 for
+    // eta = 0.6 (test_verification); 0.6% leaves room for eta = 0.7.
+    TempDir dir;
+    const Result r = run_hbf("frf --quiet --config '" + systems + "den_hartog.toml' --at 0.6,0.7", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(r.out);
+    REQUIRE(rows[0][1] == "y1_max");
+    REQUIRE(rows[0][7] == "point");
+    for (double eta : {0.6, 0.7}) {
+        const auto at = samples_at(rows, eta, 7);
+        REQUIRE(at.size() == 1);
+        const double exact = hbf::analytic::den_hartog(eta, 0.3).amplitude;
+        INFO("eta = " << eta << ": HB " << at[0][1] << ", exact " << exact);
+        CHECK(std::abs(std::stod(at[0][1]) - exact) <= 6e-3 * exact);
+        CHECK(at[0][4] == "slip");
+    }
+}
+
+TEST_CASE("examples/systems/chain3.toml: two contacts, reported DOFs 1 and 3, equal to time integration",
+          "[config]") {
+    const hbf::io::SystemConfig config = hbf::io::read_system_config(systems + "chain3.toml");
+    REQUIRE(config.system.dofs() == 3);
+    REQUIRE(config.system.contacts.size() == 2);
+    CHECK(config.system.stiffness(2, 1) == -1.0);  // mirrored from the symmetric Matrix Market file
+    CHECK(config.report == std::vector<int>{0, 2});
+    TempDir dir;
+    const double w = 1.0;
+    const Result r = run_hbf("frf --quiet --config '" + systems + "chain3.toml' --at 1", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(r.out);
+    const std::vector<std::string> head = {"w", "y1_max", "y3_max", "y1_amp1", "y3_amp1"};
+    CHECK(std::vector<std::string>(rows[0].begin(), rows[0].begin() + 5) == head);
+    // Jenkins and Dahl at H = 10 are within 1e-4 of time integration (test_verification);
+    // the chain is damped, so the time integration from rest settles on its own.
+    const hbf::PeriodicResponse ti = hbf::integrate_steady_state(config.system, w, hbf::TimeIntegrationOptions{});
+    REQUIRE(ti.converged);
+    const auto at = samples_at(rows, w, 9);
+    REQUIRE(!at.empty());
+    double best = std::numeric_limits<double>::infinity();  // the HB solution TI found
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < at.size(); ++i)
+        if (std::abs(std::stod(at[i][1]) - ti.y_max[0]) < best) best = std::abs(std::stod(at[k = i][1]) - ti.y_max[0]);
+    INFO("HB y1_max " << at[k][1] << ", y3_max " << at[k][2] << "; TI " << ti.y_max[0] << ", " << ti.y_max[2]);
+    CHECK(std::abs(std::stod(at[k][1]) - ti.y_max[0]) <= 1e-3 * ti.y_max[0]);
+    CHECK(std::abs(std::stod(at[k][2]) - ti.y_max[2]) <= 1e-3 * ti.y_max[2]);
+}
+
+TEST_CASE("Command-line flags override the file; the preset's flags are rejected with --config", "[config]") {
+    TempDir dir;
+    const Result r = run_hbf("frf --quiet --config '" + systems + "den_hartog.toml' --wmin 0.6 --harmonics 10", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(r.out);
+    CHECK(std::stod(rows[1][0]) == 0.6);
+    CHECK(std::stod(rows.back()[0]) == 0.75);  // wmax from the file
+    const fs::path out = dir.path / "x.csv";
+    const Result bad = run_hbf("frf --config '" + systems + "den_hartog.toml' --mu 0.3 --out '" + out.string() + "'", dir);
+    CHECK(bad.exit_code == 2);
+    CHECK_THAT(bad.err, Catch::Contains("--mu") && Catch::Contains("--config"));
+    CHECK(dir.empty());
+}
+
+TEST_CASE("Bad system files: the message names the file, the line and the key; exit 2, no output", "[config]") {
+    TempDir dir;
+    const std::string good_structure = "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\n";
+    struct Case {
+        std::string text;
+        std::vector<std::string> expected;  // substrings of the message
+    };
+    const std::vector<Case> cases = {
+        {"[structure]\nmas = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\n", {":2:", "structure.mas", "unknown key"}},
+        {"[structure]\nmass = [[1.0, 0.0], [0.0]]\nstiffness = [1.0]\nexcitation = [1.0]\n",
+         {":2:", "structure.mass", "row 2"}},
+        {"[structure]\nmass = [1.0, 1.0]\nstiffness = [1.0]\nexcitation = [1.0, 0.0]\n",
+         {":3:", "structure.stiffness", "2 x 2"}},
+        {"[structure]\nmass = [-1.0]\nstiffness = [1.0]\nexcitation = [1.0]\n",
+         {":2:", "structure.mass", "positive definite"}},
+        {good_structure + "[[contact]]\ndof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.2\nstiffness = 3.0\n",
+         {":9:", "contact[1].stiffness", "does not apply to law 'coulomb'"}},
+        {good_structure + "[[contact]]\ndof = 2\nlaw = \"coulomb\"\nfriction_limit = 0.2\n",
+         {":6:", "contact[1].dof", "allowed 1..1"}},
+        {good_structure + "[[contact]]\ndof = 1\nlaw = \"dahl\"\nfriction_limit = 0.2\n",
+         {"contact[1]", "stiffness"}},
+        {good_structure + "[[contact]]\ndof = 1\nlaw = \"stickum\"\nfriction_limit = 0.2\n",
+         {":7:", "contact[1].law", "allowed coulomb"}},
+        {good_structure + "[output]\nreport = [2]\n", {":6:", "output.report", "allowed 1..1"}},
+        {good_structure + "[frequency]\nwmin = 2.0\nwmax = 1.0\n", {":7:", "frequency.wmax"}},
+        {good_structure + "[solver]\nharmonics = 0\n", {":6:", "solver.harmonics", "1..200"}},
+        {"[structure\nmass = [1.0]\n", {":1:", "syntax error"}},
+    };
+    for (const Case& c : cases) {
+        const fs::path file = dir.path / "system.toml", out = dir.path / "frf.csv";
+        write(file, c.text);
+        const Result r = run_hbf("frf --config '" + file.string() + "' --out '" + out.string() + "'", dir);
+        INFO(c.text << "\n-> " << r.err);
+        CHECK(r.exit_code == 2);
+        CHECK_THAT(r.err, Catch::Contains("system.toml"));
+        for (const std::string& e : c.expected) CHECK_THAT(r.err, Catch::Contains(e));
+        CHECK(!fs::exists(out));
+        fs::remove(file);
+    }
+    const Result missing = run_hbf("frf --config '" + (dir.path / "none.toml").string() + "'", dir);
+    CHECK(missing.exit_code == 2);
+    CHECK_THAT(missing.err, Catch::Contains("none.toml") && Catch::Contains("cannot be read"));
+}
+
+TEST_CASE("Matrix Market: coordinate and array formats, general and symmetric", "[config]") {
+    TempDir dir;
+    const fs::path a = dir.path / "a.mtx", b = dir.path / "b.mtx", c = dir.path / "c.mtx";
+    write(a, "%%MatrixMarket matrix array real symmetric\n% lower triangle, column-major\n2 2\n4\n-1\n3\n");
+    write(b, "%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 4\n1 2 -1\n2 2 3\n");
+    write(c, "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 4\n3 1 1\n");
+    Eigen::Matrix2d expected;
+    expected << 4, -1, -1, 3;
+    CHECK(hbf::io::read_matrix_market(a.string()) == Eigen::MatrixXd(expected));
+    expected(1, 0) = 0.0;
+    CHECK(hbf::io::read_matrix_market(b.string()) == Eigen::MatrixXd(expected));
+    CHECK_THROWS_WITH(hbf::io::read_matrix_market(c.string()), Catch::Contains("c.mtx:4") && Catch::Contains("index"));
+}
