@@ -40,10 +40,11 @@ struct TempDir {
     bool empty() const { return fs::is_empty(path); }
 };
 
-/// Runs `hbf <args>` (args are passed through the shell, quote as needed).
-inline Result run_hbf(const std::string& args, const TempDir& dir) {
+/// Runs `hbf <args>` (args are passed through the shell, quote as needed), after `environment`
+/// (e.g. "env PATH=/none") if given.
+inline Result run_hbf(const std::string& args, const TempDir& dir, const std::string& environment = "") {
     const fs::path out = dir.path / "stdout.txt", err = dir.path / "stderr.txt";
-    const std::string command = std::string("'") + HBF_EXECUTABLE + "' " + args + " >'" + out.string() +
+    const std::string command = environment + (environment.empty() ? "" : " ") + "'" + HBF_EXECUTABLE + "' " + args + " >'" + out.string() +
                                 "' 2>'" + err.string() + "' </dev/null";
     const int status = std::system(command.c_str());
     Result r;

@@ -213,3 +213,53 @@ TEST_CASE("hbf frf rejects bad input with exit code 2 and no files", "[cli]") {
         CHECK(dir.empty());
     }
 }
+
+TEST_CASE("--plot draws PNG and SVG through gnuplot; --overlay-timeint adds time-integration markers and a CSV",
+          "[cli][plot]") {
+    TempDir dir;
+    const fs::path png = dir.path / "frf.png", svg = dir.path / "an.svg", ti = dir.path / "ti.svg";
+    Result r = run_hbf("frf --quiet --wmin 0.5 --wmax 0.8 --out /dev/null --plot '" + png.string() +
+                           "' --overlay-timeint 4",
+                       dir);
+    REQUIRE(r.exit_code == 0);
+    const std::string image = slurp(png);
+    REQUIRE(image.size() > 1000);
+    CHECK(image.substr(1, 3) == "PNG");
+    // The overlay CSV beside the plot: hbf timeint's columns; w = 0.5 is in full stick, where
+    // y1_max = fe / |1 - (1 + r) w^2| exactly (derived by hand), to the integration accuracy.
+    const auto rows = parse_csv(slurp(dir.path / "frf-timeint.csv"));
+    REQUIRE(rows.size() == 5);
+    CHECK(rows[0][9] == "converged");
+    CHECK(std::stod(rows[1][0]) == 0.5);
+    CHECK(std::stod(rows[1][1]) == Approx(0.5 / (1.0 - 1.1 * 0.25)).epsilon(1e-8));
+    CHECK(std::stod(rows[4][0]) == 0.8);
+    for (std::size_t k = 1; k < rows.size(); ++k) CHECK(rows[k][9] == "true");
+    r = run_hbf("analytic --law dahl --out /dev/null --plot '" + svg.string() + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    CHECK_THAT(slurp(svg), Catch::Contains("<svg") && Catch::Contains("y1_stick"));
+    r = run_hbf("timeint --law coulomb --wmin 0.5 --wmax 0.6 --points 3 --out /dev/null --plot '" + ti.string() + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    CHECK_THAT(slurp(ti), Catch::Contains("<svg") && Catch::Contains("time integration"));
+}
+
+TEST_CASE("--plot: an unknown image type is bad input, a missing gnuplot a failure; never a partial file",
+          "[cli][plot]") {
+    TempDir dir;
+    const fs::path csv = dir.path / "a.csv";
+    for (const std::string command : {"frf", "analytic", "timeint --w 0.8"}) {
+        const Result r = run_hbf(command + " --out '" + csv.string() + "' --plot '" + (dir.path / "a.jpg").string() + "'", dir);
+        INFO(command << ": " << r.err);
+        CHECK(r.exit_code == 2);
+        CHECK_THAT(r.err, Catch::Contains("--plot") && Catch::Contains(".png or .svg"));
+        CHECK(dir.empty());
+    }
+    // Without gnuplot on the PATH: exit 1 with the installation hint, nothing written.
+    const Result r = run_hbf("frf --out '" + csv.string() + "' --plot '" + (dir.path / "a.png").string() + "'", dir,
+                             "env PATH=/nonexistent");
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Catch::Contains("gnuplot") && Catch::Contains("apt-get install gnuplot-nox"));
+    CHECK(dir.empty());
+    const Result lonely = run_hbf("frf --overlay-timeint 5", dir);
+    CHECK(lonely.exit_code == 2);
+    CHECK_THAT(lonely.err, Catch::Contains("--overlay-timeint") && Catch::Contains("--plot"));
+}

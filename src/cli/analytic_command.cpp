@@ -1,10 +1,13 @@
 // `hbf analytic`: the paper's closed forms on a frequency grid, as CSV.
+#include <cmath>
 #include <memory>
 
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "hbf/analytic.hpp"
+#include "hbf/error.hpp"
 #include "hbf/io.hpp"
+#include "hbf/plot.hpp"
 
 namespace hbf::cli {
 
@@ -12,7 +15,7 @@ namespace {
 struct AnalyticOptions {
     AbsorberFlags absorber;
     std::string wmin = "0.5", wmax = "1.6", points = "221";
-    std::string out;
+    std::string out, plot;
 };
 
 std::string columns_help() {
@@ -34,11 +37,32 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
     if (law == FrictionLaw::coulomb_regularized || law == FrictionLaw::jenkins)
         throw UsageError("--law = '" + o.absorber.law + "' has no closed form: allowed coulomb, dahl, lugre");
     const AbsorberParameters p = o.absorber.parameters(command);
+    if (!o.plot.empty()) {
+        io::check_plot_path("--plot", o.plot);
+        io::require_gnuplot();
+    }
     const std::vector<double> grid = analytic::uniform_grid(
         parse_double("--wmin", o.wmin), parse_double("--wmax", o.wmax), parse_integer("--points", o.points));
     const std::vector<analytic::Row> rows = analytic::table(p, law, grid);
     io::OutputFile out(o.out);
     io::write_analytic_csv(out.stream(), rows);
+    if (!o.plot.empty()) {
+        io::PlotSpec spec;
+        spec.title = "hbf analytic: " + to_string(law) + ", fe = " + format_number(p.excitation) + ", mu = " +
+                     format_number(p.friction_coefficient);
+        spec.xlabel = "w";
+        spec.ylabel = "|Y1|, first-harmonic amplitude of y1";
+        io::PlotCurve stick{"y1_stick (full stick)", {}, {}, io::PlotCurve::Style::line, 7};
+        io::PlotCurve slip{"y1_slip (full slip, equivalent viscous)", {}, {}, io::PlotCurve::Style::dashed, 7};
+        for (const analytic::Row& row : rows) {  // no value: a gap in the line
+            stick.x.push_back(row.omega);
+            stick.y.push_back(row.y1_stick ? *row.y1_stick : std::nan(""));
+            slip.x.push_back(row.omega);
+            slip.y.push_back(row.y1_slip ? *row.y1_slip : std::nan(""));
+        }
+        spec.curves = {stick, slip};
+        io::write_plot(o.plot, spec);
+    }
     out.commit();
     return exit_success;
 }
@@ -58,6 +82,9 @@ Runner add_analytic_command(CLI::App& app) {
         ->capture_default_str()->type_name("INT");
     command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")
         ->option_text("FILE");
+    command->add_option("--plot", options->plot,
+                        "draw y1_stick and y1_slip against w through gnuplot (.png or .svg)")
+        ->option_text("FILE.png|FILE.svg");
     command->footer(columns_help());
     return [command, options]() { return run(*command, *options); };
 }

@@ -12,7 +12,10 @@
 #include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
+#include "hbf/analytic.hpp"
 #include "hbf/io.hpp"
+#include "hbf/plot.hpp"
+#include "hbf/time_integration.hpp"
 
 namespace hbf::cli {
 
@@ -21,7 +24,7 @@ struct FrfOptions {
     AbsorberFlags absorber;
     std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000",
                 tolerance = "1e-9";
-    std::string at, out, summary, config;
+    std::string at, out, summary, config, plot, overlay, overlay_out;
     bool quiet = false;
 };
 
@@ -53,6 +56,25 @@ bool given(const CLI::App& command, const char* flag) { return command.count(fla
 
 int run(const CLI::App& command, const FrfOptions& o) {
     const auto started = std::chrono::steady_clock::now();
+    // Plot options are checked before the work starts.
+    long long overlay_points = 0;
+    std::string overlay_out = o.overlay_out;
+    if (!o.plot.empty()) {
+        io::check_plot_path("--plot", o.plot);
+        io::require_gnuplot();
+    }
+    if (!o.overlay.empty()) {
+        overlay_points = parse_integer("--overlay-timeint", o.overlay);
+        if (overlay_points < 2 || overlay_points > 10000)
+            throw UsageError("--overlay-timeint = " + o.overlay + " is out of range: allowed 2..10000 points");
+        if (o.plot.empty()) throw UsageError("--overlay-timeint draws on the plot: it needs --plot FILE.png|FILE.svg");
+        if (overlay_out.empty()) {
+            const std::string stem = o.plot.substr(0, o.plot.size() - 4);  // .png or .svg
+            overlay_out = stem + "-timeint.csv";
+        }
+    } else if (!overlay_out.empty()) {
+        throw UsageError("--overlay-out names the CSV of --overlay-timeint, which is not given");
+    }
     // The system: the paper's absorber from its flags, or any structure from --config (whose
     // frequency range and solver settings the flags override).
     System system;
@@ -134,6 +156,13 @@ int run(const CLI::App& command, const FrfOptions& o) {
     for (const SolutionPoint& point : points) metrics.push_back(analyse(point));
     const std::vector<Peak> peaks = o.summary.empty() ? std::vector<Peak>{} : find_peaks(hb, branch, 0, co.corrector);
 
+    // Time-integration check points on a uniform grid, swept up from the stuck linear state.
+    std::vector<PeriodicResponse> overlay;
+    if (overlay_points > 0) {
+        const std::vector<double> grid = analytic::uniform_grid(co.omega_start, co.omega_end, overlay_points);
+        const Eigen::VectorXd start = linear_stuck_state(system, grid.front());
+        overlay = sweep(system, grid, TimeIntegrationOptions{}, &start);
+    }
     io::OutputFile out(o.out);
     io::write_frf_csv(out.stream(), points, metrics, report);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -165,8 +194,31 @@ int run(const CLI::App& command, const FrfOptions& o) {
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks,
                               points.size() - branch.points.size(), seconds);
     }
+    std::unique_ptr<io::OutputFile> overlay_file;
+    if (!overlay.empty()) {
+        overlay_file = std::make_unique<io::OutputFile>(overlay_out);
+        io::write_timeint_csv(overlay_file->stream(), overlay, system.dofs());
+    }
+    if (!o.plot.empty()) {
+        io::PlotSpec spec = io::frf_plot(points, metrics, report.front(),
+                                         "hbf frf: " + law_name + ", H = " + std::to_string(hb.harmonics()) +
+                                             (config ? " (" + o.config + ")" : ""));
+        if (!overlay.empty()) {
+            io::PlotCurve check{"time integration (converged)", {}, {}, io::PlotCurve::Style::markers, 4};
+            io::PlotCurve failed_check{"time integration (not converged)", {}, {}, io::PlotCurve::Style::markers, 3};
+            for (const PeriodicResponse& r : overlay) {
+                io::PlotCurve& c = r.converged ? check : failed_check;
+                c.x.push_back(r.omega);
+                c.y.push_back(r.y_max[static_cast<std::size_t>(report.front())]);
+            }
+            spec.curves.push_back(check);
+            spec.curves.push_back(failed_check);
+        }
+        io::write_plot(o.plot, spec);  // before the CSV is committed: a failed plot leaves no output
+    }
     out.commit();
     if (summary) summary->commit();
+    if (overlay_file) overlay_file->commit();
 
     const bool failed = branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::start_failed;
     if (failed || branch.status != ContinuationStatus::completed)
@@ -218,6 +270,19 @@ Runner add_frf_command(CLI::App& app) {
     command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
     command->add_option("--summary", options->summary, "write a JSON summary (parameters, solver statistics, "
                                                        "peaks, folds, status, wall time) to FILE")
+        ->option_text("FILE");
+    command->add_option("--plot", options->plot,
+                        "draw y_max of the first reported DOF against w through gnuplot: the branch in order, "
+                        "folds, transitions and samples marked (.png or .svg)")
+        ->option_text("FILE.png|FILE.svg");
+    command->add_option("--overlay-timeint", options->overlay,
+                        "also integrate K frequencies of a uniform grid over [wmin, wmax] in time (an up-sweep, "
+                        "hbf timeint's defaults) and draw them as markers on the --plot; their rows go to "
+                        "--overlay-out")
+        ->option_text("K");
+    command->add_option("--overlay-out", options->overlay_out,
+                        "CSV of the --overlay-timeint points (hbf timeint's columns) [default: the plot's name "
+                        "with -timeint.csv]")
         ->option_text("FILE");
     command->add_flag("--quiet", options->quiet, "no progress or summary line on standard error");
     std::string footer = "Output: CSV with a header row, one row per continuation point in branch order, then the "

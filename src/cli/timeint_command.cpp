@@ -9,7 +9,9 @@
 #include "commands.hpp"
 #include "hbf/analytic.hpp"
 #include "hbf/error.hpp"
+#include "hbf/config.hpp"
 #include "hbf/io.hpp"
+#include "hbf/plot.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf::cli {
@@ -21,7 +23,7 @@ struct TimeintOptions {
     AbsorberFlags absorber;
     std::string w, wmin, wmax, points, sweep = "up", method = "adams";
     std::string rtol = "1e-10", atol = "1e-12", steady_tol = "1e-8", max_periods = "3000", min_periods = "3";
-    std::string out;
+    std::string out, plot, config;
     bool quiet = false;
 };
 
@@ -68,8 +70,33 @@ std::vector<double> frequencies(const CLI::App& command, const TimeintOptions& o
 }
 
 int run(const CLI::App& command, const TimeintOptions& o) {
-    const FrictionLaw law = o.absorber.friction_law();
-    const AbsorberParameters p = o.absorber.parameters(command);
+    if (!o.plot.empty()) {
+        io::check_plot_path("--plot", o.plot);
+        io::require_gnuplot();
+    }
+    System system;
+    std::string title;
+    if (!o.config.empty()) {
+        const std::vector<std::string> preset = o.absorber.given(command);
+        if (!preset.empty())
+            throw UsageError(preset.front() + " sets a parameter of the paper's absorber preset: with --config, set "
+                             "the structure and its contacts in the file");
+        system = io::read_system_config(o.config).system;
+        if (command.count("--law") > 0) {
+            for (Contact& c : system.contacts) c.law = o.absorber.friction_law();
+            try {
+                system.validate();
+            } catch (const InvalidInput& e) {
+                throw UsageError("--law = " + o.absorber.law + " does not fit the contacts of " + o.config + ": " +
+                                 e.what());
+            }
+        }
+        title = "hbf timeint: " + o.config;
+    } else {
+        const FrictionLaw law = o.absorber.friction_law();
+        system = friction_absorber(o.absorber.parameters(command), law);
+        title = "hbf timeint: " + to_string(law) + " (sweep " + o.sweep + ")";
+    }
     const std::vector<double> omegas = frequencies(command, o);
     TimeIntegrationOptions tio;
     tio.relative_tolerance = tolerance("--rtol", o.rtol, 1e-14, 1e-3);
@@ -88,7 +115,6 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         throw UsageError("--method = '" + o.method + "' is not allowed: allowed adams, bdf");
     tio.method = o.method == "bdf" ? IntegrationMethod::bdf : IntegrationMethod::adams;
 
-    const System system = friction_absorber(p, law);
     io::OutputFile out(o.out);  // opened before the work: an unwritable path fails fast
     const bool progress = !o.quiet && isatty(STDERR_FILENO);
     std::vector<PeriodicResponse> responses;
@@ -103,6 +129,23 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     }
     if (progress) std::cerr << "\n";
     io::write_timeint_csv(out.stream(), responses, system.dofs());
+    if (!o.plot.empty()) {
+        io::PlotSpec spec;
+        spec.title = title;
+        spec.xlabel = "w";
+        spec.ylabel = "y1_max = max over one period of |y1(t)|";
+        io::PlotCurve line{"time integration (sweep order)", {}, {}, io::PlotCurve::Style::line, 7};
+        io::PlotCurve converged{"converged", {}, {}, io::PlotCurve::Style::markers, 4};
+        io::PlotCurve failed{"not converged", {}, {}, io::PlotCurve::Style::markers, 3};
+        for (const PeriodicResponse& r : responses) {
+            line.x.push_back(r.omega);
+            line.y.push_back(r.y_max[0]);
+            (r.converged ? converged : failed).x.push_back(r.omega);
+            (r.converged ? converged : failed).y.push_back(r.y_max[0]);
+        }
+        spec.curves = {line, converged, failed};
+        io::write_plot(o.plot, spec);  // before the CSV is committed: a failed plot leaves no output
+    }
     out.commit();
     int failed = 0;
     for (const PeriodicResponse& r : responses)
@@ -153,6 +196,13 @@ Runner add_timeint_command(CLI::App& app) {
                         "difference-quotient Jacobian; for stiff contacts)")
         ->capture_default_str()->type_name("adams|bdf");
     command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
+    command->add_option("--plot", options->plot, "draw y1_max against w (sweep order, non-converged points marked) "
+                                                 "through gnuplot (.png or .svg)")
+        ->option_text("FILE.png|FILE.svg");
+    command->add_option("--config", options->config,
+                        "integrate the structure of a TOML system file (as hbf frf --config; its frequency range "
+                        "and solver settings are not used: give --w or --wmin/--wmax/--points)")
+        ->option_text("FILE.toml");
     command->add_flag("--quiet", options->quiet, "no progress on standard error");
     std::string footer =
         "Each frequency is integrated period by period until the Poincare map converges (with Newton shooting "

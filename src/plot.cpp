@@ -1,0 +1,168 @@
+#include "hbf/plot.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "hbf/error.hpp"
+
+namespace hbf::io {
+
+namespace {
+namespace fs = std::filesystem;
+
+std::string extension_of(const std::string& path) {
+    const std::string e = fs::path(path).extension().string();
+    std::string lower;
+    for (char c : e) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return lower;
+}
+
+/// A gnuplot string literal (single quotes; a quote is doubled).
+std::string quoted(const std::string& text) {
+    std::string out = "'";
+    for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+    return out + "'";
+}
+
+std::string unique_suffix() {
+    std::random_device device;
+    return std::to_string(::getpid()) + "-" + std::to_string(device());
+}
+
+std::string number(double v) {
+    if (!std::isfinite(v)) return "NaN";
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.10g", v);
+    return buffer;
+}
+}  // namespace
+
+void check_plot_path(const std::string& flag, const std::string& path) {
+    const std::string e = extension_of(path);
+    if (e != ".png" && e != ".svg")
+        throw InvalidInput(flag + " = '" + path + "' has an unknown image type '" + e + "': allowed .png or .svg");
+}
+
+void require_gnuplot() {
+    if (std::system("gnuplot --version >/dev/null 2>&1") != 0)
+        throw std::runtime_error("gnuplot is needed for plots and could not be run (Debian: apt-get install "
+                                 "gnuplot-nox; scripts/install-deps.sh installs it)");
+}
+
+void write_plot(const std::string& path, const PlotSpec& spec) {
+    check_plot_path("plot", path);
+    const fs::path target(path);
+    const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    const std::string suffix = unique_suffix();
+    const fs::path image = directory / ("." + target.filename().string() + ".tmp-" + suffix + extension_of(path));
+    const fs::path script = fs::temp_directory_path() / ("hbf-plot-" + suffix + ".gp");
+    const fs::path log = fs::temp_directory_path() / ("hbf-plot-" + suffix + ".log");
+    auto cleanup = [&] {
+        std::error_code ignored;
+        fs::remove(image, ignored);
+        fs::remove(script, ignored);
+        fs::remove(log, ignored);
+    };
+    {
+        std::ofstream gp(script);
+        gp << (extension_of(path) == ".png" ? "set terminal pngcairo size 900,600 enhanced font 'sans,11'\n"
+                                             : "set terminal svg size 900,600 enhanced font 'sans,11' background 'white'\n");
+        gp << "set output " << quoted(image.string()) << "\n"
+           << "set datafile missing 'NaN'\nset grid\nset key top right\n"
+           << "set title " << quoted(spec.title) << " noenhanced\n"
+           << "set xlabel " << quoted(spec.xlabel) << " noenhanced\n"
+           << "set ylabel " << quoted(spec.ylabel) << " noenhanced\n";
+        std::vector<std::string> plots;
+        for (std::size_t c = 0; c < spec.curves.size(); ++c) {
+            const PlotCurve& curve = spec.curves[c];
+            if (curve.x.empty()) continue;
+            const std::string block = "$curve" + std::to_string(c);
+            gp << block << " << EOD\n";
+            for (std::size_t k = 0; k < curve.x.size() && k < curve.y.size(); ++k)
+                gp << number(curve.x[k]) << ' ' << number(curve.y[k]) << '\n';
+            gp << "EOD\n";
+            std::string style;
+            switch (curve.style) {
+                case PlotCurve::Style::line: style = "with lines lw 2"; break;
+                case PlotCurve::Style::dashed: style = "with lines lw 2 dt 2"; break;
+                case PlotCurve::Style::points: style = "with points pt " + std::to_string(curve.point_type) + " ps 0.5"; break;
+                case PlotCurve::Style::markers: style = "with points pt " + std::to_string(curve.point_type) + " ps 1.5 lw 2"; break;
+            }
+            plots.push_back(block + " using 1:2 " + style + " title " + quoted(curve.title) + " noenhanced");
+        }
+        if (plots.empty()) plots.push_back("NaN notitle");
+        gp << "plot ";
+        for (std::size_t k = 0; k < plots.size(); ++k) gp << (k ? ", \\\n     " : "") << plots[k];
+        gp << "\nunset output\n";
+        if (!gp) {
+            cleanup();
+            throw std::runtime_error("cannot write the gnuplot script " + script.string());
+        }
+    }
+    const std::string command = "gnuplot " + quoted(script.string()) + " >" + quoted(log.string()) + " 2>&1";
+    const int status = std::system(command.c_str());
+    std::error_code error;
+    if (status != 0 || !fs::exists(image) || fs::file_size(image, error) == 0) {
+        std::ifstream in(log);
+        std::stringstream message;
+        message << in.rdbuf();
+        cleanup();
+        throw std::runtime_error("gnuplot could not draw " + path + (message.str().empty() ? "" : ": " + message.str()));
+    }
+    fs::rename(image, target, error);
+    if (error) {
+        cleanup();
+        throw std::runtime_error("cannot write " + path + ": " + error.message());
+    }
+    cleanup();
+}
+
+PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics, int dof,
+                  const std::string& title) {
+    PlotSpec spec;
+    spec.title = title;
+    spec.xlabel = "w";
+    const std::string y = "y" + std::to_string(dof + 1) + "_max";
+    spec.ylabel = y + " = max over one period of |y" + std::to_string(dof + 1) + "(t)|";
+    PlotCurve branch{"harmonic balance (branch in order)", {}, {}, PlotCurve::Style::line, 7};
+    PlotCurve folds{"folds", {}, {}, PlotCurve::Style::markers, 9};
+    PlotCurve transitions{"stick-slip transitions", {}, {}, PlotCurve::Style::markers, 6};
+    PlotCurve samples{"samples (--at)", {}, {}, PlotCurve::Style::markers, 2};
+    const double NaN = std::nan("");
+    int last_branch = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const SolutionPoint& p = points[k];
+        const double value = metrics[k].y_max[static_cast<std::size_t>(dof)];
+        if (p.kind == PointKind::sample) {
+            samples.x.push_back(p.omega);
+            samples.y.push_back(value);
+            continue;
+        }
+        if (last_branch != 0 && p.branch != last_branch) {  // break the line between branches
+            branch.x.push_back(NaN);
+            branch.y.push_back(NaN);
+        }
+        last_branch = p.branch;
+        branch.x.push_back(p.omega);
+        branch.y.push_back(value);
+        if (p.kind == PointKind::fold) {
+            folds.x.push_back(p.omega);
+            folds.y.push_back(value);
+        } else if (p.kind == PointKind::transition) {
+            transitions.x.push_back(p.omega);
+            transitions.y.push_back(value);
+        }
+    }
+    spec.curves = {branch, folds, transitions, samples};
+    return spec;
+}
+
+}  // namespace hbf::io
