@@ -214,7 +214,7 @@ TEST_CASE("hbf frf rejects bad input with exit code 2 and no files", "[cli]") {
     }
 }
 
-TEST_CASE("--plot draws PNG and SVG through gnuplot; --overlay-timeint adds time-integration markers and a CSV",
+TEST_CASE("Plots: PNG and SVG through gnuplot, with time-integration markers and their CSV from --overlay-timeint",
           "[cli][plot]") {
     TempDir dir;
     const fs::path png = dir.path / "frf.png", svg = dir.path / "an.svg", ti = dir.path / "ti.svg";
@@ -242,7 +242,7 @@ TEST_CASE("--plot draws PNG and SVG through gnuplot; --overlay-timeint adds time
     CHECK_THAT(slurp(ti), Catch::Contains("<svg") && Catch::Contains("time integration"));
 }
 
-TEST_CASE("--plot: an unknown image type is bad input, a missing gnuplot a failure; never a partial file",
+TEST_CASE("Plots: an unknown image type is bad input, a missing gnuplot a failure, never a partial file",
           "[cli][plot]") {
     TempDir dir;
     const fs::path csv = dir.path / "a.csv";
