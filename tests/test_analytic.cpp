@@ -138,7 +138,7 @@ TEST_CASE("Dahl and LuGre stick responses equal the linear contact solve", "[ana
     }
 }
 
-TEST_CASE("Dahl ignores xi; LuGre with xi = 0 equals Dahl", "[analytic]") {
+TEST_CASE("Dahl ignores xi, LuGre with xi = 0 equals Dahl", "[analytic]") {
     AbsorberParameters p = detuned();
     const double dahl = an::contact_limit_friction(p, 0.9, FrictionLaw::dahl);
     p.contact_damping_ratio = 0.0;

@@ -64,7 +64,7 @@ TEST_CASE("hbf analytic defaults: paper system, 221 points on [0.5, 1.6], --out 
     CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator{}) == 1);
 }
 
-TEST_CASE("hbf --help documents the commands and exit codes; analytic --help every flag and column", "[cli]") {
+TEST_CASE("hbf --help documents the commands and exit codes, analytic --help every flag and column", "[cli]") {
     TempDir dir;
     const Result top = run_hbf("--help", dir);
     CHECK(top.exit_code == 0);

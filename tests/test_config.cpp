@@ -88,7 +88,7 @@ TEST_CASE("examples/systems/chain3.toml: two contacts, reported DOFs 1 and 3, eq
     CHECK(std::abs(std::stod(at[k][2]) - ti.y_max[2]) <= 1e-3 * ti.y_max[2]);
 }
 
-TEST_CASE("Command-line flags override the file; the preset's flags are rejected with --config", "[config]") {
+TEST_CASE("Command-line flags override the file, the preset's flags are rejected with --config", "[config]") {
     TempDir dir;
     const Result r = run_hbf("frf --quiet --config '" + systems + "den_hartog.toml' --wmin 0.6 --harmonics 10", dir);
     REQUIRE(r.exit_code == 0);
@@ -102,7 +102,7 @@ TEST_CASE("Command-line flags override the file; the preset's flags are rejected
     CHECK(dir.empty());
 }
 
-TEST_CASE("Bad system files: the message names the file, the line and the key; exit 2, no output", "[config]") {
+TEST_CASE("Bad system files: the message names the file, the line and the key, exit 2, no output", "[config]") {
     TempDir dir;
     const std::string good_structure = "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\n";
     struct Case {
