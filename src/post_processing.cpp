@@ -115,6 +115,27 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
     return m;
 }
 
+PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int contact) {
+    Fourier& f = hb.fourier();
+    const int nt = f.time_samples(), dofs = hb.system().dofs();
+    PointSignals s;
+    s.time = Eigen::VectorXd::LinSpaced(nt, 0.0, 2.0 * M_PI * (nt - 1) / nt) / point.omega;
+    s.y.resize(nt, dofs);
+    Eigen::VectorXd samples(nt);
+    for (int i = 0; i < dofs; ++i) {
+        f.to_time(hb.dof(point.x, i), samples);
+        s.y.col(i) = samples;
+    }
+    const Eigen::VectorXd q = hb.relative(point.x, contact);
+    s.q.resize(nt);
+    s.v.resize(nt);
+    f.to_time(q, s.q);
+    f.to_time(point.omega * (f.derivative() * q), s.v);
+    s.f = hb.force_samples(point.x, point.omega, contact);
+    s.phi = hb.stick_indicator(point.x, point.omega, contact);
+    return s;
+}
+
 std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, int dof, const CorrectorOptions& options) {
     const auto& points = branch.points;
     Analyser analyse(hb);

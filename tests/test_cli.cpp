@@ -263,3 +263,34 @@ TEST_CASE("Plots: an unknown image type is bad input, a missing gnuplot a failur
     CHECK(lonely.exit_code == 2);
     CHECK_THAT(lonely.err, Catch::Contains("--overlay-timeint") && Catch::Contains("--plot"));
 }
+
+TEST_CASE("hbf loop writes one period of the solution: the stuck absorber's exact contact force", "[cli][loop]") {
+    // Coulomb at w = 0.8, fe = 0.5 is in full stick: both masses move as one with
+    // y = fe / (1 - (1 + r) w^2) cos(w t), q = v = 0, and the contact carries the absorber's
+    // inertia force (derived by hand from r y2'' + r wa^2 (y2 - y1) = f with y2 = y1):
+    // f = r y2'' = -r w^2 y. The time grid contains t = 0, where y1 is largest.
+    TempDir dir;
+    const fs::path csv = dir.path / "loop.csv", png = dir.path / "loop.png";
+    const Result r = run_hbf("loop --w 0.8 --out '" + csv.string() + "' --plot '" + png.string() + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(slurp(csv));
+    const std::vector<std::string> header = {"t", "y1", "y2", "q", "v", "f", "stick"};
+    REQUIRE(rows[0] == header);
+    REQUIRE(rows.size() == 513);  // N_t = 512 at H = 20, the default for coulomb
+    const double w = 0.8, y = 0.5 / (1.0 - 1.1 * w * w);
+    CHECK(std::stod(rows[1][0]) == 0.0);
+    CHECK(std::stod(rows[1][1]) == Approx(y).epsilon(1e-8));
+    CHECK(std::stod(rows[1][5]) == Approx(-0.1 * w * w * y).epsilon(1e-8));
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        CHECK(std::abs(std::stod(rows[k][4])) < 1e-8);  // v = 0: stuck
+        CHECK(rows[k][6] == "1");
+    }
+    CHECK(std::stod(rows.back()[0]) == Approx(2.0 * M_PI / w * 511.0 / 512.0).epsilon(1e-12));
+    CHECK(slurp(png).substr(1, 3) == "PNG");
+    const Result missing = run_hbf("loop --out '" + csv.string() + "'", dir);
+    CHECK(missing.exit_code == 2);
+    CHECK_THAT(missing.err, Catch::Contains("--w"));
+    const Result contact = run_hbf("loop --w 0.8 --contact 2", dir);
+    CHECK(contact.exit_code == 2);
+    CHECK_THAT(contact.err, Catch::Contains("--contact") && Catch::Contains("1..1"));
+}

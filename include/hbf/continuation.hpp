@@ -191,6 +191,17 @@ private:
     Fourier fine_;
 };
 
+/// The time signals of one solution over one period, on the AFT grid theta_j = 2 pi j / N_t
+/// (t = theta / omega): every DOF, and contact `contact`'s relative displacement q, relative
+/// velocity v = dq/dt, friction force f and stick indicator phi (friction.hpp: sticks iff
+/// phi < 0). f against v is the friction loop (paper Figs. 5-6).
+struct PointSignals {
+    Eigen::VectorXd time;       ///< t_j = theta_j / omega
+    Eigen::MatrixXd y;          ///< N_t x N: y_i(t_j)
+    Eigen::VectorXd q, v, f, phi;
+};
+PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int contact);
+
 /// A resonance peak: a local maximum of max_t |y_dof(t)| along a branch.
 struct Peak {
     double omega = 0;

@@ -148,4 +148,43 @@ AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
     return p;
 }
 
+int default_harmonics(FrictionLaw law) {
+    return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
+}
+
+ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path) {
+    ChosenSystem chosen;
+    if (config_path.empty()) {
+        const FrictionLaw law = flags.friction_law();
+        chosen.absorber = flags.parameters(command);
+        chosen.system = friction_absorber(chosen.absorber, law);
+        chosen.law_name = to_string(law);
+        chosen.automatic_harmonics = default_harmonics(law);
+        return chosen;
+    }
+    const std::vector<std::string> preset = flags.given(command);
+    if (!preset.empty())
+        throw UsageError(preset.front() + " sets a parameter of the paper's absorber preset: with --config, set "
+                         "the structure and its contacts in the file");
+    chosen.config = io::read_system_config(config_path);
+    chosen.system = chosen.config->system;
+    if (command.count("--law") > 0) {  // every contact takes the law given on the command line
+        const FrictionLaw law = flags.friction_law();
+        for (Contact& c : chosen.system.contacts) c.law = law;
+        try {
+            chosen.system.validate();
+        } catch (const InvalidInput& e) {
+            throw UsageError("--law = " + flags.law + " does not fit the contacts of " + config_path + ": " + e.what());
+        }
+    }
+    for (const Contact& c : chosen.system.contacts) {
+        const std::string name = to_string(c.law);
+        if (chosen.law_name.find(name) == std::string::npos)
+            chosen.law_name += (chosen.law_name.empty() ? "" : ",") + name;
+        chosen.automatic_harmonics = std::max(chosen.automatic_harmonics, default_harmonics(c.law));
+    }
+    chosen.report = chosen.config->report;
+    return chosen;
+}
+
 }  // namespace hbf::cli

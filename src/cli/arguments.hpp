@@ -2,10 +2,12 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "hbf/config.hpp"
 #include "hbf/model.hpp"
 
 namespace hbf::cli {
@@ -44,5 +46,25 @@ struct AbsorberFlags {
     /// them where the system comes from a file.
     std::vector<std::string> given(const CLI::App& command) const;
 };
+
+/// The system a command works on: the paper's absorber from its flags, or any structure from
+/// a --config file (the preset's parameter flags are then rejected; a given --law replaces
+/// every contact's law).
+struct ChosenSystem {
+    System system;
+    std::string law_name;             ///< the law, or the contacts' laws joined by ','
+    std::vector<int> report = {0, 1}; ///< DOFs to report (0-based)
+    std::optional<io::SystemConfig> config;
+    AbsorberParameters absorber;      ///< the preset's parameters (without --config)
+    int automatic_harmonics = 10;     ///< default_harmonics of the (most demanding) law
+};
+ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path);
+
+/// Default H of harmonic balance, measured (README, benchmarks/hb_branch,
+/// tests/test_verification.cpp): Dahl, LuGre and Jenkins (continuous force) converge fast
+/// (H = 10: the peak within 6e-5 of H = 40; Jenkins within 4e-6 of time integration); exact
+/// Coulomb like 1/H (H = 20: about 1% at the peak); regularised Coulomb's steep tanh
+/// (eps = 0.05) wiggles at H = 10 (13 spurious peaks on the default FRF), not at H = 20.
+int default_harmonics(FrictionLaw law);
 
 }  // namespace hbf::cli

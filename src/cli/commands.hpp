@@ -11,6 +11,7 @@ using Runner = std::function<int()>;
 
 Runner add_analytic_command(CLI::App& app);
 Runner add_frf_command(CLI::App& app);
+Runner add_loop_command(CLI::App& app);
 Runner add_timeint_command(CLI::App& app);
 
 }  // namespace hbf::cli

@@ -43,15 +43,6 @@ std::vector<double> parse_list(const std::string& flag, const std::string& text)
     return values;
 }
 
-/// Default H, measured (README, benchmarks/hb_branch, tests/test_verification.cpp): Dahl,
-/// LuGre and Jenkins (continuous force) converge fast (H = 10: the peak within 6e-5 of
-/// H = 40; Jenkins within 4e-6 of time integration); exact Coulomb like 1/H (H = 20: about
-/// 1% at the peak); regularised Coulomb's steep tanh (eps = 0.05) wiggles at H = 10 (13
-/// spurious peaks on the default FRF) and is clean at H = 20.
-int default_harmonics(FrictionLaw law) {
-    return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
-}
-
 bool given(const CLI::App& command, const char* flag) { return command.count(flag) > 0; }
 
 int run(const CLI::App& command, const FrfOptions& o) {
@@ -77,42 +68,13 @@ int run(const CLI::App& command, const FrfOptions& o) {
     }
     // The system: the paper's absorber from its flags, or any structure from --config (whose
     // frequency range and solver settings the flags override).
-    System system;
-    std::string law_name;
-    std::vector<int> report = {0, 1};
-    std::optional<io::SystemConfig> config;
-    AbsorberParameters p;
-    int automatic_harmonics = 10;
-    if (!o.config.empty()) {
-        const std::vector<std::string> preset = o.absorber.given(command);
-        if (!preset.empty())
-            throw UsageError(preset.front() + " sets a parameter of the paper's absorber preset: with --config, set "
-                             "the structure and its contacts in the file");
-        config = io::read_system_config(o.config);
-        system = config->system;
-        if (given(command, "--law")) {  // every contact takes the law given on the command line
-            const FrictionLaw law = o.absorber.friction_law();
-            for (Contact& c : system.contacts) c.law = law;
-            try {
-                system.validate();
-            } catch (const InvalidInput& e) {
-                throw UsageError("--law = " + o.absorber.law + " does not fit the contacts of " + o.config + ": " +
-                                 e.what());
-            }
-        }
-        for (const Contact& c : system.contacts) {
-            const std::string name = to_string(c.law);
-            if (law_name.find(name) == std::string::npos) law_name += (law_name.empty() ? "" : ",") + name;
-            automatic_harmonics = std::max(automatic_harmonics, default_harmonics(c.law));
-        }
-        report = config->report;
-    } else {
-        const FrictionLaw law = o.absorber.friction_law();
-        p = o.absorber.parameters(command);
-        system = friction_absorber(p, law);
-        law_name = to_string(law);
-        automatic_harmonics = default_harmonics(law);
-    }
+    ChosenSystem chosen = choose_system(command, o.absorber, o.config);
+    const System& system = chosen.system;
+    const std::string& law_name = chosen.law_name;
+    const std::vector<int>& report = chosen.report;
+    const std::optional<io::SystemConfig>& config = chosen.config;
+    const AbsorberParameters& p = chosen.absorber;
+    const int automatic_harmonics = chosen.automatic_harmonics;
     HarmonicBalanceOptions hbo;
     const bool file_harmonics = config && config->harmonics && !given(command, "--harmonics");
     hbo.harmonics = static_cast<int>(std::clamp<long long>(parse_integer("--harmonics", o.harmonics), -1, 100000));

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     std::map<std::string, Runner> runners;
     runners["analytic"] = add_analytic_command(app);
     runners["frf"] = add_frf_command(app);
+    runners["loop"] = add_loop_command(app);
     runners["timeint"] = add_timeint_command(app);
 
     const std::string program = "hbf";

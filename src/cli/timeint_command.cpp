@@ -74,29 +74,9 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         io::check_plot_path("--plot", o.plot);
         io::require_gnuplot();
     }
-    System system;
-    std::string title;
-    if (!o.config.empty()) {
-        const std::vector<std::string> preset = o.absorber.given(command);
-        if (!preset.empty())
-            throw UsageError(preset.front() + " sets a parameter of the paper's absorber preset: with --config, set "
-                             "the structure and its contacts in the file");
-        system = io::read_system_config(o.config).system;
-        if (command.count("--law") > 0) {
-            for (Contact& c : system.contacts) c.law = o.absorber.friction_law();
-            try {
-                system.validate();
-            } catch (const InvalidInput& e) {
-                throw UsageError("--law = " + o.absorber.law + " does not fit the contacts of " + o.config + ": " +
-                                 e.what());
-            }
-        }
-        title = "hbf timeint: " + o.config;
-    } else {
-        const FrictionLaw law = o.absorber.friction_law();
-        system = friction_absorber(o.absorber.parameters(command), law);
-        title = "hbf timeint: " + to_string(law) + " (sweep " + o.sweep + ")";
-    }
+    const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
+    const System& system = chosen.system;
+    const std::string title = "hbf timeint: " + (o.config.empty() ? chosen.law_name + " (sweep " + o.sweep + ")" : o.config);
     const std::vector<double> omegas = frequencies(command, o);
     TimeIntegrationOptions tio;
     tio.relative_tolerance = tolerance("--rtol", o.rtol, 1e-14, 1e-3);

@@ -1,0 +1,135 @@
+// `hbf loop`: the time signals of one harmonic-balance solution (friction force against
+// relative velocity: the friction loop), as CSV and optionally a plot.
+#include <cmath>
+#include <memory>
+
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "hbf/continuation.hpp"
+#include "hbf/error.hpp"
+#include "hbf/io.hpp"
+#include "hbf/plot.hpp"
+
+namespace hbf::cli {
+
+namespace {
+struct LoopOptions {
+    AbsorberFlags absorber;
+    std::string w, wmin = "0.5", harmonics = "0", time_samples = "0", contact = "1";
+    std::string out, plot, config;
+};
+
+std::vector<io::Column> loop_columns(int dofs) {
+    std::vector<io::Column> columns = {{"t", "time over one period, t = theta / w (theta = w t from 0 to 2 pi)"}};
+    for (int i = 1; i <= dofs; ++i)
+        columns.push_back({"y" + std::to_string(i), "displacement y" + std::to_string(i) + "(t)"});
+    const std::vector<io::Column> rest = {
+        {"q", "relative displacement of the contact, q = w_c^T y (absorber: y1 - y2)"},
+        {"v", "relative velocity dq/dt"},
+        {"f", "friction force of the contact (acts as -f on its first DOF)"},
+        {"stick", "1 where the contact sticks by its law's definition (hbf frf --help: stick_fraction), else 0"}};
+    columns.insert(columns.end(), rest.begin(), rest.end());
+    return columns;
+}
+
+int run(const CLI::App& command, const LoopOptions& o) {
+    if (!o.plot.empty()) {
+        io::check_plot_path("--plot", o.plot);
+        io::require_gnuplot();
+    }
+    const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
+    if (o.w.empty()) throw UsageError("--w is required: the frequency of the solution");
+    const double w = parse_double("--w", o.w);
+    if (!(w > 0.0)) throw UsageError("--w = " + o.w + " is out of range: allowed > 0");
+    double wmin = parse_double("--wmin", o.wmin);
+    if (!(wmin > 0.0)) throw UsageError("--wmin = " + o.wmin + " is out of range: allowed > 0");
+    if (chosen.config && chosen.config->omega_start && command.count("--wmin") == 0) wmin = *chosen.config->omega_start;
+    const long long contact = parse_integer("--contact", o.contact);
+    const auto contacts = static_cast<long long>(chosen.system.contacts.size());
+    if (contact < 1 || contact > contacts)
+        throw UsageError("--contact = " + o.contact + " is out of range: allowed 1.." + std::to_string(contacts));
+    HarmonicBalanceOptions hbo;
+    const long long h = parse_integer("--harmonics", o.harmonics);
+    if (h < 0 || h > 200) throw UsageError("--harmonics = " + o.harmonics + " is out of range: allowed 0 (automatic) or 1..200");
+    hbo.harmonics = h > 0 ? static_cast<int>(h) : chosen.config && chosen.config->harmonics ? *chosen.config->harmonics
+                                                                                             : chosen.automatic_harmonics;
+    const long long nt = parse_integer("--time-samples", o.time_samples);
+    if (nt != 0 && (nt <= 2 * hbo.harmonics || nt > 65536))
+        throw UsageError("--time-samples = " + o.time_samples + " is out of range: allowed 0 (automatic) or " +
+                         std::to_string(2 * hbo.harmonics + 1) + "..65536");
+    hbo.time_samples = static_cast<int>(nt);
+
+    // The solution at w: the branch followed from wmin (from 0.9 w when w <= wmin).
+    HarmonicBalance hb(chosen.system, hbo);
+    ContinuationOptions co;
+    co.omega_start = w > wmin ? wmin : 0.9 * w;
+    co.omega_end = w;
+    co.locate_transitions = false;
+    const BranchResult branch = continue_branch(hb, co);
+    if (branch.status != ContinuationStatus::completed || branch.points.empty() || branch.points.back().omega != w)
+        throw std::runtime_error("no solution at w = " + format_number(w) + ": the branch from w = " +
+                                 format_number(co.omega_start) + " stopped: " + branch.summary());
+    const PointSignals s = point_signals(hb, branch.points.back(), static_cast<int>(contact - 1));
+
+    io::OutputFile out(o.out);
+    const auto columns = loop_columns(hb.system().dofs());
+    for (std::size_t k = 0; k < columns.size(); ++k) out.stream() << (k ? "," : "") << columns[k].name;
+    out.stream() << '\n';
+    for (Eigen::Index j = 0; j < s.time.size(); ++j) {
+        out.stream() << io::csv_field(s.time(j));
+        for (Eigen::Index i = 0; i < s.y.cols(); ++i) out.stream() << ',' << io::csv_field(s.y(j, i));
+        out.stream() << ',' << io::csv_field(s.q(j)) << ',' << io::csv_field(s.v(j)) << ',' << io::csv_field(s.f(j))
+                     << ',' << (s.phi(j) < 0.0 ? 1 : 0) << '\n';
+    }
+    if (!o.plot.empty()) {
+        io::PlotSpec spec;
+        spec.title = "hbf loop: " + chosen.law_name + ", w = " + format_number(w) + ", H = " + std::to_string(hb.harmonics());
+        spec.xlabel = "v = relative velocity dq/dt";
+        spec.ylabel = "f = friction force";
+        io::PlotCurve loop{"friction loop (one period)", {}, {}, io::PlotCurve::Style::line, 7};
+        for (Eigen::Index j = 0; j <= s.time.size(); ++j) {  // closed: back to the first sample
+            const Eigen::Index k = j % s.time.size();
+            loop.x.push_back(s.v(k));
+            loop.y.push_back(s.f(k));
+        }
+        spec.curves = {loop};
+        io::write_plot(o.plot, spec);
+    }
+    out.commit();
+    return exit_success;
+}
+}  // namespace
+
+Runner add_loop_command(CLI::App& app) {
+    auto options = std::make_shared<LoopOptions>();
+    CLI::App* command = app.add_subcommand(
+        "loop", "Time signals of one harmonic-balance solution at frequency w: displacements, the contact's "
+                "relative motion and friction force (the friction loop f against v, paper Figs. 5-6).");
+    options->absorber.add_to(*command,
+                             "friction law: coulomb, jenkins, dahl, lugre or coulomb-reg (as hbf frf)", "coulomb", true);
+    command->add_option("--w", options->w, "frequency w of the solution, > 0 (required)")->type_name("NUMBER");
+    command->add_option("--wmin", options->wmin,
+                        "the solution is the one reached by following the branch from wmin (from 0.9 w when "
+                        "w <= wmin), > 0")
+        ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--harmonics", options->harmonics, "number of harmonics H, 1..200; 0 = automatic (as hbf frf)")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--time-samples", options->time_samples,
+                        "time samples per period N_t > 2H (the rows); 0 = automatic (as hbf frf)")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--contact", options->contact, "which contact's q, v, f and stick to write (1-based)")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--config", options->config, "the structure from a TOML system file (as hbf frf --config)")
+        ->option_text("FILE.toml");
+    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
+    command->add_option("--plot", options->plot, "draw f against v through gnuplot (.png or .svg)")
+        ->option_text("FILE.png|FILE.svg");
+    std::string footer = "Output: CSV with a header row, one row per time sample of one period (the AFT grid). "
+                         "Nondimensional for the preset (t in 1/omega1, y in x_s = N/k1, f in N).\nColumns:\n";
+    for (const auto& c : loop_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
+    footer += "(y1, y2: one column per DOF of the system.) Exit code 1 when the branch does not reach w.";
+    command->footer(footer);
+    return [command, options]() { return run(*command, *options); };
+}
+
+}  // namespace hbf::cli
