@@ -197,7 +197,7 @@ TEST_CASE("hbf frf --law coulomb writes the located stick-slip transitions as ro
 TEST_CASE("hbf frf rejects bad input with exit code 2 and no files", "[cli]") {
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"--law coulomb --dlft-eps 0", "--dlft-eps"}, {"--law lugre --dlft-eps 1", "--dlft-eps"},
-        {"--law coulomb --xi 0.1", "--xi"},   {"--harmonics -1", "--harmonics"}, {"--harmonics 1e3", "--harmonics"},
+        {"--law coulomb --xi 0.1", "--xi"},   {"--harmonics -1", "--harmonics"}, {"--max-step 0", "--max-step"}, {"--harmonics 1e3", "--harmonics"},
         {"--time-samples 5", "--time-samples"}, {"--at 0.7,x", "--at"},       {"--at 0.7,-1", "--at"},
         {"--max-amplitude 0", "max_amplitude"}, {"--tolerance 1", "--tolerance"}, {"--law lugre --eps 0.1", "--eps"},
         {"--law dahl --viscous 0.1", "--viscous"}, {"--law coulomb-reg --eps 0", "eps"}, {"--wmin 2", "wmax"},
@@ -290,6 +290,11 @@ TEST_CASE("hbf loop writes one period of the solution: the stuck absorber's exac
     const Result missing = run_hbf("loop --out '" + csv.string() + "'", dir);
     CHECK(missing.exit_code == 2);
     CHECK_THAT(missing.err, Catch::Contains("--w"));
+    // Above an unbounded resonance (fe = 1) the branch from wmin stops at the amplitude cap;
+    // the solution at w is the one branch 2 starts from.
+    const Result beyond = run_hbf("loop --fe 1 --w 1.3 --harmonics 10", dir);
+    CHECK(beyond.exit_code == 0);
+    CHECK(parse_csv(beyond.out).size() == 257);
     const Result contact = run_hbf("loop --w 0.8 --contact 2", dir);
     CHECK(contact.exit_code == 2);
     CHECK_THAT(contact.err, Catch::Contains("--contact") && Catch::Contains("1..1"));

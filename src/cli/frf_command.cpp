@@ -22,7 +22,7 @@ namespace hbf::cli {
 namespace {
 struct FrfOptions {
     AbsorberFlags absorber;
-    std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000",
+    std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000", max_step = "1",
                 tolerance = "1e-9";
     std::string at, out, summary, config, plot, overlay, overlay_out;
     bool quiet = false;
@@ -100,6 +100,10 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (config && config->omega_start && !given(command, "--wmin")) co.omega_start = *config->omega_start;
     if (config && config->omega_end && !given(command, "--wmax")) co.omega_end = *config->omega_end;
     co.max_amplitude = parse_double("--max-amplitude", o.max_amplitude);
+    co.max_step = parse_double("--max-step", o.max_step);
+    if (!(co.max_step >= 1e-5 && co.max_step <= 10.0))
+        throw UsageError("--max-step = " + o.max_step + " is out of range: allowed 1e-5..10");
+    co.initial_step = std::min(co.initial_step, co.max_step);
     co.corrector.tolerance = parse_double("--tolerance", o.tolerance);
     if (!(co.corrector.tolerance >= 1e-14 && co.corrector.tolerance <= 1e-2))
         throw UsageError("--tolerance = " + o.tolerance + " is out of range: allowed 1e-14..1e-2");
@@ -219,6 +223,11 @@ Runner add_frf_command(CLI::App& app) {
     command->add_option("--max-amplitude", options->max_amplitude,
                         "amplitude cap: the branch stops when a bound of max |y_i| exceeds it (unbounded "
                         "resonance), then restarts from wmax as branch 2")
+        ->capture_default_str()->type_name("NUMBER");
+    command->add_option("--max-step", options->max_step,
+                        "largest arclength step, in the continuation's scaled coordinates (w and the coefficients "
+                        "relative to the current amplitude); smaller values give denser points, e.g. smoother "
+                        "plots of linear stretches, 1e-5..10")
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--tolerance", options->tolerance,
                         "corrector acceptance: |R|_inf <= tolerance * |F|_inf (the excitation amplitude), 1e-14..1e-2")

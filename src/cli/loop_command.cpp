@@ -66,10 +66,15 @@ int run(const CLI::App& command, const LoopOptions& o) {
     co.omega_end = w;
     co.locate_transitions = false;
     const BranchResult branch = continue_branch(hb, co);
-    if (branch.status != ContinuationStatus::completed || branch.points.empty() || branch.points.back().omega != w)
+    // The branch's point at w: where branch 1 lands, or where branch 2 starts when branch 1
+    // stopped at an amplitude cap on the way.
+    const SolutionPoint* at = nullptr;
+    for (const SolutionPoint& point : branch.points)
+        if (point.omega == w && (at == nullptr || point.branch < at->branch)) at = &point;
+    if (at == nullptr)
         throw std::runtime_error("no solution at w = " + format_number(w) + ": the branch from w = " +
                                  format_number(co.omega_start) + " stopped: " + branch.summary());
-    const PointSignals s = point_signals(hb, branch.points.back(), static_cast<int>(contact - 1));
+    const PointSignals s = point_signals(hb, *at, static_cast<int>(contact - 1));
 
     io::OutputFile out(o.out);
     const auto columns = loop_columns(hb.system().dofs());
