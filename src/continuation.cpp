@@ -177,6 +177,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     Eigen::VectorXd t = tangent(x, omega, previous);
     double h = o.initial_step;
     double rejected_turn = -1.0;  // turn of the last step rejected for turning too sharply
+    int leaps = 0;                // steps over a spot the corrector cannot land on (below)
     const double end = direction > 0 ? omega_high : omega_low;
     while (true) {
         if (static_cast<int>(out.points.size()) >= o.max_points) {
@@ -193,6 +194,14 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             ++failures;
             rejected_turn = -1.0;
             h *= 0.5;
+            if (h < o.min_step && leaps < 3) {
+                // The corrector cannot land near here (a nonsmooth law's residual is piecewise
+                // smooth: at a pattern boundary the iteration may cycle). Step over the spot
+                // with 4, 16, 64 times the initial step; each leap is corrected and checked
+                // like any step.
+                h = o.initial_step * std::pow(4.0, ++leaps);
+                continue;
+            }
             if (h < o.min_step) {
                 out.status = ContinuationStatus::min_step;
                 out.message = "corrector failed with the minimum step at w = " + format_number(omega) +
@@ -234,6 +243,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             continue;
         }
         rejected_turn = -1.0;
+        leaps = 0;
         SolutionPoint p = make_point(wp, xp, it, res, h);
         if (t_new(n) * t(n) < 0.0) p.kind = PointKind::fold;
         out.points.push_back(p);
@@ -288,10 +298,31 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     }
     Trace second = trace(hb, corrector, o, x2, o.omega_end, it, res, -1, capped_at, o.omega_end, scale2, 2,
                          result);
+    const double capped_above = second.points.back().omega;
     std::reverse(second.points.begin(), second.points.end());  // written in increasing w like branch 1
     result.points.insert(result.points.end(), second.points.begin(), second.points.end());
     result.message += "; branch 2 from w = " + format_number(o.omega_end) + ": " +
                       (second.message.empty() ? to_string(second.status) : second.message);
+    if (second.status != ContinuationStatus::amplitude_cap || !(capped_above > capped_at)) return;
+
+    // Two unbounded resonances: the part between them is a separate (bounded) branch. Start
+    // in the middle of the gap and follow it both ways, down to the first cap and up to the
+    // second.
+    const double middle = 0.5 * (capped_at + capped_above);
+    Eigen::VectorXd x3;
+    double scale3 = 1.0;
+    if (!find_start(hb, corrector, o.corrector, middle, x3, scale3, it, res, result)) {
+        result.message += "; no start inside the gap at w = " + format_number(middle);
+        return;
+    }
+    Trace down = trace(hb, corrector, o, x3, middle, it, res, -1, capped_at, middle, scale3, 3, result);
+    Trace up = trace(hb, corrector, o, x3, middle, it, res, +1, middle, capped_above, scale3, 3, result);
+    std::reverse(down.points.begin(), down.points.end());
+    result.points.insert(result.points.end(), down.points.begin(), down.points.end());
+    result.points.insert(result.points.end(), up.points.begin() + 1, up.points.end());  // the start once
+    result.message += "; branch 3 inside the gap from w = " + format_number(middle) + ": down " +
+                      (down.message.empty() ? to_string(down.status) : down.message) + ", up " +
+                      (up.message.empty() ? to_string(up.status) : up.message);
 }
 /// The regime of contact 1 at a point (stick_pattern).
 std::string regime_at(HarmonicBalance& hb, const SolutionPoint& p) {

@@ -76,7 +76,7 @@ void write_plot(const std::string& path, const PlotSpec& spec) {
         gp << (extension_of(path) == ".png" ? "set terminal pngcairo size 900,600 enhanced font 'sans,11'\n"
                                              : "set terminal svg size 900,600 enhanced font 'sans,11' background 'white'\n");
         gp << "set output " << quoted(image.string()) << "\n"
-           << "set datafile missing 'NaN'\nset grid\nset key top right\n"
+           << "set grid\nset key top right\n"
            << "set title " << quoted(spec.title) << " noenhanced\n"
            << "set xlabel " << quoted(spec.xlabel) << " noenhanced\n"
            << "set ylabel " << quoted(spec.ylabel) << " noenhanced\n";
@@ -86,8 +86,12 @@ void write_plot(const std::string& path, const PlotSpec& spec) {
             if (curve.x.empty()) continue;
             const std::string block = "$curve" + std::to_string(c);
             gp << block << " << EOD\n";
-            for (std::size_t k = 0; k < curve.x.size() && k < curve.y.size(); ++k)
-                gp << number(curve.x[k]) << ' ' << number(curve.y[k]) << '\n';
+            for (std::size_t k = 0; k < curve.x.size() && k < curve.y.size(); ++k) {
+                if (!std::isfinite(curve.x[k]) || !std::isfinite(curve.y[k]))
+                    gp << '\n';  // a blank line breaks the line (a gap, or the next branch)
+                else
+                    gp << number(curve.x[k]) << ' ' << number(curve.y[k]) << '\n';
+            }
             gp << "EOD\n";
             std::string style;
             switch (curve.style) {

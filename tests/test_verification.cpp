@@ -198,3 +198,33 @@ TEST_CASE("Stick-slip transitions located by harmonic balance separate the regim
         }
     }
 }
+
+TEST_CASE("Between two unbounded resonances the bounded branch is found from a third start",
+          "[verification][continuation]") {
+    // fe = 1: in slip the undamped absorber's resonances (w = 0.854, 1.171) are unbounded, so
+    // branch 1 (from wmin) and branch 2 (from wmax) stop at the amplitude cap; the bounded
+    // slipping response between them is branch 3, started in the middle of the gap. At w = 1
+    // it must be the response time integration finds (tolerance 0.08 / H as above).
+    AbsorberParameters p;
+    p.excitation = 1.0;
+    const System system = friction_absorber(p, FrictionLaw::coulomb);
+    HarmonicBalance hb(system, HarmonicBalanceOptions{20, 0});
+    const BranchResult b = continue_branch(hb, ContinuationOptions{});
+    INFO(b.summary());
+    REQUIRE(b.status == ContinuationStatus::amplitude_cap);
+    double low = INFINITY, high = 0.0;
+    for (const SolutionPoint& point : b.points)
+        if (point.branch == 3) {
+            low = std::min(low, point.omega);
+            high = std::max(high, point.omega);
+        }
+    CHECK(low < 0.86);
+    CHECK(high > 1.16);
+    const std::vector<SolutionPoint> at = sample_branch(hb, b, {1.0}, CorrectorOptions{});
+    REQUIRE(at.size() == 1);
+    const PeriodicResponse ti = integrate_steady_state(system, 1.0, reference_options());
+    REQUIRE(ti.converged);
+    const double y = Analyser(hb)(at[0]).y_max[0];
+    INFO("HB " << y << ", TI " << ti.y_max[0]);
+    CHECK(std::abs(y - ti.y_max[0]) <= 0.08 / 20 * ti.y_max[0]);
+}

@@ -44,7 +44,9 @@ struct ContinuationOptions {
     int max_points = 5000;        ///< point budget per branch
     double max_amplitude = 1e3;   ///< stop when any max_t |y_i(t)| bound exceeds this
     bool locate_transitions = true;  ///< insert the stick-slip transitions of contact 1 (below)
-    bool restart_past_cap = true; ///< after an amplitude cap, start a second branch at omega_end
+    bool restart_past_cap = true; ///< after an amplitude cap, start a second branch at omega_end,
+                                  ///< and if that caps too, a third in the middle of the gap
+                                  ///< between the two caps, followed both ways
     CorrectorOptions corrector;
 };
 
@@ -63,7 +65,8 @@ struct SolutionPoint {
     double residual = 0;    ///< |R|_inf / force_scale after correction
     double step = 0;        ///< arclength step that led to this point (0 for the first)
     PointKind kind = PointKind::regular;
-    int branch = 1;         ///< 1-based branch number
+    int branch = 1;         ///< 1-based branch number: 1 from omega_start, 2 from omega_end after
+                            ///< an amplitude cap, 3 between two caps
     Boundary boundary = Boundary::none;  ///< kind transition: which regimes meet here
 };
 
@@ -79,7 +82,7 @@ enum class ContinuationStatus { completed, amplitude_cap, min_step, point_budget
 std::string to_string(ContinuationStatus status);
 
 struct BranchResult {
-    std::vector<SolutionPoint> points;  ///< in branch order; branch 2 (if any) after branch 1
+    std::vector<SolutionPoint> points;  ///< in branch order; branches 2 and 3 (if any) after branch 1
     ContinuationStatus status = ContinuationStatus::completed;
     std::string message;                ///< where and why it stopped
     int corrections = 0;                ///< corrector calls, including failed ones
