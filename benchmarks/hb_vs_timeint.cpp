@@ -1,0 +1,372 @@
+// Benchmark: the same FRF of the paper's absorber by harmonic balance + continuation and by
+// time integration (a CVODE sweep), in this process, for each friction law and excitation:
+//   - HB: everything a user waits for — the HarmonicBalance set-up, continue_branch over
+//     [wmin, wmax], sample_branch at the grid frequencies (every solution of the branch
+//     there) and the Analyser's y_max of each sample;
+//   - TI: sweep() up the same uniform grid, each point starting from the previous steady state,
+//     with tolerances per law that keep it well more accurate than HB (default_time_integration);
+//   - each side is run `--repeats` times and the fastest run is reported;
+//   - the largest relative difference in y1_max (relative to the TI value) over the grid
+//     points where both converged; where the HB branch has several solutions at a frequency
+//     (folds) the one nearest to the TI value is compared. Grid points without a converged
+//     counterpart on either side (e.g. between two unbounded resonances, where the HB branch
+//     stops at its amplitude cap) are excluded and counted, with the reason;
+//   - the accuracy of the TI itself: at every compared point (`--check-every K`: every K-th)
+//     the steady state is recomputed with tight tolerances (rtol 1e-12, atol 1e-14, steady-tol
+//     1e-10) from the TI's own final state, so on the same attractor, untimed; the largest
+//     relative change of y1_max is reported.
+// The last line is one JSON object with all figures. Run by hand: `build/benchmarks/hb_vs_timeint`.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "hbf/analytic.hpp"
+#include "hbf/continuation.hpp"
+#include "hbf/error.hpp"
+#include "hbf/time_integration.hpp"
+
+using namespace hbf;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// `hbf frf`'s default H (src/cli/frf_command.cpp, default_harmonics): 20 for exact and
+/// regularised Coulomb, 10 for the others.
+int default_harmonics(FrictionLaw law) {
+    return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
+}
+
+/// The TI tolerances of this benchmark by default, measured (README, Benchmarks): per law the
+/// fastest set on the ladder rtol 1e-10..1e-4 (atol = rtol / 100, steady-tol 1e-8..1e-4) whose
+/// y1_max stays within 1/10 of the HB-TI difference against a tight TI in every case, so that
+/// the difference measures HB, not the TI.
+/// Exact Coulomb (event-driven): rtol 1e-6, atol 1e-8, steady-tol 1e-5: |TI - tight TI| <=
+/// 7e-5 relative (HB at H = 20 differs by 1e-2), in 0.4 of the time of hbf timeint's
+/// defaults; rtol 1e-5 / steady-tol 1e-4 reaches 1.3e-3.
+/// Dahl and LuGre: rtol 1e-9, atol 1e-11, steady-tol 1e-7: <= 2e-6 (HB at H = 10 differs by
+/// 7e-5..3e-4), 20% faster than hbf timeint's defaults. Looser does not pay for them: at rtol
+/// 1e-8 or 1e-7 the sweeps take up to 4x longer (the Poincare iteration and its shooting
+/// steps stall on the integration noise), with errors up to 3e-5 and an unconverged point.
+TimeIntegrationOptions default_time_integration(FrictionLaw law) {
+    TimeIntegrationOptions o;
+    if (law == FrictionLaw::coulomb) {
+        o.relative_tolerance = 1e-6;
+        o.absolute_tolerance = 1e-8;
+        o.steady_tolerance = 1e-5;
+    } else {
+        o.relative_tolerance = 1e-9;
+        o.absolute_tolerance = 1e-11;
+        o.steady_tolerance = 1e-7;
+    }
+    return o;
+}
+
+/// One grid point: the TI value and the HB solutions there.
+struct GridPoint {
+    double omega = 0;
+    bool ti_converged = false;
+    double ti_y1_max = 0, ti_seconds = 0;
+    int ti_periods = 0;
+    std::string ti_regime;
+    std::vector<double> hb_y1_max;  ///< every HB solution at omega (several where the branch folds)
+    double hb_nearest = std::numeric_limits<double>::quiet_NaN();
+    double rel_diff = std::numeric_limits<double>::quiet_NaN();
+    double ti_error = std::numeric_limits<double>::quiet_NaN();  ///< vs the tight TI (checked points)
+    std::string excluded;  ///< reason, empty if compared
+};
+
+struct Case {
+    std::string law;
+    double fe = 0;
+    int harmonics = 0, time_samples = 0, points = 0, branch_points = 0;
+    std::string branch_status, branch_message;
+    double hb_seconds = 0, continuation_seconds = 0, timeint_seconds = 0;
+    long ti_periods = 0;
+    int compared = 0, excluded = 0, multiple = 0, checked = 0, unchecked = 0;
+    double max_rel_diff = 0, max_rel_diff_omega = 0;
+    double ti_error = 0;  ///< largest relative change of y1_max vs the tight TI
+    std::map<std::string, int> reasons;
+    std::vector<GridPoint> grid;
+};
+
+Case run_case(const AbsorberParameters& p, FrictionLaw law, int harmonics, const std::vector<double>& grid,
+              const ContinuationOptions& co, const TimeIntegrationOptions& tio,
+              const TimeIntegrationOptions& tight, int check_every, int repeats) {
+    Case c;
+    c.law = to_string(law);
+    c.fe = p.excitation;
+    c.harmonics = harmonics;
+    c.points = static_cast<int>(grid.size());
+    c.grid.resize(grid.size());
+    const System system = friction_absorber(p, law);
+
+    // ---- harmonic balance: set-up, continuation, samples at the grid, y_max (fastest of `repeats`) ----
+    BranchResult branch;
+    std::vector<SolutionPoint> samples;
+    std::vector<double> sample_y1;
+    int time_samples = 0;
+    for (int repeat = 0; repeat < repeats; ++repeat) {
+        const auto hb_start = std::chrono::steady_clock::now();
+        HarmonicBalance hb(system, HarmonicBalanceOptions{harmonics, 0});
+        branch = continue_branch(hb, co);
+        samples = sample_branch(hb, branch, grid, co.corrector);
+        Analyser analyse(hb);
+        sample_y1.resize(samples.size());
+        for (std::size_t k = 0; k < samples.size(); ++k) sample_y1[k] = analyse(samples[k]).y_max[0];
+        const double elapsed = seconds_since(hb_start);
+        if (repeat == 0 || elapsed < c.hb_seconds) c.hb_seconds = elapsed;
+        time_samples = hb.time_samples();
+    }
+    c.continuation_seconds = branch.seconds;
+    c.time_samples = time_samples;
+    c.branch_points = static_cast<int>(branch.points.size());
+    c.branch_status = to_string(branch.status);
+    c.branch_message = branch.message;
+    // sample_branch returns the samples frequency by frequency, in the order of `grid`.
+    for (std::size_t k = 0, g = 0; k < samples.size(); ++k) {
+        while (g < grid.size() && grid[g] != samples[k].omega) ++g;
+        if (g < grid.size()) c.grid[g].hb_y1_max.push_back(sample_y1[k]);
+    }
+
+    // ---- time integration: a sweep up the grid (fastest of `repeats`) ----
+    std::vector<PeriodicResponse> ti;
+    for (int repeat = 0; repeat < repeats; ++repeat) {
+        const auto ti_start = std::chrono::steady_clock::now();
+        ti = sweep(system, grid, tio);
+        const double elapsed = seconds_since(ti_start);
+        if (repeat == 0 || elapsed < c.timeint_seconds) c.timeint_seconds = elapsed;
+    }
+
+    // ---- comparison ----
+    for (std::size_t g = 0; g < grid.size(); ++g) {
+        GridPoint& gp = c.grid[g];
+        const PeriodicResponse& r = ti[g];
+        gp.omega = grid[g];
+        gp.ti_converged = r.converged;
+        gp.ti_y1_max = r.y_max[0];
+        gp.ti_seconds = r.seconds;
+        gp.ti_periods = r.periods;
+        gp.ti_regime = r.regime;
+        c.ti_periods += r.periods;
+        if (!gp.hb_y1_max.empty()) {
+            gp.hb_nearest = *std::min_element(gp.hb_y1_max.begin(), gp.hb_y1_max.end(), [&](double a, double b) {
+                return std::abs(a - gp.ti_y1_max) < std::abs(b - gp.ti_y1_max);
+            });
+        }
+        if (gp.hb_y1_max.empty() && !r.converged)
+            gp.excluded = "neither HB nor TI";
+        else if (gp.hb_y1_max.empty())
+            gp.excluded = branch.status == ContinuationStatus::amplitude_cap
+                              ? "no HB solution (between the branch ends at the amplitude cap)"
+                              : "no HB solution (branch " + c.branch_status + ")";
+        else if (!r.converged)
+            gp.excluded = "TI not converged";
+        if (!gp.excluded.empty()) {
+            ++c.excluded;
+            ++c.reasons[gp.excluded];
+            continue;
+        }
+        ++c.compared;
+        if (gp.hb_y1_max.size() > 1) ++c.multiple;
+        gp.rel_diff = std::abs(gp.hb_nearest - gp.ti_y1_max) / gp.ti_y1_max;
+        if (gp.rel_diff > c.max_rel_diff) {
+            c.max_rel_diff = gp.rel_diff;
+            c.max_rel_diff_omega = gp.omega;
+        }
+    }
+
+    // ---- accuracy of the TI (untimed): tight tolerances from the TI's own final state, at
+    // every check_every-th compared point (those that enter max_rel_diff) ----
+    if (check_every > 0) {
+        int counter = 0;
+        for (std::size_t g = 0; g < grid.size(); ++g) {
+            if (!c.grid[g].excluded.empty() || counter++ % check_every != 0) continue;
+            const PeriodicResponse ref = integrate_steady_state(system, grid[g], tight, &ti[g].state);
+            if (!ref.converged) {
+                ++c.unchecked;
+                continue;
+            }
+            c.grid[g].ti_error = std::abs(ti[g].y_max[0] - ref.y_max[0]) / ref.y_max[0];
+            c.ti_error = std::max(c.ti_error, c.grid[g].ti_error);
+            ++c.checked;
+        }
+    }
+    return c;
+}
+
+std::string format_reasons(const std::map<std::string, int>& reasons) {
+    std::string text;
+    for (const auto& [reason, count] : reasons) text += (text.empty() ? "" : "; ") + std::to_string(count) + " " + reason;
+    return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Times the FRF of the paper's absorber by harmonic balance + continuation and by a time-integration "
+                 "sweep on the same grid, and compares their y1_max."};
+    std::vector<std::string> law_names = {"coulomb", "dahl", "lugre"};
+    std::vector<double> excitations = {0.5, 1.0};
+    AbsorberParameters p;  // r = 0.1, wa = 1, mu = 0.2, wb = 0.4, xi = 0.01
+    ContinuationOptions co;
+    double rtol = 0, atol = 0, steady_tol = 0;  // 0: default_time_integration(law)
+    TimeIntegrationOptions tight;
+    tight.relative_tolerance = 1e-12;
+    tight.absolute_tolerance = 1e-14;
+    tight.steady_tolerance = 1e-10;  // rounding floor of the Poincare change at rtol 1e-12: ~1e-10
+    tight.max_periods = 1000;
+    int points = 111, harmonics = 0, check_every = 1, repeats = 3;
+    std::string csv;
+    app.add_option("--law", law_names, "friction laws: coulomb (exact), dahl, lugre, jenkins, coulomb-reg")
+        ->delimiter(',')
+        ->capture_default_str();
+    app.add_option("--fe", excitations, "excitation amplitudes fe")->delimiter(',')->capture_default_str();
+    app.add_option("--wmin", co.omega_start, "first frequency")->capture_default_str();
+    app.add_option("--wmax", co.omega_end, "last frequency")->capture_default_str();
+    app.add_option("--points", points, "uniform grid of the TI sweep and of the HB samples")
+        ->check(CLI::Range(2, 10000))
+        ->capture_default_str();
+    app.add_option("--harmonics", harmonics, "H for every law; 0 = hbf frf's default (20 coulomb, 10 dahl, lugre)")
+        ->check(CLI::Range(0, 200))
+        ->capture_default_str();
+    app.add_option("--rtol", rtol,
+                   "CVODE relative tolerance of the TI for every law; 0 = per law: 1e-6 coulomb, 1e-9 others")
+        ->capture_default_str();
+    app.add_option("--atol", atol,
+                   "CVODE absolute tolerance of the TI for every law; 0 = per law: 1e-8 coulomb, 1e-11 others")
+        ->capture_default_str();
+    app.add_option("--steady-tol", steady_tol,
+                   "Poincare convergence tolerance of the TI for every law; 0 = per law: 1e-5 coulomb, 1e-7 "
+                   "others")
+        ->capture_default_str();
+    app.add_option("--repeats", repeats, "runs of each side per case; the fastest is reported")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    app.add_option("--check-every", check_every,
+                   "accuracy of the TI: recompute every K-th compared grid point with rtol 1e-12, atol 1e-14, "
+                   "steady-tol 1e-10 (untimed); 0 = off")
+        ->check(CLI::Range(0, 10000))
+        ->capture_default_str();
+    app.add_option("--csv", csv, "write every grid point (w, TI and HB y1_max, ...) of every case to this file");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        const auto time_integration = [&](FrictionLaw law) {
+            TimeIntegrationOptions o = default_time_integration(law);
+            if (rtol != 0) o.relative_tolerance = rtol;
+            if (atol != 0) o.absolute_tolerance = atol;
+            if (steady_tol != 0) o.steady_tolerance = steady_tol;
+            o.validate();
+            return o;
+        };
+        std::vector<FrictionLaw> laws;
+        for (const std::string& name : law_names) {
+            laws.push_back(parse_friction_law(name));
+            time_integration(laws.back());  // validates the tolerances up front
+        }
+        const std::vector<double> grid = analytic::uniform_grid(co.omega_start, co.omega_end, points);
+
+        std::printf("FRF of the absorber by HB + continuation and by a TI sweep: w in [%g, %g], %d grid points, "
+                    "r = %g, wa = %g, mu = %g, wb = %g, xi = %g\n",
+                    co.omega_start, co.omega_end, points, p.mass_ratio, p.tuning_ratio, p.friction_coefficient,
+                    p.contact_stiffness_ratio, p.contact_damping_ratio);
+        std::printf("HB: set-up + continuation + samples at the grid + y_max (corrector tolerance %g, amplitude cap "
+                    "%g); TI: a CVODE sweep up the grid\n(%s; tolerances per case below). Fastest of %d runs each.\n",
+                    co.corrector.tolerance, co.max_amplitude, to_string(TimeIntegrationOptions{}.method).c_str(),
+                    repeats);
+        std::printf("rel. diff = max |y1_max HB - y1_max TI| / y1_max TI over the compared points (nearest HB "
+                    "solution where several);\nTI error = max |y1_max TI - y1_max tight TI| / y1_max tight TI "
+                    "(rtol 1e-12, atol 1e-14, steady-tol 1e-10),\n"
+                    "from the TI's final state, untimed, %s\n\n",
+                    check_every == 0   ? "not checked (--check-every 0)"
+                    : check_every == 1 ? "at every compared point"
+                                       : ("at every " + std::to_string(check_every) + "th compared point").c_str());
+        std::printf("%-8s %4s %3s %6s %9s %9s %8s %8s %8s %10s %7s %10s  %s\n", "law", "fe", "H", "points", "HB [s]",
+                    "TI [s]", "speedup", "compared", "excluded", "rel. diff", "at w", "TI error",
+                    "TI rtol/atol/steady-tol");
+        std::ofstream csv_file;
+        if (!csv.empty()) {
+            csv_file.open(csv);
+            csv_file << "law,fe,w,ti_y1_max,ti_converged,ti_regime,ti_periods,ti_seconds,hb_solutions,hb_y1_max,"
+                        "rel_diff,ti_error,excluded\n";
+            csv_file.precision(12);
+        }
+        const auto total_start = std::chrono::steady_clock::now();
+        nlohmann::json cases = nlohmann::json::array();
+        for (FrictionLaw law : laws) {
+            for (double fe : excitations) {
+                AbsorberParameters q = p;
+                q.excitation = fe;
+                const int h = harmonics > 0 ? harmonics : default_harmonics(law);
+                const TimeIntegrationOptions law_tio = time_integration(law);
+                const Case c = run_case(q, law, h, grid, co, law_tio, tight, check_every, repeats);
+                const double speedup = c.timeint_seconds / c.hb_seconds;
+                std::printf("%-8s %4g %3d %6d %9.3f %9.3f %8.1f %8d %8d %10.2e %7.3f %10.1e  %g/%g/%g\n",
+                            c.law.c_str(), c.fe, c.harmonics, c.points, c.hb_seconds, c.timeint_seconds, speedup,
+                            c.compared, c.excluded, c.max_rel_diff, c.max_rel_diff_omega, c.ti_error,
+                            law_tio.relative_tolerance, law_tio.absolute_tolerance, law_tio.steady_tolerance);
+                if (c.multiple > 0)
+                    std::printf("         %d compared points with several HB solutions (the nearest compared)\n",
+                                c.multiple);
+                if (c.unchecked > 0)
+                    std::printf("         %d checked points whose tight TI did not converge (left out of TI error)\n",
+                                c.unchecked);
+                if (c.branch_status != "completed")
+                    std::printf("         HB branch: %s: %s\n", c.branch_status.c_str(), c.branch_message.c_str());
+                if (c.excluded > 0) std::printf("         excluded: %s\n", format_reasons(c.reasons).c_str());
+                std::fflush(stdout);
+                nlohmann::json reasons = nlohmann::json::object();
+                for (const auto& [reason, count] : c.reasons) reasons[reason] = count;
+                cases.push_back({{"law", c.law},
+                                 {"fe", c.fe},
+                                 {"harmonics", c.harmonics},
+                                 {"time_samples", c.time_samples},
+                                 {"points", c.points},
+                                 {"hb_seconds", c.hb_seconds},
+                                 {"continuation_seconds", c.continuation_seconds},
+                                 {"timeint_seconds", c.timeint_seconds},
+                                 {"speedup", speedup},
+                                 {"max_rel_diff_y1_max", c.max_rel_diff},
+                                 {"max_rel_diff_w", c.max_rel_diff_omega},
+                                 {"compared", c.compared},
+                                 {"excluded", c.excluded},
+                                 {"excluded_reasons", reasons},
+                                 {"hb_branch_points", c.branch_points},
+                                 {"hb_branch_status", c.branch_status},
+                                 {"timeint_periods", c.ti_periods},
+                                 {"hb_multiple_solutions", c.multiple},
+                                 {"timeint_rtol", law_tio.relative_tolerance},
+                                 {"timeint_atol", law_tio.absolute_tolerance},
+                                 {"timeint_steady_tol", law_tio.steady_tolerance},
+                                 {"timeint_checked", c.checked},
+                                 {"timeint_unchecked", c.unchecked},
+                                 {"timeint_error_y1_max", c.ti_error}});
+                if (csv_file.is_open()) {
+                    for (const GridPoint& gp : c.grid)
+                        csv_file << c.law << ',' << c.fe << ',' << gp.omega << ',' << gp.ti_y1_max << ','
+                                 << (gp.ti_converged ? "true" : "false") << ',' << gp.ti_regime << ','
+                                 << gp.ti_periods << ',' << gp.ti_seconds << ',' << gp.hb_y1_max.size() << ','
+                                 << gp.hb_nearest << ',' << gp.rel_diff << ',' << gp.ti_error << ','
+                                 << gp.excluded << '\n';
+                }
+            }
+        }
+        std::printf("\ntotal %.1f s (the TI accuracy checks included)\n", seconds_since(total_start));
+        std::cout << nlohmann::json{{"cases", cases}}.dump() << std::endl;
+    } catch (const InvalidInput& e) {
+        std::cerr << "hb_vs_timeint: " << e.what() << '\n';
+        return 2;
+    }
+    return 0;
+}
