@@ -24,9 +24,9 @@
 #   the response), and the branch runs into the amplitude cap (1000): fe = 1 below. The
 #   one-harmonic estimate of that threshold is fe = (4/pi) mu |1-(1+r)w^2| / (r w^2) at
 #   w = 0.854, i.e. 0.688; HB: fe = 0.65 completes, fe = 0.7 reaches the cap. The
-#   continuation cannot cross an unbounded resonance: for fe = 1 the bounded slipping
-#   branch between the two resonances is computed by a third run started inside
-#   (--wmin 0.87 --wmax 1.15), drawn in the same colour.
+#   continuation cannot cross an unbounded resonance: for fe = 1, hbf frf restarts from
+#   wmax (branch 2) and then inside the gap (branch 3: the bounded slipping response
+#   between the two resonances), all drawn in the same colour.
 # - The paper's curves come from its describing-function (equivalent viscous) solution or a
 #   coarse numerical sweep; ours are exact Coulomb by HB (1/H-accurate, ~1% high at the
 #   peaks for H = 20). In the stick-slip band neither closed form applies: the HB curve runs
@@ -38,14 +38,12 @@ for fe in "${FES[@]}"; do
   hbf frf --law coulomb --fe "$fe" --quiet --out "$OUT/fig03_coulomb_fe$fe.csv" \
       --summary "$OUT/fig03_coulomb_fe$fe.json" 2>"$OUT/fig03_coulomb_fe$fe.log"
 done
-# fe = 1: the bounded full-slip branch between the two unbounded resonances.
-hbf frf --law coulomb --fe 1 --wmin 0.87 --wmax 1.15 --quiet --out "$OUT/fig03_coulomb_fe1_middle.csv" \
-    --summary "$OUT/fig03_coulomb_fe1_middle.json" 2>"$OUT/fig03_coulomb_fe1_middle.log"
 for fe in 0.36 0.5; do
   hbf analytic --law coulomb --fe "$fe" --points 2201 --out "$OUT/fig03_analytic_fe$fe.csv"
 done
 
-# Branch 1 and branch 2 (restarted from wmax after an amplitude cap) drawn separately; rows
+# Branches 1, 2 (restarted from wmax after an amplitude cap) and 3 (inside the gap between
+# two caps) drawn separately; rows
 # solved at --at frequencies (point = sample) are not part of the branch.
 plot <<GP
 set output '$OUT/fig03_coulomb_frf.png'
@@ -60,7 +58,7 @@ files = "$(for fe in "${FES[@]}"; do printf '%s ' "$OUT/fig03_coulomb_fe$fe.csv"
 labels = "${FES[*]}"
 plot for [i=1:words(files)] word(files,i) using 'w':(br('1')) with lines lc i title sprintf('f_e = %s', word(labels,i)), \
      for [i=1:words(files)] word(files,i) using 'w':(br('2')) with lines lc i notitle, \
-     '$OUT/fig03_coulomb_fe1_middle.csv' using 'w':(br('1')) with lines lc words(files) notitle, \
+     for [i=1:words(files)] word(files,i) using 'w':(br('3')) with lines lc i notitle, \
      for [i=1:words(files)] word(files,i) using 'w':(strcol('point') eq 'transition' ? column('y1_max') : 1/0) \
          with points pt 7 ps 0.7 lc i notitle
 GP

@@ -26,9 +26,9 @@
 # - As fe grows the contact slips over more of the period and the response approaches the
 #   Coulomb one (the laws coincide in full slip): from fe ~ 0.69 the slipping absorber
 #   reaches the undamped two-DOF resonances (w = 0.854, 1.171) and the branches stop at
-#   the amplitude cap (1000), as for Coulomb (fig03). For fe = 1 the bounded branch
-#   between them is computed by a separate run started inside (--wmin 0.87 --wmax 1.15),
-#   drawn in the same colour. fe = 2 is left with its two capped branches only.
+#   the amplitude cap (1000), as for Coulomb (fig03). hbf frf then restarts from wmax
+#   (branch 2) and inside the gap between the caps (branch 3: the bounded response between
+#   the two resonances), all drawn in the curve's colour.
 source "$(dirname "$0")/common.sh"
 
 FES=(0.02 0.05 0.2 0.5 1 2)
@@ -37,8 +37,6 @@ for law in dahl lugre; do
     hbf frf --law "$law" --fe "$fe" --quiet --out "$OUT/fig07_08_${law}_fe$fe.csv" \
         --summary "$OUT/fig07_08_${law}_fe$fe.json" 2>"$OUT/fig07_08_${law}_fe$fe.log"
   done
-  hbf frf --law "$law" --fe 1 --wmin 0.87 --wmax 1.15 --quiet --out "$OUT/fig07_08_${law}_fe1_middle.csv" \
-      --summary "$OUT/fig07_08_${law}_fe1_middle.json" 2>"$OUT/fig07_08_${law}_fe1_middle.log"
   hbf analytic --law "$law" --fe 1 --points 4401 --out "$OUT/fig07_08_${law}_analytic.csv"
 done
 
@@ -60,7 +58,7 @@ f(fe) = sprintf('$OUT/fig07_08_${law}_fe%s.csv', fe)
 plot '$OUT/fig07_08_${law}_analytic.csv' using 'w':'y1_stick' with lines lc rgb '#000000' dt 2 title 'pre-sliding (linear) closed form', \
      for [i=1:words(fes)] f(word(fes,i)) using 'w':(br('1', word(fes,i)+0)) with lines lc i title sprintf('f_e = %s', word(fes,i)), \
      for [i=1:words(fes)] f(word(fes,i)) using 'w':(br('2', word(fes,i)+0)) with lines lc i notitle, \
-     '$OUT/fig07_08_${law}_fe1_middle.csv' using 'w':(br('1', 1.0)) with lines lc 5 notitle, \
+     for [i=1:words(fes)] f(word(fes,i)) using 'w':(br('3', word(fes,i)+0)) with lines lc i notitle, \
      for [i=1:words(fes)] f(word(fes,i)) using 'w':(strcol('point') eq 'transition' ? column('y1_max') / (word(fes,i)+0) : 1/0) \
          with points pt 7 ps 0.6 lc i notitle, \
      1/0 with points pt 7 ps 0.6 lc rgb '#000000' title 'stick / stick-slip / slip transitions'
