@@ -257,7 +257,8 @@ Runner add_frf_command(CLI::App& app) {
         ->option_text("FILE");
     command->add_flag("--quiet", options->quiet, "no progress or summary line on standard error");
     std::string footer = "Output: CSV with a header row, one row per continuation point in branch order, then the "
-                         "--at samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.\n"
+                         "--at samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1 (with "
+                         "--config: the file's units).\n"
                          "Columns:\n";
     for (const auto& c : io::frf_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
     footer += "Exit code 1 when the continuation could not start or stalled (min step); the points computed so far "
