@@ -209,21 +209,27 @@ void den_hartog_position(const DenHartogResponse& r, double tau, double& s, doub
 }
 }  // namespace
 
-double DenHartogResponse::displacement(double tau) const {
+namespace {
+/// The half-period solution and where tau falls on it: u(tau) = sign_half * half.u(s).
+DenHartogHalf den_hartog_at(const DenHartogResponse& r, double tau, double& s, double& sign_half) {
     DenHartogHalf half{};
-    double amplitude_check = 0, s = 0, sign_half = 1;
+    double amplitude_check = 0;
     std::string reason;
-    den_hartog_half(frequency_ratio, friction_ratio, half, amplitude_check, reason);
-    den_hartog_position(*this, tau, s, sign_half);
+    den_hartog_half(r.frequency_ratio, r.friction_ratio, half, amplitude_check, reason);
+    den_hartog_position(r, tau, s, sign_half);
+    return half;
+}
+}  // namespace
+
+double DenHartogResponse::displacement(double tau) const {
+    double s = 0, sign_half = 1;
+    const DenHartogHalf half = den_hartog_at(*this, tau, s, sign_half);
     return sign_half * half.u(s);
 }
 
 double DenHartogResponse::velocity(double tau) const {
-    DenHartogHalf half{};
-    double amplitude_check = 0, s = 0, sign_half = 1;
-    std::string reason;
-    den_hartog_half(frequency_ratio, friction_ratio, half, amplitude_check, reason);
-    den_hartog_position(*this, tau, s, sign_half);
+    double s = 0, sign_half = 1;
+    const DenHartogHalf half = den_hartog_at(*this, tau, s, sign_half);
     return sign_half * half.du(s);
 }
 

@@ -57,6 +57,12 @@ void require_gnuplot() {
                                  "gnuplot-nox; scripts/install-deps.sh installs it)");
 }
 
+void check_plot(const std::string& flag, const std::string& path) {
+    if (path.empty()) return;
+    check_plot_path(flag, path);
+    require_gnuplot();
+}
+
 void write_plot(const std::string& path, const PlotSpec& spec) {
     check_plot_path("plot", path);
     const fs::path target(path);

@@ -30,6 +30,9 @@ void check_plot_path(const std::string& flag, const std::string& path);
 /// Throws std::runtime_error with an installation hint if gnuplot cannot be run.
 void require_gnuplot();
 
+/// Both checks above, before any work, for a `--plot`-style flag; nothing when `path` is empty.
+void check_plot(const std::string& flag, const std::string& path);
+
 /// Renders the plot into `path` (.png: pngcairo, .svg: svg, 900 x 600) through gnuplot,
 /// atomically. Throws std::runtime_error (with gnuplot's message) on failure.
 void write_plot(const std::string& path, const PlotSpec& spec);

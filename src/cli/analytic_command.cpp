@@ -37,10 +37,7 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
     if (law == FrictionLaw::coulomb_regularized || law == FrictionLaw::jenkins)
         throw UsageError("--law = '" + o.absorber.law + "' has no closed form: allowed coulomb, dahl, lugre");
     const AbsorberParameters p = o.absorber.parameters(command);
-    if (!o.plot.empty()) {
-        io::check_plot_path("--plot", o.plot);
-        io::require_gnuplot();
-    }
+    io::check_plot("--plot", o.plot);  // before any work
     const std::vector<double> grid = analytic::uniform_grid(
         parse_double("--wmin", o.wmin), parse_double("--wmax", o.wmax), parse_integer("--points", o.points));
     const std::vector<analytic::Row> rows = analytic::table(p, law, grid);

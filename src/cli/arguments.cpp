@@ -187,4 +187,29 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
     return chosen;
 }
 
+HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const std::string& harmonics,
+                                                const std::string& time_samples, const ChosenSystem& chosen,
+                                                const std::string& config_path) {
+    const std::optional<io::SystemConfig>& config = chosen.config;
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = static_cast<int>(std::clamp<long long>(parse_integer("--harmonics", harmonics), -1, 100000));
+    if (hbo.harmonics < 0 || hbo.harmonics > 200)
+        throw UsageError("--harmonics = " + harmonics + " is out of range: allowed 0 (automatic) or 1..200");
+    if (config && config->harmonics && command.count("--harmonics") == 0) hbo.harmonics = *config->harmonics;
+    if (hbo.harmonics == 0) hbo.harmonics = chosen.automatic_harmonics;
+    const long long nt = parse_integer("--time-samples", time_samples);
+    if (nt != 0 && (nt <= 2 * hbo.harmonics || nt > 65536))
+        throw UsageError("--time-samples = " + time_samples + " is out of range: allowed 0 (automatic) or " +
+                         std::to_string(2 * hbo.harmonics + 1) + "..65536");
+    hbo.time_samples = static_cast<int>(nt);
+    if (config && config->time_samples && command.count("--time-samples") == 0) {
+        hbo.time_samples = *config->time_samples;
+        if (hbo.time_samples != 0 && hbo.time_samples <= 2 * hbo.harmonics)
+            throw UsageError(config_path + ": key 'solver.time_samples': " + std::to_string(hbo.time_samples) +
+                             " is out of range: allowed 0 (automatic) or " + std::to_string(2 * hbo.harmonics + 1) +
+                             "..65536");
+    }
+    return hbo;
+}
+
 }  // namespace hbf::cli

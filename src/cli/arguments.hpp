@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hbf/config.hpp"
+#include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 
 namespace hbf::cli {
@@ -59,6 +60,13 @@ struct ChosenSystem {
     int automatic_harmonics = 10;     ///< default_harmonics of the (most demanding) law
 };
 ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path);
+
+/// Harmonic-balance options from --harmonics and --time-samples (texts as given; 0 means
+/// automatic), else the --config file's [solver], else the law's default H. Throws UsageError
+/// naming the flag or the file key out of range.
+HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const std::string& harmonics,
+                                                const std::string& time_samples, const ChosenSystem& chosen,
+                                                const std::string& config_path);
 
 /// Default H of harmonic balance, measured (README, benchmarks/hb_branch,
 /// tests/test_verification.cpp): Dahl, LuGre and Jenkins (continuous force) converge fast

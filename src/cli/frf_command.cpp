@@ -50,10 +50,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // Plot options are checked before the work starts.
     long long overlay_points = 0;
     std::string overlay_out = o.overlay_out;
-    if (!o.plot.empty()) {
-        io::check_plot_path("--plot", o.plot);
-        io::require_gnuplot();
-    }
+    io::check_plot("--plot", o.plot);  // before any work
     if (!o.overlay.empty()) {
         overlay_points = parse_integer("--overlay-timeint", o.overlay);
         if (overlay_points < 2 || overlay_points > 10000)
@@ -74,26 +71,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const std::vector<int>& report = chosen.report;
     const std::optional<io::SystemConfig>& config = chosen.config;
     const AbsorberParameters& p = chosen.absorber;
-    const int automatic_harmonics = chosen.automatic_harmonics;
-    HarmonicBalanceOptions hbo;
-    const bool file_harmonics = config && config->harmonics && !given(command, "--harmonics");
-    hbo.harmonics = static_cast<int>(std::clamp<long long>(parse_integer("--harmonics", o.harmonics), -1, 100000));
-    if (hbo.harmonics < 0 || hbo.harmonics > 200)
-        throw UsageError("--harmonics = " + o.harmonics + " is out of range: allowed 0 (automatic) or 1..200");
-    if (file_harmonics) hbo.harmonics = *config->harmonics;
-    if (hbo.harmonics == 0) hbo.harmonics = automatic_harmonics;
-    const long long nt = parse_integer("--time-samples", o.time_samples);
-    if (nt != 0 && (nt <= 2 * hbo.harmonics || nt > 65536))
-        throw UsageError("--time-samples = " + o.time_samples + " is out of range: allowed 0 (automatic) or " +
-                         std::to_string(2 * hbo.harmonics + 1) + "..65536");
-    hbo.time_samples = static_cast<int>(nt);
-    if (config && config->time_samples && !given(command, "--time-samples")) {
-        hbo.time_samples = *config->time_samples;
-        if (hbo.time_samples != 0 && hbo.time_samples <= 2 * hbo.harmonics)
-            throw UsageError(o.config + ": key 'solver.time_samples': " + std::to_string(hbo.time_samples) +
-                             " is out of range: allowed 0 (automatic) or " + std::to_string(2 * hbo.harmonics + 1) +
-                             "..65536");
-    }
+    const HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config);
     ContinuationOptions co;
     co.omega_start = parse_double("--wmin", o.wmin);
     co.omega_end = parse_double("--wmax", o.wmax);

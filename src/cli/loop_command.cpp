@@ -33,10 +33,7 @@ std::vector<io::Column> loop_columns(int dofs) {
 }
 
 int run(const CLI::App& command, const LoopOptions& o) {
-    if (!o.plot.empty()) {
-        io::check_plot_path("--plot", o.plot);
-        io::require_gnuplot();
-    }
+    io::check_plot("--plot", o.plot);  // before any work
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
     if (o.w.empty()) throw UsageError("--w is required: the frequency of the solution");
     const double w = parse_double("--w", o.w);
@@ -48,16 +45,7 @@ int run(const CLI::App& command, const LoopOptions& o) {
     const auto contacts = static_cast<long long>(chosen.system.contacts.size());
     if (contact < 1 || contact > contacts)
         throw UsageError("--contact = " + o.contact + " is out of range: allowed 1.." + std::to_string(contacts));
-    HarmonicBalanceOptions hbo;
-    const long long h = parse_integer("--harmonics", o.harmonics);
-    if (h < 0 || h > 200) throw UsageError("--harmonics = " + o.harmonics + " is out of range: allowed 0 (automatic) or 1..200");
-    hbo.harmonics = h > 0 ? static_cast<int>(h) : chosen.config && chosen.config->harmonics ? *chosen.config->harmonics
-                                                                                             : chosen.automatic_harmonics;
-    const long long nt = parse_integer("--time-samples", o.time_samples);
-    if (nt != 0 && (nt <= 2 * hbo.harmonics || nt > 65536))
-        throw UsageError("--time-samples = " + o.time_samples + " is out of range: allowed 0 (automatic) or " +
-                         std::to_string(2 * hbo.harmonics + 1) + "..65536");
-    hbo.time_samples = static_cast<int>(nt);
+    const HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config);
 
     // The solution at w: the branch followed from wmin (from 0.9 w when w <= wmin).
     HarmonicBalance hb(chosen.system, hbo);

@@ -70,10 +70,7 @@ std::vector<double> frequencies(const CLI::App& command, const TimeintOptions& o
 }
 
 int run(const CLI::App& command, const TimeintOptions& o) {
-    if (!o.plot.empty()) {
-        io::check_plot_path("--plot", o.plot);
-        io::require_gnuplot();
-    }
+    io::check_plot("--plot", o.plot);  // before any work
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
     const System& system = chosen.system;
     const std::string title = "hbf timeint: " + (o.config.empty() ? chosen.law_name + " (sweep " + o.sweep + ")" : o.config);
