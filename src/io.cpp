@@ -106,7 +106,8 @@ std::vector<Column> frf_columns(const std::vector<int>& report) {
     const std::vector<Column> rest = {
         {"stick_fraction", "share of the period in stick, contact 1, by the law's own definition (AFT samples; "
                            "coulomb: |lambda + eps v| < mu; jenkins: slider at rest; dahl/lugre: |sigma0 z| < 0.95 g(v); "
-                           "coulomb-reg: |f| < 0.95 mu); stick phases shorter than 2 / (2H + 1) of the period are not resolved by H harmonics and count as slip"},
+                           "coulomb-reg: |f| < 0.95 mu); stick phases shorter than 2 / (2H + 1) of the period are not resolved by H harmonics and count as slip; "
+                           "with exact = yes: from the exact event times"},
         {"regime", "stick (every sample sticks), slip (no stick phase) or stick-slip"},
         {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
         {"branch", "branch number: 1, or 2 for the branch restarted from wmax after an amplitude cap"},
@@ -115,13 +116,21 @@ std::vector<Column> frf_columns(const std::vector<int>& report) {
         {"iterations", "corrector (Ceres) iterations of this point"},
         {"residual", "|R|_inf / force scale after correction"},
         {"step", "arclength step that led to this point"},
+        {"exact", "yes: the row is the event-exact periodic orbit at w (Newton shooting with exact stick/slip "
+                  "events; coulomb and jenkins), its metrics replace HB's; failed: the exact solver did not "
+                  "converge here, the row keeps the HB values; off: plain harmonic balance (--exact off or another law)"},
+        {"stable", "true/false from the exact orbit's Floquet multipliers (stable: all |multiplier| <= 1 + 1e-6); "
+                   "empty unless exact = yes"},
+        {"hb_gap", "|y_max by HB - y_max exact| / y_max exact of the first reported DOF: harmonic balance's own "
+                   "error at this point; empty unless exact = yes (and an HB solution exists at this w)"},
     };
     columns.insert(columns.end(), rest.begin(), rest.end());
     return columns;
 }
 
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
-                   const std::vector<PointMetrics>& metrics, const std::vector<int>& report) {
+                   const std::vector<PointMetrics>& metrics, const std::vector<int>& report,
+                   const std::vector<ExactPoint>& exact) {
     const auto columns = frf_columns(report);
     for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
     out << '\n';
@@ -133,7 +142,14 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
         for (int d : report) out << ',' << format_number(m.y_amp1[static_cast<std::size_t>(d)]);
         out << ',' << format_number(m.stick_fraction) << ',' << m.regime << ',' << format_number(m.energy) << ','
             << p.branch << ',' << to_string(p.kind) << ',' << p.iterations << ',' << format_number(p.residual) << ','
-            << format_number(p.step) << '\n';
+            << format_number(p.step) << ',';
+        if (k < exact.size() && exact[k].status == PolishStatus::exact) {
+            const ExactPoint& e = exact[k];
+            out << "yes," << (e.stable ? "true" : "false") << ','
+                << (std::isfinite(e.hb_gap) ? format_number(e.hb_gap) : std::string()) << '\n';
+        } else {
+            out << (k < exact.size() ? to_string(exact[k].status) : std::string("off")) << ",,\n";
+        }
     }
 }
 
@@ -182,8 +198,8 @@ void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& r
 
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
-                       const std::vector<PointMetrics>& metrics, const std::vector<Peak>& peaks, std::size_t samples,
-                       double wall_seconds) {
+                       const std::vector<PointMetrics>& metrics_in, const std::vector<Peak>& peaks,
+                       std::size_t samples, double wall_seconds, const PolishedBranch* polish) {
     using nlohmann::json;
     json j;
     j["parameters"] = {{"law", law}};
@@ -193,10 +209,11 @@ void write_frf_summary(std::ostream& out, const std::string& law,
         else
             j["parameters"][name] = value;
     }
-    const auto& points = branch.points;
+    const auto& points = polish ? polish->points : branch.points;
+    const auto& metrics = polish ? polish->metrics : metrics_in;
     long long iterations = 0;
     for (const SolutionPoint& point : points) iterations += point.iterations;
-    j["points"] = points.size();
+    j["points"] = points.size() - (polish ? samples : 0);
     j["samples"] = samples;
     const EvaluationStatistics& e = branch.evaluation;
     j["solver"] = {{"corrections", branch.corrections},
@@ -222,6 +239,17 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                                    {"y1_max", metrics[k].y_max[0]},
                                    {"between", to_string(points[k].boundary)},
                                    {"branch", points[k].branch}});
+    if (polish) {
+        j["exact"] = {{"enabled", true},
+                      {"polished", polish->polished},
+                      {"failed", polish->failed},
+                      {"unstable", polish->unstable},
+                      {"transitions", polish->transitions},
+                      {"max_hb_gap", polish->max_hb_gap},
+                      {"seconds", polish->seconds}};
+    } else {
+        j["exact"] = {{"enabled", false}};
+    }
     j["peaks"] = peak_list;
     j["folds"] = folds;
     j["transitions"] = transitions;

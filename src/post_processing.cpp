@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "hbf/continuation.hpp"
+#include "golden_section.hpp"
 
 namespace hbf {
 
@@ -154,7 +155,7 @@ std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, in
             const SolutionPoint& low = a.omega < b.omega ? a : b;
             const SolutionPoint& high = a.omega < b.omega ? b : a;
             bool ok = true;
-            auto value = [&](double omega) {
+            auto value = [&](double omega, bool& good) {
                 const SolutionPoint& left = omega <= m.omega ? low : m;  // low < m < high in omega
                 const SolutionPoint& right = omega <= m.omega ? m : high;
                 const double s = (omega - left.omega) / (right.omega - left.omega);
@@ -163,34 +164,15 @@ std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, in
                 p.x = left.x + s * (right.x - left.x);
                 const double x_scale = std::max(hb.force_scale(), p.x.cwiseAbs().maxCoeff());
                 if (!corrector.solve_at(p.x, omega, x_scale, p.iterations, p.residual)) {
-                    ok = false;
+                    good = false;
                     return 0.0;
                 }
                 return analyse(p).y_max[static_cast<std::size_t>(dof)];
             };
-            const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
-            double lo = low.omega, hi = high.omega;
-            double c = hi - golden * (hi - lo), d = lo + golden * (hi - lo);
-            double yc = value(c), yd = value(d);
-            while (ok && hi - lo > 1e-9 * hi) {
-                if (yc >= yd) {
-                    hi = d;
-                    d = c;
-                    yd = yc;
-                    c = hi - golden * (hi - lo);
-                    yc = value(c);
-                } else {
-                    lo = c;
-                    c = d;
-                    yc = yd;
-                    d = lo + golden * (hi - lo);
-                    yd = value(d);
-                }
-            }
-            const double best = yc >= yd ? yc : yd;
-            if (ok && best >= y[k]) {
-                peak.omega = yc >= yd ? c : d;
-                peak.y_max = best;
+            const detail::GoldenMaximum best = detail::golden_section_maximum(value, low.omega, high.omega, 1e-9, ok);
+            if (ok && best.value >= y[k]) {
+                peak.omega = best.x;
+                peak.y_max = best.value;
                 peak.refined = true;
             }
         }

@@ -9,6 +9,7 @@
 
 #include "hbf/analytic.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/exact_polish.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf::io {
@@ -53,9 +54,11 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
 std::vector<Column> frf_columns(const std::vector<int>& report);
 std::vector<Column> frf_columns(int dofs);
 
-/// Writes the header row and one row per point (metrics[k] belongs to points[k]).
+/// Writes the header row and one row per point (metrics[k] and exact[k] belong to points[k];
+/// `exact` empty: no polish, the columns exact = off, stable and hb_gap empty).
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
-                   const std::vector<PointMetrics>& metrics, const std::vector<int>& report);
+                   const std::vector<PointMetrics>& metrics, const std::vector<int>& report,
+                   const std::vector<ExactPoint>& exact = {});
 
 /// Columns of `hbf timeint` for a system with `dofs` DOFs: the `hbf frf` columns that apply
 /// (w, y<i>_max, y<i>_amp1, stick_fraction, regime, energy), then periods, converged and the
@@ -68,10 +71,12 @@ void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& r
 /// Writes the JSON summary of an FRF run: the parameters (name, value; integral values are
 /// written as integers), the number of branch points and samples, solver statistics, the
 /// peaks (find_peaks of y1), the folds, the stick-slip transitions, status, message and wall time.
-/// `metrics[k]` belongs to `branch.points[k]`; `samples` counts the --at rows.
+/// `metrics[k]` belongs to `branch.points[k]`; `samples` counts the --at rows. With `polish`
+/// (the exact polish of the branch), folds and transitions are read from its points and
+/// metrics, and an "exact" object reports the polish (counts, largest HB gap, time).
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics, const std::vector<Peak>& peaks, std::size_t samples,
-                       double wall_seconds);
+                       double wall_seconds, const PolishedBranch* polish = nullptr);
 
 }  // namespace hbf::io

@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/exact_polish.hpp"
 #include "hbf/error.hpp"
 #include "hbf/analytic.hpp"
 #include "hbf/io.hpp"
@@ -24,7 +25,7 @@ struct FrfOptions {
     AbsorberFlags absorber;
     std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000", max_step = "1",
                 tolerance = "1e-9";
-    std::string at, out, summary, config, plot, overlay, overlay_out;
+    std::string at, out, summary, config, plot, overlay, overlay_out, exact;
     bool quiet = false;
 };
 
@@ -86,6 +87,16 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (!(co.corrector.tolerance >= 1e-14 && co.corrector.tolerance <= 1e-2))
         throw UsageError("--tolerance = " + o.tolerance + " is out of range: allowed 1e-14..1e-2");
     const std::vector<double> at = o.at.empty() ? std::vector<double>{} : parse_list("--at", o.at);
+    // The exact polish: on by default for the laws it covers (coulomb, jenkins).
+    if (!o.exact.empty() && o.exact != "on" && o.exact != "off")
+        throw UsageError("--exact = '" + o.exact + "' is not allowed: allowed on, off");
+    const bool exact = o.exact.empty() ? exact_solver_supports(system) : o.exact == "on";
+    if (exact && !exact_solver_supports(system))
+        throw UsageError("--exact on: the event-exact solver covers coulomb and jenkins contacts only, the law here is " +
+                         law_name + " (use --exact off)");
+    // With the polish, HB's own transitions (O(1/H) misplaced) are not needed: the exact
+    // ones replace them.
+    if (exact) co.locate_transitions = false;
     HarmonicBalance hb(system, hbo);
     BranchResult branch = continue_branch(hb, co);  // validates the range options
 
@@ -94,11 +105,23 @@ int run(const CLI::App& command, const FrfOptions& o) {
         const auto samples = sample_branch(hb, branch, at, co.corrector);
         points.insert(points.end(), samples.begin(), samples.end());
     }
+    const std::size_t sample_count = points.size() - branch.points.size();
     Analyser analyse(hb);
     std::vector<PointMetrics> metrics;
     metrics.reserve(points.size());
     for (const SolutionPoint& point : points) metrics.push_back(analyse(point));
-    const std::vector<Peak> peaks = o.summary.empty() ? std::vector<Peak>{} : find_peaks(hb, branch, 0, co.corrector);
+    std::optional<PolishedBranch> polish;
+    std::vector<Peak> peaks;
+    if (exact) {
+        PolishOptions po;
+        po.dof = report.front();
+        polish = polish_branch(hb, points, metrics, po, co.corrector);
+        points = polish->points;
+        metrics = polish->metrics;
+        peaks = polish->peaks;
+    } else if (!o.summary.empty()) {
+        peaks = find_peaks(hb, branch, 0, co.corrector);
+    }
 
     // Time-integration check points on a uniform grid, swept up from the stuck linear state.
     std::vector<PeriodicResponse> overlay;
@@ -108,7 +131,8 @@ int run(const CLI::App& command, const FrfOptions& o) {
         overlay = sweep(system, grid, TimeIntegrationOptions{}, &start);
     }
     io::OutputFile out(o.out);
-    io::write_frf_csv(out.stream(), points, metrics, report);
+    io::write_frf_csv(out.stream(), points, metrics, report,
+                      polish ? polish->exact : std::vector<ExactPoint>{});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::unique_ptr<io::OutputFile> summary;
     if (!o.summary.empty()) {
@@ -135,8 +159,8 @@ int run(const CLI::App& command, const FrfOptions& o) {
                                                                     {"tolerance", co.corrector.tolerance}};
         parameters.insert(parameters.end(), solver.begin(), solver.end());
         summary = std::make_unique<io::OutputFile>(o.summary);
-        io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks,
-                              points.size() - branch.points.size(), seconds);
+        io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
+                              polish ? &*polish : nullptr);
     }
     std::unique_ptr<io::OutputFile> overlay_file;
     if (!overlay.empty()) {
@@ -170,7 +194,15 @@ int run(const CLI::App& command, const FrfOptions& o) {
                   << (failed ? " (the points computed so far are written)" : "") << "\n";
     else if (!o.quiet && isatty(STDERR_FILENO))
         std::cerr << "hbf frf: " << branch.summary() << " in " << format_number(seconds) << " s\n";
-    return failed ? exit_failure : exit_success;
+    // A point whose exact polish failed is HB's value, flagged exact = failed: a doubtful
+    // result, so the run does not end as a success.
+    const bool polish_failed = polish && polish->failed > 0;
+    if (polish_failed)
+        std::cerr << "hbf frf: error: " << polish->summary()
+                  << "; the failed rows keep their harmonic-balance values (column exact = failed)\n";
+    else if (polish && !o.quiet && isatty(STDERR_FILENO))
+        std::cerr << "hbf frf: " << polish->summary() << "\n";
+    return failed || polish_failed ? exit_failure : exit_success;
 }
 }  // namespace
 
@@ -233,14 +265,21 @@ Runner add_frf_command(CLI::App& app) {
                         "CSV of the --overlay-timeint points (hbf timeint's columns) [default: the plot's name "
                         "with -timeint.csv]")
         ->option_text("FILE");
+    command->add_option("--exact", options->exact,
+                        "polish every branch point, sample, transition and peak by the event-exact periodic solver "
+                        "(exact Coulomb and Jenkins: Newton shooting on closed-form flows between stick/slip events, "
+                        "Floquet stability), on or off [default: on for coulomb and jenkins contacts, off for the "
+                        "other laws; on with another law is an error]")
+        ->type_name("on|off");
     command->add_flag("--quiet", options->quiet, "no progress or summary line on standard error");
     std::string footer = "Output: CSV with a header row, one row per continuation point in branch order, then the "
                          "--at samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1 (with "
                          "--config: the file's units).\n"
                          "Columns:\n";
     for (const auto& c : io::frf_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
-    footer += "Exit code 1 when the continuation could not start or stalled (min step); the points computed so far "
-              "are still written. An amplitude cap is reported on standard error and is not a failure.";
+    footer += "Exit code 1 when the continuation could not start or stalled (min step), or when the exact polish failed "
+              "at some point (those rows keep their HB values, exact = failed); the points computed so far are still "
+              "written. An amplitude cap is reported on standard error and is not a failure.";
     command->footer(footer);
     return [command, options]() { return run(*command, *options); };
 }

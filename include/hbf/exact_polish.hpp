@@ -1,0 +1,76 @@
+// hbfriction — harmonic-balance branches polished by the event-exact solver.
+//
+// For exact Coulomb and Jenkins contacts, harmonic balance at a modest H gives the branch
+// (topology, folds, starting guesses) and event_exact.hpp gives each point exactly: every
+// branch point and sample is re-solved at its frequency by Newton shooting from the HB
+// solution's state at t = 0. A point whose polish fails keeps its HB values and is flagged.
+// Then, from the exact points:
+//   * transitions: wherever the exact regime of contact 1 changes between two consecutive
+//     points of a branch, the frequency where the stick phase appears or vanishes is found by
+//     bisection in omega on the exact regime (each trial solved exactly from the nearer
+//     side's orbit) to |delta omega| <= 1e-10 omega, and inserted as a point of kind
+//     transition, on the stick side (stick|stick-slip) or the stick-slip side
+//     (stick-slip|slip); HB's own transition points (O(1/H) misplaced) are dropped;
+//   * peaks: every exact local maximum of y_max of the reported DOF among the branch points,
+//     refined by golden-section search in omega on exact solves to |delta omega| <= 1e-9 omega.
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "hbf/continuation.hpp"
+#include "hbf/event_exact.hpp"
+
+namespace hbf {
+
+struct PolishOptions {
+    ExactOptions exact;
+    bool transitions = true;  ///< locate the exact transitions (above)
+    bool peaks = true;        ///< refine the exact peaks (above)
+    int dof = 0;              ///< DOF (0-based) of hb_gap and of the peaks
+};
+
+/// What the polish did to one point.
+enum class PolishStatus { off, exact, failed };
+/// "off", "yes", "failed" (the CSV's `exact` column).
+std::string to_string(PolishStatus status);
+
+struct ExactPoint {
+    PolishStatus status = PolishStatus::off;
+    bool stable = false;          ///< Floquet verdict (status exact only)
+    double max_multiplier = 0;    ///< largest |Floquet multiplier|
+    /// |y_max[dof] by HB - y_max[dof] exact| / y_max[dof] exact; NaN where there is no HB
+    /// solution at this frequency (an exact transition whose HB correction failed) or no
+    /// exact one.
+    double hb_gap = 0;
+    std::string message;          ///< the exact solver's message (why it failed)
+};
+
+struct PolishedBranch {
+    /// The HB points in order (HB transition points dropped, exact transitions inserted on
+    /// their branch), then the samples.
+    std::vector<SolutionPoint> points;
+    std::vector<PointMetrics> metrics;  ///< exact metrics where polished, HB otherwise
+    std::vector<ExactPoint> exact;
+    std::vector<Peak> peaks;            ///< exact peaks of `dof` (refined = golden section converged)
+    int polished = 0, failed = 0, unstable = 0, transitions = 0;
+    double max_hb_gap = 0;              ///< largest hb_gap over the polished points
+    double seconds = 0;
+    /// One line: polished, failed, unstable, transitions, largest HB gap, time.
+    std::string summary() const;
+};
+
+/// The state at t = 0 (time_integration.hpp's convention) of an HB solution: y and y' from the
+/// coefficients, a Jenkins slider from its force sample s = q - f / k_t, modes from the stick
+/// indicator.
+Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& point);
+
+/// Polishes `points` (a branch in order, then samples of kind sample) as described above.
+/// `hb_metrics[k]` are the HB metrics of points[k]. Throws InvalidInput when a contact's law is
+/// not covered by the exact solver (exact_solver_supports).
+PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoint>& points,
+                             const std::vector<PointMetrics>& hb_metrics, const PolishOptions& options,
+                             const CorrectorOptions& corrector);
+
+}  // namespace hbf

@@ -1,0 +1,271 @@
+// hbfriction — harmonic-balance branches polished by the event-exact solver (exact_polish.hpp).
+#include "hbf/exact_polish.hpp"
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include "hbf/error.hpp"
+#include "hbf/time_integration.hpp"
+#include "golden_section.hpp"
+#include "stopwatch.hpp"
+
+namespace hbf {
+
+namespace {
+
+PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb) {
+    PointMetrics m = hb;
+    m.y_max = orbit.y_max;
+    m.y_amp1 = orbit.y_amp1;
+    m.stick_fraction = orbit.stick_fraction;
+    m.regime = orbit.regime;
+    m.energy = orbit.energy;
+    m.input_energy = orbit.input_energy;
+    return m;
+}
+
+ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof) {
+    ExactPoint e;
+    e.message = orbit.message;
+    if (!orbit.converged) {
+        e.status = PolishStatus::failed;
+        e.hb_gap = std::numeric_limits<double>::quiet_NaN();
+        return e;
+    }
+    e.status = PolishStatus::exact;
+    e.stable = orbit.stable;
+    e.max_multiplier = orbit.max_multiplier;
+    const double exact = orbit.y_max[static_cast<std::size_t>(dof)];
+    const double approximate = hb.y_max.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                                : hb.y_max[static_cast<std::size_t>(dof)];
+    e.hb_gap = std::abs(approximate - exact) / exact;
+    return e;
+}
+
+/// An exact solve from one or two starts (the second tried when the first fails).
+ExactOrbit solve(const System& system, double omega, const Eigen::VectorXd& first, const Eigen::VectorXd* second,
+                 const ExactOptions& options) {
+    ExactOrbit orbit = exact_periodic_orbit(system, omega, first, options);
+    if (!orbit.converged && second) {
+        ExactOrbit other = exact_periodic_orbit(system, omega, *second, options);
+        if (other.converged) return other;
+    }
+    return orbit;
+}
+
+struct Polished {
+    SolutionPoint point;
+    PointMetrics metrics;
+    ExactPoint exact;
+    ExactOrbit orbit;
+};
+
+Boundary boundary_between(const std::string& a, const std::string& b) {
+    if ((a == "stick" && b == "stick-slip") || (a == "stick-slip" && b == "stick")) return Boundary::stick_stick_slip;
+    if ((a == "slip" && b == "stick-slip") || (a == "stick-slip" && b == "slip")) return Boundary::stick_slip_slip;
+    return Boundary::none;
+}
+
+}  // namespace
+
+std::string to_string(PolishStatus status) {
+    switch (status) {
+        case PolishStatus::off: return "off";
+        case PolishStatus::exact: return "yes";
+        case PolishStatus::failed: return "failed";
+    }
+    return "?";
+}
+
+std::string PolishedBranch::summary() const {
+    std::ostringstream s;
+    s << "exact polish: " << polished << " points exact, " << failed << " failed (HB values kept), " << unstable
+      << " unstable, " << transitions << " transitions, largest HB gap " << format_number(max_hb_gap) << ", "
+      << format_number(seconds) << " s";
+    return s.str();
+}
+
+Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& point) {
+    const System& s = hb.system();
+    const int n = s.dofs(), nc = static_cast<int>(s.contacts.size());
+    Eigen::VectorXd state = Eigen::VectorXd::Zero(2 * n + 2 * nc);
+    auto at_zero = [&](const Eigen::VectorXd& c, double& value, double& rate) {
+        value = c(0);
+        rate = 0.0;
+        for (int k = 1; 2 * k < c.size(); ++k) {
+            value += c(2 * k - 1);
+            rate += point.omega * k * c(2 * k);
+        }
+    };
+    for (int i = 0; i < n; ++i) at_zero(hb.dof(point.x, i), state(i), state(n + i));
+    for (int c = 0; c < nc; ++c) {
+        const Contact& k = s.contacts[static_cast<std::size_t>(c)];
+        double q = 0, v = 0;
+        at_zero(hb.relative(point.x, c), q, v);
+        const double f = hb.force_samples(point.x, point.omega, c)(0);
+        if (k.law == FrictionLaw::jenkins) {
+            state(2 * n + c) = q - f / k.stiffness;
+            state(2 * n + nc + c) = std::abs(f) >= k.friction_limit * (1.0 - 1e-9) && f * v > 0.0 ? (f > 0 ? 1 : -1) : 0;
+        } else {
+            const double phi = hb.stick_indicator(point.x, point.omega, c)(0);
+            state(2 * n + nc + c) = phi < 0.0 ? 0 : (v > 0 ? 1 : -1);
+        }
+    }
+    return state;
+}
+
+PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoint>& points,
+                             const std::vector<PointMetrics>& hb_metrics, const PolishOptions& options,
+                             const CorrectorOptions& corrector_options) {
+    detail::Stopwatch watch;
+    const System& system = hb.system();
+    if (!exact_solver_supports(system)) {
+        std::string laws;
+        for (const Contact& c : system.contacts) laws += (laws.empty() ? "" : ",") + to_string(c.law);
+        throw InvalidInput("--exact on: the exact solver covers coulomb and jenkins contacts only, this system has " +
+                           laws + " (use --exact off)");
+    }
+    options.exact.validate();
+    if (options.dof < 0 || options.dof >= system.dofs())
+        throw InvalidInput("polish dof = " + std::to_string(options.dof) + " is out of range: allowed 0.." +
+                           std::to_string(system.dofs() - 1));
+    const int dof = options.dof;
+
+    // 1. Every branch point and sample at its own frequency, from its HB state, else from the
+    //    previous exact point of its branch (where HB is too far off, e.g. near a transition
+    //    it misplaces), else (second pass) from the next one.
+    std::vector<Polished> branch, samples;
+    std::vector<PointMetrics> branch_hb;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const SolutionPoint& p = points[k];
+        if (p.kind == PointKind::transition) continue;
+        Polished q{p, hb_metrics[k], {}, {}};
+        const Polished* previous = p.kind != PointKind::sample && !branch.empty() &&
+                                           branch.back().point.branch == p.branch && branch.back().orbit.converged
+                                       ? &branch.back()
+                                       : nullptr;
+        q.orbit = solve(system, p.omega, exact_start_state(hb, p), previous ? &previous->orbit.state : nullptr,
+                        options.exact);
+        if (p.kind == PointKind::sample) {
+            samples.push_back(std::move(q));
+        } else {
+            branch.push_back(std::move(q));
+            branch_hb.push_back(hb_metrics[k]);
+        }
+    }
+    for (std::size_t k = branch.size(); k-- > 1;) {
+        Polished &q = branch[k - 1], &next = branch[k];
+        if (q.orbit.converged || !next.orbit.converged || q.point.branch != next.point.branch) continue;
+        ExactOrbit retry = exact_periodic_orbit(system, q.point.omega, next.orbit.state, options.exact);
+        if (retry.converged) q.orbit = std::move(retry);
+    }
+    for (std::size_t k = 0; k < branch.size(); ++k) {
+        Polished& q = branch[k];
+        q.exact = exact_point(q.orbit, branch_hb[k], dof);
+        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, branch_hb[k]);
+    }
+    for (Polished& q : samples) {
+        q.exact = exact_point(q.orbit, q.metrics, dof);
+        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, q.metrics);
+    }
+
+    // 2. Exact transitions between consecutive exact points of a branch with different regimes.
+    std::vector<Polished> with_transitions;
+    Corrector corrector(hb, corrector_options);
+    Analyser analyse(hb);
+    int transitions = 0;
+    for (std::size_t k = 0; k < branch.size(); ++k) {
+        with_transitions.push_back(branch[k]);
+        if (!options.transitions || k + 1 >= branch.size()) continue;
+        const Polished &a = branch[k], &b = branch[k + 1];
+        if (a.point.branch != b.point.branch || !a.orbit.converged || !b.orbit.converged) continue;
+        const Boundary boundary = boundary_between(a.orbit.regime, b.orbit.regime);
+        if (boundary == Boundary::none || a.point.omega == b.point.omega) continue;
+        const std::string stuck_side = boundary == Boundary::stick_stick_slip ? "stick" : "stick-slip";
+        ExactOrbit lo = a.orbit, hi = b.orbit;
+        bool ok = true;
+        while (std::abs(hi.omega - lo.omega) > 1e-10 * std::abs(hi.omega)) {
+            const double mid = 0.5 * (lo.omega + hi.omega);
+            ExactOrbit o = solve(system, mid, lo.state, &hi.state, options.exact);
+            if (!o.converged) {
+                ok = false;
+                break;
+            }
+            (o.regime == lo.regime ? lo : hi) = std::move(o);
+        }
+        if (!ok) continue;
+        const ExactOrbit& side = lo.regime == stuck_side ? lo : hi;
+        Polished t;
+        t.point.omega = side.omega;
+        t.point.kind = PointKind::transition;
+        t.point.boundary = boundary;
+        t.point.branch = a.point.branch;
+        t.orbit = side;
+        // The HB solution at that frequency, for the HB gap.
+        const double s = (side.omega - a.point.omega) / (b.point.omega - a.point.omega);
+        t.point.x = a.point.x + s * (b.point.x - a.point.x);
+        const double x_scale = std::max(hb.force_scale(), t.point.x.cwiseAbs().maxCoeff());
+        const bool hb_ok = corrector.solve_at(t.point.x, side.omega, x_scale, t.point.iterations, t.point.residual);
+        PointMetrics hb_m = analyse(t.point);
+        t.exact = exact_point(side, hb_m, dof);
+        if (!hb_ok) t.exact.hb_gap = std::numeric_limits<double>::quiet_NaN();
+        t.metrics = exact_metrics(side, hb_m);
+        with_transitions.push_back(std::move(t));
+        ++transitions;
+    }
+
+    PolishedBranch out;
+    out.transitions = transitions;
+    for (const auto* list : {&with_transitions, &samples})
+        for (const Polished& q : *list) {
+            out.points.push_back(q.point);
+            out.metrics.push_back(q.metrics);
+            out.exact.push_back(q.exact);
+            if (q.exact.status == PolishStatus::exact) {
+                ++out.polished;
+                if (!q.exact.stable) ++out.unstable;
+                if (std::isfinite(q.exact.hb_gap)) out.max_hb_gap = std::max(out.max_hb_gap, q.exact.hb_gap);
+            } else if (q.exact.status == PolishStatus::failed) {
+                ++out.failed;
+            }
+        }
+
+    // 3. Exact peaks of `dof` among the branch points (transitions included).
+    if (options.peaks) {
+        const auto& p = with_transitions;
+        auto y = [&](std::size_t k) { return p[k].metrics.y_max[static_cast<std::size_t>(dof)]; };
+        for (std::size_t k = 1; k + 1 < p.size(); ++k) {
+            const Polished &a = p[k - 1], &m = p[k], &b = p[k + 1];
+            if (a.point.branch != m.point.branch || b.point.branch != m.point.branch) continue;
+            if (!a.orbit.converged || !m.orbit.converged || !b.orbit.converged) continue;
+            if (!(y(k) > y(k - 1) && y(k) >= y(k + 1))) continue;
+            Peak peak{m.point.omega, y(k), m.point.branch, false};
+            const bool monotone = (m.point.omega - a.point.omega) * (b.point.omega - m.point.omega) > 0.0 &&
+                                  m.point.kind != PointKind::fold && b.point.kind != PointKind::fold &&
+                                  a.point.kind != PointKind::fold;
+            if (monotone) {
+                bool ok = true;
+                auto value = [&](double omega, bool& good) {
+                    const ExactOrbit o = solve(system, omega, m.orbit.state, nullptr, options.exact);
+                    if (!o.converged) good = false;
+                    return o.converged ? o.y_max[static_cast<std::size_t>(dof)] : 0.0;
+                };
+                const detail::GoldenMaximum best =
+                    detail::golden_section_maximum(value, std::min(a.point.omega, b.point.omega),
+                                                   std::max(a.point.omega, b.point.omega), 1e-9, ok);
+                if (ok && best.value >= y(k)) {
+                    peak.omega = best.x;
+                    peak.y_max = best.value;
+                    peak.refined = true;
+                }
+            }
+            out.peaks.push_back(peak);
+        }
+    }
+    out.seconds = watch.lap();
+    return out;
+}
+
+}  // namespace hbf
