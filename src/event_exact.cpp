@@ -129,7 +129,18 @@ double first_root(const Eigen::RowVectorXd& c, double s_end, double eta) {
     for (int j = 1; j <= samples; ++j) {
         const double s = s_end * j / samples;
         const double p = horner(c, s);
-        if (p < -eta) return p_lo <= 0.0 ? lo : refine_root(c, lo, s);
+        if (p < -eta) {
+            if (p_lo > 0.0) return refine_root(c, lo, s);
+            if (j > 1 || horner_derivative(c, 0.0) <= 0.0) return lo;
+            // Zero at the start but rising (a slip that starts at the edge of its friction
+            // limit and turns back at once): the root after the polynomial's maximum.
+            Eigen::RowVectorXd d(std::max<Eigen::Index>(1, c.size() - 1));
+            d.setZero();
+            for (Eigen::Index k = 1; k < c.size(); ++k) d(k - 1) = static_cast<double>(k) * c(k);
+            if (horner(d, s) >= 0.0) return lo;
+            const double top = refine_root(d, 0.0, s);
+            return horner(c, top) > 0.0 ? refine_root(c, top, s) : lo;
+        }
         lo = s;
         p_lo = p;
     }
@@ -274,6 +285,7 @@ public:
         Modes modes;
         Eigen::MatrixXd psi;  // d zhat(t_end) / d zhat(t0)
         std::vector<ExactEvent> events;  // absolute times
+        std::vector<Eigen::VectorXd> event_states;  // zhat at each event
         std::vector<Step> steps;
         bool grazing = false;
     };
@@ -332,8 +344,10 @@ public:
                 }
             }
             for (int c = 0; c < n_contacts_; ++c)
-                if (next[static_cast<std::size_t>(c)] != modes[static_cast<std::size_t>(c)])
+                if (next[static_cast<std::size_t>(c)] != modes[static_cast<std::size_t>(c)]) {
                     out.events.push_back({t, c, modes[static_cast<std::size_t>(c)], next[static_cast<std::size_t>(c)]});
+                    out.event_states.push_back(zhat);
+                }
             modes = next;
             if (++events > max_events) {
                 out.ok = false;
@@ -477,9 +491,24 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     Eigen::VectorXd c1 = Eigen::VectorXd::Zero(nd), s1 = Eigen::VectorXd::Zero(nd);
     double stick_time = 0.0;
     out.energy = 0.0;
+    double margin_min = std::numeric_limits<double>::infinity(), margin_max = -margin_min;
+    auto margin = [&](const Modes& modes, const Eigen::VectorXd& z) {
+        const double value = std::abs(e.mode(modes).force.row(0).dot(z)) / e.contact(0).friction_limit - 1.0;
+        margin_min = std::min(margin_min, value);
+        margin_max = std::max(margin_max, value);
+    };
+    for (std::size_t k = 0; k < flow.events.size() && nc > 0; ++k) {
+        const ExactEvent& ev = flow.events[k];
+        if (ev.contact != 0 || ev.mode_before == 0 || !e.coulomb(0)) continue;
+        Modes trial = step_at(flow.steps, ev.time).modes;  // the force that would hold it
+        trial[0] = 0;
+        margin(trial, flow.event_states[k]);
+    }
     for (const Step& st : flow.steps) {
         const double length = st.s_end * st.h;
         if (length <= 0.0) continue;
+        if (nc > 0 && (st.modes[0] == 0 || !e.coulomb(0)))
+            for (int j = 0; j <= 16; ++j) margin(st.modes, evaluate(st.u, st.s_end * j / 16));
         // Turning points of every DOF: roots of y_i' (its polynomial), from 16 samples.
         for (int i = 0; i < nd; ++i) {
             const Eigen::RowVectorXd y = st.u.row(i), v = st.u.row(nd + i);
@@ -517,6 +546,8 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     for (int i = 0; i < nd; ++i) out.y_amp1[static_cast<std::size_t>(i)] = std::hypot(c1(i), s1(i));
     out.input_energy = pi * e.excitation().dot(s1);
     out.stick_fraction = nc > 0 ? std::min(1.0, stick_time / period) : 0.0;
+    out.stick_margin_min = std::isfinite(margin_min) ? margin_min : 0.0;
+    out.stick_margin_max = std::isfinite(margin_max) ? margin_max : 0.0;
     if (nc == 0) out.regime = "none";
     else if (stick_time >= period * (1.0 - 1e-12)) out.regime = "stick";
     else if (stick_time <= period * 1e-12) out.regime = "slip";
@@ -555,9 +586,9 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     }
 }
 
-/// The permanent-stick orbit by the convention of the header (zero mean force), or false
-/// when it does not hold every contact.
-bool permanent_stick_state(const System& system, double omega, Eigen::VectorXd& z) {
+/// The linear stuck steady state (convention of the header): z at t = 0 and the load
+/// max_c |f_c| / F_c; infinity where the stuck structure is singular at omega.
+double stuck_steady_state(const System& system, double omega, Eigen::VectorXd& z) {
     const int nd = system.dofs(), nc = static_cast<int>(system.contacts.size());
     Eigen::MatrixXcd a = dynamic_stiffness(system.mass, system.damping, system.stiffness, omega);
     std::vector<int> rigid;
@@ -571,29 +602,37 @@ bool permanent_stick_state(const System& system, double omega, Eigen::VectorXd& 
     Eigen::MatrixXcd kkt = Eigen::MatrixXcd::Zero(nd + m, nd + m);
     kkt.topLeftCorner(nd, nd) = a;
     for (int j = 0; j < m; ++j) {
-        const Eigen::VectorXd w = system.contact_direction(system.contacts[static_cast<std::size_t>(rigid[static_cast<std::size_t>(j)])]);
+        const Eigen::VectorXd w =
+            system.contact_direction(system.contacts[static_cast<std::size_t>(rigid[static_cast<std::size_t>(j)])]);
         kkt.block(0, nd + j, nd, 1) = w.cast<std::complex<double>>();
         kkt.block(nd + j, 0, 1, nd) = w.transpose().cast<std::complex<double>>();
     }
     Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(nd + m);
     rhs.head(nd) = system.excitation.cast<std::complex<double>>();
     Eigen::FullPivLU<Eigen::MatrixXcd> lu(kkt);
-    if (!lu.isInvertible()) return false;
+    const double infinity = std::numeric_limits<double>::infinity();
+    if (!lu.isInvertible()) return infinity;
     const Eigen::VectorXcd x = lu.solve(rhs);
-    if (!x.allFinite()) return false;
+    if (!x.allFinite()) return infinity;
+    double load = 0.0;
     for (int j = 0; j < m; ++j)
-        if (std::abs(x(nd + j)) > system.contacts[static_cast<std::size_t>(rigid[static_cast<std::size_t>(j)])].friction_limit)
-            return false;
+        load = std::max(load, std::abs(x(nd + j)) /
+                                  system.contacts[static_cast<std::size_t>(rigid[static_cast<std::size_t>(j)])].friction_limit);
     for (int c = 0; c < nc; ++c) {
         const Contact& k = system.contacts[static_cast<std::size_t>(c)];
         if (k.law != FrictionLaw::jenkins) continue;
         const std::complex<double> q = system.contact_direction(k).cast<std::complex<double>>().dot(x.head(nd));
-        if (k.stiffness * std::abs(q) > k.friction_limit) return false;
+        load = std::max(load, k.stiffness * std::abs(q) / k.friction_limit);
     }
     z = Eigen::VectorXd::Zero(2 * nd + nc);
     z.head(nd) = x.head(nd).real();
     z.segment(nd, nd) = -omega * x.head(nd).imag();
-    return true;
+    return load;
+}
+
+/// The permanent-stick orbit's state, or false when it does not hold every contact.
+bool permanent_stick_state(const System& system, double omega, Eigen::VectorXd& z) {
+    return stuck_steady_state(system, omega, z) <= 1.0;
 }
 
 /// Orthonormal basis B of the states allowed at the section with `modes`, and the particular
@@ -663,12 +702,14 @@ double relative_change(const Eigen::VectorXd& end, const Eigen::VectorXd& start)
 }  // namespace
 
 void ExactOptions::validate() const {
-    if (!(tolerance >= 1e-15 && tolerance <= 1e-3))
-        throw InvalidInput("exact tolerance = " + format_number(tolerance) + " is out of range: allowed 1e-15..1e-3");
+    if (!(tolerance >= 1e-15 && tolerance <= 1e-2))
+        throw InvalidInput("exact tolerance = " + format_number(tolerance) + " is out of range: allowed 1e-15..1e-2");
     if (max_iterations < 1)
         throw InvalidInput("exact max_iterations = " + std::to_string(max_iterations) + " is out of range: allowed >= 1");
     if (warmup_periods < 1)
         throw InvalidInput("exact warmup_periods = " + std::to_string(warmup_periods) + " is out of range: allowed >= 1");
+    if (restarts < 0)
+        throw InvalidInput("exact restarts = " + std::to_string(restarts) + " is out of range: allowed >= 0");
     if (max_events_per_period < 4)
         throw InvalidInput("exact max_events_per_period = " + std::to_string(max_events_per_period) +
                            " is out of range: allowed >= 4");
@@ -677,6 +718,12 @@ void ExactOptions::validate() const {
                            " is out of range: allowed 0..1");
     if (samples < 0 || samples > 10000000)
         throw InvalidInput("exact samples = " + std::to_string(samples) + " is out of range: allowed 0..1e7");
+}
+
+double permanent_stick_load(const System& system, double omega) {
+    validate_system(system, omega);
+    Eigen::VectorXd z;
+    return stuck_steady_state(system, omega, z);
 }
 
 bool exact_solver_supports(const System& system) {
@@ -736,32 +783,34 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
     ExactOrbit out;
     out.omega = omega;
 
-    // Warm-up periods from the given state.
+    // Plain periods from zhat (at t = 0) with modes; the last one recorded.
+    Engine::Flow warm;
+    auto plain_periods = [&](Eigen::VectorXd zhat, Modes modes, int periods) {
+        for (int p = 0; p < periods; ++p) {
+            zhat(e.cos_index()) = 1.0;
+            zhat(e.sin_index()) = 0.0;
+            warm = e.flow(zhat, modes, 0.0, period, false, p + 1 == periods, options.max_events_per_period);
+            ++out.periods;
+            if (!warm.ok) return false;
+            zhat = warm.zhat;
+            modes = warm.modes;
+        }
+        return true;
+    };
     Eigen::VectorXd zhat = e.augment(initial_state.head(e.nz()), 0.0);
     for (int c = 0; c < e.contacts(); ++c)
         if (e.coulomb(c)) zhat(2 * e.dofs() + c) = 0.0;
     Modes hints(static_cast<std::size_t>(e.contacts()));
     for (int c = 0; c < e.contacts(); ++c)
         hints[static_cast<std::size_t>(c)] = static_cast<int>(std::lround(initial_state(e.nz() + c)));
-    Modes modes = e.initial_modes(zhat, hints);
-    Engine::Flow warm;
-    for (int p = 0; p < options.warmup_periods; ++p) {
-        zhat(e.cos_index()) = 1.0;
-        zhat(e.sin_index()) = 0.0;
-        warm = e.flow(zhat, modes, 0.0, period, false, p + 1 == options.warmup_periods, options.max_events_per_period);
-        ++out.periods;
-        if (!warm.ok) {
-            out.message = "warm-up: " + warm.message;
-            return out;
-        }
-        zhat = warm.zhat;
-        modes = warm.modes;
+    const Modes modes = e.initial_modes(zhat, hints);
+    if (!plain_periods(zhat, modes, options.warmup_periods)) {
+        out.message = "warm-up: " + warm.message;
+        if (!warm.steps.empty()) fill_metrics(e, warm, 0.0, options, out);  // the period as far as it went
+        out.state = initial_state;
+        return out;
     }
 
-    // Permanent stick: no event and every contact stuck over the warm-up period.
-    bool all_stuck = warm.events.empty();
-    for (const Step& st : warm.steps)
-        for (int mode : st.modes) all_stuck = all_stuck && mode == 0;
     Eigen::VectorXd stuck;
     const bool stuck_holds = permanent_stick_state(system, omega, stuck);
     // The permanent-stick orbit (the convention of the header), into `orbit`.
@@ -781,89 +830,115 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
         section_manifold(e, stick, basis, particular);
         fill_stability(f.psi, basis, e.nz(), options, orbit);
     };
-    if (all_stuck && stuck_holds) {
-        permanent(out);
-        return out;
-    }
 
-    // The section: the middle of the longest event-free stretch of the last warm-up period.
+    Engine::Flow f;
     double t_s = 0.0;
-    Modes section_modes = warm.steps.empty() ? modes : warm.steps.front().modes;
-    if (!warm.events.empty()) {
-        std::vector<double> times;
-        for (const ExactEvent& ev : warm.events) times.push_back(ev.time);
-        std::sort(times.begin(), times.end());
-        double best_gap = -1.0;
-        for (std::size_t k = 0; k < times.size(); ++k) {
-            const double next = k + 1 < times.size() ? times[k + 1] : times.front() + period;
-            if (next - times[k] > best_gap) {
-                best_gap = next - times[k];
-                t_s = times[k] + 0.5 * (next - times[k]);
-            }
-        }
-        t_s = std::fmod(t_s, period);
-        section_modes = step_at(warm.steps, t_s).modes;
-    }
-    Eigen::VectorXd z = state_at(warm.steps, t_s).head(e.nz());
-    if (t_s == 0.0) z = warm.steps.front().u.col(0).head(e.nz());
     Eigen::MatrixXd basis;
-    Eigen::VectorXd particular;
-    section_manifold(e, section_modes, basis, particular);
-    z = particular + basis * (basis.transpose() * (z - particular));
+    int restart_periods = 8;
+    for (int attempt = 0;; ++attempt) {
+        // Permanent stick: no event and every contact stuck over the last plain period.
+        bool all_stuck = warm.events.empty();
+        for (const Step& st : warm.steps)
+            for (int mode : st.modes) all_stuck = all_stuck && mode == 0;
+        if (all_stuck && stuck_holds) {
+            const int periods = out.periods, iterations = out.iterations;
+            out = ExactOrbit{};
+            out.omega = omega;
+            out.periods = periods;
+            out.iterations = iterations;
+            permanent(out);
+            return out;
+        }
+        // The section: the middle of the longest event-free stretch of the last plain period.
+        t_s = 0.0;
+        Modes section_modes = warm.steps.front().modes;
+        if (!warm.events.empty()) {
+            std::vector<double> times;
+            for (const ExactEvent& ev : warm.events) times.push_back(ev.time);
+            std::sort(times.begin(), times.end());
+            double best_gap = -1.0;
+            for (std::size_t k = 0; k < times.size(); ++k) {
+                const double next = k + 1 < times.size() ? times[k + 1] : times.front() + period;
+                if (next - times[k] > best_gap) {
+                    best_gap = next - times[k];
+                    t_s = times[k] + 0.5 * (next - times[k]);
+                }
+            }
+            t_s = std::fmod(t_s, period);
+            section_modes = step_at(warm.steps, t_s).modes;
+        }
+        Eigen::VectorXd z = t_s == 0.0 ? Eigen::VectorXd(warm.steps.front().u.col(0).head(e.nz()))
+                                       : Eigen::VectorXd(state_at(warm.steps, t_s).head(e.nz()));
+        Eigen::VectorXd particular;
+        section_manifold(e, section_modes, basis, particular);
+        z = particular + basis * (basis.transpose() * (z - particular));
 
-    auto map = [&](const Eigen::VectorXd& start) {
-        Eigen::VectorXd zh = e.augment(start, t_s);
-        const Modes m = e.initial_modes(zh, section_modes);
-        ++out.periods;
-        return e.flow(zh, m, t_s, period, true, true, options.max_events_per_period);
-    };
-    Engine::Flow f = map(z);
-    bool grazing = false;
-    for (out.iterations = 0;; ++out.iterations) {
-        if (!f.ok) {
-            out.message = "Newton iteration " + std::to_string(out.iterations) + ": " + f.message;
-            break;
-        }
-        const Eigen::VectorXd r = f.zhat.head(e.nz()) - z;
-        out.residual = relative_change(f.zhat.head(e.nz()), z);
-        grazing = f.grazing;
-        if (out.residual <= options.tolerance) {
-            out.converged = true;
-            out.message = "Newton on the period map converged" + std::string(grazing ? " (a grazing event)" : "");
-            break;
-        }
-        if (out.iterations >= options.max_iterations) {
-            out.message = "Newton reached " + std::to_string(options.max_iterations) + " iterations, residual " +
-                          format_number(out.residual);
-            break;
-        }
-        const Eigen::MatrixXd jacobian =
-            basis.transpose() * (f.psi.topLeftCorner(e.nz(), e.nz()) - Eigen::MatrixXd::Identity(e.nz(), e.nz())) * basis;
-        Eigen::FullPivLU<Eigen::MatrixXd> lu(jacobian);
-        if (!lu.isInvertible()) {
-            out.message = "singular period-map Jacobian (a multiplier at 1: a fold or a neutral direction)";
-            break;
-        }
-        const Eigen::VectorXd step = -(basis * lu.solve(basis.transpose() * r));
-        double alpha = 1.0;
-        bool accepted = false;
-        for (int trial = 0; trial < 12; ++trial, alpha *= 0.5) {
-            const Eigen::VectorXd trial_z = z + alpha * step;
-            Engine::Flow g = map(trial_z);
-            if (!g.ok) continue;
-            const double residual = relative_change(g.zhat.head(e.nz()), trial_z);
-            if (residual < out.residual * (1.0 - 1e-4 * alpha) || residual <= options.tolerance) {
-                z = trial_z;
-                f = std::move(g);
-                accepted = true;
+        auto map = [&](const Eigen::VectorXd& start) {
+            Eigen::VectorXd zh = e.augment(start, t_s);
+            const Modes m = e.initial_modes(zh, section_modes);
+            ++out.periods;
+            return e.flow(zh, m, t_s, period, true, true, options.max_events_per_period);
+        };
+        f = map(z);
+        bool retry = false;
+        for (int iteration = 0;; ++iteration, ++out.iterations) {
+            if (!f.ok) {
+                out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
+                break;
+            }
+            const Eigen::VectorXd r = f.zhat.head(e.nz()) - z;
+            out.residual = relative_change(f.zhat.head(e.nz()), z);
+            if (out.residual <= options.tolerance) {
+                out.converged = true;
+                out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "");
+                break;
+            }
+            if (out.iterations >= options.max_iterations) {
+                out.message = "Newton reached " + std::to_string(options.max_iterations) + " iterations, residual " +
+                              format_number(out.residual);
+                break;
+            }
+            const Eigen::MatrixXd jacobian =
+                basis.transpose() * (f.psi.topLeftCorner(e.nz(), e.nz()) - Eigen::MatrixXd::Identity(e.nz(), e.nz())) *
+                basis;
+            Eigen::FullPivLU<Eigen::MatrixXd> lu(jacobian);
+            if (!lu.isInvertible()) {
+                out.message = "singular period-map Jacobian (a multiplier at 1: a fold or a neutral direction)";
+                retry = true;
+                break;
+            }
+            const Eigen::VectorXd step = -(basis * lu.solve(basis.transpose() * r));
+            double alpha = 1.0;
+            bool accepted = false;
+            for (int trial = 0; trial < 12; ++trial, alpha *= 0.5) {
+                const Eigen::VectorXd trial_z = z + alpha * step;
+                Engine::Flow g = map(trial_z);
+                if (!g.ok) continue;
+                const double residual = relative_change(g.zhat.head(e.nz()), trial_z);
+                if (residual < out.residual * (1.0 - 1e-4 * alpha) || residual <= options.tolerance) {
+                    z = trial_z;
+                    f = std::move(g);
+                    accepted = true;
+                    break;
+                }
+            }
+            if (!accepted) {
+                out.message = "Newton stalled (no decrease along the step) at residual " + format_number(out.residual) +
+                              ": the stick/slip pattern changes near this frequency, or the start is too far";
+                retry = true;
                 break;
             }
         }
-        if (!accepted) {
-            out.message = "Newton stalled (no decrease along the step) at residual " + format_number(out.residual) +
-                          ": the stick/slip pattern changes near this frequency, or the start is too far";
+        if (out.converged || !retry || attempt >= options.restarts || out.iterations >= options.max_iterations) break;
+        // Restart: plain periods from the last iterate (the exact flow integrates the motion and
+        // settles the stick/slip pattern), then a new section and Newton.
+        const Eigen::VectorXd at_zero = t_s > 0.0 ? state_at(f.steps, period) : f.zhat;
+        const Modes modes_zero = t_s > 0.0 ? step_at(f.steps, period).modes : f.modes;
+        if (!plain_periods(at_zero, modes_zero, restart_periods)) {
+            out.message += "; restart: " + warm.message;
             break;
         }
+        restart_periods *= 4;
     }
     if (!out.converged && stuck_holds) {
         // Newton found no orbit with slip from this start, and the permanent-stick state holds:

@@ -186,7 +186,20 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         const std::string stuck_side = boundary == Boundary::stick_stick_slip ? "stick" : "stick-slip";
         ExactOrbit lo = a.orbit, hi = b.orbit;
         bool ok = true;
-        while (std::abs(hi.omega - lo.omega) > 1e-10 * std::abs(hi.omega)) {
+        if (boundary == Boundary::stick_stick_slip) {
+            // Where the permanent-stick state's load crosses 1 (closed form), then its orbit.
+            const bool a_stuck = a.orbit.regime == "stick";
+            double w_stick = (a_stuck ? a : b).point.omega, w_slip = (a_stuck ? b : a).point.omega;
+            if (!(permanent_stick_load(system, w_stick) <= 1.0 && permanent_stick_load(system, w_slip) > 1.0)) continue;
+            while (std::abs(w_slip - w_stick) > 1e-12 * std::abs(w_slip)) {
+                const double mid = 0.5 * (w_stick + w_slip);
+                (permanent_stick_load(system, mid) <= 1.0 ? w_stick : w_slip) = mid;
+            }
+            lo = exact_periodic_orbit(system, w_stick, (a_stuck ? a : b).orbit.state, options.exact);
+            hi = lo;
+            ok = lo.converged && lo.regime == "stick";
+        }
+        while (ok && std::abs(hi.omega - lo.omega) > 1e-10 * std::abs(hi.omega)) {
             const double mid = 0.5 * (lo.omega + hi.omega);
             ExactOrbit o = solve(system, mid, lo.state, &hi.state, options.exact);
             if (!o.converged) {

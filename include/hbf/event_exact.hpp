@@ -57,13 +57,18 @@ namespace hbf {
 
 struct ExactOptions {
     /// Newton stops when |P(z) - z|_inf <= tolerance * max(1, |z|_inf) (z: y, y', sliders at
-    /// the section). 1e-15..1e-3.
+    /// the section). 1e-15..1e-2.
     double tolerance = 1e-12;
-    /// Newton iterations (each one period map with its monodromy, plus line-search trials), >= 1.
+    /// Newton iterations over all attempts (each one period map with its monodromy, plus
+    /// line-search trials), >= 1.
     int max_iterations = 40;
     /// Plain periods integrated from the given start before Newton (>= 1): the first settles
     /// the stick/slip pattern on which the section is chosen.
     int warmup_periods = 1;
+    /// When Newton stalls (the stick/slip pattern of the iterate is not the orbit's): restarts
+    /// from plain exact periods after the last iterate (8, then 32, 128, ... periods), each
+    /// followed by a new section and Newton. >= 0.
+    int restarts = 3;
     /// More events than this in one period is treated as chattering: not converged. >= 4.
     int max_events_per_period = 400;
     /// Multiplier modulus above which the orbit is called unstable: |mu| > 1 + this. 0..1.
@@ -106,6 +111,10 @@ struct ExactOrbit {
     double input_energy = 0;      ///< int F^T y' cos(omega t) dt = pi F^T s1
     std::vector<ExactEvent> events;  ///< one period, by time
     int switches = 0;             ///< events.size()
+    /// Stick indicator of contact 1 (time_integration.hpp's stick_margin), min and max over the
+    /// period: coulomb |lambda|/F_c - 1 while stuck and, at each stop or reversal, the force
+    /// required to hold it; jenkins |f|/F_c - 1. Evaluated on 16 points a step and at the events.
+    double stick_margin_min = 0, stick_margin_max = 0;
 
     // ---- stability ----
     Eigen::VectorXcd multipliers;  ///< Floquet multipliers on the section's state manifold
@@ -124,6 +133,12 @@ struct ExactOrbit {
 
 /// True when every contact is exact Coulomb or Jenkins (the laws this solver covers).
 bool exact_solver_supports(const System& system);
+
+/// The load of the permanent-stick state (the convention above) at omega: max over the contacts
+/// of max_t |f_c(t)| / F_c. Permanent stick holds iff it is <= 1; the stick|stick-slip
+/// transitions are where it crosses 1. Infinity where the stuck structure is singular (an
+/// undamped resonance of it). Throws like exact_periodic_orbit.
+double permanent_stick_load(const System& system, double omega);
 
 /// The periodic orbit at omega near `initial_state` (time_integration.hpp's convention, size
 /// 2N + 2 n_c; the modes are hints, the state decides). Throws InvalidInput for an invalid

@@ -72,6 +72,16 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const std::vector<int>& report = chosen.report;
     const std::optional<io::SystemConfig>& config = chosen.config;
     const AbsorberParameters& p = chosen.absorber;
+    // The exact polish: on by default for the laws it covers (coulomb, jenkins).
+    if (!o.exact.empty() && o.exact != "on" && o.exact != "off")
+        throw UsageError("--exact = '" + o.exact + "' is not allowed: allowed on, off");
+    const bool exact = o.exact.empty() ? exact_solver_supports(system) : o.exact == "on";
+    if (exact && !exact_solver_supports(system))
+        throw UsageError("--exact on: the event-exact solver covers coulomb and jenkins contacts only, the law here is " +
+                         law_name + " (use --exact off)");
+    // With the polish, HB only supplies the branch and the starting guesses: H = 10 suffices
+    // (measured: the same exact branch, peaks and transitions as H = 20, 3 times faster).
+    if (exact) chosen.automatic_harmonics = 10;
     const HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config);
     ContinuationOptions co;
     co.omega_start = parse_double("--wmin", o.wmin);
@@ -87,13 +97,6 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (!(co.corrector.tolerance >= 1e-14 && co.corrector.tolerance <= 1e-2))
         throw UsageError("--tolerance = " + o.tolerance + " is out of range: allowed 1e-14..1e-2");
     const std::vector<double> at = o.at.empty() ? std::vector<double>{} : parse_list("--at", o.at);
-    // The exact polish: on by default for the laws it covers (coulomb, jenkins).
-    if (!o.exact.empty() && o.exact != "on" && o.exact != "off")
-        throw UsageError("--exact = '" + o.exact + "' is not allowed: allowed on, off");
-    const bool exact = o.exact.empty() ? exact_solver_supports(system) : o.exact == "on";
-    if (exact && !exact_solver_supports(system))
-        throw UsageError("--exact on: the event-exact solver covers coulomb and jenkins contacts only, the law here is " +
-                         law_name + " (use --exact off)");
     // With the polish, HB's own transitions (O(1/H) misplaced) are not needed: the exact
     // ones replace them.
     if (exact) co.locate_transitions = false;
@@ -219,8 +222,9 @@ Runner add_frf_command(CLI::App& app) {
     command->add_option("--wmin", options->wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
     command->add_option("--wmax", options->wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
     command->add_option("--harmonics", options->harmonics,
-                        "number of harmonics H, 1..200; 0 = automatic: 20 for coulomb (its error falls like 1/H) "
-                        "and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins")
+                        "number of harmonics H, 1..200; 0 = automatic: 10 with the exact polish (coulomb, jenkins: "
+                        "HB only supplies the branch and the starting guesses); without it 20 for coulomb (its error "
+                        "falls like 1/H) and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins")
         ->capture_default_str()->type_name("INT");
     command->add_option("--time-samples", options->time_samples,
                         "AFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "

@@ -12,6 +12,7 @@
 #include "hbf/config.hpp"
 #include "hbf/io.hpp"
 #include "hbf/plot.hpp"
+#include "hbf/event_exact.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf::cli {
@@ -69,6 +70,38 @@ std::vector<double> frequencies(const CLI::App& command, const TimeintOptions& o
     return grid;
 }
 
+/// The steady state by the event-exact solver (--method exact), as a time-integration row:
+/// Newton from `start`; if that fails, again after plain exact periods (the exact flow
+/// integrates the motion) up to max_periods.
+PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
+                                    const Eigen::VectorXd& start) {
+    ExactOrbit orbit = exact_periodic_orbit(system, omega, start, options);
+    int periods = orbit.periods;
+    if (!orbit.converged && max_periods > 1) {
+        options.warmup_periods = std::min(max_periods, 200);
+        orbit = exact_periodic_orbit(system, omega, start, options);
+        periods += orbit.periods;
+    }
+    PeriodicResponse r;
+    r.omega = omega;
+    r.converged = orbit.converged;
+    r.message = orbit.message;
+    r.periods = periods;
+    r.poincare_change = orbit.residual;
+    r.state = orbit.state;
+    r.y_max = orbit.y_max;
+    r.y_amp1 = orbit.y_amp1;
+    r.harmonic1 = orbit.harmonic1;
+    r.stick_fraction = orbit.stick_fraction;
+    r.regime = orbit.regime;
+    r.stick_margin_min = orbit.stick_margin_min;
+    r.stick_margin_max = orbit.stick_margin_max;
+    r.switches = orbit.switches;
+    r.energy = orbit.energy;
+    r.input_energy = orbit.input_energy;
+    return r;
+}
+
 int run(const CLI::App& command, const TimeintOptions& o) {
     io::check_plot("--plot", o.plot);  // before any work
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
@@ -88,9 +121,15 @@ int run(const CLI::App& command, const TimeintOptions& o) {
                          std::to_string(max_periods) + ")");
     tio.max_periods = static_cast<int>(max_periods);
     tio.min_periods = static_cast<int>(min_periods);
-    if (o.method != "adams" && o.method != "bdf")
-        throw UsageError("--method = '" + o.method + "' is not allowed: allowed adams, bdf");
+    if (o.method != "adams" && o.method != "bdf" && o.method != "exact")
+        throw UsageError("--method = '" + o.method + "' is not allowed: allowed adams, bdf, exact");
     tio.method = o.method == "bdf" ? IntegrationMethod::bdf : IntegrationMethod::adams;
+    const bool exact = o.method == "exact";
+    if (exact && !exact_solver_supports(system))
+        throw UsageError("--method exact: the event-exact solver covers coulomb and jenkins contacts only, the law here is " +
+                         chosen.law_name + " (use adams or bdf)");
+    ExactOptions eo;
+    eo.tolerance = given(command, "--steady-tol") ? tio.steady_tolerance : 1e-12;
 
     io::OutputFile out(o.out);  // opened before the work: an unwritable path fails fast
     const bool progress = !o.quiet && isatty(STDERR_FILENO);
@@ -101,7 +140,8 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         if (progress)
             std::cerr << "\rhbf timeint: point " << k + 1 << "/" << omegas.size() << ", w = " << format_number(omegas[k])
                       << "        " << std::flush;
-        responses.push_back(integrate_steady_state(system, omegas[k], tio, &state));
+        responses.push_back(exact ? exact_steady_state(system, omegas[k], eo, tio.max_periods, state)
+                                  : integrate_steady_state(system, omegas[k], tio, &state));
         state = responses.back().state;
     }
     if (progress) std::cerr << "\n";
@@ -170,8 +210,11 @@ Runner add_timeint_command(CLI::App& app) {
         ->capture_default_str()->type_name("INT");
     command->add_option("--method", options->method,
                         "CVODE method: adams (fixed-point iteration; fastest here) or bdf (Newton, dense "
-                        "difference-quotient Jacobian; for stiff contacts)")
-        ->capture_default_str()->type_name("adams|bdf");
+                        "difference-quotient Jacobian; for stiff contacts); or exact (coulomb and jenkins only): the "
+                        "event-exact solver, closed-form flows between stick/slip events and Newton shooting on the "
+                        "period map (steady state to --steady-tol, default 1e-12 with it; --rtol and --atol do not "
+                        "apply; periods counts the period maps evaluated)")
+        ->capture_default_str()->type_name("adams|bdf|exact");
     command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
     command->add_option("--plot", options->plot, "draw y1_max against w (sweep order, non-converged points marked) "
                                                  "through gnuplot (.png or .svg)")
