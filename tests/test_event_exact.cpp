@@ -1,0 +1,279 @@
+// The event-exact periodic solver (event_exact.hpp) against independent references: Den
+// Hartog's closed form, tight CVODE time integration, the energy balance, a finite-difference
+// monodromy of the CVODE period map, the decay of perturbed time integrations, and the
+// closed-form permanent-stick state.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "hbf/analytic.hpp"
+#include "hbf/config.hpp"
+#include "hbf/error.hpp"
+#include "hbf/event_exact.hpp"
+#include "hbf/time_integration.hpp"
+
+using namespace hbf;
+
+namespace {
+
+System den_hartog_oscillator(double rho) {
+    System s;
+    s.mass = Eigen::MatrixXd::Identity(1, 1);
+    s.stiffness = Eigen::MatrixXd::Identity(1, 1);
+    s.damping = Eigen::MatrixXd::Zero(1, 1);
+    s.excitation = Eigen::VectorXd::Ones(1);
+    Contact c;
+    c.dof = 0;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = rho;
+    s.contacts = {c};
+    return s;
+}
+
+System absorber(FrictionLaw law, double fe = 0.5, double wb = 0.4) {
+    AbsorberParameters p;
+    p.excitation = fe;
+    p.contact_stiffness_ratio = wb;
+    return friction_absorber(p, law);
+}
+
+/// The 3-DOF chain example with both contacts given exact laws (Jenkins, Coulomb).
+System chain3() {
+    io::SystemConfig config = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/chain3.toml");
+    config.system.contacts[1].law = FrictionLaw::coulomb;
+    return config.system;
+}
+
+TimeIntegrationOptions tight() {
+    TimeIntegrationOptions o;
+    o.relative_tolerance = 1e-12;
+    o.absolute_tolerance = 1e-14;
+    o.steady_tolerance = 1e-11;
+    return o;
+}
+
+/// One period of CVODE from `state` (the state at the start of the second period).
+Eigen::VectorXd cvode_period_map(const System& s, double omega, const Eigen::VectorXd& state) {
+    TimeIntegrationOptions o = tight();
+    o.min_periods = o.max_periods = 2;
+    o.shooting = false;
+    o.stick_restart = false;
+    return integrate_steady_state(s, omega, o, &state).state;
+}
+
+/// Multiplier moduli above `floor`, sorted descending.
+std::vector<double> moduli(const Eigen::VectorXcd& mu, double floor) {
+    std::vector<double> out;
+    for (Eigen::Index k = 0; k < mu.size(); ++k)
+        if (std::abs(mu(k)) > floor) out.push_back(std::abs(mu(k)));
+    std::sort(out.rbegin(), out.rend());
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("Den Hartog's exact non-sticking solution is reproduced to 1e-9 (amplitude, signal, stop times)") {
+    const double rho = 0.3;
+    const System s = den_hartog_oscillator(rho);
+    ExactOptions options;
+    options.samples = 64;
+    for (double eta : {0.55, 0.6, 0.65, 0.7, 0.75}) {
+        const analytic::DenHartogResponse dh = analytic::den_hartog(eta, rho);
+        Eigen::VectorXd start = linear_stuck_state(s, eta);
+        start(0) = 1.5;  // far from the orbit: a stuck start that slips at once
+        const ExactOrbit o = exact_periodic_orbit(s, eta, start, options);
+        INFO("eta = " << eta << ": " << o.summary());
+        REQUIRE(o.converged);
+        CHECK(std::abs(o.y_max[0] - dh.amplitude) < 1e-9);
+        CHECK(o.regime == "slip");
+        CHECK(o.stick_fraction == 0.0);
+        for (int j = 0; j < options.samples; ++j) {
+            CHECK(std::abs(o.displacement(j, 0) - dh.displacement(o.time(j))) < 1e-9);
+            CHECK(std::abs(o.velocity(j, 0) - dh.velocity(o.time(j))) < 1e-9);
+        }
+        // Two reversals per period, where u' = 0: at the maximum (eta t = psi) and half a period later.
+        REQUIRE(o.events.size() == 2);
+        const double period = 2 * M_PI / eta;
+        const double t_max = dh.phase / eta;
+        for (const ExactEvent& e : o.events) {
+            const double d = std::fmod(std::abs(e.time - t_max) + 1e-12, period / 2) - 1e-12;
+            CHECK(std::min(d, period / 2 - d) < 1e-9);
+            CHECK(e.mode_before == -e.mode_after);
+        }
+        // Energy balance (no viscous damping): friction energy = input work.
+        CHECK(std::abs(o.energy - o.input_energy) < 1e-10 * o.energy);
+        CHECK(o.stable);
+    }
+}
+
+TEST_CASE("Exact orbits of the absorber equal tight time integration in every regime (coulomb, jenkins)") {
+    struct Case {
+        FrictionLaw law;
+        double wb, omega;
+        const char* regime;
+    };
+    for (const Case& c : {Case{FrictionLaw::coulomb, 0.4, 0.8, "stick"}, Case{FrictionLaw::coulomb, 0.4, 0.875, "stick-slip"},
+                          Case{FrictionLaw::coulomb, 0.4, 0.894927, "slip"}, Case{FrictionLaw::coulomb, 0.4, 1.065, "stick-slip"},
+                          Case{FrictionLaw::jenkins, 0.4, 1.2, "stick-slip"}, Case{FrictionLaw::jenkins, 31.62, 0.8624, "stick-slip"},
+                          Case{FrictionLaw::jenkins, 31.62, 0.9, "stick-slip"}, Case{FrictionLaw::jenkins, 31.62, 1.1, "stick"}}) {
+        const System s = absorber(c.law, 0.5, c.wb);
+        const PeriodicResponse r = integrate_steady_state(s, c.omega, tight());
+        REQUIRE(r.converged);
+        Eigen::VectorXd start = r.state;
+        start.head(4) *= 1.03;  // 3 % off
+        const ExactOrbit o = exact_periodic_orbit(s, c.omega, start);
+        INFO(to_string(c.law) << " wb = " << c.wb << " w = " << c.omega << ": " << o.summary());
+        REQUIRE(o.converged);
+        CHECK(o.regime == c.regime);
+        CHECK(r.regime == c.regime);
+        for (int i = 0; i < 2; ++i) {
+            CHECK(std::abs(o.y_max[i] - r.y_max[i]) < 1e-8);
+            CHECK(std::abs(o.y_amp1[i] - r.y_amp1[i]) < 1e-8);
+        }
+        CHECK(std::abs(o.stick_fraction - r.stick_fraction) < 1e-8);
+        CHECK(std::abs(o.energy - r.energy) < 1e-8 * std::max(1.0, r.energy));
+        CHECK(o.switches == r.switches);
+        CHECK(std::abs(o.energy - o.input_energy) < 1e-10 * std::max(1.0, o.energy));  // C = 0
+        CHECK((o.state.head(4) - r.state.head(4)).cwiseAbs().maxCoeff() < 1e-7);
+    }
+}
+
+TEST_CASE("The 3-DOF chain with a Jenkins and a Coulomb contact equals tight time integration") {
+    const System s = chain3();
+    for (double omega : {0.5, 1.0, 1.5}) {
+        const PeriodicResponse r = integrate_steady_state(s, omega, tight());
+        REQUIRE(r.converged);
+        const ExactOrbit o = exact_periodic_orbit(s, omega, linear_stuck_state(s, omega));
+        INFO("w = " << omega << ": " << o.summary());
+        REQUIRE(o.converged);
+        for (int i = 0; i < 3; ++i) CHECK(std::abs(o.y_max[i] - r.y_max[i]) < 1e-8);
+        CHECK(o.regime == r.regime);
+        CHECK(std::abs(o.stick_fraction - r.stick_fraction) < 1e-8);
+        // Energy balance with viscous damping: input = friction + viscous (CVODE's quadrature).
+        CHECK(std::abs(o.input_energy - o.energy - r.viscous_energy) < 1e-7 * o.input_energy);
+    }
+}
+
+TEST_CASE("Floquet multipliers equal those of a finite-difference monodromy of the CVODE period map") {
+    struct Case {
+        FrictionLaw law;
+        double wb, omega;
+    };
+    // t = 0 lies in a slip phase of the coulomb orbit (all 2N states free) and in a stick
+    // phase of the jenkins one (2N + 1 states, the slider free); the exact multipliers live on
+    // the section's manifold, so the comparison is on the moduli above 1e-6.
+    for (const Case& c : {Case{FrictionLaw::coulomb, 0.4, 1.065}, Case{FrictionLaw::jenkins, 0.4, 1.2}}) {
+        const System s = absorber(c.law, 0.5, c.wb);
+        const PeriodicResponse r = integrate_steady_state(s, c.omega, tight());
+        const ExactOrbit o = exact_periodic_orbit(s, c.omega, r.state);
+        REQUIRE(o.converged);
+        const int n = c.law == FrictionLaw::jenkins ? 5 : 4;
+        Eigen::MatrixXd fd(n, n);
+        const double h = 1e-6;
+        for (int k = 0; k < n; ++k) {
+            Eigen::VectorXd plus = o.state, minus = o.state;
+            plus(k) += h;
+            minus(k) -= h;
+            fd.col(k) = (cvode_period_map(s, c.omega, plus) - cvode_period_map(s, c.omega, minus)).head(n) / (2 * h);
+        }
+        const std::vector<double> reference = moduli(Eigen::EigenSolver<Eigen::MatrixXd>(fd).eigenvalues(), 1e-4);
+        const std::vector<double> exact = moduli(o.multipliers, 1e-4);
+        INFO(to_string(c.law) << " w = " << c.omega << ": " << o.summary());
+        REQUIRE(reference.size() == exact.size());
+        for (std::size_t k = 0; k < exact.size(); ++k) CHECK(std::abs(exact[k] - reference[k]) < 1e-4);
+        // The exact solver's own monodromy (exact_flow) from the orbit's state at t = 0.
+        const ExactFlow flow = exact_flow(s, c.omega, o.state);
+        CHECK((flow.monodromy.topLeftCorner(n, n) - fd).cwiseAbs().maxCoeff() < 1e-4 * std::max(1.0, fd.norm()));
+    }
+}
+
+TEST_CASE("The stability verdict: a perturbed time integration evolves as the exact monodromy predicts") {
+    // Absorber, coulomb, stick-slip at w = 1.065 (t = 0 in slip: all four states free). A
+    // small perturbation integrated by CVODE period after period stays equal to M^k delta, M the
+    // exact solver's monodromy, to first order; its size decays like max |mu|^k (stable).
+    const System s = absorber(FrictionLaw::coulomb);
+    const double omega = 1.065;
+    const ExactOrbit o = exact_periodic_orbit(s, omega, integrate_steady_state(s, omega, tight()).state);
+    REQUIRE(o.converged);
+    REQUIRE(o.stable);
+    const Eigen::MatrixXd m = exact_flow(s, omega, o.state).monodromy.topLeftCorner(4, 4);
+    const Eigen::Vector4d delta(1e-5, -2e-5, 1e-5, 3e-5);
+    Eigen::VectorXd x = o.state;
+    x.head(4) += delta;
+    Eigen::VectorXd predicted = delta;
+    for (int k = 1; k <= 30; ++k) {
+        x = cvode_period_map(s, omega, x);
+        predicted = m * predicted;
+        if (k % 10 == 0) {
+            const Eigen::VectorXd actual = x.head(4) - o.state.head(4);
+            INFO(o.summary() << "; period " << k);
+            CHECK((actual - predicted).norm() < 0.02 * predicted.norm());
+            CHECK(actual.norm() < 1.5 * std::pow(o.max_multiplier, k) * delta.norm() * 10);
+        }
+    }
+    CHECK(o.max_multiplier < 1.0);
+}
+
+TEST_CASE("Permanent stick follows the stated convention: the linear stuck state with zero mean force") {
+    ExactOptions options;
+    options.samples = 128;
+    SECTION("coulomb: rigid contact, constraint force centred") {
+        const System s = absorber(FrictionLaw::coulomb);
+        const double omega = 0.7;
+        Eigen::VectorXd start = linear_stuck_state(s, omega);
+        const ExactOrbit o = exact_periodic_orbit(s, omega, start, options);
+        REQUIRE(o.converged);
+        CHECK(o.permanent_stick);
+        CHECK(o.regime == "stick");
+        CHECK(o.stick_fraction == 1.0);
+        // Rigid contact: y1 = y2 = F / (K11 + K22 + 2 K12 - omega^2 (m1 + m2)) = fe / (1 - 1.1 omega^2).
+        const double y = 0.5 / (1.0 - 1.1 * omega * omega);
+        CHECK(std::abs(o.y_max[0] - std::abs(y)) < 1e-12);
+        CHECK(std::abs(o.friction_force.col(0).mean()) < 1e-12);
+        CHECK(permanent_stick_load(s, omega) < 1.0);
+        CHECK(o.stable);  // undamped stuck structure: multipliers on the unit circle
+        CHECK(std::abs(o.max_multiplier - 1.0) < 1e-9);
+    }
+    SECTION("jenkins: slider at zero") {
+        const System s = absorber(FrictionLaw::jenkins);
+        const double omega = 0.8;
+        const ExactOrbit o = exact_periodic_orbit(s, omega, linear_stuck_state(s, omega), options);
+        REQUIRE(o.converged);
+        CHECK(o.permanent_stick);
+        CHECK(o.state(4) == 0.0);
+        CHECK(std::abs(o.friction_force.col(0).mean()) < 1e-12);
+        const PeriodicResponse r = integrate_steady_state(s, omega, tight());
+        CHECK(std::abs(o.y_max[0] - r.y_max[0]) < 1e-9);
+    }
+    SECTION("the stick|stick-slip boundary is where the load crosses 1") {
+        const System s = absorber(FrictionLaw::coulomb);
+        // Below it the exact orbit sticks, above it slips: checked on both sides of the root.
+        double lo = 0.85, hi = 0.87;
+        REQUIRE(permanent_stick_load(s, lo) < 1.0);
+        REQUIRE(permanent_stick_load(s, hi) > 1.0);
+        for (int k = 0; k < 60; ++k) {
+            const double mid = 0.5 * (lo + hi);
+            (permanent_stick_load(s, mid) <= 1.0 ? lo : hi) = mid;
+        }
+        const ExactOrbit below = exact_periodic_orbit(s, lo - 1e-6, linear_stuck_state(s, lo));
+        const ExactOrbit above = exact_periodic_orbit(s, hi + 1e-6, linear_stuck_state(s, lo));
+        CHECK(below.regime == "stick");
+        CHECK(above.regime == "stick-slip");
+        // The paper's limit friction coefficient (analytic.hpp, derived independently) is mu there.
+        AbsorberParameters p;
+        p.excitation = 0.5;
+        CHECK(std::abs(analytic::coulomb_limit_friction(p, 0.5 * (lo + hi)) - p.friction_coefficient) < 1e-9);
+    }
+}
+
+TEST_CASE("Exact solver input checks") {
+    const System coulomb = absorber(FrictionLaw::coulomb);
+    CHECK_THROWS_AS(exact_periodic_orbit(absorber(FrictionLaw::dahl), 1.0, Eigen::VectorXd::Zero(6)), InvalidInput);
+    CHECK_THROWS_AS(exact_periodic_orbit(coulomb, 1.0, Eigen::VectorXd::Zero(5)), InvalidInput);
+    CHECK_THROWS_AS(exact_periodic_orbit(coulomb, -1.0, Eigen::VectorXd::Zero(6)), InvalidInput);
+    ExactOptions bad;
+    bad.tolerance = 0;
+    CHECK_THROWS_AS(exact_periodic_orbit(coulomb, 1.0, Eigen::VectorXd::Zero(6), bad), InvalidInput);
+    CHECK_FALSE(exact_solver_supports(absorber(FrictionLaw::lugre)));
+    CHECK(exact_solver_supports(coulomb));
+}
