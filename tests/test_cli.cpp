@@ -153,7 +153,7 @@ TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "
     REQUIRE(rows.size() > 10);
     const std::vector<std::string> header = {"w",      "y1_max", "y2_max",     "y1_amp1",  "y2_amp1",
                                              "stick_fraction", "regime", "energy", "branch", "point",
-                                             "iterations", "residual", "step"};
+                                             "iterations", "residual", "step", "exact", "stable", "hb_gap"};
     CHECK(rows[0] == header);
     CHECK(std::stod(rows[1][0]) == 0.6);
     int samples = 0;
@@ -166,6 +166,9 @@ TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "
             CHECK((std::stod(rows[k][0]) == 0.7 || std::stod(rows[k][0]) == 1.1));
         }
         CHECK(std::stod(rows[k][11]) <= 1e-9);
+        CHECK(rows[k][13] == "off");  // dahl: no exact polish, plain harmonic balance
+        CHECK(rows[k][14].empty());
+        CHECK(rows[k][15].empty());
     }
     CHECK(samples == 2);
     const std::string summary = slurp(json);
@@ -197,7 +200,7 @@ TEST_CASE("hbf frf --law coulomb writes the located stick-slip transitions as ro
 TEST_CASE("hbf frf rejects bad input with exit code 2 and no files", "[cli]") {
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"--law coulomb --dlft-eps 0", "--dlft-eps"}, {"--law lugre --dlft-eps 1", "--dlft-eps"},
-        {"--law coulomb --xi 0.1", "--xi"},   {"--harmonics -1", "--harmonics"}, {"--max-step 0", "--max-step"}, {"--harmonics 1e3", "--harmonics"},
+        {"--law coulomb --xi 0.1", "--xi"},   {"--law dahl --exact on", "--exact"}, {"--exact yes", "--exact"},   {"--harmonics -1", "--harmonics"}, {"--max-step 0", "--max-step"}, {"--harmonics 1e3", "--harmonics"},
         {"--time-samples 5", "--time-samples"}, {"--at 0.7,x", "--at"},       {"--at 0.7,-1", "--at"},
         {"--max-amplitude 0", "max_amplitude"}, {"--tolerance 1", "--tolerance"}, {"--law lugre --eps 0.1", "--eps"},
         {"--law dahl --viscous 0.1", "--viscous"}, {"--law coulomb-reg --eps 0", "eps"}, {"--wmin 2", "wmax"},
@@ -298,4 +301,33 @@ TEST_CASE("hbf loop writes one period of the solution: the stuck absorber's exac
     const Result contact = run_hbf("loop --w 0.8 --contact 2", dir);
     CHECK(contact.exit_code == 2);
     CHECK_THAT(contact.err, Catch::Contains("--contact") && Catch::Contains("1..1"));
+}
+
+TEST_CASE("hbf frf polishes coulomb by default: exact rows, stability, HB gap; --exact off is plain HB", "[cli][exact]") {
+    TempDir dir;
+    const fs::path csv = dir.path / "frf.csv", json = dir.path / "frf.json";
+    const Result r = run_hbf("frf --quiet --out '" + csv.string() + "' --summary '" + json.string() + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(slurp(csv));
+    REQUIRE(rows.size() > 10);
+    REQUIRE(rows[0].size() == 16);
+    CHECK(rows[0][13] == "exact");
+    double largest_gap = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        CHECK(rows[k][13] == "yes");
+        CHECK(rows[k][14] == "true");
+        largest_gap = std::max(largest_gap, std::stod(rows[k][15]));
+    }
+    // HB at H = 10 is visibly off at some points (the 1/H error of exact Coulomb), a few percent.
+    CHECK(largest_gap > 1e-3);
+    CHECK(largest_gap < 0.1);
+    const std::string summary = slurp(json);
+    CHECK_THAT(summary, Catch::Contains("\"exact\"") && Catch::Contains("\"failed\": 0") &&
+                            Catch::Contains("\"harmonics\": 10"));
+
+    const Result off = run_hbf("frf --quiet --exact off --summary '" + json.string() + "'", dir);
+    REQUIRE(off.exit_code == 0);
+    const auto plain = parse_csv(off.out);
+    for (std::size_t k = 1; k < plain.size(); ++k) CHECK(plain[k][13] == "off");
+    CHECK_THAT(slurp(json), Catch::Contains("\"harmonics\": 20") && Catch::Contains("\"enabled\": false"));
 }

@@ -97,3 +97,28 @@ TEST_CASE("hbf timeint rejects bad input with exit code 2, the flag named and no
         CHECK(fs::is_empty(dir.path));  // no output file and no temporary left behind
     }
 }
+
+TEST_CASE("hbf timeint --method exact agrees with CVODE and refuses the smooth laws", "[cli][timeint][exact]") {
+    TempDir dir;
+    const std::string sweep = "timeint --law coulomb --wmin 0.8 --wmax 1.3 --points 11 ";
+    const Result exact = run_hbf(sweep + "--method exact", dir);
+    const Result cvode = run_hbf(sweep + "--rtol 1e-12 --atol 1e-14 --steady-tol 1e-11", dir);
+    REQUIRE(exact.exit_code == 0);
+    REQUIRE(cvode.exit_code == 0);
+    const auto a = parse_csv(exact.out), b = parse_csv(cvode.out);
+    REQUIRE(a.size() == 12);
+    REQUIRE(a.size() == b.size());
+    CHECK(a[0] == b[0]);
+    for (std::size_t k = 1; k < a.size(); ++k) {
+        INFO("w = " << a[k][0]);
+        CHECK(a[k][9] == "true");
+        CHECK(std::abs(std::stod(a[k][1]) - std::stod(b[k][1])) < 1e-8);  // y1_max
+        CHECK(a[k][6] == b[k][6]);                                          // regime
+        CHECK(a[k][12] == b[k][12]);                                        // switches
+    }
+    for (const char* law : {"dahl", "lugre", "coulomb-reg"}) {
+        const Result bad = run_hbf(std::string("timeint --law ") + law + " --w 1 --method exact", dir);
+        CHECK(bad.exit_code == 2);
+        CHECK_THAT(bad.err, Catch::Contains("--method exact"));
+    }
+}

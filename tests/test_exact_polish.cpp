@@ -1,0 +1,179 @@
+// Harmonic-balance branches polished by the event-exact solver (exact_polish.hpp), against
+// tight CVODE time integration started from the HB solution (independent of the exact solver).
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "hbf/analytic.hpp"
+#include "hbf/continuation.hpp"
+#include "hbf/error.hpp"
+#include "hbf/exact_polish.hpp"
+#include "hbf/time_integration.hpp"
+
+using namespace hbf;
+
+namespace {
+
+TimeIntegrationOptions tight() {
+    TimeIntegrationOptions o;
+    o.relative_tolerance = 1e-12;
+    o.absolute_tolerance = 1e-14;
+    o.steady_tolerance = 1e-11;
+    return o;
+}
+
+struct Run {
+    BranchResult branch;
+    PolishedBranch polish;
+    std::vector<PointMetrics> hb_metrics;
+};
+
+/// The FRF as `hbf frf` computes it by default: HB (H = 10) + continuation + exact polish.
+Run polished_frf(HarmonicBalance& hb, const ExactOptions& exact = {}) {
+    ContinuationOptions co;
+    co.locate_transitions = false;
+    Run run;
+    run.branch = continue_branch(hb, co);
+    Analyser analyse(hb);
+    for (const SolutionPoint& p : run.branch.points) run.hb_metrics.push_back(analyse(p));
+    PolishOptions po;
+    po.exact = exact;
+    run.polish = polish_branch(hb, run.branch.points, run.hb_metrics, po, co.corrector);
+    return run;
+}
+
+}  // namespace
+
+TEST_CASE("The default coulomb FRF of the absorber is within 1e-6 of time integration (fe = 0.1, 0.36, 0.5, 1)",
+          "[exact][verification]") {
+    for (double fe : {0.1, 0.36, 0.5, 1.0}) {
+        AbsorberParameters p;
+        p.excitation = fe;
+        HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb), {10, 0});
+        const Run run = polished_frf(hb);
+        const PolishedBranch& b = run.polish;
+        INFO("fe = " << fe << ": " << b.summary());
+        CHECK(b.failed == 0);
+        CHECK(b.polished == static_cast<int>(b.points.size()));
+        // Every 6th point, every transition, every peak: CVODE from the point's HB state.
+        for (std::size_t k = 0; k < b.points.size(); ++k) {
+            const SolutionPoint& point = b.points[k];
+            if (k % 6 != 0 && point.kind != PointKind::transition) continue;
+            const Eigen::VectorXd start = exact_start_state(hb, point);
+            const PeriodicResponse r = integrate_steady_state(hb.system(), point.omega, tight(), &start);
+            INFO("w = " << point.omega << " " << to_string(point.kind) << ": " << r.summary());
+            REQUIRE(r.converged);
+            for (std::size_t i = 0; i < 2; ++i) {
+                if (b.metrics[k].regime == "stick") {
+                    // Permanent stick leaves the contact's constant offset undetermined (the
+                    // exact solver's convention: zero mean force; CVODE keeps what its start had):
+                    // compare the offset-free first harmonic.
+                    CHECK(std::abs(b.metrics[k].y_amp1[i] - r.y_amp1[i]) < 1e-6);
+                } else {
+                    CHECK(std::abs(b.metrics[k].y_max[i] - r.y_max[i]) < 1e-6);
+                }
+            }
+            if (point.kind != PointKind::transition) CHECK(b.metrics[k].regime == r.regime);
+            CHECK(b.exact[k].stable);
+        }
+        for (const Peak& peak : b.peaks) {
+            const PeriodicResponse r = integrate_steady_state(hb.system(), peak.omega, tight());
+            CHECK(std::abs(peak.y_max - r.y_max[0]) < 1e-6);
+        }
+    }
+}
+
+TEST_CASE("The fe = 0.5 resonance peak is 3.234232 at w = 0.894927, a maximum of the time-integration response",
+          "[exact][verification]") {
+    AbsorberParameters p;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb), {10, 0});
+    const Run run = polished_frf(hb);
+    const Peak* top = nullptr;
+    for (const Peak& peak : run.polish.peaks)
+        if (!top || peak.y_max > top->y_max) top = &peak;
+    REQUIRE(top);
+    CHECK(top->refined);
+    CHECK(std::abs(top->omega - 0.894927) < 1e-6);
+    CHECK(std::abs(top->y_max - 3.234232) < 1e-6);
+    const double at = integrate_steady_state(hb.system(), top->omega, tight()).y_max[0];
+    CHECK(std::abs(top->y_max - at) < 1e-8);
+    for (double dw : {-1e-3, 1e-3}) CHECK(integrate_steady_state(hb.system(), top->omega + dw, tight()).y_max[0] < at);
+}
+
+TEST_CASE("Exact transitions: the stick phase appears or vanishes there (both sides by time integration)",
+          "[exact][verification]") {
+    AbsorberParameters p;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb), {10, 0});
+    const Run run = polished_frf(hb);
+    int stick_slip_slip = 0, stick_stick_slip = 0;
+    for (std::size_t k = 0; k < run.polish.points.size(); ++k) {
+        const SolutionPoint& t = run.polish.points[k];
+        if (t.kind != PointKind::transition) continue;
+        INFO("w = " << t.omega << " " << to_string(t.boundary));
+        if (t.boundary == Boundary::stick_stick_slip) {
+            ++stick_stick_slip;
+            // The paper's limit friction coefficient equals mu there (closed form).
+            CHECK(std::abs(analytic::coulomb_limit_friction(p, t.omega) - p.friction_coefficient) < 1e-9);
+            continue;
+        }
+        ++stick_slip_slip;
+        CHECK(run.polish.metrics[k].regime == "stick-slip");
+        CHECK(run.polish.metrics[k].stick_fraction < 1e-6);  // the stick phase vanishes
+        // Time integration 1e-6 on either side: stick-slip on one side, slip on the other.
+        const std::string below = integrate_steady_state(hb.system(), t.omega * (1 - 1e-6), tight()).regime;
+        const std::string above = integrate_steady_state(hb.system(), t.omega * (1 + 1e-6), tight()).regime;
+        CHECK(below != above);
+        CHECK((below == "slip" || above == "slip"));
+    }
+    CHECK(stick_stick_slip == 2);
+    CHECK(stick_slip_slip == 2);
+}
+
+TEST_CASE("A failed polish keeps the HB values and is flagged, never passed off as exact", "[exact]") {
+    AbsorberParameters p;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb), {10, 0});
+    ExactOptions starved;  // one Newton iteration, no restart, an unreachable tolerance
+    starved.max_iterations = 1;
+    starved.restarts = 0;
+    starved.tolerance = 1e-15;
+    const Run run = polished_frf(hb, starved);
+    REQUIRE(run.polish.failed > 0);
+    int checked = 0;
+    for (std::size_t k = 0; k < run.polish.points.size(); ++k) {
+        if (run.polish.exact[k].status != PolishStatus::failed) continue;
+        // The failed row's metrics are HB's: the same as the analysis of its HB point.
+        const std::size_t j = static_cast<std::size_t>(
+            std::find_if(run.branch.points.begin(), run.branch.points.end(),
+                         [&](const SolutionPoint& q) { return q.omega == run.polish.points[k].omega; }) -
+            run.branch.points.begin());
+        REQUIRE(j < run.hb_metrics.size());
+        CHECK(run.polish.metrics[k].y_max == run.hb_metrics[j].y_max);
+        CHECK(std::isnan(run.polish.exact[k].hb_gap));
+        ++checked;
+    }
+    CHECK(checked == run.polish.failed);
+}
+
+TEST_CASE("Jenkins FRF polished: within 1e-7 of time integration, HB's own gap reported", "[exact][verification]") {
+    AbsorberParameters p;
+    p.contact_stiffness_ratio = 31.62;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::jenkins), {10, 0});
+    const Run run = polished_frf(hb);
+    CHECK(run.polish.failed == 0);
+    for (std::size_t k = 0; k < run.polish.points.size(); k += 25) {
+        const SolutionPoint& point = run.polish.points[k];
+        const Eigen::VectorXd start = exact_start_state(hb, point);
+        const PeriodicResponse r = integrate_steady_state(hb.system(), point.omega, tight(), &start);
+        REQUIRE(r.converged);
+        CHECK(std::abs(run.polish.metrics[k].y_max[0] - r.y_max[0]) < 1e-7);
+        // hb_gap is HB's relative error against the exact value.
+        const double exact = run.polish.metrics[k].y_max[0];
+        Analyser analyse(hb);
+        CHECK(std::abs(run.polish.exact[k].hb_gap - std::abs(analyse(point).y_max[0] - exact) / exact) < 1e-12);
+    }
+}
+
+TEST_CASE("polish_branch refuses a law the exact solver does not cover", "[exact]") {
+    AbsorberParameters p;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::dahl), {5, 0});
+    CHECK_THROWS_AS(polish_branch(hb, {}, {}, PolishOptions{}, CorrectorOptions{}), InvalidInput);
+}
