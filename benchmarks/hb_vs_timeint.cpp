@@ -14,7 +14,11 @@
 //   - the accuracy of the TI itself: at every compared point (`--check-every K`: every K-th)
 //     the steady state is recomputed with tight tolerances (rtol 1e-12, atol 1e-14, steady-tol
 //     1e-10) from the TI's own final state, so on the same attractor, untimed; the largest
-//     relative change of y1_max is reported.
+//     relative change of y1_max is reported; against the same tight TI the largest errors of HB
+//     and of the exact polish are reported too;
+//   - for the laws the event-exact solver covers (coulomb, jenkins), a third side: HB + exact
+//     polish as `hbf frf` runs it by default (H = 10, HB's own transitions off, every grid sample
+//     polished by exact_polish.hpp), timed like HB, with its speed-up over the TI sweep.
 // The last line is one JSON object with all figures. Run by hand: `build/benchmarks/hb_vs_timeint`.
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -32,6 +36,7 @@
 #include "hbf/analytic.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
+#include "hbf/exact_polish.hpp"
 #include "hbf/time_integration.hpp"
 
 using namespace hbf;
@@ -81,6 +86,7 @@ struct GridPoint {
     int ti_periods = 0;
     std::string ti_regime;
     std::vector<double> hb_y1_max;  ///< every HB solution at omega (several where the branch folds)
+    std::vector<double> exact_y1_max;  ///< every polished solution at omega (coulomb, jenkins)
     double hb_nearest = std::numeric_limits<double>::quiet_NaN();
     double rel_diff = std::numeric_limits<double>::quiet_NaN();
     double ti_error = std::numeric_limits<double>::quiet_NaN();  ///< vs the tight TI (checked points)
@@ -97,6 +103,10 @@ struct Case {
     int compared = 0, excluded = 0, multiple = 0, checked = 0, unchecked = 0;
     double max_rel_diff = 0, max_rel_diff_omega = 0;
     double ti_error = 0;  ///< largest relative change of y1_max vs the tight TI
+    double hb_error = 0;  ///< largest relative error of HB (nearest solution) vs the tight TI
+    // HB + exact polish (coulomb, jenkins; exact_harmonics = 0: not run)
+    int exact_harmonics = 0, exact_failed = 0;
+    double exact_seconds = 0, exact_error = 0;
     std::map<std::string, int> reasons;
     std::vector<GridPoint> grid;
 };
@@ -149,6 +159,35 @@ Case run_case(const AbsorberParameters& p, FrictionLaw law, int harmonics, const
         if (repeat == 0 || elapsed < c.timeint_seconds) c.timeint_seconds = elapsed;
     }
 
+    // ---- HB + exact polish, as hbf frf by default (fastest of `repeats`) ----
+    if (exact_solver_supports(system)) {
+        c.exact_harmonics = 10;
+        PolishedBranch polished;
+        for (int repeat = 0; repeat < repeats; ++repeat) {
+            const auto start = std::chrono::steady_clock::now();
+            HarmonicBalance hb(system, HarmonicBalanceOptions{c.exact_harmonics, 0});
+            ContinuationOptions pco = co;
+            pco.locate_transitions = false;
+            const BranchResult b = continue_branch(hb, pco);
+            const std::vector<SolutionPoint> at = sample_branch(hb, b, grid, co.corrector);
+            Analyser analyse(hb);
+            std::vector<PointMetrics> metrics;
+            for (const SolutionPoint& q : at) metrics.push_back(analyse(q));
+            PolishOptions po;
+            po.transitions = false;
+            po.peaks = false;
+            polished = polish_branch(hb, at, metrics, po, co.corrector);
+            const double elapsed = seconds_since(start);
+            if (repeat == 0 || elapsed < c.exact_seconds) c.exact_seconds = elapsed;
+        }
+        c.exact_failed = polished.failed;
+        for (std::size_t k = 0, g = 0; k < polished.points.size(); ++k) {
+            while (g < grid.size() && grid[g] != polished.points[k].omega) ++g;
+            if (g < grid.size() && polished.exact[k].status == PolishStatus::exact)
+                c.grid[g].exact_y1_max.push_back(polished.metrics[k].y_max[0]);
+        }
+    }
+
     // ---- comparison ----
     for (std::size_t g = 0; g < grid.size(); ++g) {
         GridPoint& gp = c.grid[g];
@@ -198,8 +237,16 @@ Case run_case(const AbsorberParameters& p, FrictionLaw law, int harmonics, const
                 ++c.unchecked;
                 continue;
             }
-            c.grid[g].ti_error = std::abs(ti[g].y_max[0] - ref.y_max[0]) / ref.y_max[0];
+            const double y = ref.y_max[0];
+            c.grid[g].ti_error = std::abs(ti[g].y_max[0] - y) / y;
             c.ti_error = std::max(c.ti_error, c.grid[g].ti_error);
+            auto nearest_error = [&](const std::vector<double>& values) {
+                double best = std::numeric_limits<double>::infinity();
+                for (double v : values) best = std::min(best, std::abs(v - y) / y);
+                return best;
+            };
+            c.hb_error = std::max(c.hb_error, nearest_error(c.grid[g].hb_y1_max));
+            if (c.exact_harmonics > 0) c.exact_error = std::max(c.exact_error, nearest_error(c.grid[g].exact_y1_max));
             ++c.checked;
         }
     }
@@ -217,7 +264,7 @@ std::string format_reasons(const std::map<std::string, int>& reasons) {
 int main(int argc, char** argv) {
     CLI::App app{"Times the FRF of the paper's absorber by harmonic balance + continuation and by a time-integration "
                  "sweep on the same grid, and compares their y1_max."};
-    std::vector<std::string> law_names = {"coulomb", "dahl", "lugre"};
+    std::vector<std::string> law_names = {"coulomb", "jenkins", "dahl", "lugre"};
     std::vector<double> excitations = {0.5, 1.0};
     AbsorberParameters p;  // r = 0.1, wa = 1, mu = 0.2, wb = 0.4, xi = 0.01
     ContinuationOptions co;
@@ -229,7 +276,9 @@ int main(int argc, char** argv) {
     tight.max_periods = 1000;
     int points = 111, harmonics = 0, check_every = 1, repeats = 3;
     std::string csv;
-    app.add_option("--law", law_names, "friction laws: coulomb (exact), dahl, lugre, jenkins, coulomb-reg")
+    app.add_option("--law", law_names,
+                   "friction laws: coulomb (exact), jenkins, dahl, lugre, coulomb-reg (coulomb and jenkins also "
+                   "with the exact polish)")
         ->delimiter(',')
         ->capture_default_str();
     app.add_option("--fe", excitations, "excitation amplitudes fe")->delimiter(',')->capture_default_str();
@@ -292,9 +341,11 @@ int main(int argc, char** argv) {
                     check_every == 0   ? "not checked (--check-every 0)"
                     : check_every == 1 ? "at every compared point"
                                        : ("at every " + std::to_string(check_every) + "th compared point").c_str());
-        std::printf("%-8s %4s %3s %6s %9s %9s %8s %8s %8s %10s %7s %10s  %s\n", "law", "fe", "H", "points", "HB [s]",
-                    "TI [s]", "speedup", "compared", "excluded", "rel. diff", "at w", "TI error",
-                    "TI rtol/atol/steady-tol");
+        std::printf("HB err / exact err = the same for plain HB and for HB + exact polish (H = 10, coulomb and "
+                    "jenkins: hbf frf's default);\nexact [s] and its speedup = TI [s] / exact [s].\n\n");
+        std::printf("%-8s %4s %3s %6s %9s %9s %8s %8s %8s %10s %7s %10s %9s %9s %8s %9s  %s\n", "law", "fe", "H",
+                    "points", "HB [s]", "TI [s]", "speedup", "compared", "excluded", "rel. diff", "at w", "TI error",
+                    "HB err", "exact [s]", "speedup", "exact err", "TI rtol/atol/steady-tol");
         std::ofstream csv_file;
         if (!csv.empty()) {
             csv_file.open(csv);
@@ -312,10 +363,21 @@ int main(int argc, char** argv) {
                 const TimeIntegrationOptions law_tio = time_integration(law);
                 const Case c = run_case(q, law, h, grid, co, law_tio, tight, check_every, repeats);
                 const double speedup = c.timeint_seconds / c.hb_seconds;
-                std::printf("%-8s %4g %3d %6d %9.3f %9.3f %8.1f %8d %8d %10.2e %7.3f %10.1e  %g/%g/%g\n",
+                const bool exact = c.exact_harmonics > 0;
+                const std::string exact_seconds = exact ? std::to_string(c.exact_seconds).substr(0, 5) : "-";
+                char exact_speedup[32] = "-", exact_error[32] = "-";
+                if (exact) {
+                    std::snprintf(exact_speedup, sizeof exact_speedup, "%.1f", c.timeint_seconds / c.exact_seconds);
+                    std::snprintf(exact_error, sizeof exact_error, "%.1e", c.exact_error);
+                }
+                std::printf("%-8s %4g %3d %6d %9.3f %9.3f %8.1f %8d %8d %10.2e %7.3f %10.1e %9.1e %9s %8s %9s  %g/%g/%g\n",
                             c.law.c_str(), c.fe, c.harmonics, c.points, c.hb_seconds, c.timeint_seconds, speedup,
-                            c.compared, c.excluded, c.max_rel_diff, c.max_rel_diff_omega, c.ti_error,
-                            law_tio.relative_tolerance, law_tio.absolute_tolerance, law_tio.steady_tolerance);
+                            c.compared, c.excluded, c.max_rel_diff, c.max_rel_diff_omega, c.ti_error, c.hb_error,
+                            exact_seconds.c_str(), exact_speedup, exact_error, law_tio.relative_tolerance,
+                            law_tio.absolute_tolerance, law_tio.steady_tolerance);
+                if (exact && c.exact_failed > 0)
+                    std::printf("         %d grid samples whose exact polish failed (left out of exact err)\n",
+                                c.exact_failed);
                 if (c.multiple > 0)
                     std::printf("         %d compared points with several HB solutions (the nearest compared)\n",
                                 c.multiple);
@@ -351,7 +413,13 @@ int main(int argc, char** argv) {
                                  {"timeint_steady_tol", law_tio.steady_tolerance},
                                  {"timeint_checked", c.checked},
                                  {"timeint_unchecked", c.unchecked},
-                                 {"timeint_error_y1_max", c.ti_error}});
+                                 {"timeint_error_y1_max", c.ti_error},
+                                 {"hb_error_y1_max", c.hb_error},
+                                 {"exact_harmonics", c.exact_harmonics},
+                                 {"exact_seconds", c.exact_seconds},
+                                 {"exact_speedup", c.exact_harmonics > 0 ? c.timeint_seconds / c.exact_seconds : 0.0},
+                                 {"exact_error_y1_max", c.exact_error},
+                                 {"exact_failed", c.exact_failed}});
                 if (csv_file.is_open()) {
                     for (const GridPoint& gp : c.grid)
                         csv_file << c.law << ',' << c.fe << ',' << gp.omega << ',' << gp.ti_y1_max << ','

@@ -50,7 +50,7 @@ double horner_derivative(const Eigen::Ref<const Eigen::RowVectorXd>& c, double s
     for (Eigen::Index k = c.size() - 1; k >= 1; --k) p = p * s + static_cast<double>(k) * c(k);
     return p;
 }
-Eigen::VectorXd evaluate(const Eigen::MatrixXd& u, double s) {
+Eigen::VectorXd evaluate(const Eigen::Ref<const Eigen::MatrixXd>& u, double s) {
     Eigen::VectorXd z = u.col(u.cols() - 1);
     for (Eigen::Index k = u.cols() - 2; k >= 0; --k) z = z * s + u.col(k);
     return z;
@@ -78,21 +78,23 @@ Eigen::MatrixXd taylor_exp(const Eigen::MatrixXd& a, double d) {
 }
 
 /// Taylor coefficients of the flow over one step: u_k = (a h)^k z / k!, until they vanish.
-void step_polynomial(const Eigen::MatrixXd& a, const Eigen::VectorXd& z, double h, Eigen::MatrixXd& u) {
+/// `buffer` keeps its capacity between steps; returns the number of columns used.
+Eigen::Index step_polynomial(const Eigen::MatrixXd& a, const Eigen::VectorXd& z, double h, Eigen::MatrixXd& buffer) {
     constexpr int max_terms = 80;
-    u.resize(z.size(), max_terms);
-    u.col(0) = z;
+    if (buffer.rows() != z.size() || buffer.cols() != max_terms) buffer.resize(z.size(), max_terms);
+    buffer.col(0) = z;
     const double scale = std::max(1.0, z.cwiseAbs().maxCoeff());
-    int used = 1;
+    Eigen::Index used = 1;
     double previous = std::numeric_limits<double>::infinity();
     for (int k = 1; k < max_terms; ++k) {
-        u.col(k) = a * u.col(k - 1) * (h / static_cast<double>(k));
+        buffer.col(k).noalias() = a * buffer.col(k - 1);
+        buffer.col(k) *= h / static_cast<double>(k);
         used = k + 1;
-        const double size = u.col(k).cwiseAbs().maxCoeff();
+        const double size = buffer.col(k).cwiseAbs().maxCoeff();
         if (k >= 4 && size <= 1e-18 * scale && previous <= 1e-16 * scale) break;
         previous = size;
     }
-    u.conservativeResize(Eigen::NoChange, used);
+    return used;
 }
 
 /// The root of the polynomial c in [lo, hi] where it changes sign (p(lo), p(hi) of opposite
@@ -121,28 +123,38 @@ double refine_root(const Eigen::RowVectorXd& c, double lo, double hi) {
     return std::min(std::max(x, lo), hi);
 }
 
-/// First root of the polynomial c on (0, s_end]: the first sample s_j = s_end j / 16 where it
-/// is below -eta, refined in the bracket before it. Returns -1 if none.
+/// First root of the polynomial c on (0, s_end]: the first of 16 samples where it is below
+/// -eta, or the first local minimum below -eta between two samples (a dip both samples miss:
+/// a short phase near grazing), refined in the bracket before it. Returns -1 if none.
 double first_root(const Eigen::RowVectorXd& c, double s_end, double eta) {
     constexpr int samples = 16;
-    double lo = 0.0, p_lo = c(0);
+    Eigen::RowVectorXd d(std::max<Eigen::Index>(1, c.size() - 1));
+    d.setZero();
+    for (Eigen::Index k = 1; k < c.size(); ++k) d(k - 1) = static_cast<double>(k) * c(k);
+    double lo = 0.0, p_lo = c(0), d_lo = d(0);
     for (int j = 1; j <= samples; ++j) {
         const double s = s_end * j / samples;
-        const double p = horner(c, s);
+        const double p = horner(c, s), dp = horner(d, s);
         if (p < -eta) {
             if (p_lo > 0.0) return refine_root(c, lo, s);
-            if (j > 1 || horner_derivative(c, 0.0) <= 0.0) return lo;
-            // Zero at the start but rising (a slip that starts at the edge of its friction
-            // limit and turns back at once): the root after the polynomial's maximum.
-            Eigen::RowVectorXd d(std::max<Eigen::Index>(1, c.size() - 1));
-            d.setZero();
-            for (Eigen::Index k = 1; k < c.size(); ++k) d(k - 1) = static_cast<double>(k) * c(k);
-            if (horner(d, s) >= 0.0) return lo;
-            const double top = refine_root(d, 0.0, s);
-            return horner(c, top) > 0.0 ? refine_root(c, top, s) : lo;
+            if (j > 1) return lo;
+            // Zero at the start (a slip or a stick that begins at the edge of its limit) and
+            // negative at the first sample: a phase shorter than one sample, if the guard is
+            // positive in between. Its end is the root after the first positive fine sample.
+            constexpr int fine = 64;
+            for (int k = 1; k < fine; ++k) {
+                const double x = s * k / fine;
+                if (horner(c, x) > 0.0) return refine_root(c, x, s);
+            }
+            return lo;
+        }
+        if (d_lo < 0.0 && dp > 0.0 && p_lo > 0.0) {  // a minimum between the samples
+            const double bottom = refine_root(d, lo, s);
+            if (horner(c, bottom) < -eta) return refine_root(c, lo, bottom);
         }
         lo = s;
         p_lo = p;
+        d_lo = dp;
     }
     return -1.0;
 }
@@ -298,18 +310,19 @@ public:
         double t = t0;
         const double t_end = t0 + duration;
         int events = 0;
-        Eigen::MatrixXd u;
+        Eigen::MatrixXd buffer;
         Eigen::RowVectorXd coefficients;
         while (t < t_end) {
             const ModeData& m = mode(modes);
             const double remaining = t_end - t;
             const bool last = remaining <= m.h * (1.0 + 1e-12);
             const double s_end = last ? remaining / m.h : 1.0;
-            step_polynomial(m.a, zhat, m.h, u);
+            const Eigen::Index used = step_polynomial(m.a, zhat, m.h, buffer);
+            const auto u = buffer.leftCols(used);
             double best = std::numeric_limits<double>::infinity();
             const Guard* trigger = nullptr;
             for (const Guard& g : m.guards) {
-                coefficients = g.row * u;
+                coefficients.noalias() = g.row * u;
                 const double eta = 1e-12 * (g.row.cwiseAbs().array() * zhat.transpose().cwiseAbs().array()).sum();
                 const double s = first_root(coefficients, s_end, eta);
                 if (s >= 0.0 && s < best) {
@@ -428,7 +441,7 @@ private:
             if (eigen.info() == Eigen::Success) rho = std::max(rho, eigen.eigenvalues().cwiseAbs().maxCoeff());
             else rho = std::max(rho, az.cwiseAbs().rowwise().sum().maxCoeff());
         }
-        m.h = std::min(period_ / 48.0, 1.0 / rho);
+        m.h = std::min(period_ / 24.0, 1.0 / rho);
         m.step_exp = taylor_exp(m.a, m.h);
         return m;
     }
@@ -955,6 +968,20 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
     }
     fill_metrics(e, f, t_s, options, out);
     fill_stability(f.psi, basis, e.nz(), options, out);
+    // A member of the permanent-stick family with another offset (no slip, or slips of
+    // vanishing length at the edge of the friction cone, dissipating nothing) where the
+    // conventional one holds: the convention instead.
+    double scale = 0.0;
+    for (int c = 0; c < e.contacts(); ++c) scale += e.contact(c).friction_limit;
+    scale *= 1.0 + *std::max_element(out.y_max.begin(), out.y_max.end());
+    if (out.converged && stuck_holds && out.energy <= 1e-9 * scale) {
+        ExactOrbit orbit;
+        orbit.omega = omega;
+        orbit.periods = out.periods;
+        orbit.iterations = out.iterations;
+        permanent(orbit);
+        if (orbit.converged) return orbit;
+    }
     return out;
 }
 

@@ -257,8 +257,16 @@ TEST_CASE("Permanent stick follows the stated convention: the linear stuck state
         }
         const ExactOrbit below = exact_periodic_orbit(s, lo - 1e-6, linear_stuck_state(s, lo));
         const ExactOrbit above = exact_periodic_orbit(s, hi + 1e-6, linear_stuck_state(s, lo));
+        REQUIRE(below.converged);
+        REQUIRE(above.converged);
         CHECK(below.regime == "stick");
         CHECK(above.regime == "stick-slip");
+        // Just above, a slip phase of 0.5 % of the period, shorter than a step: as CVODE has it.
+        TimeIntegrationOptions o = tight();
+        const PeriodicResponse r = integrate_steady_state(s, hi + 1e-6, o);
+        CHECK(std::abs(above.y_max[0] - r.y_max[0]) < 1e-9);
+        CHECK(std::abs(above.stick_fraction - r.stick_fraction) < 1e-7);
+        CHECK(above.stick_fraction < 0.999);
         // The paper's limit friction coefficient (analytic.hpp, derived independently) is mu there.
         AbsorberParameters p;
         p.excitation = 0.5;

@@ -14,7 +14,7 @@
 // autonomous linear system zhat' = A_m zhat, zhat = [y, y', s, cos, sin, 1], whose flow is
 // the matrix exponential: zhat(t0 + d) = exp(A_m d) zhat(t0). It is evaluated by its Taylor
 // series on steps short against the fastest mode of A_m (|eigenvalue| h <= 1, and at most
-// T/48), which is exact to rounding and makes every signal a polynomial in time within a step.
+// T/24), which is exact to rounding and makes every signal a polynomial in time within a step.
 //
 // Events (the guards, each a linear function of zhat, positive while its mode holds):
 //   slip -> v_c reaches 0:          coulomb: it sticks if the force holding it (with the other
@@ -43,8 +43,16 @@
 // contact) is not determined by the equations. Convention (the same as harmonic balance's):
 // the friction force is centred in the friction cone, mean force zero, i.e. the linear stuck
 // steady state without a static part (s_c = 0 and a constant q_c of zero for a structure
-// without static load). It is used when that state holds every contact (|f_c| <= F_c) and the
-// period from the given start never slips.
+// without static load). It is used when that state holds every contact (|f_c| <= F_c) and
+// either the period from the given start never slips or Newton ends on another member of the
+// family (an orbit that dissipates nothing: at most slips of vanishing length at the edge of
+// the friction cone).
+//
+// Event detection: each guard polynomial is sampled 16 times a step; a sign change, or a
+// local minimum below zero between two samples (a short phase near grazing), is an event, and
+// a phase that starts at the edge of its limit and ends within the first sample is resolved on
+// 64 finer samples. Shorter and shallower touches (below ~1e-12 of the guard's scale) are
+// treated as grazing without an event.
 #pragma once
 
 #include <Eigen/Dense>
