@@ -495,6 +495,19 @@ Eigen::VectorXd full_state(const Engine& e, const Eigen::VectorXd& zhat, const M
     return state;
 }
 
+/// Mean friction force of every contact over one recorded period (Gauss-Legendre per step).
+Eigen::VectorXd mean_forces(Engine& e, const Engine::Flow& flow) {
+    Eigen::VectorXd mean = Eigen::VectorXd::Zero(e.contacts());
+    for (const Step& st : flow.steps) {
+        const double length = st.s_end * st.h;
+        if (length <= 0.0) continue;
+        const ModeData& m = e.mode(st.modes);
+        for (const auto& [node, weight] : gauss_legendre())
+            mean += weight * length * (m.force * evaluate(st.u, node * st.s_end));
+    }
+    return mean / e.period();
+}
+
 /// Fills the orbit's metrics from one recorded period [t_s, t_s + T].
 void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out) {
     const int nd = e.dofs(), nc = e.contacts();
@@ -892,54 +905,94 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
             ++out.periods;
             return e.flow(zh, m, t_s, period, true, true, options.max_events_per_period);
         };
-        f = map(z);
-        bool retry = false;
-        for (int iteration = 0;; ++iteration, ++out.iterations) {
-            if (!f.ok) {
-                out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
-                break;
-            }
-            const Eigen::VectorXd r = f.zhat.head(e.nz()) - z;
-            out.residual = relative_change(f.zhat.head(e.nz()), z);
-            if (out.residual <= options.tolerance) {
-                out.converged = true;
-                out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "");
-                break;
-            }
-            if (out.iterations >= options.max_iterations) {
-                out.message = "Newton reached " + std::to_string(options.max_iterations) + " iterations, residual " +
-                              format_number(out.residual);
-                break;
-            }
-            const Eigen::MatrixXd jacobian =
-                basis.transpose() * (f.psi.topLeftCorner(e.nz(), e.nz()) - Eigen::MatrixXd::Identity(e.nz(), e.nz())) *
-                basis;
-            Eigen::FullPivLU<Eigen::MatrixXd> lu(jacobian);
-            if (!lu.isInvertible()) {
-                out.message = "singular period-map Jacobian (a multiplier at 1: a fold or a neutral direction)";
-                retry = true;
-                break;
-            }
-            const Eigen::VectorXd step = -(basis * lu.solve(basis.transpose() * r));
-            double alpha = 1.0;
-            bool accepted = false;
-            for (int trial = 0; trial < 12; ++trial, alpha *= 0.5) {
-                const Eigen::VectorXd trial_z = z + alpha * step;
-                Engine::Flow g = map(trial_z);
-                if (!g.ok) continue;
-                const double residual = relative_change(g.zhat.head(e.nz()), trial_z);
-                if (residual < out.residual * (1.0 - 1e-4 * alpha) || residual <= options.tolerance) {
-                    z = trial_z;
-                    f = std::move(g);
-                    accepted = true;
-                    break;
+        // Newton on B^T (P(z) - z) = 0 from z (f = map(z) on entry); returns whether a restart
+        // may help. A singular Jacobian (a multiplier at 1: the undetermined offset of a contact
+        // stuck all period, or a fold) takes the minimum-norm step.
+        auto newton = [&]() {
+            for (int iteration = 0;; ++iteration, ++out.iterations) {
+                if (!f.ok) {
+                    out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
+                    return false;
+                }
+                const Eigen::VectorXd r = f.zhat.head(e.nz()) - z;
+                out.residual = relative_change(f.zhat.head(e.nz()), z);
+                if (out.residual <= options.tolerance) {
+                    out.converged = true;
+                    out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "");
+                    return false;
+                }
+                if (out.iterations >= options.max_iterations) {
+                    out.message = "Newton reached " + std::to_string(options.max_iterations) + " iterations, residual " +
+                                  format_number(out.residual);
+                    return false;
+                }
+                const Eigen::MatrixXd jacobian =
+                    basis.transpose() *
+                    (f.psi.topLeftCorner(e.nz(), e.nz()) - Eigen::MatrixXd::Identity(e.nz(), e.nz())) * basis;
+                Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> solver;
+                solver.setThreshold(1e-11);
+                solver.compute(jacobian);
+                const Eigen::VectorXd step = -(basis * solver.solve(basis.transpose() * r));
+                double alpha = 1.0;
+                for (int trial = 0; trial < 12; ++trial, alpha *= 0.5) {
+                    const Eigen::VectorXd trial_z = z + alpha * step;
+                    Engine::Flow g = map(trial_z);
+                    if (!g.ok) continue;
+                    const double residual = relative_change(g.zhat.head(e.nz()), trial_z);
+                    if (residual < out.residual * (1.0 - 1e-4 * alpha) || residual <= options.tolerance) {
+                        z = trial_z;
+                        f = std::move(g);
+                        alpha = -1.0;
+                        break;
+                    }
+                }
+                if (alpha > 0.0) {
+                    out.message = "Newton stalled (no decrease along the step) at residual " +
+                                  format_number(out.residual) +
+                                  ": the stick/slip pattern changes near this frequency, or the start is too far";
+                    return true;
                 }
             }
-            if (!accepted) {
-                out.message = "Newton stalled (no decrease along the step) at residual " + format_number(out.residual) +
-                              ": the stick/slip pattern changes near this frequency, or the start is too far";
-                retry = true;
-                break;
+        };
+        f = map(z);
+        bool retry = newton();
+        if (out.converged) {
+            // Contacts stuck over the whole period (others slipping) have an undetermined offset:
+            // the convention of the header, zero mean force. A static shift of the structure
+            // K dy = sum_c w_c fbar_c (and of the Jenkins sliders, s_c += w_c^T dy + fbar_c / k_t)
+            // removes each such contact's mean force fbar_c and leaves the others' forces and
+            // every velocity unchanged; Newton then polishes the shifted orbit.
+            Eigen::VectorXd mean = mean_forces(e, f);
+            std::vector<int> stuck_all;
+            for (int c = 0; c < e.contacts(); ++c) {
+                bool stuck_throughout = true;
+                for (const Step& st : f.steps)
+                    if (st.s_end > 0.0 && st.modes[static_cast<std::size_t>(c)] != 0) stuck_throughout = false;
+                if (stuck_throughout && std::abs(mean(c)) > 1e-12 * e.contact(c).friction_limit) stuck_all.push_back(c);
+            }
+            if (!stuck_all.empty() && static_cast<int>(stuck_all.size()) < e.contacts()) {
+                Eigen::VectorXd load = Eigen::VectorXd::Zero(e.dofs());
+                for (int c : stuck_all) load += e.direction(c) * mean(c);
+                const Eigen::VectorXd dy = system.stiffness.completeOrthogonalDecomposition().solve(load);
+                Eigen::VectorXd shifted = z;
+                shifted.head(e.dofs()) += dy;
+                for (int c : stuck_all)
+                    if (!e.coulomb(c))
+                        shifted(2 * e.dofs() + c) += e.direction(c).dot(dy) + mean(c) / e.contact(c).stiffness;
+                const Eigen::VectorXd kept = z;
+                Engine::Flow kept_flow = f;
+                z = particular + basis * (basis.transpose() * (shifted - particular));
+                f = map(z);
+                out.converged = false;
+                newton();
+                if (!out.converged) {  // keep the orbit found, with its offset, and say so
+                    z = kept;
+                    f = std::move(kept_flow);
+                    out.converged = true;
+                    out.residual = relative_change(f.zhat.head(e.nz()), z);
+                    out.message = "Newton on the period map converged; a contact stuck all period keeps a nonzero "
+                                  "mean force (centring it failed)";
+                }
             }
         }
         if (out.converged || !retry || attempt >= options.restarts || out.iterations >= options.max_iterations) break;
