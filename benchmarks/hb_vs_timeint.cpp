@@ -107,6 +107,7 @@ struct Case {
     // HB + exact polish (coulomb, jenkins; exact_harmonics = 0: not run)
     int exact_harmonics = 0, exact_failed = 0;
     double exact_seconds = 0, exact_error = 0;
+    double tight_seconds = 0;  ///< a TI sweep with the tight tolerances (the exact side's accuracy class)
     std::map<std::string, int> reasons;
     std::vector<GridPoint> grid;
 };
@@ -181,6 +182,14 @@ Case run_case(const AbsorberParameters& p, FrictionLaw law, int harmonics, const
             if (repeat == 0 || elapsed < c.exact_seconds) c.exact_seconds = elapsed;
         }
         c.exact_failed = polished.failed;
+        // The CVODE sweep at the tight tolerances of the reference: what a TI needs to come
+        // near the exact polish's accuracy (1e-10 and better).
+        for (int repeat = 0; repeat < repeats; ++repeat) {
+            const auto start = std::chrono::steady_clock::now();
+            (void)sweep(system, grid, tight);
+            const double elapsed = seconds_since(start);
+            if (repeat == 0 || elapsed < c.tight_seconds) c.tight_seconds = elapsed;
+        }
         for (std::size_t k = 0, g = 0; k < polished.points.size(); ++k) {
             while (g < grid.size() && grid[g] != polished.points[k].omega) ++g;
             if (g < grid.size() && polished.exact[k].status == PolishStatus::exact)
@@ -342,10 +351,11 @@ int main(int argc, char** argv) {
                     : check_every == 1 ? "at every compared point"
                                        : ("at every " + std::to_string(check_every) + "th compared point").c_str());
         std::printf("HB err / exact err = the same for plain HB and for HB + exact polish (H = 10, coulomb and "
-                    "jenkins: hbf frf's default);\nexact [s] and its speedup = TI [s] / exact [s].\n\n");
-        std::printf("%-8s %4s %3s %6s %9s %9s %8s %8s %8s %10s %7s %10s %9s %9s %8s %9s  %s\n", "law", "fe", "H",
+                    "jenkins: hbf frf's default);\nexact [s] and its speedup = TI [s] / exact [s]; tight TI [s] = the "
+                    "sweep at the tight tolerances, and x tight = tight TI [s] / exact [s].\n\n");
+        std::printf("%-8s %4s %3s %6s %9s %9s %8s %8s %8s %10s %7s %10s %9s %9s %8s %9s %9s %7s  %s\n", "law", "fe", "H",
                     "points", "HB [s]", "TI [s]", "speedup", "compared", "excluded", "rel. diff", "at w", "TI error",
-                    "HB err", "exact [s]", "speedup", "exact err", "TI rtol/atol/steady-tol");
+                    "HB err", "exact [s]", "speedup", "exact err", "tight TI", "x tight", "TI rtol/atol/steady-tol");
         std::ofstream csv_file;
         if (!csv.empty()) {
             csv_file.open(csv);
@@ -365,15 +375,18 @@ int main(int argc, char** argv) {
                 const double speedup = c.timeint_seconds / c.hb_seconds;
                 const bool exact = c.exact_harmonics > 0;
                 const std::string exact_seconds = exact ? std::to_string(c.exact_seconds).substr(0, 5) : "-";
-                char exact_speedup[32] = "-", exact_error[32] = "-";
+                char exact_speedup[32] = "-", exact_error[32] = "-", tight_seconds[32] = "-", tight_ratio[32] = "-";
                 if (exact) {
+                    std::snprintf(tight_seconds, sizeof tight_seconds, "%.3f", c.tight_seconds);
+                    std::snprintf(tight_ratio, sizeof tight_ratio, "%.1f", c.tight_seconds / c.exact_seconds);
                     std::snprintf(exact_speedup, sizeof exact_speedup, "%.1f", c.timeint_seconds / c.exact_seconds);
                     std::snprintf(exact_error, sizeof exact_error, "%.1e", c.exact_error);
                 }
-                std::printf("%-8s %4g %3d %6d %9.3f %9.3f %8.1f %8d %8d %10.2e %7.3f %10.1e %9.1e %9s %8s %9s  %g/%g/%g\n",
+                std::printf("%-8s %4g %3d %6d %9.3f %9.3f %8.1f %8d %8d %10.2e %7.3f %10.1e %9.1e %9s %8s %9s %9s %7s  %g/%g/%g\n",
                             c.law.c_str(), c.fe, c.harmonics, c.points, c.hb_seconds, c.timeint_seconds, speedup,
                             c.compared, c.excluded, c.max_rel_diff, c.max_rel_diff_omega, c.ti_error, c.hb_error,
-                            exact_seconds.c_str(), exact_speedup, exact_error, law_tio.relative_tolerance,
+                            exact_seconds.c_str(), exact_speedup, exact_error, tight_seconds, tight_ratio,
+                            law_tio.relative_tolerance,
                             law_tio.absolute_tolerance, law_tio.steady_tolerance);
                 if (exact && c.exact_failed > 0)
                     std::printf("         %d grid samples whose exact polish failed (left out of exact err)\n",
@@ -419,7 +432,8 @@ int main(int argc, char** argv) {
                                  {"exact_seconds", c.exact_seconds},
                                  {"exact_speedup", c.exact_harmonics > 0 ? c.timeint_seconds / c.exact_seconds : 0.0},
                                  {"exact_error_y1_max", c.exact_error},
-                                 {"exact_failed", c.exact_failed}});
+                                 {"exact_failed", c.exact_failed},
+                                 {"timeint_tight_seconds", c.tight_seconds}});
                 if (csv_file.is_open()) {
                     for (const GridPoint& gp : c.grid)
                         csv_file << c.law << ',' << c.fe << ',' << gp.omega << ',' << gp.ti_y1_max << ','

@@ -189,3 +189,25 @@ TEST_CASE("Matrix Market: coordinate and array formats, general and symmetric", 
     CHECK(hbf::io::read_matrix_market(b.string()) == Eigen::MatrixXd(expected));
     CHECK_THROWS_WITH(hbf::io::read_matrix_market(c.string()), Catch::Contains("c.mtx:4") && Catch::Contains("index"));
 }
+
+TEST_CASE("examples/systems/jenkins_negative_stiffness.toml: stable stick, unstable stick-slip in the CSV",
+          "[config][exact]") {
+    TempDir dir;
+    const fs::path json = dir.path / "s.json";
+    const Result r = run_hbf("frf --quiet --config '" + systems + "jenkins_negative_stiffness.toml' --summary '" +
+                                 json.string() + "'",
+                             dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(r.out);
+    REQUIRE(rows[0][12] == "stable");
+    int unstable = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        REQUIRE(rows[k][11] == "yes");
+        // Full stick is a stable (damped, stiffness 1) linear motion; every stick-slip orbit of
+        // this negative spring is unstable (tests/test_event_exact.cpp checks the growth by CVODE).
+        CHECK(rows[k][12] == (rows[k][4] == "stick" ? "true" : "false"));
+        if (rows[k][12] == "false") ++unstable;
+    }
+    CHECK(unstable > 10);
+    CHECK_THAT(slurp(json), Catch::Contains("\"unstable\": " + std::to_string(unstable)));
+}

@@ -285,3 +285,32 @@ TEST_CASE("Exact solver input checks") {
     CHECK_FALSE(exact_solver_supports(absorber(FrictionLaw::lugre)));
     CHECK(exact_solver_supports(coulomb));
 }
+
+TEST_CASE("The unstable verdict: a perturbed time integration grows as the exact monodromy predicts") {
+    // examples/systems/jenkins_negative_stiffness.toml: a negative spring held by a Jenkins
+    // contact (a passive structure cannot have |mu| > 1 with these monotone friction laws).
+    const System s =
+        io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/jenkins_negative_stiffness.toml").system;
+    for (double omega : {0.9, 1.2}) {
+        const ExactOrbit o = exact_periodic_orbit(s, omega, linear_stuck_state(s, omega));
+        INFO(o.summary());
+        REQUIRE(o.converged);
+        CHECK(o.regime == "stick-slip");
+        CHECK_FALSE(o.stable);
+        CHECK(o.max_multiplier > 2.0);
+        // The orbit itself is right: CVODE started on it stays for a period (to its tolerance).
+        const Eigen::VectorXd once = cvode_period_map(s, omega, o.state);
+        CHECK((once.head(3) - o.state.head(3)).cwiseAbs().maxCoeff() < 1e-9);
+        const Eigen::MatrixXd m = exact_flow(s, omega, o.state).monodromy;
+        const Eigen::Vector3d delta(1e-8, -1e-8, 0.5e-8);
+        Eigen::VectorXd x = o.state, predicted = delta;
+        x.head(3) += delta;
+        for (int k = 1; k <= 5; ++k) {
+            x = cvode_period_map(s, omega, x);
+            predicted = m * predicted;
+            const Eigen::VectorXd actual = x.head(3) - o.state.head(3);
+            CHECK((actual - predicted).norm() < 0.01 * predicted.norm());
+        }
+        CHECK((x.head(3) - o.state.head(3)).norm() > 10 * delta.norm());  // it grew
+    }
+}
