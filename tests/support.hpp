@@ -6,6 +6,7 @@
 #include <string>
 
 #include "hbf/model.hpp"
+#include "hbf/time_integration.hpp"
 
 namespace hbf::test {
 
@@ -25,6 +26,31 @@ inline double relative_difference(double a, double b) {
 }
 inline double relative_difference(std::complex<double> a, std::complex<double> b) {
     return std::abs(a - b) / std::max(std::abs(a), std::abs(b));
+}
+
+/// Den Hartog's forced oscillator u'' + u + rho sign(u') = cos(eta t): unit mass, stiffness and
+/// force, exact Coulomb friction rho to the ground, no viscous damping.
+inline System den_hartog_oscillator(double rho) {
+    System s;
+    s.mass = Eigen::MatrixXd::Identity(1, 1);
+    s.damping = Eigen::MatrixXd::Zero(1, 1);
+    s.stiffness = Eigen::MatrixXd::Identity(1, 1);
+    s.excitation = Eigen::VectorXd::Ones(1);
+    Contact c;
+    c.dof = 0;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = rho;
+    s.contacts.push_back(c);
+    return s;
+}
+
+/// Tight CVODE settings for references: rtol 1e-12, atol 1e-14, steady-tol 1e-11.
+inline TimeIntegrationOptions tight_time_integration() {
+    TimeIntegrationOptions o;
+    o.relative_tolerance = 1e-12;
+    o.absolute_tolerance = 1e-14;
+    o.steady_tolerance = 1e-11;
+    return o;
 }
 
 }  // namespace hbf::test

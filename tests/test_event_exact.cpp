@@ -11,24 +11,11 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/time_integration.hpp"
+#include "support.hpp"
 
 using namespace hbf;
 
 namespace {
-
-System den_hartog_oscillator(double rho) {
-    System s;
-    s.mass = Eigen::MatrixXd::Identity(1, 1);
-    s.stiffness = Eigen::MatrixXd::Identity(1, 1);
-    s.damping = Eigen::MatrixXd::Zero(1, 1);
-    s.excitation = Eigen::VectorXd::Ones(1);
-    Contact c;
-    c.dof = 0;
-    c.law = FrictionLaw::coulomb;
-    c.friction_limit = rho;
-    s.contacts = {c};
-    return s;
-}
 
 System absorber(FrictionLaw law, double fe = 0.5, double wb = 0.4) {
     AbsorberParameters p;
@@ -44,13 +31,7 @@ System chain3() {
     return config.system;
 }
 
-TimeIntegrationOptions tight() {
-    TimeIntegrationOptions o;
-    o.relative_tolerance = 1e-12;
-    o.absolute_tolerance = 1e-14;
-    o.steady_tolerance = 1e-11;
-    return o;
-}
+TimeIntegrationOptions tight() { return test::tight_time_integration(); }
 
 /// One period of CVODE from `state` (the state at the start of the second period).
 Eigen::VectorXd cvode_period_map(const System& s, double omega, const Eigen::VectorXd& state) {
@@ -74,7 +55,7 @@ std::vector<double> moduli(const Eigen::VectorXcd& mu, double floor) {
 
 TEST_CASE("Den Hartog's exact non-sticking solution is reproduced to 1e-9 (amplitude, signal, stop times)") {
     const double rho = 0.3;
-    const System s = den_hartog_oscillator(rho);
+    const System s = test::den_hartog_oscillator(rho);
     ExactOptions options;
     options.samples = 64;
     for (double eta : {0.55, 0.6, 0.65, 0.7, 0.75}) {

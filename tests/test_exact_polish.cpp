@@ -8,18 +8,13 @@
 #include "hbf/error.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/time_integration.hpp"
+#include "support.hpp"
 
 using namespace hbf;
 
 namespace {
 
-TimeIntegrationOptions tight() {
-    TimeIntegrationOptions o;
-    o.relative_tolerance = 1e-12;
-    o.absolute_tolerance = 1e-14;
-    o.steady_tolerance = 1e-11;
-    return o;
-}
+TimeIntegrationOptions tight() { return test::tight_time_integration(); }
 
 struct Run {
     BranchResult branch;

@@ -13,21 +13,6 @@ using namespace hbf;
 namespace {
 constexpr double pi = 3.14159265358979323846;
 
-/// 1-DOF u'' + u + rho sign(u') = cos(eta tau): Den Hartog's oscillator (Coulomb to ground).
-System den_hartog_oscillator(double rho) {
-    System s;
-    s.mass = Eigen::MatrixXd::Identity(1, 1);
-    s.damping = Eigen::MatrixXd::Zero(1, 1);
-    s.stiffness = Eigen::MatrixXd::Identity(1, 1);
-    s.excitation = Eigen::VectorXd::Constant(1, 1.0);
-    Contact c;
-    c.dof = 0;
-    c.law = FrictionLaw::coulomb;
-    c.friction_limit = rho;
-    s.contacts.push_back(c);
-    return s;
-}
-
 /// The paper's absorber with a viscous damper c on the main mass, so that the energy balance
 /// has all three terms and transients decay in every regime.
 System damped_absorber(FrictionLaw law, double wb, double c) {
@@ -122,7 +107,7 @@ TEST_CASE("The integrator reproduces Den Hartog's non-sticking steady state", "[
     TimeIntegrationOptions o;
     for (const auto& [eta, rho] : std::vector<std::pair<double, double>>{{0.8, 0.3}, {1.5, 0.5}, {2.0, 0.1}, {0.7, 0.7}}) {
         const auto d = analytic::den_hartog(eta, rho);
-        const PeriodicResponse r = integrate_steady_state(den_hartog_oscillator(rho), eta, o);
+        const PeriodicResponse r = integrate_steady_state(test::den_hartog_oscillator(rho), eta, o);
         INFO("eta = " << eta << ", rho = " << rho << ": " << r.summary());
         REQUIRE(r.converged);
         CHECK(r.y_max[0] == Approx(d.amplitude).epsilon(1e-6));

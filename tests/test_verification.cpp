@@ -8,6 +8,7 @@
 #include "hbf/analytic.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/time_integration.hpp"
+#include "support.hpp"
 
 using namespace hbf;
 
@@ -113,16 +114,7 @@ TEST_CASE("Den Hartog's exact non-sticking Coulomb oscillator: harmonic balance 
     // form to 1e-6 (test_time_integration).
     for (const auto& [eta, rho] : {std::pair<double, double>{0.6, 0.3}, {1.5, 0.2}, {2.5, 0.5}}) {
         const analytic::DenHartogResponse exact = analytic::den_hartog(eta, rho);
-        System s;
-        s.mass = Eigen::MatrixXd::Identity(1, 1);
-        s.damping = Eigen::MatrixXd::Zero(1, 1);
-        s.stiffness = Eigen::MatrixXd::Identity(1, 1);
-        s.excitation = Eigen::VectorXd::Ones(1);
-        Contact c;
-        c.dof = 0;
-        c.law = FrictionLaw::coulomb;
-        c.friction_limit = rho;
-        s.contacts.push_back(c);
+        System s = test::den_hartog_oscillator(rho);
         // For any admissible penalty: the automatic one (sqrt(k m) = 1) and 10x apart.
         for (double penalty : {0.0, 0.3, 3.0}) {
         s.contacts[0].lagrangian_penalty = penalty;
