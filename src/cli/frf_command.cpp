@@ -203,8 +203,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (polish_failed)
         std::cerr << "hbf frf: error: " << polish->summary()
                   << "; the failed rows keep their harmonic-balance values (column exact = failed)\n";
-    else if (polish && !o.quiet && isatty(STDERR_FILENO))
-        std::cerr << "hbf frf: " << polish->summary() << "\n";
+    else if (polish && (branch.status != ContinuationStatus::completed || (!o.quiet && isatty(STDERR_FILENO))))
+        std::cerr << "hbf frf: " << (branch.status != ContinuationStatus::completed ? "note: " : "")
+                  << polish->summary() << " (the transitions are the exact solver's)\n";
     return failed || polish_failed ? exit_failure : exit_success;
 }
 }  // namespace
