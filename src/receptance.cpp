@@ -1,0 +1,97 @@
+// hbfriction — the linear structure per harmonic condensed onto the contacts (receptance.hpp).
+#include "hbf/receptance.hpp"
+
+#include <cmath>
+
+#include "hbf/error.hpp"
+
+namespace hbf {
+
+namespace {
+using Complex = std::complex<double>;
+using SparseComplex = Eigen::SparseMatrix<Complex>;
+
+void require_shape(bool ok, const std::string& what, long rows, long cols, long expected_rows, long expected_cols) {
+    if (!ok)
+        throw InvalidInput(what + " is " + std::to_string(rows) + " x " + std::to_string(cols) +
+                           ": allowed " + std::to_string(expected_rows) + " x " + std::to_string(expected_cols));
+}
+}  // namespace
+
+Receptance::Receptance(Eigen::SparseMatrix<double> mass, Eigen::SparseMatrix<double> damping,
+                       Eigen::SparseMatrix<double> stiffness, Eigen::MatrixXd directions, Eigen::VectorXd excitation,
+                       Eigen::MatrixXd outputs)
+    : mass_(std::move(mass)),
+      damping_(std::move(damping)),
+      stiffness_(std::move(stiffness)),
+      directions_(std::move(directions)),
+      outputs_(std::move(outputs)),
+      excitation_(std::move(excitation)) {
+    const long n = stiffness_.rows();
+    require_shape(n > 0 && stiffness_.cols() == n, "stiffness K", n, stiffness_.cols(), std::max(1L, n), std::max(1L, n));
+    require_shape(mass_.rows() == n && mass_.cols() == n, "mass M", mass_.rows(), mass_.cols(), n, n);
+    require_shape(damping_.rows() == n && damping_.cols() == n, "damping C", damping_.rows(), damping_.cols(), n, n);
+    require_shape(directions_.rows() == n, "contact directions W", directions_.rows(), directions_.cols(), n,
+                  directions_.cols());
+    require_shape(excitation_.size() == n, "excitation F", excitation_.size(), 1, n, 1);
+    require_shape(outputs_.cols() == n, "outputs T", outputs_.rows(), outputs_.cols(), outputs_.rows(), n);
+    auto finite = [](Eigen::SparseMatrix<double>& m) {  // the stored values only: never densified
+        m.makeCompressed();
+        return Eigen::Map<const Eigen::VectorXd>(m.valuePtr(), m.nonZeros()).allFinite();
+    };
+    if (!finite(mass_) || !finite(damping_) || !finite(stiffness_) || !directions_.allFinite() ||
+        !excitation_.allFinite() || !outputs_.allFinite())
+        throw InvalidInput("the structure's matrices and vectors must be finite (a NaN or infinity was given)");
+}
+
+Receptance::Harmonic Receptance::solve(int k, double omega, bool load) const {
+    if (k < 0) throw InvalidInput("harmonic k = " + std::to_string(k) + " is out of range: allowed k >= 0");
+    require_positive(omega, "w", "excitation frequency");
+    require_finite(omega, "w", "excitation frequency");
+    Harmonic h;
+    h.k = k;
+    h.omega = omega;
+    const double kw = k * omega;
+    // Z_k and dZ_k/domega, sparse.
+    const SparseComplex z = stiffness_.cast<Complex>() - Complex(kw * kw, 0.0) * mass_.cast<Complex>() +
+                            Complex(0.0, kw) * damping_.cast<Complex>();
+    const SparseComplex dz = Complex(-2.0 * k * k * omega, 0.0) * mass_.cast<Complex>() +
+                             Complex(0.0, static_cast<double>(k)) * damping_.cast<Complex>();
+    Eigen::SparseLU<SparseComplex> lu;
+    lu.analyzePattern(z);
+    lu.factorize(z);
+    const std::string where = "harmonic k = " + std::to_string(k) + " at w = " + format_number(omega);
+    if (lu.info() != Eigen::Success) {
+        h.message = "singular dynamic stiffness Z_k = K - (k w)^2 M + i k w C at " + where +
+                    " (an undamped resonance hit exactly, or a rigid-body mode that no contact holds)";
+        return h;
+    }
+    // Columns: W, then F; one solve for all of them.
+    const int nc = contacts();
+    Eigen::MatrixXcd rhs(dofs(), nc + (load ? 1 : 0));
+    rhs.leftCols(nc) = directions_.cast<Complex>();
+    if (load) rhs.col(nc) = excitation_.cast<Complex>();
+    const Eigen::MatrixXcd x = lu.solve(rhs);
+    // A factorisation that succeeded on a numerically singular Z_k shows in the residual.
+    const double scale = std::max(1.0, rhs.cwiseAbs().maxCoeff());
+    if (!x.allFinite() || (z * x - rhs).cwiseAbs().maxCoeff() > 1e-8 * scale * std::max(1.0, x.cwiseAbs().maxCoeff())) {
+        h.message = "numerically singular dynamic stiffness Z_k at " + where +
+                    " (an undamped resonance, or a rigid-body mode that no contact holds)";
+        return h;
+    }
+    // Sensitivities: d(Z^-1 b)/domega = -Z^-1 (dZ) Z^-1 b.
+    const Eigen::MatrixXcd dx = -Eigen::MatrixXcd(lu.solve(Eigen::MatrixXcd(dz * x)));
+    const Eigen::MatrixXcd wt = directions_.transpose().cast<Complex>();
+    h.contact = wt * x.leftCols(nc);
+    h.contact_omega = wt * dx.leftCols(nc);
+    h.output = outputs_.cast<Complex>() * x.leftCols(nc);
+    if (load) {
+        h.contact_load = wt * x.col(nc);
+        h.contact_load_omega = wt * dx.col(nc);
+        h.output_load = outputs_.cast<Complex>() * x.col(nc);
+    }
+    h.ok = true;
+    return h;
+}
+
+}  // namespace hbf
