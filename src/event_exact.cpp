@@ -615,44 +615,15 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
 /// The linear stuck steady state (convention of the header): z at t = 0 and the load
 /// max_c |f_c| / F_c; infinity where the stuck structure is singular at omega.
 double stuck_steady_state(const System& system, double omega, Eigen::VectorXd& z) {
+    const StuckResponse stuck = stuck_linear_response(system, omega);
+    if (!stuck.ok) return std::numeric_limits<double>::infinity();
     const int nd = system.dofs(), nc = static_cast<int>(system.contacts.size());
-    Eigen::MatrixXcd a = dynamic_stiffness(system.mass, system.damping, system.stiffness, omega);
-    std::vector<int> rigid;
-    for (int c = 0; c < nc; ++c) {
-        const Contact& k = system.contacts[static_cast<std::size_t>(c)];
-        const Eigen::VectorXd w = system.contact_direction(k);
-        if (k.law == FrictionLaw::coulomb) rigid.push_back(c);
-        else a += k.stiffness * (w * w.transpose()).cast<std::complex<double>>();
-    }
-    const int m = static_cast<int>(rigid.size());
-    Eigen::MatrixXcd kkt = Eigen::MatrixXcd::Zero(nd + m, nd + m);
-    kkt.topLeftCorner(nd, nd) = a;
-    for (int j = 0; j < m; ++j) {
-        const Eigen::VectorXd w =
-            system.contact_direction(system.contacts[static_cast<std::size_t>(rigid[static_cast<std::size_t>(j)])]);
-        kkt.block(0, nd + j, nd, 1) = w.cast<std::complex<double>>();
-        kkt.block(nd + j, 0, 1, nd) = w.transpose().cast<std::complex<double>>();
-    }
-    Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(nd + m);
-    rhs.head(nd) = system.excitation.cast<std::complex<double>>();
-    Eigen::FullPivLU<Eigen::MatrixXcd> lu(kkt);
-    const double infinity = std::numeric_limits<double>::infinity();
-    if (!lu.isInvertible()) return infinity;
-    const Eigen::VectorXcd x = lu.solve(rhs);
-    if (!x.allFinite()) return infinity;
     double load = 0.0;
-    for (int j = 0; j < m; ++j)
-        load = std::max(load, std::abs(x(nd + j)) /
-                                  system.contacts[static_cast<std::size_t>(rigid[static_cast<std::size_t>(j)])].friction_limit);
-    for (int c = 0; c < nc; ++c) {
-        const Contact& k = system.contacts[static_cast<std::size_t>(c)];
-        if (k.law != FrictionLaw::jenkins) continue;
-        const std::complex<double> q = system.contact_direction(k).cast<std::complex<double>>().dot(x.head(nd));
-        load = std::max(load, k.stiffness * std::abs(q) / k.friction_limit);
-    }
+    for (int c = 0; c < nc; ++c)
+        load = std::max(load, std::abs(stuck.force(c)) / system.contacts[static_cast<std::size_t>(c)].friction_limit);
     z = Eigen::VectorXd::Zero(2 * nd + nc);
-    z.head(nd) = x.head(nd).real();
-    z.segment(nd, nd) = -omega * x.head(nd).imag();
+    z.head(nd) = stuck.amplitude.real();
+    z.segment(nd, nd) = -omega * stuck.amplitude.imag();  // Re(i omega Y)
     return load;
 }
 

@@ -3,11 +3,9 @@
 
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <sstream>
 
 #include "hbf/error.hpp"
-#include "hbf/time_integration.hpp"
 #include "golden_section.hpp"
 #include "stopwatch.hpp"
 

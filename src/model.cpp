@@ -1,5 +1,7 @@
 #include "hbf/model.hpp"
 
+#include <complex>
+
 #include <cmath>
 
 #include "hbf/error.hpp"
@@ -203,6 +205,54 @@ PhysicalAbsorber to_physical(const AbsorberParameters& p, double m1, double k1, 
     a.sigma0 = a.m2 * omega3 * omega3;
     a.sigma1 = 2.0 * p.contact_damping_ratio * a.m2 * omega3;
     return a;
+}
+
+StuckResponse stuck_linear_response(const System& system, double omega) {
+    using Complex = std::complex<double>;
+    const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
+    Eigen::MatrixXcd a = dynamic_stiffness(system.mass, system.damping, system.stiffness, omega);
+    std::vector<int> rigid;
+    std::vector<Complex> element(static_cast<std::size_t>(nc), Complex(0.0, 0.0));
+    for (int c = 0; c < nc; ++c) {
+        const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
+        double k = 0.0, d = 0.0;
+        switch (contact.law) {
+            case FrictionLaw::coulomb: rigid.push_back(c); continue;
+            case FrictionLaw::jenkins:
+            case FrictionLaw::dahl: k = contact.stiffness; break;
+            case FrictionLaw::lugre: k = contact.stiffness; d = contact.damping + contact.viscous; break;
+            case FrictionLaw::coulomb_regularized: d = contact.friction_limit / contact.regularization; break;
+        }
+        element[static_cast<std::size_t>(c)] = Complex(k, omega * d);
+        const Eigen::VectorXd w = system.contact_direction(contact);
+        a += element[static_cast<std::size_t>(c)] * (w * w.transpose()).cast<Complex>();
+    }
+    const int m = static_cast<int>(rigid.size());
+    Eigen::MatrixXcd kkt = Eigen::MatrixXcd::Zero(n + m, n + m);
+    kkt.topLeftCorner(n, n) = a;
+    for (int j = 0; j < m; ++j) {
+        const Eigen::VectorXd w = system.contact_direction(system.contacts[static_cast<std::size_t>(rigid[static_cast<std::size_t>(j)])]);
+        kkt.block(0, n + j, n, 1) = w.cast<Complex>();
+        kkt.block(n + j, 0, 1, n) = w.transpose().cast<Complex>();
+    }
+    Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(n + m);
+    rhs.head(n) = system.excitation.cast<Complex>();
+    StuckResponse out;
+    Eigen::FullPivLU<Eigen::MatrixXcd> lu(kkt);
+    if (!lu.isInvertible()) return out;
+    const Eigen::VectorXcd x = lu.solve(rhs);
+    if (!x.allFinite()) return out;
+    out.ok = true;
+    out.amplitude = x.head(n);
+    out.force = Eigen::VectorXcd::Zero(nc);
+    for (int j = 0; j < m; ++j) out.force(rigid[static_cast<std::size_t>(j)]) = x(n + j);
+    for (int c = 0; c < nc; ++c) {
+        const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
+        if (contact.law == FrictionLaw::coulomb) continue;
+        out.force(c) = element[static_cast<std::size_t>(c)] *
+                       system.contact_direction(contact).cast<Complex>().dot(out.amplitude);
+    }
+    return out;
 }
 
 }  // namespace hbf

@@ -69,41 +69,6 @@ constexpr double pi = 3.14159265358979323846;
 using detail::Integrator;
 using detail::PeriodRecord;
 
-/// The linear stuck system of linear_stuck_state: complex amplitudes Y (N) and forces of the
-/// rigid (coulomb) contacts.
-Eigen::VectorXcd stuck_amplitude(const System& system, double omega) {
-    const int n = system.dofs();
-    const std::complex<double> i(0.0, 1.0);
-    Eigen::MatrixXcd a = dynamic_stiffness(system.mass, system.damping, system.stiffness, omega);
-    std::vector<Eigen::VectorXd> rigid;
-    for (const Contact& c : system.contacts) {
-        const Eigen::VectorXd w = system.contact_direction(c);
-        double k = 0.0, d = 0.0;
-        switch (c.law) {
-            case FrictionLaw::coulomb: rigid.push_back(w); continue;
-            case FrictionLaw::jenkins:
-            case FrictionLaw::dahl: k = c.stiffness; break;
-            case FrictionLaw::lugre: k = c.stiffness; d = c.damping + c.viscous; break;
-            case FrictionLaw::coulomb_regularized: d = c.friction_limit / c.regularization; break;
-        }
-        a += (k + i * omega * d) * (w * w.transpose()).cast<std::complex<double>>();
-    }
-    const int m = static_cast<int>(rigid.size());
-    Eigen::MatrixXcd kkt = Eigen::MatrixXcd::Zero(n + m, n + m);
-    kkt.topLeftCorner(n, n) = a;
-    for (int k = 0; k < m; ++k) {
-        kkt.block(0, n + k, n, 1) = rigid[static_cast<std::size_t>(k)].cast<std::complex<double>>();
-        kkt.block(n + k, 0, 1, n) = rigid[static_cast<std::size_t>(k)].transpose().cast<std::complex<double>>();
-    }
-    Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(n + m);
-    rhs.head(n) = system.excitation.cast<std::complex<double>>();
-    Eigen::FullPivLU<Eigen::MatrixXcd> lu(kkt);
-    if (!lu.isInvertible()) return Eigen::VectorXcd::Zero(n);
-    const Eigen::VectorXcd solution = lu.solve(rhs);
-    if (!solution.allFinite()) return Eigen::VectorXcd::Zero(n);
-    return solution.head(n);
-}
-
 double poincare_change(const Eigen::VectorXd& a, const Eigen::VectorXd& b, int continuous) {
     const double scale = std::max(1.0, b.head(continuous).cwiseAbs().maxCoeff());
     return (a.head(continuous) - b.head(continuous)).cwiseAbs().maxCoeff() / scale;
@@ -142,7 +107,8 @@ Eigen::VectorXd linear_stuck_state(const System& system, double omega) {
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
-    const Eigen::VectorXcd y = stuck_amplitude(system, omega);
+    const StuckResponse stuck = stuck_linear_response(system, omega);
+    const Eigen::VectorXcd y = stuck.ok ? stuck.amplitude : Eigen::VectorXcd::Zero(n);
     Eigen::VectorXd state = Eigen::VectorXd::Zero(state_size(system));
     state.head(n) = y.real();
     state.segment(n, n) = -omega * y.imag();  // Re(i omega Y)

@@ -81,6 +81,17 @@ Eigen::VectorXcd linear_response(const Eigen::MatrixXd& mass, const Eigen::Matri
                                  const Eigen::MatrixXd& stiffness,
                                  const Eigen::VectorXd& excitation, double omega);
 
+/// The linear steady state with every contact stuck, y = Re(amplitude e^{i omega t}): exact
+/// Coulomb contacts rigid (w_c^T y = 0, held by constraint forces), Jenkins and Dahl as their
+/// spring k_t / sigma0, LuGre as sigma0 with the damper sigma1 + sigma2, regularised Coulomb as
+/// the damper F_c / eps. No static part: the mean forces and displacements are zero.
+struct StuckResponse {
+    bool ok = false;            ///< false where the stuck structure is singular at omega
+    Eigen::VectorXcd amplitude; ///< Y (N)
+    Eigen::VectorXcd force;     ///< per contact: the complex amplitude of its force
+};
+StuckResponse stuck_linear_response(const System& system, double omega);
+
 // ---------------------------------------------------------------------------------------
 // The paper's friction absorber (2 DOF), in the paper's nondimensional variables (eq. 2):
 //   time tau = omega1 t, displacements y = x / x_s with x_s = N / k1, forces in units of N.
