@@ -107,7 +107,7 @@ Figures measure(const AbsorberParameters& p, FrictionLaw law, int harmonics, con
     // The same corrections by Ceres and by Newton-LU: from each accepted point, predict the
     // next one along the tangent with the step the continuation took.
     const int n = hb.unknowns();
-    const double x_scale = std::max(hb.force_scale(), best.points.front().x.cwiseAbs().maxCoeff());
+    const double x_scale = hb.unknown_scale(best.points.front().x);
     struct Prediction {
         Eigen::VectorXd x, tangent;
         double omega;

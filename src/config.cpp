@@ -2,7 +2,9 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -52,7 +54,7 @@ struct Reader {
     }
 
     /// A matrix: rows [[...], [...]], a flat list (diagonal), or a Matrix Market file name.
-    Eigen::MatrixXd matrix(const toml::node& node, const std::string& key) const {
+    SparseMatrix matrix(const toml::node& node, const std::string& key) const {
         if (auto name = node.as_string()) {
             const std::string path = name->get().empty() || name->get().front() == '/' ? name->get()
                                                                                        : directory + name->get();
@@ -66,7 +68,7 @@ struct Reader {
         if (!a || a->empty()) fail(file, node.source(), key, "expected a matrix: rows [[..], ..], a diagonal [..] or a file name");
         if (!a->front().is_array()) {
             const std::vector<double> d = list(node, key);
-            return Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size())).asDiagonal();
+            return sparse(Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size())).asDiagonal());
         }
         const auto n = static_cast<Eigen::Index>(a->size());
         Eigen::MatrixXd m(n, n);
@@ -79,7 +81,25 @@ struct Reader {
                          std::to_string(n) + " (a square matrix)");
             for (Eigen::Index j = 0; j < n; ++j) m(i, j) = row[static_cast<std::size_t>(j)];
         }
-        return m;
+        return sparse(m);
+    }
+
+    /// A vector of n entries: a list of numbers, or a Matrix Market file of one column.
+    Eigen::VectorXd vector(const toml::node& node, const std::string& key, Eigen::Index n) const {
+        Eigen::VectorXd v;
+        if (node.is_string()) {
+            const SparseMatrix m = matrix(node, key);
+            if (m.cols() != 1) fail(file, node.source(), key, "the Matrix Market file has " + std::to_string(m.cols()) +
+                                                                  " columns: allowed 1 (a vector)");
+            v = Eigen::MatrixXd(m).col(0);
+        } else {
+            const std::vector<double> d = list(node, key);
+            v = Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size()));
+        }
+        if (n >= 0 && v.size() != n)
+            fail(file, node.source(), key, std::to_string(v.size()) + " entries: allowed " + std::to_string(n) +
+                                               " (the number of DOFs)");
+        return v;
     }
 
     /// Rejects keys of `table` outside `allowed`, naming the table.
@@ -117,7 +137,7 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
     } catch (const InvalidInput& e) {
         fail(r.file, law_node->source(), where + ".law", e.what());
     }
-    std::set<std::string> allowed = {"dof", "other_dof", "law", "friction_limit"};
+    std::set<std::string> allowed = {"dof", "other_dof", "force_direction", "law", "friction_limit"};
     for (const std::string& k : law_keys().at(c.law)) allowed.insert(k);
     for (auto&& [key, node] : t) {
         const std::string k(key.str());
@@ -135,12 +155,20 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
                  std::to_string(value) + " is out of range: allowed 1.." + std::to_string(dofs) + " (1-based DOF)");
         return value - 1;
     };
-    if (!t.get("dof")) fail(r.file, t.source(), where + ".dof", "missing: the contact's DOF (1-based)");
-    c.dof = dof("dof");
-    if (t.get("other_dof")) {
-        c.other_dof = dof("other_dof");
-        if (c.other_dof == c.dof)
-            fail(r.file, t.get("other_dof")->source(), where + ".other_dof", "equals dof: a contact joins two different DOFs (omit other_dof for the ground)");
+    if (const toml::node* direction = t.get("force_direction")) {
+        if (t.get("dof") || t.get("other_dof"))
+            fail(r.file, direction->source(), where + ".force_direction",
+                 "given together with dof / other_dof: a contact is either a DOF pair (or a DOF and the ground) or a "
+                 "force direction");
+        c.direction = r.vector(*direction, where + ".force_direction", dofs);
+    } else {
+        if (!t.get("dof")) fail(r.file, t.source(), where + ".dof", "missing: the contact's DOF (1-based), or force_direction");
+        c.dof = dof("dof");
+        if (t.get("other_dof")) {
+            c.other_dof = dof("other_dof");
+            if (c.other_dof == c.dof)
+                fail(r.file, t.get("other_dof")->source(), where + ".other_dof", "equals dof: a contact joins two different DOFs (omit other_dof for the ground)");
+        }
     }
     if (!t.get("friction_limit")) fail(r.file, t.source(), where + ".friction_limit", "missing: the slip force F_c = mu N (> 0)");
     const std::map<std::string, double*> numbers = {
@@ -182,10 +210,9 @@ SystemConfig read_system_config(const std::string& path) {
     const Eigen::Index n = s.mass.rows();
     s.stiffness = r.matrix(*structure->get("stiffness"), "structure.stiffness");
     s.damping = structure->get("damping") ? r.matrix(*structure->get("damping"), "structure.damping")
-                                          : Eigen::MatrixXd::Zero(n, n);
-    const std::vector<double> f = r.list(*structure->get("excitation"), "structure.excitation");
-    s.excitation = Eigen::Map<const Eigen::VectorXd>(f.data(), static_cast<Eigen::Index>(f.size()));
-    for (const auto& [key, m] : {std::pair<const char*, const Eigen::MatrixXd*>{"stiffness", &s.stiffness}, {"damping", &s.damping}})
+                                          : SparseMatrix(n, n);
+    s.excitation = r.vector(*structure->get("excitation"), "structure.excitation", -1);
+    for (const auto& [key, m] : {std::pair<const char*, const SparseMatrix*>{"stiffness", &s.stiffness}, {"damping", &s.damping}})
         if (m->rows() != n)
             fail(path, structure->get(key) ? structure->get(key)->source() : structure->source(), std::string("structure.") + key,
                  std::to_string(m->rows()) + " x " + std::to_string(m->cols()) + ": allowed " + std::to_string(n) + " x " +
@@ -274,7 +301,10 @@ SystemConfig read_system_config(const std::string& path) {
     return config;
 }
 
-Eigen::MatrixXd read_matrix_market(const std::string& path) {
+SparseMatrix read_matrix_market(const std::string& path) {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error))
+        throw InvalidInput("Matrix Market file '" + path + "' is not a regular file (missing, a directory or a device)");
     std::ifstream in(path);
     if (!in) throw InvalidInput("Matrix Market file '" + path + "' cannot be read");
     auto bad = [&](int line, const std::string& what) -> InvalidInput {
@@ -303,30 +333,45 @@ Eigen::MatrixXd read_matrix_market(const std::string& path) {
     };
     std::istringstream s;
     long rows = 0, cols = 0, entries = 0;
-    if (!next(s) || !(s >> rows >> cols) || rows < 1 || cols < 1 || rows > 100000 || cols > 100000)
+    if (!next(s) || !(s >> rows >> cols) || rows < 1 || cols < 1 || rows > 10000000 || cols > 10000000)
         throw bad(number, "expected the size line 'rows cols [entries]'");
     if (format == "coordinate" && !(s >> entries)) throw bad(number, "expected the size line 'rows cols entries'");
-    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(rows, cols);
     const bool symmetric = symmetry == "symmetric";
+    std::vector<Eigen::Triplet<double>> triplets;
+    auto add = [&](long i, long j, double v) {
+        if (!std::isfinite(v)) throw bad(number, "non-finite entry");
+        if (v == 0.0) return;
+        triplets.emplace_back(static_cast<int>(i), static_cast<int>(j), v);
+        if (symmetric && i != j) triplets.emplace_back(static_cast<int>(j), static_cast<int>(i), v);
+    };
     if (format == "coordinate") {
+        if (entries < 0 || entries > rows * cols) throw bad(number, "entries = " + std::to_string(entries) +
+                                                                     " is out of range: allowed 0..rows*cols");
+        triplets.reserve(static_cast<std::size_t>(symmetric ? 2 * entries : entries));
+        std::set<std::pair<long, long>> seen;
         for (long k = 0; k < entries; ++k) {
             long i = 0, j = 0;
             double v = 0;
             if (!next(s) || !(s >> i >> j >> v)) throw bad(number, "expected entry " + std::to_string(k + 1) + " 'row col value'");
             if (i < 1 || i > rows || j < 1 || j > cols) throw bad(number, "index out of range");
-            m(i - 1, j - 1) = v;
-            if (symmetric) m(j - 1, i - 1) = v;
+            const std::pair<long, long> key = symmetric ? std::make_pair(std::min(i, j), std::max(i, j)) : std::make_pair(i, j);
+            if (!seen.insert(key).second)
+                throw bad(number, "entry (" + std::to_string(i) + ", " + std::to_string(j) + ") given twice" +
+                                      (symmetric ? " (a symmetric file stores one triangle)" : ""));
+            add(i - 1, j - 1, v);
         }
     } else {
+        if (rows * cols > 25000000L) throw bad(number, "an array (dense) file larger than 25e6 entries: use the coordinate format");
         for (long j = 0; j < cols; ++j)
             for (long i = symmetric ? j : 0; i < rows; ++i) {
                 double v = 0;
                 if (!next(s) || !(s >> v)) throw bad(number, "expected a value (column-major)");
-                m(i, j) = v;
-                if (symmetric) m(j, i) = v;
+                add(i, j, v);
             }
     }
-    if (!m.allFinite()) throw bad(number, "non-finite entries");
+    if (next(s)) throw bad(number, "more data than the size line announces");
+    SparseMatrix m(rows, cols);
+    m.setFromTriplets(triplets.begin(), triplets.end());
     return m;
 }
 

@@ -53,10 +53,12 @@ std::string BranchResult::summary() const {
 
 namespace {
 /// Upper bound of max_t |y_i(t)| over all DOFs: |c0| + sum_k hypot(c_k, s_k).
-double amplitude_bound(const HarmonicBalance& hb, const Eigen::VectorXd& x) {
+double amplitude_bound(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega) {
     double bound = 0.0;
+    const Eigen::MatrixXd y = hb.dofs(x, omega);
+    if (!y.allFinite()) return INFINITY;
     for (int i = 0; i < hb.system().dofs(); ++i) {
-        const Eigen::VectorXd c = hb.dof(x, i);
+        const auto c = y.col(i);
         double b = std::abs(c(0));
         for (int k = 1; k <= hb.harmonics(); ++k) b += std::hypot(c(2 * k - 1), c(2 * k));
         bound = std::max(bound, b);
@@ -73,7 +75,7 @@ double amplitude_bound(const HarmonicBalance& hb, const Eigen::VectorXd& x) {
 bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options, double omega,
                 Eigen::VectorXd& x, double& x_scale, int& iterations, double& residual, BranchResult& result) {
     auto attempt = [&](HarmonicBalance& h, Corrector& c, Eigen::VectorXd& guess) {
-        x_scale = std::max(h.force_scale(), guess.cwiseAbs().maxCoeff());
+        x_scale = h.unknown_scale(guess);
         ++result.corrections;
         if (c.solve_at(guess, omega, x_scale, iterations, residual)) return true;
         ++result.failed_corrections;
@@ -93,7 +95,7 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
         if (attempt(hb, patient, x)) return true;
     }
     const double first_residual = residual;
-    const HarmonicBalanceOptions layout{hb.harmonics(), hb.time_samples()};
+    const HarmonicBalanceOptions layout = hb.options();
     auto scaled = [&](double lambda) {
         System s = hb.system();
         s.excitation *= lambda;
@@ -245,6 +247,15 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             }
             continue;
         }
+        // The corrector moves on the hyperplane through the predicted point; a correction longer
+        // than the step itself (a turn beyond about 60 degrees) means it landed on another
+        // part of the branch, or another branch: a jump, never accepted while the step can shrink.
+        const double correction = std::hypot(((xp - x) / x_scale - h * t.head(n)).norm(), wp - omega - h * t(n));
+        if (correction > h && h > o.min_step * 2.0) {
+            ++result.rejected_jumps;
+            h *= 0.5;
+            continue;
+        }
         if (wp < omega_low || wp > omega_high) {  // turned back out of the range
             out.message = "branch left the frequency range at w = " + format_number(wp);
             return out;
@@ -269,11 +280,11 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         t = t_new;
         // Distances are relative to the current amplitude: a branch that grows by orders of
         // magnitude (a sharp resonance) is not paced by the scale of its starting point.
-        const double new_scale = std::max(hb.force_scale(), x.cwiseAbs().maxCoeff());
+        const double new_scale = hb.unknown_scale(x);
         t.head(n) *= x_scale / new_scale;
         t.normalize();
         x_scale = new_scale;
-        if (amplitude_bound(hb, x) > o.max_amplitude) {
+        if (amplitude_bound(hb, x, omega) > o.max_amplitude) {
             out.status = ContinuationStatus::amplitude_cap;
             out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(omega);
             return out;
@@ -360,7 +371,7 @@ bool stick_side(Boundary boundary, const std::string& regime) {
 bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const SolutionPoint& a, const SolutionPoint& b,
                        Boundary boundary, SolutionPoint& out) {
     const int n = hb.unknowns();
-    const double x_scale = std::max({hb.force_scale(), a.x.cwiseAbs().maxCoeff(), b.x.cwiseAbs().maxCoeff()});
+    const double x_scale = std::max(hb.unknown_scale(a.x), hb.unknown_scale(b.x));
     Eigen::VectorXd chord(n + 1);
     chord.head(n) = (b.x - a.x) / x_scale;
     chord(n) = b.omega - a.omega;
@@ -471,7 +482,7 @@ std::vector<SolutionPoint> sample_branch(HarmonicBalance& hb, const BranchResult
             if (a.branch != b.branch || (a.omega - omega) * (b.omega - omega) > 0.0) continue;
             const double s = a.omega == b.omega ? 0.0 : (omega - a.omega) / (b.omega - a.omega);
             Eigen::VectorXd x = a.x + s * (b.x - a.x);
-            const double x_scale = std::max(hb.force_scale(), x.cwiseAbs().maxCoeff());
+            const double x_scale = hb.unknown_scale(x);
             SolutionPoint p;
             if (!corrector.solve_at(x, omega, x_scale, p.iterations, p.residual)) continue;
             const bool duplicate = std::any_of(found.begin(), found.end(), [&](const SolutionPoint& q) {

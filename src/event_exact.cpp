@@ -196,7 +196,7 @@ public:
         n_contacts_ = static_cast<int>(system.contacts.size());
         nz_ = 2 * n_dofs_ + n_contacts_;
         n_ = nz_ + 3;
-        mass_inverse_ = system.mass.llt().solve(Eigen::MatrixXd::Identity(n_dofs_, n_dofs_));
+        mass_inverse_ = Eigen::MatrixXd(system.mass).llt().solve(Eigen::MatrixXd::Identity(n_dofs_, n_dofs_));
         for (const Contact& c : system.contacts) directions_.push_back(system.contact_direction(c));
     }
 
@@ -395,8 +395,8 @@ private:
         // Acceleration without the stuck Coulomb contacts' forces: M^-1 (F cos - C y' - K y - sum w f).
         Eigen::MatrixXd base = Eigen::MatrixXd::Zero(nd, n);
         base.col(cos_index()) = system_.excitation;
-        base.leftCols(nd) = -system_.stiffness;
-        base.middleCols(nd, nd) = -system_.damping;
+        base.leftCols(nd) = -Eigen::MatrixXd(system_.stiffness);
+        base.middleCols(nd, nd) = -Eigen::MatrixXd(system_.damping);
         for (int c = 0; c < n_contacts_; ++c)
             if (std::find(stuck.begin(), stuck.end(), c) == stuck.end()) base -= direction(c) * m.force.row(c);
         Eigen::MatrixXd acceleration = mass_inverse_ * base;
@@ -467,6 +467,9 @@ Eigen::VectorXd state_at(const std::vector<Step>& steps, double t) {
 
 void validate_system(const System& system, double omega) {
     system.validate();
+    if (!system.has_positive_definite_mass())
+        throw InvalidInput("the mass matrix is singular (massless DOFs): the exact solver integrates M y'' = ... and needs "
+                           "M positive definite (use harmonic balance, hbf frf --exact off)");
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
@@ -724,6 +727,7 @@ double permanent_stick_load(const System& system, double omega) {
 }
 
 bool exact_solver_supports(const System& system) {
+    if (!system.has_positive_definite_mass()) return false;
     for (const Contact& c : system.contacts)
         if (c.law != FrictionLaw::coulomb && c.law != FrictionLaw::jenkins) return false;
     return true;
@@ -944,7 +948,7 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
             if (!stuck_all.empty() && static_cast<int>(stuck_all.size()) < e.contacts()) {
                 Eigen::VectorXd load = Eigen::VectorXd::Zero(e.dofs());
                 for (int c : stuck_all) load += e.direction(c) * mean(c);
-                const Eigen::VectorXd dy = system.stiffness.completeOrthogonalDecomposition().solve(load);
+                const Eigen::VectorXd dy = Eigen::MatrixXd(system.stiffness).completeOrthogonalDecomposition().solve(load);
                 Eigen::VectorXd shifted = z;
                 shifted.head(e.dofs()) += dy;
                 for (int c : stuck_all)

@@ -97,7 +97,8 @@ Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& poin
             rate += point.omega * k * c(2 * k);
         }
     };
-    for (int i = 0; i < n; ++i) at_zero(hb.dof(point.x, i), state(i), state(n + i));
+    const Eigen::MatrixXd y = hb.dofs(point.x, point.omega);
+    for (int i = 0; i < n; ++i) at_zero(y.col(i), state(i), state(n + i));
     for (int c = 0; c < nc; ++c) {
         const Contact& k = s.contacts[static_cast<std::size_t>(c)];
         double q = 0, v = 0;
@@ -217,7 +218,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         // The HB solution at that frequency, for the HB gap.
         const double s = (side.omega - a.point.omega) / (b.point.omega - a.point.omega);
         t.point.x = a.point.x + s * (b.point.x - a.point.x);
-        const double x_scale = std::max(hb.force_scale(), t.point.x.cwiseAbs().maxCoeff());
+        const double x_scale = hb.unknown_scale(t.point.x);
         const bool hb_ok = corrector.solve_at(t.point.x, side.omega, x_scale, t.point.iterations, t.point.residual);
         PointMetrics hb_m = analyse(t.point);
         t.exact = exact_point(side, hb_m, dof);

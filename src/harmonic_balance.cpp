@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 
 #include "hbf/error.hpp"
 #include "stopwatch.hpp"
@@ -15,6 +16,21 @@ EvaluationStatistics operator-(const EvaluationStatistics& later, const Evaluati
             later.structure_seconds - earlier.structure_seconds};
 }
 
+std::string to_string(Formulation formulation) {
+    switch (formulation) {
+        case Formulation::automatic: return "automatic";
+        case Formulation::full: return "full";
+        case Formulation::condensed: return "condensed";
+    }
+    return "unknown";
+}
+
+Formulation parse_formulation(const std::string& name) {
+    for (Formulation f : {Formulation::automatic, Formulation::full, Formulation::condensed})
+        if (name == to_string(f)) return f;
+    throw InvalidInput("formulation = '" + name + "' is not known: allowed automatic, full, condensed");
+}
+
 HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     : system_(std::move(system)),
       fourier_(options.harmonics,
@@ -25,30 +41,137 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
         throw InvalidInput("time_samples = " + std::to_string(options.time_samples) +
                            " is out of range: allowed 0 (automatic) or > 2 harmonics");
     system_.validate();
-    const int n = coefficients();
-    unknowns_ = system_.dofs() * n;
+    const int n = coefficients(), nc = static_cast<int>(system_.contacts.size());
     force_scale_ = system_.excitation.cwiseAbs().maxCoeff();
     if (!(force_scale_ > 0.0)) throw InvalidInput("excitation vector is zero: allowed a non-zero force amplitude");
     for (Contact& c : system_.contacts) {
+        directions_.push_back(system_.contact_direction(c));
         if (c.law == FrictionLaw::coulomb && c.lagrangian_penalty == 0.0) {
             // The contact direction's impedance sqrt(k m): lambda and eps v of the same order.
-            const Eigen::VectorXd w = system_.contact_direction(c);
+            const Eigen::VectorXd& w = directions_.back();
             const double k = w.dot(system_.stiffness * w), m = w.dot(system_.mass * w);
             c.lagrangian_penalty = k > 0.0 ? std::sqrt(k * m) : m;
+            if (!(c.lagrangian_penalty > 0.0))  // a massless contact on a massless, unsprung direction
+                c.lagrangian_penalty = std::sqrt(std::max(k, 0.0) * system_.mass.diagonal().maxCoeff());
         }
         models_.push_back(make_friction_model(c));
-        directions_.push_back(system_.contact_direction(c));
-        state_offset_.push_back(models_.back()->state_signals() > 0 ? unknowns_ : -1);
-        unknowns_ += models_.back()->state_signals() * n;
+    }
+
+    // The formulation: condensed needs a contact and an invertible static stiffness Z_0 = K.
+    if (options.formulation != Formulation::full && nc > 0) {
+        Eigen::MatrixXd w(system_.dofs(), nc);
+        for (int c = 0; c < nc; ++c) w.col(c) = directions_[static_cast<std::size_t>(c)];
+        auto receptance = std::make_unique<Receptance>(system_.mass, system_.damping, system_.stiffness, w,
+                                                       system_.excitation, Eigen::MatrixXd(0, system_.dofs()));
+        Receptance::Harmonic h0 = receptance->solve(0, 1.0, false);
+        const bool usable = h0.ok && (h0.contact.real().diagonal().array() > 0.0).all();
+        if (usable) {
+            condensed_ = true;
+            receptance_ = std::move(receptance);
+            static_flexibility_ = h0.contact.real().diagonal();
+            harmonic_.resize(static_cast<std::size_t>(harmonics() + 1));
+            harmonic_[0] = std::move(h0);
+        } else if (options.formulation == Formulation::condensed) {
+            throw InvalidInput("formulation = condensed needs an invertible static stiffness K (harmonic 0): " +
+                               (h0.ok ? std::string("a contact direction has no static flexibility")
+                                      : h0.message) +
+                               "; allowed: formulation = full");
+        }
+    } else if (options.formulation == Formulation::condensed) {
+        throw InvalidInput("formulation = condensed needs at least one contact: allowed full for a linear system");
+    }
+    if (!condensed_ && !system_.has_positive_definite_mass() && system_.dofs() > 0) {
+        // The full formulation is algebraic and accepts massless DOFs, as long as its Jacobian
+        // is regular (checked by the corrector); nothing to do here.
+    }
+    unknowns_ = (condensed_ ? nc : system_.dofs()) * n;
+    for (const auto& model : models_) {
+        state_offset_.push_back(model->state_signals() > 0 ? unknowns_ : -1);
+        unknowns_ += model->state_signals() * n;
     }
 }
 
-Eigen::VectorXd HarmonicBalance::dof(const Eigen::VectorXd& x, int i) const {
-    return x.segment(i * coefficients(), coefficients());
+double HarmonicBalance::unknown_scale(const Eigen::VectorXd& x) const {
+    const double size = x.size() > 0 ? x.cwiseAbs().maxCoeff() : 0.0;
+    if (!condensed_) return std::max(force_scale_, size);
+    return std::max(1e-3 * force_scale_ * static_flexibility_.maxCoeff(), size);
+}
+
+bool HarmonicBalance::prepare_receptance(double omega) {
+    if (omega == receptance_omega_) return structure_failure_.empty();
+    receptance_omega_ = omega;
+    structure_failure_.clear();
+    if (!(omega > 0.0) || !std::isfinite(omega)) {
+        structure_failure_ = "w = " + format_number(omega) + " is not a positive frequency";
+        return false;
+    }
+    const int nc = static_cast<int>(models_.size());
+    row_scale_.resize(harmonics() + 1, nc);
+    row_scale_omega_.resize(harmonics() + 1, nc);
+    for (int k = 0; k <= harmonics(); ++k) {
+        Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
+        if (k > 0) h = receptance_->solve(k, omega, k == 1);
+        if (!h.ok) {
+            structure_failure_ = h.message;
+            return false;
+        }
+        // Row scale 1 / min(|G_k,cc|, G_0,cc) (bounded near an antiresonance, where G_k,cc -> 0)
+        // and its omega-derivative -Re(conj(g) g') / |g|^3.
+        for (int c = 0; c < nc; ++c) {
+            const std::complex<double> g = h.contact(c, c);
+            const double floor = 1e-10 * static_flexibility_(c), size = std::abs(g);
+            const bool dynamic = size < static_flexibility_(c) && size > floor && k > 0;
+            row_scale_(k, c) = 1.0 / std::max(std::min(size, static_flexibility_(c)), floor);
+            row_scale_omega_(k, c) =
+                dynamic ? -std::real(std::conj(g) * h.contact_omega(c, c)) / (size * size * size) : 0.0;
+        }
+    }
+    return true;
+}
+
+void HarmonicBalance::add_receptance(int c, int d, const Eigen::Ref<const Eigen::MatrixXd>& in,
+                                     Eigen::Ref<Eigen::MatrixXd> out, bool omega_derivative) const {
+    // G_0 is real; harmonic k: G_k = a + i b maps (c_k, s_k) to (a c_k + b s_k, -b c_k + a s_k),
+    // since y = Re(Y e^{i k theta}) = c cos + s sin with Y = c - i s.
+    if (!omega_derivative) out.row(0) += harmonic_[0].contact(c, d).real() * in.row(0);
+    for (int k = 1; k <= harmonics(); ++k) {
+        const Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
+        const std::complex<double> g = omega_derivative ? h.contact_omega(c, d) : h.contact(c, d);
+        const double a = g.real(), b = g.imag();
+        out.row(2 * k - 1) += a * in.row(2 * k - 1) + b * in.row(2 * k);
+        out.row(2 * k) += -b * in.row(2 * k - 1) + a * in.row(2 * k);
+    }
+}
+
+Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
+    const int n = coefficients(), dofs = system_.dofs();
+    if (!condensed_) return Eigen::Map<const Eigen::MatrixXd>(x.data(), n, dofs);
+    Eigen::MatrixXd y = Eigen::MatrixXd::Constant(n, dofs, std::numeric_limits<double>::quiet_NaN());
+    if (!prepare_receptance(omega)) return y;
+    // Y_k = Z_k^-1 (F_k - W Lambda_k), F on harmonic 1 only; in the real layout (c, s) with
+    // Y = c - i s, as in add_receptance.
+    const int nc = static_cast<int>(models_.size());
+    Eigen::MatrixXd forces(n, nc);
+    for (int c = 0; c < nc; ++c) {
+        models_[static_cast<std::size_t>(c)]->evaluate(fourier_, omega, relative(x, c), state(x, c), scratch_, false);
+        forces.col(c) = scratch_.force;
+    }
+    y.row(0) = -(harmonic_[0].solution.leftCols(nc).real() * forces.row(0).transpose()).transpose();
+    for (int k = 1; k <= harmonics(); ++k) {
+        const Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
+        const Eigen::VectorXcd lambda = forces.row(2 * k - 1).transpose().cast<std::complex<double>>() -
+                                        std::complex<double>(0.0, 1.0) * forces.row(2 * k).transpose();
+        Eigen::VectorXcd amplitude = -h.solution.leftCols(nc) * lambda;
+        if (k == 1) amplitude += h.solution.col(nc);
+        y.row(2 * k - 1) = amplitude.real().transpose();
+        y.row(2 * k) = -amplitude.imag().transpose();
+    }
+    return y;
 }
 
 Eigen::VectorXd HarmonicBalance::relative(const Eigen::VectorXd& x, int contact) const {
     const int n = coefficients();
+    if (condensed_) return x.segment(contact * n, n);
     const Eigen::Map<const Eigen::MatrixXd> y(x.data(), n, system_.dofs());
     return y * directions_[static_cast<std::size_t>(contact)];
 }
@@ -70,14 +193,98 @@ Eigen::VectorXd HarmonicBalance::stick_indicator(const Eigen::VectorXd& x, doubl
 
 void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                                Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
-    detail::Stopwatch watch;
     ++statistics_.residuals;
     if (jacobian) ++statistics_.jacobians;
+    if (condensed_)
+        evaluate_condensed(x, omega, residual, jacobian, jacobian_omega);
+    else
+        evaluate_full(x, omega, residual, jacobian, jacobian_omega);
+}
+
+void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
+                                         Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
+    detail::Stopwatch watch;
+    const int n = coefficients(), nc = static_cast<int>(models_.size());
+    residual.resize(unknowns_);
+    if (!prepare_receptance(omega)) {
+        residual.setConstant(std::numeric_limits<double>::quiet_NaN());
+        if (jacobian) jacobian->setZero(unknowns_, unknowns_);
+        if (jacobian_omega) jacobian_omega->setZero(unknowns_);
+        statistics_.structure_seconds += watch.lap();
+        return;
+    }
+    const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
+    // The contact rows before scaling: q - q0 + sum_d Gr_cd f_d (q0 on harmonic 1 only).
+    Eigen::Map<Eigen::MatrixXd> rq(residual.data(), n, nc);
+    rq = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, nc);
+    const Receptance::Harmonic& h1 = harmonic_[1];
+    for (int c = 0; c < nc; ++c) {
+        rq(1, c) -= h1.contact_load(c).real();
+        rq(2, c) += h1.contact_load(c).imag();  // s = -Im
+    }
+    if (jacobian) {
+        jacobian->setZero(unknowns_, unknowns_);
+        jacobian->topLeftCorner(nc * n, nc * n).setIdentity();
+    }
+    if (jacobian_omega) {
+        jacobian_omega->setZero(unknowns_);
+        for (int c = 0; c < nc; ++c) {
+            (*jacobian_omega)(c * n + 1) = -h1.contact_load_omega(c).real();
+            (*jacobian_omega)(c * n + 2) = h1.contact_load_omega(c).imag();
+        }
+    }
+    statistics_.structure_seconds += watch.lap();
+    for (int d = 0; d < nc; ++d) {
+        const int offset = state_offset_[static_cast<std::size_t>(d)];
+        const Eigen::VectorXd q = x.segment(d * n, n);
+        const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
+        FrictionEvaluation& e = scratch_;
+        models_[static_cast<std::size_t>(d)]->evaluate(fourier_, omega, q, z, e, want_jacobian);
+        const double model_seconds = watch.lap();
+        statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
+        statistics_.jacobian_seconds += e.jacobian_seconds;
+        for (int c = 0; c < nc; ++c) {
+            add_receptance(c, d, e.force, rq.col(c));
+            if (jacobian) {
+                add_receptance(c, d, e.force_q, jacobian->block(c * n, d * n, n, n));
+                if (offset >= 0) add_receptance(c, d, e.force_z, jacobian->block(c * n, offset, n, n));
+            }
+            if (jacobian_omega) {
+                auto column = jacobian_omega->segment(c * n, n);
+                add_receptance(c, d, e.force_omega, column);
+                add_receptance(c, d, e.force, column, true);
+            }
+        }
+        if (offset >= 0) {
+            residual.segment(offset, n) = e.state_residual;
+            if (jacobian) {
+                jacobian->block(offset, d * n, n, n) = e.state_q;
+                jacobian->block(offset, offset, n, n) = e.state_z;
+            }
+            if (jacobian_omega) jacobian_omega->segment(offset, n) = e.state_omega;
+        }
+        statistics_.jacobian_seconds += watch.lap();
+    }
+    // Scale contact c's rows of harmonic k by 1 / |G_k,cc|: a force, and for one contact on one
+    // DOF the full formulation's row up to its sign. The scale depends on omega (row_scale_omega_).
+    for (int c = 0; c < nc; ++c)
+        for (int row = 0; row < n; ++row) {
+            const int k = (row + 1) / 2;
+            const double s = row_scale_(k, c);
+            const int i = c * n + row;
+            if (jacobian_omega) (*jacobian_omega)(i) = s * (*jacobian_omega)(i) + row_scale_omega_(k, c) * residual(i);
+            residual(i) *= s;
+            if (jacobian) jacobian->row(i) *= s;
+        }
+    statistics_.jacobian_seconds += watch.lap();
+}
+
+void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
+                                    Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
+    detail::Stopwatch watch;
     const int n = coefficients(), dofs = system_.dofs();
     const Eigen::MatrixXd& D1 = fourier_.derivative();
-    const Eigen::MatrixXd& M = system_.mass;
-    const Eigen::MatrixXd& C = system_.damping;
-    const Eigen::MatrixXd& K = system_.stiffness;
+    const Eigen::MatrixXd M(system_.mass), C(system_.damping), K(system_.stiffness);
     const Eigen::Map<const Eigen::MatrixXd> Y(x.data(), n, dofs);
     residual.resize(unknowns_);
     Eigen::Map<Eigen::MatrixXd> RY(residual.data(), n, dofs);
@@ -138,38 +345,70 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::Ve
 }
 
 Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const {
-    const int n = coefficients(), dofs = system_.dofs();
-    Eigen::MatrixXd C = system_.damping, K = system_.stiffness;
-    std::vector<std::size_t> stuck;  // exact Coulomb contacts held rigid (pre-sliding guess)
+    using Complex = std::complex<double>;
+    const int n = coefficients(), dofs = system_.dofs(), nc = static_cast<int>(system_.contacts.size());
+    // Each contact as a linear element of complex stiffness k + i omega d (pre-sliding), or held
+    // rigid (exact Coulomb: its force is the constraint's multiplier); none when sliding.
+    std::vector<Complex> element(static_cast<std::size_t>(nc), Complex(0.0, 0.0));
+    std::vector<bool> rigid(static_cast<std::size_t>(nc), false);
     for (std::size_t c = 0; c < system_.contacts.size() && !sliding; ++c) {
         const Contact& k = system_.contacts[c];
-        const Eigen::MatrixXd ww = directions_[c] * directions_[c].transpose();
-        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre || k.law == FrictionLaw::jenkins) {
-            K += k.stiffness * ww;  // pre-sliding bristle / tangential spring
-            C += (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0) * ww;
-        }
-        if (k.law == FrictionLaw::coulomb_regularized) C += k.friction_limit / k.regularization * ww;  // tanh'(0)
-        if (k.law == FrictionLaw::coulomb) stuck.push_back(c);
+        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre || k.law == FrictionLaw::jenkins)
+            element[c] = Complex(k.stiffness, omega * (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0));
+        if (k.law == FrictionLaw::coulomb_regularized) element[c] = Complex(0.0, omega * k.friction_limit / k.regularization);
+        if (k.law == FrictionLaw::coulomb) rigid[c] = true;
     }
-    // First harmonic of (K - w^2 M + i w C) Y + W Lambda = F with W^T Y = 0 for the stuck
-    // contacts (Lambda: their complex force amplitudes).
-    const auto m = static_cast<Eigen::Index>(stuck.size());
-    Eigen::MatrixXcd A = Eigen::MatrixXcd::Zero(dofs + m, dofs + m);
-    A.topLeftCorner(dofs, dofs) = dynamic_stiffness(system_.mass, C, K, omega);
-    for (Eigen::Index j = 0; j < m; ++j) {
-        A.block(0, dofs + j, dofs, 1) = directions_[stuck[static_cast<std::size_t>(j)]].cast<std::complex<double>>();
-        A.block(dofs + j, 0, 1, dofs) = directions_[stuck[static_cast<std::size_t>(j)]].cast<std::complex<double>>().transpose();
-    }
-    Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(dofs + m);
-    rhs.head(dofs) = system_.excitation.cast<std::complex<double>>();
-    const Eigen::VectorXcd amplitude = A.fullPivLu().solve(rhs);
+    // First harmonic: Q = Q0 - G Lambda with Lambda_c = element_c Q_c, or Q_c = 0 (rigid).
     Eigen::VectorXd x = Eigen::VectorXd::Zero(unknowns_);
-    auto put = [&](Eigen::Index offset, std::complex<double> a) {
+    Eigen::VectorXcd force = Eigen::VectorXcd::Zero(nc);
+    auto put = [&](Eigen::Index offset, Complex a) {
         if (!std::isfinite(std::abs(a))) return;  // exact resonance: start from rest
         x(offset + 1) = a.real();  // y = Re(Y e^{i theta}) = Re Y cos - Im Y sin
         x(offset + 2) = -a.imag();
     };
-    for (int d = 0; d < dofs; ++d) put(d * n, amplitude(d));
+    if (condensed_) {
+        const Receptance::Harmonic h = receptance_->solve(1, omega, true);
+        if (h.ok) {
+            // Unknown u_c: Q_c, or Lambda_c for a rigid contact.
+            Eigen::MatrixXcd a(nc, nc);
+            for (int c = 0; c < nc; ++c)
+                for (int d = 0; d < nc; ++d) {
+                    const auto dd = static_cast<std::size_t>(d);
+                    a(c, d) = rigid[dd] ? h.contact(c, d) : h.contact(c, d) * element[dd] + (c == d ? 1.0 : 0.0);
+                }
+            const Eigen::VectorXcd u = a.fullPivLu().solve(h.contact_load);
+            for (int c = 0; c < nc; ++c) {
+                const auto cc = static_cast<std::size_t>(c);
+                force(c) = rigid[cc] ? u(c) : element[cc] * u(c);
+                if (!rigid[cc]) put(c * n, u(c));
+            }
+        }
+    } else {
+        // (K - w^2 M + i w C + sum_c element_c w_c w_c^T) Y + W_R Lambda_R = F, W_R^T Y = 0.
+        std::vector<int> stuck;
+        Eigen::MatrixXcd z = dynamic_stiffness(Eigen::MatrixXd(system_.mass), Eigen::MatrixXd(system_.damping),
+                                               Eigen::MatrixXd(system_.stiffness), omega);
+        for (int c = 0; c < nc; ++c) {
+            const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(c)];
+            if (rigid[static_cast<std::size_t>(c)])
+                stuck.push_back(c);
+            else
+                z += element[static_cast<std::size_t>(c)] * (w * w.transpose()).cast<Complex>();
+        }
+        const auto m = static_cast<Eigen::Index>(stuck.size());
+        Eigen::MatrixXcd a = Eigen::MatrixXcd::Zero(dofs + m, dofs + m);
+        a.topLeftCorner(dofs, dofs) = z;
+        for (Eigen::Index j = 0; j < m; ++j) {
+            const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(stuck[static_cast<std::size_t>(j)])];
+            a.block(0, dofs + j, dofs, 1) = w.cast<Complex>();
+            a.block(dofs + j, 0, 1, dofs) = w.cast<Complex>().transpose();
+        }
+        Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(dofs + m);
+        rhs.head(dofs) = system_.excitation.cast<Complex>();
+        const Eigen::VectorXcd amplitude = a.fullPivLu().solve(rhs);
+        for (int d = 0; d < dofs; ++d) put(d * n, amplitude(d));
+        for (Eigen::Index j = 0; j < m; ++j) force(stuck[static_cast<std::size_t>(j)]) = amplitude(dofs + j);
+    }
     for (std::size_t c = 0; c < system_.contacts.size(); ++c) {
         if (state_offset_[c] < 0) continue;
         const Contact& k = system_.contacts[c];
@@ -183,11 +422,10 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
             z(1) = limit * q(2) / speed;
             z(2) = -limit * q(1) / speed;
         } else if (k.law == FrictionLaw::coulomb) {
-            const auto j = std::find(stuck.begin(), stuck.end(), c) - stuck.begin();
-            const std::complex<double> force = amplitude(dofs + j);
-            if (std::isfinite(std::abs(force))) {
-                z(1) = force.real();
-                z(2) = -force.imag();
+            const Complex f = force(static_cast<Eigen::Index>(c));
+            if (std::isfinite(std::abs(f))) {
+                z(1) = f.real();
+                z(2) = -f.imag();
             }
         } else if (!sliding) {
             z = q;  // pre-sliding bristle: z = q

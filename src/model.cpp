@@ -1,5 +1,6 @@
 #include "hbf/model.hpp"
 
+#include <algorithm>
 #include <complex>
 
 #include <cmath>
@@ -28,24 +29,51 @@ FrictionLaw parse_friction_law(const std::string& name) {
 }
 
 Eigen::VectorXd System::contact_direction(const Contact& contact) const {
+    if (contact.direction.size() > 0) return contact.direction;
     Eigen::VectorXd w = Eigen::VectorXd::Zero(dofs());
     w(contact.dof) = 1.0;
     if (contact.other_dof != Contact::ground) w(contact.other_dof) = -1.0;
     return w;
 }
 
+SparseMatrix sparse(const Eigen::MatrixXd& dense) { return dense.sparseView(0.0, 0.0); }
+
 namespace {
-void require_square(const Eigen::MatrixXd& matrix, int n, const char* name) {
+/// Square N x N, finite, symmetric (compares stored entries only: never densified).
+void require_square(const SparseMatrix& matrix, int n, const char* name) {
     if (matrix.rows() != n || matrix.cols() != n)
         throw InvalidInput(std::string(name) + " is " + std::to_string(matrix.rows()) + "x" +
                            std::to_string(matrix.cols()) + ": allowed " + std::to_string(n) +
                            "x" + std::to_string(n) + " (the number of DOFs)");
-    if (!matrix.allFinite()) throw InvalidInput(std::string(name) + " has non-finite entries");
-    const double scale = matrix.cwiseAbs().maxCoeff();
-    if ((matrix - matrix.transpose()).cwiseAbs().maxCoeff() > 1e-12 * scale)
-        throw InvalidInput(std::string(name) + " is not symmetric");
+    double scale = 0.0;
+    for (int j = 0; j < matrix.outerSize(); ++j)
+        for (SparseMatrix::InnerIterator it(matrix, j); it; ++it) {
+            if (!std::isfinite(it.value())) throw InvalidInput(std::string(name) + " has non-finite entries");
+            scale = std::max(scale, std::abs(it.value()));
+        }
+    const SparseMatrix asymmetry = matrix - SparseMatrix(matrix.transpose());
+    for (int j = 0; j < asymmetry.outerSize(); ++j)
+        for (SparseMatrix::InnerIterator it(asymmetry, j); it; ++it)
+            if (std::abs(it.value()) > 1e-12 * scale) throw InvalidInput(std::string(name) + " is not symmetric");
+}
+
+/// LDL^T of a symmetric matrix (AMD ordering): the pivots' signs tell definiteness.
+Eigen::VectorXd ldlt_pivots(const SparseMatrix& matrix, bool& ok) {
+    Eigen::SimplicialLDLT<SparseMatrix> ldlt(matrix);
+    ok = ldlt.info() == Eigen::Success;
+    return ok ? Eigen::VectorXd(ldlt.vectorD()) : Eigen::VectorXd();
+}
+
+double largest_diagonal(const SparseMatrix& matrix) {
+    return matrix.rows() > 0 ? matrix.diagonal().cwiseAbs().maxCoeff() : 0.0;
 }
 }  // namespace
+
+bool System::has_positive_definite_mass() const {
+    bool ok = false;
+    const Eigen::VectorXd d = ldlt_pivots(mass, ok);
+    return ok && d.size() > 0 && d.minCoeff() > 1e-13 * largest_diagonal(mass);
+}
 
 void System::validate() const {
     const int n = dofs();
@@ -53,8 +81,20 @@ void System::validate() const {
     require_square(mass, n, "mass matrix");
     require_square(damping, n, "damping matrix");
     require_square(stiffness, n, "stiffness matrix");
-    if (Eigen::LLT<Eigen::MatrixXd>(mass).info() != Eigen::Success)
-        throw InvalidInput("mass matrix is not positive definite");
+    {
+        // Positive semi-definite: M + delta I (delta a rounding-level shift of the largest
+        // mass) has positive pivots; a negative pivot is a negative mass.
+        const double m = largest_diagonal(mass);
+        if (!(m > 0.0)) throw InvalidInput("mass matrix is zero: allowed a positive semi-definite M with at least one mass");
+        SparseMatrix shifted(n, n);
+        shifted.setIdentity();
+        shifted = mass + 1e-12 * m * shifted;
+        bool ok = false;
+        const Eigen::VectorXd d = ldlt_pivots(shifted, ok);
+        if (!ok || d.minCoeff() <= 0.0)
+            throw InvalidInput("mass matrix is not positive semi-definite (a negative mass): allowed M >= 0, "
+                               "with massless DOFs");
+    }
     if (excitation.size() != n)
         throw InvalidInput("excitation vector has " + std::to_string(excitation.size()) +
                            " entries: allowed " + std::to_string(n) + " (the number of DOFs)");
@@ -62,13 +102,21 @@ void System::validate() const {
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         const Contact& k = contacts[c];
         const std::string where = "contact " + std::to_string(c + 1) + ": ";
-        if (k.dof < 0 || k.dof >= n)
-            throw InvalidInput(where + "dof = " + std::to_string(k.dof) + " is out of range: allowed 0.." +
-                               std::to_string(n - 1));
-        if (k.other_dof != Contact::ground && (k.other_dof < 0 || k.other_dof >= n || k.other_dof == k.dof))
-            throw InvalidInput(where + "other_dof = " + std::to_string(k.other_dof) +
-                               " is out of range: allowed ground (-1) or 0.." + std::to_string(n - 1) +
-                               " other than dof");
+        if (k.direction.size() > 0) {
+            if (k.direction.size() != n)
+                throw InvalidInput(where + "force_direction has " + std::to_string(k.direction.size()) +
+                                   " entries: allowed " + std::to_string(n) + " (the number of DOFs)");
+            if (!k.direction.allFinite() || !(k.direction.cwiseAbs().maxCoeff() > 0.0))
+                throw InvalidInput(where + "force_direction must be finite and not all zero");
+        } else {
+            if (k.dof < 0 || k.dof >= n)
+                throw InvalidInput(where + "dof = " + std::to_string(k.dof) + " is out of range: allowed 0.." +
+                                   std::to_string(n - 1));
+            if (k.other_dof != Contact::ground && (k.other_dof < 0 || k.other_dof >= n || k.other_dof == k.dof))
+                throw InvalidInput(where + "other_dof = " + std::to_string(k.other_dof) +
+                                   " is out of range: allowed ground (-1) or 0.." + std::to_string(n - 1) +
+                                   " other than dof");
+        }
         require_positive(k.friction_limit, (where + "friction_limit").c_str(), "slip force mu N");
         if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre || k.law == FrictionLaw::jenkins)
             require_positive(k.stiffness, (where + "stiffness").c_str(), "contact stiffness sigma0 / k_t");
@@ -121,10 +169,11 @@ System friction_absorber(const AbsorberParameters& p, FrictionLaw law) {
     const double r = p.mass_ratio;
     const double ka = r * p.tuning_ratio * p.tuning_ratio;  // r wa^2: absorber spring
     System system;
-    system.mass = Eigen::Vector2d(1.0, r).asDiagonal();
-    system.damping = Eigen::MatrixXd::Zero(2, 2);
-    system.stiffness.resize(2, 2);
-    system.stiffness << 1.0 + ka, -ka, -ka, ka;
+    Eigen::Matrix2d stiffness;
+    stiffness << 1.0 + ka, -ka, -ka, ka;
+    system.mass = sparse(Eigen::Vector2d(1.0, r).asDiagonal());
+    system.damping = SparseMatrix(2, 2);
+    system.stiffness = sparse(stiffness);
     system.excitation = Eigen::Vector2d(p.excitation, 0.0);
     Contact contact;
     contact.dof = 0;
@@ -210,7 +259,8 @@ PhysicalAbsorber to_physical(const AbsorberParameters& p, double m1, double k1, 
 StuckResponse stuck_linear_response(const System& system, double omega) {
     using Complex = std::complex<double>;
     const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
-    Eigen::MatrixXcd a = dynamic_stiffness(system.mass, system.damping, system.stiffness, omega);
+    Eigen::MatrixXcd a = dynamic_stiffness(Eigen::MatrixXd(system.mass), Eigen::MatrixXd(system.damping),
+                                           Eigen::MatrixXd(system.stiffness), omega);
     std::vector<int> rigid;
     std::vector<Complex> element(static_cast<std::size_t>(nc), Complex(0.0, 0.0));
     for (int c = 0; c < nc; ++c) {

@@ -2,8 +2,10 @@
 // and refined resonance peaks (declared in continuation.hpp, next to the branch data).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "hbf/continuation.hpp"
+#include "hbf/error.hpp"
 #include "golden_section.hpp"
 
 namespace hbf {
@@ -80,19 +82,31 @@ StickPattern stick_pattern(const Eigen::VectorXd& phi, int min_run) {
     return p;
 }
 
-Analyser::Analyser(HarmonicBalance& hb) : hb_(hb), fine_(hb.harmonics(), fine_time_samples(hb.harmonics())) {}
+Analyser::Analyser(HarmonicBalance& hb, std::vector<int> report)
+    : hb_(hb), fine_(hb.harmonics(), fine_time_samples(hb.harmonics())), report_(std::move(report)) {
+    for (int i : report_)
+        if (i < 0 || i >= hb.system().dofs())
+            throw InvalidInput("reported DOF " + std::to_string(i + 1) + " is out of range: allowed 1.." +
+                               std::to_string(hb.system().dofs()));
+    if (report_.empty())
+        for (int i = 0; i < hb.system().dofs(); ++i) report_.push_back(i);
+}
 
 PointMetrics Analyser::operator()(const SolutionPoint& point) {
     PointMetrics m;
     const System& s = hb_.system();
     const double omega = point.omega;
     Eigen::VectorXd samples(fine_.time_samples());
+    const Eigen::MatrixXd y = hb_.dofs(point.x, omega);
+    m.y_max.assign(static_cast<std::size_t>(s.dofs()), std::numeric_limits<double>::quiet_NaN());
     for (int i = 0; i < s.dofs(); ++i) {
-        const Eigen::VectorXd c = hb_.dof(point.x, i);
+        m.y_amp1.push_back(std::hypot(y(1, i), y(2, i)));
+        m.input_energy += M_PI * s.excitation(i) * y(2, i);
+    }
+    for (int i : report_) {
+        const Eigen::VectorXd c = y.col(i);
         fine_.to_time(c, samples);
-        m.y_max.push_back(series_max_abs(c, samples));
-        m.y_amp1.push_back(std::hypot(c(1), c(2)));
-        m.input_energy += M_PI * s.excitation(i) * c(2);
+        m.y_max[static_cast<std::size_t>(i)] = series_max_abs(c, samples);
     }
     if (s.contacts.empty()) {
         m.regime = "none";
@@ -123,8 +137,9 @@ PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int 
     s.time = Eigen::VectorXd::LinSpaced(nt, 0.0, 2.0 * M_PI * (nt - 1) / nt) / point.omega;
     s.y.resize(nt, dofs);
     Eigen::VectorXd samples(nt);
+    const Eigen::MatrixXd y = hb.dofs(point.x, point.omega);
     for (int i = 0; i < dofs; ++i) {
-        f.to_time(hb.dof(point.x, i), samples);
+        f.to_time(y.col(i), samples);
         s.y.col(i) = samples;
     }
     const Eigen::VectorXd q = hb.relative(point.x, contact);
@@ -139,7 +154,7 @@ PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int 
 
 std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, int dof, const CorrectorOptions& options) {
     const auto& points = branch.points;
-    Analyser analyse(hb);
+    Analyser analyse(hb, {dof});
     std::vector<double> y(points.size());
     for (std::size_t k = 0; k < points.size(); ++k) y[k] = analyse(points[k]).y_max[static_cast<std::size_t>(dof)];
     Corrector corrector(hb, options);
@@ -162,7 +177,7 @@ std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, in
                 SolutionPoint p;
                 p.omega = omega;
                 p.x = left.x + s * (right.x - left.x);
-                const double x_scale = std::max(hb.force_scale(), p.x.cwiseAbs().maxCoeff());
+                const double x_scale = hb.unknown_scale(p.x);
                 if (!corrector.solve_at(p.x, omega, x_scale, p.iterations, p.residual)) {
                     good = false;
                     return 0.0;

@@ -57,30 +57,42 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load) const {
                             Complex(0.0, kw) * damping_.cast<Complex>();
     const SparseComplex dz = Complex(-2.0 * k * k * omega, 0.0) * mass_.cast<Complex>() +
                              Complex(0.0, static_cast<double>(k)) * damping_.cast<Complex>();
-    Eigen::SparseLU<SparseComplex> lu;
-    lu.analyzePattern(z);
-    lu.factorize(z);
-    const std::string where = "harmonic k = " + std::to_string(k) + " at w = " + format_number(omega);
-    if (lu.info() != Eigen::Success) {
-        h.message = "singular dynamic stiffness Z_k = K - (k w)^2 M + i k w C at " + where +
-                    " (an undamped resonance hit exactly, or a rigid-body mode that no contact holds)";
-        return h;
-    }
-    // Columns: W, then F; one solve for all of them.
+    auto singular = [&] {
+        return "singular dynamic stiffness Z_k = K - (k w)^2 M + i k w C at harmonic k = " + std::to_string(k) +
+               " at w = " + format_number(omega) +
+               " (an undamped resonance hit exactly, or a rigid-body mode that no contact holds)";
+    };
+    // Columns: W, then F; one solve for all of them. Small models use a dense LU (no sparse
+    // bookkeeping), large ones a sparse LU.
     const int nc = contacts();
     Eigen::MatrixXcd rhs(dofs(), nc + (load ? 1 : 0));
     rhs.leftCols(nc) = directions_.cast<Complex>();
     if (load) rhs.col(nc) = excitation_.cast<Complex>();
-    const Eigen::MatrixXcd x = lu.solve(rhs);
+    Eigen::MatrixXcd x, dx;
+    if (dofs() <= dense_limit) {
+        const Eigen::MatrixXcd zd(z);
+        const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(zd);
+        x = lu.solve(rhs);
+        if (x.allFinite()) dx = -lu.solve(Eigen::MatrixXcd(dz * x));
+    } else {
+        Eigen::SparseLU<SparseComplex> lu;
+        lu.analyzePattern(z);
+        lu.factorize(z);
+        if (lu.info() != Eigen::Success) {
+            h.message = singular();
+            return h;
+        }
+        x = lu.solve(rhs);
+        if (x.allFinite()) dx = -Eigen::MatrixXcd(lu.solve(Eigen::MatrixXcd(dz * x)));
+    }
     // A factorisation that succeeded on a numerically singular Z_k shows in the residual.
     const double scale = std::max(1.0, rhs.cwiseAbs().maxCoeff());
-    if (!x.allFinite() || (z * x - rhs).cwiseAbs().maxCoeff() > 1e-8 * scale * std::max(1.0, x.cwiseAbs().maxCoeff())) {
-        h.message = "numerically singular dynamic stiffness Z_k at " + where +
-                    " (an undamped resonance, or a rigid-body mode that no contact holds)";
+    if (!x.allFinite() || !dx.allFinite() ||
+        (z * x - rhs).cwiseAbs().maxCoeff() > 1e-8 * scale * std::max(1.0, x.cwiseAbs().maxCoeff())) {
+        h.message = "numerically " + singular();
         return h;
     }
-    // Sensitivities: d(Z^-1 b)/domega = -Z^-1 (dZ) Z^-1 b.
-    const Eigen::MatrixXcd dx = -Eigen::MatrixXcd(lu.solve(Eigen::MatrixXcd(dz * x)));
+    // Sensitivities (above): d(Z^-1 b)/domega = -Z^-1 (dZ) Z^-1 b.
     const Eigen::MatrixXcd wt = directions_.transpose().cast<Complex>();
     h.contact = wt * x.leftCols(nc);
     h.contact_omega = wt * dx.leftCols(nc);
@@ -90,6 +102,7 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load) const {
         h.contact_load_omega = wt * dx.col(nc);
         h.output_load = outputs_.cast<Complex>() * x.col(nc);
     }
+    h.solution = std::move(x);
     h.ok = true;
     return h;
 }

@@ -123,6 +123,9 @@ Eigen::VectorXd linear_stuck_state(const System& system, double omega) {
 PeriodicResponse integrate_steady_state(const System& system, double omega, const TimeIntegrationOptions& options,
                                         const Eigen::VectorXd* initial_state) {
     system.validate();
+    if (!system.has_positive_definite_mass())
+        throw InvalidInput("the mass matrix is singular (massless DOFs): time integration needs M positive definite "
+                           "(harmonic balance, hbf frf, accepts massless DOFs)");
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     options.validate();

@@ -17,8 +17,8 @@ inline Eigen::VectorXcd absorber_with_linear_contact(const AbsorberParameters& p
                                                     double k, double c) {
     const System s = friction_absorber(p, FrictionLaw::coulomb);
     const Eigen::VectorXd w = s.contact_direction(s.contacts[0]);
-    return linear_response(s.mass, s.damping + c * w * w.transpose(),
-                           s.stiffness + k * w * w.transpose(), s.excitation, omega);
+    return linear_response(Eigen::MatrixXd(s.mass), Eigen::MatrixXd(s.damping) + c * w * w.transpose(),
+                           Eigen::MatrixXd(s.stiffness) + k * w * w.transpose(), s.excitation, omega);
 }
 
 inline double relative_difference(double a, double b) {
@@ -32,9 +32,9 @@ inline double relative_difference(std::complex<double> a, std::complex<double> b
 /// force, exact Coulomb friction rho to the ground, no viscous damping.
 inline System den_hartog_oscillator(double rho) {
     System s;
-    s.mass = Eigen::MatrixXd::Identity(1, 1);
-    s.damping = Eigen::MatrixXd::Zero(1, 1);
-    s.stiffness = Eigen::MatrixXd::Identity(1, 1);
+    s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
+    s.damping = SparseMatrix(1, 1);
+    s.stiffness = sparse(Eigen::MatrixXd::Identity(1, 1));
     s.excitation = Eigen::VectorXd::Ones(1);
     Contact c;
     c.dof = 0;
@@ -61,9 +61,9 @@ namespace hbf::test {
 /// (friction limit F_c, bristle stiffness sigma0): stiffness 1 + sigma0 in stick, 1 in slip.
 inline System dahl_oscillator(double sigma0, double friction_limit, double force, double damping) {
     System s;
-    s.mass = Eigen::MatrixXd::Identity(1, 1);
-    s.damping = Eigen::MatrixXd::Constant(1, 1, damping);
-    s.stiffness = Eigen::MatrixXd::Identity(1, 1);
+    s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
+    s.damping = sparse(Eigen::MatrixXd::Constant(1, 1, damping));
+    s.stiffness = sparse(Eigen::MatrixXd::Identity(1, 1));
     s.excitation = Eigen::VectorXd::Constant(1, force);
     Contact contact;
     contact.dof = 0;

@@ -53,7 +53,7 @@ TEST_CASE("Coulomb limit friction is the contact force the stuck motion needs", 
             // force the contact must transmit: f = [(K - w^2 M) y]_2 - F_2  (w_c = (1, -1)).
             const std::complex<double> y = an::coulomb_stick(p, omega).y1;
             const Eigen::Vector2cd motion(y, y);
-            const Eigen::MatrixXd z = s.stiffness - omega * omega * s.mass;
+            const Eigen::MatrixXd z = Eigen::MatrixXd(s.stiffness) - omega * omega * Eigen::MatrixXd(s.mass);
             const std::complex<double> force = (z.cast<std::complex<double>>() * motion)(1) - s.excitation(1);
             CHECK(relative_difference(an::coulomb_limit_friction(p, omega), std::abs(force)) < 1e-12);
         }

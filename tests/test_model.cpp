@@ -138,6 +138,6 @@ TEST_CASE("invalid parameters are rejected with the parameter's name", "[model]"
     s.contacts[0].other_dof = 5;
     CHECK_THROWS_WITH(s.validate(), Catch::Contains("other_dof"));
     s = friction_absorber(AbsorberParameters{}, FrictionLaw::coulomb);
-    s.stiffness(0, 1) = 3.0;
+    s.stiffness.coeffRef(0, 1) = 3.0;
     CHECK_THROWS_WITH(s.validate(), Catch::Contains("not symmetric"));
 }

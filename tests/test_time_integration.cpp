@@ -19,7 +19,7 @@ System damped_absorber(FrictionLaw law, double wb, double c) {
     AbsorberParameters p;
     p.contact_stiffness_ratio = wb;
     System s = friction_absorber(p, law);
-    s.damping(0, 0) = c;
+    s.damping.coeffRef(0, 0) = c;
     return s;
 }
 }  // namespace
@@ -33,9 +33,10 @@ TEST_CASE("A coulomb contact that never slips gives the linear response of the s
     // 1e-10 leaves ~1e-10 of transient; integration tolerance 1e-10 per step. Tolerance 1e-7
     // relative on the complex first harmonic.
     System s;
-    s.mass = Eigen::Vector2d(1.0, 0.5).asDiagonal();
-    s.stiffness.resize(2, 2);
-    s.stiffness << 2.0, -1.0, -1.0, 1.0;
+    Eigen::Matrix2d k;
+    k << 2.0, -1.0, -1.0, 1.0;
+    s.mass = sparse(Eigen::Vector2d(1.0, 0.5).asDiagonal());
+    s.stiffness = sparse(k);
     s.damping = 0.2 * s.stiffness + 0.1 * s.mass;
     s.excitation = Eigen::Vector2d(1.0, 0.3);
     Contact c;
@@ -202,7 +203,8 @@ TEST_CASE("Dahl at small amplitude sticks and is the linear pre-sliding spring",
         INFO(r.summary());
         REQUIRE(r.converged);
         const std::complex<double> y =
-            linear_response(s.mass, s.damping, s.stiffness + Eigen::MatrixXd::Identity(1, 1), s.excitation, omega)(0);
+            linear_response(Eigen::MatrixXd(s.mass), Eigen::MatrixXd(s.damping),
+                            Eigen::MatrixXd(s.stiffness) + Eigen::MatrixXd::Identity(1, 1), s.excitation, omega)(0);
         CHECK(r.stick_fraction == 1.0);
         CHECK(r.regime == "stick");
         CHECK(r.stick_margin_max < -0.99);

@@ -22,17 +22,24 @@ bool harmonic_balance_from(HarmonicBalance& hb, const PeriodicResponse& ti, Solu
     Fourier fourier(hb.harmonics(), samples);  // the same theta_j = 2 pi j / samples
     Eigen::VectorXd x = Eigen::VectorXd::Zero(hb.unknowns());
     const System& s = hb.system();
-    for (int i = 0; i < s.dofs(); ++i) fourier.to_coefficients(ti.displacement.col(i), x.segment(i * n, n));
-    if (hb.unknowns() > s.dofs() * n) {
+    Eigen::MatrixXd y(n, s.dofs());
+    for (int i = 0; i < s.dofs(); ++i) fourier.to_coefficients(ti.displacement.col(i), y.col(i));
+    // The unknowns: every DOF (full), or each contact's relative displacement (condensed).
+    const bool condensed = hb.formulation() == Formulation::condensed;
+    const int nc = static_cast<int>(s.contacts.size());
+    for (int c = 0; c < nc && condensed; ++c) x.segment(c * n, n) = y * s.contact_direction(s.contacts[static_cast<std::size_t>(c)]);
+    if (!condensed) x.head(s.dofs() * n) = Eigen::Map<const Eigen::VectorXd>(y.data(), y.size());
+    const int states = (condensed ? nc : s.dofs()) * n;
+    if (hb.unknowns() > states) {
         const Contact& c = s.contacts[0];
         Eigen::VectorXd f = ti.friction_force.col(0);
         if (c.law != FrictionLaw::coulomb) f /= c.stiffness;
-        fourier.to_coefficients(f, x.segment(s.dofs() * n, n));
+        fourier.to_coefficients(f, x.segment(states, n));
     }
     Corrector corrector(hb, CorrectorOptions{});
     point.omega = ti.omega;
     point.x = x;
-    const double x_scale = std::max(hb.force_scale(), x.cwiseAbs().maxCoeff());
+    const double x_scale = hb.unknown_scale(x);
     return corrector.solve_at(point.x, ti.omega, x_scale, point.iterations, point.residual);
 }
 

@@ -5,13 +5,16 @@
 //
 //     [structure]
 //     mass       = [[1.0, 0.0], [0.0, 0.1]]   # N x N rows; a flat list [1.0, 0.1] is diagonal;
-//     stiffness  = "stiffness.mtx"            # or a Matrix Market file beside this one
+//     stiffness  = "stiffness.mtx"            # or a Matrix Market file beside this one (read
+//                                             # sparse; M may be singular: massless DOFs)
 //     damping    = [0.0, 0.0]                 # optional: zero
-//     excitation = [0.5, 0.0]                 # F, amplitude of F cos(w t)
+//     excitation = [0.5, 0.0]                 # F, amplitude of F cos(w t) (or an N x 1 .mtx)
 //
 //     [[contact]]                 # one table per friction contact, any number
 //     dof = 1                     # DOF a (1-based)
 //     other_dof = 2               # DOF b (1-based); omitted: against the ground
+//     # force_direction = [0.0, 1.0, -1.0]  # instead of dof / other_dof: any direction w
+//                                 # (N numbers or an N x 1 .mtx); q = w^T y
 //     law = "coulomb"             # coulomb, jenkins, dahl, lugre, coulomb-reg
 //     friction_limit = 0.2        # F_c = mu N
 //     stiffness = 0.016           # sigma0 (dahl, lugre) or k_t (jenkins)
@@ -57,7 +60,10 @@ struct SystemConfig {
 SystemConfig read_system_config(const std::string& path);
 
 /// Reads a Matrix Market file ("%%MatrixMarket matrix coordinate|array real|integer
-/// general|symmetric"). Throws InvalidInput naming the file and line on any error.
-Eigen::MatrixXd read_matrix_market(const std::string& path);
+/// general|symmetric") as a sparse matrix (a coordinate file is never densified; a symmetric
+/// file gives one triangle, mirrored). Throws InvalidInput naming the file and line on any
+/// error: syntax, an index out of range, an entry given twice, non-finite values, data beyond
+/// the announced entries.
+SparseMatrix read_matrix_market(const std::string& path);
 
 }  // namespace hbf::io

@@ -88,6 +88,7 @@ struct BranchResult {
     int corrections = 0;                ///< corrector calls, including failed ones
     int failed_corrections = 0;
     int transitions = 0;                ///< points of kind transition
+    int rejected_jumps = 0;             ///< steps whose correction exceeded the step (halved)
     CorrectorStatistics corrector;    ///< Ceres work of the whole continuation
     EvaluationStatistics evaluation;  ///< residual/Jacobian work (corrector and predictor)
     double predictor_seconds = 0;     ///< tangents: their evaluations and LU solves
@@ -152,7 +153,8 @@ std::vector<SolutionPoint> sample_branch(HarmonicBalance& hb, const BranchResult
 /// Quantities derived from one solution point.
 struct PointMetrics {
     std::vector<double> y_max;   ///< per DOF: max over one period of |y_i(t)| (fine grid,
-                                 ///< polished by Newton on y_i' = 0: exact to rounding)
+                                 ///< polished by Newton on y_i' = 0: exact to rounding);
+                                 ///< NaN for a DOF the Analyser was not asked to report
     std::vector<double> y_amp1;  ///< per DOF: first-harmonic amplitude sqrt(c1^2 + s1^2)
     double stick_fraction = 0;   ///< share of the AFT samples of contact 1 in stick phases, by
                                  ///< the law's own definition (stick_pattern below)
@@ -186,12 +188,15 @@ int fine_time_samples(int harmonics);
 /// Computes PointMetrics; holds the fine-grid transform (planned once) for many points.
 class Analyser {
 public:
-    explicit Analyser(HarmonicBalance& hb);
+    /// `report`: the DOFs (0-based) whose y_max is computed (empty: all DOFs). y_amp1 and the
+    /// input work are computed for every DOF (cheap).
+    explicit Analyser(HarmonicBalance& hb, std::vector<int> report = {});
     PointMetrics operator()(const SolutionPoint& point);
 
 private:
     HarmonicBalance& hb_;
     Fourier fine_;
+    std::vector<int> report_;
 };
 
 /// The time signals of one solution over one period, on the AFT grid theta_j = 2 pi j / N_t

@@ -11,21 +11,52 @@
 // 1, cos k theta, sin k theta; f_c are the friction force coefficients of contact c computed
 // from q_c = Y w_c (and z_c) by the AFT (friction.hpp), and each state-law contact adds its
 // state residual r_z. Both Jacobians are exact (no finite differences).
+//
+// Two formulations of the same equations (HarmonicBalanceOptions::formulation):
+// * full: the unknowns are the coefficients of every DOF (above); the Jacobian is dense in
+//   N (2H+1), so it serves small systems and tests;
+// * condensed (the default): the linear structure is solved exactly per harmonic
+//   (receptance.hpp), Q_k = W^T Z_k^-1 F_k - G_k Lambda_k, so the unknowns are only the
+//   contacts' relative displacements q_c (2H+1 coefficients each) and the internal states.
+//   With Gr the real form of G_k (per harmonic k, G_k = a + i b acts on (c_k, s_k) as
+//   [[a, b], [-b, a]], G_0 real) the residual of contact c, harmonic k, is
+//       R_c,k = ( q_c - q0_c + sum_d Gr_cd f_d )_k / min(|G_k,cc|, G_0,cc),
+//   q0 = W^T Z_1^-1 F on harmonic 1: a force. Where the structure is stiffer than statically
+//   (high harmonics, |G_k| < G_0) the rows of one contact on one DOF equal the full
+//   formulation's up to their sign (the same conditioning); near a resonance of the structure
+//   without contacts (|G_k| large) the static stiffness 1 / G_0,cc keeps the rows sensitive to
+//   q; the scale is bounded near an antiresonance (G_k,cc -> 0). Any DOF is recovered afterwards from the contact forces:
+//   Y_k = Z_k^-1 (F_k - W Lambda_k). The cost per evaluation no longer grows with N beyond
+//   the sparse factorisations of Z_k at each new omega.
 #pragma once
 
 #include <Eigen/Dense>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "hbf/fourier.hpp"
 #include "hbf/friction.hpp"
 #include "hbf/model.hpp"
+#include "hbf/receptance.hpp"
 
 namespace hbf {
+
+/// How the linear structure enters the unknowns (see the top of this file).
+enum class Formulation {
+    automatic,  ///< condensed when the system has contacts and K is invertible, else full
+    full,       ///< every DOF's coefficients are unknowns (dense; small systems, tests)
+    condensed,  ///< the contacts' relative displacements only (any size; needs K invertible)
+};
+/// "automatic", "full", "condensed".
+std::string to_string(Formulation formulation);
+/// Inverse of to_string; throws InvalidInput naming the allowed values.
+Formulation parse_formulation(const std::string& name);
 
 struct HarmonicBalanceOptions {
     int harmonics = 10;    ///< H >= 1: harmonics 0..H are balanced
     int time_samples = 0;  ///< N_t > 2H; 0 chooses Fourier::default_time_samples(H)
+    Formulation formulation = Formulation::automatic;
 };
 
 /// Work counters of HarmonicBalance::evaluate, for benchmarks and summaries.
@@ -41,10 +72,15 @@ EvaluationStatistics operator-(const EvaluationStatistics& later, const Evaluati
 
 class HarmonicBalance {
 public:
-    /// Validates the system; throws InvalidInput for bad options or an unsupported law.
+    /// Validates the system; throws InvalidInput for bad options or an unsupported law, and
+    /// for `condensed` on a system whose static stiffness K is singular (a rigid-body mode)
+    /// or that has no contact.
     HarmonicBalance(System system, HarmonicBalanceOptions options);
 
     const System& system() const { return system_; }
+    /// The formulation in use (never automatic).
+    Formulation formulation() const { return condensed_ ? Formulation::condensed : Formulation::full; }
+    HarmonicBalanceOptions options() const { return {harmonics(), time_samples(), formulation()}; }
     int harmonics() const { return fourier_.harmonics(); }
     int time_samples() const { return fourier_.time_samples(); }
     int coefficients() const { return fourier_.size(); }  ///< 2H + 1
@@ -52,12 +88,18 @@ public:
     Fourier& fourier() { return fourier_; }
 
     /// R(X, omega); with non-null pointers also dR/dX (unknowns x unknowns) and dR/domega.
+    /// Condensed, where some Z_k is singular at omega (an undamped resonance hit exactly) the
+    /// residual is NaN and structure_failure() says why.
     void evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                   Eigen::MatrixXd* jacobian = nullptr, Eigen::VectorXd* jacobian_omega = nullptr);
+    /// Why the last evaluation could not solve the linear structure (empty when it could).
+    const std::string& structure_failure() const { return structure_failure_; }
 
-    /// Coefficients of DOF i (0-based), of the relative displacement q_c of contact c, and of
-    /// its internal state (empty for memoryless laws).
-    Eigen::VectorXd dof(const Eigen::VectorXd& x, int i) const;
+    /// Coefficients of every DOF, a (2H+1) x N matrix (column i: DOF i). Condensed, they are
+    /// recovered from the contact forces at omega (NaN where Z_k is singular there).
+    Eigen::MatrixXd dofs(const Eigen::VectorXd& x, double omega);
+    /// Coefficients of the relative displacement q_c of contact c, and of its internal state
+    /// (empty for memoryless laws).
     Eigen::VectorXd relative(const Eigen::VectorXd& x, int contact) const;
     Eigen::VectorXd state(const Eigen::VectorXd& x, int contact) const;
     /// Friction force samples of contact c on the AFT time grid.
@@ -74,14 +116,38 @@ public:
     Eigen::VectorXd linear_guess(double omega, bool sliding = false) const;
     /// Force scale against which residuals are judged: the excitation amplitude |F|_inf.
     double force_scale() const { return force_scale_; }
+    /// Scale of the unknowns x for the corrector and the arclength: max |x_i|, bounded below.
+    /// Full: by force_scale (the DOFs' amplitudes grow with the response). Condensed: by
+    /// 1e-3 force_scale max_c G_0,cc (a static contact deflection), so that the relative
+    /// displacements, which stay small while the structure resonates around a stuck contact,
+    /// still pace the steps.
+    double unknown_scale(const Eigen::VectorXd& x) const;
 
     /// Counters accumulated since construction or the last reset_statistics().
     const EvaluationStatistics& statistics() const { return statistics_; }
     void reset_statistics() { statistics_ = EvaluationStatistics{}; }
 
 private:
+    void evaluate_full(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual, Eigen::MatrixXd* jacobian,
+                       Eigen::VectorXd* jacobian_omega);
+    void evaluate_condensed(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
+                            Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega);
+    /// The receptance of harmonics 0..H at omega (cached for the last omega); false when a
+    /// Z_k is singular there (structure_failure_ says which).
+    bool prepare_receptance(double omega);
+    /// out += Gr_cd in, for the real form Gr of G_k (`omega_derivative`: of dG_k/domega).
+    void add_receptance(int c, int d, const Eigen::Ref<const Eigen::MatrixXd>& in, Eigen::Ref<Eigen::MatrixXd> out,
+                        bool omega_derivative = false) const;
+
     System system_;
     Fourier fourier_;
+    bool condensed_ = false;
+    std::unique_ptr<Receptance> receptance_;
+    std::vector<Receptance::Harmonic> harmonic_;  // per k = 0..H at receptance_omega_
+    double receptance_omega_ = -1.0;
+    Eigen::VectorXd static_flexibility_;          // G_0,cc
+    Eigen::MatrixXd row_scale_, row_scale_omega_; // 1 / |G_k,cc| and its omega-derivative ((H+1) x n_c)
+    std::string structure_failure_;
     std::vector<std::unique_ptr<FrictionModel>> models_;
     std::vector<int> state_offset_;  // start of each contact's state block, -1 if none
     std::vector<Eigen::VectorXd> directions_;

@@ -5,14 +5,21 @@
 //     M y'' + C y' + K y + sum_c w_c f_c(t) = F cos(omega t),
 //
 // where contact c sees the relative displacement q_c = w_c^T y, with
-// w_c = e_a - e_b (two DOFs a, b) or w_c = e_a (DOF a against the ground), and produces
-// the friction force f_c(t) from its law. f_c acts on DOF a with sign -f_c (it opposes the
-// relative motion q_c) and on DOF b with +f_c.
+// w_c = e_a - e_b (two DOFs a, b), w_c = e_a (DOF a against the ground), or any direction
+// vector (a contact's force direction, e.g. a tangential direction at an FE node), and
+// produces the friction force f_c(t) from its law. The force -w_c f_c acts on the structure:
+// for a DOF pair, -f_c on DOF a (it opposes the relative motion q_c) and +f_c on DOF b.
+//
+// M, C and K are sparse (finite-element models with thousands of DOFs are never densified
+// by the model). M may be singular: massless DOFs (the static boundary of a reduced model)
+// are allowed where the problem stays well posed; harmonic balance checks that the dynamic
+// stiffness of every balanced harmonic is invertible, and time integration needs M > 0.
 //
 // The model holds data only; the friction layer turns a Contact into a force evaluator.
 #pragma once
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 #include <complex>
 #include <string>
 #include <vector>
@@ -42,6 +49,9 @@ struct Contact {
     static constexpr int ground = -1;
     int dof = 0;                ///< DOF a (0-based)
     int other_dof = ground;     ///< DOF b (0-based), or Contact::ground
+    /// w_c, the force direction (N entries, finite, not all zero); when given it replaces
+    /// dof / other_dof (which are then ignored): q_c = w_c^T y.
+    Eigen::VectorXd direction;
     FrictionLaw law = FrictionLaw::coulomb;
     double friction_limit = 0;  ///< F_c = mu N, the sliding friction force (> 0)
     double stiffness = 0;       ///< sigma0, contact (bristle) stiffness (Dahl, LuGre; > 0);
@@ -56,20 +66,29 @@ struct Contact {
     double lagrangian_penalty = 0;
 };
 
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
 /// A linear structure with friction contacts under harmonic excitation F cos(omega t).
 struct System {
-    Eigen::MatrixXd mass;        ///< M, symmetric positive definite
-    Eigen::MatrixXd damping;     ///< C, symmetric positive semi-definite (may be zero)
-    Eigen::MatrixXd stiffness;   ///< K, symmetric
+    SparseMatrix mass;           ///< M, symmetric positive semi-definite (massless DOFs allowed)
+    SparseMatrix damping;        ///< C, symmetric (may be empty: zero)
+    SparseMatrix stiffness;      ///< K, symmetric
     Eigen::VectorXd excitation;  ///< F, amplitude of the force F cos(omega t)
     std::vector<Contact> contacts;
 
     int dofs() const { return static_cast<int>(mass.rows()); }
     /// w_c: the relative displacement of contact c is q_c = w_c^T y.
     Eigen::VectorXd contact_direction(const Contact& contact) const;
-    /// Throws InvalidInput when dimensions, symmetry or contact parameters are wrong.
+    /// Throws InvalidInput when dimensions, symmetry or contact parameters are wrong. M must be
+    /// positive semi-definite (checked by a sparse LDL^T); see has_positive_definite_mass.
     void validate() const;
+    /// True when M is positive definite (no massless DOF): required by time integration and the
+    /// event-exact solver, which integrate M y'' = ...
+    bool has_positive_definite_mass() const;
 };
+
+/// A dense matrix as the model's sparse type (exact zeros are not stored).
+SparseMatrix sparse(const Eigen::MatrixXd& dense);
 
 /// The dynamic stiffness K - omega^2 M + i omega C.
 Eigen::MatrixXcd dynamic_stiffness(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,

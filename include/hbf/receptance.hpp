@@ -49,8 +49,11 @@ public:
         Eigen::VectorXcd contact_load_omega;  ///< its derivative in omega
         Eigen::MatrixXcd output;            ///< T Z_k^-1 W (n_o x n_c)
         Eigen::VectorXcd output_load;       ///< T Z_k^-1 F
+        Eigen::MatrixXcd solution;          ///< Z_k^-1 [W, F] (N x (n_c + 1), F only with load)
     };
-    /// k >= 0, omega > 0 (throws InvalidInput otherwise). With `load` false the F terms are
+    /// Models up to this many DOFs are solved by a dense LU, larger ones by a sparse LU.
+    static constexpr int dense_limit = 64;
+    /// k >= 0, omega > 0 (throws InvalidInput otherwise; omega is not used at k = 0). With `load` false the F terms are
     /// left empty (harmonics the excitation does not drive).
     Harmonic solve(int k, double omega, bool load = true) const;
 

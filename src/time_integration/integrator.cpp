@@ -27,7 +27,7 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
     : system_(system), omega_(omega), period_(2.0 * pi / omega), options_(options), n_(system.dofs()),
       nc_(static_cast<int>(system.contacts.size())), length_(4 * n_ + nc_ + 3), quad_(2 * n_ + nc_) {
     for (const Contact& c : system.contacts) contacts_.emplace_back(c);
-    minv_ = system.mass.llt().solve(Eigen::MatrixXd::Identity(n_, n_));
+    minv_ = Eigen::MatrixXd(system.mass).llt().solve(Eigen::MatrixXd::Identity(n_, n_));
     excitation_ = system.excitation;
     mode_.assign(static_cast<std::size_t>(nc_), 0);
     f_ = Eigen::VectorXd::Zero(nc_);
@@ -104,7 +104,7 @@ void Integrator::rebuild_stuck_set() {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
         if (k.law == FrictionLaw::coulomb && mode_[static_cast<std::size_t>(c)] == 0) {
             stuck_.push_back(c);
-            if (k.b == Contact::ground) ground_stuck_dof_[static_cast<std::size_t>(k.a)] = 1;
+            if (k.w.size() == 0 && k.b == Contact::ground) ground_stuck_dof_[static_cast<std::size_t>(k.a)] = 1;
         }
     }
     const int m = static_cast<int>(stuck_.size());

@@ -31,12 +31,17 @@ struct ContactData {
     double stribeck = 0;     // v_s (0: none)
     double eps = 0;          // tanh velocity scale
 
+    Eigen::VectorXd w;       // a general force direction (empty: the DOF pair a, b)
+
     explicit ContactData(const Contact& c)
         : law(c.law), a(c.dof), b(c.other_dof), limit(c.friction_limit), stiffness(c.stiffness),
           damping(c.damping), viscous(c.viscous), static_limit(c.static_limit), stribeck(c.stribeck_velocity),
-          eps(c.regularization) {}
+          eps(c.regularization), w(c.direction) {}
 
-    double relative(const double* y) const { return y[a] - (b == Contact::ground ? 0.0 : y[b]); }
+    double relative(const double* y) const {
+        if (w.size() > 0) return w.dot(Eigen::Map<const Eigen::VectorXd>(y, w.size()));
+        return y[a] - (b == Contact::ground ? 0.0 : y[b]);
+    }
     /// LuGre's sliding limit g(v) (F_c for Dahl and without Stribeck curve).
     double sliding_limit(double v) const {
         if (law != FrictionLaw::lugre || stribeck <= 0.0 || static_limit <= 0.0) return limit;
