@@ -58,7 +58,16 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     }
 
     // The formulation: condensed needs a contact and an invertible static stiffness Z_0 = K.
-    if (options.formulation != Formulation::full && nc > 0) {
+    // Automatic keeps small undamped structures full: there Z_k is exactly singular wherever
+    // k omega meets a natural frequency (omega = 0.5 for Den Hartog's oscillator at k = 2),
+    // which the full formulation's Jacobian passes through.
+    bool damped = false;
+    for (int j = 0; j < system_.damping.outerSize() && !damped; ++j)
+        for (SparseMatrix::InnerIterator it(system_.damping, j); it; ++it) damped = damped || it.value() != 0.0;
+    const bool condense = options.formulation == Formulation::condensed ||
+                          (options.formulation == Formulation::automatic &&
+                           (damped || system_.dofs() > Receptance::dense_limit));
+    if (condense && nc > 0) {
         Eigen::MatrixXd w(system_.dofs(), nc);
         for (int c = 0; c < nc; ++c) w.col(c) = directions_[static_cast<std::size_t>(c)];
         auto receptance = std::make_unique<Receptance>(system_.mass, system_.damping, system_.stiffness, w,
@@ -77,7 +86,7 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
                                       : h0.message) +
                                "; allowed: formulation = full");
         }
-    } else if (options.formulation == Formulation::condensed) {
+    } else if (options.formulation == Formulation::condensed && nc == 0) {
         throw InvalidInput("formulation = condensed needs at least one contact: allowed full for a linear system");
     }
     if (!condensed_ && !system_.has_positive_definite_mass() && system_.dofs() > 0) {

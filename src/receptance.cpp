@@ -42,9 +42,39 @@ Receptance::Receptance(Eigen::SparseMatrix<double> mass, Eigen::SparseMatrix<dou
     if (!finite(mass_) || !finite(damping_) || !finite(stiffness_) || !directions_.allFinite() ||
         !excitation_.allFinite() || !outputs_.allFinite())
         throw InvalidInput("the structure's matrices and vectors must be finite (a NaN or infinity was given)");
+    // The union pattern of K, M, C (every stored entry), and each matrix's values on it.
+    std::vector<Eigen::Triplet<double>> entries;
+    for (const Eigen::SparseMatrix<double>* m : {&stiffness_, &mass_, &damping_})
+        for (int j = 0; j < m->outerSize(); ++j)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(*m, j); it; ++it)
+                entries.emplace_back(static_cast<int>(it.row()), j, 1.0);
+    Eigen::SparseMatrix<double> pattern(n, n);
+    pattern.setFromTriplets(entries.begin(), entries.end());
+    pattern.makeCompressed();
+    auto values_on_pattern = [&](const Eigen::SparseMatrix<double>& m) {  // m is compressed (above)
+        Eigen::VectorXd v = Eigen::VectorXd::Zero(pattern.nonZeros());
+        for (int j = 0; j < n; ++j) {
+            int p = pattern.outerIndexPtr()[j];
+            for (int q = m.outerIndexPtr()[j]; q < m.outerIndexPtr()[j + 1]; ++q) {
+                while (pattern.innerIndexPtr()[p] < m.innerIndexPtr()[q]) ++p;  // the row is in the pattern
+                v(p) += m.valuePtr()[q];
+            }
+        }
+        return v;
+    };
+    k_values_ = values_on_pattern(stiffness_);
+    m_values_ = values_on_pattern(mass_);
+    c_values_ = values_on_pattern(damping_);
+    z_ = pattern.cast<Complex>();
+    z_.makeCompressed();
+    dz_ = z_;
+    if (dofs() > dense_limit) {
+        lu_ = std::make_unique<Eigen::SparseLU<SparseComplex>>();
+        lu_->analyzePattern(z_);
+    }
 }
 
-Receptance::Harmonic Receptance::solve(int k, double omega, bool load) const {
+Receptance::Harmonic Receptance::solve(int k, double omega, bool load) {
     if (k < 0) throw InvalidInput("harmonic k = " + std::to_string(k) + " is out of range: allowed k >= 0");
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
@@ -52,11 +82,16 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load) const {
     h.k = k;
     h.omega = omega;
     const double kw = k * omega;
-    // Z_k and dZ_k/domega, sparse.
-    const SparseComplex z = stiffness_.cast<Complex>() - Complex(kw * kw, 0.0) * mass_.cast<Complex>() +
-                            Complex(0.0, kw) * damping_.cast<Complex>();
-    const SparseComplex dz = Complex(-2.0 * k * k * omega, 0.0) * mass_.cast<Complex>() +
-                             Complex(0.0, static_cast<double>(k)) * damping_.cast<Complex>();
+    // Z_k and dZ_k/domega = -2 k^2 omega M + i k C, on the union pattern.
+    {
+        Eigen::Map<Eigen::VectorXcd> z(z_.valuePtr(), z_.nonZeros()), dz(dz_.valuePtr(), dz_.nonZeros());
+        z.real() = k_values_ - kw * kw * m_values_;
+        z.imag() = kw * c_values_;
+        dz.real() = -2.0 * k * k * omega * m_values_;
+        dz.imag() = static_cast<double>(k) * c_values_;
+    }
+    const SparseComplex& z = z_;
+    const SparseComplex& dz = dz_;
     auto singular = [&] {
         return "singular dynamic stiffness Z_k = K - (k w)^2 M + i k w C at harmonic k = " + std::to_string(k) +
                " at w = " + format_number(omega) +
@@ -75,14 +110,14 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load) const {
         x = lu.solve(rhs);
         if (x.allFinite()) dx = -lu.solve(Eigen::MatrixXcd(dz * x));
     } else {
-        Eigen::SparseLU<SparseComplex> lu;
-        lu.analyzePattern(z);
+        Eigen::SparseLU<SparseComplex>& lu = *lu_;
         lu.factorize(z);
         if (lu.info() != Eigen::Success) {
             h.message = singular();
             return h;
         }
         x = lu.solve(rhs);
+        if (x.allFinite()) x += lu.solve(Eigen::MatrixXcd(rhs - z * x));  // one step of iterative refinement
         if (x.allFinite()) dx = -Eigen::MatrixXcd(lu.solve(Eigen::MatrixXcd(dz * x)));
     }
     // A factorisation that succeeded on a numerically singular Z_k shows in the residual.

@@ -57,7 +57,7 @@ Eigen::MatrixXcd dense_z(const Chain& s, int k, double omega) {
 TEST_CASE("Receptance G_k = W^T Z_k^-1 W, the loads and the outputs equal a dense solve", "[receptance]") {
     for (const std::vector<int>& massless : {std::vector<int>{}, std::vector<int>{3, 7, 29}}) {
         const Chain s = chain(30, massless);
-        const Receptance r(s.m, s.c, s.k, s.w, s.f, s.t);
+        Receptance r(s.m, s.c, s.k, s.w, s.f, s.t);
         for (int k : {0, 1, 3}) {
             const double omega = 0.37;
             const Receptance::Harmonic h = r.solve(k, omega);
@@ -76,7 +76,7 @@ TEST_CASE("Receptance G_k = W^T Z_k^-1 W, the loads and the outputs equal a dens
 
 TEST_CASE("Receptance: the first harmonic's output load is the linear response of model.hpp", "[receptance]") {
     const Chain s = chain(12);
-    const Receptance r(s.m, s.c, s.k, s.w, s.f, Eigen::MatrixXd::Identity(12, 12));
+    Receptance r(s.m, s.c, s.k, s.w, s.f, Eigen::MatrixXd::Identity(12, 12));
     const Receptance::Harmonic h = r.solve(1, 0.8);
     REQUIRE(h.ok);
     const Eigen::VectorXcd y = linear_response(Eigen::MatrixXd(s.m), Eigen::MatrixXd(s.c), Eigen::MatrixXd(s.k), s.f, 0.8);
@@ -85,7 +85,7 @@ TEST_CASE("Receptance: the first harmonic's output load is the linear response o
 
 TEST_CASE("Receptance derivatives in omega equal central differences", "[receptance]") {
     const Chain s = chain(20, {5});
-    const Receptance r(s.m, s.c, s.k, s.w, s.f, s.t);
+    Receptance r(s.m, s.c, s.k, s.w, s.f, s.t);
     for (int k : {1, 2}) {
         const double omega = 0.61, d = 1e-6;
         const Receptance::Harmonic h = r.solve(k, omega), plus = r.solve(k, omega + d), minus = r.solve(k, omega - d);
@@ -101,13 +101,13 @@ TEST_CASE("Receptance: a singular Z_k is a status with a message, bad shapes are
     // 1 DOF, undamped, unit mass and stiffness: resonance at k w = 1.
     Eigen::SparseMatrix<double> one(1, 1), zero(1, 1);
     one.insert(0, 0) = 1.0;
-    const Receptance r(one, zero, one, Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Ones(1), Eigen::MatrixXd::Ones(1, 1));
+    Receptance r(one, zero, one, Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Ones(1), Eigen::MatrixXd::Ones(1, 1));
     const Receptance::Harmonic resonant = r.solve(2, 0.5);
     CHECK_FALSE(resonant.ok);
     CHECK_THAT(resonant.message, Catch::Contains("harmonic k = 2"));
     CHECK(r.solve(1, 0.5).ok);
     // A free mass (K = 0): harmonic 0 has no static stiffness, the others are fine.
-    const Receptance free(one, zero, zero, Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Ones(1), Eigen::MatrixXd::Ones(1, 1));
+    Receptance free(one, zero, zero, Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Ones(1), Eigen::MatrixXd::Ones(1, 1));
     CHECK_FALSE(free.solve(0, 1.0).ok);
     CHECK(free.solve(1, 1.0).ok);
     CHECK_THROWS_AS(r.solve(-1, 1.0), InvalidInput);

@@ -44,7 +44,9 @@ namespace hbf {
 
 /// How the linear structure enters the unknowns (see the top of this file).
 enum class Formulation {
-    automatic,  ///< condensed when the system has contacts and K is invertible, else full
+    automatic,  ///< condensed when the system has contacts, K is invertible and it is damped
+                ///< or larger than Receptance::dense_limit DOFs; else full (an undamped small
+                ///< structure has Z_k exactly singular where k omega meets a natural frequency)
     full,       ///< every DOF's coefficients are unknowns (dense; small systems, tests)
     condensed,  ///< the contacts' relative displacements only (any size; needs K invertible)
 };

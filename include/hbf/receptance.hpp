@@ -20,6 +20,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <complex>
+#include <memory>
 #include <string>
 
 namespace hbf {
@@ -51,16 +52,24 @@ public:
         Eigen::VectorXcd output_load;       ///< T Z_k^-1 F
         Eigen::MatrixXcd solution;          ///< Z_k^-1 [W, F] (N x (n_c + 1), F only with load)
     };
-    /// Models up to this many DOFs are solved by a dense LU, larger ones by a sparse LU.
-    static constexpr int dense_limit = 64;
+    /// Models up to this many DOFs are solved by a dense LU, larger ones by a sparse LU (its
+    /// symbolic analysis done once: Z_k has the pattern of K + M + C for every k).
+    static constexpr int dense_limit = 16;
     /// k >= 0, omega > 0 (throws InvalidInput otherwise; omega is not used at k = 0). With `load` false the F terms are
-    /// left empty (harmonics the excitation does not drive).
-    Harmonic solve(int k, double omega, bool load = true) const;
+    /// left empty (harmonics the excitation does not drive). Not thread-safe: one Receptance
+    /// per thread (it keeps the sparse factorisation's workspace).
+    Harmonic solve(int k, double omega, bool load = true);
 
 private:
+    using SparseComplex = Eigen::SparseMatrix<std::complex<double>>;
     Eigen::SparseMatrix<double> mass_, damping_, stiffness_;
     Eigen::MatrixXd directions_, outputs_;
     Eigen::VectorXd excitation_;
+    // Z_k = K - (k w)^2 M + i k w C on the union pattern of K, M, C: the values of K, M, C at
+    // the pattern's entries (zeros where a matrix has none), and the matrix whose values are set.
+    SparseComplex z_, dz_;
+    Eigen::VectorXd k_values_, m_values_, c_values_;
+    std::unique_ptr<Eigen::SparseLU<SparseComplex>> lu_;  // analysed once (large models)
 };
 
 }  // namespace hbf

@@ -2,6 +2,7 @@
 // pseudo-arclength continuation, as CSV (+ optional JSON summary).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <memory>
@@ -24,7 +25,7 @@ namespace {
 struct FrfOptions {
     AbsorberFlags absorber;
     std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000", max_step = "1",
-                tolerance = "1e-9";
+                tolerance = "1e-9", formulation = "automatic";
     std::string at, out, summary, config, plot, overlay, overlay_out, exact;
     bool quiet = false;
 };
@@ -82,7 +83,12 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // With the polish, HB only supplies the branch and the starting guesses: H = 10 suffices
     // (measured: the same exact branch, peaks and transitions as H = 20, 3 times faster).
     if (exact) chosen.automatic_harmonics = 10;
-    const HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config);
+    HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config);
+    try {
+        hbo.formulation = parse_formulation(o.formulation);
+    } catch (const InvalidInput&) {
+        throw UsageError("--formulation = '" + o.formulation + "' is not known: allowed automatic, condensed, full");
+    }
     ContinuationOptions co;
     co.omega_start = parse_double("--wmin", o.wmin);
     co.omega_end = parse_double("--wmax", o.wmax);
@@ -109,7 +115,11 @@ int run(const CLI::App& command, const FrfOptions& o) {
         points.insert(points.end(), samples.begin(), samples.end());
     }
     const std::size_t sample_count = points.size() - branch.points.size();
-    Analyser analyse(hb);
+    // y_max of the reported DOFs, and of DOF 1 (the JSON summary's folds and transitions): on
+    // a large model only these are synthesised in time.
+    std::vector<int> analysed = report;
+    if (std::find(analysed.begin(), analysed.end(), 0) == analysed.end()) analysed.push_back(0);
+    Analyser analyse(hb, analysed);
     std::vector<PointMetrics> metrics;
     metrics.reserve(points.size());
     for (const SolutionPoint& point : points) metrics.push_back(analyse(point));
@@ -158,6 +168,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
                                                                     {"wmax", co.omega_end},
                                                                     {"harmonics", hb.harmonics()},
                                                                     {"time_samples", hb.time_samples()},
+                                                                    {"condensed", hb.formulation() == Formulation::condensed ? 1 : 0},
                                                                     {"max_amplitude", co.max_amplitude},
                                                                     {"tolerance", co.corrector.tolerance}};
         parameters.insert(parameters.end(), solver.begin(), solver.end());
@@ -227,6 +238,12 @@ Runner add_frf_command(CLI::App& app) {
                         "HB only supplies the branch and the starting guesses); without it 20 for coulomb (its error "
                         "falls like 1/H) and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins")
         ->capture_default_str()->type_name("INT");
+    command->add_option("--formulation", options->formulation,
+                        "how the linear structure enters harmonic balance: condensed (the unknowns are the contacts' "
+                        "relative displacements, the structure solved exactly per harmonic by a sparse LU: any model "
+                        "size), full (every DOF's coefficients: a dense Jacobian, small models), automatic (condensed "
+                        "for damped or larger than 16-DOF models with an invertible K, else full)")
+        ->capture_default_str()->type_name("automatic|condensed|full");
     command->add_option("--time-samples", options->time_samples,
                         "AFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "
                         ">= max(64, 8 (2H + 1))")

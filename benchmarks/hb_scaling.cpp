@@ -1,0 +1,163 @@
+// Benchmark: how the cost of one FRF grows with the model (issue 12). A finite-element-like
+// chain of N masses (a fixed-free bar of unit total mass and stiffness: masses 1/N, springs N,
+// so that its first mode stays at w1 = pi/2 whatever N), stiffness-proportional damping of 1 %
+// at w1, the force cos(w t) at the free end, and 1 to 4 exact Coulomb contacts to the ground
+// near the free end (friction limits 0.5, 0.4, 0.3, 0.2: stick-slip across the resonance).
+// Each case is one `hbf frf`-like continuation over w in [1.0, 2.2] at H harmonics, in a
+// child process so that its peak memory (ru_maxrss) is its own.
+//
+// Printed per case: N, contacts, H, the formulation (condensed, or full where it still runs),
+// unknowns, branch points, seconds per FRF and per point, peak memory, and the ratio
+// full / condensed in time. The last line is one JSON object with every case.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "hbf/continuation.hpp"
+#include "hbf/harmonic_balance.hpp"
+
+using namespace hbf;
+
+namespace {
+
+System chain(int n, int contacts) {
+    std::vector<Eigen::Triplet<double>> k, m;
+    const double spring = n, mass = 1.0 / n;
+    for (int i = 0; i < n; ++i) {
+        m.emplace_back(i, i, mass);
+        // Spring i joins DOF i - 1 (the wall for i = 0) and DOF i.
+        k.emplace_back(i, i, spring);
+        if (i > 0) {
+            k.emplace_back(i - 1, i - 1, spring);
+            k.emplace_back(i - 1, i, -spring);
+            k.emplace_back(i, i - 1, -spring);
+        }
+    }
+    System s;
+    s.mass.resize(n, n);
+    s.stiffness.resize(n, n);
+    s.mass.setFromTriplets(m.begin(), m.end());
+    s.stiffness.setFromTriplets(k.begin(), k.end());
+    const double w1 = M_PI / 2.0;
+    s.damping = (2.0 * 0.01 / w1) * s.stiffness;  // zeta = beta w / 2 = 1 % at w1
+    s.excitation = Eigen::VectorXd::Zero(n);
+    s.excitation(n - 1) = 1.0;
+    for (int c = 0; c < contacts; ++c) {
+        Contact contact;
+        contact.dof = n - 1 - c * std::max(1, n / 10);
+        contact.law = FrictionLaw::coulomb;
+        contact.friction_limit = 0.5 - 0.1 * c;
+        s.contacts.push_back(contact);
+    }
+    return s;
+}
+
+struct Case {
+    int dofs = 0, contacts = 1, harmonics = 10;
+    Formulation formulation = Formulation::condensed;
+};
+
+struct Result {
+    bool ran = false;
+    std::string status;
+    int unknowns = 0, points = 0;
+    double seconds = 0, peak_mb = 0;
+};
+
+/// Runs the case in a child process; its peak resident memory is measured by wait4.
+Result run(const Case& c) {
+    int fd[2];
+    if (pipe(fd) != 0) return {};
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        std::ostringstream line;
+        try {
+            HarmonicBalance hb(chain(c.dofs, c.contacts), HarmonicBalanceOptions{c.harmonics, 0, c.formulation});
+            ContinuationOptions o;
+            o.omega_start = 1.0;
+            o.omega_end = 2.2;
+            const BranchResult b = continue_branch(hb, o);
+            line << to_string(b.status) << ' ' << hb.unknowns() << ' ' << b.points.size() << ' ' << b.seconds;
+        } catch (const std::exception& e) {
+            line << "error 0 0 0";
+        }
+        const std::string text = line.str();
+        if (write(fd[1], text.data(), text.size()) < 0) _exit(2);
+        close(fd[1]);
+        _exit(0);
+    }
+    close(fd[1]);
+    std::string text;
+    char buffer[256];
+    for (ssize_t got; (got = read(fd[0], buffer, sizeof buffer)) > 0;) text.append(buffer, static_cast<std::size_t>(got));
+    close(fd[0]);
+    int status = 0;
+    struct rusage usage {};
+    wait4(pid, &status, 0, &usage);
+    Result r;
+    std::istringstream in(text);
+    r.ran = static_cast<bool>(in >> r.status >> r.unknowns >> r.points >> r.seconds);
+    r.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
+    return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"hb_scaling: time and memory of one FRF against the model size (condensed vs full harmonic balance)"};
+    std::vector<int> sizes = {10, 30, 100, 300, 1000, 3000, 10000};
+    std::vector<int> contact_counts = {1, 4};
+    std::vector<int> harmonics = {10, 20};
+    int full_limit = 100;
+    app.add_option("--dofs", sizes, "chain sizes N");
+    app.add_option("--contacts", contact_counts, "numbers of contacts (1..4)")->check(CLI::Range(1, 4));
+    app.add_option("--harmonics", harmonics, "H values");
+    app.add_option("--full-limit", full_limit, "largest N also run with the full (dense all-DOF) formulation");
+    CLI11_PARSE(app, argc, argv);
+
+    nlohmann::json cases = nlohmann::json::array();
+    std::printf("%7s %3s %3s %-9s %8s %6s %10s %12s %9s %10s  %s\n", "N", "n_c", "H", "form", "unknowns", "points",
+                "s/FRF", "ms/point", "peak MB", "full/cond", "status");
+    for (int h : harmonics)
+        for (int nc : contact_counts)
+            for (int n : sizes) {
+                if (nc * std::max(1, n / 10) >= n) continue;  // contacts must fit near the end
+                Result condensed;
+                for (Formulation f : {Formulation::condensed, Formulation::full}) {
+                    if (f == Formulation::full && n > full_limit) continue;
+                    const Result r = run({n, nc, h, f});
+                    if (f == Formulation::condensed) condensed = r;
+                    const double ratio = f == Formulation::full && r.ran && condensed.ran && condensed.seconds > 0
+                                             ? r.seconds / condensed.seconds
+                                             : NAN;
+                    std::printf("%7d %3d %3d %-9s %8d %6d %10.3f %12.3f %9.1f %10s  %s\n", n, nc, h, to_string(f).c_str(),
+                                r.unknowns, r.points, r.seconds, r.points > 0 ? 1e3 * r.seconds / r.points : NAN,
+                                r.peak_mb, std::isfinite(ratio) ? std::to_string(ratio).substr(0, 6).c_str() : "-",
+                                r.ran ? r.status.c_str() : "failed");
+                    std::fflush(stdout);
+                    cases.push_back({{"dofs", n},
+                                     {"contacts", nc},
+                                     {"harmonics", h},
+                                     {"formulation", to_string(f)},
+                                     {"unknowns", r.unknowns},
+                                     {"points", r.points},
+                                     {"seconds", r.seconds},
+                                     {"seconds_per_point", r.points > 0 ? r.seconds / r.points : 0.0},
+                                     {"peak_mb", r.peak_mb},
+                                     {"status", r.ran ? r.status : "failed"}});
+                }
+            }
+    std::cout << nlohmann::json{{"benchmark", "hb_scaling"}, {"cases", cases}}.dump() << '\n';
+    return 0;
+}

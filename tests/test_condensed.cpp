@@ -1,0 +1,252 @@
+// The condensed formulation of harmonic balance (harmonic_balance.hpp: the unknowns are the
+// contacts' relative displacements, the structure solved per harmonic by the receptance)
+// against the full all-DOF formulation, finite differences, an independent equivalent model
+// (a massless contact DOF behind a spring is a Jenkins element), and its errors.
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "cli_support.hpp"
+#include "hbf/continuation.hpp"
+#include "hbf/error.hpp"
+#include "hbf/event_exact.hpp"
+#include "hbf/harmonic_balance.hpp"
+#include "hbf/model.hpp"
+
+using namespace hbf;
+
+namespace {
+
+/// 4 DOFs, DOF 4 massless, damped; a Dahl contact between DOFs 1 and 2 and an exact Coulomb
+/// contact along the direction (0, 0.3, -0.5, 1) (force_direction).
+System four_dofs() {
+    Eigen::MatrixXd k(4, 4);
+    k << 3, -1, 0, 0, -1, 2.5, -1, 0, 0, -1, 2, -0.5, 0, 0, -0.5, 1.5;
+    System s;
+    s.mass = sparse(Eigen::Vector4d(1.0, 0.5, 0.8, 0.0).asDiagonal());
+    s.stiffness = sparse(k);
+    s.damping = 0.02 * s.stiffness;
+    s.excitation = Eigen::Vector4d(1.0, 0.0, 0.2, 0.0);
+    Contact dahl;
+    dahl.dof = 0;
+    dahl.other_dof = 1;
+    dahl.law = FrictionLaw::dahl;
+    dahl.friction_limit = 0.3;
+    dahl.stiffness = 2.0;
+    Contact coulomb;
+    coulomb.direction = Eigen::Vector4d(0.0, 0.3, -0.5, 1.0);
+    coulomb.law = FrictionLaw::coulomb;
+    coulomb.friction_limit = 0.2;
+    s.contacts = {dahl, coulomb};
+    return s;
+}
+
+/// A mass on a spring k1 (damper c) and, behind a spring k_t, a massless DOF held by exact
+/// Coulomb friction F_c to the ground: exactly a Jenkins element (k_t, F_c) on the mass.
+System massless_contact(double kt, double limit) {
+    Eigen::Matrix2d k;
+    k << 1.0 + kt, -kt, -kt, kt;
+    System s;
+    s.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
+    s.stiffness = sparse(k);
+    s.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
+    s.excitation = Eigen::Vector2d(1.0, 0.0);
+    Contact c;
+    c.dof = 1;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = limit;
+    s.contacts = {c};
+    return s;
+}
+
+System jenkins_equivalent(double kt, double limit) {
+    System s;
+    s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
+    s.stiffness = sparse(Eigen::MatrixXd::Identity(1, 1));
+    s.damping = sparse(Eigen::MatrixXd::Constant(1, 1, 0.05));
+    s.excitation = Eigen::VectorXd::Ones(1);
+    Contact c;
+    c.dof = 0;
+    c.law = FrictionLaw::jenkins;
+    c.stiffness = kt;
+    c.friction_limit = limit;
+    s.contacts = {c};
+    return s;
+}
+
+double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
+}
+
+/// Every DOF's coefficients at each omega of `omegas`, from a branch over [wmin, wmax].
+std::vector<Eigen::MatrixXd> sampled_dofs(const System& system, Formulation formulation, int harmonics,
+                                          const std::vector<double>& omegas, double wmin, double wmax) {
+    HarmonicBalance hb(system, HarmonicBalanceOptions{harmonics, 0, formulation});
+    REQUIRE(hb.formulation() == formulation);
+    ContinuationOptions o;
+    o.omega_start = wmin;
+    o.omega_end = wmax;
+    o.corrector.tolerance = 1e-12;
+    const BranchResult b = continue_branch(hb, o);
+    INFO(to_string(formulation) << ": " << b.summary());
+    REQUIRE(b.status == ContinuationStatus::completed);
+    const std::vector<SolutionPoint> samples = sample_branch(hb, b, omegas, o.corrector);
+    REQUIRE(samples.size() == omegas.size());
+    std::vector<Eigen::MatrixXd> y;
+    for (const SolutionPoint& p : samples) y.push_back(hb.dofs(p.x, p.omega));
+    return y;
+}
+
+}  // namespace
+
+TEST_CASE("Condensed and full Jacobians equal central finite differences (massless DOF, force direction, two laws)",
+          "[condensed]") {
+    // Exact Coulomb's residual is piecewise linear (stick/slip samples): central differences
+    // see its Jacobian unless a sample sits within h of a switch; 1e-5 relative as in
+    // test_harmonic_balance.cpp.
+    for (Formulation f : {Formulation::condensed, Formulation::full}) {
+        HarmonicBalance hb(four_dofs(), HarmonicBalanceOptions{4, 64, f});
+        REQUIRE(hb.formulation() == f);
+        const int contacts = 2, n = hb.coefficients();
+        // + Dahl's z and the Coulomb contact's force (the dynamic Lagrangian's unknown signal)
+        CHECK(hb.unknowns() == (f == Formulation::condensed ? contacts : 4) * n + 2 * n);
+        for (int state = 0; state < 3; ++state) {
+            const double omega = 0.7 + 0.3 * state;
+            std::mt19937 rng(5 + state);
+            std::normal_distribution<double> normal(0.0, 1.0);
+            Eigen::VectorXd x = hb.linear_guess(omega);
+            for (int k = 0; k < x.size(); ++k) x(k) += 0.3 * (state + 1) * normal(rng) / (1 + (k % n));
+            Eigen::VectorXd r, dr_domega, rp, rm;
+            Eigen::MatrixXd J;
+            hb.evaluate(x, omega, r, &J, &dr_domega);
+            Eigen::MatrixXd fd(x.size(), x.size());
+            const double h = 1e-6;
+            for (int k = 0; k < x.size(); ++k) {
+                Eigen::VectorXd xp = x, xm = x;
+                xp(k) += h;
+                xm(k) -= h;
+                hb.evaluate(xp, omega, rp);
+                hb.evaluate(xm, omega, rm);
+                fd.col(k) = (rp - rm) / (2 * h);
+            }
+            hb.evaluate(x, omega + h, rp);
+            hb.evaluate(x, omega - h, rm);
+            INFO(to_string(f) << ", state " << state);
+            CHECK(relative_error(J, fd) < 1e-5);
+            CHECK(relative_error(dr_domega, (rp - rm) / (2 * h)) < 1e-5);
+        }
+    }
+}
+
+TEST_CASE("Condensed and full harmonic balance give the same solutions to 1e-9 (massless DOF, two contacts)",
+          "[condensed]") {
+    // The same equations in other unknowns: solved to 1e-12, the DOFs' coefficients (the
+    // condensed ones recovered from the contact forces) agree to rounding, far below 1e-9.
+    const std::vector<double> omegas = {0.6, 0.9, 1.2, 1.5};
+    const System s = four_dofs();
+    const auto condensed = sampled_dofs(s, Formulation::condensed, 8, omegas, 0.5, 1.6);
+    const auto full = sampled_dofs(s, Formulation::full, 8, omegas, 0.5, 1.6);
+    for (std::size_t k = 0; k < omegas.size(); ++k) {
+        INFO("w = " << omegas[k]);
+        CHECK(relative_error(condensed[k], full[k]) < 1e-9);
+    }
+}
+
+TEST_CASE("A massless contact DOF behind a spring is a Jenkins element: condensed HB against the exact Jenkins orbit",
+          "[condensed]") {
+    // Independent reference: the event-exact periodic orbit of the 1-DOF Jenkins model (exact
+    // to rounding). HB with exact Coulomb (dynamic Lagrangian) errs like 1/H at stick-slip
+    // (the switching events are read off a truncated velocity): at H = 20, 1 % on y_max.
+    const double kt = 0.8, limit = 0.3;
+    const std::vector<double> omegas = {0.5, 0.9, 1.1, 1.6};
+    const auto y = sampled_dofs(massless_contact(kt, limit), Formulation::condensed, 20, omegas, 0.4, 1.8);
+    const System jenkins = jenkins_equivalent(kt, limit);
+    for (std::size_t k = 0; k < omegas.size(); ++k) {
+        const ExactOrbit orbit = exact_periodic_orbit(jenkins, omegas[k], Eigen::VectorXd::Zero(4));
+        INFO("w = " << omegas[k] << ": " << orbit.summary());
+        REQUIRE(orbit.converged);
+        // The mass's first-harmonic amplitude, which a 1/H error in the switching times barely
+        // moves, and its y_max bound |c0| + sum |Y_k| against the exact y_max.
+        const Eigen::VectorXd c = y[k].col(0);
+        const double amplitude = std::hypot(c(1), c(2));
+        CHECK(amplitude == Approx(std::abs(orbit.harmonic1(0))).epsilon(0.01));
+    }
+}
+
+TEST_CASE("Condensed formulation: singular static stiffness, a contact-free system and bad directions are errors",
+          "[condensed]") {
+    // A free mass (K = 0) held only by friction: Z_0 is singular, condensed is refused by
+    // name and automatic falls back to the full formulation.
+    System s = jenkins_equivalent(1.0, 0.3);
+    s.contacts[0].law = FrictionLaw::coulomb;
+    s.stiffness = SparseMatrix(1, 1);
+    CHECK_THROWS_WITH(HarmonicBalance(s, HarmonicBalanceOptions{4, 0, Formulation::condensed}),
+                      Catch::Contains("formulation = condensed") && Catch::Contains("singular"));
+    CHECK(HarmonicBalance(s, HarmonicBalanceOptions{4, 0, Formulation::automatic}).formulation() == Formulation::full);
+    System linear = jenkins_equivalent(1.0, 0.3);
+    linear.contacts.clear();
+    CHECK_THROWS_WITH(HarmonicBalance(linear, HarmonicBalanceOptions{4, 0, Formulation::condensed}),
+                      Catch::Contains("at least one contact"));
+    System bad = four_dofs();
+    bad.contacts[1].direction = Eigen::Vector3d(1.0, 0.0, 0.0);
+    CHECK_THROWS_WITH(bad.validate(), Catch::Contains("contact 2") && Catch::Contains("force_direction has 3 entries"));
+    bad.contacts[1].direction = Eigen::Vector4d::Zero();
+    CHECK_THROWS_WITH(bad.validate(), Catch::Contains("not all zero"));
+    bad = four_dofs();
+    bad.mass.coeffRef(3, 3) = -0.1;
+    CHECK_THROWS_WITH(bad.validate(), Catch::Contains("not positive semi-definite"));
+    // An undamped resonance hit exactly by harmonic 1: the residual is NaN with the reason,
+    // never a number passed off as a solution.
+    System undamped = massless_contact(0.8, 0.3);
+    undamped.damping = SparseMatrix(2, 2);
+    HarmonicBalance hb(undamped, HarmonicBalanceOptions{3, 0, Formulation::condensed});
+    Eigen::VectorXd r;
+    hb.evaluate(Eigen::VectorXd::Zero(hb.unknowns()), 1.0, r);  // w = 1: the mass's spring alone
+    CHECK(r.hasNaN());
+    CHECK_THAT(hb.structure_failure(), Catch::Contains("singular dynamic stiffness") && Catch::Contains("k = 1"));
+    // Time integration and the exact solver need M > 0: a clear error.
+    CHECK_THROWS_WITH(exact_periodic_orbit(massless_contact(0.8, 0.3), 1.0, Eigen::VectorXd::Zero(6)),
+                      Catch::Contains("mass matrix is singular"));
+}
+
+TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples on the shipped systems", "[condensed]") {
+    test::TempDir dir;
+    const std::string systems = std::string(HBF_SOURCE_DIR) + "/examples/systems/";
+    const std::string at = " --at 0.55,0.8,0.95,1.2,1.45 --exact off --tolerance 1e-11";
+    const std::vector<std::string> cases = {"--config " + systems + "chain3.toml",
+                                            "--config " + systems + "chain3_exact.toml",
+                                            // undamped: condensed cannot start at w = 0.5, where Z_2 is singular
+                                            "--config " + systems + "den_hartog.toml --wmin 0.52 --wmax 0.96",
+                                            "--law dahl",
+                                            "--law lugre",
+                                            "--law jenkins",
+                                            "--law coulomb-reg",
+                                            "--law coulomb"};
+    for (const std::string& c : cases) {
+        const test::Result condensed = test::run_hbf("frf " + c + at + " --formulation condensed", dir);
+        const test::Result full = test::run_hbf("frf " + c + at + " --formulation full", dir);
+        INFO(c << "\n" << condensed.err << full.err);
+        REQUIRE(condensed.exit_code == 0);
+        REQUIRE(full.exit_code == 0);
+        auto samples = [](const std::string& csv) {
+            std::vector<std::vector<std::string>> rows;
+            const auto all = test::parse_csv(csv);
+            const auto column = std::find(all.front().begin(), all.front().end(), "point") - all.front().begin();
+            for (const auto& row : all)
+                if (static_cast<long>(row.size()) > column && row[static_cast<std::size_t>(column)] == "sample") rows.push_back(row);
+            return rows;
+        };
+        const auto a = samples(condensed.out), b = samples(full.out);
+        REQUIRE(a.size() == b.size());
+        REQUIRE(a.size() >= 3);
+        const auto header = test::parse_csv(condensed.out).front();
+        for (std::size_t k = 0; k < a.size(); ++k)
+            for (std::size_t j = 0; j < header.size(); ++j)
+                if (header[j].find("_max") != std::string::npos || header[j].find("_amp1") != std::string::npos) {
+                    const double x = std::stod(a[k][j]), y = std::stod(b[k][j]);
+                    INFO("w = " << a[k][0] << " " << header[j]);
+                    CHECK(std::abs(x - y) <= 1e-9 * std::max(1.0, std::abs(y)));
+                }
+    }
+}
