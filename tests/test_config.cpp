@@ -188,6 +188,46 @@ TEST_CASE("Matrix Market: coordinate and array formats, general and symmetric", 
     expected(1, 0) = 0.0;
     CHECK(Eigen::MatrixXd(hbf::io::read_matrix_market(b.string())) == Eigen::MatrixXd(expected));
     CHECK_THROWS_WITH(hbf::io::read_matrix_market(c.string()), Catch::Contains("c.mtx:4") && Catch::Contains("index"));
+    // Read sparse: a 100,000 x 100,000 diagonal (dense: 80 GB) is 100,000 stored entries.
+    const fs::path big = dir.path / "big.mtx";
+    {
+        std::ofstream out(big);
+        out << "%%MatrixMarket matrix coordinate real symmetric\n100000 100000 100000\n";
+        for (int i = 1; i <= 100000; ++i) out << i << ' ' << i << " 2.5\n";
+    }
+    const hbf::SparseMatrix m = hbf::io::read_matrix_market(big.string());
+    CHECK(m.rows() == 100000);
+    CHECK(m.nonZeros() == 100000);
+    CHECK(m.coeff(99999, 99999) == 2.5);
+    // Hostile files: an entry twice (also mirrored in a symmetric file), data beyond the
+    // announced entries, and a device are refused by name.
+    const fs::path twice = dir.path / "twice.mtx", mirrored = dir.path / "mirrored.mtx", extra = dir.path / "extra.mtx";
+    write(twice, "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 2 4\n1 2 1\n");
+    write(mirrored, "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n2 1 4\n1 2 4\n");
+    write(extra, "%%MatrixMarket matrix coordinate real general\n2 2 1\n1 1 4\n2 2 3\n");
+    CHECK_THROWS_WITH(hbf::io::read_matrix_market(twice.string()), Catch::Contains("twice.mtx:4") && Catch::Contains("given twice"));
+    CHECK_THROWS_WITH(hbf::io::read_matrix_market(mirrored.string()), Catch::Contains("one triangle"));
+    CHECK_THROWS_WITH(hbf::io::read_matrix_market(extra.string()), Catch::Contains("extra.mtx:4") && Catch::Contains("more data"));
+    CHECK_THROWS_WITH(hbf::io::read_matrix_market("/dev/zero"), Catch::Contains("not a regular file"));
+}
+
+TEST_CASE("Config: force_direction contacts and vector excitation from Matrix Market; massless DOFs accepted", "[config]") {
+    TempDir dir;
+    write(dir.path / "f.mtx", "%%MatrixMarket matrix coordinate real general\n3 1 2\n1 1 1.0\n3 1 0.5\n");
+    const fs::path file = dir.path / "s.toml";
+    write(file, "[structure]\nmass = [1.0, 0.5, 0.0]\nstiffness = [[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.5]]\n"
+                "excitation = \"f.mtx\"\n[[contact]]\nforce_direction = [0.0, 1.0, -1.0]\nlaw = \"coulomb\"\n"
+                "friction_limit = 0.2\n");
+    const hbf::io::SystemConfig config = hbf::io::read_system_config(file.string());
+    CHECK(config.system.excitation == Eigen::Vector3d(1.0, 0.0, 0.5));
+    CHECK(config.system.contact_direction(config.system.contacts[0]) == Eigen::Vector3d(0.0, 1.0, -1.0));
+    CHECK(!config.system.has_positive_definite_mass());
+    write(file, "[structure]\nmass = [1.0, 1.0]\nstiffness = [1.0, 1.0]\nexcitation = [1.0, 0.0]\n[[contact]]\n"
+                "dof = 1\nforce_direction = [1.0, -1.0]\nlaw = \"coulomb\"\nfriction_limit = 0.2\n");
+    CHECK_THROWS_WITH(hbf::io::read_system_config(file.string()), Catch::Contains("force_direction") && Catch::Contains("together"));
+    write(file, "[structure]\nmass = [1.0, 1.0]\nstiffness = [1.0, 1.0]\nexcitation = [1.0, 0.0]\n[[contact]]\n"
+                "force_direction = [1.0, -1.0, 0.0]\nlaw = \"coulomb\"\nfriction_limit = 0.2\n");
+    CHECK_THROWS_WITH(hbf::io::read_system_config(file.string()), Catch::Contains("contact[1].force_direction") && Catch::Contains("3 entries"));
 }
 
 TEST_CASE("examples/systems/jenkins_negative_stiffness.toml: stable stick, unstable stick-slip in the CSV",
