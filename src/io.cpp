@@ -218,6 +218,8 @@ void write_frf_summary(std::ostream& out, const std::string& law,
     const EvaluationStatistics& e = branch.evaluation;
     j["solver"] = {{"corrections", branch.corrections},
                    {"failed_corrections", branch.failed_corrections},
+                   {"noise_limited_corrections", branch.corrector.noise_limited},
+                   {"rejected_jumps", branch.rejected_jumps},
                    {"iterations", iterations},
                    {"iterations_per_point", points.empty() ? 0.0 : double(iterations) / double(points.size())},
                    {"residual_evaluations", e.residuals},
