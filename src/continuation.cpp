@@ -248,10 +248,12 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             continue;
         }
         // The corrector moves on the hyperplane through the predicted point; a correction longer
-        // than the step itself (a turn beyond about 60 degrees) means it landed on another
-        // part of the branch, or another branch: a jump, never accepted while the step can shrink.
+        // than twice the step (the branch cannot turn that far within one step: a kink of a
+        // nonsmooth law moves the point by at most about the step) means it landed on another
+        // part of the branch, or another branch: a jump, never accepted while the step can
+        // shrink (measured: 1x rejected legitimate kinks of Jenkins branches, 60 % more points).
         const double correction = std::hypot(((xp - x) / x_scale - h * t.head(n)).norm(), wp - omega - h * t(n));
-        if (correction > h && h > o.min_step * 2.0) {
+        if (correction > 2.0 * h && h > o.min_step * 2.0) {
             ++result.rejected_jumps;
             h *= 0.5;
             continue;

@@ -57,21 +57,30 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
         models_.push_back(make_friction_model(c));
     }
 
-    // The formulation: condensed needs a contact and an invertible static stiffness Z_0 = K.
-    // Automatic keeps small undamped structures full: there Z_k is exactly singular wherever
-    // k omega meets a natural frequency (omega = 0.5 for Den Hartog's oscillator at k = 2),
-    // which the full formulation's Jacobian passes through.
-    bool damped = false;
-    for (int j = 0; j < system_.damping.outerSize() && !damped; ++j)
-        for (SparseMatrix::InnerIterator it(system_.damping, j); it; ++it) damped = damped || it.value() != 0.0;
-    const bool condense = options.formulation == Formulation::condensed ||
-                          (options.formulation == Formulation::automatic &&
-                           (damped || system_.dofs() > Receptance::dense_limit));
-    if (condense && nc > 0) {
+    // The condensed formulation solves the structure with a spring kappa_c and a damper delta_c
+    // added along each contact direction (and subtracted from its friction force, so that the
+    // equations are unchanged): Z'_k = Z_k + sum_c (kappa_c + i k w delta_c) w_c w_c^T is then
+    // regular wherever the contacts move, also at an undamped resonance of the free structure
+    // hit exactly by a harmonic, and at k = 0 for a rigid-body mode the contacts hold.
+    // kappa_c = w^T K w and delta_c = sqrt(kappa_c w^T M w): the contact direction's own
+    // stiffness and impedance (as the dynamic Lagrangian's automatic epsilon).
+    if (options.formulation != Formulation::full && nc > 0) {
         Eigen::MatrixXd w(system_.dofs(), nc);
-        for (int c = 0; c < nc; ++c) w.col(c) = directions_[static_cast<std::size_t>(c)];
-        auto receptance = std::make_unique<Receptance>(system_.mass, system_.damping, system_.stiffness, w,
-                                                       system_.excitation, Eigen::MatrixXd(0, system_.dofs()));
+        shift_stiffness_.resize(nc);
+        shift_damping_.resize(nc);
+        SparseMatrix stiffness = system_.stiffness, damping = system_.damping;
+        for (int c = 0; c < nc; ++c) {
+            w.col(c) = directions_[static_cast<std::size_t>(c)];
+            const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(c)];
+            const double k = d.dot(system_.stiffness * d), m = d.dot(system_.mass * d), v = d.dot(system_.damping * d);
+            shift_stiffness_(c) = std::max(k, 0.0);
+            shift_damping_(c) = k > 0.0 && m > 0.0 ? std::sqrt(k * m) : std::max(v, 0.0);
+            const SparseMatrix ww = sparse(d * d.transpose());
+            stiffness += shift_stiffness_(c) * ww;
+            damping += shift_damping_(c) * ww;
+        }
+        auto receptance = std::make_unique<Receptance>(system_.mass, damping, stiffness, w, system_.excitation,
+                                                       Eigen::MatrixXd(0, system_.dofs()));
         Receptance::Harmonic h0 = receptance->solve(0, 1.0, false);
         const bool usable = h0.ok && (h0.contact.real().diagonal().array() > 0.0).all();
         if (usable) {
@@ -81,7 +90,7 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
             harmonic_.resize(static_cast<std::size_t>(harmonics() + 1));
             harmonic_[0] = std::move(h0);
         } else if (options.formulation == Formulation::condensed) {
-            throw InvalidInput("formulation = condensed needs an invertible static stiffness K (harmonic 0): " +
+            throw InvalidInput("formulation = condensed needs a regular static problem (harmonic 0): " +
                                (h0.ok ? std::string("a contact direction has no static flexibility")
                                       : h0.message) +
                                "; allowed: formulation = full");
@@ -89,15 +98,24 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     } else if (options.formulation == Formulation::condensed && nc == 0) {
         throw InvalidInput("formulation = condensed needs at least one contact: allowed full for a linear system");
     }
-    if (!condensed_ && !system_.has_positive_definite_mass() && system_.dofs() > 0) {
-        // The full formulation is algebraic and accepts massless DOFs, as long as its Jacobian
-        // is regular (checked by the corrector); nothing to do here.
-    }
     unknowns_ = (condensed_ ? nc : system_.dofs()) * n;
     for (const auto& model : models_) {
         state_offset_.push_back(model->state_signals() > 0 ? unknowns_ : -1);
         unknowns_ += model->state_signals() * n;
     }
+}
+
+void HarmonicBalance::shift_force(int c, double omega, const Eigen::VectorXd& q, FrictionEvaluation& e,
+                                  bool jacobian) const {
+    // f' = f - kappa q - delta q' (the spring and damper the condensed structure carries).
+    const double kappa = shift_stiffness_(c), delta = shift_damping_(c);
+    const Eigen::MatrixXd& D1 = fourier_.derivative();
+    const Eigen::VectorXd dq = D1 * q;
+    e.force -= kappa * q + delta * omega * dq;
+    if (!jacobian) return;
+    e.force_q -= delta * omega * D1;
+    e.force_q.diagonal().array() -= kappa;
+    e.force_omega -= delta * dq;
 }
 
 double HarmonicBalance::unknown_scale(const Eigen::VectorXd& x) const {
@@ -163,6 +181,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
     Eigen::MatrixXd forces(n, nc);
     for (int c = 0; c < nc; ++c) {
         models_[static_cast<std::size_t>(c)]->evaluate(fourier_, omega, relative(x, c), state(x, c), scratch_, false);
+        shift_force(c, omega, relative(x, c), scratch_, false);
         forces.col(c) = scratch_.force;
     }
     y.row(0) = -(harmonic_[0].solution.leftCols(nc).real() * forces.row(0).transpose()).transpose();
@@ -249,6 +268,7 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
         const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
         FrictionEvaluation& e = scratch_;
         models_[static_cast<std::size_t>(d)]->evaluate(fourier_, omega, q, z, e, want_jacobian);
+        shift_force(d, omega, q, e, want_jacobian);
         const double model_seconds = watch.lap();
         statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
         statistics_.jacobian_seconds += e.jacobian_seconds;
@@ -383,7 +403,9 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
             for (int c = 0; c < nc; ++c)
                 for (int d = 0; d < nc; ++d) {
                     const auto dd = static_cast<std::size_t>(d);
-                    a(c, d) = rigid[dd] ? h.contact(c, d) : h.contact(c, d) * element[dd] + (c == d ? 1.0 : 0.0);
+                    // Lambda' = Lambda - (kappa + i w delta) Q (the shifted structure's force)
+                    const Complex shift(shift_stiffness_(d), omega * shift_damping_(d));
+                    a(c, d) = rigid[dd] ? h.contact(c, d) : h.contact(c, d) * (element[dd] - shift) + (c == d ? 1.0 : 0.0);
                 }
             const Eigen::VectorXcd u = a.fullPivLu().solve(h.contact_load);
             for (int c = 0; c < nc; ++c) {

@@ -196,13 +196,29 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
     bad = four_dofs();
     bad.mass.coeffRef(3, 3) = -0.1;
     CHECK_THROWS_WITH(bad.validate(), Catch::Contains("not positive semi-definite"));
-    // An undamped resonance hit exactly by harmonic 1: the residual is NaN with the reason,
-    // never a number passed off as a solution.
+    // An undamped resonance of the free structure hit exactly is regular: the condensed
+    // structure carries the contact's spring and damper (subtracted from the friction force).
     System undamped = massless_contact(0.8, 0.3);
     undamped.damping = SparseMatrix(2, 2);
-    HarmonicBalance hb(undamped, HarmonicBalanceOptions{3, 0, Formulation::condensed});
+    HarmonicBalance shifted(undamped, HarmonicBalanceOptions{3, 0, Formulation::condensed});
     Eigen::VectorXd r;
-    hb.evaluate(Eigen::VectorXd::Zero(hb.unknowns()), 1.0, r);  // w = 1: the mass's spring alone
+    shifted.evaluate(Eigen::VectorXd::Zero(shifted.unknowns()), 1.0, r);  // w = 1: the mass on k1 alone
+    CHECK(r.allFinite());
+    // A mode that no contact moves, undamped and hit exactly by harmonic 1 (DOF 1 alone on its
+    // spring, the contact on DOF 2): the residual is NaN with the reason, never a number
+    // passed off as a solution.
+    System apart;
+    apart.mass = sparse(Eigen::Matrix2d::Identity());
+    apart.stiffness = sparse(Eigen::Vector2d(1.0, 4.0).asDiagonal());
+    apart.damping = SparseMatrix(2, 2);
+    apart.excitation = Eigen::Vector2d(1.0, 1.0);
+    Contact c;
+    c.dof = 1;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = 0.3;
+    apart.contacts = {c};
+    HarmonicBalance hb(apart, HarmonicBalanceOptions{3, 0, Formulation::condensed});
+    hb.evaluate(Eigen::VectorXd::Zero(hb.unknowns()), 1.0, r);
     CHECK(r.hasNaN());
     CHECK_THAT(hb.structure_failure(), Catch::Contains("singular dynamic stiffness") && Catch::Contains("k = 1"));
     // Time integration and the exact solver need M > 0: a clear error.

@@ -44,9 +44,8 @@ namespace hbf {
 
 /// How the linear structure enters the unknowns (see the top of this file).
 enum class Formulation {
-    automatic,  ///< condensed when the system has contacts, K is invertible and it is damped
-                ///< or larger than Receptance::dense_limit DOFs; else full (an undamped small
-                ///< structure has Z_k exactly singular where k omega meets a natural frequency)
+    automatic,  ///< condensed when the system has contacts and the shifted static problem is
+                ///< regular, else full
     full,       ///< every DOF's coefficients are unknowns (dense; small systems, tests)
     condensed,  ///< the contacts' relative displacements only (any size; needs K invertible)
 };
@@ -134,6 +133,8 @@ private:
                        Eigen::VectorXd* jacobian_omega);
     void evaluate_condensed(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                             Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega);
+    /// Contact c's force minus the spring and damper of the shifted structure (constructor).
+    void shift_force(int c, double omega, const Eigen::VectorXd& q, FrictionEvaluation& e, bool jacobian) const;
     /// The receptance of harmonics 0..H at omega (cached for the last omega); false when a
     /// Z_k is singular there (structure_failure_ says which).
     bool prepare_receptance(double omega);
@@ -148,6 +149,7 @@ private:
     std::vector<Receptance::Harmonic> harmonic_;  // per k = 0..H at receptance_omega_
     double receptance_omega_ = -1.0;
     Eigen::VectorXd static_flexibility_;          // G_0,cc
+    Eigen::VectorXd shift_stiffness_, shift_damping_;  // kappa_c, delta_c
     Eigen::MatrixXd row_scale_, row_scale_omega_; // 1 / |G_k,cc| and its omega-derivative ((H+1) x n_c)
     std::string structure_failure_;
     std::vector<std::unique_ptr<FrictionModel>> models_;
