@@ -277,6 +277,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         SolutionPoint p = make_point(wp, xp, it, res, h);
         if (t_new(n) * t(n) < 0.0) p.kind = PointKind::fold;
         out.points.push_back(p);
+        if (o.progress) o.progress(wp, static_cast<int>(result.points.size() + out.points.size()));
         x = xp;
         omega = wp;
         t = t_new;

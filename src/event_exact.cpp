@@ -467,6 +467,10 @@ Eigen::VectorXd state_at(const std::vector<Step>& steps, double t) {
 
 void validate_system(const System& system, double omega) {
     system.validate();
+    if (system.dofs() > exact_solver_max_dofs)
+        throw InvalidInput("the system has " + std::to_string(system.dofs()) + " DOFs: the exact solver is dense (cost ~ N^3 "
+                           "per step, steps as short as the fastest mode) and allowed up to " +
+                           std::to_string(exact_solver_max_dofs) + " DOFs");
     if (!system.has_positive_definite_mass())
         throw InvalidInput("the mass matrix is singular (massless DOFs): the exact solver integrates M y'' = ... and needs "
                            "M positive definite (use harmonic balance, hbf frf --exact off)");
@@ -727,7 +731,7 @@ double permanent_stick_load(const System& system, double omega) {
 }
 
 bool exact_solver_supports(const System& system) {
-    if (!system.has_positive_definite_mass()) return false;
+    if (system.dofs() > exact_solver_max_dofs || !system.has_positive_definite_mass()) return false;
     for (const Contact& c : system.contacts)
         if (c.law != FrictionLaw::coulomb && c.law != FrictionLaw::jenkins) return false;
     return true;

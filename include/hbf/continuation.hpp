@@ -15,6 +15,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,6 +52,9 @@ struct ContinuationOptions {
                                   ///< and if that caps too, a third in the middle of the gap
                                   ///< between the two caps, followed both ways
     CorrectorOptions corrector;
+    /// Called after each accepted branch point with its omega and the number of points so far
+    /// (all branches): a progress display. May be empty; it must not throw.
+    std::function<void(double omega, int points)> progress;
 };
 
 enum class PointKind { regular, fold, sample, transition };

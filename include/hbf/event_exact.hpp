@@ -139,7 +139,11 @@ struct ExactOrbit {
     std::string summary() const;
 };
 
-/// True when every contact is exact Coulomb or Jenkins (the laws this solver covers).
+/// The exact solver's flows are dense (cost ~ N^3 per Taylor step, steps as short as 1 / the
+/// fastest mode): models up to this many DOFs. Finite-element models need a modal form first.
+constexpr int exact_solver_max_dofs = 64;
+/// True when every contact is exact Coulomb or Jenkins (the laws this solver covers), M is
+/// positive definite and the model has at most exact_solver_max_dofs DOFs.
 bool exact_solver_supports(const System& system);
 
 /// The load of the permanent-stick state (the convention above) at omega: max over the contacts

@@ -62,6 +62,8 @@ public:
 
 private:
     using SparseComplex = Eigen::SparseMatrix<std::complex<double>>;
+    /// b - Z_k x, with Z_k's entries and the products in long double (iterative refinement).
+    Eigen::MatrixXcd precise_residual(int k, double omega, const Eigen::MatrixXcd& rhs, const Eigen::MatrixXcd& x) const;
     Eigen::SparseMatrix<double> mass_, damping_, stiffness_;
     Eigen::MatrixXd directions_, outputs_;
     Eigen::VectorXd excitation_;

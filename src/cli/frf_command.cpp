@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -28,6 +29,35 @@ struct FrfOptions {
                 tolerance = "1e-9", formulation = "automatic";
     std::string at, out, summary, config, plot, overlay, overlay_out, exact;
     bool quiet = false;
+};
+
+/// A one-line progress display on a terminal's standard error: w reached, points, elapsed
+/// time; redrawn at most 4 times a second, erased when done.
+class ProgressLine {
+public:
+    explicit ProgressLine(bool enabled) : enabled_(enabled), start_(std::chrono::steady_clock::now()) {}
+    ~ProgressLine() { clear(); }
+    void update(double omega, int points) {
+        if (!enabled_) return;
+        const auto now = std::chrono::steady_clock::now();
+        if (shown_ && now - last_ < std::chrono::milliseconds(250)) return;
+        last_ = now;
+        shown_ = true;
+        const double seconds = std::chrono::duration<double>(now - start_).count();
+        std::fprintf(stderr, "\rhbf frf: w = %-12.6g %6d points %8.1f s", omega, points, seconds);
+        std::fflush(stderr);
+    }
+    void clear() {
+        if (!shown_) return;
+        std::fprintf(stderr, "\r\033[K");
+        std::fflush(stderr);
+        shown_ = false;
+    }
+
+private:
+    bool enabled_;
+    bool shown_ = false;
+    std::chrono::steady_clock::time_point start_, last_;
 };
 
 std::vector<double> parse_list(const std::string& flag, const std::string& text) {
@@ -78,8 +108,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
         throw UsageError("--exact = '" + o.exact + "' is not allowed: allowed on, off");
     const bool exact = o.exact.empty() ? exact_solver_supports(system) : o.exact == "on";
     if (exact && !exact_solver_supports(system))
-        throw UsageError("--exact on: the event-exact solver covers coulomb and jenkins contacts only, the law here is " +
-                         law_name + " (use --exact off)");
+        throw UsageError("--exact on: the event-exact solver covers coulomb and jenkins contacts only, on models of at most " +
+                         std::to_string(exact_solver_max_dofs) + " DOFs with a positive definite mass matrix; here: law " +
+                         law_name + ", " + std::to_string(system.dofs()) + " DOFs (use --exact off)");
     // With the polish, HB only supplies the branch and the starting guesses: H = 10 suffices
     // (measured: the same exact branch, peaks and transitions as H = 20, 3 times faster).
     if (exact) chosen.automatic_harmonics = 10;
@@ -107,7 +138,10 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // ones replace them.
     if (exact) co.locate_transitions = false;
     HarmonicBalance hb(system, hbo);
+    ProgressLine progress(!o.quiet && isatty(STDERR_FILENO));
+    co.progress = [&progress](double omega, int points) { progress.update(omega, points); };
     BranchResult branch = continue_branch(hb, co);  // validates the range options
+    progress.clear();
 
     std::vector<SolutionPoint> points = branch.points;
     if (!at.empty()) {
@@ -290,10 +324,13 @@ Runner add_frf_command(CLI::App& app) {
     command->add_option("--exact", options->exact,
                         "polish every branch point, sample, transition and peak by the event-exact periodic solver "
                         "(exact Coulomb and Jenkins: Newton shooting on closed-form flows between stick/slip events, "
-                        "Floquet stability), on or off [default: on for coulomb and jenkins contacts, off for the "
-                        "other laws; on with another law is an error]")
+                        "Floquet stability), on or off [default: on for coulomb and jenkins contacts on models of at most "
+                        "64 DOFs with a positive definite mass matrix, off otherwise (the exact solver is dense); on "
+                        "where it does not apply is an error]")
         ->type_name("on|off");
-    command->add_flag("--quiet", options->quiet, "no progress or summary line on standard error");
+    command->add_flag("--quiet", options->quiet,
+                      "no progress (on a terminal: w reached, points, elapsed time, redrawn 4 times a second) or "
+                      "summary line on standard error");
     std::string footer = "Output: CSV with a header row, one row per continuation point in branch order, then the "
                          "--at samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1 (with "
                          "--config: the file's units).\n"

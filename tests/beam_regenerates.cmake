@@ -1,0 +1,12 @@
+# Runs make_beam.py into WORK and compares every file with the shipped one in SOURCE.
+file(REMOVE_RECURSE ${WORK})
+execute_process(COMMAND ${PYTHON} ${SOURCE}/make_beam.py --elements 100 --out ${WORK} RESULT_VARIABLE status)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "make_beam.py failed: ${status}")
+endif()
+foreach(name beam200.toml beam200_mass.mtx beam200_stiffness.mtx beam200_damping.mtx)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/${name} ${SOURCE}/${name} RESULT_VARIABLE different)
+  if(different)
+    message(FATAL_ERROR "${name}: the shipped file differs from what make_beam.py writes")
+  endif()
+endforeach()
