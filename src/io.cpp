@@ -154,14 +154,21 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 }
 
 std::vector<Column> timeint_columns(int dofs) {
-    std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1)"}};
-    for (int i = 1; i <= dofs; ++i)
-        columns.push_back({"y" + std::to_string(i) + "_max",
-                           "max over the final period of |y" + std::to_string(i) +
+    std::vector<int> all(static_cast<std::size_t>(std::max(0, dofs)));
+    for (int i = 0; i < dofs; ++i) all[static_cast<std::size_t>(i)] = i;
+    return timeint_columns(all);
+}
+
+std::vector<Column> timeint_columns(const std::vector<int>& report) {
+    std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
+                                         "in the file's units)"}};
+    for (int d : report)
+        columns.push_back({"y" + std::to_string(d + 1) + "_max",
+                           "max over the final period of |y" + std::to_string(d + 1) +
                                "(t)| (turning points by root finding)"});
-    for (int i = 1; i <= dofs; ++i)
-        columns.push_back({"y" + std::to_string(i) + "_amp1",
-                           "first-harmonic amplitude sqrt(c1^2 + s1^2) of y" + std::to_string(i) +
+    for (int d : report)
+        columns.push_back({"y" + std::to_string(d + 1) + "_amp1",
+                           "first-harmonic amplitude sqrt(c1^2 + s1^2) of y" + std::to_string(d + 1) +
                                " over the final period"});
     const std::vector<Column> rest = {
         {"stick_fraction", "share of the final period contact 1 is in stick (coulomb, jenkins: exact event times; "
@@ -179,15 +186,16 @@ std::vector<Column> timeint_columns(int dofs) {
     return columns;
 }
 
-void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses, int dofs) {
-    const auto columns = timeint_columns(dofs);
+void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses,
+                       const std::vector<int>& report) {
+    const auto columns = timeint_columns(report);
     for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
     out << '\n';
     for (const PeriodicResponse& r : responses) {
         out << format_number(r.omega);
-        for (int i = 0; i < dofs; ++i)
+        for (int i : report)
             out << ',' << format_number(i < static_cast<int>(r.y_max.size()) ? r.y_max[static_cast<std::size_t>(i)] : 0.0);
-        for (int i = 0; i < dofs; ++i)
+        for (int i : report)
             out << ',' << format_number(i < static_cast<int>(r.y_amp1.size()) ? r.y_amp1[static_cast<std::size_t>(i)] : 0.0);
         out << ',' << format_number(r.stick_fraction) << ',' << (r.regime.empty() ? "none" : r.regime) << ','
             << format_number(r.energy) << ',' << r.periods << ',' << (r.converged ? "true" : "false") << ','

@@ -122,3 +122,21 @@ TEST_CASE("hbf timeint --method exact agrees with CVODE and refuses the smooth l
         CHECK_THAT(bad.err, Catch::Contains("--method exact"));
     }
 }
+
+TEST_CASE("hbf timeint --config writes the DOFs the file reports, as hbf frf does", "[cli][timeint]") {
+    // chain3.toml reports DOFs 1 and 3 ([output] report): timeint writes exactly those
+    // columns, as frf does (it used to write every DOF).
+    TempDir dir;
+    const std::string file = std::string(HBF_SOURCE_DIR) + "/examples/systems/chain3.toml";
+    const Result r = run_hbf("timeint --config '" + file + "' --w 1.0", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(r.out);
+    REQUIRE(rows.size() == 2);
+    CHECK(rows[0][1] == "y1_max");
+    CHECK(rows[0][2] == "y3_max");
+    CHECK(rows[0][3] == "y1_amp1");
+    CHECK(rows[0][4] == "y3_amp1");
+    const Result f = run_hbf("frf --config '" + file + "' --exact off --at 1.0", dir);
+    REQUIRE(f.exit_code == 0);
+    CHECK(parse_csv(f.out)[0][2] == "y3_max");
+}

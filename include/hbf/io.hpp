@@ -64,9 +64,13 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 /// (w, y<i>_max, y<i>_amp1, stick_fraction, regime, energy), then periods, converged and the
 /// diagnostics stick_margin_min, stick_margin_max, switches.
 std::vector<Column> timeint_columns(int dofs);
+/// The same for the DOFs `report` (0-based, in this order; as frf_columns(report)).
+std::vector<Column> timeint_columns(const std::vector<int>& report);
 
-/// Writes the header row and one row per response (time-integration steady states).
-void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses, int dofs);
+/// Writes the header row and one row per response (time-integration steady states), with the
+/// columns of the DOFs `report` (0-based, in this order).
+void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses,
+                       const std::vector<int>& report);
 
 /// Writes the JSON summary of an FRF run: the parameters (name, value; integral values are
 /// written as integers), the number of branch points and samples, solver statistics, the

@@ -213,7 +213,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     std::unique_ptr<io::OutputFile> overlay_file;
     if (!overlay.empty()) {
         overlay_file = std::make_unique<io::OutputFile>(overlay_out);
-        io::write_timeint_csv(overlay_file->stream(), overlay, system.dofs());
+        io::write_timeint_csv(overlay_file->stream(), overlay, report);
     }
     if (!o.plot.empty()) {
         io::PlotSpec spec = io::frf_plot(points, metrics, report.front(),

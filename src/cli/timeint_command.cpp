@@ -145,7 +145,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         state = responses.back().state;
     }
     if (progress) std::cerr << "\n";
-    io::write_timeint_csv(out.stream(), responses, system.dofs());
+    io::write_timeint_csv(out.stream(), responses, chosen.report);
     if (!o.plot.empty()) {
         io::PlotSpec spec;
         spec.title = title;
