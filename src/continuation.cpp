@@ -474,20 +474,33 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
 
 
 std::vector<SolutionPoint> sample_branch(HarmonicBalance& hb, const BranchResult& branch,
-                                         const std::vector<double>& omegas, const CorrectorOptions& options) {
+                                         const std::vector<double>& omegas, const CorrectorOptions& options,
+                                         std::vector<double>* missed) {
     Corrector corrector(hb, options);
+    CorrectorOptions patient_options = options;
+    patient_options.max_iterations = std::max(100, 5 * options.max_iterations);
+    Corrector patient(hb, patient_options);
     std::vector<SolutionPoint> samples;
     for (double omega : omegas) {
         std::vector<SolutionPoint> found;
+        // A frequency within rounding of a branch end (e.g. 3e-13 below wmin) is on the branch.
+        const double slack = 1e-9 * std::abs(omega);
         for (std::size_t k = 0; k + 1 < branch.points.size(); ++k) {
             const SolutionPoint& a = branch.points[k];
             const SolutionPoint& b = branch.points[k + 1];
-            if (a.branch != b.branch || (a.omega - omega) * (b.omega - omega) > 0.0) continue;
+            if (a.branch != b.branch || std::min(a.omega, b.omega) - slack > omega ||
+                std::max(a.omega, b.omega) + slack < omega)
+                continue;
             const double s = a.omega == b.omega ? 0.0 : (omega - a.omega) / (b.omega - a.omega);
             Eigen::VectorXd x = a.x + s * (b.x - a.x);
             const double x_scale = hb.unknown_scale(x);
             SolutionPoint p;
-            if (!corrector.solve_at(x, omega, x_scale, p.iterations, p.residual)) continue;
+            // From the interpolation, then with five times the iterations from the nearer
+            // branch point (as the continuation retries a failed correction).
+            if (!corrector.solve_at(x, omega, x_scale, p.iterations, p.residual)) {
+                x = std::abs(omega - a.omega) <= std::abs(omega - b.omega) ? a.x : b.x;
+                if (!patient.solve_at(x, omega, hb.unknown_scale(x), p.iterations, p.residual)) continue;
+            }
             const bool duplicate = std::any_of(found.begin(), found.end(), [&](const SolutionPoint& q) {
                 return (q.x - x).cwiseAbs().maxCoeff() <= 1e-7 * x_scale;
             });
@@ -498,6 +511,7 @@ std::vector<SolutionPoint> sample_branch(HarmonicBalance& hb, const BranchResult
             p.branch = a.branch;
             found.push_back(p);
         }
+        if (found.empty() && missed) missed->push_back(omega);
         samples.insert(samples.end(), found.begin(), found.end());
     }
     return samples;

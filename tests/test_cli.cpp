@@ -331,3 +331,16 @@ TEST_CASE("hbf frf polishes coulomb by default: exact rows, stability, HB gap; -
     for (std::size_t k = 1; k < plain.size(); ++k) CHECK(plain[k][13] == "off");
     CHECK_THAT(slurp(json), Catch::Contains("\"harmonics\": 20") && Catch::Contains("\"enabled\": false"));
 }
+
+TEST_CASE("hbf frf --at: a frequency within rounding of wmin is sampled, one outside the branch is an error", "[cli]") {
+    // 3e-13 below wmin = 0.5 is the start of the branch (it used to be dropped silently); 2.0 is
+    // beyond wmax = 1.6: no row, named on standard error, exit 1, the other rows written.
+    TempDir dir;
+    const Result r = run_hbf("frf --quiet --exact off --at 0.4999999999997,0.7,2.0", dir);
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Catch::Contains("--at w = 2") && Catch::Contains("no solution written"));
+    int samples = 0;
+    for (const auto& row : parse_csv(r.out))
+        if (row.size() > 9 && row[9] == "sample") ++samples;
+    CHECK(samples == 2);
+}

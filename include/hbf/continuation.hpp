@@ -153,9 +153,13 @@ Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& J, const Eigen::VectorXd& 
 BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& options);
 
 /// Solves exactly at each frequency in `omegas` every solution of the branch there (all of
-/// them where it folds), starting from the branch; returns points of kind `sample`.
+/// them where it folds), starting from the branch (a failed solve is retried from the nearer
+/// branch point with five times the iterations; a frequency within 1e-9 relative of a branch
+/// end counts as on the branch); returns points of kind `sample`. The frequencies where no
+/// solution was found (outside the branch, or every solve failed) go to `missed`.
 std::vector<SolutionPoint> sample_branch(HarmonicBalance& hb, const BranchResult& branch,
-                                         const std::vector<double>& omegas, const CorrectorOptions& options);
+                                         const std::vector<double>& omegas, const CorrectorOptions& options,
+                                         std::vector<double>* missed = nullptr);
 
 // ---- post-processing -------------------------------------------------------------------
 

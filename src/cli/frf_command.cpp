@@ -144,8 +144,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
     progress.clear();
 
     std::vector<SolutionPoint> points = branch.points;
+    std::vector<double> missed;
     if (!at.empty()) {
-        const auto samples = sample_branch(hb, branch, at, co.corrector);
+        const auto samples = sample_branch(hb, branch, at, co.corrector, &missed);
         points.insert(points.end(), samples.begin(), samples.end());
     }
     const std::size_t sample_count = points.size() - branch.points.size();
@@ -251,7 +252,12 @@ int run(const CLI::App& command, const FrfOptions& o) {
     else if (polish && (branch.status != ContinuationStatus::completed || (!o.quiet && isatty(STDERR_FILENO))))
         std::cerr << "hbf frf: " << (branch.status != ContinuationStatus::completed ? "note: " : "")
                   << polish->summary() << " (the transitions are the exact solver's)\n";
-    return failed || polish_failed ? exit_failure : exit_success;
+    // An --at frequency without a row is a doubtful result too: said, and exit 1.
+    for (double w : missed)
+        std::cerr << "hbf frf: error: --at w = " << format_number(w)
+                  << ": no solution written (outside the computed branch, or the solve failed from the branch "
+                     "and after a retry)\n";
+    return failed || polish_failed || !missed.empty() ? exit_failure : exit_success;
 }
 }  // namespace
 
@@ -336,9 +342,10 @@ Runner add_frf_command(CLI::App& app) {
                          "--config: the file's units).\n"
                          "Columns:\n";
     for (const auto& c : io::frf_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
-    footer += "Exit code 1 when the continuation could not start or stalled (min step), or when the exact polish failed "
-              "at some point (those rows keep their HB values, exact = failed); the points computed so far are still "
-              "written. An amplitude cap is reported on standard error and is not a failure.";
+    footer += "Exit code 1 when the continuation could not start or stalled (min step), when the exact polish failed "
+              "at some point (those rows keep their HB values, exact = failed), or when an --at frequency got no row "
+              "(outside the branch, or its solve failed; named on standard error); the points computed so far are "
+              "still written. An amplitude cap is reported on standard error and is not a failure.";
     command->footer(footer);
     return [command, options]() { return run(*command, *options); };
 }
