@@ -416,6 +416,7 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, BranchResult&
     std::string previous = regime_at(hb, result.points.front());
     points.push_back(result.points.front());
     int lost = 0;
+    std::string where;
     for (std::size_t k = 1; k < result.points.size(); ++k) {
         const SolutionPoint &a = result.points[k - 1], &b = result.points[k];
         const std::string current = regime_at(hb, b);
@@ -424,10 +425,13 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, BranchResult&
             for (const Boundary boundary : {Boundary::stick_stick_slip, Boundary::stick_slip_slip}) {
                 if (stick_side(boundary, previous) == stick_side(boundary, current)) continue;
                 SolutionPoint t;
-                if (bisect_transition(hb, corrector, a, b, boundary, t))
+                if (bisect_transition(hb, corrector, a, b, boundary, t)) {
                     found.push_back(std::move(t));
-                else
+                } else {
                     ++lost;
+                    where += (where.empty() ? "" : ", ") + to_string(boundary) + " between w = " + format_number(a.omega) +
+                             " and " + format_number(b.omega);
+                }
             }
             // In branch order: by the distance from a along the chord.
             std::sort(found.begin(), found.end(), [&](const SolutionPoint& p, const SolutionPoint& q) {
@@ -441,9 +445,10 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, BranchResult&
     }
     result.transitions = static_cast<int>(points.size() - result.points.size());
     result.points = std::move(points);
+    result.unlocated_transitions += lost;
     if (lost > 0)
         result.message += (result.message.empty() ? "" : "; ") + std::to_string(lost) +
-                          " stick-slip transition(s) not located (correction failed)";
+                          " stick-slip transition(s) not located (correction failed): " + where;
 }
 }  // namespace
 

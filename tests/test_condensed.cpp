@@ -231,7 +231,7 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
 TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples on the shipped systems", "[condensed]") {
     test::TempDir dir;
     const std::string systems = std::string(HBF_SOURCE_DIR) + "/examples/systems/";
-    const std::string at = " --at 0.55,0.8,0.95,1.2,1.45 --exact off --tolerance 1e-11";
+    const std::string options = " --exact off --tolerance 1e-11";
     const std::vector<std::string> cases = {"--config " + systems + "chain3.toml",
                                             "--config " + systems + "chain3_exact.toml",
                                             // undamped: condensed cannot start at w = 0.5, where Z_2 is singular
@@ -242,8 +242,11 @@ TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples 
                                             "--law coulomb-reg",
                                             "--law coulomb"};
     for (const std::string& c : cases) {
-        const test::Result condensed = test::run_hbf("frf " + c + at + " --formulation condensed", dir);
-        const test::Result full = test::run_hbf("frf " + c + at + " --formulation full", dir);
+        // every --at frequency inside the range (one outside is an error)
+        const std::string at = c.find("den_hartog") != std::string::npos ? " --at 0.55,0.8,0.95"
+                                                                          : " --at 0.55,0.8,0.95,1.2,1.45";
+        const test::Result condensed = test::run_hbf("frf " + c + at + options + " --formulation condensed", dir);
+        const test::Result full = test::run_hbf("frf " + c + at + options + " --formulation full", dir);
         INFO(c << "\n" << condensed.err << full.err);
         REQUIRE(condensed.exit_code == 0);
         REQUIRE(full.exit_code == 0);

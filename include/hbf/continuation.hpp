@@ -98,6 +98,8 @@ struct BranchResult {
     int failed_corrections = 0;
     int transitions = 0;                ///< points of kind transition
     int rejected_jumps = 0;             ///< steps whose correction exceeded the step (halved)
+    int unlocated_transitions = 0;      ///< regime changes between two points whose boundary
+                                        ///< could not be located (named in message)
     CorrectorStatistics corrector;    ///< Ceres work of the whole continuation
     EvaluationStatistics evaluation;  ///< residual/Jacobian work (corrector and predictor)
     double predictor_seconds = 0;     ///< tangents: their evaluations and LU solves

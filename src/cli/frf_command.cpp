@@ -238,6 +238,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (overlay_file) overlay_file->commit();
 
     const bool failed = branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::start_failed;
+    if (branch.unlocated_transitions > 0 && !failed && branch.status == ContinuationStatus::completed)
+        std::cerr << "hbf frf: warning: " << branch.message << " (the branch points are right; the CSV lacks those "
+                  << "transition rows)\n";
     if (failed || branch.status != ContinuationStatus::completed)
         std::cerr << "hbf frf: " << (failed ? "error: " : "note: ") << branch.summary()
                   << (failed ? " (the points computed so far are written)" : "") << "\n";
