@@ -207,7 +207,7 @@ void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& r
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics_in, const std::vector<Peak>& peaks,
-                       std::size_t samples, double wall_seconds, const PolishedBranch* polish) {
+                       std::size_t samples, double wall_seconds, const PolishedBranch* polish, int peak_dof) {
     using nlohmann::json;
     json j;
     j["parameters"] = {{"law", law}};
@@ -239,7 +239,11 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                    {"ceres_seconds", branch.corrector.seconds - branch.corrector.evaluation_seconds}};
     json peak_list = json::array(), folds = json::array();
     for (const Peak& peak : peaks)
-        peak_list.push_back({{"w", peak.omega}, {"y1_max", peak.y_max}, {"branch", peak.branch}, {"refined", peak.refined}});
+        peak_list.push_back({{"w", peak.omega},
+                             {"dof", peak_dof + 1},
+                             {"y_max", peak.y_max},
+                             {"branch", peak.branch},
+                             {"refined", peak.refined}});
     for (std::size_t k = 0; k < points.size(); ++k)
         if (points[k].kind == PointKind::fold)
             folds.push_back({{"w", points[k].omega}, {"y1_max", metrics[k].y_max[0]}, {"branch", points[k].branch}});

@@ -327,3 +327,28 @@ TEST_CASE("Finite-element beam (200 DOFs, Matrix Market): the stuck and the free
         }
     }
 }
+
+TEST_CASE("hbf frf on the beam: the JSON peaks are those of the first reported DOF, at least the CSV's largest",
+          "[condensed][beam][cli]") {
+    // beam200.toml reports DOFs 99 (mid-span) and 199 (tip): the peaks are of y99 (they were
+    // always of DOF 1), and the largest refined peak is at least the largest y99_max row.
+    test::TempDir dir;
+    const std::string file = std::string(HBF_SOURCE_DIR) + "/examples/systems/beam/beam200.toml";
+    const auto json = dir.path / "s.json";
+    const test::Result r = test::run_hbf("frf --quiet --config '" + file + "' --summary '" + json.string() + "'", dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const std::string summary = test::slurp(json);
+    CHECK_THAT(summary, Catch::Contains("\"dof\": 99"));
+    const auto rows = test::parse_csv(r.out);
+    REQUIRE(rows.front()[1] == "y99_max");
+    double largest = 0.0;
+    for (std::size_t k = 1; k < rows.size(); ++k) largest = std::max(largest, std::stod(rows[k][1]));
+    const auto at = summary.find("\"y_max\":");
+    REQUIRE(at != std::string::npos);
+    double peak = 0.0;
+    for (std::size_t p = at; p != std::string::npos; p = summary.find("\"y_max\":", p + 1))
+        peak = std::max(peak, std::stod(summary.substr(p + 8)));
+    CHECK(peak >= largest * (1.0 - 1e-12));
+    CHECK(peak <= largest * 1.05);  // refined between branch points a few % apart at most
+}

@@ -74,13 +74,14 @@ void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& r
 
 /// Writes the JSON summary of an FRF run: the parameters (name, value; integral values are
 /// written as integers), the number of branch points and samples, solver statistics, the
-/// peaks (find_peaks of y1), the folds, the stick-slip transitions, status, message and wall time.
+/// peaks (of DOF `peak_dof`, 0-based: each with w, dof (1-based), y_max, branch, refined), the
+/// folds, the stick-slip transitions, status, message and wall time.
 /// `metrics[k]` belongs to `branch.points[k]`; `samples` counts the --at rows. With `polish`
 /// (the exact polish of the branch), folds and transitions are read from its points and
 /// metrics, and an "exact" object reports the polish (counts, largest HB gap, time).
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics, const std::vector<Peak>& peaks, std::size_t samples,
-                       double wall_seconds, const PolishedBranch* polish = nullptr);
+                       double wall_seconds, const PolishedBranch* polish = nullptr, int peak_dof = 0);
 
 }  // namespace hbf::io

@@ -168,7 +168,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         metrics = polish->metrics;
         peaks = polish->peaks;
     } else if (!o.summary.empty()) {
-        peaks = find_peaks(hb, branch, 0, co.corrector);
+        peaks = find_peaks(hb, branch, report.front(), co.corrector);
     }
 
     // Time-integration check points on a uniform grid, swept up from the stuck linear state.
@@ -209,7 +209,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         parameters.insert(parameters.end(), solver.begin(), solver.end());
         summary = std::make_unique<io::OutputFile>(o.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
-                              polish ? &*polish : nullptr);
+                              polish ? &*polish : nullptr, report.front());
     }
     std::unique_ptr<io::OutputFile> overlay_file;
     if (!overlay.empty()) {
@@ -255,6 +255,11 @@ int run(const CLI::App& command, const FrfOptions& o) {
     else if (polish && (branch.status != ContinuationStatus::completed || (!o.quiet && isatty(STDERR_FILENO))))
         std::cerr << "hbf frf: " << (branch.status != ContinuationStatus::completed ? "note: " : "")
                   << polish->summary() << " (the transitions are the exact solver's)\n";
+    const auto unrefined = std::count_if(peaks.begin(), peaks.end(), [](const Peak& p) { return !p.refined; });
+    if (unrefined > 0)
+        std::cerr << "hbf frf: warning: " << unrefined << " peak(s) of y" << report.front() + 1
+                  << "_max not refined (at a fold, or a solve failed): the JSON gives the branch point (refined = "
+                     "false)\n";
     // An --at frequency without a row is a doubtful result too: said, and exit 1.
     for (double w : missed)
         std::cerr << "hbf frf: error: --at w = " << format_number(w)
