@@ -5,6 +5,7 @@
 #include <complex>
 #include <string>
 
+#include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -42,6 +43,25 @@ inline System den_hartog_oscillator(double rho) {
     c.friction_limit = rho;
     s.contacts.push_back(c);
     return s;
+}
+
+/// Central differences (step h) of the HB residual at (x, omega): dR/dX in `fd`, dR/domega in
+/// `fd_omega`, to check the exact Jacobians against.
+inline void central_differences(hbf::HarmonicBalance& hb, const Eigen::VectorXd& x, double omega, Eigen::MatrixXd& fd,
+                                Eigen::VectorXd& fd_omega, double h = 1e-6) {
+    Eigen::VectorXd rp, rm;
+    fd.resize(x.size(), x.size());
+    for (Eigen::Index k = 0; k < x.size(); ++k) {
+        Eigen::VectorXd xp = x, xm = x;
+        xp(k) += h;
+        xm(k) -= h;
+        hb.evaluate(xp, omega, rp);
+        hb.evaluate(xm, omega, rm);
+        fd.col(k) = (rp - rm) / (2 * h);
+    }
+    hb.evaluate(x, omega + h, rp);
+    hb.evaluate(x, omega - h, rm);
+    fd_omega = (rp - rm) / (2 * h);
 }
 
 /// Tight CVODE settings for references: rtol 1e-12, atol 1e-14, steady-tol 1e-11.

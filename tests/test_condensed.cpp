@@ -8,6 +8,7 @@
 #include <random>
 
 #include "cli_support.hpp"
+#include "support.hpp"
 #include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
@@ -119,24 +120,13 @@ TEST_CASE("Condensed and full Jacobians equal central finite differences (massle
             std::normal_distribution<double> normal(0.0, 1.0);
             Eigen::VectorXd x = hb.linear_guess(omega);
             for (int k = 0; k < x.size(); ++k) x(k) += 0.3 * (state + 1) * normal(rng) / (1 + (k % n));
-            Eigen::VectorXd r, dr_domega, rp, rm;
-            Eigen::MatrixXd J;
+            Eigen::VectorXd r, dr_domega, fd_omega;
+            Eigen::MatrixXd J, fd;
             hb.evaluate(x, omega, r, &J, &dr_domega);
-            Eigen::MatrixXd fd(x.size(), x.size());
-            const double h = 1e-6;
-            for (int k = 0; k < x.size(); ++k) {
-                Eigen::VectorXd xp = x, xm = x;
-                xp(k) += h;
-                xm(k) -= h;
-                hb.evaluate(xp, omega, rp);
-                hb.evaluate(xm, omega, rm);
-                fd.col(k) = (rp - rm) / (2 * h);
-            }
-            hb.evaluate(x, omega + h, rp);
-            hb.evaluate(x, omega - h, rm);
+            hbf::test::central_differences(hb, x, omega, fd, fd_omega);
             INFO(to_string(f) << ", state " << state);
             CHECK(relative_error(J, fd) < 1e-5);
-            CHECK(relative_error(dr_domega, (rp - rm) / (2 * h)) < 1e-5);
+            CHECK(relative_error(dr_domega, fd_omega) < 1e-5);
         }
     }
 }
@@ -229,7 +219,7 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
 }
 
 TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples on the shipped systems", "[condensed]") {
-    test::TempDir dir;
+    ::test::TempDir dir;
     const std::string systems = std::string(HBF_SOURCE_DIR) + "/examples/systems/";
     const std::string options = " --exact off --tolerance 1e-11";
     const std::vector<std::string> cases = {"--config " + systems + "chain3.toml",
@@ -245,14 +235,14 @@ TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples 
         // every --at frequency inside the range (one outside is an error)
         const std::string at = c.find("den_hartog") != std::string::npos ? " --at 0.55,0.8,0.95"
                                                                           : " --at 0.55,0.8,0.95,1.2,1.45";
-        const test::Result condensed = test::run_hbf("frf " + c + at + options + " --formulation condensed", dir);
-        const test::Result full = test::run_hbf("frf " + c + at + options + " --formulation full", dir);
+        const ::test::Result condensed = ::test::run_hbf("frf " + c + at + options + " --formulation condensed", dir);
+        const ::test::Result full = ::test::run_hbf("frf " + c + at + options + " --formulation full", dir);
         INFO(c << "\n" << condensed.err << full.err);
         REQUIRE(condensed.exit_code == 0);
         REQUIRE(full.exit_code == 0);
         auto samples = [](const std::string& csv) {
             std::vector<std::vector<std::string>> rows;
-            const auto all = test::parse_csv(csv);
+            const auto all = ::test::parse_csv(csv);
             const auto column = std::find(all.front().begin(), all.front().end(), "point") - all.front().begin();
             for (const auto& row : all)
                 if (static_cast<long>(row.size()) > column && row[static_cast<std::size_t>(column)] == "sample") rows.push_back(row);
@@ -261,7 +251,7 @@ TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples 
         const auto a = samples(condensed.out), b = samples(full.out);
         REQUIRE(a.size() == b.size());
         REQUIRE(a.size() >= 3);
-        const auto header = test::parse_csv(condensed.out).front();
+        const auto header = ::test::parse_csv(condensed.out).front();
         for (std::size_t k = 0; k < a.size(); ++k)
             for (std::size_t j = 0; j < header.size(); ++j)
                 if (header[j].find("_max") != std::string::npos || header[j].find("_amp1") != std::string::npos) {
@@ -332,15 +322,15 @@ TEST_CASE("hbf frf on the beam: the JSON peaks are those of the first reported D
           "[condensed][beam][cli]") {
     // beam200.toml reports DOFs 99 (mid-span) and 199 (tip): the peaks are of y99 (they were
     // always of DOF 1), and the largest refined peak is at least the largest y99_max row.
-    test::TempDir dir;
+    ::test::TempDir dir;
     const std::string file = std::string(HBF_SOURCE_DIR) + "/examples/systems/beam/beam200.toml";
     const auto json = dir.path / "s.json";
-    const test::Result r = test::run_hbf("frf --quiet --config '" + file + "' --summary '" + json.string() + "'", dir);
+    const ::test::Result r = ::test::run_hbf("frf --quiet --config '" + file + "' --summary '" + json.string() + "'", dir);
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
-    const std::string summary = test::slurp(json);
+    const std::string summary = ::test::slurp(json);
     CHECK_THAT(summary, Catch::Contains("\"dof\": 99"));
-    const auto rows = test::parse_csv(r.out);
+    const auto rows = ::test::parse_csv(r.out);
     REQUIRE(rows.front()[1] == "y99_max");
     double largest = 0.0;
     for (std::size_t k = 1; k < rows.size(); ++k) largest = std::max(largest, std::stod(rows[k][1]));

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "hbf/error.hpp"
+#include "support.hpp"
 #include "hbf/harmonic_balance.hpp"
 
 using namespace hbf;
@@ -93,22 +94,10 @@ TEST_CASE("Harmonic-balance Jacobians equal central finite differences", "[harmo
             Eigen::VectorXd x = hb.linear_guess(omega);
             for (int k = 0; k < x.size(); ++k) x(k) += 0.3 * (state + 1) * normal(rng) / (1 + (k % hb.coefficients()));
             Eigen::VectorXd r, dr_domega;
-            Eigen::MatrixXd J;
+            Eigen::MatrixXd J, fd;
+            Eigen::VectorXd fd_omega;
             hb.evaluate(x, omega, r, &J, &dr_domega);
-            Eigen::MatrixXd fd(x.size(), x.size());
-            const double h = 1e-6;
-            Eigen::VectorXd rp, rm;
-            for (int k = 0; k < x.size(); ++k) {
-                Eigen::VectorXd xp = x, xm = x;
-                xp(k) += h;
-                xm(k) -= h;
-                hb.evaluate(xp, omega, rp);
-                hb.evaluate(xm, omega, rm);
-                fd.col(k) = (rp - rm) / (2 * h);
-            }
-            hb.evaluate(x, omega + h, rp);
-            hb.evaluate(x, omega - h, rm);
-            const Eigen::VectorXd fd_omega = (rp - rm) / (2 * h);
+            hbf::test::central_differences(hb, x, omega, fd, fd_omega);
             INFO("law " << to_string(law) << ", state " << state);
             // Central differences of a function whose samples are piecewise smooth (|v| has a
             // kink): the error is O(h^2) away from kinks; 1e-5 relative leaves room for that.
