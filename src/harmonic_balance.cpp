@@ -85,7 +85,15 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
             const double k = g > 0.0 ? 1.0 / g : std::max(d.dot(system_.stiffness * d), 0.0);
             shift_stiffness_(c) = k;
             shift_damping_(c) = k > 0.0 && m > 0.0 ? std::sqrt(k * m) : std::max(v, 0.0);
-            const SparseMatrix ww = sparse(d * d.transpose());
+            // w w^T from the nonzeros of w only (never an N x N dense product)
+            std::vector<int> support;
+            for (int i = 0; i < d.size(); ++i)
+                if (d(i) != 0.0) support.push_back(i);
+            std::vector<Eigen::Triplet<double>> entries;
+            for (int i : support)
+                for (int j : support) entries.emplace_back(i, j, d(i) * d(j));
+            SparseMatrix ww(system_.dofs(), system_.dofs());
+            ww.setFromTriplets(entries.begin(), entries.end());
             stiffness += shift_stiffness_(c) * ww;
             damping += shift_damping_(c) * ww;
         }
