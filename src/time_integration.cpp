@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -13,6 +14,42 @@
 #include "time_integration/integrator.hpp"
 
 namespace hbf {
+
+namespace {
+/// Solves A s = b by GMRES without restarts, A given as a product v -> A v that may fail
+/// (false: a period failed). Stops at |A s - b| <= relative_tolerance |b| or after
+/// max_products products; false if a product failed or s is not finite.
+bool gmres(const std::function<bool(const Eigen::VectorXd&, Eigen::VectorXd&)>& product, const Eigen::VectorXd& b,
+           int max_products, double relative_tolerance, Eigen::VectorXd& solution) {
+    const double beta = b.norm();
+    solution = Eigen::VectorXd::Zero(b.size());
+    if (!(beta > 0.0)) return std::isfinite(beta);
+    // Arnoldi with modified Gram-Schmidt; the small least-squares problem is solved afresh
+    // by QR after every product (max_products is tens, the cost is the periods).
+    std::vector<Eigen::VectorXd> basis{b / beta};
+    Eigen::MatrixXd hessenberg = Eigen::MatrixXd::Zero(max_products + 1, max_products);
+    Eigen::VectorXd coefficients;
+    for (int j = 0; j < max_products; ++j) {
+        Eigen::VectorXd w;
+        if (!product(basis[static_cast<std::size_t>(j)], w)) return false;
+        for (int i = 0; i <= j; ++i) {
+            hessenberg(i, j) = basis[static_cast<std::size_t>(i)].dot(w);
+            w -= hessenberg(i, j) * basis[static_cast<std::size_t>(i)];
+        }
+        hessenberg(j + 1, j) = w.norm();
+        Eigen::VectorXd rhs = Eigen::VectorXd::Zero(j + 2);
+        rhs(0) = beta;
+        const Eigen::MatrixXd block = hessenberg.topLeftCorner(j + 2, j + 1);
+        coefficients = block.colPivHouseholderQr().solve(rhs);
+        const double residual = (block * coefficients - rhs).norm();
+        const bool breakdown = !(hessenberg(j + 1, j) > 1e-14 * beta);
+        if (residual <= relative_tolerance * beta || breakdown || j + 1 == max_products) break;
+        basis.push_back(w / hessenberg(j + 1, j));
+    }
+    for (Eigen::Index i = 0; i < coefficients.size(); ++i) solution += coefficients(i) * basis[static_cast<std::size_t>(i)];
+    return solution.allFinite();
+}
+}  // namespace
 
 std::string to_string(IntegrationMethod method) {
     return method == IntegrationMethod::adams ? "adams" : "bdf";
@@ -46,6 +83,15 @@ void TimeIntegrationOptions::validate() const {
                            " is out of range: allowed >= 1");
     if (shooting_interval < 1)
         throw InvalidInput("shooting_interval = " + std::to_string(shooting_interval) +
+                           " is out of range: allowed >= 1");
+    if (dense_newton_max_dofs < 0)
+        throw InvalidInput("dense_newton_max_dofs = " + std::to_string(dense_newton_max_dofs) +
+                           " is out of range: allowed >= 0");
+    if (shooting_dense_max_states < 0)
+        throw InvalidInput("shooting_dense_max_states = " + std::to_string(shooting_dense_max_states) +
+                           " is out of range: allowed >= 0");
+    if (shooting_krylov_max < 1)
+        throw InvalidInput("shooting_krylov_max = " + std::to_string(shooting_krylov_max) +
                            " is out of range: allowed >= 1");
 }
 
@@ -211,35 +257,49 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
             pending_check = true;
             x = linear_stuck_state(system, omega);
             integrator.settle_initial(x);
-        } else if (shooting_due &&
-                   k + continuous + 1 < options.max_periods) {
-            // Jacobian of the map by forward differences (one period per continuous state),
-            // then x <- x + (I - J)^-1 (P(x) - x).
+        } else if (shooting_due && k + std::min(continuous, options.shooting_krylov_max) + 1 < options.max_periods) {
+            // Newton step of the map: x <- x + (I - J)^-1 (P(x) - x)
             next_shooting = k + shooting_interval;
-            const double h = 1e-6 * std::max(1.0, start.head(continuous).cwiseAbs().maxCoeff());
-            Eigen::MatrixXd jacobian(continuous, continuous);
             bool ok = true;
-            for (int j = 0; j < continuous && ok; ++j) {
-                Eigen::VectorXd perturbed = start;
-                perturbed(j) += h;
-                integrator.settle_initial(perturbed);
-                const PeriodRecord column = integrator.period(perturbed);
-                ++k;
-                ok = column.ok;
-                if (ok) jacobian.col(j) = (column.end_state.head(continuous) - x.head(continuous)) / h;
-            }
-            if (ok) {
-                const Eigen::MatrixXd a = Eigen::MatrixXd::Identity(continuous, continuous) - jacobian;
-                const Eigen::VectorXd step =
-                    a.fullPivLu().solve(x.head(continuous) - start.head(continuous));
-                if (step.allFinite()) {
-                    saved = x;
-                    saved_change = change;
-                    pending_check = true;
-                    candidate_is_linear = false;
-                    x.head(continuous) = start.head(continuous) + step;
-                    integrator.settle_initial(x);
+            Eigen::VectorXd step;
+            const Eigen::VectorXd difference = x.head(continuous) - start.head(continuous);
+            if (continuous <= options.shooting_dense_max_states) {
+                // J by forward differences, one period per continuous state
+                const double h = 1e-6 * std::max(1.0, start.head(continuous).cwiseAbs().maxCoeff());
+                Eigen::MatrixXd jacobian(continuous, continuous);
+                for (int j = 0; j < continuous && ok; ++j) {
+                    Eigen::VectorXd perturbed = start;
+                    perturbed(j) += h;
+                    integrator.settle_initial(perturbed);
+                    const PeriodRecord column = integrator.period(perturbed);
+                    ++k;
+                    ok = column.ok;
+                    if (ok) jacobian.col(j) = (column.end_state.head(continuous) - x.head(continuous)) / h;
                 }
+                if (ok) step = (Eigen::MatrixXd::Identity(continuous, continuous) - jacobian).fullPivLu().solve(difference);
+            } else {
+                // matrix-free: J v = (P(start + h v) - P(start)) / h for |v| = 1
+                const double norm = start.head(continuous).norm();
+                const double h = 1e-7 * (norm > 0.0 ? norm : 1.0);
+                const auto map_product = [&](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+                    Eigen::VectorXd perturbed = start;
+                    perturbed.head(continuous) += h * v;
+                    integrator.settle_initial(perturbed);
+                    const PeriodRecord column = integrator.period(perturbed);
+                    ++k;
+                    if (!column.ok) return false;
+                    out = v - (column.end_state.head(continuous) - x.head(continuous)) / h;  // (I - J) v
+                    return true;
+                };
+                ok = gmres(map_product, difference, options.shooting_krylov_max, 1e-4, step);
+            }
+            if (ok && step.allFinite()) {
+                saved = x;
+                saved_change = change;
+                pending_check = true;
+                candidate_is_linear = false;
+                x.head(continuous) = start.head(continuous) + step;
+                integrator.settle_initial(x);
             }
             out.periods = k;
         }

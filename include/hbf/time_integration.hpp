@@ -65,6 +65,12 @@ struct TimeIntegrationOptions {
     /// for the nondimensional presets the amplitudes are O(1)).
     double absolute_tolerance = 1e-12;
     IntegrationMethod method = IntegrationMethod::adams;
+    /// BDF's Newton systems (I - gamma J) dx = r: up to this many DOFs, CVODE's dense LU of a
+    /// difference-quotient Jacobian of the whole state. Beyond (finite-element models), GMRES
+    /// preconditioned by the structure's exact second-order solve: per step a sparse LU of
+    /// M + gamma C + gamma^2 K, bordered by the stuck Coulomb contacts' constraints (friction
+    /// slopes and internal states are left to GMRES). 0 uses the sparse route always.
+    int dense_newton_max_dofs = 16;
     /// Poincare convergence: |x_{k+1} - x_k|_inf <= steady_tolerance * max(1, |x_{k+1}|_inf)
     /// over the continuous states (y, y', internal states). 1e-14..1e-2.
     double steady_tolerance = 1e-8;
@@ -100,6 +106,14 @@ struct TimeIntegrationOptions {
     /// decided by plain periods, so it changes where the iteration starts, not the test.
     bool shooting = true;
     int shooting_interval = 5;
+    /// Up to this many continuous states the shooting Jacobian is built column by column
+    /// (one period per state, as above). Beyond (finite-element models), the Newton step
+    /// (I - J) s = P(x) - x is solved matrix-free by GMRES, one period per product J v, to a
+    /// relative residual of 1e-4 or at most `shooting_krylov_max` products: a damped
+    /// structure has only a few Floquet multipliers that are not small, so GMRES needs about
+    /// twice that many periods, not one per state.
+    int shooting_dense_max_states = 64;
+    int shooting_krylov_max = 60;
 
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;

@@ -27,7 +27,14 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
     : system_(system), omega_(omega), period_(2.0 * pi / omega), options_(options), n_(system.dofs()),
       nc_(static_cast<int>(system.contacts.size())), length_(4 * n_ + nc_ + 3), quad_(2 * n_ + nc_) {
     for (const Contact& c : system.contacts) contacts_.emplace_back(c);
-    minv_ = Eigen::MatrixXd(system.mass).llt().solve(Eigen::MatrixXd::Identity(n_, n_));
+    sparse_ = n_ > options_.dense_newton_max_dofs;
+    if (sparse_) {
+        mass_factor_.compute(system.mass);
+        if (mass_factor_.info() != Eigen::Success)
+            throw InvalidInput("time integration needs a positive definite mass matrix (its LDL^T factorisation failed)");
+    } else {
+        minv_ = Eigen::MatrixXd(system.mass).llt().solve(Eigen::MatrixXd::Identity(n_, n_));
+    }
     excitation_ = system.excitation;
     mode_.assign(static_cast<std::size_t>(nc_), 0);
     f_ = Eigen::VectorXd::Zero(nc_);
@@ -52,6 +59,14 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
     if (adams) {
         nonlinear_ = SUNNonlinSol_FixedPoint(x_, 0, context_);
         throw_on(CVodeSetNonlinearSolver(cvode_, nonlinear_), "CVodeSetNonlinearSolver");
+    } else if (sparse_) {
+        linear_ = SUNLinSol_SPGMR(x_, SUN_PREC_LEFT, 20, context_);
+        if (!linear_) throw std::runtime_error("SUNLinSol_SPGMR failed");
+        throw_on(CVodeSetLinearSolver(cvode_, linear_, nullptr), "CVodeSetLinearSolver");
+        throw_on(CVodeSetPreconditioner(cvode_, preconditioner_setup, preconditioner_solve),
+                 "CVodeSetPreconditioner");
+        newton_matrix_ = system.mass + system.damping + system.stiffness;  // the union pattern
+        newton_rhs_.resize(n_);
     } else {
         matrix_ = SUNDenseMatrix(length_, length_, context_);
         linear_ = SUNLinSol_Dense(x_, matrix_, context_);
@@ -97,6 +112,66 @@ int Integrator::root_callback(sunrealtype t, N_Vector x, sunrealtype* g, void* d
     return 0;
 }
 
+void Integrator::apply_minv(const Eigen::Ref<const Eigen::MatrixXd>& in, Eigen::Ref<Eigen::MatrixXd> out) const {
+    if (sparse_)
+        out = mass_factor_.solve(in);
+    else
+        out.noalias() = minv_ * in;
+}
+
+int Integrator::preconditioner_setup(sunrealtype, N_Vector, N_Vector, sunbooleantype, sunbooleantype* jcur,
+                                     sunrealtype gamma, void* data) {
+    *jcur = SUNTRUE;
+    return static_cast<Integrator*>(data)->setup_newton(gamma);
+}
+
+int Integrator::preconditioner_solve(sunrealtype, N_Vector, N_Vector, N_Vector r, N_Vector z, sunrealtype,
+                                     sunrealtype, int, void* data) {
+    return static_cast<Integrator*>(data)->solve_newton(N_VGetArrayPointer(r), N_VGetArrayPointer(z));
+}
+
+int Integrator::setup_newton(double gamma) {
+    // the pattern of M + gamma C + gamma^2 K is that of M + C + K for every gamma: analysed once
+    newton_matrix_ = system_.mass + gamma * system_.damping + (gamma * gamma) * system_.stiffness;
+    if (!newton_analysed_) {
+        newton_lu_.analyzePattern(newton_matrix_);
+        newton_analysed_ = true;
+    }
+    newton_lu_.factorize(newton_matrix_);
+    newton_ok_ = newton_lu_.info() == Eigen::Success;
+    newton_gamma_ = gamma;
+    bordered_version_ = -1;
+    return newton_ok_ ? 0 : 1;  // > 0: recoverable, CVODE retries with a smaller step
+}
+
+int Integrator::solve_newton(const double* r, double* z) {
+    // (I - gamma J) z = r with y' = v, v' = P M^-1 (-K y - C v) (P: the stuck contacts'
+    // constraint). With z_y = r_y + gamma z_v, multiplying the v-rows by M gives
+    //   (M + gamma C + gamma^2 K) z_v = M r_v - gamma K r_y + W_S mu,   W_S^T z_v = W_S^T r_v.
+    if (!newton_ok_) return 1;
+    const double gamma = newton_gamma_;
+    Eigen::Map<const Eigen::VectorXd> ry(r, n_), rv(r + n_, n_);
+    newton_rhs_.noalias() = system_.mass * rv;
+    newton_rhs_.noalias() -= gamma * (system_.stiffness * ry);
+    Eigen::VectorXd zv = newton_lu_.solve(newton_rhs_);
+    if (!stuck_.empty()) {
+        if (bordered_version_ != stuck_version_) {
+            newton_ws_ = newton_lu_.solve(ws_);
+            newton_border_ =
+                Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(ws_.transpose() * newton_ws_).pseudoInverse();
+            bordered_version_ = stuck_version_;
+        }
+        const Eigen::VectorXd mu = newton_border_ * (ws_.transpose() * (rv - zv));
+        zv.noalias() += newton_ws_ * mu;
+    }
+    for (int i = 0; i < n_; ++i) {
+        z[n_ + i] = zv(i);
+        z[i] = r[i] + gamma * zv(i);
+    }
+    for (int i = 2 * n_; i < length_; ++i) z[i] = r[i];
+    return zv.allFinite() ? 0 : 1;
+}
+
 void Integrator::rebuild_stuck_set() {
     stuck_.clear();
     std::fill(ground_stuck_dof_.begin(), ground_stuck_dof_.end(), 0);
@@ -110,7 +185,9 @@ void Integrator::rebuild_stuck_set() {
     const int m = static_cast<int>(stuck_.size());
     ws_ = Eigen::MatrixXd::Zero(n_, m);
     for (int k = 0; k < m; ++k) ws_.col(k) = system_.contact_direction(system_.contacts[static_cast<std::size_t>(stuck_[static_cast<std::size_t>(k)])]);
-    minv_ws_ = minv_ * ws_;
+    minv_ws_.resize(n_, m);
+    apply_minv(ws_, minv_ws_);
+    ++stuck_version_;
     if (m > 0) g_ = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(ws_.transpose() * minv_ws_).pseudoInverse();
     lambda_ = Eigen::VectorXd::Zero(m);
 }
@@ -155,7 +232,7 @@ void Integrator::evaluate(double t, const double* x) {
         load_(k.a) -= f;
         if (k.b != Contact::ground) load_(k.b) += f;
     }
-    acc_.noalias() = minv_ * load_;
+    apply_minv(load_, acc_);
     if (!stuck_.empty()) {
         lambda_.noalias() = g_ * (ws_.transpose() * acc_);
         acc_.noalias() -= minv_ws_ * lambda_;
@@ -235,7 +312,8 @@ void Integrator::project_velocities(double* x, const std::vector<int>& set) cons
     const int m = static_cast<int>(set.size());
     Eigen::MatrixXd w(n_, m);
     for (int k = 0; k < m; ++k) w.col(k) = system_.contact_direction(system_.contacts[static_cast<std::size_t>(set[static_cast<std::size_t>(k)])]);
-    const Eigen::MatrixXd minv_w = minv_ * w;
+    Eigen::MatrixXd minv_w(n_, m);
+    apply_minv(w, minv_w);
     const Eigen::MatrixXd s = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(w.transpose() * minv_w).pseudoInverse();
     Eigen::Map<Eigen::VectorXd> v(x + n_, n_);
     v -= minv_w * (s * (w.transpose() * v));

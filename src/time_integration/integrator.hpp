@@ -6,10 +6,13 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_spgmr.h>
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -87,6 +90,16 @@ public:
 private:
     static int rhs_callback(sunrealtype t, N_Vector x, N_Vector dx, void* data);
     static int root_callback(sunrealtype t, N_Vector x, sunrealtype* g, void* data);
+    static int preconditioner_setup(sunrealtype t, N_Vector x, N_Vector fx, sunbooleantype jok,
+                                    sunbooleantype* jcur, sunrealtype gamma, void* data);
+    static int preconditioner_solve(sunrealtype t, N_Vector x, N_Vector fx, N_Vector r, N_Vector z,
+                                    sunrealtype gamma, sunrealtype delta, int lr, void* data);
+    /// BDF on large models: factorises M + gamma C + gamma^2 K (see dense_newton_max_dofs).
+    int setup_newton(double gamma);
+    /// Solves the structural part of (I - gamma J) z = r (states y, y'), identity elsewhere.
+    int solve_newton(const double* r, double* z);
+    /// out = M^-1 in (dense inverse for small models, sparse LDL^T beyond).
+    void apply_minv(const Eigen::Ref<const Eigen::MatrixXd>& in, Eigen::Ref<Eigen::MatrixXd> out) const;
 
     /// Forces f_ (all contacts, lambda for stuck coulomb), internal rates zdot_ and
     /// accelerations acc_ at (t, x) with the current modes.
@@ -116,7 +129,18 @@ private:
     const TimeIntegrationOptions options_;
     const int n_, nc_, length_, quad_;
     std::vector<ContactData> contacts_;
-    Eigen::MatrixXd minv_;               // M^-1
+    Eigen::MatrixXd minv_;               // M^-1 (small models)
+    Eigen::SimplicialLDLT<SparseMatrix> mass_factor_;  // M = L D L^T (large models)
+    bool sparse_ = false;                // large model: sparse M^-1 and the GMRES Newton solver
+    // BDF Newton preconditioner of large models
+    SparseMatrix newton_matrix_;         // M + gamma C + gamma^2 K
+    Eigen::SparseLU<SparseMatrix> newton_lu_;
+    bool newton_analysed_ = false, newton_ok_ = false;
+    double newton_gamma_ = 0;
+    int stuck_version_ = 0, bordered_version_ = -1;
+    Eigen::MatrixXd newton_ws_;          // (M + gamma C + gamma^2 K)^-1 W_S
+    Eigen::MatrixXd newton_border_;      // (W_S^T newton_ws_)^+
+    Eigen::VectorXd newton_rhs_;
     Eigen::VectorXd excitation_;
     std::vector<int> mode_;
     std::vector<int> stuck_;             // coulomb contacts in mode 0
