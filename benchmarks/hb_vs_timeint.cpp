@@ -19,6 +19,11 @@
 //   - for the laws the event-exact solver covers (coulomb, jenkins), a third side: HB + exact
 //     polish as `hbf frf` runs it by default (H = 10, HB's own transitions off, every grid sample
 //     polished by exact_polish.hpp), timed like HB, with its speed-up over the TI sweep.
+// With `--config FILE --at W1,W2,...` (a finite-element system, e.g. the 200-DOF beam) it
+// times instead the whole FRF by HB over the file's frequency range (its harmonics; condensed)
+// against BDF time integration at the given frequencies only, compares y_max of the first
+// reported DOF there, and reports the ratio of a TI sweep as fine as the HB branch
+// (TI seconds per frequency x branch points) to the HB FRF.
 // The last line is one JSON object with all figures. Run by hand: `build/benchmarks/hb_vs_timeint`.
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -34,6 +39,7 @@
 #include <vector>
 
 #include "hbf/analytic.hpp"
+#include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
 #include "hbf/exact_polish.hpp"
@@ -270,6 +276,81 @@ std::string format_reasons(const std::map<std::string, int>& reasons) {
 
 }  // namespace
 
+/// The finite-element mode (--config): see the header comment.
+int run_config(const std::string& path, const std::vector<double>& omegas, double rtol, double steady_tol) {
+    const io::SystemConfig config = io::read_system_config(path);
+    const int dof = config.report.empty() ? 0 : config.report.front();
+    HarmonicBalanceOptions ho;
+    ho.harmonics = config.harmonics.value_or(20);
+    ho.time_samples = config.time_samples.value_or(0);
+    ContinuationOptions co;
+    co.omega_start = config.omega_start.value_or(omegas.front());
+    co.omega_end = config.omega_end.value_or(omegas.back());
+    for (double w : omegas)
+        if (!(w >= co.omega_start && w <= co.omega_end))
+            throw InvalidInput("--at w = " + std::to_string(w) + " is outside the file's range [" +
+                               std::to_string(co.omega_start) + ", " + std::to_string(co.omega_end) + "]");
+    const auto hb_start = std::chrono::steady_clock::now();
+    HarmonicBalance hb(config.system, ho);
+    const BranchResult branch = continue_branch(hb, co);
+    const std::vector<SolutionPoint> samples = sample_branch(hb, branch, omegas, co.corrector);
+    Analyser analyse(hb, {dof});
+    std::vector<std::vector<double>> hb_y(omegas.size());
+    for (const SolutionPoint& p : samples)
+        for (std::size_t i = 0; i < omegas.size(); ++i)
+            if (p.omega == omegas[i]) hb_y[i].push_back(analyse(p).y_max[static_cast<std::size_t>(dof)]);
+    const double hb_seconds = seconds_since(hb_start);
+    const int branch_points = static_cast<int>(branch.points.size());
+    std::printf("%s: N = %d DOFs, %zu contact(s), H = %d (%s): HB FRF over [%g, %g]: %d branch points in %.3f s (%s)\n",
+                path.c_str(), config.system.dofs(), config.system.contacts.size(), hb.harmonics(),
+                to_string(hb.formulation()).c_str(), co.omega_start, co.omega_end, branch_points, hb_seconds,
+                to_string(branch.status).c_str());
+    std::printf("TI: BDF, rtol %g, steady-tol %g; y = y_max of DOF %d\n\n", rtol, steady_tol, dof + 1);
+    std::printf("%10s %14s %14s %10s %10s %8s %10s\n", "w", "y TI", "y HB", "rel. diff", "TI [s]", "periods",
+                "regime TI");
+    TimeIntegrationOptions to;
+    to.method = IntegrationMethod::bdf;
+    to.relative_tolerance = rtol;
+    to.absolute_tolerance = 1e-14;
+    to.steady_tolerance = steady_tol;
+    to.validate();
+    nlohmann::json points = nlohmann::json::array();
+    double ti_total = 0, worst = 0;
+    for (std::size_t i = 0; i < omegas.size(); ++i) {
+        const PeriodicResponse r = integrate_steady_state(config.system, omegas[i], to);
+        ti_total += r.seconds;
+        const double y_ti = r.y_max[static_cast<std::size_t>(dof)];
+        double y_hb = std::numeric_limits<double>::quiet_NaN(), diff = y_hb;
+        for (double y : hb_y[i])
+            if (!(std::abs(y - y_ti) >= std::abs(y_hb - y_ti))) y_hb = y;
+        diff = std::abs(y_hb - y_ti) / y_ti;
+        if (r.converged) worst = std::max(worst, diff);
+        std::printf("%10g %14.8e %14.8e %10.2e %10.2f %8d %10s%s\n", omegas[i], y_ti, y_hb, diff, r.seconds, r.periods,
+                    r.regime.c_str(), r.converged ? "" : "  (TI not converged)");
+        points.push_back({{"w", omegas[i]}, {"y_max_timeint", y_ti}, {"y_max_hb", y_hb}, {"rel_diff", diff},
+                          {"timeint_seconds", r.seconds}, {"timeint_periods", r.periods},
+                          {"timeint_converged", r.converged}, {"timeint_regime", r.regime}});
+    }
+    const double per_frequency = ti_total / static_cast<double>(omegas.size());
+    const double ratio = per_frequency * branch_points / hb_seconds;
+    std::printf("\nTI %.2f s per frequency; a TI sweep with as many frequencies as the HB branch (%d) would take "
+                "%.0f s: %.0f times the HB FRF (%.3f s)\n",
+                per_frequency, branch_points, per_frequency * branch_points, ratio, hb_seconds);
+    std::cout << nlohmann::json{{"config", path},
+                                {"dofs", config.system.dofs()},
+                                {"harmonics", hb.harmonics()},
+                                {"hb_seconds", hb_seconds},
+                                {"hb_branch_points", branch_points},
+                                {"hb_status", to_string(branch.status)},
+                                {"timeint_seconds_per_frequency", per_frequency},
+                                {"sweep_ratio", ratio},
+                                {"max_rel_diff", worst},
+                                {"points", points}}
+                     .dump()
+              << std::endl;
+    return 0;
+}
+
 int main(int argc, char** argv) {
     CLI::App app{"Times the FRF of the paper's absorber by harmonic balance + continuation and by a time-integration "
                  "sweep on the same grid, and compares their y1_max."};
@@ -318,8 +399,18 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 10000))
         ->capture_default_str();
     app.add_option("--csv", csv, "write every grid point (w, TI and HB y1_max, ...) of every case to this file");
+    std::string config_path;
+    std::vector<double> config_at;
+    app.add_option("--config", config_path,
+                   "instead of the absorber: a TOML system (e.g. examples/systems/beam/beam200.toml): the HB FRF over "
+                   "its range against BDF time integration at --at");
+    app.add_option("--at", config_at, "frequencies of the --config comparison")->delimiter(',');
     CLI11_PARSE(app, argc, argv);
     try {
+        if (!config_path.empty()) {
+            if (config_at.empty()) throw InvalidInput("--config needs --at W1,W2,...: allowed frequencies in the file's range");
+            return run_config(config_path, config_at, rtol != 0 ? rtol : 1e-10, steady_tol != 0 ? steady_tol : 1e-7);
+        }
         const auto time_integration = [&](FrictionLaw law) {
             TimeIntegrationOptions o = default_time_integration(law);
             if (rtol != 0) o.relative_tolerance = rtol;

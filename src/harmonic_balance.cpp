@@ -222,6 +222,17 @@ Eigen::VectorXd HarmonicBalance::relative(const Eigen::VectorXd& x, int contact)
     return y * directions_[static_cast<std::size_t>(contact)];
 }
 
+Eigen::VectorXd HarmonicBalance::embed_harmonics(const Eigen::VectorXd& low, int low_harmonics) const {
+    const int n = coefficients(), m = 2 * low_harmonics + 1;
+    if (low_harmonics < 0 || low_harmonics > harmonics() || low.size() % m != 0 || low.size() / m * n != unknowns_)
+        throw InvalidInput("embed_harmonics: " + std::to_string(low.size()) + " unknowns with " +
+                           std::to_string(low_harmonics) + " harmonics do not match this layout (" +
+                           std::to_string(unknowns_) + " unknowns, " + std::to_string(harmonics()) + " harmonics)");
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(unknowns_);
+    for (Eigen::Index s = 0; s < low.size() / m; ++s) x.segment(s * n, m) = low.segment(s * m, m);
+    return x;
+}
+
 Eigen::VectorXd HarmonicBalance::state(const Eigen::VectorXd& x, int contact) const {
     const int offset = state_offset_[static_cast<std::size_t>(contact)];
     return offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, coefficients()));

@@ -1,6 +1,7 @@
 #include "hbf/model.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <complex>
 
 #include <cmath>
@@ -280,10 +281,14 @@ StuckResponse stuck_linear_response(const System& system, double omega) {
     const int m = static_cast<int>(rigid.size());
     Eigen::MatrixXcd kkt = Eigen::MatrixXcd::Zero(n + m, n + m);
     kkt.topLeftCorner(n, n) = a;
+    // The constraint rows and columns scaled to the size of A's entries (a finite-element K
+    // has entries ~1e10 against w's ~1: unscaled, the LU judged the KKT matrix singular); the
+    // multipliers are scaled back below.
+    const double scale = std::max(a.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
     for (int j = 0; j < m; ++j) {
         const Eigen::VectorXd w = system.contact_direction(system.contacts[static_cast<std::size_t>(rigid[static_cast<std::size_t>(j)])]);
-        kkt.block(0, n + j, n, 1) = w.cast<Complex>();
-        kkt.block(n + j, 0, 1, n) = w.transpose().cast<Complex>();
+        kkt.block(0, n + j, n, 1) = (scale * w).cast<Complex>();
+        kkt.block(n + j, 0, 1, n) = (scale * w.transpose()).cast<Complex>();
     }
     Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(n + m);
     rhs.head(n) = system.excitation.cast<Complex>();
@@ -295,7 +300,7 @@ StuckResponse stuck_linear_response(const System& system, double omega) {
     out.ok = true;
     out.amplitude = x.head(n);
     out.force = Eigen::VectorXcd::Zero(nc);
-    for (int j = 0; j < m; ++j) out.force(rigid[static_cast<std::size_t>(j)]) = x(n + j);
+    for (int j = 0; j < m; ++j) out.force(rigid[static_cast<std::size_t>(j)]) = scale * x(n + j);
     for (int c = 0; c < nc; ++c) {
         const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
         if (contact.law == FrictionLaw::coulomb) continue;

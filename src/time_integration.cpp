@@ -115,9 +115,15 @@ constexpr double pi = 3.14159265358979323846;
 using detail::Integrator;
 using detail::PeriodRecord;
 
-double poincare_change(const Eigen::VectorXd& a, const Eigen::VectorXd& b, int continuous) {
-    const double scale = std::max(1.0, b.head(continuous).cwiseAbs().maxCoeff());
-    return (a.head(continuous) - b.head(continuous)).cwiseAbs().maxCoeff() / scale;
+double poincare_change(const Eigen::VectorXd& a, const Eigen::VectorXd& b, int dofs, int continuous, double omega) {
+    // Relative and unit-consistent: displacements (and internal states, also lengths) against
+    // the displacement scale, velocities against omega times it.
+    const double y_scale = std::max(a.head(dofs).cwiseAbs().maxCoeff(), a.segment(dofs, dofs).cwiseAbs().maxCoeff() / omega);
+    const Eigen::VectorXd d = (a.head(continuous) - b.head(continuous)).cwiseAbs();
+    const double dy = std::max(d.head(dofs).maxCoeff(), d.size() > 2 * dofs ? d.tail(continuous - 2 * dofs).maxCoeff() : 0.0);
+    const double dv = d.segment(dofs, dofs).maxCoeff() / omega;
+    const double change = std::max(dy, dv);
+    return y_scale > 0.0 ? change / y_scale : (change > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
 }
 
 void fill_metrics(PeriodicResponse& out, const PeriodRecord& r, const Eigen::VectorXd& start, double period) {
@@ -209,7 +215,7 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
             if (!have_metrics) out.state = x;
             break;
         }
-        const double change = poincare_change(record.end_state, x, continuous);
+        const double change = poincare_change(record.end_state, x, system.dofs(), continuous, omega);
         if (pending_check) {  // the first period from a candidate start: keep it only if it helped
             pending_check = false;
             if (change > saved_change) {

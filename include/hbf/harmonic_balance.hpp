@@ -115,6 +115,9 @@ public:
     /// With `sliding`, the slipping limit instead: every contact removed (friction forces
     /// start at their limit, in phase with the relative velocity).
     Eigen::VectorXd linear_guess(double omega, bool sliding = false) const;
+    /// Unknowns of a solution with `low_harmonics` <= H harmonics (same system and
+    /// formulation) in this layout: every signal's harmonics above low_harmonics are zero.
+    Eigen::VectorXd embed_harmonics(const Eigen::VectorXd& low, int low_harmonics) const;
     /// Force scale against which residuals are judged: the excitation amplitude |F|_inf.
     double force_scale() const { return force_scale_; }
     /// Scale of the unknowns x for the corrector and the arclength: max |x_i|, bounded below.

@@ -71,8 +71,10 @@ struct TimeIntegrationOptions {
     /// M + gamma C + gamma^2 K, bordered by the stuck Coulomb contacts' constraints (friction
     /// slopes and internal states are left to GMRES). 0 uses the sparse route always.
     int dense_newton_max_dofs = 16;
-    /// Poincare convergence: |x_{k+1} - x_k|_inf <= steady_tolerance * max(1, |x_{k+1}|_inf)
-    /// over the continuous states (y, y', internal states). 1e-14..1e-2.
+    /// Poincare convergence, relative and independent of the units:
+    /// max(|dy|_inf, |dz|_inf, |dy'|_inf / omega) <= steady_tolerance * s with
+    /// s = max(|y|_inf, |y'|_inf / omega) of x_{k+1} (dy, dy', dz: changes of the
+    /// displacements, velocities and internal states from x_k to x_{k+1}). 1e-14..1e-2.
     double steady_tolerance = 1e-8;
     /// At least this many periods are integrated (>= 1), so a converged answer has seen the
     /// steady state repeat at least once after min_periods - 1 periods of settling.
@@ -135,7 +137,7 @@ struct PeriodicResponse {
     /// Why it did (not) converge: the last Poincare change, an event cap, a CVODE failure.
     std::string message;
     int periods = 0;              ///< periods integrated (with the shooting Jacobians' ones)
-    double poincare_change = 0;   ///< last |x_{k+1} - x_k|_inf / max(1, |x_{k+1}|_inf)
+    double poincare_change = 0;   ///< last relative change of the state (steady_tolerance)
     Eigen::VectorXd state;        ///< state at the start of the final period (convention above)
 
     // ---- metrics of the final period (columns of `hbf frf`) ----

@@ -202,7 +202,8 @@ Runner add_timeint_command(CLI::App& app) {
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--steady-tol", options->steady_tol,
                         "Poincare convergence: the state at the start of consecutive periods changes by <= "
-                        "steady-tol * max(1, |state|_inf), 1e-14..1e-2")
+                        "steady-tol relative to the displacement scale max(|y|_inf, |y'|_inf / w) (velocities divided by w: "
+                        "the same in any units), 1e-14..1e-2")
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--max-periods", options->max_periods, "periods per frequency at most, 1..1000000")
         ->capture_default_str()->type_name("INT");

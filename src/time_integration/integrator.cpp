@@ -65,6 +65,7 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
         throw_on(CVodeSetLinearSolver(cvode_, linear_, nullptr), "CVodeSetLinearSolver");
         throw_on(CVodeSetPreconditioner(cvode_, preconditioner_setup, preconditioner_solve),
                  "CVodeSetPreconditioner");
+        throw_on(CVodeSetJacTimes(cvode_, nullptr, jacobian_times), "CVodeSetJacTimes");
         newton_matrix_ = system.mass + system.damping + system.stiffness;  // the union pattern
         newton_rhs_.resize(n_);
     } else {
@@ -128,6 +129,21 @@ int Integrator::preconditioner_setup(sunrealtype, N_Vector, N_Vector, sunboolean
 int Integrator::preconditioner_solve(sunrealtype, N_Vector, N_Vector, N_Vector r, N_Vector z, sunrealtype,
                                      sunrealtype, int, void* data) {
     return static_cast<Integrator*>(data)->solve_newton(N_VGetArrayPointer(r), N_VGetArrayPointer(z));
+}
+
+int Integrator::jacobian_times(N_Vector v, N_Vector jv, sunrealtype t, N_Vector x, N_Vector fx, void* data,
+                               N_Vector tmp) {
+    Integrator& self = *static_cast<Integrator*>(data);
+    const double v_norm = std::sqrt(N_VDotProd(v, v));
+    if (!(v_norm > 0.0)) {
+        N_VConst(0.0, jv);
+        return 0;
+    }
+    const double sigma = 1.4901161193847656e-08 * (1.0 + std::sqrt(N_VDotProd(x, x))) / v_norm;  // sqrt(eps)
+    N_VLinearSum(1.0, x, sigma, v, tmp);
+    self.derivative(t, N_VGetArrayPointer(tmp), N_VGetArrayPointer(jv));
+    N_VLinearSum(1.0 / sigma, jv, -1.0 / sigma, fx, jv);
+    return 0;
 }
 
 int Integrator::setup_newton(double gamma) {

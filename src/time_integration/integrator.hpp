@@ -94,6 +94,11 @@ private:
                                     sunbooleantype* jcur, sunrealtype gamma, void* data);
     static int preconditioner_solve(sunrealtype t, N_Vector x, N_Vector fx, N_Vector r, N_Vector z,
                                     sunrealtype gamma, sunrealtype delta, int lr, void* data);
+    /// J v by a difference of right-hand sides with an increment from the unweighted norms
+    /// (CVODE's own uses the error weights: where a stuck contact holds a velocity at 0 they
+    /// are ~1/atol, and the increment drowns in rounding).
+    static int jacobian_times(N_Vector v, N_Vector jv, sunrealtype t, N_Vector x, N_Vector fx, void* data,
+                              N_Vector tmp);
     /// BDF on large models: factorises M + gamma C + gamma^2 K (see dense_newton_max_dofs).
     int setup_newton(double gamma);
     /// Solves the structural part of (I - gamma J) z = r (states y, y'), identity elsewhere.
