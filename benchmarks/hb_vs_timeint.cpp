@@ -306,6 +306,7 @@ int run_config(const std::string& path, const std::vector<double>& omegas, doubl
                 to_string(hb.formulation()).c_str(), co.omega_start, co.omega_end, branch_points, hb_seconds,
                 to_string(branch.status).c_str());
     std::printf("TI: BDF, rtol %g, steady-tol %g; y = y_max of DOF %d\n\n", rtol, steady_tol, dof + 1);
+    std::fflush(stdout);
     std::printf("%10s %14s %14s %10s %10s %8s %10s\n", "w", "y TI", "y HB", "rel. diff", "TI [s]", "periods",
                 "regime TI");
     TimeIntegrationOptions to;
@@ -327,6 +328,7 @@ int run_config(const std::string& path, const std::vector<double>& omegas, doubl
         if (r.converged) worst = std::max(worst, diff);
         std::printf("%10g %14.8e %14.8e %10.2e %10.2f %8d %10s%s\n", omegas[i], y_ti, y_hb, diff, r.seconds, r.periods,
                     r.regime.c_str(), r.converged ? "" : "  (TI not converged)");
+        std::fflush(stdout);
         points.push_back({{"w", omegas[i]}, {"y_max_timeint", y_ti}, {"y_max_hb", y_hb}, {"rel_diff", diff},
                           {"timeint_seconds", r.seconds}, {"timeint_periods", r.periods},
                           {"timeint_converged", r.converged}, {"timeint_regime", r.regime}});
