@@ -169,7 +169,8 @@ int Integrator::solve_newton(const double* r, double* z) {
     Eigen::Map<const Eigen::VectorXd> ry(r, n_), rv(r + n_, n_);
     newton_rhs_.noalias() = system_.mass * rv;
     newton_rhs_.noalias() -= gamma * (system_.stiffness * ry);
-    Eigen::VectorXd zv = newton_lu_.solve(newton_rhs_);
+    Eigen::VectorXd& zv = newton_zv_;  // scratch: no allocation per GMRES iteration
+    zv = newton_lu_.solve(newton_rhs_);
     if (!stuck_.empty()) {
         if (bordered_version_ != stuck_version_) {
             newton_ws_ = newton_lu_.solve(ws_);

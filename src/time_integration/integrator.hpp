@@ -145,7 +145,7 @@ private:
     int stuck_version_ = 0, bordered_version_ = -1;
     Eigen::MatrixXd newton_ws_;          // (M + gamma C + gamma^2 K)^-1 W_S
     Eigen::MatrixXd newton_border_;      // (W_S^T newton_ws_)^+
-    Eigen::VectorXd newton_rhs_;
+    Eigen::VectorXd newton_rhs_, newton_zv_;
     Eigen::VectorXd excitation_;
     std::vector<int> mode_;
     std::vector<int> stuck_;             // coulomb contacts in mode 0
