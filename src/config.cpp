@@ -3,10 +3,12 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -182,6 +184,80 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
 
 }  // namespace
 
+/// One [[output]] table: `dof = i` (named y<i>), or `name` and `row` (N numbers, or a
+/// Matrix Market vector of N entries, a row or a column). Names are checked against the
+/// earlier outputs and the column names they would make.
+Output read_output(const Reader& r, const toml::table& t, int index, int dofs, const std::vector<Output>& earlier) {
+    const std::string where = "output[" + std::to_string(index + 1) + "]";
+    r.only(t, {"name", "dof", "row"}, where);
+    const toml::node* dof = t.get("dof");
+    const toml::node* row = t.get("row");
+    const toml::node* name = t.get("name");
+    if ((dof != nullptr) == (row != nullptr))
+        fail(r.file, t.source(), where, "give exactly one of 'dof' (a DOF, 1-based) and 'row' (a row vector c: o = c^T y)");
+    std::string label;
+    if (name) {
+        if (!name->is_string()) fail(r.file, name->source(), where + ".name", "expected a string");
+        label = name->as_string()->get();
+        const bool good = !label.empty() && label.size() <= 40 && std::isalpha(static_cast<unsigned char>(label[0])) &&
+                          std::all_of(label.begin(), label.end(), [](char ch) {
+                              return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_';
+                          });
+        if (!good)
+            fail(r.file, name->source(), where + ".name",
+                 "'" + label + "' is not allowed: a letter, then letters, digits or '_', at most 40 characters "
+                 "(it names the CSV columns <name>_max and <name>_amp1)");
+    } else if (row) {
+        fail(r.file, t.source(), where + ".name", "missing: an output given by 'row' needs a name");
+    }
+    std::optional<Output> output;
+    if (dof) {
+        const int d = r.integer(*dof, where + ".dof");
+        if (d < 1 || d > dofs)
+            fail(r.file, dof->source(), where + ".dof",
+                 std::to_string(d) + " is out of range: allowed 1.." + std::to_string(dofs) + " (1-based DOF)");
+        output = Output::dof(d - 1);
+        if (!label.empty()) output = Output(label, output->terms());
+    } else {
+        Eigen::VectorXd c;
+        if (row->is_string()) {
+            const SparseMatrix m = r.matrix(*row, where + ".row");
+            if (m.rows() != 1 && m.cols() != 1)
+                fail(r.file, row->source(), where + ".row",
+                     "the Matrix Market file is " + std::to_string(m.rows()) + " x " + std::to_string(m.cols()) +
+                         ": allowed a row or a column of " + std::to_string(dofs) + " entries");
+            c = m.cols() == 1 ? Eigen::VectorXd(Eigen::MatrixXd(m).col(0)) : Eigen::VectorXd(Eigen::MatrixXd(m).row(0).transpose());
+            if (c.size() != dofs)
+                fail(r.file, row->source(), where + ".row",
+                     std::to_string(c.size()) + " entries: allowed " + std::to_string(dofs) + " (the number of DOFs)");
+        } else {
+            c = r.vector(*row, where + ".row", dofs);
+        }
+        std::vector<Output::Term> terms;
+        for (int i = 0; i < dofs; ++i) {
+            if (!std::isfinite(c(i))) fail(r.file, row->source(), where + ".row", "entry " + std::to_string(i + 1) + " is not finite");
+            if (c(i) != 0.0) terms.emplace_back(i, c(i));
+        }
+        if (terms.empty()) fail(r.file, row->source(), where + ".row", "every entry is zero: allowed a nonzero row");
+        output = Output(label, terms);
+    }
+    // y<i> names belong to DOF i; stick_margin would collide with a time-integration column.
+    const std::string& final_name = output->name();
+    const bool dof_style = final_name.size() > 1 && final_name[0] == 'y' &&
+                           std::all_of(final_name.begin() + 1, final_name.end(), [](char ch) { return std::isdigit(static_cast<unsigned char>(ch)); });
+    if (dof_style && !(output->single_dof() >= 0 && final_name == "y" + std::to_string(output->single_dof() + 1)))
+        fail(r.file, (name ? name : &t)->source(), where + ".name",
+             "'" + final_name + "' is reserved for DOF " + final_name.substr(1) + " (y<i> names DOF i)");
+    if (final_name == "stick_margin" || final_name == "w")
+        fail(r.file, (name ? name : &t)->source(), where + ".name",
+             "'" + final_name + "' is reserved (its columns would collide with hbf's own)");
+    for (const Output& o : earlier)
+        if (o.name() == final_name)
+            fail(r.file, (name ? name : &t)->source(), where + ".name",
+                 "'" + final_name + "' is already an output name: allowed distinct names");
+    return *output;
+}
+
 SystemConfig read_system_config(const std::string& path) {
     Reader r;
     r.file = path;
@@ -281,23 +357,35 @@ SystemConfig read_system_config(const std::string& path) {
         }
     }
     if (const toml::node* node = root.get("output")) {
-        const toml::table* t = node->as_table();
-        if (!t) fail(path, node->source(), "output", "expected a table [output]");
-        r.only(*t, {"report"}, "output");
-        if (const toml::node* v = t->get("report")) {
-            const toml::array* a = v->as_array();
-            if (!a || a->empty()) fail(path, v->source(), "output.report", "expected a non-empty list of DOFs (1-based)");
-            for (const toml::node& item : *a) {
-                const int d = r.integer(item, "output.report");
-                if (d < 1 || d > n)
-                    fail(path, item.source(), "output.report",
-                         std::to_string(d) + " is out of range: allowed 1.." + std::to_string(n) + " (1-based DOF)");
-                config.report.push_back(d - 1);
+        if (const toml::array* list = node->as_array()) {  // [[output]] tables
+            if (list->empty()) fail(path, node->source(), "output", "expected at least one [[output]] table");
+            for (std::size_t k = 0; k < list->size(); ++k) {
+                const toml::table* t = list->get(k)->as_table();
+                if (!t) fail(path, list->get(k)->source(), "output", "expected [[output]] tables");
+                config.outputs.push_back(read_output(r, *t, static_cast<int>(k), n, config.outputs));
+            }
+        } else {
+            const toml::table* t = node->as_table();
+            if (!t) fail(path, node->source(), "output", "expected a table [output] or tables [[output]]");
+            r.only(*t, {"report"}, "output");
+            if (const toml::node* v = t->get("report")) {
+                const toml::array* a = v->as_array();
+                if (!a || a->empty()) fail(path, v->source(), "output.report", "expected a non-empty list of DOFs (1-based)");
+                for (const toml::node& item : *a) {
+                    const int d = r.integer(item, "output.report");
+                    if (d < 1 || d > n)
+                        fail(path, item.source(), "output.report",
+                             std::to_string(d) + " is out of range: allowed 1.." + std::to_string(n) + " (1-based DOF)");
+                    for (const Output& o : config.outputs)
+                        if (o.single_dof() == d - 1)
+                            fail(path, item.source(), "output.report", "DOF " + std::to_string(d) + " is listed twice");
+                    config.outputs.push_back(Output::dof(d - 1));
+                }
             }
         }
     }
-    if (config.report.empty())
-        for (int i = 0; i < n; ++i) config.report.push_back(i);
+    if (config.outputs.empty())
+        for (int i = 0; i < n; ++i) config.outputs.push_back(Output::dof(i));
     return config;
 }
 

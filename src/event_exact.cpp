@@ -521,6 +521,8 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     const double period = e.period();
     const auto& rule = gauss_legendre();
     out.y_max.assign(static_cast<std::size_t>(nd), 0.0);
+    const std::vector<Output>& outputs = options.outputs;
+    out.output_max.assign(outputs.size(), 0.0);
     Eigen::VectorXd c1 = Eigen::VectorXd::Zero(nd), s1 = Eigen::VectorXd::Zero(nd);
     double stick_time = 0.0;
     out.energy = 0.0;
@@ -542,10 +544,9 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
         if (length <= 0.0) continue;
         if (nc > 0 && (st.modes[0] == 0 || !e.coulomb(0)))
             for (int j = 0; j <= 16; ++j) margin(st.modes, evaluate(st.u, st.s_end * j / 16));
-        // Turning points of every DOF: roots of y_i' (its polynomial), from 16 samples.
-        for (int i = 0; i < nd; ++i) {
-            const Eigen::RowVectorXd y = st.u.row(i), v = st.u.row(nd + i);
-            double& best = out.y_max[static_cast<std::size_t>(i)];
+        // Turning points of every DOF and output: roots of y_i' (its polynomial), from 16
+        // samples.
+        auto turning_points = [&st](const Eigen::RowVectorXd& y, const Eigen::RowVectorXd& v, double& best) {
             constexpr int samples = 16;
             double s_prev = 0.0, v_prev = horner(v, 0.0);
             best = std::max(best, std::abs(horner(y, 0.0)));
@@ -558,6 +559,15 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
                 s_prev = s;
                 v_prev = vs;
             }
+        };
+        for (int i = 0; i < nd; ++i) turning_points(st.u.row(i), st.u.row(nd + i), out.y_max[static_cast<std::size_t>(i)]);
+        for (std::size_t o = 0; o < outputs.size(); ++o) {
+            Eigen::RowVectorXd y = Eigen::RowVectorXd::Zero(st.u.cols()), v = y;
+            for (const auto& [i, c] : outputs[o].terms()) {
+                y += c * st.u.row(i);
+                v += c * st.u.row(nd + i);
+            }
+            turning_points(y, v, out.output_max[o]);
         }
         // First harmonics by Gauss-Legendre (cos and sin are states of zhat).
         for (const auto& [node, weight] : rule) {
@@ -577,6 +587,8 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     out.harmonic1 = c1.cast<std::complex<double>>() - std::complex<double>(0.0, 1.0) * s1.cast<std::complex<double>>();
     out.y_amp1.resize(static_cast<std::size_t>(nd));
     for (int i = 0; i < nd; ++i) out.y_amp1[static_cast<std::size_t>(i)] = std::hypot(c1(i), s1(i));
+    out.output_amp1.clear();
+    for (const Output& o : outputs) out.output_amp1.push_back(std::hypot(o.of(c1), o.of(s1)));
     out.input_energy = pi * e.excitation().dot(s1);
     out.stick_fraction = nc > 0 ? std::min(1.0, stick_time / period) : 0.0;
     out.stick_margin_min = std::isfinite(margin_min) ? margin_min : 0.0;
@@ -783,6 +795,7 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
     validate_system(system, omega);
     check_state_size(system, initial_state);
     options.validate();
+    for (const Output& o : options.outputs) o.validate(system.dofs());
     Engine e(system, omega);
     const double period = e.period();
     ExactOrbit out;

@@ -17,6 +17,8 @@ PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb) {
     PointMetrics m = hb;
     m.y_max = orbit.y_max;
     m.y_amp1 = orbit.y_amp1;
+    m.output_max = orbit.output_max;
+    m.output_amp1 = orbit.output_amp1;
     m.stick_fraction = orbit.stick_fraction;
     m.regime = orbit.regime;
     m.energy = orbit.energy;
@@ -24,6 +26,7 @@ PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb) {
     return m;
 }
 
+/// hb_gap of DOF `dof`, or of output 0 when the orbit has outputs.
 ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof) {
     ExactPoint e;
     e.message = orbit.message;
@@ -35,9 +38,11 @@ ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof)
     e.status = PolishStatus::exact;
     e.stable = orbit.stable;
     e.max_multiplier = orbit.max_multiplier;
-    const double exact = orbit.y_max[static_cast<std::size_t>(dof)];
-    const double approximate = hb.y_max.empty() ? std::numeric_limits<double>::quiet_NaN()
-                                                : hb.y_max[static_cast<std::size_t>(dof)];
+    const bool output = !orbit.output_max.empty();
+    const double exact = output ? orbit.output_max.front() : orbit.y_max[static_cast<std::size_t>(dof)];
+    const std::vector<double>& hb_values = output ? hb.output_max : hb.y_max;
+    const double approximate = hb_values.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                                 : hb_values[output ? 0 : static_cast<std::size_t>(dof)];
     e.hb_gap = std::abs(approximate - exact) / exact;
     return e;
 }
@@ -173,7 +178,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     // 2. Exact transitions between consecutive exact points of a branch with different regimes.
     std::vector<Polished> with_transitions;
     Corrector corrector(hb, corrector_options);
-    Analyser analyse(hb);
+    Analyser analyse(hb, {dof}, options.exact.outputs);
     int transitions = 0;
     for (std::size_t k = 0; k < branch.size(); ++k) {
         with_transitions.push_back(branch[k]);
@@ -244,25 +249,31 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             }
         }
 
-    // 3. Exact peaks of `dof` among the branch points (transitions included).
-    if (options.peaks) {
+    // 3. Exact peaks of `dof` (or of each output) among the branch points (transitions included).
+    const std::size_t quantities =
+        options.exact.outputs.empty() || !options.peaks_of_every_output ? 1 : options.exact.outputs.size();
+    for (std::size_t o = 0; options.peaks && o < quantities; ++o) {
+        const bool of_dof = options.exact.outputs.empty();
+        auto value_of = [&](const std::vector<double>& y_max, const std::vector<double>& output_max) {
+            return of_dof ? y_max[static_cast<std::size_t>(dof)] : output_max[o];
+        };
         const auto& p = with_transitions;
-        auto y = [&](std::size_t k) { return p[k].metrics.y_max[static_cast<std::size_t>(dof)]; };
+        auto y = [&](std::size_t k) { return value_of(p[k].metrics.y_max, p[k].metrics.output_max); };
         for (std::size_t k = 1; k + 1 < p.size(); ++k) {
             const Polished &a = p[k - 1], &m = p[k], &b = p[k + 1];
             if (a.point.branch != m.point.branch || b.point.branch != m.point.branch) continue;
             if (!a.orbit.converged || !m.orbit.converged || !b.orbit.converged) continue;
             if (!(y(k) > y(k - 1) && y(k) >= y(k + 1))) continue;
-            Peak peak{m.point.omega, y(k), m.point.branch, false};
+            Peak peak{m.point.omega, y(k), m.point.branch, false, static_cast<int>(o)};
             const bool monotone = (m.point.omega - a.point.omega) * (b.point.omega - m.point.omega) > 0.0 &&
                                   m.point.kind != PointKind::fold && b.point.kind != PointKind::fold &&
                                   a.point.kind != PointKind::fold;
             if (monotone) {
                 bool ok = true;
                 auto value = [&](double omega, bool& good) {
-                    const ExactOrbit o = solve(system, omega, m.orbit.state, nullptr, options.exact);
-                    if (!o.converged) good = false;
-                    return o.converged ? o.y_max[static_cast<std::size_t>(dof)] : 0.0;
+                    const ExactOrbit e = solve(system, omega, m.orbit.state, nullptr, options.exact);
+                    if (!e.converged) good = false;
+                    return e.converged ? value_of(e.y_max, e.output_max) : 0.0;
                 };
                 const detail::GoldenMaximum best =
                     detail::golden_section_maximum(value, std::min(a.point.omega, b.point.omega),

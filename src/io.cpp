@@ -86,23 +86,49 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
     }
 }
 
-std::vector<Column> frf_columns(int dofs) {
-    std::vector<int> all(static_cast<std::size_t>(std::max(0, dofs)));
-    for (int i = 0; i < dofs; ++i) all[static_cast<std::size_t>(i)] = i;
-    return frf_columns(all);
+namespace {
+
+std::vector<Output> all_dofs(int dofs) {
+    std::vector<Output> all;
+    for (int i = 0; i < dofs; ++i) all.push_back(Output::dof(i));
+    return all;
 }
 
-std::vector<Column> frf_columns(const std::vector<int>& report) {
+/// "y3" for a DOF, else "tip(t) = 0.5 y3 - 0.5 y7" (a long row: "a combination of 200 DOFs").
+std::string output_definition(const Output& o) {
+    if (o.single_dof() >= 0) return o.name();
+    if (o.terms().size() > 4)
+        return o.name() + " = a combination of " + std::to_string(o.terms().size()) + " DOFs (the [[output]] row)";
+    std::string text = o.name() + " =";
+    bool first = true;
+    for (const auto& [i, c] : o.terms()) {
+        text += (first ? " " : c < 0 ? " - " : " + ") + format_number(first ? c : std::abs(c)) + " y" + std::to_string(i + 1);
+        first = false;
+    }
+    return text;
+}
+
+std::vector<Column> output_columns(const std::vector<Output>& outputs, const std::string& over,
+                                   const std::string& how) {
+    std::vector<Column> columns;
+    for (const Output& o : outputs)
+        columns.push_back({o.name() + "_max", "max over " + over + " of |" + o.name() + "(t)|" + how +
+                                                  (o.single_dof() >= 0 ? "" : "; " + output_definition(o))});
+    for (const Output& o : outputs)
+        columns.push_back({o.name() + "_amp1", "first-harmonic amplitude sqrt(c1^2 + s1^2) of " + o.name() +
+                                                   (over == "one period" ? "" : " over " + over)});
+    return columns;
+}
+
+}  // namespace
+
+std::vector<Column> frf_columns(int dofs) { return frf_columns(all_dofs(dofs)); }
+
+std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
                                          "in the file's units)"}};
-    for (int d : report) {
-        const std::string i = std::to_string(d + 1);
-        columns.push_back({"y" + i + "_max", "max over one period of |y" + i + "(t)|"});
-    }
-    for (int d : report) {
-        const std::string i = std::to_string(d + 1);
-        columns.push_back({"y" + i + "_amp1", "first-harmonic amplitude sqrt(c1^2 + s1^2) of y" + i});
-    }
+    const auto mine = output_columns(outputs, "one period", "");
+    columns.insert(columns.end(), mine.begin(), mine.end());
     const std::vector<Column> rest = {
         {"stick_fraction", "share of the period in stick, contact 1, by the law's own definition (AFT samples; "
                            "coulomb: |lambda + eps v| < mu; jenkins: slider at rest; dahl/lugre: |sigma0 z| < 0.95 g(v); "
@@ -121,7 +147,7 @@ std::vector<Column> frf_columns(const std::vector<int>& report) {
                   "converge here, the row keeps the HB values; off: plain harmonic balance (--exact off or another law)"},
         {"stable", "true/false from the exact orbit's Floquet multipliers (stable: all |multiplier| <= 1 + 1e-6); "
                    "empty unless exact = yes"},
-        {"hb_gap", "|y_max by HB - y_max exact| / y_max exact of the first reported DOF: harmonic balance's own "
+        {"hb_gap", "|y_max by HB - y_max exact| / y_max exact of the first reported output: harmonic balance's own "
                    "error at this point; empty unless exact = yes (and an HB solution exists at this w)"},
     };
     columns.insert(columns.end(), rest.begin(), rest.end());
@@ -129,17 +155,17 @@ std::vector<Column> frf_columns(const std::vector<int>& report) {
 }
 
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
-                   const std::vector<PointMetrics>& metrics, const std::vector<int>& report,
+                   const std::vector<PointMetrics>& metrics, const std::vector<Output>& outputs,
                    const std::vector<ExactPoint>& exact) {
-    const auto columns = frf_columns(report);
+    const auto columns = frf_columns(outputs);
     for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
     out << '\n';
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
         const PointMetrics& m = metrics[k];
         out << format_number(p.omega);
-        for (int d : report) out << ',' << format_number(m.y_max[static_cast<std::size_t>(d)]);
-        for (int d : report) out << ',' << format_number(m.y_amp1[static_cast<std::size_t>(d)]);
+        for (std::size_t j = 0; j < outputs.size(); ++j) out << ',' << format_number(m.output_max[j]);
+        for (std::size_t j = 0; j < outputs.size(); ++j) out << ',' << format_number(m.output_amp1[j]);
         out << ',' << format_number(m.stick_fraction) << ',' << m.regime << ',' << format_number(m.energy) << ','
             << p.branch << ',' << to_string(p.kind) << ',' << p.iterations << ',' << format_number(p.residual) << ','
             << format_number(p.step) << ',';
@@ -153,23 +179,13 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
     }
 }
 
-std::vector<Column> timeint_columns(int dofs) {
-    std::vector<int> all(static_cast<std::size_t>(std::max(0, dofs)));
-    for (int i = 0; i < dofs; ++i) all[static_cast<std::size_t>(i)] = i;
-    return timeint_columns(all);
-}
+std::vector<Column> timeint_columns(int dofs) { return timeint_columns(all_dofs(dofs)); }
 
-std::vector<Column> timeint_columns(const std::vector<int>& report) {
+std::vector<Column> timeint_columns(const std::vector<Output>& outputs) {
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
                                          "in the file's units)"}};
-    for (int d : report)
-        columns.push_back({"y" + std::to_string(d + 1) + "_max",
-                           "max over the final period of |y" + std::to_string(d + 1) +
-                               "(t)| (turning points by root finding)"});
-    for (int d : report)
-        columns.push_back({"y" + std::to_string(d + 1) + "_amp1",
-                           "first-harmonic amplitude sqrt(c1^2 + s1^2) of y" + std::to_string(d + 1) +
-                               " over the final period"});
+    const auto mine = output_columns(outputs, "the final period", " (turning points by root finding)");
+    columns.insert(columns.end(), mine.begin(), mine.end());
     const std::vector<Column> rest = {
         {"stick_fraction", "share of the final period contact 1 is in stick (coulomb, jenkins: exact event times; "
                            "dahl, lugre: |sigma0 z| < 0.95 g(v); coulomb-reg: |tanh(v/eps)| < 0.95)"},
@@ -187,16 +203,16 @@ std::vector<Column> timeint_columns(const std::vector<int>& report) {
 }
 
 void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses,
-                       const std::vector<int>& report) {
-    const auto columns = timeint_columns(report);
+                       const std::vector<Output>& outputs) {
+    const auto columns = timeint_columns(outputs);
     for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
     out << '\n';
     for (const PeriodicResponse& r : responses) {
         out << format_number(r.omega);
-        for (int i : report)
-            out << ',' << format_number(i < static_cast<int>(r.y_max.size()) ? r.y_max[static_cast<std::size_t>(i)] : 0.0);
-        for (int i : report)
-            out << ',' << format_number(i < static_cast<int>(r.y_amp1.size()) ? r.y_amp1[static_cast<std::size_t>(i)] : 0.0);
+        for (std::size_t j = 0; j < outputs.size(); ++j)
+            out << ',' << format_number(j < r.output_max.size() ? r.output_max[j] : 0.0);
+        for (std::size_t j = 0; j < outputs.size(); ++j)
+            out << ',' << format_number(j < r.output_amp1.size() ? r.output_amp1[j] : 0.0);
         out << ',' << format_number(r.stick_fraction) << ',' << (r.regime.empty() ? "none" : r.regime) << ','
             << format_number(r.energy) << ',' << r.periods << ',' << (r.converged ? "true" : "false") << ','
             << format_number(r.stick_margin_min) << ',' << format_number(r.stick_margin_max) << ',' << r.switches
@@ -207,7 +223,8 @@ void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& r
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics_in, const std::vector<Peak>& peaks,
-                       std::size_t samples, double wall_seconds, const PolishedBranch* polish, int peak_dof) {
+                       std::size_t samples, double wall_seconds, const std::vector<Output>& outputs,
+                       const PolishedBranch* polish) {
     using nlohmann::json;
     json j;
     j["parameters"] = {{"law", law}};
@@ -238,12 +255,18 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                    {"jacobian_seconds", e.jacobian_seconds + e.structure_seconds},
                    {"ceres_seconds", branch.corrector.seconds - branch.corrector.evaluation_seconds}};
     json peak_list = json::array(), folds = json::array();
-    for (const Peak& peak : peaks)
-        peak_list.push_back({{"w", peak.omega},
-                             {"dof", peak_dof + 1},
-                             {"y_max", peak.y_max},
-                             {"branch", peak.branch},
-                             {"refined", peak.refined}});
+    for (const Peak& peak : peaks) {
+        json entry = {{"w", peak.omega}};
+        if (peak.output >= 0 && static_cast<std::size_t>(peak.output) < outputs.size()) {
+            const Output& o = outputs[static_cast<std::size_t>(peak.output)];
+            entry["output"] = o.name();
+            if (o.single_dof() >= 0) entry["dof"] = o.single_dof() + 1;
+        }
+        entry["y_max"] = peak.y_max;
+        entry["branch"] = peak.branch;
+        entry["refined"] = peak.refined;
+        peak_list.push_back(entry);
+    }
     for (std::size_t k = 0; k < points.size(); ++k)
         if (points[k].kind == PointKind::fold)
             folds.push_back({{"w", points[k].omega}, {"y1_max", metrics[k].y_max[0]}, {"branch", points[k].branch}});

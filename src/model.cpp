@@ -5,6 +5,8 @@
 #include <complex>
 
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "hbf/error.hpp"
 
@@ -35,6 +37,38 @@ Eigen::VectorXd System::contact_direction(const Contact& contact) const {
     w(contact.dof) = 1.0;
     if (contact.other_dof != Contact::ground) w(contact.other_dof) = -1.0;
     return w;
+}
+
+Output::Output(std::string name, std::vector<Term> terms) : name_(std::move(name)), terms_(std::move(terms)) {}
+
+Output Output::dof(int i) { return Output("y" + std::to_string(i + 1), {{i, 1.0}}); }
+
+int Output::single_dof() const { return terms_.size() == 1 && terms_.front().second == 1.0 ? terms_.front().first : -1; }
+
+double Output::of(const Eigen::Ref<const Eigen::VectorXd>& y) const {
+    double sum = 0.0;
+    for (const auto& [i, c] : terms_) sum += c * y(i);
+    return sum;
+}
+
+Eigen::VectorXd Output::combine(const Eigen::Ref<const Eigen::MatrixXd>& y) const {
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(y.rows());
+    for (const auto& [i, c] : terms_) sum += c * y.col(i);
+    return sum;
+}
+
+void Output::validate(int dofs) const {
+    bool nonzero = false;
+    for (const auto& [i, c] : terms_) {
+        if (i < 0 || i >= dofs)
+            throw InvalidInput("output '" + name_ + "': DOF " + std::to_string(i + 1) + " is out of range: allowed 1.." +
+                               std::to_string(dofs));
+        if (!std::isfinite(c))
+            throw InvalidInput("output '" + name_ + "': the coefficient of DOF " + std::to_string(i + 1) +
+                               " is not finite");
+        nonzero = nonzero || c != 0.0;
+    }
+    if (!nonzero) throw InvalidInput("output '" + name_ + "': every coefficient is zero (allowed: at least one nonzero)");
 }
 
 SparseMatrix sparse(const Eigen::MatrixXd& dense) { return dense.sparseView(0.0, 0.0); }

@@ -137,11 +137,16 @@ void write_plot(const std::string& path, const PlotSpec& spec) {
 
 PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics, int dof,
                   const std::string& title) {
+    return frf_plot(points, metrics, Output::dof(dof), -1, title);
+}
+
+PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
+                  const Output& output, int index, const std::string& title) {
     PlotSpec spec;
     spec.title = title;
     spec.xlabel = "w";
-    const std::string y = "y" + std::to_string(dof + 1) + "_max";
-    spec.ylabel = y + " = max over one period of |y" + std::to_string(dof + 1) + "(t)|";
+    const int dof = output.single_dof();
+    spec.ylabel = output.name() + "_max = max over one period of |" + output.name() + "(t)|";
     PlotCurve branch{"harmonic balance (branch in order)", {}, {}, PlotCurve::Style::line, 7};
     PlotCurve folds{"folds", {}, {}, PlotCurve::Style::markers, 9};
     PlotCurve transitions{"stick-slip transitions", {}, {}, PlotCurve::Style::markers, 6};
@@ -150,7 +155,8 @@ PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<Po
     int last_branch = 0;
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
-        const double value = metrics[k].y_max[static_cast<std::size_t>(dof)];
+        const double value = index >= 0 ? metrics[k].output_max[static_cast<std::size_t>(index)]
+                                        : metrics[k].y_max[static_cast<std::size_t>(dof)];
         if (p.kind == PointKind::sample) {
             samples.x.push_back(p.omega);
             samples.y.push_back(value);

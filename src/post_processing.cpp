@@ -92,6 +92,16 @@ Analyser::Analyser(HarmonicBalance& hb, std::vector<int> report)
         for (int i = 0; i < hb.system().dofs(); ++i) report_.push_back(i);
 }
 
+Analyser::Analyser(HarmonicBalance& hb, std::vector<int> report, std::vector<Output> outputs)
+    : hb_(hb), fine_(hb.harmonics(), fine_time_samples(hb.harmonics())), report_(std::move(report)),
+      outputs_(std::move(outputs)) {
+    for (int i : report_)
+        if (i < 0 || i >= hb.system().dofs())
+            throw InvalidInput("reported DOF " + std::to_string(i + 1) + " is out of range: allowed 1.." +
+                               std::to_string(hb.system().dofs()));
+    for (const Output& o : outputs_) o.validate(hb.system().dofs());
+}
+
 PointMetrics Analyser::operator()(const SolutionPoint& point) {
     PointMetrics m;
     const System& s = hb_.system();
@@ -103,7 +113,15 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
         m.y_amp1.push_back(std::hypot(y(1, i), y(2, i)));
         m.input_energy += M_PI * s.excitation(i) * y(2, i);
     }
+    for (const Output& o : outputs_) {
+        const Eigen::VectorXd c = o.combine(y);
+        fine_.to_time(c, samples);
+        m.output_max.push_back(series_max_abs(c, samples));
+        m.output_amp1.push_back(std::hypot(c(1), c(2)));
+        if (o.single_dof() >= 0) m.y_max[static_cast<std::size_t>(o.single_dof())] = m.output_max.back();
+    }
     for (int i : report_) {
+        if (!std::isnan(m.y_max[static_cast<std::size_t>(i)])) continue;  // an output already
         const Eigen::VectorXd c = y.col(i);
         fine_.to_time(c, samples);
         m.y_max[static_cast<std::size_t>(i)] = series_max_abs(c, samples);
@@ -152,11 +170,13 @@ PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int 
     return s;
 }
 
-std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, int dof, const CorrectorOptions& options) {
+namespace {
+std::vector<Peak> output_peaks(HarmonicBalance& hb, const BranchResult& branch, const Output& output,
+                               const CorrectorOptions& options) {
     const auto& points = branch.points;
-    Analyser analyse(hb, {dof});
+    Analyser analyse(hb, {}, {output});
     std::vector<double> y(points.size());
-    for (std::size_t k = 0; k < points.size(); ++k) y[k] = analyse(points[k]).y_max[static_cast<std::size_t>(dof)];
+    for (std::size_t k = 0; k < points.size(); ++k) y[k] = analyse(points[k]).output_max.front();
     Corrector corrector(hb, options);
     std::vector<Peak> peaks;
     for (std::size_t k = 1; k + 1 < points.size(); ++k) {
@@ -182,7 +202,7 @@ std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, in
                     good = false;
                     return 0.0;
                 }
-                return analyse(p).y_max[static_cast<std::size_t>(dof)];
+                return analyse(p).output_max.front();
             };
             const detail::GoldenMaximum best = detail::golden_section_maximum(value, low.omega, high.omega, 1e-9, ok);
             if (ok && best.value >= y[k]) {
@@ -194,6 +214,26 @@ std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, in
         peaks.push_back(peak);
     }
     return peaks;
+}
+
+}  // namespace
+
+std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, int dof, const CorrectorOptions& options) {
+    if (dof < 0 || dof >= hb.system().dofs())
+        throw InvalidInput("peaks of DOF " + std::to_string(dof + 1) + ": out of range, allowed 1.." +
+                           std::to_string(hb.system().dofs()));
+    return find_peaks(hb, branch, std::vector<Output>{Output::dof(dof)}, options);
+}
+
+std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, const std::vector<Output>& outputs,
+                             const CorrectorOptions& options) {
+    std::vector<Peak> all;
+    for (std::size_t o = 0; o < outputs.size(); ++o) {
+        std::vector<Peak> peaks = output_peaks(hb, branch, outputs[o], options);
+        for (Peak& p : peaks) p.output = static_cast<int>(o);
+        all.insert(all.end(), peaks.begin(), peaks.end());
+    }
+    return all;
 }
 
 }  // namespace hbf

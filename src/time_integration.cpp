@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <functional>
 #include <limits>
 #include <sstream>
@@ -126,12 +127,20 @@ double poincare_change(const Eigen::VectorXd& a, const Eigen::VectorXd& b, int d
     return y_scale > 0.0 ? change / y_scale : (change > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
 }
 
-void fill_metrics(PeriodicResponse& out, const PeriodRecord& r, const Eigen::VectorXd& start, double period) {
+void fill_metrics(PeriodicResponse& out, const PeriodRecord& r, const Eigen::VectorXd& start, double period,
+                  const std::vector<Output>& outputs) {
     out.state = start;
     out.y_max = r.y_max;
     out.harmonic1 = r.harmonic1;
     out.y_amp1.resize(static_cast<std::size_t>(r.harmonic1.size()));
     for (Eigen::Index i = 0; i < r.harmonic1.size(); ++i) out.y_amp1[static_cast<std::size_t>(i)] = std::abs(r.harmonic1(i));
+    out.output_max = r.output_max;
+    out.output_amp1.clear();
+    for (const Output& o : outputs) {
+        std::complex<double> h = 0.0;
+        for (const auto& [i, c] : o.terms()) h += c * r.harmonic1(i);
+        out.output_amp1.push_back(std::abs(h));
+    }
     if (r.stick_time.empty()) {
         out.stick_fraction = 0.0;
         out.regime = "none";
@@ -181,6 +190,7 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     options.validate();
+    for (const Output& o : options.outputs) o.validate(system.dofs());
     const int size = state_size(system);
     if (initial_state && (initial_state->size() != size || !initial_state->allFinite()))
         throw InvalidInput("initial state has " + std::to_string(initial_state->size()) +
@@ -240,7 +250,7 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
             }
         }
         out.poincare_change = change;
-        fill_metrics(out, record, x, period);
+        fill_metrics(out, record, x, period, options.outputs);
         have_metrics = true;
         if (k >= options.min_periods && change <= options.steady_tolerance) {
             out.converged = true;

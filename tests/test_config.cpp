@@ -95,7 +95,10 @@ TEST_CASE("examples/systems/chain3.toml: two contacts, reported DOFs 1 and 3, eq
     REQUIRE(config.system.dofs() == 3);
     REQUIRE(config.system.contacts.size() == 2);
     CHECK(config.system.stiffness.coeff(2, 1) == -1.0);  // mirrored from the symmetric Matrix Market file
-    CHECK(config.report == std::vector<int>{0, 2});
+    REQUIRE(config.outputs.size() == 2);
+    CHECK(config.outputs[0].single_dof() == 0);
+    CHECK(config.outputs[1].single_dof() == 2);
+    CHECK(config.outputs[1].name() == "y3");
     TempDir dir;
     const double w = 1.0;
     const Result r = run_hbf("frf --quiet --config '" + systems + "chain3.toml' --at 1", dir);

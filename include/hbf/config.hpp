@@ -36,6 +36,15 @@
 //     [output]
 //     report = [1, 2]             # DOFs written as y<i>_max, y<i>_amp1 (1-based); default all
 //
+//     # or, instead of [output], any outputs o(t) = c^T y(t), in order (the two forms exclude
+//     # each other: TOML has either a table [output] or tables [[output]]):
+//     [[output]]
+//     name = "tip"                # columns tip_max (max over one period of |o(t)|), tip_amp1,
+//                                 # and JSON peaks of "tip"
+//     row = [0.0, 0.5, 0.5]       # c: N numbers, or a Matrix Market vector (a row or a column)
+//     [[output]]
+//     dof = 1                     # a DOF (1-based), named y1 unless a name is given
+//
 // Contact keys that do not apply to the contact's law are rejected, as are unknown keys and
 // tables: a misspelt key is an error, not a silent default. Every error names the file, the
 // line and the key.
@@ -52,7 +61,9 @@ struct SystemConfig {
     System system;
     std::optional<double> omega_start, omega_end;   ///< [frequency] wmin, wmax
     std::optional<int> harmonics, time_samples;     ///< [solver]
-    std::vector<int> report;                        ///< 0-based DOFs to report, in file order
+    /// The reported outputs in file order: [output] report's DOFs, or the [[output]] tables;
+    /// default every DOF.
+    std::vector<Output> outputs;
 };
 
 /// Reads and validates a system file (see above). Throws InvalidInput with

@@ -171,6 +171,9 @@ struct PointMetrics {
                                  ///< polished by Newton on y_i' = 0: exact to rounding);
                                  ///< NaN for a DOF the Analyser was not asked to report
     std::vector<double> y_amp1;  ///< per DOF: first-harmonic amplitude sqrt(c1^2 + s1^2)
+    std::vector<double> output_max;   ///< per Analyser output (model.hpp), in order: max over
+                                      ///< one period of |o(t)| (polished as y_max)
+    std::vector<double> output_amp1;  ///< per output: first-harmonic amplitude of o(t)
     double stick_fraction = 0;   ///< share of the AFT samples of contact 1 in stick phases, by
                                  ///< the law's own definition (stick_pattern below)
     std::string regime;          ///< "stick", "slip" or "stick-slip" (stick_pattern below)
@@ -206,12 +209,16 @@ public:
     /// `report`: the DOFs (0-based) whose y_max is computed (empty: all DOFs). y_amp1 and the
     /// input work are computed for every DOF (cheap).
     explicit Analyser(HarmonicBalance& hb, std::vector<int> report = {});
+    /// y_max of the DOFs `report` only (none when empty), and output_max, output_amp1 of every
+    /// output (validated against the system: InvalidInput).
+    Analyser(HarmonicBalance& hb, std::vector<int> report, std::vector<Output> outputs);
     PointMetrics operator()(const SolutionPoint& point);
 
 private:
     HarmonicBalance& hb_;
     Fourier fine_;
     std::vector<int> report_;
+    std::vector<Output> outputs_;
 };
 
 /// The time signals of one solution over one period, on the AFT grid theta_j = 2 pi j / N_t
@@ -225,12 +232,14 @@ struct PointSignals {
 };
 PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int contact);
 
-/// A resonance peak: a local maximum of max_t |y_dof(t)| along a branch.
+/// A resonance peak: a local maximum of max_t |y_dof(t)| (or of an output's |o(t)|) along a
+/// branch.
 struct Peak {
     double omega = 0;
-    double y_max = 0;        ///< max over one period of |y_dof(t)| at the peak
+    double y_max = 0;        ///< max over one period of |y_dof(t)| (|o(t)|) at the peak
     int branch = 1;
     bool refined = false;    ///< located by the search below (false: the best branch point)
+    int output = 0;          ///< which of the outputs asked for (0-based; 0 for a single DOF)
 };
 
 /// Peaks of DOF `dof` (0-based): every branch point whose y_max exceeds both neighbours on
@@ -239,5 +248,9 @@ struct Peak {
 /// |delta omega| <= 1e-9 omega. Where a fold lies between the neighbours (not a function of
 /// omega there) or a solve fails, the branch point itself is reported (refined = false).
 std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, int dof, const CorrectorOptions& options);
+/// The same for each output in turn (model.hpp): the peaks of outputs[0], then of outputs[1],
+/// ..., each marked with its index in Peak::output.
+std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, const std::vector<Output>& outputs,
+                             const CorrectorOptions& options);
 
 }  // namespace hbf

@@ -83,6 +83,8 @@ struct ExactOptions {
     double stability_tolerance = 1e-6;
     /// Equally spaced samples of the signals kept for the period (0: none).
     int samples = 0;
+    /// Outputs o(t) = c^T y(t) (model.hpp) whose output_max and output_amp1 are computed.
+    std::vector<Output> outputs;
 
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;
@@ -113,6 +115,8 @@ struct ExactOrbit {
                                   ///< refined by Newton on the step polynomial: exact to rounding)
     std::vector<double> y_amp1;   ///< per DOF: sqrt(c1^2 + s1^2)
     Eigen::VectorXcd harmonic1;   ///< per DOF: c1 - i s1 (Gauss-Legendre on every step)
+    std::vector<double> output_max;   ///< per options.outputs: max over the period of |o(t)| (as y_max)
+    std::vector<double> output_amp1;  ///< per options.outputs: first-harmonic amplitude of o(t)
     double stick_fraction = 0;    ///< share of the period contact 1 is stuck (exact event times)
     std::string regime;           ///< "stick", "slip" or "stick-slip" (contact 1; "none" without)
     double energy = 0;            ///< friction energy per cycle, sum over slip phases of F_c |dq|

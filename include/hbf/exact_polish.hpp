@@ -28,7 +28,11 @@ struct PolishOptions {
     ExactOptions exact;
     bool transitions = true;  ///< locate the exact transitions (above)
     bool peaks = true;        ///< refine the exact peaks (above)
-    int dof = 0;              ///< DOF (0-based) of hb_gap and of the peaks
+    /// DOF (0-based) of hb_gap, and of the peaks when exact.outputs is empty; otherwise the
+    /// peaks are those of every output in exact.outputs (Peak::output = its index).
+    int dof = 0;
+    /// With exact.outputs: refine the peaks of every output (false: of the first only).
+    bool peaks_of_every_output = true;
 };
 
 /// What the polish did to one point.
@@ -53,7 +57,8 @@ struct PolishedBranch {
     std::vector<SolutionPoint> points;
     std::vector<PointMetrics> metrics;  ///< exact metrics where polished, HB otherwise
     std::vector<ExactPoint> exact;
-    std::vector<Peak> peaks;            ///< exact peaks of `dof` (refined = golden section converged)
+    std::vector<Peak> peaks;            ///< exact peaks of `dof` or of the outputs (refined = golden
+                                        ///< section converged)
     int polished = 0, failed = 0, unstable = 0, transitions = 0;
     double max_hb_gap = 0;              ///< largest hb_gap over the polished points
     double seconds = 0;

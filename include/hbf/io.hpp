@@ -49,39 +49,44 @@ const std::vector<Column>& analytic_columns();
 /// Writes the header row and one row per frequency.
 void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows);
 
-/// Columns of `hbf frf` reporting the DOFs `report` (0-based, in this order; columns
-/// y<i+1>_max, y<i+1>_amp1), or all `dofs` DOFs.
-std::vector<Column> frf_columns(const std::vector<int>& report);
+/// Columns of `hbf frf` reporting `outputs` (model.hpp; in this order: <name>_max for each,
+/// then <name>_amp1 for each; a DOF i is the output y<i+1>), or all `dofs` DOFs.
+std::vector<Column> frf_columns(const std::vector<Output>& outputs);
 std::vector<Column> frf_columns(int dofs);
 
 /// Writes the header row and one row per point (metrics[k] and exact[k] belong to points[k];
-/// `exact` empty: no polish, the columns exact = off, stable and hb_gap empty).
+/// metrics[k].output_max[j] and output_amp1[j] belong to outputs[j]; `exact` empty: no
+/// polish, the columns exact = off, stable and hb_gap empty).
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
-                   const std::vector<PointMetrics>& metrics, const std::vector<int>& report,
+                   const std::vector<PointMetrics>& metrics, const std::vector<Output>& outputs,
                    const std::vector<ExactPoint>& exact = {});
 
 /// Columns of `hbf timeint` for a system with `dofs` DOFs: the `hbf frf` columns that apply
 /// (w, y<i>_max, y<i>_amp1, stick_fraction, regime, energy), then periods, converged and the
 /// diagnostics stick_margin_min, stick_margin_max, switches.
 std::vector<Column> timeint_columns(int dofs);
-/// The same for the DOFs `report` (0-based, in this order; as frf_columns(report)).
-std::vector<Column> timeint_columns(const std::vector<int>& report);
+/// The same for `outputs` (in this order; as frf_columns(outputs)).
+std::vector<Column> timeint_columns(const std::vector<Output>& outputs);
 
 /// Writes the header row and one row per response (time-integration steady states), with the
-/// columns of the DOFs `report` (0-based, in this order).
+/// columns of `outputs` (r.output_max[j] and r.output_amp1[j] belong to outputs[j]: the
+/// integration ran with TimeIntegrationOptions::outputs = outputs).
 void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses,
-                       const std::vector<int>& report);
+                       const std::vector<Output>& outputs);
 
 /// Writes the JSON summary of an FRF run: the parameters (name, value; integral values are
 /// written as integers), the number of branch points and samples, solver statistics, the
-/// peaks (of DOF `peak_dof`, 0-based: each with w, dof (1-based), y_max, branch, refined), the
-/// folds, the stick-slip transitions, status, message and wall time.
+/// peaks (of the outputs `outputs`, Peak::output indexing them: each with w, output (its
+/// name), dof (1-based, for an output that is one DOF), y_max (= max over one period of
+/// |o(t)|), branch, refined), the folds, the stick-slip transitions, status, message and wall
+/// time.
 /// `metrics[k]` belongs to `branch.points[k]`; `samples` counts the --at rows. With `polish`
 /// (the exact polish of the branch), folds and transitions are read from its points and
 /// metrics, and an "exact" object reports the polish (counts, largest HB gap, time).
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics, const std::vector<Peak>& peaks, std::size_t samples,
-                       double wall_seconds, const PolishedBranch* polish = nullptr, int peak_dof = 0);
+                       double wall_seconds, const std::vector<Output>& outputs,
+                       const PolishedBranch* polish = nullptr);
 
 }  // namespace hbf::io

@@ -22,6 +22,7 @@
 #include <Eigen/Sparse>
 #include <complex>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hbf {
@@ -85,6 +86,33 @@ struct System {
     /// True when M is positive definite (no massless DOF): required by time integration and the
     /// event-exact solver, which integrate M y'' = ...
     bool has_positive_definite_mass() const;
+};
+
+/// A reported response o(t) = c^T y(t): one DOF (c = e_i, named "y<i+1>") or any linear
+/// combination of DOFs (a tip displacement T q of a reduced model, a relative displacement, a
+/// strain), named by the user. Columns and peaks are written for o as for a DOF: <name>_max =
+/// max over one period of |o(t)|, <name>_amp1 = its first-harmonic amplitude.
+class Output {
+public:
+    using Term = std::pair<int, double>;  ///< (0-based DOF, coefficient)
+    Output(std::string name, std::vector<Term> terms);
+    /// DOF i (0-based), named "y<i+1>".
+    static Output dof(int i);
+    const std::string& name() const { return name_; }
+    const std::vector<Term>& terms() const { return terms_; }
+    /// i when this output is exactly DOF i (one term, coefficient 1), else -1.
+    int single_dof() const;
+    /// c^T y for one vector y (N entries).
+    double of(const Eigen::Ref<const Eigen::VectorXd>& y) const;
+    /// The rows of a matrix whose columns are DOFs combined: Y c (Y: rows x N).
+    Eigen::VectorXd combine(const Eigen::Ref<const Eigen::MatrixXd>& y) const;
+    /// Throws InvalidInput when a DOF is outside 0..dofs-1, a coefficient is not finite, or
+    /// every coefficient is zero.
+    void validate(int dofs) const;
+
+private:
+    std::string name_;
+    std::vector<Term> terms_;
 };
 
 /// A dense matrix as the model's sparse type (exact zeros are not stored).

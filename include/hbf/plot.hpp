@@ -41,5 +41,9 @@ void write_plot(const std::string& path, const PlotSpec& spec);
 /// stick-slip transitions and samples marked (metrics[k] belongs to points[k]).
 PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics, int dof,
                   const std::string& title);
+/// The same for an output: metrics[k].output_max[index], or, with index < 0, y_max of the
+/// output's single DOF (model.hpp).
+PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
+                  const Output& output, int index, const std::string& title);
 
 }  // namespace hbf::io

@@ -116,6 +116,9 @@ struct TimeIntegrationOptions {
     /// twice that many periods, not one per state.
     int shooting_dense_max_states = 64;
     int shooting_krylov_max = 60;
+    /// Outputs o(t) = c^T y(t) (model.hpp) whose output_max (turning points by root finding
+    /// on c^T y' = 0, as y_max) and output_amp1 are computed.
+    std::vector<Output> outputs;
 
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;
@@ -146,6 +149,8 @@ struct PeriodicResponse {
     /// per DOF: Y_i = c1 - i s1, so that the first harmonic is Re(Y_i e^{i omega t})
     /// (the convention of linear_response).
     Eigen::VectorXcd harmonic1;
+    std::vector<double> output_max;   ///< per options.outputs: max over the period of |o(t)|
+    std::vector<double> output_amp1;  ///< per options.outputs: first-harmonic amplitude of o(t)
     double stick_fraction = 0;    ///< share of the period contact 1 is in stick (0 if no contact)
     /// "stick" if contact 1 never left stick in the period, "slip" if it never stuck, else
     /// "stick-slip" ("none" without contacts).

@@ -183,7 +183,7 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
             chosen.law_name += (chosen.law_name.empty() ? "" : ",") + name;
         chosen.automatic_harmonics = std::max(chosen.automatic_harmonics, default_harmonics(c.law));
     }
-    chosen.report = chosen.config->report;
+    chosen.outputs = chosen.config->outputs;
     return chosen;
 }
 

@@ -54,7 +54,7 @@ struct AbsorberFlags {
 struct ChosenSystem {
     System system;
     std::string law_name;             ///< the law, or the contacts' laws joined by ','
-    std::vector<int> report = {0, 1}; ///< DOFs to report (0-based)
+    std::vector<Output> outputs = {Output::dof(0), Output::dof(1)};  ///< reported (preset: y1, y2)
     std::optional<io::SystemConfig> config;
     AbsorberParameters absorber;      ///< the preset's parameters (without --config)
     int automatic_harmonics = 10;     ///< default_harmonics of the (most demanding) law

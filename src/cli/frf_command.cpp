@@ -100,7 +100,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     ChosenSystem chosen = choose_system(command, o.absorber, o.config);
     const System& system = chosen.system;
     const std::string& law_name = chosen.law_name;
-    const std::vector<int>& report = chosen.report;
+    const std::vector<Output>& outputs = chosen.outputs;
     const std::optional<io::SystemConfig>& config = chosen.config;
     const AbsorberParameters& p = chosen.absorber;
     // The exact polish: on by default for the laws it covers (coulomb, jenkins).
@@ -150,11 +150,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
         points.insert(points.end(), samples.begin(), samples.end());
     }
     const std::size_t sample_count = points.size() - branch.points.size();
-    // y_max of the reported DOFs, and of DOF 1 (the JSON summary's folds and transitions): on
+    // The reported outputs, and y_max of DOF 1 (the JSON summary's folds and transitions): on
     // a large model only these are synthesised in time.
-    std::vector<int> analysed = report;
-    if (std::find(analysed.begin(), analysed.end(), 0) == analysed.end()) analysed.push_back(0);
-    Analyser analyse(hb, analysed);
+    Analyser analyse(hb, {0}, outputs);
     std::vector<PointMetrics> metrics;
     metrics.reserve(points.size());
     for (const SolutionPoint& point : points) metrics.push_back(analyse(point));
@@ -162,13 +160,16 @@ int run(const CLI::App& command, const FrfOptions& o) {
     std::vector<Peak> peaks;
     if (exact) {
         PolishOptions po;
-        po.dof = report.front();
+        po.dof = std::max(0, outputs.front().single_dof());
+        po.exact.outputs = outputs;
+        // The peaks of every output are refined only for the summary that reports them.
+        po.peaks_of_every_output = !o.summary.empty();
         polish = polish_branch(hb, points, metrics, po, co.corrector);
         points = polish->points;
         metrics = polish->metrics;
         peaks = polish->peaks;
     } else if (!o.summary.empty()) {
-        peaks = find_peaks(hb, branch, report.front(), co.corrector);
+        peaks = find_peaks(hb, branch, outputs, co.corrector);
     }
 
     // Time-integration check points on a uniform grid, swept up from the stuck linear state.
@@ -176,10 +177,12 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (overlay_points > 0) {
         const std::vector<double> grid = analytic::uniform_grid(co.omega_start, co.omega_end, overlay_points);
         const Eigen::VectorXd start = linear_stuck_state(system, grid.front());
-        overlay = sweep(system, grid, TimeIntegrationOptions{}, &start);
+        TimeIntegrationOptions tio;
+        tio.outputs = outputs;
+        overlay = sweep(system, grid, tio, &start);
     }
     io::OutputFile out(o.out);
-    io::write_frf_csv(out.stream(), points, metrics, report,
+    io::write_frf_csv(out.stream(), points, metrics, outputs,
                       polish ? polish->exact : std::vector<ExactPoint>{});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::unique_ptr<io::OutputFile> summary;
@@ -209,15 +212,15 @@ int run(const CLI::App& command, const FrfOptions& o) {
         parameters.insert(parameters.end(), solver.begin(), solver.end());
         summary = std::make_unique<io::OutputFile>(o.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
-                              polish ? &*polish : nullptr, report.front());
+                              outputs, polish ? &*polish : nullptr);
     }
     std::unique_ptr<io::OutputFile> overlay_file;
     if (!overlay.empty()) {
         overlay_file = std::make_unique<io::OutputFile>(overlay_out);
-        io::write_timeint_csv(overlay_file->stream(), overlay, report);
+        io::write_timeint_csv(overlay_file->stream(), overlay, outputs);
     }
     if (!o.plot.empty()) {
-        io::PlotSpec spec = io::frf_plot(points, metrics, report.front(),
+        io::PlotSpec spec = io::frf_plot(points, metrics, outputs.front(), 0,
                                          "hbf frf: " + law_name + ", H = " + std::to_string(hb.harmonics()) +
                                              (config ? " (" + o.config + ")" : ""));
         if (!overlay.empty()) {
@@ -226,7 +229,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
             for (const PeriodicResponse& r : overlay) {
                 io::PlotCurve& c = r.converged ? check : failed_check;
                 c.x.push_back(r.omega);
-                c.y.push_back(r.y_max[static_cast<std::size_t>(report.front())]);
+                c.y.push_back(r.output_max.front());
             }
             spec.curves.push_back(check);
             spec.curves.push_back(failed_check);
@@ -257,8 +260,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
                   << polish->summary() << " (the transitions are the exact solver's)\n";
     const auto unrefined = std::count_if(peaks.begin(), peaks.end(), [](const Peak& p) { return !p.refined; });
     if (unrefined > 0)
-        std::cerr << "hbf frf: warning: " << unrefined << " peak(s) of y" << report.front() + 1
-                  << "_max not refined (at a fold, or a solve failed): the JSON gives the branch point (refined = "
+        std::cerr << "hbf frf: warning: " << unrefined << " peak(s) not refined (at a fold, or a solve failed): the JSON gives the branch point (refined = "
                      "false)\n";
     // An --at frequency without a row is a doubtful result too: said, and exit 1.
     for (double w : missed)
@@ -314,7 +316,7 @@ Runner add_frf_command(CLI::App& app) {
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--config", options->config,
                         "read the structure (any N DOFs: M, C, K, excitation, friction contacts), frequency range, "
-                        "solver settings and reported DOFs from a TOML file (format: include/hbf/config.hpp, "
+                        "solver settings and reported outputs (DOFs or combinations of DOFs) from a TOML file (format: include/hbf/config.hpp, "
                         "examples/systems/); --wmin, --wmax, --harmonics, --time-samples and --law override the "
                         "file; the preset's parameter flags (--r, --mu, ...) are then rejected")
         ->option_text("FILE.toml");
@@ -323,7 +325,7 @@ Runner add_frf_command(CLI::App& app) {
                                                        "peaks, folds, status, wall time) to FILE")
         ->option_text("FILE");
     command->add_option("--plot", options->plot,
-                        "draw y_max of the first reported DOF against w through gnuplot: the branch in order, "
+                        "draw max over one period of |o(t)| of the first reported output o against w through gnuplot: the branch in order, "
                         "folds, transitions and samples marked (.png or .svg)")
         ->option_text("FILE.png|FILE.svg");
     command->add_option("--overlay-timeint", options->overlay,

@@ -91,6 +91,8 @@ PeriodicResponse exact_steady_state(const System& system, double omega, ExactOpt
     r.state = orbit.state;
     r.y_max = orbit.y_max;
     r.y_amp1 = orbit.y_amp1;
+    r.output_max = orbit.output_max;
+    r.output_amp1 = orbit.output_amp1;
     r.harmonic1 = orbit.harmonic1;
     r.stick_fraction = orbit.stick_fraction;
     r.regime = orbit.regime;
@@ -128,7 +130,9 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     if (exact && !exact_solver_supports(system))
         throw UsageError("--method exact: the event-exact solver covers coulomb and jenkins contacts only, the law here is " +
                          chosen.law_name + " (use adams or bdf)");
+    tio.outputs = chosen.outputs;
     ExactOptions eo;
+    eo.outputs = chosen.outputs;
     eo.tolerance = given(command, "--steady-tol") ? tio.steady_tolerance : 1e-12;
 
     io::OutputFile out(o.out);  // opened before the work: an unwritable path fails fast
@@ -145,20 +149,21 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         state = responses.back().state;
     }
     if (progress) std::cerr << "\n";
-    io::write_timeint_csv(out.stream(), responses, chosen.report);
+    io::write_timeint_csv(out.stream(), responses, chosen.outputs);
     if (!o.plot.empty()) {
         io::PlotSpec spec;
         spec.title = title;
         spec.xlabel = "w";
-        spec.ylabel = "y1_max = max over one period of |y1(t)|";
+        const std::string& name = chosen.outputs.front().name();
+        spec.ylabel = name + "_max = max over one period of |" + name + "(t)|";
         io::PlotCurve line{"time integration (sweep order)", {}, {}, io::PlotCurve::Style::line, 7};
         io::PlotCurve converged{"converged", {}, {}, io::PlotCurve::Style::markers, 4};
         io::PlotCurve failed{"not converged", {}, {}, io::PlotCurve::Style::markers, 3};
         for (const PeriodicResponse& r : responses) {
             line.x.push_back(r.omega);
-            line.y.push_back(r.y_max[0]);
+            line.y.push_back(r.output_max.front());
             (r.converged ? converged : failed).x.push_back(r.omega);
-            (r.converged ? converged : failed).y.push_back(r.y_max[0]);
+            (r.converged ? converged : failed).y.push_back(r.output_max.front());
         }
         spec.curves = {line, converged, failed};
         io::write_plot(o.plot, spec);  // before the CSV is committed: a failed plot leaves no output

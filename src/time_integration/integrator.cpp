@@ -74,8 +74,11 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
         throw_on(CVodeSetLinearSolver(cvode_, linear_, matrix_), "CVodeSetLinearSolver");
     }
     throw_on(CVodeSetMaxNumSteps(cvode_, options_.max_steps_per_period), "CVodeSetMaxNumSteps");
-    throw_on(CVodeRootInit(cvode_, nc_ + n_, root_callback), "CVodeRootInit");
-    std::vector<int> direction(static_cast<std::size_t>(nc_ + n_), 0);
+    for (const Output& o : options_.outputs)
+        if (o.single_dof() < 0) combined_outputs_.push_back(&o);
+    const int roots = nc_ + n_ + static_cast<int>(combined_outputs_.size());
+    throw_on(CVodeRootInit(cvode_, roots, root_callback), "CVodeRootInit");
+    std::vector<int> direction(static_cast<std::size_t>(roots), 0);
     for (int c = 0; c < nc_; ++c)
         if (event_driven(contacts_[static_cast<std::size_t>(c)].law)) direction[static_cast<std::size_t>(c)] = -1;
     throw_on(CVodeSetRootDirection(cvode_, direction.data()), "CVodeSetRootDirection");
@@ -322,6 +325,12 @@ void Integrator::roots(double t, const double* x, double* g) {
         }
     }
     for (int i = 0; i < n_; ++i) g[nc_ + i] = ground_stuck_dof_[static_cast<std::size_t>(i)] ? 1.0 : x[n_ + i];
+    // Turning points of the outputs that combine DOFs: c^T y' = 0.
+    for (std::size_t o = 0; o < combined_outputs_.size(); ++o) {
+        double rate = 0.0;
+        for (const auto& [i, c] : combined_outputs_[o]->terms()) rate += c * x[n_ + i];
+        g[nc_ + n_ + static_cast<int>(o)] = rate;
+    }
 }
 
 void Integrator::project_velocities(double* x, const std::vector<int>& set) const {
@@ -479,8 +488,15 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
     std::vector<bool> stuck(static_cast<std::size_t>(nc_));
     std::vector<double> since(static_cast<std::size_t>(nc_), 0.0);
 
+    const std::vector<Output>& outputs = options_.outputs;
+    r.output_max.assign(outputs.size(), 0.0);
     auto update_extremes = [&](const double* state) {
         for (int i = 0; i < n_; ++i) r.y_max[static_cast<std::size_t>(i)] = std::max(r.y_max[static_cast<std::size_t>(i)], std::abs(state[i]));
+        for (std::size_t o = 0; o < outputs.size(); ++o) {
+            double value = 0.0;
+            for (const auto& [i, c] : outputs[o].terms()) value += c * state[i];
+            r.output_max[o] = std::max(r.output_max[o], std::abs(value));
+        }
     };
     auto update_margin = [&](double m) {
         r.margin_min = std::min(r.margin_min, m);
@@ -526,7 +542,7 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
     int next_sample = 1;
     int events = 0;
     long steps = 0;
-    std::vector<int> found(static_cast<std::size_t>(nc_ + n_));
+    std::vector<int> found(static_cast<std::size_t>(nc_ + n_) + combined_outputs_.size());
     double t = 0.0;
     const double v_guard = 1e-6, f_guard = 1e-6;  // safety net for missed roots (relative)
 

@@ -59,6 +59,7 @@ struct PeriodRecord {
     std::string failure;
     Eigen::VectorXd end_state;
     std::vector<double> y_max;
+    std::vector<double> output_max;   // per options.outputs
     Eigen::VectorXcd harmonic1;
     std::vector<double> stick_time;   // per contact
     std::vector<bool> always_stuck;   // per contact: never left stick
@@ -151,6 +152,7 @@ private:
     std::vector<int> stuck_;             // coulomb contacts in mode 0
     Eigen::MatrixXd ws_, minv_ws_, g_;   // W_S, M^-1 W_S, (W_S^T M^-1 W_S)^+
     std::vector<int> ground_stuck_dof_;  // per DOF: 1 if held to ground by a stuck contact
+    std::vector<const Output*> combined_outputs_;  // options_.outputs that combine DOFs (own roots)
     // scratch of evaluate()
     Eigen::VectorXd f_, zdot_, acc_, load_, lambda_, velocity_c_;
 
