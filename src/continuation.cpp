@@ -167,6 +167,9 @@ struct Trace {
     std::string message;
 };
 
+/// omega_ref of the arclength (see the file comment of continuation.hpp).
+double frequency_scale(const ContinuationOptions& o) { return o.omega_scale > 0.0 ? o.omega_scale : o.omega_end; }
+
 /// Follows one branch from the solution (x, omega) in the direction of increasing
 /// (direction = +1) or decreasing (-1) omega until it leaves [omega_low, omega_high].
 Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, Eigen::VectorXd x, double omega,
@@ -177,11 +180,12 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     int& failures = result.failed_corrections;
     Eigen::MatrixXd jacobian;
     Eigen::VectorXd jacobian_omega;
+    const double w_scale = frequency_scale(o);
     auto tangent = [&](const Eigen::VectorXd& at, double w, const Eigen::VectorXd& previous) {
         detail::Stopwatch watch;
         Eigen::VectorXd t = corrector.cached_jacobian(at, w, jacobian, jacobian_omega)
-                                ? branch_tangent(jacobian, jacobian_omega, x_scale, previous)
-                                : branch_tangent(hb, at, w, x_scale, previous);
+                                ? branch_tangent(jacobian, jacobian_omega, x_scale, previous, w_scale)
+                                : branch_tangent(hb, at, w, x_scale, previous, w_scale);
         result.predictor_seconds += watch.lap();
         return t;
     };
@@ -212,11 +216,11 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             return out;
         }
         Eigen::VectorXd xp = x + h * x_scale * t.head(n);
-        double wp = omega + h * t(n);
+        double wp = omega + h * w_scale * t(n);
         int it = 0;
         double res = 0;
         ++corrections;
-        bool corrected = corrector.correct(xp, wp, t, x_scale, it, res);
+        bool corrected = corrector.correct(xp, wp, t, x_scale, it, res, w_scale);
         if (!corrected) {
             // Retry with five times the iterations: near a stick/slip pattern boundary a
             // nonsmooth law's iteration creeps, slowly but surely (exact Coulomb; measured:
@@ -229,7 +233,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
                 patient = std::make_unique<Corrector>(hb, options);
             }
             ++corrections;
-            corrected = patient->correct(xp, wp, t, x_scale, it, res);
+            corrected = patient->correct(xp, wp, t, x_scale, it, res, w_scale);
         }
         if (!corrected) {
             ++failures;
@@ -274,7 +278,8 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         // nonsmooth law moves the point by at most about the step) means it landed on another
         // part of the branch, or another branch: a jump, never accepted while the step can
         // shrink (measured: 1x rejected legitimate kinks of Jenkins branches, 60 % more points).
-        const double correction = std::hypot(((xp - x) / x_scale - h * t.head(n)).norm(), wp - omega - h * t(n));
+        const double correction =
+            std::hypot(((xp - x) / x_scale - h * t.head(n)).norm(), (wp - omega) / w_scale - h * t(n));
         if (correction > 2.0 * h && h > o.min_step * 2.0) {
             ++result.rejected_jumps;
             h *= 0.5;
@@ -394,12 +399,12 @@ bool stick_side(Boundary boundary, const std::string& regime) {
 /// stick|stick-slip, min phi for stick-slip|slip) changes sign, by bisection along the chord
 /// (see continue_branch). Returns false if a correction fails.
 bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const SolutionPoint& a, const SolutionPoint& b,
-                       Boundary boundary, SolutionPoint& out) {
+                       Boundary boundary, double omega_scale, SolutionPoint& out) {
     const int n = hb.unknowns();
     const double x_scale = std::max(hb.unknown_scale(a.x), hb.unknown_scale(b.x));
     Eigen::VectorXd chord(n + 1);
     chord.head(n) = (b.x - a.x) / x_scale;
-    chord(n) = b.omega - a.omega;
+    chord(n) = (b.omega - a.omega) / omega_scale;
     const double length = chord.norm();
     if (!(length > 0.0)) return false;
     chord /= length;
@@ -412,7 +417,7 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const Solution
         SolutionPoint m = a;
         m.x = a.x + t * (b.x - a.x);
         m.omega = a.omega + t * (b.omega - a.omega);
-        if (!corrector.correct(m.x, m.omega, chord, x_scale, m.iterations, m.residual)) return false;
+        if (!corrector.correct(m.x, m.omega, chord, x_scale, m.iterations, m.residual, omega_scale)) return false;
         if (side(m) == side_a) {
             lo = m;
             t_lo = t;
@@ -431,7 +436,7 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const Solution
 
 /// Inserts the transition points between successive points of each branch (see
 /// continue_branch). Transitions that cannot be located are reported in the message.
-void insert_transitions(HarmonicBalance& hb, Corrector& corrector, BranchResult& result) {
+void insert_transitions(HarmonicBalance& hb, Corrector& corrector, double omega_scale, BranchResult& result) {
     if (hb.system().contacts.empty() || result.points.size() < 2) return;
     std::vector<SolutionPoint> points;
     points.reserve(result.points.size() + 8);
@@ -447,7 +452,7 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, BranchResult&
             for (const Boundary boundary : {Boundary::stick_stick_slip, Boundary::stick_slip_slip}) {
                 if (stick_side(boundary, previous) == stick_side(boundary, current)) continue;
                 SolutionPoint t;
-                if (bisect_transition(hb, corrector, a, b, boundary, t)) {
+                if (bisect_transition(hb, corrector, a, b, boundary, omega_scale, t)) {
                     found.push_back(std::move(t));
                 } else {
                     ++lost;
@@ -484,6 +489,9 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     require_positive(o.min_step, "min_step", "minimum arclength step");
     require_positive(o.max_step, "max_step", "maximum arclength step");
     require_positive(o.max_amplitude, "max_amplitude", "amplitude cap");
+    if (!(o.omega_scale >= 0.0) || !std::isfinite(o.omega_scale))
+        throw InvalidInput("omega_scale = " + format_number(o.omega_scale) +
+                           " is out of range: allowed >= 0 (0: wmax)");
     require_positive(o.corrector.tolerance, "tolerance", "relative residual tolerance");
     if (o.max_points < 2) throw InvalidInput("max_points = " + std::to_string(o.max_points) + " is out of range: allowed >= 2");
 
@@ -492,7 +500,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     Corrector corrector(hb, o.corrector);
     BranchResult result;
     follow_branches(hb, corrector, o, result);
-    if (o.locate_transitions) insert_transitions(hb, corrector, result);
+    if (o.locate_transitions) insert_transitions(hb, corrector, frequency_scale(o), result);
     result.corrector = corrector.statistics();
     result.evaluation = hb.statistics() - before;
     result.seconds = watch.lap();

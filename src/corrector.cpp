@@ -14,7 +14,7 @@ namespace hbf {
 
 namespace {
 /// Residual [R(x, omega) / force_scale; t . (p - p_predicted)] of the scaled unknowns
-/// p = (x / x_scale, omega), with its exact Jacobian (Ceres wants it row-major).
+/// p = (x / x_scale, omega / omega_scale), with its exact Jacobian (Ceres wants it row-major).
 ///
 /// It is also the problem's EvaluationCallback: Ceres announces each evaluation point first
 /// (and has written it into the parameter block), so one HarmonicBalance pass computes the
@@ -29,17 +29,19 @@ public:
         set_num_residuals(n_ + 1);
         mutable_parameter_block_sizes()->push_back(n_ + 1);
     }
-    void set_target(const Eigen::VectorXd& tangent, const Eigen::VectorXd& predicted, double x_scale) {
+    void set_target(const Eigen::VectorXd& tangent, const Eigen::VectorXd& predicted, double x_scale,
+                    double omega_scale) {
         tangent_ = tangent;
         predicted_ = predicted;
         x_scale_ = x_scale;
+        omega_scale_ = omega_scale;
         valid_ = false;
     }
     void PrepareForEvaluation(bool, bool new_evaluation_point) override {
         if (valid_ && !new_evaluation_point) return;
         const Eigen::Map<const Eigen::VectorXd> p(parameters_, n_ + 1);
         x_ = p.head(n_) * x_scale_;
-        omega_ = p(n_);
+        omega_ = p(n_) * omega_scale_;
         hb_.evaluate(x_, omega_, r_, &j_, &j_omega_);
         valid_ = true;
     }
@@ -54,7 +56,7 @@ public:
             using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
             Eigen::Map<RowMajor> J(jacobians[0], n_ + 1, n_ + 1);
             J.topLeftCorner(n_, n_) = j_ * (x_scale_ / f);
-            J.topRightCorner(n_, 1) = j_omega_ / f;
+            J.topRightCorner(n_, 1) = j_omega_ * (omega_scale_ / f);
             J.row(n_) = tangent_.transpose();
         }
         return true;
@@ -70,7 +72,7 @@ private:
     int n_;
     const double* parameters_;
     Eigen::VectorXd tangent_, predicted_;
-    double x_scale_ = 1.0;
+    double x_scale_ = 1.0, omega_scale_ = 1.0;
     bool valid_ = false;
     Eigen::VectorXd x_, r_, j_omega_;
     double omega_ = 0.0;
@@ -152,13 +154,13 @@ bool Corrector::cached_jacobian(const Eigen::VectorXd& x, double omega, Eigen::M
 }
 
 bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
-                        int& iterations, double& residual) {
+                        int& iterations, double& residual, double omega_scale) {
     Impl& m = *impl_;
     const int n = m.hb.unknowns();
     Eigen::Map<Eigen::VectorXd> p(m.parameters.data(), n + 1);
     p.head(n) = x / x_scale;
-    p(n) = omega;
-    m.cost.set_target(tangent, p, x_scale);
+    p(n) = omega / omega_scale;
+    m.cost.set_target(tangent, p, x_scale, omega_scale);
     ceres::Solver::Summary summary;
     const double evaluated_before = evaluation_seconds(m.hb.statistics());
     detail::Stopwatch watch;
@@ -170,7 +172,7 @@ bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd
     ++m.statistics.solves;
     m.statistics.iterations += iterations;
     const Eigen::VectorXd x_new = p.head(n) * x_scale;
-    const double omega_new = p(n);
+    const double omega_new = p(n) * omega_scale;
     Eigen::VectorXd r;
     if (m.cost.cached(x_new, omega_new))
         r = m.cost.residual();
@@ -205,19 +207,19 @@ bool Corrector::solve_at(Eigen::VectorXd& x, double omega, double x_scale, int& 
 }
 
 Eigen::VectorXd branch_tangent(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega, double x_scale,
-                               const Eigen::VectorXd& previous) {
+                               const Eigen::VectorXd& previous, double omega_scale) {
     Eigen::VectorXd r, r_omega;
     Eigen::MatrixXd J;
     hb.evaluate(x, omega, r, &J, &r_omega);
-    return branch_tangent(J, r_omega, x_scale, previous);
+    return branch_tangent(J, r_omega, x_scale, previous, omega_scale);
 }
 
 Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& J, const Eigen::VectorXd& r_omega, double x_scale,
-                               const Eigen::VectorXd& previous) {
+                               const Eigen::VectorXd& previous, double omega_scale) {
     const auto n = J.rows();
     Eigen::MatrixXd A(n + 1, n + 1);
     A.topLeftCorner(n, n) = J * x_scale;
-    A.topRightCorner(n, 1) = r_omega;
+    A.topRightCorner(n, 1) = r_omega * omega_scale;
     A.row(n) = previous.transpose();
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
     rhs(n) = 1.0;

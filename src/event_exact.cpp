@@ -711,9 +711,26 @@ void fill_stability(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& basis, in
     out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
 }
 
-double relative_change(const Eigen::VectorXd& end, const Eigen::VectorXd& start) {
-    return (end - start).cwiseAbs().maxCoeff() / std::max(1.0, start.cwiseAbs().maxCoeff());
-}
+/// Sizes of section states z = [y (N), y' (N), sliders] in units of displacement: velocities
+/// divided by omega, so that a problem in other units gives the same numbers.
+struct SectionNorm {
+    int dofs = 0;
+    double omega = 1.0;
+    double reference = 0.0;  ///< the size of the caller's start: floors the relative change
+    double size(const Eigen::VectorXd& z) const {
+        double m = z.head(dofs).cwiseAbs().maxCoeff();
+        m = std::max(m, z.segment(dofs, dofs).cwiseAbs().maxCoeff() / omega);
+        if (z.size() > 2 * dofs) m = std::max(m, z.tail(z.size() - 2 * dofs).cwiseAbs().maxCoeff());
+        return m;
+    }
+    /// |P(z) - z| / max(reference, |z|): relative, and a state far off is not judged by its
+    /// own size alone.
+    double relative_change(const Eigen::VectorXd& end, const Eigen::VectorXd& start) const {
+        const double scale = std::max(reference, size(start));
+        const double change = size(end - start);
+        return scale > 0.0 ? change / scale : change;
+    }
+};
 
 }  // namespace
 
@@ -800,6 +817,8 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
     const double period = e.period();
     ExactOrbit out;
     out.omega = omega;
+    SectionNorm norm{e.dofs(), omega, 0.0};
+    norm.reference = norm.size(initial_state.head(e.nz()));
 
     // Plain periods from zhat (at t = 0) with modes; the last one recorded.
     Engine::Flow warm;
@@ -837,7 +856,7 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
         Engine::Flow f = e.flow(e.augment(stuck, 0.0), stick, 0.0, period, true, true, options.max_events_per_period);
         ++orbit.periods;
         orbit.permanent_stick = true;
-        orbit.residual = relative_change(f.zhat.head(e.nz()), stuck);
+        orbit.residual = norm.relative_change(f.zhat.head(e.nz()), stuck);
         orbit.converged = f.ok && f.events.empty() && orbit.residual <= std::max(options.tolerance, 1e-10);
         orbit.message = orbit.converged ? "permanent stick: the linear stuck steady state with zero mean friction "
                                           "force (convention for the undetermined offset)"
@@ -907,7 +926,7 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
                     return false;
                 }
                 const Eigen::VectorXd r = f.zhat.head(e.nz()) - z;
-                out.residual = relative_change(f.zhat.head(e.nz()), z);
+                out.residual = norm.relative_change(f.zhat.head(e.nz()), z);
                 if (out.residual <= options.tolerance) {
                     out.converged = true;
                     out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "");
@@ -930,7 +949,7 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
                     const Eigen::VectorXd trial_z = z + alpha * step;
                     Engine::Flow g = map(trial_z);
                     if (!g.ok) continue;
-                    const double residual = relative_change(g.zhat.head(e.nz()), trial_z);
+                    const double residual = norm.relative_change(g.zhat.head(e.nz()), trial_z);
                     if (residual < out.residual * (1.0 - 1e-4 * alpha) || residual <= options.tolerance) {
                         z = trial_z;
                         f = std::move(g);
@@ -981,7 +1000,7 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
                     z = kept;
                     f = std::move(kept_flow);
                     out.converged = true;
-                    out.residual = relative_change(f.zhat.head(e.nz()), z);
+                    out.residual = norm.relative_change(f.zhat.head(e.nz()), z);
                     out.message = "Newton on the period map converged; a contact stuck all period keeps a nonzero "
                                   "mean force (centring it failed)";
                 }

@@ -117,6 +117,11 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
         throw InvalidInput("formulation = condensed needs at least one contact: allowed full for a linear system");
     }
     unknowns_ = (condensed_ ? nc : system_.dofs()) * n;
+    // A displacement floor for the full formulation's unknowns: the force over the stiffest
+    // diagonal entry (a displacement in the system's units; the force scale itself is for
+    // nondimensional K ~ 1).
+    const double k_max = system_.stiffness.diagonal().cwiseAbs().maxCoeff();
+    full_displacement_scale_ = k_max > 0.0 ? force_scale_ / k_max : force_scale_;
     for (const auto& model : models_) {
         state_offset_.push_back(model->state_signals() > 0 ? unknowns_ : -1);
         unknowns_ += model->state_signals() * n;
@@ -138,7 +143,7 @@ void HarmonicBalance::shift_force(int c, double omega, const Eigen::VectorXd& q,
 
 double HarmonicBalance::unknown_scale(const Eigen::VectorXd& x) const {
     const double size = x.size() > 0 ? x.cwiseAbs().maxCoeff() : 0.0;
-    if (!condensed_) return std::max(force_scale_, size);
+    if (!condensed_) return std::max(full_displacement_scale_, size);
     return std::max(1e-3 * force_scale_ * static_flexibility_.maxCoeff(), size);
 }
 

@@ -2,9 +2,12 @@
 // with its post-processing.
 //
 // The continuation follows u = (X, omega) along R(X, omega) = 0. Distances along the branch are
-// measured in scaled coordinates (X / x_ref, omega), x_ref = the largest coefficient at the
-// start (at least the force scale): the predictor steps by h along the unit tangent t (null
-// vector of [dR/dX dR/domega], oriented like the previous one); the corrector solves the
+// measured in scaled, dimensionless coordinates (X / x_ref, omega / omega_ref): x_ref = the
+// largest unknown at the current point (HarmonicBalance::unknown_scale: at least a small
+// displacement of the structure under the force), omega_ref = omega_end (omega_scale), so that
+// a problem written in other units gives the same branch. The predictor steps by h along the
+// unit tangent t (null vector of [dR/dX x_ref, dR/domega omega_ref], oriented like the
+// previous one); the corrector solves the
 // square system
 //     R(X, omega) / force_scale = 0,   t . (u - u_predicted) = 0
 // with Ceres (Levenberg-Marquardt, dense normal Cholesky, analytic Jacobian; see README). A point is accepted only when
@@ -40,6 +43,10 @@ struct CorrectorOptions {
 struct ContinuationOptions {
     double omega_start = 0.5;     ///< first frequency (the branch starts here)
     double omega_end = 1.6;       ///< last frequency (the branch stops here)
+    /// Frequency scale of the arclength: distances are measured in (X / x_ref, omega /
+    /// omega_scale), both dimensionless, so the same physical problem in other units gives
+    /// the same branch. 0: omega_end. >= 0.
+    double omega_scale = 0;
     double initial_step = 0.01;   ///< first arclength step (scaled coordinates)
     double min_step = 1e-6;       ///< below this the continuation stops with status min_step
     double max_step = 1.0;        ///< the step never grows beyond this
@@ -115,11 +122,12 @@ public:
     ~Corrector();
     Corrector(const Corrector&) = delete;
     Corrector& operator=(const Corrector&) = delete;
-    /// Solves R(x, omega) = 0 together with tangent . (scaled(u) - scaled(u_predicted)) = 0.
-    /// `x` and `omega` hold the prediction on entry and the result on exit. Returns whether
-    /// the residual tolerance was met; iterations and residual are reported.
+    /// Solves R(x, omega) = 0 together with tangent . (scaled(u) - scaled(u_predicted)) = 0,
+    /// scaled(u) = (x / x_scale, omega / omega_scale). `x` and `omega` hold the prediction on
+    /// entry and the result on exit. Returns whether the residual tolerance was met;
+    /// iterations and residual are reported.
     bool correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
-                 int& iterations, double& residual);
+                 int& iterations, double& residual, double omega_scale = 1.0);
     /// Solves at fixed omega (tangent = e_omega).
     bool solve_at(Eigen::VectorXd& x, double omega, double x_scale, int& iterations, double& residual);
     /// Counters accumulated over all calls.
@@ -135,14 +143,15 @@ private:
 };
 
 /// Unit tangent of the branch R(x, omega) = 0 at a solution, in the scaled coordinates
-/// (x / x_scale, omega): the null vector of [dR/dX x_scale, dR/domega], oriented so that its
-/// dot product with `previous` (any vector of size unknowns + 1 not orthogonal to it) is > 0.
+/// (x / x_scale, omega / omega_scale): the null vector of [dR/dX x_scale, dR/domega
+/// omega_scale], oriented so that its dot product with `previous` (any vector of size
+/// unknowns + 1 not orthogonal to it) is > 0.
 Eigen::VectorXd branch_tangent(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega, double x_scale,
-                               const Eigen::VectorXd& previous);
+                               const Eigen::VectorXd& previous, double omega_scale = 1.0);
 
 /// The same from given dR/dX (J) and dR/domega (r_omega) at the point.
 Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& J, const Eigen::VectorXd& r_omega, double x_scale,
-                               const Eigen::VectorXd& previous);
+                               const Eigen::VectorXd& previous, double omega_scale = 1.0);
 
 /// Follows the branch from omega_start to omega_end (see the file comment).
 /// Stick-slip transitions of contact 1 (with locate_transitions): wherever the regime changes

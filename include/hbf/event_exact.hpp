@@ -64,8 +64,9 @@
 namespace hbf {
 
 struct ExactOptions {
-    /// Newton stops when |P(z) - z|_inf <= tolerance * max(1, |z|_inf) (z: y, y', sliders at
-    /// the section). 1e-15..1e-2.
+    /// Newton stops when |P(z) - z| <= tolerance * max(|z|, |z_0|) (z: y, y', sliders at the
+    /// section, z_0 the given start; |.| the max norm with velocities divided by omega, so
+    /// that the test is relative and independent of the units). 1e-15..1e-2.
     double tolerance = 1e-12;
     /// Newton iterations over all attempts (each one period map with its monodromy, plus
     /// line-search trials), >= 1.
@@ -104,7 +105,7 @@ struct ExactOrbit {
     std::string message;     ///< why it (did not) converge
     int iterations = 0;      ///< Newton iterations
     int periods = 0;         ///< period maps evaluated (warm-up, Newton, line search, final)
-    double residual = 0;     ///< |P(z) - z|_inf / max(1, |z|_inf) at the end
+    double residual = 0;     ///< |P(z) - z| / max(|z|, |z_0|) at the end (tolerance above)
     bool permanent_stick = false;  ///< the degenerate convention above was used
     /// State at t = 0 in time_integration.hpp's convention: [y (N), y' (N), internal (n_c),
     /// mode (n_c)]; internal = slider position s (jenkins), 0 (coulomb).

@@ -121,7 +121,8 @@ public:
     /// Force scale against which residuals are judged: the excitation amplitude |F|_inf.
     double force_scale() const { return force_scale_; }
     /// Scale of the unknowns x for the corrector and the arclength: max |x_i|, bounded below.
-    /// Full: by force_scale (the DOFs' amplitudes grow with the response). Condensed: by
+    /// Full: by |F|_inf / max_i K_ii (a displacement; the DOFs' amplitudes grow with the
+    /// response). Condensed: by
     /// 1e-3 force_scale max_c G_0,cc (a static contact deflection), so that the relative
     /// displacements, which stay small while the structure resonates around a stuck contact,
     /// still pace the steps.
@@ -160,6 +161,7 @@ private:
     std::vector<Eigen::VectorXd> directions_;
     int unknowns_ = 0;
     double force_scale_ = 1.0;
+    double full_displacement_scale_ = 1.0;  ///< |F| / max K_ii (unknown_scale, full formulation)
     FrictionEvaluation scratch_;
     EvaluationStatistics statistics_;
 };

@@ -303,13 +303,14 @@ Runner add_frf_command(CLI::App& app) {
                         "exactly and written as extra rows with point = sample")
         ->type_name("LIST");
     command->add_option("--max-amplitude", options->max_amplitude,
-                        "amplitude cap: the branch stops when a bound of max |y_i| exceeds it (unbounded "
-                        "resonance), then restarts from wmax as branch 2")
+                        "amplitude cap, in the system's displacement units (nondimensional for the preset): the "
+                        "branch stops when a bound of max |y_i| exceeds it (unbounded resonance), then restarts "
+                        "from wmax as branch 2")
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--max-step", options->max_step,
-                        "largest arclength step, in the continuation's scaled coordinates (w and the coefficients "
-                        "relative to the current amplitude); smaller values give denser points, e.g. smoother "
-                        "plots of linear stretches, 1e-5..10")
+                        "largest arclength step, in the continuation's dimensionless coordinates (w / wmax and the "
+                        "coefficients relative to the current amplitude: the same for any units); smaller values "
+                        "give denser points, e.g. smoother plots of linear stretches, 1e-5..10")
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--tolerance", options->tolerance,
                         "corrector acceptance: |R|_inf <= tolerance * |F|_inf (the excitation amplitude), 1e-14..1e-2")
