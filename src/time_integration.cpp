@@ -13,6 +13,7 @@
 #include "hbf/error.hpp"
 #include "stopwatch.hpp"
 #include "time_integration/integrator.hpp"
+#include "time_integration/massless.hpp"
 
 namespace hbf {
 
@@ -127,6 +128,10 @@ double poincare_change(const Eigen::VectorXd& a, const Eigen::VectorXd& b, int d
     return y_scale > 0.0 ? change / y_scale : (change > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
 }
 
+/// integrate_steady_state for M > 0 (validated by the caller).
+PeriodicResponse integrate_with_mass(const System& system, double omega, const TimeIntegrationOptions& options,
+                                     const Eigen::VectorXd* initial_state);
+
 void fill_metrics(PeriodicResponse& out, const PeriodRecord& r, const Eigen::VectorXd& start, double period,
                   const std::vector<Output>& outputs) {
     out.state = start;
@@ -184,9 +189,6 @@ Eigen::VectorXd linear_stuck_state(const System& system, double omega) {
 PeriodicResponse integrate_steady_state(const System& system, double omega, const TimeIntegrationOptions& options,
                                         const Eigen::VectorXd* initial_state) {
     system.validate();
-    if (!system.has_positive_definite_mass())
-        throw InvalidInput("the mass matrix is singular (massless DOFs): time integration needs M positive definite "
-                           "(harmonic balance, hbf frf, accepts massless DOFs)");
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     options.validate();
@@ -196,6 +198,23 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
         throw InvalidInput("initial state has " + std::to_string(initial_state->size()) +
                            " entries or non-finite values: allowed " + std::to_string(size) +
                            " finite values (2 N + 2 contacts)");
+    if (system.has_positive_definite_mass()) return integrate_with_mass(system, omega, options, initial_state);
+    // Massless DOFs: condensed statically (exact), integrated, expanded.
+    const detail::MasslessCondensation condensation(system);
+    const TimeIntegrationOptions reduced_options = condensation.reduced_options(options);
+    Eigen::VectorXd reduced_start;
+    if (initial_state) reduced_start = condensation.reduce_state(*initial_state);
+    PeriodicResponse r = integrate_with_mass(condensation.reduced(), omega, reduced_options,
+                                             initial_state ? &reduced_start : nullptr);
+    condensation.expand(r, options);
+    return r;
+}
+
+namespace {
+
+PeriodicResponse integrate_with_mass(const System& system, double omega, const TimeIntegrationOptions& options,
+                                     const Eigen::VectorXd* initial_state) {
+    const int size = state_size(system);
     detail::Stopwatch clock;
     const int continuous = 2 * system.dofs() + static_cast<int>(system.contacts.size());
     const double period = 2.0 * pi / omega;
@@ -281,7 +300,8 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
             const Eigen::VectorXd difference = x.head(continuous) - start.head(continuous);
             if (continuous <= options.shooting_dense_max_states) {
                 // J by forward differences, one period per continuous state
-                const double h = 1e-6 * std::max(1.0, start.head(continuous).cwiseAbs().maxCoeff());
+                const double size = start.head(continuous).cwiseAbs().maxCoeff();
+                const double h = 1e-6 * (size > 0.0 ? size : 1.0);  // relative: independent of the units
                 Eigen::MatrixXd jacobian(continuous, continuous);
                 for (int j = 0; j < continuous && ok; ++j) {
                     Eigen::VectorXd perturbed = start;
@@ -337,6 +357,8 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
     out.seconds = clock.lap();
     return out;
 }
+
+}  // namespace
 
 std::vector<PeriodicResponse> sweep(const System& system, const std::vector<double>& omegas,
                                     const TimeIntegrationOptions& options, const Eigen::VectorXd* initial_state) {

@@ -5,6 +5,7 @@
 
 #include "hbf/analytic.hpp"
 #include "hbf/error.hpp"
+#include "hbf/event_exact.hpp"
 #include "hbf/time_integration.hpp"
 #include "support.hpp"
 
@@ -373,4 +374,136 @@ TEST_CASE("Large models: the sparse BDF Newton solve and GMRES shooting agree wi
         for (std::size_t i = 0; i < a.y_max.size(); ++i) CHECK(b.y_max[i] == Approx(a.y_max[i]).epsilon(1e-6));
         CHECK(b.stick_fraction == Approx(a.stick_fraction).margin(1e-6));
     }
+}
+
+TEST_CASE("Massless DOFs: a spring chain condensed statically gives the closed-form linear response", "[timeint][massless]") {
+    // DOF 1 (mass 1, damper 0.05, spring 1 to the ground) is tied by a spring k_b = 2 to DOF 2,
+    // massless, held by k_c = 3 to the ground; the force (1, F2) acts on both. Closed form:
+    // the massless DOF is static, 5 y2 = 2 y1 + F2 cos, so y1 sees k = 1 + 2 - 4/5 and the force
+    // 1 + 2 F2 / 5; y2 = (2 Y1 + F2) / 5. A linear structure: the steady state is reached from the
+    // linear stuck start (there is no contact) and must equal it to the integrator's accuracy.
+    for (double f2 : {0.0, 0.7}) {
+        System s;
+        Eigen::Matrix2d k;
+        k << 3.0, -2.0, -2.0, 5.0;
+        s.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
+        s.stiffness = sparse(k);
+        s.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
+        s.excitation = Eigen::Vector2d(1.0, f2);
+        TimeIntegrationOptions o;
+        o.outputs = {Output("spread", {{0, 1.0}, {1, -1.0}})};
+        for (double omega : {0.8, 1.5}) {
+            const std::complex<double> y1 =
+                (1.0 + 2.0 * f2 / 5.0) / std::complex<double>(3.0 - 4.0 / 5.0 - omega * omega, 0.05 * omega);
+            const std::complex<double> y2 = (2.0 * y1 + f2) / 5.0;
+            const PeriodicResponse r = integrate_steady_state(s, omega, o);
+            INFO("F2 = " << f2 << ", omega = " << omega << ": " << r.summary());
+            REQUIRE(r.converged);
+            CHECK(r.y_max[0] == Approx(std::abs(y1)).epsilon(1e-7));
+            CHECK(r.y_amp1[0] == Approx(std::abs(y1)).epsilon(1e-7));
+            CHECK(r.y_amp1[1] == Approx(std::abs(y2)).epsilon(1e-7));
+            CHECK(r.y_max[1] == Approx(std::abs(y2)).epsilon(1e-3));  // sampled: 256 per period
+            CHECK(r.output_amp1[0] == Approx(std::abs(y1 - y2)).epsilon(1e-7));
+            CHECK(r.output_max[0] == Approx(std::abs(y1 - y2)).epsilon(1e-3));
+            REQUIRE(r.state.size() == state_size(s));
+            CHECK(r.state(1) == Approx(std::real(y2)).epsilon(1e-6));  // y2(0) = Re(Y2)
+        }
+    }
+}
+
+TEST_CASE("Massless DOFs: a Coulomb shoe behind a spring equals the exact Jenkins orbit", "[timeint][massless][exact]") {
+    // DOF 1 (mass 1, damper 0.05, spring 1) holds a massless shoe (DOF 2) by a spring k_c = 4;
+    // the shoe slides on the ground with exact Coulomb friction F_c = 0.3. The shoe's balance
+    // k_c (y2 - y1) + f = 0 makes the pair a Jenkins element (k_t = k_c, F_c) on DOF 1 with the
+    // slider at y2. Reference: the event-exact solver on that 1-DOF Jenkins system (independent
+    // code), its y1 and force samples giving y2 = y1 - f / k_c.
+    const double kc = 4.0, limit = 0.3;
+    System shoe;
+    Eigen::Matrix2d k;
+    k << 1.0 + kc, -kc, -kc, kc;
+    shoe.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
+    shoe.stiffness = sparse(k);
+    shoe.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
+    shoe.excitation = Eigen::Vector2d(1.0, 0.0);
+    Contact c;
+    c.dof = 1;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = limit;
+    shoe.contacts = {c};
+    System jenkins;
+    jenkins.mass = sparse(Eigen::MatrixXd::Constant(1, 1, 1.0));
+    jenkins.stiffness = sparse(Eigen::MatrixXd::Constant(1, 1, 1.0));
+    jenkins.damping = sparse(Eigen::MatrixXd::Constant(1, 1, 0.05));
+    jenkins.excitation = Eigen::VectorXd::Constant(1, 1.0);
+    Contact j;
+    j.dof = 0;
+    j.law = FrictionLaw::jenkins;
+    j.friction_limit = limit;
+    j.stiffness = kc;
+    jenkins.contacts = {j};
+    TimeIntegrationOptions o;
+    o.relative_tolerance = 1e-12;
+    o.absolute_tolerance = 1e-14;
+    o.steady_tolerance = 1e-11;
+    ExactOptions eo;
+    eo.samples = o.samples_per_period;
+    for (double omega : {0.6, 1.0, 1.3, 2.5}) {
+        const PeriodicResponse r = integrate_steady_state(shoe, omega, o, nullptr);
+        const ExactOrbit e = exact_periodic_orbit(jenkins, omega, linear_stuck_state(jenkins, omega), eo);
+        INFO("omega = " << omega << ": TI " << r.summary() << "; exact " << e.summary());
+        REQUIRE(r.converged);
+        REQUIRE(e.converged);
+        CHECK(r.regime == e.regime);
+        CHECK(r.y_max[0] == Approx(e.y_max[0]).epsilon(1e-8));
+        CHECK(r.y_amp1[0] == Approx(e.y_amp1[0]).epsilon(1e-8));
+        CHECK(r.stick_fraction == Approx(e.stick_fraction).margin(1e-7));
+        CHECK(r.energy == Approx(e.energy).epsilon(1e-7));
+        // The shoe: sampled at the same instants on both sides.
+        double shoe_max = 0.0;
+        for (Eigen::Index s = 0; s < e.time.size(); ++s)
+            shoe_max = std::max(shoe_max, std::abs(e.displacement(s, 0) - e.friction_force(s, 0) / kc));
+        CHECK(r.y_max[1] == Approx(shoe_max).epsilon(1e-7).margin(1e-9));
+        CHECK(r.displacement.cols() == 2);
+        CHECK((r.friction_force.col(0) - e.friction_force.col(0)).cwiseAbs().maxCoeff() < 1e-7);
+    }
+}
+
+TEST_CASE("Massless DOFs that time integration cannot condense are refused with the reason", "[timeint][massless]") {
+    System s;
+    Eigen::Matrix2d k;
+    k << 3.0, -2.0, -2.0, 5.0;
+    s.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
+    s.stiffness = sparse(k);
+    s.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
+    s.excitation = Eigen::Vector2d(1.0, 0.0);
+    auto message = [](const System& system) {
+        try {
+            integrate_steady_state(system, 1.0, TimeIntegrationOptions{});
+        } catch (const InvalidInput& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    System damped = s;
+    damped.damping = sparse(Eigen::Vector2d(0.05, 0.01).asDiagonal());
+    CHECK_THAT(message(damped), Catch::Contains("massless DOF 2 has damping"));
+    System dahl = s;
+    Contact c;
+    c.dof = 1;
+    c.law = FrictionLaw::dahl;
+    c.friction_limit = 0.3;
+    c.stiffness = 1.0;
+    dahl.contacts = {c};
+    CHECK_THAT(message(dahl), Catch::Contains("contact 1 (dahl) moves massless DOFs"));
+    System loose = s;
+    Eigen::Matrix2d k2;
+    k2 << 1.0, 0.0, 0.0, 0.0;
+    loose.stiffness = sparse(k2);
+    CHECK_THAT(message(loose), Catch::Contains("K_SS) is singular"));
+    System excited = s;
+    excited.excitation = Eigen::Vector2d(1.0, 0.5);
+    c.law = FrictionLaw::coulomb;
+    c.stiffness = 0.0;
+    excited.contacts = {c};
+    CHECK_THAT(message(excited), Catch::Contains("also excited"));
 }

@@ -33,6 +33,16 @@
 //
 // A cap on events per period guards against chattering (reported, never a hang).
 //
+// Massless DOFs (zero rows of M, e.g. the static boundary of a reduced model) are condensed
+// out exactly before integrating (src/time_integration/massless.hpp): their equations are
+// static, y_S = K_SS^-1 (F_S cos - K_SR y_R - W_S f). A Coulomb contact on them, behind the
+// compliance g = w_S^T K_SS^-1 w_S, is integrated as the Jenkins element it is (k_t = 1 / g;
+// a Jenkins contact's springs add in series). Required, else InvalidInput with the reason: no
+// damping on massless DOFs, K_SS invertible, only coulomb or jenkins on massless DOFs, no two
+// of them coupled through K_SS^-1, no excitation on massless DOFs that carry a contact. The
+// massless DOFs' y_max is the largest of the period's samples and their velocity samples a
+// central difference (the massive DOFs keep the exact turning points).
+//
 // Stick and slip follow friction.hpp (stick_force_ratio): coulomb and jenkins by the mode
 // (exact event times), dahl and lugre while |sigma0 z| < ratio g(v), coulomb-reg while
 // |tanh(v / eps)| < ratio; the smooth laws' indicator crossings are root functions too, so

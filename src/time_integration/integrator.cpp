@@ -249,8 +249,12 @@ void Integrator::evaluate(double t, const double* x) {
         f_(c) = f;
         zdot_(c) = zd;
         if (k.law == FrictionLaw::coulomb && mode == 0) continue;
-        load_(k.a) -= f;
-        if (k.b != Contact::ground) load_(k.b) += f;
+        if (k.w.size() > 0) {  // a force direction: -w f on the structure
+            load_ -= k.w * f;
+        } else {
+            load_(k.a) -= f;
+            if (k.b != Contact::ground) load_(k.b) += f;
+        }
     }
     apply_minv(load_, acc_);
     if (!stuck_.empty()) {
@@ -346,7 +350,7 @@ void Integrator::project_velocities(double* x, const std::vector<int>& set) cons
     // exact zeros on the constraint (the projection leaves rounding of order 1e-16 |v|)
     for (int c : set) {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
-        if (k.b == Contact::ground) x[n_ + k.a] = 0.0;
+        if (k.w.size() == 0 && k.b == Contact::ground) x[n_ + k.a] = 0.0;
     }
 }
 
