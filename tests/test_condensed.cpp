@@ -418,3 +418,55 @@ TEST_CASE("The 200-DOF beam: harmonic balance against BDF time integration of th
         }
     }
 }
+
+TEST_CASE("The reduced beam (massless contact shoe, output vector, SI units): harmonic balance against time integration",
+          "[condensed][beam][timeint][massless][cli]") {
+    // examples/systems/beam/beam200_reduced.toml: beam200 reduced (Guyan) onto 5 master
+    // displacements, plus a massless shoe joined to the tip by a spring and sliding on the
+    // ground (exact Coulomb, 3 N); mid-span is the output vector "midspan". Time integration
+    // condenses the massless shoe statically (it is then a Jenkins element), harmonic balance
+    // keeps it as a coordinate (condensed formulation). At w = 40 (stick-slip) and 160 rad/s
+    // (stick-slip, mostly sliding), and with a 30 N limit at 40 (stuck: linear, HB exact).
+    // Reference: hbf timeint --config (Adams, rtol 1e-10, steady-tol 1e-9). Tolerances relative
+    // to each output: stuck 1e-6 (TI keeps the stuck shoe's offset of its transient, ~1e-8);
+    // stick-slip 3 % (DLFT at H = 20; measured 0.4 % and 1.1 % at 40, 0.03 % at 160).
+    ::test::TempDir dir;
+    const std::string reduced = std::string(HBF_SOURCE_DIR) + "/examples/systems/beam/beam200_reduced.toml";
+    std::string text = ::test::slurp(reduced);
+    const auto limit = text.find("friction_limit = 3\n");
+    REQUIRE(limit != std::string::npos);
+    text.replace(limit, 19, "friction_limit = 30\n");
+    const auto stuck = dir.path / "stuck.toml";
+    std::ofstream(stuck) << text;
+    struct Case {
+        std::string file, omega, regime;
+        double tolerance;
+    };
+    const std::vector<Case> cases = {{stuck.string(), "40", "stick", 1e-6},
+                                     {reduced, "40", "stick-slip", 3e-2},
+                                     {reduced, "160", "stick-slip", 3e-2}};
+    for (const Case& c : cases) {
+        const ::test::Result hb =
+            ::test::run_hbf("frf --quiet --config '" + c.file + "' --wmin 30 --wmax 170 --at " + c.omega, dir);
+        const ::test::Result ti =
+            ::test::run_hbf("timeint --quiet --config '" + c.file + "' --w " + c.omega + " --steady-tol 1e-9", dir);
+        INFO("w = " << c.omega << "\nHB: " << hb.err << "\nTI: " << ti.err);
+        REQUIRE(hb.exit_code == 0);
+        REQUIRE(ti.exit_code == 0);
+        const auto hb_rows = ::test::parse_csv(hb.out), ti_rows = ::test::parse_csv(ti.out);
+        const auto point = static_cast<std::size_t>(std::find(hb_rows[0].begin(), hb_rows[0].end(), "point") - hb_rows[0].begin());
+        std::vector<std::string> sample;
+        for (const auto& row : hb_rows)
+            if (row.size() > point && row[point] == "sample") sample = row;
+        REQUIRE(!sample.empty());
+        REQUIRE(ti_rows.size() == 2);
+        CHECK(ti_rows[1][6] == c.regime);
+        CHECK(sample[6] == c.regime);
+        for (std::size_t column : {1, 2, 3, 4}) {  // midspan_max, tip_max, midspan_amp1, tip_amp1
+            REQUIRE(hb_rows[0][column] == ti_rows[0][column]);
+            const double y_ti = std::stod(ti_rows[1][column]), y_hb = std::stod(sample[column]);
+            INFO(hb_rows[0][column] << ": HB " << y_hb << ", TI " << y_ti);
+            CHECK(std::abs(y_hb - y_ti) <= c.tolerance * y_ti);
+        }
+    }
+}

@@ -12,6 +12,17 @@ the ground. Omega is in rad/s: the first bending mode is at 52.5 rad/s (8.4 Hz).
 
 Writes, beside this script (or in --out DIR): beam<N>_mass.mtx, beam<N>_stiffness.mtx,
 beam<N>_damping.mtx (Matrix Market, symmetric, coordinate: read sparse) and beam<N>.toml.
+
+And a reduced model of the same beam, beam<N>_reduced.toml, with the features of the reduced
+finite-element models users bring (a massless contact coordinate, physical units, the
+response of interest a combination of the coordinates):
+  * Guyan (static) reduction onto the transverse displacements of 5 master nodes, at 1/5,
+    2/5, ..., 5/5 of the length (the tip): y = T u, T = [I; -K_ss^-1 K_sm], M_r = T^T M T,
+    K_r = T^T K T, C_r = a M_r + b K_r (the same Rayleigh coefficients), F_r = T^T F;
+  * a massless contact shoe, coordinate 6: joined to the tip by a spring K_SHOE, it slides on
+    the ground with exact Coulomb friction (limit 3 N), so M and C are zero in its row;
+  * outputs: the mid-span displacement, the row T[mid-span] (an [[output]] vector), and the
+    tip.
 Only the Python standard library is used.
 
 Usage: make_beam.py [--elements 100] [--out DIR]
@@ -29,6 +40,8 @@ INERTIA = WIDTH * HEIGHT ** 3 / 12.0
 FORCE = 10.0       # mid-span force amplitude [N]
 FRICTION = 3.0     # tip friction limit [N]
 ZETA = 0.01        # damping ratio at the first two bending modes
+K_SHOE = 1.0e5     # spring between the tip and the massless contact shoe (reduced model) [N/m]
+MASTERS = 5        # master nodes of the reduced model
 
 
 def element_matrices(l):
@@ -73,6 +86,104 @@ def write_mtx(path, n, entries):
             f.write("%d %d %.17g\n" % (i + 1, j + 1, v))
 
 
+def dense(lower, n):
+    """The symmetric dense matrix (list of rows) of a lower triangle {(i, j): value}."""
+    a = [[0.0] * n for _ in range(n)]
+    for (i, j), v in lower.items():
+        a[i][j] = v
+        a[j][i] = v
+    return a
+
+
+def solve(a, b):
+    """Solves a x = b (a: n x n rows, b: n x m rows) by Gaussian elimination with partial
+    pivoting, skipping the zeros of the band; a and b are overwritten."""
+    n, m = len(a), len(b[0])
+    for col in range(n):
+        pivot = max(range(col, n), key=lambda r: abs(a[r][col]))
+        a[col], a[pivot] = a[pivot], a[col]
+        b[col], b[pivot] = b[pivot], b[col]
+        for r in range(col + 1, n):
+            factor = a[r][col] / a[col][col]
+            if factor == 0.0:
+                continue
+            row, top = a[r], a[col]
+            for c in range(col, n):
+                if top[c] != 0.0:
+                    row[c] -= factor * top[c]
+            for c in range(m):
+                b[r][c] -= factor * b[col][c]
+    x = [[0.0] * m for _ in range(n)]
+    for r in range(n - 1, -1, -1):
+        for c in range(m):
+            total = b[r][c] - sum(a[r][k] * x[k][c] for k in range(r + 1, n) if a[r][k] != 0.0)
+            x[r][c] = total / a[r][r]
+    return x
+
+
+def congruence(a, t):
+    """t^T a t for a dense symmetric a (n x n) and t (n x m)."""
+    n, m = len(t), len(t[0])
+    at = [[sum(a[i][k] * t[k][c] for k in range(n) if a[i][k] != 0.0) for c in range(m)] for i in range(n)]
+    p = [[sum(t[k][r] * at[k][c] for k in range(n)) for c in range(m)] for r in range(m)]
+    return [[0.5 * (p[r][c] + p[c][r]) for c in range(m)] for r in range(m)]  # symmetric to the bit
+
+
+def matrix_text(rows):
+    return "[" + ",\n        ".join("[" + ", ".join("%.17g" % v for v in row) + "]" for row in rows) + "]"
+
+
+def write_reduced(out, name, elements, k, m, a, b):
+    """The Guyan-reduced beam with a massless contact shoe (see the module comment)."""
+    n = 2 * elements
+    masters = [2 * (elements * j // MASTERS - 1) for j in range(1, MASTERS + 1)]
+    slaves = [i for i in range(n) if i not in masters]
+    kd, md = dense(k, n), dense(m, n)
+    k_ss = [[kd[i][j] for j in slaves] for i in slaves]
+    k_sm = [[kd[i][j] for j in masters] for i in slaves]
+    x = solve(k_ss, k_sm)
+    t = [[0.0] * MASTERS for _ in range(n)]
+    for c, i in enumerate(masters):
+        t[i][c] = 1.0
+    for r, i in enumerate(slaves):
+        for c in range(MASTERS):
+            t[i][c] = -x[r][c]
+    k_r, m_r = congruence(kd, t), congruence(md, t)
+    nr = MASTERS + 1
+    stiffness = [[0.0] * nr for _ in range(nr)]
+    mass = [[0.0] * nr for _ in range(nr)]
+    damping = [[0.0] * nr for _ in range(nr)]
+    for i in range(MASTERS):
+        for j in range(MASTERS):
+            stiffness[i][j] = k_r[i][j]
+            mass[i][j] = m_r[i][j]
+            damping[i][j] = a * m_r[i][j] + b * k_r[i][j]
+    tip = MASTERS - 1
+    stiffness[tip][tip] += K_SHOE
+    stiffness[tip][MASTERS] = stiffness[MASTERS][tip] = -K_SHOE
+    stiffness[MASTERS][MASTERS] = K_SHOE
+    mid = 2 * (elements // 2 - 1)
+    row = t[mid] + [0.0]
+    with open(os.path.join(out, name + "_reduced.toml"), "w") as f:
+        f.write("# The %d-DOF beam of %s.toml reduced (Guyan) onto the transverse displacements of %d master nodes\n"
+                "# (coordinates 1-%d, the last one the tip), plus a massless contact shoe (coordinate %d) joined to\n"
+                "# the tip by a spring of %g N/m and sliding on the ground with exact Coulomb friction.\n"
+                "# Written by make_beam.py (see there). SI units: m, N, kg, w in rad/s.\n"
+                % (n, name, MASTERS, MASTERS, nr, K_SHOE))
+        f.write("[structure]\n")
+        f.write("mass = %s\n" % matrix_text(mass))
+        f.write("stiffness = %s\n" % matrix_text(stiffness))
+        f.write("damping = %s\n" % matrix_text(damping))
+        f.write("excitation = [%s]   # T^T F: 10 N at mid-span\n" % ", ".join("%.17g" % (FORCE * v) for v in row))
+        f.write("\n[[contact]]   # the massless shoe against the ground\n")
+        f.write("dof = %d\nlaw = \"coulomb\"\nfriction_limit = %g\n" % (nr, FRICTION))
+        f.write("\n[frequency]\nwmin = 30.0\nwmax = 80.0\n")
+        f.write("\n[solver]\nharmonics = 20\n")
+        f.write("\n[[output]]   # mid-span displacement: its row of T (mid-span is not a master)\n")
+        f.write("name = \"midspan\"\nrow = [%s]\n" % ", ".join("%.17g" % v for v in row))
+        f.write("\n[[output]]   # the tip\nname = \"tip\"\ndof = %d\n" % MASTERS)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--elements", type=int, default=100, help="number of beam elements (N = 2 x elements DOFs)")
@@ -114,6 +225,8 @@ def main():
                 "harmonics = 20\n")
         f.write("\n[output]   # mid-span and tip transverse displacements\n")
         f.write("report = [%d, %d]\n" % (2 * (mid_node - 1) + 1, tip + 1))
+    if args.elements % MASTERS == 0:
+        write_reduced(args.out, name, args.elements, k, m, a, b)
 
 
 if __name__ == "__main__":
