@@ -6,9 +6,11 @@
 // Each case is one `hbf frf`-like continuation over w in [1.0, 2.2] at H harmonics, in a
 // child process so that its peak memory (ru_maxrss) is its own.
 //
-// Printed per case: N, contacts, H, the formulation (condensed, or full where it still runs),
-// unknowns, branch points, seconds per FRF and per point, peak memory, and the ratio
-// full / condensed in time. The last line is one JSON object with every case.
+// Printed per case: N, contacts, H, the formulation (condensed with the direct sparse solve;
+// modal, condensed with --modes M modes; full where it still runs), unknowns, branch points,
+// seconds per FRF and per point, peak memory, the ratio full / condensed in time, and the time
+// per point against the same formulation at the smallest N (the goal: < 2 at 1000
+// DOFs). The last line is one JSON object with every case.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -65,6 +67,7 @@ System chain(int n, int contacts) {
 struct Case {
     int dofs = 0, contacts = 1, harmonics = 10;
     Formulation formulation = Formulation::condensed;
+    int modes = 0;  ///< condensed with the modal receptance (0: direct sparse LU)
 };
 
 struct Result {
@@ -83,7 +86,7 @@ Result run(const Case& c) {
         close(fd[0]);
         std::ostringstream line;
         try {
-            HarmonicBalance hb(chain(c.dofs, c.contacts), HarmonicBalanceOptions{c.harmonics, 0, c.formulation});
+            HarmonicBalance hb(chain(c.dofs, c.contacts), HarmonicBalanceOptions{c.harmonics, 0, c.formulation, c.modes});
             ContinuationOptions o;
             o.omega_start = 1.0;
             o.omega_end = 2.2;
@@ -120,36 +123,46 @@ int main(int argc, char** argv) {
     std::vector<int> contact_counts = {1, 4};
     std::vector<int> harmonics = {10, 20};
     int full_limit = 100;
+    int modes = 20;
     app.add_option("--dofs", sizes, "chain sizes N");
     app.add_option("--contacts", contact_counts, "numbers of contacts (1..4)")->check(CLI::Range(1, 4));
     app.add_option("--harmonics", harmonics, "H values");
     app.add_option("--full-limit", full_limit, "largest N also run with the full (dense all-DOF) formulation");
+    app.add_option("--modes", modes, "modes of the modal receptance variant (condensed, --modes M; 0: not run)");
     CLI11_PARSE(app, argc, argv);
 
     nlohmann::json cases = nlohmann::json::array();
-    std::printf("%7s %3s %3s %-9s %8s %6s %10s %12s %9s %10s  %s\n", "N", "n_c", "H", "form", "unknowns", "points",
-                "s/FRF", "ms/point", "peak MB", "full/cond", "status");
+    std::printf("%7s %3s %3s %-9s %8s %6s %10s %12s %9s %10s %9s  %s\n", "N", "n_c", "H", "form", "unknowns", "points",
+                "s/FRF", "ms/point", "peak MB", "full/cond", "vs first", "status");
     for (int h : harmonics)
-        for (int nc : contact_counts)
+        for (int nc : contact_counts) {
+            std::map<std::string, double> first_per_point;  // per form: ms/point at the smallest N
             for (int n : sizes) {
                 if (nc * std::max(1, n / 10) >= n) continue;  // contacts must fit near the end
                 Result condensed;
-                for (Formulation f : {Formulation::condensed, Formulation::full}) {
+                for (const std::string form : {"condensed", "modal", "full"}) {
+                    const Formulation f = form == "full" ? Formulation::full : Formulation::condensed;
                     if (f == Formulation::full && n > full_limit) continue;
-                    const Result r = run({n, nc, h, f});
-                    if (f == Formulation::condensed) condensed = r;
+                    if (form == "modal" && modes <= 0) continue;
+                    const Result r = run({n, nc, h, f, form == "modal" ? modes : 0});
+                    if (form == "condensed") condensed = r;
                     const double ratio = f == Formulation::full && r.ran && condensed.ran && condensed.seconds > 0
                                              ? r.seconds / condensed.seconds
                                              : NAN;
-                    std::printf("%7d %3d %3d %-9s %8d %6d %10.3f %12.3f %9.1f %10s  %s\n", n, nc, h, to_string(f).c_str(),
-                                r.unknowns, r.points, r.seconds, r.points > 0 ? 1e3 * r.seconds / r.points : NAN,
-                                r.peak_mb, std::isfinite(ratio) ? std::to_string(ratio).substr(0, 6).c_str() : "-",
+                    const double per_point = r.points > 0 ? r.seconds / r.points : NAN;
+                    if (!first_per_point.count(form) && std::isfinite(per_point)) first_per_point[form] = per_point;
+                    const double growth = first_per_point.count(form) ? per_point / first_per_point[form] : NAN;
+                    std::printf("%7d %3d %3d %-9s %8d %6d %10.3f %12.3f %9.1f %10s %9.2f  %s\n", n, nc, h,
+                                form.c_str(), r.unknowns, r.points, r.seconds, 1e3 * per_point, r.peak_mb,
+                                std::isfinite(ratio) ? std::to_string(ratio).substr(0, 6).c_str() : "-", growth,
                                 r.ran ? r.status.c_str() : "failed");
                     std::fflush(stdout);
                     cases.push_back({{"dofs", n},
                                      {"contacts", nc},
                                      {"harmonics", h},
-                                     {"formulation", to_string(f)},
+                                     {"formulation", form},
+                                     {"modes", form == "modal" ? modes : 0},
+                                     {"time_per_point_vs_smallest_n", growth},
                                      {"unknowns", r.unknowns},
                                      {"points", r.points},
                                      {"seconds", r.seconds},
@@ -158,6 +171,7 @@ int main(int argc, char** argv) {
                                      {"status", r.ran ? r.status : "failed"}});
                 }
             }
+        }
     std::cout << nlohmann::json{{"benchmark", "hb_scaling"}, {"cases", cases}}.dump() << '\n';
     return 0;
 }

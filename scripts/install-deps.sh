@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev libfftw3-dev libceres-dev
   catch2 libcli11-dev nlohmann-json3-dev libtomlplusplus-dev
   libsundials-dev gnuplot-nox
+  libspectra-dev  # sparse eigensolver of the modal receptance (header-only)
   python3  # examples/systems/beam/make_beam.py (standard library only), checked by the tests
 )
 

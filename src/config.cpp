@@ -343,7 +343,13 @@ SystemConfig read_system_config(const std::string& path) {
     if (const toml::node* node = root.get("solver")) {
         const toml::table* t = node->as_table();
         if (!t) fail(path, node->source(), "solver", "expected a table [solver]");
-        r.only(*t, {"harmonics", "time_samples"}, "solver");
+        r.only(*t, {"harmonics", "time_samples", "modes"}, "solver");
+        if (const toml::node* v = t->get("modes")) {
+            config.modes = r.integer(*v, "solver.modes");
+            if (*config.modes < 0 || *config.modes > 100000)
+                fail(path, v->source(), "solver.modes",
+                     std::to_string(*config.modes) + " is out of range: allowed 0 (direct solve) or 1..100000 modes");
+        }
         if (const toml::node* v = t->get("harmonics")) {
             config.harmonics = r.integer(*v, "solver.harmonics");
             if (*config.harmonics < 1 || *config.harmonics > 200)

@@ -54,16 +54,7 @@ std::string BranchResult::summary() const {
 namespace {
 /// Upper bound of max_t |y_i(t)| over all DOFs: |c0| + sum_k hypot(c_k, s_k).
 double amplitude_bound(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega) {
-    double bound = 0.0;
-    const Eigen::MatrixXd y = hb.dofs(x, omega);
-    if (!y.allFinite()) return INFINITY;
-    for (int i = 0; i < hb.system().dofs(); ++i) {
-        const auto c = y.col(i);
-        double b = std::abs(c(0));
-        for (int k = 1; k <= hb.harmonics(); ++k) b += std::hypot(c(2 * k - 1), c(2 * k));
-        bound = std::max(bound, b);
-    }
-    return bound;
+    return hb.amplitude_bound(x, omega);
 }
 
 /// A converged starting point at omega. Tries the pre-sliding linearisation, then the

@@ -40,6 +40,8 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     if (options.time_samples < 0)
         throw InvalidInput("time_samples = " + std::to_string(options.time_samples) +
                            " is out of range: allowed 0 (automatic) or > 2 harmonics");
+    if (options.modes < 0)
+        throw InvalidInput("modes = " + std::to_string(options.modes) + " is out of range: allowed 0 (direct) or >= 1");
     system_.validate();
     const int n = coefficients(), nc = static_cast<int>(system_.contacts.size());
     force_scale_ = system_.excitation.cwiseAbs().maxCoeff();
@@ -97,8 +99,18 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
             stiffness += shift_stiffness_(c) * ww;
             damping += shift_damping_(c) * ww;
         }
-        auto receptance = std::make_unique<Receptance>(system_.mass, damping, stiffness, w, system_.excitation,
-                                                       Eigen::MatrixXd(0, system_.dofs()));
+        std::unique_ptr<Receptance> receptance;
+        if (options.modes > 0) {
+            // The modal basis of the unshifted structure; the contact springs and dampers enter
+            // exactly through the contacts' small system (receptance.hpp).
+            receptance = std::make_unique<Receptance>(system_.mass, system_.damping, system_.stiffness, w,
+                                                      system_.excitation, Eigen::MatrixXd(0, system_.dofs()));
+            receptance->use_modes(options.modes, shift_stiffness_, shift_damping_);
+            modes_ = receptance->modes();
+        } else {
+            receptance = std::make_unique<Receptance>(system_.mass, damping, stiffness, w, system_.excitation,
+                                                      Eigen::MatrixXd(0, system_.dofs()));
+        }
         Receptance::Harmonic h0 = receptance->solve(0, 1.0, false);
         const bool usable = h0.ok && (h0.contact.real().diagonal().array() > 0.0).all();
         if (usable) {
@@ -116,6 +128,10 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     } else if (options.formulation == Formulation::condensed && nc == 0) {
         throw InvalidInput("formulation = condensed needs at least one contact: allowed full for a linear system");
     }
+    if (options.modes > 0 && !condensed_)
+        throw InvalidInput("modes = " + std::to_string(options.modes) +
+                           ": the modal receptance belongs to the condensed formulation, which this system does not "
+                           "use (allowed: modes = 0)");
     unknowns_ = (condensed_ ? nc : system_.dofs()) * n;
     // A displacement floor for the full formulation's unknowns: the force over the stiffest
     // diagonal entry (a displacement in the system's units; the force scale itself is for
@@ -160,7 +176,7 @@ bool HarmonicBalance::prepare_receptance(double omega) {
     row_scale_omega_.resize(harmonics() + 1, nc);
     for (int k = 0; k <= harmonics(); ++k) {
         Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
-        if (k > 0) h = receptance_->solve(k, omega, k == 1);
+        if (k > 0) h = receptance_->solve(k, omega, k == 1, false);  // the N-long solution: in dofs()
         if (!h.ok) {
             structure_failure_ = h.message;
             return false;
@@ -207,9 +223,15 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
         shift_force(c, omega, relative(x, c), scratch_, false);
         forces.col(c) = scratch_.force;
     }
-    y.row(0) = -(harmonic_[0].solution.leftCols(nc).real() * forces.row(0).transpose()).transpose();
+    // Z_k^-1 [W, F]: kept by the direct solve; the modal one forms it here (its cost grows with N).
+    auto solved = [&](int k) -> const Receptance::Harmonic& {
+        Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
+        if (h.solution.size() == 0) h = receptance_->solve(k, omega, k == 1, true);
+        return h;
+    };
+    y.row(0) = -(solved(0).solution.leftCols(nc).real() * forces.row(0).transpose()).transpose();
     for (int k = 1; k <= harmonics(); ++k) {
-        const Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
+        const Receptance::Harmonic& h = solved(k);
         const Eigen::VectorXcd lambda = forces.row(2 * k - 1).transpose().cast<std::complex<double>>() -
                                         std::complex<double>(0.0, 1.0) * forces.row(2 * k).transpose();
         Eigen::VectorXcd amplitude = -h.solution.leftCols(nc) * lambda;
@@ -218,6 +240,38 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
         y.row(2 * k) = -amplitude.imag().transpose();
     }
     return y;
+}
+
+double HarmonicBalance::amplitude_bound(const Eigen::VectorXd& x, double omega) {
+    if (condensed_ && modes_ > 0) {
+        if (!prepare_receptance(omega)) return std::numeric_limits<double>::infinity();
+        const int n = coefficients(), nc = static_cast<int>(models_.size());
+        Eigen::MatrixXd forces(n, nc);
+        for (int c = 0; c < nc; ++c) {
+            models_[static_cast<std::size_t>(c)]->evaluate(fourier_, omega, relative(x, c), state(x, c), scratch_, false);
+            shift_force(c, omega, relative(x, c), scratch_, false);
+            forces.col(c) = scratch_.force;
+        }
+        double bound = 0.0;
+        for (int k = 0; k <= harmonics(); ++k) {
+            const Eigen::VectorXcd lambda =
+                k == 0 ? Eigen::VectorXcd(forces.row(0).transpose().cast<std::complex<double>>())
+                       : Eigen::VectorXcd(forces.row(2 * k - 1).transpose().cast<std::complex<double>>() -
+                                          std::complex<double>(0.0, 1.0) * forces.row(2 * k).transpose());
+            bound += receptance_->response_bound(k, omega, lambda, k == 1);
+        }
+        return bound;
+    }
+    const Eigen::MatrixXd y = dofs(x, omega);
+    if (!y.allFinite()) return std::numeric_limits<double>::infinity();
+    double bound = 0.0;
+    for (int i = 0; i < system_.dofs(); ++i) {
+        const auto c = y.col(i);
+        double b = std::abs(c(0));
+        for (int k = 1; k <= harmonics(); ++k) b += std::hypot(c(2 * k - 1), c(2 * k));
+        bound = std::max(bound, b);
+    }
+    return bound;
 }
 
 Eigen::VectorXd HarmonicBalance::relative(const Eigen::VectorXd& x, int contact) const {

@@ -470,3 +470,44 @@ TEST_CASE("The reduced beam (massless contact shoe, output vector, SI units): ha
         }
     }
 }
+
+TEST_CASE("hbf frf --modes: the beam's FRF by the modal receptance equals the direct solve; refusals exit 2",
+          "[condensed][beam][modal][cli]") {
+    // beam200 at H = 20 (harmonics up to 20 x 75 rad/s = 1500 rad/s; mode 40 is near 1.3e6
+    // rad/s): the truncation is negligible, the difference is the eigenvectors' rounding
+    // (measured 3e-8 mid-span, 1e-7 tip). Tolerance 1e-6 relative.
+    ::test::TempDir dir;
+    const std::string beam = std::string(HBF_SOURCE_DIR) + "/examples/systems/beam/";
+    const auto json = dir.path / "s.json";
+    const ::test::Result direct = ::test::run_hbf("frf --quiet --config '" + beam + "beam200.toml' --at 40,60,75", dir);
+    const ::test::Result modal = ::test::run_hbf(
+        "frf --quiet --config '" + beam + "beam200.toml' --modes 40 --at 40,60,75 --summary '" + json.string() + "'", dir);
+    INFO(direct.err << modal.err);
+    REQUIRE(direct.exit_code == 0);
+    REQUIRE(modal.exit_code == 0);
+    auto samples = [](const std::string& csv) {
+        std::vector<std::vector<std::string>> out;
+        for (const auto& row : ::test::parse_csv(csv))
+            if (row.size() > 9 && row[9] == "sample") out.push_back(row);
+        return out;
+    };
+    const auto a = samples(direct.out), b = samples(modal.out);
+    REQUIRE(a.size() == 3);
+    REQUIRE(b.size() == 3);
+    for (std::size_t k = 0; k < 3; ++k)
+        for (std::size_t column : {1, 2, 3, 4}) {
+            INFO("w = " << a[k][0] << ", column " << column);
+            CHECK(std::stod(b[k][column]) == Approx(std::stod(a[k][column])).epsilon(1e-6));
+        }
+    CHECK(nlohmann::json::parse(::test::slurp(json)).at("parameters").at("modes") == 40);
+    // The reduced beam has a massless shoe: the modal basis needs M > 0.
+    const auto out = dir.path / "r.csv";
+    const ::test::Result refused = ::test::run_hbf(
+        "frf --config '" + beam + "beam200_reduced.toml' --modes 5 --out '" + out.string() + "'", dir);
+    CHECK(refused.exit_code == 2);
+    CHECK_THAT(refused.err, Catch::Contains("positive definite mass"));
+    CHECK(!::test::fs::exists(out));
+    const ::test::Result negative = ::test::run_hbf("frf --modes -1", dir);
+    CHECK(negative.exit_code == 2);
+    CHECK_THAT(negative.err, Catch::Contains("--modes"));
+}

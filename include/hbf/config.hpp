@@ -32,6 +32,9 @@
 //     [solver]                    # optional; command-line flags override
 //     harmonics = 20
 //     time_samples = 0
+//     modes = 0                   # condensed HB: 0 solves the structure directly (sparse LU),
+//                                 # m > 0 uses m modes + static residual flexibility
+//                                 # (cost independent of N; M > 0, K > 0, C modal)
 //
 //     [output]
 //     report = [1, 2]             # DOFs written as y<i>_max, y<i>_amp1 (1-based); default all
@@ -61,6 +64,7 @@ struct SystemConfig {
     System system;
     std::optional<double> omega_start, omega_end;   ///< [frequency] wmin, wmax
     std::optional<int> harmonics, time_samples;     ///< [solver]
+    std::optional<int> modes;                       ///< [solver] modal receptance (0: direct)
     /// The reported outputs in file order: [output] report's DOFs, or the [[output]] tables;
     /// default every DOF.
     std::vector<Output> outputs;

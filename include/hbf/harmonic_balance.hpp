@@ -58,6 +58,11 @@ struct HarmonicBalanceOptions {
     int harmonics = 10;    ///< H >= 1: harmonics 0..H are balanced
     int time_samples = 0;  ///< N_t > 2H; 0 chooses Fourier::default_time_samples(H)
     Formulation formulation = Formulation::automatic;
+    /// Condensed formulation only: 0 solves the structure directly (sparse LU per harmonic and
+    /// frequency: cost linear in N); m > 0 uses the m lowest modes plus the static residual
+    /// flexibility (receptance.hpp: cost independent of N; needs M > 0, K > 0 and C diagonal in
+    /// the modal basis). >= 0.
+    int modes = 0;
 };
 
 /// Work counters of HarmonicBalance::evaluate, for benchmarks and summaries.
@@ -81,7 +86,9 @@ public:
     const System& system() const { return system_; }
     /// The formulation in use (never automatic).
     Formulation formulation() const { return condensed_ ? Formulation::condensed : Formulation::full; }
-    HarmonicBalanceOptions options() const { return {harmonics(), time_samples(), formulation()}; }
+    HarmonicBalanceOptions options() const { return {harmonics(), time_samples(), formulation(), modes_}; }
+    /// Modes of the modal receptance in use (0: the direct solve).
+    int modes() const { return modes_; }
     int harmonics() const { return fourier_.harmonics(); }
     int time_samples() const { return fourier_.time_samples(); }
     int coefficients() const { return fourier_.size(); }  ///< 2H + 1
@@ -99,6 +106,10 @@ public:
     /// Coefficients of every DOF, a (2H+1) x N matrix (column i: DOF i). Condensed, they are
     /// recovered from the contact forces at omega (NaN where Z_k is singular there).
     Eigen::MatrixXd dofs(const Eigen::VectorXd& x, double omega);
+    /// An upper bound of max_i max_t |y_i(t)|: max_i (|c0_i| + sum_k |Y_k,i|) from dofs(); with
+    /// the modal receptance a looser bound from the modal coordinates (receptance.hpp), whose
+    /// cost does not grow with N. +infinity where the structure is singular.
+    double amplitude_bound(const Eigen::VectorXd& x, double omega);
     /// Coefficients of the relative displacement q_c of contact c, and of its internal state
     /// (empty for memoryless laws).
     Eigen::VectorXd relative(const Eigen::VectorXd& x, int contact) const;
@@ -161,7 +172,8 @@ private:
     std::vector<Eigen::VectorXd> directions_;
     int unknowns_ = 0;
     double force_scale_ = 1.0;
-    double full_displacement_scale_ = 1.0;  ///< |F| / max K_ii (unknown_scale, full formulation)
+    double full_displacement_scale_ = 1.0;
+    int modes_ = 0;  ///< |F| / max K_ii (unknown_scale, full formulation)
     FrictionEvaluation scratch_;
     EvaluationStatistics statistics_;
 };

@@ -15,6 +15,17 @@
 // M may be singular (massless DOFs of a reduced model) wherever Z_k stays invertible; a
 // singular Z_k (an undamped resonance hit exactly, a rigid-body mode no contact holds, K
 // singular at k = 0) is a status with a message, never NaN.
+//
+// Modal option (use_modes): the m lowest modes of K phi = lambda M phi (Spectra, shift-invert
+// Lanczos; a dense solver for small models), M-normalised, and the static residual flexibility
+// R = K^-1 - Phi Lambda^-1 Phi^T (one sparse LDL^T of K), so that for B_k = K - (k w)^2 M +
+// i k w C
+//     W^T B_k^-1 W = P^T diag(1 / (lambda_j - (k w)^2 + i k w c_j)) P + W^T R W,  P = Phi^T W,
+// a closed-form sum whose cost does not grow with N (exact at k = 0; truncation error ~ (k w /
+// w_{m+1})^2 of the dynamic part). C must be diagonal in the modal basis (c_j = phi_j^T C
+// phi_j: Rayleigh or modal damping). Contact springs and dampers added along the directions,
+// Z'_k = B_k + W diag(kappa_c + i k w delta_c) W^T, enter exactly by the small identity
+// W^T Z'^-1 W = G_B (I + D G_B)^-1 (Woodbury), D = diag(kappa + i k w delta).
 #pragma once
 
 #include <Eigen/Dense>
@@ -57,8 +68,25 @@ public:
     static constexpr int dense_limit = 16;
     /// k >= 0, omega > 0 (throws InvalidInput otherwise; omega is not used at k = 0). With `load` false the F terms are
     /// left empty (harmonics the excitation does not drive). Not thread-safe: one Receptance
-    /// per thread (it keeps the sparse factorisation's workspace).
-    Harmonic solve(int k, double omega, bool load = true);
+    /// per thread (it keeps the sparse factorisation's workspace). The N-long `solution` is
+    /// always filled by the direct solve; the modal one fills it only when `solution` is true
+    /// (its cost grows with N).
+    Harmonic solve(int k, double omega, bool load = true, bool solution = true);
+
+    /// Switches to the modal basis of the comment above with `modes` modes (fewer when the
+    /// model has fewer DOFs), and contact springs kappa and dampers delta (one per direction)
+    /// added to the structure. Throws InvalidInput naming the reason: modes < 1, M not positive
+    /// definite, K not positive definite, C not diagonal in the modal basis, the eigensolver
+    /// failing.
+    void use_modes(int modes, const Eigen::VectorXd& contact_stiffness, const Eigen::VectorXd& contact_damping);
+    /// Modal receptance only: an upper bound of max_i |Y_i| for Y = Z'_k^-1 (F [load] - W
+    /// lambda), from the modal coordinates and the largest entries of the modes and of the
+    /// residual flexibility (cost independent of N). +infinity where Z'_k is singular.
+    double response_bound(int k, double omega, const Eigen::VectorXcd& lambda, bool load) const;
+    /// Modes in use (0: the direct sparse solve).
+    int modes() const { return static_cast<int>(modal_.lambda.size()); }
+    /// Natural frequencies sqrt(lambda_j) of the modes in use, ascending.
+    Eigen::VectorXd natural_frequencies() const { return modal_.lambda.cwiseSqrt(); }
 
 private:
     using SparseComplex = Eigen::SparseMatrix<std::complex<double>>;
@@ -72,6 +100,20 @@ private:
     SparseComplex z_, dz_;
     Eigen::VectorXd k_values_, m_values_, c_values_;
     std::unique_ptr<Eigen::SparseLU<SparseComplex>> lu_;  // analysed once (large models)
+    Harmonic solve_modal(int k, double omega, bool load, bool solution) const;
+    struct Modal {
+        Eigen::VectorXd lambda, damping;         // lambda_j, c_j
+        Eigen::MatrixXd phi;                     // N x m
+        Eigen::MatrixXd p;                       // Phi^T W (m x n_c)
+        Eigen::VectorXd p_load;                  // Phi^T F
+        Eigen::MatrixXd t_phi;                   // T Phi (n_o x m)
+        Eigen::MatrixXd residual_w;              // R W (N x n_c)
+        Eigen::VectorXd residual_load;           // R F
+        Eigen::VectorXd kappa, delta;            // contact springs and dampers
+        double residual_damping = 0;             // b of Rayleigh damping (the truncated modes'), else 0
+        Eigen::VectorXd phi_max, residual_w_max;  // max_i |phi_ij| per mode, max_i |(R W)_ic| per contact
+        double residual_load_max = 0;             // max_i |(R F)_i|
+    } modal_;
 };
 
 }  // namespace hbf

@@ -26,7 +26,7 @@ namespace {
 struct FrfOptions {
     AbsorberFlags absorber;
     std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000", max_step = "1",
-                tolerance = "1e-9", formulation = "automatic";
+                tolerance = "1e-9", formulation = "automatic", modes = "0";
     std::string at, out, summary, config, plot, overlay, overlay_out, exact;
     bool quiet = false;
 };
@@ -120,6 +120,11 @@ int run(const CLI::App& command, const FrfOptions& o) {
     } catch (const InvalidInput&) {
         throw UsageError("--formulation = '" + o.formulation + "' is not known: allowed automatic, condensed, full");
     }
+    const long long modes = parse_integer("--modes", o.modes);
+    if (modes < 0 || modes > 100000)
+        throw UsageError("--modes = " + o.modes + " is out of range: allowed 0 (direct solve) or 1..100000");
+    hbo.modes = static_cast<int>(modes);
+    if (config && config->modes && !given(command, "--modes")) hbo.modes = *config->modes;
     ContinuationOptions co;
     co.omega_start = parse_double("--wmin", o.wmin);
     co.omega_end = parse_double("--wmax", o.wmax);
@@ -207,6 +212,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
                                                                     {"harmonics", hb.harmonics()},
                                                                     {"time_samples", hb.time_samples()},
                                                                     {"condensed", hb.formulation() == Formulation::condensed ? 1 : 0},
+                                                                    {"modes", hb.modes()},
                                                                     {"max_amplitude", co.max_amplitude},
                                                                     {"tolerance", co.corrector.tolerance}};
         parameters.insert(parameters.end(), solver.begin(), solver.end());
@@ -287,6 +293,13 @@ Runner add_frf_command(CLI::App& app) {
                         "number of harmonics H, 1..200; 0 = automatic: 10 with the exact polish (coulomb, jenkins: "
                         "HB only supplies the branch and the starting guesses); without it 20 for coulomb (its error "
                         "falls like 1/H) and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--modes", options->modes,
+                        "condensed formulation: 0 solves the structure per harmonic and frequency by a sparse LU "
+                        "(exact; cost linear in N); m > 0 uses its m lowest modes plus the static residual "
+                        "flexibility (cost independent of N; truncation error ~ (k w / w_{m+1})^2 of the dynamic "
+                        "part; needs M > 0, K > 0 and C diagonal in the modes, e.g. Rayleigh). A --config file's "
+                        "[solver] modes applies unless given")
         ->capture_default_str()->type_name("INT");
     command->add_option("--formulation", options->formulation,
                         "how the linear structure enters harmonic balance: condensed (the unknowns are the contacts' "
