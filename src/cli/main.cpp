@@ -1,4 +1,6 @@
 // hbf — command-line front end of hbfriction. Thin: parse, validate, call the library, write.
+#include <malloc.h>
+
 #include <iostream>
 #include <map>
 
@@ -7,6 +9,13 @@
 #include "hbf/error.hpp"
 
 int main(int argc, char** argv) {
+    // Large blocks (the HB Jacobian, Ceres' per-solve Jacobian and normal matrix: 300 KB at
+    // H = 49) come from the heap and stay there for reuse, instead of glibc mmap-ing and
+    // unmapping them on every correction: measured on the absorber at H = 49, N_t = 2048,
+    // 446,000 page faults and 10.5 s became 3,700 and 2.6 s, with identical output.
+    mallopt(M_MMAP_THRESHOLD, 256 << 20);
+    mallopt(M_TRIM_THRESHOLD, 512 << 20);
+    mallopt(M_TOP_PAD, 64 << 20);
     using namespace hbf::cli;
     CLI::App app("hbf: frequency responses of structures with friction contacts "
                  "(multi-harmonic balance, closed forms of the friction absorber).",
