@@ -27,6 +27,12 @@ inline std::string slurp(const fs::path& path) {
     return buffer.str();
 }
 
+/// Writes `text` to `path` (replacing it).
+inline void write_file(const fs::path& path, const std::string& text) {
+    std::ofstream out(path);
+    out << text;
+}
+
 /// A fresh empty directory per test case, removed afterwards.
 struct TempDir {
     fs::path path;

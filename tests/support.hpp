@@ -94,4 +94,37 @@ inline System dahl_oscillator(double sigma0, double friction_limit, double force
     return s;
 }
 
+/// A mass on a spring k1 (damper c) and, behind a spring k_t, a massless DOF held by exact
+/// Coulomb friction F_c to the ground: exactly a Jenkins element (k_t, F_c) on the mass.
+inline System massless_contact(double kt, double limit) {
+    Eigen::Matrix2d k;
+    k << 1.0 + kt, -kt, -kt, kt;
+    System s;
+    s.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
+    s.stiffness = sparse(k);
+    s.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
+    s.excitation = Eigen::Vector2d(1.0, 0.0);
+    Contact c;
+    c.dof = 1;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = limit;
+    s.contacts = {c};
+    return s;
+}
+
+inline System jenkins_equivalent(double kt, double limit) {
+    System s;
+    s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
+    s.stiffness = sparse(Eigen::MatrixXd::Identity(1, 1));
+    s.damping = sparse(Eigen::MatrixXd::Constant(1, 1, 0.05));
+    s.excitation = Eigen::VectorXd::Ones(1);
+    Contact c;
+    c.dof = 0;
+    c.law = FrictionLaw::jenkins;
+    c.stiffness = kt;
+    c.friction_limit = limit;
+    s.contacts = {c};
+    return s;
+}
+
 }  // namespace hbf::test

@@ -47,39 +47,6 @@ System four_dofs() {
     return s;
 }
 
-/// A mass on a spring k1 (damper c) and, behind a spring k_t, a massless DOF held by exact
-/// Coulomb friction F_c to the ground: exactly a Jenkins element (k_t, F_c) on the mass.
-System massless_contact(double kt, double limit) {
-    Eigen::Matrix2d k;
-    k << 1.0 + kt, -kt, -kt, kt;
-    System s;
-    s.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
-    s.stiffness = sparse(k);
-    s.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
-    s.excitation = Eigen::Vector2d(1.0, 0.0);
-    Contact c;
-    c.dof = 1;
-    c.law = FrictionLaw::coulomb;
-    c.friction_limit = limit;
-    s.contacts = {c};
-    return s;
-}
-
-System jenkins_equivalent(double kt, double limit) {
-    System s;
-    s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
-    s.stiffness = sparse(Eigen::MatrixXd::Identity(1, 1));
-    s.damping = sparse(Eigen::MatrixXd::Constant(1, 1, 0.05));
-    s.excitation = Eigen::VectorXd::Ones(1);
-    Contact c;
-    c.dof = 0;
-    c.law = FrictionLaw::jenkins;
-    c.stiffness = kt;
-    c.friction_limit = limit;
-    s.contacts = {c};
-    return s;
-}
-
 double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
     return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
 }
@@ -155,8 +122,8 @@ TEST_CASE("A massless contact DOF behind a spring is a Jenkins element: condense
     // (the switching events are read off a truncated velocity): at H = 20, 1 % on y_max.
     const double kt = 0.8, limit = 0.3;
     const std::vector<double> omegas = {0.5, 0.9, 1.1, 1.6};
-    const auto y = sampled_dofs(massless_contact(kt, limit), Formulation::condensed, 20, omegas, 0.4, 1.8);
-    const System jenkins = jenkins_equivalent(kt, limit);
+    const auto y = sampled_dofs(hbf::test::massless_contact(kt, limit), Formulation::condensed, 20, omegas, 0.4, 1.8);
+    const System jenkins = hbf::test::jenkins_equivalent(kt, limit);
     for (std::size_t k = 0; k < omegas.size(); ++k) {
         const ExactOrbit orbit = exact_periodic_orbit(jenkins, omegas[k], Eigen::VectorXd::Zero(4));
         INFO("w = " << omegas[k] << ": " << orbit.summary());
@@ -173,13 +140,13 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
           "[condensed]") {
     // A free mass (K = 0) held only by friction: Z_0 is singular, condensed is refused by
     // name and automatic falls back to the full formulation.
-    System s = jenkins_equivalent(1.0, 0.3);
+    System s = hbf::test::jenkins_equivalent(1.0, 0.3);
     s.contacts[0].law = FrictionLaw::coulomb;
     s.stiffness = SparseMatrix(1, 1);
     CHECK_THROWS_WITH(HarmonicBalance(s, HarmonicBalanceOptions{4, 0, Formulation::condensed}),
                       Catch::Contains("formulation = condensed") && Catch::Contains("singular"));
     CHECK(HarmonicBalance(s, HarmonicBalanceOptions{4, 0, Formulation::automatic}).formulation() == Formulation::full);
-    System linear = jenkins_equivalent(1.0, 0.3);
+    System linear = hbf::test::jenkins_equivalent(1.0, 0.3);
     linear.contacts.clear();
     CHECK_THROWS_WITH(HarmonicBalance(linear, HarmonicBalanceOptions{4, 0, Formulation::condensed}),
                       Catch::Contains("at least one contact"));
@@ -193,7 +160,7 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
     CHECK_THROWS_WITH(bad.validate(), Catch::Contains("not positive semi-definite"));
     // An undamped resonance of the free structure hit exactly is regular: the condensed
     // structure carries the contact's spring and damper (subtracted from the friction force).
-    System undamped = massless_contact(0.8, 0.3);
+    System undamped = hbf::test::massless_contact(0.8, 0.3);
     undamped.damping = SparseMatrix(2, 2);
     HarmonicBalance shifted(undamped, HarmonicBalanceOptions{3, 0, Formulation::condensed});
     Eigen::VectorXd r;
@@ -217,7 +184,7 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
     CHECK(r.hasNaN());
     CHECK_THAT(hb.structure_failure(), Catch::Contains("singular dynamic stiffness") && Catch::Contains("k = 1"));
     // Time integration and the exact solver need M > 0: a clear error.
-    CHECK_THROWS_WITH(exact_periodic_orbit(massless_contact(0.8, 0.3), 1.0, Eigen::VectorXd::Zero(6)),
+    CHECK_THROWS_WITH(exact_periodic_orbit(hbf::test::massless_contact(0.8, 0.3), 1.0, Eigen::VectorXd::Zero(6)),
                       Catch::Contains("mass matrix is singular"));
 }
 

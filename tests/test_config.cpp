@@ -15,10 +15,6 @@ using namespace test;
 namespace {
 const std::string systems = std::string(HBF_SOURCE_DIR) + "/examples/systems/";
 
-void write(const fs::path& path, const std::string& text) {
-    std::ofstream out(path);
-    out << text;
-}
 
 /// The sample rows (point = sample) at frequency w of an `hbf frf` CSV.
 std::vector<std::vector<std::string>> samples_at(const std::vector<std::vector<std::string>>& rows, double w,
@@ -165,7 +161,7 @@ TEST_CASE("Bad system files: the message names the file, the line and the key, e
     };
     for (const Case& c : cases) {
         const fs::path file = dir.path / "system.toml", out = dir.path / "frf.csv";
-        write(file, c.text);
+        write_file(file, c.text);
         const Result r = run_hbf("frf --config '" + file.string() + "' --out '" + out.string() + "'", dir);
         INFO(c.text << "\n-> " << r.err);
         CHECK(r.exit_code == 2);
@@ -182,9 +178,9 @@ TEST_CASE("Bad system files: the message names the file, the line and the key, e
 TEST_CASE("Matrix Market: coordinate and array formats, general and symmetric", "[config]") {
     TempDir dir;
     const fs::path a = dir.path / "a.mtx", b = dir.path / "b.mtx", c = dir.path / "c.mtx";
-    write(a, "%%MatrixMarket matrix array real symmetric\n% lower triangle, column-major\n2 2\n4\n-1\n3\n");
-    write(b, "%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 4\n1 2 -1\n2 2 3\n");
-    write(c, "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 4\n3 1 1\n");
+    write_file(a, "%%MatrixMarket matrix array real symmetric\n% lower triangle, column-major\n2 2\n4\n-1\n3\n");
+    write_file(b, "%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 4\n1 2 -1\n2 2 3\n");
+    write_file(c, "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 4\n3 1 1\n");
     Eigen::Matrix2d expected;
     expected << 4, -1, -1, 3;
     CHECK(Eigen::MatrixXd(hbf::io::read_matrix_market(a.string())) == Eigen::MatrixXd(expected));
@@ -205,9 +201,9 @@ TEST_CASE("Matrix Market: coordinate and array formats, general and symmetric", 
     // Hostile files: an entry twice (also mirrored in a symmetric file), data beyond the
     // announced entries, and a device are refused by name.
     const fs::path twice = dir.path / "twice.mtx", mirrored = dir.path / "mirrored.mtx", extra = dir.path / "extra.mtx";
-    write(twice, "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 2 4\n1 2 1\n");
-    write(mirrored, "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n2 1 4\n1 2 4\n");
-    write(extra, "%%MatrixMarket matrix coordinate real general\n2 2 1\n1 1 4\n2 2 3\n");
+    write_file(twice, "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 2 4\n1 2 1\n");
+    write_file(mirrored, "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n2 1 4\n1 2 4\n");
+    write_file(extra, "%%MatrixMarket matrix coordinate real general\n2 2 1\n1 1 4\n2 2 3\n");
     CHECK_THROWS_WITH(hbf::io::read_matrix_market(twice.string()), Catch::Contains("twice.mtx:4") && Catch::Contains("given twice"));
     CHECK_THROWS_WITH(hbf::io::read_matrix_market(mirrored.string()), Catch::Contains("one triangle"));
     CHECK_THROWS_WITH(hbf::io::read_matrix_market(extra.string()), Catch::Contains("extra.mtx:4") && Catch::Contains("more data"));
@@ -216,19 +212,19 @@ TEST_CASE("Matrix Market: coordinate and array formats, general and symmetric", 
 
 TEST_CASE("Config: force_direction contacts and vector excitation from Matrix Market; massless DOFs accepted", "[config]") {
     TempDir dir;
-    write(dir.path / "f.mtx", "%%MatrixMarket matrix coordinate real general\n3 1 2\n1 1 1.0\n3 1 0.5\n");
+    write_file(dir.path / "f.mtx", "%%MatrixMarket matrix coordinate real general\n3 1 2\n1 1 1.0\n3 1 0.5\n");
     const fs::path file = dir.path / "s.toml";
-    write(file, "[structure]\nmass = [1.0, 0.5, 0.0]\nstiffness = [[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.5]]\n"
+    write_file(file, "[structure]\nmass = [1.0, 0.5, 0.0]\nstiffness = [[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.5]]\n"
                 "excitation = \"f.mtx\"\n[[contact]]\nforce_direction = [0.0, 1.0, -1.0]\nlaw = \"coulomb\"\n"
                 "friction_limit = 0.2\n");
     const hbf::io::SystemConfig config = hbf::io::read_system_config(file.string());
     CHECK(config.system.excitation == Eigen::Vector3d(1.0, 0.0, 0.5));
     CHECK(config.system.contact_direction(config.system.contacts[0]) == Eigen::Vector3d(0.0, 1.0, -1.0));
     CHECK(!config.system.has_positive_definite_mass());
-    write(file, "[structure]\nmass = [1.0, 1.0]\nstiffness = [1.0, 1.0]\nexcitation = [1.0, 0.0]\n[[contact]]\n"
+    write_file(file, "[structure]\nmass = [1.0, 1.0]\nstiffness = [1.0, 1.0]\nexcitation = [1.0, 0.0]\n[[contact]]\n"
                 "dof = 1\nforce_direction = [1.0, -1.0]\nlaw = \"coulomb\"\nfriction_limit = 0.2\n");
     CHECK_THROWS_WITH(hbf::io::read_system_config(file.string()), Catch::Contains("force_direction") && Catch::Contains("together"));
-    write(file, "[structure]\nmass = [1.0, 1.0]\nstiffness = [1.0, 1.0]\nexcitation = [1.0, 0.0]\n[[contact]]\n"
+    write_file(file, "[structure]\nmass = [1.0, 1.0]\nstiffness = [1.0, 1.0]\nexcitation = [1.0, 0.0]\n[[contact]]\n"
                 "force_direction = [1.0, -1.0, 0.0]\nlaw = \"coulomb\"\nfriction_limit = 0.2\n");
     CHECK_THROWS_WITH(hbf::io::read_system_config(file.string()), Catch::Contains("contact[1].force_direction") && Catch::Contains("3 entries"));
 }

@@ -17,18 +17,14 @@ namespace {
 
 const std::string systems = std::string(HBF_SOURCE_DIR) + "/examples/systems/";
 
-void write(const fs::path& path, const std::string& text) {
-    std::ofstream out(path);
-    out << text;
-}
 
 /// chain3_exact.toml's structure (Jenkins between DOFs 1 and 2, Coulomb from DOF 3 to the
 /// ground) with the given friction limits and three outputs: spread = y1 - 0.5 y2 + 2 y3,
 /// y3 (a DOF), and rel = y2 - y3 from a 1 x 3 Matrix Market row beside the file.
 fs::path chain_with_outputs(const fs::path& dir, double jenkins_limit, double coulomb_limit) {
-    write(dir / "row.mtx", "%%MatrixMarket matrix coordinate real general\n1 3 2\n1 2 1.0\n1 3 -1.0\n");
+    write_file(dir / "row.mtx", "%%MatrixMarket matrix coordinate real general\n1 3 2\n1 2 1.0\n1 3 -1.0\n");
     const fs::path file = dir / "chain.toml";
-    write(file, "[structure]\nmass = [1.0, 0.5, 0.25]\nstiffness = \"" + systems + "chain3_stiffness.mtx\"\n"
+    write_file(file, "[structure]\nmass = [1.0, 0.5, 0.25]\nstiffness = \"" + systems + "chain3_stiffness.mtx\"\n"
                 "damping = [[0.02, -0.01, 0.0], [-0.01, 0.02, -0.01], [0.0, -0.01, 0.01]]\n"
                 "excitation = [1.0, 0.0, 0.0]\n"
                 "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"jenkins\"\nfriction_limit = " +
@@ -193,7 +189,7 @@ TEST_CASE("[[output]] errors name the key and the allowed values, and no output 
     };
     for (const Case& c : cases) {
         const fs::path file = dir.path / "system.toml", out = dir.path / "frf.csv";
-        write(file, c.text);
+        write_file(file, c.text);
         const Result r = run_hbf("frf --config '" + file.string() + "' --out '" + out.string() + "'", dir);
         INFO(c.text << "\n-> " << r.err);
         CHECK(r.exit_code == 2);

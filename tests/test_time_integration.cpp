@@ -376,6 +376,21 @@ TEST_CASE("Large models: the sparse BDF Newton solve and GMRES shooting agree wi
     }
 }
 
+namespace {
+/// DOF 1 (mass 1, damper 0.05, spring 1 to the ground) tied by a spring 2 to DOF 2, massless,
+/// held by a spring 3 to the ground; the force (1, f2).
+System massless_chain(double f2) {
+    System s;
+    Eigen::Matrix2d k;
+    k << 3.0, -2.0, -2.0, 5.0;
+    s.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
+    s.stiffness = sparse(k);
+    s.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
+    s.excitation = Eigen::Vector2d(1.0, f2);
+    return s;
+}
+}  // namespace
+
 TEST_CASE("Massless DOFs: a spring chain condensed statically gives the closed-form linear response", "[timeint][massless]") {
     // DOF 1 (mass 1, damper 0.05, spring 1 to the ground) is tied by a spring k_b = 2 to DOF 2,
     // massless, held by k_c = 3 to the ground; the force (1, F2) acts on both. Closed form:
@@ -383,13 +398,7 @@ TEST_CASE("Massless DOFs: a spring chain condensed statically gives the closed-f
     // 1 + 2 F2 / 5; y2 = (2 Y1 + F2) / 5. A linear structure: the steady state is reached from the
     // linear stuck start (there is no contact) and must equal it to the integrator's accuracy.
     for (double f2 : {0.0, 0.7}) {
-        System s;
-        Eigen::Matrix2d k;
-        k << 3.0, -2.0, -2.0, 5.0;
-        s.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
-        s.stiffness = sparse(k);
-        s.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
-        s.excitation = Eigen::Vector2d(1.0, f2);
+        const System s = massless_chain(f2);
         TimeIntegrationOptions o;
         o.outputs = {Output("spread", {{0, 1.0}, {1, -1.0}})};
         for (double omega : {0.8, 1.5}) {
@@ -413,34 +422,12 @@ TEST_CASE("Massless DOFs: a spring chain condensed statically gives the closed-f
 
 TEST_CASE("Massless DOFs: a Coulomb shoe behind a spring equals the exact Jenkins orbit", "[timeint][massless][exact]") {
     // DOF 1 (mass 1, damper 0.05, spring 1) holds a massless shoe (DOF 2) by a spring k_c = 4;
-    // the shoe slides on the ground with exact Coulomb friction F_c = 0.3. The shoe's balance
+    // the shoe slides on the ground with exact Coulomb friction F_c = 0.3 (support.hpp). The shoe's balance
     // k_c (y2 - y1) + f = 0 makes the pair a Jenkins element (k_t = k_c, F_c) on DOF 1 with the
     // slider at y2. Reference: the event-exact solver on that 1-DOF Jenkins system (independent
     // code), its y1 and force samples giving y2 = y1 - f / k_c.
     const double kc = 4.0, limit = 0.3;
-    System shoe;
-    Eigen::Matrix2d k;
-    k << 1.0 + kc, -kc, -kc, kc;
-    shoe.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
-    shoe.stiffness = sparse(k);
-    shoe.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
-    shoe.excitation = Eigen::Vector2d(1.0, 0.0);
-    Contact c;
-    c.dof = 1;
-    c.law = FrictionLaw::coulomb;
-    c.friction_limit = limit;
-    shoe.contacts = {c};
-    System jenkins;
-    jenkins.mass = sparse(Eigen::MatrixXd::Constant(1, 1, 1.0));
-    jenkins.stiffness = sparse(Eigen::MatrixXd::Constant(1, 1, 1.0));
-    jenkins.damping = sparse(Eigen::MatrixXd::Constant(1, 1, 0.05));
-    jenkins.excitation = Eigen::VectorXd::Constant(1, 1.0);
-    Contact j;
-    j.dof = 0;
-    j.law = FrictionLaw::jenkins;
-    j.friction_limit = limit;
-    j.stiffness = kc;
-    jenkins.contacts = {j};
+    const System shoe = test::massless_contact(kc, limit), jenkins = test::jenkins_equivalent(kc, limit);
     TimeIntegrationOptions o;
     o.relative_tolerance = 1e-12;
     o.absolute_tolerance = 1e-14;
@@ -469,13 +456,7 @@ TEST_CASE("Massless DOFs: a Coulomb shoe behind a spring equals the exact Jenkin
 }
 
 TEST_CASE("Massless DOFs that time integration cannot condense are refused with the reason", "[timeint][massless]") {
-    System s;
-    Eigen::Matrix2d k;
-    k << 3.0, -2.0, -2.0, 5.0;
-    s.mass = sparse(Eigen::Vector2d(1.0, 0.0).asDiagonal());
-    s.stiffness = sparse(k);
-    s.damping = sparse(Eigen::Vector2d(0.05, 0.0).asDiagonal());
-    s.excitation = Eigen::Vector2d(1.0, 0.0);
+    const System s = massless_chain(0.0);
     auto message = [](const System& system) {
         try {
             integrate_steady_state(system, 1.0, TimeIntegrationOptions{});

@@ -110,7 +110,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (exact && !exact_solver_supports(system))
         throw UsageError("--exact on: the event-exact solver covers coulomb and jenkins contacts only, on models of at most " +
                          std::to_string(exact_solver_max_dofs) + " DOFs with a positive definite mass matrix; here: law " +
-                         law_name + ", " + std::to_string(system.dofs()) + " DOFs (use --exact off)");
+                         law_name + ", " + std::to_string(system.dofs()) + " DOFs" +
+                         (system.has_positive_definite_mass() ? std::string() : std::string(", massless DOFs")) +
+                         " (use --exact off)");
     // With the polish, HB only supplies the branch and the starting guesses: H = 10 suffices
     // (measured: the same exact branch, peaks and transitions as H = 20, 3 times faster).
     if (exact) chosen.automatic_harmonics = 10;
