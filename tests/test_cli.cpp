@@ -303,7 +303,7 @@ TEST_CASE("hbf loop writes one period of the solution: the stuck absorber's exac
     CHECK_THAT(contact.err, Catch::Contains("--contact") && Catch::Contains("1..1"));
 }
 
-TEST_CASE("hbf frf polishes coulomb by default: exact rows, stability, HB gap; --exact off is plain HB", "[cli][exact]") {
+TEST_CASE("hbf frf polishes coulomb by default: exact rows, stability, HB gap, and --exact off is plain HB", "[cli][exact]") {
     TempDir dir;
     const fs::path csv = dir.path / "frf.csv", json = dir.path / "frf.json";
     const Result r = run_hbf("frf --quiet --out '" + csv.string() + "' --summary '" + json.string() + "'", dir);

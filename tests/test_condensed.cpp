@@ -462,7 +462,7 @@ TEST_CASE("The reduced beam (massless contact shoe, output vector, SI units): ha
     }
 }
 
-TEST_CASE("hbf frf --modes: the beam's FRF by the modal receptance equals the direct solve; refusals exit 2",
+TEST_CASE("hbf frf --modes: the beam's FRF by the modal receptance equals the direct solve, and refusals exit 2",
           "[condensed][beam][modal][cli]") {
     // beam200 at H = 20 (harmonics up to 20 x 75 rad/s = 1500 rad/s; mode 40 is near 1.3e6
     // rad/s): the truncation is negligible, the difference is the eigenvectors' rounding

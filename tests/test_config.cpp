@@ -210,7 +210,7 @@ TEST_CASE("Matrix Market: coordinate and array formats, general and symmetric", 
     CHECK_THROWS_WITH(hbf::io::read_matrix_market("/dev/zero"), Catch::Contains("not a regular file"));
 }
 
-TEST_CASE("Config: force_direction contacts and vector excitation from Matrix Market; massless DOFs accepted", "[config]") {
+TEST_CASE("Config: force_direction contacts and vector excitation from Matrix Market, massless DOFs accepted", "[config]") {
     TempDir dir;
     write_file(dir.path / "f.mtx", "%%MatrixMarket matrix coordinate real general\n3 1 2\n1 1 1.0\n3 1 0.5\n");
     const fs::path file = dir.path / "s.toml";
