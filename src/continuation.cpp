@@ -52,11 +52,6 @@ std::string BranchResult::summary() const {
 // ---- continuation -----------------------------------------------------------------------
 
 namespace {
-/// Upper bound of max_t |y_i(t)| over all DOFs: |c0| + sum_k hypot(c_k, s_k).
-double amplitude_bound(HarmonicBalance& hb, const Eigen::VectorXd& x, double omega) {
-    return hb.amplitude_bound(x, omega);
-}
-
 /// A converged starting point at omega. Tries the pre-sliding linearisation, then the
 /// slipping limit (the structure without its contacts). When the response at omega is
 /// stick-slip, far from both, ramps the excitation up from a level lambda0 F at which the
@@ -305,7 +300,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         t.head(n) *= x_scale / new_scale;
         t.normalize();
         x_scale = new_scale;
-        if (amplitude_bound(hb, x, omega) > o.max_amplitude) {
+        if (hb.amplitude_bound(x, omega) > o.max_amplitude) {
             out.status = ContinuationStatus::amplitude_cap;
             out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(omega);
             return out;

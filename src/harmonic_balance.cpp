@@ -209,6 +209,17 @@ void HarmonicBalance::add_receptance(int c, int d, const Eigen::Ref<const Eigen:
     }
 }
 
+Eigen::MatrixXd HarmonicBalance::shifted_forces(const Eigen::VectorXd& x, double omega) {
+    const int nc = static_cast<int>(models_.size());
+    Eigen::MatrixXd forces(coefficients(), nc);
+    for (int c = 0; c < nc; ++c) {
+        models_[static_cast<std::size_t>(c)]->evaluate(fourier_, omega, relative(x, c), state(x, c), scratch_, false);
+        shift_force(c, omega, relative(x, c), scratch_, false);
+        forces.col(c) = scratch_.force;
+    }
+    return forces;
+}
+
 Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
     const int n = coefficients(), dofs = system_.dofs();
     if (!condensed_) return Eigen::Map<const Eigen::MatrixXd>(x.data(), n, dofs);
@@ -217,12 +228,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
     // Y_k = Z_k^-1 (F_k - W Lambda_k), F on harmonic 1 only; in the real layout (c, s) with
     // Y = c - i s, as in add_receptance.
     const int nc = static_cast<int>(models_.size());
-    Eigen::MatrixXd forces(n, nc);
-    for (int c = 0; c < nc; ++c) {
-        models_[static_cast<std::size_t>(c)]->evaluate(fourier_, omega, relative(x, c), state(x, c), scratch_, false);
-        shift_force(c, omega, relative(x, c), scratch_, false);
-        forces.col(c) = scratch_.force;
-    }
+    const Eigen::MatrixXd forces = shifted_forces(x, omega);
     // Z_k^-1 [W, F]: kept by the direct solve; the modal one forms it here (its cost grows with N).
     auto solved = [&](int k) -> const Receptance::Harmonic& {
         Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
@@ -245,13 +251,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
 double HarmonicBalance::amplitude_bound(const Eigen::VectorXd& x, double omega) {
     if (condensed_ && modes_ > 0) {
         if (!prepare_receptance(omega)) return std::numeric_limits<double>::infinity();
-        const int n = coefficients(), nc = static_cast<int>(models_.size());
-        Eigen::MatrixXd forces(n, nc);
-        for (int c = 0; c < nc; ++c) {
-            models_[static_cast<std::size_t>(c)]->evaluate(fourier_, omega, relative(x, c), state(x, c), scratch_, false);
-            shift_force(c, omega, relative(x, c), scratch_, false);
-            forces.col(c) = scratch_.force;
-        }
+        const Eigen::MatrixXd forces = shifted_forces(x, omega);
         double bound = 0.0;
         for (int k = 0; k <= harmonics(); ++k) {
             const Eigen::VectorXcd lambda =

@@ -303,36 +303,44 @@ void Receptance::use_modes(int modes, const Eigen::VectorXd& contact_stiffness, 
     md.phi_max = phi.cwiseAbs().colwise().maxCoeff().transpose();
     md.residual_w_max = md.residual_w.cwiseAbs().colwise().maxCoeff().transpose();
     md.residual_load_max = md.residual_load.cwiseAbs().maxCoeff();
+    md.w_r_w = directions_.transpose() * md.residual_w;
+    md.w_r_f = directions_.transpose() * md.residual_load;
+    md.t_r_w = outputs_ * md.residual_w;
+    md.t_r_f = outputs_ * md.residual_load;
+}
+
+Receptance::ModalTerms Receptance::modal_terms(int k, double omega) const {
+    const Modal& md = modal_;
+    const int nc = contacts();
+    const auto m = md.lambda.size();
+    const double kw = k * omega;
+    ModalTerms t;
+    t.d.resize(m);
+    for (Eigen::Index j = 0; j < m; ++j) t.d(j) = 1.0 / Complex(md.lambda(j) - kw * kw, kw * md.damping(j));
+    // The residual flexibility's factor 1 / (1 + i k w b) (see use_modes).
+    t.r_factor = 1.0 / Complex(1.0, kw * md.residual_damping);
+    const Eigen::MatrixXcd pc = md.p.cast<Complex>();
+    t.g_b = pc.transpose() * (t.d.asDiagonal() * pc) + t.r_factor * md.w_r_w.cast<Complex>();
+    t.u_b = pc.transpose() * t.d.cwiseProduct(md.p_load.cast<Complex>()) + t.r_factor * md.w_r_f.cast<Complex>();
+    t.shift.resize(nc);
+    for (int c = 0; c < nc; ++c) t.shift(c) = Complex(md.kappa(c), kw * md.delta(c));
+    return t;
 }
 
 double Receptance::response_bound(int k, double omega, const Eigen::VectorXcd& lambda, bool load) const {
     const Modal& md = modal_;
     const int nc = contacts();
-    const auto m = md.lambda.size();
-    if (m == 0) throw InvalidInput("response_bound needs the modal receptance (use_modes)");
-    const double kw = k * omega;
-    Eigen::VectorXcd d(m);
-    for (Eigen::Index j = 0; j < m; ++j) d(j) = 1.0 / Complex(md.lambda(j) - kw * kw, kw * md.damping(j));
-    const Complex r_factor = 1.0 / Complex(1.0, kw * md.residual_damping);
-    const Eigen::MatrixXcd pc = md.p.cast<Complex>();
-    const Eigen::MatrixXcd g_b = pc.transpose() * (d.asDiagonal() * pc) +
-                                 r_factor * (directions_.transpose() * md.residual_w).cast<Complex>();
-    Eigen::VectorXcd shift(nc);
-    for (int c = 0; c < nc; ++c) shift(c) = Complex(md.kappa(c), kw * md.delta(c));
+    if (md.lambda.size() == 0) throw InvalidInput("response_bound needs the modal receptance (use_modes)");
+    const ModalTerms t = modal_terms(k, omega);
     const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(nc, nc);
     // Y = B^-1 (W g + F [load]) with g = -A^-1 lambda - D u (solve_modal's solution).
-    Eigen::VectorXcd g = -Eigen::PartialPivLU<Eigen::MatrixXcd>(identity + shift.asDiagonal() * g_b).solve(lambda);
-    if (load) {
-        const Eigen::VectorXcd u_b = pc.transpose() * d.cwiseProduct(md.p_load.cast<Complex>()) +
-                                     r_factor * (directions_.transpose() * md.residual_load).cast<Complex>();
-        const Eigen::VectorXcd u = Eigen::PartialPivLU<Eigen::MatrixXcd>(identity + g_b * shift.asDiagonal()).solve(u_b);
-        g -= shift.cwiseProduct(u);
-    }
-    Eigen::VectorXcd eta = pc * g;
+    Eigen::VectorXcd g = -Eigen::PartialPivLU<Eigen::MatrixXcd>(identity + t.shift.asDiagonal() * t.g_b).solve(lambda);
+    if (load) g -= t.shift.cwiseProduct(Eigen::PartialPivLU<Eigen::MatrixXcd>(identity + t.g_b * t.shift.asDiagonal()).solve(t.u_b));
+    Eigen::VectorXcd eta = md.p.cast<Complex>() * g;
     if (load) eta += md.p_load.cast<Complex>();
-    eta = d.cwiseProduct(eta);
-    double bound = md.phi_max.dot(eta.cwiseAbs()) +
-                   std::abs(r_factor) * (md.residual_w_max.dot(g.cwiseAbs()) + (load ? md.residual_load_max : 0.0));
+    eta = t.d.cwiseProduct(eta);
+    const double bound = md.phi_max.dot(eta.cwiseAbs()) + std::abs(t.r_factor) * (md.residual_w_max.dot(g.cwiseAbs()) +
+                                                                                    (load ? md.residual_load_max : 0.0));
     return std::isfinite(bound) ? bound : std::numeric_limits<double>::infinity();
 }
 
@@ -343,13 +351,15 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
     Harmonic h;
     h.k = k;
     h.omega = omega;
-    const double kw = k * omega;
-    Eigen::VectorXcd d(m), dd(m);
-    for (Eigen::Index j = 0; j < m; ++j) {
-        const Complex denominator(md.lambda(j) - kw * kw, kw * md.damping(j));
-        d(j) = 1.0 / denominator;
-        dd(j) = -d(j) * d(j) * Complex(-2.0 * k * k * omega, k * md.damping(j));
-    }
+    const ModalTerms t = modal_terms(k, omega);
+    const Eigen::VectorXcd& d = t.d;
+    const Eigen::VectorXcd& shift = t.shift;
+    const Eigen::MatrixXcd& g_b = t.g_b;
+    const Complex r_factor = t.r_factor;
+    // Derivatives in omega: of d_j, of the residual's factor, of the shift.
+    Eigen::VectorXcd dd(m);
+    for (Eigen::Index j = 0; j < m; ++j) dd(j) = -d(j) * d(j) * Complex(-2.0 * k * k * omega, k * md.damping(j));
+    const Complex r_factor_omega = -Complex(0.0, k * md.residual_damping) * r_factor * r_factor;
     auto singular = [&] {
         h.message = "singular dynamic stiffness at harmonic k = " + std::to_string(k) + " at w = " + format_number(omega) +
                     " (an undamped mode hit exactly by the modal receptance)";
@@ -357,18 +367,10 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
     };
     if (!d.allFinite()) return singular();
     const Eigen::MatrixXcd pc = md.p.cast<Complex>();
-    const Eigen::MatrixXcd dp = d.asDiagonal() * pc, ddp = dd.asDiagonal() * pc;
-    // The residual flexibility's factor 1 / (1 + i k w b) and its derivative (see use_modes).
-    const Complex r_factor = 1.0 / Complex(1.0, kw * md.residual_damping);
-    const Complex r_factor_omega = -Complex(0.0, k * md.residual_damping) * r_factor * r_factor;
-    const Eigen::MatrixXcd w_r_w = (directions_.transpose() * md.residual_w).cast<Complex>();
-    const Eigen::MatrixXcd g_b = pc.transpose() * dp + r_factor * w_r_w;
-    const Eigen::MatrixXcd g_b_omega = pc.transpose() * ddp + r_factor_omega * w_r_w;
-    Eigen::VectorXcd shift(nc), shift_omega(nc);
-    for (int c = 0; c < nc; ++c) {
-        shift(c) = Complex(md.kappa(c), kw * md.delta(c));
-        shift_omega(c) = Complex(0.0, k * md.delta(c));
-    }
+    const Eigen::MatrixXcd dp = d.asDiagonal() * pc;
+    const Eigen::MatrixXcd g_b_omega = pc.transpose() * (dd.asDiagonal() * pc) + r_factor_omega * md.w_r_w.cast<Complex>();
+    Eigen::VectorXcd shift_omega(nc);
+    for (int c = 0; c < nc; ++c) shift_omega(c) = Complex(0.0, k * md.delta(c));
     const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(nc, nc);
     const Eigen::PartialPivLU<Eigen::MatrixXcd> a_lu(identity + shift.asDiagonal() * g_b);
     const Eigen::MatrixXcd a_inverse = a_lu.inverse();
@@ -376,20 +378,19 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
     h.contact = g_b * a_inverse;
     h.contact_omega = g_b_omega * a_inverse -
                       g_b * a_inverse * (shift_omega.asDiagonal() * g_b + shift.asDiagonal() * g_b_omega) * a_inverse;
-    const Eigen::MatrixXcd t_b_w = md.t_phi.cast<Complex>() * dp + r_factor * (outputs_ * md.residual_w).cast<Complex>();
+    const Eigen::MatrixXcd t_b_w = md.t_phi.cast<Complex>() * dp + r_factor * md.t_r_w.cast<Complex>();
     h.output = t_b_w * a_inverse;
     Eigen::VectorXcd u;
     if (load) {
         const Eigen::VectorXcd dpl = d.cwiseProduct(md.p_load.cast<Complex>());
-        const Eigen::VectorXcd w_r_f = (directions_.transpose() * md.residual_load).cast<Complex>();
-        const Eigen::VectorXcd u_b = pc.transpose() * dpl + r_factor * w_r_f;
-        const Eigen::VectorXcd u_b_omega = pc.transpose() * dd.cwiseProduct(md.p_load.cast<Complex>()) + r_factor_omega * w_r_f;
+        const Eigen::VectorXcd u_b_omega =
+            pc.transpose() * dd.cwiseProduct(md.p_load.cast<Complex>()) + r_factor_omega * md.w_r_f.cast<Complex>();
         const Eigen::PartialPivLU<Eigen::MatrixXcd> b_lu(identity + g_b * shift.asDiagonal());
-        u = b_lu.solve(u_b);
+        u = b_lu.solve(t.u_b);
         h.contact_load = u;
         h.contact_load_omega =
             b_lu.solve(Eigen::VectorXcd(u_b_omega - (g_b_omega * shift.asDiagonal() + g_b * shift_omega.asDiagonal()) * u));
-        const Eigen::VectorXcd t_b_f = md.t_phi.cast<Complex>() * dpl + r_factor * (outputs_ * md.residual_load).cast<Complex>();
+        const Eigen::VectorXcd t_b_f = md.t_phi.cast<Complex>() * dpl + r_factor * md.t_r_f.cast<Complex>();
         h.output_load = t_b_f - t_b_w * (shift.asDiagonal() * u);
         if (!u.allFinite() || !h.contact_load_omega.allFinite()) return singular();
     }

@@ -148,6 +148,8 @@ private:
                        Eigen::VectorXd* jacobian_omega);
     void evaluate_condensed(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                             Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega);
+    /// Every contact's force minus its shift (below), coefficients (2H+1) x n_c (condensed).
+    Eigen::MatrixXd shifted_forces(const Eigen::VectorXd& x, double omega);
     /// Contact c's force minus the spring and damper of the shifted structure (constructor).
     void shift_force(int c, double omega, const Eigen::VectorXd& q, FrictionEvaluation& e, bool jacobian) const;
     /// The receptance of harmonics 0..H at omega (cached for the last omega); false when a

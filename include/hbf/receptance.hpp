@@ -113,7 +113,19 @@ private:
         double residual_damping = 0;             // b of Rayleigh damping (the truncated modes'), else 0
         Eigen::VectorXd phi_max, residual_w_max;  // max_i |phi_ij| per mode, max_i |(R W)_ic| per contact
         double residual_load_max = 0;             // max_i |(R F)_i|
+        // W^T R W, W^T R F, T R W, T R F (small: formed once, not per harmonic)
+        Eigen::MatrixXd w_r_w, t_r_w;
+        Eigen::VectorXd w_r_f, t_r_f;
     } modal_;
+    /// What solve_modal and response_bound share at harmonic k: the modal factors d_j, the
+    /// residual's factor, G_B = W^T B_k^-1 W, u_B = W^T B_k^-1 F and the contact shift.
+    struct ModalTerms {
+        Eigen::VectorXcd d;
+        std::complex<double> r_factor;
+        Eigen::MatrixXcd g_b;
+        Eigen::VectorXcd u_b, shift;
+    };
+    ModalTerms modal_terms(int k, double omega) const;
 };
 
 }  // namespace hbf
