@@ -279,7 +279,7 @@ SystemConfig read_system_config(const std::string& path) {
     System& s = config.system;
     const toml::table* structure = root["structure"].as_table();
     if (!structure) fail(path, root.source(), "structure", "missing table [structure] (mass, stiffness, excitation)");
-    r.only(*structure, {"mass", "damping", "stiffness", "excitation"}, "structure");
+    r.only(*structure, {"mass", "damping", "stiffness", "excitation", "excitation_harmonic"}, "structure");
     for (const char* key : {"mass", "stiffness", "excitation"})
         if (!structure->get(key)) fail(path, structure->source(), std::string("structure.") + key, "missing");
     s.mass = r.matrix(*structure->get("mass"), "structure.mass");
@@ -288,6 +288,8 @@ SystemConfig read_system_config(const std::string& path) {
     s.damping = structure->get("damping") ? r.matrix(*structure->get("damping"), "structure.damping")
                                           : SparseMatrix(n, n);
     s.excitation = r.vector(*structure->get("excitation"), "structure.excitation", -1);
+    if (const toml::node* h = structure->get("excitation_harmonic"))
+        s.excitation_harmonic = r.integer(*h, "structure.excitation_harmonic");
     for (const auto& [key, m] : {std::pair<const char*, const SparseMatrix*>{"stiffness", &s.stiffness}, {"damping", &s.damping}})
         if (m->rows() != n)
             fail(path, structure->get(key) ? structure->get(key)->source() : structure->source(), std::string("structure.") + key,
@@ -317,8 +319,11 @@ SystemConfig read_system_config(const std::string& path) {
             key = "contact[" + std::to_string(c + 1) + "]";
             if (c < contact_lines.size()) where = contact_lines[c];
         } else {
-            for (const char* k : {"mass", "damping", "stiffness", "excitation"})
-                if (what.find(k) != std::string::npos) {
+            // (key, the word System::validate uses for it), the most specific first
+            for (const auto& [k, word] : {std::pair<const char*, const char*>{"excitation_harmonic", "excitation harmonic"},
+                                          {"mass", "mass"}, {"damping", "damping"}, {"stiffness", "stiffness"},
+                                          {"excitation", "excitation"}})
+                if (what.find(word) != std::string::npos) {
                     key = std::string("structure.") + k;
                     if (const toml::node* node = structure->get(k)) where = node->source();
                     break;

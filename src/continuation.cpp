@@ -84,7 +84,7 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
     // Fewer harmonics first: exact Coulomb with many harmonics can fail from a linear guess
     // where half as many converge (measured: the 200-DOF beam at H = 20; its H = 10 start
     // converges). The H/2 solution, padded with zero harmonics, is the guess.
-    if (hb.harmonics() >= 12) {
+    if (hb.harmonics() >= 12 && hb.harmonics() / 2 >= hb.load_harmonic()) {
         HarmonicBalanceOptions low_options = hb.options();
         low_options.harmonics = hb.harmonics() / 2;
         low_options.time_samples = 0;

@@ -474,6 +474,10 @@ void validate_system(const System& system, double omega) {
     if (!system.has_positive_definite_mass())
         throw InvalidInput("the mass matrix is singular (massless DOFs): the exact solver integrates M y'' = ... and needs "
                            "M positive definite (use harmonic balance, hbf frf --exact off)");
+    if (system.excitation_harmonic != 1)
+        throw InvalidInput("excitation harmonic h = " + std::to_string(system.excitation_harmonic) +
+                           ": the exact solver generates the force cos(w t) at the fundamental only (allowed h = 1; "
+                           "use harmonic balance, hbf frf --exact off)");
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
@@ -760,7 +764,9 @@ double permanent_stick_load(const System& system, double omega) {
 }
 
 bool exact_solver_supports(const System& system) {
-    if (system.dofs() > exact_solver_max_dofs || !system.has_positive_definite_mass()) return false;
+    if (system.dofs() > exact_solver_max_dofs || system.excitation_harmonic != 1 ||
+        !system.has_positive_definite_mass())
+        return false;
     for (const Contact& c : system.contacts)
         if (c.law != FrictionLaw::coulomb && c.law != FrictionLaw::jenkins) return false;
     return true;

@@ -43,6 +43,9 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     if (options.modes < 0)
         throw InvalidInput("modes = " + std::to_string(options.modes) + " is out of range: allowed 0 (direct) or >= 1");
     system_.validate();
+    if (system_.excitation_harmonic > options.harmonics)
+        throw InvalidInput("harmonics = " + std::to_string(options.harmonics) + " does not reach the excitation harmonic h = " +
+                           std::to_string(system_.excitation_harmonic) + ": allowed harmonics >= h");
     const int n = coefficients(), nc = static_cast<int>(system_.contacts.size());
     force_scale_ = system_.excitation.cwiseAbs().maxCoeff();
     if (!(force_scale_ > 0.0)) throw InvalidInput("excitation vector is zero: allowed a non-zero force amplitude");
@@ -176,7 +179,7 @@ bool HarmonicBalance::prepare_receptance(double omega) {
     row_scale_omega_.resize(harmonics() + 1, nc);
     for (int k = 0; k <= harmonics(); ++k) {
         Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
-        if (k > 0) h = receptance_->solve(k, omega, k == 1, false);  // the N-long solution: in dofs()
+        if (k > 0) h = receptance_->solve(k, omega, k == load_harmonic(), false);  // the N-long solution: in dofs()
         if (!h.ok) {
             structure_failure_ = h.message;
             return false;
@@ -225,14 +228,14 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
     if (!condensed_) return Eigen::Map<const Eigen::MatrixXd>(x.data(), n, dofs);
     Eigen::MatrixXd y = Eigen::MatrixXd::Constant(n, dofs, std::numeric_limits<double>::quiet_NaN());
     if (!prepare_receptance(omega)) return y;
-    // Y_k = Z_k^-1 (F_k - W Lambda_k), F on harmonic 1 only; in the real layout (c, s) with
+    // Y_k = Z_k^-1 (F_k - W Lambda_k), F on harmonic h only; in the real layout (c, s) with
     // Y = c - i s, as in add_receptance.
     const int nc = static_cast<int>(models_.size());
     const Eigen::MatrixXd forces = shifted_forces(x, omega);
     // Z_k^-1 [W, F]: kept by the direct solve; the modal one forms it here (its cost grows with N).
     auto solved = [&](int k) -> const Receptance::Harmonic& {
         Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
-        if (h.solution.size() == 0) h = receptance_->solve(k, omega, k == 1, true);
+        if (h.solution.size() == 0) h = receptance_->solve(k, omega, k == load_harmonic(), true);
         return h;
     };
     y.row(0) = -(solved(0).solution.leftCols(nc).real() * forces.row(0).transpose()).transpose();
@@ -241,7 +244,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
         const Eigen::VectorXcd lambda = forces.row(2 * k - 1).transpose().cast<std::complex<double>>() -
                                         std::complex<double>(0.0, 1.0) * forces.row(2 * k).transpose();
         Eigen::VectorXcd amplitude = -h.solution.leftCols(nc) * lambda;
-        if (k == 1) amplitude += h.solution.col(nc);
+        if (k == load_harmonic()) amplitude += h.solution.col(nc);
         y.row(2 * k - 1) = amplitude.real().transpose();
         y.row(2 * k) = -amplitude.imag().transpose();
     }
@@ -258,7 +261,7 @@ double HarmonicBalance::amplitude_bound(const Eigen::VectorXd& x, double omega) 
                 k == 0 ? Eigen::VectorXcd(forces.row(0).transpose().cast<std::complex<double>>())
                        : Eigen::VectorXcd(forces.row(2 * k - 1).transpose().cast<std::complex<double>>() -
                                           std::complex<double>(0.0, 1.0) * forces.row(2 * k).transpose());
-            bound += receptance_->response_bound(k, omega, lambda, k == 1);
+            bound += receptance_->response_bound(k, omega, lambda, k == load_harmonic());
         }
         return bound;
     }
@@ -330,13 +333,14 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
         return;
     }
     const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
-    // The contact rows before scaling: q - q0 + sum_d Gr_cd f_d (q0 on harmonic 1 only).
+    // The contact rows before scaling: q - q0 + sum_d Gr_cd f_d (q0 on harmonic h only).
     Eigen::Map<Eigen::MatrixXd> rq(residual.data(), n, nc);
     rq = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, nc);
-    const Receptance::Harmonic& h1 = harmonic_[1];
+    const int cos_row = 2 * load_harmonic() - 1, sin_row = cos_row + 1;
+    const Receptance::Harmonic& loaded = harmonic_[static_cast<std::size_t>(load_harmonic())];
     for (int c = 0; c < nc; ++c) {
-        rq(1, c) -= h1.contact_load(c).real();
-        rq(2, c) += h1.contact_load(c).imag();  // s = -Im
+        rq(cos_row, c) -= loaded.contact_load(c).real();
+        rq(sin_row, c) += loaded.contact_load(c).imag();  // s = -Im
     }
     if (jacobian) {
         jacobian->setZero(unknowns_, unknowns_);
@@ -345,8 +349,8 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
     if (jacobian_omega) {
         jacobian_omega->setZero(unknowns_);
         for (int c = 0; c < nc; ++c) {
-            (*jacobian_omega)(c * n + 1) = -h1.contact_load_omega(c).real();
-            (*jacobian_omega)(c * n + 2) = h1.contact_load_omega(c).imag();
+            (*jacobian_omega)(c * n + cos_row) = -loaded.contact_load_omega(c).real();
+            (*jacobian_omega)(c * n + sin_row) = loaded.contact_load_omega(c).imag();
         }
     }
     statistics_.structure_seconds += watch.lap();
@@ -406,11 +410,11 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
     residual.resize(unknowns_);
     Eigen::Map<Eigen::MatrixXd> RY(residual.data(), n, dofs);
 
-    // Linear structure: D^2 Y M + D Y C + Y K - e_cos1 F^T.
+    // Linear structure: D^2 Y M + D Y C + Y K - e_cos_h F^T.
     const Eigen::MatrixXd D1Y = D1 * Y;
     const Eigen::MatrixXd D2Y = D1 * D1Y;
     RY = omega * omega * D2Y * M + omega * D1Y * C + Y * K;
-    RY.row(1) -= system_.excitation.transpose();
+    RY.row(2 * load_harmonic() - 1) -= system_.excitation.transpose();
     statistics_.structure_seconds += watch.lap();
     const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
     if (jacobian) {
@@ -464,6 +468,9 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
 Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const {
     using Complex = std::complex<double>;
     const int n = coefficients(), dofs = system_.dofs(), nc = static_cast<int>(system_.contacts.size());
+    // The response to F cos(h w t) sits on harmonic h, at the frequency h w.
+    const int h = load_harmonic(), cos_row = 2 * h - 1, sin_row = cos_row + 1;
+    const double drive = h * omega;
     // Each contact as a linear element of complex stiffness k + i omega d (pre-sliding), or held
     // rigid (exact Coulomb: its force is the constraint's multiplier); none when sliding.
     std::vector<Complex> element(static_cast<std::size_t>(nc), Complex(0.0, 0.0));
@@ -471,31 +478,31 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
     for (std::size_t c = 0; c < system_.contacts.size() && !sliding; ++c) {
         const Contact& k = system_.contacts[c];
         if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre || k.law == FrictionLaw::jenkins)
-            element[c] = Complex(k.stiffness, omega * (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0));
-        if (k.law == FrictionLaw::coulomb_regularized) element[c] = Complex(0.0, omega * k.friction_limit / k.regularization);
+            element[c] = Complex(k.stiffness, drive * (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0));
+        if (k.law == FrictionLaw::coulomb_regularized) element[c] = Complex(0.0, drive * k.friction_limit / k.regularization);
         if (k.law == FrictionLaw::coulomb) rigid[c] = true;
     }
-    // First harmonic: Q = Q0 - G Lambda with Lambda_c = element_c Q_c, or Q_c = 0 (rigid).
+    // Harmonic h: Q = Q0 - G Lambda with Lambda_c = element_c Q_c, or Q_c = 0 (rigid).
     Eigen::VectorXd x = Eigen::VectorXd::Zero(unknowns_);
     Eigen::VectorXcd force = Eigen::VectorXcd::Zero(nc);
     auto put = [&](Eigen::Index offset, Complex a) {
         if (!std::isfinite(std::abs(a))) return;  // exact resonance: start from rest
-        x(offset + 1) = a.real();  // y = Re(Y e^{i theta}) = Re Y cos - Im Y sin
-        x(offset + 2) = -a.imag();
+        x(offset + cos_row) = a.real();  // y = Re(Y e^{i h theta}) = Re Y cos - Im Y sin
+        x(offset + sin_row) = -a.imag();
     };
     if (condensed_) {
-        const Receptance::Harmonic h = receptance_->solve(1, omega, true);
-        if (h.ok) {
+        const Receptance::Harmonic g = receptance_->solve(h, omega, true);
+        if (g.ok) {
             // Unknown u_c: Q_c, or Lambda_c for a rigid contact.
             Eigen::MatrixXcd a(nc, nc);
             for (int c = 0; c < nc; ++c)
                 for (int d = 0; d < nc; ++d) {
                     const auto dd = static_cast<std::size_t>(d);
                     // Lambda' = Lambda - (kappa + i w delta) Q (the shifted structure's force)
-                    const Complex shift(shift_stiffness_(d), omega * shift_damping_(d));
-                    a(c, d) = rigid[dd] ? h.contact(c, d) : h.contact(c, d) * (element[dd] - shift) + (c == d ? 1.0 : 0.0);
+                    const Complex shift(shift_stiffness_(d), drive * shift_damping_(d));
+                    a(c, d) = rigid[dd] ? g.contact(c, d) : g.contact(c, d) * (element[dd] - shift) + (c == d ? 1.0 : 0.0);
                 }
-            const Eigen::VectorXcd u = a.fullPivLu().solve(h.contact_load);
+            const Eigen::VectorXcd u = a.fullPivLu().solve(g.contact_load);
             for (int c = 0; c < nc; ++c) {
                 const auto cc = static_cast<std::size_t>(c);
                 force(c) = rigid[cc] ? u(c) : element[cc] * u(c);
@@ -506,7 +513,7 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
         // (K - w^2 M + i w C + sum_c element_c w_c w_c^T) Y + W_R Lambda_R = F, W_R^T Y = 0.
         std::vector<int> stuck;
         Eigen::MatrixXcd z = dynamic_stiffness(Eigen::MatrixXd(system_.mass), Eigen::MatrixXd(system_.damping),
-                                               Eigen::MatrixXd(system_.stiffness), omega);
+                                               Eigen::MatrixXd(system_.stiffness), drive);
         for (int c = 0; c < nc; ++c) {
             const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(c)];
             if (rigid[static_cast<std::size_t>(c)])
@@ -532,19 +539,19 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
         if (state_offset_[c] < 0) continue;
         const Contact& k = system_.contacts[c];
         const Eigen::VectorXd q = relative(x, static_cast<int>(c));
-        const double speed = std::hypot(q(1), q(2));
+        const double speed = std::hypot(q(cos_row), q(sin_row));
         auto z = x.segment(state_offset_[c], n);  // zero so far
         if (sliding && speed > 0.0) {
-            // The friction force sits at its limit, in phase with the velocity: the first
-            // harmonic of F_c sign(v) is (4/pi) F_c v / |v|, v ~ (s1 cos - c1 sin).
+            // The friction force sits at its limit, in phase with the velocity: harmonic h of
+            // F_c sign(v) is (4/pi) F_c v / |v|, v ~ (s_h cos - c_h sin) for v on harmonic h.
             const double limit = 4.0 / M_PI * k.friction_limit / (k.law == FrictionLaw::coulomb ? 1.0 : k.stiffness);
-            z(1) = limit * q(2) / speed;
-            z(2) = -limit * q(1) / speed;
+            z(cos_row) = limit * q(sin_row) / speed;
+            z(sin_row) = -limit * q(cos_row) / speed;
         } else if (k.law == FrictionLaw::coulomb) {
             const Complex f = force(static_cast<Eigen::Index>(c));
             if (std::isfinite(std::abs(f))) {
-                z(1) = f.real();
-                z(2) = -f.imag();
+                z(cos_row) = f.real();
+                z(sin_row) = -f.imag();
             }
         } else if (!sliding) {
             z = q;  // pre-sliding bristle: z = q

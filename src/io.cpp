@@ -126,7 +126,8 @@ std::vector<Column> frf_columns(int dofs) { return frf_columns(all_dofs(dofs)); 
 
 std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
-                                         "in the file's units)"}};
+                                         "in the file's units); with --excitation-harmonic h the fundamental "
+                                         "of the response, the force acting at h w"}};
     const auto mine = output_columns(outputs, "one period", "");
     columns.insert(columns.end(), mine.begin(), mine.end());
     const std::vector<Column> rest = {
@@ -183,7 +184,8 @@ std::vector<Column> timeint_columns(int dofs) { return timeint_columns(all_dofs(
 
 std::vector<Column> timeint_columns(const std::vector<Output>& outputs) {
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
-                                         "in the file's units)"}};
+                                         "in the file's units); with --excitation-harmonic h the fundamental "
+                                         "of the response, the force acting at h w"}};
     const auto mine = output_columns(outputs, "the final period", " (turning points by root finding)");
     columns.insert(columns.end(), mine.begin(), mine.end());
     const std::vector<Column> rest = {

@@ -134,6 +134,10 @@ void System::validate() const {
         throw InvalidInput("excitation vector has " + std::to_string(excitation.size()) +
                            " entries: allowed " + std::to_string(n) + " (the number of DOFs)");
     if (!excitation.allFinite()) throw InvalidInput("excitation vector has non-finite entries");
+    if (excitation_harmonic < 1 || excitation_harmonic > max_excitation_harmonic)
+        throw InvalidInput("excitation harmonic h = " + std::to_string(excitation_harmonic) +
+                           " is out of range: allowed 1.." + std::to_string(max_excitation_harmonic) +
+                           " (the force F cos(h w t))");
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         const Contact& k = contacts[c];
         const std::string where = "contact " + std::to_string(c + 1) + ": ";
@@ -291,8 +295,9 @@ PhysicalAbsorber to_physical(const AbsorberParameters& p, double m1, double k1, 
     return a;
 }
 
-StuckResponse stuck_linear_response(const System& system, double omega) {
+StuckResponse stuck_linear_response(const System& system, double fundamental) {
     using Complex = std::complex<double>;
+    const double omega = system.excitation_harmonic * fundamental;  // the force's frequency
     const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
     Eigen::MatrixXcd a = dynamic_stiffness(Eigen::MatrixXd(system.mass), Eigen::MatrixXd(system.damping),
                                            Eigen::MatrixXd(system.stiffness), omega);

@@ -109,9 +109,11 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
     Eigen::VectorXd samples(fine_.time_samples());
     const Eigen::MatrixXd y = hb_.dofs(point.x, omega);
     m.y_max.assign(static_cast<std::size_t>(s.dofs()), std::numeric_limits<double>::quiet_NaN());
+    // Work of F cos(h w t) per period: pi h F^T s_h (s_h the sine coefficients of harmonic h).
+    const int h = s.excitation_harmonic;
     for (int i = 0; i < s.dofs(); ++i) {
         m.y_amp1.push_back(std::hypot(y(1, i), y(2, i)));
-        m.input_energy += M_PI * s.excitation(i) * y(2, i);
+        m.input_energy += M_PI * h * s.excitation(i) * y(2 * h, i);
     }
     for (const Output& o : outputs_) {
         const Eigen::VectorXd c = o.combine(y);

@@ -177,7 +177,7 @@ Eigen::VectorXd linear_stuck_state(const System& system, double omega) {
     const Eigen::VectorXcd y = stuck.ok ? stuck.amplitude : Eigen::VectorXcd::Zero(n);
     Eigen::VectorXd state = Eigen::VectorXd::Zero(state_size(system));
     state.head(n) = y.real();
-    state.segment(n, n) = -omega * y.imag();  // Re(i omega Y)
+    state.segment(n, n) = -system.excitation_harmonic * omega * y.imag();  // Re(i h omega Y)
     for (int c = 0; c < nc; ++c) {
         const Contact& k = system.contacts[static_cast<std::size_t>(c)];
         if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre)

@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -75,6 +77,24 @@ inline std::vector<std::vector<std::string>> parse_csv(const std::string& text) 
         rows.push_back(fields);
     }
     return rows;
+}
+
+/// The row of the sample at frequency w (point = sample), empty when there is none.
+inline std::vector<std::string> sample_row(const std::vector<std::vector<std::string>>& rows, double w) {
+    const auto& header = rows.front();
+    const auto point = static_cast<std::size_t>(std::find(header.begin(), header.end(), "point") - header.begin());
+    for (std::size_t k = 1; k < rows.size(); ++k)
+        if (rows[k][point] == "sample" && std::stod(rows[k][0]) == w) return rows[k];
+    return {};
+}
+
+/// The value of column `name` (by the header) in `row`.
+inline double column(const std::vector<std::vector<std::string>>& rows, const std::vector<std::string>& row,
+              const std::string& name) {
+    const auto& header = rows.front();
+    const auto at = std::find(header.begin(), header.end(), name);
+    REQUIRE(at != header.end());
+    return std::stod(row[static_cast<std::size_t>(at - header.begin())]);
 }
 
 }  // namespace test

@@ -2,9 +2,13 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
+#include <algorithm>
 #include <complex>
 #include <string>
+#include <vector>
 
+#include "hbf/continuation.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 #include "hbf/time_integration.hpp"
@@ -125,6 +129,56 @@ inline System jenkins_equivalent(double kt, double limit) {
     c.friction_limit = limit;
     s.contacts = {c};
     return s;
+}
+
+/// 4 DOFs, DOF 4 massless, damped; a Dahl contact between DOFs 1 and 2 and an exact Coulomb
+/// contact along the direction (0, 0.3, -0.5, 1) (force_direction).
+inline System four_dofs() {
+    Eigen::MatrixXd k(4, 4);
+    k << 3, -1, 0, 0, -1, 2.5, -1, 0, 0, -1, 2, -0.5, 0, 0, -0.5, 1.5;
+    System s;
+    s.mass = sparse(Eigen::Vector4d(1.0, 0.5, 0.8, 0.0).asDiagonal());
+    s.stiffness = sparse(k);
+    s.damping = 0.02 * s.stiffness;
+    s.excitation = Eigen::Vector4d(1.0, 0.0, 0.2, 0.0);
+    Contact dahl;
+    dahl.dof = 0;
+    dahl.other_dof = 1;
+    dahl.law = FrictionLaw::dahl;
+    dahl.friction_limit = 0.3;
+    dahl.stiffness = 2.0;
+    Contact coulomb;
+    coulomb.direction = Eigen::Vector4d(0.0, 0.3, -0.5, 1.0);
+    coulomb.law = FrictionLaw::coulomb;
+    coulomb.friction_limit = 0.2;
+    s.contacts = {dahl, coulomb};
+    return s;
+}
+
+/// Largest entry of |A - B| relative to the largest entry of |B|.
+inline double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
+}
+
+/// Every DOF's coefficients at each omega of `omegas`, from a branch over [wmin, wmax].
+inline std::vector<Eigen::MatrixXd> sampled_dofs(const System& system, const HarmonicBalanceOptions& options,
+                                                 const std::vector<double>& omegas, double wmin, double wmax,
+                                                 double tolerance = 1e-12) {
+    HarmonicBalance hb(system, options);
+    const Formulation formulation = options.formulation;
+    REQUIRE((formulation == Formulation::automatic || hb.formulation() == formulation));
+    ContinuationOptions o;
+    o.omega_start = wmin;
+    o.omega_end = wmax;
+    o.corrector.tolerance = tolerance;
+    const BranchResult b = continue_branch(hb, o);
+    INFO(to_string(formulation) << ": " << b.summary());
+    REQUIRE(b.status == ContinuationStatus::completed);
+    const std::vector<SolutionPoint> samples = sample_branch(hb, b, omegas, o.corrector);
+    REQUIRE(samples.size() == omegas.size());
+    std::vector<Eigen::MatrixXd> y;
+    for (const SolutionPoint& p : samples) y.push_back(hb.dofs(p.x, p.omega));
+    return y;
 }
 
 }  // namespace hbf::test

@@ -20,58 +20,10 @@
 #include "hbf/model.hpp"
 
 using namespace hbf;
+using hbf::test::four_dofs;
+using hbf::test::relative_error;
+using hbf::test::sampled_dofs;
 
-namespace {
-
-/// 4 DOFs, DOF 4 massless, damped; a Dahl contact between DOFs 1 and 2 and an exact Coulomb
-/// contact along the direction (0, 0.3, -0.5, 1) (force_direction).
-System four_dofs() {
-    Eigen::MatrixXd k(4, 4);
-    k << 3, -1, 0, 0, -1, 2.5, -1, 0, 0, -1, 2, -0.5, 0, 0, -0.5, 1.5;
-    System s;
-    s.mass = sparse(Eigen::Vector4d(1.0, 0.5, 0.8, 0.0).asDiagonal());
-    s.stiffness = sparse(k);
-    s.damping = 0.02 * s.stiffness;
-    s.excitation = Eigen::Vector4d(1.0, 0.0, 0.2, 0.0);
-    Contact dahl;
-    dahl.dof = 0;
-    dahl.other_dof = 1;
-    dahl.law = FrictionLaw::dahl;
-    dahl.friction_limit = 0.3;
-    dahl.stiffness = 2.0;
-    Contact coulomb;
-    coulomb.direction = Eigen::Vector4d(0.0, 0.3, -0.5, 1.0);
-    coulomb.law = FrictionLaw::coulomb;
-    coulomb.friction_limit = 0.2;
-    s.contacts = {dahl, coulomb};
-    return s;
-}
-
-double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-    return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
-}
-
-/// Every DOF's coefficients at each omega of `omegas`, from a branch over [wmin, wmax].
-std::vector<Eigen::MatrixXd> sampled_dofs(const System& system, Formulation formulation, int harmonics,
-                                          const std::vector<double>& omegas, double wmin, double wmax,
-                                          double tolerance = 1e-12) {
-    HarmonicBalance hb(system, HarmonicBalanceOptions{harmonics, 0, formulation});
-    REQUIRE(hb.formulation() == formulation);
-    ContinuationOptions o;
-    o.omega_start = wmin;
-    o.omega_end = wmax;
-    o.corrector.tolerance = tolerance;
-    const BranchResult b = continue_branch(hb, o);
-    INFO(to_string(formulation) << ": " << b.summary());
-    REQUIRE(b.status == ContinuationStatus::completed);
-    const std::vector<SolutionPoint> samples = sample_branch(hb, b, omegas, o.corrector);
-    REQUIRE(samples.size() == omegas.size());
-    std::vector<Eigen::MatrixXd> y;
-    for (const SolutionPoint& p : samples) y.push_back(hb.dofs(p.x, p.omega));
-    return y;
-}
-
-}  // namespace
 
 TEST_CASE("Condensed and full Jacobians equal central finite differences (massless DOF, force direction, two laws)",
           "[condensed]") {
@@ -107,8 +59,8 @@ TEST_CASE("Condensed and full harmonic balance give the same solutions to 1e-9 (
     // condensed ones recovered from the contact forces) agree to rounding, far below 1e-9.
     const std::vector<double> omegas = {0.6, 0.9, 1.2, 1.5};
     const System s = four_dofs();
-    const auto condensed = sampled_dofs(s, Formulation::condensed, 8, omegas, 0.5, 1.6);
-    const auto full = sampled_dofs(s, Formulation::full, 8, omegas, 0.5, 1.6);
+    const auto condensed = sampled_dofs(s, {8, 0, Formulation::condensed}, omegas, 0.5, 1.6);
+    const auto full = sampled_dofs(s, {8, 0, Formulation::full}, omegas, 0.5, 1.6);
     for (std::size_t k = 0; k < omegas.size(); ++k) {
         INFO("w = " << omegas[k]);
         CHECK(relative_error(condensed[k], full[k]) < 1e-9);
@@ -122,7 +74,7 @@ TEST_CASE("A massless contact DOF behind a spring is a Jenkins element: condense
     // (the switching events are read off a truncated velocity): at H = 20, 1 % on y_max.
     const double kt = 0.8, limit = 0.3;
     const std::vector<double> omegas = {0.5, 0.9, 1.1, 1.6};
-    const auto y = sampled_dofs(hbf::test::massless_contact(kt, limit), Formulation::condensed, 20, omegas, 0.4, 1.8);
+    const auto y = sampled_dofs(hbf::test::massless_contact(kt, limit), {20, 0, Formulation::condensed}, omegas, 0.4, 1.8);
     const System jenkins = hbf::test::jenkins_equivalent(kt, limit);
     for (std::size_t k = 0; k < omegas.size(); ++k) {
         const ExactOrbit orbit = exact_periodic_orbit(jenkins, omegas[k], Eigen::VectorXd::Zero(4));
@@ -279,7 +231,7 @@ TEST_CASE("Finite-element beam (200 DOFs, Matrix Market): the stuck and the free
     for (const bool stuck : {true, false}) {
         const System s = beam(stuck ? 1e9 : 1e-9);
         const int tip = s.contacts[0].dof, mid = 98;  // DOF 99 (1-based): mid-span, transverse
-        const auto y = sampled_dofs(s, Formulation::condensed, 3, omegas, 30.0, 80.0, 1e-10);
+        const auto y = sampled_dofs(s, {3, 0, Formulation::condensed}, omegas, 30.0, 80.0, 1e-10);
         for (std::size_t k = 0; k < omegas.size(); ++k) {
             const double w = omegas[k];
             // In long double: Z rounded to double moves this lightly damped resonance of a

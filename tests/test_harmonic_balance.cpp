@@ -8,6 +8,7 @@
 #include "hbf/harmonic_balance.hpp"
 
 using namespace hbf;
+using hbf::test::relative_error;
 
 TEST_CASE("Fourier: FFTW transforms agree with the definition and invert each other", "[fourier]") {
     const int H = 7, nt = 64;
@@ -72,10 +73,6 @@ System absorber(FrictionLaw law) {
     return friction_absorber(p, law);
 }
 
-/// Largest entry of |A - B| relative to the largest entry of |B|.
-double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-    return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
-}
 }  // namespace
 
 TEST_CASE("Harmonic-balance Jacobians equal central finite differences", "[harmonic_balance]") {

@@ -36,22 +36,6 @@ fs::path chain_with_outputs(const fs::path& dir, double jenkins_limit, double co
     return file;
 }
 
-std::vector<std::string> sample_row(const std::vector<std::vector<std::string>>& rows, double w) {
-    const auto& header = rows.front();
-    const auto point = static_cast<std::size_t>(std::find(header.begin(), header.end(), "point") - header.begin());
-    for (std::size_t k = 1; k < rows.size(); ++k)
-        if (rows[k][point] == "sample" && std::stod(rows[k][0]) == w) return rows[k];
-    return {};
-}
-
-double column(const std::vector<std::vector<std::string>>& rows, const std::vector<std::string>& row,
-              const std::string& name) {
-    const auto& header = rows.front();
-    const auto at = std::find(header.begin(), header.end(), name);
-    REQUIRE(at != header.end());
-    return std::stod(row[static_cast<std::size_t>(at - header.begin())]);
-}
-
 }  // namespace
 
 TEST_CASE("[[output]] vectors: read from the file, in order, with their names and terms", "[outputs][config]") {

@@ -1,6 +1,6 @@
 // hbfriction — general systems from a TOML file (`hbf frf --config system.toml`).
 //
-// The file describes any N-DOF structure M y'' + C y' + K y + sum_c w_c f_c = F cos(w t)
+// The file describes any N-DOF structure M y'' + C y' + K y + sum_c w_c f_c = F cos(h w t)
 // (model.hpp) in any consistent units:
 //
 //     [structure]
@@ -8,7 +8,10 @@
 //     stiffness  = "stiffness.mtx"            # or a Matrix Market file beside this one (read
 //                                             # sparse; M may be singular: massless DOFs)
 //     damping    = [0.0, 0.0]                 # optional: zero
-//     excitation = [0.5, 0.0]                 # F, amplitude of F cos(w t) (or an N x 1 .mtx)
+//     excitation = [0.5, 0.0]                 # F, amplitude of F cos(h w t) (or an N x 1 .mtx)
+//     excitation_harmonic = 1                 # optional: h, 1..200 (default 1): the force acts
+//                                             # at h w, w the response's fundamental (h = 2:
+//                                             # subharmonic response of order 1/2); HB needs H >= h
 //
 //     [[contact]]                 # one table per friction contact, any number
 //     dof = 1                     # DOF a (1-based)

@@ -190,7 +190,7 @@ struct PointMetrics {
                                      ///< (< 0: permanent stick)
     double stick_indicator_min = 0;  ///< min over the samples (>= 0: permanent slip)
     double energy = 0;           ///< friction energy dissipated per cycle, all contacts
-    double input_energy = 0;     ///< work of the excitation per cycle, pi sum_i F_i s1_i
+    double input_energy = 0;     ///< work of the excitation per cycle, pi h sum_i F_i s_h,i (h: excitation harmonic)
 };
 /// Stick fraction and regime of a contact from its stick indicator samples phi (friction.hpp:
 /// a sample sticks iff phi < 0). A stick phase is a run of cyclically consecutive sticking

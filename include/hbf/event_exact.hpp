@@ -148,7 +148,8 @@ struct ExactOrbit {
 /// fastest mode): models up to this many DOFs. Finite-element models need a modal form first.
 constexpr int exact_solver_max_dofs = 64;
 /// True when every contact is exact Coulomb or Jenkins (the laws this solver covers), M is
-/// positive definite and the model has at most exact_solver_max_dofs DOFs.
+/// positive definite, the model has at most exact_solver_max_dofs DOFs and the force acts at
+/// the fundamental (excitation harmonic 1).
 bool exact_solver_supports(const System& system);
 
 /// The load of the permanent-stick state (the convention above) at omega: max over the contacts

@@ -5,9 +5,9 @@
 // holds the coefficients of y_i, D = omega D1 the derivative with respect to tau, the
 // structure's rows are (M, C, K symmetric)
 //
-//     R_Y = D^2 Y M + D Y C + Y K + sum_c f_c w_c^T - e_cos1 F^T,
+//     R_Y = D^2 Y M + D Y C + Y K + sum_c f_c w_c^T - e_cos_h F^T,
 //
-// i.e. the Galerkin projection of M y'' + C y' + K y + sum_c w_c f_c - F cos(omega tau) on
+// i.e. the Galerkin projection of M y'' + C y' + K y + sum_c w_c f_c - F cos(h omega tau) on
 // 1, cos k theta, sin k theta; f_c are the friction force coefficients of contact c computed
 // from q_c = Y w_c (and z_c) by the AFT (friction.hpp), and each state-law contact adds its
 // state residual r_z. Both Jacobians are exact (no finite differences).
@@ -21,8 +21,8 @@
 //   With Gr the real form of G_k (per harmonic k, G_k = a + i b acts on (c_k, s_k) as
 //   [[a, b], [-b, a]], G_0 real) the residual of contact c, harmonic k, is
 //       R_c,k = ( q_c - q0_c + sum_d Gr_cd f_d )_k / min(|G_k,cc|, G_0,cc),
-//   q0 = W^T Z_1^-1 F on harmonic 1: a force. Where the structure is stiffer than statically
-//   (high harmonics, |G_k| < G_0) the rows of one contact on one DOF equal the full
+//   q0 = W^T Z_h^-1 F on the excitation harmonic h (1 by default); R is a force. Where the
+//   structure is stiffer than statically (high harmonics, |G_k| < G_0) the rows of one contact on one DOF equal the full
 //   formulation's up to their sign (the same conditioning); near a resonance of the structure
 //   without contacts (|G_k| large) the static stiffness 1 / G_0,cc keeps the rows sensitive to
 //   q; the scale is bounded near an antiresonance (G_k,cc -> 0). Any DOF is recovered afterwards from the contact forces:
@@ -92,6 +92,8 @@ public:
     int harmonics() const { return fourier_.harmonics(); }
     int time_samples() const { return fourier_.time_samples(); }
     int coefficients() const { return fourier_.size(); }  ///< 2H + 1
+    /// h: the harmonic that carries the force F cos(h omega t) (System::excitation_harmonic).
+    int load_harmonic() const { return system_.excitation_harmonic; }
     int unknowns() const { return unknowns_; }
     Fourier& fourier() { return fourier_; }
 

@@ -1,8 +1,12 @@
 // hbfriction — the structural model: linear structure plus friction contacts.
 //
-// Equations of motion (N degrees of freedom, time t, excitation frequency omega):
+// Equations of motion (N degrees of freedom, time t, fundamental frequency omega):
 //
-//     M y'' + C y' + K y + sum_c w_c f_c(t) = F cos(omega t),
+//     M y'' + C y' + K y + sum_c w_c f_c(t) = F cos(h omega t),
+//
+// h >= 1 the excitation harmonic (System::excitation_harmonic, 1 by default): the steady state
+// is sought with period 2 pi / omega, so h > 1 drives it at its h-th harmonic (subharmonic
+// responses of order 1/h: a force at h omega answered at omega). The columns' w is omega.
 //
 // where contact c sees the relative displacement q_c = w_c^T y, with
 // w_c = e_a - e_b (two DOFs a, b), w_c = e_a (DOF a against the ground), or any direction
@@ -69,12 +73,17 @@ struct Contact {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
-/// A linear structure with friction contacts under harmonic excitation F cos(omega t).
+/// A linear structure with friction contacts under harmonic excitation F cos(h omega t).
 struct System {
+    /// Largest excitation harmonic h that validate() accepts.
+    static constexpr int max_excitation_harmonic = 200;
     SparseMatrix mass;           ///< M, symmetric positive semi-definite (massless DOFs allowed)
     SparseMatrix damping;        ///< C, symmetric (may be empty: zero)
     SparseMatrix stiffness;      ///< K, symmetric
-    Eigen::VectorXd excitation;  ///< F, amplitude of the force F cos(omega t)
+    Eigen::VectorXd excitation;  ///< F, amplitude of the force F cos(h omega t)
+    /// h, 1..max_excitation_harmonic: the force acts at h omega, omega being the fundamental
+    /// frequency of the periodic response sought (harmonic balance needs H >= h).
+    int excitation_harmonic = 1;
     std::vector<Contact> contacts;
 
     int dofs() const { return static_cast<int>(mass.rows()); }
@@ -128,7 +137,8 @@ Eigen::VectorXcd linear_response(const Eigen::MatrixXd& mass, const Eigen::Matri
                                  const Eigen::MatrixXd& stiffness,
                                  const Eigen::VectorXd& excitation, double omega);
 
-/// The linear steady state with every contact stuck, y = Re(amplitude e^{i omega t}): exact
+/// The linear steady state with every contact stuck, y = Re(amplitude e^{i h omega t}) (h the
+/// system's excitation harmonic; the response is at the force's frequency h omega): exact
 /// Coulomb contacts rigid (w_c^T y = 0, held by constraint forces), Jenkins and Dahl as their
 /// spring k_t / sigma0, LuGre as sigma0 with the damper sigma1 + sigma2, regularised Coulomb as
 /// the damper F_c / eps. No static part: the mean forces and displacements are zero.

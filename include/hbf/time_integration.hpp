@@ -175,7 +175,7 @@ struct PeriodicResponse {
                                   ///< reversals; smooth laws: stick-indicator crossings)
     double energy = 0;            ///< friction energy per cycle: int sum_c f_c v_c dt
     double viscous_energy = 0;    ///< int y'^T C y' dt over the period
-    double input_energy = 0;      ///< int F^T y' cos(omega t) dt over the period
+    double input_energy = 0;      ///< int F^T y' cos(h omega t) dt over the period
 
     // ---- sampled signals of the final period: t_j = j T / samples, j = 0..samples-1 ----
     Eigen::VectorXd time;

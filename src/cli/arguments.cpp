@@ -80,6 +80,16 @@ void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help, cons
             option->type_name("NUMBER");
 }
 
+void AbsorberFlags::add_excitation_harmonic(CLI::App& command) {
+    command
+        .add_option("--excitation-harmonic", excitation_harmonic,
+                    "excitation harmonic h, 1.." + std::to_string(System::max_excitation_harmonic) +
+                        ": the force is F cos(h w t) and w the fundamental of the periodic response sought (h = 2: "
+                        "the subharmonic response of order 1/2 to a force at 2 w; all columns are per w, *_amp1 at w); "
+                        "harmonic balance needs H >= h; overrides structure.excitation_harmonic of --config [default 1]")
+        ->type_name("INTEGER");
+}
+
 namespace {
 /// Which laws each law-specific flag applies to.
 struct FlagScope {
@@ -152,6 +162,21 @@ int default_harmonics(FrictionLaw law) {
     return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
 }
 
+namespace {
+/// --excitation-harmonic, when given, on the chosen system. H's automatic value is the law's
+/// times h: the response to a force at h w keeps as many harmonics of h w as at h = 1.
+void apply_excitation_harmonic(const CLI::App& command, const AbsorberFlags& flags, ChosenSystem& chosen) {
+    if (command.get_option_no_throw("--excitation-harmonic") != nullptr && command.count("--excitation-harmonic") > 0) {
+        const long long h = parse_integer("--excitation-harmonic", flags.excitation_harmonic);
+        if (h < 1 || h > System::max_excitation_harmonic)
+            throw UsageError("--excitation-harmonic = " + flags.excitation_harmonic + " is out of range: allowed 1.." +
+                             std::to_string(System::max_excitation_harmonic));
+        chosen.system.excitation_harmonic = static_cast<int>(h);
+    }
+    chosen.automatic_harmonics = std::min(200, chosen.automatic_harmonics * chosen.system.excitation_harmonic);
+}
+}  // namespace
+
 ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path) {
     ChosenSystem chosen;
     if (config_path.empty()) {
@@ -160,6 +185,7 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
         chosen.system = friction_absorber(chosen.absorber, law);
         chosen.law_name = to_string(law);
         chosen.automatic_harmonics = default_harmonics(law);
+        apply_excitation_harmonic(command, flags, chosen);
         return chosen;
     }
     const std::vector<std::string> preset = flags.given(command);
@@ -184,6 +210,7 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
         chosen.automatic_harmonics = std::max(chosen.automatic_harmonics, default_harmonics(c.law));
     }
     chosen.outputs = chosen.config->outputs;
+    apply_excitation_harmonic(command, flags, chosen);
     return chosen;
 }
 

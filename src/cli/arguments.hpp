@@ -33,7 +33,11 @@ long long parse_integer(const std::string& flag, const std::string& text);
 struct AbsorberFlags {
     std::string r, wa, mu, fe, wb, xi, eps, mu_static, stribeck_velocity, viscous, dlft_eps;
     std::string law;
+    std::string excitation_harmonic;  ///< --excitation-harmonic (preset and --config alike)
 
+    /// Adds --excitation-harmonic h (the force F cos(h w t)), which applies to the preset and
+    /// to --config systems alike (it overrides the file's structure.excitation_harmonic).
+    void add_excitation_harmonic(CLI::App& command);
     /// Adds the flags; `law_default` is the default --law, `with_smooth_options` adds --eps,
     /// --mu-static, --stribeck-velocity, --viscous and --dlft-eps (harmonic-balance commands).
     void add_to(CLI::App& command, const std::string& laws_help, const std::string& law_default,
@@ -57,7 +61,8 @@ struct ChosenSystem {
     std::vector<Output> outputs = {Output::dof(0), Output::dof(1)};  ///< reported (preset: y1, y2)
     std::optional<io::SystemConfig> config;
     AbsorberParameters absorber;      ///< the preset's parameters (without --config)
-    int automatic_harmonics = 10;     ///< default_harmonics of the (most demanding) law
+    int automatic_harmonics = 10;     ///< default_harmonics of the (most demanding) law, times
+                                      ///< the excitation harmonic h (at most 200)
 };
 ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path);
 

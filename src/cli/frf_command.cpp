@@ -109,9 +109,13 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const bool exact = o.exact.empty() ? exact_solver_supports(system) : o.exact == "on";
     if (exact && !exact_solver_supports(system))
         throw UsageError("--exact on: the event-exact solver covers coulomb and jenkins contacts only, on models of at most " +
-                         std::to_string(exact_solver_max_dofs) + " DOFs with a positive definite mass matrix; here: law " +
+                         std::to_string(exact_solver_max_dofs) + " DOFs with a positive definite mass matrix, excited at "
+                         "harmonic 1; here: law " +
                          law_name + ", " + std::to_string(system.dofs()) + " DOFs" +
                          (system.has_positive_definite_mass() ? std::string() : std::string(", massless DOFs")) +
+                         (system.excitation_harmonic == 1
+                              ? std::string()
+                              : ", excitation harmonic " + std::to_string(system.excitation_harmonic)) +
                          " (use --exact off)");
     // With the polish, HB only supplies the branch and the starting guesses: H = 10 suffices
     // (measured: the same exact branch, peaks and transitions as H = 20, 3 times faster).
@@ -212,6 +216,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         const std::vector<std::pair<std::string, double>> solver = {{"wmin", co.omega_start},
                                                                     {"wmax", co.omega_end},
                                                                     {"harmonics", hb.harmonics()},
+                                                                    {"excitation_harmonic", hb.load_harmonic()},
                                                                     {"time_samples", hb.time_samples()},
                                                                     {"condensed", hb.formulation() == Formulation::condensed ? 1 : 0},
                                                                     {"modes", hb.modes()},
@@ -230,6 +235,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (!o.plot.empty()) {
         io::PlotSpec spec = io::frf_plot(points, metrics, outputs.front(), 0,
                                          "hbf frf: " + law_name + ", H = " + std::to_string(hb.harmonics()) +
+                                             (hb.load_harmonic() == 1
+                                                  ? std::string()
+                                                  : ", force at " + std::to_string(hb.load_harmonic()) + " w") +
                                              (config ? " (" + o.config + ")" : ""));
         if (!overlay.empty()) {
             io::PlotCurve check{"time integration (converged)", {}, {}, io::PlotCurve::Style::markers, 4};
@@ -289,12 +297,14 @@ Runner add_frf_command(CLI::App& app) {
                              "jenkins (spring k_t = r wb^2 in series with a Coulomb slider), dahl, lugre or "
                              "coulomb-reg (regularised Coulomb)",
                              "coulomb", true);
+    options->absorber.add_excitation_harmonic(*command);
     command->add_option("--wmin", options->wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
     command->add_option("--wmax", options->wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
     command->add_option("--harmonics", options->harmonics,
                         "number of harmonics H, 1..200; 0 = automatic: 10 with the exact polish (coulomb, jenkins: "
                         "HB only supplies the branch and the starting guesses); without it 20 for coulomb (its error "
-                        "falls like 1/H) and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins")
+                        "falls like 1/H) and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins; times h with "
+                        "--excitation-harmonic h")
         ->capture_default_str()->type_name("INT");
     command->add_option("--modes", options->modes,
                         "condensed formulation: 0 solves the structure per harmonic and frequency by a sparse LU "

@@ -100,6 +100,7 @@ Runner add_loop_command(CLI::App& app) {
                 "relative motion and friction force (the friction loop f against v, paper Figs. 5-6).");
     options->absorber.add_to(*command,
                              "friction law: coulomb, jenkins, dahl, lugre or coulomb-reg (as hbf frf)", "coulomb", true);
+    options->absorber.add_excitation_harmonic(*command);
     command->add_option("--w", options->w, "frequency w of the solution, > 0 (required)")->type_name("NUMBER");
     command->add_option("--wmin", options->wmin,
                         "the solution is the one reached by following the branch from wmin (from 0.9 w when "

@@ -195,6 +195,7 @@ Runner add_timeint_command(CLI::App& app) {
                              "friction law: coulomb (exact, set-valued, event-driven stick/slip), jenkins (spring "
                              "k_t = r wb^2 in series with a Coulomb slider), dahl, lugre or coulomb-reg (regularised)",
                              "coulomb", true);
+    options->absorber.add_excitation_harmonic(*command);
     command->remove_option(command->get_option("--dlft-eps"));  // harmonic balance only
     command->add_option("--w", options->w, "a single frequency w, > 0")->type_name("NUMBER");
     command->add_option("--wmin", options->wmin, "first frequency of the sweep grid, > 0")->type_name("NUMBER");

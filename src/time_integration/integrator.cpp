@@ -24,7 +24,8 @@ void silent_error_handler(int, const char*, const char*, char*, void*) {}
 }  // namespace
 
 Integrator::Integrator(const System& system, double omega, const TimeIntegrationOptions& options)
-    : system_(system), omega_(omega), period_(2.0 * pi / omega), options_(options), n_(system.dofs()),
+    : system_(system), omega_(omega), drive_(system.excitation_harmonic * omega), period_(2.0 * pi / omega),
+      options_(options), n_(system.dofs()),
       nc_(static_cast<int>(system.contacts.size())), length_(4 * n_ + nc_ + 3), quad_(2 * n_ + nc_) {
     for (const Contact& c : system.contacts) contacts_.emplace_back(c);
     sparse_ = n_ > options_.dense_newton_max_dofs;
@@ -217,7 +218,7 @@ void Integrator::evaluate(double t, const double* x) {
     const double* v = x + n_;
     const double* z = x + 2 * n_;
     Eigen::Map<const Eigen::VectorXd> ym(y, n_), vm(v, n_);
-    load_.noalias() = excitation_ * std::cos(omega_ * t);
+    load_.noalias() = excitation_ * std::cos(drive_ * t);
     load_.noalias() -= system_.damping * vm;
     load_.noalias() -= system_.stiffness * ym;
     for (int c = 0; c < nc_; ++c) {
@@ -285,7 +286,7 @@ void Integrator::derivative(double t, const double* x, double* dx) {
     Eigen::Map<const Eigen::VectorXd> vm(v, n_);
     q[2 * n_] = friction;
     q[2 * n_ + 1] = vm.dot(system_.damping * vm);
-    q[2 * n_ + 2] = input * cs;
+    q[2 * n_ + 2] = input * (drive_ == omega_ ? cs : std::cos(drive_ * t));
 }
 
 double Integrator::mode_root(int c, const double* x) const {

@@ -131,7 +131,7 @@ private:
     void throw_on(int flag, const char* what) const;
 
     const System& system_;
-    const double omega_, period_;
+    const double omega_, drive_, period_;  // drive_: the force's frequency h omega
     const TimeIntegrationOptions options_;
     const int n_, nc_, length_, quad_;
     std::vector<ContactData> contacts_;

@@ -91,6 +91,7 @@ MasslessCondensation::MasslessCondensation(const System& system) : system_(syste
         (is_massless[static_cast<std::size_t>(i)] ? f_s : f_r)(position_[static_cast<std::size_t>(i)]) = system.excitation(i);
     g_f_ = lu.solve(f_s);
     reduced_.excitation = f_r - k_sr.transpose() * g_f_;
+    reduced_.excitation_harmonic = system.excitation_harmonic;
     // Contacts.
     g_w_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(massless_.size()), nc);
     converted_.assign(static_cast<std::size_t>(nc), false);
@@ -197,7 +198,8 @@ void MasslessCondensation::expand(PeriodicResponse& r, const TimeIntegrationOpti
     for (Eigen::Index j = 0; j < samples; ++j) {
         const Eigen::VectorXd y_r = r.displacement.row(j).transpose();
         const Eigen::VectorXd f = r.friction_force.row(j).transpose();
-        massless.row(j) = massless_displacement(y_r, f, std::cos(omega * r.time(j))).transpose();
+        massless.row(j) =
+            massless_displacement(y_r, f, std::cos(system_.excitation_harmonic * omega * r.time(j))).transpose();
     }
     for (int k = 0; k < nr; ++k) {
         displacement.col(massive_[static_cast<std::size_t>(k)]) = r.displacement.col(k);
@@ -218,8 +220,10 @@ void MasslessCondensation::expand(PeriodicResponse& r, const TimeIntegrationOpti
     }
     Eigen::VectorXcd harmonic1(n);
     for (int k = 0; k < nr; ++k) harmonic1(massive_[static_cast<std::size_t>(k)]) = r.harmonic1(k);
-    const Eigen::VectorXcd h1_s = g_f_.cast<std::complex<double>>() - x_.cast<std::complex<double>>() * r.harmonic1 -
-                                  g_w_.cast<std::complex<double>>() * f1;
+    // (the load's part g_f cos(h w t) is on harmonic h)
+    const Eigen::VectorXcd h1_s =
+        (system_.excitation_harmonic == 1 ? g_f_ : Eigen::VectorXd::Zero(ns)).cast<std::complex<double>>() -
+        x_.cast<std::complex<double>>() * r.harmonic1 - g_w_.cast<std::complex<double>>() * f1;
     for (Eigen::Index k = 0; k < ns; ++k) harmonic1(massless_[static_cast<std::size_t>(k)]) = h1_s(k);
     std::vector<double> y_max(static_cast<std::size_t>(n)), y_amp1(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) {
