@@ -7,18 +7,29 @@
 //   - the same corrections (same predictions, same scaled system, same tolerance) done once
 //     with our Ceres Corrector and once with a bare Newton iteration with a dense LU, in this
 //     process: their time ratio is the price of Ceres.
+// With --allocator-check H, at the end: the exact-Coulomb branch at H harmonics (N_t = 2048)
+// with glibc's default allocator settings and with hbf::retain_freed_memory() (memory.hpp):
+// page faults, kernel time and the time ratio. Each variant runs in a fresh process (this
+// program, re-executed): glibc adapts its thresholds to the blocks a process has freed, so a
+// second branch in the same process is already fast (measured: 444,000 faults and 8.5 s for
+// the first branch of a process, 1,500 and 2.6 s for the next one).
 // The last line is one JSON object with all figures. Run by hand: `build/benchmarks/hb_branch`.
 #include <CLI/CLI.hpp>
 #include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <stdexcept>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
+
 #include "hbf/continuation.hpp"
+#include "hbf/memory.hpp"
 
 using namespace hbf;
 
@@ -162,6 +173,34 @@ Figures measure(const AbsorberParameters& p, FrictionLaw law, int harmonics, con
     return fig;
 }
 
+/// One exact-Coulomb branch of the absorber at H harmonics and 2048 samples: seconds, minor
+/// page faults and kernel seconds of this process while it ran.
+struct AllocatorRun {
+    double seconds = 0, kernel_seconds = 0;
+    long faults = 0;
+    std::size_t points = 0;
+};
+AllocatorRun allocator_run(const AbsorberParameters& p, int harmonics, const ContinuationOptions& o, bool retain) {
+    if (retain && !retain_freed_memory()) throw std::runtime_error("retain_freed_memory: not glibc");
+    auto usage = [] {
+        rusage u{};
+        getrusage(RUSAGE_SELF, &u);
+        return u;
+    };
+    const rusage before = usage();
+    const auto start = std::chrono::steady_clock::now();
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb), HarmonicBalanceOptions{harmonics, 2048});
+    const BranchResult b = continue_branch(hb, o);
+    AllocatorRun r;
+    r.seconds = seconds_since(start);
+    const rusage after = usage();
+    r.faults = after.ru_minflt - before.ru_minflt;
+    r.kernel_seconds = static_cast<double>(after.ru_stime.tv_sec - before.ru_stime.tv_sec) +
+                       1e-6 * static_cast<double>(after.ru_stime.tv_usec - before.ru_stime.tv_usec);
+    r.points = b.points.size();
+    return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -172,6 +211,8 @@ int main(int argc, char** argv) {
     AbsorberParameters p;
     ContinuationOptions o;
     int repeats = 3;
+    int allocator_harmonics = 0;
+    std::string allocator_variant;  // internal: one variant in a fresh process
     // Defaults: the library's own choice.
     std::string strategy = o.corrector.trust_region == TrustRegion::dogleg ? "dogleg" : "lm";
     std::string solver = o.corrector.dense_solver == DenseSolver::qr ? "qr" : "cholesky";
@@ -193,7 +234,19 @@ int main(int argc, char** argv) {
     app.add_option("--ceres-library", library, "dense linear algebra: eigen or lapack")
         ->check(CLI::IsMember({"eigen", "lapack"}))
         ->capture_default_str();
+    app.add_option("--allocator-check", allocator_harmonics,
+                   "H > 0: at the end, time the exact-Coulomb branch at H harmonics and N_t = 2048 with glibc's "
+                   "default allocator settings and then with hbf::retain_freed_memory() [default 0: off]")
+        ->check(CLI::Range(0, 200));
+    app.add_option("--allocator-variant", allocator_variant, "internal (--allocator-check): default or retained")
+        ->check(CLI::IsMember({"default", "retained"}))
+        ->group("");
     CLI11_PARSE(app, argc, argv);
+    if (!allocator_variant.empty()) {  // the child of --allocator-check: one branch, one line
+        const AllocatorRun r = allocator_run(p, allocator_harmonics, o, allocator_variant == "retained");
+        std::printf("%.6f %ld %.6f %zu\n", r.seconds, r.faults, r.kernel_seconds, r.points);
+        return 0;
+    }
     o.corrector.trust_region = strategy == "dogleg" ? TrustRegion::dogleg : TrustRegion::levenberg_marquardt;
     o.corrector.dense_solver = solver == "cholesky" ? DenseSolver::normal_cholesky : DenseSolver::qr;
     o.corrector.dense_library = library == "lapack" ? DenseLibrary::lapack : DenseLibrary::eigen;
@@ -259,6 +312,32 @@ int main(int argc, char** argv) {
                     std::abs(f.peak_y1_max - finest.peak_y1_max) / finest.peak_y1_max);
     std::printf("\n(ratio = Ceres corrector time / bare Newton-LU time on the same %s corrections)\n",
                 "predicted");
-    std::cout << nlohmann::json{{"cases", cases}}.dump() << std::endl;
+    nlohmann::json result{{"cases", cases}};
+    if (allocator_harmonics > 0) {
+        // Each variant in a fresh process: this program with the same branch options.
+        auto fresh = [&](const std::string& variant) {
+            const std::string command = "'" + std::filesystem::read_symlink("/proc/self/exe").string() + "' --allocator-check " + std::to_string(allocator_harmonics) +
+                                        " --allocator-variant " + variant + " --fe " + std::to_string(p.excitation) +
+                                        " --wmin " + std::to_string(o.omega_start) + " --wmax " +
+                                        std::to_string(o.omega_end);
+            AllocatorRun r;
+            FILE* child = popen(command.c_str(), "r");
+            if (child == nullptr || std::fscanf(child, "%lf %ld %lf %zu", &r.seconds, &r.faults, &r.kernel_seconds,
+                                                &r.points) != 4 || pclose(child) != 0)
+                throw std::runtime_error("--allocator-check: the " + variant + " run failed");
+            return r;
+        };
+        const AllocatorRun plain = fresh("default"), kept = fresh("retained");
+        std::printf("\nallocator, exact coulomb, H = %d, N_t = 2048 (%zu points):\n%24s %9s %12s %9s\n"
+                    "%24s %9.3f %12ld %9.3f\n%24s %9.3f %12ld %9.3f\nratio default / retained: %.2f\n",
+                    allocator_harmonics, kept.points, "", "seconds", "page faults", "kernel s", "glibc defaults",
+                    plain.seconds, plain.faults, plain.kernel_seconds, "retain_freed_memory()", kept.seconds,
+                    kept.faults, kept.kernel_seconds, plain.seconds / kept.seconds);
+        result["allocator"] = {{"harmonics", allocator_harmonics},    {"points", kept.points},
+                               {"default_seconds", plain.seconds},    {"default_faults", plain.faults},
+                               {"retained_seconds", kept.seconds},    {"retained_faults", kept.faults},
+                               {"ratio", plain.seconds / kept.seconds}};
+    }
+    std::cout << result.dump() << std::endl;
     return 0;
 }

@@ -1,5 +1,4 @@
 // hbf — command-line front end of hbfriction. Thin: parse, validate, call the library, write.
-#include <malloc.h>
 
 #include <iostream>
 #include <map>
@@ -7,15 +6,12 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "hbf/error.hpp"
+#include "hbf/memory.hpp"
 
 int main(int argc, char** argv) {
-    // Large blocks (the HB Jacobian, Ceres' per-solve Jacobian and normal matrix: 300 KB at
-    // H = 49) come from the heap and stay there for reuse, instead of glibc mmap-ing and
-    // unmapping them on every correction: measured on the absorber at H = 49, N_t = 2048,
-    // 446,000 page faults and 10.5 s became 3,700 and 2.6 s, with identical output.
-    mallopt(M_MMAP_THRESHOLD, 256 << 20);
-    mallopt(M_TRIM_THRESHOLD, 512 << 20);
-    mallopt(M_TOP_PAD, 64 << 20);
+    // Large blocks (Ceres' per-solve Jacobian and normal matrix: 300 KB at H = 49) stay in the
+    // heap for reuse instead of being faulted in afresh on every correction (memory.hpp).
+    hbf::retain_freed_memory();
     using namespace hbf::cli;
     CLI::App app("hbf: frequency responses of structures with friction contacts "
                  "(multi-harmonic balance, closed forms of the friction absorber).",
