@@ -348,7 +348,12 @@ SystemConfig read_system_config(const std::string& path) {
     if (const toml::node* node = root.get("solver")) {
         const toml::table* t = node->as_table();
         if (!t) fail(path, node->source(), "solver", "expected a table [solver]");
-        r.only(*t, {"harmonics", "time_samples", "modes"}, "solver");
+        r.only(*t, {"harmonics", "time_samples", "modes", "odd_harmonics"}, "solver");
+        if (const toml::node* v = t->get("odd_harmonics")) {
+            const auto flag = v->as_boolean();
+            if (!flag) fail(path, v->source(), "solver.odd_harmonics", "expected true or false");
+            config.odd_harmonics = flag->get();
+        }
         if (const toml::node* v = t->get("modes")) {
             config.modes = r.integer(*v, "solver.modes");
             if (*config.modes < 0 || *config.modes > 100000)

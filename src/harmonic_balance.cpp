@@ -135,16 +135,36 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
         throw InvalidInput("modes = " + std::to_string(options.modes) +
                            ": the modal receptance belongs to the condensed formulation, which this system does not "
                            "use (allowed: modes = 0)");
-    unknowns_ = (condensed_ ? nc : system_.dofs()) * n;
+    all_unknowns_ = (condensed_ ? nc : system_.dofs()) * n;
     // A displacement floor for the full formulation's unknowns: the force over the stiffest
     // diagonal entry (a displacement in the system's units; the force scale itself is for
     // nondimensional K ~ 1).
     const double k_max = system_.stiffness.diagonal().cwiseAbs().maxCoeff();
     full_displacement_scale_ = k_max > 0.0 ? force_scale_ / k_max : force_scale_;
     for (const auto& model : models_) {
-        state_offset_.push_back(model->state_signals() > 0 ? unknowns_ : -1);
-        unknowns_ += model->state_signals() * n;
+        state_offset_.push_back(model->state_signals() > 0 ? all_unknowns_ : -1);
+        all_unknowns_ += model->state_signals() * n;
     }
+    // The balanced harmonics: all, or the odd ones only (c_k, s_k for odd k).
+    odd_ = options.odd_harmonics;
+    if (odd_ && system_.excitation_harmonic % 2 == 0)
+        throw InvalidInput("odd harmonics only: the excitation harmonic h = " + std::to_string(system_.excitation_harmonic) +
+                           " is even, so the solution is not half-wave symmetric (allowed: an odd h, or every harmonic)");
+    for (int row = 0; row < n; ++row)
+        if (!odd_ || (row > 0 && ((row + 1) / 2) % 2 == 1)) balanced_.push_back(row);
+    for (int signal = 0; signal < all_unknowns_ / n; ++signal)
+        for (int row : balanced_) balanced_index_.push_back(signal * n + row);
+    unknowns_ = static_cast<int>(balanced_index_.size());
+}
+
+Eigen::VectorXd HarmonicBalance::all_harmonics(const Eigen::VectorXd& x) const {
+    if (!odd_) return x;
+    if (x.size() != unknowns_)
+        throw InvalidInput("harmonic balance: " + std::to_string(x.size()) + " unknowns given, allowed " +
+                           std::to_string(unknowns_));
+    Eigen::VectorXd all = Eigen::VectorXd::Zero(all_unknowns_);
+    for (int i = 0; i < unknowns_; ++i) all(balanced_index_[static_cast<std::size_t>(i)]) = x(i);
+    return all;
 }
 
 void HarmonicBalance::shift_force(int c, double omega, const Eigen::VectorXd& q, FrictionEvaluation& e,
@@ -178,6 +198,11 @@ bool HarmonicBalance::prepare_receptance(double omega) {
     row_scale_.resize(harmonics() + 1, nc);
     row_scale_omega_.resize(harmonics() + 1, nc);
     for (int k = 0; k <= harmonics(); ++k) {
+        if (skipped(k)) {  // odd harmonics only: the even ones are never balanced nor solved
+            row_scale_.row(k).setOnes();
+            row_scale_omega_.row(k).setZero();
+            continue;
+        }
         Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
         if (k > 0) h = receptance_->solve(k, omega, k == load_harmonic(), false);  // the N-long solution: in dofs()
         if (!h.ok) {
@@ -204,6 +229,7 @@ void HarmonicBalance::add_receptance(int c, int d, const Eigen::Ref<const Eigen:
     // since y = Re(Y e^{i k theta}) = c cos + s sin with Y = c - i s.
     if (!omega_derivative) out.row(0) += harmonic_[0].contact(c, d).real() * in.row(0);
     for (int k = 1; k <= harmonics(); ++k) {
+        if (skipped(k)) continue;
         const Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
         const std::complex<double> g = omega_derivative ? h.contact_omega(c, d) : h.contact(c, d);
         const double a = g.real(), b = g.imag();
@@ -216,15 +242,17 @@ Eigen::MatrixXd HarmonicBalance::shifted_forces(const Eigen::VectorXd& x, double
     const int nc = static_cast<int>(models_.size());
     Eigen::MatrixXd forces(coefficients(), nc);
     for (int c = 0; c < nc; ++c) {
-        models_[static_cast<std::size_t>(c)]->evaluate(fourier_, omega, relative(x, c), state(x, c), scratch_, false);
-        shift_force(c, omega, relative(x, c), scratch_, false);
+        const Eigen::VectorXd q = relative_all(x, c);
+        models_[static_cast<std::size_t>(c)]->evaluate(fourier_, omega, q, state_all(x, c), scratch_, false);
+        shift_force(c, omega, q, scratch_, false);
         forces.col(c) = scratch_.force;
     }
     return forces;
 }
 
-Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
+Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double omega) {
     const int n = coefficients(), dofs = system_.dofs();
+    const Eigen::VectorXd x = all_harmonics(unknowns);
     if (!condensed_) return Eigen::Map<const Eigen::MatrixXd>(x.data(), n, dofs);
     Eigen::MatrixXd y = Eigen::MatrixXd::Constant(n, dofs, std::numeric_limits<double>::quiet_NaN());
     if (!prepare_receptance(omega)) return y;
@@ -238,8 +266,16 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
         if (h.solution.size() == 0) h = receptance_->solve(k, omega, k == load_harmonic(), true);
         return h;
     };
-    y.row(0) = -(solved(0).solution.leftCols(nc).real() * forces.row(0).transpose()).transpose();
+    if (odd_)
+        y.row(0).setZero();  // no mean by the half-wave symmetry
+    else
+        y.row(0) = -(solved(0).solution.leftCols(nc).real() * forces.row(0).transpose()).transpose();
     for (int k = 1; k <= harmonics(); ++k) {
+        if (skipped(k)) {  // zero by the half-wave symmetry
+            y.row(2 * k - 1).setZero();
+            y.row(2 * k).setZero();
+            continue;
+        }
         const Receptance::Harmonic& h = solved(k);
         const Eigen::VectorXcd lambda = forces.row(2 * k - 1).transpose().cast<std::complex<double>>() -
                                         std::complex<double>(0.0, 1.0) * forces.row(2 * k).transpose();
@@ -254,9 +290,10 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& x, double omega) {
 double HarmonicBalance::amplitude_bound(const Eigen::VectorXd& x, double omega) {
     if (condensed_ && modes_ > 0) {
         if (!prepare_receptance(omega)) return std::numeric_limits<double>::infinity();
-        const Eigen::MatrixXd forces = shifted_forces(x, omega);
+        const Eigen::MatrixXd forces = shifted_forces(all_harmonics(x), omega);
         double bound = 0.0;
         for (int k = 0; k <= harmonics(); ++k) {
+            if (skipped(k)) continue;
             const Eigen::VectorXcd lambda =
                 k == 0 ? Eigen::VectorXcd(forces.row(0).transpose().cast<std::complex<double>>())
                        : Eigen::VectorXcd(forces.row(2 * k - 1).transpose().cast<std::complex<double>>() -
@@ -278,6 +315,14 @@ double HarmonicBalance::amplitude_bound(const Eigen::VectorXd& x, double omega) 
 }
 
 Eigen::VectorXd HarmonicBalance::relative(const Eigen::VectorXd& x, int contact) const {
+    return relative_all(all_harmonics(x), contact);
+}
+
+Eigen::VectorXd HarmonicBalance::state(const Eigen::VectorXd& x, int contact) const {
+    return state_all(all_harmonics(x), contact);
+}
+
+Eigen::VectorXd HarmonicBalance::relative_all(const Eigen::VectorXd& x, int contact) const {
     const int n = coefficients();
     if (condensed_) return x.segment(contact * n, n);
     const Eigen::Map<const Eigen::MatrixXd> y(x.data(), n, system_.dofs());
@@ -285,35 +330,70 @@ Eigen::VectorXd HarmonicBalance::relative(const Eigen::VectorXd& x, int contact)
 }
 
 Eigen::VectorXd HarmonicBalance::embed_harmonics(const Eigen::VectorXd& low, int low_harmonics) const {
-    const int n = coefficients(), m = 2 * low_harmonics + 1;
-    if (low_harmonics < 0 || low_harmonics > harmonics() || low.size() % m != 0 || low.size() / m * n != unknowns_)
+    // The low layout per signal: the balanced positions of this set below 2 low_harmonics + 1.
+    std::vector<int> low_rows;
+    for (int row : balanced_)
+        if (row < 2 * low_harmonics + 1) low_rows.push_back(row);
+    const auto m = static_cast<Eigen::Index>(low_rows.size());
+    const int balanced = balanced_coefficients();
+    if (low_harmonics < 0 || low_harmonics > harmonics() || m == 0 || low.size() % m != 0 ||
+        low.size() / m * balanced != unknowns_)
         throw InvalidInput("embed_harmonics: " + std::to_string(low.size()) + " unknowns with " +
                            std::to_string(low_harmonics) + " harmonics do not match this layout (" +
                            std::to_string(unknowns_) + " unknowns, " + std::to_string(harmonics()) + " harmonics)");
+    // low_rows are the first m balanced positions, so the low signal fills the head of each.
     Eigen::VectorXd x = Eigen::VectorXd::Zero(unknowns_);
-    for (Eigen::Index s = 0; s < low.size() / m; ++s) x.segment(s * n, m) = low.segment(s * m, m);
+    for (Eigen::Index s = 0; s < low.size() / m; ++s) x.segment(s * balanced, m) = low.segment(s * m, m);
     return x;
 }
 
-Eigen::VectorXd HarmonicBalance::state(const Eigen::VectorXd& x, int contact) const {
+Eigen::VectorXd HarmonicBalance::state_all(const Eigen::VectorXd& x, int contact) const {
     const int offset = state_offset_[static_cast<std::size_t>(contact)];
     return offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, coefficients()));
 }
 
 Eigen::VectorXd HarmonicBalance::force_samples(const Eigen::VectorXd& x, double omega, int contact) {
-    return models_[static_cast<std::size_t>(contact)]->force_samples(fourier_, omega, relative(x, contact),
-                                                                     state(x, contact));
+    const Eigen::VectorXd all = all_harmonics(x);
+    return models_[static_cast<std::size_t>(contact)]->force_samples(fourier_, omega, relative_all(all, contact),
+                                                                     state_all(all, contact));
 }
 
 Eigen::VectorXd HarmonicBalance::stick_indicator(const Eigen::VectorXd& x, double omega, int contact) {
-    return models_[static_cast<std::size_t>(contact)]->stick_indicator(fourier_, omega, relative(x, contact),
-                                                                       state(x, contact));
+    const Eigen::VectorXd all = all_harmonics(x);
+    return models_[static_cast<std::size_t>(contact)]->stick_indicator(fourier_, omega, relative_all(all, contact),
+                                                                       state_all(all, contact));
 }
 
 void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                                Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
     ++statistics_.residuals;
     if (jacobian) ++statistics_.jacobians;
+    if (!odd_) {
+        evaluate_all(x, omega, residual, jacobian, jacobian_omega);
+        return;
+    }
+    // Odd harmonics only: the balance of every harmonic at the symmetric x, restricted to the
+    // balanced rows and columns (the others vanish by the half-wave symmetry).
+    evaluate_all(all_harmonics(x), omega, all_residual_, jacobian ? &all_jacobian_ : nullptr,
+                 jacobian_omega ? &all_jacobian_omega_ : nullptr);
+    residual.resize(unknowns_);
+    if (jacobian) jacobian->resize(unknowns_, unknowns_);
+    if (jacobian_omega) jacobian_omega->resize(unknowns_);
+    for (int i = 0; i < unknowns_; ++i) {
+        const int row = balanced_index_[static_cast<std::size_t>(i)];
+        residual(i) = all_residual_(row);
+        if (jacobian_omega) (*jacobian_omega)(i) = all_jacobian_omega_(row);
+    }
+    if (jacobian)
+        for (int j = 0; j < unknowns_; ++j) {
+            const int column = balanced_index_[static_cast<std::size_t>(j)];
+            for (int i = 0; i < unknowns_; ++i)
+                (*jacobian)(i, j) = all_jacobian_(balanced_index_[static_cast<std::size_t>(i)], column);
+        }
+}
+
+void HarmonicBalance::evaluate_all(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
+                                   Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
     if (condensed_)
         evaluate_condensed(x, omega, residual, jacobian, jacobian_omega);
     else
@@ -324,11 +404,11 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
                                          Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
     detail::Stopwatch watch;
     const int n = coefficients(), nc = static_cast<int>(models_.size());
-    residual.resize(unknowns_);
+    residual.resize(all_unknowns_);
     if (!prepare_receptance(omega)) {
         residual.setConstant(std::numeric_limits<double>::quiet_NaN());
-        if (jacobian) jacobian->setZero(unknowns_, unknowns_);
-        if (jacobian_omega) jacobian_omega->setZero(unknowns_);
+        if (jacobian) jacobian->setZero(all_unknowns_, all_unknowns_);
+        if (jacobian_omega) jacobian_omega->setZero(all_unknowns_);
         statistics_.structure_seconds += watch.lap();
         return;
     }
@@ -343,11 +423,11 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
         rq(sin_row, c) += loaded.contact_load(c).imag();  // s = -Im
     }
     if (jacobian) {
-        jacobian->setZero(unknowns_, unknowns_);
+        jacobian->setZero(all_unknowns_, all_unknowns_);
         jacobian->topLeftCorner(nc * n, nc * n).setIdentity();
     }
     if (jacobian_omega) {
-        jacobian_omega->setZero(unknowns_);
+        jacobian_omega->setZero(all_unknowns_);
         for (int c = 0; c < nc; ++c) {
             (*jacobian_omega)(c * n + cos_row) = -loaded.contact_load_omega(c).real();
             (*jacobian_omega)(c * n + sin_row) = loaded.contact_load_omega(c).imag();
@@ -407,7 +487,7 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
     const Eigen::MatrixXd& D1 = fourier_.derivative();
     const Eigen::MatrixXd M(system_.mass), C(system_.damping), K(system_.stiffness);
     const Eigen::Map<const Eigen::MatrixXd> Y(x.data(), n, dofs);
-    residual.resize(unknowns_);
+    residual.resize(all_unknowns_);
     Eigen::Map<Eigen::MatrixXd> RY(residual.data(), n, dofs);
 
     // Linear structure: D^2 Y M + D Y C + Y K - e_cos_h F^T.
@@ -418,7 +498,7 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
     statistics_.structure_seconds += watch.lap();
     const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
     if (jacobian) {
-        jacobian->setZero(unknowns_, unknowns_);
+        jacobian->setZero(all_unknowns_, all_unknowns_);
         const Eigen::MatrixXd D2 = D1 * D1;
         const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
         for (int i = 0; i < dofs; ++i)
@@ -426,7 +506,7 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
                 jacobian->block(i * n, j * n, n, n) = K(i, j) * I + omega * C(i, j) * D1 + omega * omega * M(i, j) * D2;
     }
     if (jacobian_omega) {
-        jacobian_omega->setZero(unknowns_);
+        jacobian_omega->setZero(all_unknowns_);
         Eigen::Map<Eigen::MatrixXd>(jacobian_omega->data(), n, dofs) = 2.0 * omega * D2Y * M + D1Y * C;
     }
 
@@ -483,7 +563,7 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
         if (k.law == FrictionLaw::coulomb) rigid[c] = true;
     }
     // Harmonic h: Q = Q0 - G Lambda with Lambda_c = element_c Q_c, or Q_c = 0 (rigid).
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(unknowns_);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(all_unknowns_);
     Eigen::VectorXcd force = Eigen::VectorXcd::Zero(nc);
     auto put = [&](Eigen::Index offset, Complex a) {
         if (!std::isfinite(std::abs(a))) return;  // exact resonance: start from rest
@@ -538,7 +618,7 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
     for (std::size_t c = 0; c < system_.contacts.size(); ++c) {
         if (state_offset_[c] < 0) continue;
         const Contact& k = system_.contacts[c];
-        const Eigen::VectorXd q = relative(x, static_cast<int>(c));
+        const Eigen::VectorXd q = relative_all(x, static_cast<int>(c));
         const double speed = std::hypot(q(cos_row), q(sin_row));
         auto z = x.segment(state_offset_[c], n);  // zero so far
         if (sliding && speed > 0.0) {
@@ -557,7 +637,10 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
             z = q;  // pre-sliding bristle: z = q
         }
     }
-    return x;
+    if (!odd_) return x;
+    Eigen::VectorXd balanced(unknowns_);
+    for (int i = 0; i < unknowns_; ++i) balanced(i) = x(balanced_index_[static_cast<std::size_t>(i)]);
+    return balanced;
 }
 
 }  // namespace hbf

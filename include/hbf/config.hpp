@@ -35,6 +35,9 @@
 //     [solver]                    # optional; command-line flags override
 //     harmonics = 20
 //     time_samples = 0
+//     odd_harmonics = false       # true: balance the odd harmonics 1, 3, ... <= H only (half-wave
+//                                 # symmetric solutions: half the unknowns; needs an odd
+//                                 # excitation_harmonic)
 //     modes = 0                   # condensed HB: 0 solves the structure directly (sparse LU),
 //                                 # m > 0 uses m modes + static residual flexibility
 //                                 # (cost independent of N; M > 0, K > 0, C modal)
@@ -68,6 +71,7 @@ struct SystemConfig {
     std::optional<double> omega_start, omega_end;   ///< [frequency] wmin, wmax
     std::optional<int> harmonics, time_samples;     ///< [solver]
     std::optional<int> modes;                       ///< [solver] modal receptance (0: direct)
+    std::optional<bool> odd_harmonics;              ///< [solver] odd harmonics only
     /// The reported outputs in file order: [output] report's DOFs, or the [[output]] tables;
     /// default every DOF.
     std::vector<Output> outputs;

@@ -63,6 +63,14 @@ struct HarmonicBalanceOptions {
     /// flexibility (receptance.hpp: cost independent of N; needs M > 0, K > 0 and C diagonal in
     /// the modal basis). >= 0.
     int modes = 0;
+    /// Balance the odd harmonics 1, 3, 5, ... <= H only (no constant, no even harmonics): the
+    /// half-wave symmetric solutions y(t + T/2) = -y(t) of a symmetric problem, with half the
+    /// unknowns. Every friction law here is odd (f(-q, -v) = -f(q, v) with z -> -z) and the
+    /// force F cos(h w t) is half-wave symmetric for odd h, so such solutions exist whenever h
+    /// is odd (required); an orbit that breaks the symmetry (a symmetry-breaking bifurcation)
+    /// is not found. The AFT runs on all samples as before, so each evaluation costs the same;
+    /// the corrector's and the tangent's linear algebra shrink (~1/8 for the dense solves).
+    bool odd_harmonics = false;
 };
 
 /// Work counters of HarmonicBalance::evaluate, for benchmarks and summaries.
@@ -86,12 +94,19 @@ public:
     const System& system() const { return system_; }
     /// The formulation in use (never automatic).
     Formulation formulation() const { return condensed_ ? Formulation::condensed : Formulation::full; }
-    HarmonicBalanceOptions options() const { return {harmonics(), time_samples(), formulation(), modes_}; }
+    HarmonicBalanceOptions options() const { return {harmonics(), time_samples(), formulation(), modes_, odd_}; }
+    /// True when only the odd harmonics are balanced (HarmonicBalanceOptions::odd_harmonics).
+    bool odd_harmonics() const { return odd_; }
     /// Modes of the modal receptance in use (0: the direct solve).
     int modes() const { return modes_; }
     int harmonics() const { return fourier_.harmonics(); }
     int time_samples() const { return fourier_.time_samples(); }
-    int coefficients() const { return fourier_.size(); }  ///< 2H + 1
+    /// 2H + 1: the coefficients of one signal as relative(), state() and dofs() return them (in
+    /// fourier.hpp's layout; with odd harmonics only, the constant and the even ones are zero).
+    int coefficients() const { return fourier_.size(); }
+    /// The coefficients of one signal among the unknowns x: 2H + 1, or with odd harmonics only
+    /// 2 ceil(H / 2) (c_1, s_1, c_3, s_3, ...).
+    int balanced_coefficients() const { return static_cast<int>(balanced_.size()); }
     /// h: the harmonic that carries the force F cos(h omega t) (System::excitation_harmonic).
     int load_harmonic() const { return system_.excitation_harmonic; }
     int unknowns() const { return unknowns_; }
@@ -128,8 +143,8 @@ public:
     /// With `sliding`, the slipping limit instead: every contact removed (friction forces
     /// start at their limit, in phase with the relative velocity).
     Eigen::VectorXd linear_guess(double omega, bool sliding = false) const;
-    /// Unknowns of a solution with `low_harmonics` <= H harmonics (same system and
-    /// formulation) in this layout: every signal's harmonics above low_harmonics are zero.
+    /// Unknowns of a solution with `low_harmonics` <= H harmonics (same system, formulation and
+    /// harmonic set) in this layout: every signal's harmonics above low_harmonics are zero.
     Eigen::VectorXd embed_harmonics(const Eigen::VectorXd& low, int low_harmonics) const;
     /// Force scale against which residuals are judged: the excitation amplitude |F|_inf.
     double force_scale() const { return force_scale_; }
@@ -146,6 +161,16 @@ public:
     void reset_statistics() { statistics_ = EvaluationStatistics{}; }
 
 private:
+    /// Harmonic k > 0 is left out (odd harmonics only, k even): its receptance is never formed.
+    bool skipped(int k) const { return odd_ && k > 0 && k % 2 == 0; }
+    /// x in the layout of every harmonic 0..H (signals of 2H + 1 coefficients), from the
+    /// unknowns (the same vector unless odd_).
+    Eigen::VectorXd all_harmonics(const Eigen::VectorXd& x) const;
+    /// relative() and state() of a vector in the layout of every harmonic.
+    Eigen::VectorXd relative_all(const Eigen::VectorXd& x, int contact) const;
+    Eigen::VectorXd state_all(const Eigen::VectorXd& x, int contact) const;
+    void evaluate_all(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual, Eigen::MatrixXd* jacobian,
+                      Eigen::VectorXd* jacobian_omega);
     void evaluate_full(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual, Eigen::MatrixXd* jacobian,
                        Eigen::VectorXd* jacobian_omega);
     void evaluate_condensed(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
@@ -174,7 +199,13 @@ private:
     std::vector<std::unique_ptr<FrictionModel>> models_;
     std::vector<int> state_offset_;  // start of each contact's state block, -1 if none
     std::vector<Eigen::VectorXd> directions_;
-    int unknowns_ = 0;
+    int unknowns_ = 0;      // the corrector's unknowns: signals x balanced_coefficients()
+    int all_unknowns_ = 0;  // signals x (2H + 1): the layout of every harmonic
+    bool odd_ = false;
+    std::vector<int> balanced_;        // per signal: the balanced positions among 0..2H
+    std::vector<int> balanced_index_;  // over all unknowns: the position in the all-harmonic layout
+    Eigen::VectorXd all_residual_, all_jacobian_omega_;  // evaluate's buffers (odd_ only)
+    Eigen::MatrixXd all_jacobian_;
     double force_scale_ = 1.0;
     double full_displacement_scale_ = 1.0;
     int modes_ = 0;  ///< |F| / max K_ii (unknown_scale, full formulation)

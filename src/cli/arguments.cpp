@@ -219,10 +219,24 @@ HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const s
                                                 const std::string& config_path) {
     const std::optional<io::SystemConfig>& config = chosen.config;
     HarmonicBalanceOptions hbo;
-    hbo.harmonics = static_cast<int>(std::clamp<long long>(parse_integer("--harmonics", harmonics), -1, 100000));
+    // H, or "odd" / "odd:H": the odd harmonics <= H only (H automatic without ":H").
+    std::string count = harmonics;
+    if (harmonics == "odd" || harmonics.rfind("odd:", 0) == 0) {
+        hbo.odd_harmonics = true;
+        count = harmonics == "odd" ? "0" : harmonics.substr(4);
+    }
+    const long long parsed = parse_integer("--harmonics", count);
+    if (hbo.odd_harmonics && harmonics != "odd" && parsed == 0)
+        throw UsageError("--harmonics = " + harmonics + " is out of range: allowed odd (automatic H) or odd:H with H "
+                         "in 1..200");
+    hbo.harmonics = static_cast<int>(std::clamp<long long>(parsed, -1, 100000));
     if (hbo.harmonics < 0 || hbo.harmonics > 200)
-        throw UsageError("--harmonics = " + harmonics + " is out of range: allowed 0 (automatic) or 1..200");
-    if (config && config->harmonics && command.count("--harmonics") == 0) hbo.harmonics = *config->harmonics;
+        throw UsageError("--harmonics = " + harmonics + " is out of range: allowed 0 (automatic), 1..200, odd, or "
+                         "odd:H (odd harmonics <= H only)");
+    if (config && command.count("--harmonics") == 0) {
+        if (config->harmonics) hbo.harmonics = *config->harmonics;
+        if (config->odd_harmonics) hbo.odd_harmonics = *config->odd_harmonics;
+    }
     if (hbo.harmonics == 0) hbo.harmonics = chosen.automatic_harmonics;
     const long long nt = parse_integer("--time-samples", time_samples);
     if (nt != 0 && (nt <= 2 * hbo.harmonics || nt > 65536))

@@ -217,6 +217,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
                                                                     {"wmax", co.omega_end},
                                                                     {"harmonics", hb.harmonics()},
                                                                     {"excitation_harmonic", hb.load_harmonic()},
+                                                                    {"odd_harmonics", hb.odd_harmonics() ? 1 : 0},
                                                                     {"time_samples", hb.time_samples()},
                                                                     {"condensed", hb.formulation() == Formulation::condensed ? 1 : 0},
                                                                     {"modes", hb.modes()},
@@ -235,6 +236,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (!o.plot.empty()) {
         io::PlotSpec spec = io::frf_plot(points, metrics, outputs.front(), 0,
                                          "hbf frf: " + law_name + ", H = " + std::to_string(hb.harmonics()) +
+                                             (hb.odd_harmonics() ? " (odd only)" : "") +
                                              (hb.load_harmonic() == 1
                                                   ? std::string()
                                                   : ", force at " + std::to_string(hb.load_harmonic()) + " w") +
@@ -304,8 +306,11 @@ Runner add_frf_command(CLI::App& app) {
                         "number of harmonics H, 1..200; 0 = automatic: 10 with the exact polish (coulomb, jenkins: "
                         "HB only supplies the branch and the starting guesses); without it 20 for coulomb (its error "
                         "falls like 1/H) and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins; times h with "
-                        "--excitation-harmonic h")
-        ->capture_default_str()->type_name("INT");
+                        "--excitation-harmonic h. odd or odd:H balances the odd harmonics 1, 3, 5, ... <= H only "
+                        "(automatic H with odd): the half-wave symmetric solutions y(t + T/2) = -y(t), which every "
+                        "law here admits under a force at an odd harmonic, with half the unknowns; a solution that "
+                        "breaks the symmetry is not found")
+        ->capture_default_str()->type_name("INT|odd[:H]");
     command->add_option("--modes", options->modes,
                         "condensed formulation: 0 solves the structure per harmonic and frequency by a sparse LU "
                         "(exact; cost linear in N); m > 0 uses its m lowest modes plus the static residual "

@@ -106,8 +106,10 @@ Runner add_loop_command(CLI::App& app) {
                         "the solution is the one reached by following the branch from wmin (from 0.9 w when "
                         "w <= wmin), > 0")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--harmonics", options->harmonics, "number of harmonics H, 1..200; 0 = automatic (as hbf frf)")
-        ->capture_default_str()->type_name("INT");
+    command->add_option("--harmonics", options->harmonics,
+                        "number of harmonics H, 1..200; 0 = automatic; odd or odd:H for the odd harmonics only (as hbf "
+                        "frf)")
+        ->capture_default_str()->type_name("INT|odd[:H]");
     command->add_option("--time-samples", options->time_samples,
                         "time samples per period N_t > 2H (the rows); 0 = automatic (as hbf frf)")
         ->capture_default_str()->type_name("INT");
