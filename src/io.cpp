@@ -269,16 +269,23 @@ void write_frf_summary(std::ostream& out, const std::string& law,
         entry["refined"] = peak.refined;
         peak_list.push_back(entry);
     }
+    // A fold or transition: w, and <name>_max of every reported output (as the CSV columns).
+    auto located = [&](std::size_t k) {
+        json entry = {{"w", points[k].omega}};
+        for (std::size_t o = 0; o < outputs.size() && o < metrics[k].output_max.size(); ++o)
+            entry[outputs[o].name() + "_max"] = metrics[k].output_max[o];
+        entry["branch"] = points[k].branch;
+        return entry;
+    };
     for (std::size_t k = 0; k < points.size(); ++k)
-        if (points[k].kind == PointKind::fold)
-            folds.push_back({{"w", points[k].omega}, {"y1_max", metrics[k].y_max[0]}, {"branch", points[k].branch}});
+        if (points[k].kind == PointKind::fold) folds.push_back(located(k));
     json transitions = json::array();
     for (std::size_t k = 0; k < points.size(); ++k)
-        if (points[k].kind == PointKind::transition)
-            transitions.push_back({{"w", points[k].omega},
-                                   {"y1_max", metrics[k].y_max[0]},
-                                   {"between", to_string(points[k].boundary)},
-                                   {"branch", points[k].branch}});
+        if (points[k].kind == PointKind::transition) {
+            json entry = located(k);
+            entry["between"] = to_string(points[k].boundary);
+            transitions.push_back(entry);
+        }
     if (polish) {
         j["exact"] = {{"enabled", true},
                       {"polished", polish->polished},

@@ -181,3 +181,31 @@ TEST_CASE("[[output]] errors name the key and the allowed values, and no output 
         CHECK(!fs::exists(out));
     }
 }
+
+TEST_CASE("JSON folds and transitions carry <name>_max of every output, as the CSV's rows there", "[outputs][cli]") {
+    // The paper's absorber (exact Coulomb: four stick-slip transitions) with the outputs y1
+    // and the relative displacement q = y1 - y2.
+    TempDir dir;
+    const fs::path file = dir.path / "absorber_outputs.toml";
+    write_file(file, "[structure]\nmass = [1.0, 0.1]\nstiffness = [[1.1, -0.1], [-0.1, 0.1]]\nexcitation = [0.5, 0.0]\n"
+                     "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"coulomb\"\nfriction_limit = 0.2\n"
+                     "[[output]]\ndof = 1\n[[output]]\nname = \"q\"\nrow = [1.0, -1.0]\n");
+    const fs::path json = dir.path / "s.json";
+    const Result r = run_hbf("frf --quiet --config '" + file.string() + "' --summary '" + json.string() + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(r.out);
+    const auto& header = rows.front();
+    const auto kind = static_cast<std::size_t>(std::find(header.begin(), header.end(), "point") - header.begin());
+    const nlohmann::json summary = nlohmann::json::parse(slurp(json));
+    int matched = 0;
+    for (const auto& t : summary.at("transitions")) {
+        const double w = t.at("w");
+        for (std::size_t k = 1; k < rows.size(); ++k) {
+            if (rows[k][kind] != "transition" || std::abs(std::stod(rows[k][0]) - w) > 1e-12 * w) continue;
+            ++matched;
+            for (const std::string name : {"y1_max", "q_max"})
+                CHECK(t.at(name).get<double>() == Approx(column(rows, rows[k], name)).epsilon(1e-12));
+        }
+    }
+    CHECK(matched == 4);
+}

@@ -78,8 +78,9 @@ void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& r
 /// written as integers), the number of branch points and samples, solver statistics, the
 /// peaks (of the outputs `outputs`, Peak::output indexing them: each with w, output (its
 /// name), dof (1-based, for an output that is one DOF), y_max (= max over one period of
-/// |o(t)|), branch, refined), the folds, the stick-slip transitions, status, message and wall
-/// time.
+/// |o(t)|), branch, refined), the folds (w, <name>_max of every output, branch), the
+/// stick-slip transitions (the same, and between: the regimes on either side), status,
+/// message and wall time.
 /// `metrics[k]` belongs to `branch.points[k]`; `samples` counts the --at rows. With `polish`
 /// (the exact polish of the branch), folds and transitions are read from its points and
 /// metrics, and an "exact" object reports the polish (counts, largest HB gap, time).
