@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "hbf/error.hpp"
+#include "time_integration/massless.hpp"
 
 namespace hbf {
 
@@ -465,19 +466,21 @@ Eigen::VectorXd state_at(const std::vector<Step>& steps, double t) {
     return evaluate(s.u, std::min(std::max((t - s.t0) / s.h, 0.0), s.s_end));
 }
 
+/// The flows are dense: at most exact_solver_max_dofs DOFs with mass (those of the static
+/// condensation when there are massless DOFs, time_integration/massless.hpp).
+void check_dense_size(const System& system, bool condensed) {
+    if (system.dofs() > exact_solver_max_dofs)
+        throw InvalidInput("the system has " + std::to_string(system.dofs()) + " DOFs" +
+                           (condensed ? " with mass" : "") +
+                           ": the exact solver is dense (cost ~ N^3 per step, steps as short as the fastest mode) and "
+                           "allowed up to " + std::to_string(exact_solver_max_dofs) + " DOFs");
+}
+
 void validate_system(const System& system, double omega) {
     system.validate();
-    if (system.dofs() > exact_solver_max_dofs)
-        throw InvalidInput("the system has " + std::to_string(system.dofs()) + " DOFs: the exact solver is dense (cost ~ N^3 "
-                           "per step, steps as short as the fastest mode) and allowed up to " +
-                           std::to_string(exact_solver_max_dofs) + " DOFs");
-    if (!system.has_positive_definite_mass())
-        throw InvalidInput("the mass matrix is singular (massless DOFs): the exact solver integrates M y'' = ... and needs "
-                           "M positive definite (use harmonic balance, hbf frf --exact off)");
     if (system.excitation_harmonic != 1)
         throw InvalidInput("excitation harmonic h = " + std::to_string(system.excitation_harmonic) +
-                           ": the exact solver generates the force cos(w t) at the fundamental only (allowed h = 1; "
-                           "use harmonic balance, hbf frf --exact off)");
+                           ": the exact solver generates the force cos(w t) at the fundamental only (allowed h = 1)");
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
@@ -485,6 +488,16 @@ void validate_system(const System& system, double omega) {
         if (law != FrictionLaw::coulomb && law != FrictionLaw::jenkins)
             throw InvalidInput("contact " + std::to_string(c + 1) + " has law " + to_string(law) +
                                ": the exact solver covers coulomb and jenkins only (allowed: coulomb, jenkins)");
+    }
+    if (system.has_positive_definite_mass()) {
+        check_dense_size(system, false);
+        return;
+    }
+    try {
+        check_dense_size(detail::MasslessCondensation(system).reduced(), true);
+    } catch (const InvalidInput& e) {
+        throw InvalidInput(std::string("the exact solver runs on the static condensation of the massless DOFs: ") +
+                           e.what());
     }
 }
 
@@ -519,15 +532,29 @@ Eigen::VectorXd mean_forces(Engine& e, const Engine::Flow& flow) {
     return mean / e.period();
 }
 
-/// Fills the orbit's metrics from one recorded period [t_s, t_s + T].
-void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out) {
+/// Linear functions p(t) = L zhat(t) of the flow beyond the DOFs (the massless DOFs of a
+/// condensed system, and outputs on them): rows L over zhat, and what fill_metrics finds.
+struct Probes {
+    Eigen::MatrixXd rows;            ///< n_p x n
+    std::vector<double> max;         ///< max over the period of |p(t)| (turning points refined)
+    Eigen::VectorXd c1, s1;          ///< first harmonic: p ~ c1 cos + s1 sin
+    Eigen::VectorXd value, rate;     ///< p and p' at t = 0
+    Eigen::MatrixXd samples, sample_rates;  ///< options.samples x n_p
+};
+
+/// Fills the orbit's metrics from one recorded period [t_s, t_s + T], and `probes`' if given.
+void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out,
+                  Probes* probes = nullptr) {
     const int nd = e.dofs(), nc = e.contacts();
     const double period = e.period();
     const auto& rule = gauss_legendre();
     out.y_max.assign(static_cast<std::size_t>(nd), 0.0);
     const std::vector<Output>& outputs = options.outputs;
     out.output_max.assign(outputs.size(), 0.0);
-    Eigen::VectorXd c1 = Eigen::VectorXd::Zero(nd), s1 = Eigen::VectorXd::Zero(nd);
+    // First harmonics of the whole zhat (cos and sin are states of zhat, so probes on them too).
+    Eigen::VectorXd c1z = Eigen::VectorXd::Zero(e.n()), s1z = Eigen::VectorXd::Zero(e.n());
+    const Eigen::Index n_probes = probes ? probes->rows.rows() : 0;
+    if (probes) probes->max.assign(static_cast<std::size_t>(n_probes), 0.0);
     double stick_time = 0.0;
     out.energy = 0.0;
     double margin_min = std::numeric_limits<double>::infinity(), margin_max = -margin_min;
@@ -573,11 +600,16 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
             }
             turning_points(y, v, out.output_max[o]);
         }
+        if (n_probes > 0) {  // p = L zhat, p' = L A zhat
+            const Eigen::MatrixXd y = probes->rows * st.u, v = (probes->rows * e.mode(st.modes).a) * st.u;
+            for (Eigen::Index p = 0; p < n_probes; ++p)
+                turning_points(y.row(p), v.row(p), probes->max[static_cast<std::size_t>(p)]);
+        }
         // First harmonics by Gauss-Legendre (cos and sin are states of zhat).
         for (const auto& [node, weight] : rule) {
             const Eigen::VectorXd z = evaluate(st.u, node * st.s_end);
-            c1 += weight * length * z(e.cos_index()) * z.head(nd);
-            s1 += weight * length * z(e.sin_index()) * z.head(nd);
+            c1z += weight * length * z(e.cos_index()) * z;
+            s1z += weight * length * z(e.sin_index()) * z;
         }
         if (nc > 0 && st.modes[0] == 0) stick_time += length;
         const Eigen::VectorXd z0 = st.u.col(0), z1 = evaluate(st.u, st.s_end);
@@ -586,8 +618,13 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
             if (mode != 0) out.energy += mode * e.contact(c).friction_limit * (e.relative(c, z1) - e.relative(c, z0));
         }
     }
-    c1 *= 2.0 / period;
-    s1 *= 2.0 / period;
+    c1z *= 2.0 / period;
+    s1z *= 2.0 / period;
+    const Eigen::VectorXd c1 = c1z.head(nd), s1 = s1z.head(nd);
+    if (probes) {
+        probes->c1 = probes->rows * c1z;
+        probes->s1 = probes->rows * s1z;
+    }
     out.harmonic1 = c1.cast<std::complex<double>>() - std::complex<double>(0.0, 1.0) * s1.cast<std::complex<double>>();
     out.y_amp1.resize(static_cast<std::size_t>(nd));
     for (int i = 0; i < nd; ++i) out.y_amp1[static_cast<std::size_t>(i)] = std::hypot(c1(i), s1(i));
@@ -615,7 +652,14 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     // The state at t = 0 (= T).
     const double t_zero = t_s > 0.0 ? period : 0.0;
     const Step& at_zero = step_at(flow.steps, t_zero);
-    out.state = full_state(e, state_at(flow.steps, t_zero), at_zero.modes);
+    const Eigen::VectorXd z_zero = state_at(flow.steps, t_zero);
+    out.state = full_state(e, z_zero, at_zero.modes);
+    if (probes) {
+        probes->value = probes->rows * z_zero;
+        probes->rate = probes->rows * (e.mode(at_zero.modes).a * z_zero);
+        probes->samples.resize(options.samples, n_probes);
+        probes->sample_rates.resize(options.samples, n_probes);
+    }
     if (options.samples > 0) {
         out.time.resize(options.samples);
         out.displacement.resize(options.samples, nd);
@@ -631,6 +675,10 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
             out.velocity.row(j) = z.segment(nd, nd).transpose();
             const ModeData& m = e.mode(st.modes);
             for (int c = 0; c < nc; ++c) out.friction_force(j, c) = m.force.row(c).dot(z);
+            if (probes) {
+                probes->samples.row(j) = (probes->rows * z).transpose();
+                probes->sample_rates.row(j) = (probes->rows * (m.a * z)).transpose();
+            }
         }
     }
 }
@@ -763,14 +811,16 @@ double permanent_stick_load(const System& system, double omega) {
     return stuck_steady_state(system, omega, z);
 }
 
-bool exact_solver_supports(const System& system) {
-    if (system.dofs() > exact_solver_max_dofs || system.excitation_harmonic != 1 ||
-        !system.has_positive_definite_mass())
-        return false;
-    for (const Contact& c : system.contacts)
-        if (c.law != FrictionLaw::coulomb && c.law != FrictionLaw::jenkins) return false;
-    return true;
+std::string exact_solver_refusal(const System& system) {
+    try {
+        validate_system(system, 1.0);
+        return {};
+    } catch (const InvalidInput& e) {
+        return e.what();
+    }
 }
+
+bool exact_solver_supports(const System& system) { return exact_solver_refusal(system).empty(); }
 
 std::string ExactOrbit::summary() const {
     std::ostringstream s;
@@ -785,6 +835,9 @@ std::string ExactOrbit::summary() const {
 ExactFlow exact_flow(const System& system, double omega, const Eigen::VectorXd& state, int periods,
                      int max_events_per_period) {
     validate_system(system, omega);
+    if (!system.has_positive_definite_mass())
+        throw InvalidInput("the mass matrix is singular (massless DOFs): exact_flow integrates M y'' = ... and needs M "
+                           "positive definite (exact_periodic_orbit condenses massless DOFs)");
     check_state_size(system, state);
     if (periods < 1) throw InvalidInput("periods = " + std::to_string(periods) + " is out of range: allowed >= 1");
     Engine e(system, omega);
@@ -813,12 +866,11 @@ ExactFlow exact_flow(const System& system, double omega, const Eigen::VectorXd& 
     return out;
 }
 
-ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
-                                const ExactOptions& options) {
-    validate_system(system, omega);
-    check_state_size(system, initial_state);
-    options.validate();
-    for (const Output& o : options.outputs) o.validate(system.dofs());
+namespace {
+
+/// exact_periodic_orbit on a system with M > 0 (validated).
+ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& initial_state,
+                    const ExactOptions& options) {
     Engine e(system, omega);
     const double period = e.period();
     ExactOrbit out;
@@ -1053,6 +1105,97 @@ ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen:
         if (orbit.converged) return orbit;
     }
     return out;
+}
+
+/// The orbit of a system with massless DOFs: solved on its static condensation (exact: the
+/// massless DOFs follow the massive ones, the load and the sliders linearly), then expressed
+/// in the original DOFs. The massless DOFs and the outputs are functions of the reduced
+/// state, p = L zhat, whose maxima and harmonics come from one more exact period (Probes).
+ExactOrbit massless_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
+                          const ExactOptions& options) {
+    const detail::MasslessCondensation condensation(system);
+    const System& reduced = condensation.reduced();
+    const int n = system.dofs(), nc = static_cast<int>(system.contacts.size()), nr = reduced.dofs();
+    ExactOptions reduced_options = options;
+    reduced_options.outputs.clear();
+    reduced_options.samples = 0;
+    ExactOrbit out = orbit_of(reduced, omega, condensation.reduce_state(initial_state), reduced_options);
+
+    Engine e(reduced, omega);
+    // Rows over zhat = [y_R, y_R', s, cos, sin, 1]: every original DOF, then every output.
+    const detail::MasslessCondensation::MasslessMap map = condensation.massless_map();
+    Probes probes;
+    probes.rows = Eigen::MatrixXd::Zero(n + static_cast<Eigen::Index>(options.outputs.size()), e.n());
+    for (int i = 0; i < n; ++i) {
+        const int p = condensation.position(i);
+        if (!condensation.massless(i)) {
+            probes.rows(i, p) = 1.0;
+            continue;
+        }
+        probes.rows.row(i).head(nr) = map.from_massive.row(p);
+        probes.rows.row(i).segment(2 * nr, nc) = map.from_sliders.row(p);
+        probes.rows(i, e.cos_index()) = map.load(p);
+    }
+    for (std::size_t o = 0; o < options.outputs.size(); ++o)
+        for (const auto& [i, c] : options.outputs[o].terms())
+            probes.rows.row(n + static_cast<Eigen::Index>(o)) += c * probes.rows.row(i);
+    // One exact period from the orbit's state at t = 0 (its modes there as the hint).
+    Modes modes(static_cast<std::size_t>(nc));
+    for (int c = 0; c < nc; ++c) modes[static_cast<std::size_t>(c)] = static_cast<int>(out.state(2 * nr + nc + c));
+    const Engine::Flow f =
+        e.flow(e.augment(out.state.head(e.nz()), 0.0), modes, 0.0, e.period(), false, true, options.max_events_per_period);
+    ExactOrbit period;
+    ExactOptions sampled = reduced_options;
+    sampled.samples = options.samples;
+    if (!f.steps.empty()) fill_metrics(e, f, 0.0, sampled, period, &probes);
+    if (f.steps.empty() || !f.ok) {
+        out.converged = false;
+        out.message += "; the period of the massless DOFs could not be integrated: " + f.message;
+        return out;
+    }
+    // The original's metrics and state.
+    out.y_max.assign(probes.max.begin(), probes.max.begin() + n);
+    out.y_amp1.resize(static_cast<std::size_t>(n));
+    out.harmonic1.resize(n);
+    for (int i = 0; i < n; ++i) {
+        out.y_amp1[static_cast<std::size_t>(i)] = std::hypot(probes.c1(i), probes.s1(i));
+        out.harmonic1(i) = std::complex<double>(probes.c1(i), -probes.s1(i));
+    }
+    out.output_max.assign(probes.max.begin() + n, probes.max.end());
+    out.output_amp1.clear();
+    for (std::size_t o = 0; o < options.outputs.size(); ++o) {
+        const Eigen::Index row = n + static_cast<Eigen::Index>(o);
+        out.output_amp1.push_back(std::hypot(probes.c1(row), probes.s1(row)));
+    }
+    Eigen::VectorXd state = Eigen::VectorXd::Zero(2 * n + 2 * nc);
+    state.head(n) = probes.value.head(n);
+    state.segment(n, n) = probes.rate.head(n);
+    for (int c = 0; c < nc; ++c) {
+        // A Coulomb contact's internal state is 0 by convention (its slider is q itself).
+        const bool coulomb = system.contacts[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb;
+        state(2 * n + c) = coulomb ? 0.0 : out.state(2 * nr + c);
+        state(2 * n + nc + c) = out.state(2 * nr + nc + c);
+    }
+    out.state = state;
+    if (options.samples > 0) {
+        out.time = period.time;
+        out.displacement = probes.samples.leftCols(n);
+        out.velocity = probes.sample_rates.leftCols(n);
+        out.friction_force = period.friction_force;
+    }
+    return out;
+}
+
+}  // namespace
+
+ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
+                                const ExactOptions& options) {
+    validate_system(system, omega);
+    check_state_size(system, initial_state);
+    options.validate();
+    for (const Output& o : options.outputs) o.validate(system.dofs());
+    if (!system.has_positive_definite_mass()) return massless_orbit(system, omega, initial_state, options);
+    return orbit_of(system, omega, initial_state, options);
 }
 
 }  // namespace hbf

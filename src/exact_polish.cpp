@@ -125,12 +125,8 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                              const CorrectorOptions& corrector_options) {
     detail::Stopwatch watch;
     const System& system = hb.system();
-    if (!exact_solver_supports(system)) {
-        std::string laws;
-        for (const Contact& c : system.contacts) laws += (laws.empty() ? "" : ",") + to_string(c.law);
-        throw InvalidInput("--exact on: the exact solver covers coulomb and jenkins contacts only, this system has " +
-                           laws + " (use --exact off)");
-    }
+    if (!exact_solver_supports(system))
+        throw InvalidInput("exact polish: " + exact_solver_refusal(system) + " (use --exact off)");
     options.exact.validate();
     if (options.dof < 0 || options.dof >= system.dofs())
         throw InvalidInput("polish dof = " + std::to_string(options.dof) + " is out of range: allowed 0.." +

@@ -135,9 +135,6 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
     hb.evaluate(Eigen::VectorXd::Zero(hb.unknowns()), 1.0, r);
     CHECK(r.hasNaN());
     CHECK_THAT(hb.structure_failure(), Catch::Contains("singular dynamic stiffness") && Catch::Contains("k = 1"));
-    // Time integration and the exact solver need M > 0: a clear error.
-    CHECK_THROWS_WITH(exact_periodic_orbit(hbf::test::massless_contact(0.8, 0.3), 1.0, Eigen::VectorXd::Zero(6)),
-                      Catch::Contains("mass matrix is singular"));
 }
 
 TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples on the shipped systems", "[condensed]") {
@@ -362,17 +359,20 @@ TEST_CASE("The 200-DOF beam: harmonic balance against BDF time integration of th
     }
 }
 
-TEST_CASE("The reduced beam (massless contact shoe, output vector, SI units): harmonic balance against time integration",
-          "[condensed][beam][timeint][massless][cli]") {
+TEST_CASE("The reduced beam (massless contact shoe, output vector, SI units): the exact polish and harmonic balance "
+          "against time integration",
+          "[condensed][beam][timeint][massless][cli][exact]") {
     // examples/systems/beam/beam200_reduced.toml: beam200 reduced (Guyan) onto 5 master
     // displacements, plus a massless shoe joined to the tip by a spring and sliding on the
     // ground (exact Coulomb, 3 N); mid-span is the output vector "midspan". Time integration
-    // condenses the massless shoe statically (it is then a Jenkins element), harmonic balance
-    // keeps it as a coordinate (condensed formulation). At w = 40 (stick-slip) and 160 rad/s
-    // (stick-slip, mostly sliding), and with a 30 N limit at 40 (stuck: linear, HB exact).
-    // Reference: hbf timeint --config (Adams, rtol 1e-10, steady-tol 1e-9). Tolerances relative
-    // to each output: stuck 1e-6 (TI keeps the stuck shoe's offset of its transient, ~1e-8);
-    // stick-slip 3 % (DLFT at H = 20; measured 0.4 % and 1.1 % at 40, 0.03 % at 160).
+    // and the exact solver condense the massless shoe statically (it is then a Jenkins
+    // element); harmonic balance keeps it as a coordinate (condensed formulation). At w = 40
+    // (stick-slip) and 160 rad/s (stick-slip, mostly sliding), and with a 30 N limit at 40
+    // (stuck: linear). Reference: hbf timeint --config (Adams, steady-tol 1e-9). Tolerances
+    // relative to each output: stuck 1e-6 (TI keeps the stuck shoe's offset of its transient,
+    // ~1e-8); stick-slip by the exact polish (on by default here) 1e-7 (measured 3e-13
+    // against tighter TI), by harmonic balance alone (--exact off) 3 % (DLFT at H = 20;
+    // measured 0.4 % and 1.1 % at 40, 0.03 % at 160).
     ::test::TempDir dir;
     const std::string reduced = std::string(HBF_SOURCE_DIR) + "/examples/systems/beam/beam200_reduced.toml";
     std::string text = ::test::slurp(reduced);
@@ -382,29 +382,32 @@ TEST_CASE("The reduced beam (massless contact shoe, output vector, SI units): ha
     const auto stuck = dir.path / "stuck.toml";
     std::ofstream(stuck) << text;
     struct Case {
-        std::string file, omega, regime;
+        std::string file, omega, range, exact, regime;
         double tolerance;
     };
-    const std::vector<Case> cases = {{stuck.string(), "40", "stick", 1e-6},
-                                     {reduced, "40", "stick-slip", 3e-2},
-                                     {reduced, "160", "stick-slip", 3e-2}};
+    const std::vector<Case> cases = {{stuck.string(), "40", "--wmin 35 --wmax 45", "off", "stick", 1e-6},
+                                     {reduced, "40", "--wmin 35 --wmax 45", "off", "stick-slip", 3e-2},
+                                     {reduced, "160", "--wmin 155 --wmax 165", "off", "stick-slip", 3e-2},
+                                     {stuck.string(), "40", "--wmin 35 --wmax 45", "yes", "stick", 1e-6},
+                                     {reduced, "40", "--wmin 35 --wmax 45", "yes", "stick-slip", 1e-7},
+                                     {reduced, "160", "--wmin 155 --wmax 165", "yes", "stick-slip", 1e-7}};
     for (const Case& c : cases) {
-        const ::test::Result hb =
-            ::test::run_hbf("frf --quiet --config '" + c.file + "' --wmin 30 --wmax 170 --at " + c.omega, dir);
+        const ::test::Result hb = ::test::run_hbf("frf --quiet --config '" + c.file + "' " + c.range +
+                                                      (c.exact == "off" ? " --exact off" : "") + " --at " + c.omega,
+                                                  dir);
         const ::test::Result ti =
             ::test::run_hbf("timeint --quiet --config '" + c.file + "' --w " + c.omega + " --steady-tol 1e-9", dir);
-        INFO("w = " << c.omega << "\nHB: " << hb.err << "\nTI: " << ti.err);
+        INFO("w = " << c.omega << ", exact " << c.exact << "\nHB: " << hb.err << "\nTI: " << ti.err);
         REQUIRE(hb.exit_code == 0);
         REQUIRE(ti.exit_code == 0);
         const auto hb_rows = ::test::parse_csv(hb.out), ti_rows = ::test::parse_csv(ti.out);
-        const auto point = static_cast<std::size_t>(std::find(hb_rows[0].begin(), hb_rows[0].end(), "point") - hb_rows[0].begin());
-        std::vector<std::string> sample;
-        for (const auto& row : hb_rows)
-            if (row.size() > point && row[point] == "sample") sample = row;
+        const auto sample = ::test::sample_row(hb_rows, std::stod(c.omega));
         REQUIRE(!sample.empty());
         REQUIRE(ti_rows.size() == 2);
         CHECK(ti_rows[1][6] == c.regime);
         CHECK(sample[6] == c.regime);
+        const auto exact_column = std::find(hb_rows[0].begin(), hb_rows[0].end(), "exact") - hb_rows[0].begin();
+        CHECK(sample[static_cast<std::size_t>(exact_column)] == c.exact);
         for (std::size_t column : {1, 2, 3, 4}) {  // midspan_max, tip_max, midspan_amp1, tip_amp1
             REQUIRE(hb_rows[0][column] == ti_rows[0][column]);
             const double y_ti = std::stod(ti_rows[1][column]), y_hb = std::stod(sample[column]);

@@ -295,3 +295,69 @@ TEST_CASE("The unstable verdict: a perturbed time integration grows as the exact
         CHECK((x.head(3) - o.state.head(3)).norm() > 10 * delta.norm());  // it grew
     }
 }
+
+TEST_CASE("Massless DOFs: the exact orbit of the condensed system, in the original DOFs, equals the Jenkins model's",
+          "[exact][massless]") {
+    // massless_contact: a mass on a spring and, behind a spring k_t, a massless DOF held by
+    // exact Coulomb friction to the ground. It is exactly the Jenkins element (k_t, F_c) on the
+    // mass (jenkins_equivalent), and the massless DOF is its slider: y2(t) = s(t) = y1 - f / k_t.
+    const double kt = 0.8, limit = 0.3;
+    const System shoe = hbf::test::massless_contact(kt, limit), jenkins = hbf::test::jenkins_equivalent(kt, limit);
+    REQUIRE(exact_solver_supports(shoe));
+    ExactOptions options;
+    options.samples = 4000;
+    options.outputs = {Output("gap", {{1, 1.0}, {0, -1.0}}), Output::dof(1)};  // y2 - y1 = -f / k_t, y2
+    for (double omega : {0.5, 0.9, 1.1, 1.6}) {
+        INFO("w = " << omega);
+        const ExactOrbit a = exact_periodic_orbit(shoe, omega, linear_stuck_state(shoe, omega), options);
+        ExactOptions plain = options;
+        plain.outputs.clear();
+        const ExactOrbit b = exact_periodic_orbit(jenkins, omega, linear_stuck_state(jenkins, omega), plain);
+        REQUIRE(a.converged);
+        REQUIRE(b.converged);
+        REQUIRE(a.y_max.size() == 2);
+        CHECK(a.regime == b.regime);
+        CHECK(a.y_max[0] == Approx(b.y_max[0]).epsilon(1e-10));
+        CHECK(a.y_amp1[0] == Approx(b.y_amp1[0]).epsilon(1e-10));
+        CHECK(a.energy == Approx(b.energy).epsilon(1e-10));
+        CHECK(a.input_energy == Approx(b.input_energy).epsilon(1e-10));
+        CHECK(a.switches == b.switches);
+        // The massless DOF is the slider, sample for sample; its maximum (turning points
+        // refined) is at least every sample's and within the samples' resolution of them.
+        double slider_max = 0.0, gap_max = 0.0;
+        for (int j = 0; j < options.samples; ++j) {
+            const double s = b.displacement(j, 0) - b.friction_force(j, 0) / kt;
+            CHECK(a.displacement(j, 1) == Approx(s).margin(1e-10 * b.y_max[0]));
+            CHECK(a.friction_force(j, 0) == Approx(b.friction_force(j, 0)).margin(1e-10 * limit));
+            slider_max = std::max(slider_max, std::abs(s));
+            gap_max = std::max(gap_max, std::abs(b.friction_force(j, 0)) / kt);
+        }
+        CHECK(a.y_max[1] >= slider_max * (1.0 - 1e-12));
+        CHECK(a.y_max[1] == Approx(slider_max).epsilon(1e-5));
+        CHECK(a.output_max[1] == a.y_max[1]);
+        CHECK(a.output_max[0] >= gap_max * (1.0 - 1e-12));
+        CHECK(a.output_max[0] == Approx(gap_max).epsilon(1e-5));
+        // The state at t = 0 in the original layout is on the orbit: a start from it converges
+        // at once to the same orbit.
+        const ExactOrbit again = exact_periodic_orbit(shoe, omega, a.state, options);
+        REQUIRE(again.converged);
+        CHECK(again.iterations <= 1);
+        CHECK(again.y_max[1] == Approx(a.y_max[1]).epsilon(1e-10));
+    }
+}
+
+TEST_CASE("Massless DOFs the condensation cannot remove are refused by the exact solver, with the reason",
+          "[exact][massless]") {
+    System dahl_shoe = hbf::test::massless_contact(0.8, 0.3);
+    dahl_shoe.contacts[0].law = FrictionLaw::dahl;
+    dahl_shoe.contacts[0].stiffness = 2.0;
+    CHECK_FALSE(exact_solver_supports(dahl_shoe));
+    CHECK_THAT(exact_solver_refusal(dahl_shoe), Catch::Contains("dahl"));
+    System damped_shoe = hbf::test::massless_contact(0.8, 0.3);
+    damped_shoe.damping = sparse(Eigen::Vector2d(0.05, 0.01).asDiagonal());
+    CHECK_THAT(exact_solver_refusal(damped_shoe),
+               Catch::Contains("static condensation") && Catch::Contains("damping"));
+    CHECK_THROWS_WITH(exact_periodic_orbit(damped_shoe, 1.0, Eigen::VectorXd::Zero(6)),
+                      Catch::Contains("massless DOF 2 has damping"));
+    CHECK(exact_solver_refusal(hbf::test::massless_contact(0.8, 0.3)).empty());
+}

@@ -205,7 +205,7 @@ TEST_CASE("Excitation harmonic: bad values are refused with the parameter named,
         {"--excitation-harmonic 0", "--excitation-harmonic = 0 is out of range: allowed 1..200"},
         {"--excitation-harmonic 2.5", "--excitation-harmonic"},
         {"--excitation-harmonic 3 --harmonics 2", "allowed harmonics >= h"},
-        {"--excitation-harmonic 2 --exact on", "excitation harmonic 2"},
+        {"--excitation-harmonic 2 --exact on", "excitation harmonic h = 2"},
     };
     for (const Case& c : cases) {
         INFO(c.args);

@@ -145,12 +145,17 @@ struct ExactOrbit {
 };
 
 /// The exact solver's flows are dense (cost ~ N^3 per Taylor step, steps as short as 1 / the
-/// fastest mode): models up to this many DOFs. Finite-element models need a modal form first.
+/// fastest mode): models up to this many DOFs with mass. Finite-element models need a modal
+/// form or a reduction first.
 constexpr int exact_solver_max_dofs = 64;
-/// True when every contact is exact Coulomb or Jenkins (the laws this solver covers), M is
-/// positive definite, the model has at most exact_solver_max_dofs DOFs and the force acts at
-/// the fundamental (excitation harmonic 1).
+/// True when every contact is exact Coulomb or Jenkins (the laws this solver covers), the
+/// force acts at the fundamental (excitation harmonic 1), and the model has at most
+/// exact_solver_max_dofs DOFs with mass: M positive definite, or massless DOFs that the static
+/// condensation of time_integration.hpp removes (an exact Coulomb or Jenkins contact on them
+/// becomes a Jenkins element), which exact_periodic_orbit then does.
 bool exact_solver_supports(const System& system);
+/// Why exact_solver_supports is false (one sentence naming the cause), empty when it is true.
+std::string exact_solver_refusal(const System& system);
 
 /// The load of the permanent-stick state (the convention above) at omega: max over the contacts
 /// of max_t |f_c(t)| / F_c. Permanent stick holds iff it is <= 1; the stick|stick-slip
@@ -159,7 +164,10 @@ bool exact_solver_supports(const System& system);
 double permanent_stick_load(const System& system, double omega);
 
 /// The periodic orbit at omega near `initial_state` (time_integration.hpp's convention, size
-/// 2N + 2 n_c; the modes are hints, the state decides). Throws InvalidInput for an invalid
+/// 2N + 2 n_c; the modes are hints, the state decides). With massless DOFs the orbit is
+/// solved on the static condensation (exactly) and given in the original DOFs: the massless
+/// DOFs, and outputs on them, are linear in the reduced state, the load and the sliders, so
+/// their maxima (turning points) and harmonics are as exact as the others'. Throws InvalidInput for an invalid
 /// system, a law other than coulomb/jenkins, omega <= 0, bad options or a state of the wrong
 /// size. Non-convergence is a status (converged = false, message) with the last iterate's
 /// metrics.

@@ -108,15 +108,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         throw UsageError("--exact = '" + o.exact + "' is not allowed: allowed on, off");
     const bool exact = o.exact.empty() ? exact_solver_supports(system) : o.exact == "on";
     if (exact && !exact_solver_supports(system))
-        throw UsageError("--exact on: the event-exact solver covers coulomb and jenkins contacts only, on models of at most " +
-                         std::to_string(exact_solver_max_dofs) + " DOFs with a positive definite mass matrix, excited at "
-                         "harmonic 1; here: law " +
-                         law_name + ", " + std::to_string(system.dofs()) + " DOFs" +
-                         (system.has_positive_definite_mass() ? std::string() : std::string(", massless DOFs")) +
-                         (system.excitation_harmonic == 1
-                              ? std::string()
-                              : ", excitation harmonic " + std::to_string(system.excitation_harmonic)) +
-                         " (use --exact off)");
+        throw UsageError("--exact on: " + exact_solver_refusal(system) + " (use --exact off)");
     // With the polish, HB only supplies the branch and the starting guesses: H = 10 suffices
     // (measured: the same exact branch, peaks and transitions as H = 20, 3 times faster).
     if (exact) chosen.automatic_harmonics = 10;
@@ -372,8 +364,9 @@ Runner add_frf_command(CLI::App& app) {
                         "polish every branch point, sample, transition and peak by the event-exact periodic solver "
                         "(exact Coulomb and Jenkins: Newton shooting on closed-form flows between stick/slip events, "
                         "Floquet stability), on or off [default: on for coulomb and jenkins contacts on models of at most "
-                        "64 DOFs with a positive definite mass matrix, off otherwise (the exact solver is dense); on "
-                        "where it does not apply is an error]")
+                        "64 DOFs with mass (massless DOFs are condensed statically: a contact on them becomes a "
+                        "Jenkins element) and a force at harmonic 1, off otherwise (the exact solver is dense); on "
+                        "where it does not apply is an error naming why]")
         ->type_name("on|off");
     command->add_flag("--quiet", options->quiet,
                       "no progress (on a terminal: w reached, points, elapsed time, redrawn 4 times a second) or "

@@ -128,12 +128,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     tio.method = o.method == "bdf" ? IntegrationMethod::bdf : IntegrationMethod::adams;
     const bool exact = o.method == "exact";
     if (exact && !exact_solver_supports(system))
-        throw UsageError("--method exact: the event-exact solver covers coulomb and jenkins contacts only, on models of "
-                         "at most " + std::to_string(exact_solver_max_dofs) +
-                         " DOFs with a positive definite mass matrix; here: law " + chosen.law_name + ", " +
-                         std::to_string(system.dofs()) + " DOFs" +
-                         (system.has_positive_definite_mass() ? std::string() : std::string(", massless DOFs")) +
-                         " (use adams or bdf)");
+        throw UsageError("--method exact: " + exact_solver_refusal(system) + " (use adams or bdf)");
     tio.outputs = chosen.outputs;
     ExactOptions eo;
     eo.outputs = chosen.outputs;

@@ -171,6 +171,20 @@ Eigen::VectorXd MasslessCondensation::reduce_state(const Eigen::VectorXd& state)
     return out;
 }
 
+MasslessCondensation::MasslessMap MasslessCondensation::massless_map() const {
+    MasslessMap m;
+    m.load = g_f_;
+    m.from_massive = -x_;
+    m.from_sliders = Eigen::MatrixXd::Zero(g_w_.rows(), g_w_.cols());
+    for (int c = 0; c < static_cast<int>(converted_.size()); ++c) {
+        if (!converted_[static_cast<std::size_t>(c)]) continue;
+        const Contact& k = reduced_.contacts[static_cast<std::size_t>(c)];
+        m.from_massive -= k.stiffness * g_w_.col(c) * k.direction.transpose();
+        m.from_sliders.col(c) = k.stiffness * g_w_.col(c);
+    }
+    return m;
+}
+
 Eigen::VectorXd MasslessCondensation::massless_displacement(const Eigen::VectorXd& y_r, const Eigen::VectorXd& f,
                                                             double cosine) const {
     return g_f_ * cosine - x_ * y_r - g_w_ * f;

@@ -40,6 +40,21 @@ public:
     /// first harmonic uses the exact ones of the massive DOFs and the sampled friction force).
     void expand(PeriodicResponse& response, const TimeIntegrationOptions& options) const;
 
+    /// The massless DOFs as linear functions of the reduced state: y_S = load cos(h w t) +
+    /// from_massive y_R + from_sliders s, with the converted contacts' forces
+    /// f_c = k_c (w^_c^T y_R - s_c) substituted (s: the reduced contacts' internal states).
+    struct MasslessMap {
+        Eigen::VectorXd load;          ///< K_SS^-1 F_S (S)
+        Eigen::MatrixXd from_massive;  ///< S x R
+        Eigen::MatrixXd from_sliders;  ///< S x contacts
+    };
+    MasslessMap massless_map() const;
+    /// Original DOF i: its index among the massive (R) or the massless (S) DOFs.
+    int position(int dof) const { return position_[static_cast<std::size_t>(dof)]; }
+    bool massless(int dof) const { return system_.mass.coeff(dof, dof) == 0.0; }
+    /// True when contact c moves massless DOFs (it became a Jenkins element).
+    bool converted(int contact) const { return converted_[static_cast<std::size_t>(contact)]; }
+
 private:
     Eigen::VectorXd massless_displacement(const Eigen::VectorXd& y_r, const Eigen::VectorXd& f, double cosine) const;
 
