@@ -97,4 +97,25 @@ inline double column(const std::vector<std::vector<std::string>>& rows, const st
     return std::stod(row[static_cast<std::size_t>(at - header.begin())]);
 }
 
+/// `hbf <args>` (a command that takes --out) is refused as bad input: exit 2, every text of
+/// `expected` in the message, nothing on stdout and no output file.
+inline void check_bad_input(const std::string& args, const std::vector<std::string>& expected, const TempDir& dir) {
+    const fs::path out = dir.path / "refused.csv";
+    const Result r = run_hbf(args + " --out '" + out.string() + "'", dir);
+    INFO(args << "\n-> " << r.err);
+    CHECK(r.exit_code == 2);
+    for (const std::string& e : expected) CHECK_THAT(r.err, Catch::Contains(e));
+    CHECK(r.out.empty());
+    CHECK(!fs::exists(out));
+}
+
+/// The same for `hbf frf --config FILE` with a system file holding `text` (system.toml).
+inline void check_bad_config(const std::string& text, const std::vector<std::string>& expected, const TempDir& dir) {
+    const fs::path file = dir.path / "system.toml";
+    write_file(file, text);
+    INFO(text);
+    check_bad_input("frf --config '" + file.string() + "'", expected, dir);
+    fs::remove(file);
+}
+
 }  // namespace test

@@ -160,24 +160,30 @@ inline double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b)
     return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
 }
 
-/// Every DOF's coefficients at each omega of `omegas`, from a branch over [wmin, wmax].
-inline std::vector<Eigen::MatrixXd> sampled_dofs(const System& system, const HarmonicBalanceOptions& options,
-                                                 const std::vector<double>& omegas, double wmin, double wmax,
-                                                 double tolerance = 1e-12) {
-    HarmonicBalance hb(system, options);
-    const Formulation formulation = options.formulation;
-    REQUIRE((formulation == Formulation::automatic || hb.formulation() == formulation));
+/// The branch of `hb` over [wmin, wmax] (required to complete) solved at each omega of
+/// `omegas`, in order.
+inline std::vector<SolutionPoint> sampled_points(HarmonicBalance& hb, const std::vector<double>& omegas, double wmin,
+                                                 double wmax, double tolerance = 1e-12) {
     ContinuationOptions o;
     o.omega_start = wmin;
     o.omega_end = wmax;
     o.corrector.tolerance = tolerance;
     const BranchResult b = continue_branch(hb, o);
-    INFO(to_string(formulation) << ": " << b.summary());
+    INFO(b.summary());
     REQUIRE(b.status == ContinuationStatus::completed);
-    const std::vector<SolutionPoint> samples = sample_branch(hb, b, omegas, o.corrector);
+    std::vector<SolutionPoint> samples = sample_branch(hb, b, omegas, o.corrector);
     REQUIRE(samples.size() == omegas.size());
+    return samples;
+}
+
+/// Every DOF's coefficients at each omega of `omegas`, from a branch over [wmin, wmax].
+inline std::vector<Eigen::MatrixXd> sampled_dofs(const System& system, const HarmonicBalanceOptions& options,
+                                                 const std::vector<double>& omegas, double wmin, double wmax,
+                                                 double tolerance = 1e-12) {
+    HarmonicBalance hb(system, options);
+    REQUIRE((options.formulation == Formulation::automatic || hb.formulation() == options.formulation));
     std::vector<Eigen::MatrixXd> y;
-    for (const SolutionPoint& p : samples) y.push_back(hb.dofs(p.x, p.omega));
+    for (const SolutionPoint& p : sampled_points(hb, omegas, wmin, wmax, tolerance)) y.push_back(hb.dofs(p.x, p.omega));
     return y;
 }
 

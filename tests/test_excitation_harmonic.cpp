@@ -93,13 +93,7 @@ TEST_CASE("A force at 2 w on the stuck absorber: HB and time integration give th
     const System s = with_harmonic(friction_absorber(p, FrictionLaw::coulomb), 2);
     const std::vector<double> omegas = {0.2, 0.55};
     HarmonicBalance hb(s, HarmonicBalanceOptions{10, 0, Formulation::automatic});
-    ContinuationOptions co;
-    co.omega_start = 0.15;
-    co.omega_end = 0.6;
-    const BranchResult branch = continue_branch(hb, co);
-    REQUIRE(branch.status == ContinuationStatus::completed);
-    const auto samples = sample_branch(hb, branch, omegas, co.corrector);
-    REQUIRE(samples.size() == omegas.size());
+    const auto samples = hbf::test::sampled_points(hb, omegas, 0.15, 0.6);
     Analyser analyse(hb);
     for (const SolutionPoint& point : samples) {
         const double closed = std::abs(analytic::coulomb_stick(p, 2.0 * point.omega).y1);
@@ -125,16 +119,9 @@ TEST_CASE("A force at 2 w in stick-slip: HB against time integration, and the fo
     for (FrictionLaw law : {FrictionLaw::jenkins, FrictionLaw::dahl}) {
         const System s = with_harmonic(friction_absorber(AbsorberParameters{}, law), 2);
         HarmonicBalance hb(s, HarmonicBalanceOptions{40, 0, Formulation::automatic});
-        ContinuationOptions co;
-        co.omega_start = 0.25;
-        co.omega_end = 0.8;
-        const BranchResult branch = continue_branch(hb, co);
-        INFO(to_string(law) << ": " << branch.summary());
-        REQUIRE(branch.status == ContinuationStatus::completed);
+        INFO(to_string(law));
         // stick-slip at these w (the h = 1 FRF is stick-slip near 2 w = 0.86-0.88 and 1.19-1.20)
-        const std::vector<double> omegas = {0.43, 0.435, 0.5975};
-        const auto samples = sample_branch(hb, branch, omegas, co.corrector);
-        REQUIRE(samples.size() == omegas.size());
+        const auto samples = hbf::test::sampled_points(hb, {0.43, 0.435, 0.5975}, 0.25, 0.8);
         Analyser analyse(hb);
         int sliding = 0;
         for (const SolutionPoint& point : samples) {
@@ -164,14 +151,7 @@ TEST_CASE("A force at 2 w on a massless contact DOF: time integration's condensa
     // (condensed) solves the same equations. Exact Coulomb by HB errs like 1/H at stick-slip.
     const System s = with_harmonic(hbf::test::massless_contact(0.8, 0.3), 2);
     HarmonicBalance hb(s, HarmonicBalanceOptions{40, 0, Formulation::automatic});
-    ContinuationOptions co;
-    co.omega_start = 0.2;
-    co.omega_end = 0.9;
-    const BranchResult branch = continue_branch(hb, co);
-    REQUIRE(branch.status == ContinuationStatus::completed);
-    const std::vector<double> omegas = {0.3, 0.55, 0.8};
-    const auto samples = sample_branch(hb, branch, omegas, co.corrector);
-    REQUIRE(samples.size() == omegas.size());
+    const auto samples = hbf::test::sampled_points(hb, {0.3, 0.55, 0.8}, 0.2, 0.9);
     Analyser analyse(hb);
     for (const SolutionPoint& point : samples) {
         const PointMetrics m = analyse(point);
@@ -198,29 +178,13 @@ TEST_CASE("Excitation harmonic: bad values are refused with the parameter named,
                       Catch::Contains("excitation harmonic h = 2"));
 
     ::test::TempDir dir;
-    struct Case {
-        std::string args, message;
-    };
-    const std::vector<Case> cases = {
-        {"--excitation-harmonic 0", "--excitation-harmonic = 0 is out of range: allowed 1..200"},
-        {"--excitation-harmonic 2.5", "--excitation-harmonic"},
-        {"--excitation-harmonic 3 --harmonics 2", "allowed harmonics >= h"},
-        {"--excitation-harmonic 2 --exact on", "excitation harmonic h = 2"},
-    };
-    for (const Case& c : cases) {
-        INFO(c.args);
-        const ::test::Result r = ::test::run_hbf("frf --quiet " + c.args, dir);
-        CHECK(r.exit_code == 2);
-        CHECK(r.out.empty());
-        CHECK_THAT(r.err, Catch::Contains(c.message));
-    }
-    const ::test::fs::path file = dir.path / "bad.toml";
-    ::test::write_file(file,
-                     "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\nexcitation_harmonic = 201\n"
-                     "[[contact]]\ndof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.2\n");
-    const ::test::Result r = ::test::run_hbf("frf --quiet --config '" + file.string() + "'", dir);
-    CHECK(r.exit_code == 2);
-    CHECK_THAT(r.err, Catch::Contains("structure.excitation_harmonic") && Catch::Contains("allowed 1..200"));
+    ::test::check_bad_input("frf --quiet --excitation-harmonic 0", {"--excitation-harmonic = 0 is out of range: allowed 1..200"}, dir);
+    ::test::check_bad_input("frf --quiet --excitation-harmonic 2.5", {"--excitation-harmonic"}, dir);
+    ::test::check_bad_input("frf --quiet --excitation-harmonic 3 --harmonics 2", {"allowed harmonics >= h"}, dir);
+    ::test::check_bad_input("frf --quiet --excitation-harmonic 2 --exact on", {"excitation harmonic h = 2"}, dir);
+    ::test::check_bad_config("[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\nexcitation_harmonic = 201\n"
+                             "[[contact]]\ndof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.2\n",
+                             {"structure.excitation_harmonic", "allowed 1..200"}, dir);
 }
 
 TEST_CASE("hbf frf --excitation-harmonic 2 is the default FRF at half the frequency, and --config's key does the "

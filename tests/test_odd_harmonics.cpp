@@ -153,31 +153,16 @@ TEST_CASE("hbf frf --harmonics odd gives the default FRF for every law, and refu
         const nlohmann::json summary = nlohmann::json::parse(::test::slurp(dir.path / "s.json"));
         CHECK(summary["parameters"]["odd_harmonics"] == 1);
     }
-    struct Case {
-        std::string args, message;
-    };
-    const std::vector<Case> cases = {
-        {"--harmonics odd:0", "allowed odd (automatic H) or odd:H"},
-        {"--harmonics odd:x", "--harmonics"},
-        {"--harmonics even", "--harmonics"},
-        {"--harmonics odd:201", "allowed 0 (automatic), 1..200, odd, or odd:H"},
-        {"--harmonics odd --excitation-harmonic 2", "odd h"},
-    };
-    for (const Case& c : cases) {
-        INFO(c.args);
-        const ::test::Result r = ::test::run_hbf("frf --quiet " + c.args, dir);
-        CHECK(r.exit_code == 2);
-        CHECK(r.out.empty());
-        CHECK_THAT(r.err, Catch::Contains(c.message));
-    }
+    ::test::check_bad_input("frf --quiet --harmonics odd:0", {"allowed odd (automatic H) or odd:H"}, dir);
+    ::test::check_bad_input("frf --quiet --harmonics odd:x", {"--harmonics"}, dir);
+    ::test::check_bad_input("frf --quiet --harmonics even", {"--harmonics"}, dir);
+    ::test::check_bad_input("frf --quiet --harmonics odd:201", {"allowed 0 (automatic), 1..200, odd, or odd:H"}, dir);
+    ::test::check_bad_input("frf --quiet --harmonics odd --excitation-harmonic 2", {"odd h"}, dir);
     const ::test::fs::path file = dir.path / "odd.toml";
     const std::string structure =
         "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\n"
         "[[contact]]\ndof = 1\nlaw = \"dahl\"\nfriction_limit = 0.2\nstiffness = 2.0\n[solver]\nharmonics = 9\n";
-    ::test::write_file(file, structure + "odd_harmonics = 1\n");
-    const ::test::Result bad = ::test::run_hbf("frf --quiet --config '" + file.string() + "'", dir);
-    CHECK(bad.exit_code == 2);
-    CHECK_THAT(bad.err, Catch::Contains("solver.odd_harmonics") && Catch::Contains("expected true or false"));
+    ::test::check_bad_config(structure + "odd_harmonics = 1\n", {"solver.odd_harmonics", "expected true or false"}, dir);
     ::test::write_file(file, structure + "odd_harmonics = true\n");
     const ::test::Result good =
         ::test::run_hbf("frf --quiet --config '" + file.string() + "' --summary '" + (dir.path / "c.json").string() + "'",

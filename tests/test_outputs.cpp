@@ -171,15 +171,7 @@ TEST_CASE("[[output]] errors name the key and the allowed values, and no output 
         {structure + "[[output]]\nname = \"a\"\nrow = [1.0, 0.0]\nscale = 2\n", {"output[1].scale", "unknown key"}},
         {structure + "[output]\nreport = [1, 1]\n", {"output.report", "listed twice"}},
     };
-    for (const Case& c : cases) {
-        const fs::path file = dir.path / "system.toml", out = dir.path / "frf.csv";
-        write_file(file, c.text);
-        const Result r = run_hbf("frf --config '" + file.string() + "' --out '" + out.string() + "'", dir);
-        INFO(c.text << "\n-> " << r.err);
-        CHECK(r.exit_code == 2);
-        for (const std::string& e : c.expected) CHECK_THAT(r.err, Catch::Contains(e));
-        CHECK(!fs::exists(out));
-    }
+    for (const Case& c : cases) check_bad_config(c.text, c.expected, dir);
 }
 
 TEST_CASE("JSON folds and transitions carry <name>_max of every output, as the CSV's rows there", "[outputs][cli]") {
