@@ -1,8 +1,13 @@
 #include "hbf/io.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <iostream>
 #include <random>
@@ -13,23 +18,130 @@
 namespace hbf::io {
 
 namespace {
+namespace fs = std::filesystem;
+
 bool is_stdout(const std::string& path) { return path.empty() || path == "-"; }
 
 std::string temporary_name(const std::string& path) {
     std::random_device device;
     return path + ".tmp" + std::to_string(device() % 1000000000u);
 }
+
+/// What an existing or new output path is, symlinks followed.
+struct Resolved {
+    fs::path target;           ///< the final target (the path itself when it does not exist)
+    fs::file_status status;    ///< of the target (not_found for a new file)
+    bool dangling = false;     ///< a symlink whose target does not exist
+};
+
+Resolved resolve(const std::string& path) {
+    Resolved r;
+    std::error_code error;
+    const fs::file_status link = fs::symlink_status(path, error);
+    if (fs::is_symlink(link)) {
+        r.target = fs::canonical(path, error);
+        if (error) {
+            r.dangling = true;
+            r.target = path;
+            return r;
+        }
+    } else {
+        r.target = path;
+    }
+    r.status = fs::status(r.target, error);
+    return r;
+}
+
+bool written_in_place(const fs::file_status& status) {
+    return fs::is_character_file(status) || fs::is_fifo(status);
+}
 }  // namespace
+
+void check_outputs(const std::vector<OutputTarget>& targets) {
+    struct Seen {
+        std::string flag;
+        fs::path path;
+        dev_t device = 0;
+        ino_t inode = 0;
+        bool exists = false, character = false;
+    };
+    std::vector<Seen> seen;
+    std::string to_stdout;
+    for (const OutputTarget& t : targets) {
+        if (t.path.empty()) {
+            if (t.given)
+                throw InvalidInput(t.flag + " is empty: allowed a file path" +
+                                   (t.stdout_if_empty ? std::string(", or - for standard output") : std::string()));
+            if (!t.stdout_if_empty) continue;
+        }
+        if (is_stdout(t.path)) {
+            if (t.image) throw InvalidInput(t.flag + " = '-': an image is written to a file: allowed a .png or .svg path");
+            if (!to_stdout.empty())
+                throw InvalidInput(t.flag + " and " + to_stdout + " both go to standard output: allowed one of them");
+            to_stdout = t.flag;
+            continue;
+        }
+        const std::string where = t.flag + " = '" + t.path + "'";
+        const Resolved r = resolve(t.path);
+        if (r.dangling) throw InvalidInput(where + " is a symlink to nothing: allowed a file, or a link to one");
+        Seen mine{t.flag, r.target, 0, 0, false, false};
+        if (fs::exists(r.status)) {
+            if (fs::is_directory(r.status)) throw InvalidInput(where + " is a directory: allowed a file path");
+            const bool regular = fs::is_regular_file(r.status);
+            if (!regular && !written_in_place(r.status))
+                throw InvalidInput(where + " is neither a file, a character device nor a FIFO: allowed those");
+            if (!regular && t.image)
+                throw InvalidInput(where + " is a device or FIFO: an image needs a regular file path");
+            if (::access(r.target.c_str(), W_OK) != 0) throw InvalidInput(where + " is not writable");
+            struct stat info {};
+            if (::stat(r.target.c_str(), &info) == 0) {
+                mine.exists = true;
+                mine.device = info.st_dev;
+                mine.inode = info.st_ino;
+                mine.character = S_ISCHR(info.st_mode);
+            }
+        }
+        // Regular files are replaced through a temporary file in their directory: it must
+        // exist and be writable (new files likewise).
+        if (!fs::exists(r.status) || fs::is_regular_file(r.status)) {
+            const fs::path directory = r.target.has_parent_path() ? r.target.parent_path() : fs::path(".");
+            std::error_code error;
+            if (!fs::is_directory(directory, error))
+                throw InvalidInput(where + ": the directory '" + directory.string() + "' does not exist");
+            if (::access(directory.c_str(), W_OK | X_OK) != 0)
+                throw InvalidInput(where + ": the directory '" + directory.string() + "' is not writable");
+        }
+        std::error_code error;
+        mine.path = fs::weakly_canonical(r.target, error);
+        if (error) mine.path = r.target;
+        for (const Seen& other : seen) {
+            const bool same_inode = mine.exists && other.exists && mine.device == other.device && mine.inode == other.inode;
+            if ((same_inode || mine.path == other.path) && !(mine.character && other.character))
+                throw InvalidInput(t.flag + " and " + other.flag + " name the same file '" + t.path +
+                                   "': allowed different files");
+        }
+        seen.push_back(mine);
+    }
+}
 
 OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
     if (is_stdout(path_)) return;
-    temporary_ = temporary_name(path_);
+    const Resolved r = resolve(path_);
+    if (r.dangling) throw std::runtime_error("output '" + path_ + "' is a symlink to nothing");
+    target_ = r.target.string();
+    in_place_ = written_in_place(r.status);
+    if (in_place_) {  // a device or FIFO: written where it is, never replaced
+        file_.open(target_, std::ios::out);
+        if (!file_) throw std::runtime_error("cannot open output '" + path_ + "' for writing");
+        return;
+    }
+    temporary_ = temporary_name(target_);
     file_.open(temporary_, std::ios::out | std::ios::trunc);
     if (!file_) throw std::runtime_error("cannot open output file '" + path_ + "' for writing");
 }
 
 OutputFile::~OutputFile() {
-    if (!is_stdout(path_) && !committed_) {
+    if (!is_stdout(path_) && !in_place_ && !committed_) {
         file_.close();
         std::remove(temporary_.c_str());
     }
@@ -47,7 +159,19 @@ void OutputFile::commit() {
     file_.flush();
     const bool written = static_cast<bool>(file_);
     file_.close();
-    if (!written || std::rename(temporary_.c_str(), path_.c_str()) != 0) {
+    if (in_place_) {
+        if (!written) throw std::runtime_error("cannot write output '" + path_ + "'");
+        committed_ = true;
+        return;
+    }
+    // The data on disk before the rename makes it visible (a crash leaves the old file).
+    bool synced = false;
+    const int fd = ::open(temporary_.c_str(), O_RDONLY);
+    if (fd >= 0) {
+        synced = ::fsync(fd) == 0;
+        ::close(fd);
+    }
+    if (!written || !synced || std::rename(temporary_.c_str(), target_.c_str()) != 0) {
         std::remove(temporary_.c_str());
         throw std::runtime_error("cannot write output file '" + path_ + "'");
     }

@@ -65,7 +65,8 @@ void check_plot(const std::string& flag, const std::string& path) {
 
 void write_plot(const std::string& path, const PlotSpec& spec) {
     check_plot_path("plot", path);
-    const fs::path target(path);
+    // A symlink stays one: the image replaces its final target.
+    const fs::path target = fs::is_symlink(path) ? fs::canonical(path) : fs::path(path);
     const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
     const std::string suffix = unique_suffix();
     const fs::path image = directory / ("." + target.filename().string() + ".tmp-" + suffix + extension_of(path));

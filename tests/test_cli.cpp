@@ -134,12 +134,16 @@ TEST_CASE("hbf without a command or with an unknown command is bad input", "[cli
     CHECK_THAT(r.err, Catch::Contains("frobnicate"));
 }
 
-TEST_CASE("an unwritable output file is a failure (exit 1), not bad input", "[cli]") {
+TEST_CASE("an output path in a missing directory is bad input found before any work, a failed write a failure",
+          "[cli]") {
     TempDir dir;
     const Result r = run_hbf("analytic --out '" + (dir.path / "missing" / "x.csv").string() + "'", dir);
-    CHECK(r.exit_code == 1);
-    CHECK_THAT(r.err, Catch::Contains("missing/x.csv"));
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Catch::Contains("--out") && Catch::Contains("missing/x.csv") && Catch::Contains("does not exist"));
     CHECK(dir.empty());
+    const Result full = run_hbf("analytic --out /dev/full", dir);  // the device takes no data
+    CHECK(full.exit_code == 1);
+    CHECK_THAT(full.err, Catch::Contains("cannot write"));
 }
 
 TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "[cli]") {

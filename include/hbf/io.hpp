@@ -14,10 +14,33 @@
 
 namespace hbf::io {
 
+/// An output a command will write: the flag naming it, its path ("-" for standard output;
+/// empty: not written unless `stdout_if_empty`), and whether it is an image (--plot).
+struct OutputTarget {
+    std::string flag;
+    std::string path;
+    bool given = false;            ///< the flag was on the command line (an empty value is an error)
+    bool stdout_if_empty = false;  ///< an absent path means standard output (--out)
+    bool image = false;            ///< written by gnuplot: a regular file only
+};
+
+/// The output policy, checked before any work; throws InvalidInput naming the flag:
+///  - an empty value given on the command line is an error; "-" means standard output, and
+///    only one output may go there;
+///  - a new file needs an existing, writable directory; an existing target must not be a
+///    directory; a regular file (or a symlink to one, which stays a symlink) is replaced
+///    atomically (OutputFile); a character device or a FIFO (or a symlink to one) is written
+///    in place and never replaced (not for images, which need a regular file); a socket or a
+///    dangling symlink is refused;
+///  - no two outputs may be the same file, compared by resolved path and by device and
+///    inode (several outputs to one character device, such as /dev/null, are allowed).
+void check_outputs(const std::vector<OutputTarget>& targets);
+
 /// An output destination that never leaves a partial file behind: the content goes to a
-/// temporary file beside the target and is renamed onto it by commit(). Without commit()
-/// (an error, an exception) the temporary file is removed and the target is untouched.
-/// An empty path or "-" means standard output (written directly).
+/// temporary file beside the target (a symlink's final target) and is renamed onto it by
+/// commit(), after fsync. Without commit() (an error, an exception) the temporary file is
+/// removed and the target is untouched. An empty path or "-" means standard output (written
+/// directly); an existing character device or FIFO is written in place, never replaced.
 class OutputFile {
 public:
     explicit OutputFile(std::string path);
@@ -30,9 +53,11 @@ public:
     void commit();
 
 private:
-    std::string path_;
+    std::string path_;    // as given
+    std::string target_;  // the file renamed onto (symlinks resolved), or written in place
     std::string temporary_;
     std::ofstream file_;
+    bool in_place_ = false;
     bool committed_ = false;
 };
 

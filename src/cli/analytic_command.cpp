@@ -38,6 +38,8 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
         throw UsageError("--law = '" + o.absorber.law + "' has no closed form: allowed coulomb, dahl, lugre");
     const AbsorberParameters p = o.absorber.parameters(command);
     io::check_plot("--plot", o.plot);  // before any work
+    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
+                       {"--plot", o.plot, command.count("--plot") > 0, false, true}});
     const std::vector<double> grid = analytic::uniform_grid(
         parse_double("--wmin", o.wmin), parse_double("--wmax", o.wmax), parse_integer("--points", o.points));
     const std::vector<analytic::Row> rows = analytic::table(p, law, grid);

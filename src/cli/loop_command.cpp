@@ -34,6 +34,8 @@ std::vector<io::Column> loop_columns(int dofs) {
 
 int run(const CLI::App& command, const LoopOptions& o) {
     io::check_plot("--plot", o.plot);  // before any work
+    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
+                       {"--plot", o.plot, command.count("--plot") > 0, false, true}});
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
     if (o.w.empty()) throw UsageError("--w is required: the frequency of the solution");
     const double w = parse_double("--w", o.w);

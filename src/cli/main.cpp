@@ -19,9 +19,13 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "hbf 0.1.0");
     app.require_subcommand(1);
     app.footer(
-        "Exit codes: 0 success; 2 bad input (an invalid flag or value: the message names it, no "
-        "output file is written); 1 any other failure (a solver that did not converge: what was computed is "
-        "written and stderr says where and why; an output file that cannot be written).\n"
+        "Exit codes: 0 success; 2 bad input (an invalid flag or value, or an output path that cannot be used, "
+        "found before any work: the message names it, no output file is written); 1 any other failure (a "
+        "solver that did not converge: what was computed is written and stderr says where and why; a write "
+        "that fails).\n"
+        "Outputs: '-' is standard output; a regular file (or a symlink to one, which stays a symlink) is "
+        "replaced atomically when the command succeeds; a character device or FIFO (e.g. /dev/null) is "
+        "written in place, never replaced; no two outputs may name the same file.\n"
         "Run 'hbf <command> --help' for a command's flags and output columns.");
 
     std::map<std::string, Runner> runners;
