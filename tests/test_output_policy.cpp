@@ -118,3 +118,15 @@ TEST_CASE("Output paths are checked before any work: collisions, missing directo
     CHECK_THAT(d.err, Catch::Contains("symlink to nothing"));
     CHECK(kind_of(dangling) == "symlink");
 }
+
+TEST_CASE("Empty and conflicting values name the flag the user gave: --config '', --max-periods below the default "
+          "--min-periods",
+          "[cli]") {
+    TempDir dir;
+    // Before, --config '' ran the preset silently, and --max-periods 1 blamed --min-periods.
+    check_bad_input("frf --quiet --config ''", {"--config is empty"}, dir);
+    check_bad_input("timeint --law dahl --w 1 --config ''", {"--config is empty"}, dir);
+    check_bad_input("timeint --law dahl --w 1 --max-periods 1", {"--max-periods = '1' is below --min-periods (3"}, dir);
+    check_bad_input("timeint --law dahl --w 1 --max-periods 2 --min-periods 3",
+                    {"--min-periods = '3' is out of range: allowed 1..--max-periods (2)"}, dir);
+}

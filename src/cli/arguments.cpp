@@ -179,6 +179,9 @@ void apply_excitation_harmonic(const CLI::App& command, const AbsorberFlags& fla
 
 ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path) {
     ChosenSystem chosen;
+    if (config_path.empty() && command.get_option_no_throw("--config") != nullptr && command.count("--config") > 0)
+        throw UsageError("--config is empty: allowed the path of a TOML system file (omit --config for the "
+                         "paper's absorber)");
     if (config_path.empty()) {
         const FrictionLaw law = flags.friction_law();
         chosen.absorber = flags.parameters(command);

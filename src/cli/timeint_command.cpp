@@ -120,6 +120,9 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     if (max_periods < 1 || max_periods > 1000000)
         throw UsageError("--max-periods = '" + o.max_periods + "' is out of range: allowed 1..1000000");
     const long long min_periods = parse_integer("--min-periods", o.min_periods);
+    if (min_periods > max_periods && given(command, "--max-periods") && !given(command, "--min-periods"))
+        throw UsageError("--max-periods = '" + o.max_periods + "' is below --min-periods (" + o.min_periods +
+                         " by default): allowed --max-periods >= --min-periods");
     if (min_periods < 1 || min_periods > max_periods)
         throw UsageError("--min-periods = '" + o.min_periods + "' is out of range: allowed 1..--max-periods (" +
                          std::to_string(max_periods) + ")");
