@@ -7,6 +7,7 @@
 #include <complex>
 #include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include "hbf/error.hpp"
@@ -476,7 +477,9 @@ void check_dense_size(const System& system, bool condensed) {
                            "allowed up to " + std::to_string(exact_solver_max_dofs) + " DOFs");
 }
 
-void validate_system(const System& system, double omega) {
+/// Throws InvalidInput naming why the exact solver cannot take `system` at omega. Returns the
+/// static condensation of its massless DOFs, null when M > 0 (none is needed).
+std::unique_ptr<detail::MasslessCondensation> validate_system(const System& system, double omega) {
     system.validate();
     if (system.excitation_harmonic != 1)
         throw InvalidInput("excitation harmonic h = " + std::to_string(system.excitation_harmonic) +
@@ -491,10 +494,12 @@ void validate_system(const System& system, double omega) {
     }
     if (system.has_positive_definite_mass()) {
         check_dense_size(system, false);
-        return;
+        return nullptr;
     }
     try {
-        check_dense_size(detail::MasslessCondensation(system).reduced(), true);
+        auto condensation = std::make_unique<detail::MasslessCondensation>(system);
+        check_dense_size(condensation->reduced(), true);
+        return condensation;
     } catch (const InvalidInput& e) {
         throw InvalidInput(std::string("the exact solver runs on the static condensation of the massless DOFs: ") +
                            e.what());
@@ -834,8 +839,7 @@ std::string ExactOrbit::summary() const {
 
 ExactFlow exact_flow(const System& system, double omega, const Eigen::VectorXd& state, int periods,
                      int max_events_per_period) {
-    validate_system(system, omega);
-    if (!system.has_positive_definite_mass())
+    if (validate_system(system, omega))
         throw InvalidInput("the mass matrix is singular (massless DOFs): exact_flow integrates M y'' = ... and needs M "
                            "positive definite (exact_periodic_orbit condenses massless DOFs)");
     check_state_size(system, state);
@@ -1111,9 +1115,8 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
 /// massless DOFs follow the massive ones, the load and the sliders linearly), then expressed
 /// in the original DOFs. The massless DOFs and the outputs are functions of the reduced
 /// state, p = L zhat, whose maxima and harmonics come from one more exact period (Probes).
-ExactOrbit massless_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
-                          const ExactOptions& options) {
-    const detail::MasslessCondensation condensation(system);
+ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensation& condensation, double omega,
+                          const Eigen::VectorXd& initial_state, const ExactOptions& options) {
     const System& reduced = condensation.reduced();
     const int n = system.dofs(), nc = static_cast<int>(system.contacts.size()), nr = reduced.dofs();
     ExactOptions reduced_options = options;
@@ -1190,11 +1193,11 @@ ExactOrbit massless_orbit(const System& system, double omega, const Eigen::Vecto
 
 ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
                                 const ExactOptions& options) {
-    validate_system(system, omega);
+    const auto condensation = validate_system(system, omega);
     check_state_size(system, initial_state);
     options.validate();
     for (const Output& o : options.outputs) o.validate(system.dofs());
-    if (!system.has_positive_definite_mass()) return massless_orbit(system, omega, initial_state, options);
+    if (condensation) return massless_orbit(system, *condensation, omega, initial_state, options);
     return orbit_of(system, omega, initial_state, options);
 }
 
