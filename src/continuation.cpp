@@ -33,6 +33,7 @@ std::string to_string(ContinuationStatus status) {
     switch (status) {
         case ContinuationStatus::completed: return "completed";
         case ContinuationStatus::amplitude_cap: return "amplitude_cap";
+        case ContinuationStatus::left_range: return "left_range";
         case ContinuationStatus::min_step: return "min_step";
         case ContinuationStatus::point_budget: return "point_budget";
         case ContinuationStatus::start_failed: return "start_failed";
@@ -272,7 +273,8 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             continue;
         }
         if (wp < omega_low || wp > omega_high) {  // turned back out of the range
-            out.message = "branch left the frequency range at w = " + format_number(wp);
+            out.status = ContinuationStatus::left_range;
+            out.message = "branch turned back and left the frequency range at w = " + format_number(wp);
             return out;
         }
         const Eigen::VectorXd t_new = tangent(xp, wp, t);
@@ -314,6 +316,26 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     }
 }
 
+/// The worse of two statuses (the order of the ContinuationStatus declaration).
+ContinuationStatus worse(ContinuationStatus a, ContinuationStatus b) { return a < b ? b : a; }
+
+/// Share of [low, high] spanned by the segments between successive points of one branch.
+double branch_coverage(const std::vector<SolutionPoint>& points, double low, double high) {
+    std::vector<std::pair<double, double>> spans;
+    for (std::size_t k = 0; k + 1 < points.size(); ++k)
+        if (points[k].branch == points[k + 1].branch)
+            spans.emplace_back(std::max(low, std::min(points[k].omega, points[k + 1].omega)),
+                               std::min(high, std::max(points[k].omega, points[k + 1].omega)));
+    std::sort(spans.begin(), spans.end());
+    double covered = 0.0, reached = low;
+    for (const auto& [a, b] : spans) {
+        if (b <= reached) continue;
+        covered += b - std::max(a, reached);
+        reached = b;
+    }
+    return covered / (high - low);
+}
+
 /// Branch 1 from omega_start and, after an amplitude cap, branch 2 from omega_end.
 void follow_branches(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, BranchResult& result) {
     Eigen::VectorXd x;
@@ -347,6 +369,7 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     result.points.insert(result.points.end(), second.points.begin(), second.points.end());
     result.message += "; branch 2 from w = " + format_number(o.omega_end) + ": " +
                       (second.message.empty() ? to_string(second.status) : second.message);
+    result.status = worse(result.status, second.status);
     // (Caps less than 2% apart are the two flanks of one resonance: no gap between them.)
     if (second.status != ContinuationStatus::amplitude_cap || !(capped_above > 1.02 * capped_at)) return;
 
@@ -368,6 +391,10 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     result.message += "; branch 3 inside the gap from w = " + format_number(middle) + ": down " +
                       (down.message.empty() ? to_string(down.status) : down.message) + ", up " +
                       (up.message.empty() ? to_string(up.status) : up.message);
+    // Branch 3 is bounded by the caps on both sides; turning back past its start is the other
+    // half of its own trace, not an escape from [wmin, wmax].
+    for (const Trace* part : {&down, &up})
+        if (part->status != ContinuationStatus::left_range) result.status = worse(result.status, part->status);
 }
 /// The regime of contact 1 at a point (stick_pattern).
 std::string regime_at(HarmonicBalance& hb, const SolutionPoint& p) {
@@ -399,11 +426,26 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const Solution
     SolutionPoint lo = a, hi = b;  // lo on a's side, hi on b's
     double t_lo = 0.0, t_hi = 1.0;
     while ((t_hi - t_lo) * length > 1e-10) {
-        const double t = 0.5 * (t_lo + t_hi);
+        // The midpoint, or off-centre points when the correction fails there: a nonsmooth
+        // law's residual may not be solvable to the tolerance at one spot but is beside it.
         SolutionPoint m = a;
-        m.x = a.x + t * (b.x - a.x);
-        m.omega = a.omega + t * (b.omega - a.omega);
-        if (!corrector.correct(m.x, m.omega, chord, x_scale, m.iterations, m.residual, omega_scale)) return false;
+        double t = 0.0;
+        bool corrected = false;
+        for (const double fraction : {0.5, 0.382, 0.618}) {
+            t = t_lo + fraction * (t_hi - t_lo);
+            m.x = a.x + t * (b.x - a.x);
+            m.omega = a.omega + t * (b.omega - a.omega);
+            if ((corrected = corrector.correct(m.x, m.omega, chord, x_scale, m.iterations, m.residual, omega_scale)))
+                break;
+        }
+        if (!corrected) {
+            // A bracket already within 1 % of the step is located (its stick-side end is a
+            // converged point; HB's own transitions are O(1/H) misplaced anyway, measured on
+            // chain3_exact.toml at --tolerance 1e-11: the corrector stalls at 0.5 % of the step);
+            // a wider one is not.
+            if (t_hi - t_lo > 1e-2) return false;
+            break;
+        }
         if (side(m) == side_a) {
             lo = m;
             t_lo = t;
@@ -487,6 +529,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     BranchResult result;
     follow_branches(hb, corrector, o, result);
     if (o.locate_transitions) insert_transitions(hb, corrector, frequency_scale(o), result);
+    result.coverage = branch_coverage(result.points, o.omega_start, o.omega_end);
     result.corrector = corrector.statistics();
     result.evaluation = hb.statistics() - before;
     result.seconds = watch.lap();

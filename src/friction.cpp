@@ -183,11 +183,15 @@ public:
         out.jacobian_seconds = watch.lap();
     }
 
-    Eigen::VectorXd force_samples(Fourier& fourier, double, const Eigen::VectorXd&,
+    /// The law's own force: lambda + eps v projected on [-F_c, F_c] (|f| <= F_c at every
+    /// sample). At a solution its H-harmonic series is z, the force the balance sees.
+    Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
                                   const Eigen::VectorXd& z) const override {
-        Eigen::VectorXd f(fourier.time_samples());
-        fourier.to_time(z, f);
-        return f;
+        const int nt = fourier.time_samples();
+        Eigen::VectorXd v(nt), lambda(nt);
+        fourier.to_time(omega * (fourier.derivative() * q), v);
+        fourier.to_time(z, lambda);
+        return (lambda.array() + eps_ * v.array()).max(-limit_).min(limit_).matrix();
     }
 
     Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,

@@ -49,15 +49,29 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     const int n = coefficients(), nc = static_cast<int>(system_.contacts.size());
     force_scale_ = system_.excitation.cwiseAbs().maxCoeff();
     if (!(force_scale_ > 0.0)) throw InvalidInput("excitation vector is zero: allowed a non-zero force amplitude");
-    for (Contact& c : system_.contacts) {
+    for (std::size_t index = 0; index < system_.contacts.size(); ++index) {
+        Contact& c = system_.contacts[index];
         directions_.push_back(system_.contact_direction(c));
-        if (c.law == FrictionLaw::coulomb && c.lagrangian_penalty == 0.0) {
+        if (c.law == FrictionLaw::coulomb) {
             // The contact direction's impedance sqrt(k m): lambda and eps v of the same order.
             const Eigen::VectorXd& w = directions_.back();
             const double k = w.dot(system_.stiffness * w), m = w.dot(system_.mass * w);
-            c.lagrangian_penalty = k > 0.0 ? std::sqrt(k * m) : m;
-            if (!(c.lagrangian_penalty > 0.0))  // a massless contact on a massless, unsprung direction
-                c.lagrangian_penalty = std::sqrt(std::max(k, 0.0) * system_.mass.diagonal().maxCoeff());
+            double automatic = k > 0.0 ? std::sqrt(k * m) : m;
+            if (!(automatic > 0.0))  // a massless contact on a massless, unsprung direction
+                automatic = std::sqrt(std::max(k, 0.0) * system_.mass.diagonal().maxCoeff());
+            // A chosen eps must stay within a range measured to converge (the paper's absorber,
+            // H = 20, eps / automatic from 1e-4 to 1e4: the same branch from 0.04 to 4 times the
+            // automatic value; spurious folds and stalls below 0.01, stalls above 8).
+            const double low = automatic / 30.0, high = 4.0 * automatic;
+            if (c.lagrangian_penalty != 0.0 && automatic > 0.0 &&
+                !(c.lagrangian_penalty >= low && c.lagrangian_penalty <= high))
+                throw InvalidInput("contact " + std::to_string(index + 1) + ": lagrangian_penalty (--dlft-eps) = " +
+                                   format_number(c.lagrangian_penalty) + " is out of range: allowed " +
+                                   format_number(low) + ".." + format_number(high) +
+                                   " (1/30 to 4 times the automatic sqrt(k m) = " + format_number(automatic) +
+                                   " of the contact direction; outside it the dynamic Lagrangian was measured to "
+                                   "stall or to follow spurious branches)");
+            if (c.lagrangian_penalty == 0.0) c.lagrangian_penalty = automatic;
         }
         models_.push_back(make_friction_model(c));
     }

@@ -259,9 +259,10 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
                            "coulomb: |lambda + eps v| < mu; jenkins: slider at rest; dahl/lugre: |sigma0 z| < 0.95 g(v); "
                            "coulomb-reg: |f| < 0.95 mu); stick phases shorter than 2 / (2H + 1) of the period are not resolved by H harmonics and count as slip; "
                            "with exact = yes: from the exact event times"},
-        {"regime", "stick (every sample sticks), slip (no stick phase) or stick-slip"},
+        {"regime", "stick (every sample sticks), slip (no stick phase) or stick-slip; none for a structure without "
+                   "contacts"},
         {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
-        {"branch", "branch number: 1, or 2 for the branch restarted from wmax after an amplitude cap"},
+        {"branch", "branch number: 1, 2 for the branch restarted from wmax after an amplitude cap, 3 for the branch between two capped resonances"},
         {"point", "regular, fold (dw/ds changed sign), transition (located boundary between stick and stick-slip "
                   "or between stick-slip and slip, contact 1), or sample (solved exactly at an --at frequency)"},
         {"iterations", "corrector (Ceres) iterations of this point"},
@@ -274,6 +275,10 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
                    "empty unless exact = yes"},
         {"hb_gap", "|y_max by HB - y_max exact| / y_max exact of the first reported output: harmonic balance's own "
                    "error at this point; empty unless exact = yes (and an HB solution exists at this w)"},
+        {"energy_error", "energy balance of the harmonic-balance solution: |input work - viscous energy - friction "
+                         "energy| per cycle, relative to max(pi h |F| |Y_h|, input work, viscous + |friction|) (pi h "
+                         "|F| |Y_h|: the work the force could do on the response's harmonic h); above max(1e-6, 100 "
+                         "--tolerance) the point is suspect (a warning, exit code 3)"},
     };
     columns.insert(columns.end(), rest.begin(), rest.end());
     return columns;
@@ -292,15 +297,17 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
         for (std::size_t j = 0; j < outputs.size(); ++j) out << ',' << format_number(m.output_max[j]);
         for (std::size_t j = 0; j < outputs.size(); ++j) out << ',' << format_number(m.output_amp1[j]);
         out << ',' << format_number(m.stick_fraction) << ',' << m.regime << ',' << format_number(m.energy) << ','
-            << p.branch << ',' << to_string(p.kind) << ',' << p.iterations << ',' << format_number(p.residual) << ','
+            << p.branch << ',' << to_string(p.kind) << ',' << p.iterations
+            << ',' << format_number(p.residual) << ','
             << format_number(p.step) << ',';
         if (k < exact.size() && exact[k].status == PolishStatus::exact) {
             const ExactPoint& e = exact[k];
             out << "yes," << (e.stable ? "true" : "false") << ','
-                << (std::isfinite(e.hb_gap) ? format_number(e.hb_gap) : std::string()) << '\n';
+                << (std::isfinite(e.hb_gap) ? format_number(e.hb_gap) : std::string());
         } else {
-            out << (k < exact.size() ? to_string(exact[k].status) : std::string("off")) << ",,\n";
+            out << (k < exact.size() ? to_string(exact[k].status) : std::string("off")) << ",,";
         }
+        out << ',' << format_number(m.energy_error) << '\n';
     }
 }
 
@@ -315,7 +322,9 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs) {
     const std::vector<Column> rest = {
         {"stick_fraction", "share of the final period contact 1 is in stick (coulomb, jenkins: exact event times; "
                            "dahl, lugre: |sigma0 z| < 0.95 g(v); coulomb-reg: |tanh(v/eps)| < 0.95)"},
-        {"regime", "stick (never left stick in the final period), slip (never stuck) or stick-slip"},
+        {"regime", "stick (never left stick in the final period), slip (never stuck) or stick-slip; none for a "
+                   "structure without contacts; failed where not one period could be integrated (the row's "
+                   "numbers are then empty)"},
         {"energy", "friction energy dissipated per cycle, integral of f q' over the final period"},
         {"periods", "periods integrated (including the shooting-Jacobian periods)"},
         {"converged", "true if the state at the start of consecutive periods changed by <= steady-tol * max(1, "
@@ -335,8 +344,13 @@ void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& r
     out << '\n';
     for (const PeriodicResponse& r : responses) {
         out << format_number(r.omega);
-        for (std::size_t j = 0; j < outputs.size(); ++j)
-            out << ',' << format_number(j < r.output_max.size() ? r.output_max[j] : 0.0);
+        // A point where not even one period was integrated has no values: empty fields, regime
+        // failed (never zeros that read as a response).
+        if (r.output_max.size() < outputs.size()) {
+            out << std::string(2 * outputs.size() + 1, ',') << "failed,," << r.periods << ",false,,,\n";
+            continue;
+        }
+        for (std::size_t j = 0; j < outputs.size(); ++j) out << ',' << format_number(r.output_max[j]);
         for (std::size_t j = 0; j < outputs.size(); ++j)
             out << ',' << format_number(j < r.output_amp1.size() ? r.output_amp1[j] : 0.0);
         out << ',' << format_number(r.stick_fraction) << ',' << (r.regime.empty() ? "none" : r.regime) << ','
@@ -350,7 +364,8 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics_in, const std::vector<Peak>& peaks,
                        std::size_t samples, double wall_seconds, const std::vector<Output>& outputs,
-                       const PolishedBranch* polish) {
+                       const PolishedBranch* polish, const std::vector<std::string>& errors,
+                       const std::vector<std::string>& warnings, const std::vector<std::string>& notes) {
     using nlohmann::json;
     json j;
     j["parameters"] = {{"law", law}};
@@ -425,7 +440,16 @@ void write_frf_summary(std::ostream& out, const std::string& law,
     j["folds"] = folds;
     j["transitions"] = transitions;
     j["status"] = to_string(branch.status);
+    j["coverage"] = branch.coverage;
     j["message"] = branch.message;
+    // The command's verdict (hbf frf: exit 1 with errors, else 3 with warnings, else 0).
+    j["outcome"] = !errors.empty() ? "failed" : !warnings.empty() ? "incomplete" : "completed";
+    j["errors"] = errors;
+    j["warnings"] = warnings;
+    j["notes"] = notes;
+    double worst = 0.0;
+    for (const PointMetrics& m : metrics) worst = std::max(worst, m.energy_error);
+    j["max_energy_error"] = worst;
     j["wall_time_seconds"] = wall_seconds;
     out << j.dump(2) << '\n';
 }

@@ -89,7 +89,13 @@ void require_square(const SparseMatrix& matrix, int n, const char* name) {
     const SparseMatrix asymmetry = matrix - SparseMatrix(matrix.transpose());
     for (int j = 0; j < asymmetry.outerSize(); ++j)
         for (SparseMatrix::InnerIterator it(asymmetry, j); it; ++it)
-            if (std::abs(it.value()) > 1e-12 * scale) throw InvalidInput(std::string(name) + " is not symmetric");
+            if (std::abs(it.value()) > 1e-12 * scale) {
+                const int r = static_cast<int>(it.row()), c = static_cast<int>(it.col());
+                throw InvalidInput(std::string(name) + " is not symmetric: entry (" + std::to_string(r + 1) + ", " +
+                                   std::to_string(c + 1) + ") = " + format_number(matrix.coeff(r, c)) + " but (" +
+                                   std::to_string(c + 1) + ", " + std::to_string(r + 1) + ") = " +
+                                   format_number(matrix.coeff(c, r)) + " (1-based): allowed symmetric M, C and K");
+            }
 }
 
 /// LDL^T of a symmetric matrix (AMD ordering): the pivots' signs tell definiteness.
@@ -171,6 +177,37 @@ void System::validate() const {
             require_non_negative(k.lagrangian_penalty, (where + "lagrangian_penalty").c_str(),
                                  "dynamic Lagrangian epsilon (0 = automatic)");
     }
+    // Two exact Coulomb contacts along the same direction share one relative velocity: in stick
+    // their two forces are indeterminate (only the sum is defined), and harmonic balance's
+    // Jacobian is singular there. One contact with the summed friction_limit is the same law.
+    for (std::size_t a = 0; a < contacts.size(); ++a)
+        for (std::size_t b = a + 1; b < contacts.size(); ++b) {
+            if (contacts[a].law != FrictionLaw::coulomb || contacts[b].law != FrictionLaw::coulomb) continue;
+            const Eigen::VectorXd u = contact_direction(contacts[a]), v = contact_direction(contacts[b]);
+            if (std::abs(std::abs(u.dot(v)) - u.norm() * v.norm()) <= 1e-12 * u.norm() * v.norm())
+                throw InvalidInput("contact " + std::to_string(b + 1) + ": exact Coulomb along the same direction as "
+                                   "contact " + std::to_string(a + 1) + " (the same DOF pair): in stick their two "
+                                   "forces are indeterminate; allowed one exact Coulomb contact per direction "
+                                   "(merge them: friction_limit = " +
+                                   format_number(contacts[a].friction_limit + contacts[b].friction_limit) + ")");
+        }
+}
+
+std::vector<std::string> System::warnings() const {
+    std::vector<std::string> out;
+    auto indefinite = [](const SparseMatrix& matrix) {
+        const double scale = largest_diagonal(matrix);
+        if (!(scale > 0.0)) return false;
+        bool ok = false;
+        const Eigen::VectorXd d = ldlt_pivots(matrix, ok);
+        return ok && d.size() > 0 && d.minCoeff() < -1e-10 * scale;
+    };
+    if (indefinite(stiffness))
+        out.push_back("the stiffness matrix K is indefinite (a negative pivot): the structure alone is statically "
+                      "unstable; only its contacts can hold it");
+    if (indefinite(damping))
+        out.push_back("the damping matrix C is indefinite (negative damping): some motions gain energy from it");
+    return out;
 }
 
 Eigen::VectorXcd linear_response(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& damping,

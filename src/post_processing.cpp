@@ -130,25 +130,41 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
     }
     if (s.contacts.empty()) {
         m.regime = "none";
-        return m;
+    } else {
+        // Stick fraction and regime of contact 1 from its law's own stick samples.
+        const Eigen::VectorXd phi = hb_.stick_indicator(point.x, omega, 0);
+        const StickPattern pattern = stick_pattern(phi, stick_phase_samples(hb_.harmonics(), hb_.time_samples()));
+        m.stick_fraction = pattern.fraction;
+        m.regime = pattern.regime;
+        m.stick_indicator_max = phi.maxCoeff();
+        m.stick_indicator_min = phi.minCoeff();
+        // Dissipated energy: integral over the period 2 pi / omega of f q', on the AFT grid.
+        Fourier& aft = hb_.fourier();
+        Eigen::VectorXd v(aft.time_samples());
+        for (int c = 0; c < static_cast<int>(s.contacts.size()); ++c) {
+            aft.to_time(omega * (aft.derivative() * hb_.relative(point.x, c)), v);
+            const Eigen::VectorXd f = hb_.force_samples(point.x, omega, c);
+            m.energy += 2.0 * M_PI / omega * f.dot(v) / aft.time_samples();
+        }
     }
-    // Stick fraction and regime of contact 1 from its law's own stick samples.
-    const Eigen::VectorXd phi = hb_.stick_indicator(point.x, omega, 0);
-    const StickPattern pattern = stick_pattern(phi, stick_phase_samples(hb_.harmonics(), hb_.time_samples()));
-    m.stick_fraction = pattern.fraction;
-    m.regime = pattern.regime;
-    m.stick_indicator_max = phi.maxCoeff();
-    m.stick_indicator_min = phi.minCoeff();
-    // Dissipated energy: integral over the period 2 pi / omega of f q', on the AFT grid.
-    Fourier& aft = hb_.fourier();
-    Eigen::VectorXd v(aft.time_samples());
-    for (int c = 0; c < static_cast<int>(s.contacts.size()); ++c) {
-        aft.to_time(omega * (aft.derivative() * hb_.relative(point.x, c)), v);
-        const Eigen::VectorXd f = hb_.force_samples(point.x, omega, c);
-        m.energy += 2.0 * M_PI / omega * f.dot(v) / aft.time_samples();
-    }
+    // Viscous dissipation per period 2 pi / w of y' = sum_k k w (s_k cos - c_k sin):
+    // int y'^T C y' dt = pi w sum_k k^2 (c_k^T C c_k + s_k^T C s_k).
+    if (s.damping.nonZeros() > 0)
+        for (int k = 1; k <= hb_.harmonics(); ++k)
+            for (int row : {2 * k - 1, 2 * k}) {
+                const Eigen::VectorXd c = y.row(row).transpose();
+                m.viscous_energy += M_PI * omega * k * k * c.dot(s.damping * c);
+            }
+    // Relative to the work the force could do on the response's harmonic h, pi h |F| |(c_h, s_h)|
+    // (the input work itself vanishes in permanent stick of an undamped structure).
+    const double reach = M_PI * h * s.excitation.norm() * std::hypot(y.row(2 * h - 1).norm(), y.row(2 * h).norm());
+    const double scale =
+        std::max({reach, std::abs(m.input_energy), std::abs(m.viscous_energy) + std::abs(m.energy)});
+    m.energy_error = scale > 0.0 ? std::abs(m.input_energy - m.viscous_energy - m.energy) / scale : 0.0;
     return m;
 }
+
+double energy_balance_limit(double tolerance) { return std::max(1e-6, 100.0 * tolerance); }
 
 PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int contact) {
     Fourier& f = hb.fourier();
@@ -168,6 +184,10 @@ PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int 
     f.to_time(q, s.q);
     f.to_time(point.omega * (f.derivative() * q), s.v);
     s.f = hb.force_samples(point.x, point.omega, contact);
+    Eigen::VectorXd coefficients(f.size());
+    f.to_coefficients(s.f, coefficients);
+    s.f_series.resize(nt);
+    f.to_time(coefficients, s.f_series);
     s.phi = hb.stick_indicator(point.x, point.omega, contact);
     return s;
 }

@@ -157,7 +157,8 @@ TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "
     REQUIRE(rows.size() > 10);
     const std::vector<std::string> header = {"w",      "y1_max", "y2_max",     "y1_amp1",  "y2_amp1",
                                              "stick_fraction", "regime", "energy", "branch", "point",
-                                             "iterations", "residual", "step", "exact", "stable", "hb_gap"};
+                                             "iterations", "residual", "step", "exact", "stable", "hb_gap",
+                                             "energy_error"};
     CHECK(rows[0] == header);
     CHECK(std::stod(rows[1][0]) == 0.6);
     int samples = 0;
@@ -173,6 +174,8 @@ TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "
         CHECK(rows[k][13] == "off");  // dahl: no exact polish, plain harmonic balance
         CHECK(rows[k][14].empty());
         CHECK(rows[k][15].empty());
+        // Input work = friction energy (no viscous damping) at every converged point.
+        CHECK(std::stod(rows[k][16]) <= 1e-6);
     }
     CHECK(samples == 2);
     const std::string summary = slurp(json);
@@ -281,7 +284,7 @@ TEST_CASE("hbf loop writes one period of the solution: the stuck absorber's exac
     const Result r = run_hbf("loop --w 0.8 --out '" + csv.string() + "' --plot '" + png.string() + "'", dir);
     REQUIRE(r.exit_code == 0);
     const auto rows = parse_csv(slurp(csv));
-    const std::vector<std::string> header = {"t", "y1", "y2", "q", "v", "f", "stick"};
+    const std::vector<std::string> header = {"t", "y1", "y2", "q", "v", "f", "stick", "f_series"};
     REQUIRE(rows[0] == header);
     REQUIRE(rows.size() == 513);  // N_t = 512 at H = 20, the default for coulomb
     const double w = 0.8, y = 0.5 / (1.0 - 1.1 * w * w);
@@ -314,7 +317,7 @@ TEST_CASE("hbf frf polishes coulomb by default: exact rows, stability, HB gap, a
     REQUIRE(r.exit_code == 0);
     const auto rows = parse_csv(slurp(csv));
     REQUIRE(rows.size() > 10);
-    REQUIRE(rows[0].size() == 16);
+    REQUIRE(rows[0].size() == 17);
     CHECK(rows[0][13] == "exact");
     double largest_gap = 0;
     for (std::size_t k = 1; k < rows.size(); ++k) {

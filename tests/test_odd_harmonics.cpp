@@ -160,7 +160,7 @@ TEST_CASE("hbf frf --harmonics odd gives the default FRF for every law, and refu
     ::test::check_bad_input("frf --quiet --harmonics odd --excitation-harmonic 2", {"odd h"}, dir);
     const ::test::fs::path file = dir.path / "odd.toml";
     const std::string structure =
-        "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\n"
+        "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [0.2]\n"
         "[[contact]]\ndof = 1\nlaw = \"dahl\"\nfriction_limit = 0.2\nstiffness = 2.0\n[solver]\nharmonics = 9\n";
     ::test::check_bad_config(structure + "odd_harmonics = 1\n", {"solver.odd_harmonics", "expected true or false"}, dir);
     ::test::write_file(file, structure + "odd_harmonics = true\n");

@@ -94,7 +94,13 @@ struct CorrectorStatistics {
                                     ///< times the residual's own rounding noise (Corrector::correct)
 };
 
-enum class ContinuationStatus { completed, amplitude_cap, min_step, point_budget, start_failed };
+/// How a continuation ended. completed: the branch spans [wmin, wmax]; every other status is
+/// an incomplete result: amplitude_cap (the response exceeds max_amplitude: an unbounded
+/// resonance, capped), left_range (the branch turned back out of the range before spanning
+/// it), point_budget (max_points reached), min_step (the corrector stalled), start_failed.
+/// With several branches (restarts past a cap) the status is the worst of them, in the order
+/// completed < amplitude_cap < left_range < point_budget < min_step < start_failed.
+enum class ContinuationStatus { completed, amplitude_cap, left_range, point_budget, min_step, start_failed };
 std::string to_string(ContinuationStatus status);
 
 struct BranchResult {
@@ -107,6 +113,7 @@ struct BranchResult {
     int rejected_jumps = 0;             ///< steps whose correction exceeded the step (halved)
     int unlocated_transitions = 0;      ///< regime changes between two points whose boundary
                                         ///< could not be located (named in message)
+    double coverage = 0;                ///< share of [wmin, wmax] spanned by the branch segments
     CorrectorStatistics corrector;    ///< Ceres work of the whole continuation
     EvaluationStatistics evaluation;  ///< residual/Jacobian work (corrector and predictor)
     double predictor_seconds = 0;     ///< tangents: their evaluations and LU solves
@@ -191,7 +198,18 @@ struct PointMetrics {
     double stick_indicator_min = 0;  ///< min over the samples (>= 0: permanent slip)
     double energy = 0;           ///< friction energy dissipated per cycle, all contacts
     double input_energy = 0;     ///< work of the excitation per cycle, pi h sum_i F_i s_h,i (h: excitation harmonic)
+    double viscous_energy = 0;   ///< energy dissipated per cycle by C: pi w sum_k k^2 (c_k' C c_k + s_k' C s_k)
+    /// Energy balance of the harmonic-balance solution: |input - viscous - friction| per cycle,
+    /// relative to max(pi h |F| |(c_h, s_h)|, input, viscous + |friction|), the first being the
+    /// work the force could do on the response's harmonic h (0 when nothing moves). At a converged HB
+    /// point it is at the level of the residual tolerance; above energy_balance_tolerance the
+    /// point is suspect (flagged by hbf frf).
+    double energy_error = 0;
 };
+/// Largest energy_error of an accepted point (PointMetrics) for a corrector tolerance:
+/// max(1e-6, 100 tolerance). Measured at the default 1e-9: 1e-10..1e-9 on the paper's absorber
+/// (every law) and the chain examples.
+double energy_balance_limit(double tolerance);
 /// Stick fraction and regime of a contact from its stick indicator samples phi (friction.hpp:
 /// a sample sticks iff phi < 0). A stick phase is a run of cyclically consecutive sticking
 /// samples at least `min_run` long. H harmonics cannot resolve shorter phases: at an
@@ -237,7 +255,8 @@ private:
 struct PointSignals {
     Eigen::VectorXd time;       ///< t_j = theta_j / omega
     Eigen::MatrixXd y;          ///< N_t x N: y_i(t_j)
-    Eigen::VectorXd q, v, f, phi;
+    Eigen::VectorXd q, v, f, phi;  ///< f: the law's own force (FrictionModel::force_samples)
+    Eigen::VectorXd f_series;      ///< f's H-harmonic Fourier series (what the balance sees)
 };
 PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int contact);
 

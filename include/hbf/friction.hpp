@@ -77,7 +77,9 @@ public:
     /// Jacobians are computed only when `jacobian` is true.
     virtual void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
                           FrictionEvaluation& out, bool jacobian) const = 0;
-    /// Force samples f(theta_j) on the time grid of `fourier` (for post-processing).
+    /// Force samples f(theta_j) on the time grid of `fourier` (for post-processing): the law's
+    /// own force in time (exact Coulomb: the projected multiplier, |f| <= F_c; Jenkins: the
+    /// marched force), whose H-harmonic series is what the balance equations see.
     virtual Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
                                           const Eigen::VectorXd& z) const = 0;
     /// Stick indicator phi(theta_j) on the time grid of `fourier`: the sample sticks iff

@@ -113,6 +113,8 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics, const std::vector<Peak>& peaks, std::size_t samples,
                        double wall_seconds, const std::vector<Output>& outputs,
-                       const PolishedBranch* polish = nullptr);
+                       const PolishedBranch* polish = nullptr, const std::vector<std::string>& errors = {},
+                       const std::vector<std::string>& warnings = {},
+                       const std::vector<std::string>& notes = {});
 
 }  // namespace hbf::io

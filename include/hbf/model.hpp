@@ -92,6 +92,9 @@ struct System {
     /// Throws InvalidInput when dimensions, symmetry or contact parameters are wrong. M must be
     /// positive semi-definite (checked by a sparse LDL^T); see has_positive_definite_mass.
     void validate() const;
+    /// What validate() accepts but physics rarely wants: an indefinite K (statically unstable
+    /// without its contacts) or C (negative damping). One sentence each; empty if none.
+    std::vector<std::string> warnings() const;
     /// True when M is positive definite (no massless DOF): required by time integration and the
     /// event-exact solver, which integrate M y'' = ...
     bool has_positive_definite_mass() const;

@@ -1,10 +1,12 @@
 #include "arguments.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <algorithm>
+#include <iostream>
 
+#include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::cli {
@@ -14,6 +16,20 @@ namespace {
     throw UsageError(flag + " = '" + text + "' " + why);
 }
 }  // namespace
+
+void Verdict::add_library_messages() {
+    const LibraryMessages m = library_messages();
+    if (m.count > 0)
+        warning(std::to_string(m.count) + " warning(s) from the numerical libraries (not printed); the first: " +
+                m.first);
+}
+
+int Verdict::finish() const {
+    for (const std::string& e : errors_) std::cerr << "hbf " << command_ << ": error: " << e << "\n";
+    for (const std::string& w : warnings_) std::cerr << "hbf " << command_ << ": warning: " << w << "\n";
+    for (const std::string& n : notes_) std::cerr << "hbf " << command_ << ": note: " << n << "\n";
+    return !errors_.empty() ? exit_failure : !warnings_.empty() ? exit_incomplete : exit_success;
+}
 
 double parse_double(const std::string& flag, const std::string& text) {
     if (text.empty()) bad_value(flag, text, "is empty: a number is required");
@@ -72,8 +88,10 @@ void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help, cons
                            "viscous friction coefficient sigma2 / (N / (x_s omega1)) (lugre), >= 0 [default 0]");
         command.add_option("--dlft-eps", dlft_eps,
                            "dynamic Lagrangian parameter epsilon of exact Coulomb (coulomb), force per velocity, "
-                           "> 0; results converge to the same solution for any value as H grows [default: "
-                           "sqrt(k m) of the contact direction, 1.24 for the paper's absorber]");
+                           "allowed 1/30 to 4 times the automatic value (measured to converge; outside it the iteration "
+                           "stalls or follows spurious branches); within it the results converge to the same "
+                           "solution as H grows [default: sqrt(k m) of the contact direction, 1.24 for the paper's "
+                           "absorber: allowed 0.0413..4.96]");
     }
     for (CLI::Option* option : command.get_options())
         if (option->get_name() != "--law" && option->get_name() != "--help")
@@ -214,6 +232,9 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
     }
     chosen.outputs = chosen.config->outputs;
     apply_excitation_harmonic(command, flags, chosen);
+    // Accepted, but rarely meant: said before the work (the exit code is the result's).
+    for (const std::string& w : chosen.system.warnings())
+        std::cerr << "hbf " << command.get_name() << ": warning: " << config_path << ": " << w << "\n";
     return chosen;
 }
 

@@ -192,6 +192,42 @@ int run(const CLI::App& command, const FrfOptions& o) {
     io::write_frf_csv(out.stream(), points, metrics, outputs,
                       polish ? polish->exact : std::vector<ExactPoint>{});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    // Everything that makes the result failed (exit 1) or incomplete/doubtful (exit 3); said on
+    // stderr after the files are committed, and in the JSON summary.
+    Verdict verdict("frf");
+    const bool failed = branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::start_failed;
+    if (failed)
+        verdict.error(branch.summary() + " (the points computed so far are written)");
+    else if (branch.status != ContinuationStatus::completed)
+        verdict.warning(branch.summary() + "; the branch spans " + format_number(100.0 * branch.coverage) +
+                        " % of [wmin, wmax]");
+    else if (branch.unlocated_transitions > 0)
+        verdict.warning(branch.message + " (the branch points are right; the CSV lacks those transition rows)");
+    // A point whose exact polish failed is HB's value, flagged exact = failed: a doubtful result.
+    if (polish && polish->failed > 0)
+        verdict.error(polish->summary() + "; the failed rows keep their harmonic-balance values (column exact = failed)");
+    // The energy balance of every harmonic-balance point (column energy_error).
+    std::size_t unbalanced = 0, worst = 0;
+    const double energy_limit = energy_balance_limit(co.corrector.tolerance);
+    for (std::size_t k = 0; k < metrics.size(); ++k) {
+        if (metrics[k].energy_error > energy_limit) ++unbalanced;
+        if (metrics[k].energy_error > metrics[worst].energy_error) worst = k;
+    }
+    if (unbalanced > 0)
+        verdict.warning(std::to_string(unbalanced) + " point(s) fail the energy balance (column energy_error > " +
+                        format_number(energy_limit) + ", max(1e-6, 100 --tolerance); the largest, " +
+                        format_number(metrics[worst].energy_error) + ", at w = " + format_number(points[worst].omega) +
+                        "): the residual is small but the solution is not; a tighter --tolerance or more harmonics "
+                        "may help");
+    const auto unrefined = std::count_if(peaks.begin(), peaks.end(), [](const Peak& p) { return !p.refined; });
+    if (unrefined > 0)
+        verdict.note(std::to_string(unrefined) + " peak(s) not refined (at a fold, or a solve failed): the JSON "
+                     "gives the branch point (refined = false)");
+    // An --at frequency without a row is a failure too.
+    for (double w : missed)
+        verdict.error("--at w = " + format_number(w) + ": no solution written (outside the computed branch, or the "
+                      "solve failed from the branch and after a retry)");
+    verdict.add_library_messages();
     std::unique_ptr<io::OutputFile> summary;
     if (!o.summary.empty()) {
         std::vector<std::pair<std::string, double>> parameters;
@@ -222,7 +258,8 @@ int run(const CLI::App& command, const FrfOptions& o) {
         parameters.insert(parameters.end(), solver.begin(), solver.end());
         summary = std::make_unique<io::OutputFile>(o.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
-                              outputs, polish ? &*polish : nullptr);
+                              outputs, polish ? &*polish : nullptr, verdict.errors(), verdict.warnings(),
+                              verdict.notes());
     }
     std::unique_ptr<io::OutputFile> overlay_file;
     if (!overlay.empty()) {
@@ -254,34 +291,12 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (summary) summary->commit();
     if (overlay_file) overlay_file->commit();
 
-    const bool failed = branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::start_failed;
-    if (branch.unlocated_transitions > 0 && !failed && branch.status == ContinuationStatus::completed)
-        std::cerr << "hbf frf: warning: " << branch.message << " (the branch points are right; the CSV lacks those "
-                  << "transition rows)\n";
-    if (failed || branch.status != ContinuationStatus::completed)
-        std::cerr << "hbf frf: " << (failed ? "error: " : "note: ") << branch.summary()
-                  << (failed ? " (the points computed so far are written)" : "") << "\n";
-    else if (!o.quiet && isatty(STDERR_FILENO))
+    const bool verbose = !o.quiet && isatty(STDERR_FILENO);
+    if (verbose && verdict.errors().empty() && branch.status == ContinuationStatus::completed)
         std::cerr << "hbf frf: " << branch.summary() << " in " << format_number(seconds) << " s\n";
-    // A point whose exact polish failed is HB's value, flagged exact = failed: a doubtful
-    // result, so the run does not end as a success.
-    const bool polish_failed = polish && polish->failed > 0;
-    if (polish_failed)
-        std::cerr << "hbf frf: error: " << polish->summary()
-                  << "; the failed rows keep their harmonic-balance values (column exact = failed)\n";
-    else if (polish && (branch.status != ContinuationStatus::completed || (!o.quiet && isatty(STDERR_FILENO))))
-        std::cerr << "hbf frf: " << (branch.status != ContinuationStatus::completed ? "note: " : "")
-                  << polish->summary() << " (the transitions are the exact solver's)\n";
-    const auto unrefined = std::count_if(peaks.begin(), peaks.end(), [](const Peak& p) { return !p.refined; });
-    if (unrefined > 0)
-        std::cerr << "hbf frf: warning: " << unrefined << " peak(s) not refined (at a fold, or a solve failed): the JSON gives the branch point (refined = "
-                     "false)\n";
-    // An --at frequency without a row is a doubtful result too: said, and exit 1.
-    for (double w : missed)
-        std::cerr << "hbf frf: error: --at w = " << format_number(w)
-                  << ": no solution written (outside the computed branch, or the solve failed from the branch "
-                     "and after a retry)\n";
-    return failed || polish_failed || !missed.empty() ? exit_failure : exit_success;
+    if (polish && polish->failed == 0 && (verbose || branch.status != ContinuationStatus::completed))
+        std::cerr << "hbf frf: note: " << polish->summary() << " (the transitions are the exact solver's)\n";
+    return verdict.finish();
 }
 }  // namespace
 

@@ -26,8 +26,11 @@ std::vector<io::Column> loop_columns(int dofs) {
     const std::vector<io::Column> rest = {
         {"q", "relative displacement of the contact, q = w_c^T y (absorber: y1 - y2)"},
         {"v", "relative velocity dq/dt"},
-        {"f", "friction force of the contact (acts as -f on its first DOF)"},
-        {"stick", "1 where the contact sticks by its law's definition (hbf frf --help: stick_fraction), else 0"}};
+        {"f", "friction force of the contact by its law, in time (acts as -f on its first DOF; coulomb: the "
+              "dynamic Lagrangian's multiplier projected on [-mu, mu], so |f| <= mu; jenkins: the marched force)"},
+        {"stick", "1 where the contact sticks by its law's definition (hbf frf --help: stick_fraction), else 0"},
+        {"f_series", "f's Fourier series truncated to the H harmonics: the force the harmonic-balance equations "
+                     "see (it overshoots mu near a discontinuity: Gibbs)"}};
     columns.insert(columns.end(), rest.begin(), rest.end());
     return columns;
 }
@@ -74,7 +77,7 @@ int run(const CLI::App& command, const LoopOptions& o) {
         out.stream() << io::csv_field(s.time(j));
         for (Eigen::Index i = 0; i < s.y.cols(); ++i) out.stream() << ',' << io::csv_field(s.y(j, i));
         out.stream() << ',' << io::csv_field(s.q(j)) << ',' << io::csv_field(s.v(j)) << ',' << io::csv_field(s.f(j))
-                     << ',' << (s.phi(j) < 0.0 ? 1 : 0) << '\n';
+                     << ',' << (s.phi(j) < 0.0 ? 1 : 0) << ',' << io::csv_field(s.f_series(j)) << '\n';
     }
     if (!o.plot.empty()) {
         io::PlotSpec spec;
@@ -91,7 +94,15 @@ int run(const CLI::App& command, const LoopOptions& o) {
         io::write_plot(o.plot, spec);
     }
     out.commit();
-    return exit_success;
+    Verdict verdict("loop");
+    Analyser analyse(hb, {0});
+    const double imbalance = analyse(*at).energy_error;
+    if (imbalance > energy_balance_limit(co.corrector.tolerance))
+        verdict.warning("the solution at w = " + format_number(w) + " fails the energy balance (relative error " +
+                        format_number(imbalance) + ", allowed " +
+                        format_number(energy_balance_limit(co.corrector.tolerance)) + "; hbf frf --help: energy_error)");
+    verdict.add_library_messages();
+    return verdict.finish();
 }
 }  // namespace
 

@@ -5,6 +5,7 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/memory.hpp"
 
@@ -12,6 +13,8 @@ int main(int argc, char** argv) {
     // Large blocks (Ceres' per-solve Jacobian and normal matrix: 300 KB at H = 49) stay in the
     // heap for reuse instead of being faulted in afresh on every correction (memory.hpp).
     hbf::retain_freed_memory();
+    // Ceres' (glog's) and CVODE's warnings are counted and summarised, never dumped.
+    hbf::capture_library_messages();
     using namespace hbf::cli;
     CLI::App app("hbf: frequency responses of structures with friction contacts "
                  "(multi-harmonic balance, closed forms of the friction absorber).",
@@ -20,9 +23,12 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.footer(
         "Exit codes: 0 success; 2 bad input (an invalid flag or value, or an output path that cannot be used, "
-        "found before any work: the message names it, no output file is written); 1 any other failure (a "
-        "solver that did not converge: what was computed is written and stderr says where and why; a write "
-        "that fails).\n"
+        "found before any work: the message names it, no output file is written); 1 failure (a solver that "
+        "did not converge or stalled, a failed exact polish, an --at frequency without a solution, a write "
+        "that fails: what was computed is written and stderr says where and why); 3 written but incomplete or "
+        "doubtful (a capped, truncated or partial branch, an unlocated transition, a point failing the energy "
+        "balance, warnings of the numerical libraries: each a warning line on stderr and in the JSON "
+        "summary). A note on stderr (e.g. a peak not refined, flagged in the JSON) leaves the exit code as it is.\n"
         "Outputs: '-' is standard output; a regular file (or a symlink to one, which stays a symlink) is "
         "replaced atomically when the command succeeds; a character device or FIFO (e.g. /dev/null) is "
         "written in place, never replaced; no two outputs may name the same file.\n"

@@ -173,16 +173,18 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         io::write_plot(o.plot, spec);  // before the CSV is committed: a failed plot leaves no output
     }
     out.commit();
+    Verdict verdict("timeint");
     int failed = 0;
     for (const PeriodicResponse& r : responses)
         if (!r.converged) {
             ++failed;
-            std::cerr << "hbf timeint: warning: " << r.summary() << "\n";
+            verdict.error(r.summary());
         }
     if (failed > 0)
-        std::cerr << "hbf timeint: warning: " << failed << " of " << responses.size()
-                  << " points did not converge (converged = false in the output)\n";
-    return failed > 0 ? exit_failure : exit_success;
+        verdict.error(std::to_string(failed) + " of " + std::to_string(responses.size()) +
+                      " points did not converge (converged = false in the output)");
+    verdict.add_library_messages();
+    return verdict.finish();
 }
 }  // namespace
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/friction.hpp"
 
@@ -20,7 +21,13 @@ bool has_internal_state(FrictionLaw law) {
 }
 bool event_driven(FrictionLaw law) { return law == FrictionLaw::coulomb || law == FrictionLaw::jenkins; }
 
-void silent_error_handler(int, const char*, const char*, char*, void*) {}
+/// CVODE's warnings (positive codes, e.g. t + h == t) are counted, not printed; its errors
+/// come back as return flags, handled where they occur.
+void silent_error_handler(int code, const char* module, const char* function, char* message, void*) {
+    if (code > 0)
+        detail::record_library_message("cvode", std::string(module ? module : "") + " " + (function ? function : "") +
+                                                    ": " + (message ? message : ""));
+}
 }  // namespace
 
 Integrator::Integrator(const System& system, double omega, const TimeIntegrationOptions& options)

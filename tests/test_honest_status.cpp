@@ -1,0 +1,191 @@
+// Honest statuses (issue 13): a truncated, capped or doubtful result is a status, a warning and
+// exit code 3, never "completed"; the energy balance of every point is checked; the library
+// messages are counted, not printed; inputs that are indeterminate or out of the measured range
+// are refused.
+#include <glog/logging.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <complex>
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "hbf/continuation.hpp"
+#include "hbf/diagnostics.hpp"
+#include "support.hpp"
+
+using namespace hbf;
+
+TEST_CASE("Point budget: the branch is truncated, its coverage measured, and the status says so", "[status]") {
+    AbsorberParameters p;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::dahl), HarmonicBalanceOptions{6, 0});
+    ContinuationOptions o;
+    o.max_points = 12;
+    const BranchResult b = continue_branch(hb, o);
+    CHECK(b.status == ContinuationStatus::point_budget);
+    REQUIRE(b.points.size() >= 2);
+    // Coverage: the span of the points over the range, by hand.
+    const double reached = b.points.back().omega;
+    CHECK(b.coverage == Approx((reached - o.omega_start) / (o.omega_end - o.omega_start)).epsilon(1e-12));
+    CHECK(b.coverage < 0.5);
+    ContinuationOptions full;
+    const BranchResult whole = continue_branch(hb, full);
+    CHECK(whole.status == ContinuationStatus::completed);
+    CHECK(whole.coverage == Approx(1.0).epsilon(1e-12));
+}
+
+TEST_CASE("hbf frf: a truncated branch is exit 3, a warning and outcome incomplete in the JSON", "[status][cli]") {
+    ::test::TempDir dir;
+    const auto json = dir.path / "s.json";
+    const ::test::Result r = ::test::run_hbf(
+        "frf --quiet --law dahl --harmonics 5 --max-step 1e-5 --out - --summary '" + json.string() + "'", dir);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("warning: point_budget") && Catch::Contains("% of [wmin, wmax]"));
+    const nlohmann::json s = nlohmann::json::parse(::test::slurp(json));
+    CHECK(s["status"] == "point_budget");
+    CHECK(s["outcome"] == "incomplete");
+    CHECK(s["coverage"].get<double>() < 0.1);
+    CHECK(s["warnings"].size() == 1);
+    // The points computed are written.
+    CHECK(::test::parse_csv(r.out).size() > 1000);
+}
+
+TEST_CASE("hbf frf: an unbounded resonance is capped: exit 3, status amplitude_cap, both flanks written",
+          "[status][cli]") {
+    // SDOF, undamped, Dahl: the friction dissipates at most 4 mu |y| per cycle against the
+    // input pi F |y|, so with pi F > 4 mu the resonance grows without bound (F = 1, mu = 0.2).
+    ::test::TempDir dir;
+    const auto file = dir.path / "sdof.toml";
+    ::test::write_file(file, "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\n"
+                             "[[contact]]\ndof = 1\nlaw = \"dahl\"\nfriction_limit = 0.2\nstiffness = 2.0\n");
+    const auto json = dir.path / "s.json";
+    const ::test::Result r = ::test::run_hbf(
+        "frf --quiet --harmonics 7 --config '" + file.string() + "' --summary '" + json.string() + "'", dir);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("amplitude_cap"));
+    const nlohmann::json s = nlohmann::json::parse(::test::slurp(json));
+    CHECK(s["status"] == "amplitude_cap");
+    CHECK(s["outcome"] == "incomplete");
+    // Both flanks: the gap is the capped peak around w = 1, a fraction of a percent.
+    CHECK(s["coverage"].get<double>() > 0.99);
+    CHECK(s["coverage"].get<double>() < 1.0);
+    // Bounded (pi F < 4 mu): completed, exit 0.
+    ::test::write_file(file, "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [0.2]\n"
+                             "[[contact]]\ndof = 1\nlaw = \"dahl\"\nfriction_limit = 0.2\nstiffness = 2.0\n");
+    const ::test::Result bounded = ::test::run_hbf("frf --quiet --harmonics 7 --config '" + file.string() + "'", dir);
+    CHECK(bounded.exit_code == 0);
+    CHECK(bounded.err.empty());
+}
+
+TEST_CASE("Energy balance: viscous dissipation by hand, and a non-solution fails the check", "[status]") {
+    // A damped SDOF without contacts: y = Re(Y e^{i w t}) = Re(Y) cos - Im(Y) sin with
+    // Y = F / (k - m w^2 + i c w); the input work per cycle pi F s1 = pi F (-Im Y) = pi c w |Y|^2
+    // is all viscous.
+    System s;
+    s.mass = sparse(Eigen::MatrixXd::Constant(1, 1, 2.0));
+    s.stiffness = sparse(Eigen::MatrixXd::Constant(1, 1, 3.0));
+    s.damping = sparse(Eigen::MatrixXd::Constant(1, 1, 0.3));
+    s.excitation = Eigen::VectorXd::Constant(1, 0.7);
+    HarmonicBalance linear(s, HarmonicBalanceOptions{3, 0});
+    ContinuationOptions o;
+    o.omega_start = 0.5;
+    o.omega_end = 2.0;
+    const BranchResult b = continue_branch(linear, o);
+    REQUIRE(b.status == ContinuationStatus::completed);
+    Analyser analyse(linear);
+    for (const SolutionPoint& point : b.points) {
+        const std::complex<double> Y = 0.7 / std::complex<double>(3.0 - 2.0 * point.omega * point.omega, 0.3 * point.omega);
+        const PointMetrics m = analyse(point);
+        CHECK(m.viscous_energy == Approx(M_PI * 0.3 * point.omega * std::norm(Y)).epsilon(1e-8));
+        CHECK(m.energy_error <= 1e-8);
+    }
+    // The paper's absorber with LuGre: every branch point balances; the same point moved by 1 %
+    // of its amplitude in one coefficient does not.
+    AbsorberParameters p;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::lugre), HarmonicBalanceOptions{8, 0});
+    const BranchResult branch = continue_branch(hb, ContinuationOptions{});
+    REQUIRE(branch.status == ContinuationStatus::completed);
+    Analyser check(hb);
+    int flagged = 0;
+    for (const SolutionPoint& point : branch.points) {
+        CHECK(check(point).energy_error <= energy_balance_limit(1e-9));
+        SolutionPoint moved = point;
+        moved.x(2) += 0.01 * hb.unknown_scale(point.x);  // s1 of y1: the input work's own coefficient
+        if (check(moved).energy_error > energy_balance_limit(1e-9)) ++flagged;
+    }
+    CHECK(flagged == static_cast<int>(branch.points.size()));
+}
+
+TEST_CASE("Library messages: glog warnings are counted, not printed", "[status]") {
+    capture_library_messages();
+    reset_library_messages();
+    CHECK(library_messages().count == 0);
+    LOG(WARNING) << "a test warning";
+    LOG(INFO) << "progress, not counted";
+    const LibraryMessages m = library_messages();
+    CHECK(m.count == 1);
+    CHECK_THAT(m.first, Catch::StartsWith("ceres: a test warning"));
+    reset_library_messages();
+}
+
+TEST_CASE("hbf loop writes the law's own force: |f| <= mu for exact Coulomb, the series separately",
+          "[status][cli][loop]") {
+    ::test::TempDir dir;
+    const ::test::Result r = ::test::run_hbf("loop --w 1.0", dir);  // stick-slip at w = 1
+    REQUIRE(r.exit_code == 0);
+    const auto rows = ::test::parse_csv(r.out);
+    double f_max = 0, series_max = 0, f_mean = 0, series_mean = 0;
+    int slipping = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        const double f = ::test::column(rows, rows[k], "f"), g = ::test::column(rows, rows[k], "f_series");
+        f_max = std::max(f_max, std::abs(f));
+        series_max = std::max(series_max, std::abs(g));
+        f_mean += f;
+        series_mean += g;
+        if (::test::column(rows, rows[k], "stick") == 0.0) {
+            ++slipping;
+            CHECK(std::abs(f) == Approx(0.2).epsilon(1e-12));  // sliding: |f| = mu exactly
+        }
+    }
+    CHECK(slipping > 10);
+    CHECK(f_max <= 0.2 * (1 + 1e-12));
+    CHECK(series_max > 0.21);  // Gibbs overshoot of the truncated series
+    CHECK(series_mean == Approx(f_mean).margin(1e-9 * static_cast<double>(rows.size())));
+}
+
+TEST_CASE("Refused: parallel exact Coulomb contacts, an unmeasured --dlft-eps, an asymmetric matrix",
+          "[status][cli]") {
+    ::test::TempDir dir;
+    const std::string absorber = "[structure]\nmass = [1.0, 0.1]\nstiffness = [[1.1, -0.1], [-0.1, 0.1]]\n"
+                                 "excitation = [0.5, 0.0]\n";
+    const std::string contact = "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"coulomb\"\nfriction_limit = 0.2\n";
+    ::test::check_bad_config(absorber + contact + contact,
+                             {"contact[2]", "same direction as contact 1", "friction_limit = 0.4"}, dir);
+    const std::string reversed = "[[contact]]\ndof = 2\nother_dof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.1\n";
+    ::test::check_bad_config(absorber + contact + reversed, {"contact[2]", "same direction"}, dir);
+    // Coulomb beside a Jenkins element on the same pair is determinate: accepted.
+    const std::string jenkins =
+        "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"jenkins\"\nfriction_limit = 0.1\nstiffness = 0.5\n";
+    ::test::write_file(dir.path / "mixed.toml", absorber + contact + jenkins);
+    CHECK(::test::run_hbf("frf --quiet --exact off --harmonics 5 --config '" + (dir.path / "mixed.toml").string() +
+                              "' --out /dev/null",
+                          dir)
+              .exit_code == 0);
+    // --dlft-eps: along w = (1, -1), k = w'Kw = 1.4 and m = w'Mw = 1.1: automatic sqrt(k m) = 1.241,
+    // allowed 1/30 to 4 times it.
+    ::test::check_bad_input("frf --quiet --dlft-eps 1e-12", {"--dlft-eps", "allowed 0.0413", "4.96"}, dir);
+    ::test::check_bad_input("frf --quiet --dlft-eps 10", {"--dlft-eps", "out of range"}, dir);
+    CHECK(::test::run_hbf("frf --quiet --exact off --dlft-eps 0.5 --out /dev/null", dir).exit_code == 0);
+    ::test::check_bad_config("[structure]\nmass = [1.0, 0.1]\nstiffness = [[1.1, -0.1], [-0.2, 0.1]]\n"
+                             "excitation = [0.5, 0.0]\n",
+                             {"structure.stiffness", "not symmetric", "(1, 2) = -0.1", "(2, 1) = -0.2"}, dir);
+}
+
+TEST_CASE("An indefinite stiffness is accepted with a warning before the work", "[status][cli]") {
+    ::test::TempDir dir;
+    const ::test::Result r = ::test::run_hbf(
+        "frf --quiet --config '" + std::string(HBF_SOURCE_DIR) + "/examples/systems/jenkins_negative_stiffness.toml' --out /dev/null",
+        dir);
+    CHECK(r.exit_code == 0);
+    CHECK_THAT(r.err, Catch::Contains("warning") && Catch::Contains("stiffness matrix K is indefinite"));
+}
