@@ -28,6 +28,71 @@ namespace {
     throw InvalidInput(message + what);
 }
 
+/// Limits checked before the TOML parser sees a file: it recurses once per level of a dotted
+/// table header and crashed (stack overflow) on a 40,000-level one. A system file needs 3.
+constexpr std::uintmax_t max_config_bytes = 64u << 20;
+constexpr int max_config_nesting = 32;
+
+/// Throws naming the line where dotted key parts or nested brackets exceed max_config_nesting.
+/// A light scan: strings and comments are skipped, keys are read up to '=' (at the top level,
+/// in a [header], and after '{' or ',' inside an inline table).
+void check_nesting(const std::string& path, const std::string& text) {
+    int line = 1, dots = 0;
+    bool key = true;
+    std::vector<char> open;  // '[' and '{' of values
+    auto deep = [&](const char* what) {
+        throw InvalidInput(path + ":" + std::to_string(line) + ": " + what + " nested deeper than " +
+                           std::to_string(max_config_nesting) + " levels: allowed at most " +
+                           std::to_string(max_config_nesting) + " (a system file needs 3)");
+    };
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '\n') {
+            ++line;
+            if (open.empty()) {
+                key = true;
+                dots = 0;
+            }
+        } else if (c == '#') {
+            while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+        } else if (c == '"' || c == '\'') {
+            const bool triple = text.compare(i, 3, std::string(3, c)) == 0;
+            i += triple ? 3 : 1;
+            while (i < text.size()) {
+                if (c == '"' && text[i] == '\\') {
+                    if (i + 1 < text.size() && text[i + 1] == '\n') ++line;
+                    i += 2;
+                    continue;
+                }
+                if (text[i] == '\n') {
+                    if (!triple) break;  // an unterminated string: the parser reports it
+                    ++line;
+                }
+                if (text[i] == c && (!triple || text.compare(i, 3, std::string(3, c)) == 0)) {
+                    if (triple) i += 2;
+                    break;
+                }
+                ++i;
+            }
+            if (i < text.size() && text[i] == '\n') --i;  // counted by the main loop
+        } else if (key) {
+            if (c == '.' && ++dots > max_config_nesting) deep("dotted key parts");
+            if (c == '=') {
+                key = false;
+                dots = 0;
+            }
+        } else if (c == '[' || c == '{') {
+            open.push_back(c);
+            if (static_cast<int>(open.size()) > max_config_nesting) deep("brackets");
+            if (c == '{') key = true;
+        } else if (c == ']' || c == '}') {
+            if (!open.empty()) open.pop_back();
+        } else if (c == ',' && !open.empty() && open.back() == '{') {
+            key = true;
+        }
+    }
+}
+
 /// Reading context of one file: its path (for messages) and directory (for .mtx files).
 struct Reader {
     std::string file, directory;
@@ -133,7 +198,9 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
     const std::string where = "contact[" + std::to_string(index + 1) + "]";
     Contact c;
     const toml::node* law_node = t.get("law");
-    if (!law_node || !law_node->is_string()) fail(r.file, t.source(), where + ".law", "missing: a string (coulomb, jenkins, dahl, lugre, coulomb-reg)");
+    if (!law_node) fail(r.file, t.source(), where + ".law", "missing: a string (coulomb, jenkins, dahl, lugre, coulomb-reg)");
+    if (!law_node->is_string())
+        fail(r.file, law_node->source(), where + ".law", "expected a string: coulomb, jenkins, dahl, lugre or coulomb-reg");
     try {
         c.law = parse_friction_law(law_node->as_string()->get());
     } catch (const InvalidInput& e) {
@@ -263,13 +330,30 @@ SystemConfig read_system_config(const std::string& path) {
     r.file = path;
     const auto slash = path.find_last_of('/');
     r.directory = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+    // A regular file of bounded size, read here and scanned before the parser sees it.
+    std::error_code error;
+    const auto status = std::filesystem::status(path, error);
+    if (!std::filesystem::exists(status))
+        throw InvalidInput("--config = '" + path + "' cannot be read (no such file, or not readable)");
+    if (!std::filesystem::is_regular_file(status))
+        throw InvalidInput("--config = '" + path + "' is not a regular file (a directory, device or FIFO): allowed a "
+                           "TOML file");
+    const std::uintmax_t bytes = std::filesystem::file_size(path, error);
+    if (error || bytes > max_config_bytes)
+        throw InvalidInput("--config = '" + path + "' has " + std::to_string(bytes) + " bytes: allowed at most " +
+                           std::to_string(max_config_bytes) + " (64 MB; put large matrices in Matrix Market files)");
+    std::string text;
     {
-        std::ifstream probe(path);
-        if (!probe) throw InvalidInput("--config = '" + path + "' cannot be read (no such file, or not readable)");
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw InvalidInput("--config = '" + path + "' cannot be read (no such file, or not readable)");
+        std::ostringstream buffer;
+        buffer << in.rdbuf();
+        text = buffer.str();
     }
+    check_nesting(path, text);
     toml::table root;
     try {
-        root = toml::parse_file(path);
+        root = toml::parse(text, path);
     } catch (const toml::parse_error& e) {
         fail(path, e.source(), "", "syntax error: " + std::string(e.description()));
     }
@@ -437,8 +521,12 @@ SparseMatrix read_matrix_market(const std::string& path) {
     };
     std::istringstream s;
     long rows = 0, cols = 0, entries = 0;
-    if (!next(s) || !(s >> rows >> cols) || rows < 1 || cols < 1 || rows > 10000000 || cols > 10000000)
+    if (!next(s) || !(s >> rows >> cols) || rows < 1 || cols < 1)
         throw bad(number, "expected the size line 'rows cols [entries]'");
+    constexpr long max_dimension = 1000000;
+    if (rows > max_dimension || cols > max_dimension)
+        throw bad(number, "size " + std::to_string(rows) + " x " + std::to_string(cols) +
+                              " is out of range: allowed at most " + std::to_string(max_dimension) + " rows and columns");
     if (format == "coordinate" && !(s >> entries)) throw bad(number, "expected the size line 'rows cols entries'");
     const bool symmetric = symmetry == "symmetric";
     std::vector<Eigen::Triplet<double>> triplets;
@@ -449,9 +537,12 @@ SparseMatrix read_matrix_market(const std::string& path) {
         if (symmetric && i != j) triplets.emplace_back(static_cast<int>(j), static_cast<int>(i), v);
     };
     if (format == "coordinate") {
-        if (entries < 0 || entries > rows * cols) throw bad(number, "entries = " + std::to_string(entries) +
-                                                                     " is out of range: allowed 0..rows*cols");
-        triplets.reserve(static_cast<std::size_t>(symmetric ? 2 * entries : entries));
+        constexpr long max_entries = 100000000;
+        if (entries < 0 || entries > rows * cols || entries > max_entries)
+            throw bad(number, "entries = " + std::to_string(entries) + " is out of range: allowed 0..rows*cols, at most " +
+                                  std::to_string(max_entries));
+        // Reserved up to a bound: the count is only a promise until the entries are read.
+        triplets.reserve(static_cast<std::size_t>(std::min(symmetric ? 2 * entries : entries, 1L << 20)));
         std::set<std::pair<long, long>> seen;
         for (long k = 0; k < entries; ++k) {
             long i = 0, j = 0;

@@ -237,8 +237,11 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             if (h < o.min_step) {
                 out.status = ContinuationStatus::min_step;
                 out.message = "corrector failed with the minimum step at w = " + format_number(omega) +
-                              " (residual " + format_number(res) +
-                              "); stiff contacts and sharp stick-slip may need more harmonics";
+                              " (residual " + format_number(res) + " against the tolerance " +
+                              format_number(o.corrector.tolerance) +
+                              "): the branch is not smooth enough there for the corrector (a sharp stick-slip "
+                              "kink: more harmonics or a looser tolerance may pass it), or the solution stops "
+                              "existing (an unbounded or singular response)";
                 return out;
             }
             continue;

@@ -238,6 +238,25 @@ void AbsorberParameters::validate(FrictionLaw law) const {
     }
     if (law == FrictionLaw::coulomb_regularized)
         require_positive(regularization, "eps", "regularisation velocity of tanh");
+    // Nondimensional ratios, of order 0.01..10 in the paper: bounded to 1e-12..1e12, so that
+    // products like r wa^2 stay finite and resolvable next to 1 (r = 1e300 overflowed into a
+    // non-finite matrix, reported as such; the linear-limit tests use mu = 1e9).
+    const std::pair<const char*, double> ratios[] = {
+        {"r (mass ratio m2/m1)", mass_ratio},
+        {"wa (tuning ratio omega2/omega1)", tuning_ratio},
+        {"mu (friction coefficient)", friction_coefficient},
+        {"fe (excitation amplitude F0/N)", excitation},
+        {"wb (contact stiffness ratio omega3/omega1)", contact_stiffness_ratio},
+        {"xi (contact damping ratio)", contact_damping_ratio},
+        {"eps (regularisation velocity of tanh)", regularization},
+        {"mu_s (static friction coefficient)", static_friction_coefficient},
+        {"vs (Stribeck velocity)", stribeck_velocity},
+        {"sigma2 (viscous friction coefficient)", viscous_coefficient}};
+    for (const auto& [name, value] : ratios)
+        if (value > 1e12 || (value > 0.0 && value < 1e-12))
+            throw InvalidInput(std::string(name) + " = " + format_number(value) +
+                               " is out of range: allowed 1e-12..1e12 (a nondimensional ratio; products of "
+                               "two such must stay finite and resolvable next to 1)");
 }
 
 System friction_absorber(const AbsorberParameters& p, FrictionLaw law) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
@@ -172,7 +173,19 @@ AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
     set("--dlft-eps", dlft_eps, p.lagrangian_penalty);
     if (!dlft_eps.empty() && !(p.lagrangian_penalty > 0.0))
         throw UsageError("--dlft-eps = " + dlft_eps + " is out of range: allowed > 0");
-    p.validate(chosen);
+    try {
+        p.validate(chosen);
+    } catch (const InvalidInput& e) {
+        // The library names the parameter (r, wa, ..., mu_s, vs, sigma2): name the flag too.
+        const std::string what = e.what();
+        const std::string name = what.substr(0, what.find(' '));
+        const std::map<std::string, std::string> flags = {
+            {"r", "--r"},   {"wa", "--wa"},   {"mu", "--mu"},   {"fe", "--fe"},           {"wb", "--wb"},
+            {"xi", "--xi"}, {"eps", "--eps"}, {"mu_s", "--mu-static"}, {"vs", "--stribeck-velocity"},
+            {"sigma2", "--viscous"}};
+        const auto flag = flags.find(name);
+        throw UsageError(flag == flags.end() ? what : flag->second + ": " + what);
+    }
     return p;
 }
 

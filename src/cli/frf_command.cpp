@@ -83,6 +83,12 @@ int run(const CLI::App& command, const FrfOptions& o) {
     long long overlay_points = 0;
     std::string overlay_out = o.overlay_out;
     io::check_plot("--plot", o.plot);  // before any work
+    // An empty value is never "not given" (it would silently change what runs).
+    if (given(command, "--at") && o.at.empty())
+        throw UsageError("--at is empty: allowed a comma-separated list of frequencies > 0");
+    if (given(command, "--exact") && o.exact.empty()) throw UsageError("--exact is empty: allowed on, off");
+    if (given(command, "--overlay-timeint") && o.overlay.empty())
+        throw UsageError("--overlay-timeint is empty: allowed 2..10000 points");
     if (!o.overlay.empty()) {
         overlay_points = parse_integer("--overlay-timeint", o.overlay);
         if (overlay_points < 2 || overlay_points > 10000)
