@@ -510,7 +510,7 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, double omega_
 }
 }  // namespace
 
-BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) {
+void validate(const ContinuationOptions& o) {
     require_positive(o.omega_start, "wmin", "lowest frequency");
     require_positive(o.omega_end, "wmax", "highest frequency");
     if (!(o.omega_end > o.omega_start))
@@ -526,6 +526,10 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     require_positive(o.corrector.tolerance, "tolerance", "relative residual tolerance");
     if (o.max_points < 2) throw InvalidInput("max_points = " + std::to_string(o.max_points) + " is out of range: allowed >= 2");
 
+}
+
+BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) {
+    validate(o);
     detail::Stopwatch watch;
     const EvaluationStatistics before = hb.statistics();
     Corrector corrector(hb, o.corrector);

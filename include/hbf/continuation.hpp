@@ -100,6 +100,9 @@ struct CorrectorStatistics {
 /// it), point_budget (max_points reached), min_step (the corrector stalled), start_failed.
 /// With several branches (restarts past a cap) the status is the worst of them, in the order
 /// completed < amplitude_cap < left_range < point_budget < min_step < start_failed.
+/// Throws InvalidInput naming the first option out of range (continue_branch calls it).
+void validate(const ContinuationOptions& options);
+
 enum class ContinuationStatus { completed, amplitude_cap, left_range, point_budget, min_step, start_failed };
 std::string to_string(ContinuationStatus status);
 

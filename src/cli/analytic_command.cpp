@@ -1,4 +1,5 @@
 // `hbf analytic`: the paper's closed forms on a frequency grid, as CSV.
+#include <iostream>
 #include <cmath>
 #include <memory>
 
@@ -43,6 +44,10 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
     const std::vector<double> grid = analytic::uniform_grid(
         parse_double("--wmin", o.wmin), parse_double("--wmax", o.wmax), parse_integer("--points", o.points));
     const std::vector<analytic::Row> rows = analytic::table(p, law, grid);
+    if (dry_run()) {
+        std::cerr << "hbf analytic: dry run: every input and output is valid; nothing computed, nothing written\n";
+        return exit_success;
+    }
     io::OutputFile out(o.out);
     io::write_analytic_csv(out.stream(), rows);
     if (!o.plot.empty()) {
@@ -72,6 +77,7 @@ Runner add_analytic_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "analytic", "Closed-form stick and slip responses, limit and optimal friction coefficients "
                     "of the paper's friction absorber (nondimensional).");
+    add_dry_run(*command);
     options->absorber.add_to(*command, "friction law: coulomb, dahl or lugre", "coulomb", false);
     command->add_option("--wmin", options->wmin, "lowest frequency w, > 0")
         ->capture_default_str()->type_name("NUMBER");

@@ -151,6 +151,11 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // ones replace them.
     if (exact) co.locate_transitions = false;
     HarmonicBalance hb(system, hbo);
+    validate(co);
+    if (dry_run()) {
+        std::cerr << "hbf frf: dry run: every input and output is valid; nothing computed, nothing written\n";
+        return exit_success;
+    }
     ProgressLine progress(!o.quiet && isatty(STDERR_FILENO));
     co.progress = [&progress](double omega, int points) { progress.update(omega, points); };
     BranchResult branch = continue_branch(hb, co);  // validates the range options
@@ -311,6 +316,7 @@ Runner add_frf_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "frf", "Frequency response of the paper's friction absorber by multi-harmonic balance (AFT) and "
                "pseudo-arclength continuation in w (nondimensional).");
+    add_dry_run(*command);
     options->absorber.add_to(*command,
                              "friction law: coulomb (exact, set-valued: true sticking, by the dynamic Lagrangian), "
                              "jenkins (spring k_t = r wb^2 in series with a Coulomb slider), dahl, lugre or "

@@ -1,5 +1,6 @@
 // `hbf loop`: the time signals of one harmonic-balance solution (friction force against
 // relative velocity: the friction loop), as CSV and optionally a plot.
+#include <iostream>
 #include <cmath>
 #include <memory>
 
@@ -58,6 +59,11 @@ int run(const CLI::App& command, const LoopOptions& o) {
     co.omega_start = w > wmin ? wmin : 0.9 * w;
     co.omega_end = w;
     co.locate_transitions = false;
+    validate(co);
+    if (dry_run()) {
+        std::cerr << "hbf loop: dry run: every input and output is valid; nothing computed, nothing written\n";
+        return exit_success;
+    }
     const BranchResult branch = continue_branch(hb, co);
     // The branch's point at w: where branch 1 lands, or where branch 2 starts when branch 1
     // stopped at an amplitude cap on the way.
@@ -111,6 +117,7 @@ Runner add_loop_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "loop", "Time signals of one harmonic-balance solution at frequency w: displacements, the contact's "
                 "relative motion and friction force (the friction loop f against v, paper Figs. 5-6).");
+    add_dry_run(*command);
     options->absorber.add_to(*command,
                              "friction law: coulomb, jenkins, dahl, lugre or coulomb-reg (as hbf frf)", "coulomb", true);
     options->absorber.add_excitation_harmonic(*command);

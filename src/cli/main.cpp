@@ -1,12 +1,7 @@
-// hbf — command-line front end of hbfriction. Thin: parse, validate, call the library, write.
-
-#include <iostream>
-#include <map>
-
-#include "arguments.hpp"
+// hbf — command-line front end of hbfriction. Thin: parse, validate, call the library, write
+// (program.cpp).
 #include "commands.hpp"
 #include "hbf/diagnostics.hpp"
-#include "hbf/error.hpp"
 #include "hbf/memory.hpp"
 
 int main(int argc, char** argv) {
@@ -15,65 +10,5 @@ int main(int argc, char** argv) {
     hbf::retain_freed_memory();
     // Ceres' (glog's) and CVODE's warnings are counted and summarised, never dumped.
     hbf::capture_library_messages();
-    using namespace hbf::cli;
-    CLI::App app("hbf: frequency responses of structures with friction contacts "
-                 "(multi-harmonic balance, closed forms of the friction absorber).",
-                 "hbf");
-    app.set_version_flag("--version", "hbf 0.1.0");
-    app.require_subcommand(1);
-    app.footer(
-        "Exit codes: 0 success; 2 bad input (an invalid flag or value, or an output path that cannot be used, "
-        "found before any work: the message names it, no output file is written); 1 failure (a solver that "
-        "did not converge or stalled, a failed exact polish, an --at frequency without a solution, a write "
-        "that fails: what was computed is written and stderr says where and why); 3 written but incomplete or "
-        "doubtful (a capped, truncated or partial branch, an unlocated transition, a point failing the energy "
-        "balance, warnings of the numerical libraries: each a warning line on stderr and in the JSON "
-        "summary). A note on stderr (e.g. a peak not refined, flagged in the JSON) leaves the exit code as it is.\n"
-        "Outputs: '-' is standard output; a regular file (or a symlink to one, which stays a symlink) is "
-        "replaced atomically when the command succeeds; a character device or FIFO (e.g. /dev/null) is "
-        "written in place, never replaced; no two outputs may name the same file.\n"
-        "Run 'hbf <command> --help' for a command's flags and output columns.");
-
-    std::map<std::string, Runner> runners;
-    runners["analytic"] = add_analytic_command(app);
-    runners["frf"] = add_frf_command(app);
-    runners["loop"] = add_loop_command(app);
-    runners["timeint"] = add_timeint_command(app);
-
-    const std::string program = "hbf";
-    if (argc > 1 && argv[1][0] != '-' && runners.count(argv[1]) == 0) {
-        std::string known;
-        for (const auto& entry : runners) known += (known.empty() ? "" : ", ") + entry.first;
-        std::cerr << program << ": error: unknown command '" << argv[1] << "': allowed " << known << "\n"
-                  << "Run 'hbf --help' for usage.\n";
-        return exit_bad_input;
-    }
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForVersion& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << program << ": error: " << e.what() << "\n"
-                  << "Run 'hbf --help' or 'hbf <command> --help' for usage.\n";
-        return exit_bad_input;
-    }
-
-    std::string name;
-    for (const CLI::App* sub : app.get_subcommands()) name = sub->get_name();
-    try {
-        return runners.at(name)();
-    } catch (const UsageError& e) {
-        std::cerr << program << " " << name << ": error: " << e.what() << "\n";
-        return exit_bad_input;
-    } catch (const hbf::InvalidInput& e) {
-        std::cerr << program << " " << name << ": error: " << e.what() << "\n";
-        return exit_bad_input;
-    } catch (const std::exception& e) {
-        std::cerr << program << " " << name << ": error: " << e.what() << "\n";
-        return exit_failure;
-    }
+    return hbf::cli::run_program(argc, argv);
 }

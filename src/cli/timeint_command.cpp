@@ -139,6 +139,10 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     eo.outputs = chosen.outputs;
     eo.tolerance = given(command, "--steady-tol") ? tio.steady_tolerance : 1e-12;
 
+    if (dry_run()) {
+        std::cerr << "hbf timeint: dry run: every input and output is valid; nothing computed, nothing written\n";
+        return exit_success;
+    }
     io::OutputFile out(o.out);  // opened before the work: an unwritable path fails fast
     const bool progress = !o.quiet && isatty(STDERR_FILENO);
     std::vector<PeriodicResponse> responses;
@@ -193,6 +197,7 @@ Runner add_timeint_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "timeint", "Periodic steady states of the paper's friction absorber by time integration (SUNDIALS CVODE): "
                    "the reference for harmonic balance. One frequency (--w) or a sweep (--wmin --wmax --points).");
+    add_dry_run(*command);
     options->absorber.add_to(*command,
                              "friction law: coulomb (exact, set-valued, event-driven stick/slip), jenkins (spring "
                              "k_t = r wb^2 in series with a Coulomb slider), dahl, lugre or coulomb-reg (regularised)",
