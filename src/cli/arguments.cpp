@@ -40,6 +40,9 @@ double parse_double(const std::string& flag, const std::string& text) {
     const double value = std::strtod(begin, &end);
     if (end == begin || *end != '\0' || std::isspace(static_cast<unsigned char>(text.front())))
         bad_value(flag, text, "is not a number");
+    // strtod also reads hexadecimal (0x10 = 16) and "infinity": a decimal number is meant.
+    if (text.find_first_of("xXpP") != std::string::npos)
+        bad_value(flag, text, "is not a decimal number (hexadecimal is not accepted)");
     if (std::isnan(value)) bad_value(flag, text, "is NaN: a finite number is required");
     if (std::isinf(value)) {
         if (errno == ERANGE) bad_value(flag, text, "overflows a double: a finite number is required");

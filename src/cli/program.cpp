@@ -78,7 +78,19 @@ int run_program(int argc, char** argv) {
         std::cerr << program << " " << name << ": error: " << e.what() << "\n";
         return exit_bad_input;
     } catch (const hbf::InvalidInput& e) {
-        std::cerr << program << " " << name << ": error: " << e.what() << "\n";
+        // The library names its own parameter (wmin, harmonics, ...): where the user gave it as
+        // a flag, name the flag as well.
+        const std::string what = e.what();
+        const std::string word = what.substr(0, what.find_first_of(" :("));
+        const std::map<std::string, std::string> flags = {
+            {"wmin", "--wmin"},           {"wmax", "--wmax"},           {"harmonics", "--harmonics"},
+            {"time_samples", "--time-samples"}, {"points", "--points"},   {"max_amplitude", "--max-amplitude"},
+            {"max_step", "--max-step"},   {"tolerance", "--tolerance"}, {"modes", "--modes"}};
+        const auto flag = flags.find(word);
+        const CLI::App* sub = app.get_subcommands().empty() ? nullptr : app.get_subcommands().front();
+        const bool named = flag != flags.end() && sub != nullptr &&
+                           sub->get_option_no_throw(flag->second) != nullptr && sub->count(flag->second) > 0;
+        std::cerr << program << " " << name << ": error: " << (named ? flag->second + ": " : "") << what << "\n";
         return exit_bad_input;
     } catch (const std::exception& e) {
         std::cerr << program << " " << name << ": error: " << e.what() << "\n";

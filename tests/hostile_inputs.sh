@@ -1,0 +1,229 @@
+#!/usr/bin/env bash
+# Hostile inputs (issue 13): numbers, flags, files, paths, devices and collisions that a careless
+# or hostile user may give hbf. Every case runs in a fresh directory holding a precious file
+# (keep.csv) and the case's fixtures, and asserts:
+#   - the exit code (2: bad input, found before any work; 1: a failure; 0 where the input is
+#     legal, e.g. writing to /dev/null);
+#   - a message on standard error naming the offending parameter (a fixed text per case);
+#   - for exit 2, nothing on standard output;
+#   - the directory afterwards: no file created, none replaced (names, types, inodes and
+#     contents compared), and /dev/null and /dev/full still character devices.
+# Run by CTest as `hostile_inputs.sh HBF SOURCE_DIR`. As root, the whole list runs again as the
+# unprivileged user nobody (setpriv), where permissions apply (a read-only directory).
+set -uo pipefail
+
+HBF=$(realpath "${1:?usage: hostile_inputs.sh /path/to/hbf SOURCE_DIR}")
+SRC=$(realpath "${2:?usage: hostile_inputs.sh /path/to/hbf SOURCE_DIR}")
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/hbf-hostile.XXXXXX")
+chmod 755 "$WORK"
+trap 'rm -rf "$WORK"' EXIT
+who=$(id -un)
+cases=0
+failures=0
+
+# The state of a case directory: every entry with its type, inode and checksum.
+state() {
+  (cd "$1" && find . -mindepth 1 -printf '%P %y %i\n' | sort &&
+    find . -mindepth 1 -type f -exec md5sum {} + 2>/dev/null | sort)
+}
+
+fail() {
+  echo "FAIL [$who] case $cases: $*" >&2
+  echo "  args: ${ARGS[*]}" >&2
+  sed 's/^/  stderr: /' "$WORK/err" | head -5 >&2
+  failures=$((failures + 1))
+}
+
+# expect CODE TEXT SETUP ARGS...: runs hbf ARGS in a fresh directory after the shell snippet
+# SETUP ('' for none); checks the exit code, TEXT in standard error, and the directory.
+expect() {
+  local code=$1 text=$2 setup=$3
+  shift 3
+  ARGS=("$@")
+  cases=$((cases + 1))
+  local dir="$WORK/case$cases"
+  mkdir -p "$dir" && chmod 777 "$dir"
+  echo "precious data of case $cases" >"$dir/keep.csv"
+  if [[ -n $setup ]]; then
+    (cd "$dir" && eval "$setup") || {
+      fail "setup failed: $setup"
+      return
+    }
+  fi
+  local before after got
+  before=$(state "$dir")
+  (cd "$dir" && timeout 120 "$HBF" "$@" >"$WORK/out" 2>"$WORK/err" </dev/null)
+  got=$?
+  after=$(state "$dir")
+  [[ $got -eq $code ]] || fail "exit code $got, expected $code"
+  if [[ -n $text ]] && ! grep -qF -- "$text" "$WORK/err"; then fail "standard error lacks '$text'"; fi
+  if [[ $code -eq 2 && -s $WORK/out ]]; then fail "exit 2 with output on stdout"; fi
+  [[ $before == "$after" ]] || fail "the directory changed: $(diff <(echo "$before") <(echo "$after") | head -4 | tr '\n' ' ')"
+  [[ -c /dev/null && -c /dev/full ]] || fail "/dev/null or /dev/full is no longer a character device"
+  # Not only the case directory: nothing may appear beside it either.
+  local extra
+  extra=$(find "$WORK" -mindepth 1 -maxdepth 1 ! -name 'case*' ! -name out ! -name err)
+  [[ -z $extra ]] || fail "files created outside the case directory: $extra"
+}
+
+SYSTEM='[structure]
+mass = [1.0, 0.1]
+stiffness = [[1.1, -0.1], [-0.1, 0.1]]
+excitation = [0.5, 0.0]
+[[contact]]
+dof = 1
+other_dof = 2
+law = "dahl"
+friction_limit = 0.2
+stiffness = 0.016'
+# write_system FILE [EXTRA]: the absorber (Dahl) with EXTRA appended.
+write_system() { printf '%s\n%s\n' "$SYSTEM" "${2:-}" >"$1"; }
+export SYSTEM
+export -f write_system
+
+FAST=(--law dahl --harmonics 3 --wmin 0.9 --wmax 1.0)
+
+# ---- numbers --------------------------------------------------------------------------
+for v in nan inf -inf -1 0 abc 1.5.5 0x10 1e-999 ''; do
+  expect 2 "--mu" '' frf --mu "$v" --out x.csv
+done
+for v in nan -1 1e300 1e-300 ''; do expect 2 "--r" '' frf --r "$v" --out x.csv; done
+for v in 0 -2 1e13; do expect 2 "--wa" '' frf --wa "$v" --out x.csv; done
+for v in 0 -0.5 1e400; do expect 2 "--fe" '' frf --fe "$v" --out x.csv; done
+for v in 0 -1 nan; do expect 2 "--wmin" '' frf --wmin "$v" --out x.csv; done
+expect 2 "wmax" '' frf --wmin 2 --out x.csv
+expect 2 "wmax" '' frf --wmax 0.1 --out x.csv
+for v in -1 0.5 201 abc 1e3; do expect 2 "--harmonics" '' frf --harmonics "$v" --out x.csv; done
+for v in 1 -5 3.5; do expect 2 "--time-samples" '' frf --time-samples "$v" --out x.csv; done
+for v in 0 1 1e-20; do expect 2 "--tolerance" '' frf --tolerance "$v" --out x.csv; done
+for v in 0 1e-9 100; do expect 2 "--max-step" '' frf --max-step "$v" --out x.csv; done
+for v in 0 -1 nan; do expect 2 "--max-amplitude" '' frf --max-amplitude "$v" --out x.csv; done
+for v in 0 1e-12 1e9; do expect 2 "--dlft-eps" '' frf --dlft-eps "$v" --out x.csv; done
+for v in 0 201 1.5; do expect 2 "--excitation-harmonic" '' frf --excitation-harmonic "$v" --out x.csv; done
+expect 2 "--harmonics" '' frf --excitation-harmonic 3 --harmonics 2 --out x.csv
+for v in -1 x; do expect 2 "--modes" '' frf --modes "$v" --out x.csv; done
+for v in 0 -1 'a,b' '1,,2' ''; do expect 2 "--at" '' frf --at "$v" --out x.csv; done
+expect 2 "--xi" '' frf --xi 0.1 --out x.csv
+expect 2 "--wb" '' frf --law coulomb --wb 0.4 --out x.csv
+expect 2 "--eps" '' frf --law dahl --eps 0.1 --out x.csv
+expect 2 "--mu-static" '' frf --law lugre --mu-static 1e13 --out x.csv
+
+# timeint, loop, analytic
+for v in 0 -1 nan; do expect 2 "--w" '' timeint --w "$v" --out x.csv; done
+for v in 0 1; do expect 2 "--rtol" '' timeint --w 1 --rtol "$v" --out x.csv; done
+expect 2 "--atol" '' timeint --w 1 --atol -1 --out x.csv
+expect 2 "--steady-tol" '' timeint --w 1 --steady-tol 1 --out x.csv
+expect 2 "--max-periods" '' timeint --w 1 --max-periods 0 --out x.csv
+expect 2 "--max-periods" '' timeint --w 1 --max-periods 1 --out x.csv
+expect 2 "--min-periods" '' timeint --w 1 --min-periods 0 --out x.csv
+expect 2 "--points" '' timeint --wmin 0.5 --wmax 1 --points 1 --out x.csv
+expect 2 "--points" '' timeint --wmin 0.5 --wmax 1 --points 100001 --out x.csv
+expect 2 "--sweep" '' timeint --wmin 0.5 --wmax 1 --points 3 --sweep sideways --out x.csv
+expect 2 "--method" '' timeint --w 1 --method foo --out x.csv
+expect 2 "--method exact" '' timeint --law dahl --w 1 --method exact --out x.csv
+expect 2 "--w" '' loop --out x.csv
+expect 2 "--w" '' loop --w -1 --out x.csv
+for v in 0 2; do expect 2 "--contact" '' loop --w 1 --contact "$v" --out x.csv; done
+expect 2 "--law" '' analytic --law jenkins --out x.csv
+expect 2 "--points" '' analytic --points 1 --out x.csv
+
+# ---- flags ----------------------------------------------------------------------------
+expect 2 "unknown command" '' frobnicate
+expect 2 "--frobnicate" '' frf --frobnicate 1 --out x.csv
+expect 2 "--mu" '' frf --out x.csv --mu
+expect 2 "--law" '' frf --law coulomb --law dahl --out x.csv
+expect 2 "not expected: stray" '' frf stray --out x.csv
+expect 2 "--law" '' frf --law magic --out x.csv
+expect 2 "--exact" '' frf --law dahl --exact on --out x.csv
+expect 2 "--exact" '' frf --exact maybe --out x.csv
+expect 2 "--exact" '' frf --exact '' --out x.csv
+expect 2 "--formulation" '' frf --formulation weird --out x.csv
+expect 2 "--overlay-timeint" '' frf --overlay-timeint 5 --out x.csv
+expect 2 "--overlay-timeint" '' frf --overlay-timeint 1 --plot p.png --out x.csv
+expect 2 "--overlay-out" '' frf --overlay-out o.csv --out x.csv
+expect 2 "--config" '' frf --config '' --out x.csv
+expect 2 "--mu" 'write_system s.toml' frf --config s.toml --mu 0.3 --out x.csv
+
+# ---- files ----------------------------------------------------------------------------
+expect 2 "cannot be read" '' frf --config missing.toml --out x.csv
+expect 2 "not a regular file" 'mkdir d.toml' frf --config d.toml --out x.csv
+expect 2 "not a regular file" '' frf --config /dev/zero --out x.csv
+expect 2 "not a regular file" 'mkfifo f.toml' frf --config f.toml --out x.csv
+expect 2 "64 MB" 'truncate -s 65M big.toml' frf --config big.toml --out x.csv
+expect 2 "missing table [structure]" ': > empty.toml' frf --config empty.toml --out x.csv
+expect 2 "syntax error" 'head -c 3000 /dev/urandom | tr -d "\000" > junk.toml' frf --config junk.toml --out x.csv
+expect 2 "deeper than 32" "printf '[%s]\\n' \"\$(printf 'a.%.0s' \$(seq 40000))a\" > deep.toml" frf --config deep.toml --out x.csv
+expect 2 "deeper than 32" "printf 'a = %s%s\\n' \"\$(printf '[%.0s' \$(seq 40000))\" \"\$(printf ']%.0s' \$(seq 40000))\" > deep.toml" frf --config deep.toml --out x.csv
+expect 2 "structure.colour" 'write_system s.toml; sed -i "2i colour = 1" s.toml' frf --config s.toml --out x.csv
+expect 2 "contact[1].law" 'write_system s.toml; sed -i "s/law = \"dahl\"/law = 3/" s.toml' frf --config s.toml --out x.csv
+expect 2 "structure.mass" 'write_system s.toml; sed -i "s/mass = \[1.0, 0.1\]/mass = [1.0, -0.1]/" s.toml' frf --config s.toml --out x.csv
+expect 2 "not symmetric" 'write_system s.toml; sed -i "s/\[-0.1, 0.1\]\]/[-0.2, 0.1]]/" s.toml' frf --config s.toml --out x.csv
+expect 2 "structure.mass" 'write_system s.toml; sed -i "s/mass = \[1.0, 0.1\]/mass = [nan, 0.1]/" s.toml' frf --config s.toml --out x.csv
+expect 2 "same direction" "write_system s.toml '[[contact]]
+dof = 1
+other_dof = 2
+law = \"coulomb\"
+friction_limit = 0.1'; sed -i 's/law = \"dahl\"/law = \"coulomb\"/; /stiffness = 0.016/d' s.toml" frf --config s.toml --out x.csv
+expect 2 "output.report" "write_system s.toml '[output]
+report = [1, 1]'" frf --config s.toml --out x.csv
+expect 2 "output.report" "write_system s.toml '[output]
+report = [3]'" frf --config s.toml --out x.csv
+expect 2 "frequency.wmin" "write_system s.toml '[frequency]
+wmin = -1.0'" frf --config s.toml --out x.csv
+MTX='sed -i "s/stiffness = \[\[1.1, -0.1\], \[-0.1, 0.1\]\]/stiffness = \"k.mtx\"/" s.toml'
+expect 2 "k.mtx" "write_system s.toml; $MTX" frf --config s.toml --out x.csv
+expect 2 "not a regular file" "write_system s.toml; $MTX; mkdir k.mtx" frf --config s.toml --out x.csv
+expect 2 "not a regular file" "write_system s.toml; sed -i 's|stiffness = \\[\\[1.1, -0.1\\], \\[-0.1, 0.1\\]\\]|stiffness = \"/dev/zero\"|' s.toml" frf --config s.toml --out x.csv
+expect 2 "%%MatrixMarket" "write_system s.toml; $MTX; echo 'hello' > k.mtx" frf --config s.toml --out x.csv
+expect 2 "given twice" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 1.1\n1 1 1.1\n2 2 0.1\n' > k.mtx" frf --config s.toml --out x.csv
+expect 2 "more data than the size line" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 1.1\n2 2 0.1\n2 1 -0.1\n' > k.mtx" frf --config s.toml --out x.csv
+expect 2 "index out of range" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n2 2 1\n3 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
+expect 2 "allowed at most 1000000 rows" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n20000000 20000000 1\n1 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
+expect 2 "entries = " "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n2 2 99999999999\n1 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
+expect 2 "structure.stiffness" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n3 3 1\n1 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
+
+# ---- paths ----------------------------------------------------------------------------
+expect 2 "--out" '' frf "${FAST[@]}" --out nodir/x.csv
+expect 2 "--out" 'mkdir d' frf "${FAST[@]}" --out d
+expect 2 "--out" '' frf "${FAST[@]}" --out ''
+expect 2 "--summary" '' frf "${FAST[@]}" --out x.csv --summary ''
+expect 2 "--summary" '' frf "${FAST[@]}" --out x.csv --summary nodir/s.json
+expect 2 "--out" 'ln -s nowhere/x.csv dangling' frf "${FAST[@]}" --out dangling
+expect 2 "--summary" '' frf "${FAST[@]}" --out keep.csv --summary keep.csv
+expect 2 "--plot" '' frf "${FAST[@]}" --plot x.png --out x.png
+expect 2 "--overlay-out" '' frf "${FAST[@]}" --plot p.png --overlay-timeint 3 --overlay-out keep.csv --out keep.csv
+expect 2 "--summary" 'ln keep.csv hard.csv' frf "${FAST[@]}" --out keep.csv --summary hard.csv
+expect 2 "--summary" 'ln -s keep.csv soft.csv' frf "${FAST[@]}" --out keep.csv --summary soft.csv
+expect 2 "--plot" '' frf "${FAST[@]}" --plot x.bmp --out x.csv
+expect 2 "--out" '' timeint --w 1 --out nodir/x.csv
+expect 2 "--out" 'mkdir d' loop --w 1 --out d
+expect 2 "--out" '' analytic --out nodir/x.csv
+expect 2 "--out" '' frf "${FAST[@]}" --out - --summary -
+if [[ $(id -u) -ne 0 ]]; then
+  # Permissions bind an unprivileged user only.
+  expect 2 "--out" 'mkdir ro; chmod 555 ro' frf "${FAST[@]}" --out ro/x.csv
+  expect 2 "--summary" 'mkdir ro; chmod 555 ro' frf "${FAST[@]}" --out x.csv --summary ro/s.json
+  expect 2 "cannot be read" 'write_system s.toml; chmod 000 s.toml' frf --config s.toml --out x.csv
+fi
+
+# ---- devices --------------------------------------------------------------------------
+# Legal: written in place, the device survives (the directory is unchanged: nothing in it).
+expect 0 "" '' frf "${FAST[@]}" --quiet --out /dev/null --summary /dev/null
+expect 0 "" '' analytic --out /dev/null
+expect 1 "/dev/full" '' analytic --out /dev/full
+expect 1 "/dev/full" '' frf "${FAST[@]}" --quiet --out /dev/full
+expect 2 "--plot" '' frf "${FAST[@]}" --out /dev/null --summary /dev/null --plot /dev/null
+expect 0 "dry run" '' frf "${FAST[@]}" --dry-run --out x.csv --summary s.json
+
+echo "hostile inputs [$who]: $cases cases, $failures failed"
+status=$((failures > 0))
+
+# As root: the same list again as an unprivileged user, where permissions apply.
+if [[ $(id -u) -eq 0 && -z ${HOSTILE_INNER:-} ]] && command -v setpriv >/dev/null &&
+  setpriv --reuid=nobody --regid=nogroup --clear-groups test -x "$HBF"; then
+  HOSTILE_INNER=1 setpriv --reuid=nobody --regid=nogroup --clear-groups --reset-env \
+    env PATH="$PATH" HOSTILE_INNER=1 TMPDIR=/tmp bash "$0" "$HBF" "$SRC" || status=1
+elif [[ $(id -u) -eq 0 && -z ${HOSTILE_INNER:-} ]]; then
+  echo "hostile inputs: the unprivileged pass was skipped (nobody cannot run $HBF, or setpriv is missing)"
+fi
+exit $status
