@@ -18,4 +18,12 @@ else
 fi
 echo "== running the tests" >&2
 cd "$dir"
-ctest --output-on-failure --parallel "$(nproc 2>/dev/null || echo 2)"
+exclude=()
+if [[ ${SANITIZE:-0} == 1 ]]; then
+  # The 200-DOF beam against BDF time integration (3 min in Release) is left out under the
+  # sanitizers, where it runs for hours; its code paths (the sparse Newton-GMRES integrator,
+  # the condensed HB) are exercised by smaller tests that do run (test_time_integration: 24
+  # DOFs; test_condensed: the reduced beam).
+  exclude=(-E "200-DOF beam: harmonic balance against BDF")
+fi
+ctest --output-on-failure --parallel "$(nproc 2>/dev/null || echo 2)" "${exclude[@]}"
