@@ -20,7 +20,17 @@ namespace hbf::io {
 namespace {
 namespace fs = std::filesystem;
 
-bool is_stdout(const std::string& path) { return path.empty() || path == "-"; }
+/// Standard output: '-' (or empty), and the names the system gives its descriptor 1.
+bool is_stdout(const std::string& path) {
+    return path.empty() || path == "-" || path == "/dev/stdout" || path == "/dev/fd/1" || path == "/proc/self/fd/1";
+}
+
+/// A name of an open descriptor of this process (/dev/stderr, /dev/fd/N, /proc/self/fd/N):
+/// its link points into /proc (a pipe's "pipe:[N]" resolves to nothing), so it is opened as
+/// named and written in place, whatever it refers to (a pipe, a terminal, a file).
+bool is_descriptor(const std::string& path) {
+    return path == "/dev/stderr" || path.rfind("/dev/fd/", 0) == 0 || path.rfind("/proc/self/fd/", 0) == 0;
+}
 
 std::string temporary_name(const std::string& path) {
     std::random_device device;
@@ -32,11 +42,19 @@ struct Resolved {
     fs::path target;           ///< the final target (the path itself when it does not exist)
     fs::file_status status;    ///< of the target (not_found for a new file)
     bool dangling = false;     ///< a symlink whose target does not exist
+    bool descriptor = false;   ///< is_descriptor: written in place
 };
 
 Resolved resolve(const std::string& path) {
     Resolved r;
     std::error_code error;
+    if (is_descriptor(path)) {
+        r.target = path;
+        r.descriptor = true;
+        r.status = fs::file_status(fs::file_type::character);
+        if (::access(path.c_str(), F_OK) != 0) r.dangling = true;  // no such descriptor
+        return r;
+    }
     const fs::file_status link = fs::symlink_status(path, error);
     if (fs::is_symlink(link)) {
         r.target = fs::canonical(path, error);
@@ -83,8 +101,15 @@ void check_outputs(const std::vector<OutputTarget>& targets) {
         }
         const std::string where = t.flag + " = '" + t.path + "'";
         const Resolved r = resolve(t.path);
-        if (r.dangling) throw InvalidInput(where + " is a symlink to nothing: allowed a file, or a link to one");
+        if (r.dangling)
+            throw InvalidInput(where + (r.descriptor ? " is not an open descriptor of this process"
+                                                     : " is a symlink to nothing: allowed a file, or a link to one"));
         Seen mine{t.flag, r.target, 0, 0, false, false};
+        if (r.descriptor) {
+            if (t.image) throw InvalidInput(where + " is a descriptor: an image needs a regular file path");
+            seen.push_back(mine);
+            continue;
+        }
         if (fs::exists(r.status)) {
             if (fs::is_directory(r.status)) throw InvalidInput(where + " is a directory: allowed a file path");
             const bool regular = fs::is_regular_file(r.status);
@@ -129,7 +154,7 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
     const Resolved r = resolve(path_);
     if (r.dangling) throw std::runtime_error("output '" + path_ + "' is a symlink to nothing");
     target_ = r.target.string();
-    in_place_ = written_in_place(r.status);
+    in_place_ = r.descriptor || written_in_place(r.status);
     if (in_place_) {  // a device or FIFO: written where it is, never replaced
         file_.open(target_, std::ios::out);
         if (!file_) throw std::runtime_error("cannot open output '" + path_ + "' for writing");

@@ -198,8 +198,13 @@ std::vector<std::string> System::warnings() const {
     auto indefinite = [](const SparseMatrix& matrix) {
         const double scale = largest_diagonal(matrix);
         if (!(scale > 0.0)) return false;
+        // Shifted by a rounding-level multiple of I, so that a singular semi-definite matrix
+        // (free-free K, C acting on a few DOFs) has no zero pivot; a negative one stays.
+        SparseMatrix shifted(matrix.rows(), matrix.cols());
+        shifted.setIdentity();
+        shifted = matrix + 1e-12 * scale * shifted;
         bool ok = false;
-        const Eigen::VectorXd d = ldlt_pivots(matrix, ok);
+        const Eigen::VectorXd d = ldlt_pivots(shifted, ok);
         return ok && d.size() > 0 && d.minCoeff() < -1e-10 * scale;
     };
     if (indefinite(stiffness))

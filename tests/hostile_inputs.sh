@@ -168,6 +168,8 @@ expect 2 "output.report" "write_system s.toml '[output]
 report = [1, 1]'" frf --config s.toml --out x.csv
 expect 2 "output.report" "write_system s.toml '[output]
 report = [3]'" frf --config s.toml --out x.csv
+expect 0 "negative damping" "write_system s.toml; sed -i '4i damping = [[-0.01, 0.0], [0.0, 0.0]]' s.toml" frf --config s.toml --dry-run --out x.csv
+expect 0 "K is indefinite" "write_system s.toml; sed -i 's/mass = \[1.0, 0.1\]/mass = [1.0, 0.1]/; s/\[\[1.1, -0.1\], \[-0.1, 0.1\]\]/[[-1.1, -0.1], [-0.1, 0.1]]/' s.toml" frf --config s.toml --dry-run --out x.csv
 expect 2 "frequency.wmin" "write_system s.toml '[frequency]
 wmin = -1.0'" frf --config s.toml --out x.csv
 MTX='sed -i "s/stiffness = \[\[1.1, -0.1\], \[-0.1, 0.1\]\]/stiffness = \"k.mtx\"/" s.toml'
@@ -199,6 +201,8 @@ expect 2 "--out" '' timeint --w 1 --out nodir/x.csv
 expect 2 "--out" 'mkdir d' loop --w 1 --out d
 expect 2 "--out" '' analytic --out nodir/x.csv
 expect 2 "--out" '' frf "${FAST[@]}" --out - --summary -
+expect 2 "standard output" '' frf "${FAST[@]}" --out /dev/stdout --summary -
+expect 2 "not an open descriptor" '' frf "${FAST[@]}" --out /dev/fd/9
 if [[ $(id -u) -ne 0 ]]; then
   # Permissions bind an unprivileged user only.
   expect 2 "--out" 'mkdir ro; chmod 555 ro' frf "${FAST[@]}" --out ro/x.csv

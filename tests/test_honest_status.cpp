@@ -6,7 +6,10 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <algorithm>
 #include <complex>
+#include <cstdlib>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -188,4 +191,75 @@ TEST_CASE("An indefinite stiffness is accepted with a warning before the work", 
         dir);
     CHECK(r.exit_code == 0);
     CHECK_THAT(r.err, Catch::Contains("warning") && Catch::Contains("stiffness matrix K is indefinite"));
+}
+
+TEST_CASE("Unlocated transitions are counted and named: a corrector too weak to bisect", "[status]") {
+    // One iteration per correction: the continuation's retry (100 iterations) still moves on,
+    // but the bisection between a stick and a stick-slip point cannot land.
+    AbsorberParameters p;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::jenkins), HarmonicBalanceOptions{6, 0});
+    ContinuationOptions o;
+    o.corrector.max_iterations = 1;
+    const BranchResult weak = continue_branch(hb, o);
+    const BranchResult normal = continue_branch(hb, ContinuationOptions{});
+    REQUIRE(normal.transitions > 0);
+    CHECK(weak.unlocated_transitions > 0);
+    CHECK(weak.transitions + weak.unlocated_transitions >= normal.transitions);
+    CHECK_THAT(weak.message, Catch::Contains("not located"));
+}
+
+TEST_CASE("The cases of issue 13: stuck undamped resonance, tiny and small excitations", "[status][cli]") {
+    ::test::TempDir dir;
+    // Stuck for ever (mu = 1e9) at the undamped resonance of the stuck structure, w^2 = 1/(1 + r):
+    // no steady state exists; timeint says so (exit 1, converged = false), never converged.
+    std::ostringstream resonance;
+    resonance.precision(17);
+    resonance << std::sqrt(1.0 / 1.1);
+    const ::test::Result stuck = ::test::run_hbf("timeint --mu 1e9 --w " + resonance.str(), dir);
+    CHECK(stuck.exit_code == 1);
+    const auto rows = ::test::parse_csv(stuck.out);
+    REQUIRE(rows.size() == 2);
+    CHECK(std::find(rows[1].begin(), rows[1].end(), "false") != rows[1].end());
+    CHECK_THAT(stuck.err, Catch::Contains("not converged"));
+    // fe = 1e-6: the branch crawls along the stuck resonance and hits the point budget. It is
+    // said in a few lines (no dump of library warnings) and exit 3.
+    const ::test::Result tiny = ::test::run_hbf("frf --quiet --exact off --fe 1e-6 --out /dev/null", dir);
+    CHECK(tiny.exit_code == 3);
+    CHECK(std::count(tiny.err.begin(), tiny.err.end(), '\n') <= 4);
+    CHECK_THAT(tiny.err, Catch::Contains("point_budget"));
+    // fe = 1e-3: both stick|stick-slip transitions, where the stuck closed form reaches the
+    // limit: r w^2 fe / |1 - (1 + r) w^2| = mu (test_cli), w^2 = mu / (r fe + mu (1 + r)) and
+    // mu / (mu (1 + r) - r fe).
+    const auto json = dir.path / "s.json";
+    const ::test::Result small = ::test::run_hbf("frf --quiet --fe 1e-3 --out /dev/null --summary '" + json.string() + "'", dir);
+    CHECK(small.exit_code == 0);
+    const nlohmann::json s = nlohmann::json::parse(::test::slurp(json));
+    const double r = 0.1, fe = 1e-3, mu = 0.2;
+    const double expected[] = {std::sqrt(mu / (r * fe + mu * (1 + r))), std::sqrt(mu / (mu * (1 + r) - r * fe))};
+    std::vector<double> found;
+    for (const auto& t : s.at("transitions"))
+        if (t.at("between") == "stick|stick-slip") found.push_back(t.at("w"));
+    REQUIRE(found.size() == 2);
+    CHECK(found[0] == Approx(expected[0]).epsilon(1e-8));
+    CHECK(found[1] == Approx(expected[1]).epsilon(1e-8));
+}
+
+TEST_CASE("--out /dev/stdout is standard output: written in place, also into a pipe", "[status][cli][output]") {
+    ::test::TempDir dir;
+    const ::test::Result file = ::test::run_hbf("analytic --points 11 --out /dev/stdout", dir);
+    CHECK(file.exit_code == 0);
+    CHECK(::test::parse_csv(file.out).size() == 12);
+    // Into a pipe: /dev/stdout is then a link to "pipe:[N]", which resolves to no file.
+    const auto piped = dir.path / "piped.csv";
+    const std::string command = std::string("'") + HBF_EXECUTABLE + "' analytic --points 11 --out /dev/stdout | cat > '" +
+                                piped.string() + "'";
+    CHECK(std::system(command.c_str()) == 0);
+    CHECK(::test::parse_csv(::test::slurp(piped)).size() == 12);
+    const ::test::Result both = ::test::run_hbf("frf --quiet --law dahl --out /dev/stdout --summary -", dir);
+    CHECK(both.exit_code == 2);
+    CHECK_THAT(both.err, Catch::Contains("--summary and --out both go to standard output"));
+    CHECK(both.out.empty());
+    const ::test::Result closed = ::test::run_hbf("analytic --out /dev/fd/7", dir);
+    CHECK(closed.exit_code == 2);
+    CHECK_THAT(closed.err, Catch::Contains("--out") && Catch::Contains("not an open descriptor"));
 }
