@@ -74,28 +74,34 @@ bool finite_fields(const std::string& csv, std::string& bad) {
     return true;
 }
 
+/// Seeded random draws of the absorber's parameters.
+struct Draw {
+    std::mt19937 random;
+    explicit Draw(unsigned seed) : random(seed) {}
+    double uniform(double low, double high) { return std::uniform_real_distribution<double>(low, high)(random); }
+    double log_uniform(double low, double high) { return std::exp(uniform(std::log(low), std::log(high))); }
+    int integer(int low, int high) { return std::uniform_int_distribution<int>(low, high)(random); }
+};
+
+const std::vector<std::string> laws = {"coulomb", "jenkins", "dahl", "lugre", "coulomb-reg"};
+
 }  // namespace
 
 TEST_CASE("Robustness: 240 random absorbers, every law: finite outputs, honest exit codes, no stray files",
           "[robustness][cli]") {
-    std::mt19937 random(20261124);
-    auto log_uniform = [&](double low, double high) {
-        return std::exp(std::uniform_real_distribution<double>(std::log(low), std::log(high))(random));
-    };
-    auto uniform = [&](double low, double high) { return std::uniform_real_distribution<double>(low, high)(random); };
-    const std::vector<std::string> laws = {"coulomb", "jenkins", "dahl", "lugre", "coulomb-reg"};
+    Draw d(20261124);
     std::vector<std::string> commands;
     for (int k = 0; k < 240; ++k) {
         const std::string& law = laws[static_cast<std::size_t>(k) % laws.size()];
-        const double wmin = uniform(0.3, 1.0);
+        const double wmin = d.uniform(0.3, 1.0);
         std::ostringstream args;
         args.precision(6);
-        args << "frf --quiet --law " << law << " --r " << log_uniform(0.01, 1.0) << " --wa " << uniform(0.5, 2.0)
-             << " --mu " << log_uniform(0.01, 2.0) << " --fe " << log_uniform(0.01, 2.0) << " --wmin " << wmin
-             << " --wmax " << wmin * uniform(1.2, 2.5) << " --harmonics " << 3 + static_cast<int>(random() % 6);
-        if (law == "jenkins" || law == "dahl" || law == "lugre") args << " --wb " << log_uniform(0.1, 3.0);
-        if (law == "lugre") args << " --xi " << uniform(0.0, 0.1);
-        if (law == "coulomb-reg") args << " --eps " << log_uniform(0.01, 0.5);
+        args << "frf --quiet --law " << law << " --r " << d.log_uniform(0.01, 1.0) << " --wa " << d.uniform(0.5, 2.0)
+             << " --mu " << d.log_uniform(0.01, 2.0) << " --fe " << d.log_uniform(0.01, 2.0) << " --wmin " << wmin
+             << " --wmax " << wmin * d.uniform(1.2, 2.5) << " --harmonics " << d.integer(3, 8);
+        if (law == "jenkins" || law == "dahl" || law == "lugre") args << " --wb " << d.log_uniform(0.1, 3.0);
+        if (law == "lugre") args << " --xi " << d.uniform(0.0, 0.1);
+        if (law == "coulomb-reg") args << " --eps " << d.log_uniform(0.01, 0.5);
         if (law == "coulomb" && k % 2 == 1) args << " --exact off";
         commands.push_back(args.str());
     }
@@ -136,22 +142,17 @@ TEST_CASE("Robustness: 240 random absorbers, every law: finite outputs, honest e
 
 TEST_CASE("Robustness: 60 random steady states by time integration, every law: finite rows, converged matches the exit code",
           "[robustness][cli]") {
-    std::mt19937 random(1124);
-    auto log_uniform = [&](double low, double high) {
-        return std::exp(std::uniform_real_distribution<double>(std::log(low), std::log(high))(random));
-    };
-    auto uniform = [&](double low, double high) { return std::uniform_real_distribution<double>(low, high)(random); };
-    const std::vector<std::string> laws = {"coulomb", "jenkins", "dahl", "lugre", "coulomb-reg"};
+    Draw d(1124);
     std::vector<std::string> commands;
     for (int k = 0; k < 60; ++k) {
         const std::string& law = laws[static_cast<std::size_t>(k) % laws.size()];
         std::ostringstream args;
         args.precision(6);
-        args << "timeint --quiet --law " << law << " --r " << log_uniform(0.01, 1.0) << " --mu "
-             << log_uniform(0.05, 2.0) << " --fe " << log_uniform(0.05, 2.0) << " --w " << uniform(0.4, 1.6)
+        args << "timeint --quiet --law " << law << " --r " << d.log_uniform(0.01, 1.0) << " --mu "
+             << d.log_uniform(0.05, 2.0) << " --fe " << d.log_uniform(0.05, 2.0) << " --w " << d.uniform(0.4, 1.6)
              << " --max-periods 300";
-        if (law == "jenkins" || law == "dahl" || law == "lugre") args << " --wb " << log_uniform(0.1, 3.0);
-        if (law == "coulomb-reg") args << " --eps " << log_uniform(0.02, 0.5);
+        if (law == "jenkins" || law == "dahl" || law == "lugre") args << " --wb " << d.log_uniform(0.1, 3.0);
+        if (law == "coulomb-reg") args << " --eps " << d.log_uniform(0.02, 0.5);
         if ((law == "coulomb" || law == "jenkins") && k % 2 == 1) args << " --method exact";
         commands.push_back(args.str());
     }
