@@ -263,3 +263,16 @@ TEST_CASE("--out /dev/stdout is standard output: written in place, also into a p
     CHECK(closed.exit_code == 2);
     CHECK_THAT(closed.err, Catch::Contains("--out") && Catch::Contains("not an open descriptor"));
 }
+
+TEST_CASE("hbf timeint checks the energy balance of every converged point: the absorber balances to 1e-6",
+          "[status][cli][timeint]") {
+    ::test::TempDir dir;
+    for (const std::string law : {"coulomb", "jenkins", "dahl", "lugre", "coulomb-reg"}) {
+        // Stick, stick-slip and slip along the sweep; a point out of balance would be exit 3.
+        const ::test::Result r =
+            ::test::run_hbf("timeint --quiet --law " + law + " --wmin 0.6 --wmax 1.4 --points 5 --out /dev/null", dir);
+        INFO(law << ": " << r.err);
+        CHECK(r.exit_code == 0);
+        CHECK(r.err.empty());
+    }
+}

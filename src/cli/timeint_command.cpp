@@ -2,6 +2,8 @@
 // at one frequency or along a sweep, as CSV.
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -18,6 +20,13 @@
 namespace hbf::cli {
 
 namespace {
+/// Largest relative energy imbalance of a converged steady state: max(1e-6, 100 max(rtol,
+/// steady-tol)). Measured at the defaults (rtol 1e-10, steady-tol 1e-8): 1e-10..5e-9 on the
+/// absorber (every law, fe = 0.1 and 0.5, 12 frequencies) and chain3.toml (adams and bdf).
+double timeint_energy_limit(const TimeIntegrationOptions& o) {
+    return std::max(1e-6, 100.0 * std::max(o.relative_tolerance, o.steady_tolerance));
+}
+
 constexpr long long max_points = 10000;
 
 struct TimeintOptions {
@@ -187,6 +196,32 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     if (failed > 0)
         verdict.error(std::to_string(failed) + " of " + std::to_string(responses.size()) +
                       " points did not converge (converged = false in the output)");
+    // Energy balance of every converged steady state: input work = viscous + friction energy
+    // per period, relative to the work the force could do on the first harmonic (the exact
+    // solver does not integrate the viscous energy: checked there only without damping).
+    if (!exact || system.damping.nonZeros() == 0) {
+        const double limit = timeint_energy_limit(tio);
+        int unbalanced = 0;
+        double worst = 0.0, worst_w = 0.0;
+        for (const PeriodicResponse& r : responses) {
+            if (!r.converged) continue;
+            double amplitude = 0.0;
+            for (double a : r.y_amp1) amplitude += a * a;
+            const double reach = system.excitation_harmonic == 1 ? M_PI * system.excitation.norm() * std::sqrt(amplitude) : 0.0;
+            const double scale = std::max({reach, std::abs(r.input_energy), std::abs(r.viscous_energy) + std::abs(r.energy)});
+            const double error = scale > 0.0 ? std::abs(r.input_energy - r.viscous_energy - r.energy) / scale : 0.0;
+            if (error > limit) ++unbalanced;
+            if (error > worst) {
+                worst = error;
+                worst_w = r.omega;
+            }
+        }
+        if (unbalanced > 0)
+            verdict.warning(std::to_string(unbalanced) + " converged point(s) fail the energy balance (relative " +
+                            "error above " + format_number(limit) + ", max(1e-6, 100 max(--rtol, --steady-tol)); the largest, " +
+                            format_number(worst) + ", at w = " + format_number(worst_w) +
+                            "): tighter --rtol/--atol or --steady-tol may help");
+    }
     verdict.add_library_messages();
     return verdict.finish();
 }
