@@ -529,6 +529,11 @@ SparseMatrix read_matrix_market(const std::string& path) {
                               " is out of range: allowed at most " + std::to_string(max_dimension) + " rows and columns");
     if (format == "coordinate" && !(s >> entries)) throw bad(number, "expected the size line 'rows cols entries'");
     const bool symmetric = symmetry == "symmetric";
+    // A symmetric file stores one triangle and is mirrored: only a square matrix can be (found
+    // by fuzzing: a 3 x 2 symmetric file wrote past the matrix).
+    if (symmetric && rows != cols)
+        throw bad(number, "a symmetric matrix of size " + std::to_string(rows) + " x " + std::to_string(cols) +
+                              ": allowed square (rows = cols)");
     std::vector<Eigen::Triplet<double>> triplets;
     auto add = [&](long i, long j, double v) {
         if (!std::isfinite(v)) throw bad(number, "non-finite entry");

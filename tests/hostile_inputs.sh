@@ -179,6 +179,7 @@ expect 2 "not a regular file" "write_system s.toml; sed -i 's|stiffness = \\[\\[
 expect 2 "%%MatrixMarket" "write_system s.toml; $MTX; echo 'hello' > k.mtx" frf --config s.toml --out x.csv
 expect 2 "given twice" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 1.1\n1 1 1.1\n2 2 0.1\n' > k.mtx" frf --config s.toml --out x.csv
 expect 2 "more data than the size line" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 1.1\n2 2 0.1\n2 1 -0.1\n' > k.mtx" frf --config s.toml --out x.csv
+expect 2 "allowed square" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real symmetric\n3 2 1\n3 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
 expect 2 "index out of range" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n2 2 1\n3 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
 expect 2 "allowed at most 1000000 rows" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n20000000 20000000 1\n1 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
 expect 2 "entries = " "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n2 2 99999999999\n1 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
