@@ -414,8 +414,8 @@ bool stick_side(Boundary boundary, const std::string& regime) {
 /// Locates, between successive points a and b of a branch, where g(u) (max phi for
 /// stick|stick-slip, min phi for stick-slip|slip) changes sign, by bisection along the chord
 /// (see continue_branch). Returns false if a correction fails.
-bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const SolutionPoint& a, const SolutionPoint& b,
-                       Boundary boundary, double omega_scale, SolutionPoint& out) {
+bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, const SolutionPoint& a,
+                       const SolutionPoint& b, Boundary boundary, double omega_scale, SolutionPoint& out) {
     const int n = hb.unknowns();
     const double x_scale = std::max(hb.unknown_scale(a.x), hb.unknown_scale(b.x));
     Eigen::VectorXd chord(n + 1);
@@ -434,12 +434,17 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const Solution
         SolutionPoint m = a;
         double t = 0.0;
         bool corrected = false;
-        for (const double fraction : {0.5, 0.382, 0.618}) {
-            t = t_lo + fraction * (t_hi - t_lo);
-            m.x = a.x + t * (b.x - a.x);
-            m.omega = a.omega + t * (b.omega - a.omega);
-            if ((corrected = corrector.correct(m.x, m.omega, chord, x_scale, m.iterations, m.residual, omega_scale)))
-                break;
+        // Then, as the continuation retries, with five times the iterations (measured: the
+        // 200-DOF beam's stick-slip|slip boundary near 103 rad/s needs them).
+        for (Corrector* c : {&corrector, &patient}) {
+            for (const double fraction : {0.5, 0.382, 0.618}) {
+                t = t_lo + fraction * (t_hi - t_lo);
+                m.x = a.x + t * (b.x - a.x);
+                m.omega = a.omega + t * (b.omega - a.omega);
+                if ((corrected = c->correct(m.x, m.omega, chord, x_scale, m.iterations, m.residual, omega_scale)))
+                    break;
+            }
+            if (corrected) break;
         }
         if (!corrected) {
             // A bracket already within 1 % of the step is located (its stick-side end is a
@@ -467,8 +472,12 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, const Solution
 
 /// Inserts the transition points between successive points of each branch (see
 /// continue_branch). Transitions that cannot be located are reported in the message.
-void insert_transitions(HarmonicBalance& hb, Corrector& corrector, double omega_scale, BranchResult& result) {
+void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options,
+                        double omega_scale, BranchResult& result) {
     if (hb.system().contacts.empty() || result.points.size() < 2) return;
+    CorrectorOptions patient_options = options;
+    patient_options.max_iterations = std::max(100, 5 * patient_options.max_iterations);
+    Corrector patient(hb, patient_options);
     std::vector<SolutionPoint> points;
     points.reserve(result.points.size() + 8);
     std::string previous = regime_at(hb, result.points.front());
@@ -483,7 +492,7 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, double omega_
             for (const Boundary boundary : {Boundary::stick_stick_slip, Boundary::stick_slip_slip}) {
                 if (stick_side(boundary, previous) == stick_side(boundary, current)) continue;
                 SolutionPoint t;
-                if (bisect_transition(hb, corrector, a, b, boundary, omega_scale, t)) {
+                if (bisect_transition(hb, corrector, patient, a, b, boundary, omega_scale, t)) {
                     found.push_back(std::move(t));
                 } else {
                     ++lost;
@@ -535,7 +544,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     Corrector corrector(hb, o.corrector);
     BranchResult result;
     follow_branches(hb, corrector, o, result);
-    if (o.locate_transitions) insert_transitions(hb, corrector, frequency_scale(o), result);
+    if (o.locate_transitions) insert_transitions(hb, corrector, o.corrector, frequency_scale(o), result);
     result.coverage = branch_coverage(result.points, o.omega_start, o.omega_end);
     result.corrector = corrector.statistics();
     result.evaluation = hb.statistics() - before;
