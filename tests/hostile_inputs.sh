@@ -203,7 +203,7 @@ expect 2 "--out" 'mkdir d' loop --w 1 --out d
 expect 2 "--out" '' analytic --out nodir/x.csv
 expect 2 "--out" '' frf "${FAST[@]}" --out - --summary -
 expect 2 "standard output" '' frf "${FAST[@]}" --out /dev/stdout --summary -
-expect 2 "not an open descriptor" '' frf "${FAST[@]}" --out /dev/fd/9
+expect 2 "not an open descriptor" '' frf "${FAST[@]}" --out /dev/fd/987
 if [[ $(id -u) -ne 0 ]]; then
   # Permissions bind an unprivileged user only.
   expect 2 "--out" 'mkdir ro; chmod 555 ro' frf "${FAST[@]}" --out ro/x.csv
