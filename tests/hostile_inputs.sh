@@ -219,6 +219,7 @@ expect 1 "/dev/full" '' analytic --out /dev/full
 expect 1 "/dev/full" '' frf "${FAST[@]}" --quiet --out /dev/full
 expect 2 "--plot" '' frf "${FAST[@]}" --out /dev/null --summary /dev/null --plot /dev/null
 expect 0 "dry run" '' frf "${FAST[@]}" --dry-run --out x.csv --summary s.json
+expect 2 "dry-run was given a disallowed flag override" '' frf "${FAST[@]}" --dry-run --dry-run=0 --out x.csv
 
 echo "hostile inputs [$who]: $cases cases, $failures failed"
 status=$((failures > 0))

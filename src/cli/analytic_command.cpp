@@ -43,11 +43,11 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
                        {"--plot", o.plot, command.count("--plot") > 0, false, true}});
     const std::vector<double> grid = analytic::uniform_grid(
         parse_double("--wmin", o.wmin), parse_double("--wmax", o.wmax), parse_integer("--points", o.points));
-    const std::vector<analytic::Row> rows = analytic::table(p, law, grid);
     if (dry_run()) {
         std::cerr << "hbf analytic: dry run: every input and output is valid; nothing computed, nothing written\n";
         return exit_success;
     }
+    const std::vector<analytic::Row> rows = analytic::table(p, law, grid);
     io::OutputFile out(o.out);
     io::write_analytic_csv(out.stream(), rows);
     if (!o.plot.empty()) {

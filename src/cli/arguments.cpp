@@ -98,7 +98,7 @@ void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help, cons
                            "absorber: allowed 0.0413..4.96]");
     }
     for (CLI::Option* option : command.get_options())
-        if (option->get_name() != "--law" && option->get_name() != "--help")
+        if (option->get_name() != "--law" && option->get_name() != "--help" && option->get_name() != "--dry-run")
             option->type_name("NUMBER");
 }
 

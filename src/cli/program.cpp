@@ -17,7 +17,8 @@ bool dry_run_requested = false;
 void add_dry_run(CLI::App& command) {
     command.add_flag("--dry-run", dry_run_requested,
                      "check every flag, input file and output path as for a run, then stop before the computation: "
-                     "exit 0 and nothing written when the run would start (2 and the reason otherwise)");
+                     "exit 0 and nothing written when the run would start (2 and the reason otherwise)")
+        ->disable_flag_override();  // --dry-run=0 must not turn it off (found by the fuzz harness)
 }
 
 bool dry_run() { return dry_run_requested; }
