@@ -20,13 +20,17 @@ int Fourier::default_time_samples(int harmonics) {
     return n;
 }
 
-Fourier::Fourier(int harmonics, int time_samples) : harmonics_(harmonics), time_samples_(time_samples) {
+void Fourier::check(int harmonics, int time_samples) {
     if (harmonics < 0 || harmonics > 10000)
         throw InvalidInput("harmonics = " + std::to_string(harmonics) + " is out of range: allowed 0..10000");
     if (time_samples <= 2 * harmonics || time_samples > (1 << 24))
         throw InvalidInput("time_samples = " + std::to_string(time_samples) + " is out of range: allowed " +
                            std::to_string(2 * harmonics + 1) + ".." + std::to_string(1 << 24) +
                            " (more than 2 harmonics + 1)");
+}
+
+Fourier::Fourier(int harmonics, int time_samples) : harmonics_(harmonics), time_samples_(time_samples) {
+    check(harmonics, time_samples);
     const int n = size(), nt = time_samples;
     synthesis_.resize(nt, n);
     analysis_.resize(n, nt);

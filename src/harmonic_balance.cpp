@@ -32,14 +32,22 @@ Formulation parse_formulation(const std::string& name) {
 }
 
 HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
+    : HarmonicBalance(std::move(system), options, true) {}
+
+void HarmonicBalance::validate(System system, HarmonicBalanceOptions options) {
+    const HarmonicBalance checked(std::move(system), options, false);
+}
+
+HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& options, bool build_fourier)
     : system_(std::move(system)),
-      fourier_(options.harmonics,
-               options.time_samples > 0 ? options.time_samples : Fourier::default_time_samples(options.harmonics)) {
+      harmonics_(options.harmonics),
+      time_samples_(options.time_samples > 0 ? options.time_samples : Fourier::default_time_samples(options.harmonics)) {
     if (options.harmonics < 1)
         throw InvalidInput("harmonics = " + std::to_string(options.harmonics) + " is out of range: allowed >= 1");
     if (options.time_samples < 0)
         throw InvalidInput("time_samples = " + std::to_string(options.time_samples) +
                            " is out of range: allowed 0 (automatic) or > 2 harmonics");
+    Fourier::check(harmonics_, time_samples_);
     if (options.modes < 0)
         throw InvalidInput("modes = " + std::to_string(options.modes) + " is out of range: allowed 0 (direct) or >= 1");
     system_.validate();
@@ -169,6 +177,7 @@ HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     for (int signal = 0; signal < all_unknowns_ / n; ++signal)
         for (int row : balanced_) balanced_index_.push_back(signal * n + row);
     unknowns_ = static_cast<int>(balanced_index_.size());
+    if (build_fourier) fourier_ = std::make_unique<Fourier>(harmonics_, time_samples_);
 }
 
 Eigen::VectorXd HarmonicBalance::all_harmonics(const Eigen::VectorXd& x) const {
@@ -185,7 +194,7 @@ void HarmonicBalance::shift_force(int c, double omega, const Eigen::VectorXd& q,
                                   bool jacobian) const {
     // f' = f - kappa q - delta q' (the spring and damper the condensed structure carries).
     const double kappa = shift_stiffness_(c), delta = shift_damping_(c);
-    const Eigen::MatrixXd& D1 = fourier_.derivative();
+    const Eigen::MatrixXd& D1 = fourier_->derivative();
     const Eigen::VectorXd dq = D1 * q;
     e.force -= kappa * q + delta * omega * dq;
     if (!jacobian) return;
@@ -257,7 +266,7 @@ Eigen::MatrixXd HarmonicBalance::shifted_forces(const Eigen::VectorXd& x, double
     Eigen::MatrixXd forces(coefficients(), nc);
     for (int c = 0; c < nc; ++c) {
         const Eigen::VectorXd q = relative_all(x, c);
-        models_[static_cast<std::size_t>(c)]->evaluate(fourier_, omega, q, state_all(x, c), scratch_, false);
+        models_[static_cast<std::size_t>(c)]->evaluate(*fourier_, omega, q, state_all(x, c), scratch_, false);
         shift_force(c, omega, q, scratch_, false);
         forces.col(c) = scratch_.force;
     }
@@ -368,13 +377,13 @@ Eigen::VectorXd HarmonicBalance::state_all(const Eigen::VectorXd& x, int contact
 
 Eigen::VectorXd HarmonicBalance::force_samples(const Eigen::VectorXd& x, double omega, int contact) {
     const Eigen::VectorXd all = all_harmonics(x);
-    return models_[static_cast<std::size_t>(contact)]->force_samples(fourier_, omega, relative_all(all, contact),
+    return models_[static_cast<std::size_t>(contact)]->force_samples(*fourier_, omega, relative_all(all, contact),
                                                                      state_all(all, contact));
 }
 
 Eigen::VectorXd HarmonicBalance::stick_indicator(const Eigen::VectorXd& x, double omega, int contact) {
     const Eigen::VectorXd all = all_harmonics(x);
-    return models_[static_cast<std::size_t>(contact)]->stick_indicator(fourier_, omega, relative_all(all, contact),
+    return models_[static_cast<std::size_t>(contact)]->stick_indicator(*fourier_, omega, relative_all(all, contact),
                                                                        state_all(all, contact));
 }
 
@@ -453,7 +462,7 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
         const Eigen::VectorXd q = x.segment(d * n, n);
         const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
         FrictionEvaluation& e = scratch_;
-        models_[static_cast<std::size_t>(d)]->evaluate(fourier_, omega, q, z, e, want_jacobian);
+        models_[static_cast<std::size_t>(d)]->evaluate(*fourier_, omega, q, z, e, want_jacobian);
         shift_force(d, omega, q, e, want_jacobian);
         const double model_seconds = watch.lap();
         statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
@@ -498,7 +507,7 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
                                     Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
     detail::Stopwatch watch;
     const int n = coefficients(), dofs = system_.dofs();
-    const Eigen::MatrixXd& D1 = fourier_.derivative();
+    const Eigen::MatrixXd& D1 = fourier_->derivative();
     const Eigen::MatrixXd M(system_.mass), C(system_.damping), K(system_.stiffness);
     const Eigen::Map<const Eigen::MatrixXd> Y(x.data(), n, dofs);
     residual.resize(all_unknowns_);
@@ -533,7 +542,7 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
         const int offset = state_offset_[c];
         const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
         FrictionEvaluation& e = scratch_;
-        models_[c]->evaluate(fourier_, omega, q, z, e, want_jacobian);
+        models_[c]->evaluate(*fourier_, omega, q, z, e, want_jacobian);
         const double model_seconds = watch.lap();
         statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
         statistics_.jacobian_seconds += e.jacobian_seconds;

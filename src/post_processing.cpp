@@ -158,13 +158,16 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
     // Relative to the work the force could do on the response's harmonic h, pi h |F| |(c_h, s_h)|
     // (the input work itself vanishes in permanent stick of an undamped structure).
     const double reach = M_PI * h * s.excitation.norm() * std::hypot(y.row(2 * h - 1).norm(), y.row(2 * h).norm());
-    const double scale =
-        std::max({reach, std::abs(m.input_energy), std::abs(m.viscous_energy) + std::abs(m.energy)});
-    m.energy_error = scale > 0.0 ? std::abs(m.input_energy - m.viscous_energy - m.energy) / scale : 0.0;
+    m.energy_error = energy_imbalance(m.input_energy, m.viscous_energy, m.energy, reach);
     return m;
 }
 
 double energy_balance_limit(double tolerance) { return std::max(1e-6, 100.0 * tolerance); }
+
+double energy_imbalance(double input, double viscous, double friction, double reach) {
+    const double scale = std::max({reach, std::abs(input), std::abs(viscous) + std::abs(friction)});
+    return scale > 0.0 ? std::abs(input - viscous - friction) / scale : 0.0;
+}
 
 PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int contact) {
     Fourier& f = hb.fourier();

@@ -113,6 +113,51 @@ TEST_CASE("Exact Coulomb: a negative dynamic Lagrangian parameter is rejected, z
     CHECK_NOTHROW(HarmonicBalance(friction_absorber(p, FrictionLaw::coulomb), HarmonicBalanceOptions{}));
 }
 
+TEST_CASE("HarmonicBalance::validate (the dry run's check) throws exactly what the constructor throws",
+          "[harmonic_balance]") {
+    // Each case is one bad input; the message of validate must equal the constructor's, and a
+    // good input passes both (validate builds no Fourier matrices).
+    auto message = [](auto&& make) -> std::string {
+        try {
+            make();
+        } catch (const InvalidInput& e) {
+            return e.what();
+        }
+        return "";
+    };
+    struct Case {
+        AbsorberParameters p;
+        FrictionLaw law;
+        HarmonicBalanceOptions o;
+    };
+    std::vector<Case> cases;
+    auto add = [&cases](auto edit, FrictionLaw law = FrictionLaw::coulomb) {
+        Case c{AbsorberParameters{}, law, HarmonicBalanceOptions{}};
+        edit(c);
+        cases.push_back(c);
+    };
+    add([](Case& c) { c.o.harmonics = 0; });
+    add([](Case& c) { c.o.time_samples = -1; });
+    add([](Case& c) { c.o.time_samples = 20; });  // <= 2H
+    add([](Case& c) { c.o.harmonics = 20000; });
+    add([](Case& c) { c.o.modes = -2; });
+    add([](Case& c) { c.p.lagrangian_penalty = 1e-6; });  // below 1/30 of the automatic value
+    add([](Case& c) { c.p.lagrangian_penalty = 1e6; });   // above 4 times
+    add([](Case& c) { c.o.modes = 5; }, FrictionLaw::dahl);  // 2 DOF: more modes than DOFs?
+    add([](Case& c) { c.o.modes = 1; c.o.formulation = Formulation::full; });
+    add([](Case& c) { c.o.odd_harmonics = true; c.o.harmonics = 5; });  // good
+    add([](Case& c) { c.o.harmonics = 3; });                              // good
+    int refused = 0;
+    for (const Case& c : cases) {
+        const System system = friction_absorber(c.p, c.law);
+        const std::string constructed = message([&] { HarmonicBalance hb(system, c.o); });
+        const std::string validated = message([&] { HarmonicBalance::validate(system, c.o); });
+        CHECK(validated == constructed);
+        if (!constructed.empty()) ++refused;
+    }
+    CHECK(refused >= 8);
+}
+
 TEST_CASE("Jenkins element under q = Q cos: the hysteresis loop's first harmonic (describing function)",
           "[friction][jenkins]") {
     // Derived by hand: from q = Q (theta = 0) the slider rests until k_t (q - Q) + F_c = -F_c,

@@ -252,7 +252,7 @@ TEST_CASE("The cases of issue 13: stuck undamped resonance, tiny and small excit
     CHECK(found[1] == Approx(expected[1]).epsilon(1e-8));
 }
 
-TEST_CASE("--out /dev/stdout is standard output: written in place, also into a pipe", "[status][cli][output]") {
+TEST_CASE("Output /dev/stdout is standard output: written in place, also into a pipe", "[status][cli][output]") {
     ::test::TempDir dir;
     const ::test::Result file = ::test::run_hbf("analytic --points 11 --out /dev/stdout", dir);
     CHECK(file.exit_code == 0);

@@ -10,6 +10,11 @@ if(NOT at EQUAL -1)
   string(REPLACE ";" "<SEMICOLON>" shown "${names}")
   message(FATAL_ERROR "a test name contains ';' (CTest would split it and run nothing):\n${shown}")
 endif()
+# A name that begins with '-' is read by Catch as an option (--out is its reporter's output
+# file): the test then runs the whole suite under that one name.
+if(names MATCHES "(^|\n)-")
+  message(FATAL_ERROR "a test name begins with '-' (Catch reads it as an option and runs every test):\n${names}")
+endif()
 string(REGEX MATCHALL "\n" lines "${names}")
 list(LENGTH lines count)
-message(STATUS "${count} test names, none with ';'")
+message(STATUS "${count} test names, none with ';' or a leading '-'")

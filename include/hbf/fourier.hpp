@@ -15,6 +15,9 @@ class Fourier {
 public:
     /// H >= 0 harmonics and N_t > 2H time samples; throws InvalidInput otherwise.
     Fourier(int harmonics, int time_samples);
+    /// The constructor's check alone: throws InvalidInput unless 0 <= H <= 10000 and
+    /// 2H < N_t <= 2^24.
+    static void check(int harmonics, int time_samples);
     ~Fourier();
     Fourier(const Fourier&) = delete;
     Fourier& operator=(const Fourier&) = delete;

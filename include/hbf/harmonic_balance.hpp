@@ -90,6 +90,10 @@ public:
     /// for `condensed` on a system whose static stiffness K is singular (a rigid-body mode)
     /// or that has no contact.
     HarmonicBalance(System system, HarmonicBalanceOptions options);
+    /// Every check the constructor makes, and the same InvalidInput, without building the
+    /// Fourier matrices (N_t x (2H + 1) each: 420 MB at H = 200, N_t = 65536): for a dry run.
+    /// It factorises the static problem once (the condensed formulation's choice).
+    static void validate(System system, HarmonicBalanceOptions options);
 
     const System& system() const { return system_; }
     /// The formulation in use (never automatic).
@@ -99,18 +103,18 @@ public:
     bool odd_harmonics() const { return odd_; }
     /// Modes of the modal receptance in use (0: the direct solve).
     int modes() const { return modes_; }
-    int harmonics() const { return fourier_.harmonics(); }
-    int time_samples() const { return fourier_.time_samples(); }
+    int harmonics() const { return harmonics_; }
+    int time_samples() const { return time_samples_; }
     /// 2H + 1: the coefficients of one signal as relative(), state() and dofs() return them (in
     /// fourier.hpp's layout; with odd harmonics only, the constant and the even ones are zero).
-    int coefficients() const { return fourier_.size(); }
+    int coefficients() const { return 2 * harmonics_ + 1; }
     /// The coefficients of one signal among the unknowns x: 2H + 1, or with odd harmonics only
     /// 2 ceil(H / 2) (c_1, s_1, c_3, s_3, ...).
     int balanced_coefficients() const { return static_cast<int>(balanced_.size()); }
     /// h: the harmonic that carries the force F cos(h omega t) (System::excitation_harmonic).
     int load_harmonic() const { return system_.excitation_harmonic; }
     int unknowns() const { return unknowns_; }
-    Fourier& fourier() { return fourier_; }
+    Fourier& fourier() { return *fourier_; }
 
     /// R(X, omega); with non-null pointers also dR/dX (unknowns x unknowns) and dR/domega.
     /// Condensed, where some Z_k is singular at omega (an undamped resonance hit exactly) the
@@ -186,8 +190,12 @@ private:
     void add_receptance(int c, int d, const Eigen::Ref<const Eigen::MatrixXd>& in, Eigen::Ref<Eigen::MatrixXd> out,
                         bool omega_derivative = false) const;
 
+    /// The constructor; without `build_fourier` (validate) fourier_ stays null.
+    HarmonicBalance(System system, const HarmonicBalanceOptions& options, bool build_fourier);
+
     System system_;
-    Fourier fourier_;
+    int harmonics_ = 0, time_samples_ = 0;
+    std::unique_ptr<Fourier> fourier_;
     bool condensed_ = false;
     std::unique_ptr<Receptance> receptance_;
     std::vector<Receptance::Harmonic> harmonic_;  // per k = 0..H at receptance_omega_

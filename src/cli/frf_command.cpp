@@ -150,12 +150,14 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // With the polish, HB's own transitions (O(1/H) misplaced) are not needed: the exact
     // ones replace them.
     if (exact) co.locate_transitions = false;
-    HarmonicBalance hb(system, hbo);
-    validate(co);
-    if (dry_run()) {
+    if (dry_run()) {  // the same checks, without building the Fourier matrices
+        HarmonicBalance::validate(system, hbo);
+        validate(co);
         std::cerr << "hbf frf: dry run: every input and output is valid; nothing computed, nothing written\n";
         return exit_success;
     }
+    HarmonicBalance hb(system, hbo);
+    validate(co);
     ProgressLine progress(!o.quiet && isatty(STDERR_FILENO));
     co.progress = [&progress](double omega, int points) { progress.update(omega, points); };
     BranchResult branch = continue_branch(hb, co);  // validates the range options

@@ -54,16 +54,18 @@ int run(const CLI::App& command, const LoopOptions& o) {
     const HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config);
 
     // The solution at w: the branch followed from wmin (from 0.9 w when w <= wmin).
-    HarmonicBalance hb(chosen.system, hbo);
     ContinuationOptions co;
     co.omega_start = w > wmin ? wmin : 0.9 * w;
     co.omega_end = w;
     co.locate_transitions = false;
-    validate(co);
-    if (dry_run()) {
+    if (dry_run()) {  // the same checks, without building the Fourier matrices
+        HarmonicBalance::validate(chosen.system, hbo);
+        validate(co);
         std::cerr << "hbf loop: dry run: every input and output is valid; nothing computed, nothing written\n";
         return exit_success;
     }
+    HarmonicBalance hb(chosen.system, hbo);
+    validate(co);
     const BranchResult branch = continue_branch(hb, co);
     // The branch's point at w: where branch 1 lands, or where branch 2 starts when branch 1
     // stopped at an amplitude cap on the way.

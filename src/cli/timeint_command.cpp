@@ -208,8 +208,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
             double amplitude = 0.0;
             for (double a : r.y_amp1) amplitude += a * a;
             const double reach = system.excitation_harmonic == 1 ? M_PI * system.excitation.norm() * std::sqrt(amplitude) : 0.0;
-            const double scale = std::max({reach, std::abs(r.input_energy), std::abs(r.viscous_energy) + std::abs(r.energy)});
-            const double error = scale > 0.0 ? std::abs(r.input_energy - r.viscous_energy - r.energy) / scale : 0.0;
+            const double error = energy_imbalance(r.input_energy, r.viscous_energy, r.energy, reach);
             if (error > limit) ++unbalanced;
             if (error > worst) {
                 worst = error;
