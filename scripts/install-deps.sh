@@ -10,6 +10,7 @@ packages=(
   catch2 libcli11-dev nlohmann-json3-dev libtomlplusplus-dev
   libsundials-dev gnuplot-nox
   libspectra-dev  # sparse eigensolver of the modal receptance (header-only)
+  libopenmpi-dev openmpi-bin  # hbf map under mpirun (optional for a build: HBF_MPI=OFF); its test runs 2 ranks
   python3  # examples/systems/beam/make_beam.py (standard library only), checked by the tests
 )
 

@@ -3,6 +3,7 @@
 #include <fftw3.h>
 
 #include <cmath>
+#include <mutex>
 #include <string>
 
 #include "hbf/error.hpp"
@@ -19,6 +20,13 @@ int Fourier::default_time_samples(int harmonics) {
     while (n < minimum) n *= 2;
     return n;
 }
+
+namespace {
+std::mutex& planner_mutex() {
+    static std::mutex m;
+    return m;
+}
+}  // namespace
 
 void Fourier::check(int harmonics, int time_samples) {
     if (harmonics < 0 || harmonics > 10000)
@@ -50,6 +58,9 @@ Fourier::Fourier(int harmonics, int time_samples) : harmonics_(harmonics), time_
         derivative_(2 * k - 1, 2 * k) = k;   // d/dtheta (s_k sin) = k s_k cos
         derivative_(2 * k, 2 * k - 1) = -k;  // d/dtheta (c_k cos) = -k c_k sin
     }
+    // FFTW's planner is not thread-safe (only fftw_execute is): plans are made and destroyed
+    // under one lock, so that design studies may build HarmonicBalance objects on threads.
+    const std::lock_guard<std::mutex> lock(planner_mutex());
     real_buffer_ = fftw_alloc_real(static_cast<std::size_t>(nt));
     auto* spectrum = fftw_alloc_complex(static_cast<std::size_t>(nt / 2 + 1));
     complex_buffer_ = spectrum;
@@ -58,6 +69,7 @@ Fourier::Fourier(int harmonics, int time_samples) : harmonics_(harmonics), time_
 }
 
 Fourier::~Fourier() {
+    const std::lock_guard<std::mutex> lock(planner_mutex());
     fftw_destroy_plan(static_cast<fftw_plan>(forward_plan_));
     fftw_destroy_plan(static_cast<fftw_plan>(backward_plan_));
     fftw_free(real_buffer_);

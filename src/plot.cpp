@@ -87,7 +87,19 @@ void write_plot(const std::string& path, const PlotSpec& spec) {
            << "set title " << quoted(spec.title) << " noenhanced\n"
            << "set xlabel " << quoted(spec.xlabel) << " noenhanced\n"
            << "set ylabel " << quoted(spec.ylabel) << " noenhanced\n";
+        if (spec.log_x) gp << "set logscale x\n";
+        if (spec.log_y) gp << "set logscale y\n";
+        if (!spec.colorbar.empty()) gp << "set cblabel " << quoted(spec.colorbar) << " noenhanced\nset palette rgb 33,13,10\n";
+        if (spec.log_colorbar) gp << "set logscale cb\n";
         std::vector<std::string> plots;
+        if (!spec.heat_x.empty()) {
+            gp << "$heat << EOD\n";
+            for (std::size_t k = 0; k < spec.heat_x.size() && k < spec.heat_y.size() && k < spec.heat_z.size(); ++k)
+                if (std::isfinite(spec.heat_x[k]) && std::isfinite(spec.heat_y[k]) && std::isfinite(spec.heat_z[k]))
+                    gp << number(spec.heat_x[k]) << ' ' << number(spec.heat_y[k]) << ' ' << number(spec.heat_z[k]) << '\n';
+            gp << "EOD\n";
+            plots.push_back("$heat using 1:2:3 with points pt 5 ps 0.6 lc palette notitle");
+        }
         for (std::size_t c = 0; c < spec.curves.size(); ++c) {
             const PlotCurve& curve = spec.curves[c];
             if (curve.x.empty()) continue;

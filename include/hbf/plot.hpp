@@ -22,6 +22,12 @@ struct PlotCurve {
 struct PlotSpec {
     std::string title, xlabel, ylabel;
     std::vector<PlotCurve> curves;
+    bool log_x = false, log_y = false;
+    /// A heat map of scattered points: (heat_x[k], heat_y[k]) coloured by heat_z[k] on the
+    /// palette (drawn first, under the curves; empty: none).
+    std::vector<double> heat_x, heat_y, heat_z;
+    std::string colorbar;       ///< label of the colour bar
+    bool log_colorbar = false;
 };
 
 /// Throws InvalidInput naming `flag` unless the path ends in .png or .svg.

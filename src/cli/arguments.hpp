@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hbf/config.hpp"
+#include "hbf/continuation.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 
@@ -40,6 +41,11 @@ private:
     std::string command_;
     std::vector<std::string> errors_, warnings_, notes_;
 };
+
+/// A continuation's outcome into a verdict: min_step and start_failed are errors (exit 1);
+/// amplitude_cap, left_range and point_budget are warnings with the coverage (exit 3), and so
+/// are transitions that were not located on a completed branch.
+void judge_branch(Verdict& verdict, const BranchResult& branch);
 
 /// A flag value that cannot be used; the message names the flag.
 class UsageError : public std::runtime_error {

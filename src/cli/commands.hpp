@@ -12,6 +12,8 @@ using Runner = std::function<int()>;
 Runner add_analytic_command(CLI::App& app);
 Runner add_frf_command(CLI::App& app);
 Runner add_loop_command(CLI::App& app);
+Runner add_map_command(CLI::App& app);
+Runner add_optimize_command(CLI::App& app);
 Runner add_timeint_command(CLI::App& app);
 
 /// The whole command line: parses argv, runs the chosen command, returns the exit code

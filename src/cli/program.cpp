@@ -47,6 +47,8 @@ int run_program(int argc, char** argv) {
     runners["analytic"] = add_analytic_command(app);
     runners["frf"] = add_frf_command(app);
     runners["loop"] = add_loop_command(app);
+    runners["map"] = add_map_command(app);
+    runners["optimize"] = add_optimize_command(app);
     runners["timeint"] = add_timeint_command(app);
 
     const std::string program = "hbf";

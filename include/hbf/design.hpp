@@ -1,0 +1,148 @@
+// hbfriction — design studies: one FRF reduced to its largest peak, many FRFs on threads, and
+// the one-parameter optimisation of the largest peak (the paper's Section 4: the friction
+// coefficient that makes the absorber most effective).
+//
+// An FRF here is the whole pipeline of `hbf frf`: continuation of every branch (restarts past
+// an amplitude cap included), the metrics of each point, the exact polish where it applies,
+// and the peaks of the first output refined by a golden-section search in w. The objective of
+// a design study is the largest max over one period of |o(t)| of that output along the FRF
+// (PeakValue): it comes from the full branches, so folds and coexisting solutions count.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hbf/continuation.hpp"
+#include "hbf/exact_polish.hpp"
+#include "hbf/harmonic_balance.hpp"
+#include "hbf/model.hpp"
+
+namespace hbf {
+
+/// How one FRF is computed.
+struct FrfSettings {
+    HarmonicBalanceOptions harmonic_balance;
+    ContinuationOptions continuation;
+    /// Polish by the event-exact solver (exact_polish.hpp; coulomb and jenkins contacts only:
+    /// exact_solver_supports).
+    bool exact = false;
+    /// Reported outputs (model.hpp); the peaks and the objective are those of outputs[0].
+    /// Empty: DOF 1 alone.
+    std::vector<Output> outputs;
+    /// Frequencies where every solution of the branch is solved and appended (kind sample).
+    std::vector<double> at;
+    /// Locate and refine the peaks (of outputs[0]; of every output with peaks_of_every_output).
+    bool peaks = true;
+    bool peaks_of_every_output = false;
+};
+
+/// What the largest peak of an FRF means.
+enum class PeakState {
+    bounded,     ///< the branch spans [wmin, wmax]: value is the largest peak
+    unbounded,   ///< amplitude_cap: a resonance grows past the cap (value = +infinity)
+    incomplete,  ///< left_range or point_budget: value is the largest over the part computed
+    failed       ///< min_step, start_failed, or a failed exact polish: value is a lower bound
+};
+/// "bounded", "unbounded", "incomplete", "failed".
+std::string to_string(PeakState state);
+
+/// The objective of a design study: the largest max over one period of |o(t)| of outputs[0]
+/// over the FRF, at the frequency omega.
+struct PeakValue {
+    double value = std::numeric_limits<double>::quiet_NaN();
+    double omega = std::numeric_limits<double>::quiet_NaN();
+    PeakState state = PeakState::failed;
+    /// The value a minimiser compares: value when bounded, +infinity otherwise (an unbounded
+    /// resonance, and an FRF that is incomplete or failed, can never be the optimum).
+    double objective() const;
+};
+
+struct FrfResult {
+    BranchResult branch;                    ///< the continuation as it ran
+    std::vector<SolutionPoint> points;      ///< the branch points (polished: the exact ones), then samples
+    std::vector<PointMetrics> metrics;      ///< one per point
+    std::vector<ExactPoint> exact;          ///< one per point with the polish, else empty
+    std::optional<PolishedBranch> polish;   ///< with the polish
+    std::vector<Peak> peaks;                ///< with FrfSettings::peaks
+    std::vector<double> missed;             ///< `at` frequencies without a solution
+    PeakValue peak;                         ///< the largest peak of outputs[0]
+    double seconds = 0;                     ///< wall time of compute_frf
+};
+
+/// The FRF of hb's system with these settings (hb's own options; settings.harmonic_balance
+/// is not used). Throws InvalidInput for bad options or outputs.
+FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings);
+/// The same, building the HarmonicBalance from settings.harmonic_balance.
+FrfResult compute_frf(const System& system, const FrfSettings& settings);
+
+/// FRFs of many systems, `threads` at a time (0: the hardware's concurrency), one FRF per
+/// task; result k belongs to systems(k) and equals what compute_frf gives alone (every task
+/// has its own solver state). `done(finished, total)` is called after each FRF (from the
+/// calling thread's lock, never concurrently); may be empty. A task that throws InvalidInput
+/// stops nothing: its result has an empty branch, status start_failed and the message.
+std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>& systems, const FrfSettings& settings,
+                                    int threads, const std::function<void(int, int)>& done = {});
+
+// ---- optimisation -----------------------------------------------------------------------
+
+struct OptimizeOptions {
+    double lower = 0;          ///< search range of the parameter p, 0 < lower < upper
+    double upper = 0;
+    /// Points of the first scan, log-spaced over [lower, upper] (>= 3): it brackets the best
+    /// value before the golden-section search, and finds the right valley when the peak is not
+    /// unimodal in p over the whole range (unbounded at both ends, as for a friction damper).
+    int scan_points = 13;
+    /// The golden-section search in log p stops when the bracket's width is below
+    /// tolerance * p (relative; 1e-12..0.1).
+    double tolerance = 1e-4;
+    int max_evaluations = 200;  ///< FRFs in all (scan included), >= scan_points + 1
+    int threads = 0;            ///< for the scan (compute_frfs); the search is sequential
+};
+
+enum class OptimizeStatus {
+    converged,   ///< the bracket shrank to the tolerance around an interior optimum
+    at_bound,    ///< the best value is at lower or upper: widen the range
+    budget,      ///< max_evaluations reached before the tolerance
+    unbounded,   ///< no p in the scan gives a bounded FRF
+    failed       ///< nothing usable (every FRF failed)
+};
+std::string to_string(OptimizeStatus status);
+
+/// One FRF of the search.
+struct OptimizeEvaluation {
+    double parameter = 0;
+    PeakValue peak;
+    std::vector<Peak> peaks;       ///< the refined peaks of outputs[0] (every one, not just the largest)
+    ContinuationStatus status = ContinuationStatus::completed;
+    std::string phase;             ///< "scan" or "golden"
+    double seconds = 0;
+};
+
+struct OptimizeResult {
+    OptimizeStatus status = OptimizeStatus::failed;
+    double parameter = 0;          ///< the best p evaluated
+    PeakValue peak;                ///< its largest peak
+    std::vector<Peak> peaks;       ///< its peaks of outputs[0]
+    double bracket_lower = 0, bracket_upper = 0;  ///< final bracket of the search
+    std::vector<OptimizeEvaluation> trace;        ///< in the order evaluated
+    int failed = 0;                ///< evaluations whose FRF failed or stayed incomplete
+    int failed_in_bracket = 0;     ///< of which inside the final bracket (a doubtful optimum)
+    std::string message;
+    double seconds = 0;
+    /// One line: status, p, peak, evaluations.
+    std::string summary() const;
+};
+
+/// Minimises the largest peak of the FRF of system(p) over p in [lower, upper]: a log-spaced
+/// scan (on threads), then a golden-section search in log p over the two scan intervals
+/// around the best scan point. The peak as a function of p is continuous but not smooth (the
+/// largest of several peaks switches); golden section needs only unimodality in the bracket.
+/// Ties (two unbounded trial points) keep the side of the best point found so far. Throws
+/// InvalidInput for bad options.
+OptimizeResult optimize_parameter(const std::function<System(double)>& system, const FrfSettings& settings,
+                                  const OptimizeOptions& options);
+
+}  // namespace hbf

@@ -1,0 +1,116 @@
+#include "frf_flags.hpp"
+
+#include <algorithm>
+
+#include "hbf/error.hpp"
+#include "hbf/event_exact.hpp"
+
+namespace hbf::cli {
+
+bool given(const CLI::App& command, const char* flag) { return command.count(flag) > 0; }
+
+void FrfFlags::add_to(CLI::App& command) {
+    command.add_option("--wmin", wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
+    command.add_option("--wmax", wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
+    command.add_option("--harmonics", harmonics,
+                       "number of harmonics H, 1..200; 0 = automatic: 10 with the exact polish (coulomb, jenkins: "
+                       "HB only supplies the branch and the starting guesses); without it 20 for coulomb (its error "
+                       "falls like 1/H) and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins; times h with "
+                       "--excitation-harmonic h. odd or odd:H balances the odd harmonics 1, 3, 5, ... <= H only "
+                       "(automatic H with odd): the half-wave symmetric solutions y(t + T/2) = -y(t), which every "
+                       "law here admits under a force at an odd harmonic, with half the unknowns; a solution that "
+                       "breaks the symmetry is not found")
+        ->capture_default_str()->type_name("INT|odd[:H]");
+    command.add_option("--modes", modes,
+                       "condensed formulation: 0 solves the structure per harmonic and frequency by a sparse LU "
+                       "(exact; cost linear in N); m > 0 uses its m lowest modes plus the static residual "
+                       "flexibility (cost independent of N; truncation error ~ (k w / w_{m+1})^2 of the dynamic "
+                       "part; needs M > 0, K > 0 and C diagonal in the modes, e.g. Rayleigh). A --config file's "
+                       "[solver] modes applies unless given")
+        ->capture_default_str()->type_name("INT");
+    command.add_option("--formulation", formulation,
+                       "how the linear structure enters harmonic balance: condensed (the unknowns are the contacts' "
+                       "relative displacements, the structure solved exactly per harmonic by a sparse LU: any model "
+                       "size), full (every DOF's coefficients: a dense Jacobian, small models), automatic (condensed "
+                       "for damped or larger than 16-DOF models with an invertible K, else full)")
+        ->capture_default_str()->type_name("automatic|condensed|full");
+    command.add_option("--time-samples", time_samples,
+                       "AFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "
+                       ">= max(64, 8 (2H + 1))")
+        ->capture_default_str()->type_name("INT");
+    command.add_option("--max-amplitude", max_amplitude,
+                       "amplitude cap, in the system's displacement units (nondimensional for the preset): the "
+                       "branch stops when a bound of max |y_i| exceeds it (unbounded resonance), then restarts "
+                       "from wmax as branch 2")
+        ->capture_default_str()->type_name("NUMBER");
+    command.add_option("--max-step", max_step,
+                       "largest arclength step, in the continuation's dimensionless coordinates (w / wmax and the "
+                       "coefficients relative to the current amplitude: the same for any units); smaller values "
+                       "give denser points, e.g. smoother plots of linear stretches, 1e-5..10")
+        ->capture_default_str()->type_name("NUMBER");
+    command.add_option("--tolerance", tolerance,
+                       "corrector acceptance: |R|_inf <= tolerance * |F|_inf (the excitation amplitude), 1e-14..1e-2")
+        ->capture_default_str()->type_name("NUMBER");
+    command.add_option("--config", config,
+                       "read the structure (any N DOFs: M, C, K, excitation, friction contacts), frequency range, "
+                       "solver settings and reported outputs (DOFs or combinations of DOFs) from a TOML file (format: "
+                       "include/hbf/config.hpp, examples/systems/); --wmin, --wmax, --harmonics, --time-samples and "
+                       "--law override the file; the preset's parameter flags (--r, --mu, ...) are then rejected")
+        ->option_text("FILE.toml");
+    command.add_option("--exact", exact,
+                       "polish every branch point, sample, transition and peak by the event-exact periodic solver "
+                       "(exact Coulomb and Jenkins: Newton shooting on closed-form flows between stick/slip events, "
+                       "Floquet stability), on or off [default: on for coulomb and jenkins contacts on models of at most "
+                       "64 DOFs with mass (massless DOFs are condensed statically: a contact on them becomes a "
+                       "Jenkins element) and a force at harmonic 1, off otherwise (the exact solver is dense); on "
+                       "where it does not apply is an error naming why]")
+        ->type_name("on|off");
+}
+
+FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) const {
+    const System& system = chosen.system;
+    const std::optional<io::SystemConfig>& file = chosen.config;
+    FrfSettings s;
+    s.outputs = chosen.outputs;
+    // The exact polish: on by default for the laws it covers (coulomb, jenkins).
+    if (given(command, "--exact") && exact.empty()) throw UsageError("--exact is empty: allowed on, off");
+    if (!exact.empty() && exact != "on" && exact != "off")
+        throw UsageError("--exact = '" + exact + "' is not allowed: allowed on, off");
+    s.exact = exact.empty() ? exact_solver_supports(system) : exact == "on";
+    if (s.exact && !exact_solver_supports(system))
+        throw UsageError("--exact on: " + exact_solver_refusal(system) + " (use --exact off)");
+    // With the polish, HB only supplies the branch and the starting guesses: H = 10 suffices
+    // (measured: the same exact branch, peaks and transitions as H = 20, 3 times faster).
+    if (s.exact) chosen.automatic_harmonics = 10;
+    HarmonicBalanceOptions& hbo = s.harmonic_balance;
+    hbo = harmonic_balance_options(command, harmonics, time_samples, chosen, config);
+    try {
+        hbo.formulation = parse_formulation(formulation);
+    } catch (const InvalidInput&) {
+        throw UsageError("--formulation = '" + formulation + "' is not known: allowed automatic, condensed, full");
+    }
+    const long long m = parse_integer("--modes", modes);
+    if (m < 0 || m > 100000)
+        throw UsageError("--modes = " + modes + " is out of range: allowed 0 (direct solve) or 1..100000");
+    hbo.modes = static_cast<int>(m);
+    if (file && file->modes && !given(command, "--modes")) hbo.modes = *file->modes;
+    ContinuationOptions& co = s.continuation;
+    co.omega_start = parse_double("--wmin", wmin);
+    co.omega_end = parse_double("--wmax", wmax);
+    if (file && file->omega_start && !given(command, "--wmin")) co.omega_start = *file->omega_start;
+    if (file && file->omega_end && !given(command, "--wmax")) co.omega_end = *file->omega_end;
+    co.max_amplitude = parse_double("--max-amplitude", max_amplitude);
+    co.max_step = parse_double("--max-step", max_step);
+    if (!(co.max_step >= 1e-5 && co.max_step <= 10.0))
+        throw UsageError("--max-step = " + max_step + " is out of range: allowed 1e-5..10");
+    co.initial_step = std::min(co.initial_step, co.max_step);
+    co.corrector.tolerance = parse_double("--tolerance", tolerance);
+    if (!(co.corrector.tolerance >= 1e-14 && co.corrector.tolerance <= 1e-2))
+        throw UsageError("--tolerance = " + tolerance + " is out of range: allowed 1e-14..1e-2");
+    // With the polish, HB's own transitions (O(1/H) misplaced) are not needed: the exact
+    // ones replace them.
+    if (s.exact) co.locate_transitions = false;
+    return s;
+}
+
+}  // namespace hbf::cli

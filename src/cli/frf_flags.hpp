@@ -1,0 +1,30 @@
+// hbf command line — the flags of one FRF (frequency range, harmonic balance, continuation,
+// exact polish, --config), shared by frf, map and optimize.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "arguments.hpp"
+#include "hbf/design.hpp"
+
+namespace hbf::cli {
+
+struct FrfFlags {
+    std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000",
+                max_step = "1", tolerance = "1e-9", formulation = "automatic", modes = "0";
+    std::string exact, config;
+
+    /// Adds --wmin --wmax --harmonics --modes --formulation --time-samples --max-amplitude
+    /// --max-step --tolerance --config --exact.
+    void add_to(CLI::App& command);
+    /// The settings of one FRF of the chosen system, every flag checked (UsageError names it);
+    /// a --config file's range and [solver] apply where the flags are not given. With the exact
+    /// polish, the automatic H is 10 and harmonic balance does not locate transitions.
+    FrfSettings settings(const CLI::App& command, ChosenSystem& chosen) const;
+};
+
+/// Whether a flag was given on the command line.
+bool given(const CLI::App& command, const char* flag);
+
+}  // namespace hbf::cli

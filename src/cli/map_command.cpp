@@ -1,0 +1,313 @@
+// `hbf map`: FRFs over a grid of one parameter (fe, mu, wa, ...; a --config contact's friction
+// limit or excitation factor), crossed with the frequency: a tidy CSV, a JSON summary and a
+// picture. One FRF per task, on threads, and on MPI ranks under mpirun (rank 0 gathers and
+// writes): the CSV is the same whatever the split.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "frf_flags.hpp"
+#include "hbf/design.hpp"
+#include "hbf/error.hpp"
+#include "hbf/io.hpp"
+#include "hbf/plot.hpp"
+#include "mpi_session.hpp"
+#include "progress.hpp"
+#include "study.hpp"
+
+namespace hbf::cli {
+
+namespace {
+struct MapOptions {
+    AbsorberFlags absorber;
+    FrfFlags frf;
+    std::string param, values, threads = "0", contact = "1", out, summary, plot, style = "auto";
+    bool quiet = false;
+};
+
+using nlohmann::json;
+
+json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+double number_from(const json& j) { return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
+
+/// One FRF of the map, as it travels from a rank to rank 0: the CSV rows (without the header
+/// and the two leading columns), the summary, and the curve of outputs[0] for the picture.
+json record(int index, double value, const FrfResult& r, const std::vector<Output>& outputs) {
+    std::ostringstream csv;
+    if (!r.points.empty()) io::write_frf_csv(csv, r.points, r.metrics, outputs, r.exact);
+    std::string rows = csv.str();
+    rows = rows.substr(std::min(rows.size(), rows.find('\n') == std::string::npos ? rows.size() : rows.find('\n') + 1));
+    json w = json::array(), y = json::array();
+    int branch = 0;
+    for (std::size_t k = 0; k < r.points.size(); ++k) {
+        const SolutionPoint& p = r.points[k];
+        if (p.kind == PointKind::sample) continue;
+        if (branch != 0 && p.branch != branch) {  // a gap between branches
+            w.push_back(nullptr);
+            y.push_back(nullptr);
+        }
+        branch = p.branch;
+        w.push_back(number_or_null(p.omega));
+        y.push_back(number_or_null(r.metrics[k].output_max.empty() ? NAN : r.metrics[k].output_max.front()));
+    }
+    return {{"index", index},
+            {"value", value},
+            {"status", to_string(r.branch.status)},
+            {"message", r.branch.message},
+            {"coverage", r.branch.coverage},
+            {"points", r.points.size()},
+            {"peak", number_or_null(r.peak.value)},
+            {"peak_w", number_or_null(r.peak.omega)},
+            {"peak_state", to_string(r.peak.state)},
+            {"polish_failed", r.polish ? r.polish->failed : 0},
+            {"seconds", r.seconds},
+            {"rows", rows},
+            {"w", w},
+            {"y", y}};
+}
+
+int run(const CLI::App& command, const MapOptions& o) {
+    const auto started = std::chrono::steady_clock::now();
+    MpiSession mpi;
+    const bool root = mpi.rank() == 0;
+    io::check_plot("--plot", o.plot);
+    if (o.style != "auto" && o.style != "curves" && o.style != "heatmap")
+        throw UsageError("--plot-style = '" + o.style + "' is not known: allowed auto, curves, heatmap");
+    if (root)
+        io::check_outputs({{"--out", o.out, given(command, "--out"), true},
+                           {"--summary", o.summary, given(command, "--summary")},
+                           {"--plot", o.plot, given(command, "--plot"), false, true}});
+    if (!given(command, "--param")) throw UsageError("--param is required: the parameter of the map (e.g. --param fe)");
+    if (!given(command, "--values")) throw UsageError("--values is required: V1,V2,..., START:STOP:N or log:START:STOP:N");
+    ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
+    const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
+    if (given(command, "--contact") && parameter.preset())
+        throw UsageError("--contact chooses a contact of a --config system: the preset has one");
+    if (parameter.preset() && command.get_option_no_throw("--" + o.param) != nullptr && given(command, ("--" + o.param).c_str()))
+        throw UsageError("--" + o.param + " is set by --param " + o.param + " (the map's values): drop it");
+    FrfSettings settings = o.frf.settings(command, chosen);
+    settings.peaks = true;  // the largest peak per FRF (JSON)
+    const std::vector<double> values = parse_values("--values", o.values);
+    for (double v : values) {  // every value checked before the work
+        try {
+            (void)parameter.system(v);
+        } catch (const InvalidInput& e) {
+            throw UsageError("--values: " + o.param + " = " + format_number(v) + ": " + e.what());
+        }
+    }
+    const int threads = parse_count("--threads", o.threads, 0, 4096);
+    HarmonicBalance::validate(parameter.system(values.front()), settings.harmonic_balance);
+    validate(settings.continuation);
+    if (dry_run()) {
+        if (root) std::cerr << "hbf map: dry run: every input and output is valid; nothing computed, nothing written\n";
+        return exit_success;
+    }
+
+    // This rank's share: FRFs k with k mod ranks = rank.
+    std::vector<int> mine;
+    for (int k = mpi.rank(); k < static_cast<int>(values.size()); k += mpi.size()) mine.push_back(k);
+    ProgressLine progress(root && !o.quiet && isatty(STDERR_FILENO), "map");
+    const auto draw = [&](int finished, int total) {
+        const int width = 30, filled = total > 0 ? width * finished / total : width;
+        progress.update("[" + std::string(static_cast<std::size_t>(filled), '#') +
+                            std::string(static_cast<std::size_t>(width - filled), '.') + "] " + std::to_string(finished) +
+                            "/" + std::to_string(total) + " FRFs" + (mpi.size() > 1 ? " on rank 0" : ""),
+                        finished == total);
+    };
+    // Under MPI one thread per rank unless --threads says otherwise (the ranks fill the cores).
+    const int workers = mpi.size() > 1 && !given(command, "--threads") ? 1 : threads;
+    const std::vector<FrfResult> results = compute_frfs(
+        static_cast<int>(mine.size()),
+        [&](int k) { return parameter.system(values[static_cast<std::size_t>(mine[static_cast<std::size_t>(k)])]); },
+        settings, workers, draw);
+    progress.clear();
+    json part = json::array();
+    for (std::size_t k = 0; k < mine.size(); ++k)
+        part.push_back(record(mine[k], values[static_cast<std::size_t>(mine[k])], results[k], chosen.outputs));
+    const std::vector<std::string> parts = mpi.gather(part.dump());
+    if (!root) return mpi.broadcast(0);
+
+    std::vector<json> frfs(values.size());
+    for (const std::string& text : parts)
+        for (json& r : json::parse(text)) {
+            const auto index = r.at("index").get<std::size_t>();  // before r is moved from
+            frfs.at(index) = std::move(r);
+        }
+
+    // The tidy CSV: the parameter and the FRF's status, then hbf frf's columns, one row per
+    // point; an FRF without points is one row of empty fields.
+    const std::vector<io::Column> columns = io::frf_columns(chosen.outputs);
+    io::OutputFile out(o.out);
+    out.stream() << o.param << ",frf_status";
+    for (const io::Column& c : columns) out.stream() << ',' << c.name;
+    out.stream() << '\n';
+    const std::string empty_row(columns.size(), ',');
+    for (std::size_t k = 0; k < values.size(); ++k) {
+        const std::string prefix = io::csv_field(values[k]) + "," + frfs[k].at("status").get<std::string>() + ",";
+        const std::string rows = frfs[k].at("rows").get<std::string>();
+        if (rows.empty()) {
+            out.stream() << prefix << empty_row.substr(1) << '\n';
+            continue;
+        }
+        std::istringstream lines(rows);
+        for (std::string line; std::getline(lines, line);) out.stream() << prefix << line << '\n';
+    }
+
+    Verdict verdict("map");
+    int incomplete = 0, failed = 0, unbounded = 0;
+    for (const json& r : frfs) {
+        const std::string state = r.at("peak_state").get<std::string>();
+        if (state == "failed") ++failed;
+        else if (state == "incomplete") ++incomplete;
+        else if (state == "unbounded") ++unbounded;
+    }
+    if (failed > 0)
+        verdict.warning(std::to_string(failed) + " of " + std::to_string(values.size()) + " FRFs failed (a stall, a "
+                        "failed start or a failed exact polish; their rows say frf_status, the JSON says why)");
+    if (incomplete > 0)
+        verdict.warning(std::to_string(incomplete) + " FRFs are incomplete (left_range or point_budget)");
+    if (unbounded > 0)
+        verdict.warning(std::to_string(unbounded) + " FRFs have an unbounded resonance (amplitude_cap: capped at "
+                        "--max-amplitude)");
+    verdict.add_library_messages();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+    std::unique_ptr<io::OutputFile> summary;
+    if (!o.summary.empty()) {
+        json j;
+        j["command"] = "map";
+        j["law"] = chosen.law_name;
+        j["parameter"] = {{"name", o.param}, {"meaning", parameter.meaning()}, {"values", values}};
+        j["output"] = columns.size() > 1 ? columns[1].name : "";
+        j["ranks"] = mpi.size();
+        j["threads"] = workers == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : workers;
+        j["wall_time_seconds"] = seconds;
+        json list = json::array();
+        for (json r : frfs) {
+            r.erase("rows");
+            r.erase("w");
+            r.erase("y");
+            r.erase("index");
+            list.push_back(r);
+        }
+        j["frfs"] = list;
+        j["outcome"] = !verdict.errors().empty() ? "failed" : verdict.warnings().empty() ? "completed" : "incomplete";
+        j["errors"] = verdict.errors();
+        j["warnings"] = verdict.warnings();
+        summary = std::make_unique<io::OutputFile>(o.summary);
+        summary->stream() << j.dump(2) << '\n';
+    }
+    if (!o.plot.empty()) {
+        const std::string y_name = columns.size() > 1 ? columns[1].name : "y1_max";
+        io::PlotSpec spec;
+        spec.title = "hbf map: " + chosen.law_name + ", " + y_name + " over (w, " + o.param + ")";
+        spec.xlabel = "w";
+        const bool heatmap = o.style == "heatmap" || (o.style == "auto" && values.size() > 8);
+        if (heatmap) {
+            spec.ylabel = o.param;
+            spec.colorbar = y_name + " (max over one period)";
+            spec.log_colorbar = true;
+            io::PlotCurve capped{"unbounded resonance (capped)", {}, {}, io::PlotCurve::Style::markers, 2};
+            for (std::size_t k = 0; k < values.size(); ++k) {
+                const json& r = frfs[k];
+                for (std::size_t i = 0; i < r.at("w").size(); ++i) {
+                    const double w = number_from(r.at("w")[i]), y = number_from(r.at("y")[i]);
+                    if (!std::isfinite(w) || !(y > 0.0)) continue;
+                    spec.heat_x.push_back(w);
+                    spec.heat_y.push_back(values[k]);
+                    spec.heat_z.push_back(y);
+                }
+                if (r.at("peak_state") == "unbounded") {
+                    capped.x.push_back(number_from(r.at("peak_w")));  // the largest point before the cap
+                    capped.y.push_back(values[k]);
+                }
+            }
+            spec.curves = {capped};
+        } else {
+            spec.ylabel = y_name + " (max over one period)";
+            for (std::size_t k = 0; k < values.size(); ++k) {
+                const json& r = frfs[k];
+                io::PlotCurve c{o.param + " = " + format_number(values[k]) +
+                                    (r.at("peak_state") == "unbounded" ? " (unbounded: capped)"
+                                     : r.at("peak_state") == "bounded" ? ""
+                                                                       : " (" + r.at("status").get<std::string>() + ")"),
+                                {}, {}, io::PlotCurve::Style::line, 7};
+                for (std::size_t i = 0; i < r.at("w").size(); ++i) {
+                    c.x.push_back(number_from(r.at("w")[i]));
+                    c.y.push_back(number_from(r.at("y")[i]));
+                }
+                spec.curves.push_back(c);
+            }
+        }
+        io::write_plot(o.plot, spec);
+    }
+    out.commit();
+    if (summary) summary->commit();
+    if (!o.quiet && isatty(STDERR_FILENO))
+        std::cerr << "hbf map: " << values.size() << " FRFs in " << format_number(seconds) << " s\n";
+    return mpi.broadcast(verdict.finish());
+}
+}  // namespace
+
+Runner add_map_command(CLI::App& app) {
+    auto options = std::make_shared<MapOptions>();
+    CLI::App* command = app.add_subcommand(
+        "map", "FRFs over a grid of one parameter, crossed with the frequency: one FRF (hbf frf) per value, on "
+               "threads and, under mpirun, on MPI ranks; a tidy CSV, a JSON summary and a picture.");
+    add_dry_run(*command);
+    options->absorber.add_to(*command,
+                             "friction law: coulomb (exact), jenkins, dahl, lugre or coulomb-reg (as hbf frf)", "coulomb",
+                             true);
+    options->absorber.add_excitation_harmonic(*command);
+    options->frf.add_to(*command);
+    command->add_option("--param", options->param,
+                        "the parameter of the map: for the paper's absorber fe, mu, wa, r, wb (dahl, lugre, jenkins) "
+                        "or xi (lugre); for a --config system mu (the friction limit F_c of the contact --contact, "
+                        "in the file's force units) or fe (a factor on the file's excitation vector)")
+        ->type_name("NAME");
+    command->add_option("--values", options->values,
+                        "the parameter's values: V1,V2,..., START:STOP:N (N evenly spaced) or log:START:STOP:N "
+                        "(evenly spaced in log); 1..100000 values")
+        ->type_name("LIST|GRID");
+    command->add_option("--contact", options->contact, "--config: the contact whose friction limit --param mu sets (1-based)")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--threads", options->threads,
+                        "FRFs computed at once, 0..4096; 0 = every core. Under mpirun: per rank [default 1]. The CSV "
+                        "is the same for any number of threads and ranks")
+        ->capture_default_str()->type_name("INT");
+    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
+    command->add_option("--summary", options->summary,
+                        "write a JSON summary to FILE: per value the FRF's status, coverage, largest peak (peak, "
+                        "peak_w, peak_state) and time")
+        ->option_text("FILE");
+    command->add_option("--plot", options->plot,
+                        "draw the first output's max over one period against w: one curve per value, or a heat map "
+                        "over (w, parameter) with the colour on a log scale (.png or .svg)")
+        ->option_text("FILE.png|FILE.svg");
+    command->add_option("--plot-style", options->style,
+                        "curves, heatmap, or auto (curves for up to 8 values, else a heat map)")
+        ->capture_default_str()->type_name("auto|curves|heatmap");
+    command->add_flag("--quiet", options->quiet, "no progress bar or summary line on standard error");
+    std::string footer = "Output: a tidy CSV, one row per FRF point: the parameter's value (column named after it), "
+                         "frf_status (the FRF's continuation status: completed, amplitude_cap, left_range, point_budget, "
+                         "min_step, start_failed), then the columns of hbf frf:\n";
+    for (const auto& c : io::frf_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
+    footer += "An FRF that fails is one row with its status and empty fields, and the map goes on. Exit code 3 when "
+              "any FRF failed, is incomplete or has an unbounded resonance (counted on standard error).\n"
+              "MPI: mpirun -n K hbf map ... splits the values over K ranks (value k on rank k mod K); rank 0 gathers "
+              "and writes.";
+    command->footer(footer);
+    return [command, options]() { return run(*command, *options); };
+}
+
+}  // namespace hbf::cli

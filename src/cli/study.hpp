@@ -1,0 +1,49 @@
+// hbf command line — the parameter of a design study (hbf map, hbf optimize): which value of
+// the system it changes, and the grids of values.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "arguments.hpp"
+
+namespace hbf::cli {
+
+/// One parameter of the chosen system, set to any value by system(). For the paper's
+/// absorber: fe, mu, wa, r, wb (dahl, lugre, jenkins), xi (lugre). With --config: mu, the
+/// friction limit F_c of one contact, or fe, a factor on the file's excitation vector.
+class StudyParameter {
+public:
+    /// `flag` names the option that chose the parameter (for messages); `contact` is the
+    /// --contact text (1-based; --config only). Throws UsageError for a parameter that does not
+    /// apply to the system.
+    StudyParameter(const std::string& flag, const std::string& name, const ChosenSystem& chosen,
+                   const std::string& contact_flag, const std::string& contact);
+    const std::string& name() const { return name_; }
+    /// What the parameter is, with its units (for --help-like texts and JSON).
+    std::string meaning() const;
+    /// The value in the chosen system (the flag's or the file's).
+    double current() const { return current_; }
+    /// The system with the parameter set to `value`; throws InvalidInput for a value out of
+    /// range (the message names the parameter).
+    System system(double value) const;
+    bool preset() const { return !chosen_.config.has_value(); }
+    const ChosenSystem& chosen() const { return chosen_; }
+
+private:
+    std::string name_;
+    ChosenSystem chosen_;
+    FrictionLaw law_ = FrictionLaw::coulomb;
+    int contact_ = 0;
+    double current_ = 0;
+};
+
+/// Values of a study: "V1,V2,...", "START:STOP:N" (N values, evenly spaced) or
+/// "log:START:STOP:N" (N values, evenly spaced in log; START, STOP > 0). 1..100000 values,
+/// finite. Throws UsageError naming `flag`.
+std::vector<double> parse_values(const std::string& flag, const std::string& text);
+
+/// Parses a positive integer flag in lo..hi (UsageError naming the flag otherwise).
+int parse_count(const std::string& flag, const std::string& text, long long lo, long long hi);
+
+}  // namespace hbf::cli

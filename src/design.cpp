@@ -1,0 +1,310 @@
+#include "hbf/design.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "hbf/error.hpp"
+
+namespace hbf {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The largest peak of output 0 over the points and the refined peaks, and what it means.
+PeakValue largest_peak(const FrfResult& r) {
+    PeakValue p;
+    double best = -1.0, at = std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t k = 0; k < r.points.size(); ++k) {
+        if (r.metrics[k].output_max.empty()) continue;
+        const double y = r.metrics[k].output_max.front();
+        if (std::isfinite(y) && y > best) {
+            best = y;
+            at = r.points[k].omega;
+        }
+    }
+    for (const Peak& peak : r.peaks)
+        if (peak.output == 0 && std::isfinite(peak.y_max) && peak.y_max > best) {
+            best = peak.y_max;
+            at = peak.omega;
+        }
+    if (best >= 0.0) {
+        p.value = best;
+        p.omega = at;
+    }
+    switch (r.branch.status) {
+        case ContinuationStatus::completed: p.state = PeakState::bounded; break;
+        case ContinuationStatus::amplitude_cap: p.state = PeakState::unbounded; break;
+        case ContinuationStatus::left_range:
+        case ContinuationStatus::point_budget: p.state = PeakState::incomplete; break;
+        case ContinuationStatus::min_step:
+        case ContinuationStatus::start_failed: p.state = PeakState::failed; break;
+    }
+    if (r.polish && r.polish->failed > 0) p.state = PeakState::failed;
+    if (best < 0.0 && p.state == PeakState::bounded) p.state = PeakState::failed;  // no finite point
+    if (p.state == PeakState::unbounded) p.value = std::numeric_limits<double>::infinity();
+    return p;
+}
+}  // namespace
+
+std::string to_string(PeakState state) {
+    switch (state) {
+        case PeakState::bounded: return "bounded";
+        case PeakState::unbounded: return "unbounded";
+        case PeakState::incomplete: return "incomplete";
+        case PeakState::failed: return "failed";
+    }
+    return "?";
+}
+
+double PeakValue::objective() const {
+    return state == PeakState::bounded ? value : std::numeric_limits<double>::infinity();
+}
+
+FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
+    const auto started = std::chrono::steady_clock::now();
+    const std::vector<Output> outputs = settings.outputs.empty() ? std::vector<Output>{Output::dof(0)} : settings.outputs;
+    const CorrectorOptions& corrector = settings.continuation.corrector;
+    FrfResult r;
+    r.branch = continue_branch(hb, settings.continuation);
+    r.points = r.branch.points;
+    if (!settings.at.empty()) {
+        const auto samples = sample_branch(hb, r.branch, settings.at, corrector, &r.missed);
+        r.points.insert(r.points.end(), samples.begin(), samples.end());
+    }
+    // y_max of DOF 1 (the folds and transitions of a summary) and every output; on a large
+    // model only these are synthesised in time.
+    Analyser analyse(hb, {0}, outputs);
+    r.metrics.reserve(r.points.size());
+    for (const SolutionPoint& point : r.points) r.metrics.push_back(analyse(point));
+    if (settings.exact) {
+        PolishOptions po;
+        po.dof = std::max(0, outputs.front().single_dof());
+        po.exact.outputs = outputs;
+        po.peaks = settings.peaks;
+        po.peaks_of_every_output = settings.peaks_of_every_output;
+        r.polish = polish_branch(hb, r.points, r.metrics, po, corrector);
+        r.points = r.polish->points;
+        r.metrics = r.polish->metrics;
+        r.exact = r.polish->exact;
+        r.peaks = r.polish->peaks;
+    } else if (settings.peaks) {
+        r.peaks = settings.peaks_of_every_output ? find_peaks(hb, r.branch, outputs, corrector)
+                                                 : find_peaks(hb, r.branch, {outputs.front()}, corrector);
+    }
+    r.peak = largest_peak(r);
+    r.seconds = seconds_since(started);
+    return r;
+}
+
+FrfResult compute_frf(const System& system, const FrfSettings& settings) {
+    HarmonicBalance hb(system, settings.harmonic_balance);
+    return compute_frf(hb, settings);
+}
+
+std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>& systems, const FrfSettings& settings,
+                                    int threads, const std::function<void(int, int)>& done) {
+    if (count < 0) throw InvalidInput("count = " + std::to_string(count) + " is out of range: allowed >= 0");
+    if (threads < 0) throw InvalidInput("threads = " + std::to_string(threads) + " is out of range: allowed >= 0");
+    if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    threads = std::max(1, std::min(threads, count));
+    std::vector<FrfResult> results(static_cast<std::size_t>(count));
+    std::atomic<int> next{0};
+    std::mutex lock;
+    int finished = 0;
+    std::exception_ptr error;
+    auto work = [&]() {
+        for (int k = next++; k < count; k = next++) {
+            FrfResult r;
+            try {
+                System system;
+                {
+                    const std::lock_guard<std::mutex> guard(lock);
+                    if (error) return;
+                    system = systems(k);
+                }
+                r = compute_frf(system, settings);
+            } catch (const InvalidInput& e) {
+                r = FrfResult{};
+                r.branch.status = ContinuationStatus::start_failed;
+                r.branch.message = e.what();
+                r.peak.state = PeakState::failed;
+            } catch (...) {
+                const std::lock_guard<std::mutex> guard(lock);
+                if (!error) error = std::current_exception();
+                return;
+            }
+            const std::lock_guard<std::mutex> guard(lock);
+            results[static_cast<std::size_t>(k)] = std::move(r);
+            ++finished;
+            if (done) done(finished, count);
+        }
+    };
+    if (threads == 1) {
+        work();
+    } else {
+        std::vector<std::thread> pool;
+        for (int t = 0; t < threads; ++t) pool.emplace_back(work);
+        for (std::thread& t : pool) t.join();
+    }
+    if (error) std::rethrow_exception(error);
+    return results;
+}
+
+// ---- optimisation -----------------------------------------------------------------------
+
+std::string to_string(OptimizeStatus status) {
+    switch (status) {
+        case OptimizeStatus::converged: return "converged";
+        case OptimizeStatus::at_bound: return "at_bound";
+        case OptimizeStatus::budget: return "budget";
+        case OptimizeStatus::unbounded: return "unbounded";
+        case OptimizeStatus::failed: return "failed";
+    }
+    return "?";
+}
+
+std::string OptimizeResult::summary() const {
+    std::string s = to_string(status) + ": p = " + format_number(parameter) + ", largest peak " +
+                    format_number(peak.value) + " at w = " + format_number(peak.omega) + " (" + to_string(peak.state) +
+                    "), " + std::to_string(trace.size()) + " FRFs";
+    if (!message.empty()) s += "; " + message;
+    return s;
+}
+
+namespace {
+void validate(const OptimizeOptions& o) {
+    if (!(std::isfinite(o.lower) && o.lower > 0.0))
+        throw InvalidInput("lower = " + format_number(o.lower) + " is out of range: allowed a finite value > 0");
+    if (!(std::isfinite(o.upper) && o.upper > o.lower * (1.0 + 1e-9)))
+        throw InvalidInput("upper = " + format_number(o.upper) + " is out of range: allowed finite and > lower = " +
+                           format_number(o.lower));
+    if (o.scan_points < 3 || o.scan_points > 10000)
+        throw InvalidInput("scan_points = " + std::to_string(o.scan_points) + " is out of range: allowed 3..10000");
+    if (!(o.tolerance >= 1e-12 && o.tolerance <= 0.1))
+        throw InvalidInput("tolerance = " + format_number(o.tolerance) + " is out of range: allowed 1e-12..0.1");
+    if (o.max_evaluations < o.scan_points + 1 || o.max_evaluations > 100000)
+        throw InvalidInput("max_evaluations = " + std::to_string(o.max_evaluations) + " is out of range: allowed " +
+                           std::to_string(o.scan_points + 1) + "..100000 (more than scan_points)");
+    if (o.threads < 0) throw InvalidInput("threads = " + std::to_string(o.threads) + " is out of range: allowed >= 0");
+}
+
+OptimizeEvaluation evaluation(double p, const FrfResult& r, const char* phase) {
+    OptimizeEvaluation e;
+    e.parameter = p;
+    e.peak = r.peak;
+    for (const Peak& peak : r.peaks)
+        if (peak.output == 0) e.peaks.push_back(peak);
+    e.status = r.branch.status;
+    e.phase = phase;
+    e.seconds = r.seconds;
+    return e;
+}
+}  // namespace
+
+OptimizeResult optimize_parameter(const std::function<System(double)>& system, const FrfSettings& settings,
+                                  const OptimizeOptions& options) {
+    validate(options);
+    const auto started = std::chrono::steady_clock::now();
+    OptimizeResult result;
+    // Evaluates the FRFs at the log-parameters u (in parallel) and appends them to the trace.
+    auto evaluate = [&](const std::vector<double>& u, const char* phase) {
+        const auto frfs = compute_frfs(
+            static_cast<int>(u.size()), [&](int k) { return system(std::exp(u[static_cast<std::size_t>(k)])); },
+            settings, options.threads);
+        std::vector<double> values;
+        for (std::size_t k = 0; k < u.size(); ++k) {
+            result.trace.push_back(evaluation(std::exp(u[k]), frfs[k], phase));
+            values.push_back(frfs[k].peak.objective());
+        }
+        return values;
+    };
+    const double a0 = std::log(options.lower), b0 = std::log(options.upper);
+    const int n = options.scan_points;
+    std::vector<double> grid(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) grid[static_cast<std::size_t>(k)] = a0 + (b0 - a0) * k / (n - 1);
+    grid.back() = b0;
+    const std::vector<double> scan = evaluate(grid, "scan");
+    const auto best_scan = static_cast<int>(std::min_element(scan.begin(), scan.end()) - scan.begin());
+
+    // The best evaluation so far (the trace's smallest objective; ties keep the first).
+    auto best = [&result]() {
+        std::size_t b = 0;
+        for (std::size_t k = 1; k < result.trace.size(); ++k)
+            if (result.trace[k].peak.objective() < result.trace[b].peak.objective()) b = k;
+        return b;
+    };
+    auto finish = [&](OptimizeStatus status, double lo, double hi, std::string message) {
+        const OptimizeEvaluation& b = result.trace[best()];
+        result.status = status;
+        result.parameter = b.parameter;
+        result.peak = b.peak;
+        result.peaks = b.peaks;
+        result.bracket_lower = lo;
+        result.bracket_upper = hi;
+        result.message = std::move(message);
+        for (const OptimizeEvaluation& e : result.trace) {
+            const bool bad = e.peak.state == PeakState::failed || e.peak.state == PeakState::incomplete;
+            if (!bad) continue;
+            ++result.failed;
+            if (e.parameter >= lo && e.parameter <= hi) ++result.failed_in_bracket;
+        }
+        result.seconds = seconds_since(started);
+        return result;
+    };
+    if (!std::isfinite(scan[static_cast<std::size_t>(best_scan)])) {
+        const bool any_unbounded = std::any_of(result.trace.begin(), result.trace.end(), [](const OptimizeEvaluation& e) {
+            return e.peak.state == PeakState::unbounded;
+        });
+        return finish(any_unbounded ? OptimizeStatus::unbounded : OptimizeStatus::failed, options.lower, options.upper,
+                      any_unbounded ? "no scanned value gives a bounded response (every FRF capped or failed): widen "
+                                      "the range or lower the excitation"
+                                    : "every FRF of the scan failed");
+    }
+    if (best_scan == 0 || best_scan == n - 1) {
+        const double lo = std::exp(grid[static_cast<std::size_t>(std::max(0, best_scan - 1))]);
+        const double hi = std::exp(grid[static_cast<std::size_t>(std::min(n - 1, best_scan + 1))]);
+        return finish(OptimizeStatus::at_bound, lo, hi,
+                      std::string("the smallest peak of the scan is at the ") + (best_scan == 0 ? "lower" : "upper") +
+                          " end of the range: the optimum may lie outside it");
+    }
+    // Golden section in u = log p over the scan intervals around the best scan point.
+    const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+    double a = grid[static_cast<std::size_t>(best_scan - 1)], b = grid[static_cast<std::size_t>(best_scan + 1)];
+    double c = b - golden * (b - a), d = a + golden * (b - a);
+    const std::vector<double> first = evaluate({c, d}, "golden");
+    double fc = first[0], fd = first[1];
+    while (b - a > options.tolerance) {
+        if (static_cast<int>(result.trace.size()) >= options.max_evaluations)
+            return finish(OptimizeStatus::budget, std::exp(a), std::exp(b),
+                          "max_evaluations = " + std::to_string(options.max_evaluations) +
+                              " reached with the bracket " + format_number(std::exp(a)) + ".." +
+                              format_number(std::exp(b)));
+        // Keep the side of the smaller value; on a tie (two unbounded trials) the side of the
+        // best point found so far.
+        const double u_best = std::log(result.trace[best()].parameter);
+        const bool left = fc < fd || (fc == fd && u_best < d);
+        if (left) {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - golden * (b - a);
+            fc = evaluate({c}, "golden")[0];
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + golden * (b - a);
+            fd = evaluate({d}, "golden")[0];
+        }
+    }
+    return finish(OptimizeStatus::converged, std::exp(a), std::exp(b), "");
+}
+
+}  // namespace hbf

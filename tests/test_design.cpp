@@ -1,0 +1,277 @@
+// Design studies (design.hpp, hbf optimize, hbf map): the optimiser against Den Hartog's
+// fixed points and against brute-force scans by the same binary, threads and MPI ranks
+// against the sequential run.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "hbf/design.hpp"
+#include "hbf/error.hpp"
+#include "support.hpp"
+
+using namespace hbf;
+
+namespace {
+/// The viscous absorber on an undamped main mass (paper eq. 2 with a damper c between the
+/// masses instead of friction), mass ratio r, tuning wa, force fe: no contact, a linear FRF.
+System viscous_absorber(double r, double wa, double c, double fe) {
+    const double ka = r * wa * wa;
+    System s;
+    Eigen::Matrix2d k, d;
+    k << 1.0 + ka, -ka, -ka, ka;
+    d << c, -c, -c, c;
+    s.mass = sparse(Eigen::Matrix2d(Eigen::Vector2d(1.0, r).asDiagonal()));
+    s.stiffness = sparse(k);
+    s.damping = sparse(d);
+    s.excitation = Eigen::Vector2d(fe, 0.0);
+    return s;
+}
+
+FrfSettings linear_settings() {
+    FrfSettings s;
+    s.harmonic_balance.harmonics = 1;
+    s.harmonic_balance.formulation = Formulation::full;
+    s.continuation.omega_start = 0.6;
+    s.continuation.omega_end = 1.4;
+    s.continuation.max_step = 0.05;
+    return s;
+}
+
+nlohmann::json read_json(const std::filesystem::path& path) { return nlohmann::json::parse(::test::slurp(path)); }
+/// A file of the test directory, quoted for the shell.
+std::string in(const ::test::TempDir& dir, const std::string& name) { return "'" + (dir.path / name).string() + "'"; }
+}  // namespace
+
+TEST_CASE("optimize_parameter: the viscous Den Hartog absorber's damping meets the fixed points' bound",
+          "[design][optimize]") {
+    // Den Hartog: with the tuning wa = 1/(1 + r), every damping c gives an FRF through two
+    // fixed points of height y1/fe = sqrt(1 + 2/r); the best c puts both peaks close to them.
+    // So the optimum's peak is >= fe sqrt(1 + 2/r) (an exact bound) and only slightly above.
+    const double r = 0.1, wa = 1.0 / (1.0 + r), fe = 0.5;
+    const double bound = fe * std::sqrt(1.0 + 2.0 / r);
+    OptimizeOptions o;
+    o.lower = 0.001;
+    o.upper = 1.0;
+    o.scan_points = 9;
+    o.tolerance = 1e-4;
+    o.threads = 2;
+    const OptimizeResult best = optimize_parameter([&](double c) { return viscous_absorber(r, wa, c, fe); },
+                                                   linear_settings(), o);
+    INFO(best.summary());
+    REQUIRE(best.status == OptimizeStatus::converged);
+    CHECK(best.peak.state == PeakState::bounded);
+    CHECK(best.peak.value >= bound * (1.0 - 1e-9));
+    CHECK(best.peak.value <= bound * 1.01);
+    // Den Hartog's (approximate) optimal damping, c = 2 r wa xi with xi = sqrt(3 r / (8 (1 + r))).
+    const double c_den_hartog = 2.0 * r * wa * std::sqrt(3.0 * r / (8.0 * (1.0 + r)));
+    CHECK(best.parameter == Approx(c_den_hartog).epsilon(0.15));
+    // A brute-force scan of 41 values within +-2 % of the optimum, 0.1 % apart: none is lower
+    // (up to the peaks' own accuracy), and the scan's best lies within 0.1 % of the optimum.
+    const int n = 41;
+    const auto frfs = compute_frfs(
+        n, [&](int k) { return viscous_absorber(r, wa, best.parameter * (0.98 + 0.001 * k), fe); }, linear_settings(), 2);
+    int scan_best = 0;
+    for (int k = 0; k < n; ++k) {
+        CHECK(frfs[static_cast<std::size_t>(k)].peak.value >= best.peak.value * (1.0 - 1e-8));
+        if (frfs[static_cast<std::size_t>(k)].peak.value < frfs[static_cast<std::size_t>(scan_best)].peak.value)
+            scan_best = k;
+    }
+    CHECK(std::abs(0.98 + 0.001 * scan_best - 1.0) <= 0.001 + 1e-12);
+    // Every evaluation is in the trace, scan first.
+    CHECK(best.trace.size() >= 9u);
+    CHECK(best.trace.front().phase == "scan");
+    CHECK(best.trace.back().phase == "golden");
+}
+
+TEST_CASE("optimize_parameter: an optimum at the end of the range is at_bound, none bounded is unbounded",
+          "[design][optimize]") {
+    const double r = 0.1, wa = 1.0 / (1.0 + r), fe = 0.5;
+    OptimizeOptions o;
+    o.scan_points = 5;
+    o.threads = 2;
+    o.lower = 0.001;  // the best damping (about 0.033) lies above this range
+    o.upper = 0.01;
+    const OptimizeResult low = optimize_parameter([&](double c) { return viscous_absorber(r, wa, c, fe); },
+                                                  linear_settings(), o);
+    CHECK(low.status == OptimizeStatus::at_bound);
+    CHECK(low.parameter == Approx(0.01));
+    CHECK(low.trace.size() == 5u);
+    // Almost no damping: every FRF grows past a small cap.
+    FrfSettings capped = linear_settings();
+    capped.continuation.max_amplitude = 1.0;
+    o.lower = 1e-6;
+    o.upper = 1e-5;
+    const OptimizeResult none = optimize_parameter([&](double c) { return viscous_absorber(r, wa, c, fe); }, capped, o);
+    CHECK(none.status == OptimizeStatus::unbounded);
+    CHECK(none.peak.state == PeakState::unbounded);
+    CHECK_THROWS_AS(optimize_parameter([&](double c) { return viscous_absorber(r, wa, c, fe); }, capped,
+                                       OptimizeOptions{}),  // lower = upper = 0
+                    InvalidInput);
+}
+
+TEST_CASE("compute_frfs: FRFs on threads equal the sequential ones, a bad system is a failed result",
+          "[design][map]") {
+    auto system = [](int k) {
+        AbsorberParameters p;
+        p.excitation = 0.2 + 0.1 * k;
+        if (k == 3) p.friction_coefficient = -1.0;  // refused: the task fails, the others go on
+        return friction_absorber(p, FrictionLaw::dahl);
+    };
+    FrfSettings s;
+    s.harmonic_balance.harmonics = 5;
+    const auto parallel = compute_frfs(6, system, s, 2);
+    REQUIRE(parallel.size() == 6u);
+    for (int k = 0; k < 6; ++k) {
+        const FrfResult& r = parallel[static_cast<std::size_t>(k)];
+        if (k == 3) {
+            CHECK(r.branch.status == ContinuationStatus::start_failed);
+            CHECK_THAT(r.branch.message, Catch::Contains("mu"));
+            CHECK(r.peak.state == PeakState::failed);
+            continue;
+        }
+        const FrfResult alone = compute_frf(system(k), s);
+        REQUIRE(r.points.size() == alone.points.size());
+        for (std::size_t i = 0; i < r.points.size(); ++i) {
+            CHECK(r.points[i].omega == alone.points[i].omega);  // bitwise: the same computation
+            CHECK(r.metrics[i].output_max == alone.metrics[i].output_max);
+        }
+        CHECK(r.peak.value == alone.peak.value);
+        // The largest peak is the largest y1 of the FRF, at least every branch point's.
+        for (const PointMetrics& m : r.metrics) CHECK(m.output_max.front() <= r.peak.value);
+    }
+}
+
+TEST_CASE("hbf optimize: Coulomb, fe = 1, wa = 1 and wa = 1/(1+r) match brute-force scans by hbf map to 0.1 % in mu",
+          "[design][optimize][cli]") {
+    ::test::TempDir dir;
+    for (const std::string wa : {"1", "0.909090909090909"}) {
+        INFO("wa = " << wa);
+        const ::test::Result opt = ::test::run_hbf(
+            "optimize --law coulomb --fe 1 --wa " + wa + " --quiet --out " + in(dir, "trace.csv") + " --summary " + in(dir, "opt.json"), dir);
+        INFO(opt.err);
+        REQUIRE(opt.exit_code == 0);
+        const auto j = read_json(dir.path / "opt.json");
+        REQUIRE(j["status"] == "converged");
+        const double mu = j["optimum"]["value"].get<double>(), peak = j["optimum"]["peak"].get<double>();
+        // The trace CSV has one row per FRF and its optimum.
+        const auto trace = ::test::parse_csv(::test::slurp(dir.path / "trace.csv"));
+        CHECK(trace.size() == j["frfs"].get<std::size_t>() + 1);
+        // A coarse scan of the whole range by hbf map: the optimum is the global minimum.
+        const ::test::Result coarse = ::test::run_hbf("map --law coulomb --fe 1 --wa " + wa +
+                                                          " --param mu --values log:0.05:5:25 --quiet --out /dev/null "
+                                                          "--summary " + in(dir, "coarse.json"),
+                                                      dir);
+        REQUIRE((coarse.exit_code == 0 || coarse.exit_code == 3));  // small mu: unbounded resonances
+        for (const auto& f : read_json(dir.path / "coarse.json")["frfs"])
+            if (f["peak_state"] == "bounded") CHECK(f["peak"].get<double>() >= peak * (1.0 - 1e-9));
+        // A fine scan, 41 values 0.1 % apart around the optimum.
+        const ::test::Result fine = ::test::run_hbf(
+            "map --law coulomb --fe 1 --wa " + wa + " --param mu --values " + std::to_string(0.98 * mu) + ":" +
+                std::to_string(1.02 * mu) + ":41 --quiet --out /dev/null --summary " + in(dir, "fine.json"),
+            dir);
+        REQUIRE(fine.exit_code == 0);
+        const auto frfs = read_json(dir.path / "fine.json")["frfs"];
+        double best = 1e300, best_mu = 0;
+        for (const auto& f : frfs) {
+            REQUIRE(f["peak_state"] == "bounded");
+            // Within the search's own resolution: at the kink of equal peaks the peak changes
+            // by about its relative slope (~1) times the final bracket (1e-4 of mu).
+            CHECK(f["peak"].get<double>() >= peak * (1.0 - 1e-4));
+            if (f["peak"].get<double>() < best) {
+                best = f["peak"].get<double>();
+                best_mu = f["value"].get<double>();
+            }
+        }
+        CHECK(std::abs(best_mu / mu - 1.0) <= 0.001 + 1e-6);
+        if (wa != "1") {
+            // At the Den Hartog tuning the optimum balances the two resonance peaks of y1.
+            std::vector<double> peaks;
+            for (const auto& p : j["optimum"]["peaks"]) peaks.push_back(p["y_max"].get<double>());
+            REQUIRE(peaks.size() >= 2u);
+            std::sort(peaks.rbegin(), peaks.rend());
+            CHECK(peaks[1] == Approx(peaks[0]).epsilon(1e-3));
+        }
+    }
+}
+
+TEST_CASE("hbf map: the CSV is the same on 1 and 2 threads, failed FRFs are rows, and the JSON counts them",
+          "[design][map][cli]") {
+    ::test::TempDir dir;
+    const std::string common = "map --law dahl --harmonics 5 --param fe --values 0.1:0.4:4 --quiet ";
+    const ::test::Result one = ::test::run_hbf(common + "--threads 1 --out " + in(dir, "one.csv") + " --summary " + in(dir, "one.json"), dir);
+    const ::test::Result two = ::test::run_hbf(common + "--threads 2 --out " + in(dir, "two.csv"), dir);
+    INFO(one.err << two.err);
+    REQUIRE(one.exit_code == 0);
+    REQUIRE(two.exit_code == 0);
+    const std::string a = ::test::slurp(dir.path / "one.csv"), b = ::test::slurp(dir.path / "two.csv");
+    CHECK(a == b);
+    const auto rows = ::test::parse_csv(a);
+    REQUIRE(rows.size() > 4u);
+    CHECK(rows[0][0] == "fe");
+    CHECK(rows[0][1] == "frf_status");
+    CHECK(rows[0][2] == "w");
+    // Each FRF's rows equal hbf frf's output for that value.
+    const ::test::Result frf = ::test::run_hbf("frf --law dahl --harmonics 5 --fe 0.4 --quiet --out " + in(dir, "frf.csv"), dir);
+    REQUIRE(frf.exit_code == 0);
+    const auto single = ::test::parse_csv(::test::slurp(dir.path / "frf.csv"));
+    std::vector<std::vector<std::string>> mine;
+    for (const auto& row : rows)
+        if (row[0] == "0.4") mine.push_back(std::vector<std::string>(row.begin() + 2, row.end()));
+    REQUIRE(mine.size() + 1 == single.size());
+    for (std::size_t k = 0; k < mine.size(); ++k) CHECK(mine[k] == single[k + 1]);
+    const auto j = read_json(dir.path / "one.json");
+    CHECK(j["frfs"].size() == 4u);
+    CHECK(j["outcome"] == "completed");
+    // An FRF that fails (the point budget is too small for one of the values) is a row with
+    // its status, the map goes on, and the exit code is 3.
+    const ::test::Result budget =
+        ::test::run_hbf("map --law coulomb --param fe --values 0.3,1 --max-amplitude 5 --quiet --out " + in(dir, "capped.csv") + " "
+                        "--summary " + in(dir, "capped.json"),
+                        dir);
+    CHECK(budget.exit_code == 3);
+    CHECK_THAT(budget.err, Catch::Contains("unbounded resonance"));
+    const auto capped = read_json(dir.path / "capped.json");
+    CHECK(capped["frfs"][0]["peak_state"] == "bounded");
+    CHECK(capped["frfs"][1]["peak_state"] == "unbounded");
+    CHECK(capped["outcome"] == "incomplete");
+}
+
+TEST_CASE("hbf map and optimize refuse bad input before any work", "[design][cli]") {
+    ::test::TempDir dir;
+    ::test::check_bad_input("map --param fe --values 0.1,-1", {"--values"}, dir);
+    ::test::check_bad_input("map --param fe --values 1:2:0", {"--values"}, dir);
+    ::test::check_bad_input("map --param wb --law coulomb --values 1,2", {"--param"}, dir);
+    ::test::check_bad_input("map --param zeta --values 1,2", {"--param"}, dir);
+    ::test::check_bad_input("map --param mu --mu 0.3 --values 1,2", {"--mu"}, dir);
+    ::test::check_bad_input("map --values 1,2", {"--param"}, dir);
+    ::test::check_bad_input("map --param fe --values 1,2 --threads -1", {"--threads"}, dir);
+    ::test::check_bad_input("map --param fe --values 1,2 --plot-style pie", {"--plot-style"}, dir);
+    ::test::check_bad_input("optimize --range 2:1", {"--range"}, dir);
+    ::test::check_bad_input("optimize --range 0:1", {"--range"}, dir);
+    ::test::check_bad_input("optimize --param fe", {"--param"}, dir);
+    ::test::check_bad_input("optimize --mu 0.3", {"--mu"}, dir);
+    ::test::check_bad_input("optimize --scan 2", {"--scan"}, dir);
+    ::test::check_bad_input("optimize --param-tolerance 0", {"--param-tolerance"}, dir);
+}
+
+TEST_CASE("hbf map under mpirun with 2 ranks writes the CSV of the threaded run", "[design][map][mpi]") {
+    if (std::system("command -v mpirun >/dev/null 2>&1") != 0) {
+        WARN("mpirun is not installed: the MPI run is not tested");
+        return;
+    }
+    ::test::TempDir dir;
+    const std::string common = "map --law dahl --harmonics 5 --param fe --values 0.1:0.4:5 --quiet ";
+    const ::test::Result threads = ::test::run_hbf(common + "--threads 2 --out " + in(dir, "threads.csv"), dir);
+    REQUIRE(threads.exit_code == 0);
+    const std::string command = "cd '" + dir.path.string() +
+                                "' && OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 "
+                                "mpirun -n 2 '" HBF_EXECUTABLE "' " +
+                                common + "--out ranks.csv --summary ranks.json </dev/null >mpi.log 2>&1";
+    const int status = std::system(command.c_str());
+    INFO(::test::slurp(dir.path / "mpi.log"));
+    REQUIRE(status == 0);
+    CHECK(::test::slurp(dir.path / "ranks.csv") == ::test::slurp(dir.path / "threads.csv"));
+    CHECK(read_json(dir.path / "ranks.json")["ranks"] == 2);
+}
