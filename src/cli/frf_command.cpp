@@ -32,20 +32,6 @@ struct FrfOptions {
     bool quiet = false;
 };
 
-std::vector<double> parse_list(const std::string& flag, const std::string& text) {
-    std::vector<double> values;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const std::size_t comma = text.find(',', start);
-        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        const double w = parse_double(flag, item);
-        if (!(w > 0.0)) throw UsageError(flag + " = '" + item + "' is out of range: allowed frequencies > 0");
-        values.push_back(w);
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-    }
-    return values;
-}
 
 int run(const CLI::App& command, const FrfOptions& o) {
     const auto started = std::chrono::steady_clock::now();
@@ -83,7 +69,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const std::optional<io::SystemConfig>& config = chosen.config;
     const AbsorberParameters& p = chosen.absorber;
     FrfSettings settings = o.frf.settings(command, chosen);
-    settings.at = o.at.empty() ? std::vector<double>{} : parse_list("--at", o.at);
+    settings.at = o.at.empty() ? std::vector<double>{} : parse_frequencies("--at", o.at);
     // The peaks: of the first output for the exact polish (its plot), of every output for the
     // summary that reports them.
     settings.peaks = settings.exact || !o.summary.empty();

@@ -9,6 +9,21 @@ namespace hbf::cli {
 
 bool given(const CLI::App& command, const char* flag) { return command.count(flag) > 0; }
 
+std::vector<double> parse_frequencies(const std::string& flag, const std::string& text) {
+    std::vector<double> values;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = text.find(',', start);
+        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        const double w = parse_double(flag, item);
+        if (!(w > 0.0)) throw UsageError(flag + " = '" + item + "' is out of range: allowed frequencies > 0");
+        values.push_back(w);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return values;
+}
+
 void FrfFlags::add_to(CLI::App& command) {
     command.add_option("--wmin", wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
     command.add_option("--wmax", wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");

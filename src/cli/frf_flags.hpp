@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "arguments.hpp"
 #include "hbf/design.hpp"
@@ -23,6 +24,9 @@ struct FrfFlags {
     /// polish, the automatic H is 10 and harmonic balance does not locate transitions.
     FrfSettings settings(const CLI::App& command, ChosenSystem& chosen) const;
 };
+
+/// A comma-separated list of frequencies > 0 (--at); throws UsageError naming `flag`.
+std::vector<double> parse_frequencies(const std::string& flag, const std::string& text);
 
 /// Whether a flag was given on the command line.
 bool given(const CLI::App& command, const char* flag);

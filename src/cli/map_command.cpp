@@ -31,7 +31,7 @@ namespace {
 struct MapOptions {
     AbsorberFlags absorber;
     FrfFlags frf;
-    std::string param, values, threads = "0", contact = "1", out, summary, plot, style = "auto";
+    std::string param, values, threads = "0", contact = "1", at, out, summary, plot, style = "auto";
     bool quiet = false;
 };
 
@@ -70,6 +70,7 @@ json record(int index, double value, const FrfResult& r, const std::vector<Outpu
             {"peak_w", number_or_null(r.peak.omega)},
             {"peak_state", to_string(r.peak.state)},
             {"polish_failed", r.polish ? r.polish->failed : 0},
+            {"missed_at", r.missed},
             {"seconds", r.seconds},
             {"rows", rows},
             {"w", w},
@@ -97,6 +98,8 @@ int run(const CLI::App& command, const MapOptions& o) {
         throw UsageError("--" + o.param + " is set by --param " + o.param + " (the map's values): drop it");
     FrfSettings settings = o.frf.settings(command, chosen);
     settings.peaks = true;  // the largest peak per FRF (JSON)
+    if (given(command, "--at") && o.at.empty()) throw UsageError("--at is empty: allowed a comma-separated list of frequencies > 0");
+    if (!o.at.empty()) settings.at = parse_frequencies("--at", o.at);
     const std::vector<double> values = parse_values("--values", o.values);
     for (double v : values) {  // every value checked before the work
         try {
@@ -164,8 +167,9 @@ int run(const CLI::App& command, const MapOptions& o) {
     }
 
     Verdict verdict("map");
-    int incomplete = 0, failed = 0, unbounded = 0;
+    int incomplete = 0, failed = 0, unbounded = 0, missed = 0;
     for (const json& r : frfs) {
+        missed += static_cast<int>(r.at("missed_at").size());
         const std::string state = r.at("peak_state").get<std::string>();
         if (state == "failed") ++failed;
         else if (state == "incomplete") ++incomplete;
@@ -179,6 +183,9 @@ int run(const CLI::App& command, const MapOptions& o) {
     if (unbounded > 0)
         verdict.warning(std::to_string(unbounded) + " FRFs have an unbounded resonance (amplitude_cap: capped at "
                         "--max-amplitude)");
+    if (missed > 0)
+        verdict.warning(std::to_string(missed) + " --at frequencies got no row (outside an FRF's branch, or the solve "
+                        "failed; missed_at in the JSON)");
     verdict.add_library_messages();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
@@ -279,6 +286,10 @@ Runner add_map_command(CLI::App& app) {
                         "the parameter's values: V1,V2,..., START:STOP:N (N evenly spaced) or log:START:STOP:N "
                         "(evenly spaced in log); 1..100000 values")
         ->type_name("LIST|GRID");
+    command->add_option("--at", options->at,
+                        "comma-separated frequencies W1,W2,...: on every FRF, every solution there is solved exactly "
+                        "and written as extra rows with point = sample (as hbf frf --at)")
+        ->type_name("LIST");
     command->add_option("--contact", options->contact, "--config: the contact whose friction limit --param mu sets (1-based)")
         ->capture_default_str()->type_name("INT");
     command->add_option("--threads", options->threads,
