@@ -13,7 +13,11 @@ namespace hbf {
 
 namespace {
 
-PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb) {
+/// The HB point's metrics with the exact orbit's values. The energy balance is the orbit's own
+/// where the structure is undamped (the exact solver integrates no viscous energy; with damping
+/// the HB point's balance stays): an exact transition whose HB correction failed must not be
+/// judged by that HB solution.
+PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb, const System& system) {
     PointMetrics m = hb;
     m.y_max = orbit.y_max;
     m.y_amp1 = orbit.y_amp1;
@@ -23,6 +27,13 @@ PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb) {
     m.regime = orbit.regime;
     m.energy = orbit.energy;
     m.input_energy = orbit.input_energy;
+    if (system.damping.nonZeros() == 0) {
+        double amplitude = 0.0;
+        for (double a : orbit.y_amp1) amplitude += a * a;
+        m.viscous_energy = 0.0;
+        m.energy_error = energy_imbalance(orbit.input_energy, 0.0, orbit.energy,
+                                          M_PI * system.excitation.norm() * std::sqrt(amplitude));
+    }
     return m;
 }
 
@@ -164,11 +175,11 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     for (std::size_t k = 0; k < branch.size(); ++k) {
         Polished& q = branch[k];
         q.exact = exact_point(q.orbit, branch_hb[k], dof);
-        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, branch_hb[k]);
+        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, branch_hb[k], system);
     }
     for (Polished& q : samples) {
         q.exact = exact_point(q.orbit, q.metrics, dof);
-        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, q.metrics);
+        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, q.metrics, system);
     }
 
     // 2. Exact transitions between consecutive exact points of a branch with different regimes.
@@ -224,7 +235,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         PointMetrics hb_m = analyse(t.point);
         t.exact = exact_point(side, hb_m, dof);
         if (!hb_ok) t.exact.hb_gap = std::numeric_limits<double>::quiet_NaN();
-        t.metrics = exact_metrics(side, hb_m);
+        t.metrics = exact_metrics(side, hb_m, hb.system());
         with_transitions.push_back(std::move(t));
         ++transitions;
     }

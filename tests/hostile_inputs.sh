@@ -185,6 +185,20 @@ expect 2 "allowed at most 1000000 rows" "write_system s.toml; $MTX; printf '%%%%
 expect 2 "entries = " "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n2 2 99999999999\n1 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
 expect 2 "structure.stiffness" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real general\n3 3 1\n1 1 1.0\n' > k.mtx" frf --config s.toml --out x.csv
 
+# ---- design studies (hbf map, hbf optimize) ------------------------------------------
+expect 2 "--values" '' map "${FAST[@]}" --param fe --values 0.1,nan --out x.csv
+expect 2 "--values" '' map "${FAST[@]}" --param fe --values log:0:1:5 --out x.csv
+expect 2 "--values" '' map "${FAST[@]}" --param mu --values 1:2:100001 --out x.csv
+expect 2 "--values" '' map "${FAST[@]}" --param r --values 1e13 --out x.csv
+expect 2 "--param" '' map "${FAST[@]}" --param '' --values 1 --out x.csv
+expect 2 "--contact" '' map "${FAST[@]}" --param fe --values 1 --contact 2 --out x.csv
+expect 2 "--summary" '' map "${FAST[@]}" --param fe --values 0.1 --out keep.csv --summary keep.csv
+expect 2 "--plot" '' map "${FAST[@]}" --param fe --values 0.1 --plot x.png --out x.png
+expect 2 "--range" '' optimize "${FAST[@]}" --range 1 --out x.csv
+expect 2 "--range" '' optimize "${FAST[@]}" --range 1e300:1e301 --out x.csv
+expect 2 "--max-frfs" '' optimize "${FAST[@]}" --scan 13 --max-frfs 5 --out x.csv
+expect 2 "--summary" '' optimize "${FAST[@]}" --out keep.csv --summary keep.csv
+
 # ---- paths ----------------------------------------------------------------------------
 expect 2 "--out" '' frf "${FAST[@]}" --out nodir/x.csv
 expect 2 "--out" 'mkdir d' frf "${FAST[@]}" --out d

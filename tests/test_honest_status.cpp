@@ -324,3 +324,23 @@ TEST_CASE("A branch's outcome sets the exit code: unlocated transitions and trun
         CHECK(stalled.errors().size() == 1);
     }
 }
+
+TEST_CASE("The exact polish's rows carry the exact orbit's energy balance: no false alarm at a transition",
+          "[status][cli][exact]") {
+    // An exact transition whose HB correction failed used to be judged by that HB solution
+    // (energy_error 3e-5 at w = 1.089 on the Den Hartog design of the paper's Fig. 16, exit 3).
+    // For an undamped structure each polished row now has the exact orbit's own balance.
+    ::test::TempDir dir;
+    const auto summary = dir.path / "s.json";
+    for (const std::string args :
+         {"--law coulomb --r 0.1 --wa 0.909090909090909 --mu 0.0374399556 --fe 0.12", "--law coulomb",
+          "--law jenkins --wb 2"}) {
+        const ::test::Result r =
+            ::test::run_hbf("frf " + args + " --quiet --out /dev/null --summary '" + summary.string() + "'", dir);
+        INFO(args << ": " << r.err);
+        CHECK(r.exit_code == 0);
+        const auto j = nlohmann::json::parse(::test::slurp(summary));
+        CHECK(j["max_energy_error"].get<double>() < 1e-8);
+        CHECK(j["warnings"].empty());
+    }
+}
