@@ -35,9 +35,8 @@ struct OptimizeOptions_ {
 using nlohmann::json;
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-const std::vector<io::Column>& trace_columns(const std::string& param) {
-    static std::vector<io::Column> columns;
-    columns = {{"evaluation", "1-based order of the FRF in the search"},
+std::vector<io::Column> trace_columns(const std::string& param) {
+    return {{"evaluation", "1-based order of the FRF in the search"},
                {"phase", "scan (the first, log-spaced, on threads) or golden (the golden-section search in log " + param + ")"},
                {param, "the parameter's value of this FRF"},
                {"peak", "largest max over one period of |o(t)| of the first output (y1 for the absorber) over the FRF: "
@@ -49,7 +48,6 @@ const std::vector<io::Column>& trace_columns(const std::string& param) {
                {"frf_status", "the FRF's continuation status"},
                {"peaks", "number of refined peaks of the first output on the FRF"},
                {"seconds", "wall time of the FRF"}};
-    return columns;
 }
 
 /// The largest stuck (minimum-displacement design) response of the preset over [wmin, wmax]:
@@ -186,7 +184,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     verdict.add_library_messages();
 
     io::OutputFile out(o.out);
-    const auto& columns = trace_columns(o.param);
+    const std::vector<io::Column> columns = trace_columns(o.param);
     for (std::size_t c = 0; c < columns.size(); ++c) out.stream() << (c ? "," : "") << columns[c].name;
     out.stream() << '\n';
     for (std::size_t k = 0; k < result.trace.size(); ++k) {
