@@ -1,5 +1,6 @@
 #include "hbf/analytic.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -94,6 +95,56 @@ Response stick(const AbsorberParameters& p, double omega, FrictionLaw law) {
 double limit_friction(const AbsorberParameters& p, double omega, FrictionLaw law) {
     return law == FrictionLaw::dahl || law == FrictionLaw::lugre ? contact_limit_friction(p, omega, law)
                                                                  : coulomb_limit_friction(p, omega);
+}
+
+std::vector<double> stuck_resonances(const AbsorberParameters& p, FrictionLaw law) {
+    const double r = p.mass_ratio;
+    if (law != FrictionLaw::dahl && law != FrictionLaw::lugre) return {1.0 / std::sqrt(1.0 + r)};
+    const double wb = p.contact_stiffness_ratio;
+    const double k = p.tuning_ratio * p.tuning_ratio + wb * wb;
+    const double b = 1.0 + (1.0 + r) * k;
+    // b^2 - 4 K = (1 + (1 + r) K)^2 - 4 K > (1 - K)^2 >= 0 since r > 0; the smaller root from
+    // the product of the roots (K) to avoid cancellation.
+    const double root = std::sqrt(b * b - 4.0 * k);
+    const double upper = 0.5 * (b + root);
+    return {std::sqrt(k / upper), std::sqrt(upper)};
+}
+
+LimitFrictionMaximum limit_friction_maximum(const AbsorberParameters& p, FrictionLaw law, double wmin,
+                                            double wmax, long long samples) {
+    p.validate(law);
+    std::vector<double> w = uniform_grid(wmin, wmax, samples);
+    const bool undamped = law != FrictionLaw::lugre || p.contact_damping_ratio == 0.0;
+    for (double resonance : stuck_resonances(p, law)) {
+        if (resonance < wmin || resonance > wmax) continue;
+        if (undamped) return {resonance, infinity, false};
+        w.push_back(resonance);
+    }
+    std::sort(w.begin(), w.end());
+    const auto f = [&](double omega) { return limit_friction(p, omega, law); };
+    std::vector<double> value(w.size());
+    for (std::size_t k = 0; k < w.size(); ++k) value[k] = f(w[k]);
+    LimitFrictionMaximum best{w[0], value[0], true};
+    const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (std::size_t k = 0; k < w.size(); ++k) {
+        if ((k > 0 && value[k - 1] > value[k]) || (k + 1 < w.size() && value[k + 1] > value[k])) continue;
+        if (value[k] > best.value) best = {w[k], value[k], true};
+        // Golden section on the neighbours' bracket (one peak there: it is a sampled maximum).
+        double a = w[k > 0 ? k - 1 : k], b = w[k + 1 < w.size() ? k + 1 : k];
+        double c = b - golden * (b - a), d = a + golden * (b - a);
+        double fc = f(c), fd = f(d);
+        while (b - a > 1e-13 * b) {
+            if (fc >= fd) {
+                b = d; d = c; fd = fc; c = b - golden * (b - a); fc = f(c);
+            } else {
+                a = c; c = d; fc = fd; d = a + golden * (b - a); fd = f(d);
+            }
+        }
+        if (fc > best.value) best = {c, fc, true};
+        if (fd > best.value) best = {d, fd, true};
+    }
+    if (!std::isfinite(best.value)) best.bounded = false;
+    return best;
 }
 
 double den_hartog_tuning(double mass_ratio) {

@@ -16,6 +16,7 @@ std::string to_string(PointKind kind) {
         case PointKind::fold: return "fold";
         case PointKind::sample: return "sample";
         case PointKind::transition: return "transition";
+        case PointKind::cap: return "cap";
     }
     return "unknown";
 }
@@ -307,6 +308,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         x_scale = new_scale;
         if (hb.amplitude_bound(x, omega) > o.max_amplitude) {
             out.status = ContinuationStatus::amplitude_cap;
+            if (out.points.back().kind == PointKind::regular) out.points.back().kind = PointKind::cap;
             out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(omega);
             return out;
         }

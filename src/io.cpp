@@ -289,7 +289,9 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
         {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
         {"branch", "branch number: 1, 2 for the branch restarted from wmax after an amplitude cap, 3 for the branch between two capped resonances"},
         {"point", "regular, fold (dw/ds changed sign), transition (located boundary between stick and stick-slip "
-                  "or between stick-slip and slip, contact 1), or sample (solved exactly at an --at frequency)"},
+                  "or between stick-slip and slip, contact 1), cap (the amplitude bound passed --max-amplitude here: "
+                  "an unbounded resonance, the branch stops; its largest point) or sample (solved exactly at an --at "
+                  "frequency)"},
         {"iterations", "corrector (Ceres) iterations of this point"},
         {"residual", "|R|_inf / force scale after correction"},
         {"step", "arclength step that led to this point"},

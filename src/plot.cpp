@@ -164,6 +164,7 @@ PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<Po
     PlotCurve folds{"folds", {}, {}, PlotCurve::Style::markers, 9};
     PlotCurve transitions{"stick-slip transitions", {}, {}, PlotCurve::Style::markers, 6};
     PlotCurve samples{"samples (--at)", {}, {}, PlotCurve::Style::markers, 2};
+    PlotCurve caps{"amplitude cap: unbounded resonance, the branch stops", {}, {}, PlotCurve::Style::markers, 5};
     const double NaN = std::nan("");
     int last_branch = 0;
     for (std::size_t k = 0; k < points.size(); ++k) {
@@ -188,9 +189,12 @@ PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<Po
         } else if (p.kind == PointKind::transition) {
             transitions.x.push_back(p.omega);
             transitions.y.push_back(value);
+        } else if (p.kind == PointKind::cap) {
+            caps.x.push_back(p.omega);
+            caps.y.push_back(value);
         }
     }
-    spec.curves = {branch, folds, transitions, samples};
+    spec.curves = {branch, folds, transitions, samples, caps};
     return spec;
 }
 

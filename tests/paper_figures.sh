@@ -60,6 +60,23 @@ mus = sorted(float(r['mu']) for r in rows)
 i = mus.index(float(best['mu'])); j = min(range(len(mus)), key=lambda k: abs(mus[k] - mu_op))
 print(1 if abs(i - j) <= 1 else 0)")"
 
+# Fig. 11: hbf analytic's refined maximum of LuGre's mu_limit (wb = 0.4, xi = 0.01) is never
+# below the largest value on Fig. 10's 11001-point grid of the same closed form, and within 1 %.
+check "Fig. 11: max mu_limit (wb = 0.4, xi = 0.01) >= Fig. 10's grid maximum, within 1 %" "$(python3 -c "
+import csv
+grid = max(float(r['mu_limit']) for r in csv.DictReader(open('$OUT/fig10_lugre.csv')) if r['mu_limit'])
+refined = [float(r['max_mu_limit']) for r in csv.DictReader(open('$OUT/fig11_max_xi0.01.csv')) if float(r['wb']) == 0.4][0]
+print(1 if grid <= refined * (1 + 1e-12) and refined <= 1.01 * grid else 0)")"
+# Caps: at fe = 1 the Coulomb absorber slips at both resonances, where the friction force is
+# bounded and the frictionless absorber (w^4 - (1 + (1 + r) wa^2) w^2 + wa^2 = 0) is undamped:
+# the four branch ends marked point = cap lie within 0.5 % of its two eigenfrequencies.
+check "Fig. 3: the fe = 1 caps lie within 0.5 % of the frictionless absorber's resonances" "$(python3 -c "
+import csv, math
+b = 1 + 1.1; up = (b + math.sqrt(b * b - 4)) / 2; res = [math.sqrt(1 / up), math.sqrt(up)]
+caps = [float(r['w']) for r in csv.DictReader(open('$OUT/fig03_coulomb_fe1.csv')) if r['point'] == 'cap']
+print(1 if len(caps) == 4 and all(min(abs(w / x - 1) for x in res) < 0.005 for w in caps)
+         and sum(abs(w / res[0] - 1) < 0.005 for w in caps) == 2 else 0)")"
+
 if [[ $failures -gt 0 ]]; then
   echo "paper_figures: $failures check(s) failed"
   exit 1

@@ -2,6 +2,7 @@
 // dynamic-stiffness solve (Eigen) of the same linear equations, limits, energy balance and
 // the self-consistency of the equivalent-viscous solution.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 
 #include "hbf/analytic.hpp"
@@ -277,4 +278,79 @@ TEST_CASE("table leaves the slip columns empty where no slipping solution exists
     }
     CHECK(with_slip > 0);
     CHECK(with_slip < static_cast<int>(rows.size()));
+}
+
+TEST_CASE("stuck_resonances are the eigenfrequencies of the stuck system", "[analytic]") {
+    for (const AbsorberParameters& p : {paper(), detuned()}) {
+        const auto coulomb = an::stuck_resonances(p, FrictionLaw::coulomb);
+        REQUIRE(coulomb.size() == 1);
+        CHECK(coulomb[0] == Approx(1.0 / std::sqrt(1.0 + p.mass_ratio)).epsilon(1e-15));
+        // Two masses, absorber spring r wa^2 in parallel with the contact spring r wb^2:
+        // generalized eigenproblem K v = w^2 M v, solved by Eigen.
+        const double r = p.mass_ratio, k2 = r * (p.tuning_ratio * p.tuning_ratio +
+                                                 p.contact_stiffness_ratio * p.contact_stiffness_ratio);
+        Eigen::Matrix2d M, K;
+        M << 1.0, 0.0, 0.0, r;
+        K << 1.0 + k2, -k2, -k2, k2;
+        Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> solver(K, M);
+        for (FrictionLaw law : {FrictionLaw::dahl, FrictionLaw::lugre}) {
+            const auto w = an::stuck_resonances(p, law);
+            REQUIRE(w.size() == 2);
+            CHECK(w[0] == Approx(std::sqrt(solver.eigenvalues()(0))).epsilon(1e-13));
+            CHECK(w[1] == Approx(std::sqrt(solver.eigenvalues()(1))).epsilon(1e-13));
+        }
+    }
+}
+
+TEST_CASE("limit_friction_maximum: infinite at an undamped stuck resonance in the band", "[analytic]") {
+    const AbsorberParameters p = paper();
+    const auto coulomb = an::limit_friction_maximum(p, FrictionLaw::coulomb, 0.5, 1.6);
+    CHECK_FALSE(coulomb.bounded);
+    CHECK(std::isinf(coulomb.value));
+    CHECK(coulomb.omega == Approx(1.0 / std::sqrt(1.1)).epsilon(1e-15));
+    const auto dahl = an::limit_friction_maximum(p, FrictionLaw::dahl, 0.5, 1.6);
+    CHECK_FALSE(dahl.bounded);
+    CHECK(dahl.omega == an::stuck_resonances(p, FrictionLaw::dahl)[0]);
+    AbsorberParameters undamped = p;
+    undamped.contact_damping_ratio = 0.0;  // LuGre without contact damping is Dahl
+    CHECK_FALSE(an::limit_friction_maximum(undamped, FrictionLaw::lugre, 0.5, 1.6).bounded);
+}
+
+TEST_CASE("limit_friction_maximum: Coulomb above the stuck resonance peaks at the band's start", "[analytic]") {
+    // mu_limit = fe r w^2 / ((1 + r) w^2 - 1) decreases for w > 1/sqrt(1 + r); at w = 1 it is
+    // fe r / r = fe.
+    AbsorberParameters p = detuned();
+    const auto m = an::limit_friction_maximum(p, FrictionLaw::coulomb, 1.0, 1.6, 7);
+    CHECK(m.bounded);
+    CHECK(m.omega == 1.0);
+    CHECK(m.value == Approx(p.excitation).epsilon(1e-14));
+}
+
+TEST_CASE("limit_friction_maximum of LuGre: the sharp finite peak, against dense sampling", "[analytic]") {
+    // As wb grows the stuck resonance becomes nearly undamped and LuGre's peak narrows far below
+    // any practical grid: a brute-force maximum over 200001 frequencies around the resonance must
+    // never exceed ours, must approach it as the sampling tightens, and even 2 samples (the band's
+    // ends, plus the resonance the function adds) must find the same peak.
+    for (double wb : {0.4, 2.0, 8.0, 30.0}) {
+        for (double xi : {0.01, 0.2}) {
+            AbsorberParameters p = paper();
+            p.contact_stiffness_ratio = wb;
+            p.contact_damping_ratio = xi;
+            INFO("wb = " << wb << ", xi = " << xi);
+            const auto m = an::limit_friction_maximum(p, FrictionLaw::lugre, 0.5, 1.6);
+            REQUIRE(m.bounded);
+            CHECK(an::limit_friction(p, m.omega, FrictionLaw::lugre) == m.value);
+            const auto coarse = an::limit_friction_maximum(p, FrictionLaw::lugre, 0.5, 1.6, 2);
+            CHECK(coarse.value == Approx(m.value).epsilon(1e-12));
+            double brute = 0.0;
+            for (double half_width : {1e-1, 1e-3, 1e-5}) {
+                brute = 0.0;
+                const auto grid = an::uniform_grid(std::max(0.5, m.omega - half_width),
+                                                   std::min(1.6, m.omega + half_width), 200001);
+                for (double w : grid) brute = std::max(brute, an::limit_friction(p, w, FrictionLaw::lugre));
+                CHECK(brute <= m.value * (1.0 + 1e-13));
+            }
+            CHECK(brute == Approx(m.value).epsilon(1e-9));
+        }
+    }
 }

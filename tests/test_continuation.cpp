@@ -433,3 +433,41 @@ TEST_CASE("Jenkins with a huge friction limit is the linear spring k_t: the pre-
         CHECK(y1.tail(4).norm() < 1e-8 * std::abs(exact.y1));
     }
 }
+
+TEST_CASE("The last point before each amplitude cap is marked cap and the caps bracket the stuck resonances",
+          "[continuation][jenkins]") {
+    // Jenkins with a huge friction limit is the undamped linear absorber with the contact spring
+    // r wb^2: both resonances (analytic::stuck_resonances, the eigenfrequencies) are unbounded.
+    // Branch 1 stops below the first, branch 2 (from wmax) above the second, branch 3 between
+    // them on both sides: four caps, each at the first point whose amplitude bound passed
+    // max_amplitude, each within a few percent of its resonance (the response ~ 1/|w - w_r|).
+    AbsorberParameters p;
+    p.friction_coefficient = 1e6;
+    p.contact_stiffness_ratio = 0.8;  // resonances at w = 0.912 and 1.405, inside [0.5, 1.6]
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::jenkins), HarmonicBalanceOptions{3, 0});
+    ContinuationOptions o;
+    const BranchResult b = continue_branch(hb, o);
+    REQUIRE(b.status == ContinuationStatus::amplitude_cap);
+    const std::vector<double> resonance = analytic::stuck_resonances(p, FrictionLaw::dahl);
+    REQUIRE(resonance[1] < o.omega_end);
+    std::vector<std::pair<int, double>> caps;
+    for (const SolutionPoint& q : b.points) {
+        if (q.kind != PointKind::cap) continue;
+        caps.emplace_back(q.branch, q.omega);
+        CHECK(hb.amplitude_bound(q.x, q.omega) > o.max_amplitude);
+    }
+    std::sort(caps.begin(), caps.end(), [](const auto& a, const auto& c) { return a.second < c.second; });
+    REQUIRE(caps.size() == 4);
+    CHECK(caps[0].first == 1);
+    CHECK(caps[3].first == 2);
+    CHECK(caps[1].first == 3);
+    CHECK(caps[2].first == 3);
+    CHECK(caps[0].second < resonance[0]);
+    CHECK(caps[1].second > resonance[0]);
+    CHECK(caps[2].second < resonance[1]);
+    CHECK(caps[3].second > resonance[1]);
+    for (int k = 0; k < 4; ++k) CHECK(std::abs(caps[k].second / resonance[k / 2] - 1.0) < 0.03);
+    // Every other point is below the cap.
+    for (const SolutionPoint& q : b.points)
+        if (q.kind != PointKind::cap) CHECK(hb.amplitude_bound(q.x, q.omega) <= o.max_amplitude);
+}

@@ -73,6 +73,17 @@ TEST_CASE("hbf frf: an unbounded resonance is capped: exit 3, status amplitude_c
     // Both flanks: the gap is the capped peak around w = 1, a fraction of a percent.
     CHECK(s["coverage"].get<double>() > 0.99);
     CHECK(s["coverage"].get<double>() < 1.0);
+    // The last point of each flank is marked point = cap, one below and one above w = 1.
+    const auto rows = ::test::parse_csv(r.out);
+    REQUIRE(!rows.empty());
+    const auto point = std::find(rows[0].begin(), rows[0].end(), "point") - rows[0].begin();
+    REQUIRE(point < static_cast<long>(rows[0].size()));
+    std::vector<double> caps;
+    for (std::size_t k = 1; k < rows.size(); ++k)
+        if (rows[k][static_cast<std::size_t>(point)] == "cap") caps.push_back(std::stod(rows[k][0]));
+    REQUIRE(caps.size() == 2);
+    CHECK(std::min(caps[0], caps[1]) < 1.0);
+    CHECK(std::max(caps[0], caps[1]) > 1.0);
     // Bounded (pi F < 4 mu): completed, exit 0.
     ::test::write_file(file, "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [0.2]\n"
                              "[[contact]]\ndof = 1\nlaw = \"dahl\"\nfriction_limit = 0.2\nstiffness = 2.0\n");

@@ -44,6 +44,15 @@ GP
   } | gnuplot || die "gnuplot failed"
 }
 
+# cap_key FILE...: the legend entry of the amplitude-cap markers if some hbf frf CSV among the
+# FILEs has a row with point = cap (the last point before an unbounded resonance), else
+# nothing (an empty gnuplot title: no entry for markers that are not drawn).
+cap_key() {
+  if grep -q ',cap,' "$@"; then
+    echo 'amplitude cap: unbounded (at the top)'
+  fi
+}
+
 # wrote FILE...: reports written files on standard error.
 wrote() { for f in "$@"; do echo "$SCRIPT: wrote $f" >&3; done; }
 

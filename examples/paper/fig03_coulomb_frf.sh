@@ -52,7 +52,7 @@ set xlabel 'w = {/Symbol W}/{/Symbol w}_1'
 set ylabel 'y1_{max} = max |x_1| k_1 / N'
 set xrange [0.5:1.6]
 set yrange [0:10]
-set key top right
+set key at graph 0.99, graph 0.86 top right
 br(b) = (strcol('branch') eq b && strcol('point') ne 'sample') ? column('y1_max') : 1/0
 files = "$(for fe in "${FES[@]}"; do printf '%s ' "$OUT/fig03_coulomb_fe$fe.csv"; done)"
 labels = "${FES[*]}"
@@ -60,7 +60,10 @@ plot for [i=1:words(files)] word(files,i) using 'w':(br('1')) with lines lc i ti
      for [i=1:words(files)] word(files,i) using 'w':(br('2')) with lines lc i notitle, \
      for [i=1:words(files)] word(files,i) using 'w':(br('3')) with lines lc i notitle, \
      for [i=1:words(files)] word(files,i) using 'w':(strcol('point') eq 'transition' ? column('y1_max') : 1/0) \
-         with points pt 7 ps 0.7 lc i notitle
+         with points pt 7 ps 0.7 lc i notitle, \
+     for [i=1:words(files)] word(files,i) using 'w':(strcol('point') eq 'cap' ? 9.6 : 1/0) \
+         with points pt 9 ps 1.6 lc i notitle, \
+     1/0 with points pt 9 ps 1.6 lc rgb '#000000' title '$(cap_key "$OUT"/fig03_coulomb_fe*.csv)'
 GP
 
 plot <<GP

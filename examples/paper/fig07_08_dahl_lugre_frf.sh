@@ -51,7 +51,7 @@ set ylabel 'y1_{max} / f_e'
 set xrange [0.5:1.6]
 set logscale y
 set yrange [0.1:1000]
-set key top right font ',10'
+set key bottom left font ',10'
 fes = "${FES[*]}"
 br(b, fe) = (strcol('branch') eq b && strcol('point') ne 'sample') ? column('y1_max') / fe : 1/0
 f(fe) = sprintf('$OUT/fig07_08_${law}_fe%s.csv', fe)
@@ -61,7 +61,9 @@ plot '$OUT/fig07_08_${law}_analytic.csv' using 'w':'y1_stick' with lines lc rgb 
      for [i=1:words(fes)] f(word(fes,i)) using 'w':(br('3', word(fes,i)+0)) with lines lc i notitle, \
      for [i=1:words(fes)] f(word(fes,i)) using 'w':(strcol('point') eq 'transition' ? column('y1_max') / (word(fes,i)+0) : 1/0) \
          with points pt 7 ps 0.6 lc i notitle, \
-     1/0 with points pt 7 ps 0.6 lc rgb '#000000' title 'stick / stick-slip / slip transitions'
+     for [i=1:words(fes)] f(word(fes,i)) using 'w':(strcol('point') eq 'cap' ? 700 : 1/0) with points pt 9 ps 1.6 lc i notitle, \
+     1/0 with points pt 7 ps 0.6 lc rgb '#000000' title 'stick / stick-slip / slip transitions', \
+     1/0 with points pt 9 ps 1.6 lc rgb '#000000' title '$(cap_key "$OUT"/fig07_08_${law}_fe*.csv)'
 GP
   wrote "$png"
 done

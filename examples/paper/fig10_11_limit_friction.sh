@@ -13,9 +13,9 @@
 # paper's curves are ours at fe = 1, used here). Fig. 10 (fig10_limit_friction.png):
 # mu_limit(w) for r = 0.1, wa = 1, wb = 0.4, xi = 0.01, with Coulomb's, and the ratio
 # LuGre/Dahl. Fig. 11 (fig11_max_limit_friction.png): max over w in [0.5, 1.6] of
-# mu_limit for wb = 0.1 ... 100 and xi = 0.01, 0.05, 0.1, 0.2 (grid of 4001 frequencies,
-# then twice refined around the maximum: the LuGre peaks become very sharp), and mu_limit(w)
-# for xi = 0.1 and growing wb against Coulomb's.
+# mu_limit for wb = 0.1 ... 100 and xi = 0.01, 0.05, 0.1, 0.2 (`hbf analytic --summary`,
+# mu_limit_max: converged to 1e-13 in w even where the LuGre peaks are far narrower than any
+# grid), and mu_limit(w) for xi = 0.1 and growing wb against Coulomb's.
 #
 # Differences from the paper, and why:
 # - Fig. 10: "LuGre below Dahl" holds only near the two stuck resonances (w = 0.878, 1.225),
@@ -44,29 +44,29 @@ paste -d, "$OUT/fig10_dahl.csv" "$OUT/fig10_lugre.csv" |
            { r = ($6 != "" && $13 != "" && $6 > 0) ? $13 / $6 : ""; print $1 "," $6 "," $13 "," r }' \
   >"$OUT/fig10_ratio.csv"
 
-# Fig. 11: maximum of LuGre's mu_limit over w in [0.5, 1.6]
-# argmax FILE -> "w mu" of the largest mu_limit (column 6)
-argmax() { awk -F, 'NR > 1 && $6 != "" && ($6 + 0 > m || !n) { m = $6 + 0; w = $1; n = 1 } END { printf "%s %.10g\n", w, m }' "$1"; }
+# Fig. 11: maximum of LuGre's mu_limit over w in [0.5, 1.6], from `hbf analytic --summary`
+# (mu_limit_max: a 2001-point grid plus the stuck resonances, each sampled maximum refined by
+# golden section to 1e-13 in w; the CSV itself is not needed here). One job per xi, 2 at a time.
 XIS=(0.01 0.05 0.1 0.2)
 WBS=(0.1 0.15 0.2 0.3 0.4 0.6 0.8 1 1.5 2 3 4 6 8 10 15 20 30 50 70 100)
-tmp="$OUT/fig11_tmp.csv"
-for xi in "${XIS[@]}"; do
-  csv="$OUT/fig11_max_xi$xi.csv"
+max_over_w() {  # xi -> fig11_max_xi$xi.csv
+  local xi=$1 csv="$OUT/fig11_max_xi$1.csv" json="$OUT/fig11_max_xi$1.json"
   echo "wb,w_at_max,max_mu_limit" >"$csv"
   for wb in "${WBS[@]}"; do
-    lo=0.5; hi=1.6; n=4001
-    for pass in 1 2 3; do
-      hbf analytic --law lugre --fe 1 --wb "$wb" --xi "$xi" --wmin "$lo" --wmax "$hi" --points "$n" --out "$tmp"
-      read -r wmax mumax < <(argmax "$tmp")
-      read -r lo hi < <(awk -v w="$wmax" -v lo="$lo" -v hi="$hi" -v n="$n" \
-        'BEGIN { d = 2 * (hi - lo) / (n - 1); a = w - d; b = w + d; if (a < 0.5) a = 0.5; if (b > 1.6) b = 1.6;
-                 printf "%.17g %.17g\n", a, b }')
-      n=201
-    done
-    echo "$wb,$wmax,$mumax" >>"$csv"
+    hbf analytic --law lugre --fe 1 --wb "$wb" --xi "$xi" --points 2 --out /dev/null --summary "$json"
+    awk -v wb="$wb" '/"mu_limit_max"/ { m = 1 } m && /"value"/ { gsub(/[ ",]/, ""); split($0, a, ":"); v = a[2] }
+                     m && /"w"/ { gsub(/[ ",]/, ""); split($0, a, ":"); w = a[2]; m = 0 }
+                     END { if (v == "" || v == "null") { print "hbf analytic: no finite maximum for wb = " wb > "/dev/stderr"; exit 1 }
+                           print wb "," w "," v }' "$json" >>"$csv"
   done
+  rm -f "$json"
+}
+pids=()
+for xi in "${XIS[@]}"; do
+  max_over_w "$xi" & pids+=($!)
+  if ((${#pids[@]} == 2)); then wait "${pids[0]}"; pids=("${pids[@]:1}"); fi
 done
-rm -f "$tmp"
+for pid in "${pids[@]}"; do wait "$pid"; done
 for wb in 0.4 1 4 16; do
   hbf analytic --law lugre --fe 1 --wb "$wb" --xi 0.1 --points 4401 --out "$OUT/fig11_lugre_xi0.1_wb$wb.csv"
 done

@@ -90,10 +90,13 @@ set xrange [0.6:1.4]
 set yrange [0:8]
 set key top left font ',9'
 set title 'main-mass response'
-sc(c) = (strcol('point') ne 'sample' && strcol('branch') eq '1') ? column(c) / $FE : 1/0
-plot '$OUT/fig12_unoptimised.csv' using 'w':(sc('y1_max')) with lines lc rgb '#d62728' title 'without: w_a = 1, {/Symbol m} = 0.2', \
-     '$OUT/fig14_friction_r0.1.csv' using 'w':(sc('y1_max')) with lines lc rgb '#1f77b4' title sprintf('Den Hartog: w_a = 1/1.1, {/Symbol m} = max_w {/Symbol m}_{op} = %.4f', $mu01), \
-     '$OUT/fig14_viscous_r0.1.csv' using 'w':(sc('y1_max')) with lines lc rgb '#000000' dt 2 title 'linear viscous Den Hartog optimum'
+sc(c, b) = (strcol('point') ne 'sample' && strcol('branch') eq b) ? column(c) / $FE : 1/0
+cap(top) = strcol('point') eq 'cap' ? top : 1/0
+plot for [b in "1 2 3"] '$OUT/fig12_unoptimised.csv' using 'w':(sc('y1_max', b)) with lines lc rgb '#d62728' title (b eq '1' ? 'without: w_a = 1, {/Symbol m} = 0.2' : ''), \
+     for [b in "1 2 3"] '$OUT/fig14_friction_r0.1.csv' using 'w':(sc('y1_max', b)) with lines lc rgb '#1f77b4' title (b eq '1' ? sprintf('Den Hartog: w_a = 1/1.1, {/Symbol m} = max_w {/Symbol m}_{op} = %.4f', $mu01) : ''), \
+     '$OUT/fig14_viscous_r0.1.csv' using 'w':(sc('y1_max', '1')) with lines lc rgb '#000000' dt 2 title 'linear viscous Den Hartog optimum', \
+     for [f in "fig12_unoptimised fig14_friction_r0.1"] sprintf('$OUT/%s.csv', f) using 'w':(cap(7.7)) with points pt 9 ps 1.6 lc rgb '#000000' notitle, \
+     1/0 with points pt 9 ps 1.6 lc rgb '#000000' title '$(cap_key "$OUT/fig12_unoptimised.csv" "$OUT/fig14_friction_r0.1.csv")'
 set title 'single {/Symbol m} at w_a = 1/1.1: peak of y1_{max}'
 set xlabel '{/Symbol m}'
 set ylabel 'max_w y1_{max} / f_e'
@@ -127,9 +130,12 @@ set ylabel 'y1_{max} / f_e'
 set xrange [0.5:1.6]
 set yrange [0:10]
 set key top right
-sc(c) = (strcol('point') ne 'sample' && strcol('branch') eq '1') ? column(c) / $FE : 1/0
+sc(c, b) = (strcol('point') ne 'sample' && strcol('branch') eq b) ? column(c) / $FE : 1/0
 rs = "${RS[*]}"
-plot for [i=1:words(rs)] sprintf('$OUT/fig14_friction_r%s.csv', word(rs,i)) using 'w':(sc('y1_max')) with lines lc i title sprintf('r = %s', word(rs,i)), \
-     for [i=1:words(rs)] sprintf('$OUT/fig14_viscous_r%s.csv', word(rs,i)) using 'w':(sc('y1_max')) with lines lc i dt 2 notitle
+plot for [i=1:words(rs)] sprintf('$OUT/fig14_friction_r%s.csv', word(rs,i)) using 'w':(sc('y1_max', '1')) with lines lc i title sprintf('r = %s', word(rs,i)), \
+     for [b in "2 3"] for [i=1:words(rs)] sprintf('$OUT/fig14_friction_r%s.csv', word(rs,i)) using 'w':(sc('y1_max', b)) with lines lc i notitle, \
+     for [i=1:words(rs)] sprintf('$OUT/fig14_viscous_r%s.csv', word(rs,i)) using 'w':(sc('y1_max', '1')) with lines lc i dt 2 notitle, \
+     for [i=1:words(rs)] sprintf('$OUT/fig14_friction_r%s.csv', word(rs,i)) using 'w':(strcol('point') eq 'cap' ? 9.6 : 1/0) with points pt 9 ps 1.6 lc i notitle, \
+     1/0 with points pt 9 ps 1.6 lc rgb '#000000' title '$(cap_key "$OUT"/fig14_friction_r*.csv)'
 GP
 wrote "$OUT/fig12_den_hartog_r0.1.png" "$OUT/fig13_mu_opt.png" "$OUT/fig14_den_hartog_frf.png"

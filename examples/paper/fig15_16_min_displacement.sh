@@ -205,10 +205,11 @@ set ylabel 'y1_{max} / f_e'
 set xrange [0.5:1.6]
 set yrange [0:15]
 set key top right font ',10'
-sc(c) = (strcol('point') ne 'sample' && strcol('branch') eq '1') ? column(c) / $FE : 1/0
+sc(c, b) = (strcol('point') ne 'sample' && strcol('branch') eq b) ? column(c) / $FE : 1/0
 plot '$OUT/fig15_analytic.csv' using 'w':(column('y1_stick') / $FE) with lines lc rgb '#d62728' title 'minimum displacement: {/Symbol m} = {/Symbol m}_{limit}(w), LuGre w_a = 1 (stuck response, closed form)', \
      '$OUT/fig16_hb_at_mu_limit.csv' using 'w':(column('y1_max') / $FE) with points pt 7 lc rgb '#d62728' title '  the same by HB at {/Symbol m} = {/Symbol m}_{limit}(w)', \
-     '$OUT/fig16_den_hartog.csv' using 'w':(sc('y1_max')) with lines lc rgb '#1f77b4' title sprintf('Den Hartog: Coulomb, w_a = 1/1.1, {/Symbol m} = %.4g (HB)', $mu_dh), \
-     '$OUT/fig16_viscous.csv' using 'w':(sc('y1_max')) with lines dt 2 lc rgb '#000000' title '  viscous Den Hartog optimum'
+     for [b in "1 2 3"] '$OUT/fig16_den_hartog.csv' using 'w':(sc('y1_max', b)) with lines lc rgb '#1f77b4' title (b eq '1' ? sprintf('Den Hartog: Coulomb, w_a = 1/1.1, {/Symbol m} = %.4g (HB)', $mu_dh) : ''), \
+     '$OUT/fig16_viscous.csv' using 'w':(sc('y1_max', '1')) with lines dt 2 lc rgb '#000000' title '  viscous Den Hartog optimum', \
+     '$OUT/fig16_den_hartog.csv' using 'w':(strcol('point') eq 'cap' ? 14.4 : 1/0) with points pt 9 ps 1.6 lc rgb '#1f77b4' title '$(cap_key "$OUT/fig16_den_hartog.csv")'
 GP
 wrote "$OUT/fig15_min_displacement.png" "$OUT/fig16_optimal_displacement.png"

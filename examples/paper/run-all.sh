@@ -1,15 +1,45 @@
 #!/usr/bin/env bash
 # Runs every figure script of examples/paper/ (the paper's figures, reproduced), writing
 # the PNGs and CSVs into $1 (default: results/paper/ under the repository root), and prints
-# each script's wall time. Needs hbf built (./scripts/run-example.sh) and gnuplot.
+# each script's wall time and the total. Needs hbf built (./scripts/run-example.sh) and gnuplot.
+# The scripts are independent: JOBS of them run at once (default: the number of cores, from
+# nproc; JOBS=1 runs them one after the other). The first failing script stops the run with
+# its exit status, after the running ones have finished.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
 OUT=${1:-$ROOT/results/paper}
-for script in "$HERE"/fig*.sh; do
-  start=$(date +%s.%N)
+JOBS=${JOBS:-$(nproc)}
+if ! [[ $JOBS =~ ^[1-9][0-9]*$ ]]; then
+  echo "run-all: JOBS = '$JOBS' is out of range: allowed a whole number >= 1" >&2
+  exit 2
+fi
+mkdir -p "$OUT"
+now() { date +%s.%N; }
+elapsed() { awk -v s="$1" -v e="$2" 'BEGIN { printf "%.1f", e - s }'; }
+run_one() {
+  local script=$1 start
+  start=$(now)
   "$script" "$OUT"
-  end=$(date +%s.%N)
-  awk -v s="$start" -v e="$end" -v n="$(basename "$script")" 'BEGIN { printf "run-all: %-32s %6.1f s\n", n, e - s }' >&2
+  echo "run-all: $(printf '%-32s' "$(basename "$script")") $(elapsed "$start" "$(now)") s" >&2
+}
+begin=$(now)
+running=0
+status=0
+for script in "$HERE"/fig*.sh; do
+  run_one "$script" &
+  running=$((running + 1))
+  if ((running >= JOBS)); then
+    wait -n || { status=$?; break; }
+    running=$((running - 1))
+  fi
 done
-echo "run-all: PNGs and CSVs in $OUT" >&2
+while ((running > 0)); do
+  wait -n || { ((status)) || status=$?; }
+  running=$((running - 1))
+done
+if ((status)); then
+  echo "run-all: a figure script failed (exit $status); see its message above" >&2
+  exit "$status"
+fi
+echo "run-all: every figure in $(elapsed "$begin" "$(now)") s ($JOBS at a time); PNGs and CSVs in $OUT" >&2

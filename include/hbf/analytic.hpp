@@ -81,6 +81,34 @@ Response stick(const AbsorberParameters& p, double omega, FrictionLaw law);
 /// (Ricciardelli-Vickery) coefficient of paper section 4.2 (eq. 33 = eq. 27 with fe).
 double limit_friction(const AbsorberParameters& p, double omega, FrictionLaw law);
 
+/// Undamped resonance frequencies of the stuck system, in increasing order: the
+/// frequencies at which the stick response and mu_limit of `law` are infinite when the
+/// contact has no damping. Coulomb (rigid stick): the one-DOF w = 1/sqrt(1 + r). Dahl and
+/// LuGre (contact spring r wb^2 in parallel with the absorber spring): the roots of the
+/// undamped two-DOF determinant with K = wa^2 + wb^2,
+///     w^4 - (1 + (1 + r) K) w^2 + K = 0,
+///     w^2 = [ (1 + (1 + r) K) -+ sqrt((1 + (1 + r) K)^2 - 4 K) ] / 2.
+/// For LuGre with xi > 0 they are where its (finite) mu_limit peaks sharply: |Delta2|^2 =
+/// Delta^2 + (2 xi wb w s)^2 cannot vanish, since Delta = -w^2 (1 - w^2) != 0 where s = 0.
+std::vector<double> stuck_resonances(const AbsorberParameters& p, FrictionLaw law);
+
+/// The largest limit friction coefficient over a frequency band: mu >= value keeps the
+/// contact stuck (pre-sliding) at every frequency of the band.
+struct LimitFrictionMaximum {
+    double omega = 0;      ///< frequency of the maximum (the resonance if unbounded)
+    double value = 0;      ///< max of mu_limit over [wmin, wmax]; +infinity if unbounded
+    bool bounded = true;   ///< false iff an undamped stuck resonance lies in the band
+};
+
+/// max over omega in [wmin, wmax] of limit_friction(p, omega, law). Samples a uniform grid
+/// of `samples` frequencies together with the band's stuck resonances (so that a peak
+/// narrower than the grid is never missed), then refines every sampled local maximum by
+/// golden-section search between its neighbours, to a relative width of 1e-13 in omega.
+/// Unbounded (value = infinity) iff Coulomb's or Dahl's resonance lies in the band.
+/// Throws InvalidInput for invalid p, band or samples (2..max_grid_points).
+LimitFrictionMaximum limit_friction_maximum(const AbsorberParameters& p, FrictionLaw law, double wmin,
+                                            double wmax, long long samples = 2001);
+
 // ---- Den Hartog optimisation (paper section 4.1) ------------------------------------
 
 /// Optimal tuning wa_op = 1 / (1 + r) (eq. 28).

@@ -64,7 +64,9 @@ struct ContinuationOptions {
     std::function<void(double omega, int points)> progress;
 };
 
-enum class PointKind { regular, fold, sample, transition };
+/// cap: the last point of a trace stopped by the amplitude cap (an unbounded resonance; a
+/// fold there stays a fold).
+enum class PointKind { regular, fold, sample, transition, cap };
 /// The regime boundary a transition point lies on (contact 1).
 enum class Boundary { none, stick_stick_slip, stick_slip_slip };
 /// "", "stick|stick-slip", "stick-slip|slip".

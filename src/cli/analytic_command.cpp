@@ -10,14 +10,39 @@
 #include "hbf/io.hpp"
 #include "hbf/plot.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace hbf::cli {
 
 namespace {
 struct AnalyticOptions {
     AbsorberFlags absorber;
     std::string wmin = "0.5", wmax = "1.6", points = "221";
-    std::string out, plot;
+    std::string out, plot, summary;
 };
+
+using nlohmann::json;
+
+json summary_json(const AbsorberParameters& p, FrictionLaw law, double wmin, double wmax) {
+    const analytic::LimitFrictionMaximum m = analytic::limit_friction_maximum(p, law, wmin, wmax);
+    json resonances = json::array();
+    for (double w : analytic::stuck_resonances(p, law))
+        resonances.push_back({{"w", w}, {"in_band", w >= wmin && w <= wmax}});
+    json j;
+    j["law"] = to_string(law);
+    j["parameters"] = {{"r", p.mass_ratio},          {"wa", p.tuning_ratio},
+                       {"mu", p.friction_coefficient}, {"fe", p.excitation},
+                       {"wb", p.contact_stiffness_ratio}, {"xi", p.contact_damping_ratio}};
+    j["band"] = {{"wmin", wmin}, {"wmax", wmax}};
+    j["mu_limit_max"] = {{"w", m.omega},
+                         {"value", m.bounded ? json(m.value) : json(nullptr)},
+                         {"bounded", m.bounded},
+                         {"meaning", "max over wmin <= w <= wmax of mu_limit: mu >= value sticks (pre-slides) "
+                                     "at every frequency of the band; value null = infinite (an undamped stuck "
+                                     "resonance lies in the band, at w)"}};
+    j["stuck_resonances"] = resonances;
+    return j;
+}
 
 std::string columns_help() {
     std::string text =
@@ -40,9 +65,10 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
     const AbsorberParameters p = o.absorber.parameters(command);
     io::check_plot("--plot", o.plot);  // before any work
     io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
-                       {"--plot", o.plot, command.count("--plot") > 0, false, true}});
-    const std::vector<double> grid = analytic::uniform_grid(
-        parse_double("--wmin", o.wmin), parse_double("--wmax", o.wmax), parse_integer("--points", o.points));
+                       {"--plot", o.plot, command.count("--plot") > 0, false, true},
+                       {"--summary", o.summary, command.count("--summary") > 0}});
+    const double wmin = parse_double("--wmin", o.wmin), wmax = parse_double("--wmax", o.wmax);
+    const std::vector<double> grid = analytic::uniform_grid(wmin, wmax, parse_integer("--points", o.points));
     if (dry_run()) {
         std::cerr << "hbf analytic: dry run: every input and output is valid; nothing computed, nothing written\n";
         return exit_success;
@@ -50,6 +76,11 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
     const std::vector<analytic::Row> rows = analytic::table(p, law, grid);
     io::OutputFile out(o.out);
     io::write_analytic_csv(out.stream(), rows);
+    std::unique_ptr<io::OutputFile> summary;
+    if (!o.summary.empty()) {
+        summary = std::make_unique<io::OutputFile>(o.summary);
+        summary->stream() << summary_json(p, law, wmin, wmax).dump(2) << '\n';
+    }
     if (!o.plot.empty()) {
         io::PlotSpec spec;
         spec.title = "hbf analytic: " + to_string(law) + ", fe = " + format_number(p.excitation) + ", mu = " +
@@ -68,6 +99,7 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
         io::write_plot(o.plot, spec);
     }
     out.commit();
+    if (summary) summary->commit();
     return exit_success;
 }
 }  // namespace
@@ -90,6 +122,11 @@ Runner add_analytic_command(CLI::App& app) {
     command->add_option("--plot", options->plot,
                         "draw y1_stick and y1_slip against w through gnuplot (.png or .svg)")
         ->option_text("FILE.png|FILE.svg");
+    command->add_option("--summary", options->summary,
+                        "write a JSON summary to FILE: mu_limit_max = the largest mu_limit over wmin..wmax (w "
+                        "and value, refined beyond the grid, null if infinite: mu >= value sticks at every "
+                        "frequency of the band) and the stuck system's undamped resonances")
+        ->option_text("FILE.json");
     command->footer(columns_help());
     return [command, options]() { return run(*command, *options); };
 }
