@@ -208,20 +208,25 @@ OptimizeEvaluation evaluation(double p, const FrfResult& r, const char* phase) {
 }
 }  // namespace
 
-OptimizeResult optimize_parameter(const std::function<System(double)>& system, const FrfSettings& settings,
-                                  const OptimizeOptions& options) {
+namespace {
+/// Evaluates the objective at the parameters p (a batch: the scan) and returns one evaluation
+/// each, in order.
+using BatchObjective = std::function<std::vector<OptimizeEvaluation>(const std::vector<double>& p, const char* phase)>;
+
+/// The search of optimize_parameter on any objective: a log-spaced scan, then golden section
+/// in log p around the best scan point.
+OptimizeResult minimise(const BatchObjective& objective, const OptimizeOptions& options) {
     validate(options);
     const auto started = std::chrono::steady_clock::now();
     OptimizeResult result;
-    // Evaluates the FRFs at the log-parameters u (in parallel) and appends them to the trace.
+    // Evaluates the objective at the log-parameters u and appends the evaluations to the trace.
     auto evaluate = [&](const std::vector<double>& u, const char* phase) {
-        const auto frfs = compute_frfs(
-            static_cast<int>(u.size()), [&](int k) { return system(std::exp(u[static_cast<std::size_t>(k)])); },
-            settings, options.threads);
+        std::vector<double> p(u.size());
+        std::transform(u.begin(), u.end(), p.begin(), [](double x) { return std::exp(x); });
         std::vector<double> values;
-        for (std::size_t k = 0; k < u.size(); ++k) {
-            result.trace.push_back(evaluation(std::exp(u[k]), frfs[k], phase));
-            values.push_back(frfs[k].peak.objective());
+        for (OptimizeEvaluation& e : objective(p, phase)) {
+            values.push_back(e.peak.objective());
+            result.trace.push_back(std::move(e));
         }
         return values;
     };
@@ -305,6 +310,74 @@ OptimizeResult optimize_parameter(const std::function<System(double)>& system, c
         }
     }
     return finish(OptimizeStatus::converged, std::exp(a), std::exp(b), "");
+}
+}  // namespace
+
+OptimizeResult optimize_parameter(const std::function<System(double)>& system, const FrfSettings& settings,
+                                  const OptimizeOptions& options) {
+    return minimise(
+        [&](const std::vector<double>& p, const char* phase) {
+            const auto frfs = compute_frfs(
+                static_cast<int>(p.size()), [&](int k) { return system(p[static_cast<std::size_t>(k)]); }, settings,
+                options.threads);
+            std::vector<OptimizeEvaluation> out;
+            for (std::size_t k = 0; k < p.size(); ++k) out.push_back(evaluation(p[k], frfs[k], phase));
+            return out;
+        },
+        options);
+}
+
+int JointOptimizeResult::frfs() const {
+    int n = 0;
+    for (const OptimizeResult& r : inner) n += static_cast<int>(r.trace.size());
+    return n;
+}
+
+std::string JointOptimizeResult::summary() const {
+    std::string s = to_string(outer.status) + ": q = " + format_number(outer.parameter) + ", p = " +
+                    format_number(parameter) + ", largest peak " + format_number(outer.peak.value) + " at w = " +
+                    format_number(outer.peak.omega) + " (" + to_string(outer.peak.state) + "), " +
+                    std::to_string(outer.trace.size()) + " searches in p, " + std::to_string(frfs()) + " FRFs";
+    if (!outer.message.empty()) s += "; " + outer.message;
+    if (inner_not_converged > 0)
+        s += "; " + std::to_string(inner_not_converged) + " of the searches in p did not converge (at a bound, out of "
+             "budget, unbounded or failed)";
+    return s;
+}
+
+JointOptimizeResult optimize_two_parameters(const std::function<System(double, double)>& system,
+                                            const FrfSettings& settings, const OptimizeOptions& inner,
+                                            const OptimizeOptions& outer) {
+    validate(inner);
+    JointOptimizeResult result;
+    result.outer = minimise(
+        [&](const std::vector<double>& q, const char* phase) {
+            std::vector<OptimizeEvaluation> out;
+            for (double value : q) {  // sequential: each inner search runs its scan on threads
+                OptimizeResult r = optimize_parameter([&](double p) { return system(p, value); }, settings, inner);
+                OptimizeEvaluation e;
+                e.parameter = value;
+                e.peak = r.peak;
+                e.peaks = r.peaks;
+                e.status = ContinuationStatus::start_failed;  // the status of the best FRF
+                for (const OptimizeEvaluation& t : r.trace)
+                    if (t.parameter == r.parameter) {
+                        e.status = t.status;
+                        break;
+                    }
+                e.phase = phase;
+                e.seconds = r.seconds;
+                result.inner.push_back(std::move(r));
+                out.push_back(std::move(e));
+            }
+            return out;
+        },
+        outer);
+    for (std::size_t k = 0; k < result.outer.trace.size(); ++k)
+        if (result.outer.trace[k].parameter == result.outer.parameter) result.best = k;
+    result.parameter = result.inner.empty() ? 0.0 : result.inner[result.best].parameter;
+    for (const OptimizeResult& r : result.inner) result.inner_not_converged += r.status != OptimizeStatus::converged;
+    return result;
 }
 
 }  // namespace hbf

@@ -145,4 +145,28 @@ struct OptimizeResult {
 OptimizeResult optimize_parameter(const std::function<System(double)>& system, const FrfSettings& settings,
                                   const OptimizeOptions& options);
 
+/// A joint search in two parameters (p, q), e.g. the friction coefficient and the tuning.
+struct JointOptimizeResult {
+    /// The search in q: each evaluation is a whole search in p at that q (optimize_parameter),
+    /// whose best peak is the objective; outer.parameter is the best q.
+    OptimizeResult outer;
+    std::vector<OptimizeResult> inner;  ///< inner[k]: the search in p at outer.trace[k].parameter
+    std::size_t best = 0;               ///< index of the best q in outer.trace and inner
+    double parameter = 0;               ///< the best p (at the best q)
+    int inner_not_converged = 0;        ///< inner searches whose status is not converged
+    int frfs() const;                   ///< FRFs computed in all
+    std::string summary() const;
+};
+
+/// Minimises the largest peak of system(p, q) over both: P(q) = min over p of the peak
+/// (optimize_parameter with `inner` options) is minimised over q by the same scan and golden
+/// section (`outer` options; its threads are unused: each inner scan runs on inner.threads).
+/// Nested 1-D searches, not a 2-D simplex: the optimum of a tuned damper lies on a ridge of
+/// equal peaks that is oblique to the axes, where alternating (coordinate) searches stall,
+/// while P(q) stays a function of one variable with a (non-smooth) minimum. Costs about
+/// (outer evaluations) x (inner evaluations) FRFs. Throws InvalidInput for bad options.
+JointOptimizeResult optimize_two_parameters(const std::function<System(double, double)>& system,
+                                            const FrfSettings& settings, const OptimizeOptions& inner,
+                                            const OptimizeOptions& outer);
+
 }  // namespace hbf

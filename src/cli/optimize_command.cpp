@@ -28,15 +28,22 @@ struct OptimizeOptions_ {
     AbsorberFlags absorber;
     FrfFlags frf;
     std::string param = "mu", range, scan = "13", param_tolerance = "1e-4", max_frfs = "200", threads = "0",
-                contact = "1", out, summary, plot;
+                contact = "1", wa_range, wa_scan = "7", out, summary, plot;
     bool quiet = false;
 };
 
 using nlohmann::json;
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-std::vector<io::Column> trace_columns(const std::string& param) {
-    return {{"evaluation", "1-based order of the FRF in the search"},
+std::vector<io::Column> trace_columns(const std::string& param, bool joint) {
+    std::vector<io::Column> columns = {{"evaluation", "1-based order of the FRF in the search"}};
+    if (joint)
+        columns.insert(columns.end(),
+                       {{"search", "(--param mu,wa only) 1-based order of the search in mu this FRF belongs to (one per value of wa)"},
+                        {"wa_phase", "(--param mu,wa only) scan (log-spaced over --wa-range) or golden (the golden-section search in log wa) "
+                                     "of that search's wa"},
+                        {"wa", "(--param mu,wa only) the tuning ratio of this FRF"}});
+    const std::vector<io::Column> rest = {
                {"phase", "scan (the first, log-spaced, on threads) or golden (the golden-section search in log " + param + ")"},
                {param, "the parameter's value of this FRF"},
                {"peak", "largest max over one period of |o(t)| of the first output (y1 for the absorber) over the FRF: "
@@ -48,6 +55,19 @@ std::vector<io::Column> trace_columns(const std::string& param) {
                {"frf_status", "the FRF's continuation status"},
                {"peaks", "number of refined peaks of the first output on the FRF"},
                {"seconds", "wall time of the FRF"}};
+    columns.insert(columns.end(), rest.begin(), rest.end());
+    return columns;
+}
+
+/// LOWER:UPPER with 0 < LOWER < UPPER (UsageError naming the flag).
+std::pair<double, double> parse_range(const std::string& flag, const std::string& text) {
+    const std::size_t colon = text.find(':');
+    if (colon == std::string::npos)
+        throw UsageError(flag + " = '" + text + "' is not LOWER:UPPER (allowed 0 < LOWER < UPPER)");
+    const double lower = parse_double(flag, text.substr(0, colon)), upper = parse_double(flag, text.substr(colon + 1));
+    if (!(lower > 0.0 && upper > lower * (1.0 + 1e-9)))
+        throw UsageError(flag + " = '" + text + "' is out of range: allowed 0 < LOWER < UPPER");
+    return {lower, upper};
 }
 
 /// The largest stuck (minimum-displacement design) response of the preset over [wmin, wmax]:
@@ -72,39 +92,51 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
                        {"--summary", o.summary, given(command, "--summary")},
                        {"--plot", o.plot, given(command, "--plot"), false, true}});
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
-    if (o.param != "mu" && o.param != "wa")
+    if (o.param != "mu" && o.param != "wa" && o.param != "mu,wa")
         throw UsageError("--param = '" + o.param + "' is not allowed: allowed mu (the friction coefficient; with "
-                         "--config the friction limit of --contact) or wa (the absorber's tuning, preset only)");
-    const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
+                         "--config the friction limit of --contact), wa (the absorber's tuning, preset only) or mu,wa "
+                         "(both, preset only)");
+    const bool joint = o.param == "mu,wa";
+    if (joint && chosen.config)
+        throw UsageError("--param = mu,wa needs the paper's absorber (wa is its tuning): with --config allowed mu");
+    for (const char* flag : {"--wa-range", "--wa-scan"})
+        if (!joint && given(command, flag))
+            throw UsageError(std::string(flag) + " belongs to --param mu,wa: drop it, or search both parameters");
+    const StudyParameter parameter("--param", joint ? "mu" : o.param, chosen, "--contact", o.contact);
     if (given(command, "--contact") && parameter.preset())
         throw UsageError("--contact chooses a contact of a --config system: the preset has one");
-    if (parameter.preset() && given(command, ("--" + o.param).c_str()))
-        throw UsageError("--" + o.param + " is what hbf optimize finds: drop it (its range is --range)");
+    for (const std::string name : {"mu", "wa"})
+        if (parameter.preset() && (joint || o.param == name) && given(command, ("--" + name).c_str()))
+            throw UsageError("--" + name + " is what hbf optimize finds: drop it (its range is " +
+                             (name == "wa" && joint ? "--wa-range" : "--range") + ")");
     FrfSettings settings = o.frf.settings(command, chosen);
     settings.peaks = true;
     OptimizeOptions oo;
     // The default range: the friction force from 1 % to 10 times the force amplitude (the
     // optimum of a Coulomb damper scales with it), the tuning from 0.5 to 2.
     const double force = chosen.system.excitation.cwiseAbs().maxCoeff();
+    const bool friction = parameter.name() == "mu";
     if (o.range.empty()) {
         if (given(command, "--range")) throw UsageError("--range is empty: allowed LOWER:UPPER, 0 < LOWER < UPPER");
-        oo.lower = o.param == "mu" ? 0.01 * force : 0.5;
-        oo.upper = o.param == "mu" ? 10.0 * force : 2.0;
+        oo.lower = friction ? 0.01 * force : 0.5;
+        oo.upper = friction ? 10.0 * force : 2.0;
     } else {
-        const std::size_t colon = o.range.find(':');
-        if (colon == std::string::npos)
-            throw UsageError("--range = '" + o.range + "' is not LOWER:UPPER (allowed 0 < LOWER < UPPER)");
-        oo.lower = parse_double("--range", o.range.substr(0, colon));
-        oo.upper = parse_double("--range", o.range.substr(colon + 1));
-        if (!(oo.lower > 0.0 && oo.upper > oo.lower * (1.0 + 1e-9)))
-            throw UsageError("--range = '" + o.range + "' is out of range: allowed 0 < LOWER < UPPER");
+        std::tie(oo.lower, oo.upper) = parse_range("--range", o.range);
     }
     for (double v : {oo.lower, oo.upper}) {
         try {
             (void)parameter.system(v);
         } catch (const InvalidInput& e) {
-            throw UsageError("--range: " + o.param + " = " + format_number(v) + ": " + e.what());
+            throw UsageError("--range: " + parameter.name() + " = " + format_number(v) + ": " + e.what());
         }
+    }
+    OptimizeOptions tuning;  // the search in wa of --param mu,wa
+    if (joint) {
+        if (o.wa_range.empty() && given(command, "--wa-range"))
+            throw UsageError("--wa-range is empty: allowed LOWER:UPPER, 0 < LOWER < UPPER");
+        std::tie(tuning.lower, tuning.upper) = o.wa_range.empty() ? std::pair(0.5, 2.0) : parse_range("--wa-range", o.wa_range);
+        tuning.scan_points = parse_count("--wa-scan", o.wa_scan, 3, 1000);
+        tuning.max_evaluations = 1000;
     }
     oo.scan_points = parse_count("--scan", o.scan, 3, 1000);
     oo.tolerance = parse_double("--param-tolerance", o.param_tolerance);
@@ -112,6 +144,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         throw UsageError("--param-tolerance = " + o.param_tolerance + " is out of range: allowed 1e-12..0.1");
     oo.max_evaluations = parse_count("--max-frfs", o.max_frfs, oo.scan_points + 1, 100000);
     oo.threads = parse_count("--threads", o.threads, 0, 4096);
+    tuning.tolerance = oo.tolerance;
     HarmonicBalance::validate(parameter.system(oo.lower), settings.harmonic_balance);
     validate(settings.continuation);
     if (dry_run()) {
@@ -119,7 +152,16 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         return exit_success;
     }
 
-    const OptimizeResult result = optimize_parameter([&](double v) { return parameter.system(v); }, settings, oo);
+    JointOptimizeResult joint_result;
+    if (joint)
+        joint_result = optimize_two_parameters(
+            [&](double mu, double wa) { return parameter.with_tuning(wa).system(mu); }, settings, oo, tuning);
+    // The search reported: in the parameter, or (joint) in wa, each of its evaluations the best
+    // of a search in mu.
+    const OptimizeResult result =
+        joint ? joint_result.outer : optimize_parameter([&](double v) { return parameter.system(v); }, settings, oo);
+    const double best_mu = joint ? joint_result.parameter : result.parameter;
+    const std::string noun = joint ? "search(es) in mu" : "FRF(s)";
 
     // Comparisons (the preset's friction coefficient only): the Den Hartog friction (paper
     // eq. 32 as derived in analytic.hpp: its largest value over [wmin, wmax], as the paper's
@@ -127,15 +169,17 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     // absorber, whose fixed points put the peak at fe sqrt(1 + 2/r).
     json comparisons = json::object();
     const ContinuationOptions& co = settings.continuation;
-    if (parameter.preset() && o.param == "mu") {
+    if (parameter.preset() && friction) {
         const AbsorberParameters& p = chosen.absorber;
         const FrictionLaw law = chosen.system.contacts.front().law;
         double mu_dh = 0.0;
         for (int k = 0; k <= 2000; ++k)
             mu_dh = std::max(mu_dh, analytic::den_hartog_friction(p, co.omega_start + (co.omega_end - co.omega_start) * k / 2000));
+        // Jointly: the Den Hartog design, at its tuning 1/(1 + r); else at this system's wa.
+        const double wa_dh = joint ? analytic::den_hartog_tuning(p.mass_ratio) : p.tuning_ratio;
         FrfResult dh;
         try {
-            dh = compute_frf(parameter.system(mu_dh), settings);
+            dh = compute_frf(parameter.with_tuning(wa_dh).system(mu_dh), settings);
         } catch (const InvalidInput&) {
             dh.peak.state = PeakState::failed;
         }
@@ -147,12 +191,14 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         };
         comparisons["den_hartog"] = {
             {"mu", mu_dh},
+            {"wa", wa_dh},
             {"peak", number_or_null(dh.peak.value)},
             {"peak_w", number_or_null(dh.peak.omega)},
             {"peak_state", to_string(dh.peak.state)},
             {"peak_ratio", ratio(dh.peak.objective())},
             {"meaning", "the paper's Den Hartog friction coefficient (Section 4.1, eq. 32 as derived): the largest "
-                        "mu_op(w) over [wmin, wmax]; its FRF at this system's wa"}};
+                        "mu_op(w) over [wmin, wmax]; its FRF at wa (this system's, or with --param mu,wa Den "
+                        "Hartog's tuning 1/(1 + r))"}};
         comparisons["min_displacement"] = {
             {"peak", number_or_null(stuck)},
             {"peak_ratio", ratio(stuck)},
@@ -170,30 +216,54 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     switch (result.status) {
         case OptimizeStatus::converged: break;
         case OptimizeStatus::at_bound:
-        case OptimizeStatus::budget: verdict.warning(result.summary()); break;
+        case OptimizeStatus::budget: verdict.warning(joint ? joint_result.summary() : result.summary()); break;
         case OptimizeStatus::unbounded:
-        case OptimizeStatus::failed: verdict.error(result.summary()); break;
+        case OptimizeStatus::failed: verdict.error(joint ? joint_result.summary() : result.summary()); break;
     }
+    if (joint && joint_result.inner[joint_result.best].status != OptimizeStatus::converged)
+        verdict.warning("the search in mu at the best wa did not converge: " +
+                        joint_result.inner[joint_result.best].summary());
+    else if (joint && joint_result.inner[joint_result.best].failed_in_bracket > 0)
+        verdict.warning("at the best wa, " + std::to_string(joint_result.inner[joint_result.best].failed_in_bracket) +
+                        " FRF(s) inside the final bracket of mu failed or stayed incomplete: the optimum is doubtful "
+                        "there (the trace CSV has them)");
+    else if (joint && joint_result.inner_not_converged > 0)
+        verdict.note(std::to_string(joint_result.inner_not_converged) + " of " +
+                     std::to_string(joint_result.inner.size()) + " searches in mu did not converge, none at the best wa");
     if (result.failed_in_bracket > 0)
-        verdict.warning(std::to_string(result.failed_in_bracket) + " FRF(s) inside the final bracket " +
+        verdict.warning(std::to_string(result.failed_in_bracket) + " " + noun + " inside the final bracket " +
                         format_number(result.bracket_lower) + ".." + format_number(result.bracket_upper) +
                         " failed or stayed incomplete: the optimum is doubtful there (the trace CSV has them)");
     else if (result.failed > 0)
-        verdict.note(std::to_string(result.failed) + " FRF(s) of the search failed or stayed incomplete, all outside "
+        verdict.note(std::to_string(result.failed) + " " + noun + " failed or stayed incomplete, all outside "
                      "the final bracket (peak_state in the trace)");
     verdict.add_library_messages();
 
     io::OutputFile out(o.out);
-    const std::vector<io::Column> columns = trace_columns(o.param);
+    const std::vector<io::Column> columns = trace_columns(parameter.name(), joint);
     for (std::size_t c = 0; c < columns.size(); ++c) out.stream() << (c ? "," : "") << columns[c].name;
     out.stream() << '\n';
-    for (std::size_t k = 0; k < result.trace.size(); ++k) {
-        const OptimizeEvaluation& e = result.trace[k];
+    std::size_t row = 0;
+    auto write_row = [&](const OptimizeEvaluation& e) {
         const bool bounded = e.peak.state == PeakState::bounded;
-        out.stream() << k + 1 << ',' << e.phase << ',' << io::csv_field(e.parameter) << ','
+        out.stream() << e.phase << ',' << io::csv_field(e.parameter) << ','
                      << (bounded ? io::csv_field(e.peak.value) : "") << ','
                      << (bounded ? io::csv_field(e.peak.omega) : "") << ',' << to_string(e.peak.state) << ','
                      << to_string(e.status) << ',' << e.peaks.size() << ',' << io::csv_field(e.seconds) << '\n';
+    };
+    if (joint) {
+        for (std::size_t k = 0; k < joint_result.inner.size(); ++k)
+            for (const OptimizeEvaluation& e : joint_result.inner[k].trace) {
+                const OptimizeEvaluation& search = result.trace[k];
+                out.stream() << ++row << ',' << k + 1 << ',' << search.phase << ',' << io::csv_field(search.parameter)
+                             << ',';
+                write_row(e);
+            }
+    } else {
+        for (const OptimizeEvaluation& e : result.trace) {
+            out.stream() << ++row << ',';
+            write_row(e);
+        }
     }
     std::unique_ptr<io::OutputFile> summary;
     if (!o.summary.empty()) {
@@ -204,20 +274,39 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         j["command"] = "optimize";
         j["law"] = chosen.law_name;
         j["parameter"] = {{"name", o.param}, {"meaning", parameter.meaning()}, {"range", {oo.lower, oo.upper}}};
+        if (joint)
+            j["parameter"]["wa"] = {{"meaning", "tuning ratio omega2/omega1, searched outside: each value gets a "
+                                                "whole search in mu"},
+                                    {"range", {tuning.lower, tuning.upper}},
+                                    {"scan_points", tuning.scan_points}};
         j["status"] = to_string(result.status);
         j["message"] = result.message;
-        j["optimum"] = {{"value", result.parameter},
+        j["optimum"] = {{"value", best_mu},
                         {"peak", number_or_null(result.peak.value)},
                         {"peak_w", number_or_null(result.peak.omega)},
                         {"peak_state", to_string(result.peak.state)},
                         {"peaks", peaks},
                         {"bracket", {result.bracket_lower, result.bracket_upper}}};
-        j["frfs"] = result.trace.size();
-        j["failed_frfs"] = result.failed;
+        if (joint) {
+            const OptimizeResult& at_best = joint_result.inner[joint_result.best];
+            j["optimum"]["wa"] = result.parameter;
+            j["optimum"]["wa_bracket"] = j["optimum"]["bracket"];
+            j["optimum"]["bracket"] = {at_best.bracket_lower, at_best.bracket_upper};
+            j["optimum"]["status_in_mu"] = to_string(at_best.status);
+            j["searches"] = joint_result.inner.size();
+            j["searches_not_converged"] = joint_result.inner_not_converged;
+            int failed = 0;
+            for (const OptimizeResult& r : joint_result.inner) failed += r.failed;
+            j["frfs"] = joint_result.frfs();
+            j["failed_frfs"] = failed;
+        } else {
+            j["frfs"] = result.trace.size();
+            j["failed_frfs"] = result.failed;
+        }
         j["scan_points"] = oo.scan_points;
         j["param_tolerance"] = oo.tolerance;
         j["comparisons"] = comparisons;
-        j["wall_time_seconds"] = result.seconds;
+        j["wall_time_seconds"] = result.seconds;  // jointly: the search in wa, every search in mu included
         j["outcome"] = !verdict.errors().empty() ? "failed" : verdict.warnings().empty() ? "completed" : "incomplete";
         j["errors"] = verdict.errors();
         j["warnings"] = verdict.warnings();
@@ -227,8 +316,9 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     }
     if (!o.plot.empty()) {
         io::PlotSpec spec;
-        spec.title = "hbf optimize: " + chosen.law_name + ", largest peak against " + o.param;
-        spec.xlabel = o.param;
+        spec.title = "hbf optimize: " + chosen.law_name + ", largest peak against " +
+                     (joint ? "wa, each point at its best mu" : o.param);
+        spec.xlabel = joint ? "wa" : o.param;
         spec.ylabel = "largest peak of " + (io::frf_columns(chosen.outputs).size() > 1 ? io::frf_columns(chosen.outputs)[1].name
                                                                                          : std::string("y1_max"));
         spec.log_x = true;
@@ -239,7 +329,8 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
             if (e.peak.state == PeakState::bounded) top = std::max(top, e.peak.value);
         }
         std::sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->parameter < b->parameter; });
-        io::PlotCurve curve{"FRFs (bounded)", {}, {}, io::PlotCurve::Style::line, 7};
+        io::PlotCurve curve{joint ? "the best peak of a search in mu (bounded)" : "FRFs (bounded)", {}, {},
+                            io::PlotCurve::Style::line, 7};
         io::PlotCurve dots{"", {}, {}, io::PlotCurve::Style::points, 7};
         io::PlotCurve capped{"unbounded (capped), drawn at the top", {}, {}, io::PlotCurve::Style::markers, 9};
         io::PlotCurve failed{"failed or incomplete, drawn at the top", {}, {}, io::PlotCurve::Style::markers, 2};
@@ -259,16 +350,19 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         }
         spec.curves = {curve, dots, capped, failed};
         if (result.peak.state == PeakState::bounded)
-            spec.curves.push_back({"optimum " + o.param + " = " + format_number(result.parameter),
+            spec.curves.push_back({joint ? "optimum wa = " + format_number(result.parameter) + ", mu = " + format_number(best_mu)
+                                         : "optimum " + o.param + " = " + format_number(result.parameter),
                                    {result.parameter}, {result.peak.value}, io::PlotCurve::Style::markers, 6});
         if (comparisons.contains("den_hartog") && comparisons["den_hartog"]["peak_state"] == "bounded")
-            spec.curves.push_back({"Den Hartog mu", {comparisons["den_hartog"]["mu"].get<double>()},
+            spec.curves.push_back({joint ? "Den Hartog design (wa = 1/(1 + r), its mu)" : "Den Hartog mu",
+                                   {comparisons["den_hartog"][joint ? "wa" : "mu"].get<double>()},
                                    {comparisons["den_hartog"]["peak"].get<double>()}, io::PlotCurve::Style::markers, 4});
         io::write_plot(o.plot, spec);
     }
     out.commit();
     if (summary) summary->commit();
-    if (!o.quiet && isatty(STDERR_FILENO)) std::cerr << "hbf optimize: " << result.summary() << "\n";
+    if (!o.quiet && isatty(STDERR_FILENO))
+        std::cerr << "hbf optimize: " << (joint ? joint_result.summary() : result.summary()) << "\n";
     return verdict.finish();
 }
 }  // namespace
@@ -287,12 +381,19 @@ Runner add_optimize_command(CLI::App& app) {
     options->frf.add_to(*command);
     command->add_option("--param", options->param,
                         "what is optimised: mu (the friction coefficient; with --config the friction limit F_c of the "
-                        "contact --contact) or wa (the preset's tuning ratio, at the --mu given)")
-        ->capture_default_str()->type_name("mu|wa");
+                        "contact --contact), wa (the preset's tuning ratio, at the --mu given) or mu,wa (both: for each "
+                        "wa of a search over --wa-range, a whole search in mu; about --wa-scan + 20 times more FRFs)")
+        ->capture_default_str()->type_name("mu|wa|mu,wa");
     command->add_option("--range", options->range,
                         "the search range LOWER:UPPER (0 < LOWER < UPPER) [default: mu from 0.01 to 10 times the "
                         "largest force amplitude |F|_inf (fe for the preset); wa from 0.5 to 2]")
         ->type_name("LOWER:UPPER");
+    command->add_option("--wa-range", options->wa_range,
+                        "--param mu,wa: the range of the tuning LOWER:UPPER (0 < LOWER < UPPER) [default: 0.5:2]")
+        ->type_name("LOWER:UPPER");
+    command->add_option("--wa-scan", options->wa_scan,
+                        "--param mu,wa: values of wa of the first, log-spaced scan, 3..1000 (each a search in mu)")
+        ->capture_default_str()->type_name("INT");
     command->add_option("--contact", options->contact, "--config: the contact whose friction limit is optimised (1-based)")
         ->capture_default_str()->type_name("INT");
     command->add_option("--scan", options->scan,
@@ -318,7 +419,7 @@ Runner add_optimize_command(CLI::App& app) {
         ->option_text("FILE.png|FILE.svg");
     command->add_flag("--quiet", options->quiet, "no summary line on standard error");
     std::string footer = "Output: the convergence trace, one row per FRF in the order computed. Columns:\n";
-    for (const auto& c : trace_columns("mu")) footer += "  " + c.name + ": " + c.meaning + "\n";
+    for (const auto& c : trace_columns("mu", true)) footer += "  " + c.name + ": " + c.meaning + "\n";
     footer += "The objective is the largest max over one period of |y1(t)| (the first output with --config) over the "
               "whole FRF, every branch and fold included (nondimensional for the preset). Exit code 0 when the search "
               "converged; 3 when the optimum lies at an end of the range, the FRF budget ran out, or an FRF near the "

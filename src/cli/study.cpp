@@ -43,6 +43,12 @@ StudyParameter::StudyParameter(const std::string& flag, const std::string& name,
         throw UsageError(flag + " = '" + name + "' is not known: allowed " + std::string(preset_names));
 }
 
+StudyParameter StudyParameter::with_tuning(double wa) const {
+    StudyParameter copy = *this;
+    copy.chosen_.absorber.tuning_ratio = wa;
+    return copy;
+}
+
 std::string StudyParameter::meaning() const {
     if (chosen_.config)
         return name_ == "mu" ? "friction limit F_c of contact " + std::to_string(contact_ + 1) + " (the file's force units)"

@@ -28,6 +28,9 @@ public:
     /// range (the message names the parameter).
     System system(double value) const;
     bool preset() const { return !chosen_.config.has_value(); }
+    /// The same parameter on the preset with its tuning ratio set to wa (the joint search of
+    /// hbf optimize --param mu,wa). Preset only.
+    StudyParameter with_tuning(double wa) const;
     const ChosenSystem& chosen() const { return chosen_; }
 
 private:
