@@ -113,6 +113,13 @@ TEST_CASE("hbf analytic rejects bad input with exit code 2, a named parameter an
         {"--law dahl --xi 0.1", "--xi"},
         {"--frobnicate 3", "--frobnicate"},
         {"--mu", "--mu"},
+        {"--sweep wb --values 1", "--sweep"},
+        {"--law lugre --sweep wb --values 1 --wb 2", "--wb"},
+        {"--law lugre --sweep wb --values 0,1", "wb"},
+        {"--law lugre --sweep wb", "--values"},
+        {"--values 1,2", "--sweep"},
+        {"--sweep fe --values 1 --points 5", "--points"},
+        {"--sweep fe --values 1:2:0", "--values"},
     };
     for (const Case& c : cases) {
         TempDir dir;
@@ -123,6 +130,45 @@ TEST_CASE("hbf analytic rejects bad input with exit code 2, a named parameter an
         CHECK_THAT(r.err, Catch::Contains(c.names));
         CHECK(r.out.empty());
         CHECK(dir.empty());  // no output file and no temporary left behind
+    }
+}
+
+TEST_CASE("hbf analytic --sweep: the band's largest mu_limit per value, as --summary and the closed forms give it",
+          "[cli]") {
+    TempDir dir;
+    const Result sweep = run_hbf("analytic --law lugre --fe 1 --xi 0.05 --sweep wb --values 0.2,2,20", dir);
+    REQUIRE(sweep.exit_code == 0);
+    const auto rows = parse_csv(sweep.out);
+    REQUIRE(rows.size() == 4u);
+    CHECK(rows[0] == std::vector<std::string>{"wb", "w_at_max", "mu_limit_max"});
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        // The same maximum from --summary of the single system, and from the library directly.
+        const Result single = run_hbf("analytic --law lugre --fe 1 --xi 0.05 --wb " + rows[k][0] +
+                                          " --out /dev/null --summary '" + (dir.path / "s.json").string() + "'",
+                                      dir);
+        REQUIRE(single.exit_code == 0);
+        const std::string json = slurp(dir.path / "s.json");
+        const double value = std::stod(rows[k][2]);
+        hbf::AbsorberParameters p;
+        p.excitation = 1.0;
+        p.contact_damping_ratio = 0.05;
+        p.contact_stiffness_ratio = std::stod(rows[k][0]);
+        const auto m = an::limit_friction_maximum(p, hbf::FrictionLaw::lugre, 0.5, 1.6);
+        CHECK(value == Approx(m.value).epsilon(1e-13));
+        CHECK(std::stod(rows[k][1]) == Approx(m.omega).epsilon(1e-13));
+        // ... and never below the closed form on a dense grid.
+        for (double w : an::uniform_grid(0.5, 1.6, 20001))
+            CHECK(an::limit_friction(p, w, hbf::FrictionLaw::lugre) <= value * (1.0 + 1e-13));
+        CHECK_THAT(json, Catch::Contains("\"bounded\": true"));
+    }
+    // Coulomb's stuck resonance 1/sqrt(1 + r) lies in the band for every mu: empty, unbounded.
+    const Result coulomb = run_hbf("analytic --law coulomb --sweep mu --values 0.1,0.3", dir);
+    REQUIRE(coulomb.exit_code == 0);
+    const auto c = parse_csv(coulomb.out);
+    REQUIRE(c.size() == 3u);
+    for (std::size_t k = 1; k < 3; ++k) {
+        CHECK(std::stod(c[k][1]) == Approx(1.0 / std::sqrt(1.1)).epsilon(1e-14));
+        CHECK((c[k].size() == 2u || c[k][2].empty()));
     }
 }
 

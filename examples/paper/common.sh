@@ -16,6 +16,11 @@ if [[ ! -x $HBF ]]; then
   die "hbf not found at $HBF: build it first (./scripts/run-example.sh) or set HBF=/path/to/hbf"
 fi
 command -v gnuplot >/dev/null 2>&1 || die "gnuplot not found (./scripts/install-deps.sh installs it)"
+# The Debian interpreter that install-deps.sh installs (standard library only), before any
+# other python3 on the PATH: a version manager's shim (pyenv) costs 0.3 s per call here.
+PYTHON=${PYTHON:-$(command -v /usr/bin/python3 || command -v python3 || true)}
+[[ -n $PYTHON ]] || die "python3 not found (./scripts/install-deps.sh installs it)"
+python3() { "$PYTHON" "$@"; }
 mkdir -p "$OUT" || die "cannot create the output directory $OUT"
 
 # hbf ARGS...: runs hbf; on failure names the command and stops the script. Exit code 3 (a

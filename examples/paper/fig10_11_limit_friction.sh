@@ -13,9 +13,8 @@
 # paper's curves are ours at fe = 1, used here). Fig. 10 (fig10_limit_friction.png):
 # mu_limit(w) for r = 0.1, wa = 1, wb = 0.4, xi = 0.01, with Coulomb's, and the ratio
 # LuGre/Dahl. Fig. 11 (fig11_max_limit_friction.png): max over w in [0.5, 1.6] of
-# mu_limit for wb = 0.1 ... 100 and xi = 0.01, 0.05, 0.1, 0.2 (`hbf analytic --summary`,
-# mu_limit_max: converged to 1e-13 in w even where the LuGre peaks are far narrower than any
-# grid), and mu_limit(w) for xi = 0.1 and growing wb against Coulomb's.
+# mu_limit for wb = 0.1 ... 100 and xi = 0.01, 0.05, 0.1, 0.2 (`hbf analytic --sweep wb`:
+# converged to 1e-13 in w even where the LuGre peaks are far narrower than any grid), and mu_limit(w) for xi = 0.1 and growing wb against Coulomb's.
 #
 # Differences from the paper, and why:
 # - Fig. 10: "LuGre below Dahl" holds only near the two stuck resonances (w = 0.878, 1.225),
@@ -44,29 +43,17 @@ paste -d, "$OUT/fig10_dahl.csv" "$OUT/fig10_lugre.csv" |
            { r = ($6 != "" && $13 != "" && $6 > 0) ? $13 / $6 : ""; print $1 "," $6 "," $13 "," r }' \
   >"$OUT/fig10_ratio.csv"
 
-# Fig. 11: maximum of LuGre's mu_limit over w in [0.5, 1.6], from `hbf analytic --summary`
-# (mu_limit_max: a 2001-point grid plus the stuck resonances, each sampled maximum refined by
-# golden section to 1e-13 in w; the CSV itself is not needed here). One job per xi, 2 at a time.
+# Fig. 11: maximum of LuGre's mu_limit over w in [0.5, 1.6], `hbf analytic --sweep wb` (as
+# mu_limit_max of --summary: a 2001-point grid plus the stuck resonances, each sampled maximum
+# refined by golden section to 1e-13 in w), one run per xi.
 XIS=(0.01 0.05 0.1 0.2)
-WBS=(0.1 0.15 0.2 0.3 0.4 0.6 0.8 1 1.5 2 3 4 6 8 10 15 20 30 50 70 100)
-max_over_w() {  # xi -> fig11_max_xi$xi.csv
-  local xi=$1 csv="$OUT/fig11_max_xi$1.csv" json="$OUT/fig11_max_xi$1.json"
-  echo "wb,w_at_max,max_mu_limit" >"$csv"
-  for wb in "${WBS[@]}"; do
-    hbf analytic --law lugre --fe 1 --wb "$wb" --xi "$xi" --points 2 --out /dev/null --summary "$json"
-    awk -v wb="$wb" '/"mu_limit_max"/ { m = 1 } m && /"value"/ { gsub(/[ ",]/, ""); split($0, a, ":"); v = a[2] }
-                     m && /"w"/ { gsub(/[ ",]/, ""); split($0, a, ":"); w = a[2]; m = 0 }
-                     END { if (v == "" || v == "null") { print "hbf analytic: no finite maximum for wb = " wb > "/dev/stderr"; exit 1 }
-                           print wb "," w "," v }' "$json" >>"$csv"
-  done
-  rm -f "$json"
-}
-pids=()
+WBS=0.1,0.15,0.2,0.3,0.4,0.6,0.8,1,1.5,2,3,4,6,8,10,15,20,30,50,70,100
 for xi in "${XIS[@]}"; do
-  max_over_w "$xi" & pids+=($!)
-  if ((${#pids[@]} == 2)); then wait "${pids[0]}"; pids=("${pids[@]:1}"); fi
+  hbf analytic --law lugre --fe 1 --xi "$xi" --sweep wb --values "$WBS" --out "$OUT/fig11_max_xi$xi.csv"
+  if awk -F, 'NR > 1 && $3 == "" { bad = 1 } END { exit !bad }' "$OUT/fig11_max_xi$xi.csv"; then
+    die "hbf analytic: no finite maximum of mu_limit for xi = $xi"
+  fi
 done
-for pid in "${pids[@]}"; do wait "$pid"; done
 for wb in 0.4 1 4 16; do
   hbf analytic --law lugre --fe 1 --wb "$wb" --xi 0.1 --points 4401 --out "$OUT/fig11_lugre_xi0.1_wb$wb.csv"
 done
@@ -113,7 +100,7 @@ set ylabel 'max_{0.5 <= w <= 1.6} {/Symbol m}_{limit}'
 set title 'maximum over w (Dahl, Coulomb: infinite)'
 set key top left
 xis = "${XIS[*]}"
-plot for [xi in xis] sprintf('$OUT/fig11_max_xi%s.csv', xi) using 'wb':'max_mu_limit' with linespoints pt 7 ps 0.5 title sprintf('{/Symbol x} = %s', xi)
+plot for [xi in xis] sprintf('$OUT/fig11_max_xi%s.csv', xi) using 'wb':'mu_limit_max' with linespoints pt 7 ps 0.5 title sprintf('{/Symbol x} = %s', xi)
 unset logscale x
 set format x '%g'
 set xrange [0.5:1.6]

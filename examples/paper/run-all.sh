@@ -26,7 +26,16 @@ run_one() {
 begin=$(now)
 running=0
 status=0
+# The longest first (measured), so that the last one started is short; any other fig*.sh after.
+scripts=()
+for name in fig04_09_force_ratio fig12_14_den_hartog fig_law_comparison fig15_16_min_displacement \
+            fig10_11_limit_friction fig03_coulomb_frf fig07_08_dahl_lugre_frf fig05_06_friction_loops; do
+  [[ -e $HERE/$name.sh ]] && scripts+=("$HERE/$name.sh")
+done
 for script in "$HERE"/fig*.sh; do
+  [[ " ${scripts[*]} " == *" $script "* ]] || scripts+=("$script")
+done
+for script in "${scripts[@]}"; do
   run_one "$script" &
   running=$((running + 1))
   if ((running >= JOBS)); then

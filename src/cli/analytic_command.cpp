@@ -9,6 +9,7 @@
 #include "hbf/error.hpp"
 #include "hbf/io.hpp"
 #include "hbf/plot.hpp"
+#include "study.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -18,8 +19,55 @@ namespace {
 struct AnalyticOptions {
     AbsorberFlags absorber;
     std::string wmin = "0.5", wmax = "1.6", points = "221";
-    std::string out, plot, summary;
+    std::string out, plot, summary, sweep, values;
 };
+
+/// The absorber with the swept parameter set to `value` (validated by limit_friction_maximum).
+AbsorberParameters with_value(AbsorberParameters p, const std::string& name, double value) {
+    if (name == "fe") p.excitation = value;
+    else if (name == "mu") p.friction_coefficient = value;
+    else if (name == "wa") p.tuning_ratio = value;
+    else if (name == "r") p.mass_ratio = value;
+    else if (name == "wb") p.contact_stiffness_ratio = value;
+    else p.contact_damping_ratio = value;
+    return p;
+}
+
+/// --sweep: one row per value, the band's largest mu_limit.
+int run_sweep(const CLI::App& command, const AnalyticOptions& o, FrictionLaw law, const AbsorberParameters& p,
+              double wmin, double wmax) {
+    const std::string& name = o.sweep;
+    const bool contact = law == FrictionLaw::dahl || law == FrictionLaw::lugre;
+    if (!(name == "fe" || name == "mu" || name == "wa" || name == "r" || (name == "wb" && contact) ||
+          (name == "xi" && law == FrictionLaw::lugre)))
+        throw UsageError("--sweep = '" + name + "' is not a parameter of --law " + to_string(law) +
+                         ": allowed fe, mu, wa, r" + (contact ? ", wb" : "") + (law == FrictionLaw::lugre ? ", xi" : ""));
+    if (command.count("--" + name) > 0)
+        throw UsageError("--" + name + " is what --sweep varies: drop it (its values are --values)");
+    for (const char* flag : {"--points", "--plot", "--summary"})
+        if (command.count(flag) > 0)
+            throw UsageError(std::string(flag) + " does not apply with --sweep (one row per value, not per frequency)");
+    const std::vector<double> values = parse_values("--values", o.values);
+    std::vector<analytic::LimitFrictionMaximum> rows;
+    for (double v : values) {
+        try {
+            rows.push_back(analytic::limit_friction_maximum(with_value(p, name, v), law, wmin, wmax));
+        } catch (const InvalidInput& e) {
+            throw UsageError("--values: " + name + " = " + format_number(v) + ": " + e.what());
+        }
+    }
+    if (dry_run()) {
+        std::cerr << "hbf analytic: dry run: every input and output is valid; nothing computed, nothing written\n";
+        return exit_success;
+    }
+    io::OutputFile out(o.out);
+    out.stream() << name << ",w_at_max,mu_limit_max\n";
+    for (std::size_t k = 0; k < values.size(); ++k)
+        out.stream() << io::csv_field(values[k]) << ',' << io::csv_field(rows[k].omega) << ','
+                     << (rows[k].bounded ? io::csv_field(rows[k].value) : "") << '\n';
+    out.commit();
+    return exit_success;
+}
 
 using nlohmann::json;
 
@@ -68,6 +116,13 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
                        {"--plot", o.plot, command.count("--plot") > 0, false, true},
                        {"--summary", o.summary, command.count("--summary") > 0}});
     const double wmin = parse_double("--wmin", o.wmin), wmax = parse_double("--wmax", o.wmax);
+    if (command.count("--sweep") != command.count("--values"))
+        throw UsageError(command.count("--sweep") ? "--sweep needs --values (the values of the parameter)"
+                                                  : "--values needs --sweep (the parameter they are values of)");
+    if (command.count("--sweep")) {
+        (void)analytic::uniform_grid(wmin, wmax, 2);  // checks the band
+        return run_sweep(command, o, law, p, wmin, wmax);
+    }
     const std::vector<double> grid = analytic::uniform_grid(wmin, wmax, parse_integer("--points", o.points));
     if (dry_run()) {
         std::cerr << "hbf analytic: dry run: every input and output is valid; nothing computed, nothing written\n";
@@ -127,6 +182,14 @@ Runner add_analytic_command(CLI::App& app) {
                         "and value, refined beyond the grid, null if infinite: mu >= value sticks at every "
                         "frequency of the band) and the stuck system's undamped resonances")
         ->option_text("FILE.json");
+    command->add_option("--sweep", options->sweep,
+                        "with --values: the band's largest mu_limit for each value of this parameter (fe, mu, wa, r; "
+                        "wb for dahl and lugre; xi for lugre) instead of the frequency table; the CSV is then "
+                        "NAME,w_at_max,mu_limit_max (as mu_limit_max of --summary; empty = infinite)")
+        ->type_name("NAME");
+    command->add_option("--values", options->values,
+                        "the values of --sweep: V1,V2,..., START:STOP:N or log:START:STOP:N (as hbf map)")
+        ->type_name("LIST");
     command->footer(columns_help());
     return [command, options]() { return run(*command, *options); };
 }
