@@ -55,28 +55,7 @@ done
 [[ ${#targets[@]} -gt 0 ]] || targets=("${ALL_TARGETS[@]}")
 
 # ---- dependencies ----------------------------------------------------------
-"$ROOT/scripts/install-deps.sh"
-fuzz_packages=(clang libclang-rt-14-dev)  # clang 14 and its libFuzzer runtime (Debian 12)
-missing=()
-for p in "${fuzz_packages[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
-    missing+=("$p")
-  fi
-done
-if [[ ${#missing[@]} -gt 0 ]]; then
-  if [[ $(id -u) -eq 0 ]]; then
-    SUDO=()
-  elif command -v sudo >/dev/null 2>&1; then
-    SUDO=(sudo)
-  else
-    echo "fuzz.sh: missing packages (${missing[*]}) and not root, and sudo is not available" >&2
-    exit 1
-  fi
-  echo "fuzz.sh: installing ${missing[*]}" >&2
-  export DEBIAN_FRONTEND=noninteractive
-  "${SUDO[@]}" apt-get update -qq
-  "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+"$ROOT/scripts/install-deps.sh" clang libclang-rt-14-dev  # clang 14 and its libFuzzer runtime (Debian 12)
 
 # ---- build -----------------------------------------------------------------
 if [[ ! -f $BUILD/CMakeCache.txt ]]; then

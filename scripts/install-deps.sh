@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Installs every build and test dependency of hbfriction from Debian packages (Debian 12).
+# Installs every build and test dependency of hbfriction from Debian packages (Debian 12),
+# and any extra packages named as arguments (e.g. scripts/fuzz.sh adds clang's).
+# Usage: install-deps.sh [EXTRA_PACKAGE...]
 # Idempotent: when everything is present it prints nothing and exits 0.
 # Works as root, or as a normal user through sudo.
 set -euo pipefail
@@ -12,6 +14,7 @@ packages=(
   libspectra-dev  # sparse eigensolver of the modal receptance (header-only)
   libopenmpi-dev openmpi-bin  # hbf map under mpirun (optional for a build: HBF_MPI=OFF); its test runs 2 ranks
   python3  # examples/systems/beam/make_beam.py (standard library only), checked by the tests
+  "$@"
 )
 
 missing=()

@@ -170,8 +170,8 @@ std::string to_string(OptimizeStatus status) {
     return "?";
 }
 
-std::string OptimizeResult::summary() const {
-    std::string s = to_string(status) + ": p = " + format_number(parameter) + ", largest peak " +
+std::string OptimizeResult::summary(const std::string& name) const {
+    std::string s = to_string(status) + ": " + name + " = " + format_number(parameter) + ", largest peak " +
                     format_number(peak.value) + " at w = " + format_number(peak.omega) + " (" + to_string(peak.state) +
                     "), " + std::to_string(trace.size()) + " FRFs";
     if (!message.empty()) s += "; " + message;
@@ -333,14 +333,14 @@ int JointOptimizeResult::frfs() const {
     return n;
 }
 
-std::string JointOptimizeResult::summary() const {
-    std::string s = to_string(outer.status) + ": q = " + format_number(outer.parameter) + ", p = " +
+std::string JointOptimizeResult::summary(const std::string& p_name, const std::string& q_name) const {
+    std::string s = to_string(outer.status) + ": " + q_name + " = " + format_number(outer.parameter) + ", " + p_name + " = " +
                     format_number(parameter) + ", largest peak " + format_number(outer.peak.value) + " at w = " +
                     format_number(outer.peak.omega) + " (" + to_string(outer.peak.state) + "), " +
-                    std::to_string(outer.trace.size()) + " searches in p, " + std::to_string(frfs()) + " FRFs";
+                    std::to_string(outer.trace.size()) + " searches in " + p_name + ", " + std::to_string(frfs()) + " FRFs";
     if (!outer.message.empty()) s += "; " + outer.message;
     if (inner_not_converged > 0)
-        s += "; " + std::to_string(inner_not_converged) + " of the searches in p did not converge (at a bound, out of "
+        s += "; " + std::to_string(inner_not_converged) + " of the searches in " + p_name + " did not converge (at a bound, out of "
              "budget, unbounded or failed)";
     return s;
 }

@@ -132,8 +132,8 @@ struct OptimizeResult {
     int failed_in_bracket = 0;     ///< of which inside the final bracket (a doubtful optimum)
     std::string message;
     double seconds = 0;
-    /// One line: status, p, peak, evaluations.
-    std::string summary() const;
+    /// One line: status, the parameter (named `name`), peak, evaluations.
+    std::string summary(const std::string& name = "p") const;
 };
 
 /// Minimises the largest peak of the FRF of system(p) over p in [lower, upper]: a log-spaced
@@ -155,7 +155,8 @@ struct JointOptimizeResult {
     double parameter = 0;               ///< the best p (at the best q)
     int inner_not_converged = 0;        ///< inner searches whose status is not converged
     int frfs() const;                   ///< FRFs computed in all
-    std::string summary() const;
+    /// One line: status, both parameters (named p_name, q_name), peak, searches and FRFs.
+    std::string summary(const std::string& p_name = "p", const std::string& q_name = "q") const;
 };
 
 /// Minimises the largest peak of system(p, q) over both: P(q) = min over p of the peak

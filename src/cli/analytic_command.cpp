@@ -22,17 +22,6 @@ struct AnalyticOptions {
     std::string out, plot, summary, sweep, values;
 };
 
-/// The absorber with the swept parameter set to `value` (validated by limit_friction_maximum).
-AbsorberParameters with_value(AbsorberParameters p, const std::string& name, double value) {
-    if (name == "fe") p.excitation = value;
-    else if (name == "mu") p.friction_coefficient = value;
-    else if (name == "wa") p.tuning_ratio = value;
-    else if (name == "r") p.mass_ratio = value;
-    else if (name == "wb") p.contact_stiffness_ratio = value;
-    else p.contact_damping_ratio = value;
-    return p;
-}
-
 /// --sweep: one row per value, the band's largest mu_limit.
 int run_sweep(const CLI::App& command, const AnalyticOptions& o, FrictionLaw law, const AbsorberParameters& p,
               double wmin, double wmax) {
@@ -51,7 +40,7 @@ int run_sweep(const CLI::App& command, const AnalyticOptions& o, FrictionLaw law
     std::vector<analytic::LimitFrictionMaximum> rows;
     for (double v : values) {
         try {
-            rows.push_back(analytic::limit_friction_maximum(with_value(p, name, v), law, wmin, wmax));
+            rows.push_back(analytic::limit_friction_maximum(with_parameter(p, name, v), law, wmin, wmax));
         } catch (const InvalidInput& e) {
             throw UsageError("--values: " + name + " = " + format_number(v) + ": " + e.what());
         }

@@ -216,13 +216,13 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     switch (result.status) {
         case OptimizeStatus::converged: break;
         case OptimizeStatus::at_bound:
-        case OptimizeStatus::budget: verdict.warning(joint ? joint_result.summary() : result.summary()); break;
+        case OptimizeStatus::budget: verdict.warning(joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name())); break;
         case OptimizeStatus::unbounded:
-        case OptimizeStatus::failed: verdict.error(joint ? joint_result.summary() : result.summary()); break;
+        case OptimizeStatus::failed: verdict.error(joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name())); break;
     }
     if (joint && joint_result.inner[joint_result.best].status != OptimizeStatus::converged)
         verdict.warning("the search in mu at the best wa did not converge: " +
-                        joint_result.inner[joint_result.best].summary());
+                        joint_result.inner[joint_result.best].summary("mu"));
     else if (joint && joint_result.inner[joint_result.best].failed_in_bracket > 0)
         verdict.warning("at the best wa, " + std::to_string(joint_result.inner[joint_result.best].failed_in_bracket) +
                         " FRF(s) inside the final bracket of mu failed or stayed incomplete: the optimum is doubtful "
@@ -362,7 +362,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     out.commit();
     if (summary) summary->commit();
     if (!o.quiet && isatty(STDERR_FILENO))
-        std::cerr << "hbf optimize: " << (joint ? joint_result.summary() : result.summary()) << "\n";
+        std::cerr << "hbf optimize: " << (joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name())) << "\n";
     return verdict.finish();
 }
 }  // namespace

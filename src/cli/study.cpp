@@ -43,6 +43,16 @@ StudyParameter::StudyParameter(const std::string& flag, const std::string& name,
         throw UsageError(flag + " = '" + name + "' is not known: allowed " + std::string(preset_names));
 }
 
+AbsorberParameters with_parameter(AbsorberParameters p, const std::string& name, double value) {
+    if (name == "fe") p.excitation = value;
+    else if (name == "mu") p.friction_coefficient = value;
+    else if (name == "wa") p.tuning_ratio = value;
+    else if (name == "r") p.mass_ratio = value;
+    else if (name == "wb") p.contact_stiffness_ratio = value;
+    else p.contact_damping_ratio = value;
+    return p;
+}
+
 StudyParameter StudyParameter::with_tuning(double wa) const {
     StudyParameter copy = *this;
     copy.chosen_.absorber.tuning_ratio = wa;
@@ -77,14 +87,7 @@ System StudyParameter::system(double value) const {
         s.validate();
         return s;
     }
-    AbsorberParameters p = chosen_.absorber;
-    if (name_ == "fe") p.excitation = value;
-    else if (name_ == "mu") p.friction_coefficient = value;
-    else if (name_ == "wa") p.tuning_ratio = value;
-    else if (name_ == "r") p.mass_ratio = value;
-    else if (name_ == "wb") p.contact_stiffness_ratio = value;
-    else p.contact_damping_ratio = value;
-    System s = friction_absorber(p, law_);
+    System s = friction_absorber(with_parameter(chosen_.absorber, name_, value), law_);
     s.excitation_harmonic = chosen_.system.excitation_harmonic;
     return s;
 }

@@ -41,6 +41,10 @@ private:
     double current_ = 0;
 };
 
+/// The preset's parameters with the one named (fe, mu, wa, r, wb or xi; anything else: xi)
+/// set to `value`, unvalidated.
+AbsorberParameters with_parameter(AbsorberParameters p, const std::string& name, double value);
+
 /// Values of a study: "V1,V2,...", "START:STOP:N" (N values, evenly spaced) or
 /// "log:START:STOP:N" (N values, evenly spaced in log; START, STOP > 0). 1..100000 values,
 /// finite. Throws UsageError naming `flag`.
