@@ -284,6 +284,44 @@ TEST_CASE("hbf map: the CSV is the same on 1 and 2 threads, failed FRFs are rows
     CHECK(capped["outcome"] == "incomplete");
 }
 
+TEST_CASE("hbf map over --config keys: contact.stiffness and structure.damping against the linear closed form",
+          "[design][map][cli]") {
+    // A damped SDOF (m = 1, k = 1, c = 0.05, F = 0.01) with a Dahl contact whose friction limit
+    // is huge: the bristle never saturates, so the contact is the spring sigma0 in parallel with
+    // k. The largest |y| of the linear system F / |k + sigma0 - w^2 + i c w| is
+    // F / (c sqrt(k_eff - c^2 / 4)) at w = sqrt(k_eff - c^2 / 2), k_eff = k + sigma0.
+    ::test::TempDir dir;
+    const auto file = dir.path / "sdof.toml";
+    ::test::write_file(file, "[structure]\nmass = [1.0]\nstiffness = [1.0]\ndamping = [0.05]\nexcitation = [0.01]\n"
+                             "[[contact]]\ndof = 1\nlaw = \"dahl\"\nfriction_limit = 1e6\nstiffness = 1.0\n");
+    auto peak = [](double k_eff, double c) { return 0.01 / (c * std::sqrt(k_eff - c * c / 4.0)); };
+    const std::string system = "map --config '" + file.string() + "' --harmonics 3 --wmin 0.5 --wmax 2.5 --quiet ";
+    const std::string common = system + "--out /dev/null ";
+    const ::test::Result stiff = ::test::run_hbf(common + "--param contact.stiffness --values 0.5,1,2 --summary " +
+                                                     in(dir, "stiff.json"), dir);
+    INFO(stiff.err);
+    REQUIRE(stiff.exit_code == 0);
+    const auto s = read_json(dir.path / "stiff.json");
+    REQUIRE(s["frfs"].size() == 3u);
+    for (const auto& f : s["frfs"]) {
+        const double sigma0 = f["value"].get<double>();
+        CHECK(f["peak"].get<double>() == Approx(peak(1.0 + sigma0, 0.05)).epsilon(1e-4));
+        CHECK(f["peak_w"].get<double>() == Approx(std::sqrt(1.0 + sigma0 - 0.05 * 0.05 / 2.0)).epsilon(1e-4));
+    }
+    const ::test::Result damped = ::test::run_hbf(common + "--param structure.damping --values 2,4 --summary " +
+                                                      in(dir, "damped.json"), dir);
+    REQUIRE(damped.exit_code == 0);
+    for (const auto& f : read_json(dir.path / "damped.json")["frfs"])
+        CHECK(f["peak"].get<double>() == Approx(peak(2.0, 0.05 * f["value"].get<double>())).epsilon(1e-4));
+    // Keys of another law, unknown keys, values out of range and a --contact on a structure
+    // parameter are bad input.
+    ::test::check_bad_input(system + "--param contact.regularization --values 1", {"contact.regularization", "dahl"}, dir);
+    ::test::check_bad_input(system + "--param contact.color --values 1", {"contact.color", "contact.stiffness"}, dir);
+    ::test::check_bad_input(system + "--param contact.stiffness --values 1,0", {"contact.stiffness"}, dir);
+    ::test::check_bad_input(system + "--param structure.damping --values 1 --contact 1", {"--contact"}, dir);
+    ::test::check_bad_input(system + "--param contact.stiffness --values 1 --contact 2", {"--contact"}, dir);
+}
+
 TEST_CASE("hbf map and optimize refuse bad input before any work", "[design][cli]") {
     ::test::TempDir dir;
     ::test::check_bad_input("map --param fe --values 0.1,-1", {"--values"}, dir);

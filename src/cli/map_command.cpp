@@ -94,6 +94,9 @@ int run(const CLI::App& command, const MapOptions& o) {
     const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
     if (given(command, "--contact") && parameter.preset())
         throw UsageError("--contact chooses a contact of a --config system: the preset has one");
+    if (given(command, "--contact") && (o.param == "fe" || o.param == "structure.damping"))
+        throw UsageError("--contact chooses the contact of --param mu or contact.KEY: --param " + o.param +
+                         " belongs to the structure");
     if (parameter.preset() && command.get_option_no_throw("--" + o.param) != nullptr && given(command, ("--" + o.param).c_str()))
         throw UsageError("--" + o.param + " is set by --param " + o.param + " (the map's values): drop it");
     FrfSettings settings = o.frf.settings(command, chosen);
@@ -280,7 +283,11 @@ Runner add_map_command(CLI::App& app) {
     command->add_option("--param", options->param,
                         "the parameter of the map: for the paper's absorber fe, mu, wa, r, wb (dahl, lugre, jenkins) "
                         "or xi (lugre); for a --config system mu (the friction limit F_c of the contact --contact, "
-                        "in the file's force units) or fe (a factor on the file's excitation vector)")
+                        "in the file's force units), fe (a factor on the file's excitation vector), structure.damping "
+                        "(a factor on its damping matrix) or a scalar key of the contact --contact as in the file "
+                        "(contact.friction_limit, contact.stiffness, contact.damping, contact.viscous, "
+                        "contact.static_limit, contact.stribeck_velocity, contact.regularization, "
+                        "contact.lagrangian_penalty; the keys of its law only)")
         ->type_name("NAME");
     command->add_option("--values", options->values,
                         "the parameter's values: V1,V2,..., START:STOP:N (N evenly spaced) or log:START:STOP:N "
@@ -290,7 +297,7 @@ Runner add_map_command(CLI::App& app) {
                         "comma-separated frequencies W1,W2,...: on every FRF, every solution there is solved exactly "
                         "and written as extra rows with point = sample (as hbf frf --at)")
         ->type_name("LIST");
-    command->add_option("--contact", options->contact, "--config: the contact whose friction limit --param mu sets (1-based)")
+    command->add_option("--contact", options->contact, "--config: the contact whose friction limit (--param mu) or key (--param contact.KEY) the map sets (1-based)")
         ->capture_default_str()->type_name("INT");
     command->add_option("--threads", options->threads,
                         "FRFs computed at once, 0..4096; 0 = every core. Under mpirun: per rank [default 1]. The CSV "

@@ -1,5 +1,6 @@
 #include "study.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "hbf/error.hpp"
@@ -8,23 +9,67 @@ namespace hbf::cli {
 
 namespace {
 const char* preset_names = "fe, mu, wa, r, wb (dahl, lugre, jenkins), xi (lugre)";
+const char* config_names =
+    "mu (the friction limit F_c of the contact --contact), fe (a factor on the file's excitation vector), "
+    "structure.damping (a factor on the file's damping matrix C), or a key of the contact --contact: "
+    "contact.friction_limit, contact.stiffness (dahl, lugre, jenkins), contact.damping, contact.viscous, "
+    "contact.static_limit, contact.stribeck_velocity (lugre), contact.regularization (coulomb-reg), "
+    "contact.lagrangian_penalty (coulomb)";
+
+/// The contact's scalar keys of a --config file (config.hpp), the laws each applies to, whether
+/// 0 is allowed, and the field.
+struct ContactKey {
+    const char* name;
+    std::vector<FrictionLaw> laws;  ///< empty: every law
+    bool zero_allowed;
+    double Contact::*field;
+};
+const std::vector<ContactKey>& contact_keys() {
+    using L = FrictionLaw;
+    static const std::vector<ContactKey> keys = {
+        {"friction_limit", {}, false, &Contact::friction_limit},
+        {"stiffness", {L::dahl, L::lugre, L::jenkins}, false, &Contact::stiffness},
+        {"damping", {L::lugre}, true, &Contact::damping},
+        {"viscous", {L::lugre}, true, &Contact::viscous},
+        {"static_limit", {L::lugre}, true, &Contact::static_limit},
+        {"stribeck_velocity", {L::lugre}, true, &Contact::stribeck_velocity},
+        {"regularization", {L::coulomb_regularized}, false, &Contact::regularization},
+        {"lagrangian_penalty", {L::coulomb}, true, &Contact::lagrangian_penalty}};
+    return keys;
 }
+const ContactKey* find_contact_key(const std::string& name) {
+    if (name == "mu") return &contact_keys().front();
+    if (name.rfind("contact.", 0) != 0) return nullptr;
+    for (const ContactKey& k : contact_keys())
+        if (name.substr(8) == k.name) return &k;
+    return nullptr;
+}
+}  // namespace
 
 StudyParameter::StudyParameter(const std::string& flag, const std::string& name, const ChosenSystem& chosen,
                                const std::string& contact_flag, const std::string& contact)
     : name_(name), chosen_(chosen) {
     if (name.empty()) throw UsageError(flag + " is empty: allowed " + std::string(preset_names));
     if (chosen.config) {
-        if (name != "mu" && name != "fe")
-            throw UsageError(flag + " = '" + name + "' is not a parameter of a --config system: allowed mu (the friction "
-                             "limit F_c of the contact --contact) or fe (a factor on the file's excitation vector)");
+        const ContactKey* key = find_contact_key(name);
+        if (!key && name != "fe" && name != "structure.damping")
+            throw UsageError(flag + " = '" + name + "' is not a parameter of a --config system: allowed " +
+                             std::string(config_names));
+        if (!key) {
+            current_ = 1.0;
+            return;
+        }
         const long long n = parse_integer(contact_flag, contact);
         const auto contacts = static_cast<long long>(chosen.system.contacts.size());
         if (n < 1 || n > contacts)
             throw UsageError(contact_flag + " = " + contact + " is out of range: allowed 1.." + std::to_string(contacts) +
                              (contacts == 0 ? " (the system has no contact)" : ""));
         contact_ = static_cast<int>(n - 1);
-        current_ = name == "mu" ? chosen.system.contacts[static_cast<std::size_t>(contact_)].friction_limit : 1.0;
+        const Contact& c = chosen.system.contacts[static_cast<std::size_t>(contact_)];
+        if (!key->laws.empty() && std::find(key->laws.begin(), key->laws.end(), c.law) == key->laws.end())
+            throw UsageError(flag + " = " + name + " does not apply to contact " + std::to_string(n) + " (law " +
+                             to_string(c.law) + "): allowed " + std::string(config_names));
+        current_ = c.*(key->field);
         return;
     }
     law_ = chosen.system.contacts.front().law;
@@ -60,9 +105,13 @@ StudyParameter StudyParameter::with_tuning(double wa) const {
 }
 
 std::string StudyParameter::meaning() const {
-    if (chosen_.config)
-        return name_ == "mu" ? "friction limit F_c of contact " + std::to_string(contact_ + 1) + " (the file's force units)"
-                             : "factor on the file's excitation vector (1: as in the file)";
+    if (chosen_.config) {
+        const std::string contact = " of contact " + std::to_string(contact_ + 1);
+        if (name_ == "mu") return "friction limit F_c" + contact + " (the file's force units)";
+        if (name_ == "fe") return "factor on the file's excitation vector (1: as in the file)";
+        if (name_ == "structure.damping") return "factor on the file's damping matrix C (1: as in the file)";
+        return "the key " + name_.substr(8) + contact + " (the file's units)";
+    }
     if (name_ == "fe") return "excitation amplitude F0/N (nondimensional)";
     if (name_ == "mu") return "friction coefficient";
     if (name_ == "wa") return "tuning ratio omega2/omega1";
@@ -74,15 +123,20 @@ std::string StudyParameter::meaning() const {
 System StudyParameter::system(double value) const {
     if (chosen_.config) {
         System s = chosen_.system;
-        if (name_ == "mu") {
-            if (!(std::isfinite(value) && value > 0.0))
-                throw InvalidInput("mu (friction limit of contact " + std::to_string(contact_ + 1) + ") = " +
-                                   format_number(value) + " is out of range: allowed > 0");
-            s.contacts[static_cast<std::size_t>(contact_)].friction_limit = value;
-        } else {
+        if (const ContactKey* key = find_contact_key(name_)) {
+            if (!(std::isfinite(value) && (value > 0.0 || (key->zero_allowed && value == 0.0))))
+                throw InvalidInput(name_ + " (" + meaning() + ") = " + format_number(value) +
+                                   " is out of range: allowed " + (key->zero_allowed ? ">= 0" : "> 0"));
+            s.contacts[static_cast<std::size_t>(contact_)].*(key->field) = value;
+        } else if (name_ == "fe") {
             if (!(std::isfinite(value) && value > 0.0))
                 throw InvalidInput("fe (factor on the excitation) = " + format_number(value) + " is out of range: allowed > 0");
             s.excitation *= value;
+        } else {
+            if (!(std::isfinite(value) && value >= 0.0))
+                throw InvalidInput("structure.damping (factor on C) = " + format_number(value) +
+                                   " is out of range: allowed >= 0");
+            s.damping *= value;
         }
         s.validate();
         return s;
