@@ -311,7 +311,8 @@ TEST_CASE("hbf map over --config keys: contact.stiffness and structure.damping a
     const ::test::Result damped = ::test::run_hbf(common + "--param structure.damping --values 2,4 --summary " +
                                                       in(dir, "damped.json"), dir);
     REQUIRE(damped.exit_code == 0);
-    for (const auto& f : read_json(dir.path / "damped.json")["frfs"])
+    const auto d = read_json(dir.path / "damped.json");  // (a temporary's member would dangle in the loop)
+    for (const auto& f : d["frfs"])
         CHECK(f["peak"].get<double>() == Approx(peak(2.0, 0.05 * f["value"].get<double>())).epsilon(1e-4));
     // Keys of another law, unknown keys, values out of range and a --contact on a structure
     // parameter are bad input.
