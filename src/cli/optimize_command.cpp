@@ -370,7 +370,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
 Runner add_optimize_command(CLI::App& app) {
     auto options = std::make_shared<OptimizeOptions_>();
     CLI::App* command = app.add_subcommand(
-        "optimize", "The friction coefficient (or the tuning wa) that minimises the largest peak of the main mass's "
+        "optimize", "The friction coefficient (or the tuning wa, or both) that minimises the largest peak of the main mass's "
                     "FRF over [wmin, wmax] (paper Section 4): a log-spaced scan on threads, then a golden-section "
                     "search in log of the parameter, every FRF a full branch with refined peaks.");
     add_dry_run(*command);
@@ -403,7 +403,7 @@ Runner add_optimize_command(CLI::App& app) {
     command->add_option("--param-tolerance", options->param_tolerance,
                         "the search stops when the bracket is narrower than this fraction of the parameter, 1e-12..0.1")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--max-frfs", options->max_frfs, "largest number of FRFs (scan included)")
+    command->add_option("--max-frfs", options->max_frfs, "largest number of FRFs (scan included); with --param mu,wa of each search in mu")
         ->capture_default_str()->type_name("INT");
     command->add_option("--threads", options->threads, "FRFs of the scan computed at once; 0 = every core")
         ->capture_default_str()->type_name("INT");
