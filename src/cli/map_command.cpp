@@ -94,7 +94,7 @@ int run(const CLI::App& command, const MapOptions& o) {
     const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
     if (given(command, "--contact") && parameter.preset())
         throw UsageError("--contact chooses a contact of a --config system: the preset has one");
-    if (given(command, "--contact") && (o.param == "fe" || o.param == "structure.damping"))
+    if (given(command, "--contact") && !parameter.preset() && !parameter.uses_contact())
         throw UsageError("--contact chooses the contact of --param mu or contact.KEY: --param " + o.param +
                          " belongs to the structure");
     if (parameter.preset() && command.get_option_no_throw("--" + o.param) != nullptr && given(command, ("--" + o.param).c_str()))

@@ -162,6 +162,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         joint ? joint_result.outer : optimize_parameter([&](double v) { return parameter.system(v); }, settings, oo);
     const double best_mu = joint ? joint_result.parameter : result.parameter;
     const std::string noun = joint ? "search(es) in mu" : "FRF(s)";
+    const std::string summary_line = joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name());
 
     // Comparisons (the preset's friction coefficient only): the Den Hartog friction (paper
     // eq. 32 as derived in analytic.hpp: its largest value over [wmin, wmax], as the paper's
@@ -216,9 +217,9 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     switch (result.status) {
         case OptimizeStatus::converged: break;
         case OptimizeStatus::at_bound:
-        case OptimizeStatus::budget: verdict.warning(joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name())); break;
+        case OptimizeStatus::budget: verdict.warning(summary_line); break;
         case OptimizeStatus::unbounded:
-        case OptimizeStatus::failed: verdict.error(joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name())); break;
+        case OptimizeStatus::failed: verdict.error(summary_line); break;
     }
     if (joint && joint_result.inner[joint_result.best].status != OptimizeStatus::converged)
         verdict.warning("the search in mu at the best wa did not converge: " +
@@ -362,7 +363,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     out.commit();
     if (summary) summary->commit();
     if (!o.quiet && isatty(STDERR_FILENO))
-        std::cerr << "hbf optimize: " << (joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name())) << "\n";
+        std::cerr << "hbf optimize: " << summary_line << "\n";
     return verdict.finish();
 }
 }  // namespace

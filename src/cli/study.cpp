@@ -65,6 +65,7 @@ StudyParameter::StudyParameter(const std::string& flag, const std::string& name,
             throw UsageError(contact_flag + " = " + contact + " is out of range: allowed 1.." + std::to_string(contacts) +
                              (contacts == 0 ? " (the system has no contact)" : ""));
         contact_ = static_cast<int>(n - 1);
+        uses_contact_ = true;
         const Contact& c = chosen.system.contacts[static_cast<std::size_t>(contact_)];
         if (!key->laws.empty() && std::find(key->laws.begin(), key->laws.end(), c.law) == key->laws.end())
             throw UsageError(flag + " = " + name + " does not apply to contact " + std::to_string(n) + " (law " +

@@ -28,6 +28,8 @@ public:
     /// range (the message names the parameter).
     System system(double value) const;
     bool preset() const { return !chosen_.config.has_value(); }
+    /// Whether the parameter belongs to the contact --contact (mu, contact.KEY of --config).
+    bool uses_contact() const { return uses_contact_; }
     /// The same parameter on the preset with its tuning ratio set to wa (the joint search of
     /// hbf optimize --param mu,wa). Preset only.
     StudyParameter with_tuning(double wa) const;
@@ -38,6 +40,7 @@ private:
     ChosenSystem chosen_;
     FrictionLaw law_ = FrictionLaw::coulomb;
     int contact_ = 0;
+    bool uses_contact_ = false;
     double current_ = 0;
 };
 
