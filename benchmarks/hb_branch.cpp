@@ -13,6 +13,10 @@
 // program, re-executed): glibc adapts its thresholds to the blocks a process has freed, so a
 // second branch in the same process is already fast (measured: 444,000 faults and 8.5 s for
 // the first branch of a process, 1,500 and 2.6 s for the next one).
+// For the smooth laws (dahl, lugre, coulomb-reg), per H: the cost of stability per branch
+// point (stability.hpp), a bare Hill eigenproblem (d (2H + 1) square, the sorted selection)
+// against the monodromy route (the variational equation over one period by CVODE), each as a
+// ratio to the branch's own time per point, all in this process.
 // The last line is one JSON object with all figures. Run by hand: `build/benchmarks/hb_branch`.
 #include <CLI/CLI.hpp>
 #include <Eigen/LU>
@@ -30,6 +34,7 @@
 
 #include "hbf/continuation.hpp"
 #include "hbf/memory.hpp"
+#include "hbf/stability.hpp"
 
 using namespace hbf;
 
@@ -313,6 +318,47 @@ int main(int argc, char** argv) {
     std::printf("\n(ratio = Ceres corrector time / bare Newton-LU time on the same %s corrections)\n",
                 "predicted");
     nlohmann::json result{{"cases", cases}};
+    if (law == FrictionLaw::dahl || law == FrictionLaw::lugre || law == FrictionLaw::coulomb_regularized) {
+        std::printf("\nstability per branch point (every point of the branch; fastest of %d runs):\n%4s %6s %7s %12s "
+                    "%12s %12s %10s %10s %9s\n",
+                    repeats, "H", "d(2H+1)", "points", "branch [ms]", "Hill [ms]", "monodromy [ms]", "Hill/pt",
+                    "mono/pt", "mono/Hill");
+        nlohmann::json stability = nlohmann::json::array();
+        for (int h : harmonics) {
+            HarmonicBalance hb(friction_absorber(p, law), {h, 0});
+            double branch_s = 1e300, hill_s = 1e300, mono_s = 1e300;
+            BranchResult b;
+            for (int k = 0; k < repeats; ++k) {
+                const auto t0 = std::chrono::steady_clock::now();
+                b = continue_branch(hb, o);
+                branch_s = std::min(branch_s, seconds_since(t0));
+            }
+            StabilityAnalyser analyse(hb);
+            int size = 0;
+            for (int k = 0; k < repeats; ++k) {
+                auto t0 = std::chrono::steady_clock::now();
+                for (const SolutionPoint& q : b.points) size = static_cast<int>(analyse.hill(q).size());
+                hill_s = std::min(hill_s, seconds_since(t0));
+                t0 = std::chrono::steady_clock::now();
+                for (const SolutionPoint& q : b.points) analyse.monodromy(q);
+                mono_s = std::min(mono_s, seconds_since(t0));
+            }
+            const double n = static_cast<double>(b.points.size());
+            const int hill_size = size * (2 * h + 1);
+            std::printf("%4d %6d %7zu %12.3f %12.3f %12.3f %10.2f %10.2f %9.2f\n", h, hill_size, b.points.size(),
+                        1e3 * branch_s / n, 1e3 * hill_s / n, 1e3 * mono_s / n, hill_s / branch_s, mono_s / branch_s,
+                        mono_s / hill_s);
+            stability.push_back({{"harmonics", h},
+                                 {"hill_size", hill_size},
+                                 {"points", b.points.size()},
+                                 {"branch_ms_per_point", 1e3 * branch_s / n},
+                                 {"hill_ms_per_point", 1e3 * hill_s / n},
+                                 {"monodromy_ms_per_point", 1e3 * mono_s / n},
+                                 {"monodromy_over_hill", mono_s / hill_s}});
+        }
+        std::printf("(Hill/pt, mono/pt: stability time over the branch's own time, i.e. the factor it adds to an FRF)\n");
+        result["stability"] = stability;
+    }
     if (allocator_harmonics > 0) {
         // Each variant in a fresh process: this program with the same branch options.
         auto fresh = [&](const std::string& variant) {

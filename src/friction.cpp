@@ -309,6 +309,39 @@ private:
 
 }  // namespace
 
+LocalLinearization linearize(const Contact& contact, double v, double z) {
+    LocalLinearization l;
+    switch (contact.law) {
+        case FrictionLaw::coulomb_regularized: {
+            const double t = std::tanh(v / contact.regularization);
+            l.f_v = contact.friction_limit * (1.0 - t * t) / contact.regularization;
+            return l;
+        }
+        case FrictionLaw::dahl:
+        case FrictionLaw::lugre: {
+            const bool lugre = contact.law == FrictionLaw::lugre;
+            const double s0 = contact.stiffness, s1 = lugre ? contact.damping : 0.0, s2 = lugre ? contact.viscous : 0.0;
+            double g = contact.friction_limit, dg = 0.0;
+            if (lugre && contact.stribeck_velocity > 0.0 && contact.static_limit > 0.0 &&
+                contact.static_limit != contact.friction_limit) {
+                const double x = v / contact.stribeck_velocity, e = std::exp(-x * x);
+                g += (contact.static_limit - contact.friction_limit) * e;
+                dg = (contact.static_limit - contact.friction_limit) * e * (-2.0 * x / contact.stribeck_velocity);
+            }
+            const double sign = v > 0.0 ? 1.0 : v < 0.0 ? -1.0 : 0.0;
+            l.g_v = 1.0 - s0 * z * (sign * g - std::abs(v) * dg) / (g * g);
+            l.g_z = -s0 * std::abs(v) / g;
+            l.f_v = s1 * l.g_v + s2;
+            l.f_z = s0 + s1 * l.g_z;
+            return l;
+        }
+        case FrictionLaw::coulomb:
+        case FrictionLaw::jenkins: break;
+    }
+    throw InvalidInput("law = " + to_string(contact.law) +
+                       " has no local linearisation: allowed dahl, lugre, coulomb-reg (smooth laws)");
+}
+
 std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact) {
     switch (contact.law) {
         case FrictionLaw::coulomb_regularized: return std::make_unique<RegularizedCoulomb>(contact);

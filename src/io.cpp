@@ -288,7 +288,7 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
                    "contacts"},
         {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
         {"branch", "branch number: 1, 2 for the branch restarted from wmax after an amplitude cap, 3 for the branch between two capped resonances"},
-        {"point", "regular, fold (dw/ds changed sign), transition (located boundary between stick and stick-slip "
+        {"point", "regular, fold (located where the tangent's w-component is zero: dR/dX singular, a real turn of the branch in w), transition (located boundary between stick and stick-slip "
                   "or between stick-slip and slip, contact 1), cap (the amplitude bound passed --max-amplitude here: "
                   "an unbounded resonance, the branch stops; its largest point) or sample (solved exactly at an --at "
                   "frequency)"},
@@ -298,14 +298,18 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
         {"exact", "yes: the row is the event-exact periodic orbit at w (Newton shooting with exact stick/slip "
                   "events; coulomb and jenkins), its metrics replace HB's; failed: the exact solver did not "
                   "converge here, the row keeps the HB values; off: plain harmonic balance (--exact off or another law)"},
-        {"stable", "true/false from the exact orbit's Floquet multipliers (stable: all |multiplier| <= 1 + 1e-6); "
-                   "empty unless exact = yes"},
+        {"stable", "Floquet stability of the periodic solution: true (every |multiplier| <= 1 + 1e-6), false "
+                   "(unstable: a small perturbation grows), uncertain (the two routes of --stability disagree, or "
+                   "the exact solver did not reproduce the HB orbit); from the exact orbit where exact = yes, from "
+                   "--stability otherwise (empty without it)"},
         {"hb_gap", "|y_max by HB - y_max exact| / y_max exact of the first reported output: harmonic balance's own "
                    "error at this point; empty unless exact = yes (and an HB solution exists at this w)"},
         {"energy_error", "energy balance of the harmonic-balance solution: |input work - viscous energy - friction "
                          "energy| per cycle, relative to max(pi h |F| |Y_h|, input work, viscous + |friction|) (pi h "
                          "|F| |Y_h|: the work the force could do on the response's harmonic h); above max(1e-6, 100 "
                          "--tolerance) the point is suspect (a warning, exit code 3)"},
+        {"stability_margin", "largest |Floquet multiplier| of the point (> 1: unstable; from the monodromy matrix, "
+                             "else Hill's sorted exponents, else the exact orbit); empty where not computed"},
     };
     columns.insert(columns.end(), rest.begin(), rest.end());
     return columns;
@@ -313,7 +317,7 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
 
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
                    const std::vector<PointMetrics>& metrics, const std::vector<Output>& outputs,
-                   const std::vector<ExactPoint>& exact) {
+                   const std::vector<ExactPoint>& exact, const BranchStability* stability) {
     const auto columns = frf_columns(outputs);
     for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
     out << '\n';
@@ -327,14 +331,21 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
             << p.branch << ',' << to_string(p.kind) << ',' << p.iterations
             << ',' << format_number(p.residual) << ','
             << format_number(p.step) << ',';
+        const FloquetResult* floquet = stability && k < stability->points.size() ? &stability->points[k] : nullptr;
         if (k < exact.size() && exact[k].status == PolishStatus::exact) {
             const ExactPoint& e = exact[k];
-            out << "yes," << (e.stable ? "true" : "false") << ','
+            out << "yes," << (floquet ? to_string(floquet->stability) : e.stable ? "true" : "false") << ','
                 << (std::isfinite(e.hb_gap) ? format_number(e.hb_gap) : std::string());
         } else {
-            out << (k < exact.size() ? to_string(exact[k].status) : std::string("off")) << ",,";
+            out << (k < exact.size() ? to_string(exact[k].status) : std::string("off")) << ','
+                << (floquet ? to_string(floquet->stability) : std::string()) << ',';
         }
-        out << ',' << format_number(m.energy_error) << '\n';
+        out << ',' << format_number(m.energy_error) << ',';
+        if (k < exact.size() && exact[k].status == PolishStatus::exact && !floquet)
+            out << format_number(exact[k].max_multiplier);
+        else if (floquet && std::isfinite(floquet->margin))
+            out << format_number(floquet->margin);
+        out << '\n';
     }
 }
 
@@ -392,7 +403,8 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<PointMetrics>& metrics_in, const std::vector<Peak>& peaks,
                        std::size_t samples, double wall_seconds, const std::vector<Output>& outputs,
                        const PolishedBranch* polish, const std::vector<std::string>& errors,
-                       const std::vector<std::string>& warnings, const std::vector<std::string>& notes) {
+                       const std::vector<std::string>& warnings, const std::vector<std::string>& notes,
+                       const BranchStability* stability) {
     using nlohmann::json;
     json j;
     j["parameters"] = {{"law", law}};
@@ -462,6 +474,25 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                       {"seconds", polish->seconds}};
     } else {
         j["exact"] = {{"enabled", false}};
+    }
+    if (stability) {
+        json intervals = json::array(), bifurcations = json::array();
+        for (const BranchStability::Interval& i : stability->unstable)
+            intervals.push_back({{"w_from", i.omega_from}, {"w_to", i.omega_to}, {"branch", i.branch}});
+        for (const BranchStability::Bifurcation& b : stability->bifurcations)
+            bifurcations.push_back({{"kind", b.kind}, {"w", b.omega}, {"branch", b.branch}});
+        j["stability"] = {{"enabled", true},
+                          {"stable", stability->stable},
+                          {"unstable", stability->unstable_points},
+                          {"uncertain", stability->uncertain},
+                          {"not_computed", stability->not_computed},
+                          {"unstable_intervals", intervals},
+                          {"bifurcations", bifurcations},
+                          {"both_routes_confident", stability->both_confident},
+                          {"sorting_disagreements", stability->sorting_disagreements},
+                          {"seconds", stability->seconds}};
+    } else {
+        j["stability"] = {{"enabled", false}};
     }
     j["peaks"] = peak_list;
     j["folds"] = folds;

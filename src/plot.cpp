@@ -150,11 +150,11 @@ void write_plot(const std::string& path, const PlotSpec& spec) {
 
 PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics, int dof,
                   const std::string& title) {
-    return frf_plot(points, metrics, Output::dof(dof), -1, title);
+    return frf_plot(points, metrics, Output::dof(dof), -1, nullptr, title);
 }
 
 PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
-                  const Output& output, int index, const std::string& title) {
+                  const Output& output, int index, const BranchStability* stability, const std::string& title) {
     PlotSpec spec;
     spec.title = title;
     spec.xlabel = "w";
@@ -165,24 +165,61 @@ PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<Po
     PlotCurve transitions{"stick-slip transitions", {}, {}, PlotCurve::Style::markers, 6};
     PlotCurve samples{"samples (--at)", {}, {}, PlotCurve::Style::markers, 2};
     PlotCurve caps{"amplitude cap: unbounded resonance, the branch stops", {}, {}, PlotCurve::Style::markers, 5};
+    PlotCurve unstable{"unstable (Floquet: a perturbation grows)", {}, {}, PlotCurve::Style::dashed, 7};
+    PlotCurve uncertain{"stability uncertain", {}, {}, PlotCurve::Style::markers, 12};
+    if (stability) branch.title = "harmonic balance, stable (branch in order)";
     const double NaN = std::nan("");
+    auto value_at = [&](std::size_t k) {
+        return index >= 0 ? metrics[k].output_max[static_cast<std::size_t>(index)]
+                          : metrics[k].y_max[static_cast<std::size_t>(dof)];
+    };
+    auto is_unstable = [&](std::size_t k) {
+        return stability && k < stability->points.size() && stability->points[k].stability == Stability::unstable;
+    };
+    // A segment of the branch in one style: continues the curve's last piece if it ends there.
+    auto segment = [&](PlotCurve& c, double x0, double y0, double x1, double y1) {
+        if (c.x.empty() || c.x.back() != x0 || c.y.back() != y0) {
+            if (!c.x.empty()) {
+                c.x.push_back(NaN);
+                c.y.push_back(NaN);
+            }
+            c.x.push_back(x0);
+            c.y.push_back(y0);
+        }
+        c.x.push_back(x1);
+        c.y.push_back(y1);
+    };
     int last_branch = 0;
+    std::size_t last = 0;
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
-        const double value = index >= 0 ? metrics[k].output_max[static_cast<std::size_t>(index)]
-                                        : metrics[k].y_max[static_cast<std::size_t>(dof)];
+        const double value = value_at(k);
         if (p.kind == PointKind::sample) {
             samples.x.push_back(p.omega);
             samples.y.push_back(value);
             continue;
         }
-        if (last_branch != 0 && p.branch != last_branch) {  // break the line between branches
-            branch.x.push_back(NaN);
-            branch.y.push_back(NaN);
+        if (stability && k < stability->points.size() && stability->points[k].stability == Stability::uncertain) {
+            uncertain.x.push_back(p.omega);
+            uncertain.y.push_back(value);
+        }
+        if (last_branch == p.branch) {
+            const double x0 = points[last].omega, y0 = value_at(last);
+            PlotCurve& from = is_unstable(last) ? unstable : branch;
+            PlotCurve& to = is_unstable(k) ? unstable : branch;
+            if (&from == &to) {
+                segment(from, x0, y0, p.omega, value);
+            } else {  // the style changes at the segment's middle
+                const double xm = 0.5 * (x0 + p.omega), ym = 0.5 * (y0 + value);
+                segment(from, x0, y0, xm, ym);
+                segment(to, xm, ym, p.omega, value);
+            }
+        } else if (k + 1 == points.size() || points[k + 1].branch != p.branch ||
+                   points[k + 1].kind == PointKind::sample) {
+            segment(is_unstable(k) ? unstable : branch, p.omega, value, p.omega, value);  // a lone point
         }
         last_branch = p.branch;
-        branch.x.push_back(p.omega);
-        branch.y.push_back(value);
+        last = k;
         if (p.kind == PointKind::fold) {
             folds.x.push_back(p.omega);
             folds.y.push_back(value);
@@ -195,6 +232,10 @@ PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<Po
         }
     }
     spec.curves = {branch, folds, transitions, samples, caps};
+    if (stability) {
+        spec.curves.push_back(unstable);
+        spec.curves.push_back(uncertain);
+    }
     return spec;
 }
 

@@ -204,7 +204,7 @@ TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "
     const std::vector<std::string> header = {"w",      "y1_max", "y2_max",     "y1_amp1",  "y2_amp1",
                                              "stick_fraction", "regime", "energy", "branch", "point",
                                              "iterations", "residual", "step", "exact", "stable", "hb_gap",
-                                             "energy_error"};
+                                             "energy_error", "stability_margin"};
     CHECK(rows[0] == header);
     CHECK(std::stod(rows[1][0]) == 0.6);
     int samples = 0;
@@ -363,12 +363,14 @@ TEST_CASE("hbf frf polishes coulomb by default: exact rows, stability, HB gap, a
     REQUIRE(r.exit_code == 0);
     const auto rows = parse_csv(slurp(csv));
     REQUIRE(rows.size() > 10);
-    REQUIRE(rows[0].size() == 17);
+    REQUIRE(rows[0].size() == 18);
     CHECK(rows[0][13] == "exact");
+    CHECK(rows[0][17] == "stability_margin");
     double largest_gap = 0;
     for (std::size_t k = 1; k < rows.size(); ++k) {
         CHECK(rows[k][13] == "yes");
         CHECK(rows[k][14] == "true");
+        CHECK(std::stod(rows[k][17]) <= 1.0 + 1e-6);  // the exact orbit's largest |multiplier|
         largest_gap = std::max(largest_gap, std::stod(rows[k][15]));
     }
     // HB at H = 10 is visibly off at some points (the 1/H error of exact Coulomb), a few percent.

@@ -17,6 +17,7 @@
 
 #include "hbf/continuation.hpp"
 #include "hbf/exact_polish.hpp"
+#include "hbf/stability.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 
@@ -37,6 +38,11 @@ struct FrfSettings {
     /// Locate and refine the peaks (of outputs[0]; of every output with peaks_of_every_output).
     bool peaks = true;
     bool peaks_of_every_output = false;
+    /// Floquet stability of every point (stability.hpp): Hill and/or the monodromy for the
+    /// smooth laws, the event-exact solver for coulomb and jenkins (the polish's verdicts
+    /// when it ran).
+    bool stability = false;
+    StabilityOptions stability_options;
 };
 
 /// What the largest peak of an FRF means.
@@ -68,6 +74,7 @@ struct FrfResult {
     std::optional<PolishedBranch> polish;   ///< with the polish
     std::vector<Peak> peaks;                ///< with FrfSettings::peaks
     std::vector<double> missed;             ///< `at` frequencies without a solution
+    std::optional<BranchStability> stability;  ///< with FrfSettings::stability (one per point)
     PeakValue peak;                         ///< the largest peak of outputs[0]
     double seconds = 0;                     ///< wall time of compute_frf
 };

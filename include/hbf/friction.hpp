@@ -91,6 +91,23 @@ public:
                                             const Eigen::VectorXd& z) const = 0;
 };
 
+/// A smooth law's local linearisation at one instant, in time t (not tau): the force
+/// f(v, z) and the state rate z' = g(v, z) (v = q', z the internal state; model.hpp) moved by
+/// small changes of v and z (no smooth law here depends on q itself):
+///   df = f_v dv + f_z dz,   d(z') = g_v dv + g_z dz.
+///   dahl, lugre: z' = v - sigma0 |v| z / g(v), f = sigma0 z + sigma1 z' + sigma2 v, so
+///                g_v = 1 - sigma0 z (sign(v) g - |v| g') / g^2, g_z = -sigma0 |v| / g,
+///                f_v = sigma1 g_v + sigma2, f_z = sigma0 + sigma1 g_z
+///                (at v = 0 the one-sided slopes of |v| differ; sign(0) = 0 takes their mean);
+///   coulomb-reg: f = F_c tanh(v / eps): f_v = F_c (1 - tanh^2) / eps, no state.
+/// The stability analysis (stability.hpp) builds the variational equations from it.
+struct LocalLinearization {
+    double f_v = 0, f_z = 0, g_v = 0, g_z = 0;
+};
+/// The linearisation above at (v, z) for a dahl, lugre or coulomb-reg contact; throws
+/// InvalidInput for coulomb and jenkins (set-valued or hysteretic: not differentiable).
+LocalLinearization linearize(const Contact& contact, double v, double z);
+
 /// The model for a contact's law. Throws InvalidInput for invalid parameters (exact Coulomb:
 /// lagrangian_penalty must be > 0; HarmonicBalance fills in the automatic value).
 std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact);

@@ -10,6 +10,7 @@
 #include "hbf/analytic.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/exact_polish.hpp"
+#include "hbf/stability.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf::io {
@@ -84,7 +85,7 @@ std::vector<Column> frf_columns(int dofs);
 /// polish, the columns exact = off, stable and hb_gap empty).
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
                    const std::vector<PointMetrics>& metrics, const std::vector<Output>& outputs,
-                   const std::vector<ExactPoint>& exact = {});
+                   const std::vector<ExactPoint>& exact = {}, const BranchStability* stability = nullptr);
 
 /// Columns of `hbf timeint` for a system with `dofs` DOFs: the `hbf frf` columns that apply
 /// (w, y<i>_max, y<i>_amp1, stick_fraction, regime, energy), then periods, converged and the
@@ -108,13 +109,16 @@ void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& r
 /// message and wall time.
 /// `metrics[k]` belongs to `branch.points[k]`; `samples` counts the --at rows. With `polish`
 /// (the exact polish of the branch), folds and transitions are read from its points and
-/// metrics, and an "exact" object reports the polish (counts, largest HB gap, time).
+/// metrics, and an "exact" object reports the polish (counts, largest HB gap, time). With
+/// `stability` (one result per point), a "stability" object gives the counts, the unstable
+/// intervals (w_from, w_to, branch) and the bifurcations (kind, w, branch).
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics, const std::vector<Peak>& peaks, std::size_t samples,
                        double wall_seconds, const std::vector<Output>& outputs,
                        const PolishedBranch* polish = nullptr, const std::vector<std::string>& errors = {},
                        const std::vector<std::string>& warnings = {},
-                       const std::vector<std::string>& notes = {});
+                       const std::vector<std::string>& notes = {},
+                       const BranchStability* stability = nullptr);
 
 }  // namespace hbf::io

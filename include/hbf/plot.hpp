@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hbf/continuation.hpp"
+#include "hbf/stability.hpp"
 
 namespace hbf::io {
 
@@ -48,8 +49,10 @@ void write_plot(const std::string& path, const PlotSpec& spec);
 PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics, int dof,
                   const std::string& title);
 /// The same for an output: metrics[k].output_max[index], or, with index < 0, y_max of the
-/// output's single DOF (model.hpp).
+/// output's single DOF (model.hpp). With `stability` (one verdict per point), the branch is
+/// drawn solid where stable and dashed where unstable (a segment between a stable and an
+/// unstable point changes style at its middle), and uncertain verdicts are marked.
 PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
-                  const Output& output, int index, const std::string& title);
+                  const Output& output, int index, const BranchStability* stability, const std::string& title);
 
 }  // namespace hbf::io

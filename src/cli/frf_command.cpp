@@ -110,7 +110,8 @@ int run(const CLI::App& command, const FrfOptions& o) {
         overlay = sweep(system, grid, tio, &start);
     }
     io::OutputFile out(o.out);
-    io::write_frf_csv(out.stream(), points, metrics, outputs, frf.exact);
+    const BranchStability* stability = frf.stability ? &*frf.stability : nullptr;
+    io::write_frf_csv(out.stream(), points, metrics, outputs, frf.exact, stability);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     // Everything that makes the result failed (exit 1) or incomplete/doubtful (exit 3); said on
     // stderr after the files are committed, and in the JSON summary.
@@ -136,6 +137,14 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (unrefined > 0)
         verdict.note(std::to_string(unrefined) + " peak(s) not refined (at a fold, or a solve failed): the JSON "
                      "gives the branch point (refined = false)");
+    if (stability && (stability->uncertain > 0 || stability->not_computed > 0)) {
+        std::string example;
+        for (std::size_t k = 0; k < stability->points.size() && example.empty(); ++k)
+            if (!stability->points[k].message.empty())
+                example = "; e.g. at w = " + format_number(points[k].omega) + ": " + stability->points[k].message;
+        verdict.note(stability->summary() + ": the points with stable = uncertain (or empty) have no verdict" +
+                     example);
+    }
     // An --at frequency without a row is a failure too.
     for (double w : missed)
         verdict.error("--at w = " + format_number(w) + ": no solution written (outside the computed branch, or the "
@@ -172,7 +181,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         summary = std::make_unique<io::OutputFile>(o.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
                               outputs, polish ? &*polish : nullptr, verdict.errors(), verdict.warnings(),
-                              verdict.notes());
+                              verdict.notes(), stability);
     }
     std::unique_ptr<io::OutputFile> overlay_file;
     if (!overlay.empty()) {
@@ -180,7 +189,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         io::write_timeint_csv(overlay_file->stream(), overlay, outputs);
     }
     if (!o.plot.empty()) {
-        io::PlotSpec spec = io::frf_plot(points, metrics, outputs.front(), 0,
+        io::PlotSpec spec = io::frf_plot(points, metrics, outputs.front(), 0, stability,
                                          "hbf frf: " + law_name + ", H = " + std::to_string(hb.harmonics()) +
                                              (hb.odd_harmonics() ? " (odd only)" : "") +
                                              (hb.load_harmonic() == 1
@@ -207,6 +216,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const bool verbose = !o.quiet && isatty(STDERR_FILENO);
     if (verbose && verdict.errors().empty() && branch.status == ContinuationStatus::completed)
         std::cerr << "hbf frf: " << branch.summary() << " in " << format_number(seconds) << " s\n";
+    if (stability && verbose) std::cerr << "hbf frf: " << stability->summary() << "\n";
     if (polish && polish->failed == 0 && (verbose || branch.status != ContinuationStatus::completed))
         std::cerr << "hbf frf: note: " << polish->summary() << " (the transitions are the exact solver's)\n";
     return verdict.finish();

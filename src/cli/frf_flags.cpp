@@ -80,6 +80,15 @@ void FrfFlags::add_to(CLI::App& command) {
                        "Jenkins element) and a force at harmonic 1, off otherwise (the exact solver is dense); on "
                        "where it does not apply is an error naming why]")
         ->type_name("on|off");
+    command.add_option("--stability", stability,
+                       "Floquet stability of every point (columns stable, stability_margin; unstable intervals and "
+                       "bifurcations in the --summary; unstable parts dashed on the --plot). dahl, lugre, "
+                       "coulomb-reg: hill (Hill's matrix of the variational equation on the HB harmonics, the d "
+                       "exponents with the smallest |Im| kept: the classical sorted selection), monodromy (the "
+                       "variational equation integrated over one period by CVODE: no sorting), both or on (both; "
+                       "uncertain where they disagree); coulomb, jenkins: any value but off takes the event-exact "
+                       "orbit's multipliers (the polish's, when it runs). Needs M positive definite")
+        ->capture_default_str()->type_name("off|on|hill|monodromy|both");
 }
 
 FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) const {
@@ -125,6 +134,16 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
     // With the polish, HB's own transitions (O(1/H) misplaced) are not needed: the exact
     // ones replace them.
     if (s.exact) co.locate_transitions = false;
+    if (stability != "off") {
+        try {
+            s.stability_options.method = parse_stability_method(stability == "on" ? "both" : stability);
+        } catch (const InvalidInput&) {
+            throw UsageError("--stability = '" + stability + "' is not known: allowed off, on, hill, monodromy, both");
+        }
+        const std::string refusal = stability_refusal(system);
+        if (!refusal.empty()) throw UsageError("--stability " + stability + ": " + refusal);
+        s.stability = true;
+    }
     return s;
 }
 

@@ -14,10 +14,10 @@ namespace hbf::cli {
 struct FrfFlags {
     std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000",
                 max_step = "1", tolerance = "1e-9", formulation = "automatic", modes = "0";
-    std::string exact, config;
+    std::string exact, config, stability = "off";
 
     /// Adds --wmin --wmax --harmonics --modes --formulation --time-samples --max-amplitude
-    /// --max-step --tolerance --config --exact.
+    /// --max-step --tolerance --config --exact --stability.
     void add_to(CLI::App& command);
     /// The settings of one FRF of the chosen system, every flag checked (UsageError names it);
     /// a --config file's range and [solver] apply where the flags are not given. With the exact

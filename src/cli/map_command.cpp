@@ -44,7 +44,8 @@ double number_from(const json& j) { return j.is_number() ? j.get<double>() : std
 /// and the two leading columns), the summary, and the curve of outputs[0] for the picture.
 json record(int index, double value, const FrfResult& r, const std::vector<Output>& outputs) {
     std::ostringstream csv;
-    if (!r.points.empty()) io::write_frf_csv(csv, r.points, r.metrics, outputs, r.exact);
+    if (!r.points.empty())
+        io::write_frf_csv(csv, r.points, r.metrics, outputs, r.exact, r.stability ? &*r.stability : nullptr);
     std::string rows = csv.str();
     rows = rows.substr(std::min(rows.size(), rows.find('\n') == std::string::npos ? rows.size() : rows.find('\n') + 1));
     json w = json::array(), y = json::array();

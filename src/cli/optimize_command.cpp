@@ -109,6 +109,8 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         if (parameter.preset() && (joint || o.param == name) && given(command, ("--" + name).c_str()))
             throw UsageError("--" + name + " is what hbf optimize finds: drop it (its range is " +
                              (name == "wa" && joint ? "--wa-range" : "--range") + ")");
+    if (given(command, "--stability") && o.frf.stability != "off")
+        throw UsageError("--stability applies to hbf frf and hbf map (their CSV rows): the optimizer reports peaks only");
     FrfSettings settings = o.frf.settings(command, chosen);
     settings.peaks = true;
     OptimizeOptions oo;
