@@ -47,6 +47,8 @@ std::string BranchResult::summary() const {
     const auto folds = std::count_if(points.begin(), points.end(), [](const SolutionPoint& p) { return p.kind == PointKind::fold; });
     s << to_string(status) << ": " << points.size() << " points, " << folds << " folds, " << transitions
       << " stick-slip transitions";
+    if (unconfirmed_folds > 0)
+        s << " (" << unconfirmed_folds << " sign change(s) of dw/ds without a real turn in w not counted as folds)";
     if (!message.empty()) s << "; " << message;
     return s.str();
 }
@@ -519,6 +521,110 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
         result.message += (result.message.empty() ? "" : "; ") + std::to_string(lost) +
                           " stick-slip transition(s) not located (correction failed): " + where;
 }
+
+/// Locates the fold marked at b (the tangent's omega-component changed sign between a and b)
+/// on the chord between them: the test function is g = t_omega, the omega-component of the unit
+/// tangent, i.e. the last unknown of the bordered system [dR/dX, dR/domega; chord^T] t = e
+/// (branch_tangent), oriented along the chord; it is zero exactly where dR/dX is singular. Each
+/// trial point is corrected onto the branch on the hyperplane normal to the chord; the bracket
+/// shrinks by regula falsi (Illinois), to 1e-12 of the chord. On a piecewise-smooth branch g
+/// may jump through zero at a corner instead (a fold of the HB equations at a kink: Dahl's |v|
+/// at a sample, a stick/slip switch): the bracket then closes on the corner, which is the fold.
+/// Returns false when a correction fails, or when the turn is not real: omega at the located
+/// point must exceed (or fall below) omega at both a and b by more than 1e-10 omega, not just
+/// by rounding (on nearly vertical segments, where omega is constant to ~1e-12, the sign of
+/// t_omega is noise).
+bool locate_fold(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, const SolutionPoint& a,
+                 const SolutionPoint& b, double omega_scale, SolutionPoint& out) {
+    const int n = hb.unknowns();
+    const double x_scale = std::max(hb.unknown_scale(a.x), hb.unknown_scale(b.x));
+    Eigen::VectorXd chord(n + 1);
+    chord.head(n) = (b.x - a.x) / x_scale;
+    chord(n) = (b.omega - a.omega) / omega_scale;
+    const double length = chord.norm();
+    if (!(length > 0.0)) return false;
+    chord /= length;
+    auto g = [&](const SolutionPoint& p) { return branch_tangent(hb, p.x, p.omega, x_scale, chord, omega_scale)(n); };
+    double t_lo = 0.0, t_hi = 1.0, g_lo = g(a), g_hi = g(b);
+    if (!(g_lo * g_hi < 0.0)) return false;
+    const bool towards_larger = g_lo > 0.0;  // omega grows from a: a turn at a largest omega
+    SolutionPoint lo = a, hi = b;
+    SolutionPoint best = std::abs(g_lo) < std::abs(g_hi) ? a : b;
+    double g_best = std::min(std::abs(g_lo), std::abs(g_hi));
+    int kept = 0;  // Illinois: +1 after moving the low end, -1 after the high end
+    for (int iteration = 0; iteration < 60 && (t_hi - t_lo) > 1e-12; ++iteration) {
+        double t = (t_lo * g_hi - t_hi * g_lo) / (g_hi - g_lo);
+        if (!(t > t_lo && t < t_hi)) t = 0.5 * (t_lo + t_hi);
+        SolutionPoint m = a;
+        bool corrected = false;
+        for (Corrector* c : {&corrector, &patient}) {
+            m.x = a.x + t * (b.x - a.x);
+            m.omega = a.omega + t * (b.omega - a.omega);
+            if ((corrected = c->correct(m.x, m.omega, chord, x_scale, m.iterations, m.residual, omega_scale))) break;
+        }
+        if (!corrected) return false;
+        const double gm = g(m);
+        if (std::abs(gm) < g_best) {
+            g_best = std::abs(gm);
+            best = m;
+        }
+        if (gm == 0.0) break;
+        if ((gm < 0.0) == (g_hi < 0.0)) {
+            t_hi = t;
+            g_hi = gm;
+            hi = m;
+            if (kept == -1) g_lo *= 0.5;  // the low end kept twice: halve its value
+            kept = -1;
+        } else {
+            t_lo = t;
+            g_lo = gm;
+            lo = m;
+            if (kept == 1) g_hi *= 0.5;
+            kept = 1;
+        }
+    }
+    // A corner: g jumps through zero (a time sample's |v| or stick/slip switching makes the HB
+    // residual piecewise smooth) and the bracket closed on it without a small g: the turn is
+    // at the corner, the end of the final bracket with the extreme omega.
+    if (g_best > 1e-9) best = (hi.omega > lo.omega) == towards_larger ? hi : lo;
+    const double up_a = best.omega - a.omega, up_b = best.omega - b.omega;
+    const bool extremal = (up_a > 0.0 && up_b > 0.0) || (up_a < 0.0 && up_b < 0.0);
+    if (!extremal || std::max(std::abs(up_a), std::abs(up_b)) <= 1e-10 * std::abs(best.omega)) return false;
+    out = best;
+    out.kind = PointKind::fold;
+    out.step = 0.0;
+    out.branch = a.branch;
+    return true;
+}
+
+/// Replaces each fold marked during the continuation (the point after the tangent's
+/// omega-component changed sign) by the located fold inserted before it (locate_fold); a
+/// sign change that is not a real turn in omega is unmarked. Counts in `result`.
+void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options, double omega_scale,
+                  BranchResult& result) {
+    CorrectorOptions patient_options = options;
+    patient_options.max_iterations = std::max(100, 5 * patient_options.max_iterations);
+    Corrector patient(hb, patient_options);
+    std::vector<SolutionPoint> points;
+    points.reserve(result.points.size() + 8);
+    for (std::size_t k = 0; k < result.points.size(); ++k) {
+        SolutionPoint b = result.points[k];
+        // The last point of a capped trace keeps its mark (the cap stopped it there).
+        const bool last = k + 1 == result.points.size() || result.points[k + 1].branch != b.branch;
+        if (b.kind == PointKind::fold && !last && k > 0 && result.points[k - 1].branch == b.branch) {
+            SolutionPoint fold;
+            b.kind = PointKind::regular;
+            if (locate_fold(hb, corrector, patient, result.points[k - 1], b, omega_scale, fold)) {
+                points.push_back(std::move(fold));
+                ++result.located_folds;
+            } else {
+                ++result.unconfirmed_folds;
+            }
+        }
+        points.push_back(std::move(b));
+    }
+    result.points = std::move(points);
+}
 }  // namespace
 
 void validate(const ContinuationOptions& o) {
@@ -546,6 +652,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     Corrector corrector(hb, o.corrector);
     BranchResult result;
     follow_branches(hb, corrector, o, result);
+    if (o.locate_folds) insert_folds(hb, corrector, o.corrector, frequency_scale(o), result);
     if (o.locate_transitions) insert_transitions(hb, corrector, o.corrector, frequency_scale(o), result);
     result.coverage = branch_coverage(result.points, o.omega_start, o.omega_end);
     result.corrector = corrector.statistics();

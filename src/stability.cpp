@@ -519,7 +519,7 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
             case Stability::uncertain: ++b.uncertain; break;
             case Stability::not_computed: ++b.not_computed; break;
         }
-        if (r.hill_multipliers.size() > 0 && r.monodromy_multipliers.size() > 0 &&
+        if (points[k].kind != PointKind::fold && r.hill_multipliers.size() > 0 && r.monodromy_multipliers.size() > 0 &&
             std::abs(r.hill_margin - 1.0) > options.confidence && std::abs(r.monodromy_margin - 1.0) > options.confidence) {
             ++b.both_confident;
             if ((r.hill_margin > 1.0) != (r.monodromy_margin > 1.0)) ++b.sorting_disagreements;

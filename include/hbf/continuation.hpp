@@ -55,6 +55,10 @@ struct ContinuationOptions {
     int max_points = 5000;        ///< point budget per branch
     double max_amplitude = 1e3;   ///< stop when any max_t |y_i(t)| bound exceeds this
     bool locate_transitions = true;  ///< insert the stick-slip transitions of contact 1 (below)
+    /// Locate each fold (where the tangent's omega-component changes sign) on the branch and
+    /// insert it as the point of kind fold; sign changes without a real turn in omega are not
+    /// folds (continue_branch).
+    bool locate_folds = true;
     bool restart_past_cap = true; ///< after an amplitude cap, start a second branch at omega_end,
                                   ///< and if that caps too, a third in the middle of the gap
                                   ///< between the two caps, followed both ways
@@ -115,6 +119,10 @@ struct BranchResult {
     int corrections = 0;                ///< corrector calls, including failed ones
     int failed_corrections = 0;
     int transitions = 0;                ///< points of kind transition
+    int located_folds = 0;              ///< folds located and inserted (kind fold)
+    int unconfirmed_folds = 0;          ///< sign changes of the tangent's omega-component that are
+                                        ///< not a real turn in omega (noise on a nearly vertical
+                                        ///< segment), or whose location failed: not marked
     int rejected_jumps = 0;             ///< steps whose correction exceeded the step (halved)
     int unlocated_transitions = 0;      ///< regime changes between two points whose boundary
                                         ///< could not be located (named in message)
@@ -166,6 +174,12 @@ Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& J, const Eigen::VectorXd& 
                                const Eigen::VectorXd& previous, double omega_scale = 1.0);
 
 /// Follows the branch from omega_start to omega_end (see the file comment).
+/// Folds (with locate_folds): wherever the tangent's omega-component changes sign between two
+/// successive points, the zero of that component (the last unknown of the bordered tangent
+/// system, zero exactly where dR/dX is singular) is found by regula falsi along the chord (trial
+/// points corrected on the hyperplane normal to it) to 1e-12 of the chord, and inserted as the
+/// point of kind fold, if omega there is beyond omega at both neighbours by more than 1e-10
+/// omega (a real turn); other sign changes are noise and count in unconfirmed_folds.
 /// Stick-slip transitions of contact 1 (with locate_transitions): wherever the regime changes
 /// between two successive points of a branch, the boundary is located by bisection along the
 /// chord between them (each trial point corrected onto the branch on the hyperplane normal to

@@ -140,7 +140,8 @@ struct BranchStability {
     };
     std::vector<Bifurcation> bifurcations;
     int stable = 0, unstable_points = 0, uncertain = 0, not_computed = 0;
-    /// Points where Hill's sorted selection and the monodromy were both confident and disagreed.
+    /// Points where Hill's sorted selection and the monodromy were both confident and disagreed
+    /// (located folds, where a multiplier is 1 by definition, are not counted).
     int sorting_disagreements = 0;
     int both_confident = 0;           ///< points where both routes ran and were confident
     double seconds = 0;
