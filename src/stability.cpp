@@ -199,13 +199,16 @@ private:
 
 void quiet_handler(int, const char*, const char*, char*, void*) {}
 
-/// Phi(T) of ds' = A(t) ds by CVODE (BDF, dense, exact Jacobian), one column at a time.
+/// Phi(T) of ds' = A(t) ds by CVODE (BDF, dense, exact Jacobian). Small systems (d <= 12)
+/// integrate Phi' = A Phi as one system of d^2 states (one step sequence; Jacobian I (x) A),
+/// larger ones one column at a time (d LU factorisations of d x d instead of one of d^2).
 class MonodromyIntegrator {
 public:
-    MonodromyIntegrator(const Variational& v, double tolerance) : v_(v), d_(v.size()) {
+    MonodromyIntegrator(const Variational& v, double tolerance)
+        : v_(v), d_(v.size()), columns_(v.size() <= 12 ? v.size() : 1), length_(d_ * columns_) {
         if (SUNContext_Create(nullptr, &context_) != 0) throw std::runtime_error("SUNContext_Create failed");
-        x_ = N_VNew_Serial(d_, context_);
-        matrix_ = SUNDenseMatrix(d_, d_, context_);
+        x_ = N_VNew_Serial(length_, context_);
+        matrix_ = SUNDenseMatrix(length_, length_, context_);
         linear_ = SUNLinSol_Dense(x_, matrix_, context_);
         cvode_ = CVodeCreate(CV_BDF, context_);
         if (!x_ || !matrix_ || !linear_ || !cvode_) throw std::runtime_error("CVODE allocation failed");
@@ -228,13 +231,14 @@ public:
     MonodromyIntegrator(const MonodromyIntegrator&) = delete;
     MonodromyIntegrator& operator=(const MonodromyIntegrator&) = delete;
 
-    /// False (and `failure`) when CVODE failed on some column.
+    /// False (and `failure`) when CVODE failed.
     bool run(Eigen::MatrixXd& phi, std::string& failure) {
         const double period = 2.0 * M_PI / v_.omega();
         phi.resize(d_, d_);
-        for (int j = 0; j < d_; ++j) {
+        for (int first = 0; first < d_; first += columns_) {
             N_VConst(0.0, x_);
-            N_VGetArrayPointer(x_)[j] = 1.0;
+            Eigen::Map<Eigen::MatrixXd> start(N_VGetArrayPointer(x_), d_, columns_);
+            for (int j = 0; j < columns_; ++j) start(first + j, j) = 1.0;
             check(CVodeReInit(cvode_, 0.0, x_), "CVodeReInit");
             check(CVodeSetStopTime(cvode_, period), "CVodeSetStopTime");
             sunrealtype t = 0.0;
@@ -244,7 +248,7 @@ public:
                           format_number(t) + " of T = " + format_number(period);
                 return false;
             }
-            phi.col(j) = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(x_), d_);
+            phi.middleCols(first, columns_) = Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x_), d_, columns_);
         }
         return true;
     }
@@ -253,15 +257,18 @@ private:
     static int rhs(sunrealtype t, N_Vector x, N_Vector dx, void* data) {
         auto* self = static_cast<MonodromyIntegrator*>(data);
         self->v_.matrix(self->v_.omega() * t, self->a_);
-        Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(dx), self->d_) =
-            self->a_ * Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(x), self->d_);
+        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(dx), self->d_, self->columns_).noalias() =
+            self->a_ * Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x), self->d_, self->columns_);
         return 0;
     }
     static int jacobian(sunrealtype t, N_Vector, N_Vector, SUNMatrix j, void* data, N_Vector, N_Vector, N_Vector) {
         auto* self = static_cast<MonodromyIntegrator*>(data);
         self->v_.matrix(self->v_.omega() * t, self->a_);
-        for (int c = 0; c < self->d_; ++c)
-            Eigen::Map<Eigen::VectorXd>(SUNDenseMatrix_Column(j, c), self->d_) = self->a_.col(c);
+        SUNMatZero(j);
+        const int d = self->d_;
+        for (int b = 0; b < self->columns_; ++b)  // I (x) A: one block of A per column of Phi
+            for (int c = 0; c < d; ++c)
+                Eigen::Map<Eigen::VectorXd>(SUNDenseMatrix_Column(j, b * d + c) + b * d, d) = self->a_.col(c);
         return 0;
     }
     void check(int flag, const char* what) const {
@@ -269,7 +276,7 @@ private:
     }
 
     const Variational& v_;
-    int d_;
+    int d_, columns_, length_;
     Eigen::MatrixXd a_;
     SUNContext context_ = nullptr;
     N_Vector x_ = nullptr;
@@ -490,6 +497,52 @@ Crossings classify(const Eigen::VectorXcd& mu, double tolerance) {
 
 }  // namespace
 
+void find_bifurcations(const std::vector<SolutionPoint>& points, double tolerance, BranchStability& b) {
+    if (b.points.size() != points.size())
+        throw InvalidInput("stability verdicts = " + std::to_string(b.points.size()) +
+                           " do not match the points = " + std::to_string(points.size()) + ": allowed one per point");
+    b.unstable.clear();
+    b.bifurcations.clear();
+    // Unstable intervals and bifurcations along each branch (samples excluded).
+    bool open = false;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const SolutionPoint& p = points[k];
+        if (p.kind == PointKind::sample) continue;
+        const bool unstable = b.points[k].stability == Stability::unstable;
+        if (open && (!unstable || p.branch != b.unstable.back().branch)) open = false;
+        if (unstable) {
+            if (!open) b.unstable.push_back({p.omega, p.omega, p.branch});
+            b.unstable.back().omega_to = p.omega;
+            open = true;
+        }
+    }
+    // Between consecutive points with a verdict (uncertain ones skipped: their multipliers
+    // are in doubt) on one branch.
+    auto certain = [&](std::size_t k) {
+        const Stability s = b.points[k].stability;
+        return points[k].kind != PointKind::sample && b.points[k].multipliers.size() > 0 &&
+               (s == Stability::stable || s == Stability::unstable);
+    };
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        if (!certain(k)) continue;
+        std::size_t next = k + 1;
+        while (next < points.size() && points[next].branch == points[k].branch && !certain(next)) ++next;
+        if (next >= points.size() || !certain(next) || points[next].branch != points[k].branch) continue;
+        const SolutionPoint &p = points[k], &q = points[next];
+        const Eigen::VectorXcd &a = b.points[k].multipliers, &c = b.points[next].multipliers;
+        const Crossings x = classify(a, tolerance), y = classify(c, tolerance);
+        auto add = [&](const char* kind, double ma, double mc) {
+            double omega = p.omega;
+            if (std::abs(mc - ma) > 0.0) omega = p.omega + (1.0 - ma) / (mc - ma) * (q.omega - p.omega);
+            if (!(std::isfinite(omega))) omega = p.omega;
+            b.bifurcations.push_back({k, omega, kind, p.branch});
+        };
+        if (x.positive != y.positive) add("fold", x.positive_max, y.positive_max);
+        if (x.negative != y.negative) add("period-doubling", x.negative_max, y.negative_max);
+        if (x.complex != y.complex) add("neimark-sacker", x.complex_max, y.complex_max);
+    }
+}
+
 BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<SolutionPoint>& points,
                                          const StabilityOptions& options, const std::vector<ExactPoint>* polish) {
     const auto started = std::chrono::steady_clock::now();
@@ -525,44 +578,7 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
             if ((r.hill_margin > 1.0) != (r.monodromy_margin > 1.0)) ++b.sorting_disagreements;
         }
     }
-    // Unstable intervals and bifurcations along each branch (samples excluded).
-    bool open = false;
-    for (std::size_t k = 0; k < points.size(); ++k) {
-        const SolutionPoint& p = points[k];
-        if (p.kind == PointKind::sample) continue;
-        const bool unstable = b.points[k].stability == Stability::unstable;
-        if (open && (!unstable || p.branch != b.unstable.back().branch)) open = false;
-        if (unstable) {
-            if (!open) b.unstable.push_back({p.omega, p.omega, p.branch});
-            b.unstable.back().omega_to = p.omega;
-            open = true;
-        }
-    }
-    // Between consecutive points with a verdict (uncertain ones skipped: their multipliers
-    // are in doubt) on one branch.
-    auto certain = [&](std::size_t k) {
-        const Stability s = b.points[k].stability;
-        return points[k].kind != PointKind::sample && b.points[k].multipliers.size() > 0 &&
-               (s == Stability::stable || s == Stability::unstable);
-    };
-    for (std::size_t k = 0; k < points.size(); ++k) {
-        if (!certain(k)) continue;
-        std::size_t next = k + 1;
-        while (next < points.size() && points[next].branch == points[k].branch && !certain(next)) ++next;
-        if (next >= points.size() || !certain(next) || points[next].branch != points[k].branch) continue;
-        const SolutionPoint &p = points[k], &q = points[next];
-        const Eigen::VectorXcd &a = b.points[k].multipliers, &c = b.points[next].multipliers;
-        const Crossings x = classify(a, options.tolerance), y = classify(c, options.tolerance);
-        auto add = [&](const char* kind, double ma, double mc) {
-            double omega = p.omega;
-            if (std::abs(mc - ma) > 0.0) omega = p.omega + (1.0 - ma) / (mc - ma) * (q.omega - p.omega);
-            if (!(std::isfinite(omega))) omega = p.omega;
-            b.bifurcations.push_back({k, omega, kind, p.branch});
-        };
-        if (x.positive != y.positive) add("fold", x.positive_max, y.positive_max);
-        if (x.negative != y.negative) add("period-doubling", x.negative_max, y.negative_max);
-        if (x.complex != y.complex) add("neimark-sacker", x.complex_max, y.complex_max);
-    }
+    find_bifurcations(points, options.tolerance, b);
     b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return b;
 }

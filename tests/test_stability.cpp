@@ -380,3 +380,49 @@ TEST_CASE("hbf frf --stability: the columns and unstable intervals and bifurcati
     test::check_bad_input("frf --config '" + mixed.string() + "' --stability on", {"--stability on", "mix"}, dir);
 }
 
+
+TEST_CASE("Bifurcations from the multipliers: fold, period doubling and Neimark-Sacker, uncertain points skipped",
+          "[stability]") {
+    // Constructed multipliers along one branch (w = 1, 2, ...): each kind crosses the unit
+    // circle once, and the crossing w is interpolated linearly in the modulus.
+    using C = std::complex<double>;
+    const std::vector<std::vector<C>> mu = {
+        {0.5, C(0.95 * std::cos(1.0), 0.95 * std::sin(1.0)), C(0.95 * std::cos(1.0), -0.95 * std::sin(1.0))},  // w = 1
+        {0.9, C(1.05 * std::cos(1.0), 1.05 * std::sin(1.0)), C(1.05 * std::cos(1.0), -1.05 * std::sin(1.0))},  // w = 2: NS
+        {1.3, C(1.05 * std::cos(1.0), 1.05 * std::sin(1.0)), C(1.05 * std::cos(1.0), -1.05 * std::sin(1.0))},  // w = 3: fold
+        {1.3, -0.9, 0.1},   // w = 4: uncertain (skipped)
+        {1.3, -1.2, 0.1},   // w = 5: period doubling between 3 and 5 (the pair left too: NS)
+        {0.8, -1.2, 0.1},   // w = 6: fold back
+    };
+    std::vector<SolutionPoint> points;
+    BranchStability b;
+    for (std::size_t k = 0; k < mu.size(); ++k) {
+        SolutionPoint p;
+        p.omega = double(k + 1);
+        points.push_back(p);
+        FloquetResult r;
+        r.multipliers = Eigen::Map<const Eigen::VectorXcd>(mu[k].data(), 3);
+        r.margin = r.multipliers.cwiseAbs().maxCoeff();
+        r.stability = k == 3 ? Stability::uncertain : r.margin > 1 + 1e-6 ? Stability::unstable : Stability::stable;
+        b.points.push_back(r);
+    }
+    find_bifurcations(points, 1e-6, b);
+    REQUIRE(b.bifurcations.size() == 5);
+    CHECK(b.bifurcations[0].kind == "neimark-sacker");
+    CHECK(b.bifurcations[0].omega == Approx(1.5));
+    CHECK(b.bifurcations[1].kind == "fold");
+    CHECK(b.bifurcations[1].omega == Approx(2.25));  // 0.9 -> 1.3
+    CHECK(b.bifurcations[2].kind == "period-doubling");
+    CHECK(b.bifurcations[2].after == 2);             // from w = 3 to 5, past the uncertain w = 4
+    CHECK(b.bifurcations[2].omega == Approx(3.0 + 2.0 * (1.0 - 0.0) / 1.2));
+    CHECK(b.bifurcations[3].kind == "neimark-sacker");
+    CHECK(b.bifurcations[4].kind == "fold");
+    CHECK(b.bifurcations[4].omega == Approx(5.0 + 0.3 / 0.5));
+    REQUIRE(b.unstable.size() == 2);  // w = 2..3, then 5..6 (the uncertain w = 4 breaks the run)
+    CHECK(b.unstable[0].omega_from == 2.0);
+    CHECK(b.unstable[0].omega_to == 3.0);
+    CHECK(b.unstable[1].omega_from == 5.0);
+    CHECK(b.unstable[1].omega_to == 6.0);
+    b.points.pop_back();
+    CHECK_THROWS_AS(find_bifurcations(points, 1e-6, b), InvalidInput);
+}

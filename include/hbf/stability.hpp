@@ -64,7 +64,7 @@ struct StabilityOptions {
     /// disagreements count only points where both are confident. > 0.
     double confidence = 1e-3;
     /// CVODE relative tolerance of the monodromy (absolute: this times 1e-2), 1e-13..1e-4.
-    double integration_tolerance = 1e-10;
+    double integration_tolerance = 1e-8;
     /// Hill's matrix is dense, d (2H + 1) square: larger ones are not built (the monodromy
     /// route alone decides; `hill` alone: not computed). 10..20000.
     int max_hill_size = 2000;
@@ -148,6 +148,12 @@ struct BranchStability {
     /// One line: counts, disagreements, unstable intervals, time.
     std::string summary() const;
 };
+
+/// Fills b.unstable and b.bifurcations from the verdicts b.points (one per point, as
+/// analyse_branch_stability computed them): runs of unstable points per branch, and between
+/// consecutive points of a branch with a verdict (stable or unstable; uncertain ones skipped)
+/// each change in the count of multipliers beyond 1 + tolerance of one kind.
+void find_bifurcations(const std::vector<SolutionPoint>& points, double tolerance, BranchStability& b);
 
 /// Analyses `points` (a branch in order, then samples of kind sample). With `polish` (the
 /// exact polish of these very points, same order), coulomb/jenkins verdicts are read from it.
