@@ -415,19 +415,33 @@ bool stick_side(Boundary boundary, const std::string& regime) {
     return boundary == Boundary::stick_stick_slip ? regime == "stick" : regime != "slip";
 }
 
+/// The unit chord from a to b in the scaled coordinates (x / x_scale, omega / omega_scale), with
+/// x_scale the larger of the two points' unknown scales; length 0 when a and b coincide.
+struct Chord {
+    double x_scale = 1.0, length = 0.0;
+    Eigen::VectorXd direction;
+};
+Chord chord_between(HarmonicBalance& hb, const SolutionPoint& a, const SolutionPoint& b, double omega_scale) {
+    const int n = hb.unknowns();
+    Chord c;
+    c.x_scale = std::max(hb.unknown_scale(a.x), hb.unknown_scale(b.x));
+    c.direction.resize(n + 1);
+    c.direction.head(n) = (b.x - a.x) / c.x_scale;
+    c.direction(n) = (b.omega - a.omega) / omega_scale;
+    c.length = c.direction.norm();
+    if (c.length > 0.0) c.direction /= c.length;
+    return c;
+}
+
 /// Locates, between successive points a and b of a branch, where g(u) (max phi for
 /// stick|stick-slip, min phi for stick-slip|slip) changes sign, by bisection along the chord
 /// (see continue_branch). Returns false if a correction fails.
 bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, const SolutionPoint& a,
                        const SolutionPoint& b, Boundary boundary, double omega_scale, SolutionPoint& out) {
-    const int n = hb.unknowns();
-    const double x_scale = std::max(hb.unknown_scale(a.x), hb.unknown_scale(b.x));
-    Eigen::VectorXd chord(n + 1);
-    chord.head(n) = (b.x - a.x) / x_scale;
-    chord(n) = (b.omega - a.omega) / omega_scale;
-    const double length = chord.norm();
-    if (!(length > 0.0)) return false;
-    chord /= length;
+    const Chord c = chord_between(hb, a, b, omega_scale);
+    if (!(c.length > 0.0)) return false;
+    const double x_scale = c.x_scale, length = c.length;
+    const Eigen::VectorXd& chord = c.direction;
     auto side = [&](const SolutionPoint& p) { return stick_side(boundary, regime_at(hb, p)); };
     const bool side_a = side(a);
     SolutionPoint lo = a, hi = b;  // lo on a's side, hi on b's
@@ -537,13 +551,10 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
 bool locate_fold(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, const SolutionPoint& a,
                  const SolutionPoint& b, double omega_scale, SolutionPoint& out) {
     const int n = hb.unknowns();
-    const double x_scale = std::max(hb.unknown_scale(a.x), hb.unknown_scale(b.x));
-    Eigen::VectorXd chord(n + 1);
-    chord.head(n) = (b.x - a.x) / x_scale;
-    chord(n) = (b.omega - a.omega) / omega_scale;
-    const double length = chord.norm();
-    if (!(length > 0.0)) return false;
-    chord /= length;
+    const Chord c = chord_between(hb, a, b, omega_scale);
+    if (!(c.length > 0.0)) return false;
+    const double x_scale = c.x_scale;
+    const Eigen::VectorXd& chord = c.direction;
     auto g = [&](const SolutionPoint& p) { return branch_tangent(hb, p.x, p.omega, x_scale, chord, omega_scale)(n); };
     double t_lo = 0.0, t_hi = 1.0, g_lo = g(a), g_hi = g(b);
     if (!(g_lo * g_hi < 0.0)) return false;

@@ -49,6 +49,7 @@ ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof)
     e.status = PolishStatus::exact;
     e.stable = orbit.stable;
     e.max_multiplier = orbit.max_multiplier;
+    e.multipliers = orbit.multipliers;
     const bool output = !orbit.output_max.empty();
     const double exact = output ? orbit.output_max.front() : orbit.y_max[static_cast<std::size_t>(dof)];
     const std::vector<double>& hb_values = output ? hb.output_max : hb.y_max;

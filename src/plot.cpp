@@ -205,8 +205,17 @@ PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<Po
         }
         if (last_branch == p.branch) {
             const double x0 = points[last].omega, y0 = value_at(last);
-            PlotCurve& from = is_unstable(last) ? unstable : branch;
-            PlotCurve& to = is_unstable(k) ? unstable : branch;
+            // A fold or an uncertain point is the boundary itself: the segment takes the style
+            // of its other end; otherwise the style changes at the segment's middle.
+            auto boundary = [&](std::size_t j) {
+                return points[j].kind == PointKind::fold ||
+                       (stability && j < stability->points.size() &&
+                        stability->points[j].stability == Stability::uncertain);
+            };
+            const bool from_unstable = boundary(last) && !boundary(k) ? is_unstable(k) : is_unstable(last);
+            const bool to_unstable = boundary(k) && !boundary(last) ? is_unstable(last) : is_unstable(k);
+            PlotCurve& from = from_unstable ? unstable : branch;
+            PlotCurve& to = to_unstable ? unstable : branch;
             if (&from == &to) {
                 segment(from, x0, y0, p.omega, value);
             } else {  // the style changes at the segment's middle

@@ -537,7 +537,12 @@ void find_bifurcations(const std::vector<SolutionPoint>& points, double toleranc
             if (!(std::isfinite(omega))) omega = p.omega;
             b.bifurcations.push_back({k, omega, kind, p.branch});
         };
-        if (x.positive != y.positive) add("fold", x.positive_max, y.positive_max);
+        // Through +1: a fold where the branch turns between the two points (a located fold point
+        // among them), else a branch point (symmetry breaking, or a nonsmooth jump of the
+        // multipliers at a stick-slip transition).
+        bool turns = false;
+        for (std::size_t j = k; j <= next; ++j) turns = turns || points[j].kind == PointKind::fold;
+        if (x.positive != y.positive) add(turns ? "fold" : "branch-point", x.positive_max, y.positive_max);
         if (x.negative != y.negative) add("period-doubling", x.negative_max, y.negative_max);
         if (x.complex != y.complex) add("neimark-sacker", x.complex_max, y.complex_max);
     }
@@ -557,6 +562,7 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
             if (e.status == PolishStatus::exact) {
                 r.stability = e.stable ? Stability::stable : Stability::unstable;
                 r.margin = e.max_multiplier;
+                r.multipliers = e.multipliers;
             } else {
                 r.stability = Stability::uncertain;
                 r.message = "the exact polish failed here: " + e.message;

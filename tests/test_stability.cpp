@@ -381,7 +381,7 @@ TEST_CASE("hbf frf --stability: the columns and unstable intervals and bifurcati
 }
 
 
-TEST_CASE("Bifurcations from the multipliers: fold, period doubling and Neimark-Sacker, uncertain points skipped",
+TEST_CASE("Bifurcations from the multipliers: fold and branch point and period doubling and Neimark-Sacker",
           "[stability]") {
     // Constructed multipliers along one branch (w = 1, 2, ...): each kind crosses the unit
     // circle once, and the crossing w is interpolated linearly in the modulus.
@@ -392,13 +392,14 @@ TEST_CASE("Bifurcations from the multipliers: fold, period doubling and Neimark-
         {1.3, C(1.05 * std::cos(1.0), 1.05 * std::sin(1.0)), C(1.05 * std::cos(1.0), -1.05 * std::sin(1.0))},  // w = 3: fold
         {1.3, -0.9, 0.1},   // w = 4: uncertain (skipped)
         {1.3, -1.2, 0.1},   // w = 5: period doubling between 3 and 5 (the pair left too: NS)
-        {0.8, -1.2, 0.1},   // w = 6: fold back
+        {0.8, -1.2, 0.1},   // w = 6: back through +1 without a turn
     };
     std::vector<SolutionPoint> points;
     BranchStability b;
     for (std::size_t k = 0; k < mu.size(); ++k) {
         SolutionPoint p;
         p.omega = double(k + 1);
+        if (k == 2) p.kind = PointKind::fold;  // the branch turns at w = 3, not at w = 6
         points.push_back(p);
         FloquetResult r;
         r.multipliers = Eigen::Map<const Eigen::VectorXcd>(mu[k].data(), 3);
@@ -416,7 +417,7 @@ TEST_CASE("Bifurcations from the multipliers: fold, period doubling and Neimark-
     CHECK(b.bifurcations[2].after == 2);             // from w = 3 to 5, past the uncertain w = 4
     CHECK(b.bifurcations[2].omega == Approx(3.0 + 2.0 * (1.0 - 0.0) / 1.2));
     CHECK(b.bifurcations[3].kind == "neimark-sacker");
-    CHECK(b.bifurcations[4].kind == "fold");
+    CHECK(b.bifurcations[4].kind == "branch-point");
     CHECK(b.bifurcations[4].omega == Approx(5.0 + 0.3 / 0.5));
     REQUIRE(b.unstable.size() == 2);  // w = 2..3, then 5..6 (the uncertain w = 4 breaks the run)
     CHECK(b.unstable[0].omega_from == 2.0);

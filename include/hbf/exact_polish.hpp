@@ -44,6 +44,7 @@ struct ExactPoint {
     PolishStatus status = PolishStatus::off;
     bool stable = false;          ///< Floquet verdict (status exact only)
     double max_multiplier = 0;    ///< largest |Floquet multiplier|
+    Eigen::VectorXcd multipliers; ///< the exact orbit's Floquet multipliers (status exact only)
     /// |y_max[dof] by HB - y_max[dof] exact| / y_max[dof] exact; NaN where there is no HB
     /// solution at this frequency (an exact transition whose HB correction failed) or no
     /// exact one.

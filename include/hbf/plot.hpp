@@ -51,7 +51,8 @@ PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<Po
 /// The same for an output: metrics[k].output_max[index], or, with index < 0, y_max of the
 /// output's single DOF (model.hpp). With `stability` (one verdict per point), the branch is
 /// drawn solid where stable and dashed where unstable (a segment between a stable and an
-/// unstable point changes style at its middle), and uncertain verdicts are marked.
+/// unstable point changes style at its middle; one that ends at a fold or an uncertain point,
+/// the boundary itself, takes the style of its other end), and uncertain verdicts are marked.
 PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
                   const Output& output, int index, const BranchStability* stability, const std::string& title);
 

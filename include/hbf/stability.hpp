@@ -122,8 +122,8 @@ private:
 
 /// The stability of every point of a branch (the samples too), and the bifurcations between
 /// consecutive points of one branch where the count of multipliers outside the unit circle
-/// changes: a real multiplier through +1 (a fold: the point kinds say where), through -1
-/// (period doubling), a complex pair (Neimark-Sacker).
+/// changes: a real multiplier through +1 (a fold where the branch turns, else a branch point),
+/// through -1 (period doubling), a complex pair (Neimark-Sacker).
 struct BranchStability {
     std::vector<FloquetResult> points;  ///< one per point
     struct Interval {
@@ -135,7 +135,10 @@ struct BranchStability {
         std::size_t after = 0;         ///< between points[after] and the next point of its branch with a
                                        ///< verdict (uncertain points are skipped)
         double omega = 0;              ///< where the crossing multiplier's modulus is 1 (linear interpolation)
-        std::string kind;              ///< "fold", "period-doubling", "neimark-sacker"
+        std::string kind;              ///< "fold" (a real multiplier through +1 where the branch turns:
+                                       ///< a fold point between), "branch-point" (through +1 without a
+                                       ///< turn: symmetry breaking, or a jump at a stick-slip transition),
+                                       ///< "period-doubling" (through -1), "neimark-sacker" (a complex pair)
         int branch = 1;
     };
     std::vector<Bifurcation> bifurcations;

@@ -246,7 +246,7 @@ Runner add_frf_command(CLI::App& app) {
         ->option_text("FILE");
     command->add_option("--plot", options->plot,
                         "draw max over one period of |o(t)| of the first reported output o against w through gnuplot: the branch in order, "
-                        "folds, transitions and samples marked (.png or .svg)")
+                        "folds, transitions and samples marked; with --stability unstable parts dashed and uncertain points marked (.png or .svg)")
         ->option_text("FILE.png|FILE.svg");
     command->add_option("--overlay-timeint", options->overlay,
                         "also integrate K frequencies of a uniform grid over [wmin, wmax] in time (an up-sweep, "
@@ -270,7 +270,9 @@ Runner add_frf_command(CLI::App& app) {
               "(outside the branch, or its solve failed; named on standard error); the points computed so far are "
               "still written. Exit code 3 when the result is written but incomplete or doubtful: an amplitude cap (an unbounded "
               "resonance), a branch that left the range or used up its points, an unlocated transition, a point that "
-              "fails the energy balance, or a warning of Ceres (each reason one line on standard error).";
+              "fails the energy balance, or a warning of Ceres (each reason one line on standard error). With --stability, "
+              "uncertain verdicts (column stable = uncertain: the two routes disagree, typically at a fold) are a note "
+              "on standard error, not an exit code: the FRF itself is complete.";
     command->footer(footer);
     return [command, options]() { return run(*command, *options); };
 }
