@@ -17,6 +17,9 @@ std::string to_string(PointKind kind) {
         case PointKind::sample: return "sample";
         case PointKind::transition: return "transition";
         case PointKind::cap: return "cap";
+        case PointKind::branch_point: return "branch-point";
+        case PointKind::period_doubling: return "period-doubling";
+        case PointKind::neimark_sacker: return "neimark-sacker";
     }
     return "unknown";
 }

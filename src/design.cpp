@@ -98,9 +98,11 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         r.peaks = settings.peaks_of_every_output ? find_peaks(hb, r.branch, outputs, corrector)
                                                  : find_peaks(hb, r.branch, {outputs.front()}, corrector);
     }
-    if (settings.stability)
+    if (settings.stability) {
         r.stability = analyse_branch_stability(hb, r.points, settings.stability_options,
                                                r.polish ? &r.exact : nullptr);
+        mark_bifurcations(*r.stability, r.points);
+    }
     r.peak = largest_peak(r);
     r.seconds = seconds_since(started);
     return r;

@@ -167,6 +167,8 @@ PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<Po
     PlotCurve caps{"amplitude cap: unbounded resonance, the branch stops", {}, {}, PlotCurve::Style::markers, 5};
     PlotCurve unstable{"unstable (Floquet: a perturbation grows)", {}, {}, PlotCurve::Style::dashed, 7};
     PlotCurve uncertain{"stability uncertain", {}, {}, PlotCurve::Style::markers, 12};
+    PlotCurve bifurcations{"branch point, period doubling or Neimark-Sacker (first point past it)", {}, {},
+                           PlotCurve::Style::markers, 3};
     if (stability) branch.title = "harmonic balance, stable (branch in order)";
     const double NaN = std::nan("");
     auto value_at = [&](std::size_t k) {
@@ -238,12 +240,17 @@ PlotSpec frf_plot(const std::vector<SolutionPoint>& points, const std::vector<Po
         } else if (p.kind == PointKind::cap) {
             caps.x.push_back(p.omega);
             caps.y.push_back(value);
+        } else if (p.kind == PointKind::branch_point || p.kind == PointKind::period_doubling ||
+                   p.kind == PointKind::neimark_sacker) {
+            bifurcations.x.push_back(p.omega);
+            bifurcations.y.push_back(value);
         }
     }
     spec.curves = {branch, folds, transitions, samples, caps};
     if (stability) {
         spec.curves.push_back(unstable);
         spec.curves.push_back(uncertain);
+        spec.curves.push_back(bifurcations);
     }
     return spec;
 }

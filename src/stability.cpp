@@ -535,7 +535,7 @@ void find_bifurcations(const std::vector<SolutionPoint>& points, double toleranc
             double omega = p.omega;
             if (std::abs(mc - ma) > 0.0) omega = p.omega + (1.0 - ma) / (mc - ma) * (q.omega - p.omega);
             if (!(std::isfinite(omega))) omega = p.omega;
-            b.bifurcations.push_back({k, omega, kind, p.branch});
+            b.bifurcations.push_back({k, next, omega, kind, p.branch});
         };
         // Through +1: a fold where the branch turns between the two points (a located fold point
         // among them), else a branch point (symmetry breaking, or a nonsmooth jump of the
@@ -545,6 +545,15 @@ void find_bifurcations(const std::vector<SolutionPoint>& points, double toleranc
         if (x.positive != y.positive) add(turns ? "fold" : "branch-point", x.positive_max, y.positive_max);
         if (x.negative != y.negative) add("period-doubling", x.negative_max, y.negative_max);
         if (x.complex != y.complex) add("neimark-sacker", x.complex_max, y.complex_max);
+    }
+}
+
+void mark_bifurcations(const BranchStability& b, std::vector<SolutionPoint>& points) {
+    for (const BranchStability::Bifurcation& f : b.bifurcations) {
+        if (f.at >= points.size() || points[f.at].kind != PointKind::regular) continue;
+        if (f.kind == "branch-point") points[f.at].kind = PointKind::branch_point;
+        if (f.kind == "period-doubling") points[f.at].kind = PointKind::period_doubling;
+        if (f.kind == "neimark-sacker") points[f.at].kind = PointKind::neimark_sacker;
     }
 }
 

@@ -415,6 +415,7 @@ TEST_CASE("Bifurcations from the multipliers: fold and branch point and period d
     CHECK(b.bifurcations[1].omega == Approx(2.25));  // 0.9 -> 1.3
     CHECK(b.bifurcations[2].kind == "period-doubling");
     CHECK(b.bifurcations[2].after == 2);             // from w = 3 to 5, past the uncertain w = 4
+    CHECK(b.bifurcations[2].at == 4);
     CHECK(b.bifurcations[2].omega == Approx(3.0 + 2.0 * (1.0 - 0.0) / 1.2));
     CHECK(b.bifurcations[3].kind == "neimark-sacker");
     CHECK(b.bifurcations[4].kind == "branch-point");
@@ -424,6 +425,12 @@ TEST_CASE("Bifurcations from the multipliers: fold and branch point and period d
     CHECK(b.unstable[0].omega_to == 3.0);
     CHECK(b.unstable[1].omega_from == 5.0);
     CHECK(b.unstable[1].omega_to == 6.0);
+    // On the points: the first point past each crossing that is not a fold already.
+    mark_bifurcations(b, points);
+    CHECK(points[1].kind == PointKind::neimark_sacker);
+    CHECK(points[2].kind == PointKind::fold);
+    CHECK(points[4].kind == PointKind::period_doubling);  // the first of the two crossings there
+    CHECK(points[5].kind == PointKind::branch_point);
     b.points.pop_back();
     CHECK_THROWS_AS(find_bifurcations(points, 1e-6, b), InvalidInput);
 }

@@ -69,8 +69,10 @@ struct ContinuationOptions {
 };
 
 /// cap: the last point of a trace stopped by the amplitude cap (an unbounded resonance; a
-/// fold there stays a fold).
-enum class PointKind { regular, fold, sample, transition, cap };
+/// fold there stays a fold). branch_point, period_doubling, neimark_sacker: the first regular
+/// point past a change of stability of that kind (stability.hpp: a real multiplier through +1
+/// without a turn, through -1, a complex pair), set by the stability analysis.
+enum class PointKind { regular, fold, sample, transition, cap, branch_point, period_doubling, neimark_sacker };
 /// The regime boundary a transition point lies on (contact 1).
 enum class Boundary { none, stick_stick_slip, stick_slip_slip };
 /// "", "stick|stick-slip", "stick-slip|slip".

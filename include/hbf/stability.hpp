@@ -132,8 +132,8 @@ struct BranchStability {
     };
     std::vector<Interval> unstable;    ///< maximal runs of consecutive unstable points
     struct Bifurcation {
-        std::size_t after = 0;         ///< between points[after] and the next point of its branch with a
-                                       ///< verdict (uncertain points are skipped)
+        std::size_t after = 0;         ///< between points[after] and points[at], the next point of its
+        std::size_t at = 0;            ///< branch with a verdict (uncertain points are skipped)
         double omega = 0;              ///< where the crossing multiplier's modulus is 1 (linear interpolation)
         std::string kind;              ///< "fold" (a real multiplier through +1 where the branch turns:
                                        ///< a fold point between), "branch-point" (through +1 without a
@@ -157,6 +157,11 @@ struct BranchStability {
 /// consecutive points of a branch with a verdict (stable or unstable; uncertain ones skipped)
 /// each change in the count of multipliers beyond 1 + tolerance of one kind.
 void find_bifurcations(const std::vector<SolutionPoint>& points, double tolerance, BranchStability& b);
+
+/// Marks the bifurcations of `b` other than folds (which are points already) on the points: the
+/// point past each crossing (Bifurcation::at) becomes of kind branch_point, period_doubling or
+/// neimark_sacker if it is regular.
+void mark_bifurcations(const BranchStability& b, std::vector<SolutionPoint>& points);
 
 /// Analyses `points` (a branch in order, then samples of kind sample). With `polish` (the
 /// exact polish of these very points, same order), coulomb/jenkins verdicts are read from it.
