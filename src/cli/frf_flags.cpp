@@ -87,7 +87,8 @@ void FrfFlags::add_to(CLI::App& command) {
                        "exponents with the smallest |Im| kept: the classical sorted selection), monodromy (the "
                        "variational equation integrated over one period by CVODE: no sorting), both or on (both; "
                        "uncertain where they disagree); coulomb, jenkins: any value but off takes the event-exact "
-                       "orbit's multipliers (the polish's, when it runs). Needs M positive definite")
+                       "orbit's multipliers (the polish's, when it runs). Needs M positive definite. Off by default: on costs "
+                       "about 10 times the FRF for the smooth laws (README, Stability)")
         ->capture_default_str()->type_name("off|on|hill|monodromy|both");
 }
 
