@@ -131,7 +131,7 @@ TEST_CASE("Floquet multipliers of a linear Dahl oscillator: Hill and the monodro
     }
 }
 
-TEST_CASE("Dahl superharmonic folds: every verdict confirmed by a perturbed time integration", "[stability][slow]") {
+TEST_CASE("Dahl superharmonic folds: every verdict confirmed by a perturbed time integration", "[stability]") {
     // examples/systems/dahl_superharmonic_fold.toml: the branch folds twice near w = 0.198; the
     // part between the folds is unstable.
     const io::SystemConfig config = io::read_system_config(source + "/examples/systems/dahl_superharmonic_fold.toml");
