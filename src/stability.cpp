@@ -151,14 +151,21 @@ public:
         const int nc = static_cast<int>(q_.size());
         std::vector<Eigen::VectorXd> fv(static_cast<std::size_t>(nc), Eigen::VectorXd(nt)),
             fz = fv, gv = fv, gz = fv;
-        std::vector<LocalLinearization> at;
-        for (int j = 0; j < nt; ++j) {
-            slopes(2.0 * M_PI * j / nt, at);
-            for (std::size_t c = 0; c < at.size(); ++c) {
-                fv[c](j) = at[c].f_v;
-                fz[c](j) = at[c].f_z;
-                gv[c](j) = at[c].g_v;
-                gz[c](j) = at[c].g_z;
+        // v_c and z_c on the AFT grid by the FFT (Fourier::to_time), then the slopes pointwise.
+        Eigen::VectorXd v(nt), z(nt);
+        for (int c = 0; c < nc; ++c) {
+            const auto cc = static_cast<std::size_t>(c);
+            fourier.to_time(omega_ * (fourier.derivative() * q_[cc]), v);
+            if (z_[cc].size() > 0)
+                fourier.to_time(z_[cc], z);
+            else
+                z.setZero();
+            for (int j = 0; j < nt; ++j) {
+                const LocalLinearization l = linearize(system_.contacts[cc], v(j), z(j));
+                fv[cc](j) = l.f_v;
+                fz[cc](j) = l.f_z;
+                gv[cc](j) = l.g_v;
+                gz[cc](j) = l.g_z;
             }
         }
         Eigen::MatrixXd p(m, m);
@@ -285,6 +292,23 @@ private:
     void* cvode_ = nullptr;
 };
 
+/// Hill's classical sorted selection: mu = exp(lambda T) of the d exponents with the smallest
+/// |Im lambda|; empty when the matrix would exceed max_size rows or the eigensolver failed.
+Eigen::VectorXcd sorted_hill(const Variational& v, Fourier& fourier, int max_size) {
+    if (v.size() * fourier.size() > max_size) return {};
+    const Eigen::VectorXcd lambda = eigenvalues(v.hill(fourier));
+    if (lambda.size() < v.size()) return {};
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(lambda.size()));
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
+        return std::abs(lambda(a).imag()) < std::abs(lambda(b).imag());
+    });
+    const double period = 2.0 * M_PI / v.omega();
+    Eigen::VectorXcd mu(v.size());
+    for (int k = 0; k < v.size(); ++k) mu(k) = std::exp(lambda(order[static_cast<std::size_t>(k)]) * period);
+    return mu;
+}
+
 Stability verdict(double margin, double tolerance) {
     if (!std::isfinite(margin)) return Stability::uncertain;
     return margin > 1.0 + tolerance ? Stability::unstable : Stability::stable;
@@ -346,29 +370,15 @@ Eigen::VectorXd StabilityAnalyser::start_state(const SolutionPoint& point) {
 
 Eigen::VectorXcd StabilityAnalyser::hill(const SolutionPoint& point) {
     if (!refusal_.empty() || !smooth_) return {};
-    const Variational v(hb_, minv_, w_, point);
-    if (v.size() * hb_.coefficients() > options_.max_hill_size) return {};
-    const Eigen::VectorXcd lambda = eigenvalues(v.hill(hb_.fourier()));
-    if (lambda.size() < v.size()) return {};
-    // The classical selection: the d exponents with the smallest |Im|.
-    std::vector<Eigen::Index> order(static_cast<std::size_t>(lambda.size()));
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
-        return std::abs(lambda(a).imag()) < std::abs(lambda(b).imag());
-    });
-    const double period = 2.0 * M_PI / point.omega;
-    Eigen::VectorXcd mu(v.size());
-    for (int k = 0; k < v.size(); ++k) mu(k) = std::exp(lambda(order[static_cast<std::size_t>(k)]) * period);
-    return mu;
+    return sorted_hill(Variational(hb_, minv_, w_, point), hb_.fourier(), options_.max_hill_size);
 }
 
 Eigen::MatrixXd StabilityAnalyser::monodromy(const SolutionPoint& point) {
     if (!refusal_.empty() || !smooth_) return {};
     const Variational v(hb_, minv_, w_, point);
-    MonodromyIntegrator integrator(v, options_.integration_tolerance);
     Eigen::MatrixXd phi;
     std::string failure;
-    if (!integrator.run(phi, failure)) return {};
+    if (!MonodromyIntegrator(v, options_.integration_tolerance).run(phi, failure)) return {};
     return phi;
 }
 
@@ -410,16 +420,15 @@ FloquetResult StabilityAnalyser::operator()(const SolutionPoint& point) {
     }
     const bool use_hill = options_.method != StabilityMethod::monodromy;
     const bool use_monodromy = options_.method != StabilityMethod::hill;
+    const Variational v(hb_, minv_, w_, point);  // one linearisation for both routes
     if (use_hill) {
-        r.hill_multipliers = hill(point);
+        r.hill_multipliers = sorted_hill(v, hb_.fourier(), options_.max_hill_size);
         r.hill_margin = largest_modulus(r.hill_multipliers);
     }
     std::string failure;
     if (use_monodromy) {
-        const Variational v(hb_, minv_, w_, point);
-        MonodromyIntegrator integrator(v, options_.integration_tolerance);
         Eigen::MatrixXd phi;
-        if (integrator.run(phi, failure)) {
+        if (MonodromyIntegrator(v, options_.integration_tolerance).run(phi, failure)) {
             r.monodromy_multipliers = eigenvalues(phi);
             r.monodromy_margin = largest_modulus(r.monodromy_multipliers);
         }
