@@ -656,6 +656,11 @@ void validate(const ContinuationOptions& o) {
                            " is out of range: allowed >= 0 (0: wmax)");
     require_positive(o.corrector.tolerance, "tolerance", "relative residual tolerance");
     if (o.max_points < 2) throw InvalidInput("max_points = " + std::to_string(o.max_points) + " is out of range: allowed >= 2");
+    if (o.corrector.max_iterations < 1)
+        throw InvalidInput("max_iterations = " + std::to_string(o.corrector.max_iterations) +
+                           " is out of range: allowed >= 1 (corrector iterations per correction)");
+    if (!(o.max_turn > 0.0 && o.max_turn <= M_PI))
+        throw InvalidInput("max_turn = " + format_number(o.max_turn) + " is out of range: allowed 0 < max_turn <= pi");
 
 }
 

@@ -8,7 +8,9 @@
 #include <mutex>
 #include <thread>
 
+#include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
+#include "hbf/event_exact.hpp"
 
 namespace hbf {
 
@@ -65,6 +67,101 @@ std::string to_string(PeakState state) {
 
 double PeakValue::objective() const {
     return state == PeakState::bounded ? value : std::numeric_limits<double>::infinity();
+}
+
+int default_harmonics(FrictionLaw law) {
+    return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
+}
+
+int automatic_harmonics(const System& system, bool exact) {
+    int h = 10;
+    if (!exact)
+        for (const Contact& c : system.contacts) h = std::max(h, default_harmonics(c.law));
+    return std::min(200, h * std::max(1, system.excitation_harmonic));
+}
+
+FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs) {
+    FrfSettings s;
+    s.outputs = outputs;
+    s.exact = exact_solver_supports(system);
+    s.harmonic_balance.harmonics = automatic_harmonics(system, s.exact);
+    s.continuation.locate_transitions = !s.exact;
+    s.peaks = true;
+    s.peaks_of_every_output = true;
+    return s;
+}
+
+std::string FrfVerdict::status() const {
+    return !errors.empty() ? "failed" : !warnings.empty() ? "incomplete" : "completed";
+}
+
+FrfVerdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
+    FrfVerdict v;
+    const BranchResult& branch = frf.branch;
+    if (branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::start_failed)
+        v.errors.push_back(branch.summary() + " (the points computed so far are written)");
+    else if (branch.status != ContinuationStatus::completed)
+        v.warnings.push_back(branch.summary() + "; the branch spans " + format_number(100.0 * branch.coverage) +
+                             " % of [wmin, wmax]");
+    else if (branch.unlocated_transitions > 0)
+        v.warnings.push_back(branch.message + " (the branch points are right; the CSV lacks those transition rows)");
+    // A point whose exact polish failed is HB's value, flagged exact = failed: a doubtful result.
+    if (frf.polish && frf.polish->failed > 0)
+        v.errors.push_back(frf.polish->summary() +
+                           "; the failed rows keep their harmonic-balance values (column exact = failed)");
+    // The energy balance of every harmonic-balance point (column energy_error).
+    std::size_t unbalanced = 0, worst = 0;
+    const double limit = energy_balance_limit(settings.continuation.corrector.tolerance);
+    for (std::size_t k = 0; k < frf.metrics.size(); ++k) {
+        if (frf.metrics[k].energy_error > limit) ++unbalanced;
+        if (frf.metrics[k].energy_error > frf.metrics[worst].energy_error) worst = k;
+    }
+    if (unbalanced > 0)
+        v.warnings.push_back(std::to_string(unbalanced) + " point(s) fail the energy balance (column energy_error > " +
+                             format_number(limit) + ", max(1e-6, 100 --tolerance); the largest, " +
+                             format_number(frf.metrics[worst].energy_error) + ", at w = " +
+                             format_number(frf.points[worst].omega) +
+                             "): the residual is small but the solution is not; a tighter --tolerance or more "
+                             "harmonics may help");
+    const auto unrefined = std::count_if(frf.peaks.begin(), frf.peaks.end(), [](const Peak& p) { return !p.refined; });
+    if (unrefined > 0)
+        v.notes.push_back(std::to_string(unrefined) + " peak(s) not refined (at a fold, or a solve failed): the JSON "
+                          "gives the branch point (refined = false)");
+    if (frf.stability && (frf.stability->uncertain > 0 || frf.stability->not_computed > 0)) {
+        const BranchStability& b = *frf.stability;
+        std::string example;
+        for (std::size_t k = 0; k < b.points.size() && k < frf.points.size() && example.empty(); ++k)
+            if (!b.points[k].message.empty())
+                example = "; e.g. at w = " + format_number(frf.points[k].omega) + ": " + b.points[k].message;
+        v.notes.push_back(b.summary() + ": the points with stable = uncertain (or empty) have no verdict" + example);
+    }
+    // An --at frequency without a row is a failure too.
+    for (double w : frf.missed)
+        v.errors.push_back("--at w = " + format_number(w) + ": no solution written (outside the computed branch, or "
+                           "the solve failed from the branch and after a retry)");
+    const LibraryMessages m = library_messages();
+    if (m.count > 0)
+        v.warnings.push_back(std::to_string(m.count) + " warning(s) from the numerical libraries (not printed); the "
+                             "first: " + m.first);
+    return v;
+}
+
+SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, ContinuationOptions options) {
+    require_positive(omega, "w", "frequency of the solution");
+    require_positive(omega_from, "wmin", "frequency the branch starts from");
+    options.omega_start = omega > omega_from ? omega_from : 0.9 * omega;
+    options.omega_end = omega;
+    options.locate_transitions = false;
+    SolutionAt r;
+    r.branch = continue_branch(hb, options);
+    const SolutionPoint* at = nullptr;
+    for (const SolutionPoint& point : r.branch.points)
+        if (point.omega == omega && (at == nullptr || point.branch < at->branch)) at = &point;
+    if (at != nullptr) {
+        r.found = true;
+        r.point = *at;
+    }
+    return r;
 }
 
 FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {

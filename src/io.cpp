@@ -223,16 +223,43 @@ const std::vector<Column>& analytic_columns() {
     return columns;
 }
 
-void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows) {
-    const auto& columns = analytic_columns();
-    for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
+void Table::add_row(std::vector<Cell> row) {
+    if (cells.empty()) cells.resize(columns.size());
+    if (row.size() != columns.size())
+        throw std::logic_error("Table::add_row: " + std::to_string(row.size()) + " cells for " +
+                               std::to_string(columns.size()) + " columns");
+    for (std::size_t j = 0; j < row.size(); ++j) cells[j].push_back(std::move(row[j]));
+}
+
+void write_csv(std::ostream& out, const Table& table) {
+    for (std::size_t j = 0; j < table.columns.size(); ++j) out << (j ? "," : "") << table.columns[j].name;
     out << '\n';
-    for (const analytic::Row& row : rows) {
-        out << format_number(row.omega) << ',' << csv_field(row.y1_stick) << ','
-            << csv_field(row.y2_stick) << ',' << csv_field(row.y1_slip) << ','
-            << csv_field(row.y2_slip) << ',' << csv_field(row.mu_limit) << ','
-            << csv_field(row.mu_opt_den_hartog) << '\n';
+    for (std::size_t k = 0; k < table.rows(); ++k) {
+        for (std::size_t j = 0; j < table.columns.size(); ++j) {
+            if (j) out << ',';
+            const Cell& c = table.cells[j][k];
+            if (const auto* d = std::get_if<double>(&c)) out << format_number(*d);
+            else if (const auto* i = std::get_if<long long>(&c)) out << *i;
+            else if (const auto* t = std::get_if<std::string>(&c)) out << *t;
+        }
+        out << '\n';
     }
+}
+
+namespace {
+Cell cell(const std::optional<double>& value) { return value ? Cell(*value) : Cell(); }
+}  // namespace
+
+Table analytic_table(const std::vector<analytic::Row>& rows) {
+    Table table{analytic_columns(), {}};
+    for (const analytic::Row& row : rows)
+        table.add_row({row.omega, cell(row.y1_stick), cell(row.y2_stick), cell(row.y1_slip), cell(row.y2_slip),
+                       cell(row.mu_limit), cell(row.mu_opt_den_hartog)});
+    return table;
+}
+
+void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows) {
+    write_csv(out, analytic_table(rows));
 }
 
 namespace {
@@ -285,25 +312,26 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
                            "coulomb-reg: |f| < 0.95 mu); stick phases shorter than 2 / (2H + 1) of the period are not resolved by H harmonics and count as slip; "
                            "with exact = yes: from the exact event times"},
         {"regime", "stick (every sample sticks), slip (no stick phase) or stick-slip; none for a structure without "
-                   "contacts"},
+                   "contacts", ColumnType::text},
         {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
-        {"branch", "branch number: 1, 2 for the branch restarted from wmax after an amplitude cap, 3 for the branch between two capped resonances"},
+        {"branch", "branch number: 1, 2 for the branch restarted from wmax after an amplitude cap, 3 for the branch between two capped resonances", ColumnType::integer},
         {"point", "regular, fold (located where the tangent's w-component is zero: dR/dX singular, a real turn of the branch in w), transition (located boundary between stick and stick-slip "
                   "or between stick-slip and slip, contact 1), cap (the amplitude bound passed --max-amplitude here: "
                   "an unbounded resonance, the branch stops; its largest point), sample (solved exactly at an --at "
                   "frequency), or with --stability the first point past a change of stability: branch-point (a real "
                   "Floquet multiplier through +1 without a turn), period-doubling (through -1), neimark-sacker (a "
-                  "complex pair)"},
-        {"iterations", "corrector (Ceres) iterations of this point"},
+                  "complex pair)", ColumnType::text},
+        {"iterations", "corrector (Ceres) iterations of this point", ColumnType::integer},
         {"residual", "|R|_inf / force scale after correction"},
         {"step", "arclength step that led to this point"},
         {"exact", "yes: the row is the event-exact periodic orbit at w (Newton shooting with exact stick/slip "
                   "events; coulomb and jenkins), its metrics replace HB's; failed: the exact solver did not "
-                  "converge here, the row keeps the HB values; off: plain harmonic balance (--exact off or another law)"},
+                  "converge here, the row keeps the HB values; off: plain harmonic balance (--exact off or another law)",
+                  ColumnType::text},
         {"stable", "Floquet stability of the periodic solution: true (every |multiplier| <= 1 + 1e-6), false "
                    "(unstable: a small perturbation grows), uncertain (the two routes of --stability disagree, or "
                    "the exact solver did not reproduce the HB orbit); from the exact orbit where exact = yes, from "
-                   "--stability otherwise (empty without it)"},
+                   "--stability otherwise (empty without it)", ColumnType::text},
         {"hb_gap", "|y_max by HB - y_max exact| / y_max exact of the first reported output: harmonic balance's own "
                    "error at this point; empty unless exact = yes (and an HB solution exists at this w)"},
         {"energy_error", "energy balance of the harmonic-balance solution: |input work - viscous energy - friction "
@@ -317,38 +345,43 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
     return columns;
 }
 
-void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
-                   const std::vector<PointMetrics>& metrics, const std::vector<Output>& outputs,
-                   const std::vector<ExactPoint>& exact, const BranchStability* stability) {
-    const auto columns = frf_columns(outputs);
-    for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
-    out << '\n';
+Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
+                const std::vector<Output>& outputs, const std::vector<ExactPoint>& exact,
+                const BranchStability* stability) {
+    Table table{frf_columns(outputs), {}};
+    table.cells.resize(table.columns.size());
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
         const PointMetrics& m = metrics[k];
-        out << format_number(p.omega);
-        for (std::size_t j = 0; j < outputs.size(); ++j) out << ',' << format_number(m.output_max[j]);
-        for (std::size_t j = 0; j < outputs.size(); ++j) out << ',' << format_number(m.output_amp1[j]);
-        out << ',' << format_number(m.stick_fraction) << ',' << m.regime << ',' << format_number(m.energy) << ','
-            << p.branch << ',' << to_string(p.kind) << ',' << p.iterations
-            << ',' << format_number(p.residual) << ','
-            << format_number(p.step) << ',';
+        std::vector<Cell> row = {p.omega};
+        for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(m.output_max[j]);
+        for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(m.output_amp1[j]);
+        row.insert(row.end(), {m.stick_fraction, m.regime, m.energy, static_cast<long long>(p.branch),
+                               to_string(p.kind), static_cast<long long>(p.iterations), p.residual, p.step});
         const FloquetResult* floquet = stability && k < stability->points.size() ? &stability->points[k] : nullptr;
-        if (k < exact.size() && exact[k].status == PolishStatus::exact) {
+        const bool polished = k < exact.size() && exact[k].status == PolishStatus::exact;
+        if (polished) {
             const ExactPoint& e = exact[k];
-            out << "yes," << (floquet ? to_string(floquet->stability) : e.stable ? "true" : "false") << ','
-                << (std::isfinite(e.hb_gap) ? format_number(e.hb_gap) : std::string());
+            row.insert(row.end(), {std::string("yes"),
+                                   floquet ? to_string(floquet->stability) : e.stable ? "true" : "false",
+                                   std::isfinite(e.hb_gap) ? Cell(e.hb_gap) : Cell()});
         } else {
-            out << (k < exact.size() ? to_string(exact[k].status) : std::string("off")) << ','
-                << (floquet ? to_string(floquet->stability) : std::string()) << ',';
+            row.insert(row.end(), {k < exact.size() ? to_string(exact[k].status) : std::string("off"),
+                                   floquet ? Cell(to_string(floquet->stability)) : Cell(), Cell()});
         }
-        out << ',' << format_number(m.energy_error) << ',';
-        if (k < exact.size() && exact[k].status == PolishStatus::exact && !floquet)
-            out << format_number(exact[k].max_multiplier);
-        else if (floquet && std::isfinite(floquet->margin))
-            out << format_number(floquet->margin);
-        out << '\n';
+        row.emplace_back(m.energy_error);
+        if (polished && !floquet) row.emplace_back(exact[k].max_multiplier);
+        else if (floquet && std::isfinite(floquet->margin)) row.emplace_back(floquet->margin);
+        else row.emplace_back();
+        table.add_row(std::move(row));
     }
+    return table;
+}
+
+void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
+                   const std::vector<PointMetrics>& metrics, const std::vector<Output>& outputs,
+                   const std::vector<ExactPoint>& exact, const BranchStability* stability) {
+    write_csv(out, frf_table(points, metrics, outputs, exact, stability));
 }
 
 std::vector<Column> timeint_columns(int dofs) { return timeint_columns(all_dofs(dofs)); }
@@ -364,40 +397,46 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs) {
                            "dahl, lugre: |sigma0 z| < 0.95 g(v); coulomb-reg: |tanh(v/eps)| < 0.95)"},
         {"regime", "stick (never left stick in the final period), slip (never stuck) or stick-slip; none for a "
                    "structure without contacts; failed where not one period could be integrated (the row's "
-                   "numbers are then empty)"},
+                   "numbers are then empty)", ColumnType::text},
         {"energy", "friction energy dissipated per cycle, integral of f q' over the final period"},
-        {"periods", "periods integrated (including the shooting-Jacobian periods)"},
+        {"periods", "periods integrated (including the shooting-Jacobian periods)", ColumnType::integer},
         {"converged", "true if the state at the start of consecutive periods changed by <= steady-tol * max(1, "
-                      "|state|); false: the row holds the last period integrated"},
+                      "|state|); false: the row holds the last period integrated", ColumnType::text},
         {"stick_margin_min", "min over the final period of contact 1's stick indicator (< 0 in stick)"},
         {"stick_margin_max", "max of the stick indicator (< 0: full stick; coulomb also at each velocity reversal)"},
-        {"switches", "stick/slip mode changes of all contacts in the final period"},
+        {"switches", "stick/slip mode changes of all contacts in the final period", ColumnType::integer},
     };
     columns.insert(columns.end(), rest.begin(), rest.end());
     return columns;
 }
 
-void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses,
-                       const std::vector<Output>& outputs) {
-    const auto columns = timeint_columns(outputs);
-    for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k].name;
-    out << '\n';
+Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::vector<Output>& outputs) {
+    Table table{timeint_columns(outputs), {}};
+    table.cells.resize(table.columns.size());
     for (const PeriodicResponse& r : responses) {
-        out << format_number(r.omega);
+        std::vector<Cell> row = {r.omega};
         // A point where not even one period was integrated has no values: empty fields, regime
         // failed (never zeros that read as a response).
         if (r.output_max.size() < outputs.size()) {
-            out << std::string(2 * outputs.size() + 1, ',') << "failed,," << r.periods << ",false,,,\n";
+            row.resize(1 + 2 * outputs.size() + 1);
+            row.insert(row.end(), {std::string("failed"), Cell(), static_cast<long long>(r.periods),
+                                   std::string("false"), Cell(), Cell(), Cell()});
+            table.add_row(std::move(row));
             continue;
         }
-        for (std::size_t j = 0; j < outputs.size(); ++j) out << ',' << format_number(r.output_max[j]);
-        for (std::size_t j = 0; j < outputs.size(); ++j)
-            out << ',' << format_number(j < r.output_amp1.size() ? r.output_amp1[j] : 0.0);
-        out << ',' << format_number(r.stick_fraction) << ',' << (r.regime.empty() ? "none" : r.regime) << ','
-            << format_number(r.energy) << ',' << r.periods << ',' << (r.converged ? "true" : "false") << ','
-            << format_number(r.stick_margin_min) << ',' << format_number(r.stick_margin_max) << ',' << r.switches
-            << '\n';
+        for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(r.output_max[j]);
+        for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(j < r.output_amp1.size() ? r.output_amp1[j] : 0.0);
+        row.insert(row.end(), {r.stick_fraction, r.regime.empty() ? std::string("none") : r.regime, r.energy,
+                               static_cast<long long>(r.periods), std::string(r.converged ? "true" : "false"),
+                               r.stick_margin_min, r.stick_margin_max, static_cast<long long>(r.switches)});
+        table.add_row(std::move(row));
     }
+    return table;
+}
+
+void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses,
+                       const std::vector<Output>& outputs) {
+    write_csv(out, timeint_table(responses, outputs));
 }
 
 void write_frf_summary(std::ostream& out, const std::string& law,

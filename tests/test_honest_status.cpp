@@ -12,7 +12,8 @@
 #include <sstream>
 #include <nlohmann/json.hpp>
 
-#include "arguments.hpp"  // src/cli: Verdict, judge_branch
+#include "arguments.hpp"  // src/cli: Verdict
+#include "hbf/design.hpp"
 #include "cli_support.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/diagnostics.hpp"
@@ -298,7 +299,7 @@ TEST_CASE("hbf timeint checks the energy balance of every converged point: the a
     }
 }
 
-TEST_CASE("A branch's outcome sets the exit code: unlocated transitions and truncations are 3, stalls are 1",
+TEST_CASE("A branch's outcome sets the verdict: unlocated transitions and truncations are incomplete (exit 3) and stalls failed (exit 1)",
           "[status][cli]") {
     // No input is known that leaves a transition unlocated since the bisection's patient retry
     // (a weak corrector on the 200-DOF beam used to): the mapping is checked on branch results.
@@ -308,31 +309,32 @@ TEST_CASE("A branch's outcome sets the exit code: unlocated transitions and trun
         branch.unlocated_transitions = unlocated;
         branch.coverage = coverage;
         branch.message = unlocated > 0 ? std::to_string(unlocated) + " transition(s) not located near w = 1.2" : "";
-        hbf::cli::Verdict verdict("frf");
-        hbf::cli::judge_branch(verdict, branch);
-        return verdict;
+        FrfResult frf;
+        frf.branch = branch;
+        reset_library_messages();  // judge_frf also reports the numerical libraries' warnings
+        return judge_frf(frf, FrfSettings{});
     };
     const auto clean = judged(ContinuationStatus::completed, 0, 1.0);
-    CHECK(clean.finish() == 0);
-    CHECK(clean.warnings().empty());
+    CHECK(clean.status() == "completed");
+    CHECK(clean.warnings.empty());
     const auto unlocated = judged(ContinuationStatus::completed, 2, 1.0);
-    CHECK(unlocated.finish() == 3);
-    REQUIRE(unlocated.warnings().size() == 1);
-    CHECK_THAT(unlocated.warnings()[0], Catch::Contains("2 transition(s) not located") &&
+    CHECK(unlocated.status() == "incomplete");
+    REQUIRE(unlocated.warnings.size() == 1);
+    CHECK_THAT(unlocated.warnings[0], Catch::Contains("2 transition(s) not located") &&
                                             Catch::Contains("lacks those transition rows"));
     for (ContinuationStatus s : {ContinuationStatus::amplitude_cap, ContinuationStatus::left_range,
                                  ContinuationStatus::point_budget}) {
         const auto truncated = judged(s, 0, 0.25);
         INFO(to_string(s));
-        CHECK(truncated.finish() == 3);
-        REQUIRE(truncated.warnings().size() == 1);
-        CHECK_THAT(truncated.warnings()[0], Catch::Contains("spans 25 %"));
+        CHECK(truncated.status() == "incomplete");
+        REQUIRE(truncated.warnings.size() == 1);
+        CHECK_THAT(truncated.warnings[0], Catch::Contains("spans 25 %"));
     }
     for (ContinuationStatus s : {ContinuationStatus::min_step, ContinuationStatus::start_failed}) {
         const auto stalled = judged(s, 1, 0.5);
         INFO(to_string(s));
-        CHECK(stalled.finish() == 1);
-        CHECK(stalled.errors().size() == 1);
+        CHECK(stalled.status() == "failed");
+        CHECK(stalled.errors.size() == 1);
     }
 }
 

@@ -45,6 +45,25 @@ struct FrfSettings {
     StabilityOptions stability_options;
 };
 
+/// Default H of harmonic balance for a law without the exact polish, measured (README,
+/// benchmarks/hb_branch, tests/test_verification.cpp): Dahl, LuGre and Jenkins (continuous
+/// force) converge fast (H = 10: the peak within 6e-5 of H = 40; Jenkins within 4e-6 of time
+/// integration); exact Coulomb like 1/H (H = 20: about 1% at the peak); regularised Coulomb's
+/// steep tanh (eps = 0.05) wiggles at H = 10 (13 spurious peaks on the default FRF), not at
+/// H = 20.
+int default_harmonics(FrictionLaw law);
+/// The automatic H of `hbf frf` and of the Python frf(): 10 with the exact polish (harmonic
+/// balance then only supplies the branch and the starting guesses: the same exact branch, peaks
+/// and transitions as H = 20, 3 times faster); otherwise the largest default_harmonics of the
+/// contacts' laws (10 without contacts); either times the excitation harmonic h, at most 200.
+int automatic_harmonics(const System& system, bool exact);
+
+/// The settings of `hbf frf` without flags for a system: the exact polish where it applies
+/// (exact_solver_supports), the automatic H (automatic_harmonics), the transitions located by
+/// harmonic balance only without the polish (the exact ones replace them), `outputs`, and the
+/// peaks of every output. Every other option keeps its default.
+FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs);
+
 /// What the largest peak of an FRF means.
 enum class PeakState {
     bounded,     ///< the branch spans [wmin, wmax]: value is the largest peak
@@ -79,11 +98,41 @@ struct FrfResult {
     double seconds = 0;                     ///< wall time of compute_frf
 };
 
+/// What makes an FRF failed (errors), incomplete or doubtful (warnings), or worth a remark
+/// (notes): the judgement `hbf frf` prints and exits by (1 with errors, else 3 with warnings),
+/// and the Python bindings' status.
+struct FrfVerdict {
+    std::vector<std::string> errors, warnings, notes;
+    /// "failed" with errors, else "incomplete" with warnings, else "completed".
+    std::string status() const;
+};
+struct FrfResult;
+/// The verdict on an FRF computed with `settings`:
+///  - errors: a continuation that stalled or failed to start (min_step, start_failed); a failed
+///    exact polish; an `at` frequency without a solution;
+///  - warnings: a branch capped, out of range or out of points (with its coverage);
+///    transitions that could not be located; points that fail the energy balance
+///    (energy_balance_limit); warnings of the numerical libraries (diagnostics.hpp) since their
+///    last reset;
+///  - notes: unrefined peaks, stability verdicts that are uncertain or missing.
+FrfVerdict judge_frf(const FrfResult& frf, const FrfSettings& settings);
+
 /// The FRF of hb's system with these settings (hb's own options; settings.harmonic_balance
 /// is not used). Throws InvalidInput for bad options or outputs.
 FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings);
 /// The same, building the HarmonicBalance from settings.harmonic_balance.
 FrfResult compute_frf(const System& system, const FrfSettings& settings);
+
+/// The harmonic-balance solution at omega reached by following the branch from omega_from
+/// (from 0.9 omega when omega <= omega_from) with `options`' corrector and limits: what
+/// `hbf loop` writes. Where branch 1 stops at an amplitude cap on the way, the point is where
+/// branch 2 starts. found = false (branch says why) when no branch reaches omega.
+struct SolutionAt {
+    bool found = false;
+    SolutionPoint point;
+    BranchResult branch;
+};
+SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, ContinuationOptions options = {});
 
 /// FRFs of many systems, `threads` at a time (0: the hardware's concurrency), one FRF per
 /// task; result k belongs to systems(k) and equals what compute_frf gives alone (every task

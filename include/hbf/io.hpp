@@ -5,6 +5,7 @@
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "hbf/analytic.hpp"
@@ -65,13 +66,39 @@ private:
 /// A CSV field: shortest round-trip decimal, or empty when there is no value.
 std::string csv_field(const std::optional<double>& value);
 
-/// Column names and meanings of the analytic table, in order (used by the header and --help).
+/// What a column holds: numbers (doubles), integers (counts, branch numbers) or words.
+enum class ColumnType { number, integer, text };
+
+/// A column of a table: its CSV name, what it means (for --help and the Python bindings) and
+/// its type.
 struct Column {
     std::string name;
     std::string meaning;
+    ColumnType type = ColumnType::number;
 };
+
+/// One value of a table: none (an empty CSV field), a number, an integer or a word.
+using Cell = std::variant<std::monostate, double, long long, std::string>;
+
+/// A table of results, column by column: cells[j][k] is row k of columns[j]. The one source of
+/// both the CSV files of the commands and the arrays of the Python bindings.
+struct Table {
+    std::vector<Column> columns;
+    std::vector<std::vector<Cell>> cells;
+    std::size_t rows() const { return cells.empty() ? 0 : cells.front().size(); }
+    /// Appends one row (one cell per column, in order).
+    void add_row(std::vector<Cell> row);
+};
+
+/// The header row and one line per row; numbers by format_number (15 significant digits),
+/// integers and words as they are, none as an empty field.
+void write_csv(std::ostream& out, const Table& table);
+
+/// Column names and meanings of the analytic table, in order (used by the header and --help).
 const std::vector<Column>& analytic_columns();
 
+/// The analytic table (analytic_columns), one row per frequency.
+Table analytic_table(const std::vector<analytic::Row>& rows);
 /// Writes the header row and one row per frequency.
 void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows);
 
@@ -79,6 +106,12 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
 /// then <name>_amp1 for each; a DOF i is the output y<i+1>), or all `dofs` DOFs.
 std::vector<Column> frf_columns(const std::vector<Output>& outputs);
 std::vector<Column> frf_columns(int dofs);
+
+/// The table of `hbf frf` (frf_columns(outputs)), one row per point (metrics[k] and exact[k]
+/// belong to points[k]; as write_frf_csv below).
+Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
+                const std::vector<Output>& outputs, const std::vector<ExactPoint>& exact = {},
+                const BranchStability* stability = nullptr);
 
 /// Writes the header row and one row per point (metrics[k] and exact[k] belong to points[k];
 /// metrics[k].output_max[j] and output_amp1[j] belong to outputs[j]; `exact` empty: no
@@ -93,6 +126,10 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 std::vector<Column> timeint_columns(int dofs);
 /// The same for `outputs` (in this order; as frf_columns(outputs)).
 std::vector<Column> timeint_columns(const std::vector<Output>& outputs);
+
+/// The table of `hbf timeint` (timeint_columns(outputs)), one row per response; a response
+/// without a single integrated period has empty numbers and regime failed.
+Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::vector<Output>& outputs);
 
 /// Writes the header row and one row per response (time-integration steady states), with the
 /// columns of `outputs` (r.output_max[j] and r.output_amp1[j] belong to outputs[j]: the

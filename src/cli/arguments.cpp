@@ -25,16 +25,6 @@ void Verdict::add_library_messages() {
                 m.first);
 }
 
-void judge_branch(Verdict& verdict, const BranchResult& branch) {
-    if (branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::start_failed)
-        verdict.error(branch.summary() + " (the points computed so far are written)");
-    else if (branch.status != ContinuationStatus::completed)
-        verdict.warning(branch.summary() + "; the branch spans " + format_number(100.0 * branch.coverage) +
-                        " % of [wmin, wmax]");
-    else if (branch.unlocated_transitions > 0)
-        verdict.warning(branch.message + " (the branch points are right; the CSV lacks those transition rows)");
-}
-
 int Verdict::finish() const {
     for (const std::string& e : errors_) std::cerr << "hbf " << command_ << ": error: " << e << "\n";
     for (const std::string& w : warnings_) std::cerr << "hbf " << command_ << ": warning: " << w << "\n";
@@ -200,10 +190,6 @@ AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
         throw UsageError(flag == flags.end() ? what : flag->second + ": " + what);
     }
     return p;
-}
-
-int default_harmonics(FrictionLaw law) {
-    return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
 }
 
 namespace {

@@ -9,6 +9,7 @@
 
 #include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/design.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 
@@ -41,11 +42,6 @@ private:
     std::string command_;
     std::vector<std::string> errors_, warnings_, notes_;
 };
-
-/// A continuation's outcome into a verdict: min_step and start_failed are errors (exit 1);
-/// amplitude_cap, left_range and point_budget are warnings with the coverage (exit 3), and so
-/// are transitions that were not located on a completed branch.
-void judge_branch(Verdict& verdict, const BranchResult& branch);
 
 /// A flag value that cannot be used; the message names the flag.
 class UsageError : public std::runtime_error {
@@ -104,11 +100,6 @@ HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const s
                                                 const std::string& time_samples, const ChosenSystem& chosen,
                                                 const std::string& config_path);
 
-/// Default H of harmonic balance, measured (README, benchmarks/hb_branch,
-/// tests/test_verification.cpp): Dahl, LuGre and Jenkins (continuous force) converge fast
-/// (H = 10: the peak within 6e-5 of H = 40; Jenkins within 4e-6 of time integration); exact
-/// Coulomb like 1/H (H = 20: about 1% at the peak); regularised Coulomb's steep tanh
-/// (eps = 0.05) wiggles at H = 10 (13 spurious peaks on the default FRF), not at H = 20.
-int default_harmonics(FrictionLaw law);
+/// (default_harmonics and automatic_harmonics: design.hpp.)
 
 }  // namespace hbf::cli

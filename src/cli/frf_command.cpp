@@ -96,7 +96,6 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const std::vector<PointMetrics>& metrics = frf.metrics;
     const std::optional<PolishedBranch>& polish = frf.polish;
     const std::vector<Peak>& peaks = frf.peaks;
-    const std::vector<double>& missed = frf.missed;
     const std::size_t sample_count = static_cast<std::size_t>(std::count_if(
         points.begin(), points.end(), [](const SolutionPoint& x) { return x.kind == PointKind::sample; }));
 
@@ -113,43 +112,13 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const BranchStability* stability = frf.stability ? &*frf.stability : nullptr;
     io::write_frf_csv(out.stream(), points, metrics, outputs, frf.exact, stability);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    // Everything that makes the result failed (exit 1) or incomplete/doubtful (exit 3); said on
-    // stderr after the files are committed, and in the JSON summary.
+    // Everything that makes the result failed (exit 1) or incomplete/doubtful (exit 3): said on
+    // stderr after the files are committed, and in the JSON summary (judge_frf, design.hpp).
     Verdict verdict("frf");
-    judge_branch(verdict, branch);
-    // A point whose exact polish failed is HB's value, flagged exact = failed: a doubtful result.
-    if (polish && polish->failed > 0)
-        verdict.error(polish->summary() + "; the failed rows keep their harmonic-balance values (column exact = failed)");
-    // The energy balance of every harmonic-balance point (column energy_error).
-    std::size_t unbalanced = 0, worst = 0;
-    const double energy_limit = energy_balance_limit(co.corrector.tolerance);
-    for (std::size_t k = 0; k < metrics.size(); ++k) {
-        if (metrics[k].energy_error > energy_limit) ++unbalanced;
-        if (metrics[k].energy_error > metrics[worst].energy_error) worst = k;
-    }
-    if (unbalanced > 0)
-        verdict.warning(std::to_string(unbalanced) + " point(s) fail the energy balance (column energy_error > " +
-                        format_number(energy_limit) + ", max(1e-6, 100 --tolerance); the largest, " +
-                        format_number(metrics[worst].energy_error) + ", at w = " + format_number(points[worst].omega) +
-                        "): the residual is small but the solution is not; a tighter --tolerance or more harmonics "
-                        "may help");
-    const auto unrefined = std::count_if(peaks.begin(), peaks.end(), [](const Peak& p) { return !p.refined; });
-    if (unrefined > 0)
-        verdict.note(std::to_string(unrefined) + " peak(s) not refined (at a fold, or a solve failed): the JSON "
-                     "gives the branch point (refined = false)");
-    if (stability && (stability->uncertain > 0 || stability->not_computed > 0)) {
-        std::string example;
-        for (std::size_t k = 0; k < stability->points.size() && example.empty(); ++k)
-            if (!stability->points[k].message.empty())
-                example = "; e.g. at w = " + format_number(points[k].omega) + ": " + stability->points[k].message;
-        verdict.note(stability->summary() + ": the points with stable = uncertain (or empty) have no verdict" +
-                     example);
-    }
-    // An --at frequency without a row is a failure too.
-    for (double w : missed)
-        verdict.error("--at w = " + format_number(w) + ": no solution written (outside the computed branch, or the "
-                      "solve failed from the branch and after a retry)");
-    verdict.add_library_messages();
+    const FrfVerdict judged = judge_frf(frf, settings);
+    for (const std::string& e : judged.errors) verdict.error(e);
+    for (const std::string& w : judged.warnings) verdict.warning(w);
+    for (const std::string& n : judged.notes) verdict.note(n);
     std::unique_ptr<io::OutputFile> summary;
     if (!o.summary.empty()) {
         std::vector<std::pair<std::string, double>> parameters;

@@ -7,6 +7,7 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/io.hpp"
 #include "hbf/plot.hpp"
@@ -55,26 +56,21 @@ int run(const CLI::App& command, const LoopOptions& o) {
 
     // The solution at w: the branch followed from wmin (from 0.9 w when w <= wmin).
     ContinuationOptions co;
-    co.omega_start = w > wmin ? wmin : 0.9 * w;
-    co.omega_end = w;
-    co.locate_transitions = false;
     if (dry_run()) {  // the same checks, without building the Fourier matrices
         HarmonicBalance::validate(chosen.system, hbo);
+        co.omega_start = w > wmin ? wmin : 0.9 * w;
+        co.omega_end = w;
         validate(co);
         std::cerr << "hbf loop: dry run: every input and output is valid; nothing computed, nothing written\n";
         return exit_success;
     }
     HarmonicBalance hb(chosen.system, hbo);
-    validate(co);
-    const BranchResult branch = continue_branch(hb, co);
-    // The branch's point at w: where branch 1 lands, or where branch 2 starts when branch 1
-    // stopped at an amplitude cap on the way.
-    const SolutionPoint* at = nullptr;
-    for (const SolutionPoint& point : branch.points)
-        if (point.omega == w && (at == nullptr || point.branch < at->branch)) at = &point;
-    if (at == nullptr)
+    const SolutionAt solution = solve_at(hb, w, wmin, co);
+    if (!solution.found)
         throw std::runtime_error("no solution at w = " + format_number(w) + ": the branch from w = " +
-                                 format_number(co.omega_start) + " stopped: " + branch.summary());
+                                 format_number(w > wmin ? wmin : 0.9 * w) +
+                                 " stopped: " + solution.branch.summary());
+    const SolutionPoint* at = &solution.point;
     const PointSignals s = point_signals(hb, *at, static_cast<int>(contact - 1));
 
     io::OutputFile out(o.out);

@@ -1,0 +1,632 @@
+"""hbfriction: frequency responses of structures with friction contacts by multi-harmonic balance.
+
+The Python face of the C++ library (include/hbf/*.hpp): the same computations as the ``hbf``
+command, with NumPy arrays in and out.
+
+    >>> import hbfriction
+    >>> b = hbfriction.frf(hbfriction.absorber())        # the paper's absorber, exact Coulomb
+    >>> b.w, b.y1_max                                      # NumPy columns, as hbf frf's CSV
+    >>> b.metadata["peaks"], b.status                     # hbf frf --summary's JSON, as a dict
+
+Systems: ``absorber(law, r=..., mu=...)`` (the paper's preset), ``load("system.toml")`` (the
+TOML files of hbf frf --config), or ``System(mass, stiffness, excitation, damping, contacts)``
+from NumPy arrays or SciPy sparse matrices (``Contact(dof=0, other_dof=1, law="jenkins",
+friction_limit=0.2, stiffness=1.6)``; DOFs are 0-based).
+
+Computations: ``frf``, ``solve_at``, ``timeint``, ``analytic``, ``optimize``, ``map``. Their
+options carry the C++ names and defaults (``harmonics``, ``omega_start``, ``tolerance``,
+``max_amplitude``, ...; see ``options()``). Bad input raises ValueError with the library's
+message (naming the parameter and its allowed range); a wrong type raises TypeError. A result
+that is incomplete or doubtful is never silent: its ``status`` says so and an
+``IncompleteResultWarning`` is issued. The GIL is released while the C++ code computes.
+"""
+
+import json as _json
+import math as _math
+import warnings as _warnings
+
+import numpy as _np
+
+from . import _core
+from ._core import (AbsorberParameters, Contact, ContinuationOptions, CorrectorOptions, FrfSettings,
+                    HarmonicBalanceOptions, OptimizeOptions, Output, StabilityOptions, System,
+                    TimeIntegrationOptions)
+
+__version__ = _core.__version__
+__all__ = ["absorber", "load", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "analytic",
+           "optimize", "map", "options", "Branch", "Solution", "Table", "OptimizeResult", "MapResult",
+           "IncompleteResultWarning", "SolveError", "AbsorberParameters", "FrfSettings",
+           "HarmonicBalanceOptions", "ContinuationOptions", "CorrectorOptions", "StabilityOptions",
+           "TimeIntegrationOptions", "OptimizeOptions"]
+
+
+class IncompleteResultWarning(UserWarning):
+    """A result that is incomplete or doubtful (its status and messages say why)."""
+
+
+class SolveError(RuntimeError):
+    """No solution where one was asked for (solve_at: the branch stopped before the frequency)."""
+
+
+# ---- option classes: keyword construction and a readable repr ---------------------------------
+
+def _fields(obj):
+    return [n for n in dir(type(obj)) if not n.startswith("_") and not callable(getattr(type(obj), n, None))
+            and n not in ("ground",)]
+
+
+def _keyword_init(cls):
+    core_init = cls.__init__
+
+    def __init__(self, *args, **values):
+        core_init(self, *args)
+        for name, value in values.items():
+            if name.startswith("_") or name not in _fields(self):
+                raise ValueError("%s: unknown option '%s': allowed %s" % (cls.__name__, name, ", ".join(_fields(self))))
+            setattr(self, name, value)
+
+    def __repr__(self):
+        return "%s(%s)" % (cls.__name__, ", ".join("%s=%r" % (n, getattr(self, n)) for n in _fields(self)))
+
+    __init__.__doc__ = "%s(**fields): the C++ struct's fields by name, the C++ defaults otherwise" % cls.__name__
+    cls.__init__ = __init__
+    cls.__repr__ = __repr__
+
+
+for _cls in (AbsorberParameters, Contact, ContinuationOptions, CorrectorOptions, FrfSettings, HarmonicBalanceOptions,
+             OptimizeOptions, StabilityOptions, TimeIntegrationOptions):
+    _keyword_init(_cls)
+
+
+def _copy(obj, kind=None):
+    """A copy of an options object (through its fields); TypeError unless it is a `kind`."""
+    if kind is not None and not isinstance(obj, kind):
+        raise TypeError("%r is not an hbfriction.%s" % (obj, kind.__name__))
+    new = type(obj)()
+    for n in _fields(obj):
+        value = getattr(obj, n)
+        if type(value) in (ContinuationOptions, CorrectorOptions, HarmonicBalanceOptions, StabilityOptions):
+            value = _copy(value)
+        setattr(new, n, value)
+    return new
+
+
+# ---- systems ------------------------------------------------------------------------------------
+
+# The paper's symbols (hbf's flags) for the fields of AbsorberParameters, and the laws each applies to.
+_ABSORBER_NAMES = {"r": "mass_ratio", "wa": "tuning_ratio", "mu": "friction_coefficient", "fe": "excitation",
+                   "wb": "contact_stiffness_ratio", "xi": "contact_damping_ratio", "eps": "regularization",
+                   "mu_static": "static_friction_coefficient", "stribeck_velocity": "stribeck_velocity",
+                   "viscous": "viscous_coefficient", "dlft_eps": "lagrangian_penalty"}
+_APPLIES = {"contact_stiffness_ratio": ("dahl", "lugre", "jenkins"), "contact_damping_ratio": ("lugre",),
+            "regularization": ("coulomb-reg",), "static_friction_coefficient": ("lugre",),
+            "stribeck_velocity": ("lugre",), "viscous_coefficient": ("lugre",), "lagrangian_penalty": ("coulomb",)}
+_LAWS = ("coulomb", "jenkins", "dahl", "lugre", "coulomb-reg")
+
+
+def absorber(law="coulomb", parameters=None, excitation_harmonic=1, **values):
+    """The paper's friction absorber (2 DOFs, nondimensional; model.hpp) as a System.
+
+    law: coulomb (exact, set-valued), jenkins, dahl, lugre or coulomb-reg. Parameters by the
+    paper's symbols or the C++ names of AbsorberParameters (defaults: r = 0.1, wa = 1, mu = 0.2,
+    fe = 0.5, wb = 0.4, xi = 0.01, eps = 0.05): r/mass_ratio, wa/tuning_ratio,
+    mu/friction_coefficient, fe/excitation, wb/contact_stiffness_ratio (dahl, lugre, jenkins),
+    xi/contact_damping_ratio (lugre), eps/regularization (coulomb-reg), mu_static, stribeck_velocity,
+    viscous (lugre), dlft_eps/lagrangian_penalty (coulomb). A parameter that does not apply to the
+    law is an error, as in hbf. Reports y1 and y2.
+    """
+    if law not in _LAWS:
+        raise ValueError("law = '%s' is not known: allowed %s" % (law, ", ".join(_LAWS)))
+    p = AbsorberParameters() if parameters is None else _copy(parameters, AbsorberParameters)
+    fields = set(_fields(p))
+    for key, value in values.items():
+        name = _ABSORBER_NAMES.get(key, key)
+        if name not in fields:
+            raise ValueError("absorber: unknown parameter '%s': allowed %s (or the C++ names %s)" %
+                             (key, ", ".join(_ABSORBER_NAMES), ", ".join(sorted(fields))))
+        if name in _APPLIES and law not in _APPLIES[name]:
+            raise ValueError("absorber: %s does not apply to law %s: it applies to %s" %
+                             (key, law, ", ".join(_APPLIES[name])))
+        setattr(p, name, float(value))
+    p.validate(law)
+    system = _core.friction_absorber(p, law)
+    if excitation_harmonic != 1:
+        system.excitation_harmonic = excitation_harmonic
+        system.validate()
+    return system
+
+
+def load(path):
+    """A System from a TOML file (include/hbf/config.hpp, examples/systems/): its structure,
+    contacts and outputs, and its [frequency] and [solver] settings, which frf() applies unless
+    given as options (as hbf frf --config)."""
+    try:
+        return _core.read_system_config(str(path))
+    except ValueError as e:  # the library names the file as hbf's flag does
+        raise ValueError(str(e).replace("--config = ", "path = ", 1)) from None
+
+
+def _outputs(system, outputs):
+    """Output objects from DOF indices (0-based), Output objects, or (name, row) pairs where row
+    holds c (N numbers: o = c^T y)."""
+    result = []
+    for o in ([outputs] if isinstance(outputs, (int, Output, tuple)) else outputs):
+        if isinstance(o, Output):
+            result.append(o)
+        elif isinstance(o, (int, _np.integer)) and not isinstance(o, bool):
+            if not 0 <= int(o) < system.dofs:
+                raise ValueError("outputs: DOF %d is out of range: allowed 0..%d" % (o, system.dofs - 1))
+            result.append(Output.dof(int(o)))
+        elif isinstance(o, tuple) and len(o) == 2:
+            row = _np.asarray(o[1], dtype=float).ravel()
+            if row.size != system.dofs:
+                raise ValueError("outputs: '%s' has %d coefficients: allowed %d (one per DOF)" % (o[0], row.size,
+                                                                                                 system.dofs))
+            result.append(Output(str(o[0]), [(int(i), float(row[i])) for i in _np.flatnonzero(row)]))
+        else:
+            raise TypeError("outputs: %r is not a DOF index, an Output or a (name, row) pair" % (o,))
+    if not result:
+        raise ValueError("outputs: empty: allowed one or more DOFs or outputs")
+    for o in result:
+        if not o.terms:
+            raise ValueError("outputs: '%s' has no non-zero coefficient" % o.name)
+    return result
+
+
+def _check_system(system):
+    if not isinstance(system, System):
+        raise TypeError("system: %r is not an hbfriction.System (absorber(), load() or System(...))" % (system,))
+
+
+# ---- options ------------------------------------------------------------------------------------
+
+_ALIASES = {"wmin": "omega_start", "wmax": "omega_end"}
+
+
+def _targets(settings):
+    """Where a flat option name lives: FrfSettings, then its harmonic balance, continuation and
+    corrector options (the C++ names; no two share a name)."""
+    return [settings, settings.harmonic_balance, settings.continuation, settings.continuation.corrector]
+
+
+def options():
+    """The flat option names frf(), map() and optimize() accept, with their defaults (C++)."""
+    s = FrfSettings()
+    names = {}
+    for target in _targets(s):
+        for n in _fields(target):
+            if n not in ("harmonic_balance", "continuation", "corrector", "stability_options", "stability"):
+                names[n] = getattr(target, n)
+    names["stability"] = "off"
+    return names
+
+
+def _set_option(settings, name, value):
+    name = _ALIASES.get(name, name)
+    for target in _targets(settings):
+        if name in _fields(target) and name not in ("harmonic_balance", "continuation", "corrector"):
+            setattr(target, name, value)
+            return
+    raise ValueError("unknown option '%s': allowed %s (and wmin, wmax, stability, outputs, settings)" %
+                     (name, ", ".join(sorted(options()))))
+
+
+def _check_limits(settings):
+    """hbf frf's ranges for what would otherwise only be limited by memory."""
+    hb = settings.harmonic_balance
+    if not 1 <= hb.harmonics <= 200:
+        raise ValueError("harmonics = %d is out of range: allowed 1..200" % hb.harmonics)
+    if hb.time_samples != 0 and not 2 * hb.harmonics < hb.time_samples <= 65536:
+        raise ValueError("time_samples = %d is out of range: allowed 0 (automatic) or %d..65536" %
+                         (hb.time_samples, 2 * hb.harmonics + 1))
+    if not 0 <= hb.modes <= 100000:
+        raise ValueError("modes = %d is out of range: allowed 0 (direct solve) or 1..100000" % hb.modes)
+    for w in settings.at:
+        if not (_math.isfinite(w) and w > 0):
+            raise ValueError("at = %r is out of range: allowed frequencies > 0" % (w,))
+    settings.continuation.validate()
+
+
+def _settings(system, settings, outputs, stability, values):
+    """FrfSettings for system: `settings` as given, else hbf frf's defaults for it (the exact
+    polish where it applies, the automatic H, a TOML file's [frequency] and [solver]); then the
+    flat options `values` and outputs, stability on top."""
+    _check_system(system)
+    values = dict(values)
+    s = _core.default_frf_settings(system) if settings is None else _copy(settings, FrfSettings)
+    if outputs is not None:
+        s.outputs = _outputs(system, outputs)
+    elif not s.outputs:
+        s.outputs = system.outputs or [Output.dof(i) for i in range(system.dofs)]
+    for o in s.outputs:
+        if o.terms and max(i for i, _ in o.terms) >= system.dofs:
+            raise ValueError("outputs: '%s' names a DOF beyond the system's %d" % (o.name, system.dofs))
+    if "exact" in values:
+        exact = bool(values.pop("exact"))
+        refusal = _core.exact_solver_refusal(system)
+        if exact and refusal:
+            raise ValueError("exact = True: %s (use exact=False)" % refusal)
+        s.exact = exact
+        if settings is None:  # the automatic choices that depend on the polish
+            if "harmonics" not in values and "harmonics" not in system.file_settings:
+                s.harmonic_balance.harmonics = _core.automatic_harmonics(system, exact)
+            if "locate_transitions" not in values:
+                s.continuation.locate_transitions = not exact
+    for name, value in values.items():
+        _set_option(s, name, value)
+    if stability is not None and stability is not False and stability != "off":
+        method = "both" if stability is True or stability == "on" else stability
+        s.stability_options.method = method
+        refusal = _core.stability_refusal(system)
+        if refusal:
+            raise ValueError("stability = %r: %s" % (stability, refusal))
+        s.stability = True
+    elif stability is not None:
+        s.stability = False
+    _check_limits(s)
+    return s
+
+
+# ---- results ------------------------------------------------------------------------------------
+
+def _array(values, kind):
+    if kind == "text":
+        return _np.array(["" if v is None else v for v in values], dtype=str)
+    if kind == "integer" and all(v is not None for v in values):
+        return _np.array(values, dtype=_np.int64)
+    return _np.array([_math.nan if v is None else v for v in values], dtype=float)
+
+
+class Table:
+    """Columns of a result as NumPy arrays, named as the hbf command's CSV columns.
+
+    ``t.name`` or ``t["name"]`` is a column (numbers: float64 with NaN for an empty field;
+    counts: int64; words: str); ``t.columns`` lists the names in order and ``t.meaning`` says
+    what each is (the same texts as the command's --help).
+    """
+
+    def __init__(self, columns):
+        self.columns = [c[0] for c in columns]
+        self.meaning = {c[0]: c[1] for c in columns}
+        self._data = {c[0]: _array(c[3], c[2]) for c in columns}
+
+    def __getattr__(self, name):
+        data = self.__dict__.get("_data")
+        if data is not None and name in data:
+            return data[name]
+        raise AttributeError("%s has no column or attribute '%s' (columns: %s)" %
+                             (type(self).__name__, name, ", ".join(self.__dict__.get("columns", []))))
+
+    def __getitem__(self, name):
+        return self._data[name]
+
+    def __contains__(self, name):
+        return name in self._data
+
+    def __len__(self):
+        return len(next(iter(self._data.values()))) if self._data else 0
+
+    def keys(self):
+        return list(self.columns)
+
+    def to_dict(self):
+        """{column name: array}, in column order."""
+        return {n: self._data[n] for n in self.columns}
+
+    def __dir__(self):
+        return list(super().__dir__()) + list(self.columns)
+
+
+def _judge(status, messages, what):
+    if status != "completed":
+        _warnings.warn("%s is %s: %s" % (what, status, "; ".join(messages) or "see its status"),
+                       IncompleteResultWarning, stacklevel=3)
+
+
+class Branch(Table):
+    """An FRF: one row per point (the branch in order, then the `at` samples), the columns of
+    hbf frf's CSV (``w``, ``y1_max``, ..., ``stability_margin``; see ``meaning``).
+
+    ``metadata``: hbf frf --summary's JSON as a dict (parameters, solver statistics, peaks, folds,
+    transitions, exact polish, stability, status, message, errors, warnings, notes).
+    ``status``: completed, incomplete (capped, out of range, unlocated transitions, energy balance)
+    or failed (a stalled continuation, a failed polish); ``errors``, ``warnings`` and ``notes`` say
+    why, as hbf frf does on standard error. ``settings``: the FrfSettings used.
+    """
+
+    def __init__(self, run, settings):
+        Table.__init__(self, run.columns)
+        self._run = run
+        self.settings = settings
+        self.metadata = _json.loads(run.summary)
+        self.status = run.status
+        self.errors = list(run.errors)
+        self.warnings = list(run.warnings)
+        self.notes = list(run.notes)
+        self.seconds = run.seconds
+
+    @property
+    def peaks(self):
+        """The peaks (JSON summary): list of dicts with w, output, y_max, branch, refined."""
+        return self.metadata.get("peaks", [])
+
+    @property
+    def folds(self):
+        return self.metadata.get("folds", [])
+
+    @property
+    def transitions(self):
+        return self.metadata.get("transitions", [])
+
+    @property
+    def peak(self):
+        """The largest peak of the first output: dict(value, w, state) (state: bounded, unbounded,
+        incomplete or failed)."""
+        return self._run.peak
+
+    def coefficients(self):
+        """The harmonic-balance unknowns of every point (harmonic_balance.hpp layout), one array per row."""
+        return [_np.array(x) for x in self._run.coefficients]
+
+    def csv(self):
+        """The CSV text hbf frf writes for this FRF (identical, byte for byte, for the same input)."""
+        return self._run.csv()
+
+    def write_csv(self, path):
+        """Writes csv() to path under hbf's output policy: atomically, a symlink, device or FIFO is
+        never replaced by a file (ValueError naming the problem)."""
+        _core.write_text(str(path), self.csv())
+
+    def write_summary(self, path):
+        """Writes the JSON summary (hbf frf --summary) to path, under the same policy."""
+        _core.write_text(str(path), self._run.summary)
+
+    def __repr__(self):
+        return "<hbfriction.Branch: %d points, %s, %d peak(s)>" % (len(self), self.status, len(self.peaks))
+
+
+def frf(system, settings=None, *, outputs=None, stability=None, **options):
+    """The frequency response of `system` (hbf frf): pseudo-arclength continuation of the
+    harmonic-balance solutions over [omega_start, omega_end], the exact polish where it applies,
+    the peaks refined. Returns a Branch.
+
+    system: absorber(), load() or System(...). settings: an FrfSettings taken as given (else hbf
+    frf's defaults: exact polish for coulomb and jenkins on models it covers, H automatic (10 with
+    the polish, 20 for coulomb and coulomb-reg, 10 otherwise), a TOML file's own settings).
+    outputs: DOF indices (0-based), Output objects or (name, row) pairs (default: the system's,
+    else every DOF). stability: False/"off" (default), True/"on"/"both", "hill" or "monodromy".
+    options: any field of FrfSettings, HarmonicBalanceOptions, ContinuationOptions or
+    CorrectorOptions by its C++ name, e.g. harmonics=20, omega_start=0.8 (or wmin=0.8),
+    omega_end=1.3, exact=False, at=[1.0, 1.1], tolerance=1e-10, max_amplitude=100 (see options()).
+    """
+    s = _settings(system, settings, outputs, stability, options)
+    branch = Branch(_core.compute_frf(system, s), s)
+    _judge(branch.status, branch.errors + branch.warnings, "the FRF")
+    return branch
+
+
+class Solution:
+    """One harmonic-balance solution (hbf loop): omega, the metrics (y_max, y_amp1 per DOF,
+    output_max, output_amp1 per output, stick_fraction, regime, energy, energy_error), the
+    coefficients (2H + 1 rows: c0, c1, s1, ..., one column per DOF), and one period of signals of
+    the chosen contact: t, y (samples x DOFs), q, v, f (the law's force), phi (stick indicator:
+    sticks where < 0), f_series (f's H-harmonic series)."""
+
+    def __init__(self, d):
+        self.omega = d["omega"]
+        self.harmonics = d["harmonics"]
+        self.x = _np.array(d["x"])
+        self.iterations = d["iterations"]
+        self.residual = d["residual"]
+        flat, shape = d["coefficients"]
+        self.coefficients = _np.array(flat).reshape(shape)
+        for key in ("y_max", "y_amp1", "output_max", "output_amp1"):
+            setattr(self, key, _np.array(d[key], dtype=float))
+        for key in ("stick_fraction", "regime", "energy", "input_energy", "viscous_energy", "energy_error"):
+            setattr(self, key, d[key])
+        sig = d["signals"]
+        self.t = _np.array(sig["t"])
+        flat, shape = sig["y"]
+        self.y = _np.array(flat).reshape(shape)
+        for key in ("q", "v", "f", "phi", "f_series"):
+            setattr(self, key, _np.array(sig[key]))
+        self.stick = self.phi < 0
+
+    def __repr__(self):
+        return "<hbfriction.Solution at w = %s: %s, y_max = %s>" % (_core.format_number(self.omega), self.regime,
+                                                                    _np.array2string(self.y_max, precision=6))
+
+
+def solve_at(system, omega, *, omega_from=None, contact=0, harmonics=None, time_samples=None, odd_harmonics=None,
+             formulation=None, modes=None, **options):
+    """The harmonic-balance solution at omega reached by following the branch from omega_from
+    (default: the system's omega_start, 0.5; from 0.9 omega when omega <= omega_from), as hbf loop.
+    harmonics etc.: as frf (automatic H without the polish). contact: whose signals (0-based).
+    options: ContinuationOptions and CorrectorOptions fields. Raises SolveError when the branch
+    stops before omega."""
+    _check_system(system)
+    s = _core.default_frf_settings(system)
+    hb = s.harmonic_balance
+    if "harmonics" not in system.file_settings:
+        hb.harmonics = _core.automatic_harmonics(system, False)
+    for name, value in (("harmonics", harmonics), ("time_samples", time_samples), ("odd_harmonics", odd_harmonics),
+                        ("formulation", formulation), ("modes", modes)):
+        if value is not None:
+            setattr(hb, name, value)
+    co = ContinuationOptions()
+    for name, value in options.items():
+        name = _ALIASES.get(name, name)
+        if name in _fields(co) and name != "corrector":
+            setattr(co, name, value)
+        elif name in _fields(co.corrector):
+            setattr(co.corrector, name, value)
+        else:
+            raise ValueError("solve_at: unknown option '%s': allowed the fields of ContinuationOptions and "
+                             "CorrectorOptions" % name)
+    _check_limits(s)
+    start = omega_from if omega_from is not None else system.file_settings.get("omega_start", 0.5)
+    d = _core.solve_at(system, float(omega), float(start), hb, co, contact)
+    if not d["found"]:
+        raise SolveError("no solution at w = %s: the branch from w = %s stopped: %s" %
+                         (_core.format_number(omega), _core.format_number(start if omega > start else 0.9 * omega),
+                          d["message"]))
+    solution = Solution(d)
+    if solution.energy_error > d["energy_limit"]:
+        _warnings.warn("the solution at w = %s fails the energy balance (relative error %g, allowed %g)" %
+                       (_core.format_number(omega), solution.energy_error, d["energy_limit"]),
+                       IncompleteResultWarning, stacklevel=2)
+    return solution
+
+
+def timeint(system, w, *, outputs=None, options=None, **values):
+    """Periodic steady states by time integration (hbf timeint, CVODE): at each frequency of w
+    (a number or a sequence, swept in the order given, each from the previous final state, the
+    first from the stuck linear state). Returns a Table with hbf timeint's columns, plus
+    ``responses``: per frequency a dict with converged, message, state, t, y, velocity,
+    friction_force (one period of samples). options/values: TimeIntegrationOptions (C++ names,
+    e.g. method="bdf", relative_tolerance=1e-9, max_periods=500)."""
+    _check_system(system)
+    o = TimeIntegrationOptions() if options is None else _copy(options, TimeIntegrationOptions)
+    for name, value in values.items():
+        if name not in _fields(o):
+            raise ValueError("timeint: unknown option '%s': allowed %s" % (name, ", ".join(_fields(o))))
+        setattr(o, name, value)
+    # hbf timeint's ranges for what would otherwise only be limited by memory or time.
+    if not 8 <= o.samples_per_period <= 65536:
+        raise ValueError("samples_per_period = %d is out of range: allowed 8..65536" % o.samples_per_period)
+    if not 1 <= o.max_periods <= 1000000:
+        raise ValueError("max_periods = %d is out of range: allowed 1..1000000" % o.max_periods)
+    o.outputs = _outputs(system, outputs) if outputs is not None else (
+        system.outputs or [Output.dof(i) for i in range(system.dofs)])
+    omegas = [float(v) for v in _np.atleast_1d(_np.asarray(w, dtype=float))]
+    columns, details = _core.timeint(system, omegas, o)
+    table = Table(columns)
+    table.responses = []
+    for d in details:
+        r = dict(d)
+        for key in ("y", "velocity", "friction_force"):
+            flat, shape = d[key]
+            r[key] = _np.array(flat).reshape(shape)
+        r["t"] = _np.array(d["t"])
+        r["state"] = _np.array(d["state"])
+        table.responses.append(r)
+    table.status = "completed" if all(r["converged"] for r in details) else "failed"
+    table.errors = [r["summary"] for r in details if not r["converged"]]
+    _judge(table.status, table.errors, "the time integration")
+    return table
+
+
+def analytic(system=None, w=None, *, law=None, parameters=None):
+    """The paper's closed forms for the absorber (hbf analytic): full stick, full slip (equivalent
+    viscous), the limit friction coefficient and Den Hartog's optimum, at the frequencies w.
+    system: an absorber() System (its law and parameters), or give law and parameters
+    (AbsorberParameters). Returns a Table with hbf analytic's columns (empty where no solution)."""
+    if system is not None:
+        _check_system(system)
+        if system.absorber is None:
+            raise ValueError("analytic: the closed forms are those of the paper's absorber: give absorber(...)")
+        parameters, law = system.absorber, system.law
+    if law is None:
+        law = "coulomb"
+    if law not in ("coulomb", "dahl", "lugre"):
+        raise ValueError("analytic: law = '%s' has no closed form here: allowed coulomb, dahl, lugre" % law)
+    if parameters is None:
+        parameters = AbsorberParameters()
+    if w is None:
+        raise ValueError("analytic: w (the frequencies) is required")
+    omegas = [float(v) for v in _np.atleast_1d(_np.asarray(w, dtype=float))]
+    return Table(_core.analytic(parameters, law, omegas))
+
+
+class OptimizeResult:
+    """The result of optimize(): status (converged, at_bound, budget, unbounded, failed),
+    parameter (the best p), peak (dict value, w, state), peaks, bracket, trace (a dict of arrays:
+    parameter, peak, w, state, status, phase, seconds; one entry per FRF), message, summary."""
+
+    def __init__(self, d):
+        self.__dict__.update({k: v for k, v in d.items() if k != "trace"})
+        trace = d["trace"]
+        self.trace = {k: _np.array([t[k] for t in trace]) for k in
+                      ("parameter", "peak", "w", "state", "status", "phase", "seconds")}
+
+    def __repr__(self):
+        return "<hbfriction.OptimizeResult: %s>" % self.summary
+
+
+def optimize(system, lower, upper, *, settings=None, search=None, outputs=None, scan_points=None,
+             max_evaluations=None, threads=None, **options):
+    """Minimises the largest peak of the first output of frf(system(p)) over p in [lower, upper]
+    (hbf optimize): a log-spaced scan on threads, then a golden-section search in log p.
+
+    system: a callable p -> System (e.g. lambda mu: absorber("lugre", mu=mu)); its ValueError
+    for a p makes that FRF failed, as an out-of-range parameter in hbf optimize. search: an
+    OptimizeOptions (scan_points, tolerance of the search, max_evaluations, threads), or those
+    by keyword (scan_points, max_evaluations, threads). options: the FRF's, as frf() (tolerance is
+    the corrector's). The FRF settings are hbf frf's defaults for system(sqrt(lower upper))."""
+    if not callable(system):
+        raise TypeError("system: a callable p -> System is required")
+    if not (_math.isfinite(lower) and _math.isfinite(upper) and 0 < lower < upper):
+        raise ValueError("lower = %r, upper = %r are out of range: allowed 0 < lower < upper, finite" % (lower, upper))
+    sample = system(_math.sqrt(lower * upper))
+    s = _settings(sample, settings, outputs, None, options)
+    o = OptimizeOptions() if search is None else _copy(search, OptimizeOptions)
+    o.lower, o.upper = float(lower), float(upper)
+    for name, value in (("scan_points", scan_points), ("max_evaluations", max_evaluations), ("threads", threads)):
+        if value is not None:
+            setattr(o, name, value)
+    result = OptimizeResult(_core.optimize(system, s, o))
+    if result.status != "converged":
+        _warnings.warn("the optimisation is %s: %s" % (result.status, result.summary), IncompleteResultWarning,
+                       stacklevel=2)
+    return result
+
+
+class MapResult:
+    """The result of map(): values, branches (one Branch per value), and per value the largest
+    peak of the first output (peak, w_peak), its state and the FRF's status, as arrays."""
+
+    def __init__(self, values, branches):
+        self.values = _np.array(values, dtype=float)
+        self.branches = branches
+        self.peak = _np.array([b.peak["value"] for b in branches], dtype=float)
+        self.w_peak = _np.array([b.peak["w"] for b in branches], dtype=float)
+        self.state = _np.array([b.peak["state"] for b in branches], dtype=str)
+        self.status = _np.array([b.status for b in branches], dtype=str)
+
+    def __len__(self):
+        return len(self.branches)
+
+    def __repr__(self):
+        return "<hbfriction.MapResult: %d FRFs, %d completed>" % (len(self), int((self.status == "completed").sum()))
+
+
+def map(system, values, *, threads=0, settings=None, outputs=None, **options):
+    """FRFs of system(v) for every v in values, `threads` at a time (0: every core; hbf map):
+    returns a MapResult (a Branch per value and the peaks as arrays). system: a callable
+    v -> System, called here for every value before the work starts; options as frf(), the
+    settings being hbf frf's defaults for system(values[0])."""
+    if not callable(system):
+        raise TypeError("system: a callable v -> System is required")
+    values = [float(v) for v in values]
+    if not values:
+        raise ValueError("values: empty: allowed one or more values")
+    systems = [system(v) for v in values]
+    for s_ in systems:
+        _check_system(s_)
+    s = _settings(systems[0], settings, outputs, None, options)
+    if not (isinstance(threads, int) and threads >= 0):
+        raise ValueError("threads = %r is out of range: allowed 0 (every core) or more" % (threads,))
+    runs = _core.compute_frfs(systems, s, threads)
+    branches = [Branch(r, s) for r in runs]
+    bad = [b for b in branches if b.status != "completed"]
+    if bad:
+        _warnings.warn("%d of %d FRFs are not completed (MapResult.status; each Branch's errors and warnings "
+                       "say why)" % (len(bad), len(branches)), IncompleteResultWarning, stacklevel=2)
+    return MapResult(values, branches)
+
+
+def check_output(path):
+    """hbf's output policy for a file a script is about to write (io.hpp check_outputs): its
+    directory exists and is writable, it is not a directory, a socket or a dangling symlink.
+    ValueError names the problem."""
+    _core.check_output(str(path))

@@ -1,0 +1,867 @@
+// hbfriction._core — the C++ half of the Python bindings (pybind11).
+//
+// It binds the library's own types and calls (model.hpp, design.hpp, time_integration.hpp,
+// analytic.hpp, io.hpp) with their C++ names; python/hbfriction/__init__.py turns the results
+// into NumPy arrays and the Branch, Solution and Table objects. No NumPy C API is used (only
+// the buffer protocol and calls into the numpy module), so the module works with any NumPy.
+//
+// Conventions:
+//  - InvalidInput (bad input) becomes ValueError with the library's message (pybind11 maps
+//    std::invalid_argument); other failures RuntimeError. Non-convergence is never an
+//    exception: it is a status in the result.
+//  - The GIL is released during every computation (FRFs, solves, time integration, searches);
+//    Python callables (optimize's system of p) are called with the GIL re-acquired.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "hbf/analytic.hpp"
+#include "hbf/config.hpp"
+#include "hbf/design.hpp"
+#include "hbf/diagnostics.hpp"
+#include "hbf/error.hpp"
+#include "hbf/event_exact.hpp"
+#include "hbf/io.hpp"
+#include "hbf/time_integration.hpp"
+
+namespace py = pybind11;
+using namespace hbf;
+
+namespace {
+
+// ---- the system as Python sees it -----------------------------------------------------------
+
+/// A System with what a Python caller does not pass with every call: the reported outputs,
+/// the preset's parameters (the JSON summary's), and a TOML file's [frequency] and [solver].
+struct PySystem {
+    System system;
+    std::vector<Output> outputs;                 ///< empty: every DOF
+    std::optional<AbsorberParameters> absorber;  ///< the paper's preset
+    std::string source;                          ///< "absorber", a file's path, or "" (arrays)
+    std::optional<double> omega_start, omega_end;
+    std::optional<int> harmonics, time_samples, modes;
+    std::optional<bool> odd_harmonics;
+
+    /// The reported outputs: the chosen ones, else every DOF.
+    std::vector<Output> reported() const {
+        if (!outputs.empty()) return outputs;
+        std::vector<Output> all;
+        for (int i = 0; i < system.dofs(); ++i) all.push_back(Output::dof(i));
+        return all;
+    }
+    /// The law, or the contacts' laws joined by ',' ("none" without contacts).
+    std::string law_name() const {
+        std::string name;
+        for (const Contact& c : system.contacts) {
+            const std::string law = to_string(c.law);
+            if (("," + name + ",").find("," + law + ",") == std::string::npos) name += (name.empty() ? "" : ",") + law;
+        }
+        return name.empty() ? "none" : name;
+    }
+};
+
+[[noreturn]] void bad(const std::string& message) { throw InvalidInput(message); }
+
+
+/// A 1-D or 2-D float64 array from any Python object (NumPy's asarray), through the buffer
+/// protocol. `name` names the parameter in errors.
+py::buffer_info float_buffer(const py::handle& value, const std::string& name) {
+    py::object numpy = py::module_::import("numpy");
+    py::object array;
+    try {
+        array = numpy.attr("ascontiguousarray")(value, py::arg("dtype") = "float64");
+    } catch (py::error_already_set& e) {
+        bad(name + ": not an array of numbers (" + std::string(e.what()) + ")");
+    }
+    return py::buffer(array).request();
+}
+
+Eigen::VectorXd to_vector(const py::handle& value, const std::string& name) {
+    const py::buffer_info b = float_buffer(value, name);
+    if (b.ndim != 1 && !(b.ndim == 2 && (b.shape[0] == 1 || b.shape[1] == 1)))
+        bad(name + ": a vector is required (got " + std::to_string(b.ndim) + " dimensions)");
+    const auto n = static_cast<Eigen::Index>(b.size);
+    Eigen::VectorXd v(n);
+    const auto* data = static_cast<const double*>(b.ptr);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        v(i) = data[i];
+        if (!std::isfinite(v(i))) bad(name + "[" + std::to_string(i) + "] = " + format_number(v(i)) + " is not finite");
+    }
+    return v;
+}
+
+/// A square matrix from SciPy sparse (any format: its COO triplets), a dense 2-D array, or a
+/// 1-D array (the diagonal, as in a TOML file). Entries must be finite; duplicates add up.
+SparseMatrix to_sparse(const py::handle& value, const std::string& name) {
+    std::vector<Eigen::Triplet<double>> entries;
+    Eigen::Index rows = 0, cols = 0;
+    if (py::hasattr(value, "tocoo")) {
+        py::buffer_info r, c, d;
+        try {
+            py::object coo = value.attr("tocoo")();
+            py::tuple shape = coo.attr("shape");
+            rows = shape[0].cast<Eigen::Index>();
+            cols = shape[1].cast<Eigen::Index>();
+            py::object numpy = py::module_::import("numpy");
+            r = py::buffer(numpy.attr("ascontiguousarray")(coo.attr("row"), "int64")).request();
+            c = py::buffer(numpy.attr("ascontiguousarray")(coo.attr("col"), "int64")).request();
+            d = py::buffer(numpy.attr("ascontiguousarray")(coo.attr("data"), "float64")).request();
+        } catch (py::error_already_set& e) {
+            bad(name + ": not a usable sparse matrix (its tocoo() failed: " + std::string(e.what()) + ")");
+        } catch (py::cast_error& e) {
+            bad(name + ": not a usable sparse matrix (" + std::string(e.what()) + ")");
+        }
+        if (r.size != d.size || c.size != d.size) bad(name + ": the sparse matrix's row, col and data differ in length");
+        const auto* ri = static_cast<const long long*>(r.ptr);
+        const auto* ci = static_cast<const long long*>(c.ptr);
+        const auto* di = static_cast<const double*>(d.ptr);
+        if (rows < 0 || cols < 0 || rows > 50000000 || cols > 50000000)
+            bad(name + ": shape " + std::to_string(rows) + " x " + std::to_string(cols) + " is out of range");
+        for (py::ssize_t k = 0; k < d.size; ++k) {
+            if (ri[k] < 0 || ri[k] >= rows || ci[k] < 0 || ci[k] >= cols)
+                bad(name + ": entry (" + std::to_string(ri[k]) + ", " + std::to_string(ci[k]) + ") lies outside its shape");
+            if (!std::isfinite(di[k]))
+                bad(name + "[" + std::to_string(ri[k]) + ", " + std::to_string(ci[k]) + "] = " + format_number(di[k]) +
+                    " is not finite");
+            entries.emplace_back(static_cast<int>(ri[k]), static_cast<int>(ci[k]), di[k]);
+        }
+    } else {
+        const py::buffer_info b = float_buffer(value, name);
+        const auto* data = static_cast<const double*>(b.ptr);
+        if (b.ndim == 1) {
+            rows = cols = static_cast<Eigen::Index>(b.shape[0]);
+            for (Eigen::Index i = 0; i < rows; ++i) {
+                if (!std::isfinite(data[i]))
+                    bad(name + "[" + std::to_string(i) + "] = " + format_number(data[i]) + " is not finite");
+                if (data[i] != 0.0) entries.emplace_back(static_cast<int>(i), static_cast<int>(i), data[i]);
+            }
+        } else if (b.ndim == 2) {
+            rows = static_cast<Eigen::Index>(b.shape[0]);
+            cols = static_cast<Eigen::Index>(b.shape[1]);
+            for (Eigen::Index i = 0; i < rows; ++i)
+                for (Eigen::Index j = 0; j < cols; ++j) {
+                    const double x = data[i * cols + j];
+                    if (!std::isfinite(x))
+                        bad(name + "[" + std::to_string(i) + ", " + std::to_string(j) + "] = " + format_number(x) +
+                            " is not finite");
+                    if (x != 0.0) entries.emplace_back(static_cast<int>(i), static_cast<int>(j), x);
+                }
+        } else {
+            bad(name + ": a matrix is required (2-D, SciPy sparse, or 1-D for a diagonal), got " +
+                std::to_string(b.ndim) + " dimensions");
+        }
+    }
+    if (rows != cols) bad(name + ": a square matrix is required, got " + std::to_string(rows) + " x " + std::to_string(cols));
+    if (rows == 0) bad(name + ": an empty matrix: at least 1 DOF is required");
+    if (rows > 50000000) bad(name + ": " + std::to_string(rows) + " DOFs is out of range: allowed 1..50000000");
+    SparseMatrix m(rows, cols);
+    m.setFromTriplets(entries.begin(), entries.end());
+    m.prune(0.0);
+    m.makeCompressed();
+    return m;
+}
+
+/// A sparse matrix back to Python: scipy.sparse.csc_matrix, or a dense NumPy array where SciPy
+/// is not installed.
+py::object from_sparse(const SparseMatrix& m) {
+    py::object numpy = py::module_::import("numpy");
+    std::vector<double> data(m.valuePtr(), m.valuePtr() + m.nonZeros());
+    std::vector<long long> indices(m.innerIndexPtr(), m.innerIndexPtr() + m.nonZeros());
+    std::vector<long long> indptr(m.outerIndexPtr(), m.outerIndexPtr() + m.outerSize() + 1);
+    try {
+        py::object sparse = py::module_::import("scipy.sparse");
+        return sparse.attr("csc_matrix")(py::make_tuple(numpy.attr("asarray")(data, "float64"),
+                                                        numpy.attr("asarray")(indices, "int64"),
+                                                        numpy.attr("asarray")(indptr, "int64")),
+                                         py::arg("shape") = py::make_tuple(m.rows(), m.cols()));
+    } catch (py::error_already_set& e) {
+        if (!e.matches(PyExc_ImportError)) throw;
+    }
+    const Eigen::MatrixXd dense(m);
+    std::vector<double> rowmajor(static_cast<std::size_t>(dense.size()));
+    for (Eigen::Index i = 0; i < dense.rows(); ++i)
+        for (Eigen::Index j = 0; j < dense.cols(); ++j) rowmajor[static_cast<std::size_t>(i * dense.cols() + j)] = dense(i, j);
+    return numpy.attr("asarray")(rowmajor, "float64").attr("reshape")(m.rows(), m.cols());
+}
+
+std::vector<double> to_list(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+/// A row-major flat copy and the shape of a matrix (NumPy reshapes it).
+py::tuple matrix(const Eigen::MatrixXd& m) {
+    std::vector<double> flat(static_cast<std::size_t>(m.size()));
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+        for (Eigen::Index j = 0; j < m.cols(); ++j) flat[static_cast<std::size_t>(i * m.cols() + j)] = m(i, j);
+    return py::make_tuple(flat, py::make_tuple(m.rows(), m.cols()));
+}
+
+// ---- tables ---------------------------------------------------------------------------------
+
+/// A table column by column: (name, meaning, type, values); numbers with None for empty cells.
+py::list table_columns(const io::Table& table) {
+    py::list out;
+    for (std::size_t j = 0; j < table.columns.size(); ++j) {
+        const io::Column& c = table.columns[j];
+        py::list values;
+        for (const io::Cell& cell : table.cells[j]) {
+            if (const auto* d = std::get_if<double>(&cell)) values.append(*d);
+            else if (const auto* i = std::get_if<long long>(&cell)) values.append(*i);
+            else if (const auto* t = std::get_if<std::string>(&cell)) values.append(*t);
+            else values.append(py::none());
+        }
+        const char* type = c.type == io::ColumnType::text ? "text" : c.type == io::ColumnType::integer ? "integer" : "number";
+        out.append(py::make_tuple(c.name, c.meaning, type, values));
+    }
+    return out;
+}
+
+/// A computed FRF with its table, summary and verdict (what hbf frf writes), kept for the
+/// Branch object (its CSV).
+struct FrfRun {
+    FrfResult result;
+    io::Table table;
+    std::string summary;  ///< the JSON summary of hbf frf --summary
+    FrfVerdict verdict;
+    std::string law;
+    int harmonics = 0;
+};
+
+/// The JSON summary's parameters: the preset's (as hbf frf), or the size of the model; then the
+/// solver's.
+std::vector<std::pair<std::string, double>> summary_parameters(const PySystem& s, const FrfSettings& settings,
+                                                               const HarmonicBalance& hb) {
+    std::vector<std::pair<std::string, double>> parameters;
+    if (s.absorber) {
+        const AbsorberParameters& p = *s.absorber;
+        parameters = {{"r", p.mass_ratio},       {"wa", p.tuning_ratio},
+                      {"mu", p.friction_coefficient}, {"fe", p.excitation},
+                      {"wb", p.contact_stiffness_ratio}, {"xi", p.contact_damping_ratio},
+                      {"eps", p.regularization}, {"mu_static", p.static_friction_coefficient},
+                      {"stribeck_velocity", p.stribeck_velocity}, {"viscous", p.viscous_coefficient}};
+    } else {
+        parameters = {{"dofs", s.system.dofs()}, {"contacts", static_cast<double>(s.system.contacts.size())}};
+    }
+    const ContinuationOptions& co = settings.continuation;
+    const std::vector<std::pair<std::string, double>> solver = {
+        {"wmin", co.omega_start},
+        {"wmax", co.omega_end},
+        {"harmonics", hb.harmonics()},
+        {"excitation_harmonic", hb.load_harmonic()},
+        {"odd_harmonics", hb.odd_harmonics() ? 1 : 0},
+        {"time_samples", hb.time_samples()},
+        {"condensed", hb.formulation() == Formulation::condensed ? 1 : 0},
+        {"modes", hb.modes()},
+        {"max_amplitude", co.max_amplitude},
+        {"tolerance", co.corrector.tolerance}};
+    parameters.insert(parameters.end(), solver.begin(), solver.end());
+    return parameters;
+}
+
+/// The table, verdict and JSON summary of a computed FRF (run->result), as hbf frf writes
+/// them. `hb` (the solver that ran, or one built alike) supplies the summary's solver
+/// parameters; without it (an FRF that could not start) the summary holds the status only.
+void finish_run(FrfRun& run, const PySystem& s, const FrfSettings& settings, const HarmonicBalance* hb) {
+    const FrfResult& r = run.result;
+    run.verdict = judge_frf(r, settings);
+    const BranchStability* stability = r.stability ? &*r.stability : nullptr;
+    run.table = io::frf_table(r.points, r.metrics, settings.outputs, r.exact, stability);
+    run.law = s.law_name();
+    if (hb == nullptr) {
+        run.summary = nlohmann::json{{"status", to_string(r.branch.status)}, {"message", r.branch.message}}.dump();
+        return;
+    }
+    std::size_t samples = 0;
+    for (const SolutionPoint& p : r.points) samples += p.kind == PointKind::sample ? 1 : 0;
+    std::ostringstream json;
+    io::write_frf_summary(json, run.law, summary_parameters(s, settings, *hb), r.branch, r.metrics, r.peaks, samples,
+                          r.seconds, settings.outputs, r.polish ? &*r.polish : nullptr, run.verdict.errors,
+                          run.verdict.warnings, run.verdict.notes, stability);
+    run.summary = json.str();
+    run.harmonics = hb->harmonics();
+}
+
+/// compute_frf and everything hbf frf derives from it; called without the GIL.
+std::shared_ptr<FrfRun> run_frf(const PySystem& s, FrfSettings settings) {
+    if (settings.outputs.empty()) settings.outputs = s.reported();
+    auto run = std::make_shared<FrfRun>();
+    HarmonicBalance hb(s.system, settings.harmonic_balance);
+    reset_library_messages();
+    run->result = compute_frf(hb, settings);
+    finish_run(*run, s, settings, &hb);
+    return run;
+}
+
+/// Runs `work` with the GIL released; a C++ exception passes through (pybind11 translates it
+/// once the GIL is back).
+template <class F>
+auto without_gil(F&& work) {
+    py::gil_scoped_release release;
+    return work();
+}
+
+/// A Python callable p -> System as the library's std::function, called from worker threads
+/// with the GIL re-acquired. Its ValueError becomes InvalidInput (that FRF fails, the search
+/// goes on, as for an out-of-range parameter in hbf optimize); any other exception stops it.
+std::function<System(double)> system_of(const py::function& f) {
+    return [f](double p) -> System {
+        py::gil_scoped_acquire gil;
+        try {
+            py::object result = f(p);
+            return result.cast<const PySystem&>().system;
+        } catch (py::error_already_set& e) {
+            if (e.matches(PyExc_ValueError)) throw InvalidInput(e.what());
+            throw std::runtime_error("the system function raised at p = " + format_number(p) + ": " + e.what());
+        } catch (py::cast_error&) {
+            throw std::runtime_error("the system function must return an hbfriction.System (at p = " +
+                                     format_number(p) + ")");
+        }
+    };
+}
+
+py::dict peak_dict(const PeakValue& p) {
+    py::dict d;
+    d["value"] = p.value;
+    d["w"] = p.omega;
+    d["state"] = to_string(p.state);
+    return d;
+}
+
+py::list peaks_list(const std::vector<Peak>& peaks) {
+    py::list out;
+    for (const Peak& p : peaks) {
+        py::dict d;
+        d["w"] = p.omega;
+        d["y_max"] = p.y_max;
+        d["branch"] = p.branch;
+        d["refined"] = p.refined;
+        d["output"] = p.output;
+        out.append(d);
+    }
+    return out;
+}
+
+py::dict optimize_dict(const OptimizeResult& r) {
+    py::dict d;
+    d["status"] = to_string(r.status);
+    d["parameter"] = r.parameter;
+    d["peak"] = peak_dict(r.peak);
+    d["peaks"] = peaks_list(r.peaks);
+    d["bracket"] = py::make_tuple(r.bracket_lower, r.bracket_upper);
+    py::list trace;
+    for (const OptimizeEvaluation& e : r.trace) {
+        py::dict t;
+        t["parameter"] = e.parameter;
+        t["peak"] = e.peak.value;
+        t["w"] = e.peak.omega;
+        t["state"] = to_string(e.peak.state);
+        t["status"] = to_string(e.status);
+        t["phase"] = e.phase;
+        t["seconds"] = e.seconds;
+        trace.append(t);
+    }
+    d["trace"] = trace;
+    d["failed"] = r.failed;
+    d["failed_in_bracket"] = r.failed_in_bracket;
+    d["message"] = r.message;
+    d["seconds"] = r.seconds;
+    d["summary"] = r.summary();
+    return d;
+}
+
+/// Enum fields as their names (the CLI's words), with the library's parsers for errors.
+template <class T>
+T parse_choice(const std::string& value, const std::vector<std::pair<const char*, T>>& choices, const char* name) {
+    std::string allowed;
+    for (const auto& [word, v] : choices) {
+        if (value == word) return v;
+        allowed += (allowed.empty() ? "" : ", ") + std::string(word);
+    }
+    bad(std::string(name) + " = '" + value + "' is not known: allowed " + allowed);
+}
+template <class T>
+std::string choice_name(T value, const std::vector<std::pair<const char*, T>>& choices) {
+    for (const auto& [word, v] : choices)
+        if (v == value) return word;
+    return "?";
+}
+template <class Class, class Struct, class T>
+void enum_property(Class& cls, const char* name, T Struct::*member, std::vector<std::pair<const char*, T>> choices,
+                   const char* doc) {
+    cls.def_property(
+        name, [member, choices](const Struct& s) { return choice_name(s.*member, choices); },
+        [member, choices, name](Struct& s, const std::string& v) { s.*member = parse_choice(v, choices, name); }, doc);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+    m.doc() = "hbfriction's C++ core (use the hbfriction package, not this module)";
+    m.attr("__version__") = HBF_VERSION;
+    capture_library_messages();  // Ceres' glog output is counted (the verdicts' warnings), not printed
+
+    // ---- model ----------------------------------------------------------------------------
+    py::class_<Output>(m, "Output", "A reported response o(t) = c^T y(t): one DOF or a combination of DOFs")
+        .def(py::init([](const std::string& name, const std::vector<std::pair<int, double>>& terms) {
+                 if (name.empty()) bad("Output name: empty, allowed a non-empty name");
+                 return Output(name, terms);
+             }),
+             py::arg("name"), py::arg("terms"), "name and (0-based DOF, coefficient) pairs")
+        .def_static(
+            "dof",
+            [](int i) {
+                if (i < 0) bad("Output.dof: i = " + std::to_string(i) + " is out of range: allowed a DOF >= 0 (0-based)");
+                return Output::dof(i);
+            },
+            py::arg("i"), "DOF i (0-based), named y<i+1>")
+        .def_property_readonly("name", &Output::name)
+        .def_property_readonly("terms", &Output::terms)
+        .def("__repr__", [](const Output& o) { return "Output('" + o.name() + "', " + std::to_string(o.terms().size()) + " term(s))"; });
+
+    py::class_<Contact> contact(m, "Contact", "One friction contact (model.hpp; DOFs 0-based)");
+    contact.def(py::init<>())
+        .def_readonly_static("ground", &Contact::ground)
+        .def_readwrite("dof", &Contact::dof, "DOF a (0-based)")
+        .def_readwrite("other_dof", &Contact::other_dof, "DOF b (0-based), or Contact.ground (-1)")
+        .def_property(
+            "direction", [](const Contact& c) { return to_list(c.direction); },
+            [](Contact& c, const py::object& v) {
+                c.direction = v.is_none() ? Eigen::VectorXd() : to_vector(v, "direction");
+            },
+            "w_c, the force direction (N numbers; empty: dof/other_dof)")
+        .def_property(
+            "law", [](const Contact& c) { return to_string(c.law); },
+            [](Contact& c, const std::string& v) { c.law = parse_friction_law(v); },
+            "coulomb, dahl, lugre, coulomb-reg or jenkins")
+        .def_readwrite("friction_limit", &Contact::friction_limit, "F_c = mu N (> 0)")
+        .def_readwrite("stiffness", &Contact::stiffness, "sigma0 (dahl, lugre) or k_t (jenkins)")
+        .def_readwrite("damping", &Contact::damping, "sigma1 (lugre)")
+        .def_readwrite("viscous", &Contact::viscous, "sigma2 (lugre)")
+        .def_readwrite("static_limit", &Contact::static_limit, "F_s (lugre; 0: F_c)")
+        .def_readwrite("stribeck_velocity", &Contact::stribeck_velocity, "v_s (lugre; 0: none)")
+        .def_readwrite("regularization", &Contact::regularization, "eps of tanh (coulomb-reg)")
+        .def_readwrite("lagrangian_penalty", &Contact::lagrangian_penalty, "dynamic Lagrangian eps (coulomb; 0: automatic)");
+
+    py::class_<AbsorberParameters>(m, "AbsorberParameters", "The paper's absorber, nondimensional (model.hpp)")
+        .def(py::init<>())
+        .def_readwrite("mass_ratio", &AbsorberParameters::mass_ratio, "r = m2 / m1")
+        .def_readwrite("tuning_ratio", &AbsorberParameters::tuning_ratio, "wa = omega2 / omega1")
+        .def_readwrite("friction_coefficient", &AbsorberParameters::friction_coefficient, "mu")
+        .def_readwrite("excitation", &AbsorberParameters::excitation, "fe = F0 / N")
+        .def_readwrite("contact_stiffness_ratio", &AbsorberParameters::contact_stiffness_ratio, "wb = omega3 / omega1")
+        .def_readwrite("contact_damping_ratio", &AbsorberParameters::contact_damping_ratio, "xi")
+        .def_readwrite("regularization", &AbsorberParameters::regularization, "eps (coulomb-reg)")
+        .def_readwrite("static_friction_coefficient", &AbsorberParameters::static_friction_coefficient, "mu_s (lugre)")
+        .def_readwrite("stribeck_velocity", &AbsorberParameters::stribeck_velocity, "v_s (lugre)")
+        .def_readwrite("viscous_coefficient", &AbsorberParameters::viscous_coefficient, "sigma2 / (m1 omega1) (lugre)")
+        .def_readwrite("lagrangian_penalty", &AbsorberParameters::lagrangian_penalty, "dynamic Lagrangian eps")
+        .def("validate", [](const AbsorberParameters& p, const std::string& law) { p.validate(parse_friction_law(law)); },
+             py::arg("law"));
+
+    py::class_<PySystem>(m, "System", "A linear structure with friction contacts (model.hpp)")
+        .def(py::init([](const py::object& mass, const py::object& stiffness, const py::object& excitation,
+                         const py::object& damping, const std::vector<Contact>& contacts, int excitation_harmonic) {
+                 PySystem s;
+                 s.system.mass = to_sparse(mass, "mass");
+                 s.system.stiffness = to_sparse(stiffness, "stiffness");
+                 s.system.damping = damping.is_none() ? SparseMatrix(s.system.mass.rows(), s.system.mass.cols())
+                                                      : to_sparse(damping, "damping");
+                 s.system.excitation = to_vector(excitation, "excitation");
+                 s.system.excitation_harmonic = excitation_harmonic;
+                 s.system.contacts = contacts;
+                 s.system.validate();
+                 return s;
+             }),
+             py::arg("mass"), py::arg("stiffness"), py::arg("excitation"), py::arg("damping") = py::none(),
+             py::arg("contacts") = std::vector<Contact>{}, py::arg("excitation_harmonic") = 1)
+        .def_property(
+            "mass", [](const PySystem& s) { return from_sparse(s.system.mass); },
+            [](PySystem& s, const py::object& v) { s.system.mass = to_sparse(v, "mass"); })
+        .def_property(
+            "stiffness", [](const PySystem& s) { return from_sparse(s.system.stiffness); },
+            [](PySystem& s, const py::object& v) { s.system.stiffness = to_sparse(v, "stiffness"); })
+        .def_property(
+            "damping", [](const PySystem& s) { return from_sparse(s.system.damping); },
+            [](PySystem& s, const py::object& v) { s.system.damping = to_sparse(v, "damping"); })
+        .def_property(
+            "excitation", [](const PySystem& s) { return to_list(s.system.excitation); },
+            [](PySystem& s, const py::object& v) { s.system.excitation = to_vector(v, "excitation"); })
+        .def_property(
+            "excitation_harmonic", [](const PySystem& s) { return s.system.excitation_harmonic; },
+            [](PySystem& s, int h) { s.system.excitation_harmonic = h; })
+        .def_property(
+            "contacts", [](const PySystem& s) { return s.system.contacts; },
+            [](PySystem& s, const std::vector<Contact>& c) { s.system.contacts = c; })
+        .def_property(
+            "outputs", [](const PySystem& s) { return s.outputs; },
+            [](PySystem& s, const std::vector<Output>& o) {
+                for (const Output& out : o) out.validate(s.system.dofs());
+                s.outputs = o;
+            })
+        .def_property_readonly("dofs", [](const PySystem& s) { return s.system.dofs(); })
+        .def_property_readonly("law", &PySystem::law_name)
+        .def_property_readonly("source", [](const PySystem& s) { return s.source; })
+        .def_property_readonly("absorber", [](const PySystem& s) { return s.absorber; })
+        .def_property_readonly("file_settings",
+                               [](const PySystem& s) {
+                                   py::dict d;
+                                   if (s.omega_start) d["omega_start"] = *s.omega_start;
+                                   if (s.omega_end) d["omega_end"] = *s.omega_end;
+                                   if (s.harmonics) d["harmonics"] = *s.harmonics;
+                                   if (s.time_samples) d["time_samples"] = *s.time_samples;
+                                   if (s.modes) d["modes"] = *s.modes;
+                                   if (s.odd_harmonics) d["odd_harmonics"] = *s.odd_harmonics;
+                                   return d;
+                               })
+        .def("validate", [](const PySystem& s) {
+            s.system.validate();
+            for (const Output& o : s.outputs) o.validate(s.system.dofs());
+        })
+        .def("warnings", [](const PySystem& s) { return s.system.warnings(); })
+        .def("copy", [](const PySystem& s) { return s; })
+        .def("__repr__", [](const PySystem& s) {
+            return "hbfriction.System(" + std::to_string(s.system.dofs()) + " DOFs, " +
+                   std::to_string(s.system.contacts.size()) + " contact(s): " + s.law_name() +
+                   (s.source.empty() ? std::string() : ", from " + s.source) + ")";
+        });
+
+    m.def(
+        "friction_absorber",
+        [](const AbsorberParameters& p, const std::string& law) {
+            PySystem s;
+            s.system = friction_absorber(p, parse_friction_law(law));
+            s.absorber = p;
+            s.outputs = {Output::dof(0), Output::dof(1)};
+            s.source = "absorber";
+            return s;
+        },
+        py::arg("parameters"), py::arg("law"));
+    m.def(
+        "read_system_config",
+        [](const std::string& path) {
+            io::SystemConfig c = io::read_system_config(path);
+            PySystem s;
+            s.system = c.system;
+            s.outputs = c.outputs;
+            s.source = path;
+            s.omega_start = c.omega_start;
+            s.omega_end = c.omega_end;
+            s.harmonics = c.harmonics;
+            s.time_samples = c.time_samples;
+            s.modes = c.modes;
+            s.odd_harmonics = c.odd_harmonics;
+            return s;
+        },
+        py::arg("path"));
+    m.def("exact_solver_refusal", [](const PySystem& s) { return exact_solver_supports(s.system) ? std::string() : exact_solver_refusal(s.system); });
+    m.def("stability_refusal", [](const PySystem& s) { return stability_refusal(s.system); });
+
+    // ---- options (the C++ names and defaults) -------------------------------------------------
+    py::class_<HarmonicBalanceOptions> hbo(m, "HarmonicBalanceOptions", "harmonic_balance.hpp");
+    hbo.def(py::init<>())
+        .def_readwrite("harmonics", &HarmonicBalanceOptions::harmonics, "H >= 1")
+        .def_readwrite("time_samples", &HarmonicBalanceOptions::time_samples, "N_t > 2H; 0: automatic")
+        .def_readwrite("modes", &HarmonicBalanceOptions::modes, "condensed: 0 direct, m > 0 modal receptance")
+        .def_readwrite("odd_harmonics", &HarmonicBalanceOptions::odd_harmonics, "odd harmonics only");
+    enum_property(hbo, "formulation", &HarmonicBalanceOptions::formulation,
+                  {{"automatic", Formulation::automatic}, {"full", Formulation::full}, {"condensed", Formulation::condensed}},
+                  "automatic, full or condensed");
+
+    py::class_<CorrectorOptions> corr(m, "CorrectorOptions", "continuation.hpp");
+    corr.def(py::init<>())
+        .def_readwrite("max_iterations", &CorrectorOptions::max_iterations)
+        .def_readwrite("tolerance", &CorrectorOptions::tolerance, "|R|_inf <= tolerance |F|_inf");
+    enum_property(corr, "trust_region", &CorrectorOptions::trust_region,
+                  {{"levenberg_marquardt", TrustRegion::levenberg_marquardt}, {"dogleg", TrustRegion::dogleg}}, "");
+    enum_property(corr, "dense_solver", &CorrectorOptions::dense_solver,
+                  {{"qr", DenseSolver::qr}, {"normal_cholesky", DenseSolver::normal_cholesky}}, "");
+    enum_property(corr, "dense_library", &CorrectorOptions::dense_library,
+                  {{"eigen", DenseLibrary::eigen}, {"lapack", DenseLibrary::lapack}}, "");
+
+    py::class_<ContinuationOptions>(m, "ContinuationOptions", "continuation.hpp")
+        .def(py::init<>())
+        .def_readwrite("omega_start", &ContinuationOptions::omega_start)
+        .def_readwrite("omega_end", &ContinuationOptions::omega_end)
+        .def_readwrite("omega_scale", &ContinuationOptions::omega_scale)
+        .def_readwrite("initial_step", &ContinuationOptions::initial_step)
+        .def_readwrite("min_step", &ContinuationOptions::min_step)
+        .def_readwrite("max_step", &ContinuationOptions::max_step)
+        .def_readwrite("max_turn", &ContinuationOptions::max_turn)
+        .def_readwrite("max_points", &ContinuationOptions::max_points)
+        .def_readwrite("max_amplitude", &ContinuationOptions::max_amplitude)
+        .def_readwrite("locate_transitions", &ContinuationOptions::locate_transitions)
+        .def_readwrite("locate_folds", &ContinuationOptions::locate_folds)
+        .def_readwrite("restart_past_cap", &ContinuationOptions::restart_past_cap)
+        .def_readwrite("corrector", &ContinuationOptions::corrector)
+        .def("validate", [](const ContinuationOptions& o) { validate(o); });
+
+    py::class_<StabilityOptions> sto(m, "StabilityOptions", "stability.hpp");
+    sto.def(py::init<>())
+        .def_readwrite("tolerance", &StabilityOptions::tolerance)
+        .def_readwrite("confidence", &StabilityOptions::confidence)
+        .def_readwrite("integration_tolerance", &StabilityOptions::integration_tolerance)
+        .def_readwrite("max_hill_size", &StabilityOptions::max_hill_size)
+        .def_readwrite("exact_gap", &StabilityOptions::exact_gap)
+        .def("validate", &StabilityOptions::validate);
+    sto.def_property(
+        "method", [](const StabilityOptions& o) { return to_string(o.method); },
+        [](StabilityOptions& o, const std::string& v) { o.method = parse_stability_method(v); }, "hill, monodromy or both");
+
+    py::class_<FrfSettings>(m, "FrfSettings", "design.hpp: how one FRF is computed")
+        .def(py::init<>())
+        .def_readwrite("harmonic_balance", &FrfSettings::harmonic_balance)
+        .def_readwrite("continuation", &FrfSettings::continuation)
+        .def_readwrite("exact", &FrfSettings::exact)
+        .def_readwrite("outputs", &FrfSettings::outputs)
+        .def_readwrite("at", &FrfSettings::at)
+        .def_readwrite("peaks", &FrfSettings::peaks)
+        .def_readwrite("peaks_of_every_output", &FrfSettings::peaks_of_every_output)
+        .def_readwrite("stability", &FrfSettings::stability)
+        .def_readwrite("stability_options", &FrfSettings::stability_options);
+    m.def(
+        "default_frf_settings",
+        [](const PySystem& s) {
+            FrfSettings f = default_frf_settings(s.system, s.reported());
+            // A TOML file's [frequency] and [solver] (hbf frf --config without flags).
+            if (s.omega_start) f.continuation.omega_start = *s.omega_start;
+            if (s.omega_end) f.continuation.omega_end = *s.omega_end;
+            if (s.harmonics && *s.harmonics > 0) f.harmonic_balance.harmonics = *s.harmonics;
+            if (s.time_samples) f.harmonic_balance.time_samples = *s.time_samples;
+            if (s.modes) f.harmonic_balance.modes = *s.modes;
+            if (s.odd_harmonics) f.harmonic_balance.odd_harmonics = *s.odd_harmonics;
+            return f;
+        },
+        py::arg("system"));
+    m.def("automatic_harmonics", [](const PySystem& s, bool exact) { return automatic_harmonics(s.system, exact); });
+
+    py::class_<TimeIntegrationOptions> tio(m, "TimeIntegrationOptions", "time_integration.hpp");
+    tio.def(py::init<>())
+        .def_readwrite("relative_tolerance", &TimeIntegrationOptions::relative_tolerance)
+        .def_readwrite("absolute_tolerance", &TimeIntegrationOptions::absolute_tolerance)
+        .def_readwrite("dense_newton_max_dofs", &TimeIntegrationOptions::dense_newton_max_dofs)
+        .def_readwrite("steady_tolerance", &TimeIntegrationOptions::steady_tolerance)
+        .def_readwrite("min_periods", &TimeIntegrationOptions::min_periods)
+        .def_readwrite("max_periods", &TimeIntegrationOptions::max_periods)
+        .def_readwrite("samples_per_period", &TimeIntegrationOptions::samples_per_period)
+        .def_readwrite("max_events_per_period", &TimeIntegrationOptions::max_events_per_period)
+        .def_readwrite("max_steps_per_period", &TimeIntegrationOptions::max_steps_per_period)
+        .def_readwrite("stick_restart", &TimeIntegrationOptions::stick_restart)
+        .def_readwrite("stick_restart_periods", &TimeIntegrationOptions::stick_restart_periods)
+        .def_readwrite("shooting", &TimeIntegrationOptions::shooting)
+        .def_readwrite("shooting_interval", &TimeIntegrationOptions::shooting_interval)
+        .def_readwrite("shooting_dense_max_states", &TimeIntegrationOptions::shooting_dense_max_states)
+        .def_readwrite("shooting_krylov_max", &TimeIntegrationOptions::shooting_krylov_max)
+        .def_readwrite("outputs", &TimeIntegrationOptions::outputs)
+        .def("validate", &TimeIntegrationOptions::validate);
+    enum_property(tio, "method", &TimeIntegrationOptions::method,
+                  {{"adams", IntegrationMethod::adams}, {"bdf", IntegrationMethod::bdf}}, "adams or bdf");
+
+    py::class_<OptimizeOptions>(m, "OptimizeOptions", "design.hpp")
+        .def(py::init<>())
+        .def_readwrite("lower", &OptimizeOptions::lower)
+        .def_readwrite("upper", &OptimizeOptions::upper)
+        .def_readwrite("scan_points", &OptimizeOptions::scan_points)
+        .def_readwrite("tolerance", &OptimizeOptions::tolerance)
+        .def_readwrite("max_evaluations", &OptimizeOptions::max_evaluations)
+        .def_readwrite("threads", &OptimizeOptions::threads);
+
+    // ---- computations -------------------------------------------------------------------------
+    py::class_<FrfRun, std::shared_ptr<FrfRun>>(m, "FrfRun", "A computed FRF (hbfriction.Branch wraps it)")
+        .def_property_readonly("columns", [](const FrfRun& r) { return table_columns(r.table); })
+        .def_property_readonly("summary", [](const FrfRun& r) { return r.summary; })
+        .def_property_readonly("errors", [](const FrfRun& r) { return r.verdict.errors; })
+        .def_property_readonly("warnings", [](const FrfRun& r) { return r.verdict.warnings; })
+        .def_property_readonly("notes", [](const FrfRun& r) { return r.verdict.notes; })
+        .def_property_readonly("status", [](const FrfRun& r) { return r.verdict.status(); })
+        .def_property_readonly("seconds", [](const FrfRun& r) { return r.result.seconds; })
+        .def_property_readonly("peak", [](const FrfRun& r) { return peak_dict(r.result.peak); })
+        .def_property_readonly("coefficients",
+                               [](const FrfRun& r) {
+                                   py::list out;
+                                   for (const SolutionPoint& p : r.result.points) out.append(to_list(p.x));
+                                   return out;
+                               })
+        .def("csv", [](const FrfRun& r) {
+            std::ostringstream out;
+            io::write_csv(out, r.table);
+            return out.str();
+        });
+
+    m.def(
+        "compute_frf",
+        [](const PySystem& s, const FrfSettings& settings) {
+            return without_gil([&] { return run_frf(s, settings); });
+        },
+        py::arg("system"), py::arg("settings"));
+    m.def(
+        "compute_frfs",
+        [](const std::vector<PySystem>& systems, const FrfSettings& settings, int threads) {
+            return without_gil([&] {
+                // compute_frfs' own scheduling (and its InvalidInput per task: that FRF
+                // start_failed), with each run's table and summary made as for one FRF.
+                std::vector<std::shared_ptr<FrfRun>> runs(systems.size());
+                const auto results = compute_frfs(
+                    static_cast<int>(systems.size()), [&](int k) { return systems[static_cast<std::size_t>(k)].system; },
+                    settings, threads);
+                for (std::size_t k = 0; k < systems.size(); ++k) {
+                    auto run = std::make_shared<FrfRun>();
+                    run->result = results[k];
+                    FrfSettings used = settings;
+                    if (used.outputs.empty()) used.outputs = systems[k].reported();
+                    std::unique_ptr<HarmonicBalance> hb;
+                    try {  // the solver's parameters for the summary (no FRF is computed)
+                        hb = std::make_unique<HarmonicBalance>(systems[k].system, used.harmonic_balance);
+                    } catch (const InvalidInput&) {
+                    }
+                    finish_run(*run, systems[k], used, hb.get());
+                    runs[k] = run;
+                }
+                return runs;
+            });
+        },
+        py::arg("systems"), py::arg("settings"), py::arg("threads"));
+
+    m.def(
+        "solve_at",
+        [](const PySystem& s, double omega, double omega_from, const HarmonicBalanceOptions& options,
+           const ContinuationOptions& continuation, int contact) {
+            if (contact < 0 || contact >= static_cast<int>(s.system.contacts.size()))
+                bad("contact = " + std::to_string(contact) + " is out of range: allowed 0.." +
+                    std::to_string(static_cast<int>(s.system.contacts.size()) - 1));
+            py::dict d;
+            std::optional<SolutionAt> at;
+            PointMetrics metrics;
+            PointSignals signals;
+            Eigen::MatrixXd coefficients;
+            int harmonics = 0;
+            without_gil([&] {
+                HarmonicBalance hb(s.system, options);
+                harmonics = hb.harmonics();
+                at = solve_at(hb, omega, omega_from, continuation);
+                if (!at->found) return 0;
+                Analyser analyse(hb, {}, s.reported());
+                metrics = analyse(at->point);
+                signals = point_signals(hb, at->point, contact);
+                coefficients = hb.dofs(at->point.x, omega);
+                return 0;
+            });
+            d["found"] = at->found;
+            d["message"] = at->branch.summary();
+            d["harmonics"] = harmonics;
+            if (!at->found) return d;
+            const SolutionPoint& p = at->point;
+            d["omega"] = p.omega;
+            d["x"] = to_list(p.x);
+            d["iterations"] = p.iterations;
+            d["residual"] = p.residual;
+            d["coefficients"] = matrix(coefficients);
+            d["y_max"] = metrics.y_max;
+            d["y_amp1"] = metrics.y_amp1;
+            d["output_max"] = metrics.output_max;
+            d["output_amp1"] = metrics.output_amp1;
+            d["stick_fraction"] = metrics.stick_fraction;
+            d["regime"] = metrics.regime;
+            d["energy"] = metrics.energy;
+            d["input_energy"] = metrics.input_energy;
+            d["viscous_energy"] = metrics.viscous_energy;
+            d["energy_error"] = metrics.energy_error;
+            d["energy_limit"] = energy_balance_limit(continuation.corrector.tolerance);
+            py::dict sig;
+            sig["t"] = to_list(signals.time);
+            sig["y"] = matrix(signals.y);
+            sig["q"] = to_list(signals.q);
+            sig["v"] = to_list(signals.v);
+            sig["f"] = to_list(signals.f);
+            sig["phi"] = to_list(signals.phi);
+            sig["f_series"] = to_list(signals.f_series);
+            d["signals"] = sig;
+            return d;
+        },
+        py::arg("system"), py::arg("omega"), py::arg("omega_from"), py::arg("options"), py::arg("continuation"),
+        py::arg("contact"));
+
+    m.def(
+        "timeint",
+        [](const PySystem& s, const std::vector<double>& omegas, TimeIntegrationOptions options) {
+            if (omegas.empty()) bad("w: no frequency given: allowed one or more frequencies > 0");
+            for (double w : omegas)
+                if (!(std::isfinite(w) && w > 0.0))
+                    bad("w = " + format_number(w) + " is out of range: allowed frequencies > 0");
+            if (options.outputs.empty()) options.outputs = s.reported();
+            options.validate();
+            s.system.validate();
+            std::vector<PeriodicResponse> responses;
+            io::Table table;
+            without_gil([&] {
+                // The sweep of hbf timeint: from the stuck linear state at the first frequency,
+                // each point from the previous one's final state.
+                Eigen::VectorXd state = linear_stuck_state(s.system, omegas.front());
+                for (double w : omegas) {
+                    responses.push_back(integrate_steady_state(s.system, w, options, &state));
+                    state = responses.back().state;
+                }
+                table = io::timeint_table(responses, options.outputs);
+                return 0;
+            });
+            py::list details;
+            for (const PeriodicResponse& r : responses) {
+                py::dict d;
+                d["converged"] = r.converged;
+                d["message"] = r.message;
+                d["summary"] = r.summary();
+                d["state"] = to_list(r.state);
+                d["t"] = to_list(r.time);
+                d["y"] = matrix(r.displacement);
+                d["velocity"] = matrix(r.velocity);
+                d["friction_force"] = matrix(r.friction_force);
+                d["input_energy"] = r.input_energy;
+                d["viscous_energy"] = r.viscous_energy;
+                d["seconds"] = r.seconds;
+                details.append(d);
+            }
+            return py::make_tuple(table_columns(table), details);
+        },
+        py::arg("system"), py::arg("omegas"), py::arg("options"));
+
+    m.def(
+        "analytic",
+        [](const AbsorberParameters& p, const std::string& law, const std::vector<double>& omegas) {
+            const FrictionLaw l = parse_friction_law(law);
+            p.validate(l);
+            for (double w : omegas)
+                if (!(std::isfinite(w) && w > 0.0))
+                    bad("w = " + format_number(w) + " is out of range: allowed frequencies > 0");
+            return table_columns(io::analytic_table(analytic::table(p, l, omegas)));
+        },
+        py::arg("parameters"), py::arg("law"), py::arg("omegas"));
+    m.def("den_hartog_tuning", &analytic::den_hartog_tuning, py::arg("mass_ratio"));
+    m.def("den_hartog_friction", &analytic::den_hartog_friction, py::arg("parameters"), py::arg("omega"));
+
+    m.def(
+        "optimize",
+        [](const py::function& system, const FrfSettings& settings, const OptimizeOptions& options) {
+            const auto of = system_of(system);
+            const OptimizeResult r = without_gil([&] { return optimize_parameter(of, settings, options); });
+            return optimize_dict(r);
+        },
+        py::arg("system"), py::arg("settings"), py::arg("options"));
+
+    m.def("format_number", &format_number, py::arg("value"), "15 significant digits, as in the CSV files");
+    m.def("check_output", [](const std::string& path) { io::check_outputs({{"path", path, true}}); }, py::arg("path"),
+          "the output policy of the hbf commands (io.hpp: check_outputs); ValueError naming the problem");
+    m.def(
+        "write_text",
+        [](const std::string& path, const std::string& text) {
+            io::check_outputs({{"path", path, true}});
+            io::OutputFile out(path);
+            out.stream() << text;
+            out.commit();
+        },
+        py::arg("path"), py::arg("text"), "writes a whole file atomically under the output policy");
+}

@@ -1,0 +1,93 @@
+"""solve_at, timeint, analytic, optimize and map: each equals its hbf command for the same case."""
+import json
+
+import numpy as np
+import pytest
+
+import hbfriction
+from conftest import assert_table_equals_csv, format_number, read_csv, run_hbf
+
+
+def test_solve_at_equals_hbf_loop():
+    _, text, _ = run_hbf("loop", "--law", "lugre", "--w", "1.1")
+    fields, _ = read_csv(text)
+    s = hbfriction.solve_at(hbfriction.absorber("lugre"), 1.1)
+    columns = {"t": s.t, "y1": s.y[:, 0], "y2": s.y[:, 1], "q": s.q, "v": s.v, "f": s.f, "f_series": s.f_series}
+    for name, values in columns.items():
+        assert [format_number(x) for x in values] == fields[name], name
+    assert [str(int(x)) for x in s.stick] == fields["stick"]
+    # One period of the solution: the metrics are those of its signals, and the energy balances.
+    assert s.omega == 1.1 and s.harmonics == 10
+    assert s.y_max[0] == pytest.approx(np.abs(s.y[:, 0]).max(), rel=1e-3)
+    assert s.energy_error < 1e-6
+    assert s.coefficients.shape == (21, 2)
+
+
+def test_solve_at_past_a_stuck_resonance_is_an_error():
+    # Exact Coulomb stuck at mu = 50: the undamped resonance near w = 0.85 caps branch 1, and
+    # branch 2 starts at w itself: the solution there is found.
+    s = hbfriction.solve_at(hbfriction.absorber(mu=50.0), 1.2, max_amplitude=100.0)
+    assert s.regime == "stick"
+    with pytest.raises(hbfriction.SolveError, match="no solution at w = 1.2"):
+        hbfriction.solve_at(hbfriction.absorber("lugre"), 1.2, max_points=3)
+
+
+def test_timeint_equals_hbf_timeint():
+    _, text, _ = run_hbf("timeint", "--quiet", "--law", "dahl", "--wmin", "0.8", "--wmax", "1.2", "--points", "3")
+    t = hbfriction.timeint(hbfriction.absorber("dahl"), [0.8, 1.0, 1.2])
+    assert_table_equals_csv(t, text)
+    assert t.status == "completed" and len(t.responses) == 3
+    r = t.responses[0]
+    assert r["y"].shape == (256, 2) and r["friction_force"].shape == (256, 1)
+    # The sampled period's largest |y1| is below the exact turning point, and close to it.
+    assert np.abs(r["y"][:, 0]).max() <= t.y1_max[0] * (1 + 1e-9)
+    assert np.abs(r["y"][:, 0]).max() >= t.y1_max[0] * (1 - 1e-3)
+
+
+def test_analytic_equals_hbf_analytic():
+    _, text, _ = run_hbf("analytic", "--law", "lugre", "--wmin", "0.5", "--wmax", "1.5", "--points", "5")
+    t = hbfriction.analytic(hbfriction.absorber("lugre"), [0.5, 0.75, 1.0, 1.25, 1.5])
+    assert_table_equals_csv(t, text)
+
+
+def test_optimize_equals_hbf_optimize(tmp_path):
+    summary = tmp_path / "opt.json"
+    _, text, _ = run_hbf("optimize", "--quiet", "--law", "lugre", "--range", "0.05:1", "--summary", str(summary))
+    cli = json.loads(summary.read_text())
+    r = hbfriction.optimize(lambda mu: hbfriction.absorber("lugre", mu=mu), 0.05, 1.0)
+    assert r.status == cli["status"] == "converged"
+    assert r.parameter == cli["optimum"]["value"]
+    assert r.peak["value"] == cli["optimum"]["peak"] and r.peak["w"] == cli["optimum"]["peak_w"]
+    fields, _ = read_csv(text)
+    assert [format_number(p) for p in r.trace["parameter"]] == fields["mu"]
+    assert list(r.trace["phase"]) == fields["phase"]
+
+
+def test_optimize_with_values_out_of_range_fails_those_frfs_only():
+    # mu <= 0.1 is refused by the callable: those FRFs fail, the search goes on above.
+    def system(mu):
+        if mu <= 0.1:
+            raise ValueError("mu = %g is out of range for this study: allowed > 0.1" % mu)
+        return hbfriction.absorber("lugre", mu=mu)
+
+    r = hbfriction.optimize(system, 0.05, 1.0)
+    assert r.status == "converged" and r.parameter == pytest.approx(0.2942178, rel=1e-4)
+    assert r.failed >= 1 and r.failed_in_bracket == 0
+    with pytest.raises(RuntimeError, match="must return an hbfriction.System"):
+        hbfriction.optimize(lambda mu: hbfriction.absorber("lugre", mu=mu) if mu < 0.3 else 42, 0.05, 1.0)
+
+
+def test_map_equals_hbf_map():
+    _, text, _ = run_hbf("map", "--quiet", "--law", "lugre", "--param", "mu", "--values", "0.2,0.4", "--threads", "2")
+    lines = text.splitlines()
+    m = hbfriction.map(lambda mu: hbfriction.absorber("lugre", mu=mu), [0.2, 0.4], threads=2)
+    expected = [lines[0]]
+    for value, b in zip(m.values, m.branches):
+        status = b.metadata["status"]
+        expected += ["%s,%s,%s" % (format_number(value), status, row) for row in b.csv().splitlines()[1:]]
+    assert lines == expected
+    assert list(m.status) == ["completed", "completed"]
+    # Each FRF of the map is the FRF computed alone.
+    alone = hbfriction.frf(hbfriction.absorber("lugre", mu=0.4))
+    np.testing.assert_array_equal(alone.y1_max, m.branches[1].y1_max)
+    assert m.peak[1] == alone.peak["value"]

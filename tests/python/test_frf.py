@@ -1,0 +1,120 @@
+"""frf(): the Python result is hbf frf's, column for column, for the same case."""
+import json
+import math
+import os
+
+import numpy as np
+import pytest
+
+import hbfriction
+from conftest import SOURCE, assert_table_equals_csv, run_hbf
+
+
+def cli_frf(tmp_path, *args):
+    csv_path, json_path = tmp_path / "frf.csv", tmp_path / "frf.json"
+    run_hbf("frf", "--quiet", "--out", str(csv_path), "--summary", str(json_path), *args)
+    return csv_path.read_text(), json.loads(json_path.read_text())
+
+
+def assert_same_summary(python, cli):
+    """The JSON summaries agree on everything but wall times."""
+    timing = ("seconds", "wall_time_seconds")
+
+    def strip(d):
+        if isinstance(d, dict):
+            return {k: strip(v) for k, v in d.items() if not k.endswith(timing) and "seconds" not in k}
+        if isinstance(d, list):
+            return [strip(v) for v in d]
+        return d
+
+    assert strip(python) == strip(cli)
+
+
+def test_default_frf_equals_the_cli(tmp_path):
+    text, summary = cli_frf(tmp_path)
+    b = hbfriction.frf(hbfriction.absorber())
+    assert b.status == "completed"
+    assert_table_equals_csv(b, text)
+    assert b.csv() == text  # byte for byte
+    assert_same_summary(b.metadata, summary)
+    # The exact polish ran on every row (coulomb: the CLI's default), and the peak is the JSON's.
+    assert set(b.exact) == {"yes"}
+    assert b.peak["value"] == pytest.approx(max(p["y_max"] for p in summary["peaks"] if p["output"] == "y1"), rel=1e-15)
+
+
+@pytest.mark.parametrize("law", ["dahl", "lugre", "jenkins", "coulomb-reg"])
+def test_every_law_equals_the_cli(tmp_path, law):
+    text, summary = cli_frf(tmp_path, "--law", law, "--mu", "0.3", "--wmin", "0.6", "--wmax", "1.4")
+    b = hbfriction.frf(hbfriction.absorber(law, mu=0.3), wmin=0.6, omega_end=1.4)
+    assert_table_equals_csv(b, text)
+    assert_same_summary(b.metadata, summary)
+    assert b.settings.harmonic_balance.harmonics == summary["parameters"]["harmonics"]
+
+
+def test_samples_stability_and_options_equal_the_cli(tmp_path):
+    text, summary = cli_frf(tmp_path, "--law", "lugre", "--at", "0.9,1.1", "--stability", "on", "--harmonics", "12",
+                            "--tolerance", "1e-10", "--max-step", "0.5")
+    b = hbfriction.frf(hbfriction.absorber("lugre"), at=[0.9, 1.1], stability=True, harmonics=12, tolerance=1e-10,
+                       max_step=0.5)
+    assert_table_equals_csv(b, text)
+    assert_same_summary(b.metadata, summary)
+    assert list(b.w[b.point == "sample"]) == [0.9, 1.1]
+    assert set(b.stable) <= {"true", "false", "uncertain"}
+    assert np.all(np.isfinite(b.stability_margin))
+
+
+def test_a_toml_system_equals_hbf_frf_config(tmp_path):
+    path = os.path.join(SOURCE, "examples", "systems", "chain3.toml")
+    text, summary = cli_frf(tmp_path, "--config", path)
+    b = hbfriction.frf(hbfriction.load(path))
+    assert_table_equals_csv(b, text)
+    assert_same_summary(b.metadata, summary)
+
+
+def test_the_stuck_absorber_is_the_closed_form():
+    # mu far above the limit friction coefficient: the contact never slips, and the exact
+    # Coulomb FRF is the linear two-mass system of the paper's eq. (5) (hbf analytic).
+    system = hbfriction.absorber(mu=50.0)
+    b = hbfriction.frf(system, wmin=0.5, wmax=0.9)
+    assert set(b.regime) == {"stick"}
+    closed = hbfriction.analytic(system, b.w)
+    np.testing.assert_allclose(b.y1_max, closed.y1_stick, rtol=1e-9)
+    np.testing.assert_allclose(b.y2_max, closed.y2_stick, rtol=1e-9)
+
+
+def test_branch_object():
+    b = hbfriction.frf(hbfriction.absorber("dahl"), outputs=[0], peaks_of_every_output=False)
+    assert b.columns[:3] == ["w", "y1_max", "y1_amp1"]
+    assert b.y1_max.dtype == np.float64 and b.branch.dtype == np.int64 and b.regime.dtype.kind == "U"
+    assert len(b) == len(b.w) == len(b.coefficients())
+    assert "y1_max" in b and "max over one period" in b.meaning["y1_max"]
+    assert b.metadata["status"] == "completed" and b.metadata["parameters"]["law"] == "dahl"
+    # The energy balance of every point: input work = friction energy (no viscous damping).
+    assert np.all(b.energy_error < 1e-6)
+    with pytest.raises(AttributeError):
+        b.no_such_column
+
+
+def test_an_incomplete_frf_warns_and_says_why():
+    # An undamped resonance of the stuck structure caps the branch: never a silent success.
+    with pytest.warns(hbfriction.IncompleteResultWarning, match="amplitude"):
+        b = hbfriction.frf(hbfriction.absorber(mu=50.0), exact=False, max_amplitude=20.0)
+    assert b.status == "incomplete"
+    assert b.metadata["status"] == "amplitude_cap"
+    assert b.warnings and "spans" in b.warnings[0]
+    assert b.peak["state"] == "unbounded" and math.isinf(b.peak["value"])
+
+
+def test_write_csv_follows_the_output_policy(tmp_path):
+    b = hbfriction.frf(hbfriction.absorber("lugre"), wmin=1.0, wmax=1.1)
+    target = tmp_path / "real.csv"
+    target.write_text("old")
+    link = tmp_path / "link.csv"
+    link.symlink_to(target)
+    b.write_csv(str(link))
+    assert link.is_symlink() and target.read_text() == b.csv()
+    with pytest.raises(ValueError, match="directory"):
+        b.write_csv(str(tmp_path))
+    with pytest.raises(ValueError):
+        b.write_csv(str(tmp_path / "missing" / "x.csv"))
+    assert not (tmp_path / "missing").exists()

@@ -1,0 +1,123 @@
+"""Systems from NumPy and SciPy: matrices round-trip, and an FE model built in Python gives the
+FRF of hbf frf --config on the same matrices written as Matrix Market files."""
+import os
+
+import numpy as np
+import pytest
+import scipy.io
+import scipy.sparse as sp
+
+import hbfriction
+from conftest import SOURCE, assert_table_equals_csv, run_hbf
+
+
+def chain(n, law="dahl"):
+    """A fixed-free chain of n masses 0.5 (unit springs, Rayleigh damping 0.008 M + 0.002 K: about
+    7 % of critical on the first mode), forced at the tip, with one contact from DOF n/2 to the
+    ground (F_c = 0.01, sigma0 = 0.05: stick-slip around the first resonance)."""
+    k = sp.diags([2.0 * np.ones(n), -np.ones(n - 1), -np.ones(n - 1)], [0, 1, -1], format="lil")
+    k[n - 1, n - 1] = 1.0
+    k = k.tocsr()
+    m = sp.identity(n, format="csr") * 0.5
+    c = 0.008 * m + 0.002 * k
+    f = np.zeros(n)
+    f[-1] = 0.02
+    contact = hbfriction.Contact(dof=n // 2, law=law, friction_limit=0.01, stiffness=0.05)
+    return m, k, c, f, contact
+
+
+def test_numpy_matrices_round_trip():
+    mass = np.diag([1.0, 0.1])
+    stiffness = np.array([[1.1, -0.1], [-0.1, 0.1]])
+    damping = np.array([[0.01, 0.0], [0.0, 0.002]])
+    s = hbfriction.System(mass, stiffness, [0.5, 0.0], damping=damping,
+                          contacts=[hbfriction.Contact(dof=0, other_dof=1, friction_limit=0.2)])
+    np.testing.assert_array_equal(s.mass.toarray(), mass)
+    np.testing.assert_array_equal(s.stiffness.toarray(), stiffness)
+    np.testing.assert_array_equal(s.damping.toarray(), damping)
+    assert s.excitation == [0.5, 0.0] and s.dofs == 2 and s.law == "coulomb"
+    # A 1-D array is the diagonal (as in a TOML file); lists, Fortran order and ints convert.
+    s.mass = [1.0, 0.1]
+    np.testing.assert_array_equal(s.mass.toarray(), mass)
+    s.stiffness = np.asfortranarray(stiffness)
+    np.testing.assert_array_equal(s.stiffness.toarray(), stiffness)
+    s.damping = [[0, 0], [0, 0]]
+    assert s.damping.nnz == 0
+
+
+def test_scipy_sparse_round_trips_in_every_format():
+    m, k, c, f, contact = chain(30)
+    for fmt in ("csr", "csc", "coo", "lil", "dok", "bsr"):
+        s = hbfriction.System(m.asformat(fmt), k.asformat(fmt), f, damping=c.asformat(fmt), contacts=[contact])
+        assert sp.issparse(s.stiffness)
+        assert (s.stiffness != k).nnz == 0 and (s.mass != m).nnz == 0 and (s.damping != c).nnz == 0
+        np.testing.assert_array_equal(s.excitation, f)
+
+
+def test_the_absorber_preset_is_the_papers_matrices():
+    s = hbfriction.absorber("dahl", r=0.2, wa=1.5, wb=0.5)
+    np.testing.assert_allclose(s.mass.toarray(), np.diag([1.0, 0.2]), rtol=1e-15)
+    ka = 0.2 * 1.5 ** 2
+    np.testing.assert_allclose(s.stiffness.toarray(), [[1.0 + ka, -ka], [-ka, ka]], rtol=1e-15)
+    (c,) = s.contacts
+    assert (c.dof, c.other_dof, c.law) == (0, 1, "dahl")
+    assert c.friction_limit == 0.2 and c.stiffness == pytest.approx(0.2 * 0.5 ** 2, rel=1e-15)
+
+
+def test_an_fe_model_from_scipy_equals_hbf_frf_on_its_matrix_market_files(tmp_path):
+    n = 40
+    m, k, c, f, contact = chain(n)
+    for name, matrix in (("mass", m), ("stiffness", k), ("damping", c)):
+        scipy.io.mmwrite(str(tmp_path / name), matrix)
+    toml = tmp_path / "chain.toml"
+    toml.write_text("""[structure]
+mass = "mass.mtx"
+stiffness = "stiffness.mtx"
+damping = "damping.mtx"
+excitation = [%s]
+[[contact]]
+dof = %d
+law = "dahl"
+friction_limit = 0.01
+stiffness = 0.05
+[frequency]
+wmin = 0.02
+wmax = 0.12
+[[output]]
+name = "tip"
+dof = %d
+[[output]]
+name = "stretch"
+row = [%s]
+""" % (", ".join(repr(x) for x in f), n // 2 + 1, n,
+       ", ".join("1.0" if i == n - 1 else "-1.0" if i == 0 else "0.0" for i in range(n))))
+    csv_path = tmp_path / "frf.csv"
+    run_hbf("frf", "--quiet", "--config", str(toml), "--out", str(csv_path))
+    stretch = np.zeros(n)
+    stretch[-1], stretch[0] = 1.0, -1.0
+    s = hbfriction.System(m, k, f, damping=c, contacts=[contact])
+    b = hbfriction.frf(s, outputs=[("tip", np.eye(n)[-1]), ("stretch", stretch)], wmin=0.02, wmax=0.12)
+    assert_table_equals_csv(b, csv_path.read_text())
+    # The same through load(): the file's outputs and frequency range apply.
+    assert_table_equals_csv(hbfriction.frf(hbfriction.load(toml)), csv_path.read_text())
+    assert b.metadata["status"] == "completed" and b.metadata["parameters"]["dofs"] == n
+    assert {"stick", "stick-slip"} <= set(b.regime)
+
+
+def test_load_reads_the_files_settings():
+    s = hbfriction.load(os.path.join(SOURCE, "examples", "systems", "chain3.toml"))
+    assert s.dofs == 3 and s.law == "jenkins,dahl"
+    assert [o.name for o in s.outputs] == ["y1", "y3"]
+    assert s.file_settings == {"omega_start": 0.2, "omega_end": 3.0}
+    assert [c.law for c in s.contacts] == ["jenkins", "dahl"]
+
+
+def test_contacts_are_values_assigned_back():
+    s = hbfriction.absorber("jenkins")
+    contacts = s.contacts
+    contacts[0].friction_limit = 0.3
+    assert s.contacts[0].friction_limit == 0.2  # a copy, as documented
+    s.contacts = contacts
+    assert s.contacts[0].friction_limit == 0.3
+    b = hbfriction.frf(s, wmin=1.0, wmax=1.05)
+    assert b.status == "completed"
