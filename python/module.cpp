@@ -30,6 +30,7 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/io.hpp"
+#include "hbf/memory.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace py = pybind11;
@@ -852,6 +853,8 @@ PYBIND11_MODULE(_core, m) {
         },
         py::arg("system"), py::arg("settings"), py::arg("options"));
 
+    m.def("retain_freed_memory", &retain_freed_memory,
+          "glibc keeps freed memory for reuse (memory.hpp), as the hbf command does at start");
     m.def("format_number", &format_number, py::arg("value"), "15 significant digits, as in the CSV files");
     m.def("check_output", [](const std::string& path) { io::check_outputs({{"path", path, true}}); }, py::arg("path"),
           "the output policy of the hbf commands (io.hpp: check_outputs); ValueError naming the problem");

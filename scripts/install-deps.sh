@@ -14,6 +14,8 @@ packages=(
   libspectra-dev  # sparse eigensolver of the modal receptance (header-only)
   libopenmpi-dev openmpi-bin  # hbf map under mpirun (optional for a build: HBF_MPI=OFF); its test runs 2 ranks
   python3  # examples/systems/beam/make_beam.py (standard library only), checked by the tests
+  python3-dev pybind11-dev python3-numpy  # the Python bindings (python/: import hbfriction)
+  python3-pytest python3-scipy python3-matplotlib  # their tests (tests/python) and examples (examples/python)
   "$@"
 )
 

@@ -10,11 +10,11 @@ source "$ROOT/scripts/common.sh"
 if [[ ${SANITIZE:-0} == 1 ]]; then
   dir="$ROOT/build-asan"
   echo "== building (Debug, ASan + UBSan) in build-asan/" >&2
-  build_project "$dir" Debug -DHBF_SANITIZE=ON
+  build_project "$dir" Debug -DHBF_SANITIZE=ON -DHBF_PYTHON_REQUIRED=ON
 else
   dir="$ROOT/build"
   echo "== building (Release) in build/" >&2
-  build_project "$dir" Release
+  build_project "$dir" Release -DHBF_PYTHON_REQUIRED=ON
 fi
 echo "== running the tests" >&2
 cd "$dir"

@@ -23,11 +23,35 @@ that is incomplete or doubtful is never silent: its ``status`` says so and an
 
 import json as _json
 import math as _math
+import sys as _sys
 import warnings as _warnings
 
-import numpy as _np
+from . import _build, _core
 
-from . import _core
+
+def _import_numpy():
+    """NumPy: this interpreter's, else (an interpreter of the version the extension was built
+    for, without NumPy of its own, e.g. a pyenv Python beside Debian's) the NumPy of the
+    interpreter it was built with, imported from there alone."""
+    try:
+        import numpy
+        return numpy
+    except ImportError:
+        pass
+    if _build.NUMPY_SITE and _sys.version_info[:2] == _build.PYTHON_VERSION:
+        _sys.path.append(_build.NUMPY_SITE)
+        try:
+            import numpy
+            return numpy
+        except ImportError:
+            pass
+        finally:
+            _sys.path.remove(_build.NUMPY_SITE)
+    raise ImportError("hbfriction needs NumPy, which %s does not have: use %s (the interpreter hbfriction was "
+                      "built for), or install NumPy for this one" % (_sys.executable, _build.PYTHON_EXECUTABLE))
+
+
+_np = _import_numpy()
 from ._core import (AbsorberParameters, Contact, ContinuationOptions, CorrectorOptions, FrfSettings,
                     HarmonicBalanceOptions, OptimizeOptions, Output, StabilityOptions, System,
                     TimeIntegrationOptions)
