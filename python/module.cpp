@@ -40,16 +40,12 @@ namespace {
 
 // ---- the system as Python sees it -----------------------------------------------------------
 
-/// A System with what a Python caller does not pass with every call: the reported outputs,
-/// the preset's parameters (the JSON summary's), and a TOML file's [frequency] and [solver].
-struct PySystem {
-    System system;
-    std::vector<Output> outputs;                 ///< empty: every DOF
+/// A System with what a Python caller does not pass with every call: the reported outputs
+/// (empty: every DOF) and a TOML file's [frequency] and [solver] (io::SystemConfig), and the
+/// preset's parameters (the JSON summary's).
+struct PySystem : io::SystemConfig {
     std::optional<AbsorberParameters> absorber;  ///< the paper's preset
     std::string source;                          ///< "absorber", a file's path, or "" (arrays)
-    std::optional<double> omega_start, omega_end;
-    std::optional<int> harmonics, time_samples, modes;
-    std::optional<bool> odd_harmonics;
 
     /// The reported outputs: the chosen ones, else every DOF.
     std::vector<Output> reported() const {
@@ -234,37 +230,6 @@ struct FrfRun {
     int harmonics = 0;
 };
 
-/// The JSON summary's parameters: the preset's (as hbf frf), or the size of the model; then the
-/// solver's.
-std::vector<std::pair<std::string, double>> summary_parameters(const PySystem& s, const FrfSettings& settings,
-                                                               const HarmonicBalance& hb) {
-    std::vector<std::pair<std::string, double>> parameters;
-    if (s.absorber) {
-        const AbsorberParameters& p = *s.absorber;
-        parameters = {{"r", p.mass_ratio},       {"wa", p.tuning_ratio},
-                      {"mu", p.friction_coefficient}, {"fe", p.excitation},
-                      {"wb", p.contact_stiffness_ratio}, {"xi", p.contact_damping_ratio},
-                      {"eps", p.regularization}, {"mu_static", p.static_friction_coefficient},
-                      {"stribeck_velocity", p.stribeck_velocity}, {"viscous", p.viscous_coefficient}};
-    } else {
-        parameters = {{"dofs", s.system.dofs()}, {"contacts", static_cast<double>(s.system.contacts.size())}};
-    }
-    const ContinuationOptions& co = settings.continuation;
-    const std::vector<std::pair<std::string, double>> solver = {
-        {"wmin", co.omega_start},
-        {"wmax", co.omega_end},
-        {"harmonics", hb.harmonics()},
-        {"excitation_harmonic", hb.load_harmonic()},
-        {"odd_harmonics", hb.odd_harmonics() ? 1 : 0},
-        {"time_samples", hb.time_samples()},
-        {"condensed", hb.formulation() == Formulation::condensed ? 1 : 0},
-        {"modes", hb.modes()},
-        {"max_amplitude", co.max_amplitude},
-        {"tolerance", co.corrector.tolerance}};
-    parameters.insert(parameters.end(), solver.begin(), solver.end());
-    return parameters;
-}
-
 /// The table, verdict and JSON summary of a computed FRF (run->result), as hbf frf writes
 /// them. `hb` (the solver that ran, or one built alike) supplies the summary's solver
 /// parameters; without it (an FRF that could not start) the summary holds the status only.
@@ -281,7 +246,7 @@ void finish_run(FrfRun& run, const PySystem& s, const FrfSettings& settings, con
     std::size_t samples = 0;
     for (const SolutionPoint& p : r.points) samples += p.kind == PointKind::sample ? 1 : 0;
     std::ostringstream json;
-    io::write_frf_summary(json, run.law, summary_parameters(s, settings, *hb), r.branch, r.metrics, r.peaks, samples,
+    io::write_frf_summary(json, run.law, io::frf_parameters(s.system, s.absorber ? &*s.absorber : nullptr, *hb, settings.continuation), r.branch, r.metrics, r.peaks, samples,
                           r.seconds, settings.outputs, r.polish ? &*r.polish : nullptr, run.verdict.errors,
                           run.verdict.warnings, run.verdict.notes, stability);
     run.summary = json.str();
@@ -546,17 +511,9 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "read_system_config",
         [](const std::string& path) {
-            io::SystemConfig c = io::read_system_config(path);
             PySystem s;
-            s.system = c.system;
-            s.outputs = c.outputs;
+            static_cast<io::SystemConfig&>(s) = io::read_system_config(path);
             s.source = path;
-            s.omega_start = c.omega_start;
-            s.omega_end = c.omega_end;
-            s.harmonics = c.harmonics;
-            s.time_samples = c.time_samples;
-            s.modes = c.modes;
-            s.odd_harmonics = c.odd_harmonics;
             return s;
         },
         py::arg("path"));

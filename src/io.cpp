@@ -439,6 +439,40 @@ void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& r
     write_csv(out, timeint_table(responses, outputs));
 }
 
+std::vector<std::pair<std::string, double>> frf_parameters(const System& system, const AbsorberParameters* preset,
+                                                           const HarmonicBalance& hb,
+                                                           const ContinuationOptions& co) {
+    std::vector<std::pair<std::string, double>> parameters;
+    if (preset) {
+        const AbsorberParameters& p = *preset;
+        parameters = {{"r", p.mass_ratio},
+                      {"wa", p.tuning_ratio},
+                      {"mu", p.friction_coefficient},
+                      {"fe", p.excitation},
+                      {"wb", p.contact_stiffness_ratio},
+                      {"xi", p.contact_damping_ratio},
+                      {"eps", p.regularization},
+                      {"mu_static", p.static_friction_coefficient},
+                      {"stribeck_velocity", p.stribeck_velocity},
+                      {"viscous", p.viscous_coefficient}};
+    } else {
+        parameters = {{"dofs", system.dofs()}, {"contacts", static_cast<double>(system.contacts.size())}};
+    }
+    const std::vector<std::pair<std::string, double>> solver = {
+        {"wmin", co.omega_start},
+        {"wmax", co.omega_end},
+        {"harmonics", hb.harmonics()},
+        {"excitation_harmonic", hb.load_harmonic()},
+        {"odd_harmonics", hb.odd_harmonics() ? 1 : 0},
+        {"time_samples", hb.time_samples()},
+        {"condensed", hb.formulation() == Formulation::condensed ? 1 : 0},
+        {"modes", hb.modes()},
+        {"max_amplitude", co.max_amplitude},
+        {"tolerance", co.corrector.tolerance}};
+    parameters.insert(parameters.end(), solver.begin(), solver.end());
+    return parameters;
+}
+
 void write_frf_summary(std::ostream& out, const std::string& law,
                        const std::vector<std::pair<std::string, double>>& parameters, const BranchResult& branch,
                        const std::vector<PointMetrics>& metrics_in, const std::vector<Peak>& peaks,

@@ -140,3 +140,44 @@ TEST_CASE("hbf timeint --config writes the DOFs the file reports, as hbf frf doe
     REQUIRE(f.exit_code == 0);
     CHECK(parse_csv(f.out)[0][2] == "y3_max");
 }
+
+TEST_CASE("A time-integration row without one integrated period keeps every column: empty numbers and regime failed",
+          "[timeint][io]") {
+    // Such a row used to be one field short, which moved periods under energy.
+    hbf::PeriodicResponse failed;
+    failed.omega = 1.25;
+    failed.periods = 0;
+    hbf::PeriodicResponse ok;
+    ok.omega = 1.5;
+    ok.converged = true;
+    ok.periods = 7;
+    ok.switches = 2;
+    ok.regime = "slip";
+    ok.output_max = {0.5, 0.25};
+    ok.output_amp1 = {0.4, 0.2};
+    const std::vector<hbf::Output> outputs = {hbf::Output::dof(0), hbf::Output::dof(1)};
+    std::ostringstream out;
+    hbf::io::write_timeint_csv(out, {failed, ok}, outputs);
+    const auto rows = parse_csv(out.str());
+    REQUIRE(rows.size() == 3);
+    const auto columns = hbf::io::timeint_columns(outputs);
+    auto field = [&](std::size_t row, const std::string& name) {
+        for (std::size_t k = 0; k < columns.size(); ++k)
+            if (columns[k].name == name) return rows[row].at(k);
+        FAIL("no column " << name);
+        return std::string();
+    };
+    for (const auto& row : rows) CHECK(row.size() == columns.size());
+    CHECK(field(1, "w") == "1.25");
+    CHECK(field(1, "y1_max").empty());
+    CHECK(field(1, "stick_fraction").empty());
+    CHECK(field(1, "regime") == "failed");
+    CHECK(field(1, "energy").empty());
+    CHECK(field(1, "periods") == "0");
+    CHECK(field(1, "converged") == "false");
+    CHECK(field(1, "switches").empty());
+    CHECK(field(2, "y2_max") == "0.25");
+    CHECK(field(2, "periods") == "7");
+    CHECK(field(2, "converged") == "true");
+    CHECK(field(2, "switches") == "2");
+}

@@ -137,6 +137,14 @@ Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::v
 void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses,
                        const std::vector<Output>& outputs);
 
+/// The "parameters" of an FRF's JSON summary: the preset's (r, wa, mu, fe, wb, xi, eps,
+/// mu_static, stribeck_velocity, viscous) with `preset`, else the model's size (dofs,
+/// contacts); then the solver's (wmin, wmax, harmonics, excitation_harmonic, odd_harmonics,
+/// time_samples, condensed, modes, max_amplitude, tolerance) from `hb` and `continuation`.
+std::vector<std::pair<std::string, double>> frf_parameters(const System& system, const AbsorberParameters* preset,
+                                                           const HarmonicBalance& hb,
+                                                           const ContinuationOptions& continuation);
+
 /// Writes the JSON summary of an FRF run: the parameters (name, value; integral values are
 /// written as integers), the number of branch points and samples, solver statistics, the
 /// peaks (of the outputs `outputs`, Peak::output indexing them: each with w, output (its

@@ -121,32 +121,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     for (const std::string& n : judged.notes) verdict.note(n);
     std::unique_ptr<io::OutputFile> summary;
     if (!o.summary.empty()) {
-        std::vector<std::pair<std::string, double>> parameters;
-        if (config) {
-            parameters = {{"dofs", system.dofs()}, {"contacts", static_cast<double>(system.contacts.size())}};
-        } else {
-            parameters = {{"r", p.mass_ratio},
-                          {"wa", p.tuning_ratio},
-                          {"mu", p.friction_coefficient},
-                          {"fe", p.excitation},
-                          {"wb", p.contact_stiffness_ratio},
-                          {"xi", p.contact_damping_ratio},
-                          {"eps", p.regularization},
-                          {"mu_static", p.static_friction_coefficient},
-                          {"stribeck_velocity", p.stribeck_velocity},
-                          {"viscous", p.viscous_coefficient}};
-        }
-        const std::vector<std::pair<std::string, double>> solver = {{"wmin", co.omega_start},
-                                                                    {"wmax", co.omega_end},
-                                                                    {"harmonics", hb.harmonics()},
-                                                                    {"excitation_harmonic", hb.load_harmonic()},
-                                                                    {"odd_harmonics", hb.odd_harmonics() ? 1 : 0},
-                                                                    {"time_samples", hb.time_samples()},
-                                                                    {"condensed", hb.formulation() == Formulation::condensed ? 1 : 0},
-                                                                    {"modes", hb.modes()},
-                                                                    {"max_amplitude", co.max_amplitude},
-                                                                    {"tolerance", co.corrector.tolerance}};
-        parameters.insert(parameters.end(), solver.begin(), solver.end());
+        const auto parameters = io::frf_parameters(system, config ? nullptr : &p, hb, co);
         summary = std::make_unique<io::OutputFile>(o.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
                               outputs, polish ? &*polish : nullptr, verdict.errors(), verdict.warnings(),
