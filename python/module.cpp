@@ -746,7 +746,8 @@ PYBIND11_MODULE(_core, m) {
 
     m.def(
         "timeint",
-        [](const PySystem& s, const std::vector<double>& omegas, TimeIntegrationOptions options) {
+        [](const PySystem& s, const std::vector<double>& omegas, TimeIntegrationOptions options, bool exact,
+           double exact_tolerance) {
             if (omegas.empty()) bad("w: no frequency given: allowed one or more frequencies > 0");
             for (double w : omegas)
                 if (!(std::isfinite(w) && w > 0.0))
@@ -754,17 +755,28 @@ PYBIND11_MODULE(_core, m) {
             if (options.outputs.empty()) options.outputs = s.reported();
             options.validate();
             s.system.validate();
+            ExactOptions eo;
+            eo.outputs = options.outputs;
+            eo.tolerance = exact_tolerance;
+            if (exact) {
+                if (!exact_solver_supports(s.system))
+                    bad("method = 'exact': " + exact_solver_refusal(s.system) + " (use adams or bdf)");
+                eo.validate();
+            }
             std::vector<PeriodicResponse> responses;
             io::Table table;
+            FrfVerdict verdict;
             without_gil([&] {
                 // The sweep of hbf timeint: from the stuck linear state at the first frequency,
                 // each point from the previous one's final state.
                 Eigen::VectorXd state = linear_stuck_state(s.system, omegas.front());
                 for (double w : omegas) {
-                    responses.push_back(integrate_steady_state(s.system, w, options, &state));
+                    responses.push_back(exact ? exact_steady_state(s.system, w, eo, options.max_periods, state)
+                                              : integrate_steady_state(s.system, w, options, &state));
                     state = responses.back().state;
                 }
                 table = io::timeint_table(responses, options.outputs);
+                verdict = judge_sweep(s.system, responses, options, exact);
                 return 0;
             });
             py::list details;
@@ -783,9 +795,13 @@ PYBIND11_MODULE(_core, m) {
                 d["seconds"] = r.seconds;
                 details.append(d);
             }
-            return py::make_tuple(table_columns(table), details);
+            py::dict v;
+            v["status"] = verdict.status();
+            v["errors"] = verdict.errors;
+            v["warnings"] = verdict.warnings;
+            return py::make_tuple(table_columns(table), details, v);
         },
-        py::arg("system"), py::arg("omegas"), py::arg("options"));
+        py::arg("system"), py::arg("omegas"), py::arg("options"), py::arg("exact"), py::arg("exact_tolerance"));
 
     m.def(
         "analytic",

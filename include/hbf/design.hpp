@@ -16,10 +16,12 @@
 #include <vector>
 
 #include "hbf/continuation.hpp"
+#include "hbf/event_exact.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/stability.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
+#include "hbf/time_integration.hpp"
 
 namespace hbf {
 
@@ -122,6 +124,21 @@ FrfVerdict judge_frf(const FrfResult& frf, const FrfSettings& settings);
 FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings);
 /// The same, building the HarmonicBalance from settings.harmonic_balance.
 FrfResult compute_frf(const System& system, const FrfSettings& settings);
+
+/// The verdict on time-integration steady states (hbf timeint): errors for the points that did
+/// not converge (each one's summary, and their count); a warning when converged points fail
+/// the energy balance (input work = viscous + friction energy per period, relative to the
+/// work the force could do on the first harmonic; limit max(1e-6, 100 max(relative_tolerance,
+/// steady_tolerance))). With `exact` (exact_steady_state, which does not integrate the viscous
+/// energy) the balance is checked only for undamped structures.
+FrfVerdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
+                       const TimeIntegrationOptions& options, bool exact);
+
+/// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`) as a
+/// time-integration result (hbf timeint --method exact): when it fails, it is tried again
+/// after min(max_periods, 200) plain periods; `periods` counts the period maps of both.
+PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
+                                    const Eigen::VectorXd& start);
 
 /// The harmonic-balance solution at omega reached by following the branch from omega_from
 /// (from 0.9 omega when omega <= omega_from) with `options`' corrector and limits: what

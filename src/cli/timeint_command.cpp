@@ -23,10 +23,6 @@ namespace {
 /// Largest relative energy imbalance of a converged steady state: max(1e-6, 100 max(rtol,
 /// steady-tol)). Measured at the defaults (rtol 1e-10, steady-tol 1e-8): 1e-10..5e-9 on the
 /// absorber (every law, fe = 0.1 and 0.5, 12 frequencies) and chain3.toml (adams and bdf).
-double timeint_energy_limit(const TimeIntegrationOptions& o) {
-    return std::max(1e-6, 100.0 * std::max(o.relative_tolerance, o.steady_tolerance));
-}
-
 constexpr long long max_points = 10000;
 
 struct TimeintOptions {
@@ -82,37 +78,6 @@ std::vector<double> frequencies(const CLI::App& command, const TimeintOptions& o
 /// The steady state by the event-exact solver (--method exact), as a time-integration row:
 /// Newton from `start`; if that fails, again after plain exact periods (the exact flow
 /// integrates the motion) up to max_periods.
-PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
-                                    const Eigen::VectorXd& start) {
-    ExactOrbit orbit = exact_periodic_orbit(system, omega, start, options);
-    int periods = orbit.periods;
-    if (!orbit.converged && max_periods > 1) {
-        options.warmup_periods = std::min(max_periods, 200);
-        orbit = exact_periodic_orbit(system, omega, start, options);
-        periods += orbit.periods;
-    }
-    PeriodicResponse r;
-    r.omega = omega;
-    r.converged = orbit.converged;
-    r.message = orbit.message;
-    r.periods = periods;
-    r.poincare_change = orbit.residual;
-    r.state = orbit.state;
-    r.y_max = orbit.y_max;
-    r.y_amp1 = orbit.y_amp1;
-    r.output_max = orbit.output_max;
-    r.output_amp1 = orbit.output_amp1;
-    r.harmonic1 = orbit.harmonic1;
-    r.stick_fraction = orbit.stick_fraction;
-    r.regime = orbit.regime;
-    r.stick_margin_min = orbit.stick_margin_min;
-    r.stick_margin_max = orbit.stick_margin_max;
-    r.switches = orbit.switches;
-    r.energy = orbit.energy;
-    r.input_energy = orbit.input_energy;
-    return r;
-}
-
 int run(const CLI::App& command, const TimeintOptions& o) {
     io::check_plot("--plot", o.plot);  // before any work
     io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
@@ -186,41 +151,12 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         io::write_plot(o.plot, spec);  // before the CSV is committed: a failed plot leaves no output
     }
     out.commit();
+    // Points that did not converge (errors) and converged points out of energy balance
+    // (warnings): judge_sweep, design.hpp.
     Verdict verdict("timeint");
-    int failed = 0;
-    for (const PeriodicResponse& r : responses)
-        if (!r.converged) {
-            ++failed;
-            verdict.error(r.summary());
-        }
-    if (failed > 0)
-        verdict.error(std::to_string(failed) + " of " + std::to_string(responses.size()) +
-                      " points did not converge (converged = false in the output)");
-    // Energy balance of every converged steady state: input work = viscous + friction energy
-    // per period, relative to the work the force could do on the first harmonic (the exact
-    // solver does not integrate the viscous energy: checked there only without damping).
-    if (!exact || system.damping.nonZeros() == 0) {
-        const double limit = timeint_energy_limit(tio);
-        int unbalanced = 0;
-        double worst = 0.0, worst_w = 0.0;
-        for (const PeriodicResponse& r : responses) {
-            if (!r.converged) continue;
-            double amplitude = 0.0;
-            for (double a : r.y_amp1) amplitude += a * a;
-            const double reach = system.excitation_harmonic == 1 ? M_PI * system.excitation.norm() * std::sqrt(amplitude) : 0.0;
-            const double error = energy_imbalance(r.input_energy, r.viscous_energy, r.energy, reach);
-            if (error > limit) ++unbalanced;
-            if (error > worst) {
-                worst = error;
-                worst_w = r.omega;
-            }
-        }
-        if (unbalanced > 0)
-            verdict.warning(std::to_string(unbalanced) + " converged point(s) fail the energy balance (relative " +
-                            "error above " + format_number(limit) + ", max(1e-6, 100 max(--rtol, --steady-tol)); the largest, " +
-                            format_number(worst) + ", at w = " + format_number(worst_w) +
-                            "): tighter --rtol/--atol or --steady-tol may help");
-    }
+    const FrfVerdict judged = judge_sweep(system, responses, tio, exact);
+    for (const std::string& e : judged.errors) verdict.error(e);
+    for (const std::string& w : judged.warnings) verdict.warning(w);
     verdict.add_library_messages();
     return verdict.finish();
 }

@@ -91,3 +91,25 @@ def test_map_equals_hbf_map():
     alone = hbfriction.frf(hbfriction.absorber("lugre", mu=0.4))
     np.testing.assert_array_equal(alone.y1_max, m.branches[1].y1_max)
     assert m.peak[1] == alone.peak["value"]
+
+
+def test_timeint_exact_equals_hbf_timeint_method_exact():
+    _, text, _ = run_hbf("timeint", "--quiet", "--law", "jenkins", "--wmin", "0.8", "--wmax", "1.2", "--points", "3",
+                         "--method", "exact")
+    t = hbfriction.timeint(hbfriction.absorber("jenkins"), [0.8, 1.0, 1.2], method="exact")
+    assert_table_equals_csv(t, text)
+    assert t.status == "completed"
+    with pytest.raises(ValueError, match="method = 'exact': contact 1 has law dahl"):
+        hbfriction.timeint(hbfriction.absorber("dahl"), 1.0, method="exact")
+
+
+def test_timeint_that_does_not_converge_is_failed_with_the_reason():
+    # Two periods cannot settle the undamped stuck absorber's free vibration: hbf timeint exits 1.
+    code, text, err = run_hbf("timeint", "--quiet", "--law", "dahl", "--w", "1.0", "--max-periods", "2",
+                              "--min-periods", "2", check=False)
+    assert code == 1
+    with pytest.warns(hbfriction.IncompleteResultWarning, match="did not converge"):
+        t = hbfriction.timeint(hbfriction.absorber("dahl"), 1.0, max_periods=2, min_periods=2)
+    assert t.status == "failed" and list(t.converged) == ["false"]
+    assert_table_equals_csv(t, text)
+    assert [e for e in t.errors if "did not converge" in e] and all(e in err for e in t.errors)
