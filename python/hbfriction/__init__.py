@@ -57,8 +57,9 @@ from ._core import (AbsorberParameters, Contact, ContinuationOptions, CorrectorO
                     TimeIntegrationOptions)
 
 __version__ = _core.__version__
+# hbfriction.map is left out of __all__: a star import would hide the built-in map.
 __all__ = ["absorber", "load", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "analytic",
-           "optimize", "map", "options", "Branch", "Solution", "Table", "OptimizeResult", "MapResult",
+           "optimize", "options", "Branch", "Solution", "Table", "OptimizeResult", "MapResult",
            "IncompleteResultWarning", "SolveError", "AbsorberParameters", "FrfSettings",
            "HarmonicBalanceOptions", "ContinuationOptions", "CorrectorOptions", "StabilityOptions",
            "TimeIntegrationOptions", "OptimizeOptions"]
