@@ -226,8 +226,6 @@ struct FrfRun {
     io::Table table;
     std::string summary;  ///< the JSON summary of hbf frf --summary
     FrfVerdict verdict;
-    std::string law;
-    int harmonics = 0;
 };
 
 /// The table, verdict and JSON summary of a computed FRF (run->result), as hbf frf writes
@@ -238,7 +236,6 @@ void finish_run(FrfRun& run, const PySystem& s, const FrfSettings& settings, con
     run.verdict = judge_frf(r, settings);
     const BranchStability* stability = r.stability ? &*r.stability : nullptr;
     run.table = io::frf_table(r.points, r.metrics, settings.outputs, r.exact, stability);
-    run.law = s.law_name();
     if (hb == nullptr) {
         run.summary = nlohmann::json{{"status", to_string(r.branch.status)}, {"message", r.branch.message}}.dump();
         return;
@@ -246,11 +243,11 @@ void finish_run(FrfRun& run, const PySystem& s, const FrfSettings& settings, con
     std::size_t samples = 0;
     for (const SolutionPoint& p : r.points) samples += p.kind == PointKind::sample ? 1 : 0;
     std::ostringstream json;
-    io::write_frf_summary(json, run.law, io::frf_parameters(s.system, s.absorber ? &*s.absorber : nullptr, *hb, settings.continuation), r.branch, r.metrics, r.peaks, samples,
-                          r.seconds, settings.outputs, r.polish ? &*r.polish : nullptr, run.verdict.errors,
-                          run.verdict.warnings, run.verdict.notes, stability);
+    const auto parameters = io::frf_parameters(s.system, s.absorber ? &*s.absorber : nullptr, *hb, settings.continuation);
+    io::write_frf_summary(json, s.law_name(), parameters, r.branch, r.metrics, r.peaks, samples, r.seconds,
+                          settings.outputs, r.polish ? &*r.polish : nullptr, run.verdict.errors, run.verdict.warnings,
+                          run.verdict.notes, stability);
     run.summary = json.str();
-    run.harmonics = hb->harmonics();
 }
 
 /// compute_frf and everything hbf frf derives from it; called without the GIL.
