@@ -225,6 +225,44 @@ if [[ $(id -u) -ne 0 ]]; then
   expect 2 "cannot be read" 'write_system s.toml; chmod 000 s.toml' frf --config s.toml --out x.csv
 fi
 
+# ---- outputs that are inputs, or one new file spelled twice (issue 28) -------------------
+# An output may not be any input of the run: the config, a Matrix Market file it names, through
+# a symlink or a hard link; in every command that reads a config.
+MTXK="write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 1.1\n2 1 -0.1\n2 2 0.1\n' > k.mtx"
+expect 2 "an input of this run" 'write_system s.toml' frf --config s.toml --out s.toml
+expect 2 "an input of this run" 'write_system s.toml; ln -s s.toml link.toml' frf --config s.toml --out link.toml
+expect 2 "an input of this run" 'write_system s.toml; ln -s s.toml link.toml' frf --config link.toml --summary s.toml --out x.csv
+expect 2 "an input of this run" 'write_system s.toml; ln s.toml hard.toml' frf --config s.toml --out hard.toml
+expect 2 "is structure.stiffness" "$MTXK" frf --config s.toml --summary k.mtx --out x.csv
+expect 2 "is structure.stiffness" "$MTXK; ln k.mtx hard.mtx" frf --config s.toml --out hard.mtx
+expect 2 "an input of this run" 'write_system s.toml' timeint --config s.toml --w 1 --out s.toml
+expect 2 "is structure.stiffness" "$MTXK" timeint --config s.toml --w 1 --out k.mtx
+expect 2 "an input of this run" 'write_system s.toml' loop --config s.toml --w 1 --out s.toml
+expect 2 "an input of this run" 'write_system s.toml' map --config s.toml --param mu --values 0.2 --out s.toml
+expect 2 "an input of this run" 'write_system s.toml' map --config s.toml --param mu --values 0.2 --out x.csv --summary s.toml
+expect 2 "an input of this run" 'write_system s.toml' optimize --config s.toml --out s.toml
+# Two outputs naming one new file, spelled differently.
+expect 2 "name the same file" '' frf "${FAST[@]}" --out o.csv --summary ./o.csv
+expect 2 "name the same file" 'mkdir sub' frf "${FAST[@]}" --out o.csv --summary sub/../o.csv
+expect 2 "name the same file" '' frf "${FAST[@]}" --out o.csv --summary /proc/self/cwd/o.csv
+expect 2 "name the same file" 'ln -s . here' frf "${FAST[@]}" --out o.csv --summary here/o.csv
+expect 2 "name the same file" '' frf "${FAST[@]}" --plot p.png --overlay-timeint 3 --overlay-out ./o.csv --out o.csv
+# A FIFO without a reader: refused before the work (it would block forever after it).
+expect 2 "FIFO without a reader" 'mkfifo f' frf "${FAST[@]}" --out f
+expect 2 "FIFO without a reader" 'mkfifo f' timeint --w 1 --out f
+expect 2 "FIFO without a reader" 'mkfifo f' frf "${FAST[@]}" --dry-run --out f
+
+# ---- numbers in files are read whole (issue 28) ----------------------------------------
+K1="write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 %s\n2 1 -0.1\n2 2 0.1\n'"
+for v in '1,1' '1.1abc' '0x1.1p0' '1.1.1' 'D1'; do
+  expect 2 "k.mtx:3: field 3 (value) = '$v' is not a decimal number" "$K1 '$v' > k.mtx" frf --config s.toml --out x.csv
+done
+for v in nan inf 1e999; do expect 2 "k.mtx:3: field 3 (value) = '$v' is not finite" "$K1 '$v' > k.mtx" frf --config s.toml --out x.csv; done
+expect 2 "k.mtx:2: 4 fields: expected 3" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real symmetric\n2 2 3 9\n1 1 1.1\n2 1 -0.1\n2 2 0.1\n' > k.mtx" frf --config s.toml --out x.csv
+expect 2 "k.mtx:3: 4 fields: expected 3" "$K1 '1.1 7' > k.mtx" frf --config s.toml --out x.csv
+expect 0 "" "$K1 '1.1D0' > k.mtx" frf --config s.toml --quiet --harmonics 3 --out /dev/null
+for v in '1,5' '1.1abc' '0x1p0' '1.0DD1'; do expect 2 "--mu = '$v' is not a decimal number" '' frf --mu "$v" --out x.csv; done
+
 # ---- devices --------------------------------------------------------------------------
 # Legal: written in place, the device survives (the directory is unchanged: nothing in it).
 expect 0 "" '' frf "${FAST[@]}" --quiet --out /dev/null --summary /dev/null
@@ -234,6 +272,66 @@ expect 1 "/dev/full" '' frf "${FAST[@]}" --quiet --out /dev/full
 expect 2 "--plot" '' frf "${FAST[@]}" --out /dev/null --summary /dev/null --plot /dev/null
 expect 0 "dry run" '' frf "${FAST[@]}" --dry-run --out x.csv --summary s.json
 expect 2 "dry-run was given a disallowed flag override" '' frf "${FAST[@]}" --dry-run --dry-run=0 --out x.csv
+
+# ---- signals, limits, modes and TMPDIR (issue 28): no temporary file is ever left -------
+# manual NAME: a fresh directory for a case whose run is not a plain `expect`.
+manual() {
+  cases=$((cases + 1))
+  ARGS=("$1")
+  M="$WORK/case$cases"
+  mkdir -p "$M" && chmod 777 "$M"
+  : >"$WORK/err"
+}
+leftovers() { find "$M" -name '*.tmp*' | head -3; }
+# SIGTERM and SIGINT during the computation: nothing is written, no temporary file is left.
+for sig in TERM INT HUP; do
+  manual "SIG$sig during hbf timeint"
+  (cd "$M" && exec "$HBF" timeint --wmin 0.5 --wmax 1.6 --points 400 --out o.csv 2>"$WORK/err") &
+  pid=$!
+  sleep 1
+  kill -s "$sig" "$pid" 2>/dev/null
+  { wait "$pid"; } 2>/dev/null
+  [[ -z $(leftovers) ]] || fail "SIG$sig left $(leftovers)"
+  [[ ! -e $M/o.csv ]] || fail "SIG$sig: o.csv written by an interrupted run"
+done
+# A file-size limit (SIGXFSZ): the write fails (exit 1), the old file and no temporary remain.
+manual "ulimit -f"
+echo "old" >"$M/o.csv"
+(cd "$M" && ulimit -f 1 && "$HBF" frf "${FAST[@]}" --quiet --out o.csv 2>"$WORK/err")
+got=$?
+[[ $got -eq 1 ]] || fail "ulimit -f: exit $got, expected 1"
+grep -qF "cannot write output file 'o.csv'" "$WORK/err" || fail "ulimit -f: no message naming o.csv"
+[[ $(cat "$M/o.csv") == old ]] || fail "ulimit -f: o.csv changed"
+[[ -z $(leftovers) ]] || fail "ulimit -f left $(leftovers)"
+# A replaced output keeps its mode.
+manual "mode 600 kept"
+echo "old" >"$M/o.csv"
+chmod 600 "$M/o.csv"
+(cd "$M" && "$HBF" frf "${FAST[@]}" --quiet --out o.csv 2>"$WORK/err") || fail "mode: the run failed"
+[[ $(stat -c %a "$M/o.csv") == 600 ]] || fail "mode: o.csv is $(stat -c %a "$M/o.csv") after the run, was 600"
+# TMPDIR that does not exist: the plot and the CSV are written (nothing goes to TMPDIR).
+manual "TMPDIR=/nonexistent"
+(cd "$M" && TMPDIR=/nonexistent "$HBF" frf "${FAST[@]}" --quiet --plot p.png --out o.csv 2>"$WORK/err")
+got=$?
+[[ $got -eq 0 && -s $M/o.csv && -s $M/p.png ]] || fail "TMPDIR=/nonexistent: exit $got, o.csv or p.png missing"
+[[ -z $(leftovers) && -z $(find "$M" -name '.*.tmp*') ]] || fail "TMPDIR=/nonexistent left temporary files"
+# /dev/tty without a controlling terminal: refused before the work.
+if command -v setsid >/dev/null; then
+  manual "/dev/tty without a terminal"
+  (cd "$M" && setsid "$HBF" frf "${FAST[@]}" --out /dev/tty </dev/null >/dev/null 2>"$WORK/err")
+  got=$?
+  [[ $got -eq 2 ]] || fail "/dev/tty: exit $got, expected 2"
+  grep -qF -- "--out = '/dev/tty' (a character device) cannot be opened" "$WORK/err" || fail "/dev/tty: message"
+fi
+# A FIFO with a reader gets the whole CSV (held open from the check to the write).
+manual "FIFO with a reader"
+mkfifo "$M/f"
+cat "$M/f" >"$M/read.csv" &
+reader=$!
+(cd "$M" && "$HBF" frf "${FAST[@]}" --quiet --out f 2>"$WORK/err") || fail "FIFO: the run failed"
+wait "$reader"
+(cd "$M" && "$HBF" frf "${FAST[@]}" --quiet --out direct.csv 2>>"$WORK/err")
+cmp -s "$M/read.csv" "$M/direct.csv" || fail "FIFO: the reader did not get the CSV"
 
 echo "hostile inputs [$who]: $cases cases, $failures failed"
 status=$((failures > 0))

@@ -66,6 +66,13 @@
 
 namespace hbf::io {
 
+/// An input file of a run (the config, a Matrix Market file it names): what names it, for
+/// messages ("--config", "structure.mass"), and its path. No output may be one (io.hpp).
+struct InputFile {
+    std::string what;
+    std::string path;
+};
+
 struct SystemConfig {
     System system;
     std::optional<double> omega_start, omega_end;   ///< [frequency] wmin, wmax
@@ -75,6 +82,9 @@ struct SystemConfig {
     /// The reported outputs in file order: [output] report's DOFs, or the [[output]] tables;
     /// default every DOF.
     std::vector<Output> outputs;
+    /// The files read: the config itself ("--config"), then every Matrix Market file it names
+    /// (by its key, e.g. "structure.stiffness").
+    std::vector<InputFile> inputs;
 };
 
 /// Reads and validates a system file (see above). Throws InvalidInput with
@@ -83,9 +93,13 @@ SystemConfig read_system_config(const std::string& path);
 
 /// Reads a Matrix Market file ("%%MatrixMarket matrix coordinate|array real|integer
 /// general|symmetric") as a sparse matrix (a coordinate file is never densified; a symmetric
-/// file gives one triangle, mirrored). Throws InvalidInput naming the file and line on any
-/// error: syntax, an index out of range, an entry given twice, non-finite values, data beyond
-/// the announced entries.
+/// file gives one triangle, mirrored). Every field is read whole: indices are integers, values
+/// decimal numbers with an optional e, E, d or D exponent (hbf::parse_decimal: 1.0D-1 = 0.1
+/// as Fortran prints it; a decimal comma, hexadecimal or trailing characters are refused);
+/// the size line has exactly 3 fields (coordinate) or 2 (array), an entry line exactly 3 or
+/// 1. Throws InvalidInput naming the file, line and field on any error: syntax, a field that
+/// is not a number, a non-finite value, an index out of range, an entry given twice, data
+/// beyond the announced entries.
 SparseMatrix read_matrix_market(const std::string& path);
 
 }  // namespace hbf::io

@@ -33,34 +33,16 @@ int Verdict::finish() const {
 }
 
 double parse_double(const std::string& flag, const std::string& text) {
-    if (text.empty()) bad_value(flag, text, "is empty: a number is required");
-    const char* begin = text.c_str();
-    char* end = nullptr;
-    errno = 0;
-    const double value = std::strtod(begin, &end);
-    if (end == begin || *end != '\0' || std::isspace(static_cast<unsigned char>(text.front())))
-        bad_value(flag, text, "is not a number");
-    // strtod also reads hexadecimal (0x10 = 16) and "infinity": a decimal number is meant.
-    if (text.find_first_of("xXpP") != std::string::npos)
-        bad_value(flag, text, "is not a decimal number (hexadecimal is not accepted)");
-    if (std::isnan(value)) bad_value(flag, text, "is NaN: a finite number is required");
-    if (std::isinf(value)) {
-        if (errno == ERANGE) bad_value(flag, text, "overflows a double: a finite number is required");
-        bad_value(flag, text, "is infinite: a finite number is required");
-    }
-    if (errno == ERANGE) bad_value(flag, text, "underflows a double: use 0 or a larger magnitude");
+    double value = 0.0;
+    std::string why;
+    if (!parse_decimal(text, value, why)) bad_value(flag, text, why);
     return value;
 }
 
 long long parse_integer(const std::string& flag, const std::string& text) {
-    if (text.empty()) bad_value(flag, text, "is empty: an integer is required");
-    const char* begin = text.c_str();
-    char* end = nullptr;
-    errno = 0;
-    const long long value = std::strtoll(begin, &end, 10);
-    if (end == begin || *end != '\0' || std::isspace(static_cast<unsigned char>(text.front())))
-        bad_value(flag, text, "is not an integer");
-    if (errno == ERANGE) bad_value(flag, text, "is out of the range of integers");
+    long long value = 0;
+    std::string why;
+    if (!parse_whole_number(text, value, why)) bad_value(flag, text, why);
     return value;
 }
 

@@ -80,9 +80,10 @@ std::vector<double> frequencies(const CLI::App& command, const TimeintOptions& o
 /// integrates the motion) up to max_periods.
 int run(const CLI::App& command, const TimeintOptions& o) {
     io::check_plot("--plot", o.plot);  // before any work
-    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
-                       {"--plot", o.plot, command.count("--plot") > 0, false, true}});
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
+    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
+                       {"--plot", o.plot, command.count("--plot") > 0, false, true}},
+                      chosen.inputs());
     const System& system = chosen.system;
     const std::string title = "hbf timeint: " + (o.config.empty() ? chosen.law_name + " (sweep " + o.sweep + ")" : o.config);
     const std::vector<double> omegas = frequencies(command, o);
