@@ -424,6 +424,7 @@ SystemConfig read_system_config(const std::string& path) {
         const toml::table* t = node->as_table();
         if (!t) fail(path, node->source(), "frequency", "expected a table [frequency]");
         r.only(*t, {"wmin", "wmax"}, "frequency");
+        for (auto&& [key, value] : *t) config.lines["frequency." + std::string(key.str())] = static_cast<int>(value.source().begin.line);
         if (const toml::node* v = t->get("wmin")) config.omega_start = r.number(*v, "frequency.wmin");
         if (const toml::node* v = t->get("wmax")) config.omega_end = r.number(*v, "frequency.wmax");
         if (config.omega_start && !(*config.omega_start > 0.0 && std::isfinite(*config.omega_start)))
@@ -437,6 +438,7 @@ SystemConfig read_system_config(const std::string& path) {
         const toml::table* t = node->as_table();
         if (!t) fail(path, node->source(), "solver", "expected a table [solver]");
         r.only(*t, {"harmonics", "time_samples", "modes", "odd_harmonics"}, "solver");
+        for (auto&& [key, value] : *t) config.lines["solver." + std::string(key.str())] = static_cast<int>(value.source().begin.line);
         if (const toml::node* v = t->get("odd_harmonics")) {
             const auto flag = v->as_boolean();
             if (!flag) fail(path, v->source(), "solver.odd_harmonics", "expected true or false");

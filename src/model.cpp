@@ -153,6 +153,13 @@ void System::validate() const {
                                    " entries: allowed " + std::to_string(n) + " (the number of DOFs)");
             if (!k.direction.allFinite() || !(k.direction.cwiseAbs().maxCoeff() > 0.0))
                 throw InvalidInput(where + "force_direction must be finite and not all zero");
+            // Its products (w^T K w, w^T M w, the automatic lagrangian_penalty) must neither
+            // underflow nor overflow a double: bounded well inside 1e-154..1e154.
+            const double largest = k.direction.cwiseAbs().maxCoeff();
+            if (!(largest >= 1e-100 && largest <= 1e100))
+                throw InvalidInput(where + "force_direction has largest entry " + format_number(largest) +
+                                   ": allowed 1e-100..1e100 (its products with M and K must be representable; "
+                                   "scale the direction, and divide friction_limit by the same factor)");
         } else {
             if (k.dof < 0 || k.dof >= n)
                 throw InvalidInput(where + "dof = " + std::to_string(k.dof) + " is out of range: allowed 0.." +
@@ -184,12 +191,19 @@ void System::validate() const {
         for (std::size_t b = a + 1; b < contacts.size(); ++b) {
             if (contacts[a].law != FrictionLaw::coulomb || contacts[b].law != FrictionLaw::coulomb) continue;
             const Eigen::VectorXd u = contact_direction(contacts[a]), v = contact_direction(contacts[b]);
-            if (std::abs(std::abs(u.dot(v)) - u.norm() * v.norm()) <= 1e-12 * u.norm() * v.norm())
+            if (std::abs(std::abs(u.dot(v)) - u.norm() * v.norm()) <= 1e-12 * u.norm() * v.norm()) {
+                // v = alpha u: contact b's force f_b v = (alpha f_b) u, so along u the two slip at
+                // |f_a + alpha f_b| <= F_a + |alpha| F_b.
+                const double alpha = std::abs(u.dot(v)) / u.squaredNorm();
                 throw InvalidInput("contact " + std::to_string(b + 1) + ": exact Coulomb along the same direction as "
                                    "contact " + std::to_string(a + 1) + " (the same DOF pair): in stick their two "
                                    "forces are indeterminate; allowed one exact Coulomb contact per direction "
-                                   "(merge them: friction_limit = " +
-                                   format_number(contacts[a].friction_limit + contacts[b].friction_limit) + ")");
+                                   "(merge them: one contact along contact " + std::to_string(a + 1) +
+                                   "'s direction with friction_limit = " + format_number(contacts[a].friction_limit) +
+                                   (alpha == 1.0 ? " + " : " + " + format_number(alpha) + " * ") +
+                                   format_number(contacts[b].friction_limit) + " = " +
+                                   format_number(contacts[a].friction_limit + alpha * contacts[b].friction_limit) + ")");
+            }
         }
 }
 

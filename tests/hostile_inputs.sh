@@ -271,7 +271,20 @@ expect 1 "/dev/full" '' analytic --out /dev/full
 expect 1 "/dev/full" '' frf "${FAST[@]}" --quiet --out /dev/full
 expect 2 "--plot" '' frf "${FAST[@]}" --out /dev/null --summary /dev/null --plot /dev/null
 expect 0 "dry run" '' frf "${FAST[@]}" --dry-run --out x.csv --summary s.json
-expect 2 "dry-run was given a disallowed flag override" '' frf "${FAST[@]}" --dry-run --dry-run=0 --out x.csv
+expect 2 "--dry-run takes no value" '' frf "${FAST[@]}" --dry-run --dry-run=0 --out x.csv
+
+# ---- messages name the parameter, and their advice is right (issue 28) ------------------
+expect 2 "s.toml:13: key 'solver.time_samples': 15 is out of range" "write_system s.toml '[solver]
+harmonics = 10
+time_samples = 15'" frf --config s.toml --out x.csv
+FD="write_system s.toml; sed -i 's/^dof = 1\$/force_direction = [1e-300, -1e-300]/; /^other_dof/d; s/law = \"dahl\"/law = \"coulomb\"/; /stiffness = 0.016/d' s.toml"
+expect 2 "force_direction has largest entry 1e-300: allowed 1e-100..1e100" "$FD" frf --config s.toml --out x.csv
+PAR="write_system s.toml '[[contact]]
+force_direction = [-2.0, 2.0]
+law = \"coulomb\"
+friction_limit = 0.2'; sed -i 's/^dof = 1\$/force_direction = [1.0, -1.0]/; /^other_dof/d; s/law = \"dahl\"/law = \"coulomb\"/; /stiffness = 0.016/d' s.toml"
+expect 2 "friction_limit = 0.2 + 2 * 0.2 = 0.6" "$PAR" frf --config s.toml --out x.csv
+expect 2 "--at = '1,1,1' lists w = 1 more than once" '' frf "${FAST[@]}" --at 1,1,1 --out x.csv
 
 # ---- signals, limits, modes and TMPDIR (issue 28): no temporary file is ever left -------
 # manual NAME: a fresh directory for a case whose run is not a plain `expect`.

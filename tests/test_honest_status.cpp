@@ -357,3 +357,35 @@ TEST_CASE("The exact polish's rows carry the exact orbit's energy balance: no fa
         CHECK(j["warnings"].empty());
     }
 }
+
+TEST_CASE("A response held at exactly zero has no peaks and no energy-balance alarm (issue 28)", "[status][cli][exact]") {
+    // examples/systems/den_hartog.toml with friction_limit = 1e3: the single mass sticks to the
+    // ground at every w (the load |F| = 1 never reaches 1e3), so y1(t) = 0 exactly. Rounding
+    // (1e-16) used to give a "peak" and a relative energy imbalance of 0.026 (exit 3).
+    ::test::TempDir dir;
+    const auto config = dir.path / "dh.toml", summary = dir.path / "s.json";
+    ::test::write_file(config, "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\n[[contact]]\ndof = 1\n"
+                               "law = \"coulomb\"\nfriction_limit = 1e3\n[frequency]\nwmin = 0.55\nwmax = 0.75\n");
+    for (const std::string exact : {"on", "off"}) {
+        const ::test::Result r = ::test::run_hbf("frf --quiet --exact " + exact + " --config '" + config.string() +
+                                                     "' --summary '" + summary.string() + "'",
+                                                 dir);
+        INFO(exact << ": " << r.err);
+        CHECK(r.exit_code == 0);
+        const auto rows = ::test::parse_csv(r.out);
+        REQUIRE(rows.size() > 5);
+        for (std::size_t k = 1; k < rows.size(); ++k) CHECK(std::abs(std::stod(rows[k][1])) < 1e-12);  // y1_max
+        const auto j = nlohmann::json::parse(::test::slurp(summary));
+        CHECK(j["peaks"].empty());
+        CHECK(j["warnings"].empty());
+        CHECK(j["max_energy_error"].get<double>() < 1e-6);
+    }
+    // The floor is 1e-9 of the quasi-static response |F| / k: a real response of 1e-6 of it
+    // (far above the floor) still has its peaks.
+    System s;
+    s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
+    s.stiffness = sparse(Eigen::MatrixXd::Identity(1, 1) * 4.0);
+    s.excitation = Eigen::VectorXd::Constant(1, 2.0);
+    CHECK(response_floor(s, 1.0) == Approx(1e-9 * 2.0 / 4.0).epsilon(1e-15));
+    CHECK(response_floor(s, 10.0) == Approx(1e-9 * 2.0 / 100.0).epsilon(1e-15));  // the mass line w^2 m
+}

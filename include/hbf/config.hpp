@@ -58,6 +58,7 @@
 // tables: a misspelt key is an error, not a silent default. Every error names the file, the
 // line and the key.
 #pragma once
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -85,6 +86,9 @@ struct SystemConfig {
     /// The files read: the config itself ("--config"), then every Matrix Market file it names
     /// (by its key, e.g. "structure.stiffness").
     std::vector<InputFile> inputs;
+    /// The line of each [frequency] and [solver] key given ("solver.time_samples" -> 12), for
+    /// front ends whose checks depend on other settings (time_samples > 2H) to name it.
+    std::map<std::string, int> lines;
 };
 
 /// Reads and validates a system file (see above). Throws InvalidInput with

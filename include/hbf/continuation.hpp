@@ -236,6 +236,12 @@ double energy_balance_limit(double tolerance);
 /// |viscous| + |friction|), all per period; `reach` is the work the force could do on the
 /// response's excited harmonic (0 when unknown). 0 when every term vanishes (nothing moves).
 double energy_imbalance(double input, double viscous, double friction, double reach);
+/// The displacement below which a response of `system` at `omega` is rounding, not motion:
+/// 1e-9 |F|_inf / max(max|K_ii|, omega^2 max M_ii) (1e-9 of the quasi-static or mass-line
+/// response). Floors the energy balance's reach (pi h |F| response_floor: a response held at
+/// exactly zero by a stuck contact has no meaningful relative imbalance) and the peaks (a
+/// maximum below |c|_1 response_floor is noise, not a peak).
+double response_floor(const System& system, double omega);
 /// Stick fraction and regime of a contact from its stick indicator samples phi (friction.hpp:
 /// a sample sticks iff phi < 0). A stick phase is a run of cyclically consecutive sticking
 /// samples at least `min_run` long. H harmonics cannot resolve shorter phases: at an

@@ -263,8 +263,10 @@ HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const s
     hbo.time_samples = static_cast<int>(nt);
     if (config && config->time_samples && command.count("--time-samples") == 0) {
         hbo.time_samples = *config->time_samples;
+        const auto line = config->lines.find("solver.time_samples");
         if (hbo.time_samples != 0 && hbo.time_samples <= 2 * hbo.harmonics)
-            throw UsageError(config_path + ": key 'solver.time_samples': " + std::to_string(hbo.time_samples) +
+            throw UsageError(config_path + (line != config->lines.end() ? ":" + std::to_string(line->second) : "") +
+                             ": key 'solver.time_samples': " + std::to_string(hbo.time_samples) +
                              " is out of range: allowed 0 (automatic) or " + std::to_string(2 * hbo.harmonics + 1) +
                              "..65536");
     }

@@ -17,6 +17,9 @@ std::vector<double> parse_frequencies(const std::string& flag, const std::string
         const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         const double w = parse_double(flag, item);
         if (!(w > 0.0)) throw UsageError(flag + " = '" + item + "' is out of range: allowed frequencies > 0");
+        if (std::find(values.begin(), values.end(), w) != values.end())
+            throw UsageError(flag + " = '" + text + "' lists w = " + format_number(w) +
+                             " more than once: allowed distinct frequencies (each is one solved row)");
         values.push_back(w);
         if (comma == std::string::npos) break;
         start = comma + 1;
