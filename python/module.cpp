@@ -548,6 +548,7 @@ PYBIND11_MODULE(_core, m) {
         },
         py::arg("path"));
     m.def("exact_solver_refusal", [](const PySystem& s) { return exact_solver_supports(s.system) ? std::string() : exact_solver_refusal(s.system); });
+    m.def("exact_cost_refusal", [](const PySystem& s, double omega) { return exact_cost_refusal(s.system, omega); });
     m.def("stability_refusal", [](const PySystem& s) { return stability_refusal(s.system); });
 
     // ---- options (the C++ names and defaults) -------------------------------------------------
@@ -789,8 +790,8 @@ PYBIND11_MODULE(_core, m) {
             eo.outputs = options.outputs;
             eo.tolerance = exact_tolerance;
             if (exact) {
-                if (!exact_solver_supports(s.system))
-                    bad("method = 'exact': " + exact_solver_refusal(s.system) + " (use adams or bdf)");
+                const std::string refusal = exact_cost_refusal(s.system, *std::min_element(omegas.begin(), omegas.end()));
+                if (!refusal.empty()) bad("method = 'exact': " + refusal + " (use adams or bdf)");
                 eo.validate();
             }
             std::vector<PeriodicResponse> responses;

@@ -83,7 +83,7 @@ int automatic_harmonics(const System& system, bool exact) {
 FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs) {
     FrfSettings s;
     s.outputs = outputs;
-    s.exact = exact_solver_supports(system);
+    s.exact = exact_cost_refusal(system, s.continuation.omega_start).empty();
     s.harmonic_balance.harmonics = automatic_harmonics(system, s.exact);
     s.continuation.locate_transitions = !s.exact;
     s.peaks = true;
@@ -239,6 +239,11 @@ SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, Contin
 
 FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     const auto started = std::chrono::steady_clock::now();
+    if (settings.exact) {  // before the work: the polish must be possible at the branch's lowest w
+        const double lowest = std::min(settings.continuation.omega_start, settings.continuation.omega_end);
+        const std::string refusal = lowest > 0.0 ? exact_cost_refusal(hb.system(), lowest) : std::string();
+        if (!refusal.empty()) throw InvalidInput("exact polish: " + refusal + " (use exact off)");
+    }
     const std::vector<Output> outputs = settings.outputs.empty() ? std::vector<Output>{Output::dof(0)} : settings.outputs;
     const CorrectorOptions& corrector = settings.continuation.corrector;
     FrfResult r;

@@ -306,6 +306,7 @@ def _settings(system, settings, outputs, stability, values):
     for o in s.outputs:
         if o.terms and max(i for i, _ in o.terms) >= system.dofs:
             raise ValueError("outputs: '%s' names a DOF beyond the system's %d" % (o.name, system.dofs))
+    automatic_exact = settings is None and "exact" not in values
     if "exact" in values:
         exact = bool(values.pop("exact"))
         refusal = _core.exact_solver_refusal(system)
@@ -319,6 +320,15 @@ def _settings(system, settings, outputs, stability, values):
                 s.continuation.locate_transitions = not exact
     for name, value in values.items():
         _set_option(s, name, value)
+    co = s.continuation
+    if automatic_exact and s.exact and 0 < co.omega_start < co.omega_end and \
+            _core.exact_cost_refusal(system, co.omega_start):
+        # as hbf frf: the automatic polish is off where a period would cost too many Taylor steps
+        s.exact = False
+        if "harmonics" not in values and "harmonics" not in system.file_settings:
+            s.harmonic_balance.harmonics = _core.automatic_harmonics(system, False)
+        if "locate_transitions" not in values:
+            co.locate_transitions = True
     if stability is not None and stability is not False and stability != "off":
         method = "both" if stability is True or stability == "on" else stability
         s.stability_options.method = method

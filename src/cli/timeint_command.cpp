@@ -107,8 +107,10 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         throw UsageError("--method = '" + o.method + "' is not allowed: allowed adams, bdf, exact");
     tio.method = o.method == "bdf" ? IntegrationMethod::bdf : IntegrationMethod::adams;
     const bool exact = o.method == "exact";
-    if (exact && !exact_solver_supports(system))
-        throw UsageError("--method exact: " + exact_solver_refusal(system) + " (use adams or bdf)");
+    if (exact) {  // at the lowest w, a period costs the most Taylor steps (exact_cost_refusal)
+        const std::string refusal = exact_cost_refusal(system, *std::min_element(omegas.begin(), omegas.end()));
+        if (!refusal.empty()) throw UsageError("--method exact: " + refusal + " (use adams or bdf)");
+    }
     tio.outputs = chosen.outputs;
     ExactOptions eo;
     eo.outputs = chosen.outputs;
