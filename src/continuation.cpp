@@ -160,7 +160,7 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
 /// solved from the chord's interpolation (then with five times the iterations); it resolves the
 /// resonance when it converges with the amplitude bound within max_amplitude. `unresolved` is
 /// set to the first resonance that is not resolved.
-bool resonance_resolved(HarmonicBalance& hb, Corrector& corrector, std::unique_ptr<Corrector>& patient,
+bool resonance_resolved(HarmonicBalance& hb, Corrector& corrector, std::unique_ptr<Corrector>& rough,
                         const ContinuationOptions& o, const Eigen::VectorXd& x, double omega,
                         const Eigen::VectorXd& xp, double wp, double end, int direction, double x_scale,
                         const std::vector<LinearResonance>& resonances, double& unresolved) {
@@ -175,13 +175,17 @@ bool resonance_resolved(HarmonicBalance& hb, Corrector& corrector, std::unique_p
         double residual = 0.0;
         bool solved = corrector.solve_at(at, r.omega, x_scale, iterations, residual);
         if (!solved) {
-            if (!patient) {
+            // Only boundedness is asked, not an accurate point: a tight tolerance on a nonsmooth
+            // law may not be met at one frequency the branch passes (measured: exact Coulomb at
+            // --tolerance 1e-14 stalled at the absorber's rigid resonance, min_step).
+            if (!rough) {
                 CorrectorOptions options = o.corrector;
                 options.max_iterations = std::max(100, 5 * options.max_iterations);
-                patient = std::make_unique<Corrector>(hb, options);
+                options.tolerance = std::max(options.tolerance, 1e-6);
+                rough = std::make_unique<Corrector>(hb, options);
             }
             at = x + s * (xp - x);
-            solved = patient->solve_at(at, r.omega, x_scale, iterations, residual);
+            solved = rough->solve_at(at, r.omega, x_scale, iterations, residual);
         }
         if (!solved || !(hb.amplitude_bound(at, r.omega) <= o.max_amplitude)) {
             unresolved = r.omega;
@@ -238,6 +242,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     double rejected_turn = -1.0;  // turn of the last step rejected for turning too sharply
     int leaps = 0;                // steps over a spot the corrector cannot land on (below)
     std::unique_ptr<Corrector> patient;  // more iterations for small steps that fail (below)
+    std::unique_ptr<Corrector> rough;    // resonance_resolved's
     const double end = direction > 0 ? omega_high : omega_low;
     while (true) {
         if (static_cast<int>(out.points.size()) >= o.max_points) {
@@ -293,7 +298,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         // bounded there (ContinuationOptions::resolve_resonances); else it is halved.
         if (h > 2.0 * o.min_step) {
             double unresolved = 0.0;
-            if (!resonance_resolved(hb, corrector, patient, o, x, omega, xp, wp, end, direction, x_scale,
+            if (!resonance_resolved(hb, corrector, rough, o, x, omega, xp, wp, end, direction, x_scale,
                                     result.resonances, unresolved)) {
                 ++result.resonance_rejections;
                 rejected_turn = -1.0;
