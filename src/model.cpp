@@ -1,6 +1,7 @@
 #include "hbf/model.hpp"
 
 #include <algorithm>
+#include <Eigen/Eigenvalues>
 #include <limits>
 #include <complex>
 
@@ -421,6 +422,77 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
         out.force(c) = element[static_cast<std::size_t>(c)] *
                        system.contact_direction(contact).cast<Complex>().dot(out.amplitude);
     }
+    return out;
+}
+
+std::string to_string(LinearResonance::Limit limit) {
+    switch (limit) {
+        case LinearResonance::Limit::released: return "released";
+        case LinearResonance::Limit::stuck: return "stuck";
+        case LinearResonance::Limit::rigid: return "rigid";
+    }
+    return "?";
+}
+
+namespace {
+/// The natural frequencies sqrt(lambda) of K phi = lambda M phi (finite, real, lambda > 0).
+std::vector<double> natural_frequencies(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass) {
+    std::vector<double> out;
+    if (stiffness.rows() == 0) return out;
+    Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> qz(stiffness, mass, false);
+    if (qz.info() != Eigen::Success) return out;
+    const double scale = std::max(stiffness.cwiseAbs().maxCoeff(), mass.cwiseAbs().maxCoeff());
+    for (Eigen::Index j = 0; j < qz.alphas().size(); ++j) {
+        const std::complex<double> alpha = qz.alphas()(j);
+        const double beta = qz.betas()(j);
+        // Infinite (a massless direction: beta at rounding) or complex (rounding of a symmetric
+        // pencil; a real pair otherwise cannot occur for M >= 0): not a resonance.
+        if (!(std::abs(beta) > 1e-13 * scale) || std::abs(alpha.imag()) > 1e-8 * std::abs(alpha)) continue;
+        const double lambda = alpha.real() / beta;
+        if (lambda > 0.0 && std::isfinite(lambda)) out.push_back(std::sqrt(lambda));
+    }
+    return out;
+}
+}  // namespace
+
+std::vector<LinearResonance> linear_resonances(const System& system, double omega_low, double omega_high) {
+    std::vector<LinearResonance> out;
+    const int n = system.dofs();
+    if (n == 0 || n > linear_resonance_dof_limit) return out;
+    const Eigen::MatrixXd mass(system.mass), stiffness(system.stiffness);
+    const double h = std::max(1, system.excitation_harmonic);
+    auto add = [&](const std::vector<double>& natural, LinearResonance::Limit limit) {
+        for (const double w : natural) {
+            const double fundamental = w / h;
+            if (fundamental >= omega_low && fundamental <= omega_high) out.push_back({fundamental, limit});
+        }
+    };
+    add(natural_frequencies(stiffness, mass), LinearResonance::Limit::released);
+    Eigen::MatrixXd stuck = stiffness;
+    bool springs = false;
+    Eigen::MatrixXd directions(n, static_cast<Eigen::Index>(system.contacts.size()));
+    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+        const Contact& contact = system.contacts[c];
+        const Eigen::VectorXd w = system.contact_direction(contact);
+        directions.col(static_cast<Eigen::Index>(c)) = w;
+        if (contact.law == FrictionLaw::jenkins || contact.law == FrictionLaw::dahl || contact.law == FrictionLaw::lugre) {
+            stuck += contact.stiffness * w * w.transpose();
+            springs = springs || contact.stiffness > 0.0;
+        }
+    }
+    if (springs) add(natural_frequencies(stuck, mass), LinearResonance::Limit::stuck);
+    if (directions.cols() > 0) {
+        // y = B z with B an orthonormal basis of the null space of W^T: the rigid contacts' subspace.
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(directions);
+        const Eigen::Index rank = qr.rank();
+        if (rank < n) {
+            const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
+            const Eigen::MatrixXd basis = q.rightCols(n - rank);
+            add(natural_frequencies(basis.transpose() * stiffness * basis, basis.transpose() * mass * basis),
+                LinearResonance::Limit::rigid);
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const LinearResonance& a, const LinearResonance& b) { return a.omega < b.omega; });
     return out;
 }
 

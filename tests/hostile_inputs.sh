@@ -107,6 +107,12 @@ expect 2 "--xi" '' frf --xi 0.1 --out x.csv
 expect 2 "--wb" '' frf --law coulomb --wb 0.4 --out x.csv
 expect 2 "--eps" '' frf --law dahl --eps 0.1 --out x.csv
 expect 2 "--mu-static" '' frf --law lugre --mu-static 1e13 --out x.csv
+# Extreme parameters whose stuck resonance is unbounded (or above the cap): capped, exit 3, never
+# stepped over by a large step (issue 28: each gave 10 points and exit 0).
+expect 3 "amplitude_cap" '' frf --quiet --r 1e-12
+expect 3 "amplitude_cap" '' frf --quiet --law lugre --xi 1e12
+expect 3 "amplitude_cap" '' frf --quiet --law lugre --viscous 1e12
+expect 3 "amplitude_cap" '' frf --quiet --r 1e-4 --at 0.99,0.999
 
 # timeint, loop, analytic
 for v in 0 -1 nan; do expect 2 "--w" '' timeint --w "$v" --out x.csv; done

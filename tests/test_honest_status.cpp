@@ -388,4 +388,92 @@ TEST_CASE("A response held at exactly zero has no peaks and no energy-balance al
     s.excitation = Eigen::VectorXd::Constant(1, 2.0);
     CHECK(response_floor(s, 1.0) == Approx(1e-9 * 2.0 / 4.0).epsilon(1e-15));
     CHECK(response_floor(s, 10.0) == Approx(1e-9 * 2.0 / 100.0).epsilon(1e-15));  // the mass line w^2 m
+
+TEST_CASE("hbf frf: the unbounded stuck resonance is capped, not stepped over (exit 3, amplitude_cap)",
+          "[status][cli][resonances]") {
+    // Each used to give 10 points, exit 0 and a finite "peak" across the resonance (issue 28).
+    // The stuck (rigid-contact) structure is one mass 1 + r on the spring 1: the resonance at
+    // w_r = 1 / sqrt(1 + r), unbounded for r = 1e-12 (exact Coulomb holds the tiny absorber),
+    // and for LuGre with an enormous bristle damping sigma1 = 2 xi r wb or viscous term sigma2
+    // (the contact is rigid: it dissipates ~ (r w^2 |Y|)^2 / sigma per cycle, nothing).
+    ::test::TempDir dir;
+    const auto json = dir.path / "s.json";
+    for (const auto& [args, r] : std::vector<std::pair<std::string, double>>{
+             {"--r 1e-12", 1e-12}, {"--law lugre --xi 1e12", 0.1}, {"--law lugre --viscous 1e12", 0.1}}) {
+        const ::test::Result run = ::test::run_hbf("frf --quiet " + args + " --summary '" + json.string() + "'", dir);
+        INFO(args << ": " << run.err);
+        CHECK(run.exit_code == 3);
+        CHECK_THAT(run.err, Catch::Contains("warning: amplitude_cap"));
+        const nlohmann::json s = nlohmann::json::parse(::test::slurp(json));
+        CHECK(s["status"] == "amplitude_cap");
+        // The two caps, one on each flank, within 0.1 % of w_r; each row above the cap.
+        const double w_r = 1.0 / std::sqrt(1.0 + r);
+        const auto rows = ::test::parse_csv(run.out);
+        REQUIRE(rows.size() > 2);
+        std::vector<double> caps;
+        for (std::size_t k = 1; k < rows.size(); ++k)
+            if (rows[k][static_cast<std::size_t>(std::find(rows[0].begin(), rows[0].end(), "point") - rows[0].begin())] ==
+                "cap") {
+                caps.push_back(std::stod(rows[k][0]));
+                CHECK(::test::column(rows, rows[k], "y1_max") > 1000.0);
+            }
+        REQUIRE(caps.size() == 2);
+        CHECK(caps[0] < w_r);
+        CHECK(caps[1] > w_r);
+        CHECK(caps[1] - caps[0] < 1e-3 * w_r);
+    }
+}
+
+TEST_CASE("A refined peak above the amplitude cap, or a sample above every peak, is not completed",
+          "[status][resonances]") {
+    // The continuation without the resonance guard steps across the unbounded stuck resonance
+    // of the absorber with r = 1e-12 (exact Coulomb: the rigid structure's y1 = fe / |1 - (1 + r)
+    // w^2|); the peak refined between the two points across it lies far above the cap.
+    AbsorberParameters p;
+    p.mass_ratio = 1e-12;
+    const System system = friction_absorber(p, FrictionLaw::coulomb);
+    FrfSettings settings = default_frf_settings(system, {});
+    settings.continuation.resolve_resonances = false;
+    reset_library_messages();
+    const FrfResult blind = compute_frf(system, settings);
+    REQUIRE(blind.branch.status == ContinuationStatus::completed);
+    REQUIRE(!blind.peaks.empty());
+    const double cap = settings.continuation.max_amplitude;
+    CHECK(std::max_element(blind.peaks.begin(), blind.peaks.end(), [](const Peak& a, const Peak& b) {
+              return a.y_max < b.y_max;
+          })->y_max > cap);
+    CHECK(blind.peak.state == PeakState::unbounded);
+    const FrfVerdict verdict = judge_frf(blind, settings);
+    CHECK(verdict.status() == "incomplete");
+    CHECK_THAT(verdict.warnings.front(), Catch::Contains("above the amplitude cap 1000"));
+    // With the guard: capped.
+    settings.continuation.resolve_resonances = true;
+    const FrfResult guarded = compute_frf(system, settings);
+    CHECK(guarded.branch.status == ContinuationStatus::amplitude_cap);
+    CHECK(guarded.peak.state == PeakState::unbounded);
+
+    // r = 1e-4: samples at 0.99 and 0.999 on the rigid structure's flank (25.25 and 263.27 by
+    // the closed form) above every point of the blind branch, whose largest peak was 16.77.
+    p.mass_ratio = 1e-4;
+    const System light = friction_absorber(p, FrictionLaw::coulomb);
+    FrfSettings sampled = default_frf_settings(light, {});
+    sampled.continuation.resolve_resonances = false;
+    sampled.at = {0.99, 0.999};
+    reset_library_messages();
+    const FrfResult stepped = compute_frf(light, sampled);
+    REQUIRE(stepped.branch.status == ContinuationStatus::completed);
+    int checked = 0;
+    for (std::size_t k = 0; k < stepped.points.size(); ++k)
+        if (stepped.points[k].kind == PointKind::sample) {
+            const double w = stepped.points[k].omega;
+            CHECK(stepped.metrics[k].output_max.front() ==
+                  Approx(p.excitation / std::abs(1.0 - (1.0 + p.mass_ratio) * w * w)).epsilon(1e-6));
+            ++checked;
+        }
+    CHECK(checked == 2);
+    const FrfVerdict missed = judge_frf(stepped, sampled);
+    CHECK(missed.status() == "incomplete");
+    REQUIRE(!missed.warnings.empty());
+    CHECK_THAT(missed.warnings.front(), Catch::Contains("--at sample at w = 0.99 ") &&
+                                            Catch::Contains("above every branch point and peak"));
 }
