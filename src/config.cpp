@@ -490,8 +490,27 @@ SystemConfig read_system_config(const std::string& path) {
             }
         }
     }
-    if (config.outputs.empty())
-        for (int i = 0; i < n; ++i) config.outputs.push_back(Output::dof(i));
+    if (config.outputs.empty()) {
+        // The excited DOFs and those of the contacts: every DOF of a large model would make
+        // the run as slow as its output count (each is synthesised in time at every point).
+        std::set<int> dofs;
+        for (Eigen::Index i = 0; i < n; ++i)
+            if (s.excitation(i) != 0.0) dofs.insert(static_cast<int>(i));
+        for (const Contact& c : s.contacts) {
+            const Eigen::VectorXd w = s.contact_direction(c);
+            for (Eigen::Index i = 0; i < n; ++i)
+                if (w(i) != 0.0) dofs.insert(static_cast<int>(i));
+        }
+        if (dofs.empty())
+            for (int i = 0; i < n; ++i) dofs.insert(i);
+        for (int i : dofs) config.outputs.push_back(Output::dof(i));
+        if (static_cast<Eigen::Index>(dofs.size()) < n) {
+            std::string list;
+            for (int i : dofs) list += (list.empty() ? "" : ", ") + std::to_string(i + 1);
+            config.outputs_note = path + ": no [output]: reporting the excited and contact DOFs " + list + " of " +
+                                  std::to_string(n) + " ([output] report = [...] or [[output]] rows choose others)";
+        }
+    }
     return config;
 }
 

@@ -52,9 +52,11 @@ expect() {
   fi
   local before after got
   before=$(state "$dir")
-  (cd "$dir" && timeout 120 "$HBF" "$@" >"$WORK/out" 2>"$WORK/err" </dev/null)
+  # Bounded: 1 GB of address space and 60 s per case (issue 28).
+  (cd "$dir" && ulimit -v 1048576 && timeout 60 "$HBF" "$@" >"$WORK/out" 2>"$WORK/err" </dev/null)
   got=$?
   after=$(state "$dir")
+  [[ $got -ne 124 ]] || fail "timed out (60 s)"
   [[ $got -eq $code ]] || fail "exit code $got, expected $code"
   if [[ -n $text ]] && ! grep -qF -- "$text" "$WORK/err"; then fail "standard error lacks '$text'"; fi
   if [[ $code -eq 2 && -s $WORK/out ]]; then fail "exit 2 with output on stdout"; fi
@@ -291,6 +293,17 @@ law = \"coulomb\"
 friction_limit = 0.2'; sed -i 's/^dof = 1\$/force_direction = [1.0, -1.0]/; /^other_dof/d; s/law = \"dahl\"/law = \"coulomb\"/; /stiffness = 0.016/d' s.toml"
 expect 2 "friction_limit = 0.2 + 2 * 0.2 = 0.6" "$PAR" frf --config s.toml --out x.csv
 expect 2 "--at = '1,1,1' lists w = 1 more than once" '' frf "${FAST[@]}" --at 1,1,1 --out x.csv
+
+# ---- bounded time and memory on allowed inputs (issue 28) -------------------------------
+# Every case above and below runs under 1 GB of address space and 60 s (expect).
+expect 0 "" '' frf --wmin 1e-12 --wmax 1e-11 --quiet --out /dev/null
+expect 0 "" '' frf --wmin 1e-6 --wmax 1e-5 --quiet --out /dev/null
+expect 2 "Taylor steps" '' frf --wmin 1e-12 --wmax 1e-11 --exact on --out x.csv
+expect 2 "Taylor steps" '' timeint --w 1e-9 --method exact --out x.csv
+expect 2 "Taylor steps" 'write_system s.toml; sed -i "s/law = \"dahl\"/law = \"jenkins\"/; s/stiffness = 0.016/stiffness = 1e12/" s.toml' frf --config s.toml --exact on --out x.csv
+MANY="write_system s.toml; for i in \$(seq 1000); do printf '[[contact]]\ndof = 1\nlaw = \"dahl\"\nfriction_limit = 0.2\nstiffness = 0.016\n' >> s.toml; done"
+expect 2 "harmonic-balance unknowns" "$MANY" frf --config s.toml --out x.csv
+expect 2 "harmonic-balance unknowns" "$MANY" frf --config s.toml --dry-run --out x.csv
 
 # ---- signals, limits, modes and TMPDIR (issue 28): no temporary file is ever left -------
 # manual NAME: a fresh directory for a case whose run is not a plain `expect`.

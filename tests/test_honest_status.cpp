@@ -176,7 +176,7 @@ TEST_CASE("Refused: parallel exact Coulomb contacts, an unmeasured --dlft-eps, a
                                  "excitation = [0.5, 0.0]\n";
     const std::string contact = "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"coulomb\"\nfriction_limit = 0.2\n";
     ::test::check_bad_config(absorber + contact + contact,
-                             {"contact[2]", "same direction as contact 1", "friction_limit = 0.4"}, dir);
+                             {"contact[2]", "same direction as contact 1", "friction_limit = 0.2 + 0.2 = 0.4"}, dir);
     const std::string reversed = "[[contact]]\ndof = 2\nother_dof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.1\n";
     ::test::check_bad_config(absorber + contact + reversed, {"contact[2]", "same direction"}, dir);
     // Coulomb beside a Jenkins element on the same pair is determinate: accepted.
@@ -380,14 +380,14 @@ TEST_CASE("A response held at exactly zero has no peaks and no energy-balance al
         CHECK(j["warnings"].empty());
         CHECK(j["max_energy_error"].get<double>() < 1e-6);
     }
-    // The floor is 1e-9 of the quasi-static response |F| / k: a real response of 1e-6 of it
-    // (far above the floor) still has its peaks.
+    // The floor is 1e-9 of the quasi-static response |F| / k, or of the mass line |F| / (w^2 m).
     System s;
     s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
     s.stiffness = sparse(Eigen::MatrixXd::Identity(1, 1) * 4.0);
     s.excitation = Eigen::VectorXd::Constant(1, 2.0);
     CHECK(response_floor(s, 1.0) == Approx(1e-9 * 2.0 / 4.0).epsilon(1e-15));
     CHECK(response_floor(s, 10.0) == Approx(1e-9 * 2.0 / 100.0).epsilon(1e-15));  // the mass line w^2 m
+}
 
 TEST_CASE("hbf frf: the unbounded stuck resonance is capped, not stepped over (exit 3, amplitude_cap)",
           "[status][cli][resonances]") {

@@ -43,7 +43,9 @@
 //                                 # (cost independent of N; M > 0, K > 0, C modal)
 //
 //     [output]
-//     report = [1, 2]             # DOFs written as y<i>_max, y<i>_amp1 (1-based); default all
+//     report = [1, 2]             # DOFs written as y<i>_max, y<i>_amp1 (1-based); default: the
+//                                 # excited DOFs and the contacts' DOFs (all N would make a
+//                                 # large model as slow as its output count)
 //
 //     # or, instead of [output], any outputs o(t) = c^T y(t), in order (the two forms exclude
 //     # each other: TOML has either a table [output] or tables [[output]]):
@@ -81,8 +83,10 @@ struct SystemConfig {
     std::optional<int> modes;                       ///< [solver] modal receptance (0: direct)
     std::optional<bool> odd_harmonics;              ///< [solver] odd harmonics only
     /// The reported outputs in file order: [output] report's DOFs, or the [[output]] tables;
-    /// default every DOF.
+    /// default the excited DOFs and those of the contacts, in DOF order (every DOF when there
+    /// are none), with outputs_note saying so when that leaves DOFs out.
     std::vector<Output> outputs;
+    std::string outputs_note;
     /// The files read: the config itself ("--config"), then every Matrix Market file it names
     /// (by its key, e.g. "structure.stiffness").
     std::vector<InputFile> inputs;

@@ -229,6 +229,8 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
     // Accepted, but rarely meant: said before the work (the exit code is the result's).
     for (const std::string& w : chosen.system.warnings())
         std::cerr << "hbf " << command.get_name() << ": warning: " << config_path << ": " << w << "\n";
+    if (!chosen.config->outputs_note.empty())
+        std::cerr << "hbf " << command.get_name() << ": note: " << chosen.config->outputs_note << "\n";
     return chosen;
 }
 
