@@ -412,6 +412,7 @@ TEST_CASE("A response held at exactly zero has no peaks and no energy-balance al
     s.excitation = Eigen::VectorXd::Constant(1, 2.0);
     CHECK(response_floor(s, 1.0) == Approx(1e-9 * 2.0 / 4.0).epsilon(1e-15));
     CHECK(response_floor(s, 10.0) == Approx(1e-9 * 2.0 / 100.0).epsilon(1e-15));  // the mass line w^2 m
+}
 
 TEST_CASE("hbf frf: the unbounded stuck resonance is capped, not stepped over (exit 3, amplitude_cap)",
           "[status][cli][resonances]") {
