@@ -176,7 +176,7 @@ TEST_CASE("Refused: parallel exact Coulomb contacts, an unmeasured --dlft-eps, a
                                  "excitation = [0.5, 0.0]\n";
     const std::string contact = "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"coulomb\"\nfriction_limit = 0.2\n";
     ::test::check_bad_config(absorber + contact + contact,
-                             {"contact[2]", "same direction as contact 1", "friction_limit = 0.4"}, dir);
+                             {"contact[2]", "same direction as contact 1", "friction_limit = 0.2 + 0.2 = 0.4"}, dir);
     const std::string reversed = "[[contact]]\ndof = 2\nother_dof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.1\n";
     ::test::check_bad_config(absorber + contact + reversed, {"contact[2]", "same direction"}, dir);
     // Three exact Coulomb contacts with dependent directions (1-ground, 2-ground, 1-2: w3 = w1 -
