@@ -235,6 +235,16 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         return p;
     };
     out.points.push_back(make_point(omega, x, iterations, residual, 0.0));
+    // A start (or, below, an end) on an unbounded linear resonance the contacts do not see: the
+    // condensed unknowns are regular there, the recovered DOFs are not (issue 28).
+    auto capped = [&](double w) {
+        if (!(hb.amplitude_bound(out.points.back().x, w) > o.max_amplitude)) return false;
+        out.status = ContinuationStatus::amplitude_cap;
+        if (out.points.back().kind == PointKind::regular) out.points.back().kind = PointKind::cap;
+        out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(w);
+        return true;
+    };
+    if (capped(omega)) return out;
     Eigen::VectorXd previous = Eigen::VectorXd::Zero(n + 1);
     previous(n) = direction;
     Eigen::VectorXd t = tangent(x, omega, previous);
@@ -315,6 +325,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             ++corrections;
             if (corrector.solve_at(xe, end, x_scale, it, res)) {
                 out.points.push_back(make_point(end, xe, it, res, h));
+                capped(end);
                 return out;
             }
             ++failures;

@@ -206,6 +206,52 @@ void System::validate() const {
                                    format_number(contacts[a].friction_limit + alpha * contacts[b].friction_limit) + ")");
             }
         }
+    // More generally, exact Coulomb directions that are linearly dependent (1-ground, 2-ground
+    // and 1-2: w3 = w1 - w2) leave the stuck forces indeterminate (only their resultant W f is
+    // defined), and whether they stick depends on how that resultant is shared: refused, naming
+    // the dependent contacts. Dependent: w_b within the pairwise check's angle (sqrt(2e-12))
+    // of the span of the earlier exact Coulomb directions (Gram-Schmidt, twice; cost N m^2).
+    {
+        std::vector<std::size_t> earlier;
+        Eigen::MatrixXd basis(n, 0);
+        for (std::size_t b = 0; b < contacts.size(); ++b) {
+            if (contacts[b].law != FrictionLaw::coulomb) continue;
+            const Eigen::VectorXd w = contact_direction(contacts[b]);
+            Eigen::VectorXd r = w;
+            for (int pass = 0; pass < 2; ++pass) r -= basis * (basis.transpose() * r);
+            if (r.norm() > std::sqrt(2e-12) * w.norm()) {
+                basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
+                basis.col(basis.cols() - 1) = r / r.norm();
+                earlier.push_back(b);
+                continue;
+            }
+            // w_b = sum_a alpha_a w_a over the earlier ones (least squares); name those it uses.
+            Eigen::MatrixXd a(n, static_cast<Eigen::Index>(earlier.size()));
+            for (std::size_t j = 0; j < earlier.size(); ++j)
+                a.col(static_cast<Eigen::Index>(j)) = contact_direction(contacts[earlier[j]]);
+            const Eigen::VectorXd alpha = a.colPivHouseholderQr().solve(w);
+            const double largest = alpha.cwiseAbs().maxCoeff();
+            std::string names, relation = "w" + std::to_string(b + 1) + " =";
+            int named = 0;
+            for (std::size_t j = 0; j < earlier.size(); ++j) {
+                const double c = alpha(static_cast<Eigen::Index>(j));
+                if (!(std::abs(c) > 1e-9 * largest)) continue;
+                const std::string index = std::to_string(earlier[j] + 1);
+                names += (named > 0 ? ", " : "") + index;
+                const double rounded = std::abs(std::abs(c) - 1.0) <= 1e-12 ? 1.0 : std::abs(c);
+                relation += std::string(named == 0 ? (c < 0.0 ? " -" : " ") : (c < 0.0 ? " - " : " + ")) +
+                            (rounded == 1.0 ? "" : format_number(rounded) + " ") + "w" + index;
+                ++named;
+            }
+            throw InvalidInput("contact " + std::to_string(b + 1) +
+                               ": exact Coulomb along a direction that depends linearly on those of exact Coulomb "
+                               "contacts " + names + " (" + relation + ", w_i the direction of contact i): the " +
+                               std::to_string(named + 1) + " directions have rank " + std::to_string(named) +
+                               ", so in stick their forces are indeterminate (only their resultant is defined); "
+                               "allowed linearly independent exact Coulomb directions (remove one of these contacts, "
+                               "or give it a compliant law such as jenkins)");
+        }
+    }
 }
 
 std::vector<std::string> System::warnings() const {

@@ -174,6 +174,18 @@ law = \"coulomb\"
 friction_limit = 0.1'; sed -i 's/law = \"dahl\"/law = \"coulomb\"/; /stiffness = 0.016/d' s.toml" frf --config s.toml --out x.csv
 expect 2 "output.report" "write_system s.toml '[output]
 report = [1, 1]'" frf --config s.toml --out x.csv
+# Issue 28: three exact Coulomb contacts with dependent directions (1-ground, 2-ground, 1-2)
+# are refused up front naming them, in frf and timeint alike.
+DEPENDENT='printf "[structure]\nmass = [1.0, 1.0]\nstiffness = [[2.0, -1.0], [-1.0, 2.0]]\nexcitation = [1.0, 0.0]\n" > s.toml
+for pair in "dof = 1" "dof = 2" "dof = 1\nother_dof = 2"; do printf "[[contact]]\n$pair\nlaw = \"coulomb\"\nfriction_limit = 0.3\n" >> s.toml; done'
+expect 2 "contacts 1, 2 (w3 = w1 - w2" "$DEPENDENT" frf --config s.toml --out x.csv
+expect 2 "contacts 1, 2 (w3 = w1 - w2" "$DEPENDENT" timeint --w 1 --config s.toml --out x.csv
+# Issue 28: two uncoupled undamped oscillators (K = diag(1, 4)), exact Coulomb on DOF 1 only:
+# harmonic 4 hits DOF 2's resonance exactly at wmin = 0.5 (the condensed start failed with
+# "residual inf", exit 1); DOF 2's own resonance w = 2 inside the band is unbounded: capped.
+UNCOUPLED='printf "[structure]\nmass = [1.0, 1.0]\nstiffness = [[1.0, 0.0], [0.0, 4.0]]\nexcitation = [0.2, 1.0]\n[[contact]]\ndof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.3\n" > s.toml'
+expect 0 "" "$UNCOUPLED" frf --quiet --config s.toml --wmin 0.5 --wmax 1.8
+expect 3 "amplitude_cap" "$UNCOUPLED" frf --quiet --config s.toml --wmin 1.5 --wmax 2.5
 expect 2 "output.report" "write_system s.toml '[output]
 report = [3]'" frf --config s.toml --out x.csv
 expect 0 "negative damping" "write_system s.toml; sed -i '4i damping = [[-0.01, 0.0], [0.0, 0.0]]' s.toml" frf --config s.toml --dry-run --out x.csv

@@ -179,6 +179,30 @@ TEST_CASE("Refused: parallel exact Coulomb contacts, an unmeasured --dlft-eps, a
                              {"contact[2]", "same direction as contact 1", "friction_limit = 0.2 + 0.2 = 0.4"}, dir);
     const std::string reversed = "[[contact]]\ndof = 2\nother_dof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.1\n";
     ::test::check_bad_config(absorber + contact + reversed, {"contact[2]", "same direction"}, dir);
+    // Three exact Coulomb contacts with dependent directions (1-ground, 2-ground, 1-2: w3 = w1 -
+    // w2) on a 2-DOF system: refused up front, naming the three (issue 28: the start failed with
+    // a residual). hbf timeint reads the same config and refuses the same way; one of them made
+    // compliant (Jenkins) is determinate and computed.
+    const std::string chain = "[structure]\nmass = [1.0, 1.0]\nstiffness = [[2.0, -1.0], [-1.0, 2.0]]\n"
+                              "damping = [[0.02, 0.0], [0.0, 0.02]]\nexcitation = [1.0, 0.0]\n";
+    auto to_ground = [](int dof) {
+        return "[[contact]]\ndof = " + std::to_string(dof) + "\nlaw = \"coulomb\"\nfriction_limit = 0.3\n";
+    };
+    const std::string between = "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"coulomb\"\nfriction_limit = 0.3\n";
+    const std::vector<std::string> dependent = {"contact[3]", "depends linearly on those of exact Coulomb contacts 1, 2",
+                                                "(w3 = w1 - w2", "rank 2"};
+    ::test::check_bad_config(chain + to_ground(1) + to_ground(2) + between, dependent, dir);
+    ::test::write_file(dir.path / "dependent.toml", chain + to_ground(1) + to_ground(2) + between);
+    ::test::check_bad_input("timeint --w 1 --config '" + (dir.path / "dependent.toml").string() + "'", dependent, dir);
+    ::test::check_bad_config(chain + between + to_ground(2) + to_ground(1),
+                             {"contact[3]", "contacts 1, 2", "(w3 = w1 + w2"}, dir);
+    const std::string compliant =
+        "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"jenkins\"\nfriction_limit = 0.3\nstiffness = 1.0\n";
+    ::test::write_file(dir.path / "compliant.toml", chain + to_ground(1) + to_ground(2) + compliant);
+    CHECK(::test::run_hbf("frf --quiet --exact off --harmonics 3 --wmin 0.5 --wmax 0.6 --config '" +
+                              (dir.path / "compliant.toml").string() + "' --out /dev/null",
+                          dir)
+              .exit_code == 0);
     // Coulomb beside a Jenkins element on the same pair is determinate: accepted.
     const std::string jenkins =
         "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"jenkins\"\nfriction_limit = 0.1\nstiffness = 0.5\n";
