@@ -21,7 +21,7 @@ who=$(id -un)
 # 1 GB of address space per case; a sanitizer build reserves terabytes of shadow memory and
 # cannot start under any limit, so there the limit is lifted (said once).
 MEMORY_LIMIT=1048576
-if ! (ulimit -v "$MEMORY_LIMIT" && "$HBF" --version >/dev/null 2>&1); then
+if ! { (ulimit -v "$MEMORY_LIMIT" && exec "$HBF" --version) >/dev/null 2>&1; } 2>/dev/null; then
   echo "hostile inputs: $HBF does not start under ulimit -v (a sanitizer build?): no memory limit" >&2
   MEMORY_LIMIT=unlimited
 fi
