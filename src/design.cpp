@@ -267,6 +267,29 @@ FrfVerdict judge_sweep(const System& system, const std::vector<PeriodicResponse>
     return v;
 }
 
+bool centre_permanent_stick(HarmonicBalance& hb, SolutionPoint& point, double tolerance) {
+    const System& system = hb.system();
+    const int contacts = static_cast<int>(system.contacts.size());
+    if (contacts == 0) return false;
+    const auto stuck = [&](const Eigen::VectorXd& x) {
+        for (int c = 0; c < contacts; ++c) {
+            const FrictionLaw law = system.contacts[static_cast<std::size_t>(c)].law;
+            if (law != FrictionLaw::coulomb && law != FrictionLaw::jenkins) return false;
+            if (!(hb.stick_indicator(x, point.omega, c).maxCoeff() < 0.0)) return false;
+        }
+        return true;
+    };
+    if (!stuck(point.x)) return false;
+    const Eigen::VectorXd centred = hb.linear_guess(point.omega);
+    Eigen::VectorXd r;
+    hb.evaluate(centred, point.omega, r, nullptr);
+    const double residual = r.allFinite() ? r.cwiseAbs().maxCoeff() / hb.force_scale() : INFINITY;
+    if (!(residual <= std::max(tolerance, point.residual)) || !stuck(centred)) return false;
+    point.x = centred;
+    point.residual = residual;
+    return true;
+}
+
 SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, ContinuationOptions options) {
     require_positive(omega, "w", "frequency of the solution");
     require_positive(omega_from, "wmin", "frequency the branch starts from");
@@ -281,6 +304,7 @@ SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, Contin
     if (at != nullptr) {
         r.found = true;
         r.point = *at;
+        centre_permanent_stick(hb, r.point, options.corrector.tolerance);
     }
     return r;
 }

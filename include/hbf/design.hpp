@@ -154,6 +154,15 @@ struct SolutionAt {
     BranchResult branch;
 };
 SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, ContinuationOptions options = {});
+/// Permanent stick on the centred member (the convention of event_exact.hpp and friction.hpp):
+/// when every contact is coulomb or jenkins and sticks on every AFT sample of `point`, the
+/// solution is the linear stuck response (HarmonicBalance::linear_guess), whose means vanish;
+/// the continuation's point differs from it by an offset of the stuck family at the corrector's
+/// tolerance, which far above the resonances (a response ~ |F| / (m w^2), a force error ~
+/// tolerance |F| held by a static stiffness) dwarfs the response. Replaces point.x by it when
+/// its residual passes `tolerance` (or the point's own) and it sticks too; true if replaced.
+/// solve_at applies it.
+bool centre_permanent_stick(HarmonicBalance& hb, SolutionPoint& point, double tolerance);
 
 /// FRFs of many systems, `threads` at a time (0: the hardware's concurrency), one FRF per
 /// task; result k belongs to systems(k) and equals what compute_frf gives alone (every task
