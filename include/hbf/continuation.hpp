@@ -231,11 +231,7 @@ struct PointMetrics {
 /// max(1e-6, 100 tolerance). Measured at the default 1e-9: 1e-10..1e-9 on the paper's absorber
 /// (every law) and the chain examples.
 double energy_balance_limit(double tolerance);
-/// Relative energy imbalance of a periodic response, shared by harmonic balance (PointMetrics)
-/// and time integration (hbf timeint): |input - viscous - friction| / max(reach, |input|,
-/// |viscous| + |friction|), all per period; `reach` is the work the force could do on the
-/// response's excited harmonic (0 when unknown). 0 when every term vanishes (nothing moves).
-double energy_imbalance(double input, double viscous, double friction, double reach);
+// energy_imbalance (shared with time integration): model.hpp.
 /// Stick fraction and regime of a contact from its stick indicator samples phi (friction.hpp:
 /// a sample sticks iff phi < 0). A stick phase is a run of cyclically consecutive sticking
 /// samples at least `min_run` long. H harmonics cannot resolve shorter phases: at an

@@ -152,6 +152,13 @@ struct StuckResponse {
 };
 StuckResponse stuck_linear_response(const System& system, double omega);
 
+/// Relative energy imbalance of a periodic response, shared by harmonic balance (PointMetrics)
+/// and time integration (its physics check, hbf timeint): |input - viscous - friction| /
+/// max(reach, |input|, |viscous| + |friction|), all per period; `reach` is the work the force
+/// could do on the response's excited harmonic (0 when unknown). 0 when every term vanishes
+/// (nothing moves).
+double energy_imbalance(double input, double viscous, double friction, double reach);
+
 // ---------------------------------------------------------------------------------------
 // The paper's friction absorber (2 DOF), in the paper's nondimensional variables (eq. 2):
 //   time tau = omega1 t, displacements y = x / x_s with x_s = N / k1, forces in units of N.
