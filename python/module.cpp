@@ -20,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -190,6 +191,38 @@ py::object from_sparse(const SparseMatrix& m) {
 }
 
 std::vector<double> to_list(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+/// A list of Contact objects; TypeError naming `name` (and the item) for anything else.
+std::vector<Contact> to_contacts(const py::handle& value, const std::string& name) {
+    if (value.is_none()) return {};
+    if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) || !py::isinstance<py::sequence>(value))
+        throw py::type_error(name + ": expected a list of hbfriction.Contact, got " +
+                             std::string(py::str(value.get_type().attr("__name__"))));
+    std::vector<Contact> contacts;
+    std::size_t k = 0;
+    for (const py::handle item : py::reinterpret_borrow<py::sequence>(value)) {
+        if (!py::isinstance<Contact>(item))
+            throw py::type_error(name + "[" + std::to_string(k) + "] = " + std::string(py::repr(item)) +
+                                 ": expected an hbfriction.Contact");
+        contacts.push_back(item.cast<Contact>());
+        ++k;
+    }
+    return contacts;
+}
+
+/// An int argument: a Python integer (not a bool) within C's int; TypeError / ValueError
+/// naming `name` otherwise.
+int to_int(const py::handle& value, const std::string& name) {
+    if (py::isinstance<py::bool_>(value) || !py::hasattr(value, "__index__") || py::isinstance<py::float_>(value))
+        throw py::type_error(name + " = " + std::string(py::repr(value)) + ": expected an integer");
+    const py::int_ whole = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
+    if (!whole) throw py::error_already_set();
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(whole.ptr(), &overflow);
+    if (overflow != 0 || v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+        throw py::value_error(name + " = " + std::string(py::repr(value)) + " is out of the range of integers");
+    return static_cast<int>(v);
+}
 
 /// A row-major flat copy and the shape of a matrix (NumPy reshapes it).
 py::tuple matrix(const Eigen::MatrixXd& m) {
@@ -429,20 +462,20 @@ PYBIND11_MODULE(_core, m) {
 
     py::class_<PySystem>(m, "System", "A linear structure with friction contacts (model.hpp)")
         .def(py::init([](const py::object& mass, const py::object& stiffness, const py::object& excitation,
-                         const py::object& damping, const std::vector<Contact>& contacts, int excitation_harmonic) {
+                         const py::object& damping, const py::object& contacts, const py::object& excitation_harmonic) {
                  PySystem s;
                  s.system.mass = to_sparse(mass, "mass");
                  s.system.stiffness = to_sparse(stiffness, "stiffness");
                  s.system.damping = damping.is_none() ? SparseMatrix(s.system.mass.rows(), s.system.mass.cols())
                                                       : to_sparse(damping, "damping");
                  s.system.excitation = to_vector(excitation, "excitation");
-                 s.system.excitation_harmonic = excitation_harmonic;
-                 s.system.contacts = contacts;
+                 s.system.excitation_harmonic = to_int(excitation_harmonic, "excitation_harmonic");
+                 s.system.contacts = to_contacts(contacts, "contacts");
                  s.system.validate();
                  return s;
              }),
              py::arg("mass"), py::arg("stiffness"), py::arg("excitation"), py::arg("damping") = py::none(),
-             py::arg("contacts") = std::vector<Contact>{}, py::arg("excitation_harmonic") = 1)
+             py::arg("contacts") = py::none(), py::arg("excitation_harmonic") = 1)
         .def_property(
             "mass", [](const PySystem& s) { return from_sparse(s.system.mass); },
             [](PySystem& s, const py::object& v) { s.system.mass = to_sparse(v, "mass"); })
@@ -457,10 +490,10 @@ PYBIND11_MODULE(_core, m) {
             [](PySystem& s, const py::object& v) { s.system.excitation = to_vector(v, "excitation"); })
         .def_property(
             "excitation_harmonic", [](const PySystem& s) { return s.system.excitation_harmonic; },
-            [](PySystem& s, int h) { s.system.excitation_harmonic = h; })
+            [](PySystem& s, const py::object& h) { s.system.excitation_harmonic = to_int(h, "excitation_harmonic"); })
         .def_property(
             "contacts", [](const PySystem& s) { return s.system.contacts; },
-            [](PySystem& s, const std::vector<Contact>& c) { s.system.contacts = c; })
+            [](PySystem& s, const py::object& c) { s.system.contacts = to_contacts(c, "contacts"); })
         .def_property(
             "outputs", [](const PySystem& s) { return s.outputs; },
             [](PySystem& s, const std::vector<Output>& o) {
@@ -515,6 +548,7 @@ PYBIND11_MODULE(_core, m) {
         },
         py::arg("path"));
     m.def("exact_solver_refusal", [](const PySystem& s) { return exact_solver_supports(s.system) ? std::string() : exact_solver_refusal(s.system); });
+    m.def("exact_cost_refusal", [](const PySystem& s, double omega) { return exact_cost_refusal(s.system, omega); });
     m.def("stability_refusal", [](const PySystem& s) { return stability_refusal(s.system); });
 
     // ---- options (the C++ names and defaults) -------------------------------------------------
@@ -757,8 +791,8 @@ PYBIND11_MODULE(_core, m) {
             eo.outputs = options.outputs;
             eo.tolerance = exact_tolerance;
             if (exact) {
-                if (!exact_solver_supports(s.system))
-                    bad("method = 'exact': " + exact_solver_refusal(s.system) + " (use adams or bdf)");
+                const std::string refusal = exact_cost_refusal(s.system, *std::min_element(omegas.begin(), omegas.end()));
+                if (!refusal.empty()) bad("method = 'exact': " + refusal + " (use adams or bdf)");
                 eo.validate();
             }
             std::vector<PeriodicResponse> responses;

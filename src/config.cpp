@@ -96,6 +96,7 @@ void check_nesting(const std::string& path, const std::string& text) {
 /// Reading context of one file: its path (for messages) and directory (for .mtx files).
 struct Reader {
     std::string file, directory;
+    std::vector<InputFile>* inputs = nullptr;  ///< every Matrix Market file read is added
 
     double number(const toml::node& node, const std::string& key) const {
         if (auto v = node.as_floating_point()) return v->get();
@@ -125,6 +126,7 @@ struct Reader {
         if (auto name = node.as_string()) {
             const std::string path = name->get().empty() || name->get().front() == '/' ? name->get()
                                                                                        : directory + name->get();
+            if (inputs) inputs->push_back({key, path});
             try {
                 return read_matrix_market(path);
             } catch (const InvalidInput& e) {
@@ -326,8 +328,11 @@ Output read_output(const Reader& r, const toml::table& t, int index, int dofs, c
 }
 
 SystemConfig read_system_config(const std::string& path) {
+    SystemConfig config;
+    config.inputs.push_back({"--config", path});
     Reader r;
     r.file = path;
+    r.inputs = &config.inputs;
     const auto slash = path.find_last_of('/');
     r.directory = slash == std::string::npos ? "" : path.substr(0, slash + 1);
     // A regular file of bounded size, read here and scanned before the parser sees it.
@@ -359,7 +364,6 @@ SystemConfig read_system_config(const std::string& path) {
     }
     r.only(root, {"structure", "contact", "frequency", "solver", "output"}, "");
 
-    SystemConfig config;
     System& s = config.system;
     const toml::table* structure = root["structure"].as_table();
     if (!structure) fail(path, root.source(), "structure", "missing table [structure] (mass, stiffness, excitation)");
@@ -420,6 +424,7 @@ SystemConfig read_system_config(const std::string& path) {
         const toml::table* t = node->as_table();
         if (!t) fail(path, node->source(), "frequency", "expected a table [frequency]");
         r.only(*t, {"wmin", "wmax"}, "frequency");
+        for (auto&& [key, value] : *t) config.lines["frequency." + std::string(key.str())] = static_cast<int>(value.source().begin.line);
         if (const toml::node* v = t->get("wmin")) config.omega_start = r.number(*v, "frequency.wmin");
         if (const toml::node* v = t->get("wmax")) config.omega_end = r.number(*v, "frequency.wmax");
         if (config.omega_start && !(*config.omega_start > 0.0 && std::isfinite(*config.omega_start)))
@@ -433,6 +438,7 @@ SystemConfig read_system_config(const std::string& path) {
         const toml::table* t = node->as_table();
         if (!t) fail(path, node->source(), "solver", "expected a table [solver]");
         r.only(*t, {"harmonics", "time_samples", "modes", "odd_harmonics"}, "solver");
+        for (auto&& [key, value] : *t) config.lines["solver." + std::string(key.str())] = static_cast<int>(value.source().begin.line);
         if (const toml::node* v = t->get("odd_harmonics")) {
             const auto flag = v->as_boolean();
             if (!flag) fail(path, v->source(), "solver.odd_harmonics", "expected true or false");
@@ -484,8 +490,27 @@ SystemConfig read_system_config(const std::string& path) {
             }
         }
     }
-    if (config.outputs.empty())
-        for (int i = 0; i < n; ++i) config.outputs.push_back(Output::dof(i));
+    if (config.outputs.empty()) {
+        // The excited DOFs and those of the contacts: every DOF of a large model would make
+        // the run as slow as its output count (each is synthesised in time at every point).
+        std::set<int> dofs;
+        for (Eigen::Index i = 0; i < n; ++i)
+            if (s.excitation(i) != 0.0) dofs.insert(static_cast<int>(i));
+        for (const Contact& c : s.contacts) {
+            const Eigen::VectorXd w = s.contact_direction(c);
+            for (Eigen::Index i = 0; i < n; ++i)
+                if (w(i) != 0.0) dofs.insert(static_cast<int>(i));
+        }
+        if (dofs.empty())
+            for (int i = 0; i < n; ++i) dofs.insert(i);
+        for (int i : dofs) config.outputs.push_back(Output::dof(i));
+        if (static_cast<Eigen::Index>(dofs.size()) < n) {
+            std::string list;
+            for (int i : dofs) list += (list.empty() ? "" : ", ") + std::to_string(i + 1);
+            config.outputs_note = path + ": no [output]: reporting the excited and contact DOFs " + list + " of " +
+                                  std::to_string(n) + " ([output] report = [...] or [[output]] rows choose others)";
+        }
+    }
     return config;
 }
 
@@ -503,31 +528,62 @@ SparseMatrix read_matrix_market(const std::string& path) {
     if (!std::getline(in, line)) throw bad(1, "empty file");
     ++number;
     std::istringstream header(line);
-    std::string banner, object, format, field, symmetry;
-    header >> banner >> object >> format >> field >> symmetry;
+    std::string banner, object, format, field, symmetry, extra;
+    header >> banner >> object >> format >> field >> symmetry >> extra;
     for (std::string* word : {&object, &format, &field, &symmetry})
         for (char& ch : *word) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
     if (banner != "%%MatrixMarket" || object != "matrix" || (format != "coordinate" && format != "array") ||
-        (field != "real" && field != "integer") || (symmetry != "general" && symmetry != "symmetric"))
+        (field != "real" && field != "integer") || (symmetry != "general" && symmetry != "symmetric") || !extra.empty())
         throw bad(number, "expected '%%MatrixMarket matrix coordinate|array real|integer general|symmetric'");
-    auto next = [&](std::istringstream& s) {
+    // Every later line that is not blank or a comment, split at whitespace; every field must be
+    // a whole number (parse_decimal, parse_whole_number) and every line has exactly its fields.
+    std::vector<std::string> fields;
+    auto next = [&]() {
         while (std::getline(in, line)) {
             ++number;
-            if (line.empty() || line[0] == '%') continue;
-            s = std::istringstream(line);
+            if (!line.empty() && line.back() == '\r') line.pop_back();  // a file written on Windows
+            fields.clear();
+            std::istringstream words(line);
+            for (std::string word; words >> word;) fields.push_back(word);
+            if (fields.empty() || line[0] == '%') continue;
             return true;
         }
         return false;
     };
-    std::istringstream s;
-    long rows = 0, cols = 0, entries = 0;
-    if (!next(s) || !(s >> rows >> cols) || rows < 1 || cols < 1)
-        throw bad(number, "expected the size line 'rows cols [entries]'");
-    constexpr long max_dimension = 1000000;
+    const bool integer_field = field == "integer";
+    auto field_name = [](std::size_t k, const char* what) { return "field " + std::to_string(k + 1) + " (" + what + ")"; };
+    auto index = [&](std::size_t k, const char* what) {
+        long long value = 0;
+        std::string why;
+        if (!parse_whole_number(fields[k], value, why))
+            throw bad(number, field_name(k, what) + " = '" + fields[k] + "' " + why);
+        return value;
+    };
+    auto value_of = [&](std::size_t k) {
+        double value = 0.0;
+        std::string why;
+        if (integer_field) {
+            long long whole = 0;
+            if (!parse_whole_number(fields[k], whole, why))
+                throw bad(number, field_name(k, "value") + " = '" + fields[k] + "' " + why + " (the file's field is integer)");
+            return static_cast<double>(whole);
+        }
+        if (!parse_decimal(fields[k], value, why)) throw bad(number, field_name(k, "value") + " = '" + fields[k] + "' " + why);
+        return value;
+    };
+    auto count = [&](std::size_t expected, const std::string& what) {
+        if (fields.size() != expected)
+            throw bad(number, std::to_string(fields.size()) + " fields: expected " + std::to_string(expected) + ", " + what);
+    };
+    const bool coordinate = format == "coordinate";
+    if (!next()) throw bad(number, std::string("expected the size line '") + (coordinate ? "rows cols entries" : "rows cols") + "'");
+    count(coordinate ? 3 : 2, coordinate ? "the size line 'rows cols entries'" : "the size line 'rows cols' (array format)");
+    const long long rows = index(0, "rows"), cols = index(1, "cols"), entries = coordinate ? index(2, "entries") : 0;
+    if (rows < 1 || cols < 1) throw bad(number, "size " + std::to_string(rows) + " x " + std::to_string(cols) + ": allowed at least 1 x 1");
+    constexpr long long max_dimension = 1000000;
     if (rows > max_dimension || cols > max_dimension)
         throw bad(number, "size " + std::to_string(rows) + " x " + std::to_string(cols) +
                               " is out of range: allowed at most " + std::to_string(max_dimension) + " rows and columns");
-    if (format == "coordinate" && !(s >> entries)) throw bad(number, "expected the size line 'rows cols entries'");
     const bool symmetric = symmetry == "symmetric";
     // A symmetric file stores one triangle and is mirrored: only a square matrix can be (found
     // by fuzzing: a 3 x 2 symmetric file wrote past the matrix).
@@ -535,41 +591,44 @@ SparseMatrix read_matrix_market(const std::string& path) {
         throw bad(number, "a symmetric matrix of size " + std::to_string(rows) + " x " + std::to_string(cols) +
                               ": allowed square (rows = cols)");
     std::vector<Eigen::Triplet<double>> triplets;
-    auto add = [&](long i, long j, double v) {
-        if (!std::isfinite(v)) throw bad(number, "non-finite entry");
+    auto add = [&](long long i, long long j, double v) {
         if (v == 0.0) return;
         triplets.emplace_back(static_cast<int>(i), static_cast<int>(j), v);
         if (symmetric && i != j) triplets.emplace_back(static_cast<int>(j), static_cast<int>(i), v);
     };
-    if (format == "coordinate") {
-        constexpr long max_entries = 100000000;
+    if (coordinate) {
+        constexpr long long max_entries = 100000000;
         if (entries < 0 || entries > rows * cols || entries > max_entries)
             throw bad(number, "entries = " + std::to_string(entries) + " is out of range: allowed 0..rows*cols, at most " +
                                   std::to_string(max_entries));
         // Reserved up to a bound: the count is only a promise until the entries are read.
-        triplets.reserve(static_cast<std::size_t>(std::min(symmetric ? 2 * entries : entries, 1L << 20)));
-        std::set<std::pair<long, long>> seen;
-        for (long k = 0; k < entries; ++k) {
-            long i = 0, j = 0;
-            double v = 0;
-            if (!next(s) || !(s >> i >> j >> v)) throw bad(number, "expected entry " + std::to_string(k + 1) + " 'row col value'");
-            if (i < 1 || i > rows || j < 1 || j > cols) throw bad(number, "index out of range");
-            const std::pair<long, long> key = symmetric ? std::make_pair(std::min(i, j), std::max(i, j)) : std::make_pair(i, j);
+        triplets.reserve(static_cast<std::size_t>(std::min(symmetric ? 2 * entries : entries, 1LL << 20)));
+        std::set<std::pair<long long, long long>> seen;
+        for (long long k = 0; k < entries; ++k) {
+            if (!next()) throw bad(number, "the file ends before entry " + std::to_string(k + 1) + " of " + std::to_string(entries));
+            count(3, "entry " + std::to_string(k + 1) + " 'row col value'");
+            const long long i = index(0, "row"), j = index(1, "col");
+            const double v = value_of(2);
+            if (i < 1 || i > rows || j < 1 || j > cols)
+                throw bad(number, "entry (" + std::to_string(i) + ", " + std::to_string(j) + "): index out of range: allowed row 1.." +
+                                      std::to_string(rows) + ", col 1.." + std::to_string(cols));
+            const auto key = symmetric ? std::make_pair(std::min(i, j), std::max(i, j)) : std::make_pair(i, j);
             if (!seen.insert(key).second)
                 throw bad(number, "entry (" + std::to_string(i) + ", " + std::to_string(j) + ") given twice" +
                                       (symmetric ? " (a symmetric file stores one triangle)" : ""));
             add(i - 1, j - 1, v);
         }
     } else {
-        if (rows * cols > 25000000L) throw bad(number, "an array (dense) file larger than 25e6 entries: use the coordinate format");
-        for (long j = 0; j < cols; ++j)
-            for (long i = symmetric ? j : 0; i < rows; ++i) {
-                double v = 0;
-                if (!next(s) || !(s >> v)) throw bad(number, "expected a value (column-major)");
-                add(i, j, v);
+        if (rows * cols > 25000000LL) throw bad(number, "an array (dense) file larger than 25e6 entries: use the coordinate format");
+        for (long long j = 0; j < cols; ++j)
+            for (long long i = symmetric ? j : 0; i < rows; ++i) {
+                if (!next()) throw bad(number, "the file ends before the value of (" + std::to_string(i + 1) + ", " +
+                                                   std::to_string(j + 1) + ") (column-major)");
+                count(1, "one value per line (array format, column-major)");
+                add(i, j, value_of(0));
             }
     }
-    if (next(s)) throw bad(number, "more data than the size line announces");
+    if (next()) throw bad(number, "more data than the size line announces");
     SparseMatrix m(rows, cols);
     m.setFromTriplets(triplets.begin(), triplets.end());
     return m;

@@ -154,6 +154,47 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
     return true;
 }
 
+/// Whether a step from (x, omega) to the corrected (xp, wp) crosses no resonance of the
+/// linear structure unresolved (ContinuationOptions::resolve_resonances): for each resonance
+/// strictly inside the step's frequency interval (clipped at `end`), the solution there is
+/// solved from the chord's interpolation (then with five times the iterations); it resolves the
+/// resonance when it converges with the amplitude bound within max_amplitude. `unresolved` is
+/// set to the first resonance that is not resolved.
+bool resonance_resolved(HarmonicBalance& hb, Corrector& corrector, std::unique_ptr<Corrector>& rough,
+                        const ContinuationOptions& o, const Eigen::VectorXd& x, double omega,
+                        const Eigen::VectorXd& xp, double wp, double end, int direction, double x_scale,
+                        const std::vector<LinearResonance>& resonances, double& unresolved) {
+    if (!o.resolve_resonances || wp == omega) return true;
+    const double reach = (wp - end) * direction >= 0.0 ? end : wp;
+    const double low = std::min(omega, reach), high = std::max(omega, reach);
+    for (const LinearResonance& r : resonances) {
+        if (!(r.omega > low && r.omega < high)) continue;
+        const double s = (r.omega - omega) / (wp - omega);
+        Eigen::VectorXd at = x + s * (xp - x);
+        int iterations = 0;
+        double residual = 0.0;
+        bool solved = corrector.solve_at(at, r.omega, x_scale, iterations, residual);
+        if (!solved) {
+            // Only boundedness is asked, not an accurate point: a tight tolerance on a nonsmooth
+            // law may not be met at one frequency the branch passes (measured: exact Coulomb at
+            // --tolerance 1e-14 stalled at the absorber's rigid resonance, min_step).
+            if (!rough) {
+                CorrectorOptions options = o.corrector;
+                options.max_iterations = std::max(100, 5 * options.max_iterations);
+                options.tolerance = std::max(options.tolerance, 1e-6);
+                rough = std::make_unique<Corrector>(hb, options);
+            }
+            at = x + s * (xp - x);
+            solved = rough->solve_at(at, r.omega, x_scale, iterations, residual);
+        }
+        if (!solved || !(hb.amplitude_bound(at, r.omega) <= o.max_amplitude)) {
+            unresolved = r.omega;
+            return false;
+        }
+    }
+    return true;
+}
+
 struct Trace {
     std::vector<SolutionPoint> points;
     ContinuationStatus status = ContinuationStatus::completed;
@@ -194,6 +235,16 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         return p;
     };
     out.points.push_back(make_point(omega, x, iterations, residual, 0.0));
+    // A start (or, below, an end) on an unbounded linear resonance the contacts do not see: the
+    // condensed unknowns are regular there, the recovered DOFs are not (issue 28).
+    auto capped = [&](double w) {
+        if (!(hb.amplitude_bound(out.points.back().x, w) > o.max_amplitude)) return false;
+        out.status = ContinuationStatus::amplitude_cap;
+        if (out.points.back().kind == PointKind::regular) out.points.back().kind = PointKind::cap;
+        out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(w);
+        return true;
+    };
+    if (capped(omega)) return out;
     Eigen::VectorXd previous = Eigen::VectorXd::Zero(n + 1);
     previous(n) = direction;
     Eigen::VectorXd t = tangent(x, omega, previous);
@@ -201,6 +252,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     double rejected_turn = -1.0;  // turn of the last step rejected for turning too sharply
     int leaps = 0;                // steps over a spot the corrector cannot land on (below)
     std::unique_ptr<Corrector> patient;  // more iterations for small steps that fail (below)
+    std::unique_ptr<Corrector> rough;    // resonance_resolved's
     const double end = direction > 0 ? omega_high : omega_low;
     while (true) {
         if (static_cast<int>(out.points.size()) >= o.max_points) {
@@ -252,12 +304,28 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             }
             continue;
         }
+        // A step across a resonance of the linear structure is accepted only when the branch is
+        // bounded there (ContinuationOptions::resolve_resonances); else it is halved.
+        if (h > 2.0 * o.min_step) {
+            double unresolved = 0.0;
+            if (!resonance_resolved(hb, corrector, rough, o, x, omega, xp, wp, end, direction, x_scale,
+                                    result.resonances, unresolved)) {
+                ++result.resonance_rejections;
+                rejected_turn = -1.0;
+                h *= 0.5;
+                if (h > 2.0 * o.min_step) continue;
+                ++result.unresolved_resonances;
+                out.message += std::string(out.message.empty() ? "" : "; ") + "a step crosses the resonance at w = " +
+                               format_number(unresolved) + " unresolved at the minimum step";
+            }
+        }
         // Past the end of the range: land exactly on it and stop.
         if ((wp - end) * direction >= 0.0) {
             Eigen::VectorXd xe = x + (xp - x) * ((end - omega) / (wp - omega));
             ++corrections;
             if (corrector.solve_at(xe, end, x_scale, it, res)) {
                 out.points.push_back(make_point(end, xe, it, res, h));
+                capped(end);
                 return out;
             }
             ++failures;
@@ -670,6 +738,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     const EvaluationStatistics before = hb.statistics();
     Corrector corrector(hb, o.corrector);
     BranchResult result;
+    if (o.resolve_resonances) result.resonances = linear_resonances(hb.system(), o.omega_start, o.omega_end);
     follow_branches(hb, corrector, o, result);
     if (o.locate_folds) insert_folds(hb, corrector, o.corrector, frequency_scale(o), result);
     if (o.locate_transitions) insert_transitions(hb, corrector, o.corrector, frequency_scale(o), result);

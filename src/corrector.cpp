@@ -185,11 +185,19 @@ bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd
         // Z_k^-1, computed to cond(Z_k) * rounding: it cannot fall below that noise. Measured by
         // moving omega by 16 ulp (minus the true change dR/domega * dw): a residual within 8
         // times the noise is converged as far as the evaluation can tell.
+        // Likewise the unknowns themselves are resolved to a rounding of the scaled parameters,
+        // eps x_scale: the residual cannot be resolved below |dR/dX| eps x_scale (row sums; a
+        // stiff term such as LuGre's sigma1 z' with sigma1 = 1e11 makes it large, measured:
+        // the absorber at --xi 1e12 stalled at 1.3 tolerance).
         const double dw = 16.0 * std::numeric_limits<double>::epsilon() * omega_new;
         Eigen::VectorXd moved, r_omega;
-        m.hb.evaluate(x_new, omega_new, r, nullptr, &r_omega);
+        Eigen::MatrixXd jacobian;
+        m.hb.evaluate(x_new, omega_new, r, &jacobian, &r_omega);
         m.hb.evaluate(x_new, omega_new + dw, moved);
-        const double noise = (moved - r - r_omega * dw).cwiseAbs().maxCoeff() / m.hb.force_scale();
+        const double resolution = std::numeric_limits<double>::epsilon() * x_scale *
+                                  jacobian.cwiseAbs().rowwise().sum().maxCoeff();
+        const double noise =
+            std::max((moved - r - r_omega * dw).cwiseAbs().maxCoeff(), resolution) / m.hb.force_scale();
         accepted = std::isfinite(noise) && residual <= m.options.tolerance + 8.0 * noise;
         if (accepted) ++m.statistics.noise_limited;
     }

@@ -19,8 +19,18 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// The largest peak of output 0 over the points and the refined peaks, and what it means.
-PeakValue largest_peak(const FrfResult& r) {
+/// Whether output `index` of `outputs` (DOF 1 when empty) is a single DOF, whose amplitude the
+/// cap max_amplitude bounds.
+bool capped_output(const std::vector<Output>& outputs, int index) {
+    if (outputs.empty()) return index == 0;
+    return index >= 0 && index < static_cast<int>(outputs.size()) &&
+           outputs[static_cast<std::size_t>(index)].single_dof() >= 0;
+}
+
+/// The largest peak of output 0 over the points and the refined peaks, and what it means: a
+/// value above the amplitude cap (a single-DOF output) is an unbounded resonance as far as the
+/// cap goes, as if the continuation had stopped there.
+PeakValue largest_peak(const FrfResult& r, const FrfSettings& settings) {
     PeakValue p;
     double best = -1.0, at = std::numeric_limits<double>::quiet_NaN();
     for (std::size_t k = 0; k < r.points.size(); ++k) {
@@ -50,6 +60,9 @@ PeakValue largest_peak(const FrfResult& r) {
     }
     if (r.polish && r.polish->failed > 0) p.state = PeakState::failed;
     if (best < 0.0 && p.state == PeakState::bounded) p.state = PeakState::failed;  // no finite point
+    if (p.state == PeakState::bounded && capped_output(settings.outputs, 0) &&
+        best > settings.continuation.max_amplitude)
+        p.state = PeakState::unbounded;
     if (p.state == PeakState::unbounded) p.value = std::numeric_limits<double>::infinity();
     return p;
 }
@@ -83,7 +96,7 @@ int automatic_harmonics(const System& system, bool exact) {
 FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs) {
     FrfSettings s;
     s.outputs = outputs;
-    s.exact = exact_solver_supports(system);
+    s.exact = exact_cost_refusal(system, s.continuation.omega_start).empty();
     s.harmonic_balance.harmonics = automatic_harmonics(system, s.exact);
     s.continuation.locate_transitions = !s.exact;
     s.peaks = true;
@@ -105,6 +118,8 @@ FrfVerdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
                              " % of [wmin, wmax]");
     else if (branch.unlocated_transitions > 0)
         v.warnings.push_back(branch.message + " (the branch points are right; the CSV lacks those transition rows)");
+    if (branch.status == ContinuationStatus::completed && branch.unresolved_resonances > 0)
+        v.warnings.push_back(branch.message + " (the branch may jump across an unbounded resonance there)");
     // A point whose exact polish failed is HB's value, flagged exact = failed: a doubtful result.
     if (frf.polish && frf.polish->failed > 0)
         v.errors.push_back(frf.polish->summary() +
@@ -134,6 +149,39 @@ FrfVerdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
             if (!b.points[k].message.empty())
                 example = "; e.g. at w = " + format_number(frf.points[k].omega) + ": " + b.points[k].message;
         v.notes.push_back(b.summary() + ": the points with stable = uncertain (or empty) have no verdict" + example);
+    }
+    // A refined peak between two branch points may climb past the amplitude cap the branch
+    // points respect: a resonance unbounded as far as the cap goes, never a completed FRF.
+    const double cap = settings.continuation.max_amplitude;
+    for (const Peak& peak : frf.peaks)
+        if (capped_output(settings.outputs, peak.output) && !(peak.y_max <= cap))
+            v.warnings.push_back("the peak at w = " + format_number(peak.omega) + " reaches " +
+                                 format_number(peak.y_max) + ", above the amplitude cap " + format_number(cap) +
+                                 " (--max-amplitude): an unbounded resonance as far as the cap goes");
+    // An --at sample above every branch point and every peak of the same output: the branch
+    // stepped over a resonance between two points (its peak is missing or understated).
+    std::vector<double> highest;  // per output: the largest over branch points and peaks
+    for (std::size_t k = 0; k < frf.points.size() && k < frf.metrics.size(); ++k) {
+        if (frf.points[k].kind == PointKind::sample) continue;
+        const std::vector<double>& o = frf.metrics[k].output_max;
+        if (highest.size() < o.size()) highest.resize(o.size(), 0.0);
+        for (std::size_t j = 0; j < o.size(); ++j)
+            if (std::isfinite(o[j])) highest[j] = std::max(highest[j], o[j]);
+    }
+    for (const Peak& peak : frf.peaks)
+        if (peak.output >= 0 && static_cast<std::size_t>(peak.output) < highest.size() && std::isfinite(peak.y_max))
+            highest[static_cast<std::size_t>(peak.output)] = std::max(highest[static_cast<std::size_t>(peak.output)], peak.y_max);
+    for (std::size_t k = 0; k < frf.points.size() && k < frf.metrics.size(); ++k) {
+        if (frf.points[k].kind != PointKind::sample) continue;
+        const std::vector<double>& o = frf.metrics[k].output_max;
+        for (std::size_t j = 0; j < o.size() && j < highest.size(); ++j)
+            if (o[j] > highest[j] * (1.0 + 1e-9)) {
+                v.warnings.push_back("the --at sample at w = " + format_number(frf.points[k].omega) + " reaches " +
+                                     format_number(o[j]) + ", above every branch point and peak (the largest " +
+                                     format_number(highest[j]) + "): the branch steps over a resonance there; a "
+                                     "smaller --max-step may resolve it");
+                break;
+            }
     }
     // An --at frequency without a row is a failure too.
     for (double w : frf.missed)
@@ -239,6 +287,11 @@ SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, Contin
 
 FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     const auto started = std::chrono::steady_clock::now();
+    if (settings.exact) {  // before the work: the polish must be possible at the branch's lowest w
+        const double lowest = std::min(settings.continuation.omega_start, settings.continuation.omega_end);
+        const std::string refusal = lowest > 0.0 ? exact_cost_refusal(hb.system(), lowest) : std::string();
+        if (!refusal.empty()) throw InvalidInput("exact polish: " + refusal + " (use exact off)");
+    }
     const std::vector<Output> outputs = settings.outputs.empty() ? std::vector<Output>{Output::dof(0)} : settings.outputs;
     const CorrectorOptions& corrector = settings.continuation.corrector;
     FrfResult r;
@@ -273,7 +326,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
                                                r.polish ? &r.exact : nullptr);
         mark_bifurcations(*r.stability, r.points);
     }
-    r.peak = largest_peak(r);
+    r.peak = largest_peak(r, settings);
     r.seconds = seconds_since(started);
     return r;
 }

@@ -827,6 +827,39 @@ std::string exact_solver_refusal(const System& system) {
 
 bool exact_solver_supports(const System& system) { return exact_solver_refusal(system).empty(); }
 
+namespace {
+/// Steps per period (exact_steps_per_period) and the size of the flows' state.
+std::pair<double, int> steps_and_size(const System& system, double omega) {
+    const auto condensation = validate_system(system, omega);
+    Engine e(condensation ? condensation->reduced() : system, omega);
+    double steps = 0.0;
+    for (int mode : {0, 1}) {  // every contact stuck, every contact slipping
+        const ModeData& m = e.mode(Modes(static_cast<std::size_t>(e.contacts()), mode));
+        steps = std::max(steps, e.period() / m.h);
+    }
+    return {steps, e.n()};
+}
+}  // namespace
+
+double exact_steps_per_period(const System& system, double omega) { return steps_and_size(system, omega).first; }
+
+double exact_max_steps_per_period(int state_size) {
+    return std::min(50000.0, 2e6 / std::max(state_size, 1));
+}
+
+std::string exact_cost_refusal(const System& system, double omega_min) {
+    std::string why = exact_solver_refusal(system);
+    if (!why.empty()) return why;
+    require_positive(omega_min, "w", "lowest frequency of the exact solver");
+    const auto [steps, size] = steps_and_size(system, omega_min);
+    const double bound = exact_max_steps_per_period(size);
+    if (steps > bound)
+        return "at w = " + format_number(omega_min) + " one period takes " + format_number(std::round(steps)) +
+               " Taylor steps (the period 2 pi / w against the fastest mode of the structure), above the bound " +
+               format_number(std::round(bound)) + " that keeps the exact solver's time and memory bounded";
+    return {};
+}
+
 std::string ExactOrbit::summary() const {
     std::ostringstream s;
     s << "w = " << format_number(omega) << ": " << (converged ? "converged" : "not converged") << " (" << message

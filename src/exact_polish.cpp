@@ -32,7 +32,8 @@ PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb, cons
         for (double a : orbit.y_amp1) amplitude += a * a;
         m.viscous_energy = 0.0;
         m.energy_error = energy_imbalance(orbit.input_energy, 0.0, orbit.energy,
-                                          M_PI * system.excitation.norm() * std::sqrt(amplitude));
+                                          M_PI * system.excitation.norm() *
+                                              std::max(std::sqrt(amplitude), response_floor(system, orbit.omega)));
     }
     return m;
 }
@@ -272,6 +273,12 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             if (a.point.branch != m.point.branch || b.point.branch != m.point.branch) continue;
             if (!a.orbit.converged || !m.orbit.converged || !b.orbit.converged) continue;
             if (!(y(k) > y(k - 1) && y(k) >= y(k + 1))) continue;
+            double weight = 1.0;  // |c|_1 of the output
+            if (!of_dof) {
+                weight = 0.0;
+                for (const auto& term : options.exact.outputs[o].terms()) weight += std::abs(term.second);
+            }
+            if (y(k) <= weight * response_floor(system, m.point.omega)) continue;  // rounding around zero, not a peak
             Peak peak{m.point.omega, y(k), m.point.branch, false, static_cast<int>(o)};
             const bool monotone = (m.point.omega - a.point.omega) * (b.point.omega - m.point.omega) > 0.0 &&
                                   m.point.kind != PointKind::fold && b.point.kind != PointKind::fold &&

@@ -167,6 +167,21 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         state_offset_.push_back(model->state_signals() > 0 ? all_unknowns_ : -1);
         all_unknowns_ += model->state_signals() * n;
     }
+    // The residual's Jacobian is dense (all_unknowns_^2 doubles, held by the corrector, Ceres
+    // and the tangent: about four copies): bounded so that every allowed input runs in bounded
+    // memory (6000 unknowns: about 1 GB in all).
+    if (all_unknowns_ > max_unknowns) {
+        const int signals = all_unknowns_ / n;
+        throw InvalidInput(
+            "harmonics = " + std::to_string(harmonics_) + " with " + std::to_string(nc) + " contact(s)" +
+            (condensed_ ? std::string() : " on " + std::to_string(system_.dofs()) + " DOFs (full formulation)") +
+            " makes " + std::to_string(all_unknowns_) + " harmonic-balance unknowns (" + std::to_string(signals) +
+            " signals x " + std::to_string(n) + " coefficients), whose dense Jacobian would take " +
+            format_number(std::round(8.0 * all_unknowns_ * static_cast<double>(all_unknowns_) / 1048576.0)) +
+            " MB per copy: allowed at most " + std::to_string(max_unknowns) +
+            " unknowns (fewer harmonics, fewer contacts" + (condensed_ ? std::string() : ", the condensed formulation") +
+            ")");
+    }
     // The balanced harmonics: all, or the odd ones only (c_k, s_k for odd k).
     odd_ = options.odd_harmonics;
     if (odd_ && system_.excitation_harmonic % 2 == 0)

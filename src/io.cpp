@@ -1,15 +1,20 @@
 #include "hbf/io.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <iostream>
+#include <map>
 #include <random>
 #include <stdexcept>
 
@@ -73,9 +78,57 @@ Resolved resolve(const std::string& path) {
 bool written_in_place(const fs::file_status& status) {
     return fs::is_character_file(status) || fs::is_fifo(status);
 }
+
+/// The name under which two spellings of one file compare equal, whether it exists or not:
+/// the canonical directory (".", "sub/..", $PWD, /proc/self/cwd and symlinked directories
+/// all resolve to one) and the file name.
+fs::path identity(const fs::path& target) {
+    std::error_code error;
+    const fs::path directory = fs::canonical(target.has_parent_path() ? target.parent_path() : fs::path("."), error);
+    return error ? fs::weakly_canonical(target, error) : directory / target.filename();
+}
+
+/// FIFOs opened (without blocking) by check_outputs, held until their OutputFile writes: a
+/// FIFO without a reader is refused before the work, and the reader that was there then is
+/// not sent an end of file by a close in between. Keyed by the FIFO's identity().
+std::map<std::string, int>& held_fifos() {
+    static std::map<std::string, int> fds;
+    return fds;
+}
+
+/// Writes all of `text` to `fd`; false with errno set on a failure (EFBIG, ENOSPC, EPIPE...).
+bool write_all(int fd, const std::string& text) {
+    std::size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return false;
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
 }  // namespace
 
-void check_outputs(const std::vector<OutputTarget>& targets) {
+HeldSignals::HeldSignals() {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&set, signal);
+    blocked_ = ::pthread_sigmask(SIG_BLOCK, &set, &old_mask_) == 0;
+    struct sigaction ignore {};
+    ignore.sa_handler = SIG_IGN;
+    sigemptyset(&ignore.sa_mask);
+    ignored_ = ::sigaction(SIGXFSZ, &ignore, &old_xfsz_) == 0;
+}
+
+HeldSignals::~HeldSignals() {
+    if (ignored_) ::sigaction(SIGXFSZ, &old_xfsz_, nullptr);
+    if (blocked_) ::pthread_sigmask(SIG_SETMASK, &old_mask_, nullptr);
+}
+
+void check_outputs(const std::vector<OutputTarget>& targets, const std::vector<InputFile>& inputs) {
     struct Seen {
         std::string flag;
         fs::path path;
@@ -83,6 +136,18 @@ void check_outputs(const std::vector<OutputTarget>& targets) {
         ino_t inode = 0;
         bool exists = false, character = false;
     };
+    // Every input of the run, by device and inode (symlinks followed, hard links the same inode).
+    struct Input {
+        std::string what, path;
+        dev_t device;
+        ino_t inode;
+    };
+    std::vector<Input> input_files;
+    for (const InputFile& in : inputs) {
+        struct stat info {};
+        if (!in.path.empty() && ::stat(in.path.c_str(), &info) == 0)
+            input_files.push_back({in.what, in.path, info.st_dev, info.st_ino});
+    }
     std::vector<Seen> seen;
     std::string to_stdout;
     for (const OutputTarget& t : targets) {
@@ -105,8 +170,17 @@ void check_outputs(const std::vector<OutputTarget>& targets) {
             throw InvalidInput(where + (r.descriptor ? " is not an open descriptor of this process"
                                                      : " is a symlink to nothing: allowed a file, or a link to one"));
         Seen mine{t.flag, r.target, 0, 0, false, false};
+        // A device or descriptor is opened now, without blocking, as the write will open it:
+        // /dev/tty without a terminal or a closed descriptor fails here, not after the work.
+        auto try_open = [&](const std::string& what) {
+            const int fd = ::open(r.target.c_str(), O_WRONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+            if (fd < 0)
+                throw InvalidInput(where + " " + what + " cannot be opened for writing (" + std::strerror(errno) + ")");
+            ::close(fd);
+        };
         if (r.descriptor) {
             if (t.image) throw InvalidInput(where + " is a descriptor: an image needs a regular file path");
+            try_open("(a descriptor)");
             seen.push_back(mine);
             continue;
         }
@@ -124,6 +198,24 @@ void check_outputs(const std::vector<OutputTarget>& targets) {
                 mine.device = info.st_dev;
                 mine.inode = info.st_ino;
                 mine.character = S_ISCHR(info.st_mode);
+                for (const Input& in : input_files)
+                    if (in.device == info.st_dev && in.inode == info.st_ino)
+                        throw InvalidInput(where + " is " + in.what + " ('" + in.path +
+                                           "'), an input of this run: allowed a file that is not an input");
+            }
+            if (fs::is_character_file(r.status)) try_open("(a character device)");
+            if (fs::is_fifo(r.status)) {
+                const std::string key = identity(r.target).string();
+                auto& held = held_fifos();
+                if (held.count(key) == 0) {
+                    const int fd = ::open(r.target.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+                    if (fd < 0 && errno == ENXIO)
+                        throw InvalidInput(where + " is a FIFO without a reader: start the reader first (the write "
+                                           "would wait for one forever)");
+                    if (fd < 0)
+                        throw InvalidInput(where + " (a FIFO) cannot be opened for writing (" + std::strerror(errno) + ")");
+                    held[key] = fd;
+                }
             }
         }
         // Regular files are replaced through a temporary file in their directory: it must
@@ -136,9 +228,7 @@ void check_outputs(const std::vector<OutputTarget>& targets) {
             if (::access(directory.c_str(), W_OK | X_OK) != 0)
                 throw InvalidInput(where + ": the directory '" + directory.string() + "' is not writable");
         }
-        std::error_code error;
-        mine.path = fs::weakly_canonical(r.target, error);
-        if (error) mine.path = r.target;
+        mine.path = identity(r.target);
         for (const Seen& other : seen) {
             const bool same_inode = mine.exists && other.exists && mine.device == other.device && mine.inode == other.inode;
             if ((same_inode || mine.path == other.path) && !(mine.character && other.character))
@@ -155,50 +245,86 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
     if (r.dangling) throw std::runtime_error("output '" + path_ + "' is a symlink to nothing");
     target_ = r.target.string();
     in_place_ = r.descriptor || written_in_place(r.status);
-    if (in_place_) {  // a device or FIFO: written where it is, never replaced
-        file_.open(target_, std::ios::out);
-        if (!file_) throw std::runtime_error("cannot open output '" + path_ + "' for writing");
-        return;
-    }
-    temporary_ = temporary_name(target_);
-    file_.open(temporary_, std::ios::out | std::ios::trunc);
-    if (!file_) throw std::runtime_error("cannot open output file '" + path_ + "' for writing");
+    fifo_ = !r.descriptor && fs::is_fifo(r.status);
 }
 
-OutputFile::~OutputFile() {
-    if (!is_stdout(path_) && !in_place_ && !committed_) {
-        file_.close();
-        std::remove(temporary_.c_str());
-    }
-}
+OutputFile::~OutputFile() = default;
 
-std::ostream& OutputFile::stream() { return is_stdout(path_) ? std::cout : file_; }
+std::ostream& OutputFile::stream() { return buffer_; }
 
 void OutputFile::commit() {
+    const std::string text = buffer_.str();
     if (is_stdout(path_)) {
+        std::cout << text;
         std::cout.flush();
         if (!std::cout) throw std::runtime_error("cannot write to standard output");
         committed_ = true;
         return;
     }
-    file_.flush();
-    const bool written = static_cast<bool>(file_);
-    file_.close();
-    if (in_place_) {
-        if (!written) throw std::runtime_error("cannot write output '" + path_ + "'");
+    if (in_place_) {  // a device, FIFO or descriptor: written where it is, never replaced
+        int fd = -1;
+        if (fifo_) {
+            auto& held = held_fifos();
+            const auto it = held.find(identity(target_).string());
+            if (it != held.end()) {
+                fd = it->second;
+                held.erase(it);
+            } else {
+                fd = ::open(target_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+                if (fd < 0 && errno == ENXIO)
+                    throw std::runtime_error("output '" + path_ + "' is a FIFO without a reader: nothing written");
+            }
+            if (fd >= 0) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+        } else {
+            fd = ::open(target_.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC);
+        }
+        if (fd < 0) throw std::runtime_error("cannot open output '" + path_ + "' for writing (" + std::strerror(errno) + ")");
+        HeldSignals quiet;
+        const bool written = write_all(fd, text);
+        const int error = errno;
+        ::close(fd);
+        if (!written) throw std::runtime_error("cannot write output '" + path_ + "' (" + std::strerror(error) + ")");
         committed_ = true;
         return;
     }
-    // The data on disk before the rename makes it visible (a crash leaves the old file).
-    bool synced = false;
-    const int fd = ::open(temporary_.c_str(), O_RDONLY);
-    if (fd >= 0) {
-        synced = ::fsync(fd) == 0;
-        ::close(fd);
+    // A regular file: a temporary file beside the target, created only now, with the mode
+    // (and, where permitted, the owner) of the file it replaces, on disk before the rename
+    // makes it visible (a crash leaves the old file), and removed on any failure.
+    HeldSignals quiet;
+    struct stat old {};
+    const bool replacing = ::stat(target_.c_str(), &old) == 0 && S_ISREG(old.st_mode);
+    int fd = -1;
+    std::string temporary;
+    for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
+        temporary = temporary_name(target_);
+        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST) break;
     }
-    if (!written || !synced || std::rename(temporary_.c_str(), target_.c_str()) != 0) {
-        std::remove(temporary_.c_str());
-        throw std::runtime_error("cannot write output file '" + path_ + "'");
+    if (fd < 0)
+        throw std::runtime_error("cannot create a temporary file beside '" + path_ + "' (" + std::strerror(errno) + ")");
+    if (replacing) {
+        if (::fchown(fd, old.st_uid, old.st_gid) != 0) {
+            // not permitted (another user's file, as a normal user): the mode is kept below
+        }
+        ::fchmod(fd, old.st_mode & 07777);
+    }
+    bool good = write_all(fd, text);
+    int error = errno;
+    if (good && ::fsync(fd) != 0) {
+        good = false;
+        error = errno;
+    }
+    if (::close(fd) != 0 && good) {
+        good = false;
+        error = errno;
+    }
+    if (good && std::rename(temporary.c_str(), target_.c_str()) != 0) {
+        good = false;
+        error = errno;
+    }
+    if (!good) {
+        ::unlink(temporary.c_str());
+        throw std::runtime_error("cannot write output file '" + path_ + "' (" + std::strerror(error) + ")");
     }
     committed_ = true;
 }

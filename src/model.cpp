@@ -1,6 +1,7 @@
 #include "hbf/model.hpp"
 
 #include <algorithm>
+#include <Eigen/Eigenvalues>
 #include <limits>
 #include <complex>
 
@@ -153,6 +154,13 @@ void System::validate() const {
                                    " entries: allowed " + std::to_string(n) + " (the number of DOFs)");
             if (!k.direction.allFinite() || !(k.direction.cwiseAbs().maxCoeff() > 0.0))
                 throw InvalidInput(where + "force_direction must be finite and not all zero");
+            // Its products (w^T K w, w^T M w, the automatic lagrangian_penalty) must neither
+            // underflow nor overflow a double: bounded well inside 1e-154..1e154.
+            const double largest = k.direction.cwiseAbs().maxCoeff();
+            if (!(largest >= 1e-100 && largest <= 1e100))
+                throw InvalidInput(where + "force_direction has largest entry " + format_number(largest) +
+                                   ": allowed 1e-100..1e100 (its products with M and K must be representable; "
+                                   "scale the direction, and divide friction_limit by the same factor)");
         } else {
             if (k.dof < 0 || k.dof >= n)
                 throw InvalidInput(where + "dof = " + std::to_string(k.dof) + " is out of range: allowed 0.." +
@@ -184,13 +192,66 @@ void System::validate() const {
         for (std::size_t b = a + 1; b < contacts.size(); ++b) {
             if (contacts[a].law != FrictionLaw::coulomb || contacts[b].law != FrictionLaw::coulomb) continue;
             const Eigen::VectorXd u = contact_direction(contacts[a]), v = contact_direction(contacts[b]);
-            if (std::abs(std::abs(u.dot(v)) - u.norm() * v.norm()) <= 1e-12 * u.norm() * v.norm())
+            if (std::abs(std::abs(u.dot(v)) - u.norm() * v.norm()) <= 1e-12 * u.norm() * v.norm()) {
+                // v = alpha u: contact b's force f_b v = (alpha f_b) u, so along u the two slip at
+                // |f_a + alpha f_b| <= F_a + |alpha| F_b.
+                const double alpha = std::abs(u.dot(v)) / u.squaredNorm();
                 throw InvalidInput("contact " + std::to_string(b + 1) + ": exact Coulomb along the same direction as "
                                    "contact " + std::to_string(a + 1) + " (the same DOF pair): in stick their two "
                                    "forces are indeterminate; allowed one exact Coulomb contact per direction "
-                                   "(merge them: friction_limit = " +
-                                   format_number(contacts[a].friction_limit + contacts[b].friction_limit) + ")");
+                                   "(merge them: one contact along contact " + std::to_string(a + 1) +
+                                   "'s direction with friction_limit = " + format_number(contacts[a].friction_limit) +
+                                   (alpha == 1.0 ? " + " : " + " + format_number(alpha) + " * ") +
+                                   format_number(contacts[b].friction_limit) + " = " +
+                                   format_number(contacts[a].friction_limit + alpha * contacts[b].friction_limit) + ")");
+            }
         }
+    // More generally, exact Coulomb directions that are linearly dependent (1-ground, 2-ground
+    // and 1-2: w3 = w1 - w2) leave the stuck forces indeterminate (only their resultant W f is
+    // defined), and whether they stick depends on how that resultant is shared: refused, naming
+    // the dependent contacts. Dependent: w_b within the pairwise check's angle (sqrt(2e-12))
+    // of the span of the earlier exact Coulomb directions (Gram-Schmidt, twice; cost N m^2).
+    {
+        std::vector<std::size_t> earlier;
+        Eigen::MatrixXd basis(n, 0);
+        for (std::size_t b = 0; b < contacts.size(); ++b) {
+            if (contacts[b].law != FrictionLaw::coulomb) continue;
+            const Eigen::VectorXd w = contact_direction(contacts[b]);
+            Eigen::VectorXd r = w;
+            for (int pass = 0; pass < 2; ++pass) r -= basis * (basis.transpose() * r);
+            if (r.norm() > std::sqrt(2e-12) * w.norm()) {
+                basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
+                basis.col(basis.cols() - 1) = r / r.norm();
+                earlier.push_back(b);
+                continue;
+            }
+            // w_b = sum_a alpha_a w_a over the earlier ones (least squares); name those it uses.
+            Eigen::MatrixXd a(n, static_cast<Eigen::Index>(earlier.size()));
+            for (std::size_t j = 0; j < earlier.size(); ++j)
+                a.col(static_cast<Eigen::Index>(j)) = contact_direction(contacts[earlier[j]]);
+            const Eigen::VectorXd alpha = a.colPivHouseholderQr().solve(w);
+            const double largest = alpha.cwiseAbs().maxCoeff();
+            std::string names, relation = "w" + std::to_string(b + 1) + " =";
+            int named = 0;
+            for (std::size_t j = 0; j < earlier.size(); ++j) {
+                const double c = alpha(static_cast<Eigen::Index>(j));
+                if (!(std::abs(c) > 1e-9 * largest)) continue;
+                const std::string index = std::to_string(earlier[j] + 1);
+                names += (named > 0 ? ", " : "") + index;
+                const double rounded = std::abs(std::abs(c) - 1.0) <= 1e-12 ? 1.0 : std::abs(c);
+                relation += std::string(named == 0 ? (c < 0.0 ? " -" : " ") : (c < 0.0 ? " - " : " + ")) +
+                            (rounded == 1.0 ? "" : format_number(rounded) + " ") + "w" + index;
+                ++named;
+            }
+            throw InvalidInput("contact " + std::to_string(b + 1) +
+                               ": exact Coulomb along a direction that depends linearly on those of exact Coulomb "
+                               "contacts " + names + " (" + relation + ", w_i the direction of contact i): the " +
+                               std::to_string(named + 1) + " directions have rank " + std::to_string(named) +
+                               ", so in stick their forces are indeterminate (only their resultant is defined); "
+                               "allowed linearly independent exact Coulomb directions (remove one of these contacts, "
+                               "or give it a compliant law such as jenkins)");
+        }
+    }
 }
 
 std::vector<std::string> System::warnings() const {
@@ -412,6 +473,77 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
         out.force(c) = element[static_cast<std::size_t>(c)] *
                        system.contact_direction(contact).cast<Complex>().dot(out.amplitude);
     }
+    return out;
+}
+
+std::string to_string(LinearResonance::Limit limit) {
+    switch (limit) {
+        case LinearResonance::Limit::released: return "released";
+        case LinearResonance::Limit::stuck: return "stuck";
+        case LinearResonance::Limit::rigid: return "rigid";
+    }
+    return "?";
+}
+
+namespace {
+/// The natural frequencies sqrt(lambda) of K phi = lambda M phi (finite, real, lambda > 0).
+std::vector<double> natural_frequencies(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass) {
+    std::vector<double> out;
+    if (stiffness.rows() == 0) return out;
+    Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> qz(stiffness, mass, false);
+    if (qz.info() != Eigen::Success) return out;
+    const double scale = std::max(stiffness.cwiseAbs().maxCoeff(), mass.cwiseAbs().maxCoeff());
+    for (Eigen::Index j = 0; j < qz.alphas().size(); ++j) {
+        const std::complex<double> alpha = qz.alphas()(j);
+        const double beta = qz.betas()(j);
+        // Infinite (a massless direction: beta at rounding) or complex (rounding of a symmetric
+        // pencil; a real pair otherwise cannot occur for M >= 0): not a resonance.
+        if (!(std::abs(beta) > 1e-13 * scale) || std::abs(alpha.imag()) > 1e-8 * std::abs(alpha)) continue;
+        const double lambda = alpha.real() / beta;
+        if (lambda > 0.0 && std::isfinite(lambda)) out.push_back(std::sqrt(lambda));
+    }
+    return out;
+}
+}  // namespace
+
+std::vector<LinearResonance> linear_resonances(const System& system, double omega_low, double omega_high) {
+    std::vector<LinearResonance> out;
+    const int n = system.dofs();
+    if (n == 0 || n > linear_resonance_dof_limit) return out;
+    const Eigen::MatrixXd mass(system.mass), stiffness(system.stiffness);
+    const double h = std::max(1, system.excitation_harmonic);
+    auto add = [&](const std::vector<double>& natural, LinearResonance::Limit limit) {
+        for (const double w : natural) {
+            const double fundamental = w / h;
+            if (fundamental >= omega_low && fundamental <= omega_high) out.push_back({fundamental, limit});
+        }
+    };
+    add(natural_frequencies(stiffness, mass), LinearResonance::Limit::released);
+    Eigen::MatrixXd stuck = stiffness;
+    bool springs = false;
+    Eigen::MatrixXd directions(n, static_cast<Eigen::Index>(system.contacts.size()));
+    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+        const Contact& contact = system.contacts[c];
+        const Eigen::VectorXd w = system.contact_direction(contact);
+        directions.col(static_cast<Eigen::Index>(c)) = w;
+        if (contact.law == FrictionLaw::jenkins || contact.law == FrictionLaw::dahl || contact.law == FrictionLaw::lugre) {
+            stuck += contact.stiffness * w * w.transpose();
+            springs = springs || contact.stiffness > 0.0;
+        }
+    }
+    if (springs) add(natural_frequencies(stuck, mass), LinearResonance::Limit::stuck);
+    if (directions.cols() > 0) {
+        // y = B z with B an orthonormal basis of the null space of W^T: the rigid contacts' subspace.
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(directions);
+        const Eigen::Index rank = qr.rank();
+        if (rank < n) {
+            const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
+            const Eigen::MatrixXd basis = q.rightCols(n - rank);
+            add(natural_frequencies(basis.transpose() * stiffness * basis, basis.transpose() * mass * basis),
+                LinearResonance::Limit::rigid);
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const LinearResonance& a, const LinearResonance& b) { return a.omega < b.omega; });
     return out;
 }
 

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "hbf/error.hpp"
+#include "hbf/io.hpp"
 
 namespace hbf::io {
 
@@ -70,8 +71,11 @@ void write_plot(const std::string& path, const PlotSpec& spec) {
     const fs::path directory = target.has_parent_path() ? target.parent_path() : fs::path(".");
     const std::string suffix = unique_suffix();
     const fs::path image = directory / ("." + target.filename().string() + ".tmp-" + suffix + extension_of(path));
-    const fs::path script = fs::temp_directory_path() / ("hbf-plot-" + suffix + ".gp");
-    const fs::path log = fs::temp_directory_path() / ("hbf-plot-" + suffix + ".log");
+    // Every file of the drawing beside the image (a directory the output policy checked), never
+    // in TMPDIR, which may not exist; none outlives this function, signals are held meanwhile.
+    const HeldSignals quiet;
+    const fs::path script = directory / ("." + target.filename().string() + ".tmp-" + suffix + ".gp");
+    const fs::path log = directory / ("." + target.filename().string() + ".tmp-" + suffix + ".log");
     auto cleanup = [&] {
         std::error_code ignored;
         fs::remove(image, ignored);

@@ -157,9 +157,21 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
             }
     // Relative to the work the force could do on the response's harmonic h, pi h |F| |(c_h, s_h)|
     // (the input work itself vanishes in permanent stick of an undamped structure).
-    const double reach = M_PI * h * s.excitation.norm() * std::hypot(y.row(2 * h - 1).norm(), y.row(2 * h).norm());
+    const double reach = M_PI * h * s.excitation.norm() *
+                         std::max(std::hypot(y.row(2 * h - 1).norm(), y.row(2 * h).norm()), response_floor(s, omega));
     m.energy_error = energy_imbalance(m.input_energy, m.viscous_energy, m.energy, reach);
     return m;
+}
+
+double response_floor(const System& system, double omega) {
+    double stiffness = 0.0, mass = 0.0;
+    for (Eigen::Index i = 0; i < system.stiffness.rows(); ++i) {
+        stiffness = std::max(stiffness, std::abs(system.stiffness.coeff(i, i)));
+        mass = std::max(mass, std::abs(system.mass.coeff(i, i)));
+    }
+    const double scale = std::max(stiffness, omega * omega * mass);
+    const double force = system.excitation.size() > 0 ? system.excitation.cwiseAbs().maxCoeff() : 0.0;
+    return scale > 0.0 && std::isfinite(scale) ? 1e-9 * force / scale : 0.0;
 }
 
 double energy_balance_limit(double tolerance) { return std::max(1e-6, 100.0 * tolerance); }
@@ -199,9 +211,12 @@ std::vector<Peak> output_peaks(HarmonicBalance& hb, const BranchResult& branch, 
     for (std::size_t k = 0; k < points.size(); ++k) y[k] = analyse(points[k]).output_max.front();
     Corrector corrector(hb, options);
     std::vector<Peak> peaks;
+    double weight = 0.0;  // |c|_1
+    for (const auto& term : output.terms()) weight += std::abs(term.second);
     for (std::size_t k = 1; k + 1 < points.size(); ++k) {
         const SolutionPoint &a = points[k - 1], &m = points[k], &b = points[k + 1];
         if (a.branch != m.branch || b.branch != m.branch || !(y[k] > y[k - 1] && y[k] >= y[k + 1])) continue;
+        if (y[k] <= weight * response_floor(hb.system(), m.omega)) continue;  // rounding around zero, not a peak
         Peak peak{m.omega, y[k], m.branch, false};
         const bool monotone = (m.omega - a.omega) * (b.omega - m.omega) > 0.0 && m.kind != PointKind::fold &&
                               b.kind != PointKind::fold;

@@ -108,14 +108,8 @@ Eigen::MatrixXcd Receptance::precise_residual(int k, double omega, const Eigen::
     return out;
 }
 
-Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solution) {
-    if (k < 0) throw InvalidInput("harmonic k = " + std::to_string(k) + " is out of range: allowed k >= 0");
-    require_positive(omega, "w", "excitation frequency");
-    require_finite(omega, "w", "excitation frequency");
-    if (modes() > 0) return solve_modal(k, omega, load, solution);
-    Harmonic h;
-    h.k = k;
-    h.omega = omega;
+bool Receptance::direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, Eigen::MatrixXcd& x,
+                              Eigen::MatrixXcd& dx) {
     const double kw = k * omega;
     // Z_k and dZ_k/domega = -2 k^2 omega M + i k C, on the union pattern.
     {
@@ -127,23 +121,12 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solu
     }
     const SparseComplex& z = z_;
     const SparseComplex& dz = dz_;
-    auto singular = [&] {
-        return "singular dynamic stiffness Z_k = K - (k w)^2 M + i k w C at harmonic k = " + std::to_string(k) +
-               " at w = " + format_number(omega) +
-               " (an undamped resonance hit exactly, or a rigid-body mode that no contact holds)";
-    };
-    // Columns: W, then F; one solve for all of them. Small models use a dense LU (no sparse
-    // bookkeeping), large ones a sparse LU.
-    const int nc = contacts();
-    Eigen::MatrixXcd rhs(dofs(), nc + (load ? 1 : 0));
-    rhs.leftCols(nc) = directions_.cast<Complex>();
-    if (load) rhs.col(nc) = excitation_.cast<Complex>();
+    // Small models use a dense LU (no sparse bookkeeping), large ones a sparse LU.
     // Two steps of iterative refinement with the residual b - Z x in long double, Z's entries
     // K - (k w)^2 M + i k w C formed in long double too: a finite-element K is badly
     // conditioned (~N^4 for a beam) and its entries reach 1e10, so Z rounded to double alone
     // moves a lightly damped resonance by ~1e-7 relative; refined, the solution is accurate to
     // working precision (mixed-precision refinement), and so is the condensed residual.
-    Eigen::MatrixXcd x, dx;
     auto refine = [&](const auto& solve) {
         for (int step = 0; step < 2 && x.allFinite(); ++step) x += solve(precise_residual(k, omega, rhs, x));
     };
@@ -156,21 +139,70 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solu
     } else {
         Eigen::SparseLU<SparseComplex>& lu = *lu_;
         lu.factorize(z);
-        if (lu.info() != Eigen::Success) {
-            h.message = singular();
-            return h;
-        }
+        if (lu.info() != Eigen::Success) return false;
         x = lu.solve(rhs);
         refine([&](const Eigen::MatrixXcd& r) { return Eigen::MatrixXcd(lu.solve(r)); });
         if (x.allFinite()) dx = -Eigen::MatrixXcd(lu.solve(Eigen::MatrixXcd(dz * x)));
     }
     // A factorisation that succeeded on a numerically singular Z_k shows in the backward error
     // |Z x - b| / (|Z| |x| + |b|) (unit-free: FE stiffnesses reach 1e10, displacements 1e-6).
+    if (!x.allFinite() || !dx.allFinite()) return false;
     const double z_size = Eigen::Map<const Eigen::VectorXcd>(z.valuePtr(), z.nonZeros()).cwiseAbs().maxCoeff();
     const double scale = z_size * x.cwiseAbs().maxCoeff() + rhs.cwiseAbs().maxCoeff();
-    if (!x.allFinite() || !dx.allFinite() || !((z * x - rhs).cwiseAbs().maxCoeff() <= 1e-8 * scale)) {
-        h.message = "numerically " + singular();
-        return h;
+    return (z * x - rhs).cwiseAbs().maxCoeff() <= 1e-8 * scale;
+}
+
+Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solution) {
+    if (k < 0) throw InvalidInput("harmonic k = " + std::to_string(k) + " is out of range: allowed k >= 0");
+    require_positive(omega, "w", "excitation frequency");
+    require_finite(omega, "w", "excitation frequency");
+    if (modes() > 0) return solve_modal(k, omega, load, solution);
+    Harmonic h;
+    h.k = k;
+    h.omega = omega;
+    auto singular = [&] {
+        return "singular dynamic stiffness Z_k = K - (k w)^2 M + i k w C at harmonic k = " + std::to_string(k) +
+               " at w = " + format_number(omega) +
+               " (an undamped resonance hit exactly, or a rigid-body mode that no contact holds)";
+    };
+    // Columns: W, then F; one solve for all of them.
+    const int nc = contacts();
+    Eigen::MatrixXcd rhs(dofs(), nc + (load ? 1 : 0));
+    rhs.leftCols(nc) = directions_.cast<Complex>();
+    if (load) rhs.col(nc) = excitation_.cast<Complex>();
+    Eigen::MatrixXcd x, dx;
+    Eigen::VectorXcd pole;  // the F column's pole term where the contacts do not see it (below)
+    if (!direct_solve(k, omega, rhs, x, dx)) {
+        // An undamped resonance of a part of the structure that no contact sees, hit exactly
+        // (two uncoupled oscillators, one with a contact: the contacts' shift regularises only
+        // what they see). G_k and W^T Z_k^-1 F are smooth through it: Z_k^-1 = v v^T / mu(w) +
+        // a regular part with W^T v = 0. Solved at w (1 -+ delta), the pole's term is odd in the
+        // offset and cancels in the mean (error ~delta^2 of the regular part); a column the pole
+        // does not touch changes by ~delta there, one it touches by ~1/delta. A pole in the W
+        // columns, or one the contacts see, is a singular Z_k for the contacts: a status. A
+        // pole in the F column the contacts do not see: the response of the DOFs it moves is
+        // unbounded there (those entries of solution and output_load infinite), the contacts'
+        // motion is not.
+        const double delta = 1e-6;
+        Eigen::MatrixXcd below, d_below, above, d_above;
+        if (k == 0 || !direct_solve(k, omega * (1.0 - delta), rhs, below, d_below) ||
+            !direct_solve(k, omega * (1.0 + delta), rhs, above, d_above)) {
+            h.message = "numerically " + singular();
+            return h;
+        }
+        x = 0.5 * (below + above);
+        dx = 0.5 * (d_below + d_above);
+        for (Eigen::Index c = 0; c < rhs.cols(); ++c) {
+            const Eigen::VectorXcd jump = above.col(c) - below.col(c);
+            const double size = jump.cwiseAbs().maxCoeff();
+            if (!(size > 1e-3 * x.col(c).cwiseAbs().maxCoeff())) continue;  // no pole in this column
+            const double seen = (directions_.transpose().cast<Complex>() * jump).cwiseAbs().maxCoeff();
+            if (c < nc || !(seen <= 1e-8 * size * directions_.cwiseAbs().maxCoeff())) {
+                h.message = "numerically " + singular();
+                return h;
+            }
+            pole = jump;
+        }
     }
     // Sensitivities (above): d(Z^-1 b)/domega = -Z^-1 (dZ) Z^-1 b.
     const Eigen::MatrixXcd wt = directions_.transpose().cast<Complex>();
@@ -181,6 +213,16 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solu
         h.contact_load = wt * x.col(nc);
         h.contact_load_omega = wt * dx.col(nc);
         h.output_load = outputs_.cast<Complex>() * x.col(nc);
+        if (pole.size() > 0) {
+            const Complex infinity(std::numeric_limits<double>::infinity(), 0.0);
+            const double size = pole.cwiseAbs().maxCoeff();
+            const Eigen::VectorXcd output_pole = outputs_.cast<Complex>() * pole;
+            for (Eigen::Index i = 0; i < pole.size(); ++i)
+                if (std::abs(pole(i)) > 1e-8 * size) x(i, nc) = infinity;
+            for (Eigen::Index i = 0; i < output_pole.size(); ++i)
+                if (std::abs(output_pole(i)) > 1e-8 * size * outputs_.row(i).cwiseAbs().maxCoeff())
+                    h.output_load(i) = infinity;
+        }
     }
     h.solution = std::move(x);
     h.ok = true;

@@ -18,6 +18,13 @@ WORK=$(mktemp -d "${TMPDIR:-/tmp}/hbf-hostile.XXXXXX")
 chmod 755 "$WORK"
 trap 'rm -rf "$WORK"' EXIT
 who=$(id -un)
+# 1 GB of address space per case; a sanitizer build reserves terabytes of shadow memory and
+# cannot start under any limit, so there the limit is lifted (said once).
+MEMORY_LIMIT=1048576
+if ! { (ulimit -v "$MEMORY_LIMIT" && exec "$HBF" --version) >/dev/null 2>&1; } 2>/dev/null; then
+  echo "hostile inputs: $HBF does not start under ulimit -v (a sanitizer build?): no memory limit" >&2
+  MEMORY_LIMIT=unlimited
+fi
 cases=0
 failures=0
 
@@ -52,9 +59,11 @@ expect() {
   fi
   local before after got
   before=$(state "$dir")
-  (cd "$dir" && timeout 120 "$HBF" "$@" >"$WORK/out" 2>"$WORK/err" </dev/null)
+  # Bounded: 1 GB of address space (where the binary can run under it) and 60 s per case (issue 28).
+  (cd "$dir" && ulimit -v "$MEMORY_LIMIT" && timeout 60 "$HBF" "$@" >"$WORK/out" 2>"$WORK/err" </dev/null)
   got=$?
   after=$(state "$dir")
+  [[ $got -ne 124 ]] || fail "timed out (60 s)"
   [[ $got -eq $code ]] || fail "exit code $got, expected $code"
   if [[ -n $text ]] && ! grep -qF -- "$text" "$WORK/err"; then fail "standard error lacks '$text'"; fi
   if [[ $code -eq 2 && -s $WORK/out ]]; then fail "exit 2 with output on stdout"; fi
@@ -107,6 +116,12 @@ expect 2 "--xi" '' frf --xi 0.1 --out x.csv
 expect 2 "--wb" '' frf --law coulomb --wb 0.4 --out x.csv
 expect 2 "--eps" '' frf --law dahl --eps 0.1 --out x.csv
 expect 2 "--mu-static" '' frf --law lugre --mu-static 1e13 --out x.csv
+# Extreme parameters whose stuck resonance is unbounded (or above the cap): capped, exit 3, never
+# stepped over by a large step (issue 28: each gave 10 points and exit 0).
+expect 3 "amplitude_cap" '' frf --quiet --r 1e-12
+expect 3 "amplitude_cap" '' frf --quiet --law lugre --xi 1e12
+expect 3 "amplitude_cap" '' frf --quiet --law lugre --viscous 1e12
+expect 3 "amplitude_cap" '' frf --quiet --r 1e-4 --at 0.99,0.999
 
 # timeint, loop, analytic
 for v in 0 -1 nan; do expect 2 "--w" '' timeint --w "$v" --out x.csv; done
@@ -166,6 +181,18 @@ law = \"coulomb\"
 friction_limit = 0.1'; sed -i 's/law = \"dahl\"/law = \"coulomb\"/; /stiffness = 0.016/d' s.toml" frf --config s.toml --out x.csv
 expect 2 "output.report" "write_system s.toml '[output]
 report = [1, 1]'" frf --config s.toml --out x.csv
+# Issue 28: three exact Coulomb contacts with dependent directions (1-ground, 2-ground, 1-2)
+# are refused up front naming them, in frf and timeint alike.
+DEPENDENT='printf "[structure]\nmass = [1.0, 1.0]\nstiffness = [[2.0, -1.0], [-1.0, 2.0]]\nexcitation = [1.0, 0.0]\n" > s.toml
+for pair in "dof = 1" "dof = 2" "dof = 1\nother_dof = 2"; do printf "[[contact]]\n$pair\nlaw = \"coulomb\"\nfriction_limit = 0.3\n" >> s.toml; done'
+expect 2 "contacts 1, 2 (w3 = w1 - w2" "$DEPENDENT" frf --config s.toml --out x.csv
+expect 2 "contacts 1, 2 (w3 = w1 - w2" "$DEPENDENT" timeint --w 1 --config s.toml --out x.csv
+# Issue 28: two uncoupled undamped oscillators (K = diag(1, 4)), exact Coulomb on DOF 1 only:
+# harmonic 4 hits DOF 2's resonance exactly at wmin = 0.5 (the condensed start failed with
+# "residual inf", exit 1); DOF 2's own resonance w = 2 inside the band is unbounded: capped.
+UNCOUPLED='printf "[structure]\nmass = [1.0, 1.0]\nstiffness = [[1.0, 0.0], [0.0, 4.0]]\nexcitation = [0.2, 1.0]\n[[contact]]\ndof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.3\n" > s.toml'
+expect 0 "" "$UNCOUPLED" frf --quiet --config s.toml --wmin 0.5 --wmax 1.8
+expect 3 "amplitude_cap" "$UNCOUPLED" frf --quiet --config s.toml --wmin 1.5 --wmax 2.5
 expect 2 "output.report" "write_system s.toml '[output]
 report = [3]'" frf --config s.toml --out x.csv
 expect 0 "negative damping" "write_system s.toml; sed -i '4i damping = [[-0.01, 0.0], [0.0, 0.0]]' s.toml" frf --config s.toml --dry-run --out x.csv
@@ -225,6 +252,44 @@ if [[ $(id -u) -ne 0 ]]; then
   expect 2 "cannot be read" 'write_system s.toml; chmod 000 s.toml' frf --config s.toml --out x.csv
 fi
 
+# ---- outputs that are inputs, or one new file spelled twice (issue 28) -------------------
+# An output may not be any input of the run: the config, a Matrix Market file it names, through
+# a symlink or a hard link; in every command that reads a config.
+MTXK="write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 1.1\n2 1 -0.1\n2 2 0.1\n' > k.mtx"
+expect 2 "an input of this run" 'write_system s.toml' frf --config s.toml --out s.toml
+expect 2 "an input of this run" 'write_system s.toml; ln -s s.toml link.toml' frf --config s.toml --out link.toml
+expect 2 "an input of this run" 'write_system s.toml; ln -s s.toml link.toml' frf --config link.toml --summary s.toml --out x.csv
+expect 2 "an input of this run" 'write_system s.toml; ln s.toml hard.toml' frf --config s.toml --out hard.toml
+expect 2 "is structure.stiffness" "$MTXK" frf --config s.toml --summary k.mtx --out x.csv
+expect 2 "is structure.stiffness" "$MTXK; ln k.mtx hard.mtx" frf --config s.toml --out hard.mtx
+expect 2 "an input of this run" 'write_system s.toml' timeint --config s.toml --w 1 --out s.toml
+expect 2 "is structure.stiffness" "$MTXK" timeint --config s.toml --w 1 --out k.mtx
+expect 2 "an input of this run" 'write_system s.toml' loop --config s.toml --w 1 --out s.toml
+expect 2 "an input of this run" 'write_system s.toml' map --config s.toml --param mu --values 0.2 --out s.toml
+expect 2 "an input of this run" 'write_system s.toml' map --config s.toml --param mu --values 0.2 --out x.csv --summary s.toml
+expect 2 "an input of this run" 'write_system s.toml' optimize --config s.toml --out s.toml
+# Two outputs naming one new file, spelled differently.
+expect 2 "name the same file" '' frf "${FAST[@]}" --out o.csv --summary ./o.csv
+expect 2 "name the same file" 'mkdir sub' frf "${FAST[@]}" --out o.csv --summary sub/../o.csv
+expect 2 "name the same file" '' frf "${FAST[@]}" --out o.csv --summary /proc/self/cwd/o.csv
+expect 2 "name the same file" 'ln -s . here' frf "${FAST[@]}" --out o.csv --summary here/o.csv
+expect 2 "name the same file" '' frf "${FAST[@]}" --plot p.png --overlay-timeint 3 --overlay-out ./o.csv --out o.csv
+# A FIFO without a reader: refused before the work (it would block forever after it).
+expect 2 "FIFO without a reader" 'mkfifo f' frf "${FAST[@]}" --out f
+expect 2 "FIFO without a reader" 'mkfifo f' timeint --w 1 --out f
+expect 2 "FIFO without a reader" 'mkfifo f' frf "${FAST[@]}" --dry-run --out f
+
+# ---- numbers in files are read whole (issue 28) ----------------------------------------
+K1="write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 %s\n2 1 -0.1\n2 2 0.1\n'"
+for v in '1,1' '1.1abc' '0x1.1p0' '1.1.1' 'D1'; do
+  expect 2 "k.mtx:3: field 3 (value) = '$v' is not a decimal number" "$K1 '$v' > k.mtx" frf --config s.toml --out x.csv
+done
+for v in nan inf 1e999; do expect 2 "k.mtx:3: field 3 (value) = '$v' is not finite" "$K1 '$v' > k.mtx" frf --config s.toml --out x.csv; done
+expect 2 "k.mtx:2: 4 fields: expected 3" "write_system s.toml; $MTX; printf '%%%%MatrixMarket matrix coordinate real symmetric\n2 2 3 9\n1 1 1.1\n2 1 -0.1\n2 2 0.1\n' > k.mtx" frf --config s.toml --out x.csv
+expect 2 "k.mtx:3: 4 fields: expected 3" "$K1 '1.1 7' > k.mtx" frf --config s.toml --out x.csv
+expect 0 "" "$K1 '1.1D0' > k.mtx" frf --config s.toml --quiet --harmonics 3 --out /dev/null
+for v in '1,5' '1.1abc' '0x1p0' '1.0DD1'; do expect 2 "--mu = '$v' is not a decimal number" '' frf --mu "$v" --out x.csv; done
+
 # ---- devices --------------------------------------------------------------------------
 # Legal: written in place, the device survives (the directory is unchanged: nothing in it).
 expect 0 "" '' frf "${FAST[@]}" --quiet --out /dev/null --summary /dev/null
@@ -233,7 +298,91 @@ expect 1 "/dev/full" '' analytic --out /dev/full
 expect 1 "/dev/full" '' frf "${FAST[@]}" --quiet --out /dev/full
 expect 2 "--plot" '' frf "${FAST[@]}" --out /dev/null --summary /dev/null --plot /dev/null
 expect 0 "dry run" '' frf "${FAST[@]}" --dry-run --out x.csv --summary s.json
-expect 2 "dry-run was given a disallowed flag override" '' frf "${FAST[@]}" --dry-run --dry-run=0 --out x.csv
+expect 2 "--dry-run takes no value" '' frf "${FAST[@]}" --dry-run --dry-run=0 --out x.csv
+
+# ---- messages name the parameter, and their advice is right (issue 28) ------------------
+expect 2 "s.toml:13: key 'solver.time_samples': 15 is out of range" "write_system s.toml '[solver]
+harmonics = 10
+time_samples = 15'" frf --config s.toml --out x.csv
+FD="write_system s.toml; sed -i 's/^dof = 1\$/force_direction = [1e-300, -1e-300]/; /^other_dof/d; s/law = \"dahl\"/law = \"coulomb\"/; /stiffness = 0.016/d' s.toml"
+expect 2 "force_direction has largest entry 1e-300: allowed 1e-100..1e100" "$FD" frf --config s.toml --out x.csv
+PAR="write_system s.toml '[[contact]]
+force_direction = [-2.0, 2.0]
+law = \"coulomb\"
+friction_limit = 0.2'; sed -i 's/^dof = 1\$/force_direction = [1.0, -1.0]/; /^other_dof/d; s/law = \"dahl\"/law = \"coulomb\"/; /stiffness = 0.016/d' s.toml"
+expect 2 "friction_limit = 0.2 + 2 * 0.2 = 0.6" "$PAR" frf --config s.toml --out x.csv
+expect 2 "--at = '1,1,1' lists w = 1 more than once" '' frf "${FAST[@]}" --at 1,1,1 --out x.csv
+
+# ---- bounded time and memory on allowed inputs (issue 28) -------------------------------
+# Every case above and below runs under 1 GB of address space and 60 s (expect).
+expect 0 "" '' frf --wmin 1e-12 --wmax 1e-11 --quiet --out /dev/null
+expect 0 "" '' frf --wmin 1e-6 --wmax 1e-5 --quiet --out /dev/null
+expect 2 "Taylor steps" '' frf --wmin 1e-12 --wmax 1e-11 --exact on --out x.csv
+expect 2 "Taylor steps" '' timeint --w 1e-9 --method exact --out x.csv
+expect 2 "Taylor steps" 'write_system s.toml; sed -i "s/law = \"dahl\"/law = \"jenkins\"/; s/stiffness = 0.016/stiffness = 1e12/" s.toml' frf --config s.toml --exact on --out x.csv
+MANY="write_system s.toml; for i in \$(seq 1000); do printf '[[contact]]\ndof = 1\nlaw = \"dahl\"\nfriction_limit = 0.2\nstiffness = 0.016\n' >> s.toml; done"
+expect 2 "harmonic-balance unknowns" "$MANY" frf --config s.toml --out x.csv
+expect 2 "harmonic-balance unknowns" "$MANY" frf --config s.toml --dry-run --out x.csv
+
+# ---- signals, limits, modes and TMPDIR (issue 28): no temporary file is ever left -------
+# manual NAME: a fresh directory for a case whose run is not a plain `expect`.
+manual() {
+  cases=$((cases + 1))
+  ARGS=("$1")
+  M="$WORK/case$cases"
+  mkdir -p "$M" && chmod 777 "$M"
+  : >"$WORK/err"
+}
+leftovers() { find "$M" -name '*.tmp*' | head -3; }
+# SIGTERM and SIGINT during the computation: nothing is written, no temporary file is left.
+for sig in TERM INT HUP; do
+  manual "SIG$sig during hbf timeint"
+  (cd "$M" && exec "$HBF" timeint --wmin 0.5 --wmax 1.6 --points 400 --out o.csv 2>"$WORK/err") &
+  pid=$!
+  sleep 1
+  kill -s "$sig" "$pid" 2>/dev/null
+  { wait "$pid"; } 2>/dev/null
+  [[ -z $(leftovers) ]] || fail "SIG$sig left $(leftovers)"
+  [[ ! -e $M/o.csv ]] || fail "SIG$sig: o.csv written by an interrupted run"
+done
+# A file-size limit (SIGXFSZ): the write fails (exit 1), the old file and no temporary remain.
+manual "ulimit -f"
+echo "old" >"$M/o.csv"
+(cd "$M" && ulimit -f 1 && "$HBF" frf "${FAST[@]}" --quiet --out o.csv 2>"$WORK/err")
+got=$?
+[[ $got -eq 1 ]] || fail "ulimit -f: exit $got, expected 1"
+grep -qF "cannot write output file 'o.csv'" "$WORK/err" || fail "ulimit -f: no message naming o.csv"
+[[ $(cat "$M/o.csv") == old ]] || fail "ulimit -f: o.csv changed"
+[[ -z $(leftovers) ]] || fail "ulimit -f left $(leftovers)"
+# A replaced output keeps its mode.
+manual "mode 600 kept"
+echo "old" >"$M/o.csv"
+chmod 600 "$M/o.csv"
+(cd "$M" && "$HBF" frf "${FAST[@]}" --quiet --out o.csv 2>"$WORK/err") || fail "mode: the run failed"
+[[ $(stat -c %a "$M/o.csv") == 600 ]] || fail "mode: o.csv is $(stat -c %a "$M/o.csv") after the run, was 600"
+# TMPDIR that does not exist: the plot and the CSV are written (nothing goes to TMPDIR).
+manual "TMPDIR=/nonexistent"
+(cd "$M" && TMPDIR=/nonexistent "$HBF" frf "${FAST[@]}" --quiet --plot p.png --out o.csv 2>"$WORK/err")
+got=$?
+[[ $got -eq 0 && -s $M/o.csv && -s $M/p.png ]] || fail "TMPDIR=/nonexistent: exit $got, o.csv or p.png missing"
+[[ -z $(leftovers) && -z $(find "$M" -name '.*.tmp*') ]] || fail "TMPDIR=/nonexistent left temporary files"
+# /dev/tty without a controlling terminal: refused before the work.
+if command -v setsid >/dev/null; then
+  manual "/dev/tty without a terminal"
+  (cd "$M" && setsid "$HBF" frf "${FAST[@]}" --out /dev/tty </dev/null >/dev/null 2>"$WORK/err")
+  got=$?
+  [[ $got -eq 2 ]] || fail "/dev/tty: exit $got, expected 2"
+  grep -qF -- "--out = '/dev/tty' (a character device) cannot be opened" "$WORK/err" || fail "/dev/tty: message"
+fi
+# A FIFO with a reader gets the whole CSV (held open from the check to the write).
+manual "FIFO with a reader"
+mkfifo "$M/f"
+cat "$M/f" >"$M/read.csv" &
+reader=$!
+(cd "$M" && "$HBF" frf "${FAST[@]}" --quiet --out f 2>"$WORK/err") || fail "FIFO: the run failed"
+wait "$reader"
+(cd "$M" && "$HBF" frf "${FAST[@]}" --quiet --out direct.csv 2>>"$WORK/err")
+cmp -s "$M/read.csv" "$M/direct.csv" || fail "FIFO: the reader did not get the CSV"
 
 echo "hostile inputs [$who]: $cases cases, $failures failed"
 status=$((failures > 0))

@@ -119,8 +119,10 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
     shifted.evaluate(Eigen::VectorXd::Zero(shifted.unknowns()), 1.0, r);  // w = 1: the mass on k1 alone
     CHECK(r.allFinite());
     // A mode that no contact moves, undamped and hit exactly by harmonic 1 (DOF 1 alone on its
-    // spring, the contact on DOF 2): the residual is NaN with the reason, never a number
-    // passed off as a solution.
+    // spring, the contact on DOF 2): the contacts do not see it, so their residual is regular
+    // (issue 28: it was NaN, and the branch could not start); the DOF it moves is unbounded
+    // there (F excites it): infinite in the recovered response and its amplitude bound, never
+    // a number passed off as a solution.
     System apart;
     apart.mass = sparse(Eigen::Matrix2d::Identity());
     apart.stiffness = sparse(Eigen::Vector2d(1.0, 4.0).asDiagonal());
@@ -133,8 +135,66 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
     apart.contacts = {c};
     HarmonicBalance hb(apart, HarmonicBalanceOptions{3, 0, Formulation::condensed});
     hb.evaluate(Eigen::VectorXd::Zero(hb.unknowns()), 1.0, r);
-    CHECK(r.hasNaN());
-    CHECK_THAT(hb.structure_failure(), Catch::Contains("singular dynamic stiffness") && Catch::Contains("k = 1"));
+    CHECK(r.allFinite());
+    CHECK(hb.structure_failure().empty());
+    const Eigen::MatrixXd y = hb.dofs(Eigen::VectorXd::Zero(hb.unknowns()), 1.0);
+    CHECK(std::isinf(y(1, 0)));  // DOF 1's cosine coefficient of harmonic 1
+    CHECK(y.col(1).allFinite());
+    CHECK(std::isinf(hb.amplitude_bound(Eigen::VectorXd::Zero(hb.unknowns()), 1.0)));
+}
+
+TEST_CASE("Uncoupled oscillators, one with a contact: condensed equals full and y2 = F2 / (k2 - m2 w^2)",
+          "[condensed][resonances]") {
+    // Issue 28: M = I, K = diag(1, 4), undamped, exact Coulomb (0.3) from DOF 1 to the ground.
+    // Harmonic 4 hits DOF 2's resonance 2 exactly at w = 0.5: the condensed start failed
+    // ("residual inf", exit 1) while the full formulation computed the branch. DOF 2 is a free
+    // linear oscillator: its harmonic 1 is F2 / (k2 - w^2), its other harmonics zero. F1 = 0.2
+    // is below 0.3: DOF 1 stays stuck (zero).
+    System s;
+    s.mass = sparse(Eigen::Matrix2d::Identity());
+    s.stiffness = sparse(Eigen::Vector2d(1.0, 4.0).asDiagonal());
+    s.damping = SparseMatrix(2, 2);
+    s.excitation = Eigen::Vector2d(0.2, 1.0);
+    Contact c;
+    c.dof = 0;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = 0.3;
+    s.contacts = {c};
+    const std::vector<double> omegas = {0.5, 0.9, 1.3, 1.7};
+    const auto condensed = sampled_dofs(s, {5, 0, Formulation::condensed}, omegas, 0.5, 1.8);
+    const auto full = sampled_dofs(s, {5, 0, Formulation::full}, omegas, 0.5, 1.8);
+    for (std::size_t k = 0; k < omegas.size(); ++k) {
+        INFO("w = " << omegas[k]);
+        CHECK(relative_error(condensed[k], full[k]) < 1e-9);
+        const double closed = 1.0 / (4.0 - omegas[k] * omegas[k]);
+        CHECK(std::abs(condensed[k](1, 1) - closed) < 1e-10 * closed);
+        CHECK(condensed[k].col(0).cwiseAbs().maxCoeff() < 1e-10);
+    }
+    // DOF 2's resonance w = 2 inside the band: the response is unbounded there; both
+    // formulations cap on each flank (never a step across it, never a failed start).
+    for (Formulation f : {Formulation::condensed, Formulation::full}) {
+        HarmonicBalance hb(s, {5, 0, f});
+        ContinuationOptions o;
+        o.omega_start = 1.5;
+        o.omega_end = 2.5;
+        const BranchResult b = continue_branch(hb, o);
+        INFO(to_string(f) << ": " << b.summary());
+        CHECK(b.status == ContinuationStatus::amplitude_cap);
+        std::vector<double> caps;
+        for (const SolutionPoint& p : b.points)
+            if (p.kind == PointKind::cap) caps.push_back(p.omega);
+        REQUIRE(caps.size() == 2);
+        CHECK(caps[0] < 2.0);
+        CHECK(caps[1] > 2.0);
+        CHECK(caps[1] - caps[0] < 1e-3);
+        // Every point below the cap: the closed form (amplitude 1 / |4 - w^2|).
+        for (const SolutionPoint& p : b.points) {
+            const Eigen::MatrixXd y = hb.dofs(p.x, p.omega);
+            if (p.kind == PointKind::cap || !y.allFinite()) continue;
+            const double closed = 1.0 / (4.0 - p.omega * p.omega);
+            CHECK(std::abs(y(1, 1) - closed) < 1e-8 * std::abs(closed));
+        }
+    }
 }
 
 TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples on the shipped systems", "[condensed]") {

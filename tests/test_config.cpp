@@ -204,6 +204,66 @@ TEST_CASE("Matrix Market: coordinate and array formats, general and symmetric", 
     CHECK_THROWS_WITH(hbf::io::read_matrix_market("/dev/zero"), Catch::Contains("not a regular file"));
 }
 
+TEST_CASE("Matrix Market fields are read whole: the Fortran D exponent is the number it means, anything else "
+          "is refused by file, line and field", "[config]") {
+    TempDir dir;
+    // The same 2 x 2 matrix with E and with Fortran D/d exponents (as FE codes print them).
+    const fs::path e = dir.path / "e.mtx", d = dir.path / "d.mtx";
+    write_file(e, "%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 1.0E-1\n1 2 -2.5e+0\n2 2 3.0E2\n");
+    write_file(d, "%%MatrixMarket matrix coordinate real general\n2 2 3\n1 1 1.0D-1\n1 2 -2.5d+0\n2 2 3.0D2\n");
+    const Eigen::MatrixXd me(hbf::io::read_matrix_market(e.string())), md(hbf::io::read_matrix_market(d.string()));
+    CHECK(md(0, 0) == 0.1);
+    CHECK(md(0, 1) == -2.5);
+    CHECK(md(1, 1) == 300.0);
+    CHECK(md == me);
+    // hbf frf on the absorber whose K is read with D exponents writes the FRF of its E twin.
+    write_file(dir.path / "ke.mtx", "%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 1.1E0\n2 1 -1.0E-1\n2 2 1.0E-1\n");
+    write_file(dir.path / "kd.mtx", "%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 1.1D0\n2 1 -1.0D-1\n2 2 1.0d-1\n");
+    for (const char* k : {"ke", "kd"})
+        write_file(dir.path / (std::string(k) + ".toml"),
+                   "[structure]\nmass = [1.0, 0.1]\nstiffness = \"" + std::string(k) + ".mtx\"\nexcitation = [0.5, 0.0]\n"
+                   "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"dahl\"\nfriction_limit = 0.2\nstiffness = 0.016\n");
+    const Result with_e = run_hbf("frf --quiet --config '" + (dir.path / "ke.toml").string() + "'", dir);
+    const Result with_d = run_hbf("frf --quiet --config '" + (dir.path / "kd.toml").string() + "'", dir);
+    REQUIRE(with_e.exit_code == 0);
+    CHECK(with_d.exit_code == 0);
+    CHECK(parse_csv(with_e.out).size() > 50);
+    CHECK(with_d.out == with_e.out);
+    // Refused, with the file, the line and the field: a decimal comma, trailing characters,
+    // hexadecimal, non-finite values (named as such), a size line or an entry with an extra
+    // field, an index that is not an integer, a value that is not one in an integer file.
+    struct Case {
+        std::string text;
+        std::vector<std::string> expected;
+    };
+    const std::string head = "%%MatrixMarket matrix coordinate real general\n";
+    const std::vector<Case> cases = {
+        {head + "2 2 1\n1 1 1,5\n", {"bad.mtx:3", "field 3 (value) = '1,5'", "not a decimal number"}},
+        {head + "2 2 1\n1 1 1.1abc\n", {"bad.mtx:3", "'1.1abc'", "not a decimal number"}},
+        {head + "2 2 1\n1 1 0x1.1p0\n", {"bad.mtx:3", "'0x1.1p0'", "not a decimal number"}},
+        {head + "2 2 1\n1 1 nan\n", {"bad.mtx:3", "'nan' is not finite"}},
+        {head + "2 2 1\n1 1 -inf\n", {"bad.mtx:3", "'-inf' is not finite"}},
+        {head + "2 2 1\n1 1 1e999\n", {"bad.mtx:3", "'1e999' is not finite (it overflows"}},
+        {head + "2 2 1 7\n1 1 1.0\n", {"bad.mtx:2", "4 fields: expected 3", "size line"}},
+        {head + "2 2 1\n1 1 1.0 2.0\n", {"bad.mtx:3", "4 fields: expected 3", "entry 1"}},
+        {head + "2 2 1\n1.0 1 1.0\n", {"bad.mtx:3", "field 1 (row) = '1.0'", "not an integer"}},
+        {"%%MatrixMarket matrix coordinate integer general\n2 2 1\n1 1 1.5\n", {"bad.mtx:3", "'1.5'", "integer"}},
+        {"%%MatrixMarket matrix array real general\n1 1\n1.0 2.0\n", {"bad.mtx:3", "2 fields: expected 1"}},
+        {"%%MatrixMarket matrix coordinate real general extra\n1 1 1\n1 1 1.0\n", {"bad.mtx:1", "expected '%%MatrixMarket"}},
+    };
+    const fs::path bad = dir.path / "bad.mtx";
+    for (const Case& c : cases) {
+        write_file(bad, c.text);
+        INFO(c.text);
+        try {
+            (void)hbf::io::read_matrix_market(bad.string());
+            FAIL("accepted");
+        } catch (const hbf::InvalidInput& error) {
+            for (const std::string& part : c.expected) CHECK_THAT(error.what(), Catch::Contains(part));
+        }
+    }
+}
+
 TEST_CASE("Config: force_direction contacts and vector excitation from Matrix Market, massless DOFs accepted", "[config]") {
     TempDir dir;
     write_file(dir.path / "f.mtx", "%%MatrixMarket matrix coordinate real general\n3 1 2\n1 1 1.0\n3 1 0.5\n");

@@ -471,3 +471,74 @@ TEST_CASE("The last point before each amplitude cap is marked cap and the caps b
     for (const SolutionPoint& q : b.points)
         if (q.kind != PointKind::cap) CHECK(hb.amplitude_bound(q.x, q.omega) <= o.max_amplitude);
 }
+
+TEST_CASE("linear_resonances: the absorber's released, stuck and rigid limits against the closed forms",
+          "[continuation][resonances]") {
+    // det(K - w^2 M) / r of the absorber with the coupling stiffness r s (s = wa^2 released,
+    // wa^2 + wb^2 with the stuck spring r wb^2): w^4 - (1 + s (1 + r)) w^2 + s = 0. Rigid
+    // (y1 = y2): one mass 1 + r on the spring 1, w = 1 / sqrt(1 + r).
+    AbsorberParameters p;  // r = 0.1, wa = 1, wb = 0.4
+    const double r = p.mass_ratio;
+    auto roots = [r](double s) {
+        const double b = 1.0 + s * (1.0 + r), d = std::sqrt(b * b - 4.0 * s);
+        return std::pair<double, double>{std::sqrt(0.5 * (b - d)), std::sqrt(0.5 * (b + d))};
+    };
+    const auto released = roots(1.0), stuck = roots(1.0 + 0.16);
+    const double rigid = 1.0 / std::sqrt(1.0 + r);
+    const std::vector<LinearResonance> dahl = linear_resonances(friction_absorber(p, FrictionLaw::dahl), 0.5, 1.6);
+    REQUIRE(dahl.size() == 5);  // sorted: released, stuck, rigid, released, stuck
+    const std::vector<std::pair<double, LinearResonance::Limit>> expected = {
+        {released.first, LinearResonance::Limit::released}, {stuck.first, LinearResonance::Limit::stuck},
+        {rigid, LinearResonance::Limit::rigid}, {released.second, LinearResonance::Limit::released},
+        {stuck.second, LinearResonance::Limit::stuck}};
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+        INFO(k);
+        CHECK(dahl[k].omega == Approx(expected[k].first).epsilon(1e-12));
+        CHECK(dahl[k].limit == expected[k].second);
+    }
+    // Exact Coulomb has no stuck spring: released and rigid only; a band excludes what is outside.
+    const std::vector<LinearResonance> coulomb =
+        linear_resonances(friction_absorber(p, FrictionLaw::coulomb), 0.9, 1.6);
+    REQUIRE(coulomb.size() == 2);
+    CHECK(coulomb[0].omega == Approx(rigid).epsilon(1e-12));
+    CHECK(coulomb[1].omega == Approx(released.second).epsilon(1e-12));
+    // A force at 2 w meets each natural frequency at half of it.
+    System twice = friction_absorber(p, FrictionLaw::coulomb);
+    twice.excitation_harmonic = 2;
+    const std::vector<LinearResonance> half = linear_resonances(twice, 0.25, 0.8);
+    REQUIRE(half.size() == 3);
+    CHECK(half[1].omega == Approx(0.5 * rigid).epsilon(1e-12));
+}
+
+TEST_CASE("A large step does not jump across the unbounded stuck resonance: the branch climbs it to the cap",
+          "[continuation][resonances]") {
+    // Exact Coulomb, r = 1e-12: the contact holds the absorber (it needs r w^2 |Y| < mu, |Y| <
+    // 2e11), so the response is the rigid structure's, y1 = fe / (1 - (1 + r) w^2): unbounded
+    // at w_r = 1 / sqrt(1 + r). With max_step 1 the corrector used to land across it (10
+    // points, completed, a "peak" of 7.9e9).
+    AbsorberParameters p;
+    p.mass_ratio = 1e-12;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::coulomb), HarmonicBalanceOptions{10, 0});
+    const double w_r = 1.0 / std::sqrt(1.0 + p.mass_ratio);
+    ContinuationOptions o;
+    const BranchResult b = continue_branch(hb, o);
+    CHECK(b.status == ContinuationStatus::amplitude_cap);
+    CHECK(b.resonance_rejections > 0);
+    std::vector<double> caps;
+    for (const SolutionPoint& q : b.points)
+        if (q.kind == PointKind::cap) {
+            caps.push_back(q.omega);
+            // The stuck closed form at the cap point, above the cap.
+            const Eigen::MatrixXd y = hb.dofs(q.x, q.omega);
+            const double y1 = std::hypot(y(1, 0), y(2, 0));
+            CHECK(y1 == Approx(p.excitation / std::abs(1.0 - (1.0 + p.mass_ratio) * q.omega * q.omega)).epsilon(1e-6));
+            CHECK(y1 > o.max_amplitude);
+        }
+    REQUIRE(caps.size() == 2);
+    CHECK(caps[0] < w_r);
+    CHECK(caps[1] > w_r);
+    // Without the resolution the same options step across it: the guard is what catches it.
+    ContinuationOptions blind = o;
+    blind.resolve_resonances = false;
+    CHECK(continue_branch(hb, blind).status == ContinuationStatus::completed);
+}

@@ -176,9 +176,33 @@ TEST_CASE("Refused: parallel exact Coulomb contacts, an unmeasured --dlft-eps, a
                                  "excitation = [0.5, 0.0]\n";
     const std::string contact = "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"coulomb\"\nfriction_limit = 0.2\n";
     ::test::check_bad_config(absorber + contact + contact,
-                             {"contact[2]", "same direction as contact 1", "friction_limit = 0.4"}, dir);
+                             {"contact[2]", "same direction as contact 1", "friction_limit = 0.2 + 0.2 = 0.4"}, dir);
     const std::string reversed = "[[contact]]\ndof = 2\nother_dof = 1\nlaw = \"coulomb\"\nfriction_limit = 0.1\n";
     ::test::check_bad_config(absorber + contact + reversed, {"contact[2]", "same direction"}, dir);
+    // Three exact Coulomb contacts with dependent directions (1-ground, 2-ground, 1-2: w3 = w1 -
+    // w2) on a 2-DOF system: refused up front, naming the three (issue 28: the start failed with
+    // a residual). hbf timeint reads the same config and refuses the same way; one of them made
+    // compliant (Jenkins) is determinate and computed.
+    const std::string chain = "[structure]\nmass = [1.0, 1.0]\nstiffness = [[2.0, -1.0], [-1.0, 2.0]]\n"
+                              "damping = [[0.02, 0.0], [0.0, 0.02]]\nexcitation = [1.0, 0.0]\n";
+    auto to_ground = [](int dof) {
+        return "[[contact]]\ndof = " + std::to_string(dof) + "\nlaw = \"coulomb\"\nfriction_limit = 0.3\n";
+    };
+    const std::string between = "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"coulomb\"\nfriction_limit = 0.3\n";
+    const std::vector<std::string> dependent = {"contact[3]", "depends linearly on those of exact Coulomb contacts 1, 2",
+                                                "(w3 = w1 - w2", "rank 2"};
+    ::test::check_bad_config(chain + to_ground(1) + to_ground(2) + between, dependent, dir);
+    ::test::write_file(dir.path / "dependent.toml", chain + to_ground(1) + to_ground(2) + between);
+    ::test::check_bad_input("timeint --w 1 --config '" + (dir.path / "dependent.toml").string() + "'", dependent, dir);
+    ::test::check_bad_config(chain + between + to_ground(2) + to_ground(1),
+                             {"contact[3]", "contacts 1, 2", "(w3 = w1 + w2"}, dir);
+    const std::string compliant =
+        "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"jenkins\"\nfriction_limit = 0.3\nstiffness = 1.0\n";
+    ::test::write_file(dir.path / "compliant.toml", chain + to_ground(1) + to_ground(2) + compliant);
+    CHECK(::test::run_hbf("frf --quiet --exact off --harmonics 3 --wmin 0.5 --wmax 0.6 --config '" +
+                              (dir.path / "compliant.toml").string() + "' --out /dev/null",
+                          dir)
+              .exit_code == 0);
     // Coulomb beside a Jenkins element on the same pair is determinate: accepted.
     const std::string jenkins =
         "[[contact]]\ndof = 1\nother_dof = 2\nlaw = \"jenkins\"\nfriction_limit = 0.1\nstiffness = 0.5\n";
@@ -356,4 +380,124 @@ TEST_CASE("The exact polish's rows carry the exact orbit's energy balance: no fa
         CHECK(j["max_energy_error"].get<double>() < 1e-8);
         CHECK(j["warnings"].empty());
     }
+}
+
+TEST_CASE("A response held at exactly zero has no peaks and no energy-balance alarm (issue 28)", "[status][cli][exact]") {
+    // examples/systems/den_hartog.toml with friction_limit = 1e3: the single mass sticks to the
+    // ground at every w (the load |F| = 1 never reaches 1e3), so y1(t) = 0 exactly. Rounding
+    // (1e-16) used to give a "peak" and a relative energy imbalance of 0.026 (exit 3).
+    ::test::TempDir dir;
+    const auto config = dir.path / "dh.toml", summary = dir.path / "s.json";
+    ::test::write_file(config, "[structure]\nmass = [1.0]\nstiffness = [1.0]\nexcitation = [1.0]\n[[contact]]\ndof = 1\n"
+                               "law = \"coulomb\"\nfriction_limit = 1e3\n[frequency]\nwmin = 0.55\nwmax = 0.75\n");
+    for (const std::string exact : {"on", "off"}) {
+        const ::test::Result r = ::test::run_hbf("frf --quiet --exact " + exact + " --config '" + config.string() +
+                                                     "' --summary '" + summary.string() + "'",
+                                                 dir);
+        INFO(exact << ": " << r.err);
+        CHECK(r.exit_code == 0);
+        const auto rows = ::test::parse_csv(r.out);
+        REQUIRE(rows.size() > 5);
+        for (std::size_t k = 1; k < rows.size(); ++k) CHECK(std::abs(std::stod(rows[k][1])) < 1e-12);  // y1_max
+        const auto j = nlohmann::json::parse(::test::slurp(summary));
+        CHECK(j["peaks"].empty());
+        CHECK(j["warnings"].empty());
+        CHECK(j["max_energy_error"].get<double>() < 1e-6);
+    }
+    // The floor is 1e-9 of the quasi-static response |F| / k, or of the mass line |F| / (w^2 m).
+    System s;
+    s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
+    s.stiffness = sparse(Eigen::MatrixXd::Identity(1, 1) * 4.0);
+    s.excitation = Eigen::VectorXd::Constant(1, 2.0);
+    CHECK(response_floor(s, 1.0) == Approx(1e-9 * 2.0 / 4.0).epsilon(1e-15));
+    CHECK(response_floor(s, 10.0) == Approx(1e-9 * 2.0 / 100.0).epsilon(1e-15));  // the mass line w^2 m
+}
+
+TEST_CASE("hbf frf: the unbounded stuck resonance is capped, not stepped over (exit 3, amplitude_cap)",
+          "[status][cli][resonances]") {
+    // Each used to give 10 points, exit 0 and a finite "peak" across the resonance (issue 28).
+    // The stuck (rigid-contact) structure is one mass 1 + r on the spring 1: the resonance at
+    // w_r = 1 / sqrt(1 + r), unbounded for r = 1e-12 (exact Coulomb holds the tiny absorber),
+    // and for LuGre with an enormous bristle damping sigma1 = 2 xi r wb or viscous term sigma2
+    // (the contact is rigid: it dissipates ~ (r w^2 |Y|)^2 / sigma per cycle, nothing).
+    ::test::TempDir dir;
+    const auto json = dir.path / "s.json";
+    for (const auto& [args, r] : std::vector<std::pair<std::string, double>>{
+             {"--r 1e-12", 1e-12}, {"--law lugre --xi 1e12", 0.1}, {"--law lugre --viscous 1e12", 0.1}}) {
+        const ::test::Result run = ::test::run_hbf("frf --quiet " + args + " --summary '" + json.string() + "'", dir);
+        INFO(args << ": " << run.err);
+        CHECK(run.exit_code == 3);
+        CHECK_THAT(run.err, Catch::Contains("warning: amplitude_cap"));
+        const nlohmann::json s = nlohmann::json::parse(::test::slurp(json));
+        CHECK(s["status"] == "amplitude_cap");
+        // The two caps, one on each flank, within 0.1 % of w_r; each row above the cap.
+        const double w_r = 1.0 / std::sqrt(1.0 + r);
+        const auto rows = ::test::parse_csv(run.out);
+        REQUIRE(rows.size() > 2);
+        std::vector<double> caps;
+        for (std::size_t k = 1; k < rows.size(); ++k)
+            if (rows[k][static_cast<std::size_t>(std::find(rows[0].begin(), rows[0].end(), "point") - rows[0].begin())] ==
+                "cap") {
+                caps.push_back(std::stod(rows[k][0]));
+                CHECK(::test::column(rows, rows[k], "y1_max") > 1000.0);
+            }
+        REQUIRE(caps.size() == 2);
+        CHECK(caps[0] < w_r);
+        CHECK(caps[1] > w_r);
+        CHECK(caps[1] - caps[0] < 1e-3 * w_r);
+    }
+}
+
+TEST_CASE("A refined peak above the amplitude cap, or a sample above every peak, is not completed",
+          "[status][resonances]") {
+    // The continuation without the resonance guard steps across the unbounded stuck resonance
+    // of the absorber with r = 1e-12 (exact Coulomb: the rigid structure's y1 = fe / |1 - (1 + r)
+    // w^2|); the peak refined between the two points across it lies far above the cap.
+    AbsorberParameters p;
+    p.mass_ratio = 1e-12;
+    const System system = friction_absorber(p, FrictionLaw::coulomb);
+    FrfSettings settings = default_frf_settings(system, {});
+    settings.continuation.resolve_resonances = false;
+    reset_library_messages();
+    const FrfResult blind = compute_frf(system, settings);
+    REQUIRE(blind.branch.status == ContinuationStatus::completed);
+    REQUIRE(!blind.peaks.empty());
+    const double cap = settings.continuation.max_amplitude;
+    CHECK(std::max_element(blind.peaks.begin(), blind.peaks.end(), [](const Peak& a, const Peak& b) {
+              return a.y_max < b.y_max;
+          })->y_max > cap);
+    CHECK(blind.peak.state == PeakState::unbounded);
+    const FrfVerdict verdict = judge_frf(blind, settings);
+    CHECK(verdict.status() == "incomplete");
+    CHECK_THAT(verdict.warnings.front(), Catch::Contains("above the amplitude cap 1000"));
+    // With the guard: capped.
+    settings.continuation.resolve_resonances = true;
+    const FrfResult guarded = compute_frf(system, settings);
+    CHECK(guarded.branch.status == ContinuationStatus::amplitude_cap);
+    CHECK(guarded.peak.state == PeakState::unbounded);
+
+    // r = 1e-4: samples at 0.99 and 0.999 on the rigid structure's flank (25.25 and 263.27 by
+    // the closed form) above every point of the blind branch, whose largest peak was 16.77.
+    p.mass_ratio = 1e-4;
+    const System light = friction_absorber(p, FrictionLaw::coulomb);
+    FrfSettings sampled = default_frf_settings(light, {});
+    sampled.continuation.resolve_resonances = false;
+    sampled.at = {0.99, 0.999};
+    reset_library_messages();
+    const FrfResult stepped = compute_frf(light, sampled);
+    REQUIRE(stepped.branch.status == ContinuationStatus::completed);
+    int checked = 0;
+    for (std::size_t k = 0; k < stepped.points.size(); ++k)
+        if (stepped.points[k].kind == PointKind::sample) {
+            const double w = stepped.points[k].omega;
+            CHECK(stepped.metrics[k].output_max.front() ==
+                  Approx(p.excitation / std::abs(1.0 - (1.0 + p.mass_ratio) * w * w)).epsilon(1e-6));
+            ++checked;
+        }
+    CHECK(checked == 2);
+    const FrfVerdict missed = judge_frf(stepped, sampled);
+    CHECK(missed.status() == "incomplete");
+    REQUIRE(!missed.warnings.empty());
+    CHECK_THAT(missed.warnings.front(), Catch::Contains("--at sample at w = 0.99 ") &&
+                                            Catch::Contains("above every branch point and peak"));
 }

@@ -43,7 +43,9 @@
 //                                 # (cost independent of N; M > 0, K > 0, C modal)
 //
 //     [output]
-//     report = [1, 2]             # DOFs written as y<i>_max, y<i>_amp1 (1-based); default all
+//     report = [1, 2]             # DOFs written as y<i>_max, y<i>_amp1 (1-based); default: the
+//                                 # excited DOFs and the contacts' DOFs (all N would make a
+//                                 # large model as slow as its output count)
 //
 //     # or, instead of [output], any outputs o(t) = c^T y(t), in order (the two forms exclude
 //     # each other: TOML has either a table [output] or tables [[output]]):
@@ -58,6 +60,7 @@
 // tables: a misspelt key is an error, not a silent default. Every error names the file, the
 // line and the key.
 #pragma once
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,6 +69,13 @@
 
 namespace hbf::io {
 
+/// An input file of a run (the config, a Matrix Market file it names): what names it, for
+/// messages ("--config", "structure.mass"), and its path. No output may be one (io.hpp).
+struct InputFile {
+    std::string what;
+    std::string path;
+};
+
 struct SystemConfig {
     System system;
     std::optional<double> omega_start, omega_end;   ///< [frequency] wmin, wmax
@@ -73,8 +83,16 @@ struct SystemConfig {
     std::optional<int> modes;                       ///< [solver] modal receptance (0: direct)
     std::optional<bool> odd_harmonics;              ///< [solver] odd harmonics only
     /// The reported outputs in file order: [output] report's DOFs, or the [[output]] tables;
-    /// default every DOF.
+    /// default the excited DOFs and those of the contacts, in DOF order (every DOF when there
+    /// are none), with outputs_note saying so when that leaves DOFs out.
     std::vector<Output> outputs;
+    std::string outputs_note;
+    /// The files read: the config itself ("--config"), then every Matrix Market file it names
+    /// (by its key, e.g. "structure.stiffness").
+    std::vector<InputFile> inputs;
+    /// The line of each [frequency] and [solver] key given ("solver.time_samples" -> 12), for
+    /// front ends whose checks depend on other settings (time_samples > 2H) to name it.
+    std::map<std::string, int> lines;
 };
 
 /// Reads and validates a system file (see above). Throws InvalidInput with
@@ -83,9 +101,13 @@ SystemConfig read_system_config(const std::string& path);
 
 /// Reads a Matrix Market file ("%%MatrixMarket matrix coordinate|array real|integer
 /// general|symmetric") as a sparse matrix (a coordinate file is never densified; a symmetric
-/// file gives one triangle, mirrored). Throws InvalidInput naming the file and line on any
-/// error: syntax, an index out of range, an entry given twice, non-finite values, data beyond
-/// the announced entries.
+/// file gives one triangle, mirrored). Every field is read whole: indices are integers, values
+/// decimal numbers with an optional e, E, d or D exponent (hbf::parse_decimal: 1.0D-1 = 0.1
+/// as Fortran prints it; a decimal comma, hexadecimal or trailing characters are refused);
+/// the size line has exactly 3 fields (coordinate) or 2 (array), an entry line exactly 3 or
+/// 1. Throws InvalidInput naming the file, line and field on any error: syntax, a field that
+/// is not a number, a non-finite value, an index out of range, an entry given twice, data
+/// beyond the announced entries.
 SparseMatrix read_matrix_market(const std::string& path);
 
 }  // namespace hbf::io

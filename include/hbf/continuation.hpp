@@ -59,6 +59,14 @@ struct ContinuationOptions {
     /// insert it as the point of kind fold; sign changes without a real turn in omega are not
     /// folds (continue_branch).
     bool locate_folds = true;
+    /// Resolve the resonances of the linear structure (linear_resonances, model.hpp: the released,
+    /// stuck and rigid-contact limits' natural frequencies in [omega_start, omega_end], computed
+    /// before the continuation): a step whose frequency interval contains one is accepted only
+    /// when the branch is bounded there, i.e. when the solution at that frequency, solved from
+    /// the step's chord, converges below max_amplitude; otherwise the step is halved, so that a
+    /// large step never jumps across an unbounded (stuck) resonance: the branch climbs it to the
+    /// cap (status amplitude_cap) instead.
+    bool resolve_resonances = true;
     bool restart_past_cap = true; ///< after an amplitude cap, start a second branch at omega_end,
                                   ///< and if that caps too, a third in the middle of the gap
                                   ///< between the two caps, followed both ways
@@ -129,6 +137,11 @@ struct BranchResult {
     int unlocated_transitions = 0;      ///< regime changes between two points whose boundary
                                         ///< could not be located (named in message)
     double coverage = 0;                ///< share of [wmin, wmax] spanned by the branch segments
+    /// The linear structure's resonances in [omega_start, omega_end] (resolve_resonances).
+    std::vector<LinearResonance> resonances;
+    int resonance_rejections = 0;       ///< steps halved for crossing a resonance unresolved
+    int unresolved_resonances = 0;      ///< crossings accepted unresolved at the minimum step
+                                        ///< (named in message)
     CorrectorStatistics corrector;    ///< Ceres work of the whole continuation
     EvaluationStatistics evaluation;  ///< residual/Jacobian work (corrector and predictor)
     double predictor_seconds = 0;     ///< tangents: their evaluations and LU solves
@@ -232,6 +245,12 @@ struct PointMetrics {
 /// (every law) and the chain examples.
 double energy_balance_limit(double tolerance);
 // energy_imbalance (shared with time integration): model.hpp.
+/// The displacement below which a response of `system` at `omega` is rounding, not motion:
+/// 1e-9 |F|_inf / max(max|K_ii|, omega^2 max M_ii) (1e-9 of the quasi-static or mass-line
+/// response). Floors the energy balance's reach (pi h |F| response_floor: a response held at
+/// exactly zero by a stuck contact has no meaningful relative imbalance) and the peaks (a
+/// maximum below |c|_1 response_floor is noise, not a peak).
+double response_floor(const System& system, double omega);
 /// Stick fraction and regime of a contact from its stick indicator samples phi (friction.hpp:
 /// a sample sticks iff phi < 0). A stick phase is a run of cyclically consecutive sticking
 /// samples at least `min_run` long. H harmonics cannot resolve shorter phases: at an

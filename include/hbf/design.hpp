@@ -69,7 +69,8 @@ FrfSettings default_frf_settings(const System& system, const std::vector<Output>
 /// What the largest peak of an FRF means.
 enum class PeakState {
     bounded,     ///< the branch spans [wmin, wmax]: value is the largest peak
-    unbounded,   ///< amplitude_cap: a resonance grows past the cap (value = +infinity)
+    unbounded,   ///< amplitude_cap, or the largest peak of a single-DOF output above
+                 ///< max_amplitude: a resonance grows past the cap (value = +infinity)
     incomplete,  ///< left_range or point_budget: value is the largest over the part computed
     failed       ///< min_step, start_failed, or a failed exact polish: value is a lower bound
 };
@@ -113,7 +114,10 @@ struct FrfResult;
 ///  - errors: a continuation that stalled or failed to start (min_step, start_failed); a failed
 ///    exact polish; an `at` frequency without a solution;
 ///  - warnings: a branch capped, out of range or out of points (with its coverage);
-///    transitions that could not be located; points that fail the energy balance
+///    transitions that could not be located; a resonance of the linear structure crossed
+///    unresolved (BranchResult::unresolved_resonances); a peak of a single-DOF output above
+///    the amplitude cap (max_amplitude); an `at` sample above every branch point and peak of
+///    its output (the branch stepped over a resonance); points that fail the energy balance
 ///    (energy_balance_limit); warnings of the numerical libraries (diagnostics.hpp) since their
 ///    last reset;
 ///  - notes: unrefined peaks, stability verdicts that are uncertain or missing.

@@ -157,6 +157,21 @@ bool exact_solver_supports(const System& system);
 /// Why exact_solver_supports is false (one sentence naming the cause), empty when it is true.
 std::string exact_solver_refusal(const System& system);
 
+/// The flows advance in Taylor steps no longer than 1 / |lambda_max| of the contact pattern
+/// (and T / 24): one period at omega costs max(24, T |lambda_max|) steps, each recorded. The
+/// larger of the all-stuck and the all-slipping patterns (validate_system's refusals apply).
+double exact_steps_per_period(const System& system, double omega);
+/// The bound on exact_steps_per_period that keeps the exact solver's time and memory bounded,
+/// for flows of `state_size` unknowns (2 N + n_c + 3): min(50000, 2e6 / state_size), each
+/// recorded step holding about 20 Taylor coefficients of the state (at most ~0.3 GB). A period
+/// of the shipped models takes 24 to 650 steps; w = 1e-6 on the paper's absorber would take
+/// 7e6 and many GB. Until the flows are eigen-based, a frequency range reaching below the bound
+/// is refused by the polish (and leaves the automatic polish off).
+double exact_max_steps_per_period(int state_size);
+/// exact_solver_refusal, or else why a branch down to omega_min would cost more than
+/// exact_max_steps_per_period steps per period; empty when the exact solver can run there.
+std::string exact_cost_refusal(const System& system, double omega_min);
+
 /// The load of the permanent-stick state (the convention above) at omega: max over the contacts
 /// of max_t |f_c(t)| / F_c. Permanent stick holds iff it is <= 1; the stick|stick-slip
 /// transitions are where it crosses 1. Infinity where the stuck structure is singular (an

@@ -86,9 +86,12 @@ EvaluationStatistics operator-(const EvaluationStatistics& later, const Evaluati
 
 class HarmonicBalance {
 public:
-    /// Validates the system; throws InvalidInput for bad options or an unsupported law, and
-    /// for `condensed` on a system whose static stiffness K is singular (a rigid-body mode)
-    /// or that has no contact.
+    /// The bound on the unknowns (before the odd-harmonic selection): the Jacobian is dense.
+    static constexpr int max_unknowns = 6000;
+    /// Validates the system; throws InvalidInput for bad options or an unsupported law, for
+    /// `condensed` on a system whose static stiffness K is singular (a rigid-body mode) or that
+    /// has no contact, and for more than max_unknowns unknowns (contacts' relative motions and
+    /// internal states, or every DOF in the full formulation, times 2H + 1).
     HarmonicBalance(System system, HarmonicBalanceOptions options);
     /// Every check the constructor makes, and the same InvalidInput, without building the
     /// Fourier matrices (N_t x (2H + 1) each: 420 MB at H = 200, N_t = 65536): for a dry run.

@@ -1,14 +1,17 @@
 // hbfriction — output: atomic files, CSV tables and their column documentation.
 #pragma once
 
-#include <fstream>
+#include <signal.h>
+
 #include <iosfwd>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "hbf/analytic.hpp"
+#include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/stability.hpp"
@@ -34,15 +37,27 @@ struct OutputTarget {
 ///    atomically (OutputFile); a character device or a FIFO (or a symlink to one) is written
 ///    in place and never replaced (not for images, which need a regular file); a socket or a
 ///    dangling symlink is refused;
-///  - no two outputs may be the same file, compared by resolved path and by device and
-///    inode (several outputs to one character device, such as /dev/null, are allowed).
-void check_outputs(const std::vector<OutputTarget>& targets);
+///  - no output may be one of `inputs` (compared by device and inode: through symlinks and
+///    hard links);
+///  - no two outputs may be the same file: an existing one by device and inode, a new one by
+///    its canonical directory and name (./o.csv, sub/../o.csv, $PWD/o.csv and
+///    /proc/self/cwd/o.csv are one file); several outputs to one character device, such as
+///    /dev/null, are allowed;
+///  - a character device or descriptor is opened for writing now, without blocking (/dev/tty
+///    without a terminal is refused here, not after the work); a FIFO is opened now without
+///    blocking and refused when it has no reader (the write would wait forever); it is held
+///    open until its OutputFile writes, so that its reader does not see an end of file.
+void check_outputs(const std::vector<OutputTarget>& targets, const std::vector<InputFile>& inputs = {});
 
-/// An output destination that never leaves a partial file behind: the content goes to a
-/// temporary file beside the target (a symlink's final target) and is renamed onto it by
-/// commit(), after fsync. Without commit() (an error, an exception) the temporary file is
-/// removed and the target is untouched. An empty path or "-" means standard output (written
-/// directly); an existing character device or FIFO is written in place, never replaced.
+/// An output destination that never leaves a partial or temporary file behind: the content is
+/// kept in memory and written by commit() only. A regular file is written to a temporary file
+/// beside the target (a symlink's final target), with the mode and (where permitted) the
+/// owner of the file it replaces, synced, and renamed onto it; SIGINT, SIGTERM, SIGHUP and
+/// SIGQUIT are held back while the temporary file exists (delivered after the rename), and a
+/// file-size limit (SIGXFSZ) makes the write fail cleanly. Without commit() nothing is
+/// written. An empty path or "-" means standard output; an existing character device, FIFO
+/// or descriptor is written in place, never replaced (a FIFO through the descriptor
+/// check_outputs holds open, or opened without blocking: no reader is an error, never a wait).
 class OutputFile {
 public:
     explicit OutputFile(std::string path);
@@ -51,16 +66,34 @@ public:
     OutputFile& operator=(const OutputFile&) = delete;
 
     std::ostream& stream();
-    /// Flushes and moves the file into place; throws std::runtime_error on failure.
+    /// Writes the content to its destination; throws std::runtime_error on failure (the target
+    /// is then untouched and no temporary file is left).
     void commit();
 
 private:
     std::string path_;    // as given
     std::string target_;  // the file renamed onto (symlinks resolved), or written in place
-    std::string temporary_;
-    std::ofstream file_;
+    std::ostringstream buffer_;
     bool in_place_ = false;
+    bool fifo_ = false;
     bool committed_ = false;
+};
+
+/// While alive: SIGINT, SIGTERM, SIGHUP and SIGQUIT are held back in this thread (delivered
+/// when it ends: a signal never leaves a temporary file behind) and SIGXFSZ is ignored (a
+/// file-size limit makes write() fail with EFBIG, handled, instead of killing the process
+/// with a temporary file left). Around the short moments a temporary output file exists.
+class HeldSignals {
+public:
+    HeldSignals();
+    ~HeldSignals();
+    HeldSignals(const HeldSignals&) = delete;
+    HeldSignals& operator=(const HeldSignals&) = delete;
+
+private:
+    sigset_t old_mask_{};
+    struct sigaction old_xfsz_ {};
+    bool blocked_ = false, ignored_ = false;
 };
 
 /// A CSV field: shortest round-trip decimal, or empty when there is no value.

@@ -14,7 +14,11 @@
 // dG_k/domega = -W^T Z_k^-1 (dZ_k/domega) Z_k^-1 W.
 // M may be singular (massless DOFs of a reduced model) wherever Z_k stays invertible; a
 // singular Z_k (an undamped resonance hit exactly, a rigid-body mode no contact holds, K
-// singular at k = 0) is a status with a message, never NaN.
+// singular at k = 0) is a status with a message, never NaN. The one exception (direct solve):
+// an undamped resonance hit exactly of a part no contact sees (W^T v = 0 for its mode v).
+// G_k and W^T Z_k^-1 F are regular through it and are given (the limit); the entries of the
+// F column's solution and output_load that the mode moves, when F excites it, are +infinity
+// (the linear response there is unbounded).
 //
 // Modal option (use_modes): the m lowest modes of K phi = lambda M phi (Spectra, shift-invert
 // Lanczos; a dense solver for small models), M-normalised, and the static residual flexibility
@@ -92,6 +96,8 @@ private:
     using SparseComplex = Eigen::SparseMatrix<std::complex<double>>;
     /// b - Z_k x, with Z_k's entries and the products in long double (iterative refinement).
     Eigen::MatrixXcd precise_residual(int k, double omega, const Eigen::MatrixXcd& rhs, const Eigen::MatrixXcd& x) const;
+    /// x = Z_k^-1 rhs and dx = its omega-derivative (refined); false where Z_k is (numerically) singular.
+    bool direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, Eigen::MatrixXcd& x, Eigen::MatrixXcd& dx);
     Eigen::SparseMatrix<double> mass_, damping_, stiffness_;
     Eigen::MatrixXd directions_, outputs_;
     Eigen::VectorXd excitation_;

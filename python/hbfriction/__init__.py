@@ -80,6 +80,44 @@ def _fields(obj):
             and n not in ("ground",)]
 
 
+def _assign(target, name, value, where=None):
+    """setattr(target, name, value) for a field of a C++ options struct, with the type checked
+    against the field's current value: an int field takes an integer (not a bool) within C's
+    int, a float field a real number (not a bool), a bool field a bool, a list of numbers a
+    sequence of real numbers (not a string). TypeError or ValueError names the argument."""
+    label = where or name
+    current = getattr(target, name)
+    if isinstance(current, bool):
+        if not isinstance(value, (bool, _np.bool_)):
+            raise TypeError("%s = %r: expected True or False" % (label, value))
+        value = bool(value)
+    elif isinstance(current, int):
+        if isinstance(value, (bool, _np.bool_)) or not isinstance(value, (int, _np.integer)):
+            raise TypeError("%s = %r: expected an integer (%s)" % (label, value, type(value).__name__))
+        if not -2 ** 31 <= int(value) < 2 ** 31:
+            raise ValueError("%s = %d is out of range of integers" % (label, value))
+        value = int(value)
+    elif isinstance(current, float):
+        if isinstance(value, (bool, _np.bool_)) or not isinstance(value, (int, float, _np.integer, _np.floating)):
+            raise TypeError("%s = %r: expected a number (%s)" % (label, value, type(value).__name__))
+        value = float(value)
+    elif isinstance(current, str):
+        if not isinstance(value, str):
+            raise TypeError("%s = %r: expected a string" % (label, value))
+    elif isinstance(current, list) and name == "at":
+        if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
+            raise TypeError("%s = %r: expected a sequence of frequencies (numbers)" % (label, value))
+        items = list(_np.asarray(value, dtype=object).ravel()) if isinstance(value, _np.ndarray) else list(value)
+        for v in items:
+            if isinstance(v, (bool, _np.bool_)) or not isinstance(v, (int, float, _np.integer, _np.floating)):
+                raise TypeError("%s: %r is not a number" % (label, v))
+        value = [float(v) for v in items]
+    try:
+        setattr(target, name, value)
+    except TypeError:
+        raise TypeError("%s = %r: not allowed for this option (%s)" % (label, value, type(current).__name__)) from None
+
+
 def _keyword_init(cls):
     core_init = cls.__init__
 
@@ -88,7 +126,7 @@ def _keyword_init(cls):
         for name, value in values.items():
             if name.startswith("_") or name not in _fields(self):
                 raise ValueError("%s: unknown option '%s': allowed %s" % (cls.__name__, name, ", ".join(_fields(self))))
-            setattr(self, name, value)
+            _assign(self, name, value)
 
     def __repr__(self):
         return "%s(%s)" % (cls.__name__, ", ".join("%s=%r" % (n, getattr(self, n)) for n in _fields(self)))
@@ -152,10 +190,10 @@ def absorber(law="coulomb", parameters=None, excitation_harmonic=1, **values):
         if name in _APPLIES and law not in _APPLIES[name]:
             raise ValueError("absorber: %s does not apply to law %s: it applies to %s" %
                              (key, law, ", ".join(_APPLIES[name])))
-        setattr(p, name, float(value))
+        _assign(p, name, value, key)
     p.validate(law)
     system = _core.friction_absorber(p, law)
-    if excitation_harmonic != 1:
+    if isinstance(excitation_harmonic, bool) or excitation_harmonic != 1:
         system.excitation_harmonic = excitation_harmonic
         system.validate()
     return system
@@ -230,7 +268,7 @@ def _set_option(settings, name, value):
     name = _ALIASES.get(name, name)
     for target in _targets(settings):
         if name in _fields(target) and name not in ("harmonic_balance", "continuation", "corrector"):
-            setattr(target, name, value)
+            _assign(target, name, value)
             return
     raise ValueError("unknown option '%s': allowed %s (and wmin, wmax, stability, outputs, settings)" %
                      (name, ", ".join(sorted(options()))))
@@ -249,6 +287,8 @@ def _check_limits(settings):
     for w in settings.at:
         if not (_math.isfinite(w) and w > 0):
             raise ValueError("at = %r is out of range: allowed frequencies > 0" % (w,))
+    if len(set(settings.at)) != len(settings.at):
+        raise ValueError("at = %r lists a frequency more than once: allowed distinct frequencies" % (list(settings.at),))
     settings.continuation.validate()
 
 
@@ -266,6 +306,7 @@ def _settings(system, settings, outputs, stability, values):
     for o in s.outputs:
         if o.terms and max(i for i, _ in o.terms) >= system.dofs:
             raise ValueError("outputs: '%s' names a DOF beyond the system's %d" % (o.name, system.dofs))
+    automatic_exact = settings is None and "exact" not in values
     if "exact" in values:
         exact = bool(values.pop("exact"))
         refusal = _core.exact_solver_refusal(system)
@@ -279,6 +320,15 @@ def _settings(system, settings, outputs, stability, values):
                 s.continuation.locate_transitions = not exact
     for name, value in values.items():
         _set_option(s, name, value)
+    co = s.continuation
+    if automatic_exact and s.exact and 0 < co.omega_start < co.omega_end and \
+            _core.exact_cost_refusal(system, co.omega_start):
+        # as hbf frf: the automatic polish is off where a period would cost too many Taylor steps
+        s.exact = False
+        if "harmonics" not in values and "harmonics" not in system.file_settings:
+            s.harmonic_balance.harmonics = _core.automatic_harmonics(system, False)
+        if "locate_transitions" not in values:
+            co.locate_transitions = True
     if stability is not None and stability is not False and stability != "off":
         method = "both" if stability is True or stability == "on" else stability
         s.stability_options.method = method
@@ -477,14 +527,14 @@ def solve_at(system, omega, *, omega_from=None, contact=0, harmonics=None, time_
     for name, value in (("harmonics", harmonics), ("time_samples", time_samples), ("odd_harmonics", odd_harmonics),
                         ("formulation", formulation), ("modes", modes)):
         if value is not None:
-            setattr(hb, name, value)
+            _assign(hb, name, value)
     co = ContinuationOptions()
     for name, value in options.items():
         name = _ALIASES.get(name, name)
         if name in _fields(co) and name != "corrector":
-            setattr(co, name, value)
+            _assign(co, name, value)
         elif name in _fields(co.corrector):
-            setattr(co.corrector, name, value)
+            _assign(co.corrector, name, value)
         else:
             raise ValueError("solve_at: unknown option '%s': allowed the fields of ContinuationOptions and "
                              "CorrectorOptions" % name)
@@ -519,7 +569,7 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
     for name, value in values.items():
         if name not in _fields(o):
             raise ValueError("timeint: unknown option '%s': allowed %s" % (name, ", ".join(_fields(o))))
-        setattr(o, name, value)
+        _assign(o, name, value)
     if "steady_tolerance" in values or options is not None:
         exact_tolerance = o.steady_tolerance
     if method is not None and method != "exact":
@@ -607,7 +657,7 @@ def optimize(system, lower, upper, *, settings=None, search=None, outputs=None, 
     o.lower, o.upper = float(lower), float(upper)
     for name, value in (("scan_points", scan_points), ("max_evaluations", max_evaluations), ("threads", threads)):
         if value is not None:
-            setattr(o, name, value)
+            _assign(o, name, value)
     result = OptimizeResult(_core.optimize(system, s, o))
     if result.status != "converged":
         _warnings.warn("the optimisation is %s: %s" % (result.status, result.summary), IncompleteResultWarning,

@@ -33,34 +33,16 @@ int Verdict::finish() const {
 }
 
 double parse_double(const std::string& flag, const std::string& text) {
-    if (text.empty()) bad_value(flag, text, "is empty: a number is required");
-    const char* begin = text.c_str();
-    char* end = nullptr;
-    errno = 0;
-    const double value = std::strtod(begin, &end);
-    if (end == begin || *end != '\0' || std::isspace(static_cast<unsigned char>(text.front())))
-        bad_value(flag, text, "is not a number");
-    // strtod also reads hexadecimal (0x10 = 16) and "infinity": a decimal number is meant.
-    if (text.find_first_of("xXpP") != std::string::npos)
-        bad_value(flag, text, "is not a decimal number (hexadecimal is not accepted)");
-    if (std::isnan(value)) bad_value(flag, text, "is NaN: a finite number is required");
-    if (std::isinf(value)) {
-        if (errno == ERANGE) bad_value(flag, text, "overflows a double: a finite number is required");
-        bad_value(flag, text, "is infinite: a finite number is required");
-    }
-    if (errno == ERANGE) bad_value(flag, text, "underflows a double: use 0 or a larger magnitude");
+    double value = 0.0;
+    std::string why;
+    if (!parse_decimal(text, value, why)) bad_value(flag, text, why);
     return value;
 }
 
 long long parse_integer(const std::string& flag, const std::string& text) {
-    if (text.empty()) bad_value(flag, text, "is empty: an integer is required");
-    const char* begin = text.c_str();
-    char* end = nullptr;
-    errno = 0;
-    const long long value = std::strtoll(begin, &end, 10);
-    if (end == begin || *end != '\0' || std::isspace(static_cast<unsigned char>(text.front())))
-        bad_value(flag, text, "is not an integer");
-    if (errno == ERANGE) bad_value(flag, text, "is out of the range of integers");
+    long long value = 0;
+    std::string why;
+    if (!parse_whole_number(text, value, why)) bad_value(flag, text, why);
     return value;
 }
 
@@ -247,6 +229,8 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
     // Accepted, but rarely meant: said before the work (the exit code is the result's).
     for (const std::string& w : chosen.system.warnings())
         std::cerr << "hbf " << command.get_name() << ": warning: " << config_path << ": " << w << "\n";
+    if (!chosen.config->outputs_note.empty())
+        std::cerr << "hbf " << command.get_name() << ": note: " << chosen.config->outputs_note << "\n";
     return chosen;
 }
 
@@ -281,8 +265,10 @@ HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const s
     hbo.time_samples = static_cast<int>(nt);
     if (config && config->time_samples && command.count("--time-samples") == 0) {
         hbo.time_samples = *config->time_samples;
+        const auto line = config->lines.find("solver.time_samples");
         if (hbo.time_samples != 0 && hbo.time_samples <= 2 * hbo.harmonics)
-            throw UsageError(config_path + ": key 'solver.time_samples': " + std::to_string(hbo.time_samples) +
+            throw UsageError(config_path + (line != config->lines.end() ? ":" + std::to_string(line->second) : "") +
+                             ": key 'solver.time_samples': " + std::to_string(hbo.time_samples) +
                              " is out of range: allowed 0 (automatic) or " + std::to_string(2 * hbo.harmonics + 1) +
                              "..65536");
     }

@@ -49,8 +49,9 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-/// Parses the whole text as a finite double; throws UsageError naming `flag` for an empty
-/// value, a non-number, trailing characters, NaN, infinity, overflow or underflow.
+/// Parses the whole text as a finite decimal number (hbf::parse_decimal: the Fortran D
+/// exponent is accepted); throws UsageError naming `flag` for an empty value, a non-number,
+/// trailing characters, NaN, infinity, overflow or underflow.
 double parse_double(const std::string& flag, const std::string& text);
 /// Parses the whole text as a decimal integer; throws UsageError like parse_double.
 long long parse_integer(const std::string& flag, const std::string& text);
@@ -90,6 +91,8 @@ struct ChosenSystem {
     AbsorberParameters absorber;      ///< the preset's parameters (without --config)
     int automatic_harmonics = 10;     ///< default_harmonics of the (most demanding) law, times
                                       ///< the excitation harmonic h (at most 200)
+    /// The files the run reads (the config and its Matrix Market files): no output may be one.
+    std::vector<io::InputFile> inputs() const { return config ? config->inputs : std::vector<io::InputFile>{}; }
 };
 ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path);
 

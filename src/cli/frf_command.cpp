@@ -56,13 +56,14 @@ int run(const CLI::App& command, const FrfOptions& o) {
     } else if (!overlay_out.empty()) {
         throw UsageError("--overlay-out names the CSV of --overlay-timeint, which is not given");
     }
-    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
-                       {"--summary", o.summary, command.count("--summary") > 0},
-                       {"--plot", o.plot, command.count("--plot") > 0, false, true},
-                       {"--overlay-out", overlay_out, command.count("--overlay-out") > 0}});
     // The system: the paper's absorber from its flags, or any structure from --config (whose
     // frequency range and solver settings the flags override).
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
+    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
+                       {"--summary", o.summary, command.count("--summary") > 0},
+                       {"--plot", o.plot, command.count("--plot") > 0, false, true},
+                       {"--overlay-out", overlay_out, command.count("--overlay-out") > 0}},
+                      chosen.inputs());
     const System& system = chosen.system;
     const std::string& law_name = chosen.law_name;
     const std::vector<Output>& outputs = chosen.outputs;

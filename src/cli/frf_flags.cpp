@@ -17,6 +17,9 @@ std::vector<double> parse_frequencies(const std::string& flag, const std::string
         const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         const double w = parse_double(flag, item);
         if (!(w > 0.0)) throw UsageError(flag + " = '" + item + "' is out of range: allowed frequencies > 0");
+        if (std::find(values.begin(), values.end(), w) != values.end())
+            throw UsageError(flag + " = '" + text + "' lists w = " + format_number(w) +
+                             " more than once: allowed distinct frequencies (each is one solved row)");
         values.push_back(w);
         if (comma == std::string::npos) break;
         start = comma + 1;
@@ -77,8 +80,10 @@ void FrfFlags::add_to(CLI::App& command) {
                        "(exact Coulomb and Jenkins: Newton shooting on closed-form flows between stick/slip events, "
                        "Floquet stability), on or off [default: on for coulomb and jenkins contacts on models of at most "
                        "64 DOFs with mass (massless DOFs are condensed statically: a contact on them becomes a "
-                       "Jenkins element) and a force at harmonic 1, off otherwise (the exact solver is dense); on "
-                       "where it does not apply is an error naming why]")
+                       "Jenkins element), a force at harmonic 1 and a period at wmin of at most 50000 Taylor steps (fewer "
+                       "on large models: 2e6 / the flow's state size) "
+                       "(2 pi / wmin against the structure's fastest mode), off otherwise (the exact solver is dense "
+                       "and steps with the fastest mode); on where it does not apply is an error naming why]")
         ->type_name("on|off");
     command.add_option("--stability", stability,
                        "Floquet stability of every point (columns stable, stability_margin; unstable intervals and "
@@ -101,9 +106,12 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
     if (given(command, "--exact") && exact.empty()) throw UsageError("--exact is empty: allowed on, off");
     if (!exact.empty() && exact != "on" && exact != "off")
         throw UsageError("--exact = '" + exact + "' is not allowed: allowed on, off");
-    s.exact = exact.empty() ? exact_solver_supports(system) : exact == "on";
-    if (s.exact && !exact_solver_supports(system))
-        throw UsageError("--exact on: " + exact_solver_refusal(system) + " (use --exact off)");
+    // The lowest frequency sets the polish's cost per period (exact_cost_refusal).
+    double lowest = parse_double("--wmin", wmin);
+    if (file && file->omega_start && !given(command, "--wmin")) lowest = *file->omega_start;
+    const std::string refusal = lowest > 0.0 ? exact_cost_refusal(system, lowest) : exact_solver_refusal(system);
+    s.exact = exact.empty() ? refusal.empty() : exact == "on";
+    if (s.exact && !refusal.empty()) throw UsageError("--exact on: " + refusal + " (use --exact off)");
     // With the polish, HB only supplies the branch and the starting guesses: H = 10 suffices
     // (measured: the same exact branch, peaks and transitions as H = 20, 3 times faster).
     if (s.exact) chosen.automatic_harmonics = 10;

@@ -39,9 +39,10 @@ std::vector<io::Column> loop_columns(int dofs) {
 
 int run(const CLI::App& command, const LoopOptions& o) {
     io::check_plot("--plot", o.plot);  // before any work
-    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
-                       {"--plot", o.plot, command.count("--plot") > 0, false, true}});
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
+    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
+                       {"--plot", o.plot, command.count("--plot") > 0, false, true}},
+                      chosen.inputs());
     if (o.w.empty()) throw UsageError("--w is required: the frequency of the solution");
     const double w = parse_double("--w", o.w);
     if (!(w > 0.0)) throw UsageError("--w = " + o.w + " is out of range: allowed > 0");

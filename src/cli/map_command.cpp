@@ -85,13 +85,14 @@ int run(const CLI::App& command, const MapOptions& o) {
     io::check_plot("--plot", o.plot);
     if (o.style != "auto" && o.style != "curves" && o.style != "heatmap")
         throw UsageError("--plot-style = '" + o.style + "' is not known: allowed auto, curves, heatmap");
-    if (root)
-        io::check_outputs({{"--out", o.out, given(command, "--out"), true},
-                           {"--summary", o.summary, given(command, "--summary")},
-                           {"--plot", o.plot, given(command, "--plot"), false, true}});
     if (!given(command, "--param")) throw UsageError("--param is required: the parameter of the map (e.g. --param fe)");
     if (!given(command, "--values")) throw UsageError("--values is required: V1,V2,..., START:STOP:N or log:START:STOP:N");
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
+    if (root)
+        io::check_outputs({{"--out", o.out, given(command, "--out"), true},
+                           {"--summary", o.summary, given(command, "--summary")},
+                           {"--plot", o.plot, given(command, "--plot"), false, true}},
+                          chosen.inputs());
     const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
     if (given(command, "--contact") && parameter.preset())
         throw UsageError("--contact chooses a contact of a --config system: the preset has one");

@@ -88,10 +88,11 @@ double stuck_peak(const AbsorberParameters& p, FrictionLaw law, double wmin, dou
 
 int run(const CLI::App& command, const OptimizeOptions_& o) {
     io::check_plot("--plot", o.plot);
+    ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
     io::check_outputs({{"--out", o.out, given(command, "--out"), true},
                        {"--summary", o.summary, given(command, "--summary")},
-                       {"--plot", o.plot, given(command, "--plot"), false, true}});
-    ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
+                       {"--plot", o.plot, given(command, "--plot"), false, true}},
+                      chosen.inputs());
     if (o.param != "mu" && o.param != "wa" && o.param != "mu,wa")
         throw UsageError("--param = '" + o.param + "' is not allowed: allowed mu (the friction coefficient; with "
                          "--config the friction limit of --contact), wa (the absorber's tuning, preset only) or mu,wa "

@@ -68,7 +68,11 @@ int run_program(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << program << ": error: " << e.what() << "\n"
+        std::string what = e.what();
+        if (what.find("disallowed flag override") != std::string::npos)  // --dry-run=0: a flag takes no value
+            what = "--" + what.substr(0, what.find(' ')) + " takes no value: give it alone (--" +
+                   what.substr(0, what.find(' ')) + "=VALUE is not allowed; omit the flag to run)";
+        std::cerr << program << ": error: " << what << "\n"
                   << "Run 'hbf --help' or 'hbf <command> --help' for usage.\n";
         return exit_bad_input;
     }

@@ -77,9 +77,10 @@ std::vector<double> frequencies(const CLI::App& command, const TimeintOptions& o
 /// integrates the motion) up to max_periods.
 int run(const CLI::App& command, const TimeintOptions& o) {
     io::check_plot("--plot", o.plot);  // before any work
-    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
-                       {"--plot", o.plot, command.count("--plot") > 0, false, true}});
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
+    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
+                       {"--plot", o.plot, command.count("--plot") > 0, false, true}},
+                      chosen.inputs());
     const System& system = chosen.system;
     const std::string title = "hbf timeint: " + (o.config.empty() ? chosen.law_name + " (sweep " + o.sweep + ")" : o.config);
     const std::vector<double> omegas = frequencies(command, o);
@@ -103,8 +104,10 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         throw UsageError("--method = '" + o.method + "' is not allowed: allowed adams, bdf, exact");
     tio.method = o.method == "bdf" ? IntegrationMethod::bdf : IntegrationMethod::adams;
     const bool exact = o.method == "exact";
-    if (exact && !exact_solver_supports(system))
-        throw UsageError("--method exact: " + exact_solver_refusal(system) + " (use adams or bdf)");
+    if (exact) {  // at the lowest w, a period costs the most Taylor steps (exact_cost_refusal)
+        const std::string refusal = exact_cost_refusal(system, *std::min_element(omegas.begin(), omegas.end()));
+        if (!refusal.empty()) throw UsageError("--method exact: " + refusal + " (use adams or bdf)");
+    }
     tio.outputs = chosen.outputs;
     ExactOptions eo;
     eo.outputs = chosen.outputs;

@@ -96,6 +96,33 @@ def test_wrong_types_are_type_errors():
         hbfriction.optimize(42, 0.1, 1.0)
 
 
+@pytest.mark.parametrize("call, kind, message", [
+    (lambda: hbfriction.frf(hbfriction.absorber(), harmonics="ten"), TypeError, "harmonics = 'ten': expected an integer"),
+    (lambda: hbfriction.frf(hbfriction.absorber(), harmonics=True), TypeError, "harmonics = True: expected an integer"),
+    (lambda: hbfriction.frf(hbfriction.absorber(), harmonics=10 ** 20), ValueError,
+     "harmonics = 100000000000000000000 is out of range"),
+    (lambda: hbfriction.frf(hbfriction.absorber(), tolerance=True), TypeError, "tolerance = True: expected a number"),
+    (lambda: hbfriction.frf(hbfriction.absorber(), at="1,2"), TypeError, "at = '1,2': expected a sequence"),
+    (lambda: hbfriction.frf(hbfriction.absorber(), at=[0.9, 0.9]), ValueError, "more than once"),
+    (lambda: hbfriction.solve_at(hbfriction.absorber(), 1.0, harmonics=2.5), TypeError, "harmonics = 2.5"),
+    (lambda: hbfriction.absorber(mu=True), TypeError, "mu = True: expected a number"),
+    (lambda: hbfriction.absorber(mu="0.2"), TypeError, "mu = '0.2': expected a number"),
+    (lambda: hbfriction.absorber(excitation_harmonic=True), TypeError, "excitation_harmonic = True"),
+    (lambda: hbfriction.System([1.0], [1.0], [1.0], contacts=[1, 2]), TypeError, "contacts[0] = 1: expected an hbfriction.Contact"),
+    (lambda: hbfriction.System([1.0], [1.0], [1.0], contacts="ab"), TypeError, "contacts: expected a list"),
+    (lambda: hbfriction.System([1.0], [1.0], [1.0], excitation_harmonic=2 ** 40), ValueError,
+     "excitation_harmonic = 1099511627776 is out of the range of integers"),
+    (lambda: hbfriction.timeint(hbfriction.absorber(), 1.0, max_periods="many"), TypeError, "max_periods = 'many'"),
+])
+def test_argument_errors_name_the_argument_without_a_signature_dump(call, kind, message):
+    """Issue 28: a wrong type or an out-of-range integer names the argument (never pybind11's
+    'incompatible function arguments' with the signatures), and a bool is not a number."""
+    with pytest.raises(kind) as e:
+        call()
+    assert message in str(e.value)
+    assert "incompatible" not in str(e.value) and "Invoked with" not in str(e.value)
+
+
 def test_exceptions_leave_no_file(tmp_path):
     b = hbfriction.frf(hbfriction.absorber("lugre"), wmin=1.0, wmax=1.05)
     with pytest.raises(ValueError):
