@@ -76,7 +76,7 @@ struct TimeIntegrationOptions {
     /// absolute_tolerance * s, velocities absolute_tolerance * h omega s, with s the
     /// displacement scale (displacement_scale, or response_scale(system, omega)); the metrics'
     /// quadratures likewise (s T for the first harmonic, 2 pi h |F| s for the energies).
-    double absolute_tolerance = 1e-12;
+    double absolute_tolerance = 1e-10;
     /// Displacement scale s of the absolute tolerances and of the physics checks, in the
     /// System's units; 0 (default) = automatic, response_scale(system, omega). >= 0, finite.
     double displacement_scale = 0;

@@ -25,7 +25,7 @@ constexpr long long max_points = 10000;
 struct TimeintOptions {
     AbsorberFlags absorber;
     std::string w, wmin, wmax, points, sweep = "up", method = "adams";
-    std::string rtol = "1e-10", atol = "1e-12", steady_tol = "1e-8", max_periods = "3000", min_periods = "3";
+    std::string rtol = "1e-10", atol = "1e-10", steady_tol = "1e-8", max_periods = "3000", min_periods = "3";
     std::string out, plot, config;
     bool quiet = false;
 };
