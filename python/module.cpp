@@ -633,6 +633,7 @@ PYBIND11_MODULE(_core, m) {
     tio.def(py::init<>())
         .def_readwrite("relative_tolerance", &TimeIntegrationOptions::relative_tolerance)
         .def_readwrite("absolute_tolerance", &TimeIntegrationOptions::absolute_tolerance)
+        .def_readwrite("displacement_scale", &TimeIntegrationOptions::displacement_scale)
         .def_readwrite("dense_newton_max_dofs", &TimeIntegrationOptions::dense_newton_max_dofs)
         .def_readwrite("steady_tolerance", &TimeIntegrationOptions::steady_tolerance)
         .def_readwrite("min_periods", &TimeIntegrationOptions::min_periods)

@@ -526,8 +526,10 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs) {
                    "numbers are then empty)", ColumnType::text},
         {"energy", "friction energy dissipated per cycle, integral of f q' over the final period"},
         {"periods", "periods integrated (including the shooting-Jacobian periods)", ColumnType::integer},
-        {"converged", "true if the state at the start of consecutive periods changed by <= steady-tol * max(1, "
-                      "|state|); false: the row holds the last period integrated", ColumnType::text},
+        {"converged", "true if the state at the start of consecutive periods changed by <= steady-tol (relative) "
+                      "and the final period passed its physics checks (energy balance; contacts stuck for the whole "
+                      "period keep their relative displacement; permanent stick is the centred linear stuck "
+                      "state); false: the row holds the last period integrated", ColumnType::text},
         {"stick_margin_min", "min over the final period of contact 1's stick indicator (< 0 in stick)"},
         {"stick_margin_max", "max of the stick indicator (< 0: full stick; coulomb also at each velocity reversal)"},
         {"switches", "stick/slip mode changes of all contacts in the final period", ColumnType::integer},

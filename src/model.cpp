@@ -417,6 +417,11 @@ PhysicalAbsorber to_physical(const AbsorberParameters& p, double m1, double k1, 
     return a;
 }
 
+double energy_imbalance(double input, double viscous, double friction, double reach) {
+    const double scale = std::max({reach, std::abs(input), std::abs(viscous) + std::abs(friction)});
+    return scale > 0.0 ? std::abs(input - viscous - friction) / scale : 0.0;
+}
+
 StuckResponse stuck_linear_response(const System& system, double fundamental) {
     using Complex = std::complex<double>;
     const double omega = system.excitation_harmonic * fundamental;  // the force's frequency

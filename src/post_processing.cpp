@@ -176,11 +176,6 @@ double response_floor(const System& system, double omega) {
 
 double energy_balance_limit(double tolerance) { return std::max(1e-6, 100.0 * tolerance); }
 
-double energy_imbalance(double input, double viscous, double friction, double reach) {
-    const double scale = std::max({reach, std::abs(input), std::abs(viscous) + std::abs(friction)});
-    return scale > 0.0 ? std::abs(input - viscous - friction) / scale : 0.0;
-}
-
 PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int contact) {
     Fourier& f = hb.fourier();
     const int nt = f.time_samples(), dofs = hb.system().dofs();

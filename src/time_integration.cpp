@@ -66,6 +66,9 @@ void TimeIntegrationOptions::validate() const {
     in_range(relative_tolerance, 1e-14, 1e-3, "relative_tolerance", "CVODE relative tolerance");
     in_range(absolute_tolerance, 1e-16, 1e-3, "absolute_tolerance", "CVODE absolute tolerance");
     in_range(steady_tolerance, 1e-14, 1e-2, "steady_tolerance", "Poincare convergence tolerance");
+    if (!(displacement_scale >= 0.0 && std::isfinite(displacement_scale)))
+        throw InvalidInput("displacement_scale (scale of the absolute tolerances) = " + format_number(displacement_scale) +
+                           " is out of range: allowed finite >= 0 (0 = automatic)");
     if (min_periods < 1)
         throw InvalidInput("min_periods = " + std::to_string(min_periods) + " is out of range: allowed >= 1");
     if (max_periods < min_periods)
@@ -97,6 +100,10 @@ void TimeIntegrationOptions::validate() const {
                            " is out of range: allowed >= 1");
 }
 
+double TimeIntegrationOptions::physics_tolerance() const {
+    return std::max(1e-6, 100.0 * std::max(relative_tolerance, steady_tolerance));
+}
+
 std::string PeriodicResponse::summary() const {
     std::ostringstream s;
     s << "w = " << format_number(omega) << ": " << (converged ? "converged" : "not converged") << " after "
@@ -109,6 +116,27 @@ std::string PeriodicResponse::summary() const {
 
 int state_size(const System& system) {
     return 2 * system.dofs() + 2 * static_cast<int>(system.contacts.size());
+}
+
+double response_scale(const System& system, double omega) {
+    system.validate();
+    require_positive(omega, "w", "excitation frequency");
+    require_finite(omega, "w", "excitation frequency");
+    const auto usable = [](double x) { return std::isfinite(x) && x > 0.0; };
+    const auto largest = [](const Eigen::VectorXd& y) { return y.size() > 0 ? y.cwiseAbs().maxCoeff() : 0.0; };
+    double quasi_static = 0.0, mass_line = 0.0;
+    Eigen::SparseLU<SparseMatrix> stiffness;
+    stiffness.compute(system.stiffness);
+    if (stiffness.info() == Eigen::Success) quasi_static = largest(stiffness.solve(system.excitation));
+    if (system.has_positive_definite_mass()) {
+        Eigen::SimplicialLDLT<SparseMatrix> mass(system.mass);
+        const double drive = system.excitation_harmonic * omega;
+        if (mass.info() == Eigen::Success) mass_line = largest(mass.solve(system.excitation)) / (drive * drive);
+    }
+    if (usable(quasi_static) && usable(mass_line)) return std::min(quasi_static, mass_line);
+    if (usable(quasi_static)) return quasi_static;
+    if (usable(mass_line)) return mass_line;
+    return 1.0;
 }
 
 namespace {
@@ -166,6 +194,63 @@ void fill_metrics(PeriodicResponse& out, const PeriodRecord& r, const Eigen::Vec
     out.friction_force = r.friction_force;
 }
 
+/// The physics checks of a converged final period (integrate_steady_state): fills
+/// out.energy_error and out.stick_error from `r` (the period that starts at out.state).
+struct PhysicsCheck {
+    std::string failure;          ///< empty: every check passed
+    bool off_convention = false;  ///< permanent stick on another member of the stuck family
+};
+PhysicsCheck check_physics(const System& system, double omega, const PeriodRecord& r, PeriodicResponse& out,
+                           double scale, double tolerance) {
+    PhysicsCheck check;
+    const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
+    // energy balance, relative to the work the force could do on the first harmonic (on a
+    // harmonic of the size of y_max for a force at h omega, h > 1: its harmonic h is not
+    // integrated)
+    double amplitude = 0.0;
+    for (double a : system.excitation_harmonic == 1 ? out.y_amp1 : out.y_max) amplitude += a * a;
+    // (not below the work on 1e-9 of the scale s: a response held at zero by a stuck contact has
+    // no meaningful relative imbalance, as response_floor in harmonic balance)
+    const double reach = pi * system.excitation.norm() * std::max(std::sqrt(amplitude), 1e-9 * scale);
+    out.energy_error = energy_imbalance(out.input_energy, out.viscous_energy, out.energy, reach);
+    // stick kinematics, relative to the scale s (not to the integrated response: a wrong one
+    // must not set its own yardstick)
+    out.stick_error = 0.0;
+    bool permanent = nc > 0;
+    for (int c = 0; c < nc; ++c) {
+        const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
+        const bool exact_stick = contact.law == FrictionLaw::coulomb || contact.law == FrictionLaw::jenkins;
+        const bool stuck = exact_stick && r.always_stuck[static_cast<std::size_t>(c)];
+        permanent = permanent && stuck;
+        if (!stuck || contact.law != FrictionLaw::coulomb || out.displacement.rows() == 0) continue;
+        const Eigen::VectorXd q = out.displacement * system.contact_direction(contact);
+        out.stick_error = std::max(out.stick_error, (q.maxCoeff() - q.minCoeff()) / scale);
+    }
+    if (permanent) {  // the convention of event_exact.hpp: the centred (linear stuck) state
+        const Eigen::VectorXd centred = linear_stuck_state(system, omega);
+        const double drive = system.excitation_harmonic * omega;
+        const Eigen::VectorXd d = (out.state - centred).head(2 * n + nc).cwiseAbs();
+        double distance = std::max(d.head(n).maxCoeff(), d.segment(n, n).maxCoeff() / drive);
+        if (nc > 0) distance = std::max(distance, d.tail(nc).maxCoeff());
+        // relative to the centred state's size (not below s)
+        const double size = std::max({scale, centred.head(n).cwiseAbs().maxCoeff(),
+                                      centred.segment(n, n).cwiseAbs().maxCoeff() / drive});
+        distance /= size;
+        check.off_convention = distance > tolerance;
+        out.stick_error = std::max(out.stick_error, distance);
+    }
+    if (out.energy_error > tolerance)
+        check.failure = "the energy balance fails: input work - viscous - friction energy per period is " +
+                        format_number(out.energy_error) + " of the work scale, allowed " + format_number(tolerance);
+    else if (check.off_convention)
+        check.failure = "in permanent stick the state is " + format_number(out.stick_error) +
+                        " (relative) from the centred linear stuck steady state, allowed " + format_number(tolerance);
+    else if (out.stick_error > tolerance)
+        check.failure = "a contact stuck for the whole period moves: q varies by " + format_number(out.stick_error) +
+                        " of the response, allowed " + format_number(tolerance);
+    return check;
+}
+
 }  // namespace
 
 Eigen::VectorXd linear_stuck_state(const System& system, double omega) {
@@ -220,7 +305,12 @@ PeriodicResponse integrate_with_mass(const System& system, double omega, const T
     const double period = 2.0 * pi / omega;
     PeriodicResponse out;
     out.omega = omega;
-    Integrator integrator(system, omega, options);
+    const double scale = options.displacement_scale > 0.0 ? options.displacement_scale : response_scale(system, omega);
+    out.displacement_scale = scale;
+    const double physics_tolerance = options.physics_tolerance();
+    std::string physics_failure;
+    bool recentred = false;
+    Integrator integrator(system, omega, options, scale);
     Eigen::VectorXd x = initial_state ? *initial_state : Eigen::VectorXd::Zero(size);
     integrator.settle_initial(x);
     bool restarted = false, have_metrics = false;
@@ -272,7 +362,22 @@ PeriodicResponse integrate_with_mass(const System& system, double omega, const T
         fill_metrics(out, record, x, period, options.outputs);
         have_metrics = true;
         if (k >= options.min_periods && change <= options.steady_tolerance) {
-            out.converged = true;
+            const PhysicsCheck check = check_physics(system, omega, record, out, scale, physics_tolerance);
+            if (check.failure.empty()) {
+                out.converged = true;
+                break;
+            }
+            if (check.off_convention && options.stick_restart && !recentred) {
+                // permanent stick elsewhere in the stuck family: the centred member, integrated
+                recentred = restarted = true;
+                note += "; permanent stick moved to the centred linear stuck steady state after " +
+                        std::to_string(k) + " periods";
+                x = linear_stuck_state(system, omega);
+                integrator.settle_initial(x);
+                previous_change = std::numeric_limits<double>::infinity();
+                continue;
+            }
+            physics_failure = check.failure;
             break;
         }
         const bool all_stuck = !record.always_stuck.empty() &&
@@ -341,7 +446,11 @@ PeriodicResponse integrate_with_mass(const System& system, double omega, const T
         }
         previous_change = change;
     }
-    if (!out.converged && out.message.empty())
+    if (!physics_failure.empty())
+        out.message = "Poincare change " + format_number(out.poincare_change) + " <= " +
+                      format_number(options.steady_tolerance) + " but the period fails its physics check: " +
+                      physics_failure + " (w = " + format_number(omega) + "; tighter integration tolerances may help)";
+    else if (!out.converged && out.message.empty())
         out.message = "Poincare map not converged after " + std::to_string(out.periods) + " periods: change " +
                       format_number(out.poincare_change) + " > " + format_number(options.steady_tolerance) +
                       " (w = " + format_number(omega) + ")";

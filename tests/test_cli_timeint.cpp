@@ -181,3 +181,38 @@ TEST_CASE("A time-integration row without one integrated period keeps every colu
     CHECK(field(2, "converged") == "true");
     CHECK(field(2, "switches") == "2");
 }
+
+TEST_CASE("hbf timeint far above the resonances: the stuck closed form and the exact solver, or not converged",
+          "[cli][timeint][scale]") {
+    // The absorber at w = 1e4 (a 1 Hz structure driven at 10 kHz) and 1e9: both masses stuck
+    // together are one mass 1 + r on the main spring, |Y1| = |Y2| = fe / ((1 + r) w^2 - 1)
+    // (test_time_integration.cpp). Every method must give it to 1e-6 relative (the physics
+    // checks' tolerance at the defaults) and agree with --method exact to 1e-6, or say
+    // converged = false with a non-zero exit code.
+    TempDir dir;
+    const hbf::AbsorberParameters p;
+    for (const char* w : {"1e4", "1e9"}) {
+        const double omega = std::stod(w);
+        const double closed = p.excitation / ((1.0 + p.mass_ratio) * omega * omega - 1.0);
+        const Result exact = run_hbf(std::string("timeint --w ") + w + " --method exact", dir);
+        REQUIRE(exact.exit_code == 0);
+        const auto e = parse_csv(exact.out);
+        REQUIRE(e.size() == 2);
+        CHECK(std::abs(std::stod(e[1][1]) / closed - 1.0) < 1e-6);
+        for (const char* method : {"adams", "bdf"}) {
+            const Result r = run_hbf(std::string("timeint --w ") + w + " --method " + method, dir);
+            const auto rows = parse_csv(r.out);
+            INFO("w = " << w << ", " << method << ": " << r.err);
+            REQUIRE(rows.size() == 2);
+            if (rows[1][9] == "true") {
+                CHECK(r.exit_code == 0);
+                for (int column : {1, 2}) {  // y1_max, y2_max
+                    CHECK(std::abs(std::stod(rows[1][column]) / closed - 1.0) < 1e-6);
+                    CHECK(std::abs(std::stod(rows[1][column]) / std::stod(e[1][column]) - 1.0) < 1e-6);
+                }
+            } else {
+                CHECK(r.exit_code != 0);
+            }
+        }
+    }
+}

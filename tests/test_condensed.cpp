@@ -363,7 +363,7 @@ TEST_CASE("The 200-DOF beam: harmonic balance against BDF time integration of th
     // of the period by time integration; HB at H = 20 never sticks there, the short stick is
     // lost to the truncation), and the same file with a limit of 30 N at w = 40 (the tip stays
     // stuck). Reference: hbf timeint --config (CVODE BDF with the sparse Newton solve, rtol
-    // 1e-10, atol 1e-12 m, steady-tol 1e-7: y_max to ~1e-6). Tolerances, relative to the
+    // 1e-10, atol 1e-10 of the response scale, steady-tol 1e-7: y_max to ~1e-6). Tolerances, relative to the
     // mid-span y_max: stick 1e-6 (HB is exact there: the stuck structure is linear); otherwise
     // 3 % (exact Coulomb by DLFT errs like 1/H; measured at H = 20: 0.4 % mid-span and 2.2 %
     // tip at w = 40, 0.05 % and 0.7 % at w = 160).

@@ -488,3 +488,87 @@ TEST_CASE("Massless DOFs that time integration cannot condense are refused with 
     excited.contacts = {c};
     CHECK_THAT(message(excited), Catch::Contains("also excited"));
 }
+
+TEST_CASE("Far above the resonances the stuck absorber is the stuck closed form at any response scale", "[timeint][scale]") {
+    // Paper absorber, exact Coulomb (r = 0.1, wa = 1, mu = 0.2, fe = 0.5, C = 0). Both masses
+    // stuck together (y1 = y2 = u) are one mass 1 + r on the main spring: adding the two rows
+    // of model.hpp's equations, (1 + r) u'' + u = fe cos(w t), so |Y1| = |Y2| =
+    // fe / ((1 + r) w^2 - 1) above the resonance. The contact holds: its force r u'' has the
+    // amplitude r w^2 |Y| -> fe r / (1 + r) = 0.045 < mu. At w = 1e4..1e9 the response is
+    // 4.5e-9..4.5e-19, far below a fixed absolute tolerance (the old 1e-12): the tolerances
+    // must follow the response's scale. From rest (undamped: the free vibration never decays,
+    // and the Poincare map hardly sees it, it turns by 2 pi 0.95 / w per period, so the
+    // permanent-stick check must move it to the centred state) and from the linear stuck state;
+    // adams and bdf. Tolerance 1e-6 relative (physics_tolerance() at the defaults).
+    const AbsorberParameters p;
+    const System s = friction_absorber(p, FrictionLaw::coulomb);
+    const double r = p.mass_ratio;
+    for (const IntegrationMethod method : {IntegrationMethod::adams, IntegrationMethod::bdf}) {
+        TimeIntegrationOptions o;
+        o.method = method;
+        for (double omega : {1e4, 1e6, 1e9}) {
+            const double closed = p.excitation / ((1.0 + r) * omega * omega - 1.0);
+            const Eigen::VectorXd stuck = linear_stuck_state(s, omega);
+            for (const Eigen::VectorXd* start : {static_cast<const Eigen::VectorXd*>(nullptr), &stuck}) {
+                const PeriodicResponse x = integrate_steady_state(s, omega, o, start);
+                INFO(to_string(method) << (start ? " from the stuck state: " : " from rest: ") << x.summary());
+                REQUIRE(x.converged);
+                CHECK(x.regime == "stick");
+                CHECK(test::relative_difference(x.y_max[0], closed) < 1e-6);
+                CHECK(test::relative_difference(x.y_max[1], closed) < 1e-6);
+                CHECK(test::relative_difference(x.y_amp1[0], closed) < 1e-6);
+                CHECK(x.energy_error <= o.physics_tolerance());
+                CHECK(x.stick_error <= o.physics_tolerance());
+            }
+        }
+    }
+}
+
+TEST_CASE("The response scale is the quasi-static response below the resonances and the mass line above", "[timeint][scale]") {
+    // Absorber: K^-1 F = (fe, fe) (the two springs in series with the force on the main mass,
+    // no load on the absorber spring: y1 = y2 = fe / 1), M^-1 F = (fe, 0), so the scale is
+    // min(fe, fe / w^2). Den Hartog's oscillator (k = m = F = 1): min(1, 1 / w^2) although its
+    // stuck response is zero (the contact holds the mass to the ground).
+    const AbsorberParameters p;
+    const System s = friction_absorber(p, FrictionLaw::coulomb);
+    for (double omega : {0.1, 2.0, 1e3, 1e9})
+        CHECK(test::relative_difference(response_scale(s, omega),
+                                        std::min(p.excitation, p.excitation / (omega * omega))) < 1e-12);
+    System d;
+    d.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
+    d.stiffness = d.mass;
+    d.damping = SparseMatrix(1, 1);
+    d.excitation = Eigen::VectorXd::Ones(1);
+    Contact c;
+    c.dof = 0;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = 0.3;
+    d.contacts.push_back(c);
+    CHECK(test::relative_difference(response_scale(d, 0.5), 1.0) < 1e-12);
+    CHECK(test::relative_difference(response_scale(d, 4.0), 1.0 / 16.0) < 1e-12);
+    TimeIntegrationOptions o;
+    o.displacement_scale = -1.0;
+    CHECK_THROWS_AS(o.validate(), InvalidInput);
+}
+
+TEST_CASE("A steady state integrated too coarsely for its scale fails its physics checks, not converged", "[timeint][scale]") {
+    // The old fixed absolute tolerance 1e-12 (displacement_scale = 1) at w = 1e6, where the
+    // response is 4.5e-13 (closed form above): the integration cannot resolve it. Whatever
+    // the Poincare map says, the result is either the closed form to 1e-6 or not converged
+    // with the failed check in its message; measured: not converged.
+    const AbsorberParameters p;
+    const System s = friction_absorber(p, FrictionLaw::coulomb);
+    const double omega = 1e6;
+    const double closed = p.excitation / ((1.0 + p.mass_ratio) * omega * omega - 1.0);
+    TimeIntegrationOptions o;
+    o.displacement_scale = 1.0;
+    o.max_periods = 200;
+    const PeriodicResponse x = integrate_steady_state(s, omega, o);
+    INFO(x.summary());
+    if (x.converged) {
+        CHECK(test::relative_difference(x.y_max[0], closed) < 1e-6);
+        CHECK(test::relative_difference(x.y_max[1], closed) < 1e-6);
+    } else {
+        CHECK_THAT(x.message, Catch::Contains("physics check"));
+    }
+}

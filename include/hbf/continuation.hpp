@@ -244,11 +244,7 @@ struct PointMetrics {
 /// max(1e-6, 100 tolerance). Measured at the default 1e-9: 1e-10..1e-9 on the paper's absorber
 /// (every law) and the chain examples.
 double energy_balance_limit(double tolerance);
-/// Relative energy imbalance of a periodic response, shared by harmonic balance (PointMetrics)
-/// and time integration (hbf timeint): |input - viscous - friction| / max(reach, |input|,
-/// |viscous| + |friction|), all per period; `reach` is the work the force could do on the
-/// response's excited harmonic (0 when unknown). 0 when every term vanishes (nothing moves).
-double energy_imbalance(double input, double viscous, double friction, double reach);
+// energy_imbalance (shared with time integration): model.hpp.
 /// The displacement below which a response of `system` at `omega` is rounding, not motion:
 /// 1e-9 |F|_inf / max(max|K_ii|, omega^2 max M_ii) (1e-9 of the quasi-static or mass-line
 /// response). Floors the energy balance's reach (pi h |F| response_floor: a response held at

@@ -130,11 +130,12 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings);
 FrfResult compute_frf(const System& system, const FrfSettings& settings);
 
 /// The verdict on time-integration steady states (hbf timeint): errors for the points that did
-/// not converge (each one's summary, and their count); a warning when converged points fail
-/// the energy balance (input work = viscous + friction energy per period, relative to the
-/// work the force could do on the first harmonic; limit max(1e-6, 100 max(relative_tolerance,
-/// steady_tolerance))). With `exact` (exact_steady_state, which does not integrate the viscous
-/// energy) the balance is checked only for undamped structures.
+/// not converge (each one's summary, and their count). A converged time-integration point has
+/// passed its physics checks (energy balance, stick; integrate_steady_state). With `exact`
+/// (exact_steady_state) a warning when converged points of an undamped structure fail the
+/// energy balance (input work = friction energy per period, relative to the work the force
+/// could do on the first harmonic; limit options.physics_tolerance(); the exact solver does
+/// not integrate the viscous energy).
 FrfVerdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
                        const TimeIntegrationOptions& options, bool exact);
 

@@ -152,6 +152,13 @@ struct StuckResponse {
 };
 StuckResponse stuck_linear_response(const System& system, double omega);
 
+/// Relative energy imbalance of a periodic response, shared by harmonic balance (PointMetrics)
+/// and time integration (its physics check, hbf timeint): |input - viscous - friction| /
+/// max(reach, |input|, |viscous| + |friction|), all per period; `reach` is the work the force
+/// could do on the response's excited harmonic (0 when unknown). 0 when every term vanishes
+/// (nothing moves).
+double energy_imbalance(double input, double viscous, double friction, double reach);
+
 /// Where the linear structure resonates: an undamped natural frequency of one of its three
 /// linear limits, as a fundamental frequency (the natural frequency divided by the excitation
 /// harmonic h: the force at h omega meets it there).

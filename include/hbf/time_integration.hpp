@@ -71,9 +71,15 @@ enum class IntegrationMethod { adams, bdf };
 struct TimeIntegrationOptions {
     /// CVODE relative tolerance (local error per step), 1e-14..1e-3.
     double relative_tolerance = 1e-10;
-    /// CVODE absolute tolerance for every component, 1e-16..1e-3 (in the System's units:
-    /// for the nondimensional presets the amplitudes are O(1)).
-    double absolute_tolerance = 1e-12;
+    /// CVODE absolute tolerance, 1e-16..1e-3, relative to the response's scale (so the same in
+    /// any units and at any frequency): displacements and internal states get
+    /// absolute_tolerance * s, velocities absolute_tolerance * h omega s, with s the
+    /// displacement scale (displacement_scale, or response_scale(system, omega)); the metrics'
+    /// quadratures likewise (s T for the first harmonic, 2 pi h |F| s for the energies).
+    double absolute_tolerance = 1e-10;
+    /// Displacement scale s of the absolute tolerances and of the physics checks, in the
+    /// System's units; 0 (default) = automatic, response_scale(system, omega). >= 0, finite.
+    double displacement_scale = 0;
     IntegrationMethod method = IntegrationMethod::adams;
     /// BDF's Newton systems (I - gamma J) dx = r: up to this many DOFs, CVODE's dense LU of a
     /// difference-quotient Jacobian of the whole state. Beyond (finite-element models), GMRES
@@ -132,6 +138,12 @@ struct TimeIntegrationOptions {
 
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;
+    /// Largest relative error the physics checks of a converged steady state allow (energy
+    /// balance, stick kinematics, the permanent-stick convention):
+    /// max(1e-6, 100 max(relative_tolerance, steady_tolerance)). Measured at the defaults
+    /// (rtol 1e-10, steady-tol 1e-8): energy 1e-10..5e-9 on the absorber (every law, fe = 0.1
+    /// and 0.5, 12 frequencies) and chain3.toml (adams and bdf).
+    double physics_tolerance() const;
 };
 
 /// Periodic steady state at one frequency and the metrics of its final period.
@@ -176,6 +188,15 @@ struct PeriodicResponse {
     double energy = 0;            ///< friction energy per cycle: int sum_c f_c v_c dt
     double viscous_energy = 0;    ///< int y'^T C y' dt over the period
     double input_energy = 0;      ///< int F^T y' cos(h omega t) dt over the period
+    /// Physics checks of the final period (see integrate_steady_state), each relative, against
+    /// options.physics_tolerance(): energy_error = energy_imbalance(input, viscous, friction,
+    /// pi |F| |Y|) (model.hpp; Y: the first harmonic, or y_max for a force at h omega, h > 1); stick_error = the largest variation over the period of q_c of
+    /// a coulomb contact stuck for the whole period, relative to s, and in permanent stick the
+    /// distance of the state from linear_stuck_state (y, y' / (h omega), internal states)
+    /// relative to that state's size (not below s); 0 if none applies.
+    double energy_error = 0;
+    double stick_error = 0;
+    double displacement_scale = 0;  ///< s of the absolute tolerances (TimeIntegrationOptions)
 
     // ---- sampled signals of the final period: t_j = j T / samples, j = 0..samples-1 ----
     Eigen::VectorXd time;
@@ -195,6 +216,15 @@ struct PeriodicResponse {
 /// 2N + 2 n_c (see PeriodicResponse).
 int state_size(const System& system);
 
+/// The displacement scale of the steady state at omega (units of y), from which the absolute
+/// tolerances and the physics checks are scaled: the smaller of |K^-1 F|_inf, the quasi-static
+/// response (the response far below the resonances), and |M^-1 F|_inf / (h omega)^2, the mass
+/// line (far above them); the other one where one is not finite (a singular K or M), 1 where
+/// neither is positive and finite. Near a resonance the response is larger (the tolerances are
+/// then tighter than needed, never looser). Not the stuck linear response: a contact that
+/// holds a DOF to the ground makes it vanish while the contact slips.
+double response_scale(const System& system, double omega);
+
 /// The state at t = 0 of the linear steady state with every contact stuck: coulomb contacts
 /// rigid (exact constraint), jenkins as the spring k_t (s = 0), dahl and lugre as their
 /// pre-sliding spring sigma0 and damper sigma1 + sigma2 (z = q), coulomb-reg as the damper
@@ -206,6 +236,18 @@ Eigen::VectorXd linear_stuck_state(const System& system, double omega);
 /// Integrates from `initial_state` (nullptr: rest, modes stick) period by period until the
 /// Poincare map converges (after at least min_periods) or max_periods is reached. Throws
 /// InvalidInput for an invalid system, omega <= 0, bad options or a state of the wrong size.
+///
+/// A converged map is `converged` only if the final period passes its physics checks (to
+/// options.physics_tolerance(), see energy_error and stick_error): the energy balance (input
+/// work = viscous + friction energy per period); every coulomb contact stuck for the whole
+/// period keeps q_c constant (the masses it joins move together); and in permanent stick (every
+/// contact coulomb or jenkins and stuck for the whole period) the state is linear_stuck_state,
+/// the convention of event_exact.hpp (permanent stick is degenerate: any offset of a stuck
+/// contact is periodic too; the centred one, mean friction force zero, is the answer). A
+/// permanent-stick orbit elsewhere in that family is moved to linear_stuck_state once (with
+/// stick_restart) and integrated again. Otherwise converged = false and the message says
+/// which check failed. (The Poincare test alone cannot tell: far above the resonances a free
+/// vibration of an undamped structure changes by ~2 pi omega_n / omega of itself per period.)
 PeriodicResponse integrate_steady_state(const System& system, double omega, const TimeIntegrationOptions& options,
                                         const Eigen::VectorXd* initial_state = nullptr);
 

@@ -20,15 +20,12 @@
 namespace hbf::cli {
 
 namespace {
-/// Largest relative energy imbalance of a converged steady state: max(1e-6, 100 max(rtol,
-/// steady-tol)). Measured at the defaults (rtol 1e-10, steady-tol 1e-8): 1e-10..5e-9 on the
-/// absorber (every law, fe = 0.1 and 0.5, 12 frequencies) and chain3.toml (adams and bdf).
 constexpr long long max_points = 10000;
 
 struct TimeintOptions {
     AbsorberFlags absorber;
     std::string w, wmin, wmax, points, sweep = "up", method = "adams";
-    std::string rtol = "1e-10", atol = "1e-12", steady_tol = "1e-8", max_periods = "3000", min_periods = "3";
+    std::string rtol = "1e-10", atol = "1e-10", steady_tol = "1e-8", max_periods = "3000", min_periods = "3";
     std::string out, plot, config;
     bool quiet = false;
 };
@@ -188,7 +185,10 @@ Runner add_timeint_command(CLI::App& app) {
         ->capture_default_str()->type_name("up|down");
     command->add_option("--rtol", options->rtol, "CVODE relative tolerance, 1e-14..1e-3")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--atol", options->atol, "CVODE absolute tolerance, 1e-16..1e-3")
+    command->add_option("--atol", options->atol,
+                        "CVODE absolute tolerance relative to the response's scale s (displacements atol s, velocities "
+                        "atol h w s; s = min(|K^-1 F|, |M^-1 F| / (h w)^2): the same in any units and at any w), "
+                        "1e-16..1e-3")
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--steady-tol", options->steady_tol,
                         "Poincare convergence: the state at the start of consecutive periods changes by <= "
@@ -222,8 +222,12 @@ Runner add_timeint_command(CLI::App& app) {
         "down sweeps). Output: CSV with a header row, one row per frequency in sweep order. Nondimensional as in "
         "the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.\nColumns:\n";
     for (const auto& c : io::timeint_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
-    footer += "A point that did not converge is written with converged = false and reported on standard error, "
-              "and the exit code is 1 (like a stalled hbf frf branch: what was computed is written).";
+    footer += "converged = true needs the Poincare map converged and the final period's physics: energy balance "
+              "(input work = dissipated energy per period), contacts stuck for the whole period moving together, "
+              "and permanent stick on the centred linear stuck state (as --method exact), each to "
+              "max(1e-6, 100 max(rtol, steady-tol)). A point that did not converge is written with converged = "
+              "false and reported on standard error, and the exit code is 1 (like a stalled hbf frf branch: what "
+              "was computed is written).";
     command->footer(footer);
     return [command, options]() { return run(*command, *options); };
 }

@@ -30,9 +30,9 @@ void silent_error_handler(int code, const char* module, const char* function, ch
 }
 }  // namespace
 
-Integrator::Integrator(const System& system, double omega, const TimeIntegrationOptions& options)
+Integrator::Integrator(const System& system, double omega, const TimeIntegrationOptions& options, double scale)
     : system_(system), omega_(omega), drive_(system.excitation_harmonic * omega), period_(2.0 * pi / omega),
-      options_(options), n_(system.dofs()),
+      scale_(scale), options_(options), n_(system.dofs()),
       nc_(static_cast<int>(system.contacts.size())), length_(4 * n_ + nc_ + 3), quad_(2 * n_ + nc_) {
     for (const Contact& c : system.contacts) contacts_.emplace_back(c);
     sparse_ = n_ > options_.dense_newton_max_dofs;
@@ -63,7 +63,27 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
     throw_on(CVodeInit(cvode_, rhs_callback, 0.0, x_), "CVodeInit");
     throw_on(CVodeSetErrHandlerFn(cvode_, silent_error_handler, nullptr), "CVodeSetErrHandlerFn");
     throw_on(CVodeSetUserData(cvode_, this), "CVodeSetUserData");
-    throw_on(CVodeSStolerances(cvode_, options_.relative_tolerance, options_.absolute_tolerance), "CVodeSStolerances");
+    // Absolute tolerances relative to the response's scale s (time_integration.hpp): y and the
+    // internal states (lengths) a s, y' a h omega s, the first-harmonic quadratures a s T, the
+    // energies a 2 pi h max(|F|, F_c) s (the work of a force of that size over the period).
+    absolute_ = N_VNew_Serial(length_, context_);
+    if (!absolute_) throw std::runtime_error("N_VNew_Serial failed");
+    {
+        const double a = options_.absolute_tolerance * scale_;
+        double force = system.excitation.cwiseAbs().maxCoeff();
+        for (const ContactData& c : contacts_) force = std::max(force, c.limit);
+        double* tol = N_VGetArrayPointer(absolute_);
+        for (int i = 0; i < n_; ++i) {
+            tol[i] = a;
+            tol[n_ + i] = a * drive_;
+            tol[quad_ + i] = tol[quad_ + n_ + i] = a * period_;
+        }
+        for (int c = 0; c < nc_; ++c) tol[2 * n_ + c] = a;
+        for (int k = 0; k < 3; ++k) tol[quad_ + 2 * n_ + k] = a * 2.0 * pi * system.excitation_harmonic * force;
+        for (int i = 0; i < length_; ++i)
+            if (!(tol[i] > 0.0) || !std::isfinite(tol[i])) tol[i] = options_.absolute_tolerance;  // F = 0, no scale
+    }
+    throw_on(CVodeSVtolerances(cvode_, options_.relative_tolerance, absolute_), "CVodeSVtolerances");
     if (adams) {
         nonlinear_ = SUNNonlinSol_FixedPoint(x_, 0, context_);
         throw_on(CVodeSetNonlinearSolver(cvode_, nonlinear_), "CVodeSetNonlinearSolver");
@@ -101,6 +121,7 @@ Integrator::~Integrator() {
     if (matrix_) SUNMatDestroy(matrix_);
     if (x_) N_VDestroy(x_);
     if (dky_) N_VDestroy(dky_);
+    if (absolute_) N_VDestroy(absolute_);
     if (context_) SUNContext_Free(&context_);
 }
 
@@ -591,7 +612,7 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
                 if (found[static_cast<std::size_t>(c)] != 0 && event_driven(contacts_[static_cast<std::size_t>(c)].law))
                     hits.push_back(c);
         } else {
-            double vscale = 1.0;
+            double vscale = scale_ * drive_;  // the response's velocity scale
             for (int i = 0; i < n_; ++i) vscale = std::max(vscale, std::abs(x[n_ + i]));
             for (int c = 0; c < nc_; ++c) {
                 const ContactData& k = contacts_[static_cast<std::size_t>(c)];

@@ -75,7 +75,8 @@ struct PeriodRecord {
 /// Integrates one period at a time; owns the CVODE memory (created once per frequency).
 class Integrator {
 public:
-    Integrator(const System& system, double omega, const TimeIntegrationOptions& options);
+    /// `scale`: the displacement scale s of the absolute tolerances (TimeIntegrationOptions).
+    Integrator(const System& system, double omega, const TimeIntegrationOptions& options, double scale);
     ~Integrator();
     Integrator(const Integrator&) = delete;
     Integrator& operator=(const Integrator&) = delete;
@@ -132,6 +133,7 @@ private:
 
     const System& system_;
     const double omega_, drive_, period_;  // drive_: the force's frequency h omega
+    const double scale_;                   // displacement scale s (absolute tolerances)
     const TimeIntegrationOptions options_;
     const int n_, nc_, length_, quad_;
     std::vector<ContactData> contacts_;
@@ -157,7 +159,7 @@ private:
     Eigen::VectorXd f_, zdot_, acc_, load_, lambda_, velocity_c_;
 
     SUNContext context_ = nullptr;
-    N_Vector x_ = nullptr, dky_ = nullptr;
+    N_Vector x_ = nullptr, dky_ = nullptr, absolute_ = nullptr;
     SUNMatrix matrix_ = nullptr;
     SUNLinearSolver linear_ = nullptr;
     SUNNonlinearSolver nonlinear_ = nullptr;
