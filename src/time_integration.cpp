@@ -128,6 +128,27 @@ double response_scale(const System& system, double omega) {
     Eigen::SparseLU<SparseMatrix> stiffness;
     stiffness.compute(system.stiffness);
     if (stiffness.info() == Eigen::Success) quasi_static = largest(stiffness.solve(system.excitation));
+    if (!usable(quasi_static) && !system.contacts.empty()) {
+        // K singular: a part held only by its contacts (a massless shoe sliding on the ground).
+        // The quasi-static response with each contact held by a spring of K's largest diagonal.
+        double spring = 0.0;
+        for (int i = 0; i < system.dofs(); ++i) spring = std::max(spring, std::abs(system.stiffness.coeff(i, i)));
+        if (!(spring > 0.0)) spring = 1.0;
+        std::vector<Eigen::Triplet<double>> held;
+        for (const Contact& contact : system.contacts) {
+            const Eigen::VectorXd w = system.contact_direction(contact);
+            std::vector<int> support;
+            for (int i = 0; i < w.size(); ++i)
+                if (w(i) != 0.0) support.push_back(i);
+            for (int i : support)
+                for (int j : support) held.emplace_back(i, j, spring * w(i) * w(j));
+        }
+        SparseMatrix k(system.dofs(), system.dofs());
+        k.setFromTriplets(held.begin(), held.end());
+        k += system.stiffness;
+        stiffness.compute(k);
+        if (stiffness.info() == Eigen::Success) quasi_static = largest(stiffness.solve(system.excitation));
+    }
     if (system.has_positive_definite_mass()) {
         Eigen::SimplicialLDLT<SparseMatrix> mass(system.mass);
         const double drive = system.excitation_harmonic * omega;
@@ -453,7 +474,8 @@ PeriodicResponse integrate_with_mass(const System& system, double omega, const T
     else if (!out.converged && out.message.empty())
         out.message = "Poincare map not converged after " + std::to_string(out.periods) + " periods: change " +
                       format_number(out.poincare_change) + " > " + format_number(options.steady_tolerance) +
-                      " (w = " + format_number(omega) + ")";
+                      " (w = " + format_number(omega) + "; a change that stalls is the integration's error per "
+                      "period: tighter absolute/relative tolerances, or a looser steady tolerance, help)";
     else if (out.converged)
         out.message = "Poincare change " + format_number(out.poincare_change) + " <= " +
                       format_number(options.steady_tolerance);

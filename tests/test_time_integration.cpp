@@ -546,6 +546,22 @@ TEST_CASE("The response scale is the quasi-static response below the resonances 
     d.contacts.push_back(c);
     CHECK(test::relative_difference(response_scale(d, 0.5), 1.0) < 1e-12);
     CHECK(test::relative_difference(response_scale(d, 4.0), 1.0 / 16.0) < 1e-12);
+    // A free mass (DOF 1, m = 1, force 3) joined by a spring 2 to a massless shoe (DOF 2) that
+    // slides on the ground: K = [[2, -2], [-2, 2]] is singular and M = diag(1, 0) too. The
+    // shoe's contact held by a spring of K's largest diagonal, 2: [[2, -2], [-2, 4]] y = (3, 0)
+    // gives y = (3, 1.5), the scale 3 (not the fallback 1, which the old beam test met: a
+    // reduced beam with such a shoe got an absolute tolerance of 1e-10 m on a 1e-4 m response).
+    System shoe;
+    shoe.mass = sparse((Eigen::MatrixXd(2, 2) << 1, 0, 0, 0).finished());
+    shoe.stiffness = sparse((Eigen::MatrixXd(2, 2) << 2, -2, -2, 2).finished());
+    shoe.damping = SparseMatrix(2, 2);
+    shoe.excitation = Eigen::Vector2d(3.0, 0.0);
+    Contact ground;
+    ground.dof = 1;
+    ground.law = FrictionLaw::coulomb;
+    ground.friction_limit = 0.3;
+    shoe.contacts.push_back(ground);
+    CHECK(test::relative_difference(response_scale(shoe, 0.5), 3.0) < 1e-12);
     TimeIntegrationOptions o;
     o.displacement_scale = -1.0;
     CHECK_THROWS_AS(o.validate(), InvalidInput);

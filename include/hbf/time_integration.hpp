@@ -220,7 +220,9 @@ int state_size(const System& system);
 /// tolerances and the physics checks are scaled: the smaller of |K^-1 F|_inf, the quasi-static
 /// response (the response far below the resonances), and |M^-1 F|_inf / (h omega)^2, the mass
 /// line (far above them); the other one where one is not finite (a singular K or M), 1 where
-/// neither is positive and finite. Near a resonance the response is larger (the tolerances are
+/// neither is positive and finite. A K that is singular (a part held only by its contacts,
+/// e.g. a massless shoe sliding on the ground) gets each contact held by a spring of its
+/// largest diagonal entry for the quasi-static response. Near a resonance the response is larger (the tolerances are
 /// then tighter than needed, never looser). Not the stuck linear response: a contact that
 /// holds a DOF to the ground makes it vanish while the contact slips.
 double response_scale(const System& system, double omega);
