@@ -627,6 +627,7 @@ PYBIND11_MODULE(_core, m) {
             return f;
         },
         py::arg("system"));
+    m.attr("max_harmonics") = hbf::max_harmonics;
     m.def("automatic_harmonics", [](const PySystem& s, bool exact) { return automatic_harmonics(s.system, exact); });
 
     py::class_<TimeIntegrationOptions> tio(m, "TimeIntegrationOptions", "time_integration.hpp");

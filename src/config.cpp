@@ -452,8 +452,9 @@ SystemConfig read_system_config(const std::string& path) {
         }
         if (const toml::node* v = t->get("harmonics")) {
             config.harmonics = r.integer(*v, "solver.harmonics");
-            if (*config.harmonics < 1 || *config.harmonics > 200)
-                fail(path, v->source(), "solver.harmonics", std::to_string(*config.harmonics) + " is out of range: allowed 1..200");
+            if (*config.harmonics < 1 || *config.harmonics > max_harmonics)
+                fail(path, v->source(), "solver.harmonics", std::to_string(*config.harmonics) + " is out of range: allowed 1.." +
+                     std::to_string(max_harmonics));
         }
         if (const toml::node* v = t->get("time_samples")) {
             config.time_samples = r.integer(*v, "solver.time_samples");

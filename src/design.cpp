@@ -90,7 +90,7 @@ int automatic_harmonics(const System& system, bool exact) {
     int h = 10;
     if (!exact)
         for (const Contact& c : system.contacts) h = std::max(h, default_harmonics(c.law));
-    return std::min(200, h * std::max(1, system.excitation_harmonic));
+    return std::min(max_harmonics, h * std::max(1, system.excitation_harmonic));
 }
 
 FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs) {

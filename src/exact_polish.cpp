@@ -291,7 +291,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                     return e.converged ? value_of(e.y_max, e.output_max) : 0.0;
                 };
                 const detail::GoldenMaximum best =
-                    detail::golden_section_maximum(value, std::min(a.point.omega, b.point.omega),
+                    detail::brent_maximum(value, std::min(a.point.omega, b.point.omega),
                                                    std::max(a.point.omega, b.point.omega), 1e-9, ok);
                 if (ok && best.value >= y(k)) {
                     peak.omega = best.x;

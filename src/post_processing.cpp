@@ -239,7 +239,7 @@ std::vector<Peak> output_peaks(HarmonicBalance& hb, const BranchResult& branch, 
                 }
                 return analyse(p).output_max.front();
             };
-            const detail::GoldenMaximum best = detail::golden_section_maximum(value, low.omega, high.omega, 1e-9, ok);
+            const detail::GoldenMaximum best = detail::brent_maximum(value, low.omega, high.omega, 1e-9, ok);
             if (ok && best.value >= y[k]) {
                 peak.omega = best.x;
                 peak.y_max = best.value;

@@ -156,7 +156,7 @@ TEST_CASE("Bad system files: the message names the file, the line and the key, e
          {":7:", "contact[1].law", "allowed coulomb"}},
         {good_structure + "[output]\nreport = [2]\n", {":6:", "output.report", "allowed 1..1"}},
         {good_structure + "[frequency]\nwmin = 2.0\nwmax = 1.0\n", {":7:", "frequency.wmax"}},
-        {good_structure + "[solver]\nharmonics = 0\n", {":6:", "solver.harmonics", "1..200"}},
+        {good_structure + "[solver]\nharmonics = 0\n", {":6:", "solver.harmonics", "1..100"}},
         {"[structure\nmass = [1.0]\n", {":1:", "syntax error"}},
     };
     for (const Case& c : cases) {

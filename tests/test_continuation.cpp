@@ -7,6 +7,7 @@
 #include "hbf/analytic.hpp"
 #include "hbf/continuation.hpp"
 #include "support.hpp"
+#include "../src/golden_section.hpp"
 
 using namespace hbf;
 
@@ -541,4 +542,42 @@ TEST_CASE("A large step does not jump across the unbounded stuck resonance: the 
     ContinuationOptions blind = o;
     blind.resolve_resonances = false;
     CHECK(continue_branch(hb, blind).status == ContinuationStatus::completed);
+}
+
+TEST_CASE("Peak refinement by Brent's method: the maximum of a resonance curve in fewer evaluations than golden section",
+          "[continuation][peaks]") {
+    // |Y(x)| = 1 / sqrt((1 - x^2)^2 + (2 z x)^2) (a damped oscillator, x = w / w_n) has its
+    // maximum at x* = sqrt(1 - 2 z^2), |Y|* = 1 / (2 z sqrt(1 - z^2)) (derived by setting the
+    // derivative of the denominator to zero). Brackets of two neighbouring branch points, on
+    // the peak's flanks and off centre; z = 0.01 and 0.1. Both searches to 1e-9 relative in x:
+    // the value to 1e-12 (the maximum is quadratic: an x error of 1e-9 costs ~(1e-9 / z)^2),
+    // x to 1e-8; Brent in at most half the evaluations of golden section.
+    for (const double z : {0.01, 0.1}) {
+        const double x_star = std::sqrt(1.0 - 2.0 * z * z), y_star = 1.0 / (2.0 * z * std::sqrt(1.0 - z * z));
+        for (const auto& [lo, hi] : {std::pair{x_star - 0.01, x_star + 0.02}, std::pair{x_star - 0.003, x_star + 0.001},
+                                     std::pair{0.9 * x_star, 1.2 * x_star}}) {
+            int golden_calls = 0, brent_calls = 0;
+            auto response = [&](double x, int& calls) {
+                ++calls;
+                return 1.0 / std::sqrt(std::pow(1.0 - x * x, 2) + std::pow(2.0 * z * x, 2));
+            };
+            bool ok = true;
+            const auto golden = hbf::detail::golden_section_maximum(
+                [&](double x, bool&) { return response(x, golden_calls); }, lo, hi, 1e-9, ok);
+            const auto brent = hbf::detail::brent_maximum([&](double x, bool&) { return response(x, brent_calls); }, lo,
+                                                          hi, 1e-9, ok);
+            INFO("z = " << z << ", [" << lo << ", " << hi << "]: golden " << golden_calls << ", brent " << brent_calls);
+            REQUIRE(ok);
+            CHECK(std::abs(golden.value / y_star - 1.0) < 1e-12);
+            CHECK(std::abs(brent.value / y_star - 1.0) < 1e-12);
+            CHECK(std::abs(brent.x / x_star - 1.0) < 1e-8);
+            CHECK(2 * brent_calls <= golden_calls);
+        }
+    }
+    // A failed evaluation stops the search and is reported.
+    bool ok = true;
+    int calls = 0;
+    hbf::detail::brent_maximum([&](double x, bool& good) { good = ++calls < 4; return -x * x; }, -1.0, 2.0, 1e-9, ok);
+    CHECK_FALSE(ok);
+    CHECK(calls == 4);
 }

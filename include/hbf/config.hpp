@@ -9,7 +9,7 @@
 //                                             # sparse; M may be singular: massless DOFs)
 //     damping    = [0.0, 0.0]                 # optional: zero
 //     excitation = [0.5, 0.0]                 # F, amplitude of F cos(h w t) (or an N x 1 .mtx)
-//     excitation_harmonic = 1                 # optional: h, 1..200 (default 1): the force acts
+//     excitation_harmonic = 1                 # optional: h, 1..100 (default 1): the force acts
 //                                             # at h w, w the response's fundamental (h = 2:
 //                                             # subharmonic response of order 1/2); HB needs H >= h
 //

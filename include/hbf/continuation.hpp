@@ -312,7 +312,7 @@ struct Peak {
 };
 
 /// Peaks of DOF `dof` (0-based): every branch point whose y_max exceeds both neighbours on
-/// the same branch, refined by a golden-section search in omega over the neighbours'
+/// the same branch, refined by a search in omega (Brent: parabolic steps, golden-section fallback) over the neighbours'
 /// interval, solving exactly at each trial frequency (from the branch interpolation), to
 /// |delta omega| <= 1e-9 omega. Where a fold lies between the neighbours (not a function of
 /// omega there) or a solve fails, the branch point itself is reported (refined = false).

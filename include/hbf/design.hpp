@@ -57,7 +57,7 @@ int default_harmonics(FrictionLaw law);
 /// The automatic H of `hbf frf` and of the Python frf(): 10 with the exact polish (harmonic
 /// balance then only supplies the branch and the starting guesses: the same exact branch, peaks
 /// and transitions as H = 20, 3 times faster); otherwise the largest default_harmonics of the
-/// contacts' laws (10 without contacts); either times the excitation harmonic h, at most 200.
+/// contacts' laws (10 without contacts); either times the excitation harmonic h, at most max_harmonics (100).
 int automatic_harmonics(const System& system, bool exact);
 
 /// The settings of `hbf frf` without flags for a system: the exact polish where it applies

@@ -12,7 +12,7 @@
 //     transition, on the stick side (stick|stick-slip) or the stick-slip side
 //     (stick-slip|slip); HB's own transition points (O(1/H) misplaced) are dropped;
 //   * peaks: every exact local maximum of y_max of the reported DOF among the branch points,
-//     refined by golden-section search in omega on exact solves to |delta omega| <= 1e-9 omega.
+//     refined by a search in omega (Brent's method) on exact solves to |delta omega| <= 1e-9 omega.
 #pragma once
 
 #include <Eigen/Dense>
@@ -58,8 +58,8 @@ struct PolishedBranch {
     std::vector<SolutionPoint> points;
     std::vector<PointMetrics> metrics;  ///< exact metrics where polished, HB otherwise
     std::vector<ExactPoint> exact;
-    std::vector<Peak> peaks;            ///< exact peaks of `dof` or of the outputs (refined = golden
-                                        ///< section converged)
+    std::vector<Peak> peaks;            ///< exact peaks of `dof` or of the outputs (refined = the
+                                        ///< search in omega converged)
     int polished = 0, failed = 0, unstable = 0, transitions = 0;
     double max_hb_gap = 0;              ///< largest hb_gap over the polished points
     double seconds = 0;

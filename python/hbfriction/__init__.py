@@ -277,8 +277,8 @@ def _set_option(settings, name, value):
 def _check_limits(settings):
     """hbf frf's ranges for what would otherwise only be limited by memory."""
     hb = settings.harmonic_balance
-    if not 1 <= hb.harmonics <= 200:
-        raise ValueError("harmonics = %d is out of range: allowed 1..200" % hb.harmonics)
+    if not 1 <= hb.harmonics <= _core.max_harmonics:
+        raise ValueError("harmonics = %d is out of range: allowed 1..%d" % (hb.harmonics, _core.max_harmonics))
     if hb.time_samples != 0 and not 2 * hb.harmonics < hb.time_samples <= 65536:
         raise ValueError("time_samples = %d is out of range: allowed 0 (automatic) or %d..65536" %
                          (hb.time_samples, 2 * hb.harmonics + 1))

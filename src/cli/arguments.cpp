@@ -185,7 +185,7 @@ void apply_excitation_harmonic(const CLI::App& command, const AbsorberFlags& fla
                              std::to_string(System::max_excitation_harmonic));
         chosen.system.excitation_harmonic = static_cast<int>(h);
     }
-    chosen.automatic_harmonics = std::min(200, chosen.automatic_harmonics * chosen.system.excitation_harmonic);
+    chosen.automatic_harmonics = std::min(max_harmonics, chosen.automatic_harmonics * chosen.system.excitation_harmonic);
 }
 }  // namespace
 
@@ -248,11 +248,14 @@ HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const s
     const long long parsed = parse_integer("--harmonics", count);
     if (hbo.odd_harmonics && harmonics != "odd" && parsed == 0)
         throw UsageError("--harmonics = " + harmonics + " is out of range: allowed odd (automatic H) or odd:H with H "
-                         "in 1..200");
+                         "in 1.." + std::to_string(max_harmonics));
     hbo.harmonics = static_cast<int>(std::clamp<long long>(parsed, -1, 100000));
-    if (hbo.harmonics < 0 || hbo.harmonics > 200)
-        throw UsageError("--harmonics = " + harmonics + " is out of range: allowed 0 (automatic), 1..200, odd, or "
-                         "odd:H (odd harmonics <= H only)");
+    if (hbo.harmonics < 0 || hbo.harmonics > max_harmonics)
+        throw UsageError("--harmonics = " + harmonics + " is out of range: allowed 0 (automatic), 1.." +
+                         std::to_string(max_harmonics) +
+                         ", odd, or odd:H (odd harmonics <= H only; above " +
+                         std::to_string(max_harmonics) +
+                         " a branch takes many minutes: README, inputs)");
     if (config && command.count("--harmonics") == 0) {
         if (config->harmonics) hbo.harmonics = *config->harmonics;
         if (config->odd_harmonics) hbo.odd_harmonics = *config->odd_harmonics;

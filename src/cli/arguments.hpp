@@ -90,7 +90,7 @@ struct ChosenSystem {
     std::optional<io::SystemConfig> config;
     AbsorberParameters absorber;      ///< the preset's parameters (without --config)
     int automatic_harmonics = 10;     ///< default_harmonics of the (most demanding) law, times
-                                      ///< the excitation harmonic h (at most 200)
+                                      ///< the excitation harmonic h (at most max_harmonics)
     /// The files the run reads (the config and its Matrix Market files): no output may be one.
     std::vector<io::InputFile> inputs() const { return config ? config->inputs : std::vector<io::InputFile>{}; }
 };

@@ -38,7 +38,7 @@ def test_out_of_range_parameters_carry_the_cli_message():
     (lambda: hbfriction.absorber("stiction"), "law = 'stiction' is not known: allowed coulomb"),
     (lambda: hbfriction.absorber("coulomb", wb=0.5), "wb does not apply to law coulomb"),
     (lambda: hbfriction.absorber(nu=0.5), "unknown parameter 'nu'"),
-    (lambda: hbfriction.frf(hbfriction.absorber(), harmonics=500), "harmonics = 500 is out of range: allowed 1..200"),
+    (lambda: hbfriction.frf(hbfriction.absorber(), harmonics=500), "harmonics = 500 is out of range: allowed 1..100"),
     (lambda: hbfriction.frf(hbfriction.absorber(), harmonics=0), "harmonics = 0 is out of range"),
     (lambda: hbfriction.frf(hbfriction.absorber(), time_samples=10), "time_samples = 10 is out of range"),
     (lambda: hbfriction.frf(hbfriction.absorber(), toleranse=1e-9), "unknown option 'toleranse'"),
