@@ -151,10 +151,30 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     //    it misplaces), else (second pass) from the next one.
     std::vector<Polished> branch, samples;
     std::vector<PointMetrics> branch_hb;
+    // A point whose HB response is infinite (a branch capped exactly on an undamped resonance the
+    // contacts do not see: Receptance's limit) has no periodic orbit to polish: it stays HB
+    // (status off), the branch's amplitude_cap says why.
+    const auto unbounded = [](const PointMetrics& m) {
+        for (double a : m.y_amp1)
+            if (!std::isfinite(a)) return true;
+        return false;
+    };
+    const auto keep_hb = [&](Polished& q) {
+        if (!unbounded(q.metrics)) return false;
+        q.exact.status = PolishStatus::off;
+        q.exact.hb_gap = std::numeric_limits<double>::quiet_NaN();
+        q.exact.message = "unbounded harmonic-balance response (an undamped resonance): not polished";
+        return true;
+    };
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
         if (p.kind == PointKind::transition) continue;
         Polished q{p, hb_metrics[k], {}, {}};
+        if (unbounded(q.metrics)) {
+            (p.kind == PointKind::sample ? samples : branch).push_back(std::move(q));
+            if (p.kind != PointKind::sample) branch_hb.push_back(hb_metrics[k]);
+            continue;
+        }
         const Polished* previous = p.kind != PointKind::sample && !branch.empty() &&
                                            branch.back().point.branch == p.branch && branch.back().orbit.converged
                                        ? &branch.back()
@@ -170,16 +190,19 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     }
     for (std::size_t k = branch.size(); k-- > 1;) {
         Polished &q = branch[k - 1], &next = branch[k];
-        if (q.orbit.converged || !next.orbit.converged || q.point.branch != next.point.branch) continue;
+        if (q.orbit.converged || !next.orbit.converged || q.point.branch != next.point.branch || unbounded(q.metrics))
+            continue;
         ExactOrbit retry = exact_periodic_orbit(system, q.point.omega, next.orbit.state, options.exact);
         if (retry.converged) q.orbit = std::move(retry);
     }
     for (std::size_t k = 0; k < branch.size(); ++k) {
         Polished& q = branch[k];
+        if (keep_hb(q)) continue;
         q.exact = exact_point(q.orbit, branch_hb[k], dof);
         if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, branch_hb[k], system);
     }
     for (Polished& q : samples) {
+        if (keep_hb(q)) continue;
         q.exact = exact_point(q.orbit, q.metrics, dof);
         if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, q.metrics, system);
     }

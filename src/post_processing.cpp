@@ -19,6 +19,10 @@ namespace {
 /// samples, polished by Newton on x'(theta) = 0 within one grid spacing (exact to rounding,
 /// where the grid alone would be off by up to (pi / N)^2 / 2 relative).
 double series_max_abs(const Eigen::VectorXd& c, const Eigen::VectorXd& samples) {
+    // An infinite coefficient (a DOF unbounded at an undamped resonance, Receptance's limit) is
+    // an infinite maximum, not the NaN that inf * cos(pi / 2) would give.
+    if (!c.allFinite()) return c.array().isNaN().any() ? std::numeric_limits<double>::quiet_NaN()
+                                                       : std::numeric_limits<double>::infinity();
     Eigen::Index j = 0;
     const double grid_max = samples.cwiseAbs().maxCoeff(&j);
     const int harmonics = static_cast<int>(c.size() - 1) / 2;

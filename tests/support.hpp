@@ -33,20 +33,28 @@ inline double relative_difference(std::complex<double> a, std::complex<double> b
     return std::abs(a - b) / std::max(std::abs(a), std::abs(b));
 }
 
+/// An undamped structure (M, K, force amplitude F) with one exact Coulomb contact of limit
+/// `limit` from DOF `dof` (0-based) to the ground.
+inline System grounded_coulomb(const Eigen::MatrixXd& m, const Eigen::MatrixXd& k, const Eigen::VectorXd& f, int dof,
+                               double limit) {
+    System s;
+    s.mass = sparse(m);
+    s.damping = SparseMatrix(m.rows(), m.cols());
+    s.stiffness = sparse(k);
+    s.excitation = f;
+    Contact c;
+    c.dof = dof;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = limit;
+    s.contacts.push_back(c);
+    return s;
+}
+
 /// Den Hartog's forced oscillator u'' + u + rho sign(u') = cos(eta t): unit mass, stiffness and
 /// force, exact Coulomb friction rho to the ground, no viscous damping.
 inline System den_hartog_oscillator(double rho) {
-    System s;
-    s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
-    s.damping = SparseMatrix(1, 1);
-    s.stiffness = sparse(Eigen::MatrixXd::Identity(1, 1));
-    s.excitation = Eigen::VectorXd::Ones(1);
-    Contact c;
-    c.dof = 0;
-    c.law = FrictionLaw::coulomb;
-    c.friction_limit = rho;
-    s.contacts.push_back(c);
-    return s;
+    const Eigen::MatrixXd one = Eigen::MatrixXd::Identity(1, 1);
+    return grounded_coulomb(one, one, Eigen::VectorXd::Ones(1), 0, rho);
 }
 
 /// Central differences (step h) of the HB residual at (x, omega): dR/dX in `fd`, dR/domega in

@@ -21,6 +21,7 @@
 
 using namespace hbf;
 using hbf::test::four_dofs;
+using hbf::test::grounded_coulomb;
 using hbf::test::relative_error;
 using hbf::test::sampled_dofs;
 
@@ -123,16 +124,8 @@ TEST_CASE("Condensed formulation: singular static stiffness, a contact-free syst
     // (issue 28: it was NaN, and the branch could not start); the DOF it moves is unbounded
     // there (F excites it): infinite in the recovered response and its amplitude bound, never
     // a number passed off as a solution.
-    System apart;
-    apart.mass = sparse(Eigen::Matrix2d::Identity());
-    apart.stiffness = sparse(Eigen::Vector2d(1.0, 4.0).asDiagonal());
-    apart.damping = SparseMatrix(2, 2);
-    apart.excitation = Eigen::Vector2d(1.0, 1.0);
-    Contact c;
-    c.dof = 1;
-    c.law = FrictionLaw::coulomb;
-    c.friction_limit = 0.3;
-    apart.contacts = {c};
+    const System apart = grounded_coulomb(Eigen::Matrix2d::Identity(), Eigen::Matrix2d(Eigen::Vector2d(1.0, 4.0).asDiagonal()),
+                                          Eigen::Vector2d(1.0, 1.0), 1, 0.3);
     HarmonicBalance hb(apart, HarmonicBalanceOptions{3, 0, Formulation::condensed});
     hb.evaluate(Eigen::VectorXd::Zero(hb.unknowns()), 1.0, r);
     CHECK(r.allFinite());
@@ -150,16 +143,8 @@ TEST_CASE("Uncoupled oscillators, one with a contact: condensed equals full and 
     // ("residual inf", exit 1) while the full formulation computed the branch. DOF 2 is a free
     // linear oscillator: its harmonic 1 is F2 / (k2 - w^2), its other harmonics zero. F1 = 0.2
     // is below 0.3: DOF 1 stays stuck (zero).
-    System s;
-    s.mass = sparse(Eigen::Matrix2d::Identity());
-    s.stiffness = sparse(Eigen::Vector2d(1.0, 4.0).asDiagonal());
-    s.damping = SparseMatrix(2, 2);
-    s.excitation = Eigen::Vector2d(0.2, 1.0);
-    Contact c;
-    c.dof = 0;
-    c.law = FrictionLaw::coulomb;
-    c.friction_limit = 0.3;
-    s.contacts = {c};
+    const System s = grounded_coulomb(Eigen::Matrix2d::Identity(), Eigen::Matrix2d(Eigen::Vector2d(1.0, 4.0).asDiagonal()),
+                                      Eigen::Vector2d(0.2, 1.0), 0, 0.3);
     const std::vector<double> omegas = {0.5, 0.9, 1.3, 1.7};
     const auto condensed = sampled_dofs(s, {5, 0, Formulation::condensed}, omegas, 0.5, 1.8);
     const auto full = sampled_dofs(s, {5, 0, Formulation::full}, omegas, 0.5, 1.8);
@@ -195,6 +180,49 @@ TEST_CASE("Uncoupled oscillators, one with a contact: condensed equals full and 
             CHECK(std::abs(y(1, 1) - closed) < 1e-8 * std::abs(closed));
         }
     }
+}
+
+TEST_CASE("hbf frf ending exactly on an undamped resonance no contact sees: amplitude_cap, inf, never NaN or a failed polish",
+          "[condensed][resonances][cli][exact]") {
+    // M = I, K = diag(1, 4), F = (1, 1), exact Coulomb (0.3) from DOF 2 to the ground; wmax = 1
+    // is DOF 1's resonance exactly. DOF 1 is a free linear oscillator, y1 = 1 / |1 - w^2|: the
+    // branch reaches the amplitude cap on the way and lands on w = 1, where y1 is infinite. The
+    // point there is written with inf (it was NaN: inf * cos(pi / 2)) and left unpolished
+    // (exact = off; the exact solver has no orbit there and the run ended in exit 1); the
+    // verdict is amplitude_cap, exit 3. Every finite y1_max below the cap is the closed form to
+    // 1e-9 (polished rows: exact).
+    ::test::TempDir dir;
+    const auto system = dir.path / "apart.toml";
+    std::ofstream(system) << "[structure]\nmass = [1.0, 1.0]\nstiffness = [1.0, 4.0]\nexcitation = [1.0, 1.0]\n"
+                             "[[contact]]\ndof = 2\nlaw = \"coulomb\"\nfriction_limit = 0.3\n"
+                             "[frequency]\nwmin = 0.5\nwmax = 1.0\n";
+    const ::test::Result r = ::test::run_hbf("frf --config '" + system.string() + "'", dir);
+    INFO(r.err);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("amplitude_cap"));
+    CHECK(r.out.find("nan") == std::string::npos);
+    const auto rows = ::test::parse_csv(r.out);
+    REQUIRE(rows.size() > 10);
+    const auto column = [&](const std::string& name) {
+        const auto at = std::find(rows[0].begin(), rows[0].end(), name);
+        REQUIRE(at != rows[0].end());
+        return static_cast<std::size_t>(at - rows[0].begin());
+    };
+    const std::size_t w = column("w"), y1 = column("y1_max"), exact = column("exact");
+    int infinite = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        const double omega = std::stod(rows[k][w]);
+        if (rows[k][y1] == "inf") {
+            ++infinite;
+            CHECK(omega == 1.0);
+            CHECK(rows[k][exact] == "off");
+            continue;
+        }
+        CHECK(rows[k][exact] == "yes");
+        const double closed = 1.0 / std::abs(1.0 - omega * omega);
+        CHECK(std::abs(std::stod(rows[k][y1]) - closed) <= 1e-9 * closed);
+    }
+    CHECK(infinite >= 1);
 }
 
 TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples on the shipped systems", "[condensed]") {

@@ -534,16 +534,7 @@ TEST_CASE("The response scale is the quasi-static response below the resonances 
     for (double omega : {0.1, 2.0, 1e3, 1e9})
         CHECK(test::relative_difference(response_scale(s, omega),
                                         std::min(p.excitation, p.excitation / (omega * omega))) < 1e-12);
-    System d;
-    d.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
-    d.stiffness = d.mass;
-    d.damping = SparseMatrix(1, 1);
-    d.excitation = Eigen::VectorXd::Ones(1);
-    Contact c;
-    c.dof = 0;
-    c.law = FrictionLaw::coulomb;
-    c.friction_limit = 0.3;
-    d.contacts.push_back(c);
+    const System d = test::den_hartog_oscillator(0.3);
     CHECK(test::relative_difference(response_scale(d, 0.5), 1.0) < 1e-12);
     CHECK(test::relative_difference(response_scale(d, 4.0), 1.0 / 16.0) < 1e-12);
     // A free mass (DOF 1, m = 1, force 3) joined by a spring 2 to a massless shoe (DOF 2) that
@@ -551,16 +542,9 @@ TEST_CASE("The response scale is the quasi-static response below the resonances 
     // shoe's contact held by a spring of K's largest diagonal, 2: [[2, -2], [-2, 4]] y = (3, 0)
     // gives y = (3, 1.5), the scale 3 (not the fallback 1, which the old beam test met: a
     // reduced beam with such a shoe got an absolute tolerance of 1e-10 m on a 1e-4 m response).
-    System shoe;
-    shoe.mass = sparse((Eigen::MatrixXd(2, 2) << 1, 0, 0, 0).finished());
-    shoe.stiffness = sparse((Eigen::MatrixXd(2, 2) << 2, -2, -2, 2).finished());
-    shoe.damping = SparseMatrix(2, 2);
-    shoe.excitation = Eigen::Vector2d(3.0, 0.0);
-    Contact ground;
-    ground.dof = 1;
-    ground.law = FrictionLaw::coulomb;
-    ground.friction_limit = 0.3;
-    shoe.contacts.push_back(ground);
+    const System shoe = test::grounded_coulomb((Eigen::MatrixXd(2, 2) << 1, 0, 0, 0).finished(),
+                                              (Eigen::MatrixXd(2, 2) << 2, -2, -2, 2).finished(),
+                                              Eigen::Vector2d(3.0, 0.0), 1, 0.3);
     CHECK(test::relative_difference(response_scale(shoe, 0.5), 3.0) < 1e-12);
     TimeIntegrationOptions o;
     o.displacement_scale = -1.0;
