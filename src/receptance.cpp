@@ -358,7 +358,14 @@ Receptance::ModalTerms Receptance::modal_terms(int k, double omega) const {
     const double kw = k * omega;
     ModalTerms t;
     t.d.resize(m);
-    for (Eigen::Index j = 0; j < m; ++j) t.d(j) = 1.0 / Complex(md.lambda(j) - kw * kw, kw * md.damping(j));
+    const double p_size = md.p.size() > 0 ? md.p.cwiseAbs().maxCoeff() : 0.0;
+    for (Eigen::Index j = 0; j < m; ++j) {
+        t.d(j) = 1.0 / Complex(md.lambda(j) - kw * kw, kw * md.damping(j));
+        if (!std::isfinite(std::abs(t.d(j))) && md.p.row(j).cwiseAbs().maxCoeff() <= 1e-8 * p_size) {
+            t.d(j) = 0.0;
+            t.hidden.push_back(j);
+        }
+    }
     // The residual flexibility's factor 1 / (1 + i k w b) (see use_modes).
     t.r_factor = 1.0 / Complex(1.0, kw * md.residual_damping);
     const Eigen::MatrixXcd pc = md.p.cast<Complex>();
@@ -374,6 +381,15 @@ double Receptance::response_bound(int k, double omega, const Eigen::VectorXcd& l
     const int nc = contacts();
     if (md.lambda.size() == 0) throw InvalidInput("response_bound needs the modal receptance (use_modes)");
     const ModalTerms t = modal_terms(k, omega);
+    if (!t.d.allFinite()) {  // a mode a contact sees, hit exactly: the limit (solve_modal)
+        const double delta = 1e-6;
+        return std::max(response_bound(k, omega * (1.0 - delta), lambda, load),
+                        response_bound(k, omega * (1.0 + delta), lambda, load));
+    }
+    // A mode hit exactly that no contact sees, under the load: unbounded (solve_modal).
+    for (Eigen::Index j : t.hidden)
+        if (load && std::abs(md.p_load(j)) > 1e-8 * md.p_load.cwiseAbs().maxCoeff())
+            return std::numeric_limits<double>::infinity();
     const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(nc, nc);
     // Y = B^-1 (W g + F [load]) with g = -A^-1 lambda - D u (solve_modal's solution).
     Eigen::VectorXcd g = -Eigen::PartialPivLU<Eigen::MatrixXcd>(identity + t.shift.asDiagonal() * t.g_b).solve(lambda);
@@ -401,13 +417,45 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
     // Derivatives in omega: of d_j, of the residual's factor, of the shift.
     Eigen::VectorXcd dd(m);
     for (Eigen::Index j = 0; j < m; ++j) dd(j) = -d(j) * d(j) * Complex(-2.0 * k * k * omega, k * md.damping(j));
+    // A hidden mode under the load: the DOFs and outputs it moves are unbounded (infinite).
+    const auto loaded = [&](Eigen::Index j) {
+        return std::abs(md.p_load(j)) > 1e-8 * md.p_load.cwiseAbs().maxCoeff();
+    };
+    const Complex infinity(std::numeric_limits<double>::infinity(), 0.0);
+    auto unbounded = [&](const Eigen::MatrixXd& shape, Eigen::VectorXcd& values) {
+        for (Eigen::Index j : t.hidden) {
+            if (!loaded(j) || shape.rows() == 0) continue;
+            const double size = shape.col(j).cwiseAbs().maxCoeff();
+            for (Eigen::Index i = 0; i < shape.rows(); ++i)
+                if (std::abs(shape(i, j)) > 1e-8 * size) values(i) = infinity;
+        }
+    };
     const Complex r_factor_omega = -Complex(0.0, k * md.residual_damping) * r_factor * r_factor;
     auto singular = [&] {
         h.message = "singular dynamic stiffness at harmonic k = " + std::to_string(k) + " at w = " + format_number(omega) +
                     " (an undamped mode hit exactly by the modal receptance)";
         return h;
     };
-    if (!d.allFinite()) return singular();
+    if (!d.allFinite()) {
+        // An undamped mode a contact sees, hit exactly: the contacts' shift regularises it (Z_k +
+        // W shift W^T is regular there, as in the direct solve), so everything solved here is
+        // smooth through it; only the Woodbury form divides by the pole. The mean of w (1 -+
+        // 1e-6) (an error ~1e-12 of the regular part; the offsets are never exact poles).
+        const double delta = 1e-6;
+        const Harmonic below = solve_modal(k, omega * (1.0 - delta), load, with_solution);
+        const Harmonic above = solve_modal(k, omega * (1.0 + delta), load, with_solution);
+        if (!below.ok || !above.ok) return singular();
+        h = below;
+        h.omega = omega;
+        h.contact = 0.5 * (below.contact + above.contact);
+        h.contact_omega = 0.5 * (below.contact_omega + above.contact_omega);
+        h.contact_load = 0.5 * (below.contact_load + above.contact_load);
+        h.contact_load_omega = 0.5 * (below.contact_load_omega + above.contact_load_omega);
+        h.output = 0.5 * (below.output + above.output);
+        h.output_load = 0.5 * (below.output_load + above.output_load);
+        h.solution = 0.5 * (below.solution + above.solution);
+        return h;
+    }
     const Eigen::MatrixXcd pc = md.p.cast<Complex>();
     const Eigen::MatrixXcd dp = d.asDiagonal() * pc;
     const Eigen::MatrixXcd g_b_omega = pc.transpose() * (dd.asDiagonal() * pc) + r_factor_omega * md.w_r_w.cast<Complex>();
@@ -435,6 +483,7 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
         const Eigen::VectorXcd t_b_f = md.t_phi.cast<Complex>() * dpl + r_factor * md.t_r_f.cast<Complex>();
         h.output_load = t_b_f - t_b_w * (shift.asDiagonal() * u);
         if (!u.allFinite() || !h.contact_load_omega.allFinite()) return singular();
+        unbounded(md.t_phi, h.output_load);
     }
     if (with_solution) {
         const Eigen::MatrixXcd b_w = md.phi.cast<Complex>() * dp + r_factor * md.residual_w.cast<Complex>();
@@ -444,6 +493,9 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
             const Eigen::VectorXcd b_f = md.phi.cast<Complex>() * d.cwiseProduct(md.p_load.cast<Complex>()) +
                                          r_factor * md.residual_load.cast<Complex>();
             h.solution.col(nc) = b_f - b_w * (shift.asDiagonal() * u);
+            Eigen::VectorXcd column = h.solution.col(nc);
+            unbounded(md.phi, column);
+            h.solution.col(nc) = column;
         }
     }
     h.ok = h.contact.allFinite() && h.contact_omega.allFinite();

@@ -223,6 +223,23 @@ TEST_CASE("hbf frf ending exactly on an undamped resonance no contact sees: ampl
         CHECK(std::abs(std::stod(rows[k][y1]) - closed) <= 1e-9 * closed);
     }
     CHECK(infinite >= 1);
+    // The modal receptance with both modes (no truncation) is the same FRF: the hidden mode's
+    // limit (it was "residual inf" at the start, where harmonic 2 hits w = 1 and harmonic 4
+    // hits DOF 2's mode w = 2, which the contact sees and regularises).
+    const ::test::Result modal = ::test::run_hbf("frf --modes 2 --config '" + system.string() + "'", dir);
+    INFO(modal.err);
+    CHECK(modal.exit_code == 3);
+    CHECK(modal.out.find("nan") == std::string::npos);
+    const auto modal_rows = ::test::parse_csv(modal.out);
+    REQUIRE(modal_rows.size() == rows.size());
+    for (std::size_t k = 1; k < rows.size(); ++k)
+        for (const std::size_t c : {w, y1, column("y2_max")}) {
+            if (rows[k][c] == "inf") {
+                CHECK(modal_rows[k][c] == "inf");
+                continue;
+            }
+            CHECK(std::abs(std::stod(modal_rows[k][c]) - std::stod(rows[k][c])) <= 1e-9 * std::stod(rows[k][c]));
+        }
 }
 
 TEST_CASE("hbf frf: --formulation condensed and full give the same --at samples on the shipped systems", "[condensed]") {

@@ -126,7 +126,12 @@ private:
     /// What solve_modal and response_bound share at harmonic k: the modal factors d_j, the
     /// residual's factor, G_B = W^T B_k^-1 W, u_B = W^T B_k^-1 F and the contact shift.
     struct ModalTerms {
+        /// 1 / (lambda_j - (k w)^2 + i k w c_j); 0 for a mode in `hidden`.
         Eigen::VectorXcd d;
+        /// Undamped modes hit exactly (d_j infinite) that no contact sees (their row of P zero):
+        /// they add nothing to what the contacts see, and make the DOFs they move unbounded
+        /// under the load (Receptance::solve's limit in the direct solve).
+        std::vector<Eigen::Index> hidden;
         std::complex<double> r_factor;
         Eigen::MatrixXcd g_b;
         Eigen::VectorXcd u_b, shift;
