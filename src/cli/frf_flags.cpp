@@ -31,7 +31,8 @@ void FrfFlags::add_to(CLI::App& command) {
     command.add_option("--wmin", wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
     command.add_option("--wmax", wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
     command.add_option("--harmonics", harmonics,
-                       "number of harmonics H, 1..100; 0 = automatic: 10 with the exact polish (coulomb, jenkins: "
+                       "number of harmonics H, 1.." + std::to_string(max_harmonics) +
+                           "; 0 = automatic: 10 with the exact polish (coulomb, jenkins: "
                        "HB only supplies the branch and the starting guesses); without it 20 for coulomb (its error "
                        "falls like 1/H) and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins; times h with "
                        "--excitation-harmonic h. odd or odd:H balances the odd harmonics 1, 3, 5, ... <= H only "

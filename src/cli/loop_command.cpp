@@ -126,7 +126,8 @@ Runner add_loop_command(CLI::App& app) {
                         "w <= wmin), > 0")
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--harmonics", options->harmonics,
-                        "number of harmonics H, 1..100; 0 = automatic; odd or odd:H for the odd harmonics only (as hbf "
+                        "number of harmonics H, 1.." + std::to_string(max_harmonics) +
+                            "; 0 = automatic; odd or odd:H for the odd harmonics only (as hbf "
                         "frf)")
         ->capture_default_str()->type_name("INT|odd[:H]");
     command->add_option("--time-samples", options->time_samples,
