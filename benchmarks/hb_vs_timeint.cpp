@@ -41,6 +41,7 @@
 #include "hbf/analytic.hpp"
 #include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/time_integration.hpp"
@@ -53,11 +54,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// `hbf frf`'s default H (src/cli/frf_command.cpp, default_harmonics): 20 for exact and
-/// regularised Coulomb, 10 for the others.
-int default_harmonics(FrictionLaw law) {
-    return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
-}
 
 /// The TI tolerances of this benchmark by default, measured (README, Benchmarks): per law the
 /// fastest set on the ladder rtol 1e-10..1e-4 (atol = rtol / 100, steady-tol 1e-8..1e-4) whose
@@ -383,7 +379,7 @@ int main(int argc, char** argv) {
     app.add_option("--points", points, "uniform grid of the TI sweep and of the HB samples")
         ->check(CLI::Range(2, 10000))
         ->capture_default_str();
-    app.add_option("--harmonics", harmonics, "H for every law; 0 = hbf frf's default (20 coulomb, 10 dahl, lugre)")
+    app.add_option("--harmonics", harmonics, "H for every law; 0 = hbf frf's automatic H without the polish (design.hpp: automatic_harmonics)")
         ->check(CLI::Range(0, 200))
         ->capture_default_str();
     app.add_option("--rtol", rtol,
@@ -466,7 +462,8 @@ int main(int argc, char** argv) {
             for (double fe : excitations) {
                 AbsorberParameters q = p;
                 q.excitation = fe;
-                const int h = harmonics > 0 ? harmonics : default_harmonics(law);
+                // hbf frf's automatic H without the polish (design.hpp: the one home of it)
+                const int h = harmonics > 0 ? harmonics : automatic_harmonics(friction_absorber(q, law), false);
                 const TimeIntegrationOptions law_tio = time_integration(law);
                 const Case c = run_case(q, law, h, grid, co, law_tio, tight, check_every, repeats);
                 const double speedup = c.timeint_seconds / c.hb_seconds;

@@ -16,7 +16,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -26,6 +28,7 @@
 
 #include "hbf/analytic.hpp"
 #include "hbf/config.hpp"
+#include "hbf/contact.hpp"
 #include "hbf/design.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
@@ -434,31 +437,49 @@ PYBIND11_MODULE(_core, m) {
         .def_property(
             "law", [](const Contact& c) { return to_string(c.law); },
             [](Contact& c, const std::string& v) { c.law = parse_friction_law(v); },
-            "coulomb, dahl, lugre, coulomb-reg or jenkins")
+            contact_law_names().c_str())
         .def_readwrite("friction_limit", &Contact::friction_limit, "F_c = mu N (> 0)")
-        .def_readwrite("stiffness", &Contact::stiffness, "sigma0 (dahl, lugre) or k_t (jenkins)")
-        .def_readwrite("damping", &Contact::damping, "sigma1 (lugre)")
-        .def_readwrite("viscous", &Contact::viscous, "sigma2 (lugre)")
-        .def_readwrite("static_limit", &Contact::static_limit, "F_s (lugre; 0: F_c)")
-        .def_readwrite("stribeck_velocity", &Contact::stribeck_velocity, "v_s (lugre; 0: none)")
-        .def_readwrite("regularization", &Contact::regularization, "eps of tanh (coulomb-reg)")
-        .def_readwrite("lagrangian_penalty", &Contact::lagrangian_penalty, "dynamic Lagrangian eps (coulomb; 0: automatic)");
+        ;
+    // The laws' parameters, from the registry (contact.hpp): one property a key, documented by
+    // what it is in each law that has it.
+    {
+        std::vector<std::string> keys;
+        std::map<std::string, std::string> docs;
+        std::map<std::string, double Contact::*> fields;
+        for (const ContactLaw* law : contact_laws())
+            for (const LawParameter& p : law->parameters()) {
+                if (!fields.count(p.key)) keys.emplace_back(p.key);
+                fields[p.key] = p.field;
+                std::string& doc = docs[p.key];
+                doc += (doc.empty() ? "" : "; ") + std::string(p.meaning) + " (" + law->name() + ", " +
+                       (p.range == LawParameter::Range::positive ? "> 0" : ">= 0") +
+                       (p.zero_means ? std::string("; 0: ") + p.zero_means : std::string()) + ")";
+            }
+        for (const std::string& key : keys) {
+            double Contact::*field = fields[key];
+            contact.def_property(
+                key.c_str(), [field](const Contact& c) { return c.*field; },
+                [field](Contact& c, double v) { c.*field = v; }, docs[key].c_str());
+        }
+    }
 
-    py::class_<AbsorberParameters>(m, "AbsorberParameters", "The paper's absorber, nondimensional (model.hpp)")
+    py::class_<AbsorberParameters> absorber_parameters(m, "AbsorberParameters", "The paper's absorber, nondimensional (model.hpp)");
+    absorber_parameters
         .def(py::init<>())
         .def_readwrite("mass_ratio", &AbsorberParameters::mass_ratio, "r = m2 / m1")
         .def_readwrite("tuning_ratio", &AbsorberParameters::tuning_ratio, "wa = omega2 / omega1")
         .def_readwrite("friction_coefficient", &AbsorberParameters::friction_coefficient, "mu")
         .def_readwrite("excitation", &AbsorberParameters::excitation, "fe = F0 / N")
-        .def_readwrite("contact_stiffness_ratio", &AbsorberParameters::contact_stiffness_ratio, "wb = omega3 / omega1")
-        .def_readwrite("contact_damping_ratio", &AbsorberParameters::contact_damping_ratio, "xi")
-        .def_readwrite("regularization", &AbsorberParameters::regularization, "eps (coulomb-reg)")
-        .def_readwrite("static_friction_coefficient", &AbsorberParameters::static_friction_coefficient, "mu_s (lugre)")
-        .def_readwrite("stribeck_velocity", &AbsorberParameters::stribeck_velocity, "v_s (lugre)")
-        .def_readwrite("viscous_coefficient", &AbsorberParameters::viscous_coefficient, "sigma2 / (m1 omega1) (lugre)")
-        .def_readwrite("lagrangian_penalty", &AbsorberParameters::lagrangian_penalty, "dynamic Lagrangian eps")
         .def("validate", [](const AbsorberParameters& p, const std::string& law) { p.validate(parse_friction_law(law)); },
              py::arg("law"));
+    // The laws' own preset parameters (model.hpp: preset_parameters), by their C++ names.
+    for (const PresetParameter& p : preset_parameters()) {
+        double AbsorberParameters::*field = p.field;
+        absorber_parameters.def_property(
+            p.field_name, [field](const AbsorberParameters& a) { return a.*field; },
+            [field](AbsorberParameters& a, double v) { a.*field = v; },
+            (std::string(p.symbol) + ": " + p.help + " (" + laws_reading(p.symbol) + ")").c_str());
+    }
 
     py::class_<PySystem>(m, "System", "A linear structure with friction contacts (model.hpp)")
         .def(py::init([](const py::object& mass, const py::object& stiffness, const py::object& excitation,
@@ -628,6 +649,48 @@ PYBIND11_MODULE(_core, m) {
         },
         py::arg("system"));
     m.attr("max_harmonics") = hbf::max_harmonics;
+    m.def(
+        "contact_laws",
+        [] {
+            py::list out;
+            for (const ContactLaw* law : contact_laws()) {
+                py::dict d;
+                d["name"] = law->name();
+                d["definition"] = law->definition();
+                py::list keys;
+                for (const LawParameter& p : law->parameters()) keys.append(p.key);
+                d["parameters"] = keys;
+                d["preset_parameters"] = law->preset_parameters();
+                d["default_harmonics"] = law->default_harmonics();
+                d["smooth"] = law->smooth();
+                d["exact_stick"] = law->exact_stick();
+                out.append(d);
+            }
+            return out;
+        },
+        "The registry of contact laws (contact.hpp): name, definition, parameters (Contact keys), "
+        "preset_parameters (symbols of preset_parameters()), default_harmonics, smooth, exact_stick.");
+    m.def(
+        "preset_parameters",
+        [] {
+            py::list out;
+            for (const PresetParameter& p : preset_parameters()) {
+                py::dict d;
+                d["symbol"] = p.symbol;
+                d["keyword"] = p.keyword;
+                d["field"] = p.field_name;
+                d["flag"] = p.flag;
+                d["meaning"] = p.meaning;
+                py::list laws;
+                for (const ContactLaw* law : contact_laws())
+                    if (law_reads(law->id(), p.symbol)) laws.append(law->name());
+                d["laws"] = laws;
+                out.append(d);
+            }
+            return out;
+        },
+        "The absorber preset's law-specific parameters (model.hpp): symbol, keyword (of absorber()), field "
+        "(of AbsorberParameters), flag (of hbf), meaning, laws (that read it).");
     m.def("automatic_harmonics", [](const PySystem& s, bool exact) { return automatic_harmonics(s.system, exact); });
 
     py::class_<TimeIntegrationOptions> tio(m, "TimeIntegrationOptions", "time_integration.hpp");

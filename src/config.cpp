@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::io {
@@ -184,32 +185,22 @@ struct Reader {
     }
 };
 
-/// The contact keys that apply to each law (besides dof, other_dof, law, friction_limit).
-const std::map<FrictionLaw, std::set<std::string>>& law_keys() {
-    static const std::map<FrictionLaw, std::set<std::string>> keys = {
-        {FrictionLaw::coulomb, {"lagrangian_penalty"}},
-        {FrictionLaw::jenkins, {"stiffness"}},
-        {FrictionLaw::dahl, {"stiffness"}},
-        {FrictionLaw::lugre, {"stiffness", "damping", "viscous", "static_limit", "stribeck_velocity"}},
-        {FrictionLaw::coulomb_regularized, {"regularization"}},
-    };
-    return keys;
-}
-
 Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs) {
     const std::string where = "contact[" + std::to_string(index + 1) + "]";
     Contact c;
     const toml::node* law_node = t.get("law");
-    if (!law_node) fail(r.file, t.source(), where + ".law", "missing: a string (coulomb, jenkins, dahl, lugre, coulomb-reg)");
+    if (!law_node) fail(r.file, t.source(), where + ".law", "missing: a string (" + contact_law_names() + ")");
     if (!law_node->is_string())
-        fail(r.file, law_node->source(), where + ".law", "expected a string: coulomb, jenkins, dahl, lugre or coulomb-reg");
+        fail(r.file, law_node->source(), where + ".law", "expected a string: " + contact_law_names());
     try {
         c.law = parse_friction_law(law_node->as_string()->get());
     } catch (const InvalidInput& e) {
         fail(r.file, law_node->source(), where + ".law", e.what());
     }
     std::set<std::string> allowed = {"dof", "other_dof", "force_direction", "law", "friction_limit"};
-    for (const std::string& k : law_keys().at(c.law)) allowed.insert(k);
+    // the law's parameters (contact.hpp)
+    const std::vector<LawParameter> parameters = contact_law(c.law).parameters();
+    for (const LawParameter& p : parameters) allowed.insert(p.key);
     for (auto&& [key, node] : t) {
         const std::string k(key.str());
         if (allowed.count(k) == 0) {
@@ -242,12 +233,9 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
         }
     }
     if (!t.get("friction_limit")) fail(r.file, t.source(), where + ".friction_limit", "missing: the slip force F_c = mu N (> 0)");
-    const std::map<std::string, double*> numbers = {
-        {"friction_limit", &c.friction_limit}, {"stiffness", &c.stiffness},     {"damping", &c.damping},
-        {"viscous", &c.viscous},               {"static_limit", &c.static_limit}, {"stribeck_velocity", &c.stribeck_velocity},
-        {"regularization", &c.regularization}, {"lagrangian_penalty", &c.lagrangian_penalty}};
-    for (const auto& [key, target] : numbers)
-        if (const toml::node* node = t.get(key)) *target = r.number(*node, where + "." + key);
+    c.friction_limit = r.number(*t.get("friction_limit"), where + ".friction_limit");
+    for (const LawParameter& p : parameters)
+        if (const toml::node* node = t.get(p.key)) c.*(p.field) = r.number(*node, where + "." + p.key);
     return c;
 }
 

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <thread>
 
+#include "hbf/contact.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
@@ -83,7 +84,7 @@ double PeakValue::objective() const {
 }
 
 int default_harmonics(FrictionLaw law) {
-    return law == FrictionLaw::coulomb || law == FrictionLaw::coulomb_regularized ? 20 : 10;
+    return contact_law(law).default_harmonics();
 }
 
 int automatic_harmonics(const System& system, bool exact) {
@@ -274,7 +275,7 @@ bool centre_permanent_stick(HarmonicBalance& hb, SolutionPoint& point, double to
     const auto stuck = [&](const Eigen::VectorXd& x) {
         for (int c = 0; c < contacts; ++c) {
             const FrictionLaw law = system.contacts[static_cast<std::size_t>(c)].law;
-            if (law != FrictionLaw::coulomb && law != FrictionLaw::jenkins) return false;
+            if (!contact_law(law).exact_stick()) return false;
             if (!(hb.stick_indicator(x, point.omega, c).maxCoeff() < 0.0)) return false;
         }
         return true;

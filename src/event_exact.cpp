@@ -1,4 +1,5 @@
 // hbfriction — exact periodic orbits with Coulomb/Jenkins contacts (see event_exact.hpp).
+#include "hbf/contact.hpp"
 #include "hbf/event_exact.hpp"
 
 #include <algorithm>
@@ -488,9 +489,18 @@ std::unique_ptr<detail::MasslessCondensation> validate_system(const System& syst
     require_finite(omega, "w", "excitation frequency");
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
         const FrictionLaw law = system.contacts[c].law;
-        if (law != FrictionLaw::coulomb && law != FrictionLaw::jenkins)
+        if (!contact_law(law).exact_stick()) {
+            std::vector<std::string> covered;
+            for (const ContactLaw* l : contact_laws())
+                if (l->exact_stick()) covered.emplace_back(l->name());
+            std::string list, prose;  // "a, b" and "a and b"
+            for (std::size_t i = 0; i < covered.size(); ++i) {
+                list += (i == 0 ? "" : ", ") + covered[i];
+                prose += (i == 0 ? "" : i + 1 == covered.size() ? " and " : ", ") + covered[i];
+            }
             throw InvalidInput("contact " + std::to_string(c + 1) + " has law " + to_string(law) +
-                               ": the exact solver covers coulomb and jenkins only (allowed: coulomb, jenkins)");
+                               ": the exact solver covers " + prose + " only (allowed: " + list + ")");
+        }
     }
     if (system.has_positive_definite_mass()) {
         check_dense_size(system, false);

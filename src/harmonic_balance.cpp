@@ -5,6 +5,7 @@
 #include <complex>
 #include <limits>
 
+#include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "stopwatch.hpp"
 
@@ -60,27 +61,11 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     for (std::size_t index = 0; index < system_.contacts.size(); ++index) {
         Contact& c = system_.contacts[index];
         directions_.push_back(system_.contact_direction(c));
-        if (c.law == FrictionLaw::coulomb) {
-            // The contact direction's impedance sqrt(k m): lambda and eps v of the same order.
-            const Eigen::VectorXd& w = directions_.back();
-            const double k = w.dot(system_.stiffness * w), m = w.dot(system_.mass * w);
-            double automatic = k > 0.0 ? std::sqrt(k * m) : m;
-            if (!(automatic > 0.0))  // a massless contact on a massless, unsprung direction
-                automatic = std::sqrt(std::max(k, 0.0) * system_.mass.diagonal().maxCoeff());
-            // A chosen eps must stay within a range measured to converge (the paper's absorber,
-            // H = 20, eps / automatic from 1e-4 to 1e4: the same branch from 0.04 to 4 times the
-            // automatic value; spurious folds and stalls below 0.01, stalls above 8).
-            const double low = automatic / 30.0, high = 4.0 * automatic;
-            if (c.lagrangian_penalty != 0.0 && automatic > 0.0 &&
-                !(c.lagrangian_penalty >= low && c.lagrangian_penalty <= high))
-                throw InvalidInput("contact " + std::to_string(index + 1) + ": lagrangian_penalty (--dlft-eps) = " +
-                                   format_number(c.lagrangian_penalty) + " is out of range: allowed " +
-                                   format_number(low) + ".." + format_number(high) +
-                                   " (1/30 to 4 times the automatic sqrt(k m) = " + format_number(automatic) +
-                                   " of the contact direction; outside it the dynamic Lagrangian was measured to "
-                                   "stall or to follow spurious branches)");
-            if (c.lagrangian_penalty == 0.0) c.lagrangian_penalty = automatic;
-        }
+        // Automatic parameters (exact Coulomb's lagrangian_penalty) from the structure along w.
+        const Eigen::VectorXd& w = directions_.back();
+        contact_law(c.law).complete(c, {w.dot(system_.stiffness * w), w.dot(system_.mass * w),
+                                        system_.mass.diagonal().maxCoeff()},
+                                    "contact " + std::to_string(index + 1) + ": ");
         models_.push_back(make_friction_model(c));
     }
 
@@ -595,10 +580,11 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
     std::vector<bool> rigid(static_cast<std::size_t>(nc), false);
     for (std::size_t c = 0; c < system_.contacts.size() && !sliding; ++c) {
         const Contact& k = system_.contacts[c];
-        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre || k.law == FrictionLaw::jenkins)
-            element[c] = Complex(k.stiffness, drive * (k.law == FrictionLaw::lugre ? k.damping + k.viscous : 0.0));
-        if (k.law == FrictionLaw::coulomb_regularized) element[c] = Complex(0.0, drive * k.friction_limit / k.regularization);
-        if (k.law == FrictionLaw::coulomb) rigid[c] = true;
+        const StuckElement stuck = contact_law(k.law).stuck(k);
+        if (stuck.rigid)
+            rigid[c] = true;
+        else
+            element[c] = stuck.at(drive);
     }
     // Harmonic h: Q = Q0 - G Lambda with Lambda_c = element_c Q_c, or Q_c = 0 (rigid).
     Eigen::VectorXd x = Eigen::VectorXd::Zero(all_unknowns_);
@@ -657,23 +643,11 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
         if (state_offset_[c] < 0) continue;
         const Contact& k = system_.contacts[c];
         const Eigen::VectorXd q = relative_all(x, static_cast<int>(c));
-        const double speed = std::hypot(q(cos_row), q(sin_row));
-        auto z = x.segment(state_offset_[c], n);  // zero so far
-        if (sliding && speed > 0.0) {
-            // The friction force sits at its limit, in phase with the velocity: harmonic h of
-            // F_c sign(v) is (4/pi) F_c v / |v|, v ~ (s_h cos - c_h sin) for v on harmonic h.
-            const double limit = 4.0 / M_PI * k.friction_limit / (k.law == FrictionLaw::coulomb ? 1.0 : k.stiffness);
-            z(cos_row) = limit * q(sin_row) / speed;
-            z(sin_row) = -limit * q(cos_row) / speed;
-        } else if (k.law == FrictionLaw::coulomb) {
-            const Complex f = force(static_cast<Eigen::Index>(c));
-            if (std::isfinite(std::abs(f))) {
-                z(cos_row) = f.real();
-                z(sin_row) = -f.imag();
-            }
-        } else if (!sliding) {
-            z = q;  // pre-sliding bristle: z = q
-        }
+        // zero so far; sliding: the friction force at its limit in phase with the velocity
+        // (harmonic h of F_c sign(v) is (4/pi) F_c v / |v|, v ~ (s_h cos - c_h sin) for v on
+        // harmonic h); stuck: the law's state in the linear stuck response
+        contact_law(k.law).guess_state(k, sliding, q, cos_row, force(static_cast<Eigen::Index>(c)),
+                                       x.segment(state_offset_[c], n));
     }
     if (!odd_) return x;
     Eigen::VectorXd balanced(unknowns_);

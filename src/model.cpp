@@ -9,28 +9,15 @@
 #include <string>
 #include <utility>
 
+#include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf {
 
-std::string to_string(FrictionLaw law) {
-    switch (law) {
-        case FrictionLaw::coulomb: return "coulomb";
-        case FrictionLaw::dahl: return "dahl";
-        case FrictionLaw::lugre: return "lugre";
-        case FrictionLaw::coulomb_regularized: return "coulomb-reg";
-        case FrictionLaw::jenkins: return "jenkins";
-    }
-    return "unknown";
-}
-
-FrictionLaw parse_friction_law(const std::string& name) {
-    for (FrictionLaw law : {FrictionLaw::coulomb, FrictionLaw::dahl, FrictionLaw::lugre,
-                            FrictionLaw::coulomb_regularized, FrictionLaw::jenkins})
-        if (name == to_string(law)) return law;
-    throw InvalidInput("law = '" + name +
-                       "' is not a known friction law: allowed coulomb, dahl, lugre, coulomb-reg, jenkins");
-}
+namespace {
+/// Held rigid while it sticks (exact Coulomb): its stuck force is a constraint's multiplier.
+bool rigid_in_stick(const Contact& contact) { return contact_law(contact.law).stuck(contact).rigid; }
+}  // namespace
 
 Eigen::VectorXd System::contact_direction(const Contact& contact) const {
     if (contact.direction.size() > 0) return contact.direction;
@@ -171,26 +158,14 @@ void System::validate() const {
                                    " other than dof");
         }
         require_positive(k.friction_limit, (where + "friction_limit").c_str(), "slip force mu N");
-        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre || k.law == FrictionLaw::jenkins)
-            require_positive(k.stiffness, (where + "stiffness").c_str(), "contact stiffness sigma0 / k_t");
-        if (k.law == FrictionLaw::lugre) {
-            require_non_negative(k.damping, (where + "damping").c_str(), "contact damping sigma1");
-            require_non_negative(k.viscous, (where + "viscous").c_str(), "viscous friction sigma2");
-            require_non_negative(k.static_limit, (where + "static_limit").c_str(), "static friction force");
-            require_non_negative(k.stribeck_velocity, (where + "stribeck_velocity").c_str(), "Stribeck velocity");
-        }
-        if (k.law == FrictionLaw::coulomb_regularized)
-            require_positive(k.regularization, (where + "regularization").c_str(), "tanh velocity scale eps");
-        if (k.law == FrictionLaw::coulomb)
-            require_non_negative(k.lagrangian_penalty, (where + "lagrangian_penalty").c_str(),
-                                 "dynamic Lagrangian epsilon (0 = automatic)");
+        contact_law(k.law).validate(k, where);
     }
     // Two exact Coulomb contacts along the same direction share one relative velocity: in stick
     // their two forces are indeterminate (only the sum is defined), and harmonic balance's
     // Jacobian is singular there. One contact with the summed friction_limit is the same law.
     for (std::size_t a = 0; a < contacts.size(); ++a)
         for (std::size_t b = a + 1; b < contacts.size(); ++b) {
-            if (contacts[a].law != FrictionLaw::coulomb || contacts[b].law != FrictionLaw::coulomb) continue;
+            if (!rigid_in_stick(contacts[a]) || !rigid_in_stick(contacts[b])) continue;
             const Eigen::VectorXd u = contact_direction(contacts[a]), v = contact_direction(contacts[b]);
             if (std::abs(std::abs(u.dot(v)) - u.norm() * v.norm()) <= 1e-12 * u.norm() * v.norm()) {
                 // v = alpha u: contact b's force f_b v = (alpha f_b) u, so along u the two slip at
@@ -215,7 +190,7 @@ void System::validate() const {
         std::vector<std::size_t> earlier;
         Eigen::MatrixXd basis(n, 0);
         for (std::size_t b = 0; b < contacts.size(); ++b) {
-            if (contacts[b].law != FrictionLaw::coulomb) continue;
+            if (!rigid_in_stick(contacts[b])) continue;
             const Eigen::VectorXd w = contact_direction(contacts[b]);
             Eigen::VectorXd r = w;
             for (int pass = 0; pass < 2; ++pass) r -= basis * (basis.transpose() * r);
@@ -289,21 +264,49 @@ Eigen::MatrixXcd dynamic_stiffness(const Eigen::MatrixXd& mass, const Eigen::Mat
            i * omega * damping.cast<std::complex<double>>();
 }
 
+const std::vector<PresetParameter>& preset_parameters() {
+    using P = AbsorberParameters;
+    static const std::vector<PresetParameter> table = {
+        {"wb", "--wb", "wb", "contact_stiffness_ratio", &P::contact_stiffness_ratio,
+         "contact stiffness ratio omega3/omega1",
+         "contact stiffness ratio wb = sqrt(sigma0/m2)/omega1, > 0; jenkins: k_t = r wb^2", false, false},
+        {"xi", "--xi", "xi", "contact_damping_ratio", &P::contact_damping_ratio, "contact damping ratio",
+         "contact damping ratio xi = sigma1/(2 m2 sqrt(sigma0/m2)), >= 0", true, false},
+        {"eps", "--eps", "eps", "regularization", &P::regularization, "regularisation velocity of tanh",
+         "regularisation velocity of tanh, > 0", false, true},
+        {"mu_s", "--mu-static", "mu_static", "static_friction_coefficient", &P::static_friction_coefficient,
+         "static friction coefficient",
+         "static friction coefficient mu_s of the Stribeck curve, >= 0; 0 means mu_s = mu", true, true},
+        {"vs", "--stribeck-velocity", "stribeck_velocity", "stribeck_velocity", &P::stribeck_velocity,
+         "Stribeck velocity",
+         "Stribeck velocity v_s (nondimensional: x_s omega1), >= 0; 0 means no Stribeck curve", true, true},
+        {"sigma2", "--viscous", "viscous", "viscous_coefficient", &P::viscous_coefficient,
+         "viscous friction coefficient", "viscous friction coefficient sigma2 / (N / (x_s omega1)), >= 0", true, true},
+        {"lagrangian_penalty", "--dlft-eps", "dlft_eps", "lagrangian_penalty", &P::lagrangian_penalty,
+         "dynamic Lagrangian parameter",
+         "dynamic Lagrangian parameter epsilon of exact Coulomb, force per velocity, allowed 1/30 to 4 times the "
+         "automatic value (measured to converge; outside it the iteration stalls or follows spurious branches); "
+         "within it the results converge to the same solution as H grows; 0 means automatic: sqrt(k m) of the "
+         "contact direction, 1.24 for the paper's absorber: allowed 0.0413..4.96",
+         true, true},
+    };
+    return table;
+}
+
 void AbsorberParameters::validate(FrictionLaw law) const {
     require_positive(mass_ratio, "r", "mass ratio m2/m1");
     require_positive(tuning_ratio, "wa", "tuning ratio omega2/omega1");
     require_positive(friction_coefficient, "mu", "friction coefficient");
     require_positive(excitation, "fe", "excitation amplitude F0/N");
-    if (law == FrictionLaw::dahl || law == FrictionLaw::lugre || law == FrictionLaw::jenkins)
-        require_positive(contact_stiffness_ratio, "wb", "contact stiffness ratio omega3/omega1");
-    if (law == FrictionLaw::lugre) {
-        require_non_negative(contact_damping_ratio, "xi", "contact damping ratio");
-        require_non_negative(static_friction_coefficient, "mu_s", "static friction coefficient");
-        require_non_negative(stribeck_velocity, "vs", "Stribeck velocity");
-        require_non_negative(viscous_coefficient, "sigma2", "viscous friction coefficient");
-    }
-    if (law == FrictionLaw::coulomb_regularized)
-        require_positive(regularization, "eps", "regularisation velocity of tanh");
+    // the law's own (contact.hpp), in the order it lists them
+    for (const std::string& symbol : contact_law(law).preset_parameters())
+        for (const PresetParameter& p : preset_parameters()) {
+            if (symbol != p.symbol) continue;
+            if (p.zero_allowed)
+                require_non_negative(this->*(p.field), p.symbol, p.meaning);
+            else
+                require_positive(this->*(p.field), p.symbol, p.meaning);
+        }
     // Nondimensional ratios, of order 0.01..10 in the paper: bounded to 1e-12..1e12, so that
     // products like r wa^2 stay finite and resolvable next to 1 (r = 1e300 overflowed into a
     // non-finite matrix, reported as such; the linear-limit tests use mu = 1e9).
@@ -341,18 +344,7 @@ System friction_absorber(const AbsorberParameters& p, FrictionLaw law) {
     contact.other_dof = 1;
     contact.law = law;
     contact.friction_limit = p.friction_coefficient;
-    if (law == FrictionLaw::dahl || law == FrictionLaw::lugre || law == FrictionLaw::jenkins) {
-        const double wb = p.contact_stiffness_ratio;
-        contact.stiffness = r * wb * wb;
-        if (law == FrictionLaw::lugre) {
-            contact.damping = 2.0 * p.contact_damping_ratio * r * wb;
-            contact.viscous = p.viscous_coefficient;
-            contact.static_limit = p.static_friction_coefficient;  // in units of N
-            contact.stribeck_velocity = p.stribeck_velocity;
-        }
-    }
-    if (law == FrictionLaw::coulomb_regularized) contact.regularization = p.regularization;
-    if (law == FrictionLaw::coulomb) contact.lagrangian_penalty = p.lagrangian_penalty;
+    contact_law(law).from_preset(p, contact);
     system.contacts.push_back(contact);
     return system;
 }
@@ -432,15 +424,12 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
     std::vector<Complex> element(static_cast<std::size_t>(nc), Complex(0.0, 0.0));
     for (int c = 0; c < nc; ++c) {
         const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
-        double k = 0.0, d = 0.0;
-        switch (contact.law) {
-            case FrictionLaw::coulomb: rigid.push_back(c); continue;
-            case FrictionLaw::jenkins:
-            case FrictionLaw::dahl: k = contact.stiffness; break;
-            case FrictionLaw::lugre: k = contact.stiffness; d = contact.damping + contact.viscous; break;
-            case FrictionLaw::coulomb_regularized: d = contact.friction_limit / contact.regularization; break;
+        const StuckElement stuck = contact_law(contact.law).stuck(contact);
+        if (stuck.rigid) {
+            rigid.push_back(c);
+            continue;
         }
-        element[static_cast<std::size_t>(c)] = Complex(k, omega * d);
+        element[static_cast<std::size_t>(c)] = stuck.at(omega);
         const Eigen::VectorXd w = system.contact_direction(contact);
         a += element[static_cast<std::size_t>(c)] * (w * w.transpose()).cast<Complex>();
     }
@@ -469,7 +458,7 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
     for (int j = 0; j < m; ++j) out.force(rigid[static_cast<std::size_t>(j)]) = scale * x(n + j);
     for (int c = 0; c < nc; ++c) {
         const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
-        if (contact.law == FrictionLaw::coulomb) continue;
+        if (rigid_in_stick(contact)) continue;
         out.force(c) = element[static_cast<std::size_t>(c)] *
                        system.contact_direction(contact).cast<Complex>().dot(out.amplitude);
     }
@@ -526,9 +515,10 @@ std::vector<LinearResonance> linear_resonances(const System& system, double omeg
         const Contact& contact = system.contacts[c];
         const Eigen::VectorXd w = system.contact_direction(contact);
         directions.col(static_cast<Eigen::Index>(c)) = w;
-        if (contact.law == FrictionLaw::jenkins || contact.law == FrictionLaw::dahl || contact.law == FrictionLaw::lugre) {
-            stuck += contact.stiffness * w * w.transpose();
-            springs = springs || contact.stiffness > 0.0;
+        const StuckElement element = contact_law(contact.law).stuck(contact);
+        if (!element.rigid && element.stiffness != 0.0) {  // a stuck spring (jenkins, dahl, lugre)
+            stuck += element.stiffness * w * w.transpose();
+            springs = springs || element.stiffness > 0.0;
         }
     }
     if (springs) add(natural_frequencies(stuck, mass), LinearResonance::Limit::stuck);

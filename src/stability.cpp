@@ -13,6 +13,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/friction.hpp"
@@ -62,7 +63,7 @@ void StabilityOptions::validate() const {
 namespace {
 
 bool smooth(FrictionLaw law) {
-    return law == FrictionLaw::dahl || law == FrictionLaw::lugre || law == FrictionLaw::coulomb_regularized;
+    return contact_law(law).smooth();
 }
 
 /// Value and tau-derivative (d/dtheta) of a coefficient vector at phase theta.
@@ -359,7 +360,7 @@ Eigen::VectorXd StabilityAnalyser::start_state(const SolutionPoint& point) {
     const int n = s.dofs(), nc = static_cast<int>(s.contacts.size());
     for (int c = 0; c < nc; ++c) {
         const FrictionLaw law = s.contacts[static_cast<std::size_t>(c)].law;
-        if (law != FrictionLaw::dahl && law != FrictionLaw::lugre) continue;
+        if (contact_law(law).time_state() != TimeState::bristle) continue;
         double z, rate;
         at_phase(hb_.state(point.x, c), 0.0, z, rate);
         state(2 * n + c) = z;

@@ -1,5 +1,6 @@
 // Periodic steady state by time integration with CVODE (see time_integration.hpp for the
 // model of each law, the events and the state convention).
+#include "hbf/contact.hpp"
 #include "hbf/time_integration.hpp"
 
 #include <algorithm>
@@ -240,10 +241,10 @@ PhysicsCheck check_physics(const System& system, double omega, const PeriodRecor
     bool permanent = nc > 0;
     for (int c = 0; c < nc; ++c) {
         const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
-        const bool exact_stick = contact.law == FrictionLaw::coulomb || contact.law == FrictionLaw::jenkins;
-        const bool stuck = exact_stick && r.always_stuck[static_cast<std::size_t>(c)];
+        const ContactLaw& law = contact_law(contact.law);
+        const bool stuck = law.exact_stick() && r.always_stuck[static_cast<std::size_t>(c)];
         permanent = permanent && stuck;
-        if (!stuck || contact.law != FrictionLaw::coulomb || out.displacement.rows() == 0) continue;
+        if (!stuck || !law.stuck(contact).rigid || out.displacement.rows() == 0) continue;
         const Eigen::VectorXd q = out.displacement * system.contact_direction(contact);
         out.stick_error = std::max(out.stick_error, (q.maxCoeff() - q.minCoeff()) / scale);
     }
@@ -286,7 +287,7 @@ Eigen::VectorXd linear_stuck_state(const System& system, double omega) {
     state.segment(n, n) = -system.excitation_harmonic * omega * y.imag();  // Re(i h omega Y)
     for (int c = 0; c < nc; ++c) {
         const Contact& k = system.contacts[static_cast<std::size_t>(c)];
-        if (k.law == FrictionLaw::dahl || k.law == FrictionLaw::lugre)
+        if (contact_law(k.law).time_state() == TimeState::bristle)
             state(2 * n + c) = system.contact_direction(k).dot(state.head(n));  // z = q
     }
     return state;

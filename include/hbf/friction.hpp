@@ -1,43 +1,17 @@
-// hbfriction — friction laws evaluated over one period (AFT).
+// hbfriction — the periodic force of a contact law by AFT (alternating frequency/time).
 //
 // A contact sees the relative displacement q(theta) (coefficients, see fourier.hpp) and
-// produces the friction force f(theta). Each law decides how it evaluates the periodic force:
-//
-// * memoryless laws (coulomb-reg: f = F_c tanh(v / eps), v = dq/dtau) map velocity samples
-//   to force samples pointwise: f = P f(E D q).
-// * state laws (Dahl, LuGre) carry an internal state z (bristle deflection, the paper's y3)
-//   whose ODE is balanced like the equations of motion: z is one more harmonic unknown
-//   signal and the law returns the residual of its ODE,
-//       r_z = sigma0 [ D z - D q + P( sigma0 |v| z / g(v) ) ],
-//   (multiplied by sigma0 so that it is in force / time units like the structure's rows),
-//   with the force f = sigma0 z + sigma1 D z + sigma2 D q, linear in the coefficients.
-//
-// * exact Coulomb (set-valued: |f| <= F_c in stick, f = F_c sign(v) in slip) by the dynamic
-//   Lagrangian: the contact force lambda itself is the unknown signal (coefficients Lambda)
-//   and the law is written as the fixed point
-//       lambda = proj_[-F_c, F_c](lambda + eps v),
-//   which holds, for any eps > 0, iff v = 0 and |lambda| <= F_c (stick), or lambda = F_c
-//   sign(v) (slip). Balanced like the equations of motion: r = Lambda - P proj(E Lambda + eps v),
-//   with the force f = lambda. Samples with |lambda + eps v| < F_c stick; its Jacobian is
-//   exact on each stick/slip pattern (semi-smooth). In permanent stick the mean force is not
-//   determined (any offset keeping |lambda| <= F_c solves the equations); the c0 row is then
-//   replaced by max lambda + min lambda = 0: the force is centred in the friction cone, which
-//   for a system without static load is the symmetric solution (mean force and mean
-//   displacement zero).
-//
-// * Jenkins (a spring k_t in series with a Coulomb slider at s; f = k_t (q - s)) is
-//   hysteretic but needs no extra unknowns: on the samples q_j of one period the slider is
-//   marched, j = 0, 1, ..., N_t - 1, 0, 1, ...: the trial force k_t (q_j - s) either stays
-//   within F_c (stick: s is kept) or the slider moves to s = q_j - F_c sign(trial) / k_t (slip),
-//   period after period until s at the end of a period repeats. Started from the centred
-//   slider s = (max q + min q) / 2, which is the symmetric permanent-stick solution when
-//   k_t (max q - min q) <= 2 F_c (otherwise every period slips and the start is forgotten
-//   after the first slip). Each force sample is linear in the samples of q on its stick/slip
-//   pattern (f_j = k_t (q_j - q_k) + F_c sign_k, k the last slip sample), so the Jacobian
-//   P G E is exact on the pattern, like that of the dynamic Lagrangian.
-//
-// Here E and P are the synthesis/analysis matrices of Fourier and D = omega D1 the
-// derivative with respect to tau. The Jacobians are exact: the chain rule through E and P.
+// produces the friction force f(theta). Each law (one file per law in src/contact/, listed in
+// contact.hpp's registry) decides how it evaluates the periodic force:
+//   * memoryless laws map velocity samples to force samples pointwise: f = P f(E D q)
+//     (coulomb-reg);
+//   * state laws carry an internal state signal z, one more harmonic unknown balanced like the
+//     equations of motion, and return the residual of its equation besides the force (Dahl and
+//     LuGre: the bristle deflection; exact Coulomb by the dynamic Lagrangian: the force itself);
+//   * hysteretic laws without unknowns march their state over the sampled period (Jenkins).
+// Here E and P are the synthesis/analysis matrices of Fourier and D = omega D1 the derivative
+// with respect to tau. The Jacobians are exact: the chain rule through E and P (on each
+// stick/slip pattern for the set-valued and hysteretic laws).
 #pragma once
 
 #include <Eigen/Dense>
@@ -104,12 +78,13 @@ public:
 struct LocalLinearization {
     double f_v = 0, f_z = 0, g_v = 0, g_z = 0;
 };
-/// The linearisation above at (v, z) for a dahl, lugre or coulomb-reg contact; throws
-/// InvalidInput for coulomb and jenkins (set-valued or hysteretic: not differentiable).
+/// The linearisation above at (v, z) for a smooth law's contact (contact_law(law).linearize);
+/// throws InvalidInput for the others (set-valued or hysteretic: not differentiable).
 LocalLinearization linearize(const Contact& contact, double v, double z);
 
-/// The model for a contact's law. Throws InvalidInput for invalid parameters (exact Coulomb:
-/// lagrangian_penalty must be > 0; HarmonicBalance fills in the automatic value).
+/// The model for a contact's law (contact_law(contact.law).periodic_model). Throws InvalidInput
+/// for invalid parameters (exact Coulomb: lagrangian_penalty must be > 0; HarmonicBalance fills
+/// in the automatic value).
 std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact);
 
 }  // namespace hbf

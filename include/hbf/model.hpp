@@ -31,7 +31,8 @@
 
 namespace hbf {
 
-/// Friction laws a contact can carry. Definitions (f = friction force, q = relative
+/// Friction laws a contact can carry; each is described, and evaluated, in its own file
+/// src/contact/<law>.cpp, listed in the registry of contact.hpp. Definitions (f = friction force, q = relative
 /// displacement, v = q', F_c = friction_limit, sigma0/sigma1 = contact stiffness/damping):
 ///   coulomb: f = F_c sign(v) in slip, |f| <= F_c in stick (set-valued)     (paper eq. 3)
 ///   dahl:    f = sigma0 z,              z' = v - sigma0 |v| z / F_c         (paper eq. 16)
@@ -44,7 +45,7 @@ namespace hbf {
 ///            with q and f = F_c sign(q') (slip); the elastic-contact variant of Coulomb
 enum class FrictionLaw { coulomb, dahl, lugre, coulomb_regularized, jenkins };
 
-/// "coulomb", "dahl", "lugre", "coulomb-reg", "jenkins".
+/// "coulomb", "dahl", "lugre", "coulomb-reg", "jenkins" (the registry's names: contact.hpp).
 std::string to_string(FrictionLaw law);
 /// Inverse of to_string; throws InvalidInput naming the allowed values.
 FrictionLaw parse_friction_law(const std::string& name);
@@ -219,13 +220,40 @@ struct AbsorberParameters {
     double viscous_coefficient = 0;        ///< sigma2 / (m1 omega1) (LuGre viscous term)
     double lagrangian_penalty = 0;         ///< dynamic Lagrangian eps (coulomb in HB; 0 = automatic)
 
+    /// The contact's stiffness sigma0 = k_t = r wb^2 and damping sigma1 = 2 xi r wb, in units of
+    /// k1 and sqrt(k1 m1) (paper eqs. 18-19 / B.4: f = r wb^2 y3 + 2 xi r wb y3').
+    double contact_stiffness() const { return mass_ratio * contact_stiffness_ratio * contact_stiffness_ratio; }
+    double contact_damping() const { return 2.0 * contact_damping_ratio * mass_ratio * contact_stiffness_ratio; }
+
     /// Throws InvalidInput naming the first parameter out of range: r, wa, mu, fe > 0;
     /// for Dahl, LuGre and Jenkins also wb > 0; for LuGre xi >= 0 (wb, xi are unused by Coulomb).
     void validate(FrictionLaw law) const;
 };
 
-/// The paper's absorber as a System (see the block comment above).
+/// The paper's absorber as a System (see the block comment above): the contact's friction_limit
+/// is mu, its law's own parameters come from the law's preset parameters (contact.hpp:
+/// ContactLaw::from_preset).
 System friction_absorber(const AbsorberParameters& parameters, FrictionLaw law);
+
+/// A law-specific parameter of the absorber preset (beyond r, wa, mu, fe, which every law has):
+/// its symbol (in messages), the `hbf` flag, the Python keyword of absorber(), the field of
+/// AbsorberParameters with its C++ name, what it is and its range. Each law lists the symbols it
+/// reads (contact.hpp: ContactLaw::preset_parameters); the front ends' flags, their help and
+/// which law each applies to come from this table and those lists.
+struct PresetParameter {
+    const char* symbol;      ///< "wb"
+    const char* flag;        ///< "--wb"
+    const char* keyword;     ///< "wb" (Python: absorber(wb=...))
+    const char* field_name;  ///< "contact_stiffness_ratio"
+    double AbsorberParameters::*field;
+    const char* meaning;     ///< "contact stiffness ratio omega3/omega1"
+    const char* help;        ///< the flag's help: definition, range and what 0 means
+    bool zero_allowed;       ///< >= 0 (else > 0)
+    /// Only harmonic balance reads it (not the closed forms of `hbf analytic`).
+    bool harmonic_balance_only;
+};
+/// The preset's law-specific parameters: wb, xi, eps, mu_s, vs, sigma2, lagrangian_penalty.
+const std::vector<PresetParameter>& preset_parameters();
 
 /// Physical parameters of the absorber (any consistent unit system, e.g. SI).
 struct PhysicalAbsorber {

@@ -156,15 +156,13 @@ def _copy(obj, kind=None):
 
 # ---- systems ------------------------------------------------------------------------------------
 
-# The paper's symbols (hbf's flags) for the fields of AbsorberParameters, and the laws each applies to.
-_ABSORBER_NAMES = {"r": "mass_ratio", "wa": "tuning_ratio", "mu": "friction_coefficient", "fe": "excitation",
-                   "wb": "contact_stiffness_ratio", "xi": "contact_damping_ratio", "eps": "regularization",
-                   "mu_static": "static_friction_coefficient", "stribeck_velocity": "stribeck_velocity",
-                   "viscous": "viscous_coefficient", "dlft_eps": "lagrangian_penalty"}
-_APPLIES = {"contact_stiffness_ratio": ("dahl", "lugre", "jenkins"), "contact_damping_ratio": ("lugre",),
-            "regularization": ("coulomb-reg",), "static_friction_coefficient": ("lugre",),
-            "stribeck_velocity": ("lugre",), "viscous_coefficient": ("lugre",), "lagrangian_penalty": ("coulomb",)}
-_LAWS = ("coulomb", "jenkins", "dahl", "lugre", "coulomb-reg")
+# The paper's symbols (hbf's flags) for the fields of AbsorberParameters, and the laws each applies
+# to: r, wa, mu, fe for every law, the others from the registry of contact laws (contact.hpp,
+# model.hpp: preset_parameters).
+_ABSORBER_NAMES = {"r": "mass_ratio", "wa": "tuning_ratio", "mu": "friction_coefficient", "fe": "excitation"}
+_ABSORBER_NAMES.update({p["keyword"]: p["field"] for p in _core.preset_parameters()})
+_APPLIES = {p["field"]: tuple(p["laws"]) for p in _core.preset_parameters()}
+_LAWS = tuple(law["name"] for law in _core.contact_laws())
 
 
 def absorber(law="coulomb", parameters=None, excitation_harmonic=1, **values):

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 
+#include "hbf/contact.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 
@@ -46,38 +47,34 @@ long long parse_integer(const std::string& flag, const std::string& text) {
     return value;
 }
 
-void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help, const std::string& law_default,
+std::string AbsorberFlags::laws_help() {
+    std::string help = "friction law:";
+    const std::vector<const ContactLaw*>& laws = contact_laws();
+    for (std::size_t i = 0; i < laws.size(); ++i)
+        help += std::string(i == 0 ? " " : i + 1 == laws.size() ? " or " : ", ") + laws[i]->name() + " (" +
+                laws[i]->definition() + ")";
+    return help;
+}
+
+void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help_text, const std::string& law_default,
                            bool with_smooth_options) {
     const AbsorberParameters d;  // documented defaults
     auto def = [](double v) { return " [default " + format_number(v) + "]"; };
     law = law_default;
-    command.add_option("--law", law, laws_help)->capture_default_str()->type_name("LAW");
+    command.add_option("--law", law, laws_help_text.empty() ? laws_help() : laws_help_text)
+        ->capture_default_str()
+        ->type_name("LAW");
     command.add_option("--r", r, "mass ratio r = m2/m1, > 0" + def(d.mass_ratio));
     command.add_option("--wa", wa, "tuning ratio wa = omega2/omega1, omega2 = sqrt(k2/m2), > 0" +
                                        def(d.tuning_ratio));
     command.add_option("--mu", mu, "friction coefficient mu (slip force mu N), > 0" +
                                        def(d.friction_coefficient));
     command.add_option("--fe", fe, "excitation amplitude fe = F0/N, > 0" + def(d.excitation));
-    command.add_option("--wb", wb, "contact stiffness ratio wb = sqrt(sigma0/m2)/omega1, > 0 "
-                                   "(dahl, lugre; jenkins: k_t = r wb^2)" + def(d.contact_stiffness_ratio));
-    command.add_option("--xi", xi, "contact damping ratio xi = sigma1/(2 m2 sqrt(sigma0/m2)), >= 0 "
-                                   "(lugre)" + def(d.contact_damping_ratio));
-    if (with_smooth_options) {
-        command.add_option("--eps", eps, "regularisation velocity of tanh (coulomb-reg), > 0" + def(d.regularization));
-        command.add_option("--mu-static", mu_static,
-                           "static friction coefficient mu_s of the Stribeck curve (lugre), >= 0; 0 means mu_s = mu "
-                           "[default 0]");
-        command.add_option("--stribeck-velocity", stribeck_velocity,
-                           "Stribeck velocity v_s (lugre, nondimensional: x_s omega1), >= 0; 0 means no Stribeck "
-                           "curve [default 0]");
-        command.add_option("--viscous", viscous,
-                           "viscous friction coefficient sigma2 / (N / (x_s omega1)) (lugre), >= 0 [default 0]");
-        command.add_option("--dlft-eps", dlft_eps,
-                           "dynamic Lagrangian parameter epsilon of exact Coulomb (coulomb), force per velocity, "
-                           "allowed 1/30 to 4 times the automatic value (measured to converge; outside it the iteration "
-                           "stalls or follows spurious branches); within it the results converge to the same "
-                           "solution as H grows [default: sqrt(k m) of the contact direction, 1.24 for the paper's "
-                           "absorber: allowed 0.0413..4.96]");
+    // the laws' own parameters (model.hpp: preset_parameters), each with the laws that read it
+    for (const PresetParameter& p : preset_parameters()) {
+        if (p.harmonic_balance_only && !with_smooth_options) continue;
+        command.add_option(p.flag, law_values[p.flag],
+                           std::string(p.help) + " (" + laws_reading(p.symbol) + ")" + def(d.*(p.field)));
     }
     for (CLI::Option* option : command.get_options())
         if (option->get_name() != "--law" && option->get_name() != "--help" && option->get_name() != "--dry-run")
@@ -94,27 +91,6 @@ void AbsorberFlags::add_excitation_harmonic(CLI::App& command) {
         ->type_name("INTEGER");
 }
 
-namespace {
-/// Which laws each law-specific flag applies to.
-struct FlagScope {
-    const char* flag;
-    const char* meaning;
-    std::vector<FrictionLaw> laws;
-};
-const std::vector<FlagScope>& flag_scopes() {
-    static const std::vector<FlagScope> scopes = {
-        {"--wb", "contact stiffness ratio", {FrictionLaw::dahl, FrictionLaw::lugre, FrictionLaw::jenkins}},
-        {"--xi", "contact damping ratio", {FrictionLaw::lugre}},
-        {"--eps", "regularisation velocity", {FrictionLaw::coulomb_regularized}},
-        {"--mu-static", "static friction coefficient", {FrictionLaw::lugre}},
-        {"--stribeck-velocity", "Stribeck velocity", {FrictionLaw::lugre}},
-        {"--viscous", "viscous friction coefficient", {FrictionLaw::lugre}},
-        {"--dlft-eps", "dynamic Lagrangian parameter", {FrictionLaw::coulomb}},
-    };
-    return scopes;
-}
-}  // namespace
-
 FrictionLaw AbsorberFlags::friction_law() const {
     try {
         return parse_friction_law(law);
@@ -125,49 +101,43 @@ FrictionLaw AbsorberFlags::friction_law() const {
 
 std::vector<std::string> AbsorberFlags::given(const CLI::App& command) const {
     std::vector<std::string> flags;
-    for (const char* flag : {"--r", "--wa", "--mu", "--fe", "--wb", "--xi", "--eps", "--mu-static", "--stribeck-velocity",
-                             "--viscous", "--dlft-eps"})
-        if (command.get_option_no_throw(flag) != nullptr && command.count(flag) > 0) flags.emplace_back(flag);
+    std::vector<std::string> all = {"--r", "--wa", "--mu", "--fe"};
+    for (const PresetParameter& p : preset_parameters()) all.emplace_back(p.flag);
+    for (const std::string& flag : all)
+        if (command.get_option_no_throw(flag) != nullptr && command.count(flag) > 0) flags.push_back(flag);
     return flags;
 }
 
 AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
     const FrictionLaw chosen = friction_law();
-    for (const FlagScope& scope : flag_scopes()) {
-        if (command.get_option_no_throw(scope.flag) == nullptr || command.count(scope.flag) == 0) continue;
-        if (std::find(scope.laws.begin(), scope.laws.end(), chosen) != scope.laws.end()) continue;
-        std::string allowed;
-        for (FrictionLaw l : scope.laws) allowed += (allowed.empty() ? "" : ", ") + to_string(l);
-        throw UsageError(std::string(scope.flag) + " (" + scope.meaning + ") does not apply to --law " + law +
-                         ": allowed with " + allowed);
+    auto given_flag = [&](const char* flag) {
+        return command.get_option_no_throw(flag) != nullptr && command.count(flag) > 0;
+    };
+    for (const PresetParameter& p : preset_parameters()) {
+        if (!given_flag(p.flag) || law_reads(chosen, p.symbol)) continue;
+        throw UsageError(std::string(p.flag) + " (" + p.meaning + ") does not apply to --law " + law +
+                         ": allowed with " + laws_reading(p.symbol));
     }
     AbsorberParameters p;
     auto set = [&](const char* flag, const std::string& text, double& target) {
-        if (command.get_option_no_throw(flag) != nullptr && command.count(flag) > 0) target = parse_double(flag, text);
+        if (given_flag(flag)) target = parse_double(flag, text);
     };
     set("--r", r, p.mass_ratio);
     set("--wa", wa, p.tuning_ratio);
     set("--mu", mu, p.friction_coefficient);
     set("--fe", fe, p.excitation);
-    set("--wb", wb, p.contact_stiffness_ratio);
-    set("--xi", xi, p.contact_damping_ratio);
-    set("--eps", eps, p.regularization);
-    set("--mu-static", mu_static, p.static_friction_coefficient);
-    set("--stribeck-velocity", stribeck_velocity, p.stribeck_velocity);
-    set("--viscous", viscous, p.viscous_coefficient);
-    set("--dlft-eps", dlft_eps, p.lagrangian_penalty);
-    if (!dlft_eps.empty() && !(p.lagrangian_penalty > 0.0))
-        throw UsageError("--dlft-eps = " + dlft_eps + " is out of range: allowed > 0");
+    for (const PresetParameter& q : preset_parameters())
+        if (given_flag(q.flag)) p.*(q.field) = parse_double(q.flag, law_values.at(q.flag));
+    if (given_flag("--dlft-eps") && !(p.lagrangian_penalty > 0.0))
+        throw UsageError("--dlft-eps = " + law_values.at("--dlft-eps") + " is out of range: allowed > 0");
     try {
         p.validate(chosen);
     } catch (const InvalidInput& e) {
         // The library names the parameter (r, wa, ..., mu_s, vs, sigma2): name the flag too.
         const std::string what = e.what();
         const std::string name = what.substr(0, what.find(' '));
-        const std::map<std::string, std::string> flags = {
-            {"r", "--r"},   {"wa", "--wa"},   {"mu", "--mu"},   {"fe", "--fe"},           {"wb", "--wb"},
-            {"xi", "--xi"}, {"eps", "--eps"}, {"mu_s", "--mu-static"}, {"vs", "--stribeck-velocity"},
-            {"sigma2", "--viscous"}};
+        std::map<std::string, std::string> flags = {{"r", "--r"}, {"wa", "--wa"}, {"mu", "--mu"}, {"fe", "--fe"}};
+        for (const PresetParameter& q : preset_parameters()) flags[q.symbol] = q.flag;
         const auto flag = flags.find(name);
         throw UsageError(flag == flags.end() ? what : flag->second + ": " + what);
     }
@@ -175,8 +145,7 @@ AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
 }
 
 namespace {
-/// --excitation-harmonic, when given, on the chosen system. H's automatic value is the law's
-/// times h: the response to a force at h w keeps as many harmonics of h w as at h = 1.
+/// --excitation-harmonic, when given, on the chosen system.
 void apply_excitation_harmonic(const CLI::App& command, const AbsorberFlags& flags, ChosenSystem& chosen) {
     if (command.get_option_no_throw("--excitation-harmonic") != nullptr && command.count("--excitation-harmonic") > 0) {
         const long long h = parse_integer("--excitation-harmonic", flags.excitation_harmonic);
@@ -185,7 +154,6 @@ void apply_excitation_harmonic(const CLI::App& command, const AbsorberFlags& fla
                              std::to_string(System::max_excitation_harmonic));
         chosen.system.excitation_harmonic = static_cast<int>(h);
     }
-    chosen.automatic_harmonics = std::min(max_harmonics, chosen.automatic_harmonics * chosen.system.excitation_harmonic);
 }
 }  // namespace
 
@@ -199,7 +167,6 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
         chosen.absorber = flags.parameters(command);
         chosen.system = friction_absorber(chosen.absorber, law);
         chosen.law_name = to_string(law);
-        chosen.automatic_harmonics = default_harmonics(law);
         apply_excitation_harmonic(command, flags, chosen);
         return chosen;
     }
@@ -222,7 +189,6 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
         const std::string name = to_string(c.law);
         if (chosen.law_name.find(name) == std::string::npos)
             chosen.law_name += (chosen.law_name.empty() ? "" : ",") + name;
-        chosen.automatic_harmonics = std::max(chosen.automatic_harmonics, default_harmonics(c.law));
     }
     chosen.outputs = chosen.config->outputs;
     apply_excitation_harmonic(command, flags, chosen);
@@ -236,7 +202,7 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
 
 HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const std::string& harmonics,
                                                 const std::string& time_samples, const ChosenSystem& chosen,
-                                                const std::string& config_path) {
+                                                const std::string& config_path, bool exact) {
     const std::optional<io::SystemConfig>& config = chosen.config;
     HarmonicBalanceOptions hbo;
     // H, or "odd" / "odd:H": the odd harmonics <= H only (H automatic without ":H").
@@ -260,7 +226,7 @@ HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const s
         if (config->harmonics) hbo.harmonics = *config->harmonics;
         if (config->odd_harmonics) hbo.odd_harmonics = *config->odd_harmonics;
     }
-    if (hbo.harmonics == 0) hbo.harmonics = chosen.automatic_harmonics;
+    if (hbo.harmonics == 0) hbo.harmonics = automatic_harmonics(chosen.system, exact);  // design.hpp
     const long long nt = parse_integer("--time-samples", time_samples);
     if (nt != 0 && (nt <= 2 * hbo.harmonics || nt > 65536))
         throw UsageError("--time-samples = " + time_samples + " is out of range: allowed 0 (automatic) or " +

@@ -2,12 +2,14 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "hbf/config.hpp"
+#include "hbf/contact.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/design.hpp"
 #include "hbf/harmonic_balance.hpp"
@@ -59,17 +61,23 @@ long long parse_integer(const std::string& flag, const std::string& text);
 /// The paper absorber's parameter flags --r --wa --mu --fe --wb --xi (values kept as text so
 /// that they are parsed strictly), shared by every subcommand that works on the preset.
 struct AbsorberFlags {
-    std::string r, wa, mu, fe, wb, xi, eps, mu_static, stribeck_velocity, viscous, dlft_eps;
+    std::string r, wa, mu, fe;
+    /// The laws' own preset parameters (model.hpp: preset_parameters) by flag ("--wb").
+    std::map<std::string, std::string> law_values;
     std::string law;
     std::string excitation_harmonic;  ///< --excitation-harmonic (preset and --config alike)
 
     /// Adds --excitation-harmonic h (the force F cos(h w t)), which applies to the preset and
     /// to --config systems alike (it overrides the file's structure.excitation_harmonic).
     void add_excitation_harmonic(CLI::App& command);
-    /// Adds the flags; `law_default` is the default --law, `with_smooth_options` adds --eps,
-    /// --mu-static, --stribeck-velocity, --viscous and --dlft-eps (harmonic-balance commands).
+    /// Adds the flags; `laws_help` is the help of --law (empty: every law of the registry with
+    /// its definition, laws_help()), `law_default` the default --law; `with_smooth_options` adds
+    /// the preset parameters only harmonic balance reads (--eps, --mu-static,
+    /// --stribeck-velocity, --viscous, --dlft-eps: the harmonic-balance commands).
     void add_to(CLI::App& command, const std::string& laws_help, const std::string& law_default,
                 bool with_smooth_options);
+    /// "friction law: coulomb (...), dahl (...), ... or jenkins (...)", from the registry.
+    static std::string laws_help();
     /// The chosen law; throws UsageError for an unknown name.
     FrictionLaw friction_law() const;
     /// Parameters with defaults for flags not given. Throws UsageError for a flag that does
@@ -89,20 +97,17 @@ struct ChosenSystem {
     std::vector<Output> outputs = {Output::dof(0), Output::dof(1)};  ///< reported (preset: y1, y2)
     std::optional<io::SystemConfig> config;
     AbsorberParameters absorber;      ///< the preset's parameters (without --config)
-    int automatic_harmonics = 10;     ///< default_harmonics of the (most demanding) law, times
-                                      ///< the excitation harmonic h (at most max_harmonics)
     /// The files the run reads (the config and its Matrix Market files): no output may be one.
     std::vector<io::InputFile> inputs() const { return config ? config->inputs : std::vector<io::InputFile>{}; }
 };
 ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path);
 
 /// Harmonic-balance options from --harmonics and --time-samples (texts as given; 0 means
-/// automatic), else the --config file's [solver], else the law's default H. Throws UsageError
+/// automatic), else the --config file's [solver], else the automatic H of the library
+/// (design.hpp: automatic_harmonics, with or without the exact polish). Throws UsageError
 /// naming the flag or the file key out of range.
 HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const std::string& harmonics,
                                                 const std::string& time_samples, const ChosenSystem& chosen,
-                                                const std::string& config_path);
-
-/// (default_harmonics and automatic_harmonics: design.hpp.)
+                                                const std::string& config_path, bool exact);
 
 }  // namespace hbf::cli

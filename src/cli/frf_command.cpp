@@ -175,9 +175,7 @@ Runner add_frf_command(CLI::App& app) {
                "pseudo-arclength continuation in w (nondimensional).");
     add_dry_run(*command);
     options->absorber.add_to(*command,
-                             "friction law: coulomb (exact, set-valued: true sticking, by the dynamic Lagrangian), "
-                             "jenkins (spring k_t = r wb^2 in series with a Coulomb slider), dahl, lugre or "
-                             "coulomb-reg (regularised Coulomb)",
+                             "",
                              "coulomb", true);
     options->absorber.add_excitation_harmonic(*command);
     options->frf.add_to(*command);

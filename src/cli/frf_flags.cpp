@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 
@@ -27,15 +28,24 @@ std::vector<double> parse_frequencies(const std::string& flag, const std::string
     return values;
 }
 
+namespace {
+/// "20 for coulomb, 10 for dahl, ..." from the registry (contact.hpp: default_harmonics).
+std::string law_harmonics() {
+    std::string text;
+    for (const ContactLaw* law : contact_laws())
+        text += (text.empty() ? "" : ", ") + std::to_string(law->default_harmonics()) + " for " + law->name();
+    return text;
+}
+}  // namespace
+
 void FrfFlags::add_to(CLI::App& command) {
     command.add_option("--wmin", wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
     command.add_option("--wmax", wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
     command.add_option("--harmonics", harmonics,
                        "number of harmonics H, 1.." + std::to_string(max_harmonics) +
-                           "; 0 = automatic: 10 with the exact polish (coulomb, jenkins: "
-                       "HB only supplies the branch and the starting guesses); without it 20 for coulomb (its error "
-                       "falls like 1/H) and coulomb-reg (steep tanh), 10 for dahl, lugre and jenkins; times h with "
-                       "--excitation-harmonic h. odd or odd:H balances the odd harmonics 1, 3, 5, ... <= H only "
+                           "; 0 = automatic: 10 with the exact polish (HB only supplies the branch and the starting "
+                           "guesses); without it the largest of the contacts' laws' own: " + law_harmonics() +
+                           "; times h with --excitation-harmonic h. odd or odd:H balances the odd harmonics 1, 3, 5, ... <= H only "
                        "(automatic H with odd): the half-wave symmetric solutions y(t + T/2) = -y(t), which every "
                        "law here admits under a force at an odd harmonic, with half the unknowns; a solution that "
                        "breaks the symmetry is not found")
@@ -113,11 +123,10 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
     const std::string refusal = lowest > 0.0 ? exact_cost_refusal(system, lowest) : exact_solver_refusal(system);
     s.exact = exact.empty() ? refusal.empty() : exact == "on";
     if (s.exact && !refusal.empty()) throw UsageError("--exact on: " + refusal + " (use --exact off)");
-    // With the polish, HB only supplies the branch and the starting guesses: H = 10 suffices
-    // (measured: the same exact branch, peaks and transitions as H = 20, 3 times faster).
-    if (s.exact) chosen.automatic_harmonics = 10;
+    // With the polish, HB only supplies the branch and the starting guesses: its automatic H is
+    // lower (design.hpp: automatic_harmonics).
     HarmonicBalanceOptions& hbo = s.harmonic_balance;
-    hbo = harmonic_balance_options(command, harmonics, time_samples, chosen, config);
+    hbo = harmonic_balance_options(command, harmonics, time_samples, chosen, config, s.exact);
     try {
         hbo.formulation = parse_formulation(formulation);
     } catch (const InvalidInput&) {

@@ -53,7 +53,7 @@ int run(const CLI::App& command, const LoopOptions& o) {
     const auto contacts = static_cast<long long>(chosen.system.contacts.size());
     if (contact < 1 || contact > contacts)
         throw UsageError("--contact = " + o.contact + " is out of range: allowed 1.." + std::to_string(contacts));
-    const HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config);
+    const HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config, false);
 
     // The solution at w: the branch followed from wmin (from 0.9 w when w <= wmin).
     ContinuationOptions co;
@@ -118,7 +118,7 @@ Runner add_loop_command(CLI::App& app) {
                 "relative motion and friction force (the friction loop f against v, paper Figs. 5-6).");
     add_dry_run(*command);
     options->absorber.add_to(*command,
-                             "friction law: coulomb, jenkins, dahl, lugre or coulomb-reg (as hbf frf)", "coulomb", true);
+                             "", "coulomb", true);
     options->absorber.add_excitation_harmonic(*command);
     command->add_option("--w", options->w, "frequency w of the solution, > 0 (required)")->type_name("NUMBER");
     command->add_option("--wmin", options->wmin,

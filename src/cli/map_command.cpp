@@ -278,7 +278,7 @@ Runner add_map_command(CLI::App& app) {
                "threads and, under mpirun, on MPI ranks; a tidy CSV, a JSON summary and a picture.");
     add_dry_run(*command);
     options->absorber.add_to(*command,
-                             "friction law: coulomb (exact), jenkins, dahl, lugre or coulomb-reg (as hbf frf)", "coulomb",
+                             "", "coulomb",
                              true);
     options->absorber.add_excitation_harmonic(*command);
     options->frf.add_to(*command);

@@ -379,7 +379,7 @@ Runner add_optimize_command(CLI::App& app) {
                     "search in log of the parameter, every FRF a full branch with refined peaks.");
     add_dry_run(*command);
     options->absorber.add_to(*command,
-                             "friction law: coulomb (exact), jenkins, dahl, lugre or coulomb-reg (as hbf frf)", "coulomb",
+                             "", "coulomb",
                              true);
     options->absorber.add_excitation_harmonic(*command);
     options->frf.add_to(*command);

@@ -3,59 +3,68 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::cli {
 
 namespace {
-const char* preset_names = "fe, mu, wa, r, wb (dahl, lugre, jenkins), xi (lugre)";
-const char* config_names =
-    "mu (the friction limit F_c of the contact --contact), fe (a factor on the file's excitation vector), "
-    "structure.damping (a factor on the file's damping matrix C), or a key of the contact --contact: "
-    "contact.friction_limit, contact.stiffness (dahl, lugre, jenkins), contact.damping, contact.viscous, "
-    "contact.static_limit, contact.stribeck_velocity (lugre), contact.regularization (coulomb-reg), "
-    "contact.lagrangian_penalty (coulomb)";
-
-/// The contact's scalar keys of a --config file (config.hpp), the laws each applies to, whether
-/// 0 is allowed, and the field.
-struct ContactKey {
-    const char* name;
-    std::vector<FrictionLaw> laws;  ///< empty: every law
-    bool zero_allowed;
-    double Contact::*field;
-};
-const std::vector<ContactKey>& contact_keys() {
-    using L = FrictionLaw;
-    static const std::vector<ContactKey> keys = {
-        {"friction_limit", {}, false, &Contact::friction_limit},
-        {"stiffness", {L::dahl, L::lugre, L::jenkins}, false, &Contact::stiffness},
-        {"damping", {L::lugre}, true, &Contact::damping},
-        {"viscous", {L::lugre}, true, &Contact::viscous},
-        {"static_limit", {L::lugre}, true, &Contact::static_limit},
-        {"stribeck_velocity", {L::lugre}, true, &Contact::stribeck_velocity},
-        {"regularization", {L::coulomb_regularized}, false, &Contact::regularization},
-        {"lagrangian_penalty", {L::coulomb}, true, &Contact::lagrangian_penalty}};
-    return keys;
+/// The --param names of the absorber preset: the laws' preset parameters wb and xi with the laws
+/// that read them (contact.hpp).
+std::string preset_names() {
+    return "fe, mu, wa, r, wb (" + laws_reading("wb") + "), xi (" + laws_reading("xi") + ")";
 }
-const ContactKey* find_contact_key(const std::string& name) {
-    if (name == "mu") return &contact_keys().front();
-    if (name.rfind("contact.", 0) != 0) return nullptr;
-    for (const ContactKey& k : contact_keys())
-        if (name.substr(8) == k.name) return &k;
-    return nullptr;
+/// The --param names of a --config system: the contact's keys come from the registry of laws
+/// (contact.hpp), each with the laws it applies to.
+std::string config_names() {
+    std::string keys = "contact.friction_limit";
+    std::vector<std::string> seen;
+    for (const ContactLaw* law : contact_laws())
+        for (const LawParameter& p : law->parameters()) {
+            if (std::find(seen.begin(), seen.end(), p.key) != seen.end()) continue;
+            seen.emplace_back(p.key);
+            keys += ", contact." + std::string(p.key) + " (" + laws_with_parameter(p.key) + ")";
+        }
+    return "mu (the friction limit F_c of the contact --contact), fe (a factor on the file's excitation vector), "
+           "structure.damping (a factor on the file's damping matrix C), or a key of the contact --contact: " +
+           keys;
+}
+
+/// A contact's scalar key of a --config file: friction_limit (every law) or a law's parameter;
+/// `field` is null when the name is none of them.
+struct ContactKey {
+    std::string name;
+    double Contact::*field = nullptr;
+    bool zero_allowed = false;
+};
+ContactKey find_contact_key(const std::string& name) {
+    if (name == "mu") return {"friction_limit", &Contact::friction_limit, false};
+    if (name.rfind("contact.", 0) != 0) return {};
+    const std::string key = name.substr(8);
+    if (key == "friction_limit") return {key, &Contact::friction_limit, false};
+    for (const ContactLaw* law : contact_laws())
+        for (const LawParameter& p : law->parameters())
+            if (key == p.key) return {key, p.field, p.range == LawParameter::Range::non_negative};
+    return {};
+}
+/// Whether `key` applies to `law` (friction_limit to every law).
+bool applies(const ContactKey& key, FrictionLaw law) {
+    if (key.name == "friction_limit") return true;
+    const std::vector<LawParameter> p = contact_law(law).parameters();
+    return std::any_of(p.begin(), p.end(), [&](const LawParameter& q) { return key.name == q.key; });
 }
 }  // namespace
 
 StudyParameter::StudyParameter(const std::string& flag, const std::string& name, const ChosenSystem& chosen,
                                const std::string& contact_flag, const std::string& contact)
     : name_(name), chosen_(chosen) {
-    if (name.empty()) throw UsageError(flag + " is empty: allowed " + std::string(preset_names));
+    if (name.empty()) throw UsageError(flag + " is empty: allowed " + preset_names());
     if (chosen.config) {
-        const ContactKey* key = find_contact_key(name);
-        if (!key && name != "fe" && name != "structure.damping")
+        const ContactKey key = find_contact_key(name);
+        if (!key.field && name != "fe" && name != "structure.damping")
             throw UsageError(flag + " = '" + name + "' is not a parameter of a --config system: allowed " +
-                             std::string(config_names));
-        if (!key) {
+                             config_names());
+        if (!key.field) {
             current_ = 1.0;
             return;
         }
@@ -67,26 +76,25 @@ StudyParameter::StudyParameter(const std::string& flag, const std::string& name,
         contact_ = static_cast<int>(n - 1);
         uses_contact_ = true;
         const Contact& c = chosen.system.contacts[static_cast<std::size_t>(contact_)];
-        if (!key->laws.empty() && std::find(key->laws.begin(), key->laws.end(), c.law) == key->laws.end())
+        if (!applies(key, c.law))
             throw UsageError(flag + " = " + name + " does not apply to contact " + std::to_string(n) + " (law " +
-                             to_string(c.law) + "): allowed " + std::string(config_names));
-        current_ = c.*(key->field);
+                             to_string(c.law) + "): allowed " + config_names());
+        current_ = c.*(key.field);
         return;
     }
     law_ = chosen.system.contacts.front().law;
     const AbsorberParameters& p = chosen.absorber;
-    const bool bristles = law_ == FrictionLaw::dahl || law_ == FrictionLaw::lugre || law_ == FrictionLaw::jenkins;
     if (name == "fe") current_ = p.excitation;
     else if (name == "mu") current_ = p.friction_coefficient;
     else if (name == "wa") current_ = p.tuning_ratio;
     else if (name == "r") current_ = p.mass_ratio;
-    else if (name == "wb" && bristles) current_ = p.contact_stiffness_ratio;
-    else if (name == "xi" && law_ == FrictionLaw::lugre) current_ = p.contact_damping_ratio;
+    else if (name == "wb" && law_reads(law_, "wb")) current_ = p.contact_stiffness_ratio;
+    else if (name == "xi" && law_reads(law_, "xi")) current_ = p.contact_damping_ratio;
     else if (name == "wb" || name == "xi")
         throw UsageError(flag + " = " + name + " does not apply to --law " + to_string(law_) + ": allowed " +
-                         std::string(preset_names));
+                         preset_names());
     else
-        throw UsageError(flag + " = '" + name + "' is not known: allowed " + std::string(preset_names));
+        throw UsageError(flag + " = '" + name + "' is not known: allowed " + preset_names());
 }
 
 AbsorberParameters with_parameter(AbsorberParameters p, const std::string& name, double value) {
@@ -124,11 +132,11 @@ std::string StudyParameter::meaning() const {
 System StudyParameter::system(double value) const {
     if (chosen_.config) {
         System s = chosen_.system;
-        if (const ContactKey* key = find_contact_key(name_)) {
-            if (!(std::isfinite(value) && (value > 0.0 || (key->zero_allowed && value == 0.0))))
+        if (const ContactKey key = find_contact_key(name_); key.field) {
+            if (!(std::isfinite(value) && (value > 0.0 || (key.zero_allowed && value == 0.0))))
                 throw InvalidInput(name_ + " (" + meaning() + ") = " + format_number(value) +
-                                   " is out of range: allowed " + (key->zero_allowed ? ">= 0" : "> 0"));
-            s.contacts[static_cast<std::size_t>(contact_)].*(key->field) = value;
+                                   " is out of range: allowed " + (key.zero_allowed ? ">= 0" : "> 0"));
+            s.contacts[static_cast<std::size_t>(contact_)].*(key.field) = value;
         } else if (name_ == "fe") {
             if (!(std::isfinite(value) && value > 0.0))
                 throw InvalidInput("fe (factor on the excitation) = " + format_number(value) + " is out of range: allowed > 0");

@@ -169,8 +169,7 @@ Runner add_timeint_command(CLI::App& app) {
                    "the reference for harmonic balance. One frequency (--w) or a sweep (--wmin --wmax --points).");
     add_dry_run(*command);
     options->absorber.add_to(*command,
-                             "friction law: coulomb (exact, set-valued, event-driven stick/slip), jenkins (spring "
-                             "k_t = r wb^2 in series with a Coulomb slider), dahl, lugre or coulomb-reg (regularised)",
+                             "",
                              "coulomb", true);
     options->absorber.add_excitation_harmonic(*command);
     command->remove_option(command->get_option("--dlft-eps"));  // harmonic balance only

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "hbf/contact.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/friction.hpp"
@@ -17,9 +18,9 @@ constexpr double pi = 3.14159265358979323846;
 int sign_of(double x) { return (x > 0.0) - (x < 0.0); }
 
 bool has_internal_state(FrictionLaw law) {
-    return law == FrictionLaw::dahl || law == FrictionLaw::lugre || law == FrictionLaw::jenkins;
+    return contact_law(law).time_state() != TimeState::none;
 }
-bool event_driven(FrictionLaw law) { return law == FrictionLaw::coulomb || law == FrictionLaw::jenkins; }
+bool event_driven(FrictionLaw law) { return contact_law(law).exact_stick(); }
 
 /// CVODE's warnings (positive codes, e.g. t + h == t) are counted, not printed; its errors
 /// come back as return flags, handled where they occur.

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "hbf/contact.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf::detail {
@@ -35,22 +36,21 @@ struct ContactData {
     double eps = 0;          // tanh velocity scale
 
     Eigen::VectorXd w;       // a general force direction (empty: the DOF pair a, b)
+    Contact parameters;      // the law and its parameters (its direction left empty: w)
 
     explicit ContactData(const Contact& c)
         : law(c.law), a(c.dof), b(c.other_dof), limit(c.friction_limit), stiffness(c.stiffness),
           damping(c.damping), viscous(c.viscous), static_limit(c.static_limit), stribeck(c.stribeck_velocity),
-          eps(c.regularization), w(c.direction) {}
+          eps(c.regularization), w(c.direction), parameters(c) {
+        parameters.direction.resize(0);
+    }
 
     double relative(const double* y) const {
         if (w.size() > 0) return w.dot(Eigen::Map<const Eigen::VectorXd>(y, w.size()));
         return y[a] - (b == Contact::ground ? 0.0 : y[b]);
     }
     /// LuGre's sliding limit g(v) (F_c for Dahl and without Stribeck curve).
-    double sliding_limit(double v) const {
-        if (law != FrictionLaw::lugre || stribeck <= 0.0 || static_limit <= 0.0) return limit;
-        const double x = v / stribeck;
-        return limit + (static_limit - limit) * std::exp(-x * x);
-    }
+    double sliding_limit(double v) const { return hbf::sliding_limit(parameters, v); }
 };
 
 /// Everything measured over one period.

@@ -1,0 +1,139 @@
+// hbfriction — contact elements: one law per file (src/contact/<law>.cpp), listed in one
+// registry table (src/contact/registry.cpp).
+//
+// A law's file holds everything the solvers and the front ends need to know of it:
+//   * its definition (the equation, the variables, the sign convention: model.hpp's Contact);
+//   * its parameters beyond friction_limit (the Contact field, which is also the config key,
+//     what it means and its allowed range);
+//   * its periodic force by AFT with the exact Jacobian (friction.hpp: FrictionModel);
+//   * its local linearisation (smooth laws: stability.hpp);
+//   * what it is while it sticks (a rigid constraint, or a spring and a damper);
+//   * whether it is smooth, whether its stick is exact (the event-exact solver covers it),
+//     what internal state it carries in time, and its default H.
+// Everything else asks the registry (contact_law(law)) instead of switching on the law, so that
+// a law is added by adding its file and a line of the table.
+//
+// The interface is per contact direction (one relative displacement q = w^T y); elements with a
+// normal and one or two tangential directions will add their directions here.
+#pragma once
+
+#include <complex>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hbf/friction.hpp"
+#include "hbf/model.hpp"
+
+namespace hbf {
+
+/// One parameter of a law besides friction_limit (which every law has, > 0). `key` is the
+/// Contact field's name and the key of a contact table in a system file (config.hpp).
+struct LawParameter {
+    enum class Range { positive, non_negative };
+    const char* key;
+    double Contact::*field;
+    const char* meaning;  ///< what it is, with its symbol ("contact stiffness sigma0")
+    Range range;
+    /// What 0 means where 0 is allowed and special ("F_s = F_c"); nullptr otherwise.
+    const char* zero_means = nullptr;
+    /// "finite and > 0" or "finite and >= 0".
+    std::string allowed() const;
+};
+
+/// What a contact is while it sticks, as a linear element along its direction: rigid (exact
+/// Coulomb: w^T y is held, the force is a constraint's multiplier), or a spring `stiffness` and a
+/// damper `damping` (force per velocity), i.e. the complex stiffness stiffness + i Omega damping
+/// at the frequency Omega. Used by the linear limits (stuck_linear_response, linear_resonances)
+/// and by harmonic balance's first guesses.
+struct StuckElement {
+    bool rigid = false;
+    double stiffness = 0;
+    double damping = 0;
+    std::complex<double> at(double frequency) const { return {stiffness, frequency * damping}; }
+};
+
+/// The structure as a contact sees it along its direction w, for the laws' automatic parameters.
+struct DirectionScale {
+    double stiffness = 0;     ///< w^T K w
+    double mass = 0;          ///< w^T M w
+    double largest_mass = 0;  ///< the largest diagonal entry of M
+};
+
+/// The internal state a law carries in time (time integration, the event-exact solver and the
+/// stability analysis; one per contact):
+///   none:    memoryless (coulomb-reg), or set-valued without a state (coulomb: stick is a mode);
+///   bristle: the bristle deflection z (dahl, lugre), which starts from z = q;
+///   slider:  the slider position s of a spring in series with a Coulomb slider (jenkins).
+enum class TimeState { none, bristle, slider };
+
+/// A contact law: a stateless descriptor, one per law (see the top of this file).
+class ContactLaw {
+public:
+    virtual ~ContactLaw() = default;
+    virtual FrictionLaw id() const = 0;
+    /// The name in files, flags and outputs ("coulomb", "coulomb-reg").
+    virtual const char* name() const = 0;
+    /// The law in one line, for --help and messages ("f = F_c tanh(v / eps)").
+    virtual const char* definition() const = 0;
+    /// Its parameters besides friction_limit.
+    virtual std::vector<LawParameter> parameters() const = 0;
+    /// H of harmonic balance without the exact polish, measured (design.hpp: default_harmonics).
+    virtual int default_harmonics() const = 0;
+    /// The force is a differentiable function of the state: local linearisation (linearize),
+    /// stability by Hill's method and the monodromy of the variational equations.
+    virtual bool smooth() const = 0;
+    /// Stick is exact (a mode with events, not a pre-sliding approximation): the event-exact
+    /// solver covers the law, time integration switches modes at events, and permanent stick has
+    /// the centred stuck state as its solution.
+    virtual bool exact_stick() const = 0;
+    virtual TimeState time_state() const = 0;
+    /// The linear element while the contact sticks.
+    virtual StuckElement stuck(const Contact& contact) const = 0;
+    /// The periodic force by AFT (harmonic balance). Throws InvalidInput for parameters the
+    /// model cannot take (exact Coulomb: lagrangian_penalty must be > 0).
+    virtual std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const = 0;
+    /// The local linearisation (smooth laws); the default throws InvalidInput.
+    virtual LocalLinearization linearize(const Contact& contact, double v, double z) const;
+    /// Harmonic balance's first guess of the law's state signal (laws whose periodic_model has
+    /// state_signals() == 1), on the load harmonic's rows cos_row, cos_row + 1 of z, given the
+    /// relative displacement's coefficients q: sliding, the state of a force at its limit in
+    /// phase with the velocity; stuck, the state of the stuck linear response, whose complex
+    /// force amplitude is `stuck_force`. The default leaves z at zero.
+    virtual void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
+                             std::complex<double> stuck_force, Eigen::Ref<Eigen::VectorXd> z) const;
+    /// Fills the parameters harmonic balance chooses when they are 0 (exact Coulomb's
+    /// lagrangian_penalty), and refuses a chosen one outside the range measured to converge,
+    /// naming it after `where` ("contact 1: "). The default does nothing.
+    virtual void complete(Contact& contact, const DirectionScale& scale, const std::string& where) const;
+    /// The paper's absorber preset (model.hpp: friction_absorber, PresetParameter): the symbols
+    /// of the preset parameters the law reads ("wb", "xi", ...), in the order they are checked.
+    virtual std::vector<std::string> preset_parameters() const { return {}; }
+    /// Sets the law's parameters on the preset's contact from the nondimensional parameters
+    /// (friction_limit = mu is set by the preset). The default sets none.
+    virtual void from_preset(const AbsorberParameters&, Contact&) const {}
+    /// Throws InvalidInput naming the parameter (prefixed by `where`, e.g. "contact 1: ") when a
+    /// parameter is out of its range. The default checks parameters().
+    virtual void validate(const Contact& contact, const std::string& where) const;
+};
+
+/// The registry: every law, in the order of their names in messages.
+const std::vector<const ContactLaw*>& contact_laws();
+/// The law's descriptor.
+const ContactLaw& contact_law(FrictionLaw law);
+/// The laws' names joined ("coulomb, dahl, lugre, coulomb-reg, jenkins" with ", ").
+std::string contact_law_names(const std::string& separator = ", ");
+/// The names of the laws whose parameters include `key`, joined by ", " (for messages).
+std::string laws_with_parameter(const std::string& key);
+
+/// The names of the laws that read the absorber preset's parameter `symbol` (model.hpp:
+/// PresetParameter), joined by ", "; and whether `law` reads it.
+std::string laws_reading(const std::string& symbol);
+bool law_reads(FrictionLaw law, const std::string& symbol);
+
+/// LuGre's sliding limit g(v) = F_c + (F_s - F_c) exp(-(v / v_s)^2) (paper eq. 17) and its slope
+/// dg/dv: F_c (slope 0) for Dahl, and for LuGre without a Stribeck curve (v_s = 0, F_s = 0 or
+/// F_s = F_c). The one home of g, for the AFT, the linearisation and time integration.
+double sliding_limit(const Contact& contact, double v, double* slope = nullptr);
+
+}  // namespace hbf

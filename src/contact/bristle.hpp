@@ -1,0 +1,21 @@
+// hbfriction — internal: the bristle model shared by the laws `dahl` and `lugre` (Dahl is
+// LuGre without bristle damping, viscous friction and Stribeck curve). Not installed.
+#pragma once
+
+#include <memory>
+
+#include "hbf/contact.hpp"
+
+namespace hbf::detail {
+
+/// The bristle force by AFT (see lugre.cpp): sigma0, sigma1, sigma2 as given (Dahl: 0 for the
+/// last two), g(v) = sliding_limit(contact, v).
+std::unique_ptr<FrictionModel> bristle_model(const Contact& contact, double sigma1, double sigma2);
+/// The local linearisation of the bristle law with sigma1, sigma2 as given.
+LocalLinearization bristle_linearization(const Contact& contact, double sigma1, double sigma2, double v, double z);
+/// Harmonic balance's first guess of the bristle deflection z: sliding, (4/pi) F_c / sigma0 in
+/// phase with the velocity; stuck (pre-sliding), z = q.
+void bristle_guess(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
+                   Eigen::Ref<Eigen::VectorXd> z);
+
+}  // namespace hbf::detail

@@ -1,0 +1,47 @@
+"""The automatic H has one home (design.hpp: automatic_harmonics): hbf frf, Python's frf() and the
+hb_vs_timeint benchmark report the same H for each law of the registry (contact.hpp), with and
+without the exact polish, and with an excitation harmonic h (H times h)."""
+import json
+import os
+import subprocess
+
+import pytest
+
+import hbfriction
+from conftest import run_hbf
+
+LAWS = [law["name"] for law in hbfriction._core.contact_laws()]
+BENCHMARK = os.environ.get("HBF_HB_VS_TIMEINT", "")
+
+
+def cli_harmonics(tmp_path, *flags):
+    summary = tmp_path / "summary.json"
+    run_hbf("frf", *flags, "--wmin", "0.5", "--wmax", "0.6", "--out", str(tmp_path / "frf.csv"),
+            "--summary", str(summary))
+    return json.loads(summary.read_text())["parameters"]["harmonics"]
+
+
+@pytest.mark.parametrize("law", LAWS)
+def test_cli_python_and_benchmark_choose_the_same_h(law, tmp_path):
+    system = hbfriction.absorber(law)
+    without = cli_harmonics(tmp_path, "--law", law, "--exact", "off")
+    assert hbfriction.frf(system, exact=False, wmin=0.5, wmax=0.6).metadata["parameters"]["harmonics"] == without
+    # the law's own H (at least 10) without the polish
+    assert without == max(10, [l for l in hbfriction._core.contact_laws() if l["name"] == law][0]["default_harmonics"])
+    # with the default polish choice (on for the laws it covers: HB then only supplies the branch)
+    default = cli_harmonics(tmp_path, "--law", law)
+    assert hbfriction.frf(system, wmin=0.5, wmax=0.6).metadata["parameters"]["harmonics"] == default
+    exact = [l for l in hbfriction._core.contact_laws() if l["name"] == law][0]["exact_stick"]
+    assert default == (10 if exact else without)
+    # h = 2: twice the harmonics (no polish at h > 1)
+    doubled = cli_harmonics(tmp_path, "--law", law, "--excitation-harmonic", "2")
+    assert doubled == 2 * without
+    assert hbfriction.frf(hbfriction.absorber(law, excitation_harmonic=2), wmin=0.5, wmax=0.6) \
+        .metadata["parameters"]["harmonics"] == doubled
+    # the benchmark harmonic balance against time integration (its HB side, without the polish)
+    if not BENCHMARK:
+        pytest.skip("HBF_HB_VS_TIMEINT is not set (benchmarks not built: HBF_BUILD_BENCHMARKS=OFF)")
+    run = subprocess.run([BENCHMARK, "--law", law, "--fe", "0.5", "--points", "2", "--wmin", "0.5", "--wmax", "0.6",
+                          "--repeats", "1", "--check-every", "0"], capture_output=True, text=True, check=True)
+    cases = json.loads(run.stdout.strip().splitlines()[-1])["cases"]
+    assert [c["harmonics"] for c in cases] == [without]
