@@ -35,7 +35,8 @@ namespace {
 class Bristle final : public FrictionModel {
 public:
     Bristle(const Contact& c, double sigma1, double sigma2)
-        : contact_(c), sigma0_(c.stiffness), sigma1_(sigma1), sigma2_(sigma2) {}
+        : contact_(c), sigma0_(c.stiffness), sigma1_(sigma1), sigma2_(sigma2),
+          constant_(sliding_limit(c, 0.0) == c.friction_limit) {}  // g(0) = F_s: F_c without a curve
     int state_signals() const override { return 1; }
 
     void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
@@ -97,13 +98,19 @@ public:
     }
 
 private:
-    /// g(v) and its derivative on the samples.
+    /// g(v) and its derivative on the samples (constant without a Stribeck curve).
     void curve(const Eigen::ArrayXd& v, Eigen::ArrayXd& g, Eigen::ArrayXd& dg) const {
+        if (constant_) {
+            g.setConstant(contact_.friction_limit);
+            dg.setZero();
+            return;
+        }
         for (Eigen::Index j = 0; j < v.size(); ++j) g(j) = sliding_limit(contact_, v(j), &dg(j));
     }
 
     Contact contact_;
     double sigma0_, sigma1_, sigma2_;
+    bool constant_;  ///< g = F_c (Dahl, LuGre without a Stribeck curve)
 };
 
 }  // namespace
