@@ -261,7 +261,7 @@ struct FrfRun {
     FrfResult result;
     io::Table table;
     std::string summary;  ///< the JSON summary of hbf frf --summary
-    FrfVerdict verdict;
+    Verdict verdict;  ///< the result's (compute_frf: FrfResult::verdict)
 };
 
 /// The table, verdict and JSON summary of a computed FRF (run->result), as hbf frf writes
@@ -269,7 +269,7 @@ struct FrfRun {
 /// parameters; without it (an FRF that could not start) the summary holds the status only.
 void finish_run(FrfRun& run, const PySystem& s, const FrfSettings& settings, const HarmonicBalance* hb) {
     const FrfResult& r = run.result;
-    run.verdict = judge_frf(r, settings);
+    run.verdict = r.verdict;
     const BranchStability* stability = r.stability ? &*r.stability : nullptr;
     run.table = io::frf_table(r.points, r.metrics, settings.outputs, r.exact, stability);
     if (hb == nullptr) {
@@ -290,8 +290,8 @@ void finish_run(FrfRun& run, const PySystem& s, const FrfSettings& settings, con
 std::shared_ptr<FrfRun> run_frf(const PySystem& s, FrfSettings settings) {
     if (settings.outputs.empty()) settings.outputs = s.reported();
     auto run = std::make_shared<FrfRun>();
+    settings.validate();
     HarmonicBalance hb(s.system, settings.harmonic_balance);
-    reset_library_messages();
     run->result = compute_frf(hb, settings);
     finish_run(*run, s, settings, &hb);
     return run;
@@ -633,7 +633,9 @@ PYBIND11_MODULE(_core, m) {
         .def_readwrite("peaks", &FrfSettings::peaks)
         .def_readwrite("peaks_of_every_output", &FrfSettings::peaks_of_every_output)
         .def_readwrite("stability", &FrfSettings::stability)
-        .def_readwrite("stability_options", &FrfSettings::stability_options);
+        .def_readwrite("stability_options", &FrfSettings::stability_options)
+        .def("validate", &FrfSettings::validate,
+             "the library's ranges (design.hpp: FrfSettings::validate): ValueError naming the field");
     m.def(
         "default_frf_settings",
         [](const PySystem& s) {
@@ -861,10 +863,11 @@ PYBIND11_MODULE(_core, m) {
             }
             std::vector<PeriodicResponse> responses;
             io::Table table;
-            FrfVerdict verdict;
+            Verdict verdict;
             without_gil([&] {
                 // The sweep of hbf timeint: from the stuck linear state at the first frequency,
                 // each point from the previous one's final state.
+                MessageCollector messages;  // what CVODE reports during the sweep
                 Eigen::VectorXd state = linear_stuck_state(s.system, omegas.front());
                 for (double w : omegas) {
                     responses.push_back(exact ? exact_steady_state(s.system, w, eo, options.max_periods, state)
@@ -873,6 +876,7 @@ PYBIND11_MODULE(_core, m) {
                 }
                 table = io::timeint_table(responses, options.outputs);
                 verdict = judge_sweep(s.system, responses, options, exact);
+                verdict.add(messages.messages());
                 return 0;
             });
             py::list details;

@@ -717,12 +717,17 @@ void validate(const ContinuationOptions& o) {
                            " is out of range: allowed wmax > wmin = " + format_number(o.omega_start));
     require_positive(o.initial_step, "initial_step", "first arclength step");
     require_positive(o.min_step, "min_step", "minimum arclength step");
-    require_positive(o.max_step, "max_step", "maximum arclength step");
+    if (!(o.max_step >= o.smallest_max_step && o.max_step <= o.largest_max_step))
+        throw InvalidInput("max_step = " + format_number(o.max_step) + " is out of range: allowed " +
+                           format_number(o.smallest_max_step) + ".." + format_number(o.largest_max_step));
     require_positive(o.max_amplitude, "max_amplitude", "amplitude cap");
     if (!(o.omega_scale >= 0.0) || !std::isfinite(o.omega_scale))
         throw InvalidInput("omega_scale = " + format_number(o.omega_scale) +
                            " is out of range: allowed >= 0 (0: wmax)");
-    require_positive(o.corrector.tolerance, "tolerance", "relative residual tolerance");
+    const CorrectorOptions& c = o.corrector;
+    if (!(c.tolerance >= c.smallest_tolerance && c.tolerance <= c.largest_tolerance))
+        throw InvalidInput("tolerance = " + format_number(c.tolerance) + " is out of range: allowed " +
+                           format_number(c.smallest_tolerance) + ".." + format_number(c.largest_tolerance));
     if (o.max_points < 2) throw InvalidInput("max_points = " + std::to_string(o.max_points) + " is out of range: allowed >= 2");
     if (o.corrector.max_iterations < 1)
         throw InvalidInput("max_iterations = " + std::to_string(o.corrector.max_iterations) +

@@ -94,6 +94,31 @@ int automatic_harmonics(const System& system, bool exact) {
     return std::min(max_harmonics, h * std::max(1, system.excitation_harmonic));
 }
 
+namespace {
+void check_study_options(const FrfSettings& s);
+}
+
+void FrfSettings::validate() const {
+    harmonic_balance.validate();
+    check_study_options(*this);
+}
+
+namespace {
+/// FrfSettings::validate but for harmonic_balance (compute_frf(hb, ...) uses hb's own).
+void check_study_options(const FrfSettings& s) {
+    hbf::validate(s.continuation);
+    const std::vector<double>& at = s.at;
+    for (std::size_t k = 0; k < at.size(); ++k) {
+        if (!(at[k] > 0.0) || !std::isfinite(at[k]))
+            throw InvalidInput("at = " + format_number(at[k]) + " is out of range: allowed frequencies > 0");
+        if (std::find(at.begin(), at.begin() + static_cast<std::ptrdiff_t>(k), at[k]) != at.begin() + static_cast<std::ptrdiff_t>(k))
+            throw InvalidInput("at lists w = " + format_number(at[k]) +
+                               " more than once: allowed distinct frequencies (each is one solved row)");
+    }
+    if (s.stability) s.stability_options.validate();
+}
+}  // namespace
+
 FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs) {
     FrfSettings s;
     s.outputs = outputs;
@@ -105,12 +130,9 @@ FrfSettings default_frf_settings(const System& system, const std::vector<Output>
     return s;
 }
 
-std::string FrfVerdict::status() const {
-    return !errors.empty() ? "failed" : !warnings.empty() ? "incomplete" : "completed";
-}
 
-FrfVerdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
-    FrfVerdict v;
+Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
+    Verdict v;
     const BranchResult& branch = frf.branch;
     if (branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::start_failed)
         v.errors.push_back(branch.summary() + " (the points computed so far are written)");
@@ -188,10 +210,7 @@ FrfVerdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
     for (double w : frf.missed)
         v.errors.push_back("--at w = " + format_number(w) + ": no solution written (outside the computed branch, or "
                            "the solve failed from the branch and after a retry)");
-    const LibraryMessages m = library_messages();
-    if (m.count > 0)
-        v.warnings.push_back(std::to_string(m.count) + " warning(s) from the numerical libraries (not printed); the "
-                             "first: " + m.first);
+    v.add(frf.messages);
     return v;
 }
 
@@ -226,9 +245,9 @@ PeriodicResponse exact_steady_state(const System& system, double omega, ExactOpt
     return r;
 }
 
-FrfVerdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
+Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
                        const TimeIntegrationOptions& options, bool exact) {
-    FrfVerdict v;
+    Verdict v;
     int failed = 0;
     for (const PeriodicResponse& r : responses)
         if (!r.converged) {
@@ -312,6 +331,8 @@ SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, Contin
 
 FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     const auto started = std::chrono::steady_clock::now();
+    check_study_options(settings);
+    MessageCollector collector;  // what Ceres and CVODE report during this FRF, on this thread
     if (settings.exact) {  // before the work: the polish must be possible at the branch's lowest w
         const double lowest = std::min(settings.continuation.omega_start, settings.continuation.omega_end);
         const std::string refusal = lowest > 0.0 ? exact_cost_refusal(hb.system(), lowest) : std::string();
@@ -352,11 +373,21 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         mark_bifurcations(*r.stability, r.points);
     }
     r.peak = largest_peak(r, settings);
+    r.messages = collector.messages();
+    r.verdict = judge_frf(r, settings);
     r.seconds = seconds_since(started);
     return r;
 }
 
+std::string FrfResult::summary() const {
+    std::string line = branch.summary();
+    if (std::isfinite(peak.value))
+        line += "; largest peak " + format_number(peak.value) + " at w = " + format_number(peak.omega);
+    return line + "; " + verdict.summary();
+}
+
 FrfResult compute_frf(const System& system, const FrfSettings& settings) {
+    settings.validate();
     HarmonicBalance hb(system, settings.harmonic_balance);
     return compute_frf(hb, settings);
 }
@@ -365,6 +396,7 @@ std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>&
                                     int threads, const std::function<void(int, int)>& done) {
     if (count < 0) throw InvalidInput("count = " + std::to_string(count) + " is out of range: allowed >= 0");
     if (threads < 0) throw InvalidInput("threads = " + std::to_string(threads) + " is out of range: allowed >= 0");
+    settings.validate();  // once, before any work (a bad system is that FRF's start_failed)
     if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min(threads, count));
     std::vector<FrfResult> results(static_cast<std::size_t>(count));
@@ -388,6 +420,7 @@ std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>&
                 r.branch.status = ContinuationStatus::start_failed;
                 r.branch.message = e.what();
                 r.peak.state = PeakState::failed;
+                r.verdict = judge_frf(r, settings);
             } catch (...) {
                 const std::lock_guard<std::mutex> guard(lock);
                 if (!error) error = std::current_exception();
@@ -457,6 +490,7 @@ OptimizeEvaluation evaluation(double p, const FrfResult& r, const char* phase) {
     e.status = r.branch.status;
     e.phase = phase;
     e.seconds = r.seconds;
+    e.messages = r.messages;
     return e;
 }
 }  // namespace
@@ -479,6 +513,7 @@ OptimizeResult minimise(const BatchObjective& objective, const OptimizeOptions& 
         std::vector<double> values;
         for (OptimizeEvaluation& e : objective(p, phase)) {
             values.push_back(e.peak.objective());
+            result.messages.add(e.messages);
             result.trace.push_back(std::move(e));
         }
         return values;
@@ -620,6 +655,7 @@ JointOptimizeResult optimize_two_parameters(const std::function<System(double, d
                     }
                 e.phase = phase;
                 e.seconds = r.seconds;
+                e.messages = r.messages;
                 result.inner.push_back(std::move(r));
                 out.push_back(std::move(e));
             }

@@ -7,14 +7,8 @@
 namespace hbf {
 
 namespace {
-std::mutex& guard() {
-    static std::mutex m;
-    return m;
-}
-LibraryMessages& store() {
-    static LibraryMessages messages;
-    return messages;
-}
+/// This thread's innermost collector (none: messages are not counted).
+thread_local MessageCollector* innermost = nullptr;
 
 /// Counts glog messages of severity WARNING and above (Ceres' INFO lines are progress, not
 /// diagnostics).
@@ -47,20 +41,22 @@ void capture_library_messages() {
     });
 }
 
-LibraryMessages library_messages() {
-    std::lock_guard<std::mutex> lock(guard());
-    return store();
+void LibraryMessages::add(const LibraryMessages& other) {
+    if (count == 0) first = other.first;
+    count += other.count;
 }
 
-void reset_library_messages() {
-    std::lock_guard<std::mutex> lock(guard());
-    store() = LibraryMessages{};
+MessageCollector::MessageCollector() : enclosing_(innermost) { innermost = this; }
+
+MessageCollector::~MessageCollector() {
+    innermost = enclosing_;
+    if (enclosing_ != nullptr) enclosing_->messages_.add(messages_);
 }
 
 namespace detail {
 void record_library_message(const std::string& source, const std::string& text) {
-    std::lock_guard<std::mutex> lock(guard());
-    LibraryMessages& m = store();
+    if (innermost == nullptr) return;
+    LibraryMessages& m = innermost->messages_;
     if (m.count++ == 0) m.first = source + ": " + text;
 }
 }  // namespace detail

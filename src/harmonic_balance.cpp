@@ -35,6 +35,18 @@ Formulation parse_formulation(const std::string& name) {
 HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)
     : HarmonicBalance(std::move(system), options, true) {}
 
+void HarmonicBalanceOptions::validate() const {
+    if (harmonics < 1 || harmonics > max_harmonics)
+        throw InvalidInput("harmonics = " + std::to_string(harmonics) + " is out of range: allowed 1.." +
+                           std::to_string(max_harmonics));
+    if (time_samples != 0 && (time_samples <= 2 * harmonics || time_samples > max_time_samples))
+        throw InvalidInput("time_samples = " + std::to_string(time_samples) + " is out of range: allowed 0 (automatic) or " +
+                           std::to_string(2 * harmonics + 1) + ".." + std::to_string(max_time_samples));
+    if (modes < 0 || modes > max_modes)
+        throw InvalidInput("modes = " + std::to_string(modes) + " is out of range: allowed 0 (direct solve) or 1.." +
+                           std::to_string(max_modes));
+}
+
 void HarmonicBalance::validate(System system, HarmonicBalanceOptions options) {
     const HarmonicBalance checked(std::move(system), options, false);
 }

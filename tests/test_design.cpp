@@ -1,7 +1,11 @@
 // Design studies (design.hpp, hbf optimize, hbf map): the optimiser against Den Hartog's
 // fixed points and against brute-force scans by the same binary, threads and MPI ranks
 // against the sequential run.
+#include <glog/logging.h>
+
 #include <catch2/catch.hpp>
+#include <functional>
+#include <thread>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -11,6 +15,7 @@
 
 #include "cli_support.hpp"
 #include "hbf/design.hpp"
+#include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "support.hpp"
 
@@ -186,6 +191,109 @@ TEST_CASE("compute_frfs: FRFs on threads equal the sequential ones, a bad system
         // The largest peak is the largest y1 of the FRF, at least every branch point's.
         for (const PointMetrics& m : r.metrics) CHECK(m.output_max.front() <= r.peak.value);
     }
+}
+
+TEST_CASE("FRFs on threads each report their own verdict and library messages", "[design][map][status]") {
+    // The library messages: a collector counts what is raised on its own thread only.
+    capture_library_messages();
+    LibraryMessages warned, quiet;
+    {
+        MessageCollector outer;  // on this thread: sees neither thread's message
+        std::thread a([&warned] {
+            MessageCollector collector;
+            LOG(WARNING) << "raised on thread a";
+            warned = collector.messages();
+        });
+        std::thread b([&quiet] {
+            MessageCollector collector;
+            quiet = collector.messages();
+        });
+        a.join();
+        b.join();
+        CHECK(outer.messages().count == 0);
+    }
+    CHECK(warned.count == 1);
+    CHECK_THAT(warned.first, Catch::StartsWith("ceres: raised on thread a"));
+    CHECK(quiet.count == 0);
+    {  // nested collectors: the inner one hands its messages to the enclosing one
+        MessageCollector enclosing;
+        {
+            MessageCollector inner;
+            LOG(WARNING) << "inner";
+            CHECK(inner.messages().count == 1);
+        }
+        CHECK(enclosing.messages().count == 1);
+    }
+
+    // Two FRFs on two threads: the absorber with r = 1e-12 climbs its unbounded stuck
+    // resonance to the amplitude cap (a warning: incomplete), the default one completes. Each
+    // verdict equals that of the same FRF computed alone on this thread.
+    auto system = [](int k) {
+        AbsorberParameters p;
+        if (k == 0) p.mass_ratio = 1e-12;
+        return friction_absorber(p, FrictionLaw::coulomb);
+    };
+    const FrfSettings settings = default_frf_settings(system(1), {});
+    const auto parallel = compute_frfs(2, system, settings, 2);
+    REQUIRE(parallel.size() == 2u);
+    CHECK(parallel[0].status() == "incomplete");
+    CHECK(parallel[0].branch.status == ContinuationStatus::amplitude_cap);
+    REQUIRE(!parallel[0].verdict.warnings.empty());
+    CHECK(parallel[1].status() == "completed");
+    CHECK(parallel[1].verdict.warnings.empty());
+    CHECK(parallel[1].verdict.errors.empty());
+    CHECK_THAT(parallel[1].summary(), Catch::EndsWith("; completed"));
+    for (int k = 0; k < 2; ++k) {
+        const FrfResult alone = compute_frf(system(k), settings);
+        const FrfResult& r = parallel[static_cast<std::size_t>(k)];
+        CHECK(r.verdict.errors == alone.verdict.errors);
+        CHECK(r.verdict.warnings == alone.verdict.warnings);
+        CHECK(r.verdict.notes == alone.verdict.notes);
+        CHECK(r.messages.count == alone.messages.count);
+        // and the verdict a result carries is judge_frf's
+        CHECK(r.verdict.warnings == judge_frf(r, settings).warnings);
+    }
+}
+
+TEST_CASE("FrfSettings::validate holds the ranges of every front end: the library refuses what hbf frf refuses",
+          "[design][status]") {
+    const System system = friction_absorber(AbsorberParameters{}, FrictionLaw::dahl);
+    auto refused = [&](const std::function<void(FrfSettings&)>& change) {
+        FrfSettings s;
+        s.harmonic_balance.harmonics = 5;
+        change(s);
+        try {
+            compute_frf(system, s);
+        } catch (const InvalidInput& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    CHECK(refused([](FrfSettings& s) { s.continuation.corrector.tolerance = 0.1; }) ==
+          "tolerance = 0.1 is out of range: allowed 1e-14..0.01");
+    CHECK(refused([](FrfSettings& s) { s.continuation.corrector.tolerance = 1e-15; }) ==
+          "tolerance = 1e-15 is out of range: allowed 1e-14..0.01");
+    CHECK(refused([](FrfSettings& s) { s.continuation.max_step = 20; }) ==
+          "max_step = 20 is out of range: allowed 1e-05..10");
+    CHECK(refused([](FrfSettings& s) { s.harmonic_balance.harmonics = max_harmonics + 1; }) ==
+          "harmonics = 101 is out of range: allowed 1..100");
+    CHECK(refused([](FrfSettings& s) { s.harmonic_balance.time_samples = 10; }) ==
+          "time_samples = 10 is out of range: allowed 0 (automatic) or 11..65536");
+    CHECK(refused([](FrfSettings& s) { s.harmonic_balance.modes = -1; }) ==
+          "modes = -1 is out of range: allowed 0 (direct solve) or 1..100000");
+    CHECK(refused([](FrfSettings& s) { s.at = {1.0, 1.0}; }) ==
+          "at lists w = 1 more than once: allowed distinct frequencies (each is one solved row)");
+    // compute_frfs refuses bad settings up front (an exception, not one failed FRF per system)
+    FrfSettings bad;
+    bad.continuation.corrector.tolerance = 0.1;
+    CHECK_THROWS_AS(compute_frfs(2, [&](int) { return system; }, bad, 1), InvalidInput);
+    // The limits themselves are accepted.
+    CHECK(refused([](FrfSettings& s) {
+              s.continuation.corrector.tolerance = CorrectorOptions::largest_tolerance;
+              s.continuation.max_step = ContinuationOptions::largest_max_step;
+              s.continuation.omega_start = 1.0;
+              s.continuation.omega_end = 1.05;
+          }) == "accepted");
 }
 
 TEST_CASE("hbf optimize: Coulomb, fe = 1, wa = 1 and wa = 1/(1+r) match brute-force scans by hbf map to 0.1 % in mu",

@@ -134,14 +134,13 @@ TEST_CASE("Energy balance: viscous dissipation by hand, and a non-solution fails
 
 TEST_CASE("Library messages: glog warnings are counted, not printed", "[status]") {
     capture_library_messages();
-    reset_library_messages();
-    CHECK(library_messages().count == 0);
+    MessageCollector collector;
+    CHECK(collector.messages().count == 0);
     LOG(WARNING) << "a test warning";
     LOG(INFO) << "progress, not counted";
-    const LibraryMessages m = library_messages();
+    const LibraryMessages m = collector.messages();
     CHECK(m.count == 1);
     CHECK_THAT(m.first, Catch::StartsWith("ceres: a test warning"));
-    reset_library_messages();
 }
 
 TEST_CASE("hbf loop writes the law's own force: |f| <= mu for exact Coulomb, the series separately",
@@ -335,7 +334,6 @@ TEST_CASE("A branch's outcome sets the verdict: unlocated transitions and trunca
         branch.message = unlocated > 0 ? std::to_string(unlocated) + " transition(s) not located near w = 1.2" : "";
         FrfResult frf;
         frf.branch = branch;
-        reset_library_messages();  // judge_frf also reports the numerical libraries' warnings
         return judge_frf(frf, FrfSettings{});
     };
     const auto clean = judged(ContinuationStatus::completed, 0, 1.0);
@@ -458,7 +456,6 @@ TEST_CASE("A refined peak above the amplitude cap, or a sample above every peak,
     const System system = friction_absorber(p, FrictionLaw::coulomb);
     FrfSettings settings = default_frf_settings(system, {});
     settings.continuation.resolve_resonances = false;
-    reset_library_messages();
     const FrfResult blind = compute_frf(system, settings);
     REQUIRE(blind.branch.status == ContinuationStatus::completed);
     REQUIRE(!blind.peaks.empty());
@@ -467,7 +464,7 @@ TEST_CASE("A refined peak above the amplitude cap, or a sample above every peak,
               return a.y_max < b.y_max;
           })->y_max > cap);
     CHECK(blind.peak.state == PeakState::unbounded);
-    const FrfVerdict verdict = judge_frf(blind, settings);
+    const Verdict verdict = judge_frf(blind, settings);
     CHECK(verdict.status() == "incomplete");
     CHECK_THAT(verdict.warnings.front(), Catch::Contains("above the amplitude cap 1000"));
     // With the guard: capped.
@@ -483,7 +480,6 @@ TEST_CASE("A refined peak above the amplitude cap, or a sample above every peak,
     FrfSettings sampled = default_frf_settings(light, {});
     sampled.continuation.resolve_resonances = false;
     sampled.at = {0.99, 0.999};
-    reset_library_messages();
     const FrfResult stepped = compute_frf(light, sampled);
     REQUIRE(stepped.branch.status == ContinuationStatus::completed);
     int checked = 0;
@@ -495,7 +491,7 @@ TEST_CASE("A refined peak above the amplitude cap, or a sample above every peak,
             ++checked;
         }
     CHECK(checked == 2);
-    const FrfVerdict missed = judge_frf(stepped, sampled);
+    const Verdict missed = judge_frf(stepped, sampled);
     CHECK(missed.status() == "incomplete");
     REQUIRE(!missed.warnings.empty());
     CHECK_THAT(missed.warnings.front(), Catch::Contains("--at sample at w = 0.99 ") &&

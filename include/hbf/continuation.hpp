@@ -34,7 +34,10 @@ enum class DenseLibrary { eigen, lapack };
 
 struct CorrectorOptions {
     int max_iterations = 20;  ///< Ceres iterations per correction
-    double tolerance = 1e-9;  ///< accept when |R|_inf <= tolerance * force_scale
+    /// Accept when |R|_inf <= tolerance * force_scale; smallest_tolerance..largest_tolerance
+    /// (below 1e-14 the residual's rounding noise decides; above 1e-2 a point is not a solution).
+    double tolerance = 1e-9;
+    static constexpr double smallest_tolerance = 1e-14, largest_tolerance = 1e-2;
     TrustRegion trust_region = TrustRegion::levenberg_marquardt;  ///< Ceres trust-region strategy
     DenseSolver dense_solver = DenseSolver::normal_cholesky;                 ///< Ceres dense linear solver
     DenseLibrary dense_library = DenseLibrary::eigen;            ///< Ceres dense linear algebra
@@ -49,7 +52,10 @@ struct ContinuationOptions {
     double omega_scale = 0;
     double initial_step = 0.01;   ///< first arclength step (scaled coordinates)
     double min_step = 1e-6;       ///< below this the continuation stops with status min_step
-    double max_step = 1.0;        ///< the step never grows beyond this
+    /// The step never grows beyond this; smallest_max_step..largest_max_step (dimensionless:
+    /// w / omega_scale and the coefficients relative to the current amplitude).
+    double max_step = 1.0;
+    static constexpr double smallest_max_step = 1e-5, largest_max_step = 10.0;
     double max_turn = 0.2;        ///< largest angle (rad) between successive tangents; a
                                   ///< sharper turn halves the step and retries
     int max_points = 5000;        ///< point budget per branch

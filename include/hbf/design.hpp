@@ -22,6 +22,7 @@
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 #include "hbf/time_integration.hpp"
+#include "hbf/verdict.hpp"
 
 namespace hbf {
 
@@ -45,6 +46,13 @@ struct FrfSettings {
     /// when it ran).
     bool stability = false;
     StabilityOptions stability_options;
+
+    /// The ranges every front end applies (hbf frf, Python's frf(), the studies), checked
+    /// before any work: throws InvalidInput naming the first field out of range, its value and
+    /// the allowed range: harmonic_balance.validate() (H, N_t, modes); the continuation's
+    /// options (validate(ContinuationOptions): wmin < wmax, tolerance, max_step, ...); `at`
+    /// distinct finite frequencies > 0; stability_options with stability.
+    void validate() const;
 };
 
 /// Default H of harmonic balance for a law without the exact polish, measured (README,
@@ -99,17 +107,16 @@ struct FrfResult {
     std::optional<BranchStability> stability;  ///< with FrfSettings::stability (one per point)
     PeakValue peak;                         ///< the largest peak of outputs[0]
     double seconds = 0;                     ///< wall time of compute_frf
+    /// What Ceres and CVODE reported while this FRF was computed (on its thread).
+    LibraryMessages messages;
+    /// judge_frf of this result with the settings it was computed with (compute_frf sets it).
+    Verdict verdict;
+    /// verdict.status(): "completed", "incomplete" or "failed".
+    std::string status() const { return verdict.status(); }
+    /// One line: the branch (BranchResult::summary), the largest peak and the verdict.
+    std::string summary() const;
 };
 
-/// What makes an FRF failed (errors), incomplete or doubtful (warnings), or worth a remark
-/// (notes): the judgement `hbf frf` prints and exits by (1 with errors, else 3 with warnings),
-/// and the Python bindings' status.
-struct FrfVerdict {
-    std::vector<std::string> errors, warnings, notes;
-    /// "failed" with errors, else "incomplete" with warnings, else "completed".
-    std::string status() const;
-};
-struct FrfResult;
 /// The verdict on an FRF computed with `settings`:
 ///  - errors: a continuation that stalled or failed to start (min_step, start_failed); a failed
 ///    exact polish; an `at` frequency without a solution;
@@ -118,10 +125,9 @@ struct FrfResult;
 ///    unresolved (BranchResult::unresolved_resonances); a peak of a single-DOF output above
 ///    the amplitude cap (max_amplitude); an `at` sample above every branch point and peak of
 ///    its output (the branch stepped over a resonance); points that fail the energy balance
-///    (energy_balance_limit); warnings of the numerical libraries (diagnostics.hpp) since their
-///    last reset;
+///    (energy_balance_limit); warnings of the numerical libraries during the FRF (frf.messages);
 ///  - notes: unrefined peaks, stability verdicts that are uncertain or missing.
-FrfVerdict judge_frf(const FrfResult& frf, const FrfSettings& settings);
+Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings);
 
 /// The FRF of hb's system with these settings (hb's own options; settings.harmonic_balance
 /// is not used). Throws InvalidInput for bad options or outputs.
@@ -136,7 +142,7 @@ FrfResult compute_frf(const System& system, const FrfSettings& settings);
 /// energy balance (input work = friction energy per period, relative to the work the force
 /// could do on the first harmonic; limit options.physics_tolerance(); the exact solver does
 /// not integrate the viscous energy).
-FrfVerdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
+Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
                        const TimeIntegrationOptions& options, bool exact);
 
 /// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`) as a
@@ -206,6 +212,7 @@ struct OptimizeEvaluation {
     ContinuationStatus status = ContinuationStatus::completed;
     std::string phase;             ///< "scan" or "golden"
     double seconds = 0;
+    LibraryMessages messages;      ///< what the numerical libraries reported during its FRF(s)
 };
 
 struct OptimizeResult {
@@ -219,6 +226,7 @@ struct OptimizeResult {
     int failed_in_bracket = 0;     ///< of which inside the final bracket (a doubtful optimum)
     std::string message;
     double seconds = 0;
+    LibraryMessages messages;      ///< of every evaluation (each FRF counts its own, on its thread)
     /// One line: status, the parameter (named `name`), peak, evaluations.
     std::string summary(const std::string& name = "p") const;
 };

@@ -71,6 +71,14 @@ struct HarmonicBalanceOptions {
     /// is not found. The AFT runs on all samples as before, so each evaluation costs the same;
     /// the corrector's and the tangent's linear algebra shrink (~1/8 for the dense solves).
     bool odd_harmonics = false;
+
+    /// The ranges of hbf and Python (HarmonicBalance itself takes any H >= 1): throws
+    /// InvalidInput naming the field: harmonics 1..max_harmonics (model.hpp: above it a branch
+    /// takes many minutes); time_samples 0 (automatic) or 2 harmonics + 1..max_time_samples;
+    /// modes 0 (direct solve) or 1..max_modes.
+    void validate() const;
+    static constexpr int max_time_samples = 65536;
+    static constexpr int max_modes = 100000;
 };
 
 /// Work counters of HarmonicBalance::evaluate, for benchmarks and summaries.

@@ -272,22 +272,14 @@ def _set_option(settings, name, value):
                      (name, ", ".join(sorted(options()))))
 
 
-def _check_limits(settings):
-    """hbf frf's ranges for what would otherwise only be limited by memory."""
-    hb = settings.harmonic_balance
-    if not 1 <= hb.harmonics <= _core.max_harmonics:
-        raise ValueError("harmonics = %d is out of range: allowed 1..%d" % (hb.harmonics, _core.max_harmonics))
-    if hb.time_samples != 0 and not 2 * hb.harmonics < hb.time_samples <= 65536:
-        raise ValueError("time_samples = %d is out of range: allowed 0 (automatic) or %d..65536" %
-                         (hb.time_samples, 2 * hb.harmonics + 1))
-    if not 0 <= hb.modes <= 100000:
-        raise ValueError("modes = %d is out of range: allowed 0 (direct solve) or 1..100000" % hb.modes)
+def _check_frequencies(settings):
+    """`at` named as Python prints it; every other range is the library's (FrfSettings.validate)."""
     for w in settings.at:
         if not (_math.isfinite(w) and w > 0):
             raise ValueError("at = %r is out of range: allowed frequencies > 0" % (w,))
     if len(set(settings.at)) != len(settings.at):
         raise ValueError("at = %r lists a frequency more than once: allowed distinct frequencies" % (list(settings.at),))
-    settings.continuation.validate()
+    settings.validate()
 
 
 def _settings(system, settings, outputs, stability, values):
@@ -336,7 +328,7 @@ def _settings(system, settings, outputs, stability, values):
         s.stability = True
     elif stability is not None:
         s.stability = False
-    _check_limits(s)
+    _check_frequencies(s)
     return s
 
 
@@ -536,7 +528,7 @@ def solve_at(system, omega, *, omega_from=None, contact=0, harmonics=None, time_
         else:
             raise ValueError("solve_at: unknown option '%s': allowed the fields of ContinuationOptions and "
                              "CorrectorOptions" % name)
-    _check_limits(s)
+    _check_frequencies(s)
     start = omega_from if omega_from is not None else system.file_settings.get("omega_start", 0.5)
     d = _core.solve_at(system, float(omega), float(start), hb, co, contact)
     if not d["found"]:

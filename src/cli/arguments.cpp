@@ -8,7 +8,6 @@
 #include <map>
 
 #include "hbf/contact.hpp"
-#include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::cli {
@@ -19,18 +18,11 @@ namespace {
 }
 }  // namespace
 
-void Verdict::add_library_messages() {
-    const LibraryMessages m = library_messages();
-    if (m.count > 0)
-        warning(std::to_string(m.count) + " warning(s) from the numerical libraries (not printed); the first: " +
-                m.first);
-}
-
-int Verdict::finish() const {
-    for (const std::string& e : errors_) std::cerr << "hbf " << command_ << ": error: " << e << "\n";
-    for (const std::string& w : warnings_) std::cerr << "hbf " << command_ << ": warning: " << w << "\n";
-    for (const std::string& n : notes_) std::cerr << "hbf " << command_ << ": note: " << n << "\n";
-    return !errors_.empty() ? exit_failure : !warnings_.empty() ? exit_incomplete : exit_success;
+int finish(const std::string& command, const Verdict& verdict) {
+    for (const std::string& e : verdict.errors) std::cerr << "hbf " << command << ": error: " << e << "\n";
+    for (const std::string& w : verdict.warnings) std::cerr << "hbf " << command << ": warning: " << w << "\n";
+    for (const std::string& n : verdict.notes) std::cerr << "hbf " << command << ": note: " << n << "\n";
+    return verdict.exit_code();
 }
 
 double parse_double(const std::string& flag, const std::string& text) {
@@ -227,11 +219,12 @@ HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const s
         if (config->odd_harmonics) hbo.odd_harmonics = *config->odd_harmonics;
     }
     if (hbo.harmonics == 0) hbo.harmonics = automatic_harmonics(chosen.system, exact);  // design.hpp
-    const long long nt = parse_integer("--time-samples", time_samples);
-    if (nt != 0 && (nt <= 2 * hbo.harmonics || nt > 65536))
+    const long long nt = parse_integer("--time-samples", time_samples);  // its range: hbo.validate()
+    hbo.time_samples = static_cast<int>(std::clamp<long long>(nt, -1, HarmonicBalanceOptions::max_time_samples + 1LL));
+    if (hbo.time_samples != nt)
         throw UsageError("--time-samples = " + time_samples + " is out of range: allowed 0 (automatic) or " +
-                         std::to_string(2 * hbo.harmonics + 1) + "..65536");
-    hbo.time_samples = static_cast<int>(nt);
+                         std::to_string(2 * hbo.harmonics + 1) + ".." +
+                         std::to_string(HarmonicBalanceOptions::max_time_samples));
     if (config && config->time_samples && command.count("--time-samples") == 0) {
         hbo.time_samples = *config->time_samples;
         const auto line = config->lines.find("solver.time_samples");
@@ -239,8 +232,9 @@ HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const s
             throw UsageError(config_path + (line != config->lines.end() ? ":" + std::to_string(line->second) : "") +
                              ": key 'solver.time_samples': " + std::to_string(hbo.time_samples) +
                              " is out of range: allowed 0 (automatic) or " + std::to_string(2 * hbo.harmonics + 1) +
-                             "..65536");
+                             ".." + std::to_string(HarmonicBalanceOptions::max_time_samples));
     }
+    hbo.validate();  // the library's ranges; hbf names the flag (program.cpp)
     return hbo;
 }
 

@@ -14,36 +14,14 @@
 #include "hbf/design.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
+#include "hbf/verdict.hpp"
 
 namespace hbf::cli {
 
-/// Exit codes of every `hbf` command (documented in `hbf --help`).
-/// 0: completed; 1: failed (what was computed is written); 2: bad input (nothing written);
-/// 3: written, but incomplete or doubtful (each reason a warning on standard error).
-enum ExitCode : int { exit_success = 0, exit_failure = 1, exit_bad_input = 2, exit_incomplete = 3 };
-
-/// What makes a written result failed (exit 1) or incomplete/doubtful (exit 3): collected
-/// while a command runs, put in its JSON summary, printed on standard error (one line each,
-/// "hbf <command>: error: ..." or "...: warning: ...") after the outputs are committed.
-class Verdict {
-public:
-    explicit Verdict(std::string command) : command_(std::move(command)) {}
-    void error(const std::string& text) { errors_.push_back(text); }
-    void warning(const std::string& text) { warnings_.push_back(text); }
-    /// Said, but the result stands (the output already flags it): no effect on the exit code.
-    void note(const std::string& text) { notes_.push_back(text); }
-    /// A warning when Ceres or CVODE reported anything since the last reset (diagnostics.hpp).
-    void add_library_messages();
-    const std::vector<std::string>& errors() const { return errors_; }
-    const std::vector<std::string>& warnings() const { return warnings_; }
-    const std::vector<std::string>& notes() const { return notes_; }
-    /// Prints the errors and warnings; returns 1 with errors, else 3 with warnings, else 0.
-    int finish() const;
-
-private:
-    std::string command_;
-    std::vector<std::string> errors_, warnings_, notes_;
-};
+/// Prints the verdict's errors, warnings and notes on standard error, one line each ("hbf
+/// <command>: error: ...", "...: warning: ...", "...: note: ...") after the outputs are
+/// committed, and returns its exit code (verdict.hpp: Verdict::exit_code).
+int finish(const std::string& command, const Verdict& verdict);
 
 /// A flag value that cannot be used; the message names the flag.
 class UsageError : public std::runtime_error {

@@ -17,7 +17,7 @@ Runner add_optimize_command(CLI::App& app);
 Runner add_timeint_command(CLI::App& app);
 
 /// The whole command line: parses argv, runs the chosen command, returns the exit code
-/// (arguments.hpp: ExitCode). main() calls it after setting up the process.
+/// (hbf/verdict.hpp: ExitCode). main() calls it after setting up the process.
 int run_program(int argc, char** argv);
 
 /// --dry-run on a command: every input and output is checked as for a run, then the command

@@ -102,6 +102,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
 
     // Time-integration check points on a uniform grid, swept up from the stuck linear state.
     std::vector<PeriodicResponse> overlay;
+    MessageCollector overlay_messages;  // the overlay's own (the FRF's are frf.messages)
     if (overlay_points > 0) {
         const std::vector<double> grid = analytic::uniform_grid(co.omega_start, co.omega_end, overlay_points);
         const Eigen::VectorXd start = linear_stuck_state(system, grid.front());
@@ -115,18 +116,15 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     // Everything that makes the result failed (exit 1) or incomplete/doubtful (exit 3): said on
     // stderr after the files are committed, and in the JSON summary (judge_frf, design.hpp).
-    Verdict verdict("frf");
-    const FrfVerdict judged = judge_frf(frf, settings);
-    for (const std::string& e : judged.errors) verdict.error(e);
-    for (const std::string& w : judged.warnings) verdict.warning(w);
-    for (const std::string& n : judged.notes) verdict.note(n);
+    Verdict verdict = frf.verdict;
+    verdict.add(overlay_messages.messages());
     std::unique_ptr<io::OutputFile> summary;
     if (!o.summary.empty()) {
         const auto parameters = io::frf_parameters(system, config ? nullptr : &p, hb, co);
         summary = std::make_unique<io::OutputFile>(o.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
-                              outputs, polish ? &*polish : nullptr, verdict.errors(), verdict.warnings(),
-                              verdict.notes(), stability);
+                              outputs, polish ? &*polish : nullptr, verdict.errors, verdict.warnings,
+                              verdict.notes, stability);
     }
     std::unique_ptr<io::OutputFile> overlay_file;
     if (!overlay.empty()) {
@@ -159,12 +157,12 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (overlay_file) overlay_file->commit();
 
     const bool verbose = !o.quiet && isatty(STDERR_FILENO);
-    if (verbose && verdict.errors().empty() && branch.status == ContinuationStatus::completed)
+    if (verbose && verdict.errors.empty() && branch.status == ContinuationStatus::completed)
         std::cerr << "hbf frf: " << branch.summary() << " in " << format_number(seconds) << " s\n";
     if (stability && verbose) std::cerr << "hbf frf: " << stability->summary() << "\n";
     if (polish && polish->failed == 0 && (verbose || branch.status != ContinuationStatus::completed))
         std::cerr << "hbf frf: note: " << polish->summary() << " (the transitions are the exact solver's)\n";
-    return verdict.finish();
+    return finish("frf", verdict);
 }
 }  // namespace
 

@@ -75,10 +75,14 @@ void FrfFlags::add_to(CLI::App& command) {
     command.add_option("--max-step", max_step,
                        "largest arclength step, in the continuation's dimensionless coordinates (w / wmax and the "
                        "coefficients relative to the current amplitude: the same for any units); smaller values "
-                       "give denser points, e.g. smoother plots of linear stretches, 1e-5..10")
+                       "give denser points, e.g. smoother plots of linear stretches, " +
+                           format_number(ContinuationOptions::smallest_max_step) + ".." +
+                           format_number(ContinuationOptions::largest_max_step))
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--tolerance", tolerance,
-                       "corrector acceptance: |R|_inf <= tolerance * |F|_inf (the excitation amplitude), 1e-14..1e-2")
+                       "corrector acceptance: |R|_inf <= tolerance * |F|_inf (the excitation amplitude), " +
+                           format_number(CorrectorOptions::smallest_tolerance) + ".." +
+                           format_number(CorrectorOptions::largest_tolerance))
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--config", config,
                        "read the structure (any N DOFs: M, C, K, excitation, friction contacts), frequency range, "
@@ -132,10 +136,11 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
     } catch (const InvalidInput&) {
         throw UsageError("--formulation = '" + formulation + "' is not known: allowed automatic, condensed, full");
     }
-    const long long m = parse_integer("--modes", modes);
-    if (m < 0 || m > 100000)
-        throw UsageError("--modes = " + modes + " is out of range: allowed 0 (direct solve) or 1..100000");
-    hbo.modes = static_cast<int>(m);
+    const long long m = parse_integer("--modes", modes);  // its range: FrfSettings::validate
+    hbo.modes = static_cast<int>(std::clamp<long long>(m, -1, HarmonicBalanceOptions::max_modes + 1LL));
+    if (hbo.modes != m)
+        throw UsageError("--modes = " + modes + " is out of range: allowed 0 (direct solve) or 1.." +
+                         std::to_string(HarmonicBalanceOptions::max_modes));
     if (file && file->modes && !given(command, "--modes")) hbo.modes = *file->modes;
     ContinuationOptions& co = s.continuation;
     co.omega_start = parse_double("--wmin", wmin);
@@ -144,12 +149,8 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
     if (file && file->omega_end && !given(command, "--wmax")) co.omega_end = *file->omega_end;
     co.max_amplitude = parse_double("--max-amplitude", max_amplitude);
     co.max_step = parse_double("--max-step", max_step);
-    if (!(co.max_step >= 1e-5 && co.max_step <= 10.0))
-        throw UsageError("--max-step = " + max_step + " is out of range: allowed 1e-5..10");
     co.initial_step = std::min(co.initial_step, co.max_step);
     co.corrector.tolerance = parse_double("--tolerance", tolerance);
-    if (!(co.corrector.tolerance >= 1e-14 && co.corrector.tolerance <= 1e-2))
-        throw UsageError("--tolerance = " + tolerance + " is out of range: allowed 1e-14..1e-2");
     // With the polish, HB's own transitions (O(1/H) misplaced) are not needed: the exact
     // ones replace them.
     if (s.exact) co.locate_transitions = false;
@@ -163,6 +164,7 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
         if (!refusal.empty()) throw UsageError("--stability " + stability + ": " + refusal);
         s.stability = true;
     }
+    s.validate();  // the library's ranges (design.hpp); the message names the field, hbf prefixes its flag
     return s;
 }
 

@@ -66,6 +66,7 @@ int run(const CLI::App& command, const LoopOptions& o) {
         return exit_success;
     }
     HarmonicBalance hb(chosen.system, hbo);
+    MessageCollector messages;  // what Ceres reports while the solution is found
     const SolutionAt solution = solve_at(hb, w, wmin, co);
     if (!solution.found)
         throw std::runtime_error("no solution at w = " + format_number(w) + ": the branch from w = " +
@@ -99,15 +100,15 @@ int run(const CLI::App& command, const LoopOptions& o) {
         io::write_plot(o.plot, spec);
     }
     out.commit();
-    Verdict verdict("loop");
+    Verdict verdict;
     Analyser analyse(hb, {0});
     const double imbalance = analyse(*at).energy_error;
     if (imbalance > energy_balance_limit(co.corrector.tolerance))
         verdict.warning("the solution at w = " + format_number(w) + " fails the energy balance (relative error " +
                         format_number(imbalance) + ", allowed " +
                         format_number(energy_balance_limit(co.corrector.tolerance)) + "; hbf frf --help: energy_error)");
-    verdict.add_library_messages();
-    return verdict.finish();
+    verdict.add(messages.messages());
+    return finish("loop", verdict);
 }
 }  // namespace
 

@@ -72,6 +72,8 @@ json record(int index, double value, const FrfResult& r, const std::vector<Outpu
             {"peak_state", to_string(r.peak.state)},
             {"polish_failed", r.polish ? r.polish->failed : 0},
             {"missed_at", r.missed},
+            {"library_warnings", r.messages.count},
+            {"library_first_warning", r.messages.first},
             {"seconds", r.seconds},
             {"rows", rows},
             {"w", w},
@@ -171,9 +173,11 @@ int run(const CLI::App& command, const MapOptions& o) {
         for (std::string line; std::getline(lines, line);) out.stream() << prefix << line << '\n';
     }
 
-    Verdict verdict("map");
+    Verdict verdict;
     int incomplete = 0, failed = 0, unbounded = 0, missed = 0;
+    LibraryMessages messages;  // each FRF's own, from every rank
     for (const json& r : frfs) {
+        messages.add({r.at("library_warnings").get<long long>(), r.at("library_first_warning").get<std::string>()});
         missed += static_cast<int>(r.at("missed_at").size());
         const std::string state = r.at("peak_state").get<std::string>();
         if (state == "failed") ++failed;
@@ -191,7 +195,7 @@ int run(const CLI::App& command, const MapOptions& o) {
     if (missed > 0)
         verdict.warning(std::to_string(missed) + " --at frequencies got no row (outside an FRF's branch, or the solve "
                         "failed; missed_at in the JSON)");
-    verdict.add_library_messages();
+    verdict.add(messages);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
     std::unique_ptr<io::OutputFile> summary;
@@ -213,9 +217,9 @@ int run(const CLI::App& command, const MapOptions& o) {
             list.push_back(r);
         }
         j["frfs"] = list;
-        j["outcome"] = !verdict.errors().empty() ? "failed" : verdict.warnings().empty() ? "completed" : "incomplete";
-        j["errors"] = verdict.errors();
-        j["warnings"] = verdict.warnings();
+        j["outcome"] = !verdict.errors.empty() ? "failed" : verdict.warnings.empty() ? "completed" : "incomplete";
+        j["errors"] = verdict.errors;
+        j["warnings"] = verdict.warnings;
         summary = std::make_unique<io::OutputFile>(o.summary);
         summary->stream() << j.dump(2) << '\n';
     }
@@ -267,7 +271,7 @@ int run(const CLI::App& command, const MapOptions& o) {
     if (summary) summary->commit();
     if (!o.quiet && isatty(STDERR_FILENO))
         std::cerr << "hbf map: " << values.size() << " FRFs in " << format_number(seconds) << " s\n";
-    return mpi.broadcast(verdict.finish());
+    return mpi.broadcast(finish("map", verdict));
 }
 }  // namespace
 

@@ -172,6 +172,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     // Fig. 16), the minimum-displacement rule (stuck at every w) and the viscous Den Hartog
     // absorber, whose fixed points put the peak at fe sqrt(1 + 2/r).
     json comparisons = json::object();
+    LibraryMessages comparison_messages;  // the Den Hartog FRF's
     const ContinuationOptions& co = settings.continuation;
     if (parameter.preset() && friction) {
         const AbsorberParameters& p = chosen.absorber;
@@ -184,6 +185,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         FrfResult dh;
         try {
             dh = compute_frf(parameter.with_tuning(wa_dh).system(mu_dh), settings);
+            comparison_messages = dh.messages;
         } catch (const InvalidInput&) {
             dh.peak.state = PeakState::failed;
         }
@@ -216,7 +218,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
                         "at its two fixed points"}};
     }
 
-    Verdict verdict("optimize");
+    Verdict verdict;
     switch (result.status) {
         case OptimizeStatus::converged: break;
         case OptimizeStatus::at_bound:
@@ -241,7 +243,9 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     else if (result.failed > 0)
         verdict.note(std::to_string(result.failed) + " " + noun + " failed or stayed incomplete, all outside "
                      "the final bracket (peak_state in the trace)");
-    verdict.add_library_messages();
+    LibraryMessages messages = result.messages;  // every FRF of the search (joint: the outer result's)
+    messages.add(comparison_messages);
+    verdict.add(messages);
 
     io::OutputFile out(o.out);
     const std::vector<io::Column> columns = trace_columns(parameter.name(), joint);
@@ -311,10 +315,10 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         j["param_tolerance"] = oo.tolerance;
         j["comparisons"] = comparisons;
         j["wall_time_seconds"] = result.seconds;  // jointly: the search in wa, every search in mu included
-        j["outcome"] = !verdict.errors().empty() ? "failed" : verdict.warnings().empty() ? "completed" : "incomplete";
-        j["errors"] = verdict.errors();
-        j["warnings"] = verdict.warnings();
-        j["notes"] = verdict.notes();
+        j["outcome"] = !verdict.errors.empty() ? "failed" : verdict.warnings.empty() ? "completed" : "incomplete";
+        j["errors"] = verdict.errors;
+        j["warnings"] = verdict.warnings;
+        j["notes"] = verdict.notes;
         summary = std::make_unique<io::OutputFile>(o.summary);
         summary->stream() << j.dump(2) << '\n';
     }
@@ -367,7 +371,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     if (summary) summary->commit();
     if (!o.quiet && isatty(STDERR_FILENO))
         std::cerr << "hbf optimize: " << summary_line << "\n";
-    return verdict.finish();
+    return finish("optimize", verdict);
 }
 }  // namespace
 

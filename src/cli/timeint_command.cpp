@@ -119,6 +119,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     }
     io::OutputFile out(o.out);  // opened before the work: an unwritable path fails fast
     const bool progress = !o.quiet && isatty(STDERR_FILENO);
+    MessageCollector messages;  // what CVODE reports during the sweep
     std::vector<PeriodicResponse> responses;
     responses.reserve(omegas.size());
     Eigen::VectorXd state = linear_stuck_state(system, omegas.front());
@@ -153,12 +154,9 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     out.commit();
     // Points that did not converge (errors) and converged points out of energy balance
     // (warnings): judge_sweep, design.hpp.
-    Verdict verdict("timeint");
-    const FrfVerdict judged = judge_sweep(system, responses, tio, exact);
-    for (const std::string& e : judged.errors) verdict.error(e);
-    for (const std::string& w : judged.warnings) verdict.warning(w);
-    verdict.add_library_messages();
-    return verdict.finish();
+    Verdict verdict = judge_sweep(system, responses, tio, exact);
+    verdict.add(messages.messages());
+    return finish("timeint", verdict);
 }
 }  // namespace
 

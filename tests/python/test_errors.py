@@ -28,6 +28,14 @@ def test_out_of_range_parameters_carry_the_cli_message():
     with pytest.raises(ValueError) as e:
         hbfriction.frf(hbfriction.absorber(), wmin=2, wmax=1)
     assert str(e.value) == cli_error("frf", "--wmin", "2", "--wmax", "1")
+    # The library's ranges (FrfSettings::validate), which the library, Python and hbf apply alike.
+    for flag, option, value in (("--tolerance", "tolerance", 0.1), ("--max-step", "max_step", 20.0),
+                                ("--time-samples", "time_samples", 10), ("--modes", "modes", -1)):
+        with pytest.raises(ValueError) as e:
+            hbfriction.frf(hbfriction.absorber(), **{option: value})
+        text = "%g" % value
+        assert str(e.value) == cli_error("frf", flag, text), option
+        assert str(e.value).startswith(option + " = " + text + " is out of range: allowed ")
     with pytest.raises(ValueError) as e:
         hbfriction.frf(hbfriction.absorber("lugre"), exact=True)
     assert "the exact solver covers coulomb and jenkins only" in str(e.value)
