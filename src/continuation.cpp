@@ -715,11 +715,11 @@ void validate(const ContinuationOptions& o) {
     if (!(o.omega_end > o.omega_start))
         throw InvalidInput("wmax (highest frequency) = " + format_number(o.omega_end) +
                            " is out of range: allowed wmax > wmin = " + format_number(o.omega_start));
-    require_positive(o.initial_step, "initial_step", "first arclength step");
-    require_positive(o.min_step, "min_step", "minimum arclength step");
     if (!(o.max_step >= o.smallest_max_step && o.max_step <= o.largest_max_step))
         throw InvalidInput("max_step = " + format_number(o.max_step) + " is out of range: allowed " +
                            format_number(o.smallest_max_step) + ".." + format_number(o.largest_max_step));
+    require_positive(o.initial_step, "initial_step", "first arclength step");
+    require_positive(o.min_step, "min_step", "minimum arclength step");
     require_positive(o.max_amplitude, "max_amplitude", "amplitude cap");
     if (!(o.omega_scale >= 0.0) || !std::isfinite(o.omega_scale))
         throw InvalidInput("omega_scale = " + format_number(o.omega_scale) +
