@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "arguments.hpp"
+#include "outputs.hpp"
 #include "commands.hpp"
 #include "hbf/analytic.hpp"
 #include "hbf/error.hpp"
@@ -19,7 +20,8 @@ namespace {
 struct AnalyticOptions {
     AbsorberFlags absorber;
     std::string wmin = "0.5", wmax = "1.6", points = "221";
-    std::string out, plot, summary, sweep, values;
+    OutputFlags output;
+    std::string sweep, values;
 };
 
 /// --sweep: one row per value, the band's largest mu_limit.
@@ -45,11 +47,8 @@ int run_sweep(const CLI::App& command, const AnalyticOptions& o, FrictionLaw law
             throw UsageError("--values: " + name + " = " + format_number(v) + ": " + e.what());
         }
     }
-    if (dry_run()) {
-        std::cerr << "hbf analytic: dry run: every input and output is valid; nothing computed, nothing written\n";
-        return exit_success;
-    }
-    io::OutputFile out(o.out);
+    if (o.output.dry_run) return o.output.dry_run_done("analytic");
+    io::OutputFile out(o.output.out);
     out.stream() << name << ",w_at_max,mu_limit_max\n";
     for (std::size_t k = 0; k < values.size(); ++k)
         out.stream() << io::csv_field(values[k]) << ',' << io::csv_field(rows[k].omega) << ','
@@ -100,10 +99,7 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
     if (law == FrictionLaw::coulomb_regularized || law == FrictionLaw::jenkins)
         throw UsageError("--law = '" + o.absorber.law + "' has no closed form: allowed coulomb, dahl, lugre");
     const AbsorberParameters p = o.absorber.parameters(command);
-    io::check_plot("--plot", o.plot);  // before any work
-    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
-                       {"--plot", o.plot, command.count("--plot") > 0, false, true},
-                       {"--summary", o.summary, command.count("--summary") > 0}});
+    o.output.check(command);  // before any work
     const double wmin = parse_double("--wmin", o.wmin), wmax = parse_double("--wmax", o.wmax);
     if (command.count("--sweep") != command.count("--values"))
         throw UsageError(command.count("--sweep") ? "--sweep needs --values (the values of the parameter)"
@@ -113,19 +109,16 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
         return run_sweep(command, o, law, p, wmin, wmax);
     }
     const std::vector<double> grid = analytic::uniform_grid(wmin, wmax, parse_integer("--points", o.points));
-    if (dry_run()) {
-        std::cerr << "hbf analytic: dry run: every input and output is valid; nothing computed, nothing written\n";
-        return exit_success;
-    }
+    if (o.output.dry_run) return o.output.dry_run_done("analytic");
     const std::vector<analytic::Row> rows = analytic::table(p, law, grid);
-    io::OutputFile out(o.out);
+    io::OutputFile out(o.output.out);
     io::write_analytic_csv(out.stream(), rows);
     std::unique_ptr<io::OutputFile> summary;
-    if (!o.summary.empty()) {
-        summary = std::make_unique<io::OutputFile>(o.summary);
+    if (!o.output.summary.empty()) {
+        summary = std::make_unique<io::OutputFile>(o.output.summary);
         summary->stream() << summary_json(p, law, wmin, wmax).dump(2) << '\n';
     }
-    if (!o.plot.empty()) {
+    if (!o.output.plot.empty()) {
         io::PlotSpec spec;
         spec.title = "hbf analytic: " + to_string(law) + ", fe = " + format_number(p.excitation) + ", mu = " +
                      format_number(p.friction_coefficient);
@@ -140,7 +133,7 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
             slip.y.push_back(row.y1_slip ? *row.y1_slip : std::nan(""));
         }
         spec.curves = {stick, slip};
-        io::write_plot(o.plot, spec);
+        io::write_plot(o.output.plot, spec);
     }
     out.commit();
     if (summary) summary->commit();
@@ -153,7 +146,6 @@ Runner add_analytic_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "analytic", "Closed-form stick and slip responses, limit and optimal friction coefficients "
                     "of the paper's friction absorber (nondimensional).");
-    add_dry_run(*command);
     options->absorber.add_to(*command, "friction law: coulomb, dahl or lugre", "coulomb", false);
     command->add_option("--wmin", options->wmin, "lowest frequency w, > 0")
         ->capture_default_str()->type_name("NUMBER");
@@ -161,16 +153,11 @@ Runner add_analytic_command(CLI::App& app) {
         ->capture_default_str()->type_name("NUMBER");
     command->add_option("--points", options->points, "number of frequencies, 2..1000000")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")
-        ->option_text("FILE");
-    command->add_option("--plot", options->plot,
-                        "draw y1_stick and y1_slip against w through gnuplot (.png or .svg)")
-        ->option_text("FILE.png|FILE.svg");
-    command->add_option("--summary", options->summary,
-                        "write a JSON summary to FILE: mu_limit_max = the largest mu_limit over wmin..wmax (w "
-                        "and value, refined beyond the grid, null if infinite: mu >= value sticks at every "
-                        "frequency of the band) and the stuck system's undamped resonances")
-        ->option_text("FILE.json");
+    options->output.add_to(*command, {"write the CSV to FILE instead of standard output",
+                                      "write a JSON summary to FILE: mu_limit_max = the largest mu_limit over wmin..wmax (w "
+                                      "and value, refined beyond the grid, null if infinite: mu >= value sticks at every "
+                                      "frequency of the band) and the stuck system's undamped resonances",
+                                      "FILE.json", "draw y1_stick and y1_slip against w through gnuplot (.png or .svg)", ""});
     command->add_option("--sweep", options->sweep,
                         "with --values: the band's largest mu_limit for each value of this parameter (fe, mu, wa, r; "
                         "wb for dahl and lugre; xi for lugre) instead of the frequency table; the CSV is then "

@@ -48,6 +48,11 @@ std::string AbsorberFlags::laws_help() {
     return help;
 }
 
+void AbsorberFlags::add_system_flags(CLI::App& command) {
+    add_to(command, "", "coulomb", true);
+    add_excitation_harmonic(command);
+}
+
 void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help_text, const std::string& law_default,
                            bool with_smooth_options) {
     const AbsorberParameters d;  // documented defaults

@@ -54,6 +54,9 @@ struct AbsorberFlags {
     /// --stribeck-velocity, --viscous, --dlft-eps: the harmonic-balance commands).
     void add_to(CLI::App& command, const std::string& laws_help, const std::string& law_default,
                 bool with_smooth_options);
+    /// The system flags of the commands that compute (frf, loop, map, optimize, timeint): every
+    /// law of the registry (default coulomb), every preset parameter and --excitation-harmonic.
+    void add_system_flags(CLI::App& command);
     /// "friction law: coulomb (...), dahl (...), ... or jenkins (...)", from the registry.
     static std::string laws_help();
     /// The chosen law; throws UsageError for an unknown name.

@@ -20,10 +20,4 @@ Runner add_timeint_command(CLI::App& app);
 /// (hbf/verdict.hpp: ExitCode). main() calls it after setting up the process.
 int run_program(int argc, char** argv);
 
-/// --dry-run on a command: every input and output is checked as for a run, then the command
-/// stops before the computation (exit 0, nothing written).
-void add_dry_run(CLI::App& command);
-/// Whether --dry-run was given (read by the runners right before their work starts).
-bool dry_run();
-
 }  // namespace hbf::cli

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "arguments.hpp"
+#include "outputs.hpp"
 #include "frf_flags.hpp"
 #include "progress.hpp"
 #include "commands.hpp"
@@ -28,8 +29,8 @@ namespace {
 struct FrfOptions {
     AbsorberFlags absorber;
     FrfFlags frf;
-    std::string at, out, summary, plot, overlay, overlay_out;
-    bool quiet = false;
+    OutputFlags output;
+    std::string at, overlay, overlay_out;
 };
 
 
@@ -38,7 +39,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // Plot options are checked before the work starts.
     long long overlay_points = 0;
     std::string overlay_out = o.overlay_out;
-    io::check_plot("--plot", o.plot);  // before any work
+    o.output.check_plot();  // before any work
     // An empty value is never "not given" (it would silently change what runs).
     if (given(command, "--at") && o.at.empty())
         throw UsageError("--at is empty: allowed a comma-separated list of frequencies > 0");
@@ -48,9 +49,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
         overlay_points = parse_integer("--overlay-timeint", o.overlay);
         if (overlay_points < 2 || overlay_points > 10000)
             throw UsageError("--overlay-timeint = " + o.overlay + " is out of range: allowed 2..10000 points");
-        if (o.plot.empty()) throw UsageError("--overlay-timeint draws on the plot: it needs --plot FILE.png|FILE.svg");
+        if (o.output.plot.empty()) throw UsageError("--overlay-timeint draws on the plot: it needs --plot FILE.png|FILE.svg");
         if (overlay_out.empty()) {
-            const std::string stem = o.plot.substr(0, o.plot.size() - 4);  // .png or .svg
+            const std::string stem = o.output.plot.substr(0, o.output.plot.size() - 4);  // .png or .svg
             overlay_out = stem + "-timeint.csv";
         }
     } else if (!overlay_out.empty()) {
@@ -59,11 +60,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // The system: the paper's absorber from its flags, or any structure from --config (whose
     // frequency range and solver settings the flags override).
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
-    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
-                       {"--summary", o.summary, command.count("--summary") > 0},
-                       {"--plot", o.plot, command.count("--plot") > 0, false, true},
-                       {"--overlay-out", overlay_out, command.count("--overlay-out") > 0}},
-                      chosen.inputs());
+    o.output.check(command, chosen.inputs(), {{"--overlay-out", overlay_out, command.count("--overlay-out") > 0}});
     const System& system = chosen.system;
     const std::string& law_name = chosen.law_name;
     const std::vector<Output>& outputs = chosen.outputs;
@@ -73,18 +70,15 @@ int run(const CLI::App& command, const FrfOptions& o) {
     settings.at = o.at.empty() ? std::vector<double>{} : parse_frequencies("--at", o.at);
     // The peaks: of the first output for the exact polish (its plot), of every output for the
     // summary that reports them.
-    settings.peaks = settings.exact || !o.summary.empty();
-    settings.peaks_of_every_output = !o.summary.empty();
+    settings.peaks = settings.exact || !o.output.summary.empty();
+    settings.peaks_of_every_output = !o.output.summary.empty();
     ContinuationOptions& co = settings.continuation;
-    if (dry_run()) {  // the same checks, without building the Fourier matrices
+    if (o.output.dry_run) {  // the same checks, without building the Fourier matrices
         HarmonicBalance::validate(system, settings.harmonic_balance);
-        validate(co);
-        std::cerr << "hbf frf: dry run: every input and output is valid; nothing computed, nothing written\n";
-        return exit_success;
+        return o.output.dry_run_done("frf");
     }
     HarmonicBalance hb(system, settings.harmonic_balance);
-    validate(co);
-    ProgressLine progress(!o.quiet && isatty(STDERR_FILENO), "frf");
+    ProgressLine progress(o.output.verbose(), "frf");
     co.progress = [&progress](double omega, int points) {
         char text[64];
         std::snprintf(text, sizeof text, "w = %-12.6g %6d points", omega, points);
@@ -110,7 +104,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         tio.outputs = outputs;
         overlay = sweep(system, grid, tio, &start);
     }
-    io::OutputFile out(o.out);
+    io::OutputFile out(o.output.out);
     const BranchStability* stability = frf.stability ? &*frf.stability : nullptr;
     io::write_frf_csv(out.stream(), points, metrics, outputs, frf.exact, stability);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -119,9 +113,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
     Verdict verdict = frf.verdict;
     verdict.add(overlay_messages.messages());
     std::unique_ptr<io::OutputFile> summary;
-    if (!o.summary.empty()) {
+    if (!o.output.summary.empty()) {
         const auto parameters = io::frf_parameters(system, config ? nullptr : &p, hb, co);
-        summary = std::make_unique<io::OutputFile>(o.summary);
+        summary = std::make_unique<io::OutputFile>(o.output.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
                               outputs, polish ? &*polish : nullptr, verdict.errors, verdict.warnings,
                               verdict.notes, stability);
@@ -131,7 +125,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         overlay_file = std::make_unique<io::OutputFile>(overlay_out);
         io::write_timeint_csv(overlay_file->stream(), overlay, outputs);
     }
-    if (!o.plot.empty()) {
+    if (!o.output.plot.empty()) {
         io::PlotSpec spec = io::frf_plot(points, metrics, outputs.front(), 0, stability,
                                          "hbf frf: " + law_name + ", H = " + std::to_string(hb.harmonics()) +
                                              (hb.odd_harmonics() ? " (odd only)" : "") +
@@ -150,13 +144,13 @@ int run(const CLI::App& command, const FrfOptions& o) {
             spec.curves.push_back(check);
             spec.curves.push_back(failed_check);
         }
-        io::write_plot(o.plot, spec);  // before the CSV is committed: a failed plot leaves no output
+        io::write_plot(o.output.plot, spec);  // before the CSV is committed: a failed plot leaves no output
     }
     out.commit();
     if (summary) summary->commit();
     if (overlay_file) overlay_file->commit();
 
-    const bool verbose = !o.quiet && isatty(STDERR_FILENO);
+    const bool verbose = o.output.verbose();
     if (verbose && verdict.errors.empty() && branch.status == ContinuationStatus::completed)
         std::cerr << "hbf frf: " << branch.summary() << " in " << format_number(seconds) << " s\n";
     if (stability && verbose) std::cerr << "hbf frf: " << stability->summary() << "\n";
@@ -171,24 +165,20 @@ Runner add_frf_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "frf", "Frequency response of the paper's friction absorber by multi-harmonic balance (AFT) and "
                "pseudo-arclength continuation in w (nondimensional).");
-    add_dry_run(*command);
-    options->absorber.add_to(*command,
-                             "",
-                             "coulomb", true);
-    options->absorber.add_excitation_harmonic(*command);
+    options->absorber.add_system_flags(*command);
     options->frf.add_to(*command);
     command->add_option("--at", options->at,
                         "comma-separated frequencies W1,W2,...: every solution of the branch there is solved "
                         "exactly and written as extra rows with point = sample")
         ->type_name("LIST");
-    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
-    command->add_option("--summary", options->summary, "write a JSON summary (parameters, solver statistics, "
-                                                       "peaks, folds, status, wall time) to FILE")
-        ->option_text("FILE");
-    command->add_option("--plot", options->plot,
-                        "draw max over one period of |o(t)| of the first reported output o against w through gnuplot: the branch in order, "
-                        "folds, transitions and samples marked; with --stability unstable parts dashed and uncertain points marked (.png or .svg)")
-        ->option_text("FILE.png|FILE.svg");
+    options->output.add_to(
+        *command, {"write the CSV to FILE instead of standard output",
+                   "write a JSON summary (parameters, solver statistics, peaks, folds, status, wall time) to FILE", "FILE",
+                   "draw max over one period of |o(t)| of the first reported output o against w through gnuplot: the "
+                   "branch in order, folds, transitions and samples marked; with --stability unstable parts dashed and "
+                   "uncertain points marked (.png or .svg)",
+                   "no progress (on a terminal: w reached, points, elapsed time, redrawn 4 times a second) or "
+                   "summary line on standard error"});
     command->add_option("--overlay-timeint", options->overlay,
                         "also integrate K frequencies of a uniform grid over [wmin, wmax] in time (an up-sweep, "
                         "hbf timeint's defaults) and draw them as markers on the --plot; their rows go to "
@@ -198,9 +188,6 @@ Runner add_frf_command(CLI::App& app) {
                         "CSV of the --overlay-timeint points (hbf timeint's columns) [default: the plot's name "
                         "with -timeint.csv]")
         ->option_text("FILE");
-    command->add_flag("--quiet", options->quiet,
-                      "no progress (on a terminal: w reached, points, elapsed time, redrawn 4 times a second) or "
-                      "summary line on standard error");
     std::string footer = "Output: CSV with a header row, one row per continuation point in branch order, then the "
                          "--at samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1 (with "
                          "--config: the file's units).\n"

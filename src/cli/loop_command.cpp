@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "arguments.hpp"
+#include "outputs.hpp"
 #include "commands.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/design.hpp"
@@ -18,7 +19,8 @@ namespace {
 struct LoopOptions {
     AbsorberFlags absorber;
     std::string w, wmin = "0.5", harmonics = "0", time_samples = "0", contact = "1";
-    std::string out, plot, config;
+    OutputFlags output;
+    std::string config;
 };
 
 std::vector<io::Column> loop_columns(int dofs) {
@@ -38,11 +40,9 @@ std::vector<io::Column> loop_columns(int dofs) {
 }
 
 int run(const CLI::App& command, const LoopOptions& o) {
-    io::check_plot("--plot", o.plot);  // before any work
+    o.output.check_plot();  // before any work
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
-    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
-                       {"--plot", o.plot, command.count("--plot") > 0, false, true}},
-                      chosen.inputs());
+    o.output.check(command, chosen.inputs());
     if (o.w.empty()) throw UsageError("--w is required: the frequency of the solution");
     const double w = parse_double("--w", o.w);
     if (!(w > 0.0)) throw UsageError("--w = " + o.w + " is out of range: allowed > 0");
@@ -57,13 +57,12 @@ int run(const CLI::App& command, const LoopOptions& o) {
 
     // The solution at w: the branch followed from wmin (from 0.9 w when w <= wmin).
     ContinuationOptions co;
-    if (dry_run()) {  // the same checks, without building the Fourier matrices
+    if (o.output.dry_run) {  // the same checks, without building the Fourier matrices
         HarmonicBalance::validate(chosen.system, hbo);
         co.omega_start = w > wmin ? wmin : 0.9 * w;
         co.omega_end = w;
         validate(co);
-        std::cerr << "hbf loop: dry run: every input and output is valid; nothing computed, nothing written\n";
-        return exit_success;
+        return o.output.dry_run_done("loop");
     }
     HarmonicBalance hb(chosen.system, hbo);
     MessageCollector messages;  // what Ceres reports while the solution is found
@@ -75,7 +74,7 @@ int run(const CLI::App& command, const LoopOptions& o) {
     const SolutionPoint* at = &solution.point;
     const PointSignals s = point_signals(hb, *at, static_cast<int>(contact - 1));
 
-    io::OutputFile out(o.out);
+    io::OutputFile out(o.output.out);
     const auto columns = loop_columns(hb.system().dofs());
     for (std::size_t k = 0; k < columns.size(); ++k) out.stream() << (k ? "," : "") << columns[k].name;
     out.stream() << '\n';
@@ -85,7 +84,7 @@ int run(const CLI::App& command, const LoopOptions& o) {
         out.stream() << ',' << io::csv_field(s.q(j)) << ',' << io::csv_field(s.v(j)) << ',' << io::csv_field(s.f(j))
                      << ',' << (s.phi(j) < 0.0 ? 1 : 0) << ',' << io::csv_field(s.f_series(j)) << '\n';
     }
-    if (!o.plot.empty()) {
+    if (!o.output.plot.empty()) {
         io::PlotSpec spec;
         spec.title = "hbf loop: " + chosen.law_name + ", w = " + format_number(w) + ", H = " + std::to_string(hb.harmonics());
         spec.xlabel = "v = relative velocity dq/dt";
@@ -97,7 +96,7 @@ int run(const CLI::App& command, const LoopOptions& o) {
             loop.y.push_back(s.f(k));
         }
         spec.curves = {loop};
-        io::write_plot(o.plot, spec);
+        io::write_plot(o.output.plot, spec);
     }
     out.commit();
     Verdict verdict;
@@ -117,10 +116,7 @@ Runner add_loop_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "loop", "Time signals of one harmonic-balance solution at frequency w: displacements, the contact's "
                 "relative motion and friction force (the friction loop f against v, paper Figs. 5-6).");
-    add_dry_run(*command);
-    options->absorber.add_to(*command,
-                             "", "coulomb", true);
-    options->absorber.add_excitation_harmonic(*command);
+    options->absorber.add_system_flags(*command);
     command->add_option("--w", options->w, "frequency w of the solution, > 0 (required)")->type_name("NUMBER");
     command->add_option("--wmin", options->wmin,
                         "the solution is the one reached by following the branch from wmin (from 0.9 w when "
@@ -138,9 +134,8 @@ Runner add_loop_command(CLI::App& app) {
         ->capture_default_str()->type_name("INT");
     command->add_option("--config", options->config, "the structure from a TOML system file (as hbf frf --config)")
         ->option_text("FILE.toml");
-    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
-    command->add_option("--plot", options->plot, "draw f against v through gnuplot (.png or .svg)")
-        ->option_text("FILE.png|FILE.svg");
+    options->output.add_to(*command, {"write the CSV to FILE instead of standard output", "", "FILE",
+                                      "draw f against v through gnuplot (.png or .svg)", ""});
     std::string footer = "Output: CSV with a header row, one row per time sample of one period (the AFT grid). "
                          "Nondimensional for the preset (t in 1/omega1, y in x_s = N/k1, f in N).\nColumns:\n";
     for (const auto& c : loop_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "arguments.hpp"
+#include "outputs.hpp"
 #include "commands.hpp"
 #include "frf_flags.hpp"
 #include "hbf/design.hpp"
@@ -31,8 +32,8 @@ namespace {
 struct MapOptions {
     AbsorberFlags absorber;
     FrfFlags frf;
-    std::string param, values, threads = "0", contact = "1", at, out, summary, plot, style = "auto";
-    bool quiet = false;
+    std::string param, values, threads = "0", contact = "1", at, style = "auto";
+    OutputFlags output;
 };
 
 using nlohmann::json;
@@ -84,17 +85,14 @@ int run(const CLI::App& command, const MapOptions& o) {
     const auto started = std::chrono::steady_clock::now();
     MpiSession mpi;
     const bool root = mpi.rank() == 0;
-    io::check_plot("--plot", o.plot);
+    o.output.check_plot();
     if (o.style != "auto" && o.style != "curves" && o.style != "heatmap")
         throw UsageError("--plot-style = '" + o.style + "' is not known: allowed auto, curves, heatmap");
     if (!given(command, "--param")) throw UsageError("--param is required: the parameter of the map (e.g. --param fe)");
     if (!given(command, "--values")) throw UsageError("--values is required: V1,V2,..., START:STOP:N or log:START:STOP:N");
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
     if (root)
-        io::check_outputs({{"--out", o.out, given(command, "--out"), true},
-                           {"--summary", o.summary, given(command, "--summary")},
-                           {"--plot", o.plot, given(command, "--plot"), false, true}},
-                          chosen.inputs());
+        o.output.check(command, chosen.inputs());
     const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
     if (given(command, "--contact") && parameter.preset())
         throw UsageError("--contact chooses a contact of a --config system: the preset has one");
@@ -118,15 +116,12 @@ int run(const CLI::App& command, const MapOptions& o) {
     const int threads = parse_count("--threads", o.threads, 0, 4096);
     HarmonicBalance::validate(parameter.system(values.front()), settings.harmonic_balance);
     validate(settings.continuation);
-    if (dry_run()) {
-        if (root) std::cerr << "hbf map: dry run: every input and output is valid; nothing computed, nothing written\n";
-        return exit_success;
-    }
+    if (o.output.dry_run) return root ? o.output.dry_run_done("map") : exit_success;
 
     // This rank's share: FRFs k with k mod ranks = rank.
     std::vector<int> mine;
     for (int k = mpi.rank(); k < static_cast<int>(values.size()); k += mpi.size()) mine.push_back(k);
-    ProgressLine progress(root && !o.quiet && isatty(STDERR_FILENO), "map");
+    ProgressLine progress(root && o.output.verbose(), "map");
     const auto draw = [&](int finished, int total) {
         const int width = 30, filled = total > 0 ? width * finished / total : width;
         progress.update("[" + std::string(static_cast<std::size_t>(filled), '#') +
@@ -157,7 +152,7 @@ int run(const CLI::App& command, const MapOptions& o) {
     // The tidy CSV: the parameter and the FRF's status, then hbf frf's columns, one row per
     // point; an FRF without points is one row of empty fields.
     const std::vector<io::Column> columns = io::frf_columns(chosen.outputs);
-    io::OutputFile out(o.out);
+    io::OutputFile out(o.output.out);
     out.stream() << o.param << ",frf_status";
     for (const io::Column& c : columns) out.stream() << ',' << c.name;
     out.stream() << '\n';
@@ -199,7 +194,7 @@ int run(const CLI::App& command, const MapOptions& o) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
     std::unique_ptr<io::OutputFile> summary;
-    if (!o.summary.empty()) {
+    if (!o.output.summary.empty()) {
         json j;
         j["command"] = "map";
         j["law"] = chosen.law_name;
@@ -220,10 +215,10 @@ int run(const CLI::App& command, const MapOptions& o) {
         j["outcome"] = !verdict.errors.empty() ? "failed" : verdict.warnings.empty() ? "completed" : "incomplete";
         j["errors"] = verdict.errors;
         j["warnings"] = verdict.warnings;
-        summary = std::make_unique<io::OutputFile>(o.summary);
+        summary = std::make_unique<io::OutputFile>(o.output.summary);
         summary->stream() << j.dump(2) << '\n';
     }
-    if (!o.plot.empty()) {
+    if (!o.output.plot.empty()) {
         const std::string y_name = columns.size() > 1 ? columns[1].name : "y1_max";
         io::PlotSpec spec;
         spec.title = "hbf map: " + chosen.law_name + ", " + y_name + " over (w, " + o.param + ")";
@@ -265,11 +260,11 @@ int run(const CLI::App& command, const MapOptions& o) {
                 spec.curves.push_back(c);
             }
         }
-        io::write_plot(o.plot, spec);
+        io::write_plot(o.output.plot, spec);
     }
     out.commit();
     if (summary) summary->commit();
-    if (!o.quiet && isatty(STDERR_FILENO))
+    if (o.output.verbose())
         std::cerr << "hbf map: " << values.size() << " FRFs in " << format_number(seconds) << " s\n";
     return mpi.broadcast(finish("map", verdict));
 }
@@ -280,11 +275,7 @@ Runner add_map_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "map", "FRFs over a grid of one parameter, crossed with the frequency: one FRF (hbf frf) per value, on "
                "threads and, under mpirun, on MPI ranks; a tidy CSV, a JSON summary and a picture.");
-    add_dry_run(*command);
-    options->absorber.add_to(*command,
-                             "", "coulomb",
-                             true);
-    options->absorber.add_excitation_harmonic(*command);
+    options->absorber.add_system_flags(*command);
     options->frf.add_to(*command);
     command->add_option("--param", options->param,
                         "the parameter of the map: for the paper's absorber fe, mu, wa, r, wb (dahl, lugre, jenkins) "
@@ -309,19 +300,16 @@ Runner add_map_command(CLI::App& app) {
                         "FRFs computed at once, 0..4096; 0 = every core. Under mpirun: per rank [default 1]. The CSV "
                         "is the same for any number of threads and ranks")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
-    command->add_option("--summary", options->summary,
-                        "write a JSON summary to FILE: per value the FRF's status, coverage, largest peak (peak, "
-                        "peak_w, peak_state) and time")
-        ->option_text("FILE");
-    command->add_option("--plot", options->plot,
-                        "draw the first output's max over one period against w: one curve per value, or a heat map "
-                        "over (w, parameter) with the colour on a log scale (.png or .svg)")
-        ->option_text("FILE.png|FILE.svg");
+    options->output.add_to(*command, {"write the CSV to FILE instead of standard output",
+                                      "write a JSON summary to FILE: per value the FRF's status, coverage, largest "
+                                      "peak (peak, peak_w, peak_state) and time",
+                                      "FILE",
+                                      "draw the first output's max over one period against w: one curve per value, or "
+                                      "a heat map over (w, parameter) with the colour on a log scale (.png or .svg)",
+                                      "no progress bar or summary line on standard error"});
     command->add_option("--plot-style", options->style,
                         "curves, heatmap, or auto (curves for up to 8 values, else a heat map)")
         ->capture_default_str()->type_name("auto|curves|heatmap");
-    command->add_flag("--quiet", options->quiet, "no progress bar or summary line on standard error");
     std::string footer = "Output: a tidy CSV, one row per FRF point: the parameter's value (column named after it), "
                          "frf_status (the FRF's continuation status: completed, amplitude_cap, left_range, point_budget, "
                          "min_step, start_failed), then the columns of hbf frf:\n";

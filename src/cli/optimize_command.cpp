@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "arguments.hpp"
+#include "outputs.hpp"
 #include "commands.hpp"
 #include "frf_flags.hpp"
 #include "hbf/analytic.hpp"
@@ -28,8 +29,8 @@ struct OptimizeOptions_ {
     AbsorberFlags absorber;
     FrfFlags frf;
     std::string param = "mu", range, scan = "13", param_tolerance = "1e-4", max_frfs = "200", threads = "0",
-                contact = "1", wa_range, wa_scan = "7", out, summary, plot;
-    bool quiet = false;
+                contact = "1", wa_range, wa_scan = "7";
+    OutputFlags output;
 };
 
 using nlohmann::json;
@@ -87,12 +88,9 @@ double stuck_peak(const AbsorberParameters& p, FrictionLaw law, double wmin, dou
 }
 
 int run(const CLI::App& command, const OptimizeOptions_& o) {
-    io::check_plot("--plot", o.plot);
+    o.output.check_plot();
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
-    io::check_outputs({{"--out", o.out, given(command, "--out"), true},
-                       {"--summary", o.summary, given(command, "--summary")},
-                       {"--plot", o.plot, given(command, "--plot"), false, true}},
-                      chosen.inputs());
+    o.output.check(command, chosen.inputs());
     if (o.param != "mu" && o.param != "wa" && o.param != "mu,wa")
         throw UsageError("--param = '" + o.param + "' is not allowed: allowed mu (the friction coefficient; with "
                          "--config the friction limit of --contact), wa (the absorber's tuning, preset only) or mu,wa "
@@ -150,10 +148,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     tuning.tolerance = oo.tolerance;
     HarmonicBalance::validate(parameter.system(oo.lower), settings.harmonic_balance);
     validate(settings.continuation);
-    if (dry_run()) {
-        std::cerr << "hbf optimize: dry run: every input and output is valid; nothing computed, nothing written\n";
-        return exit_success;
-    }
+    if (o.output.dry_run) return o.output.dry_run_done("optimize");
 
     JointOptimizeResult joint_result;
     if (joint)
@@ -247,7 +242,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     messages.add(comparison_messages);
     verdict.add(messages);
 
-    io::OutputFile out(o.out);
+    io::OutputFile out(o.output.out);
     const std::vector<io::Column> columns = trace_columns(parameter.name(), joint);
     for (std::size_t c = 0; c < columns.size(); ++c) out.stream() << (c ? "," : "") << columns[c].name;
     out.stream() << '\n';
@@ -274,7 +269,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         }
     }
     std::unique_ptr<io::OutputFile> summary;
-    if (!o.summary.empty()) {
+    if (!o.output.summary.empty()) {
         json peaks = json::array();
         for (const Peak& p : result.peaks)
             peaks.push_back({{"w", p.omega}, {"y_max", p.y_max}, {"branch", p.branch}, {"refined", p.refined}});
@@ -319,10 +314,10 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         j["errors"] = verdict.errors;
         j["warnings"] = verdict.warnings;
         j["notes"] = verdict.notes;
-        summary = std::make_unique<io::OutputFile>(o.summary);
+        summary = std::make_unique<io::OutputFile>(o.output.summary);
         summary->stream() << j.dump(2) << '\n';
     }
-    if (!o.plot.empty()) {
+    if (!o.output.plot.empty()) {
         io::PlotSpec spec;
         spec.title = "hbf optimize: " + chosen.law_name + ", largest peak against " +
                      (joint ? "wa, each point at its best mu" : o.param);
@@ -365,11 +360,11 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
             spec.curves.push_back({joint ? "Den Hartog design (wa = 1/(1 + r), its mu)" : "Den Hartog mu",
                                    {comparisons["den_hartog"][joint ? "wa" : "mu"].get<double>()},
                                    {comparisons["den_hartog"]["peak"].get<double>()}, io::PlotCurve::Style::markers, 4});
-        io::write_plot(o.plot, spec);
+        io::write_plot(o.output.plot, spec);
     }
     out.commit();
     if (summary) summary->commit();
-    if (!o.quiet && isatty(STDERR_FILENO))
+    if (o.output.verbose())
         std::cerr << "hbf optimize: " << summary_line << "\n";
     return finish("optimize", verdict);
 }
@@ -381,11 +376,7 @@ Runner add_optimize_command(CLI::App& app) {
         "optimize", "The friction coefficient (or the tuning wa, or both) that minimises the largest peak of the main mass's "
                     "FRF over [wmin, wmax] (paper Section 4): a log-spaced scan on threads, then a golden-section "
                     "search in log of the parameter, every FRF a full branch with refined peaks.");
-    add_dry_run(*command);
-    options->absorber.add_to(*command,
-                             "", "coulomb",
-                             true);
-    options->absorber.add_excitation_harmonic(*command);
+    options->absorber.add_system_flags(*command);
     options->frf.add_to(*command);
     command->add_option("--param", options->param,
                         "what is optimised: mu (the friction coefficient; with --config the friction limit F_c of the "
@@ -415,17 +406,13 @@ Runner add_optimize_command(CLI::App& app) {
         ->capture_default_str()->type_name("INT");
     command->add_option("--threads", options->threads, "FRFs of the scan computed at once; 0 = every core")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--out", options->out,
-                        "write the convergence trace (CSV, one row per FRF) to FILE instead of standard output")
-        ->option_text("FILE");
-    command->add_option("--summary", options->summary,
-                        "write a JSON summary to FILE: the optimum (value, largest peak and its w, every peak), the "
-                        "final bracket, the number of FRFs, and the comparisons with the Den Hartog friction, the "
-                        "minimum-displacement rule and the viscous Den Hartog absorber (peak ratios to the optimum)")
-        ->option_text("FILE");
-    command->add_option("--plot", options->plot, "draw the largest peak against the parameter, the optimum marked")
-        ->option_text("FILE.png|FILE.svg");
-    command->add_flag("--quiet", options->quiet, "no summary line on standard error");
+    options->output.add_to(*command,
+                           {"write the convergence trace (CSV, one row per FRF) to FILE instead of standard output",
+                            "write a JSON summary to FILE: the optimum (value, largest peak and its w, every peak), the "
+                            "final bracket, the number of FRFs, and the comparisons with the Den Hartog friction, the "
+                            "minimum-displacement rule and the viscous Den Hartog absorber (peak ratios to the optimum)",
+                            "FILE", "draw the largest peak against the parameter, the optimum marked",
+                            "no summary line on standard error"});
     std::string footer = "Output: the convergence trace, one row per FRF in the order computed. Columns:\n";
     for (const auto& c : trace_columns("mu", true)) footer += "  " + c.name + ": " + c.meaning + "\n";
     footer += "The objective is the largest max over one period of |y1(t)| (the first output with --config) over the "

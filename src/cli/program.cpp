@@ -10,21 +10,7 @@
 
 namespace hbf::cli {
 
-namespace {
-bool dry_run_requested = false;
-}  // namespace
-
-void add_dry_run(CLI::App& command) {
-    command.add_flag("--dry-run", dry_run_requested,
-                     "check every flag, input file and output path as for a run, then stop before the computation: "
-                     "exit 0 and nothing written when the run would start (2 and the reason otherwise)")
-        ->disable_flag_override();  // --dry-run=0 must not turn it off (found by the fuzz harness)
-}
-
-bool dry_run() { return dry_run_requested; }
-
 int run_program(int argc, char** argv) {
-    dry_run_requested = false;
     CLI::App app("hbf: frequency responses of structures with friction contacts "
                  "(multi-harmonic balance, closed forms of the friction absorber).",
                  "hbf");

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "arguments.hpp"
+#include "outputs.hpp"
 #include "commands.hpp"
 #include "hbf/analytic.hpp"
 #include "hbf/error.hpp"
@@ -26,8 +27,8 @@ struct TimeintOptions {
     AbsorberFlags absorber;
     std::string w, wmin, wmax, points, sweep = "up", method = "adams";
     std::string rtol = "1e-10", atol = "1e-10", steady_tol = "1e-8", max_periods = "3000", min_periods = "3";
-    std::string out, plot, config;
-    bool quiet = false;
+    OutputFlags output;
+    std::string config;
 };
 
 bool given(const CLI::App& command, const char* flag) { return command.count(flag) > 0; }
@@ -76,11 +77,9 @@ std::vector<double> frequencies(const CLI::App& command, const TimeintOptions& o
 /// Newton from `start`; if that fails, again after plain exact periods (the exact flow
 /// integrates the motion) up to max_periods.
 int run(const CLI::App& command, const TimeintOptions& o) {
-    io::check_plot("--plot", o.plot);  // before any work
+    o.output.check_plot();  // before any work
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
-    io::check_outputs({{"--out", o.out, command.count("--out") > 0, true},
-                       {"--plot", o.plot, command.count("--plot") > 0, false, true}},
-                      chosen.inputs());
+    o.output.check(command, chosen.inputs());
     const System& system = chosen.system;
     const std::string title = "hbf timeint: " + (o.config.empty() ? chosen.law_name + " (sweep " + o.sweep + ")" : o.config);
     const std::vector<double> omegas = frequencies(command, o);
@@ -113,12 +112,9 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     eo.outputs = chosen.outputs;
     eo.tolerance = given(command, "--steady-tol") ? tio.steady_tolerance : 1e-12;
 
-    if (dry_run()) {
-        std::cerr << "hbf timeint: dry run: every input and output is valid; nothing computed, nothing written\n";
-        return exit_success;
-    }
-    io::OutputFile out(o.out);  // opened before the work: an unwritable path fails fast
-    const bool progress = !o.quiet && isatty(STDERR_FILENO);
+    if (o.output.dry_run) return o.output.dry_run_done("timeint");
+    io::OutputFile out(o.output.out);  // opened before the work: an unwritable path fails fast
+    const bool progress = o.output.verbose();
     MessageCollector messages;  // what CVODE reports during the sweep
     std::vector<PeriodicResponse> responses;
     responses.reserve(omegas.size());
@@ -133,7 +129,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     }
     if (progress) std::cerr << "\n";
     io::write_timeint_csv(out.stream(), responses, chosen.outputs);
-    if (!o.plot.empty()) {
+    if (!o.output.plot.empty()) {
         io::PlotSpec spec;
         spec.title = title;
         spec.xlabel = "w";
@@ -149,7 +145,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
             (r.converged ? converged : failed).y.push_back(r.output_max.front());
         }
         spec.curves = {line, converged, failed};
-        io::write_plot(o.plot, spec);  // before the CSV is committed: a failed plot leaves no output
+        io::write_plot(o.output.plot, spec);  // before the CSV is committed: a failed plot leaves no output
     }
     out.commit();
     // Points that did not converge (errors) and converged points out of energy balance
@@ -165,11 +161,7 @@ Runner add_timeint_command(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "timeint", "Periodic steady states of the paper's friction absorber by time integration (SUNDIALS CVODE): "
                    "the reference for harmonic balance. One frequency (--w) or a sweep (--wmin --wmax --points).");
-    add_dry_run(*command);
-    options->absorber.add_to(*command,
-                             "",
-                             "coulomb", true);
-    options->absorber.add_excitation_harmonic(*command);
+    options->absorber.add_system_flags(*command);
     command->remove_option(command->get_option("--dlft-eps"));  // harmonic balance only
     command->add_option("--w", options->w, "a single frequency w, > 0")->type_name("NUMBER");
     command->add_option("--wmin", options->wmin, "first frequency of the sweep grid, > 0")->type_name("NUMBER");
@@ -203,15 +195,14 @@ Runner add_timeint_command(CLI::App& app) {
                         "period map (steady state to --steady-tol, default 1e-12 with it; --rtol and --atol do not "
                         "apply; periods counts the period maps evaluated)")
         ->capture_default_str()->type_name("adams|bdf|exact");
-    command->add_option("--out", options->out, "write the CSV to FILE instead of standard output")->option_text("FILE");
-    command->add_option("--plot", options->plot, "draw y1_max against w (sweep order, non-converged points marked) "
-                                                 "through gnuplot (.png or .svg)")
-        ->option_text("FILE.png|FILE.svg");
+    options->output.add_to(*command, {"write the CSV to FILE instead of standard output", "", "FILE",
+                                      "draw y1_max against w (sweep order, non-converged points marked) through gnuplot "
+                                      "(.png or .svg)",
+                                      "no progress on standard error"});
     command->add_option("--config", options->config,
                         "integrate the structure of a TOML system file (as hbf frf --config; its frequency range "
                         "and solver settings are not used: give --w or --wmin/--wmax/--points)")
         ->option_text("FILE.toml");
-    command->add_flag("--quiet", options->quiet, "no progress on standard error");
     std::string footer =
         "Each frequency is integrated period by period until the Poincare map converges (with Newton shooting "
         "steps when it contracts slowly). The first frequency starts from the linear steady state with the contact "
