@@ -472,6 +472,13 @@ PYBIND11_MODULE(_core, m) {
         .def_readwrite("excitation", &AbsorberParameters::excitation, "fe = F0 / N")
         .def("validate", [](const AbsorberParameters& p, const std::string& law) { p.validate(parse_friction_law(law)); },
              py::arg("law"));
+    m.def(
+        "check_given_preset_parameters",
+        [](const std::string& law, const AbsorberParameters& p, const std::vector<std::string>& keywords) {
+            check_given_preset_parameters(parse_friction_law(law), p, keywords);
+        },
+        "model.hpp: the checks hbf applies to the law's parameters given (does it read them; an explicit 0)",
+        py::arg("law"), py::arg("parameters"), py::arg("keywords"));
     // The laws' own preset parameters (model.hpp: preset_parameters), by their C++ names.
     for (const PresetParameter& p : preset_parameters()) {
         double AbsorberParameters::*field = p.field;

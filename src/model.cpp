@@ -269,28 +269,42 @@ const std::vector<PresetParameter>& preset_parameters() {
     static const std::vector<PresetParameter> table = {
         {"wb", "--wb", "wb", "contact_stiffness_ratio", &P::contact_stiffness_ratio,
          "contact stiffness ratio omega3/omega1",
-         "contact stiffness ratio wb = sqrt(sigma0/m2)/omega1, > 0; jenkins: k_t = r wb^2", false, false},
+         "contact stiffness ratio wb = sqrt(sigma0/m2)/omega1, > 0; jenkins: k_t = r wb^2", false, false, false},
         {"xi", "--xi", "xi", "contact_damping_ratio", &P::contact_damping_ratio, "contact damping ratio",
-         "contact damping ratio xi = sigma1/(2 m2 sqrt(sigma0/m2)), >= 0", true, false},
+         "contact damping ratio xi = sigma1/(2 m2 sqrt(sigma0/m2)), >= 0", true, false, false},
         {"eps", "--eps", "eps", "regularization", &P::regularization, "regularisation velocity of tanh",
-         "regularisation velocity of tanh, > 0", false, true},
+         "regularisation velocity of tanh, > 0", false, true, false},
         {"mu_s", "--mu-static", "mu_static", "static_friction_coefficient", &P::static_friction_coefficient,
          "static friction coefficient",
-         "static friction coefficient mu_s of the Stribeck curve, >= 0; 0 means mu_s = mu", true, true},
+         "static friction coefficient mu_s of the Stribeck curve, >= 0; 0 means mu_s = mu", true, true, false},
         {"vs", "--stribeck-velocity", "stribeck_velocity", "stribeck_velocity", &P::stribeck_velocity,
          "Stribeck velocity",
-         "Stribeck velocity v_s (nondimensional: x_s omega1), >= 0; 0 means no Stribeck curve", true, true},
+         "Stribeck velocity v_s (nondimensional: x_s omega1), >= 0; 0 means no Stribeck curve", true, true, false},
         {"sigma2", "--viscous", "viscous", "viscous_coefficient", &P::viscous_coefficient,
-         "viscous friction coefficient", "viscous friction coefficient sigma2 / (N / (x_s omega1)), >= 0", true, true},
+         "viscous friction coefficient", "viscous friction coefficient sigma2 / (N / (x_s omega1)), >= 0", true, true, false},
         {"lagrangian_penalty", "--dlft-eps", "dlft_eps", "lagrangian_penalty", &P::lagrangian_penalty,
          "dynamic Lagrangian parameter",
          "dynamic Lagrangian parameter epsilon of exact Coulomb, force per velocity, allowed 1/30 to 4 times the "
          "automatic value (measured to converge; outside it the iteration stalls or follows spurious branches); "
          "within it the results converge to the same solution as H grows; 0 means automatic: sqrt(k m) of the "
          "contact direction, 1.24 for the paper's absorber: allowed 0.0413..4.96",
-         true, true},
+         true, true, true},
     };
     return table;
+}
+
+void check_given_preset_parameters(FrictionLaw law, const AbsorberParameters& p,
+                                   const std::vector<std::string>& keywords) {
+    for (const std::string& keyword : keywords)
+        for (const PresetParameter& q : preset_parameters()) {
+            if (keyword != q.keyword) continue;
+            if (!law_reads(law, q.symbol))
+                throw InvalidInput(keyword + " does not apply to law " + to_string(law) + ": allowed with " +
+                                   laws_reading(q.symbol) + " (" + q.meaning + ")");
+            if (q.zero_only_by_default && !(p.*(q.field) > 0.0))
+                throw InvalidInput(keyword + " (" + q.meaning + ") = " + format_number(p.*(q.field)) +
+                                   " is out of range: allowed > 0 when given (0, the default, means automatic)");
+        }
 }
 
 void AbsorberParameters::validate(FrictionLaw law) const {

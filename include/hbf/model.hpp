@@ -251,9 +251,19 @@ struct PresetParameter {
     bool zero_allowed;       ///< >= 0 (else > 0)
     /// Only harmonic balance reads it (not the closed forms of `hbf analytic`).
     bool harmonic_balance_only;
+    /// 0 is only the default (automatic): a value given explicitly must be > 0.
+    bool zero_only_by_default;
 };
 /// The preset's law-specific parameters: wb, xi, eps, mu_s, vs, sigma2, lagrangian_penalty.
 const std::vector<PresetParameter>& preset_parameters();
+/// The checks on preset parameters a front end was given explicitly (named by their
+/// PresetParameter::keyword; the paper's r, wa, mu, fe are always read), for `law`, before
+/// AbsorberParameters::validate: one the law does not read ("xi does not apply to law
+/// coulomb: allowed with lugre (contact damping ratio)"), and an explicit 0 where 0 is only
+/// the automatic default. Throws InvalidInput whose message starts with the keyword; hbf and
+/// Python both call it, so that they refuse the same inputs with the same words.
+void check_given_preset_parameters(FrictionLaw law, const AbsorberParameters& p,
+                                   const std::vector<std::string>& keywords);
 
 /// Physical parameters of the absorber (any consistent unit system, e.g. SI).
 struct PhysicalAbsorber {

@@ -161,7 +161,7 @@ def _copy(obj, kind=None):
 # model.hpp: preset_parameters).
 _ABSORBER_NAMES = {"r": "mass_ratio", "wa": "tuning_ratio", "mu": "friction_coefficient", "fe": "excitation"}
 _ABSORBER_NAMES.update({p["keyword"]: p["field"] for p in _core.preset_parameters()})
-_APPLIES = {p["field"]: tuple(p["laws"]) for p in _core.preset_parameters()}
+_KEYWORDS = {p["field"]: p["keyword"] for p in _core.preset_parameters()}
 _LAWS = tuple(law["name"] for law in _core.contact_laws())
 
 
@@ -180,15 +180,16 @@ def absorber(law="coulomb", parameters=None, excitation_harmonic=1, **values):
         raise ValueError("law = '%s' is not known: allowed %s" % (law, ", ".join(_LAWS)))
     p = AbsorberParameters() if parameters is None else _copy(parameters, AbsorberParameters)
     fields = set(_fields(p))
+    given = []  # the law's parameters given, by their keywords
     for key, value in values.items():
         name = _ABSORBER_NAMES.get(key, key)
         if name not in fields:
             raise ValueError("absorber: unknown parameter '%s': allowed %s (or the C++ names %s)" %
                              (key, ", ".join(_ABSORBER_NAMES), ", ".join(sorted(fields))))
-        if name in _APPLIES and law not in _APPLIES[name]:
-            raise ValueError("absorber: %s does not apply to law %s: it applies to %s" %
-                             (key, law, ", ".join(_APPLIES[name])))
         _assign(p, name, value, key)
+        if name in _KEYWORDS:
+            given.append(_KEYWORDS[name])
+    _core.check_given_preset_parameters(law, p, given)  # as hbf: a parameter the law does not read, an explicit 0
     p.validate(law)
     system = _core.friction_absorber(p, law)
     if isinstance(excitation_harmonic, bool) or excitation_harmonic != 1:

@@ -110,11 +110,6 @@ AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
     auto given_flag = [&](const char* flag) {
         return command.get_option_no_throw(flag) != nullptr && command.count(flag) > 0;
     };
-    for (const PresetParameter& p : preset_parameters()) {
-        if (!given_flag(p.flag) || law_reads(chosen, p.symbol)) continue;
-        throw UsageError(std::string(p.flag) + " (" + p.meaning + ") does not apply to --law " + law +
-                         ": allowed with " + laws_reading(p.symbol));
-    }
     AbsorberParameters p;
     auto set = [&](const char* flag, const std::string& text, double& target) {
         if (given_flag(flag)) target = parse_double(flag, text);
@@ -123,18 +118,21 @@ AbsorberParameters AbsorberFlags::parameters(const CLI::App& command) const {
     set("--wa", wa, p.tuning_ratio);
     set("--mu", mu, p.friction_coefficient);
     set("--fe", fe, p.excitation);
+    std::vector<std::string> keywords;  // the law's parameters given (by their Python keyword)
     for (const PresetParameter& q : preset_parameters())
-        if (given_flag(q.flag)) p.*(q.field) = parse_double(q.flag, law_values.at(q.flag));
-    if (given_flag("--dlft-eps") && !(p.lagrangian_penalty > 0.0))
-        throw UsageError("--dlft-eps = " + law_values.at("--dlft-eps") + " is out of range: allowed > 0");
+        if (given_flag(q.flag)) keywords.push_back(q.keyword);
     try {
+        for (const PresetParameter& q : preset_parameters())
+            if (given_flag(q.flag)) p.*(q.field) = parse_double(q.flag, law_values.at(q.flag));
+        check_given_preset_parameters(chosen, p, keywords);  // a flag the law does not read, an explicit 0
         p.validate(chosen);
     } catch (const InvalidInput& e) {
-        // The library names the parameter (r, wa, ..., mu_s, vs, sigma2): name the flag too.
+        // The library names the parameter (r, wa, ..., mu_s, vs, sigma2, or the keyword of a
+        // law's parameter given): name the flag too.
         const std::string what = e.what();
         const std::string name = what.substr(0, what.find(' '));
         std::map<std::string, std::string> flags = {{"r", "--r"}, {"wa", "--wa"}, {"mu", "--mu"}, {"fe", "--fe"}};
-        for (const PresetParameter& q : preset_parameters()) flags[q.symbol] = q.flag;
+        for (const PresetParameter& q : preset_parameters()) flags[q.symbol] = flags[q.keyword] = q.flag;
         const auto flag = flags.find(name);
         throw UsageError(flag == flags.end() ? what : flag->second + ": " + what);
     }
