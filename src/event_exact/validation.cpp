@@ -17,7 +17,7 @@ namespace hbf::detail::exact {
 
 namespace {
 /// The flows are dense: at most exact_solver_max_dofs DOFs with mass (those of the static
-/// condensation when there are massless DOFs, time_integration/massless.hpp).
+/// condensation when there are massless DOFs, model/massless.hpp).
 void check_dense_size(const System& system, bool condensed) {
     if (system.dofs() > exact_solver_max_dofs)
         throw InvalidInput("the system has " + std::to_string(system.dofs()) + " DOFs" +

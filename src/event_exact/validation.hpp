@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "hbf/model.hpp"
-#include "time_integration/massless.hpp"
+#include "model/massless.hpp"
 
 namespace hbf::detail::exact {
 
