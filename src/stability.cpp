@@ -1,24 +1,25 @@
+// hbfriction — Floquet verdicts of HB points and branches (stability.hpp). The variational
+// equation and Hill's matrix are in stability/variational, its CVODE monodromy in
+// stability/monodromy.
 #include "hbf/stability.hpp"
 
-#include <cvode/cvode.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
-
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
-#include <stdexcept>
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/friction.hpp"
+#include "stability/monodromy.hpp"
+#include "stability/variational.hpp"
 
 namespace hbf {
+
+using detail::at_phase;
+using detail::eigenvalues;
+using detail::sorted_hill;
+using detail::Variational;
 
 std::string to_string(Stability stability) {
     switch (stability) {
@@ -66,248 +67,8 @@ bool smooth(FrictionLaw law) {
     return contact_law(law).smooth();
 }
 
-/// Value and tau-derivative (d/dtheta) of a coefficient vector at phase theta.
-void at_phase(const Eigen::VectorXd& c, double theta, double& value, double& rate) {
-    value = c(0);
-    rate = 0.0;
-    for (int k = 1; 2 * k < c.size(); ++k) {
-        const double ck = std::cos(k * theta), sk = std::sin(k * theta);
-        value += c(2 * k - 1) * ck + c(2 * k) * sk;
-        rate += k * (c(2 * k) * ck - c(2 * k - 1) * sk);
-    }
-}
-
-Eigen::VectorXcd eigenvalues(const Eigen::MatrixXd& a) {
-    Eigen::EigenSolver<Eigen::MatrixXd> solver(a, false);
-    if (solver.info() != Eigen::Success) return {};
-    return solver.eigenvalues();
-}
-
 double largest_modulus(const Eigen::VectorXcd& mu) {
     return mu.size() == 0 ? std::numeric_limits<double>::quiet_NaN() : mu.cwiseAbs().maxCoeff();
-}
-
-/// The variational equation ds' = A(t) ds of one HB solution (see stability.hpp).
-class Variational {
-public:
-    Variational(HarmonicBalance& hb, const Eigen::MatrixXd& minv, const Eigen::MatrixXd& w, const SolutionPoint& p)
-        : system_(hb.system()), omega_(p.omega), n_(hb.system().dofs()) {
-        const int nc = static_cast<int>(system_.contacts.size());
-        state_index_.assign(static_cast<std::size_t>(nc), -1);
-        int s = 0;
-        for (int c = 0; c < nc; ++c) {
-            q_.push_back(hb.relative(p.x, c));
-            z_.push_back(hb.state(p.x, c));
-            if (z_.back().size() > 0) state_index_[static_cast<std::size_t>(c)] = 2 * n_ + s++;
-        }
-        d_ = 2 * n_ + s;
-        base_ = Eigen::MatrixXd::Zero(d_, d_);
-        base_.block(0, n_, n_, n_).setIdentity();
-        const Eigen::MatrixXd K = Eigen::MatrixXd(system_.stiffness);
-        const Eigen::MatrixXd C = system_.damping.size() > 0 && system_.damping.rows() == n_
-                                      ? Eigen::MatrixXd(system_.damping)
-                                      : Eigen::MatrixXd::Zero(n_, n_);
-        base_.block(n_, 0, n_, n_) = -minv * K;
-        base_.block(n_, n_, n_, n_) = -minv * C;
-        w_ = w;
-        mw_ = minv * w;
-    }
-    int size() const { return d_; }
-    double omega() const { return omega_; }
-    /// Slopes of every contact at phase theta.
-    void slopes(double theta, std::vector<LocalLinearization>& out) const {
-        out.resize(q_.size());
-        for (std::size_t c = 0; c < q_.size(); ++c) {
-            double q, dq, z = 0.0, dz;
-            at_phase(q_[c], theta, q, dq);
-            if (z_[c].size() > 0) at_phase(z_[c], theta, z, dz);
-            out[c] = linearize(system_.contacts[c], omega_ * dq, z);
-        }
-    }
-    /// A(t) at phase theta = omega t.
-    void matrix(double theta, Eigen::MatrixXd& a) const {
-        slopes(theta, scratch_);
-        a = base_;
-        for (std::size_t c = 0; c < q_.size(); ++c) add_contact(static_cast<int>(c), scratch_[c], a);
-    }
-    /// Adds contact c's part of A for the given slopes (entries of one instant).
-    void add_contact(int c, const LocalLinearization& l, Eigen::MatrixXd& a) const {
-        const auto col = static_cast<Eigen::Index>(c);
-        a.block(n_, n_, n_, n_).noalias() -= l.f_v * mw_.col(col) * w_.col(col).transpose();
-        const int s = state_index_[static_cast<std::size_t>(c)];
-        if (s < 0) return;
-        a.block(n_, s, n_, 1) -= l.f_z * mw_.col(col);
-        a.block(s, n_, 1, n_) += l.g_v * w_.col(col).transpose();
-        a(s, s) += l.g_z;
-    }
-    /// Hill's matrix on the samples of `fourier` (all harmonics 0..H).
-    Eigen::MatrixXd hill(Fourier& fourier) const {
-        const int m = fourier.size(), nt = fourier.time_samples();
-        Eigen::MatrixXd h = Eigen::MatrixXd::Zero(d_ * m, d_ * m);
-        // The constant part: a_ij I per block.
-        for (int i = 0; i < d_; ++i)
-            for (int j = 0; j < d_; ++j)
-                if (base_(i, j) != 0.0) h.block(i * m, j * m, m, m).diagonal().setConstant(base_(i, j));
-        // The contacts' parts: each entry of A is a combination of the slopes' samples.
-        const int nc = static_cast<int>(q_.size());
-        std::vector<Eigen::VectorXd> fv(static_cast<std::size_t>(nc), Eigen::VectorXd(nt)),
-            fz = fv, gv = fv, gz = fv;
-        // v_c and z_c on the AFT grid by the FFT (Fourier::to_time), then the slopes pointwise.
-        Eigen::VectorXd v(nt), z(nt);
-        for (int c = 0; c < nc; ++c) {
-            const auto cc = static_cast<std::size_t>(c);
-            fourier.to_time(omega_ * (fourier.derivative() * q_[cc]), v);
-            if (z_[cc].size() > 0)
-                fourier.to_time(z_[cc], z);
-            else
-                z.setZero();
-            for (int j = 0; j < nt; ++j) {
-                const LocalLinearization l = linearize(system_.contacts[cc], v(j), z(j));
-                fv[cc](j) = l.f_v;
-                fz[cc](j) = l.f_z;
-                gv[cc](j) = l.g_v;
-                gz[cc](j) = l.g_z;
-            }
-        }
-        Eigen::MatrixXd p(m, m);
-        for (int c = 0; c < nc; ++c) {
-            const auto cc = static_cast<std::size_t>(c);
-            const auto col = static_cast<Eigen::Index>(c);
-            const Eigen::MatrixXd outer = -mw_.col(col) * w_.col(col).transpose();
-            fourier.multiplication_matrix(fv[cc], p);
-            for (int i = 0; i < n_; ++i)
-                for (int j = 0; j < n_; ++j)
-                    if (outer(i, j) != 0.0) h.block((n_ + i) * m, (n_ + j) * m, m, m) += outer(i, j) * p;
-            const int s = state_index_[cc];
-            if (s < 0) continue;
-            fourier.multiplication_matrix(fz[cc], p);
-            for (int i = 0; i < n_; ++i)
-                if (mw_(i, col) != 0.0) h.block((n_ + i) * m, s * m, m, m) -= mw_(i, col) * p;
-            fourier.multiplication_matrix(gv[cc], p);
-            for (int j = 0; j < n_; ++j)
-                if (w_(j, col) != 0.0) h.block(s * m, (n_ + j) * m, m, m) += w_(j, col) * p;
-            fourier.multiplication_matrix(gz[cc], p);
-            h.block(s * m, s * m, m, m) += p;
-        }
-        // - d/dt on every signal.
-        const Eigen::MatrixXd d = omega_ * fourier.derivative();
-        for (int i = 0; i < d_; ++i) h.block(i * m, i * m, m, m) -= d;
-        return h;
-    }
-
-private:
-    const System& system_;
-    double omega_;
-    int n_, d_ = 0;
-    std::vector<Eigen::VectorXd> q_, z_;
-    std::vector<int> state_index_;
-    Eigen::MatrixXd base_, w_, mw_;
-    mutable std::vector<LocalLinearization> scratch_;
-};
-
-void quiet_handler(int, const char*, const char*, char*, void*) {}
-
-/// Phi(T) of ds' = A(t) ds by CVODE (BDF, dense, exact Jacobian). Small systems (d <= 12)
-/// integrate Phi' = A Phi as one system of d^2 states (one step sequence; Jacobian I (x) A),
-/// larger ones one column at a time (d LU factorisations of d x d instead of one of d^2).
-class MonodromyIntegrator {
-public:
-    MonodromyIntegrator(const Variational& v, double tolerance)
-        : v_(v), d_(v.size()), columns_(v.size() <= 12 ? v.size() : 1), length_(d_ * columns_) {
-        if (SUNContext_Create(nullptr, &context_) != 0) throw std::runtime_error("SUNContext_Create failed");
-        x_ = N_VNew_Serial(length_, context_);
-        matrix_ = SUNDenseMatrix(length_, length_, context_);
-        linear_ = SUNLinSol_Dense(x_, matrix_, context_);
-        cvode_ = CVodeCreate(CV_BDF, context_);
-        if (!x_ || !matrix_ || !linear_ || !cvode_) throw std::runtime_error("CVODE allocation failed");
-        N_VConst(0.0, x_);
-        check(CVodeInit(cvode_, rhs, 0.0, x_), "CVodeInit");
-        check(CVodeSetErrHandlerFn(cvode_, quiet_handler, nullptr), "CVodeSetErrHandlerFn");
-        check(CVodeSetUserData(cvode_, this), "CVodeSetUserData");
-        check(CVodeSStolerances(cvode_, tolerance, tolerance * 1e-2), "CVodeSStolerances");
-        check(CVodeSetLinearSolver(cvode_, linear_, matrix_), "CVodeSetLinearSolver");
-        check(CVodeSetJacFn(cvode_, jacobian), "CVodeSetJacFn");
-        check(CVodeSetMaxNumSteps(cvode_, 200000), "CVodeSetMaxNumSteps");
-    }
-    ~MonodromyIntegrator() {
-        if (cvode_) CVodeFree(&cvode_);
-        if (linear_) SUNLinSolFree(linear_);
-        if (matrix_) SUNMatDestroy(matrix_);
-        if (x_) N_VDestroy(x_);
-        if (context_) SUNContext_Free(&context_);
-    }
-    MonodromyIntegrator(const MonodromyIntegrator&) = delete;
-    MonodromyIntegrator& operator=(const MonodromyIntegrator&) = delete;
-
-    /// False (and `failure`) when CVODE failed.
-    bool run(Eigen::MatrixXd& phi, std::string& failure) {
-        const double period = 2.0 * M_PI / v_.omega();
-        phi.resize(d_, d_);
-        for (int first = 0; first < d_; first += columns_) {
-            N_VConst(0.0, x_);
-            Eigen::Map<Eigen::MatrixXd> start(N_VGetArrayPointer(x_), d_, columns_);
-            for (int j = 0; j < columns_; ++j) start(first + j, j) = 1.0;
-            check(CVodeReInit(cvode_, 0.0, x_), "CVodeReInit");
-            check(CVodeSetStopTime(cvode_, period), "CVodeSetStopTime");
-            sunrealtype t = 0.0;
-            const int flag = CVode(cvode_, period, x_, &t, CV_NORMAL);
-            if (flag < 0) {
-                failure = "CVODE failed on the variational equation (flag " + std::to_string(flag) + ") at t = " +
-                          format_number(t) + " of T = " + format_number(period);
-                return false;
-            }
-            phi.middleCols(first, columns_) = Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x_), d_, columns_);
-        }
-        return true;
-    }
-
-private:
-    static int rhs(sunrealtype t, N_Vector x, N_Vector dx, void* data) {
-        auto* self = static_cast<MonodromyIntegrator*>(data);
-        self->v_.matrix(self->v_.omega() * t, self->a_);
-        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(dx), self->d_, self->columns_).noalias() =
-            self->a_ * Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x), self->d_, self->columns_);
-        return 0;
-    }
-    static int jacobian(sunrealtype t, N_Vector, N_Vector, SUNMatrix j, void* data, N_Vector, N_Vector, N_Vector) {
-        auto* self = static_cast<MonodromyIntegrator*>(data);
-        self->v_.matrix(self->v_.omega() * t, self->a_);
-        SUNMatZero(j);
-        const int d = self->d_;
-        for (int b = 0; b < self->columns_; ++b)  // I (x) A: one block of A per column of Phi
-            for (int c = 0; c < d; ++c)
-                Eigen::Map<Eigen::VectorXd>(SUNDenseMatrix_Column(j, b * d + c) + b * d, d) = self->a_.col(c);
-        return 0;
-    }
-    void check(int flag, const char* what) const {
-        if (flag < 0) throw std::runtime_error(std::string("CVODE: ") + what + " failed (flag " + std::to_string(flag) + ")");
-    }
-
-    const Variational& v_;
-    int d_, columns_, length_;
-    Eigen::MatrixXd a_;
-    SUNContext context_ = nullptr;
-    N_Vector x_ = nullptr;
-    SUNMatrix matrix_ = nullptr;
-    SUNLinearSolver linear_ = nullptr;
-    void* cvode_ = nullptr;
-};
-
-/// Hill's classical sorted selection: mu = exp(lambda T) of the d exponents with the smallest
-/// |Im lambda|; empty when the matrix would exceed max_size rows or the eigensolver failed.
-Eigen::VectorXcd sorted_hill(const Variational& v, Fourier& fourier, int max_size) {
-    if (v.size() * fourier.size() > max_size) return {};
-    const Eigen::VectorXcd lambda = eigenvalues(v.hill(fourier));
-    if (lambda.size() < v.size()) return {};
-    std::vector<Eigen::Index> order(static_cast<std::size_t>(lambda.size()));
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
-        return std::abs(lambda(a).imag()) < std::abs(lambda(b).imag());
-    });
-    const double period = 2.0 * M_PI / v.omega();
-    Eigen::VectorXcd mu(v.size());
-    for (int k = 0; k < v.size(); ++k) mu(k) = std::exp(lambda(order[static_cast<std::size_t>(k)]) * period);
-    return mu;
 }
 
 Stability verdict(double margin, double tolerance) {
@@ -379,7 +140,7 @@ Eigen::MatrixXd StabilityAnalyser::monodromy(const SolutionPoint& point) {
     const Variational v(hb_, minv_, w_, point);
     Eigen::MatrixXd phi;
     std::string failure;
-    if (!MonodromyIntegrator(v, options_.integration_tolerance).run(phi, failure)) return {};
+    if (!detail::integrate_monodromy(v, options_.integration_tolerance, phi, failure)) return {};
     return phi;
 }
 
@@ -429,7 +190,7 @@ FloquetResult StabilityAnalyser::operator()(const SolutionPoint& point) {
     std::string failure;
     if (use_monodromy) {
         Eigen::MatrixXd phi;
-        if (MonodromyIntegrator(v, options_.integration_tolerance).run(phi, failure)) {
+        if (detail::integrate_monodromy(v, options_.integration_tolerance, phi, failure)) {
             r.monodromy_multipliers = eigenvalues(phi);
             r.monodromy_margin = largest_modulus(r.monodromy_multipliers);
         }

@@ -308,12 +308,12 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
     if (system.has_positive_definite_mass()) return integrate_with_mass(system, omega, options, initial_state);
     // Massless DOFs: condensed statically (exact), integrated, expanded.
     const detail::MasslessCondensation condensation(system);
-    const TimeIntegrationOptions reduced_options = condensation.reduced_options(options);
+    const TimeIntegrationOptions reduced_options = detail::reduced_options(condensation, options);
     Eigen::VectorXd reduced_start;
     if (initial_state) reduced_start = condensation.reduce_state(*initial_state);
     PeriodicResponse r = integrate_with_mass(condensation.reduced(), omega, reduced_options,
                                              initial_state ? &reduced_start : nullptr);
-    condensation.expand(r, options);
+    detail::expand(condensation, r, options);
     return r;
 }
 

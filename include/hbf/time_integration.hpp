@@ -34,7 +34,7 @@
 // A cap on events per period guards against chattering (reported, never a hang).
 //
 // Massless DOFs (zero rows of M, e.g. the static boundary of a reduced model) are condensed
-// out exactly before integrating (src/time_integration/massless.hpp): their equations are
+// out exactly before integrating (src/model/massless.hpp): their equations are
 // static, y_S = K_SS^-1 (F_S cos - K_SR y_R - W_S f). A Coulomb contact on them, behind the
 // compliance g = w_S^T K_SS^-1 w_S, is integrated as the Jenkins element it is (k_t = 1 / g;
 // a Jenkins contact's springs add in series). Required, else InvalidInput with the reason: no

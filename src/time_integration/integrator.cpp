@@ -3,10 +3,8 @@
 #include "integrator.hpp"
 
 #include <algorithm>
-#include <stdexcept>
 
 #include "hbf/contact.hpp"
-#include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/friction.hpp"
 
@@ -21,20 +19,14 @@ bool has_internal_state(FrictionLaw law) {
     return contact_law(law).time_state() != TimeState::none;
 }
 bool event_driven(FrictionLaw law) { return contact_law(law).exact_stick(); }
-
-/// CVODE's warnings (positive codes, e.g. t + h == t) are counted, not printed; its errors
-/// come back as return flags, handled where they occur.
-void silent_error_handler(int code, const char* module, const char* function, char* message, void*) {
-    if (code > 0)
-        detail::record_library_message("cvode", std::string(module ? module : "") + " " + (function ? function : "") +
-                                                    ": " + (message ? message : ""));
-}
 }  // namespace
 
 Integrator::Integrator(const System& system, double omega, const TimeIntegrationOptions& options, double scale)
     : system_(system), omega_(omega), drive_(system.excitation_harmonic * omega), period_(2.0 * pi / omega),
       scale_(scale), options_(options), n_(system.dofs()),
-      nc_(static_cast<int>(system.contacts.size())), length_(4 * n_ + nc_ + 3), quad_(2 * n_ + nc_) {
+      nc_(static_cast<int>(system.contacts.size())), length_(4 * n_ + nc_ + 3), quad_(2 * n_ + nc_),
+      cvode_(length_, options.method == IntegrationMethod::adams ? CV_ADAMS : CV_BDF, rhs_callback, this,
+             CvodeSolver::Warnings::record) {
     for (const Contact& c : system.contacts) contacts_.emplace_back(c);
     sparse_ = n_ > options_.dense_newton_max_dofs;
     if (sparse_) {
@@ -53,22 +45,11 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
     load_ = Eigen::VectorXd::Zero(n_);
     ground_stuck_dof_.assign(static_cast<std::size_t>(n_), 0);
 
-    if (SUNContext_Create(nullptr, &context_) != 0) throw std::runtime_error("SUNContext_Create failed");
-    x_ = N_VNew_Serial(length_, context_);
-    dky_ = N_VNew_Serial(length_, context_);
-    if (!x_ || !dky_) throw std::runtime_error("N_VNew_Serial failed");
-    N_VConst(0.0, x_);
-    const bool adams = options_.method == IntegrationMethod::adams;
-    cvode_ = CVodeCreate(adams ? CV_ADAMS : CV_BDF, context_);
-    if (!cvode_) throw std::runtime_error("CVodeCreate failed");
-    throw_on(CVodeInit(cvode_, rhs_callback, 0.0, x_), "CVodeInit");
-    throw_on(CVodeSetErrHandlerFn(cvode_, silent_error_handler, nullptr), "CVodeSetErrHandlerFn");
-    throw_on(CVodeSetUserData(cvode_, this), "CVodeSetUserData");
+    dky_ = cvode_.vector();
     // Absolute tolerances relative to the response's scale s (time_integration.hpp): y and the
     // internal states (lengths) a s, y' a h omega s, the first-harmonic quadratures a s T, the
     // energies a 2 pi h max(|F|, F_c) s (the work of a force of that size over the period).
-    absolute_ = N_VNew_Serial(length_, context_);
-    if (!absolute_) throw std::runtime_error("N_VNew_Serial failed");
+    absolute_ = cvode_.vector();
     {
         const double a = options_.absolute_tolerance * scale_;
         double force = system.excitation.cwiseAbs().maxCoeff();
@@ -84,55 +65,32 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
         for (int i = 0; i < length_; ++i)
             if (!(tol[i] > 0.0) || !std::isfinite(tol[i])) tol[i] = options_.absolute_tolerance;  // F = 0, no scale
     }
-    throw_on(CVodeSVtolerances(cvode_, options_.relative_tolerance, absolute_), "CVodeSVtolerances");
-    if (adams) {
-        nonlinear_ = SUNNonlinSol_FixedPoint(x_, 0, context_);
-        throw_on(CVodeSetNonlinearSolver(cvode_, nonlinear_), "CVodeSetNonlinearSolver");
+    cvode_.check(CVodeSVtolerances(cvode_.memory(), options_.relative_tolerance, absolute_), "CVodeSVtolerances");
+    if (options_.method == IntegrationMethod::adams) {
+        cvode_.fixed_point();
     } else if (sparse_) {
-        linear_ = SUNLinSol_SPGMR(x_, SUN_PREC_LEFT, 20, context_);
-        if (!linear_) throw std::runtime_error("SUNLinSol_SPGMR failed");
-        throw_on(CVodeSetLinearSolver(cvode_, linear_, nullptr), "CVodeSetLinearSolver");
-        throw_on(CVodeSetPreconditioner(cvode_, preconditioner_setup, preconditioner_solve),
-                 "CVodeSetPreconditioner");
-        throw_on(CVodeSetJacTimes(cvode_, nullptr, jacobian_times), "CVodeSetJacTimes");
+        cvode_.gmres_newton(20, preconditioner_setup, preconditioner_solve, jacobian_times);
         newton_matrix_ = system.mass + system.damping + system.stiffness;  // the union pattern
         newton_rhs_.resize(n_);
     } else {
-        matrix_ = SUNDenseMatrix(length_, length_, context_);
-        linear_ = SUNLinSol_Dense(x_, matrix_, context_);
-        throw_on(CVodeSetLinearSolver(cvode_, linear_, matrix_), "CVodeSetLinearSolver");
+        cvode_.dense_newton();
     }
-    throw_on(CVodeSetMaxNumSteps(cvode_, options_.max_steps_per_period), "CVodeSetMaxNumSteps");
+    cvode_.check(CVodeSetMaxNumSteps(cvode_.memory(), options_.max_steps_per_period), "CVodeSetMaxNumSteps");
     for (const Output& o : options_.outputs)
         if (o.single_dof() < 0) combined_outputs_.push_back(&o);
     const int roots = nc_ + n_ + static_cast<int>(combined_outputs_.size());
-    throw_on(CVodeRootInit(cvode_, roots, root_callback), "CVodeRootInit");
+    cvode_.check(CVodeRootInit(cvode_.memory(), roots, root_callback), "CVodeRootInit");
     std::vector<int> direction(static_cast<std::size_t>(roots), 0);
     for (int c = 0; c < nc_; ++c)
         if (event_driven(contacts_[static_cast<std::size_t>(c)].law)) direction[static_cast<std::size_t>(c)] = -1;
-    throw_on(CVodeSetRootDirection(cvode_, direction.data()), "CVodeSetRootDirection");
-    throw_on(CVodeSetNoInactiveRootWarn(cvode_), "CVodeSetNoInactiveRootWarn");
+    cvode_.check(CVodeSetRootDirection(cvode_.memory(), direction.data()), "CVodeSetRootDirection");
+    cvode_.check(CVodeSetNoInactiveRootWarn(cvode_.memory()), "CVodeSetNoInactiveRootWarn");
     rebuild_stuck_set();
-}
-
-Integrator::~Integrator() {
-    if (cvode_) CVodeFree(&cvode_);
-    if (nonlinear_) SUNNonlinSolFree(nonlinear_);
-    if (linear_) SUNLinSolFree(linear_);
-    if (matrix_) SUNMatDestroy(matrix_);
-    if (x_) N_VDestroy(x_);
-    if (dky_) N_VDestroy(dky_);
-    if (absolute_) N_VDestroy(absolute_);
-    if (context_) SUNContext_Free(&context_);
-}
-
-void Integrator::throw_on(int flag, const char* what) const {
-    if (flag < 0) throw std::runtime_error(std::string(what) + " failed: " + CVodeGetReturnFlagName(flag));
 }
 
 long Integrator::rhs_evaluations() const {
     long count = 0;
-    CVodeGetNumRhsEvals(cvode_, &count);
+    CVodeGetNumRhsEvals(cvode_.memory(), &count);
     return rhs_total_ + count;
 }
 
@@ -446,7 +404,7 @@ int Integrator::handle_events(double t, double* x, const std::vector<int>& hits)
 }
 
 void Integrator::load(const Eigen::VectorXd& state) {
-    double* x = N_VGetArrayPointer(x_);
+    double* x = N_VGetArrayPointer(cvode_.state());
     for (int i = 0; i < 2 * n_ + nc_; ++i) x[i] = state(i);
     for (int i = 2 * n_ + nc_; i < length_; ++i) x[i] = 0.0;
     for (int c = 0; c < nc_; ++c) mode_[static_cast<std::size_t>(c)] = static_cast<int>(state(2 * n_ + nc_ + c));
@@ -454,7 +412,7 @@ void Integrator::load(const Eigen::VectorXd& state) {
 }
 
 Eigen::VectorXd Integrator::store() const {
-    const double* x = N_VGetArrayPointer(x_);
+    const double* x = N_VGetArrayPointer(cvode_.state());
     Eigen::VectorXd state(2 * n_ + 2 * nc_);
     for (int i = 0; i < 2 * n_ + nc_; ++i) state(i) = x[i];
     for (int c = 0; c < nc_; ++c) state(2 * n_ + nc_ + c) = mode_[static_cast<std::size_t>(c)];
@@ -463,10 +421,10 @@ Eigen::VectorXd Integrator::store() const {
 
 void Integrator::reinit(double t) {
     long count = 0;
-    CVodeGetNumRhsEvals(cvode_, &count);  // CVodeReInit resets the counters
+    CVodeGetNumRhsEvals(cvode_.memory(), &count);  // CVodeReInit resets the counters
     rhs_total_ += count;
-    throw_on(CVodeReInit(cvode_, t, x_), "CVodeReInit");
-    throw_on(CVodeSetStopTime(cvode_, period_), "CVodeSetStopTime");
+    cvode_.check(CVodeReInit(cvode_.memory(), t, cvode_.state()), "CVodeReInit");
+    cvode_.check(CVodeSetStopTime(cvode_.memory(), period_), "CVodeSetStopTime");
 }
 
 void Integrator::settle_initial(Eigen::VectorXd& state) {
@@ -477,7 +435,7 @@ void Integrator::settle_initial(Eigen::VectorXd& state) {
         if (!has_internal_state(law)) state(2 * n_ + c) = 0.0;
     }
     load(state);
-    double* x = N_VGetArrayPointer(x_);
+    double* x = N_VGetArrayPointer(cvode_.state());
     evaluate(0.0, x);
     std::vector<int> at_rest;
     for (int c = 0; c < nc_; ++c) {
@@ -506,7 +464,7 @@ void Integrator::settle_initial(Eigen::VectorXd& state) {
 PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
     PeriodRecord r;
     load(start);
-    double* x = N_VGetArrayPointer(x_);
+    double* x = N_VGetArrayPointer(cvode_.state());
     double* d = N_VGetArrayPointer(dky_);
     reinit(0.0);
 
@@ -581,7 +539,7 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
     const double v_guard = 1e-6, f_guard = 1e-6;  // safety net for missed roots (relative)
 
     while (true) {
-        const int flag = CVode(cvode_, period_, x_, &t, CV_ONE_STEP);
+        const int flag = CVode(cvode_.memory(), period_, cvode_.state(), &t, CV_ONE_STEP);
         if (flag < 0) {
             r.ok = false;
             r.failure = std::string("CVODE failed at t = ") + format_number(t) + " in the period: " +
@@ -598,7 +556,7 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
         while (next_sample < samples) {
             const double ts = period_ * next_sample / samples;
             if (ts > t) break;
-            throw_on(CVodeGetDky(cvode_, ts, 0, dky_), "CVodeGetDky");
+            cvode_.check(CVodeGetDky(cvode_.memory(), ts, 0, dky_), "CVodeGetDky");
             record_sample(next_sample, ts, d);
             ++next_sample;
         }
@@ -608,7 +566,7 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
 
         std::vector<int> hits;
         if (flag == CV_ROOT_RETURN) {
-            throw_on(CVodeGetRootInfo(cvode_, found.data()), "CVodeGetRootInfo");
+            cvode_.check(CVodeGetRootInfo(cvode_.memory(), found.data()), "CVodeGetRootInfo");
             for (int c = 0; c < nc_; ++c)
                 if (found[static_cast<std::size_t>(c)] != 0 && event_driven(contacts_[static_cast<std::size_t>(c)].law))
                     hits.push_back(c);

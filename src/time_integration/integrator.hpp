@@ -2,14 +2,6 @@
 // model of each law, the events and the state convention). Not installed.
 #pragma once
 
-#include <cvode/cvode.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunlinsol/sunlinsol_spgmr.h>
-#include <sunmatrix/sunmatrix_dense.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
-
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
@@ -18,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cvode/solver.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -77,7 +70,6 @@ class Integrator {
 public:
     /// `scale`: the displacement scale s of the absolute tolerances (TimeIntegrationOptions).
     Integrator(const System& system, double omega, const TimeIntegrationOptions& options, double scale);
-    ~Integrator();
     Integrator(const Integrator&) = delete;
     Integrator& operator=(const Integrator&) = delete;
 
@@ -129,7 +121,6 @@ private:
     void load(const Eigen::VectorXd& state);
     Eigen::VectorXd store() const;
     void reinit(double t);
-    void throw_on(int flag, const char* what) const;
 
     const System& system_;
     const double omega_, drive_, period_;  // drive_: the force's frequency h omega
@@ -158,12 +149,8 @@ private:
     // scratch of evaluate()
     Eigen::VectorXd f_, zdot_, acc_, load_, lambda_, velocity_c_;
 
-    SUNContext context_ = nullptr;
-    N_Vector x_ = nullptr, dky_ = nullptr, absolute_ = nullptr;
-    SUNMatrix matrix_ = nullptr;
-    SUNLinearSolver linear_ = nullptr;
-    SUNNonlinearSolver nonlinear_ = nullptr;
-    void* cvode_ = nullptr;
+    CvodeSolver cvode_;                  // its state, solvers and the vectors below
+    N_Vector dky_ = nullptr, absolute_ = nullptr;
     long steps_ = 0;
     long rhs_total_ = 0;  // right-hand side evaluations before the last CVodeReInit
     double margin_at_event_ = std::numeric_limits<double>::quiet_NaN();

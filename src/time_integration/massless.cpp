@@ -1,151 +1,25 @@
-// Exact static condensation of massless DOFs for time integration (massless.hpp).
+// hbfriction — time integration of models with massless DOFs (massless.hpp).
 #include "massless.hpp"
 
 #include <cmath>
 #include <complex>
-#include <string>
-
-#include "hbf/error.hpp"
+#include <vector>
 
 namespace hbf::detail {
 
 namespace {
-
 constexpr double pi = 3.14159265358979323846;
-
-/// The rows `rows` and columns `cols` of a sparse matrix (dense: the blocks are small or thin).
-Eigen::MatrixXd block(const SparseMatrix& a, const std::vector<int>& rows, const std::vector<int>& cols,
-                      const std::vector<int>& position, const std::vector<bool>& in_rows,
-                      const std::vector<bool>& in_cols) {
-    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(cols.size()));
-    for (int j = 0; j < a.outerSize(); ++j)
-        for (SparseMatrix::InnerIterator it(a, j); it; ++it) {
-            const auto r = static_cast<std::size_t>(it.row()), c = static_cast<std::size_t>(it.col());
-            if (in_rows[r] && in_cols[c]) out(position[r], position[c]) += it.value();
-        }
-    return out;
-}
-
-/// The rows and columns in `set` of a sparse matrix, kept sparse.
-SparseMatrix sparse_block(const SparseMatrix& a, const std::vector<int>& set, const std::vector<int>& position,
-                          const std::vector<bool>& in_set) {
-    std::vector<Eigen::Triplet<double>> entries;
-    for (int j = 0; j < a.outerSize(); ++j)
-        for (SparseMatrix::InnerIterator it(a, j); it; ++it) {
-            const auto r = static_cast<std::size_t>(it.row()), c = static_cast<std::size_t>(it.col());
-            if (in_set[r] && in_set[c]) entries.emplace_back(position[r], position[c], it.value());
-        }
-    const auto n = static_cast<Eigen::Index>(set.size());
-    SparseMatrix out(n, n);
-    out.setFromTriplets(entries.begin(), entries.end());
-    return out;
-}
-
 }  // namespace
 
-MasslessCondensation::MasslessCondensation(const System& system) : system_(system) {
-    const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
-    const Eigen::VectorXd diagonal = system.mass.diagonal();
-    std::vector<bool> is_massless(static_cast<std::size_t>(n)), is_massive(static_cast<std::size_t>(n));
-    position_.assign(static_cast<std::size_t>(n), -1);
-    for (int i = 0; i < n; ++i) {
-        const bool zero = diagonal(i) == 0.0;
-        is_massless[static_cast<std::size_t>(i)] = zero;
-        is_massive[static_cast<std::size_t>(i)] = !zero;
-        auto& set = zero ? massless_ : massive_;
-        position_[static_cast<std::size_t>(i)] = static_cast<int>(set.size());
-        set.push_back(i);
-    }
-    const std::string why = "time integration of a singular mass matrix: ";
-    if (massive_.empty()) throw InvalidInput(why + "every DOF is massless (allowed: at least one DOF with mass)");
-    // C must vanish on massless DOFs (their equations are static).
-    for (int j = 0; j < system.damping.outerSize(); ++j)
-        for (SparseMatrix::InnerIterator it(system.damping, j); it; ++it)
-            if (it.value() != 0.0 && (is_massless[static_cast<std::size_t>(it.row())] ||
-                                      is_massless[static_cast<std::size_t>(it.col())]))
-                throw InvalidInput(why + "massless DOF " + std::to_string((is_massless[static_cast<std::size_t>(it.row())] ? it.row() : it.col()) + 1) +
-                                   " has damping (allowed: C zero in the rows and columns of massless DOFs, "
-                                   "whose equations are then static)");
-    reduced_.mass = sparse_block(system.mass, massive_, position_, is_massive);
-    reduced_.damping = sparse_block(system.damping, massive_, position_, is_massive);
-    {
-        System check;
-        check.mass = reduced_.mass;
-        if (!check.has_positive_definite_mass())
-            throw InvalidInput(why + "M is singular other than by massless DOFs (zero rows): allowed a positive "
-                               "definite M once the zero rows are removed");
-    }
-    // K_SS, K_SR and the condensed stiffness.
-    const Eigen::MatrixXd k_ss = block(system.stiffness, massless_, massless_, position_, is_massless, is_massless);
-    const Eigen::MatrixXd k_sr = block(system.stiffness, massless_, massive_, position_, is_massless, is_massive);
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(k_ss);
-    if (!lu.isInvertible() || !(std::abs(lu.determinant()) > 0.0))
-        throw InvalidInput(why + "the stiffness among the massless DOFs (K_SS) is singular: a massless DOF is not "
-                           "held by springs (allowed: K_SS invertible)");
-    x_ = lu.solve(k_sr);
-    Eigen::MatrixXd correction = k_sr.transpose() * x_;  // K_RS K_SS^-1 K_SR
-    reduced_.stiffness = sparse_block(system.stiffness, massive_, position_, is_massive);
-    reduced_.stiffness -= correction.sparseView(0.0, 0.0);
-    Eigen::VectorXd f_s(static_cast<Eigen::Index>(massless_.size())), f_r(static_cast<Eigen::Index>(massive_.size()));
-    for (int i = 0; i < n; ++i)
-        (is_massless[static_cast<std::size_t>(i)] ? f_s : f_r)(position_[static_cast<std::size_t>(i)]) = system.excitation(i);
-    g_f_ = lu.solve(f_s);
-    reduced_.excitation = f_r - k_sr.transpose() * g_f_;
-    reduced_.excitation_harmonic = system.excitation_harmonic;
-    // Contacts.
-    g_w_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(massless_.size()), nc);
-    converted_.assign(static_cast<std::size_t>(nc), false);
-    std::vector<double> compliance(static_cast<std::size_t>(nc), 0.0);
-    for (int c = 0; c < nc; ++c) {
-        const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
-        const Eigen::VectorXd w = system.contact_direction(contact);
-        Eigen::VectorXd w_s(static_cast<Eigen::Index>(massless_.size())), w_r(static_cast<Eigen::Index>(massive_.size()));
-        for (int i = 0; i < n; ++i)
-            (is_massless[static_cast<std::size_t>(i)] ? w_s : w_r)(position_[static_cast<std::size_t>(i)]) = w(i);
-        Contact reduced = contact;
-        const std::string name = "contact " + std::to_string(c + 1) + " (" + to_string(contact.law) + ")";
-        if (w_s.cwiseAbs().maxCoeff() > 0.0) {
-            if (contact.law != FrictionLaw::coulomb && contact.law != FrictionLaw::jenkins)
-                throw InvalidInput(why + name + " moves massless DOFs: allowed there coulomb and jenkins (a " +
-                                   "spring in series with them is a Jenkins element); give the DOF a mass");
-            if (f_s.cwiseAbs().maxCoeff() > 0.0)
-                throw InvalidInput(why + name + " moves massless DOFs that are also excited: allowed the "
-                                   "excitation on massive DOFs only in that case");
-            g_w_.col(c) = lu.solve(w_s);
-            const double g = w_s.dot(g_w_.col(c));
-            if (!(g > 0.0))
-                throw InvalidInput(why + name + ": the massless DOFs it moves have no compliance along it");
-            compliance[static_cast<std::size_t>(c)] = g;
-            for (int other = 0; other < c; ++other)
-                if (converted_[static_cast<std::size_t>(other)] &&
-                    std::abs(w_s.dot(g_w_.col(other))) > 1e-12 * std::sqrt(g * compliance[static_cast<std::size_t>(other)]))
-                    throw InvalidInput(why + name + " and contact " + std::to_string(other + 1) +
-                                       " are coupled through the massless DOFs: allowed at most one such contact "
-                                       "per group of connected massless DOFs");
-            reduced.law = FrictionLaw::jenkins;
-            reduced.stiffness = contact.law == FrictionLaw::coulomb ? 1.0 / g : 1.0 / (1.0 / contact.stiffness + g);
-            reduced.lagrangian_penalty = 0.0;
-            w_r -= k_sr.transpose() * g_w_.col(c);
-            if (!(w_r.cwiseAbs().maxCoeff() > 0.0))
-                throw InvalidInput(why + name + " moves massless DOFs that no massive DOF feels: allowed a contact "
-                                   "whose force reaches a DOF with mass");
-            converted_[static_cast<std::size_t>(c)] = true;
-        }
-        reduced.direction = w_r;
-        reduced_.contacts.push_back(reduced);
-    }
-    reduced_.validate();
-}
-
-TimeIntegrationOptions MasslessCondensation::reduced_options(const TimeIntegrationOptions& options) const {
+TimeIntegrationOptions reduced_options(const MasslessCondensation& condensation, const TimeIntegrationOptions& options) {
     TimeIntegrationOptions out = options;
     out.outputs.clear();
     for (const Output& o : options.outputs) {
         std::vector<Output::Term> terms;
         bool massive = true;
         for (const auto& [i, c] : o.terms()) {
-            const int p = position_[static_cast<std::size_t>(i)];
-            if (system_.mass.coeff(i, i) == 0.0) massive = false;
+            const int p = condensation.position(i);
+            if (condensation.massless(i)) massive = false;
             terms.emplace_back(p, c);
         }
         if (massive) out.outputs.emplace_back(o.name(), terms);
@@ -153,46 +27,11 @@ TimeIntegrationOptions MasslessCondensation::reduced_options(const TimeIntegrati
     return out;
 }
 
-Eigen::VectorXd MasslessCondensation::reduce_state(const Eigen::VectorXd& state) const {
-    const int n = system_.dofs(), nr = static_cast<int>(massive_.size()), nc = static_cast<int>(converted_.size());
-    Eigen::VectorXd out(2 * nr + 2 * nc);
-    for (int k = 0; k < nr; ++k) {
-        out(k) = state(massive_[static_cast<std::size_t>(k)]);
-        out(nr + k) = state(n + massive_[static_cast<std::size_t>(k)]);
-    }
-    for (int c = 0; c < nc; ++c) {
-        double internal = state(2 * n + c);
-        // A Coulomb contact's slider is its own relative displacement q = w^T y.
-        if (converted_[static_cast<std::size_t>(c)] && system_.contacts[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb)
-            internal = system_.contact_direction(system_.contacts[static_cast<std::size_t>(c)]).dot(state.head(n));
-        out(2 * nr + c) = internal;
-        out(2 * nr + nc + c) = state(2 * n + nc + c);
-    }
-    return out;
-}
-
-MasslessCondensation::MasslessMap MasslessCondensation::massless_map() const {
-    MasslessMap m;
-    m.load = g_f_;
-    m.from_massive = -x_;
-    m.from_sliders = Eigen::MatrixXd::Zero(g_w_.rows(), g_w_.cols());
-    for (int c = 0; c < static_cast<int>(converted_.size()); ++c) {
-        if (!converted_[static_cast<std::size_t>(c)]) continue;
-        const Contact& k = reduced_.contacts[static_cast<std::size_t>(c)];
-        m.from_massive -= k.stiffness * g_w_.col(c) * k.direction.transpose();
-        m.from_sliders.col(c) = k.stiffness * g_w_.col(c);
-    }
-    return m;
-}
-
-Eigen::VectorXd MasslessCondensation::massless_displacement(const Eigen::VectorXd& y_r, const Eigen::VectorXd& f,
-                                                            double cosine) const {
-    return g_f_ * cosine - x_ * y_r - g_w_ * f;
-}
-
-void MasslessCondensation::expand(PeriodicResponse& r, const TimeIntegrationOptions& options) const {
-    const int n = system_.dofs(), nr = static_cast<int>(massive_.size()), nc = static_cast<int>(converted_.size());
-    const auto ns = static_cast<Eigen::Index>(massless_.size());
+void expand(const MasslessCondensation& condensation, PeriodicResponse& r, const TimeIntegrationOptions& options) {
+    const System &system = condensation.original(), &reduced = condensation.reduced();
+    const std::vector<int> &massive_dofs = condensation.massive_dofs(), &massless_dofs = condensation.massless_dofs();
+    const int n = system.dofs(), nr = static_cast<int>(massive_dofs.size()), nc = static_cast<int>(system.contacts.size());
+    const auto ns = static_cast<Eigen::Index>(massless_dofs.size());
     const double omega = r.omega;
     const Eigen::Index samples = r.time.size();
     // Friction forces of the reduced contacts at a reduced state (the converted ones are
@@ -200,8 +39,8 @@ void MasslessCondensation::expand(PeriodicResponse& r, const TimeIntegrationOpti
     auto forces_at = [&](const Eigen::VectorXd& reduced_state) {
         Eigen::VectorXd f = Eigen::VectorXd::Zero(nc);
         for (int c = 0; c < nc; ++c) {
-            if (!converted_[static_cast<std::size_t>(c)]) continue;
-            const Contact& k = reduced_.contacts[static_cast<std::size_t>(c)];
+            if (!condensation.converted(c)) continue;
+            const Contact& k = reduced.contacts[static_cast<std::size_t>(c)];
             f(c) = k.stiffness * (k.direction.dot(reduced_state.head(nr)) - reduced_state(2 * nr + c));
         }
         return f;
@@ -212,16 +51,16 @@ void MasslessCondensation::expand(PeriodicResponse& r, const TimeIntegrationOpti
     for (Eigen::Index j = 0; j < samples; ++j) {
         const Eigen::VectorXd y_r = r.displacement.row(j).transpose();
         const Eigen::VectorXd f = r.friction_force.row(j).transpose();
-        massless.row(j) =
-            massless_displacement(y_r, f, std::cos(system_.excitation_harmonic * omega * r.time(j))).transpose();
+        massless.row(j) = condensation.massless_displacement(y_r, f, std::cos(system.excitation_harmonic * omega * r.time(j)))
+                              .transpose();
     }
     for (int k = 0; k < nr; ++k) {
-        displacement.col(massive_[static_cast<std::size_t>(k)]) = r.displacement.col(k);
-        velocity.col(massive_[static_cast<std::size_t>(k)]) = r.velocity.col(k);
+        displacement.col(massive_dofs[static_cast<std::size_t>(k)]) = r.displacement.col(k);
+        velocity.col(massive_dofs[static_cast<std::size_t>(k)]) = r.velocity.col(k);
     }
     const double dt = 2.0 * pi / omega / static_cast<double>(std::max<Eigen::Index>(samples, 1));
     for (Eigen::Index k = 0; k < ns; ++k) {
-        const int i = massless_[static_cast<std::size_t>(k)];
+        const int i = massless_dofs[static_cast<std::size_t>(k)];
         displacement.col(i) = massless.col(k);
         for (Eigen::Index j = 0; j < samples; ++j)  // periodic central difference
             velocity(j, i) = (massless((j + 1) % samples, k) - massless((j + samples - 1) % samples, k)) / (2.0 * dt);
@@ -233,16 +72,13 @@ void MasslessCondensation::expand(PeriodicResponse& r, const TimeIntegrationOpti
         f1 += (2.0 / static_cast<double>(samples)) * phase * r.friction_force.row(j).transpose().cast<std::complex<double>>();
     }
     Eigen::VectorXcd harmonic1(n);
-    for (int k = 0; k < nr; ++k) harmonic1(massive_[static_cast<std::size_t>(k)]) = r.harmonic1(k);
-    // (the load's part g_f cos(h w t) is on harmonic h)
-    const Eigen::VectorXcd h1_s =
-        (system_.excitation_harmonic == 1 ? g_f_ : Eigen::VectorXd::Zero(ns)).cast<std::complex<double>>() -
-        x_.cast<std::complex<double>>() * r.harmonic1 - g_w_.cast<std::complex<double>>() * f1;
-    for (Eigen::Index k = 0; k < ns; ++k) harmonic1(massless_[static_cast<std::size_t>(k)]) = h1_s(k);
+    for (int k = 0; k < nr; ++k) harmonic1(massive_dofs[static_cast<std::size_t>(k)]) = r.harmonic1(k);
+    const Eigen::VectorXcd h1_s = condensation.massless_harmonic(r.harmonic1, f1);
+    for (Eigen::Index k = 0; k < ns; ++k) harmonic1(massless_dofs[static_cast<std::size_t>(k)]) = h1_s(k);
     std::vector<double> y_max(static_cast<std::size_t>(n)), y_amp1(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) {
-        const int p = position_[static_cast<std::size_t>(i)];
-        y_max[static_cast<std::size_t>(i)] = system_.mass.coeff(i, i) != 0.0
+        const int p = condensation.position(i);
+        y_max[static_cast<std::size_t>(i)] = !condensation.massless(i)
                                                  ? r.y_max[static_cast<std::size_t>(p)]
                                                  : displacement.col(i).cwiseAbs().maxCoeff();
         y_amp1[static_cast<std::size_t>(i)] = std::abs(harmonic1(i));
@@ -254,7 +90,7 @@ void MasslessCondensation::expand(PeriodicResponse& r, const TimeIntegrationOpti
         bool massive = true;
         std::complex<double> h = 0.0;
         for (const auto& [i, c] : o.terms()) {
-            if (system_.mass.coeff(i, i) == 0.0) massive = false;
+            if (condensation.massless(i)) massive = false;
             h += c * harmonic1(i);
         }
         output_amp1.push_back(std::abs(h));
@@ -268,18 +104,19 @@ void MasslessCondensation::expand(PeriodicResponse& r, const TimeIntegrationOpti
     const Eigen::VectorXd reduced_state = r.state;
     Eigen::VectorXd state = Eigen::VectorXd::Zero(2 * n + 2 * nc);
     if (reduced_state.size() == 2 * nr + 2 * nc) {
-        const Eigen::VectorXd y_s = massless_displacement(reduced_state.head(nr), forces_at(reduced_state), 1.0);
+        const Eigen::VectorXd y_s =
+            condensation.massless_displacement(reduced_state.head(nr), forces_at(reduced_state), 1.0);
         for (int k = 0; k < nr; ++k) {
-            state(massive_[static_cast<std::size_t>(k)]) = reduced_state(k);
-            state(n + massive_[static_cast<std::size_t>(k)]) = reduced_state(nr + k);
+            state(massive_dofs[static_cast<std::size_t>(k)]) = reduced_state(k);
+            state(n + massive_dofs[static_cast<std::size_t>(k)]) = reduced_state(nr + k);
         }
         for (Eigen::Index k = 0; k < ns; ++k) {
-            state(massless_[static_cast<std::size_t>(k)]) = y_s(k);
-            state(n + massless_[static_cast<std::size_t>(k)]) = samples > 0 ? velocity(0, massless_[static_cast<std::size_t>(k)]) : 0.0;
+            state(massless_dofs[static_cast<std::size_t>(k)]) = y_s(k);
+            state(n + massless_dofs[static_cast<std::size_t>(k)]) = samples > 0 ? velocity(0, massless_dofs[static_cast<std::size_t>(k)]) : 0.0;
         }
         for (int c = 0; c < nc; ++c) {
-            const bool coulomb = system_.contacts[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb;
-            state(2 * n + c) = converted_[static_cast<std::size_t>(c)] && coulomb ? 0.0 : reduced_state(2 * nr + c);
+            const bool coulomb = system.contacts[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb;
+            state(2 * n + c) = condensation.converted(c) && coulomb ? 0.0 : reduced_state(2 * nr + c);
             state(2 * n + nc + c) = reduced_state(2 * nr + nc + c);
         }
     }

@@ -1,0 +1,287 @@
+// hbfriction — the flow engine of the event-exact solver (engine.hpp), and exact_flow.
+#include "engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "hbf/error.hpp"
+#include "polynomial.hpp"
+#include "validation.hpp"
+
+namespace hbf::detail::exact {
+
+namespace {
+int sign_of(double x) { return x > 0.0 ? 1 : (x < 0.0 ? -1 : 0); }
+}  // namespace
+
+Engine::Engine(const System& system, double omega) : system_(system), omega_(omega), period_(2.0 * pi / omega) {
+    n_dofs_ = system.dofs();
+    n_contacts_ = static_cast<int>(system.contacts.size());
+    nz_ = 2 * n_dofs_ + n_contacts_;
+    n_ = nz_ + 3;
+    mass_inverse_ = Eigen::MatrixXd(system.mass).llt().solve(Eigen::MatrixXd::Identity(n_dofs_, n_dofs_));
+    for (const Contact& c : system.contacts) directions_.push_back(system.contact_direction(c));
+}
+
+const ModeData& Engine::mode(const Modes& modes) {
+    auto it = cache_.find(modes);
+    if (it != cache_.end()) return it->second;
+    return cache_.emplace(modes, build(modes)).first->second;
+}
+
+Modes Engine::settle(const Eigen::VectorXd& zhat, Modes modes, int trigger) {
+    const int c = trigger;
+    if (modes[static_cast<std::size_t>(c)] != 0) {
+        modes[static_cast<std::size_t>(c)] = 0;  // slip reached v = 0: try stick
+    } else {
+        const double f = mode(modes).force.row(c).dot(zhat);
+        modes[static_cast<std::size_t>(c)] = f >= 0.0 ? 1 : -1;
+    }
+    return release_overloaded(zhat, modes);
+}
+
+Modes Engine::release_overloaded(const Eigen::VectorXd& zhat, Modes modes) {
+    for (int round = 0; round <= n_contacts_; ++round) {
+        const ModeData& m = mode(modes);
+        int worst = -1;
+        double overload = 1.0 + 1e-12;
+        for (int c = 0; c < n_contacts_; ++c) {
+            if (!coulomb(c) || modes[static_cast<std::size_t>(c)] != 0) continue;
+            const double ratio = std::abs(m.force.row(c).dot(zhat)) / contact(c).friction_limit;
+            if (ratio > overload) {
+                overload = ratio;
+                worst = c;
+            }
+        }
+        if (worst < 0) break;
+        modes[static_cast<std::size_t>(worst)] = m.force.row(worst).dot(zhat) >= 0.0 ? 1 : -1;
+    }
+    return modes;
+}
+
+Modes Engine::initial_modes(Eigen::VectorXd& zhat, const Modes& hints) {
+    Modes modes(static_cast<std::size_t>(n_contacts_), 0);
+    const double v_scale = 1.0 + zhat.segment(n_dofs_, n_dofs_).cwiseAbs().maxCoeff();
+    for (int c = 0; c < n_contacts_; ++c) {
+        const Contact& k = contact(c);
+        const int hint = hints.empty() ? 0 : hints[static_cast<std::size_t>(c)];
+        const double v = velocity(c, zhat);
+        if (k.law == FrictionLaw::coulomb) {
+            modes[static_cast<std::size_t>(c)] = (hint == 0 && std::abs(v) <= 1e-10 * v_scale) ? 0 : sign_of(v);
+            if (modes[static_cast<std::size_t>(c)] == 0 && hint != 0 && v == 0.0) modes[static_cast<std::size_t>(c)] = hint;
+        } else {
+            const int s_index = 2 * n_dofs_ + c;
+            const double q = relative(c, zhat);
+            const double f = k.stiffness * (q - zhat(s_index));
+            if (std::abs(f) >= k.friction_limit * (1.0 - 1e-12)) {
+                const int dir = sign_of(f);
+                zhat(s_index) = q - dir * k.friction_limit / k.stiffness;
+                modes[static_cast<std::size_t>(c)] = (v * dir > 0.0 || (v == 0.0 && hint == dir)) ? dir : 0;
+            }
+        }
+    }
+    return release_overloaded(zhat, modes);
+}
+
+Engine::Flow Engine::flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy,
+                          bool record, int max_events) {
+    Flow out;
+    if (monodromy) out.psi = Eigen::MatrixXd::Identity(n_, n_);
+    double t = t0;
+    const double t_end = t0 + duration;
+    int events = 0;
+    Eigen::MatrixXd buffer;
+    Eigen::RowVectorXd coefficients;
+    while (t < t_end) {
+        const ModeData& m = mode(modes);
+        const double remaining = t_end - t;
+        const bool last = remaining <= m.h * (1.0 + 1e-12);
+        const double s_end = last ? remaining / m.h : 1.0;
+        const Eigen::Index used = step_polynomial(m.a, zhat, m.h, buffer);
+        const auto u = buffer.leftCols(used);
+        double best = std::numeric_limits<double>::infinity();
+        const Guard* trigger = nullptr;
+        for (const Guard& g : m.guards) {
+            coefficients.noalias() = g.row * u;
+            const double eta = 1e-12 * (g.row.cwiseAbs().array() * zhat.transpose().cwiseAbs().array()).sum();
+            const double s = first_root(coefficients, s_end, eta);
+            if (s >= 0.0 && s < best) {
+                best = s;
+                trigger = &g;
+            }
+        }
+        if (!trigger) {
+            if (record) out.steps.push_back({t, m.h, s_end, modes, u});
+            const Eigen::VectorXd next = evaluate(u, s_end);
+            if (monodromy) out.psi = (s_end == 1.0 ? m.step_exp : taylor_exp(m.a, s_end * m.h)) * out.psi;
+            zhat = next;
+            t = last ? t_end : t + m.h;
+            continue;
+        }
+        if (record) out.steps.push_back({t, m.h, best, modes, u});
+        zhat = evaluate(u, best);
+        if (monodromy) out.psi = taylor_exp(m.a, best * m.h) * out.psi;
+        t = std::min(t + best * m.h, t_end);
+        const Modes next = settle(zhat, modes, trigger->contact);
+        if (monodromy) {
+            const Eigen::MatrixXd& a_after = mode(next).a;
+            const ModeData& before = mode(modes);  // the cache may have grown: look up again
+            const Eigen::VectorXd f_minus = before.a * zhat, f_plus = a_after * zhat;
+            const Eigen::RowVectorXd row = before.guards[static_cast<std::size_t>(trigger - m.guards.data())].row;
+            const double denominator = row.dot(f_minus);
+            const double scale = (row.cwiseAbs().array() * f_minus.transpose().cwiseAbs().array()).sum();
+            if (std::abs(denominator) > 1e-10 * scale && scale > 0.0) {
+                out.psi = (Eigen::MatrixXd::Identity(n_, n_) + (f_plus - f_minus) * row / denominator) * out.psi;
+            } else {
+                out.grazing = true;
+            }
+        }
+        for (int c = 0; c < n_contacts_; ++c)
+            if (next[static_cast<std::size_t>(c)] != modes[static_cast<std::size_t>(c)]) {
+                out.events.push_back({t, c, modes[static_cast<std::size_t>(c)], next[static_cast<std::size_t>(c)]});
+                out.event_states.push_back(zhat);
+            }
+        modes = next;
+        if (++events > max_events) {
+            out.ok = false;
+            out.message = "more than " + std::to_string(max_events) + " contact events in one period at t = " +
+                          format_number(t) + " (chattering)";
+            break;
+        }
+    }
+    out.zhat = zhat;
+    out.modes = modes;
+    return out;
+}
+
+ModeData Engine::build(const Modes& modes) const {
+    const int n = n_, nd = n_dofs_;
+    ModeData m;
+    m.force = Eigen::MatrixXd::Zero(n_contacts_, n);
+    std::vector<int> stuck;
+    for (int c = 0; c < n_contacts_; ++c) {
+        const Contact& k = contact(c);
+        const int mode = modes[static_cast<std::size_t>(c)];
+        if (mode != 0) {
+            m.force(c, one_index()) = mode * k.friction_limit;
+        } else if (k.law == FrictionLaw::jenkins) {
+            m.force.row(c).head(nd) = k.stiffness * direction(c).transpose();
+            m.force(c, 2 * nd + c) = -k.stiffness;
+        } else {
+            stuck.push_back(c);
+        }
+    }
+    // Acceleration without the stuck Coulomb contacts' forces: M^-1 (F cos - C y' - K y - sum w f).
+    Eigen::MatrixXd base = Eigen::MatrixXd::Zero(nd, n);
+    base.col(cos_index()) = system_.excitation;
+    base.leftCols(nd) = -Eigen::MatrixXd(system_.stiffness);
+    base.middleCols(nd, nd) = -Eigen::MatrixXd(system_.damping);
+    for (int c = 0; c < n_contacts_; ++c)
+        if (std::find(stuck.begin(), stuck.end(), c) == stuck.end()) base -= direction(c) * m.force.row(c);
+    Eigen::MatrixXd acceleration = mass_inverse_ * base;
+    if (!stuck.empty()) {
+        const int s = static_cast<int>(stuck.size());
+        Eigen::MatrixXd w(nd, s);
+        for (int j = 0; j < s; ++j) w.col(j) = direction(stuck[static_cast<std::size_t>(j)]);
+        const Eigen::MatrixXd g = w.transpose() * mass_inverse_ * w;
+        const Eigen::MatrixXd lambda =
+            g.completeOrthogonalDecomposition().pseudoInverse() * (w.transpose() * acceleration);
+        acceleration -= mass_inverse_ * w * lambda;
+        for (int j = 0; j < s; ++j) m.force.row(stuck[static_cast<std::size_t>(j)]) = lambda.row(j);
+    }
+    m.a = Eigen::MatrixXd::Zero(n, n);
+    m.a.block(0, nd, nd, nd).setIdentity();
+    m.a.middleRows(nd, nd) = acceleration;
+    for (int c = 0; c < n_contacts_; ++c)
+        if (contact(c).law == FrictionLaw::jenkins && modes[static_cast<std::size_t>(c)] != 0)
+            m.a.row(2 * nd + c).segment(nd, nd) = direction(c).transpose();
+    m.a(cos_index(), sin_index()) = -omega_;
+    m.a(sin_index(), cos_index()) = omega_;
+    for (int c = 0; c < n_contacts_; ++c) {
+        const int mode = modes[static_cast<std::size_t>(c)];
+        const double limit = contact(c).friction_limit;
+        if (mode != 0) {
+            Guard g{c, Eigen::RowVectorXd::Zero(n)};
+            g.row.segment(nd, nd) = mode * direction(c).transpose();
+            m.guards.push_back(g);
+        } else {
+            for (int sign : {1, -1}) {
+                Guard g{c, -sign * m.force.row(c)};
+                g.row(one_index()) += limit;
+                m.guards.push_back(g);
+            }
+        }
+    }
+    // Step: short against the fastest mode of the pattern (|lambda| h <= 1) and T / 48.
+    const Eigen::MatrixXd az = m.a.topLeftCorner(nz_, nz_);
+    double rho = omega_;
+    if (nz_ > 0) {
+        Eigen::EigenSolver<Eigen::MatrixXd> eigen(az, false);
+        if (eigen.info() == Eigen::Success) rho = std::max(rho, eigen.eigenvalues().cwiseAbs().maxCoeff());
+        else rho = std::max(rho, az.cwiseAbs().rowwise().sum().maxCoeff());
+    }
+    m.h = std::min(period_ / 24.0, 1.0 / rho);
+    m.step_exp = taylor_exp(m.a, m.h);
+    return m;
+}
+
+const Step& step_at(const std::vector<Step>& steps, double t) {
+    std::size_t k = 0;
+    while (k + 1 < steps.size() && steps[k + 1].t0 <= t) ++k;
+    return steps[k];
+}
+Eigen::VectorXd state_at(const std::vector<Step>& steps, double t) {
+    const Step& s = step_at(steps, t);
+    return evaluate(s.u, std::min(std::max((t - s.t0) / s.h, 0.0), s.s_end));
+}
+
+Eigen::VectorXd full_state(const Engine& e, const Eigen::VectorXd& zhat, const Modes& modes) {
+    Eigen::VectorXd state(e.nz() + e.contacts());
+    state.head(e.nz()) = zhat.head(e.nz());
+    for (int c = 0; c < e.contacts(); ++c) {
+        if (e.coulomb(c)) state(2 * e.dofs() + c) = 0.0;
+        state(e.nz() + c) = modes[static_cast<std::size_t>(c)];
+    }
+    return state;
+}
+
+}  // namespace hbf::detail::exact
+
+namespace hbf {
+
+ExactFlow exact_flow(const System& system, double omega, const Eigen::VectorXd& state, int periods,
+                     int max_events_per_period) {
+    using namespace detail::exact;
+    if (validate_system(system, omega))
+        throw InvalidInput("the mass matrix is singular (massless DOFs): exact_flow integrates M y'' = ... and needs M "
+                           "positive definite (exact_periodic_orbit condenses massless DOFs)");
+    check_state_size(system, state);
+    if (periods < 1) throw InvalidInput("periods = " + std::to_string(periods) + " is out of range: allowed >= 1");
+    Engine e(system, omega);
+    Eigen::VectorXd zhat = e.augment(state.head(e.nz()), 0.0);
+    Modes hints(static_cast<std::size_t>(e.contacts()));
+    for (int c = 0; c < e.contacts(); ++c) hints[static_cast<std::size_t>(c)] = static_cast<int>(std::lround(state(e.nz() + c)));
+    Modes modes = e.initial_modes(zhat, hints);
+    ExactFlow out;
+    for (int p = 0; p < periods; ++p) {
+        zhat(e.cos_index()) = 1.0;  // exact phase at every period start
+        zhat(e.sin_index()) = 0.0;
+        Engine::Flow f = e.flow(zhat, modes, 0.0, e.period(), p + 1 == periods, false, max_events_per_period);
+        if (!f.ok) {
+            out.ok = false;
+            out.message = f.message;
+        }
+        zhat = f.zhat;
+        modes = f.modes;
+        if (p + 1 == periods) {
+            out.monodromy = f.psi.topLeftCorner(e.nz(), e.nz());
+            for (ExactEvent ev : f.events) out.events.push_back(ev);
+        }
+        if (!f.ok) break;
+    }
+    out.state = full_state(e, zhat, modes);
+    return out;
+}
+
+}  // namespace hbf

@@ -1,0 +1,181 @@
+// hbfriction — the metrics of an exact orbit from one recorded period (metrics.hpp).
+#include "metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <sstream>
+
+#include "hbf/error.hpp"
+#include "polynomial.hpp"
+
+namespace hbf::detail::exact {
+
+Eigen::VectorXd mean_forces(Engine& e, const Engine::Flow& flow) {
+    Eigen::VectorXd mean = Eigen::VectorXd::Zero(e.contacts());
+    for (const Step& st : flow.steps) {
+        const double length = st.s_end * st.h;
+        if (length <= 0.0) continue;
+        const ModeData& m = e.mode(st.modes);
+        for (const auto& [node, weight] : gauss_legendre())
+            mean += weight * length * (m.force * evaluate(st.u, node * st.s_end));
+    }
+    return mean / e.period();
+}
+
+void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out,
+                  Probes* probes) {
+    const int nd = e.dofs(), nc = e.contacts();
+    const double period = e.period();
+    const auto& rule = gauss_legendre();
+    out.y_max.assign(static_cast<std::size_t>(nd), 0.0);
+    const std::vector<Output>& outputs = options.outputs;
+    out.output_max.assign(outputs.size(), 0.0);
+    // First harmonics of the whole zhat (cos and sin are states of zhat, so probes on them too).
+    Eigen::VectorXd c1z = Eigen::VectorXd::Zero(e.n()), s1z = Eigen::VectorXd::Zero(e.n());
+    const Eigen::Index n_probes = probes ? probes->rows.rows() : 0;
+    if (probes) probes->max.assign(static_cast<std::size_t>(n_probes), 0.0);
+    double stick_time = 0.0;
+    out.energy = 0.0;
+    double margin_min = std::numeric_limits<double>::infinity(), margin_max = -margin_min;
+    auto margin = [&](const Modes& modes, const Eigen::VectorXd& z) {
+        const double value = std::abs(e.mode(modes).force.row(0).dot(z)) / e.contact(0).friction_limit - 1.0;
+        margin_min = std::min(margin_min, value);
+        margin_max = std::max(margin_max, value);
+    };
+    for (std::size_t k = 0; k < flow.events.size() && nc > 0; ++k) {
+        const ExactEvent& ev = flow.events[k];
+        if (ev.contact != 0 || ev.mode_before == 0 || !e.coulomb(0)) continue;
+        Modes trial = step_at(flow.steps, ev.time).modes;  // the force that would hold it
+        trial[0] = 0;
+        margin(trial, flow.event_states[k]);
+    }
+    for (const Step& st : flow.steps) {
+        const double length = st.s_end * st.h;
+        if (length <= 0.0) continue;
+        if (nc > 0 && (st.modes[0] == 0 || !e.coulomb(0)))
+            for (int j = 0; j <= 16; ++j) margin(st.modes, evaluate(st.u, st.s_end * j / 16));
+        // Turning points of every DOF and output: roots of y_i' (its polynomial), from 16
+        // samples.
+        auto turning_points = [&st](const Eigen::RowVectorXd& y, const Eigen::RowVectorXd& v, double& best) {
+            constexpr int samples = 16;
+            double s_prev = 0.0, v_prev = horner(v, 0.0);
+            best = std::max(best, std::abs(horner(y, 0.0)));
+            for (int j = 1; j <= samples; ++j) {
+                const double s = st.s_end * j / samples;
+                const double vs = horner(v, s);
+                best = std::max(best, std::abs(horner(y, s)));
+                if ((v_prev <= 0.0 && vs >= 0.0) || (v_prev >= 0.0 && vs <= 0.0))
+                    best = std::max(best, std::abs(horner(y, refine_root(v, s_prev, s))));
+                s_prev = s;
+                v_prev = vs;
+            }
+        };
+        for (int i = 0; i < nd; ++i) turning_points(st.u.row(i), st.u.row(nd + i), out.y_max[static_cast<std::size_t>(i)]);
+        for (std::size_t o = 0; o < outputs.size(); ++o) {
+            Eigen::RowVectorXd y = Eigen::RowVectorXd::Zero(st.u.cols()), v = y;
+            for (const auto& [i, c] : outputs[o].terms()) {
+                y += c * st.u.row(i);
+                v += c * st.u.row(nd + i);
+            }
+            turning_points(y, v, out.output_max[o]);
+        }
+        if (n_probes > 0) {  // p = L zhat, p' = L A zhat
+            const Eigen::MatrixXd y = probes->rows * st.u, v = (probes->rows * e.mode(st.modes).a) * st.u;
+            for (Eigen::Index p = 0; p < n_probes; ++p)
+                turning_points(y.row(p), v.row(p), probes->max[static_cast<std::size_t>(p)]);
+        }
+        // First harmonics by Gauss-Legendre (cos and sin are states of zhat).
+        for (const auto& [node, weight] : rule) {
+            const Eigen::VectorXd z = evaluate(st.u, node * st.s_end);
+            c1z += weight * length * z(e.cos_index()) * z;
+            s1z += weight * length * z(e.sin_index()) * z;
+        }
+        if (nc > 0 && st.modes[0] == 0) stick_time += length;
+        const Eigen::VectorXd z0 = st.u.col(0), z1 = evaluate(st.u, st.s_end);
+        for (int c = 0; c < nc; ++c) {
+            const int mode = st.modes[static_cast<std::size_t>(c)];
+            if (mode != 0) out.energy += mode * e.contact(c).friction_limit * (e.relative(c, z1) - e.relative(c, z0));
+        }
+    }
+    c1z *= 2.0 / period;
+    s1z *= 2.0 / period;
+    const Eigen::VectorXd c1 = c1z.head(nd), s1 = s1z.head(nd);
+    if (probes) {
+        probes->c1 = probes->rows * c1z;
+        probes->s1 = probes->rows * s1z;
+    }
+    out.harmonic1 = c1.cast<std::complex<double>>() - std::complex<double>(0.0, 1.0) * s1.cast<std::complex<double>>();
+    out.y_amp1.resize(static_cast<std::size_t>(nd));
+    for (int i = 0; i < nd; ++i) out.y_amp1[static_cast<std::size_t>(i)] = std::hypot(c1(i), s1(i));
+    out.output_amp1.clear();
+    for (const Output& o : outputs) out.output_amp1.push_back(std::hypot(o.of(c1), o.of(s1)));
+    out.input_energy = pi * e.excitation().dot(s1);
+    out.stick_fraction = nc > 0 ? std::min(1.0, stick_time / period) : 0.0;
+    out.stick_margin_min = std::isfinite(margin_min) ? margin_min : 0.0;
+    out.stick_margin_max = std::isfinite(margin_max) ? margin_max : 0.0;
+    if (nc == 0) out.regime = "none";
+    else if (stick_time >= period * (1.0 - 1e-12)) out.regime = "stick";
+    else if (stick_time <= period * 1e-12) out.regime = "slip";
+    else out.regime = "stick-slip";
+    // Events in [0, T), by time.
+    out.events.clear();
+    for (ExactEvent ev : flow.events) {
+        ev.time = std::fmod(ev.time, period);
+        if (ev.time < 0) ev.time += period;
+        if (ev.time >= period) ev.time -= period;
+        out.events.push_back(ev);
+    }
+    std::sort(out.events.begin(), out.events.end(),
+              [](const ExactEvent& a, const ExactEvent& b) { return a.time < b.time; });
+    out.switches = static_cast<int>(out.events.size());
+    // The state at t = 0 (= T).
+    const double t_zero = t_s > 0.0 ? period : 0.0;
+    const Step& at_zero = step_at(flow.steps, t_zero);
+    const Eigen::VectorXd z_zero = state_at(flow.steps, t_zero);
+    out.state = full_state(e, z_zero, at_zero.modes);
+    if (probes) {
+        probes->value = probes->rows * z_zero;
+        probes->rate = probes->rows * (e.mode(at_zero.modes).a * z_zero);
+        probes->samples.resize(options.samples, n_probes);
+        probes->sample_rates.resize(options.samples, n_probes);
+    }
+    if (options.samples > 0) {
+        out.time.resize(options.samples);
+        out.displacement.resize(options.samples, nd);
+        out.velocity.resize(options.samples, nd);
+        out.friction_force.resize(options.samples, nc);
+        for (int j = 0; j < options.samples; ++j) {
+            const double t = period * j / options.samples;
+            const double tt = t < t_s ? t + period : t;
+            const Step& st = step_at(flow.steps, tt);
+            const Eigen::VectorXd z = evaluate(st.u, std::min(std::max((tt - st.t0) / st.h, 0.0), st.s_end));
+            out.time(j) = t;
+            out.displacement.row(j) = z.head(nd).transpose();
+            out.velocity.row(j) = z.segment(nd, nd).transpose();
+            const ModeData& m = e.mode(st.modes);
+            for (int c = 0; c < nc; ++c) out.friction_force(j, c) = m.force.row(c).dot(z);
+            if (probes) {
+                probes->samples.row(j) = (probes->rows * z).transpose();
+                probes->sample_rates.row(j) = (probes->rows * (m.a * z)).transpose();
+            }
+        }
+    }
+}
+
+}  // namespace hbf::detail::exact
+
+namespace hbf {
+
+std::string ExactOrbit::summary() const {
+    std::ostringstream s;
+    s << "w = " << format_number(omega) << ": " << (converged ? "converged" : "not converged") << " (" << message
+      << "), " << iterations << " Newton iterations, residual " << format_number(residual);
+    if (!y_max.empty()) s << ", y1_max = " << format_number(y_max.front());
+    s << ", " << regime << ", " << (stable ? "stable" : "unstable") << " (max |multiplier| "
+      << format_number(max_multiplier) << ")";
+    return s.str();
+}
+
+}  // namespace hbf

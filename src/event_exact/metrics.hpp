@@ -1,0 +1,30 @@
+// hbfriction — internal to event_exact: what one recorded period of an orbit reports (maxima,
+// first harmonics, energies, regime, events, samples) and the mean contact forces.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "engine.hpp"
+#include "hbf/event_exact.hpp"
+
+namespace hbf::detail::exact {
+
+/// Mean friction force of every contact over one recorded period (Gauss-Legendre per step).
+Eigen::VectorXd mean_forces(Engine& e, const Engine::Flow& flow);
+
+/// Linear functions p(t) = L zhat(t) of the flow beyond the DOFs (the massless DOFs of a
+/// condensed system, and outputs on them): rows L over zhat, and what fill_metrics finds.
+struct Probes {
+    Eigen::MatrixXd rows;            ///< n_p x n
+    std::vector<double> max;         ///< max over the period of |p(t)| (turning points refined)
+    Eigen::VectorXd c1, s1;          ///< first harmonic: p ~ c1 cos + s1 sin
+    Eigen::VectorXd value, rate;     ///< p and p' at t = 0
+    Eigen::MatrixXd samples, sample_rates;  ///< options.samples x n_p
+};
+
+/// Fills the orbit's metrics from one recorded period [t_s, t_s + T], and `probes`' if given.
+void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out,
+                  Probes* probes = nullptr);
+
+}  // namespace hbf::detail::exact

@@ -1,0 +1,462 @@
+// hbfriction — exact periodic orbits: Newton on the period map from a Poincare section, the
+// permanent-stick convention, the Floquet multipliers, and systems with massless DOFs solved on
+// their static condensation (event_exact.hpp).
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <memory>
+
+#include "engine.hpp"
+#include "hbf/error.hpp"
+#include "hbf/event_exact.hpp"
+#include "metrics.hpp"
+#include "validation.hpp"
+
+namespace hbf::detail::exact {
+
+namespace {
+
+/// The linear stuck steady state (convention of event_exact.hpp): z at t = 0 and the load
+/// max_c |f_c| / F_c; infinity where the stuck structure is singular at omega.
+double stuck_steady_state(const System& system, double omega, Eigen::VectorXd& z) {
+    const StuckResponse stuck = stuck_linear_response(system, omega);
+    if (!stuck.ok) return std::numeric_limits<double>::infinity();
+    const int nd = system.dofs(), nc = static_cast<int>(system.contacts.size());
+    double load = 0.0;
+    for (int c = 0; c < nc; ++c)
+        load = std::max(load, std::abs(stuck.force(c)) / system.contacts[static_cast<std::size_t>(c)].friction_limit);
+    z = Eigen::VectorXd::Zero(2 * nd + nc);
+    z.head(nd) = stuck.amplitude.real();
+    z.segment(nd, nd) = -omega * stuck.amplitude.imag();  // Re(i omega Y)
+    return load;
+}
+
+/// The permanent-stick orbit's state, or false when it does not hold every contact.
+bool permanent_stick_state(const System& system, double omega, Eigen::VectorXd& z) {
+    return stuck_steady_state(system, omega, z) <= 1.0;
+}
+
+/// Orthonormal basis B of the states allowed at the section with `modes`, and the particular
+/// state z_p: z = z_p + B xi (coulomb sliders fixed at 0; coulomb stuck: v_c = 0; jenkins
+/// slipping: s_c = q_c - mode F_c / k_t).
+void section_manifold(const Engine& e, const Modes& modes, Eigen::MatrixXd& basis, Eigen::VectorXd& particular) {
+    const int nd = e.dofs(), nz = e.nz();
+    std::vector<Eigen::RowVectorXd> rows;
+    std::vector<double> values;
+    for (int c = 0; c < e.contacts(); ++c) {
+        const int mode = modes[static_cast<std::size_t>(c)];
+        Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(nz);
+        if (e.coulomb(c)) {
+            row(2 * nd + c) = 1.0;
+            rows.push_back(row);
+            values.push_back(0.0);
+            if (mode == 0) {
+                Eigen::RowVectorXd v = Eigen::RowVectorXd::Zero(nz);
+                v.segment(nd, nd) = e.direction(c).transpose();
+                rows.push_back(v);
+                values.push_back(0.0);
+            }
+        } else if (mode != 0) {
+            row.head(nd) = e.direction(c).transpose();
+            row(2 * nd + c) = -1.0;
+            rows.push_back(row);
+            values.push_back(mode * e.contact(c).friction_limit / e.contact(c).stiffness);
+        }
+    }
+    if (rows.empty()) {
+        basis = Eigen::MatrixXd::Identity(nz, nz);
+        particular = Eigen::VectorXd::Zero(nz);
+        return;
+    }
+    Eigen::MatrixXd constraints(static_cast<Eigen::Index>(rows.size()), nz);
+    Eigen::VectorXd d(static_cast<Eigen::Index>(rows.size()));
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+        constraints.row(static_cast<Eigen::Index>(k)) = rows[k];
+        d(static_cast<Eigen::Index>(k)) = values[k];
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(constraints.transpose());
+    const Eigen::Index rank = qr.rank();
+    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(nz, nz);
+    basis = q.rightCols(nz - rank);
+    particular = constraints.completeOrthogonalDecomposition().solve(d);
+}
+
+void fill_stability(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& basis, int nz, const ExactOptions& options,
+                    ExactOrbit& out) {
+    const Eigen::MatrixXd reduced = basis.transpose() * psi.topLeftCorner(nz, nz) * basis;
+    if (reduced.rows() == 0) {
+        out.multipliers.resize(0);
+        out.max_multiplier = 0;
+        out.stable = true;
+        return;
+    }
+    Eigen::EigenSolver<Eigen::MatrixXd> eigen(reduced, false);
+    out.multipliers = eigen.eigenvalues();
+    out.max_multiplier = out.multipliers.cwiseAbs().maxCoeff();
+    out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
+}
+
+/// Sizes of section states z = [y (N), y' (N), sliders] in units of displacement: velocities
+/// divided by omega, so that a problem in other units gives the same numbers.
+struct SectionNorm {
+    int dofs = 0;
+    double omega = 1.0;
+    double reference = 0.0;  ///< the size of the caller's start: floors the relative change
+    double size(const Eigen::VectorXd& z) const {
+        double m = z.head(dofs).cwiseAbs().maxCoeff();
+        m = std::max(m, z.segment(dofs, dofs).cwiseAbs().maxCoeff() / omega);
+        if (z.size() > 2 * dofs) m = std::max(m, z.tail(z.size() - 2 * dofs).cwiseAbs().maxCoeff());
+        return m;
+    }
+    /// |P(z) - z| / max(reference, |z|): relative, and a state far off is not judged by its
+    /// own size alone.
+    double relative_change(const Eigen::VectorXd& end, const Eigen::VectorXd& start) const {
+        const double scale = std::max(reference, size(start));
+        const double change = size(end - start);
+        return scale > 0.0 ? change / scale : change;
+    }
+};
+
+/// exact_periodic_orbit on a system with M > 0 (validated).
+ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& initial_state,
+                    const ExactOptions& options) {
+    Engine e(system, omega);
+    const double period = e.period();
+    ExactOrbit out;
+    out.omega = omega;
+    SectionNorm norm{e.dofs(), omega, 0.0};
+    norm.reference = norm.size(initial_state.head(e.nz()));
+
+    // Plain periods from zhat (at t = 0) with modes; the last one recorded.
+    Engine::Flow warm;
+    auto plain_periods = [&](Eigen::VectorXd zhat, Modes modes, int periods) {
+        for (int p = 0; p < periods; ++p) {
+            zhat(e.cos_index()) = 1.0;
+            zhat(e.sin_index()) = 0.0;
+            warm = e.flow(zhat, modes, 0.0, period, false, p + 1 == periods, options.max_events_per_period);
+            ++out.periods;
+            if (!warm.ok) return false;
+            zhat = warm.zhat;
+            modes = warm.modes;
+        }
+        return true;
+    };
+    Eigen::VectorXd zhat = e.augment(initial_state.head(e.nz()), 0.0);
+    for (int c = 0; c < e.contacts(); ++c)
+        if (e.coulomb(c)) zhat(2 * e.dofs() + c) = 0.0;
+    Modes hints(static_cast<std::size_t>(e.contacts()));
+    for (int c = 0; c < e.contacts(); ++c)
+        hints[static_cast<std::size_t>(c)] = static_cast<int>(std::lround(initial_state(e.nz() + c)));
+    const Modes modes = e.initial_modes(zhat, hints);
+    if (!plain_periods(zhat, modes, options.warmup_periods)) {
+        out.message = "warm-up: " + warm.message;
+        if (!warm.steps.empty()) fill_metrics(e, warm, 0.0, options, out);  // the period as far as it went
+        out.state = initial_state;
+        return out;
+    }
+
+    Eigen::VectorXd stuck;
+    const bool stuck_holds = permanent_stick_state(system, omega, stuck);
+    // The permanent-stick orbit (the convention of event_exact.hpp), into `orbit`.
+    auto permanent = [&](ExactOrbit& orbit) {
+        const Modes stick(static_cast<std::size_t>(e.contacts()), 0);
+        Engine::Flow f = e.flow(e.augment(stuck, 0.0), stick, 0.0, period, true, true, options.max_events_per_period);
+        ++orbit.periods;
+        orbit.permanent_stick = true;
+        orbit.residual = norm.relative_change(f.zhat.head(e.nz()), stuck);
+        orbit.converged = f.ok && f.events.empty() && orbit.residual <= std::max(options.tolerance, 1e-10);
+        orbit.message = orbit.converged ? "permanent stick: the linear stuck steady state with zero mean friction "
+                                          "force (convention for the undetermined offset)"
+                                        : "the permanent-stick state left stick within the period";
+        fill_metrics(e, f, 0.0, options, orbit);
+        Eigen::MatrixXd basis;
+        Eigen::VectorXd particular;
+        section_manifold(e, stick, basis, particular);
+        fill_stability(f.psi, basis, e.nz(), options, orbit);
+    };
+
+    Engine::Flow f;
+    double t_s = 0.0;
+    Eigen::MatrixXd basis;
+    int restart_periods = 8;
+    for (int attempt = 0;; ++attempt) {
+        // Permanent stick: no event and every contact stuck over the last plain period.
+        bool all_stuck = warm.events.empty();
+        for (const Step& st : warm.steps)
+            for (int mode : st.modes) all_stuck = all_stuck && mode == 0;
+        if (all_stuck && stuck_holds) {
+            const int periods = out.periods, iterations = out.iterations;
+            out = ExactOrbit{};
+            out.omega = omega;
+            out.periods = periods;
+            out.iterations = iterations;
+            permanent(out);
+            return out;
+        }
+        // The section: the middle of the longest event-free stretch of the last plain period.
+        t_s = 0.0;
+        Modes section_modes = warm.steps.front().modes;
+        if (!warm.events.empty()) {
+            std::vector<double> times;
+            for (const ExactEvent& ev : warm.events) times.push_back(ev.time);
+            std::sort(times.begin(), times.end());
+            double best_gap = -1.0;
+            for (std::size_t k = 0; k < times.size(); ++k) {
+                const double next = k + 1 < times.size() ? times[k + 1] : times.front() + period;
+                if (next - times[k] > best_gap) {
+                    best_gap = next - times[k];
+                    t_s = times[k] + 0.5 * (next - times[k]);
+                }
+            }
+            t_s = std::fmod(t_s, period);
+            section_modes = step_at(warm.steps, t_s).modes;
+        }
+        Eigen::VectorXd z = t_s == 0.0 ? Eigen::VectorXd(warm.steps.front().u.col(0).head(e.nz()))
+                                       : Eigen::VectorXd(state_at(warm.steps, t_s).head(e.nz()));
+        Eigen::VectorXd particular;
+        section_manifold(e, section_modes, basis, particular);
+        z = particular + basis * (basis.transpose() * (z - particular));
+
+        auto map = [&](const Eigen::VectorXd& start) {
+            Eigen::VectorXd zh = e.augment(start, t_s);
+            const Modes m = e.initial_modes(zh, section_modes);
+            ++out.periods;
+            return e.flow(zh, m, t_s, period, true, true, options.max_events_per_period);
+        };
+        // Newton on B^T (P(z) - z) = 0 from z (f = map(z) on entry); returns whether a restart
+        // may help. A singular Jacobian (a multiplier at 1: the undetermined offset of a contact
+        // stuck all period, or a fold) takes the minimum-norm step.
+        auto newton = [&]() {
+            for (int iteration = 0;; ++iteration, ++out.iterations) {
+                if (!f.ok) {
+                    out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
+                    return false;
+                }
+                const Eigen::VectorXd r = f.zhat.head(e.nz()) - z;
+                out.residual = norm.relative_change(f.zhat.head(e.nz()), z);
+                if (out.residual <= options.tolerance) {
+                    out.converged = true;
+                    out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "");
+                    return false;
+                }
+                if (out.iterations >= options.max_iterations) {
+                    out.message = "Newton reached " + std::to_string(options.max_iterations) + " iterations, residual " +
+                                  format_number(out.residual);
+                    return false;
+                }
+                const Eigen::MatrixXd jacobian =
+                    basis.transpose() *
+                    (f.psi.topLeftCorner(e.nz(), e.nz()) - Eigen::MatrixXd::Identity(e.nz(), e.nz())) * basis;
+                Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> solver;
+                solver.setThreshold(1e-11);
+                solver.compute(jacobian);
+                const Eigen::VectorXd step = -(basis * solver.solve(basis.transpose() * r));
+                double alpha = 1.0;
+                for (int trial = 0; trial < 12; ++trial, alpha *= 0.5) {
+                    const Eigen::VectorXd trial_z = z + alpha * step;
+                    Engine::Flow g = map(trial_z);
+                    if (!g.ok) continue;
+                    const double residual = norm.relative_change(g.zhat.head(e.nz()), trial_z);
+                    if (residual < out.residual * (1.0 - 1e-4 * alpha) || residual <= options.tolerance) {
+                        z = trial_z;
+                        f = std::move(g);
+                        alpha = -1.0;
+                        break;
+                    }
+                }
+                if (alpha > 0.0) {
+                    out.message = "Newton stalled (no decrease along the step) at residual " +
+                                  format_number(out.residual) +
+                                  ": the stick/slip pattern changes near this frequency, or the start is too far";
+                    return true;
+                }
+            }
+        };
+        f = map(z);
+        bool retry = newton();
+        if (out.converged) {
+            // Contacts stuck over the whole period (others slipping) have an undetermined offset:
+            // the convention of event_exact.hpp, zero mean force. A static shift of the structure
+            // K dy = sum_c w_c fbar_c (and of the Jenkins sliders, s_c += w_c^T dy + fbar_c / k_t)
+            // removes each such contact's mean force fbar_c and leaves the others' forces and
+            // every velocity unchanged; Newton then polishes the shifted orbit.
+            Eigen::VectorXd mean = mean_forces(e, f);
+            std::vector<int> stuck_all;
+            for (int c = 0; c < e.contacts(); ++c) {
+                bool stuck_throughout = true;
+                for (const Step& st : f.steps)
+                    if (st.s_end > 0.0 && st.modes[static_cast<std::size_t>(c)] != 0) stuck_throughout = false;
+                if (stuck_throughout && std::abs(mean(c)) > 1e-12 * e.contact(c).friction_limit) stuck_all.push_back(c);
+            }
+            if (!stuck_all.empty() && static_cast<int>(stuck_all.size()) < e.contacts()) {
+                Eigen::VectorXd load = Eigen::VectorXd::Zero(e.dofs());
+                for (int c : stuck_all) load += e.direction(c) * mean(c);
+                const Eigen::VectorXd dy = Eigen::MatrixXd(system.stiffness).completeOrthogonalDecomposition().solve(load);
+                Eigen::VectorXd shifted = z;
+                shifted.head(e.dofs()) += dy;
+                for (int c : stuck_all)
+                    if (!e.coulomb(c))
+                        shifted(2 * e.dofs() + c) += e.direction(c).dot(dy) + mean(c) / e.contact(c).stiffness;
+                const Eigen::VectorXd kept = z;
+                Engine::Flow kept_flow = f;
+                z = particular + basis * (basis.transpose() * (shifted - particular));
+                f = map(z);
+                out.converged = false;
+                newton();
+                if (!out.converged) {  // keep the orbit found, with its offset, and say so
+                    z = kept;
+                    f = std::move(kept_flow);
+                    out.converged = true;
+                    out.residual = norm.relative_change(f.zhat.head(e.nz()), z);
+                    out.message = "Newton on the period map converged; a contact stuck all period keeps a nonzero "
+                                  "mean force (centring it failed)";
+                }
+            }
+        }
+        if (out.converged || !retry || attempt >= options.restarts || out.iterations >= options.max_iterations) break;
+        // Restart: plain periods from the last iterate (the exact flow integrates the motion and
+        // settles the stick/slip pattern), then a new section and Newton.
+        const Eigen::VectorXd at_zero = t_s > 0.0 ? state_at(f.steps, period) : f.zhat;
+        const Modes modes_zero = t_s > 0.0 ? step_at(f.steps, period).modes : f.modes;
+        if (!plain_periods(at_zero, modes_zero, restart_periods)) {
+            out.message += "; restart: " + warm.message;
+            break;
+        }
+        restart_periods *= 4;
+    }
+    if (!out.converged && stuck_holds) {
+        // Newton found no orbit with slip from this start, and the permanent-stick state holds:
+        // that is the orbit (the start's slip was a transient).
+        ExactOrbit orbit;
+        orbit.omega = omega;
+        orbit.periods = out.periods;
+        orbit.iterations = out.iterations;
+        permanent(orbit);
+        if (orbit.converged) {
+            orbit.message += "; Newton from the start failed: " + out.message;
+            return orbit;
+        }
+    }
+    fill_metrics(e, f, t_s, options, out);
+    fill_stability(f.psi, basis, e.nz(), options, out);
+    // A member of the permanent-stick family with another offset (no slip, or slips of
+    // vanishing length at the edge of the friction cone, dissipating nothing) where the
+    // conventional one holds: the convention instead.
+    double scale = 0.0;
+    for (int c = 0; c < e.contacts(); ++c) scale += e.contact(c).friction_limit;
+    scale *= 1.0 + *std::max_element(out.y_max.begin(), out.y_max.end());
+    if (out.converged && stuck_holds && out.energy <= 1e-9 * scale) {
+        ExactOrbit orbit;
+        orbit.omega = omega;
+        orbit.periods = out.periods;
+        orbit.iterations = out.iterations;
+        permanent(orbit);
+        if (orbit.converged) return orbit;
+    }
+    return out;
+}
+
+/// The orbit of a system with massless DOFs: solved on its static condensation (exact: the
+/// massless DOFs follow the massive ones, the load and the sliders linearly), then expressed
+/// in the original DOFs. The massless DOFs and the outputs are functions of the reduced
+/// state, p = L zhat, whose maxima and harmonics come from one more exact period (Probes).
+ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensation& condensation, double omega,
+                          const Eigen::VectorXd& initial_state, const ExactOptions& options) {
+    const System& reduced = condensation.reduced();
+    const int n = system.dofs(), nc = static_cast<int>(system.contacts.size()), nr = reduced.dofs();
+    ExactOptions reduced_options = options;
+    reduced_options.outputs.clear();
+    reduced_options.samples = 0;
+    ExactOrbit out = orbit_of(reduced, omega, condensation.reduce_state(initial_state), reduced_options);
+
+    Engine e(reduced, omega);
+    // Rows over zhat = [y_R, y_R', s, cos, sin, 1]: every original DOF, then every output.
+    const detail::MasslessCondensation::MasslessMap map = condensation.massless_map();
+    Probes probes;
+    probes.rows = Eigen::MatrixXd::Zero(n + static_cast<Eigen::Index>(options.outputs.size()), e.n());
+    for (int i = 0; i < n; ++i) {
+        const int p = condensation.position(i);
+        if (!condensation.massless(i)) {
+            probes.rows(i, p) = 1.0;
+            continue;
+        }
+        probes.rows.row(i).head(nr) = map.from_massive.row(p);
+        probes.rows.row(i).segment(2 * nr, nc) = map.from_sliders.row(p);
+        probes.rows(i, e.cos_index()) = map.load(p);
+    }
+    for (std::size_t o = 0; o < options.outputs.size(); ++o)
+        for (const auto& [i, c] : options.outputs[o].terms())
+            probes.rows.row(n + static_cast<Eigen::Index>(o)) += c * probes.rows.row(i);
+    // One exact period from the orbit's state at t = 0 (its modes there as the hint).
+    Modes modes(static_cast<std::size_t>(nc));
+    for (int c = 0; c < nc; ++c) modes[static_cast<std::size_t>(c)] = static_cast<int>(out.state(2 * nr + nc + c));
+    const Engine::Flow f =
+        e.flow(e.augment(out.state.head(e.nz()), 0.0), modes, 0.0, e.period(), false, true, options.max_events_per_period);
+    ExactOrbit period;
+    ExactOptions sampled = reduced_options;
+    sampled.samples = options.samples;
+    if (!f.steps.empty()) fill_metrics(e, f, 0.0, sampled, period, &probes);
+    if (f.steps.empty() || !f.ok) {
+        out.converged = false;
+        out.message += "; the period of the massless DOFs could not be integrated: " + f.message;
+        return out;
+    }
+    // The original's metrics and state.
+    out.y_max.assign(probes.max.begin(), probes.max.begin() + n);
+    out.y_amp1.resize(static_cast<std::size_t>(n));
+    out.harmonic1.resize(n);
+    for (int i = 0; i < n; ++i) {
+        out.y_amp1[static_cast<std::size_t>(i)] = std::hypot(probes.c1(i), probes.s1(i));
+        out.harmonic1(i) = std::complex<double>(probes.c1(i), -probes.s1(i));
+    }
+    out.output_max.assign(probes.max.begin() + n, probes.max.end());
+    out.output_amp1.clear();
+    for (std::size_t o = 0; o < options.outputs.size(); ++o) {
+        const Eigen::Index row = n + static_cast<Eigen::Index>(o);
+        out.output_amp1.push_back(std::hypot(probes.c1(row), probes.s1(row)));
+    }
+    Eigen::VectorXd state = Eigen::VectorXd::Zero(2 * n + 2 * nc);
+    state.head(n) = probes.value.head(n);
+    state.segment(n, n) = probes.rate.head(n);
+    for (int c = 0; c < nc; ++c) {
+        // A Coulomb contact's internal state is 0 by convention (its slider is q itself).
+        const bool coulomb = system.contacts[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb;
+        state(2 * n + c) = coulomb ? 0.0 : out.state(2 * nr + c);
+        state(2 * n + nc + c) = out.state(2 * nr + nc + c);
+    }
+    out.state = state;
+    if (options.samples > 0) {
+        out.time = period.time;
+        out.displacement = probes.samples.leftCols(n);
+        out.velocity = probes.sample_rates.leftCols(n);
+        out.friction_force = period.friction_force;
+    }
+    return out;
+}
+
+}  // namespace
+
+}  // namespace hbf::detail::exact
+
+namespace hbf {
+
+double permanent_stick_load(const System& system, double omega) {
+    using namespace detail::exact;
+    validate_system(system, omega);
+    Eigen::VectorXd z;
+    return stuck_steady_state(system, omega, z);
+}
+
+ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
+                                const ExactOptions& options) {
+    using namespace detail::exact;
+    const auto condensation = validate_system(system, omega);
+    check_state_size(system, initial_state);
+    options.validate();
+    for (const Output& o : options.outputs) o.validate(system.dofs());
+    if (condensation) return massless_orbit(system, *condensation, omega, initial_state, options);
+    return orbit_of(system, omega, initial_state, options);
+}
+
+}  // namespace hbf

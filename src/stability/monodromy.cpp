@@ -1,0 +1,84 @@
+// hbfriction — the monodromy of the variational equation by CVODE (monodromy.hpp).
+#include "monodromy.hpp"
+
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <cmath>
+
+#include "cvode/solver.hpp"
+#include "hbf/error.hpp"
+
+namespace hbf::detail {
+
+namespace {
+
+/// Phi(T) of ds' = A(t) ds by CVODE (BDF, dense, exact Jacobian). Small systems (d <= 12)
+/// integrate Phi' = A Phi as one system of d^2 states (one step sequence; Jacobian I (x) A),
+/// larger ones one column at a time (d LU factorisations of d x d instead of one of d^2).
+class MonodromyIntegrator {
+public:
+    MonodromyIntegrator(const Variational& v, double tolerance)
+        : v_(v), d_(v.size()), columns_(v.size() <= 12 ? v.size() : 1), length_(d_ * columns_),
+          cvode_(length_, CV_BDF, rhs, this, CvodeSolver::Warnings::drop) {
+        cvode_.check(CVodeSStolerances(cvode_.memory(), tolerance, tolerance * 1e-2), "CVodeSStolerances");
+        cvode_.dense_newton(jacobian);
+        cvode_.check(CVodeSetMaxNumSteps(cvode_.memory(), 200000), "CVodeSetMaxNumSteps");
+    }
+    MonodromyIntegrator(const MonodromyIntegrator&) = delete;
+    MonodromyIntegrator& operator=(const MonodromyIntegrator&) = delete;
+
+    /// False (and `failure`) when CVODE failed.
+    bool run(Eigen::MatrixXd& phi, std::string& failure) {
+        const double period = 2.0 * M_PI / v_.omega();
+        N_Vector x = cvode_.state();
+        phi.resize(d_, d_);
+        for (int first = 0; first < d_; first += columns_) {
+            N_VConst(0.0, x);
+            Eigen::Map<Eigen::MatrixXd> start(N_VGetArrayPointer(x), d_, columns_);
+            for (int j = 0; j < columns_; ++j) start(first + j, j) = 1.0;
+            cvode_.check(CVodeReInit(cvode_.memory(), 0.0, x), "CVodeReInit");
+            cvode_.check(CVodeSetStopTime(cvode_.memory(), period), "CVodeSetStopTime");
+            sunrealtype t = 0.0;
+            const int flag = CVode(cvode_.memory(), period, x, &t, CV_NORMAL);
+            if (flag < 0) {
+                failure = "CVODE failed on the variational equation (flag " + std::to_string(flag) + ") at t = " +
+                          format_number(t) + " of T = " + format_number(period);
+                return false;
+            }
+            phi.middleCols(first, columns_) = Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x), d_, columns_);
+        }
+        return true;
+    }
+
+private:
+    static int rhs(sunrealtype t, N_Vector x, N_Vector dx, void* data) {
+        auto* self = static_cast<MonodromyIntegrator*>(data);
+        self->v_.matrix(self->v_.omega() * t, self->a_);
+        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(dx), self->d_, self->columns_).noalias() =
+            self->a_ * Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x), self->d_, self->columns_);
+        return 0;
+    }
+    static int jacobian(sunrealtype t, N_Vector, N_Vector, SUNMatrix j, void* data, N_Vector, N_Vector, N_Vector) {
+        auto* self = static_cast<MonodromyIntegrator*>(data);
+        self->v_.matrix(self->v_.omega() * t, self->a_);
+        SUNMatZero(j);
+        const int d = self->d_;
+        for (int b = 0; b < self->columns_; ++b)  // I (x) A: one block of A per column of Phi
+            for (int c = 0; c < d; ++c)
+                Eigen::Map<Eigen::VectorXd>(SUNDenseMatrix_Column(j, b * d + c) + b * d, d) = self->a_.col(c);
+        return 0;
+    }
+
+    const Variational& v_;
+    int d_, columns_, length_;
+    Eigen::MatrixXd a_;
+    CvodeSolver cvode_;
+};
+
+}  // namespace
+
+bool integrate_monodromy(const Variational& v, double tolerance, Eigen::MatrixXd& phi, std::string& failure) {
+    return MonodromyIntegrator(v, tolerance).run(phi, failure);
+}
+
+}  // namespace hbf::detail

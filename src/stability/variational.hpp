@@ -1,0 +1,50 @@
+// hbfriction — internal to stability: the variational equation ds' = A(t) ds of one HB solution,
+// Hill's matrix and its sorted multipliers (see stability.hpp).
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "hbf/continuation.hpp"
+#include "hbf/fourier.hpp"
+#include "hbf/friction.hpp"
+#include "hbf/harmonic_balance.hpp"
+
+namespace hbf::detail {
+
+/// Value and tau-derivative (d/dtheta) of a coefficient vector at phase theta.
+void at_phase(const Eigen::VectorXd& c, double theta, double& value, double& rate);
+
+/// The eigenvalues of a (empty when the eigensolver fails).
+Eigen::VectorXcd eigenvalues(const Eigen::MatrixXd& a);
+
+/// The variational equation ds' = A(t) ds of one HB solution (see stability.hpp).
+class Variational {
+public:
+    Variational(HarmonicBalance& hb, const Eigen::MatrixXd& minv, const Eigen::MatrixXd& w, const SolutionPoint& p);
+    int size() const { return d_; }
+    double omega() const { return omega_; }
+    /// Slopes of every contact at phase theta.
+    void slopes(double theta, std::vector<LocalLinearization>& out) const;
+    /// A(t) at phase theta = omega t.
+    void matrix(double theta, Eigen::MatrixXd& a) const;
+    /// Adds contact c's part of A for the given slopes (entries of one instant).
+    void add_contact(int c, const LocalLinearization& l, Eigen::MatrixXd& a) const;
+    /// Hill's matrix on the samples of `fourier` (all harmonics 0..H).
+    Eigen::MatrixXd hill(Fourier& fourier) const;
+
+private:
+    const System& system_;
+    double omega_;
+    int n_, d_ = 0;
+    std::vector<Eigen::VectorXd> q_, z_;
+    std::vector<int> state_index_;
+    Eigen::MatrixXd base_, w_, mw_;
+    mutable std::vector<LocalLinearization> scratch_;
+};
+
+/// Hill's classical sorted selection: mu = exp(lambda T) of the d exponents with the smallest
+/// |Im lambda|; empty when the matrix would exceed max_size rows or the eigensolver failed.
+Eigen::VectorXcd sorted_hill(const Variational& v, Fourier& fourier, int max_size);
+
+}  // namespace hbf::detail
