@@ -139,35 +139,35 @@ int run(const CLI::App& command, const AnalyticOptions& o) {
     if (summary) summary->commit();
     return exit_success;
 }
-}  // namespace
-
-Runner add_analytic_command(CLI::App& app) {
-    auto options = std::make_shared<AnalyticOptions>();
-    CLI::App* command = app.add_subcommand(
-        "analytic", "Closed-form stick and slip responses, limit and optimal friction coefficients "
-                    "of the paper's friction absorber (nondimensional).");
-    options->absorber.add_to(*command, "friction law: coulomb, dahl or lugre", "coulomb", false);
-    command->add_option("--wmin", options->wmin, "lowest frequency w, > 0")
+/// The flags of hbf analytic.
+void add_flags(CLI::App& command, AnalyticOptions& o) {
+    o.absorber.add_to(command, "friction law: coulomb, dahl or lugre", "coulomb", false);
+    command.add_option("--wmin", o.wmin, "lowest frequency w, > 0")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--wmax", options->wmax, "highest frequency w, > wmin")
+    command.add_option("--wmax", o.wmax, "highest frequency w, > wmin")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--points", options->points, "number of frequencies, 2..1000000")
+    command.add_option("--points", o.points, "number of frequencies, 2..1000000")
         ->capture_default_str()->type_name("INT");
-    options->output.add_to(*command, {"write the CSV to FILE instead of standard output",
+    o.output.add_to(command, {"write the CSV to FILE instead of standard output",
                                       "write a JSON summary to FILE: mu_limit_max = the largest mu_limit over wmin..wmax (w "
                                       "and value, refined beyond the grid, null if infinite: mu >= value sticks at every "
                                       "frequency of the band) and the stuck system's undamped resonances",
                                       "FILE.json", "draw y1_stick and y1_slip against w through gnuplot (.png or .svg)", ""});
-    command->add_option("--sweep", options->sweep,
+    command.add_option("--sweep", o.sweep,
                         "with --values: the band's largest mu_limit for each value of this parameter (fe, mu, wa, r; "
                         "wb for dahl and lugre; xi for lugre) instead of the frequency table; the CSV is then "
                         "NAME,w_at_max,mu_limit_max (as mu_limit_max of --summary; empty = infinite)")
         ->type_name("NAME");
-    command->add_option("--values", options->values,
+    command.add_option("--values", o.values,
                         "the values of --sweep: V1,V2,..., START:STOP:N or log:START:STOP:N (as hbf map)")
         ->type_name("LIST");
-    command->footer(columns_help());
-    return [command, options]() { return run(*command, *options); };
+    command.footer(columns_help());
+}
+}  // namespace
+
+Runner add_analytic_command(CLI::App& app) {
+    return register_command<AnalyticOptions>(app, "analytic", "Closed-form stick and slip responses, limit and optimal friction coefficients "
+                    "of the paper's friction absorber (nondimensional).", add_flags, run);
 }
 
 }  // namespace hbf::cli

@@ -4,10 +4,23 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
+#include <string>
 
 namespace hbf::cli {
 
 using Runner = std::function<int()>;
+
+/// Registers a command: the subcommand `name` (with `description`), an options object that
+/// lives as long as the runner, `add_flags` on both, and a runner that calls `run` with them.
+template <class Options>
+Runner register_command(CLI::App& app, const char* name, const std::string& description,
+                        void (*add_flags)(CLI::App&, Options&), int (*run)(const CLI::App&, const Options&)) {
+    auto options = std::make_shared<Options>();
+    CLI::App* command = app.add_subcommand(name, description);
+    add_flags(*command, *options);
+    return [command, options, run]() { return run(*command, *options); };
+}
 
 Runner add_analytic_command(CLI::App& app);
 Runner add_frf_command(CLI::App& app);

@@ -158,33 +158,28 @@ int run(const CLI::App& command, const FrfOptions& o) {
         std::cerr << "hbf frf: note: " << polish->summary() << " (the transitions are the exact solver's)\n";
     return finish("frf", verdict);
 }
-}  // namespace
-
-Runner add_frf_command(CLI::App& app) {
-    auto options = std::make_shared<FrfOptions>();
-    CLI::App* command = app.add_subcommand(
-        "frf", "Frequency response of the paper's friction absorber by multi-harmonic balance (AFT) and "
-               "pseudo-arclength continuation in w (nondimensional).");
-    options->absorber.add_system_flags(*command);
-    options->frf.add_to(*command);
-    command->add_option("--at", options->at,
+/// The flags of hbf frf.
+void add_flags(CLI::App& command, FrfOptions& o) {
+    o.absorber.add_system_flags(command);
+    o.frf.add_to(command);
+    command.add_option("--at", o.at,
                         "comma-separated frequencies W1,W2,...: every solution of the branch there is solved "
                         "exactly and written as extra rows with point = sample")
         ->type_name("LIST");
-    options->output.add_to(
-        *command, {"write the CSV to FILE instead of standard output",
+    o.output.add_to(
+        command, {"write the CSV to FILE instead of standard output",
                    "write a JSON summary (parameters, solver statistics, peaks, folds, status, wall time) to FILE", "FILE",
                    "draw max over one period of |o(t)| of the first reported output o against w through gnuplot: the "
                    "branch in order, folds, transitions and samples marked; with --stability unstable parts dashed and "
                    "uncertain points marked (.png or .svg)",
                    "no progress (on a terminal: w reached, points, elapsed time, redrawn 4 times a second) or "
                    "summary line on standard error"});
-    command->add_option("--overlay-timeint", options->overlay,
+    command.add_option("--overlay-timeint", o.overlay,
                         "also integrate K frequencies of a uniform grid over [wmin, wmax] in time (an up-sweep, "
                         "hbf timeint's defaults) and draw them as markers on the --plot; their rows go to "
                         "--overlay-out")
         ->option_text("K");
-    command->add_option("--overlay-out", options->overlay_out,
+    command.add_option("--overlay-out", o.overlay_out,
                         "CSV of the --overlay-timeint points (hbf timeint's columns) [default: the plot's name "
                         "with -timeint.csv]")
         ->option_text("FILE");
@@ -201,8 +196,13 @@ Runner add_frf_command(CLI::App& app) {
               "fails the energy balance, or a warning of Ceres (each reason one line on standard error). With --stability, "
               "uncertain verdicts (column stable = uncertain: the two routes disagree, typically at a fold) are a note "
               "on standard error, not an exit code: the FRF itself is complete.";
-    command->footer(footer);
-    return [command, options]() { return run(*command, *options); };
+    command.footer(footer);
+}
+}  // namespace
+
+Runner add_frf_command(CLI::App& app) {
+    return register_command<FrfOptions>(app, "frf", "Frequency response of the paper's friction absorber by multi-harmonic balance (AFT) and "
+               "pseudo-arclength continuation in w (nondimensional).", add_flags, run);
 }
 
 }  // namespace hbf::cli

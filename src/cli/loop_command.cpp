@@ -109,39 +109,39 @@ int run(const CLI::App& command, const LoopOptions& o) {
     verdict.add(messages.messages());
     return finish("loop", verdict);
 }
-}  // namespace
-
-Runner add_loop_command(CLI::App& app) {
-    auto options = std::make_shared<LoopOptions>();
-    CLI::App* command = app.add_subcommand(
-        "loop", "Time signals of one harmonic-balance solution at frequency w: displacements, the contact's "
-                "relative motion and friction force (the friction loop f against v, paper Figs. 5-6).");
-    options->absorber.add_system_flags(*command);
-    command->add_option("--w", options->w, "frequency w of the solution, > 0 (required)")->type_name("NUMBER");
-    command->add_option("--wmin", options->wmin,
+/// The flags of hbf loop.
+void add_flags(CLI::App& command, LoopOptions& o) {
+    o.absorber.add_system_flags(command);
+    command.add_option("--w", o.w, "frequency w of the solution, > 0 (required)")->type_name("NUMBER");
+    command.add_option("--wmin", o.wmin,
                         "the solution is the one reached by following the branch from wmin (from 0.9 w when "
                         "w <= wmin), > 0")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--harmonics", options->harmonics,
+    command.add_option("--harmonics", o.harmonics,
                         "number of harmonics H, 1.." + std::to_string(max_harmonics) +
                             "; 0 = automatic; odd or odd:H for the odd harmonics only (as hbf "
                         "frf)")
         ->capture_default_str()->type_name("INT|odd[:H]");
-    command->add_option("--time-samples", options->time_samples,
+    command.add_option("--time-samples", o.time_samples,
                         "time samples per period N_t > 2H (the rows); 0 = automatic (as hbf frf)")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--contact", options->contact, "which contact's q, v, f and stick to write (1-based)")
+    command.add_option("--contact", o.contact, "which contact's q, v, f and stick to write (1-based)")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--config", options->config, "the structure from a TOML system file (as hbf frf --config)")
+    command.add_option("--config", o.config, "the structure from a TOML system file (as hbf frf --config)")
         ->option_text("FILE.toml");
-    options->output.add_to(*command, {"write the CSV to FILE instead of standard output", "", "FILE",
+    o.output.add_to(command, {"write the CSV to FILE instead of standard output", "", "FILE",
                                       "draw f against v through gnuplot (.png or .svg)", ""});
     std::string footer = "Output: CSV with a header row, one row per time sample of one period (the AFT grid). "
                          "Nondimensional for the preset (t in 1/omega1, y in x_s = N/k1, f in N).\nColumns:\n";
     for (const auto& c : loop_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
     footer += "(y1, y2: one column per DOF of the system.) Exit code 1 when the branch does not reach w.";
-    command->footer(footer);
-    return [command, options]() { return run(*command, *options); };
+    command.footer(footer);
+}
+}  // namespace
+
+Runner add_loop_command(CLI::App& app) {
+    return register_command<LoopOptions>(app, "loop", "Time signals of one harmonic-balance solution at frequency w: displacements, the contact's "
+                "relative motion and friction force (the friction loop f against v, paper Figs. 5-6).", add_flags, run);
 }
 
 }  // namespace hbf::cli

@@ -268,16 +268,11 @@ int run(const CLI::App& command, const MapOptions& o) {
         std::cerr << "hbf map: " << values.size() << " FRFs in " << format_number(seconds) << " s\n";
     return mpi.broadcast(finish("map", verdict));
 }
-}  // namespace
-
-Runner add_map_command(CLI::App& app) {
-    auto options = std::make_shared<MapOptions>();
-    CLI::App* command = app.add_subcommand(
-        "map", "FRFs over a grid of one parameter, crossed with the frequency: one FRF (hbf frf) per value, on "
-               "threads and, under mpirun, on MPI ranks; a tidy CSV, a JSON summary and a picture.");
-    options->absorber.add_system_flags(*command);
-    options->frf.add_to(*command);
-    command->add_option("--param", options->param,
+/// The flags of hbf map.
+void add_flags(CLI::App& command, MapOptions& o) {
+    o.absorber.add_system_flags(command);
+    o.frf.add_to(command);
+    command.add_option("--param", o.param,
                         "the parameter of the map: for the paper's absorber fe, mu, wa, r, wb (dahl, lugre, jenkins) "
                         "or xi (lugre); for a --config system mu (the friction limit F_c of the contact --contact, "
                         "in the file's force units), fe (a factor on the file's excitation vector), structure.damping "
@@ -286,28 +281,28 @@ Runner add_map_command(CLI::App& app) {
                         "contact.static_limit, contact.stribeck_velocity, contact.regularization, "
                         "contact.lagrangian_penalty; the keys of its law only)")
         ->type_name("NAME");
-    command->add_option("--values", options->values,
+    command.add_option("--values", o.values,
                         "the parameter's values: V1,V2,..., START:STOP:N (N evenly spaced) or log:START:STOP:N "
                         "(evenly spaced in log); 1..100000 values")
         ->type_name("LIST|GRID");
-    command->add_option("--at", options->at,
+    command.add_option("--at", o.at,
                         "comma-separated frequencies W1,W2,...: on every FRF, every solution there is solved exactly "
                         "and written as extra rows with point = sample (as hbf frf --at)")
         ->type_name("LIST");
-    command->add_option("--contact", options->contact, "--config: the contact whose friction limit (--param mu) or key (--param contact.KEY) the map sets (1-based)")
+    command.add_option("--contact", o.contact, "--config: the contact whose friction limit (--param mu) or key (--param contact.KEY) the map sets (1-based)")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--threads", options->threads,
+    command.add_option("--threads", o.threads,
                         "FRFs computed at once, 0..4096; 0 = every core. Under mpirun: per rank [default 1]. The CSV "
                         "is the same for any number of threads and ranks")
         ->capture_default_str()->type_name("INT");
-    options->output.add_to(*command, {"write the CSV to FILE instead of standard output",
+    o.output.add_to(command, {"write the CSV to FILE instead of standard output",
                                       "write a JSON summary to FILE: per value the FRF's status, coverage, largest "
                                       "peak (peak, peak_w, peak_state) and time",
                                       "FILE",
                                       "draw the first output's max over one period against w: one curve per value, or "
                                       "a heat map over (w, parameter) with the colour on a log scale (.png or .svg)",
                                       "no progress bar or summary line on standard error"});
-    command->add_option("--plot-style", options->style,
+    command.add_option("--plot-style", o.style,
                         "curves, heatmap, or auto (curves for up to 8 values, else a heat map)")
         ->capture_default_str()->type_name("auto|curves|heatmap");
     std::string footer = "Output: a tidy CSV, one row per FRF point: the parameter's value (column named after it), "
@@ -318,8 +313,13 @@ Runner add_map_command(CLI::App& app) {
               "any FRF failed, is incomplete or has an unbounded resonance (counted on standard error).\n"
               "MPI: mpirun -n K hbf map ... splits the values over K ranks (value k on rank k mod K); rank 0 gathers "
               "and writes.";
-    command->footer(footer);
-    return [command, options]() { return run(*command, *options); };
+    command.footer(footer);
+}
+}  // namespace
+
+Runner add_map_command(CLI::App& app) {
+    return register_command<MapOptions>(app, "map", "FRFs over a grid of one parameter, crossed with the frequency: one FRF (hbf frf) per value, on "
+               "threads and, under mpirun, on MPI ranks; a tidy CSV, a JSON summary and a picture.", add_flags, run);
 }
 
 }  // namespace hbf::cli

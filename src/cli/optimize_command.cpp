@@ -368,45 +368,39 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         std::cerr << "hbf optimize: " << summary_line << "\n";
     return finish("optimize", verdict);
 }
-}  // namespace
-
-Runner add_optimize_command(CLI::App& app) {
-    auto options = std::make_shared<OptimizeOptions_>();
-    CLI::App* command = app.add_subcommand(
-        "optimize", "The friction coefficient (or the tuning wa, or both) that minimises the largest peak of the main mass's "
-                    "FRF over [wmin, wmax] (paper Section 4): a log-spaced scan on threads, then a golden-section "
-                    "search in log of the parameter, every FRF a full branch with refined peaks.");
-    options->absorber.add_system_flags(*command);
-    options->frf.add_to(*command);
-    command->add_option("--param", options->param,
+/// The flags of hbf optimize.
+void add_flags(CLI::App& command, OptimizeOptions_& o) {
+    o.absorber.add_system_flags(command);
+    o.frf.add_to(command);
+    command.add_option("--param", o.param,
                         "what is optimised: mu (the friction coefficient; with --config the friction limit F_c of the "
                         "contact --contact), wa (the preset's tuning ratio, at the --mu given) or mu,wa (both: for each "
                         "wa of a search over --wa-range, a whole search in mu; about --wa-scan + 20 times more FRFs)")
         ->capture_default_str()->type_name("mu|wa|mu,wa");
-    command->add_option("--range", options->range,
+    command.add_option("--range", o.range,
                         "the search range LOWER:UPPER (0 < LOWER < UPPER) [default: mu from 0.01 to 10 times the "
                         "largest force amplitude |F|_inf (fe for the preset); wa from 0.5 to 2]")
         ->type_name("LOWER:UPPER");
-    command->add_option("--wa-range", options->wa_range,
+    command.add_option("--wa-range", o.wa_range,
                         "--param mu,wa: the range of the tuning LOWER:UPPER (0 < LOWER < UPPER) [default: 0.5:2]")
         ->type_name("LOWER:UPPER");
-    command->add_option("--wa-scan", options->wa_scan,
+    command.add_option("--wa-scan", o.wa_scan,
                         "--param mu,wa: values of wa of the first, log-spaced scan, 3..1000 (each a search in mu)")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--contact", options->contact, "--config: the contact whose friction limit is optimised (1-based)")
+    command.add_option("--contact", o.contact, "--config: the contact whose friction limit is optimised (1-based)")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--scan", options->scan,
+    command.add_option("--scan", o.scan,
                         "FRFs of the first, log-spaced scan over the range, 3..1000: it brackets the optimum (the "
                         "peak is unbounded at both ends for a friction damper without viscous damping)")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--param-tolerance", options->param_tolerance,
+    command.add_option("--param-tolerance", o.param_tolerance,
                         "the search stops when the bracket is narrower than this fraction of the parameter, 1e-12..0.1")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--max-frfs", options->max_frfs, "largest number of FRFs (scan included); with --param mu,wa of each search in mu")
+    command.add_option("--max-frfs", o.max_frfs, "largest number of FRFs (scan included); with --param mu,wa of each search in mu")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--threads", options->threads, "FRFs of the scan computed at once; 0 = every core")
+    command.add_option("--threads", o.threads, "FRFs of the scan computed at once; 0 = every core")
         ->capture_default_str()->type_name("INT");
-    options->output.add_to(*command,
+    o.output.add_to(command,
                            {"write the convergence trace (CSV, one row per FRF) to FILE instead of standard output",
                             "write a JSON summary to FILE: the optimum (value, largest peak and its w, every peak), the "
                             "final bracket, the number of FRFs, and the comparisons with the Den Hartog friction, the "
@@ -419,8 +413,14 @@ Runner add_optimize_command(CLI::App& app) {
               "whole FRF, every branch and fold included (nondimensional for the preset). Exit code 0 when the search "
               "converged; 3 when the optimum lies at an end of the range, the FRF budget ran out, or an FRF near the "
               "optimum failed; 1 when no value of the range gives a bounded response.";
-    command->footer(footer);
-    return [command, options]() { return run(*command, *options); };
+    command.footer(footer);
+}
+}  // namespace
+
+Runner add_optimize_command(CLI::App& app) {
+    return register_command<OptimizeOptions_>(app, "optimize", "The friction coefficient (or the tuning wa, or both) that minimises the largest peak of the main mass's "
+                    "FRF over [wmin, wmax] (paper Section 4): a log-spaced scan on threads, then a golden-section "
+                    "search in log of the parameter, every FRF a full branch with refined peaks.", add_flags, run);
 }
 
 }  // namespace hbf::cli

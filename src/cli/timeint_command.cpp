@@ -154,52 +154,47 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     verdict.add(messages.messages());
     return finish("timeint", verdict);
 }
-}  // namespace
-
-Runner add_timeint_command(CLI::App& app) {
-    auto options = std::make_shared<TimeintOptions>();
-    CLI::App* command = app.add_subcommand(
-        "timeint", "Periodic steady states of the paper's friction absorber by time integration (SUNDIALS CVODE): "
-                   "the reference for harmonic balance. One frequency (--w) or a sweep (--wmin --wmax --points).");
-    options->absorber.add_system_flags(*command);
-    command->remove_option(command->get_option("--dlft-eps"));  // harmonic balance only
-    command->add_option("--w", options->w, "a single frequency w, > 0")->type_name("NUMBER");
-    command->add_option("--wmin", options->wmin, "first frequency of the sweep grid, > 0")->type_name("NUMBER");
-    command->add_option("--wmax", options->wmax, "last frequency of the sweep grid, > wmin")->type_name("NUMBER");
-    command->add_option("--points", options->points, "number of frequencies of the uniform sweep grid, 2..10000")
+/// The flags of hbf timeint.
+void add_flags(CLI::App& command, TimeintOptions& o) {
+    o.absorber.add_system_flags(command);
+    command.remove_option(command.get_option("--dlft-eps"));  // harmonic balance only
+    command.add_option("--w", o.w, "a single frequency w, > 0")->type_name("NUMBER");
+    command.add_option("--wmin", o.wmin, "first frequency of the sweep grid, > 0")->type_name("NUMBER");
+    command.add_option("--wmax", o.wmax, "last frequency of the sweep grid, > wmin")->type_name("NUMBER");
+    command.add_option("--points", o.points, "number of frequencies of the uniform sweep grid, 2..10000")
         ->type_name("INT");
-    command->add_option("--sweep", options->sweep,
+    command.add_option("--sweep", o.sweep,
                         "sweep direction: up (wmin to wmax) or down (wmax to wmin); each point starts from the "
                         "previous point's steady state")
         ->capture_default_str()->type_name("up|down");
-    command->add_option("--rtol", options->rtol, "CVODE relative tolerance, 1e-14..1e-3")
+    command.add_option("--rtol", o.rtol, "CVODE relative tolerance, 1e-14..1e-3")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--atol", options->atol,
+    command.add_option("--atol", o.atol,
                         "CVODE absolute tolerance relative to the response's scale s (displacements atol s, velocities "
                         "atol h w s; s = min(|K^-1 F|, |M^-1 F| / (h w)^2): the same in any units and at any w), "
                         "1e-16..1e-3")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--steady-tol", options->steady_tol,
+    command.add_option("--steady-tol", o.steady_tol,
                         "Poincare convergence: the state at the start of consecutive periods changes by <= "
                         "steady-tol relative to the displacement scale max(|y|_inf, |y'|_inf / w) (velocities divided by w: "
                         "the same in any units), 1e-14..1e-2")
         ->capture_default_str()->type_name("NUMBER");
-    command->add_option("--max-periods", options->max_periods, "periods per frequency at most, 1..1000000")
+    command.add_option("--max-periods", o.max_periods, "periods per frequency at most, 1..1000000")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--min-periods", options->min_periods, "periods per frequency at least, 1..max-periods")
+    command.add_option("--min-periods", o.min_periods, "periods per frequency at least, 1..max-periods")
         ->capture_default_str()->type_name("INT");
-    command->add_option("--method", options->method,
+    command.add_option("--method", o.method,
                         "CVODE method: adams (fixed-point iteration; fastest here) or bdf (Newton, dense "
                         "difference-quotient Jacobian; for stiff contacts); or exact (coulomb and jenkins only): the "
                         "event-exact solver, closed-form flows between stick/slip events and Newton shooting on the "
                         "period map (steady state to --steady-tol, default 1e-12 with it; --rtol and --atol do not "
                         "apply; periods counts the period maps evaluated)")
         ->capture_default_str()->type_name("adams|bdf|exact");
-    options->output.add_to(*command, {"write the CSV to FILE instead of standard output", "", "FILE",
+    o.output.add_to(command, {"write the CSV to FILE instead of standard output", "", "FILE",
                                       "draw y1_max against w (sweep order, non-converged points marked) through gnuplot "
                                       "(.png or .svg)",
                                       "no progress on standard error"});
-    command->add_option("--config", options->config,
+    command.add_option("--config", o.config,
                         "integrate the structure of a TOML system file (as hbf frf --config; its frequency range "
                         "and solver settings are not used: give --w or --wmin/--wmax/--points)")
         ->option_text("FILE.toml");
@@ -216,8 +211,13 @@ Runner add_timeint_command(CLI::App& app) {
               "max(1e-6, 100 max(rtol, steady-tol)). A point that did not converge is written with converged = "
               "false and reported on standard error, and the exit code is 1 (like a stalled hbf frf branch: what "
               "was computed is written).";
-    command->footer(footer);
-    return [command, options]() { return run(*command, *options); };
+    command.footer(footer);
+}
+}  // namespace
+
+Runner add_timeint_command(CLI::App& app) {
+    return register_command<TimeintOptions>(app, "timeint", "Periodic steady states of the paper's friction absorber by time integration (SUNDIALS CVODE): "
+                   "the reference for harmonic balance. One frequency (--w) or a sweep (--wmin --wmax --points).", add_flags, run);
 }
 
 }  // namespace hbf::cli
