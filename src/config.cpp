@@ -14,6 +14,7 @@
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/harmonic_balance.hpp"
 
 namespace hbf::io {
 
@@ -434,9 +435,10 @@ SystemConfig read_system_config(const std::string& path) {
         }
         if (const toml::node* v = t->get("modes")) {
             config.modes = r.integer(*v, "solver.modes");
-            if (*config.modes < 0 || *config.modes > 100000)
+            if (*config.modes < 0 || *config.modes > HarmonicBalanceOptions::max_modes)
                 fail(path, v->source(), "solver.modes",
-                     std::to_string(*config.modes) + " is out of range: allowed 0 (direct solve) or 1..100000 modes");
+                     std::to_string(*config.modes) + " is out of range: allowed 0 (direct solve) or 1.." +
+                         std::to_string(HarmonicBalanceOptions::max_modes) + " modes");
         }
         if (const toml::node* v = t->get("harmonics")) {
             config.harmonics = r.integer(*v, "solver.harmonics");

@@ -115,7 +115,6 @@ int run(const CLI::App& command, const MapOptions& o) {
     }
     const int threads = parse_count("--threads", o.threads, 0, 4096);
     HarmonicBalance::validate(parameter.system(values.front()), settings.harmonic_balance);
-    validate(settings.continuation);
     if (o.output.dry_run) return root ? o.output.dry_run_done("map") : exit_success;
 
     // This rank's share: FRFs k with k mod ranks = rank.

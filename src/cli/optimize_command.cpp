@@ -147,7 +147,6 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     oo.threads = parse_count("--threads", o.threads, 0, 4096);
     tuning.tolerance = oo.tolerance;
     HarmonicBalance::validate(parameter.system(oo.lower), settings.harmonic_balance);
-    validate(settings.continuation);
     if (o.output.dry_run) return o.output.dry_run_done("optimize");
 
     JointOptimizeResult joint_result;
