@@ -445,21 +445,47 @@ PYBIND11_MODULE(_core, m) {
     {
         std::vector<std::string> keys;
         std::map<std::string, std::string> docs;
-        std::map<std::string, double Contact::*> fields;
+        std::map<std::string, LawParameter> parameters;
         for (const ContactLaw* law : contact_laws())
             for (const LawParameter& p : law->parameters()) {
-                if (!fields.count(p.key)) keys.emplace_back(p.key);
-                fields[p.key] = p.field;
+                if (!parameters.count(p.key)) keys.emplace_back(p.key);
+                parameters.insert_or_assign(p.key, p);
+                const bool simple = p.kind == LawParameter::Kind::number && p.range != LawParameter::Range::interval;
+                const std::string range = simple ? (p.range == LawParameter::Range::positive ? "> 0" : ">= 0")
+                                                 : p.kind == LawParameter::Kind::pairs ? "a list of pairs (a, b)"
+                                                                                       : p.allowed();
                 std::string& doc = docs[p.key];
-                doc += (doc.empty() ? "" : "; ") + std::string(p.meaning) + " (" + law->name() + ", " +
-                       (p.range == LawParameter::Range::positive ? "> 0" : ">= 0") +
+                doc += (doc.empty() ? "" : "; ") + std::string(p.meaning) + " (" + law->name() + ", " + range +
                        (p.zero_means ? std::string("; 0: ") + p.zero_means : std::string()) + ")";
             }
         for (const std::string& key : keys) {
-            double Contact::*field = fields[key];
+            const LawParameter p = parameters.at(key);
+            if (p.kind == LawParameter::Kind::pairs) {
+                contact.def_property(
+                    key.c_str(),
+                    [key](const Contact& c) {
+                        py::list rows;
+                        const auto at = c.lists.find(key);
+                        if (at != c.lists.end())
+                            for (std::size_t i = 0; i + 1 < at->second.size(); i += 2)
+                                rows.append(py::make_tuple(at->second[i], at->second[i + 1]));
+                        return rows;
+                    },
+                    [key](Contact& c, const py::object& rows) {
+                        std::vector<double> list;
+                        for (const py::handle row : rows) {
+                            const std::vector<double> pair = row.cast<std::vector<double>>();
+                            if (pair.size() != 2) bad(key + ": expected pairs (a, b), got a row of " + std::to_string(pair.size()));
+                            list.insert(list.end(), pair.begin(), pair.end());
+                        }
+                        if (list.empty()) c.lists.erase(key); else c.lists[key] = list;
+                    },
+                    docs[key].c_str());
+                continue;
+            }
             contact.def_property(
-                key.c_str(), [field](const Contact& c) { return c.*field; },
-                [field](Contact& c, double v) { c.*field = v; }, docs[key].c_str());
+                key.c_str(), [p](const Contact& c) { return p.get(c); }, [p](Contact& c, double v) { p.set(c, v); },
+                docs[key].c_str());
         }
     }
 

@@ -87,17 +87,29 @@ double contact_limit_friction(const AbsorberParameters& p, double omega, Frictio
     return det == 0.0 ? infinity : p.excitation * p.mass_ratio * omega * omega * contact / det;
 }
 
+namespace {
+/// The paper's closed forms are those of coulomb, dahl and lugre; any other law is refused rather
+/// than answered with Coulomb's (a law added later falls here too).
+void require_closed_form(FrictionLaw law) {
+    if (law != FrictionLaw::coulomb && law != FrictionLaw::dahl && law != FrictionLaw::lugre)
+        throw InvalidInput("law = " + to_string(law) + " has no closed form: allowed coulomb, dahl, lugre");
+}
+}  // namespace
+
 Response stick(const AbsorberParameters& p, double omega, FrictionLaw law) {
+    require_closed_form(law);
     return law == FrictionLaw::dahl || law == FrictionLaw::lugre ? contact_stick(p, omega, law)
                                                                  : coulomb_stick(p, omega);
 }
 
 double limit_friction(const AbsorberParameters& p, double omega, FrictionLaw law) {
+    require_closed_form(law);
     return law == FrictionLaw::dahl || law == FrictionLaw::lugre ? contact_limit_friction(p, omega, law)
                                                                  : coulomb_limit_friction(p, omega);
 }
 
 std::vector<double> stuck_resonances(const AbsorberParameters& p, FrictionLaw law) {
+    require_closed_form(law);
     const double r = p.mass_ratio;
     if (law != FrictionLaw::dahl && law != FrictionLaw::lugre) return {1.0 / std::sqrt(1.0 + r)};
     const double wb = p.contact_stiffness_ratio;

@@ -235,8 +235,25 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
     }
     if (!t.get("friction_limit")) fail(r.file, t.source(), where + ".friction_limit", "missing: the slip force F_c = mu N (> 0)");
     c.friction_limit = r.number(*t.get("friction_limit"), where + ".friction_limit");
-    for (const LawParameter& p : parameters)
-        if (const toml::node* node = t.get(p.key)) c.*(p.field) = r.number(*node, where + "." + p.key);
+    for (const LawParameter& p : parameters) {
+        const toml::node* node = t.get(p.key);
+        if (!node) continue;
+        if (p.kind != LawParameter::Kind::pairs) {
+            p.set(c, r.number(*node, where + "." + p.key));
+            continue;
+        }
+        // a table of pairs: [[a1, b1], [a2, b2], ...], kept row by row
+        const toml::array* rows = node->as_array();
+        if (!rows || rows->empty())
+            fail(r.file, node->source(), where + "." + p.key, std::string("expected a non-empty array of pairs [a, b] (") + p.meaning + ")");
+        std::vector<double>& list = c.lists[p.key];
+        for (std::size_t i = 0; i < rows->size(); ++i) {
+            const std::string at = where + "." + p.key + "[" + std::to_string(i + 1) + "]";
+            const toml::array* pair = (*rows)[i].as_array();
+            if (!pair || pair->size() != 2) fail(r.file, (*rows)[i].source(), at, "expected a pair of two numbers [a, b]");
+            for (std::size_t j = 0; j < 2; ++j) list.push_back(r.number((*pair)[j], at));
+        }
+    }
     return c;
 }
 

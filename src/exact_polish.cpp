@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "golden_section.hpp"
 #include "stopwatch.hpp"
@@ -105,7 +106,7 @@ std::string PolishedBranch::summary() const {
 
 Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& point) {
     const System& s = hb.system();
-    const int n = s.dofs(), nc = static_cast<int>(s.contacts.size());
+    const int n = s.dofs(), nc = time_domain_elements(s);  // the state is per time-domain element
     Eigen::VectorXd state = Eigen::VectorXd::Zero(2 * n + 2 * nc);
     auto at_zero = [&](const Eigen::VectorXd& c, double& value, double& rate) {
         value = c(0);
@@ -117,17 +118,32 @@ Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& poin
     };
     const Eigen::MatrixXd y = hb.dofs(point.x, point.omega);
     for (int i = 0; i < n; ++i) at_zero(y.col(i), state(i), state(n + i));
-    for (int c = 0; c < nc; ++c) {
+    // an elastic slider holding the force f at q sits at s = q - f / k_t; it slips when |f| is at
+    // its limit and moves with the velocity
+    auto slider = [&](int e, const Contact& k, double q, double v, double f) {
+        state(2 * n + e) = q - f / k.stiffness;
+        state(2 * n + nc + e) = std::abs(f) >= k.friction_limit * (1.0 - 1e-9) && f * v > 0.0 ? (f > 0 ? 1 : -1) : 0;
+    };
+    int e = 0;
+    for (int c = 0; c < static_cast<int>(s.contacts.size()); ++c) {
         const Contact& k = s.contacts[static_cast<std::size_t>(c)];
         double q = 0, v = 0;
-        at_zero(hb.relative(point.x, c), q, v);
-        const double f = hb.force_samples(point.x, point.omega, c)(0);
-        if (k.law == FrictionLaw::jenkins) {
-            state(2 * n + c) = q - f / k.stiffness;
-            state(2 * n + nc + c) = std::abs(f) >= k.friction_limit * (1.0 - 1e-9) && f * v > 0.0 ? (f > 0 ? 1 : -1) : 0;
+        const Eigen::VectorXd relative = hb.relative(point.x, c);
+        at_zero(relative, q, v);
+        const std::vector<Contact> elements = contact_law(k.law).time_elements(k);
+        if (elements.size() > 1) {  // each element's force from its own law on the contact's q(t)
+            for (const Contact& element : elements) {
+                const double f = contact_law(element.law)
+                                     .periodic_model(element)
+                                     ->force_samples(hb.fourier(), point.omega, relative, Eigen::VectorXd())(0);
+                if (elastic_slider(element)) slider(e, element, q, v, f);
+                ++e;
+            }
+        } else if (elastic_slider(k)) {
+            slider(e++, k, q, v, hb.force_samples(point.x, point.omega, c)(0));
         } else {
             const double phi = hb.stick_indicator(point.x, point.omega, c)(0);
-            state(2 * n + nc + c) = phi < 0.0 ? 0 : (v > 0 ? 1 : -1);
+            state(2 * n + nc + e++) = phi < 0.0 ? 0 : (v > 0 ? 1 : -1);
         }
     }
     return state;

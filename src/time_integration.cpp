@@ -115,9 +115,7 @@ std::string PeriodicResponse::summary() const {
     return s.str();
 }
 
-int state_size(const System& system) {
-    return 2 * system.dofs() + 2 * static_cast<int>(system.contacts.size());
-}
+int state_size(const System& system) { return 2 * system.dofs() + 2 * time_domain_elements(system); }
 
 double response_scale(const System& system, double omega) {
     system.validate();
@@ -275,8 +273,10 @@ PhysicsCheck check_physics(const System& system, double omega, const PeriodRecor
 
 }  // namespace
 
-Eigen::VectorXd linear_stuck_state(const System& system, double omega) {
-    system.validate();
+Eigen::VectorXd linear_stuck_state(const System& given, double omega) {
+    given.validate();
+    const TimeDomainView view(given);  // the state is per time-domain element (contact.hpp)
+    const System& system = view.system();
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
@@ -293,9 +293,11 @@ Eigen::VectorXd linear_stuck_state(const System& system, double omega) {
     return state;
 }
 
-PeriodicResponse integrate_steady_state(const System& system, double omega, const TimeIntegrationOptions& options,
+PeriodicResponse integrate_steady_state(const System& given, double omega, const TimeIntegrationOptions& options,
                                         const Eigen::VectorXd* initial_state) {
-    system.validate();
+    given.validate();
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const System& system = view.system();
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     options.validate();
@@ -304,7 +306,7 @@ PeriodicResponse integrate_steady_state(const System& system, double omega, cons
     if (initial_state && (initial_state->size() != size || !initial_state->allFinite()))
         throw InvalidInput("initial state has " + std::to_string(initial_state->size()) +
                            " entries or non-finite values: allowed " + std::to_string(size) +
-                           " finite values (2 N + 2 contacts)");
+                           " finite values (2 N + 2 n_e, n_e the contacts' time-domain elements)");
     if (system.has_positive_definite_mass()) return integrate_with_mass(system, omega, options, initial_state);
     // Massless DOFs: condensed statically (exact), integrated, expanded.
     const detail::MasslessCondensation condensation(system);

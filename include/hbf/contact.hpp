@@ -27,17 +27,36 @@
 
 namespace hbf {
 
-/// One parameter of a law besides friction_limit (which every law has, > 0). `key` is the
-/// Contact field's name and the key of a contact table in a system file (config.hpp).
+/// One parameter of a law besides friction_limit (which every law has, > 0). `key` is its name
+/// in a system file's contact table (config.hpp), in Python's Contact and in the studies'
+/// `contact.<key>`. The five first laws keep their values in Contact's fields (`field`); a law
+/// added in its own file leaves `field` null and keeps them in Contact::values / Contact::lists
+/// under `key`, so that adding it touches no other file.
 struct LawParameter {
-    enum class Range { positive, non_negative };
+    /// positive: > 0; non_negative: >= 0; interval: between `low` and `high`, each end open or
+    /// closed as given.
+    enum class Range { positive, non_negative, interval };
+    /// number: one finite number; integer: one whole number; pairs: a table of rows of two
+    /// numbers (stored row by row in Contact::lists), checked by the law's validate().
+    enum class Kind { number, integer, pairs };
     const char* key;
     double Contact::*field;
     const char* meaning;  ///< what it is, with its symbol ("contact stiffness sigma0")
     Range range;
     /// What 0 means where 0 is allowed and special ("F_s = F_c"); nullptr otherwise.
     const char* zero_means = nullptr;
-    /// "finite and > 0" or "finite and >= 0".
+    Kind kind = Kind::number;
+    double low = 0, high = 0;                 ///< Range::interval
+    bool low_open = false, high_open = false;  ///< Range::interval
+    /// The value of a parameter kept in Contact::values when the contact has none.
+    double default_value = 0;
+
+    /// The contact's value (number and integer kinds).
+    double get(const Contact& contact) const;
+    void set(Contact& contact, double value) const;
+    /// Whether `value` is in the range (finite; whole for Kind::integer).
+    bool allows(double value) const;
+    /// "finite and > 0", "finite and >= 0", "in (-1, 0]", "an integer in 1..1000".
     std::string allowed() const;
 };
 
@@ -66,6 +85,16 @@ struct DirectionScale {
 ///   bristle: the bristle deflection z (dahl, lugre), which starts from z = q;
 ///   slider:  the slider position s of a spring in series with a Coulomb slider (jenkins).
 enum class TimeState { none, bristle, slider };
+
+/// What the time-domain solvers (time integration, the event-exact solver) integrate. A law
+/// with exact stick is made of event-driven elements, each a contact whose law is one of the
+/// two primitives below (time_elements); a smooth law is integrated as itself, by its
+/// time_force and time_margin.
+///   rigid slider:   exact Coulomb (stuck().rigid): stuck, q is held by a constraint's force;
+///   elastic slider: Jenkins: a spring `stiffness` in series with a rigid slider (its position
+///                   the element's state).
+bool rigid_slider(const Contact& element);
+bool elastic_slider(const Contact& element);
 
 /// A contact law: a stateless descriptor, one per law (see the top of this file).
 class ContactLaw {
@@ -113,8 +142,22 @@ public:
     /// (friction_limit = mu is set by the preset). The default sets none.
     virtual void from_preset(const AbsorberParameters&, Contact&) const {}
     /// Throws InvalidInput naming the parameter (prefixed by `where`, e.g. "contact 1: ") when a
-    /// parameter is out of its range. The default checks parameters().
+    /// parameter is out of its range. The default checks parameters() (kinds number, integer).
     virtual void validate(const Contact& contact, const std::string& where) const;
+
+    // ---- the time domain (time integration, the event-exact solver) ----
+    /// The elements the time-domain solvers integrate for this contact (see rigid_slider): the
+    /// contact itself (the default), or several contacts of the primitive laws along the same
+    /// direction (a parallel Iwan joint: its sliders). Their internal states and modes are the
+    /// entries of the time-domain state (time_integration.hpp: one per element), in this order.
+    virtual std::vector<Contact> time_elements(const Contact& contact) const { return {contact}; }
+    /// Smooth laws: the force at relative velocity v with internal state z (time_state(): the
+    /// bristle deflection; 0 without a state), and the state's rate z' in `rate` (0 without a
+    /// state). The default throws: laws with exact stick are integrated by their elements' modes.
+    virtual double time_force(const Contact& contact, double v, double z, double& rate) const;
+    /// Smooth laws: the stick margin of time integration (time_integration.hpp), < 0 while the
+    /// contact (pre-)sticks; its sign changes are the stick/slip events. The default throws.
+    virtual double time_margin(const Contact& contact, double v, double z) const;
 };
 
 /// The registry: every law, in the order of their names in messages.
@@ -130,6 +173,27 @@ std::string laws_with_parameter(const std::string& key);
 /// PresetParameter), joined by ", "; and whether `law` reads it.
 std::string laws_reading(const std::string& symbol);
 bool law_reads(FrictionLaw law, const std::string& symbol);
+
+/// The system the time-domain solvers integrate: every contact replaced by its law's
+/// time_elements, in order (the same system when no law splits a contact).
+System time_domain_system(const System& system);
+/// Whether some contact's law splits it into several elements (time_domain_system differs).
+bool splits_contacts(const System& system);
+/// The number of time-domain elements of the system (its contacts when none is split).
+int time_domain_elements(const System& system);
+
+/// The system as the time-domain solvers see it, copied only when a law splits a contact:
+///     const TimeDomainView view(system); const System& s = view.system();
+class TimeDomainView {
+public:
+    explicit TimeDomainView(const System& system);
+    const System& system() const { return split_ ? lowered_ : original_; }
+
+private:
+    const System& original_;
+    bool split_;
+    System lowered_;
+};
 
 /// LuGre's sliding limit g(v) = F_c + (F_s - F_c) exp(-(v / v_s)^2) (paper eq. 17) and its slope
 /// dg/dv: F_c (slope 0) for Dahl, and for LuGre without a Stribeck curve (v_s = 0, F_s = 0 or

@@ -25,6 +25,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <complex>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,7 +44,8 @@ namespace hbf {
 ///   jenkins: f = k_t (q - s), a tangential spring k_t (= stiffness) in series with a Coulomb
 ///            slider at s: s' = 0 while |k_t (q - s)| < F_c (stick), else the slider moves
 ///            with q and f = F_c sign(q') (slip); the elastic-contact variant of Coulomb
-enum class FrictionLaw { coulomb, dahl, lugre, coulomb_regularized, jenkins };
+///   (a law added in its own file takes the next free number as its id: contact.hpp)
+enum class FrictionLaw : int { coulomb, dahl, lugre, coulomb_regularized, jenkins };
 
 /// "coulomb", "dahl", "lugre", "coulomb-reg", "jenkins" (the registry's names: contact.hpp).
 std::string to_string(FrictionLaw law);
@@ -70,6 +72,11 @@ struct Contact {
     /// epsilon of the dynamic Lagrangian (exact coulomb in harmonic balance; >= 0, force per
     /// velocity; 0 chooses sqrt((w^T K w)(w^T M w)), the contact direction's impedance).
     double lagrangian_penalty = 0;
+    /// The parameters of the laws added in their own files, which have no field above, by key
+    /// (contact.hpp: LawParameter reads and writes them, and knows their defaults): numbers in
+    /// `values`, lists of numbers (a table of pairs, row by row) in `lists`.
+    std::map<std::string, double> values;
+    std::map<std::string, std::vector<double>> lists;
 };
 
 using SparseMatrix = Eigen::SparseMatrix<double>;

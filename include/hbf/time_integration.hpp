@@ -149,7 +149,9 @@ struct TimeIntegrationOptions {
 /// Periodic steady state at one frequency and the metrics of its final period.
 ///
 /// State vector convention (initial_state and state), size state_size(system) = 2N + 2 n_c
-/// for N DOFs and n_c contacts:
+/// for N DOFs and n_c time-domain elements: the contacts, each counted as its law's
+/// time_elements (contact.hpp; one a contact, except an Iwan joint: one a slider, in order),
+/// which are also the contacts of the per-contact results below:
 ///   [ y (N), y' (N), internal (n_c), mode (n_c) ]
 /// internal_c = bristle deflection z (dahl, lugre), slider position s (jenkins), 0 otherwise;
 /// mode_c = 0 stick, +1 slip with v_c > 0, -1 slip with v_c < 0 (coulomb, jenkins), 0 for the

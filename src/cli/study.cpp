@@ -34,18 +34,24 @@ std::string config_names() {
 /// `field` is null when the name is none of them.
 struct ContactKey {
     std::string name;
-    double Contact::*field = nullptr;
-    bool zero_allowed = false;
+    bool found = false;
+    LawParameter parameter{"friction_limit", &Contact::friction_limit, "slip force mu N", LawParameter::Range::positive};
 };
 ContactKey find_contact_key(const std::string& name) {
-    if (name == "mu") return {"friction_limit", &Contact::friction_limit, false};
+    if (name == "mu") return {"friction_limit", true};
     if (name.rfind("contact.", 0) != 0) return {};
     const std::string key = name.substr(8);
-    if (key == "friction_limit") return {key, &Contact::friction_limit, false};
+    if (key == "friction_limit") return {key, true};
     for (const ContactLaw* law : contact_laws())
         for (const LawParameter& p : law->parameters())
-            if (key == p.key) return {key, p.field, p.range == LawParameter::Range::non_negative};
+            if (key == p.key && p.kind != LawParameter::Kind::pairs) return {key, true, p};
     return {};
+}
+/// "> 0", ">= 0", or the parameter's interval.
+std::string bound(const LawParameter& p) {
+    using R = LawParameter::Range;
+    if (p.kind == LawParameter::Kind::number && p.range != R::interval) return p.range == R::positive ? "> 0" : ">= 0";
+    return p.allowed();
 }
 /// Whether `key` applies to `law` (friction_limit to every law).
 bool applies(const ContactKey& key, FrictionLaw law) {
@@ -61,10 +67,10 @@ StudyParameter::StudyParameter(const std::string& flag, const std::string& name,
     if (name.empty()) throw UsageError(flag + " is empty: allowed " + preset_names());
     if (chosen.config) {
         const ContactKey key = find_contact_key(name);
-        if (!key.field && name != "fe" && name != "structure.damping")
+        if (!key.found && name != "fe" && name != "structure.damping")
             throw UsageError(flag + " = '" + name + "' is not a parameter of a --config system: allowed " +
                              config_names());
-        if (!key.field) {
+        if (!key.found) {
             current_ = 1.0;
             return;
         }
@@ -79,7 +85,7 @@ StudyParameter::StudyParameter(const std::string& flag, const std::string& name,
         if (!applies(key, c.law))
             throw UsageError(flag + " = " + name + " does not apply to contact " + std::to_string(n) + " (law " +
                              to_string(c.law) + "): allowed " + config_names());
-        current_ = c.*(key.field);
+        current_ = key.parameter.get(c);
         return;
     }
     law_ = chosen.system.contacts.front().law;
@@ -132,11 +138,11 @@ std::string StudyParameter::meaning() const {
 System StudyParameter::system(double value) const {
     if (chosen_.config) {
         System s = chosen_.system;
-        if (const ContactKey key = find_contact_key(name_); key.field) {
-            if (!(std::isfinite(value) && (value > 0.0 || (key.zero_allowed && value == 0.0))))
+        if (const ContactKey key = find_contact_key(name_); key.found) {
+            if (!key.parameter.allows(value))
                 throw InvalidInput(name_ + " (" + meaning() + ") = " + format_number(value) +
-                                   " is out of range: allowed " + (key.zero_allowed ? ">= 0" : "> 0"));
-            s.contacts[static_cast<std::size_t>(contact_)].*(key.field) = value;
+                                   " is out of range: allowed " + bound(key.parameter));
+            key.parameter.set(s.contacts[static_cast<std::size_t>(contact_)], value);
         } else if (name_ == "fe") {
             if (!(std::isfinite(value) && value > 0.0))
                 throw InvalidInput("fe (factor on the excitation) = " + format_number(value) + " is out of range: allowed > 0");

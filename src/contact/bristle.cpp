@@ -144,6 +144,16 @@ void bristle_guess(const Contact& contact, bool sliding, const Eigen::VectorXd& 
     }
 }
 
+double bristle_time_force(const Contact& contact, double sigma1, double sigma2, double v, double z, double& rate) {
+    const double sigma0 = contact.stiffness;
+    rate = v - sigma0 * std::abs(v) * z / sliding_limit(contact, v);
+    return sigma0 * z + sigma1 * rate + sigma2 * v;
+}
+
+double bristle_time_margin(const Contact& contact, double v, double z) {
+    return std::abs(contact.stiffness * z) / (stick_force_ratio * sliding_limit(contact, v)) - 1.0;
+}
+
 }  // namespace detail
 
 }  // namespace hbf

@@ -84,6 +84,13 @@ public:
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         return std::make_unique<Tanh>(contact);
     }
+    double time_force(const Contact& contact, double v, double, double& rate) const override {
+        rate = 0.0;
+        return contact.friction_limit * std::tanh(v / contact.regularization);
+    }
+    double time_margin(const Contact& contact, double v, double) const override {
+        return std::abs(std::tanh(v / contact.regularization)) / stick_force_ratio - 1.0;
+    }
     LocalLinearization linearize(const Contact& contact, double v, double) const override {
         LocalLinearization l;
         const double t = std::tanh(v / contact.regularization);

@@ -55,6 +55,12 @@ public:
     LocalLinearization linearize(const Contact& contact, double v, double z) const override {
         return detail::bristle_linearization(contact, contact.damping, contact.viscous, v, z);
     }
+    double time_force(const Contact& contact, double v, double z, double& rate) const override {
+        return detail::bristle_time_force(contact, contact.damping, contact.viscous, v, z, rate);
+    }
+    double time_margin(const Contact& contact, double v, double z) const override {
+        return detail::bristle_time_margin(contact, v, z);
+    }
     void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
                      std::complex<double>, Eigen::Ref<Eigen::VectorXd> z) const override {
         detail::bristle_guess(contact, sliding, q, cos_row, z);

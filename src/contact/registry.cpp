@@ -1,9 +1,12 @@
 // hbfriction — the registry of contact laws: one line a law (contact.hpp). A new law is its
 // file in this folder, the accessor it defines declared below, and its line in the table.
 #include <algorithm>
+#include <cmath>
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+
+#include <stdexcept>
 
 namespace hbf {
 
@@ -21,6 +24,15 @@ const std::vector<const ContactLaw*>& contact_laws() {
         &coulomb_regularized_law(),
         &jenkins_law(),
     };
+    static const bool unique = [] {
+        for (std::size_t a = 0; a < laws.size(); ++a)
+            for (std::size_t b = a + 1; b < laws.size(); ++b)
+                if (laws[a]->id() == laws[b]->id() || std::string(laws[a]->name()) == laws[b]->name())
+                    throw std::logic_error(std::string("the contact laws ") + laws[a]->name() + " and " +
+                                           laws[b]->name() + " share an id or a name");
+        return true;
+    }();
+    (void)unique;
     return laws;
 }
 
@@ -70,7 +82,52 @@ bool law_reads(FrictionLaw law, const std::string& symbol) {
 
 // ---- the defaults of the interface --------------------------------------------------------
 
-std::string LawParameter::allowed() const { return range == Range::positive ? "finite and > 0" : "finite and >= 0"; }
+double LawParameter::get(const Contact& contact) const {
+    if (field) return contact.*field;
+    const auto at = contact.values.find(key);
+    return at == contact.values.end() ? default_value : at->second;
+}
+
+void LawParameter::set(Contact& contact, double value) const {
+    if (field)
+        contact.*field = value;
+    else
+        contact.values[key] = value;
+}
+
+bool LawParameter::allows(double value) const {
+    if (!std::isfinite(value)) return false;
+    if (kind == Kind::integer && value != std::floor(value)) return false;
+    switch (range) {
+        case Range::positive: return value > 0.0;
+        case Range::non_negative: return value >= 0.0;
+        case Range::interval:
+            return (low_open ? value > low : value >= low) && (high_open ? value < high : value <= high);
+    }
+    return false;
+}
+
+std::string LawParameter::allowed() const {
+    if (range != Range::interval) {
+        const std::string bound = range == Range::positive ? "> 0" : ">= 0";
+        return kind == Kind::integer ? "an integer " + bound : "finite and " + bound;
+    }
+    if (kind == Kind::integer) return "an integer in " + format_number(low) + ".." + format_number(high);
+    return std::string("in ") + (low_open ? "(" : "[") + format_number(low) + ", " + format_number(high) +
+           (high_open ? ")" : "]");
+}
+
+bool rigid_slider(const Contact& element) {
+    const ContactLaw& law = contact_law(element.law);
+    return law.exact_stick() && law.stuck(element).rigid;
+}
+
+bool elastic_slider(const Contact& element) {
+    const ContactLaw& law = contact_law(element.law);
+    if (!law.exact_stick() || law.stuck(element).rigid || law.time_state() != TimeState::slider) return false;
+    const std::vector<Contact> elements = law.time_elements(element);  // not split into several
+    return elements.size() == 1 && elements.front().law == element.law;
+}
 
 LocalLinearization ContactLaw::linearize(const Contact&, double, double) const {
     std::string smooth;
@@ -87,13 +144,53 @@ void ContactLaw::complete(Contact&, const DirectionScale&, const std::string&) c
 
 void ContactLaw::validate(const Contact& contact, const std::string& where) const {
     for (const LawParameter& p : parameters()) {
-        const std::string name = where + p.key;
-        const std::string meaning = std::string(p.meaning);
-        if (p.range == LawParameter::Range::positive)
-            require_positive(contact.*(p.field), name.c_str(), meaning.c_str());
-        else
-            require_non_negative(contact.*(p.field), name.c_str(), meaning.c_str());
+        if (p.kind == LawParameter::Kind::pairs) continue;  // the law's own validate
+        const double value = p.get(contact);
+        if (!p.allows(value))
+            throw InvalidInput(where + p.key + " (" + p.meaning + ") = " + format_number(value) +
+                               " is out of range: allowed " + p.allowed());
     }
+}
+
+double ContactLaw::time_force(const Contact&, double, double, double&) const {
+    throw InvalidInput("law = " + std::string(name()) + " has no smooth time-domain force (its stick is exact: it "
+                       "is integrated by the modes of its elements)");
+}
+
+double ContactLaw::time_margin(const Contact&, double, double) const {
+    throw InvalidInput("law = " + std::string(name()) + " has no smooth stick margin (its stick is exact)");
+}
+
+// ---- the time domain's elements -----------------------------------------------------------
+
+bool splits_contacts(const System& system) {
+    for (const Contact& c : system.contacts)
+        if (contact_law(c.law).time_elements(c).size() != 1) return true;
+    return false;
+}
+
+int time_domain_elements(const System& system) {
+    std::size_t count = 0;
+    for (const Contact& c : system.contacts) count += contact_law(c.law).time_elements(c).size();
+    return static_cast<int>(count);
+}
+
+System time_domain_system(const System& system) {
+    System lowered = system;
+    lowered.contacts.clear();
+    for (const Contact& c : system.contacts)
+        for (const Contact& e : contact_law(c.law).time_elements(c)) {
+            const ContactLaw& law = contact_law(e.law);
+            if (law.exact_stick() ? !rigid_slider(e) && !elastic_slider(e) : law.time_elements(e).size() != 1)
+                throw InvalidInput("law = " + std::string(contact_law(c.law).name()) +
+                                   ": its time-domain elements must be smooth laws, rigid or elastic sliders");
+            lowered.contacts.push_back(e);
+        }
+    return lowered;
+}
+
+TimeDomainView::TimeDomainView(const System& system) : original_(system), split_(splits_contacts(system)) {
+    if (split_) lowered_ = time_domain_system(system);
 }
 
 // ---- friction.hpp's entry points ----------------------------------------------------------

@@ -21,7 +21,10 @@ Engine::Engine(const System& system, double omega) : system_(system), omega_(ome
     nz_ = 2 * n_dofs_ + n_contacts_;
     n_ = nz_ + 3;
     mass_inverse_ = Eigen::MatrixXd(system.mass).llt().solve(Eigen::MatrixXd::Identity(n_dofs_, n_dofs_));
-    for (const Contact& c : system.contacts) directions_.push_back(system.contact_direction(c));
+    for (const Contact& c : system.contacts) {
+        directions_.push_back(system.contact_direction(c));
+        rigid_.push_back(rigid_slider(c) ? 1 : 0);
+    }
 }
 
 const ModeData& Engine::mode(const Modes& modes) {
@@ -67,7 +70,7 @@ Modes Engine::initial_modes(Eigen::VectorXd& zhat, const Modes& hints) {
         const Contact& k = contact(c);
         const int hint = hints.empty() ? 0 : hints[static_cast<std::size_t>(c)];
         const double v = velocity(c, zhat);
-        if (k.law == FrictionLaw::coulomb) {
+        if (coulomb(c)) {
             modes[static_cast<std::size_t>(c)] = (hint == 0 && std::abs(v) <= 1e-10 * v_scale) ? 0 : sign_of(v);
             if (modes[static_cast<std::size_t>(c)] == 0 && hint != 0 && v == 0.0) modes[static_cast<std::size_t>(c)] = hint;
         } else {
@@ -165,7 +168,7 @@ ModeData Engine::build(const Modes& modes) const {
         const int mode = modes[static_cast<std::size_t>(c)];
         if (mode != 0) {
             m.force(c, one_index()) = mode * k.friction_limit;
-        } else if (k.law == FrictionLaw::jenkins) {
+        } else if (!coulomb(c)) {  // an elastic slider's spring
             m.force.row(c).head(nd) = k.stiffness * direction(c).transpose();
             m.force(c, 2 * nd + c) = -k.stiffness;
         } else {
@@ -194,7 +197,7 @@ ModeData Engine::build(const Modes& modes) const {
     m.a.block(0, nd, nd, nd).setIdentity();
     m.a.middleRows(nd, nd) = acceleration;
     for (int c = 0; c < n_contacts_; ++c)
-        if (contact(c).law == FrictionLaw::jenkins && modes[static_cast<std::size_t>(c)] != 0)
+        if (!coulomb(c) && modes[static_cast<std::size_t>(c)] != 0)
             m.a.row(2 * nd + c).segment(nd, nd) = direction(c).transpose();
     m.a(cos_index(), sin_index()) = -omega_;
     m.a(sin_index(), cos_index()) = omega_;
@@ -250,9 +253,12 @@ Eigen::VectorXd full_state(const Engine& e, const Eigen::VectorXd& zhat, const M
 
 namespace hbf {
 
-ExactFlow exact_flow(const System& system, double omega, const Eigen::VectorXd& state, int periods,
+ExactFlow exact_flow(const System& given, double omega, const Eigen::VectorXd& state, int periods,
                      int max_events_per_period) {
     using namespace detail::exact;
+    given.validate();
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const System& system = view.system();
     if (validate_system(system, omega))
         throw InvalidInput("the mass matrix is singular (massless DOFs): exact_flow integrates M y'' = ... and needs M "
                            "positive definite (exact_periodic_orbit condenses massless DOFs)");

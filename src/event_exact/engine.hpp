@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "hbf/contact.hpp"
 #include "hbf/event_exact.hpp"
 
 namespace hbf::detail::exact {
@@ -56,7 +57,8 @@ public:
     int one_index() const { return nz_ + 2; }
     const Contact& contact(int c) const { return system_.contacts[static_cast<std::size_t>(c)]; }
     const Eigen::VectorXd& direction(int c) const { return directions_[static_cast<std::size_t>(c)]; }
-    bool coulomb(int c) const { return contact(c).law == FrictionLaw::coulomb; }
+    /// A rigid slider (exact Coulomb); else an elastic slider (Jenkins): contact.hpp.
+    bool coulomb(int c) const { return rigid_[static_cast<std::size_t>(c)] != 0; }
     const Eigen::VectorXd& excitation() const { return system_.excitation; }
 
     Eigen::VectorXd augment(const Eigen::VectorXd& z, double t) const {
@@ -107,6 +109,7 @@ private:
     double omega_, period_;
     int n_dofs_ = 0, n_contacts_ = 0, nz_ = 0, n_ = 0;
     Eigen::MatrixXd mass_inverse_;
+    std::vector<char> rigid_;  // per contact: a rigid slider (coulomb)
     std::vector<Eigen::VectorXd> directions_;
     std::map<Modes, ModeData> cache_;
 };

@@ -421,7 +421,7 @@ ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensati
     state.segment(n, n) = probes.rate.head(n);
     for (int c = 0; c < nc; ++c) {
         // A Coulomb contact's internal state is 0 by convention (its slider is q itself).
-        const bool coulomb = system.contacts[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb;
+        const bool coulomb = rigid_slider(system.contacts[static_cast<std::size_t>(c)]);
         state(2 * n + c) = coulomb ? 0.0 : out.state(2 * nr + c);
         state(2 * n + nc + c) = out.state(2 * nr + nc + c);
     }
@@ -441,16 +441,22 @@ ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensati
 
 namespace hbf {
 
-double permanent_stick_load(const System& system, double omega) {
+double permanent_stick_load(const System& given, double omega) {
     using namespace detail::exact;
+    given.validate();
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const System& system = view.system();
     validate_system(system, omega);
     Eigen::VectorXd z;
     return stuck_steady_state(system, omega, z);
 }
 
-ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
+ExactOrbit exact_periodic_orbit(const System& given, double omega, const Eigen::VectorXd& initial_state,
                                 const ExactOptions& options) {
     using namespace detail::exact;
+    given.validate();
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const System& system = view.system();
     const auto condensation = validate_system(system, omega);
     check_state_size(system, initial_state);
     options.validate();

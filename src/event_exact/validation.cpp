@@ -97,7 +97,8 @@ void ExactOptions::validate() const {
 
 std::string exact_solver_refusal(const System& system) {
     try {
-        validate_system(system, 1.0);
+        system.validate();
+        validate_system(TimeDomainView(system).system(), 1.0);
         return {};
     } catch (const InvalidInput& e) {
         return e.what();
@@ -108,8 +109,11 @@ bool exact_solver_supports(const System& system) { return exact_solver_refusal(s
 
 namespace {
 /// Steps per period (exact_steps_per_period) and the size of the flows' state.
-std::pair<double, int> steps_and_size(const System& system, double omega) {
+std::pair<double, int> steps_and_size(const System& given, double omega) {
     using namespace detail::exact;
+    given.validate();
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const System& system = view.system();
     const auto condensation = validate_system(system, omega);
     Engine e(condensation ? condensation->reduced() : system, omega);
     double steps = 0.0;

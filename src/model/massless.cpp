@@ -5,6 +5,7 @@
 #include <complex>
 #include <string>
 
+#include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::detail {
@@ -103,7 +104,7 @@ MasslessCondensation::MasslessCondensation(const System& system) : system_(syste
         Contact reduced = contact;
         const std::string name = "contact " + std::to_string(c + 1) + " (" + to_string(contact.law) + ")";
         if (w_s.cwiseAbs().maxCoeff() > 0.0) {
-            if (contact.law != FrictionLaw::coulomb && contact.law != FrictionLaw::jenkins)
+            if (!rigid_slider(contact) && !elastic_slider(contact))
                 throw InvalidInput(why + name + " moves massless DOFs: allowed there coulomb and jenkins (a " +
                                    "spring in series with them is a Jenkins element); give the DOF a mass");
             if (f_s.cwiseAbs().maxCoeff() > 0.0)
@@ -120,8 +121,8 @@ MasslessCondensation::MasslessCondensation(const System& system) : system_(syste
                     throw InvalidInput(why + name + " and contact " + std::to_string(other + 1) +
                                        " are coupled through the massless DOFs: allowed at most one such contact "
                                        "per group of connected massless DOFs");
-            reduced.law = FrictionLaw::jenkins;
-            reduced.stiffness = contact.law == FrictionLaw::coulomb ? 1.0 / g : 1.0 / (1.0 / contact.stiffness + g);
+            reduced.law = FrictionLaw::jenkins;  // the elastic slider (contact.hpp)
+            reduced.stiffness = rigid_slider(contact) ? 1.0 / g : 1.0 / (1.0 / contact.stiffness + g);
             reduced.lagrangian_penalty = 0.0;
             w_r -= k_sr.transpose() * g_w_.col(c);
             if (!(w_r.cwiseAbs().maxCoeff() > 0.0))
@@ -145,7 +146,7 @@ Eigen::VectorXd MasslessCondensation::reduce_state(const Eigen::VectorXd& state)
     for (int c = 0; c < nc; ++c) {
         double internal = state(2 * n + c);
         // A Coulomb contact's slider is its own relative displacement q = w^T y.
-        if (converted_[static_cast<std::size_t>(c)] && system_.contacts[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb)
+        if (converted_[static_cast<std::size_t>(c)] && rigid_slider(system_.contacts[static_cast<std::size_t>(c)]))
             internal = system_.contact_direction(system_.contacts[static_cast<std::size_t>(c)]).dot(state.head(n));
         out(2 * nr + c) = internal;
         out(2 * nr + nc + c) = state(2 * n + nc + c);

@@ -14,11 +14,6 @@ namespace {
 constexpr double pi = 3.14159265358979323846;
 
 int sign_of(double x) { return (x > 0.0) - (x < 0.0); }
-
-bool has_internal_state(FrictionLaw law) {
-    return contact_law(law).time_state() != TimeState::none;
-}
-bool event_driven(FrictionLaw law) { return contact_law(law).exact_stick(); }
 }  // namespace
 
 Integrator::Integrator(const System& system, double omega, const TimeIntegrationOptions& options, double scale)
@@ -82,7 +77,7 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
     cvode_.check(CVodeRootInit(cvode_.memory(), roots, root_callback), "CVodeRootInit");
     std::vector<int> direction(static_cast<std::size_t>(roots), 0);
     for (int c = 0; c < nc_; ++c)
-        if (event_driven(contacts_[static_cast<std::size_t>(c)].law)) direction[static_cast<std::size_t>(c)] = -1;
+        if (contacts_[static_cast<std::size_t>(c)].event_driven()) direction[static_cast<std::size_t>(c)] = -1;
     cvode_.check(CVodeSetRootDirection(cvode_.memory(), direction.data()), "CVodeSetRootDirection");
     cvode_.check(CVodeSetNoInactiveRootWarn(cvode_.memory()), "CVodeSetNoInactiveRootWarn");
     rebuild_stuck_set();
@@ -185,7 +180,7 @@ void Integrator::rebuild_stuck_set() {
     std::fill(ground_stuck_dof_.begin(), ground_stuck_dof_.end(), 0);
     for (int c = 0; c < nc_; ++c) {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
-        if (k.law == FrictionLaw::coulomb && mode_[static_cast<std::size_t>(c)] == 0) {
+        if (k.rigid() && mode_[static_cast<std::size_t>(c)] == 0) {
             stuck_.push_back(c);
             if (k.w.size() == 0 && k.b == Contact::ground) ground_stuck_dof_[static_cast<std::size_t>(k.a)] = 1;
         }
@@ -214,17 +209,9 @@ void Integrator::evaluate(double t, const double* x) {
         velocity_c_(c) = vc;
         double f = 0.0, zd = 0.0;
         const int mode = mode_[static_cast<std::size_t>(c)];
-        switch (k.law) {
-            case FrictionLaw::dahl:
-                zd = vc - k.stiffness * std::abs(vc) * z[c] / k.limit;
-                f = k.stiffness * z[c];
-                break;
-            case FrictionLaw::lugre:
-                zd = vc - k.stiffness * std::abs(vc) * z[c] / k.sliding_limit(vc);
-                f = k.stiffness * z[c] + k.damping * zd + k.viscous * vc;
-                break;
-            case FrictionLaw::coulomb_regularized: f = k.limit * std::tanh(vc / k.eps); break;
-            case FrictionLaw::jenkins:
+        switch (k.kind) {
+            case ContactData::Kind::smooth: f = k.law->time_force(k.parameters, vc, z[c], zd); break;
+            case ContactData::Kind::elastic_slider:
                 if (mode == 0) {
                     f = k.stiffness * (k.relative(y) - z[c]);
                 } else {
@@ -232,11 +219,11 @@ void Integrator::evaluate(double t, const double* x) {
                     zd = vc;
                 }
                 break;
-            case FrictionLaw::coulomb: f = mode * k.limit; break;  // stuck: lambda below
+            case ContactData::Kind::rigid_slider: f = mode * k.limit; break;  // stuck: lambda below
         }
         f_(c) = f;
         zdot_(c) = zd;
-        if (k.law == FrictionLaw::coulomb && mode == 0) continue;
+        if (k.rigid() && mode == 0) continue;
         if (k.w.size() > 0) {  // a force direction: -w f on the structure
             load_ -= k.w * f;
         } else {
@@ -280,41 +267,27 @@ double Integrator::mode_root(int c, const double* x) const {
     const ContactData& k = contacts_[static_cast<std::size_t>(c)];
     const int mode = mode_[static_cast<std::size_t>(c)];
     if (mode != 0) return mode * velocity_c_(c);
-    if (k.law == FrictionLaw::jenkins) return k.limit - std::abs(k.stiffness * (k.relative(x) - x[2 * n_ + c]));
-    return k.limit - std::abs(f_(c));  // coulomb: lambda
+    if (k.elastic()) return k.limit - std::abs(k.stiffness * (k.relative(x) - x[2 * n_ + c]));
+    return k.limit - std::abs(f_(c));  // rigid slider: lambda
 }
 
 bool Integrator::in_stick(int c, const double* x) const {
     const ContactData& k = contacts_[static_cast<std::size_t>(c)];
-    if (event_driven(k.law)) return mode_[static_cast<std::size_t>(c)] == 0;
+    if (k.event_driven()) return mode_[static_cast<std::size_t>(c)] == 0;
     return margin(c, x) < 0.0;
 }
 
 double Integrator::margin(int c, const double* x) const {
     const ContactData& k = contacts_[static_cast<std::size_t>(c)];
-    const double vc = velocity_c_(c);
-    switch (k.law) {
-        case FrictionLaw::coulomb:
-        case FrictionLaw::jenkins: return std::abs(f_(c)) / k.limit - 1.0;
-        case FrictionLaw::dahl:
-        case FrictionLaw::lugre:
-            return std::abs(k.stiffness * x[2 * n_ + c]) / (stick_force_ratio * k.sliding_limit(vc)) - 1.0;
-        case FrictionLaw::coulomb_regularized: return std::abs(std::tanh(vc / k.eps)) / stick_force_ratio - 1.0;
-    }
-    return 0.0;
+    if (k.event_driven()) return std::abs(f_(c)) / k.limit - 1.0;
+    return k.law->time_margin(k.parameters, velocity_c_(c), k.has_state ? x[2 * n_ + c] : 0.0);
 }
 
 void Integrator::roots(double t, const double* x, double* g) {
     evaluate(t, x);
     for (int c = 0; c < nc_; ++c) {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
-        if (event_driven(k.law)) {
-            g[c] = mode_root(c, x);
-        } else if (k.law == FrictionLaw::coulomb_regularized) {
-            g[c] = stick_force_ratio - std::abs(std::tanh(velocity_c_(c) / k.eps));
-        } else {
-            g[c] = stick_force_ratio * k.sliding_limit(velocity_c_(c)) - std::abs(k.stiffness * x[2 * n_ + c]);
-        }
+        g[c] = k.event_driven() ? mode_root(c, x) : -margin(c, x);  // > 0 in stick
     }
     for (int i = 0; i < n_; ++i) g[nc_ + i] = ground_stuck_dof_[static_cast<std::size_t>(i)] ? 1.0 : x[n_ + i];
     // Turning points of the outputs that combine DOFs: c^T y' = 0.
@@ -368,7 +341,7 @@ int Integrator::handle_events(double t, double* x, const std::vector<int>& hits)
     for (int c : hits) {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
         int& mode = mode_[static_cast<std::size_t>(c)];
-        if (k.law == FrictionLaw::coulomb) {
+        if (k.rigid()) {
             if (mode == 0) {
                 mode = sign_of(f_(c));  // the limit is reached: slip in the direction of lambda
                 if (mode == 0) mode = 1;
@@ -377,7 +350,7 @@ int Integrator::handle_events(double t, double* x, const std::vector<int>& hits)
                 mode = 0;  // tried in stick below
                 candidates.push_back(c);
             }
-        } else if (k.law == FrictionLaw::jenkins) {
+        } else if (k.elastic()) {
             if (mode == 0) {
                 mode = sign_of(f_(c));
                 if (mode == 0) mode = 1;
@@ -390,7 +363,7 @@ int Integrator::handle_events(double t, double* x, const std::vector<int>& hits)
         }
     }
     for (int c = 0; c < nc_; ++c)
-        if (contacts_[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb && mode_[static_cast<std::size_t>(c)] == 0)
+        if (contacts_[static_cast<std::size_t>(c)].rigid() && mode_[static_cast<std::size_t>(c)] == 0)
             at_rest.push_back(c);
     project_velocities(x, at_rest);
     rebuild_stuck_set();
@@ -430,9 +403,9 @@ void Integrator::reinit(double t) {
 void Integrator::settle_initial(Eigen::VectorXd& state) {
     for (int c = 0; c < nc_; ++c) {
         const double m = state(2 * n_ + nc_ + c);
-        const FrictionLaw law = contacts_[static_cast<std::size_t>(c)].law;
-        state(2 * n_ + nc_ + c) = event_driven(law) ? static_cast<double>(sign_of(m)) : 0.0;
-        if (!has_internal_state(law)) state(2 * n_ + c) = 0.0;
+        const ContactData& k = contacts_[static_cast<std::size_t>(c)];
+        state(2 * n_ + nc_ + c) = k.event_driven() ? static_cast<double>(sign_of(m)) : 0.0;
+        if (!k.has_state) state(2 * n_ + c) = 0.0;
     }
     load(state);
     double* x = N_VGetArrayPointer(cvode_.state());
@@ -442,10 +415,10 @@ void Integrator::settle_initial(Eigen::VectorXd& state) {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
         int& mode = mode_[static_cast<std::size_t>(c)];
         const double vc = velocity_c_(c);
-        if (k.law == FrictionLaw::coulomb) {
+        if (k.rigid()) {
             if (mode != 0 && mode * vc < 0.0) mode = sign_of(vc);
             if (mode == 0) at_rest.push_back(c);
-        } else if (k.law == FrictionLaw::jenkins) {
+        } else if (k.elastic()) {
             double& s = x[2 * n_ + c];
             if (mode != 0 && mode * vc < 0.0) mode = 0;
             if (mode != 0) s = k.relative(x) - mode * k.limit / k.stiffness;
@@ -497,7 +470,7 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
     // contact 1's margin: coulomb only while stuck (slip phases are checked at the events)
     auto contact_margin = [&](const double* state) {
         if (nc_ == 0) return;
-        if (contacts_[0].law == FrictionLaw::coulomb && mode_[0] != 0) return;
+        if (contacts_[0].rigid() && mode_[0] != 0) return;
         update_margin(margin(0, state));
     };
     auto update_stick = [&](double t, const double* state) {
@@ -509,7 +482,7 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
             since[k] = t;
             stuck[k] = now;
             if (now) r.never_stuck[k] = false; else r.always_stuck[k] = false;
-            if (!event_driven(contacts_[k].law)) ++r.switches;  // event-driven laws count modes
+            if (!contacts_[k].event_driven()) ++r.switches;  // event-driven laws count modes
         }
     };
     auto record_sample = [&](int j, double t, const double* state) {
@@ -568,14 +541,14 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
         if (flag == CV_ROOT_RETURN) {
             cvode_.check(CVodeGetRootInfo(cvode_.memory(), found.data()), "CVodeGetRootInfo");
             for (int c = 0; c < nc_; ++c)
-                if (found[static_cast<std::size_t>(c)] != 0 && event_driven(contacts_[static_cast<std::size_t>(c)].law))
+                if (found[static_cast<std::size_t>(c)] != 0 && contacts_[static_cast<std::size_t>(c)].event_driven())
                     hits.push_back(c);
         } else {
             double vscale = scale_ * drive_;  // the response's velocity scale
             for (int i = 0; i < n_; ++i) vscale = std::max(vscale, std::abs(x[n_ + i]));
             for (int c = 0; c < nc_; ++c) {
                 const ContactData& k = contacts_[static_cast<std::size_t>(c)];
-                if (!event_driven(k.law)) continue;
+                if (!k.event_driven()) continue;
                 const double g = mode_root(c, x);
                 const double guard = mode_[static_cast<std::size_t>(c)] != 0 ? v_guard * vscale : f_guard * k.limit;
                 if (g < -guard) hits.push_back(c);

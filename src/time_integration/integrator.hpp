@@ -16,34 +16,35 @@
 
 namespace hbf::detail {
 
-/// A contact in the form the integrator evaluates.
+/// A time-domain element (contact.hpp: time_elements) in the form the integrator evaluates:
+/// a rigid slider (exact Coulomb), an elastic slider (Jenkins: a spring in series with a rigid
+/// slider, its position the state) or a smooth law (its own time_force and time_margin).
 struct ContactData {
-    FrictionLaw law = FrictionLaw::coulomb;
+    enum class Kind { smooth, rigid_slider, elastic_slider };
+    Kind kind = Kind::smooth;
+    const ContactLaw* law = nullptr;
+    bool has_state = false;  // an internal state (bristle deflection, slider position)
     int a = 0, b = Contact::ground;
     double limit = 0;        // F_c
-    double stiffness = 0;    // sigma0 or k_t
-    double damping = 0;      // sigma1
-    double viscous = 0;      // sigma2
-    double static_limit = 0; // F_s (0: F_c)
-    double stribeck = 0;     // v_s (0: none)
-    double eps = 0;          // tanh velocity scale
-
+    double stiffness = 0;    // k_t of an elastic slider
     Eigen::VectorXd w;       // a general force direction (empty: the DOF pair a, b)
     Contact parameters;      // the law and its parameters (its direction left empty: w)
 
     explicit ContactData(const Contact& c)
-        : law(c.law), a(c.dof), b(c.other_dof), limit(c.friction_limit), stiffness(c.stiffness),
-          damping(c.damping), viscous(c.viscous), static_limit(c.static_limit), stribeck(c.stribeck_velocity),
-          eps(c.regularization), w(c.direction), parameters(c) {
+        : kind(rigid_slider(c) ? Kind::rigid_slider : elastic_slider(c) ? Kind::elastic_slider : Kind::smooth),
+          law(&contact_law(c.law)), has_state(law->time_state() != TimeState::none), a(c.dof), b(c.other_dof),
+          limit(c.friction_limit), stiffness(c.stiffness), w(c.direction), parameters(c) {
         parameters.direction.resize(0);
     }
+    bool rigid() const { return kind == Kind::rigid_slider; }
+    bool elastic() const { return kind == Kind::elastic_slider; }
+    /// Stick and slip are modes switched at events (the sliders), not a smooth law's margin.
+    bool event_driven() const { return kind != Kind::smooth; }
 
     double relative(const double* y) const {
         if (w.size() > 0) return w.dot(Eigen::Map<const Eigen::VectorXd>(y, w.size()));
         return y[a] - (b == Contact::ground ? 0.0 : y[b]);
     }
-    /// LuGre's sliding limit g(v) (F_c for Dahl and without Stribeck curve).
-    double sliding_limit(double v) const { return hbf::sliding_limit(parameters, v); }
 };
 
 /// Everything measured over one period.

@@ -1,6 +1,8 @@
 // hbfriction — time integration of models with massless DOFs (massless.hpp).
 #include "massless.hpp"
 
+#include "hbf/contact.hpp"
+
 #include <cmath>
 #include <complex>
 #include <vector>
@@ -115,7 +117,7 @@ void expand(const MasslessCondensation& condensation, PeriodicResponse& r, const
             state(n + massless_dofs[static_cast<std::size_t>(k)]) = samples > 0 ? velocity(0, massless_dofs[static_cast<std::size_t>(k)]) : 0.0;
         }
         for (int c = 0; c < nc; ++c) {
-            const bool coulomb = system.contacts[static_cast<std::size_t>(c)].law == FrictionLaw::coulomb;
+            const bool coulomb = rigid_slider(system.contacts[static_cast<std::size_t>(c)]);
             state(2 * n + c) = condensation.converted(c) && coulomb ? 0.0 : reduced_state(2 * nr + c);
             state(2 * n + nc + c) = reduced_state(2 * nr + nc + c);
         }
