@@ -177,7 +177,8 @@ bool law_reads(FrictionLaw law, const std::string& symbol);
 /// The system the time-domain solvers integrate: every contact replaced by its law's
 /// time_elements, in order (the same system when no law splits a contact).
 System time_domain_system(const System& system);
-/// Whether some contact's law splits it into several elements (time_domain_system differs).
+/// Whether some contact's law lowers it to other elements (several, or one of another law:
+/// time_domain_system differs).
 bool splits_contacts(const System& system);
 /// The number of time-domain elements of the system (its contacts when none is split).
 int time_domain_elements(const System& system);

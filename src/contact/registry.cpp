@@ -164,8 +164,10 @@ double ContactLaw::time_margin(const Contact&, double, double) const {
 // ---- the time domain's elements -----------------------------------------------------------
 
 bool splits_contacts(const System& system) {
-    for (const Contact& c : system.contacts)
-        if (contact_law(c.law).time_elements(c).size() != 1) return true;
+    for (const Contact& c : system.contacts) {
+        const std::vector<Contact> elements = contact_law(c.law).time_elements(c);
+        if (elements.size() != 1 || elements.front().law != c.law) return true;  // not the contact itself
+    }
     return false;
 }
 
