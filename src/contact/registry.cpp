@@ -15,6 +15,7 @@ const ContactLaw& dahl_law();
 const ContactLaw& lugre_law();
 const ContactLaw& coulomb_regularized_law();
 const ContactLaw& jenkins_law();
+const ContactLaw& iwan_law();
 
 const std::vector<const ContactLaw*>& contact_laws() {
     static const std::vector<const ContactLaw*> laws = {
@@ -23,6 +24,7 @@ const std::vector<const ContactLaw*>& contact_laws() {
         &lugre_law(),
         &coulomb_regularized_law(),
         &jenkins_law(),
+        &iwan_law(),
     };
     static const bool unique = [] {
         for (std::size_t a = 0; a < laws.size(); ++a)
