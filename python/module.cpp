@@ -371,6 +371,11 @@ py::dict optimize_dict(const OptimizeResult& r) {
     d["message"] = r.message;
     d["seconds"] = r.seconds;
     d["summary"] = r.summary();
+    const Verdict v = r.verdict();  // the library's (design.hpp), as hbf optimize's exit code
+    d["outcome"] = v.status();
+    d["errors"] = v.errors;
+    d["warnings"] = v.warnings;
+    d["notes"] = v.notes;
     return d;
 }
 

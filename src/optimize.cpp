@@ -29,6 +29,87 @@ std::string OptimizeResult::summary(const std::string& name) const {
 }
 
 namespace {
+/// The search's status as a verdict (its summary line `line`).
+void judge_status(OptimizeStatus status, const std::string& line, Verdict& v) {
+    switch (status) {
+        case OptimizeStatus::converged: break;
+        case OptimizeStatus::at_bound:
+        case OptimizeStatus::budget: v.warning(line); break;
+        case OptimizeStatus::unbounded:
+        case OptimizeStatus::failed: v.error(line); break;
+    }
+}
+/// The failed evaluations of a search (`noun` names them) inside and outside its final bracket.
+void judge_failures(const OptimizeResult& r, const std::string& noun, Verdict& v) {
+    if (r.failed_in_bracket > 0)
+        v.warning(std::to_string(r.failed_in_bracket) + " " + noun + " inside the final bracket " +
+                  format_number(r.bracket_lower) + ".." + format_number(r.bracket_upper) +
+                  " failed or stayed incomplete: the optimum is doubtful there (the trace CSV has them)");
+    else if (r.failed > 0)
+        v.note(std::to_string(r.failed) + " " + noun + " failed or stayed incomplete, all outside "
+               "the final bracket (peak_state in the trace)");
+}
+}  // namespace
+
+Verdict OptimizeResult::verdict(const std::string& name, const LibraryMessages& also) const {
+    Verdict v;
+    judge_status(status, summary(name), v);
+    judge_failures(*this, "FRF(s)", v);
+    LibraryMessages all = messages;
+    all.add(also);
+    v.add(all);
+    return v;
+}
+
+Verdict JointOptimizeResult::verdict(const std::string& p_name, const std::string& q_name,
+                                     const LibraryMessages& also) const {
+    Verdict v;
+    judge_status(outer.status, summary(p_name, q_name), v);
+    if (best < inner.size()) {
+        const OptimizeResult& at_best = inner[best];
+        if (at_best.status != OptimizeStatus::converged)
+            v.warning("the search in " + p_name + " at the best " + q_name + " did not converge: " + at_best.summary(p_name));
+        else if (at_best.failed_in_bracket > 0)
+            v.warning("at the best " + q_name + ", " + std::to_string(at_best.failed_in_bracket) +
+                      " FRF(s) inside the final bracket of " + p_name +
+                      " failed or stayed incomplete: the optimum is doubtful there (the trace CSV has them)");
+        else if (inner_not_converged > 0)
+            v.note(std::to_string(inner_not_converged) + " of " + std::to_string(inner.size()) + " searches in " +
+                   p_name + " did not converge, none at the best " + q_name);
+    }
+    judge_failures(outer, "search(es) in " + p_name, v);
+    LibraryMessages all = outer.messages;
+    all.add(also);
+    v.add(all);
+    return v;
+}
+
+void MapTally::add(const std::string& peak_state, int missed, const LibraryMessages& frf_messages) {
+    ++frfs;
+    if (peak_state == "failed") ++failed;
+    else if (peak_state == "incomplete") ++incomplete;
+    else if (peak_state == "unbounded") ++unbounded;
+    missed_at += missed;
+    messages.add(frf_messages);
+}
+
+Verdict MapTally::verdict() const {
+    Verdict v;
+    if (failed > 0)
+        v.warning(std::to_string(failed) + " of " + std::to_string(frfs) + " FRFs failed (a stall, a "
+                  "failed start or a failed exact polish; their rows say frf_status, the JSON says why)");
+    if (incomplete > 0) v.warning(std::to_string(incomplete) + " FRFs are incomplete (left_range or point_budget)");
+    if (unbounded > 0)
+        v.warning(std::to_string(unbounded) + " FRFs have an unbounded resonance (amplitude_cap: capped at "
+                  "--max-amplitude)");
+    if (missed_at > 0)
+        v.warning(std::to_string(missed_at) + " --at frequencies got no row (outside an FRF's branch, or the solve "
+                  "failed; missed_at in the JSON)");
+    v.add(messages);
+    return v;
+}
+
+namespace {
 void validate(const OptimizeOptions& o) {
     if (!(std::isfinite(o.lower) && o.lower > 0.0))
         throw InvalidInput("lower = " + format_number(o.lower) + " is out of range: allowed a finite value > 0");

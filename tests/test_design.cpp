@@ -523,3 +523,53 @@ TEST_CASE("hbf map under mpirun with 2 ranks writes the CSV of the threaded run"
     CHECK(::test::slurp(dir.path / "ranks.csv") == ::test::slurp(dir.path / "threads.csv"));
     CHECK(read_json(dir.path / "ranks.json")["ranks"] == 2);
 }
+
+TEST_CASE("Optimisation and map results carry the verdict hbf and Python report", "[design][status]") {
+    OptimizeResult r;
+    r.status = OptimizeStatus::converged;
+    r.trace.resize(12);
+    CHECK(r.verdict("mu").status() == "completed");
+    r.failed = 2;  // outside the final bracket: a note
+    CHECK(r.verdict("mu").status() == "completed");
+    CHECK(r.verdict("mu").notes.size() == 1);
+    r.failed_in_bracket = 1;  // inside: the optimum is doubtful
+    const Verdict doubtful = r.verdict("mu");
+    CHECK(doubtful.status() == "incomplete");
+    CHECK_THAT(doubtful.warnings.at(0), Catch::Contains("1 FRF(s) inside the final bracket"));
+    r.failed_in_bracket = 0;
+    r.failed = 0;
+    CHECK(r.verdict("mu", LibraryMessages{3, "ceres: x"}).warnings.at(0) ==
+          "3 warning(s) from the numerical libraries (not printed); the first: ceres: x");
+    for (OptimizeStatus s : {OptimizeStatus::at_bound, OptimizeStatus::budget}) {
+        r.status = s;
+        CHECK(r.verdict("mu").status() == "incomplete");
+        CHECK(r.verdict("mu").warnings.at(0) == r.summary("mu"));
+    }
+    for (OptimizeStatus s : {OptimizeStatus::unbounded, OptimizeStatus::failed}) {
+        r.status = s;
+        CHECK(r.verdict("mu").status() == "failed");
+        CHECK(r.verdict("mu").exit_code() == exit_failure);
+    }
+    JointOptimizeResult joint;
+    joint.outer.status = OptimizeStatus::converged;
+    joint.inner.resize(3);
+    for (OptimizeResult& i : joint.inner) i.status = OptimizeStatus::converged;
+    joint.best = 1;
+    CHECK(joint.verdict("mu", "wa").status() == "completed");
+    joint.inner[0].status = OptimizeStatus::budget;
+    joint.inner_not_converged = 1;
+    CHECK(joint.verdict("mu", "wa").status() == "completed");  // not at the best wa: a note
+    CHECK(joint.verdict("mu", "wa").notes.size() == 1);
+    joint.inner[1].status = OptimizeStatus::at_bound;
+    CHECK(joint.verdict("mu", "wa").status() == "incomplete");
+
+    MapTally tally;
+    tally.add("completed", 0, {});
+    CHECK(tally.verdict().status() == "completed");
+    tally.add("unbounded", 0, {});
+    tally.add("failed", 2, {1, "cvode: y"});
+    const Verdict map = tally.verdict();
+    CHECK(map.status() == "incomplete");
+    CHECK(map.warnings.size() == 4);  // failed, unbounded, missed at, the libraries
+    CHECK_THAT(map.warnings.at(0), Catch::StartsWith("1 of 3 FRFs failed"));
+}

@@ -229,6 +229,12 @@ struct OptimizeResult {
     LibraryMessages messages;      ///< of every evaluation (each FRF counts its own, on its thread)
     /// One line: status, the parameter (named `name`), peak, evaluations.
     std::string summary(const std::string& name = "p") const;
+    /// The verdict of the search (hbf optimize's exit code, Python's warning): converged is
+    /// completed; at_bound and budget a warning, unbounded and failed an error (the summary
+    /// line); FRFs that failed or stayed incomplete inside the final bracket a warning (the
+    /// optimum is doubtful), outside it a note; the libraries' messages of the search and of
+    /// `also` (computations beside it, e.g. a comparison FRF) one warning.
+    Verdict verdict(const std::string& name = "p", const LibraryMessages& also = {}) const;
 };
 
 /// Minimises the largest peak of the FRF of system(p) over p in [lower, upper]: a log-spaced
@@ -252,6 +258,25 @@ struct JointOptimizeResult {
     int frfs() const;                   ///< FRFs computed in all
     /// One line: status, both parameters (named p_name, q_name), peak, searches and FRFs.
     std::string summary(const std::string& p_name = "p", const std::string& q_name = "q") const;
+    /// As OptimizeResult::verdict for the search in q (its summary line, its searches in p that
+    /// failed inside or outside the final bracket), and the search in p at the best q: a warning
+    /// when it did not converge or has failed FRFs inside its bracket, a note when other
+    /// searches in p did not converge.
+    Verdict verdict(const std::string& p_name = "p", const std::string& q_name = "q",
+                    const LibraryMessages& also = {}) const;
+};
+
+/// The tally of a map of FRFs (hbf map, Python's map()) and its verdict: a warning for the FRFs
+/// that failed, those that are incomplete (left_range, point_budget), those with an unbounded
+/// resonance (amplitude_cap), for the `at` frequencies that got no row, and one for the
+/// libraries' messages of all the FRFs. Each FRF is added once (from any process).
+struct MapTally {
+    int frfs = 0, failed = 0, incomplete = 0, unbounded = 0, missed_at = 0;
+    LibraryMessages messages;
+    /// Adds one FRF: its peak state ("failed", "incomplete", "unbounded", else complete), its
+    /// missed `at` frequencies and its libraries' messages.
+    void add(const std::string& peak_state, int missed, const LibraryMessages& frf_messages);
+    Verdict verdict() const;
 };
 
 /// Minimises the largest peak of system(p, q) over both: P(q) = min over p of the peak

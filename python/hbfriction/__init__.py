@@ -616,7 +616,9 @@ def analytic(system=None, w=None, *, law=None, parameters=None):
 class OptimizeResult:
     """The result of optimize(): status (converged, at_bound, budget, unbounded, failed),
     parameter (the best p), peak (dict value, w, state), peaks, bracket, trace (a dict of arrays:
-    parameter, peak, w, state, status, phase, seconds; one entry per FRF), message, summary."""
+    parameter, peak, w, state, status, phase, seconds; one entry per FRF), message, summary;
+    the verdict as hbf optimize's exit code: outcome (completed, incomplete, failed), errors,
+    warnings, notes."""
 
     def __init__(self, d):
         self.__dict__.update({k: v for k, v in d.items() if k != "trace"})
@@ -653,6 +655,9 @@ def optimize(system, lower, upper, *, settings=None, search=None, outputs=None, 
     if result.status != "converged":
         _warnings.warn("the optimisation is %s: %s" % (result.status, result.summary), IncompleteResultWarning,
                        stacklevel=2)
+    elif result.outcome != "completed":  # converged, but doubtful (the library's verdict, as hbf optimize's)
+        _warnings.warn("the optimisation is %s: %s" % (result.outcome, "; ".join(result.warnings)),
+                       IncompleteResultWarning, stacklevel=2)
     return result
 
 

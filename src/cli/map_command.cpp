@@ -167,29 +167,11 @@ int run(const CLI::App& command, const MapOptions& o) {
         for (std::string line; std::getline(lines, line);) out.stream() << prefix << line << '\n';
     }
 
-    Verdict verdict;
-    int incomplete = 0, failed = 0, unbounded = 0, missed = 0;
-    LibraryMessages messages;  // each FRF's own, from every rank
-    for (const json& r : frfs) {
-        messages.add({r.at("library_warnings").get<long long>(), r.at("library_first_warning").get<std::string>()});
-        missed += static_cast<int>(r.at("missed_at").size());
-        const std::string state = r.at("peak_state").get<std::string>();
-        if (state == "failed") ++failed;
-        else if (state == "incomplete") ++incomplete;
-        else if (state == "unbounded") ++unbounded;
-    }
-    if (failed > 0)
-        verdict.warning(std::to_string(failed) + " of " + std::to_string(values.size()) + " FRFs failed (a stall, a "
-                        "failed start or a failed exact polish; their rows say frf_status, the JSON says why)");
-    if (incomplete > 0)
-        verdict.warning(std::to_string(incomplete) + " FRFs are incomplete (left_range or point_budget)");
-    if (unbounded > 0)
-        verdict.warning(std::to_string(unbounded) + " FRFs have an unbounded resonance (amplitude_cap: capped at "
-                        "--max-amplitude)");
-    if (missed > 0)
-        verdict.warning(std::to_string(missed) + " --at frequencies got no row (outside an FRF's branch, or the solve "
-                        "failed; missed_at in the JSON)");
-    verdict.add(messages);
+    MapTally tally;  // each FRF's record, from every rank (design.hpp)
+    for (const json& r : frfs)
+        tally.add(r.at("peak_state").get<std::string>(), static_cast<int>(r.at("missed_at").size()),
+                  {r.at("library_warnings").get<long long>(), r.at("library_first_warning").get<std::string>()});
+    const Verdict verdict = tally.verdict();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
     std::unique_ptr<io::OutputFile> summary;

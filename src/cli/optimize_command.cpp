@@ -158,7 +158,6 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     const OptimizeResult result =
         joint ? joint_result.outer : optimize_parameter([&](double v) { return parameter.system(v); }, settings, oo);
     const double best_mu = joint ? joint_result.parameter : result.parameter;
-    const std::string noun = joint ? "search(es) in mu" : "FRF(s)";
     const std::string summary_line = joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name());
 
     // Comparisons (the preset's friction coefficient only): the Den Hartog friction (paper
@@ -212,34 +211,9 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
                         "at its two fixed points"}};
     }
 
-    Verdict verdict;
-    switch (result.status) {
-        case OptimizeStatus::converged: break;
-        case OptimizeStatus::at_bound:
-        case OptimizeStatus::budget: verdict.warning(summary_line); break;
-        case OptimizeStatus::unbounded:
-        case OptimizeStatus::failed: verdict.error(summary_line); break;
-    }
-    if (joint && joint_result.inner[joint_result.best].status != OptimizeStatus::converged)
-        verdict.warning("the search in mu at the best wa did not converge: " +
-                        joint_result.inner[joint_result.best].summary("mu"));
-    else if (joint && joint_result.inner[joint_result.best].failed_in_bracket > 0)
-        verdict.warning("at the best wa, " + std::to_string(joint_result.inner[joint_result.best].failed_in_bracket) +
-                        " FRF(s) inside the final bracket of mu failed or stayed incomplete: the optimum is doubtful "
-                        "there (the trace CSV has them)");
-    else if (joint && joint_result.inner_not_converged > 0)
-        verdict.note(std::to_string(joint_result.inner_not_converged) + " of " +
-                     std::to_string(joint_result.inner.size()) + " searches in mu did not converge, none at the best wa");
-    if (result.failed_in_bracket > 0)
-        verdict.warning(std::to_string(result.failed_in_bracket) + " " + noun + " inside the final bracket " +
-                        format_number(result.bracket_lower) + ".." + format_number(result.bracket_upper) +
-                        " failed or stayed incomplete: the optimum is doubtful there (the trace CSV has them)");
-    else if (result.failed > 0)
-        verdict.note(std::to_string(result.failed) + " " + noun + " failed or stayed incomplete, all outside "
-                     "the final bracket (peak_state in the trace)");
-    LibraryMessages messages = result.messages;  // every FRF of the search (joint: the outer result's)
-    messages.add(comparison_messages);
-    verdict.add(messages);
+    // the library's verdict of the search (design.hpp), with the comparison FRF's messages
+    const Verdict verdict =
+        joint ? joint_result.verdict("mu", "wa", comparison_messages) : result.verdict(parameter.name(), comparison_messages);
 
     io::OutputFile out(o.output.out);
     const std::vector<io::Column> columns = trace_columns(parameter.name(), joint);
