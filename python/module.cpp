@@ -677,17 +677,32 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "default_frf_settings",
         [](const PySystem& s) {
-            FrfSettings f = default_frf_settings(s.system, s.reported());
             // A TOML file's [frequency] and [solver] (hbf frf --config without flags).
-            if (s.omega_start) f.continuation.omega_start = *s.omega_start;
-            if (s.omega_end) f.continuation.omega_end = *s.omega_end;
-            if (s.harmonics && *s.harmonics > 0) f.harmonic_balance.harmonics = *s.harmonics;
-            if (s.time_samples) f.harmonic_balance.time_samples = *s.time_samples;
-            if (s.modes) f.harmonic_balance.modes = *s.modes;
-            if (s.odd_harmonics) f.harmonic_balance.odd_harmonics = *s.odd_harmonics;
-            return f;
+            return frf_settings(s.system, s.reported(), s.choices());
         },
         py::arg("system"));
+    m.def(
+        "frf_settings",
+        [](const PySystem& s, const FrfSettings& given, const std::vector<std::string>& names,
+           const std::optional<bool>& exact) {
+            // the file's choices, the keyword arguments `names` (their values in `given`) over
+            // them, the automatic rest (design.hpp: frf_settings)
+            FrfChoices c = s.choices();
+            for (const std::string& name : names) {
+                if (name == "omega_start") c.omega_start = given.continuation.omega_start;
+                else if (name == "omega_end") c.omega_end = given.continuation.omega_end;
+                else if (name == "harmonics") c.harmonics = given.harmonic_balance.harmonics;
+                else if (name == "time_samples") c.time_samples = given.harmonic_balance.time_samples;
+                else if (name == "modes") c.modes = given.harmonic_balance.modes;
+                else if (name == "odd_harmonics") c.odd_harmonics = given.harmonic_balance.odd_harmonics;
+                else bad("frf_settings: '" + name + "' is not a choice");
+            }
+            if (exact) c.exact = *exact;
+            return frf_settings(s.system, s.reported(), c);
+        },
+        py::arg("system"), py::arg("given"), py::arg("names"), py::arg("exact") = py::none(),
+        "hbf frf's settings for the system: its file's [frequency] and [solver], the choices `names` "
+        "(values in `given`) over them, exact if not None, and the library's automatic choices (design.hpp).");
     m.attr("max_harmonics") = hbf::max_harmonics;
     m.def(
         "contact_laws",

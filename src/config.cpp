@@ -333,6 +333,17 @@ Output read_output(const Reader& r, const toml::table& t, int index, int dofs, c
     return *output;
 }
 
+FrfChoices SystemConfig::choices() const {
+    FrfChoices c;
+    c.omega_start = omega_start;
+    c.omega_end = omega_end;
+    c.harmonics = harmonics;
+    c.time_samples = time_samples;
+    c.modes = modes;
+    c.odd_harmonics = odd_harmonics;
+    return c;
+}
+
 SystemConfig read_system_config(const std::string& path) {
     SystemConfig config;
     config.inputs.push_back({"--config", path});

@@ -123,15 +123,31 @@ void check_study_options(const FrfSettings& s) {
 }
 }  // namespace
 
-FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs) {
+FrfSettings frf_settings(const System& system, const std::vector<Output>& outputs, const FrfChoices& choices) {
     FrfSettings s;
     s.outputs = outputs;
-    s.exact = exact_cost_refusal(system, s.continuation.omega_start).empty();
-    s.harmonic_balance.harmonics = automatic_harmonics(system, s.exact);
-    s.continuation.locate_transitions = !s.exact;
+    ContinuationOptions& co = s.continuation;
+    if (choices.omega_start) co.omega_start = *choices.omega_start;
+    if (choices.omega_end) co.omega_end = *choices.omega_end;
+    // the polish's cost per period is set by the lowest frequency (exact_cost_refusal)
+    if (choices.exact)
+        s.exact = *choices.exact;
+    else
+        s.exact = co.omega_start > 0.0 && std::isfinite(co.omega_start) ? exact_cost_refusal(system, co.omega_start).empty()
+                                                                          : exact_solver_supports(system);
+    HarmonicBalanceOptions& hbo = s.harmonic_balance;
+    hbo.harmonics = choices.harmonics ? *choices.harmonics : automatic_harmonics(system, s.exact);
+    if (choices.time_samples) hbo.time_samples = *choices.time_samples;
+    if (choices.modes) hbo.modes = *choices.modes;
+    if (choices.odd_harmonics) hbo.odd_harmonics = *choices.odd_harmonics;
+    co.locate_transitions = !s.exact;
     s.peaks = true;
     s.peaks_of_every_output = true;
     return s;
+}
+
+FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs) {
+    return frf_settings(system, outputs);
 }
 
 

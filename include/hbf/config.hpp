@@ -65,6 +65,7 @@
 #include <string>
 #include <vector>
 
+#include "hbf/design.hpp"
 #include "hbf/model.hpp"
 
 namespace hbf::io {
@@ -93,6 +94,9 @@ struct SystemConfig {
     /// The line of each [frequency] and [solver] key given ("solver.time_samples" -> 12), for
     /// front ends whose checks depend on other settings (time_samples > 2H) to name it.
     std::map<std::string, int> lines;
+    /// The [frequency] and [solver] values as the FRF's choices (design.hpp: frf_settings): the
+    /// one mapping of the file's settings onto an FRF's, for hbf and Python.
+    FrfChoices choices() const;
 };
 
 /// Reads and validates a system file (see above). Throws InvalidInput with

@@ -68,10 +68,28 @@ int default_harmonics(FrictionLaw law);
 /// contacts' laws (10 without contacts); either times the excitation harmonic h, at most max_harmonics (100).
 int automatic_harmonics(const System& system, bool exact);
 
-/// The settings of `hbf frf` without flags for a system: the exact polish where it applies
-/// (exact_solver_supports), the automatic H (automatic_harmonics), the transitions located by
-/// harmonic balance only without the polish (the exact ones replace them), `outputs`, and the
-/// peaks of every output. Every other option keeps its default.
+/// The choices a user made for an FRF, each unset where not made: a system file's [frequency]
+/// and [solver] (io::SystemConfig::choices), then hbf frf's flags or Python's keyword arguments
+/// over them. frf_settings makes the automatic choices for the others.
+struct FrfChoices {
+    std::optional<double> omega_start, omega_end;
+    std::optional<int> harmonics;  ///< as given (FrfSettings::validate checks it); unset: automatic
+    std::optional<int> time_samples, modes;
+    std::optional<bool> odd_harmonics;
+    std::optional<bool> exact;     ///< unset: automatic
+};
+
+/// The settings of an FRF of `system` with the choices made: the one home of hbf frf's and
+/// Python's automatic choices. Where not chosen:
+///  - exact: the polish where the exact solver covers the system at the lowest frequency
+///    (exact_cost_refusal at omega_start; exact_solver_supports if omega_start is not > 0);
+///  - H: automatic_harmonics(system, exact);
+///  - locate_transitions: by harmonic balance only without the polish (the exact ones replace
+///    them);
+/// and `outputs` with the peaks of every output. Every other option keeps its default; ranges
+/// are FrfSettings::validate's.
+FrfSettings frf_settings(const System& system, const std::vector<Output>& outputs, const FrfChoices& choices = {});
+/// frf_settings without choices: `hbf frf` without flags.
 FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs);
 
 /// What the largest peak of an FRF means.

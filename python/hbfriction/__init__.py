@@ -283,13 +283,33 @@ def _check_frequencies(settings):
     settings.validate()
 
 
+_CHOICES = ("omega_start", "omega_end", "harmonics", "time_samples", "modes", "odd_harmonics")
+
+
 def _settings(system, settings, outputs, stability, values):
-    """FrfSettings for system: `settings` as given, else hbf frf's defaults for it (the exact
-    polish where it applies, the automatic H, a TOML file's [frequency] and [solver]); then the
-    flat options `values` and outputs, stability on top."""
+    """FrfSettings for system: `settings` as given, else hbf frf's for it (the library's
+    frf_settings: a TOML file's [frequency] and [solver], the keyword arguments among wmin, wmax,
+    harmonics, time_samples, modes, odd_harmonics and exact over them, and the automatic
+    choices for the rest: the exact polish on the lowest frequency, H); then the other flat
+    options `values` and outputs, stability on top."""
     _check_system(system)
     values = dict(values)
-    s = _core.default_frf_settings(system) if settings is None else _copy(settings, FrfSettings)
+    exact = None
+    if "exact" in values:
+        exact = bool(values.pop("exact"))
+        refusal = _core.exact_solver_refusal(system)
+        if exact and refusal:
+            raise ValueError("exact = True: %s (use exact=False)" % refusal)
+    if settings is None:
+        given, names = FrfSettings(), []
+        for name in [n for n in values if _ALIASES.get(n, n) in _CHOICES]:
+            _set_option(given, name, values.pop(name))  # its type checked as any option's
+            names.append(_ALIASES.get(name, name))
+        s = _core.frf_settings(system, given, names, exact)
+    else:
+        s = _copy(settings, FrfSettings)
+        if exact is not None:
+            s.exact = exact
     if outputs is not None:
         s.outputs = _outputs(system, outputs)
     elif not s.outputs:
@@ -297,29 +317,8 @@ def _settings(system, settings, outputs, stability, values):
     for o in s.outputs:
         if o.terms and max(i for i, _ in o.terms) >= system.dofs:
             raise ValueError("outputs: '%s' names a DOF beyond the system's %d" % (o.name, system.dofs))
-    automatic_exact = settings is None and "exact" not in values
-    if "exact" in values:
-        exact = bool(values.pop("exact"))
-        refusal = _core.exact_solver_refusal(system)
-        if exact and refusal:
-            raise ValueError("exact = True: %s (use exact=False)" % refusal)
-        s.exact = exact
-        if settings is None:  # the automatic choices that depend on the polish
-            if "harmonics" not in values and "harmonics" not in system.file_settings:
-                s.harmonic_balance.harmonics = _core.automatic_harmonics(system, exact)
-            if "locate_transitions" not in values:
-                s.continuation.locate_transitions = not exact
     for name, value in values.items():
         _set_option(s, name, value)
-    co = s.continuation
-    if automatic_exact and s.exact and 0 < co.omega_start < co.omega_end and \
-            _core.exact_cost_refusal(system, co.omega_start):
-        # as hbf frf: the automatic polish is off where a period would cost too many Taylor steps
-        s.exact = False
-        if "harmonics" not in values and "harmonics" not in system.file_settings:
-            s.harmonic_balance.harmonics = _core.automatic_harmonics(system, False)
-        if "locate_transitions" not in values:
-            co.locate_transitions = True
     if stability is not None and stability is not False and stability != "off":
         method = "both" if stability is True or stability == "on" else stability
         s.stability_options.method = method
@@ -511,14 +510,16 @@ def solve_at(system, omega, *, omega_from=None, contact=0, harmonics=None, time_
     options: ContinuationOptions and CorrectorOptions fields. Raises SolveError when the branch
     stops before omega."""
     _check_system(system)
-    s = _core.default_frf_settings(system)
-    hb = s.harmonic_balance
-    if "harmonics" not in system.file_settings:
-        hb.harmonics = _core.automatic_harmonics(system, False)
+    given, names = FrfSettings(), []
     for name, value in (("harmonics", harmonics), ("time_samples", time_samples), ("odd_harmonics", odd_harmonics),
-                        ("formulation", formulation), ("modes", modes)):
+                        ("modes", modes)):
         if value is not None:
-            _assign(hb, name, value)
+            _assign(given.harmonic_balance, name, value)
+            names.append(name)
+    s = _core.frf_settings(system, given, names, False)  # as hbf loop: the automatic H without the polish
+    hb = s.harmonic_balance
+    if formulation is not None:
+        _assign(hb, "formulation", formulation)
     co = ContinuationOptions()
     for name, value in options.items():
         name = _ALIASES.get(name, name)

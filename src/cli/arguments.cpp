@@ -195,48 +195,59 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
     return chosen;
 }
 
-HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const std::string& harmonics,
-                                                const std::string& time_samples, const ChosenSystem& chosen,
-                                                const std::string& config_path, bool exact) {
-    const std::optional<io::SystemConfig>& config = chosen.config;
-    HarmonicBalanceOptions hbo;
+FrfChoices frf_choices(const CLI::App& command, const std::string& harmonics, const std::string& time_samples,
+                       const ChosenSystem& chosen) {
+    FrfChoices c = chosen.config ? chosen.config->choices() : FrfChoices{};
     // H, or "odd" / "odd:H": the odd harmonics <= H only (H automatic without ":H").
-    std::string count = harmonics;
-    if (harmonics == "odd" || harmonics.rfind("odd:", 0) == 0) {
-        hbo.odd_harmonics = true;
-        count = harmonics == "odd" ? "0" : harmonics.substr(4);
-    }
+    const bool odd = harmonics == "odd" || harmonics.rfind("odd:", 0) == 0;
+    const std::string count = odd ? (harmonics == "odd" ? "0" : harmonics.substr(4)) : harmonics;
     const long long parsed = parse_integer("--harmonics", count);
-    if (hbo.odd_harmonics && harmonics != "odd" && parsed == 0)
+    if (odd && harmonics != "odd" && parsed == 0)
         throw UsageError("--harmonics = " + harmonics + " is out of range: allowed odd (automatic H) or odd:H with H "
                          "in 1.." + std::to_string(max_harmonics));
-    hbo.harmonics = static_cast<int>(std::clamp<long long>(parsed, -1, 100000));
-    if (hbo.harmonics < 0 || hbo.harmonics > max_harmonics)
+    if (parsed < 0 || parsed > max_harmonics)
         throw UsageError("--harmonics = " + harmonics + " is out of range: allowed 0 (automatic), 1.." +
                          std::to_string(max_harmonics) +
                          ", odd, or odd:H (odd harmonics <= H only; above " +
                          std::to_string(max_harmonics) +
                          " a branch takes many minutes: README, inputs)");
-    if (config && command.count("--harmonics") == 0) {
-        if (config->harmonics) hbo.harmonics = *config->harmonics;
-        if (config->odd_harmonics) hbo.odd_harmonics = *config->odd_harmonics;
+    if (command.count("--harmonics") > 0) {  // over the file's H and odd_harmonics; 0: automatic
+        c.harmonics = parsed > 0 ? std::optional<int>(static_cast<int>(parsed)) : std::nullopt;
+        c.odd_harmonics = odd;
     }
-    if (hbo.harmonics == 0) hbo.harmonics = automatic_harmonics(chosen.system, exact);  // design.hpp
-    const long long nt = parse_integer("--time-samples", time_samples);  // its range: hbo.validate()
-    hbo.time_samples = static_cast<int>(std::clamp<long long>(nt, -1, HarmonicBalanceOptions::max_time_samples + 1LL));
-    if (hbo.time_samples != nt)
-        throw UsageError("--time-samples = " + time_samples + " is out of range: allowed 0 (automatic) or " +
-                         std::to_string(2 * hbo.harmonics + 1) + ".." +
-                         std::to_string(HarmonicBalanceOptions::max_time_samples));
-    if (config && config->time_samples && command.count("--time-samples") == 0) {
-        hbo.time_samples = *config->time_samples;
-        const auto line = config->lines.find("solver.time_samples");
-        if (hbo.time_samples != 0 && hbo.time_samples <= 2 * hbo.harmonics)
-            throw UsageError(config_path + (line != config->lines.end() ? ":" + std::to_string(line->second) : "") +
-                             ": key 'solver.time_samples': " + std::to_string(hbo.time_samples) +
-                             " is out of range: allowed 0 (automatic) or " + std::to_string(2 * hbo.harmonics + 1) +
-                             ".." + std::to_string(HarmonicBalanceOptions::max_time_samples));
+    // its range: hbo.validate(), and check_time_samples beyond an int's
+    const long long nt = parse_integer("--time-samples", time_samples);
+    if (command.count("--time-samples") > 0)
+        c.time_samples = static_cast<int>(std::clamp<long long>(nt, -1, HarmonicBalanceOptions::max_time_samples + 1LL));
+    return c;
+}
+
+void check_time_samples(const CLI::App& command, const std::string& time_samples, const ChosenSystem& chosen,
+                        const std::string& config_path, const HarmonicBalanceOptions& hbo) {
+    if (command.count("--time-samples") > 0) {
+        if (parse_integer("--time-samples", time_samples) != hbo.time_samples)  // clamped: beyond an int
+            throw UsageError("--time-samples = " + time_samples + " is out of range: allowed 0 (automatic) or " +
+                             std::to_string(2 * hbo.harmonics + 1) + ".." +
+                             std::to_string(HarmonicBalanceOptions::max_time_samples));
+        return;
     }
+    const std::optional<io::SystemConfig>& config = chosen.config;
+    if (!config || !config->time_samples) return;
+    const int nt = *config->time_samples;
+    if (nt == 0 || nt > 2 * hbo.harmonics) return;
+    const auto line = config->lines.find("solver.time_samples");
+    throw UsageError(config_path + (line != config->lines.end() ? ":" + std::to_string(line->second) : "") +
+                     ": key 'solver.time_samples': " + std::to_string(nt) + " is out of range: allowed 0 (automatic) or " +
+                     std::to_string(2 * hbo.harmonics + 1) + ".." + std::to_string(HarmonicBalanceOptions::max_time_samples));
+}
+
+HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const std::string& harmonics,
+                                                const std::string& time_samples, const ChosenSystem& chosen,
+                                                const std::string& config_path, bool exact) {
+    FrfChoices choices = frf_choices(command, harmonics, time_samples, chosen);
+    choices.exact = exact;
+    const HarmonicBalanceOptions hbo = frf_settings(chosen.system, {}, choices).harmonic_balance;
+    check_time_samples(command, time_samples, chosen, config_path, hbo);
     hbo.validate();  // the library's ranges; hbf names the flag (program.cpp)
     return hbo;
 }

@@ -83,10 +83,18 @@ struct ChosenSystem {
 };
 ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path);
 
-/// Harmonic-balance options from --harmonics and --time-samples (texts as given; 0 means
-/// automatic), else the --config file's [solver], else the automatic H of the library
-/// (design.hpp: automatic_harmonics, with or without the exact polish). Throws UsageError
-/// naming the flag or the file key out of range.
+/// The FRF's choices (design.hpp: FrfChoices): the --config file's [frequency] and [solver]
+/// (io::SystemConfig::choices), with --harmonics (H; 0 = automatic; odd, odd:H) and
+/// --time-samples over them where given (texts as given). Throws UsageError naming the flag.
+FrfChoices frf_choices(const CLI::App& command, const std::string& harmonics, const std::string& time_samples,
+                       const ChosenSystem& chosen);
+/// --time-samples beyond an int (the rest of its range is hbo.validate()'s), else the file's
+/// solver.time_samples where it applies, against the H chosen: 0 or > 2H, else UsageError
+/// naming the file's line.
+void check_time_samples(const CLI::App& command, const std::string& time_samples, const ChosenSystem& chosen,
+                        const std::string& config_path, const HarmonicBalanceOptions& hbo);
+/// Harmonic-balance options of frf_choices with the exact polish as given (frf_settings: the
+/// automatic H), checked (hbo.validate, check_file_time_samples).
 HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const std::string& harmonics,
                                                 const std::string& time_samples, const ChosenSystem& chosen,
                                                 const std::string& config_path, bool exact);

@@ -112,48 +112,54 @@ void FrfFlags::add_to(CLI::App& command) {
         ->capture_default_str()->type_name("off|on|hill|monodromy|both");
 }
 
+std::string default_text(double value) {
+    std::string text = format_number(value);
+    const std::size_t e = text.find('e');
+    if (e == std::string::npos) return text;
+    std::size_t digits = e + 1;
+    if (digits < text.size() && (text[digits] == '-' || text[digits] == '+')) ++digits;
+    while (digits + 1 < text.size() && text[digits] == '0') text.erase(digits, 1);
+    if (text[e + 1] == '+') text.erase(e + 1, 1);
+    return text;
+}
+
 FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) const {
     const System& system = chosen.system;
-    const std::optional<io::SystemConfig>& file = chosen.config;
-    FrfSettings s;
-    s.outputs = chosen.outputs;
-    // The exact polish: on by default for the laws it covers (coulomb, jenkins).
     if (given(command, "--exact") && exact.empty()) throw UsageError("--exact is empty: allowed on, off");
     if (!exact.empty() && exact != "on" && exact != "off")
         throw UsageError("--exact = '" + exact + "' is not allowed: allowed on, off");
-    // The lowest frequency sets the polish's cost per period (exact_cost_refusal).
-    double lowest = parse_double("--wmin", wmin);
-    if (file && file->omega_start && !given(command, "--wmin")) lowest = *file->omega_start;
-    const std::string refusal = lowest > 0.0 ? exact_cost_refusal(system, lowest) : exact_solver_refusal(system);
-    s.exact = exact.empty() ? refusal.empty() : exact == "on";
-    if (s.exact && !refusal.empty()) throw UsageError("--exact on: " + refusal + " (use --exact off)");
-    // With the polish, HB only supplies the branch and the starting guesses: its automatic H is
-    // lower (design.hpp: automatic_harmonics).
+    // The choices: the --config file's, the flags given over them; the library makes the
+    // automatic ones (design.hpp: frf_settings: the polish on the lowest frequency, H).
+    FrfChoices choices = frf_choices(command, harmonics, time_samples, chosen);
+    if (given(command, "--wmin")) choices.omega_start = parse_double("--wmin", wmin);
+    if (given(command, "--wmax")) choices.omega_end = parse_double("--wmax", wmax);
+    const long long m = parse_integer("--modes", modes);  // its range: FrfSettings::validate
+    const int clamped = static_cast<int>(std::clamp<long long>(m, -1, HarmonicBalanceOptions::max_modes + 1LL));
+    if (clamped != m)  // beyond an int
+        throw UsageError("--modes = " + modes + " is out of range: allowed 0 (direct solve) or 1.." +
+                         std::to_string(HarmonicBalanceOptions::max_modes));
+    if (given(command, "--modes")) choices.modes = clamped;
+    if (!exact.empty()) {
+        choices.exact = exact == "on";
+        // The lowest frequency sets the polish's cost per period (exact_cost_refusal).
+        const double lowest = choices.omega_start ? *choices.omega_start : ContinuationOptions{}.omega_start;
+        const std::string refusal = lowest > 0.0 ? exact_cost_refusal(system, lowest) : exact_solver_refusal(system);
+        if (*choices.exact && !refusal.empty()) throw UsageError("--exact on: " + refusal + " (use --exact off)");
+    }
+    FrfSettings s = frf_settings(system, chosen.outputs, choices);
+    s.peaks_of_every_output = false;  // hbf frf's peaks: those of the first output (its --summary)
     HarmonicBalanceOptions& hbo = s.harmonic_balance;
-    hbo = harmonic_balance_options(command, harmonics, time_samples, chosen, config, s.exact);
+    check_time_samples(command, time_samples, chosen, config, hbo);
     try {
         hbo.formulation = parse_formulation(formulation);
     } catch (const InvalidInput&) {
         throw UsageError("--formulation = '" + formulation + "' is not known: allowed automatic, condensed, full");
     }
-    const long long m = parse_integer("--modes", modes);  // its range: FrfSettings::validate
-    hbo.modes = static_cast<int>(std::clamp<long long>(m, -1, HarmonicBalanceOptions::max_modes + 1LL));
-    if (hbo.modes != m)
-        throw UsageError("--modes = " + modes + " is out of range: allowed 0 (direct solve) or 1.." +
-                         std::to_string(HarmonicBalanceOptions::max_modes));
-    if (file && file->modes && !given(command, "--modes")) hbo.modes = *file->modes;
     ContinuationOptions& co = s.continuation;
-    co.omega_start = parse_double("--wmin", wmin);
-    co.omega_end = parse_double("--wmax", wmax);
-    if (file && file->omega_start && !given(command, "--wmin")) co.omega_start = *file->omega_start;
-    if (file && file->omega_end && !given(command, "--wmax")) co.omega_end = *file->omega_end;
     co.max_amplitude = parse_double("--max-amplitude", max_amplitude);
     co.max_step = parse_double("--max-step", max_step);
     co.initial_step = std::min(co.initial_step, co.max_step);
     co.corrector.tolerance = parse_double("--tolerance", tolerance);
-    // With the polish, HB's own transitions (O(1/H) misplaced) are not needed: the exact
-    // ones replace them.
-    if (s.exact) co.locate_transitions = false;
     if (stability != "off") {
         try {
             s.stability_options.method = parse_stability_method(stability == "on" ? "both" : stability);

@@ -11,9 +11,17 @@
 
 namespace hbf::cli {
 
+/// A library default as --help shows it: format_number without an exponent's leading zeros
+/// ("1e-9", not "1e-09").
+std::string default_text(double value);
+
+/// The defaults shown and parsed are the library's (ContinuationOptions, CorrectorOptions); 0
+/// for H, N_t and modes means automatic (H, N_t) or the direct solve (modes), as in the library.
 struct FrfFlags {
-    std::string wmin = "0.5", wmax = "1.6", harmonics = "0", time_samples = "0", max_amplitude = "1000",
-                max_step = "1", tolerance = "1e-9", formulation = "automatic", modes = "0";
+    std::string wmin = default_text(ContinuationOptions{}.omega_start), wmax = default_text(ContinuationOptions{}.omega_end),
+                harmonics = "0", time_samples = "0", max_amplitude = default_text(ContinuationOptions{}.max_amplitude),
+                max_step = default_text(ContinuationOptions{}.max_step),
+                tolerance = default_text(CorrectorOptions{}.tolerance), formulation = "automatic", modes = "0";
     std::string exact, config, stability = "off";
 
     /// Adds --wmin --wmax --harmonics --modes --formulation --time-samples --max-amplitude

@@ -45,3 +45,46 @@ def test_cli_python_and_benchmark_choose_the_same_h(law, tmp_path):
                           "--repeats", "1", "--check-every", "0"], capture_output=True, text=True, check=True)
     cases = json.loads(run.stdout.strip().splitlines()[-1])["cases"]
     assert [c["harmonics"] for c in cases] == [without]
+
+
+STIFF_JENKINS = """[structure]
+mass = [1.0]
+stiffness = [1.0e8]
+damping = [100.0]
+excitation = [1.0e3]
+
+[[contact]]
+dof = 1
+law = "jenkins"
+friction_limit = 50.0
+stiffness = 1.0e7
+
+[frequency]
+wmin = 9000.0
+wmax = 11000.0
+"""
+
+
+def test_the_file_s_lowest_frequency_decides_the_automatic_polish_in_both_front_ends(tmp_path):
+    # A stiff oscillator (natural frequency 1e4): at the default w = 0.5 one period would take
+    # 1.3e5 Taylor steps, above the exact solver's bound; at the file's wmin = 9000, 7. The
+    # library's frf_settings decides on the file's wmin for hbf and Python alike (Python decided
+    # on 0.5 before: no polish, and a different automatic H).
+    path = tmp_path / "stiff.toml"
+    path.write_text(STIFF_JENKINS)
+    system = hbfriction.load(str(path))
+    assert hbfriction._core.exact_cost_refusal(system, 0.5)
+    assert not hbfriction._core.exact_cost_refusal(system, 9000.0)
+    summary = tmp_path / "summary.json"
+    run_hbf("frf", "--config", str(path), "--out", str(tmp_path / "frf.csv"), "--summary", str(summary))
+    cli = json.loads(summary.read_text())
+    branch = hbfriction.frf(system)
+    assert cli["exact"]["enabled"] is True
+    assert branch.settings.exact is True
+    assert branch.metadata["parameters"]["harmonics"] == cli["parameters"]["harmonics"] == 10
+    # and below the bound's frequency both leave it off
+    run_hbf("frf", "--config", str(path), "--wmin", "0.5", "--wmax", "0.6", "--out", str(tmp_path / "low.csv"),
+            "--summary", str(summary))
+    low = hbfriction.frf(system, wmin=0.5, wmax=0.6)
+    assert json.loads(summary.read_text())["exact"]["enabled"] is False
+    assert low.settings.exact is False
