@@ -64,17 +64,20 @@ void TimeIntegrationOptions::validate() const {
             throw InvalidInput(std::string(name) + " (" + meaning + ") = " + format_number(value) +
                                " is out of range: allowed " + format_number(low) + ".." + format_number(high));
     };
-    in_range(relative_tolerance, 1e-14, 1e-3, "relative_tolerance", "CVODE relative tolerance");
-    in_range(absolute_tolerance, 1e-16, 1e-3, "absolute_tolerance", "CVODE absolute tolerance");
-    in_range(steady_tolerance, 1e-14, 1e-2, "steady_tolerance", "Poincare convergence tolerance");
+    in_range(relative_tolerance, smallest_relative_tolerance, largest_relative_tolerance, "relative_tolerance",
+             "CVODE relative tolerance");
+    in_range(absolute_tolerance, smallest_absolute_tolerance, largest_absolute_tolerance, "absolute_tolerance",
+             "CVODE absolute tolerance");
+    in_range(steady_tolerance, smallest_steady_tolerance, largest_steady_tolerance, "steady_tolerance",
+             "Poincare convergence tolerance");
     if (!(displacement_scale >= 0.0 && std::isfinite(displacement_scale)))
         throw InvalidInput("displacement_scale (scale of the absolute tolerances) = " + format_number(displacement_scale) +
                            " is out of range: allowed finite >= 0 (0 = automatic)");
     if (min_periods < 1)
         throw InvalidInput("min_periods = " + std::to_string(min_periods) + " is out of range: allowed >= 1");
-    if (max_periods < min_periods)
-        throw InvalidInput("max_periods = " + std::to_string(max_periods) +
-                           " is out of range: allowed >= min_periods = " + std::to_string(min_periods));
+    if (max_periods < min_periods || max_periods > largest_max_periods)
+        throw InvalidInput("max_periods = " + std::to_string(max_periods) + " is out of range: allowed min_periods = " +
+                           std::to_string(min_periods) + ".." + std::to_string(largest_max_periods));
     if (samples_per_period < 8)
         throw InvalidInput("samples_per_period = " + std::to_string(samples_per_period) +
                            " is out of range: allowed >= 8");

@@ -572,3 +572,24 @@ TEST_CASE("A steady state integrated too coarsely for its scale fails its physic
         CHECK_THAT(x.message, Catch::Contains("physics check"));
     }
 }
+
+TEST_CASE("TimeIntegrationOptions::validate holds the ranges hbf timeint shows, max_periods bounded for every front end",
+          "[timeint]") {
+    using T = TimeIntegrationOptions;
+    TimeIntegrationOptions o;
+    REQUIRE_NOTHROW(o.validate());
+    o.max_periods = T::largest_max_periods;
+    CHECK_NOTHROW(o.validate());
+    o.max_periods = T::largest_max_periods + 1;  // Python's timeint(max_periods=...) as hbf's --max-periods
+    CHECK_THROWS_WITH(o.validate(), "max_periods = 1000001 is out of range: allowed min_periods = 3..1000000");
+    o = T{};
+    o.relative_tolerance = T::largest_relative_tolerance * 2;
+    CHECK_THROWS_WITH(o.validate(), Catch::Contains("relative_tolerance (CVODE relative tolerance) = 0.002 is out of "
+                                                    "range: allowed 1e-14..0.001"));
+    o = T{};
+    o.absolute_tolerance = T::smallest_absolute_tolerance / 2;
+    CHECK_THROWS_WITH(o.validate(), Catch::Contains("allowed 1e-16..0.001"));
+    o = T{};
+    o.steady_tolerance = T::largest_steady_tolerance * 2;
+    CHECK_THROWS_WITH(o.validate(), Catch::Contains("allowed 1e-14..0.01"));
+}

@@ -69,6 +69,13 @@ namespace hbf {
 enum class IntegrationMethod { adams, bdf };
 
 struct TimeIntegrationOptions {
+    /// The ranges validate() checks, the one home of those the front ends name in their help.
+    static constexpr double smallest_relative_tolerance = 1e-14, largest_relative_tolerance = 1e-3;
+    static constexpr double smallest_absolute_tolerance = 1e-16, largest_absolute_tolerance = 1e-3;
+    static constexpr double smallest_steady_tolerance = 1e-14, largest_steady_tolerance = 1e-2;
+    /// The most periods one frequency may take: bounded time (a period of the absorber takes
+    /// about 0.1 ms to 1 ms, so at most minutes a frequency).
+    static constexpr int largest_max_periods = 1000000;
     /// CVODE relative tolerance (local error per step), 1e-14..1e-3.
     double relative_tolerance = 1e-10;
     /// CVODE absolute tolerance, 1e-16..1e-3, relative to the response's scale (so the same in
@@ -95,7 +102,8 @@ struct TimeIntegrationOptions {
     /// At least this many periods are integrated (>= 1), so a converged answer has seen the
     /// steady state repeat at least once after min_periods - 1 periods of settling.
     int min_periods = 3;
-    /// At most this many periods (>= min_periods); then converged = false (never hangs).
+    /// At most this many periods (min_periods..largest_max_periods); then converged = false
+    /// (never hangs).
     int max_periods = 3000;
     /// Equally spaced samples per period of the signals kept for the final period (>= 8).
     int samples_per_period = 256;

@@ -195,6 +195,17 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
     return chosen;
 }
 
+std::string default_text(double value) {
+    std::string text = format_number(value);
+    const std::size_t e = text.find('e');
+    if (e == std::string::npos) return text;
+    std::size_t digits = e + 1;
+    if (digits < text.size() && (text[digits] == '-' || text[digits] == '+')) ++digits;
+    while (digits + 1 < text.size() && text[digits] == '0') text.erase(digits, 1);
+    if (text[e + 1] == '+') text.erase(e + 1, 1);
+    return text;
+}
+
 FrfChoices frf_choices(const CLI::App& command, const std::string& harmonics, const std::string& time_samples,
                        const ChosenSystem& chosen) {
     FrfChoices c = chosen.config ? chosen.config->choices() : FrfChoices{};

@@ -83,6 +83,10 @@ struct ChosenSystem {
 };
 ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, const std::string& config_path);
 
+/// A library default or bound as --help and messages show it: format_number without an
+/// exponent's leading zeros ("1e-9", not "1e-09").
+std::string default_text(double value);
+
 /// The FRF's choices (design.hpp: FrfChoices): the --config file's [frequency] and [solver]
 /// (io::SystemConfig::choices), with --harmonics (H; 0 = automatic; odd, odd:H) and
 /// --time-samples over them where given (texts as given). Throws UsageError naming the flag.

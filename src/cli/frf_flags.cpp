@@ -112,17 +112,6 @@ void FrfFlags::add_to(CLI::App& command) {
         ->capture_default_str()->type_name("off|on|hill|monodromy|both");
 }
 
-std::string default_text(double value) {
-    std::string text = format_number(value);
-    const std::size_t e = text.find('e');
-    if (e == std::string::npos) return text;
-    std::size_t digits = e + 1;
-    if (digits < text.size() && (text[digits] == '-' || text[digits] == '+')) ++digits;
-    while (digits + 1 < text.size() && text[digits] == '0') text.erase(digits, 1);
-    if (text[e + 1] == '+') text.erase(e + 1, 1);
-    return text;
-}
-
 FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) const {
     const System& system = chosen.system;
     if (given(command, "--exact") && exact.empty()) throw UsageError("--exact is empty: allowed on, off");

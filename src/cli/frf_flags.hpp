@@ -11,10 +11,6 @@
 
 namespace hbf::cli {
 
-/// A library default as --help shows it: format_number without an exponent's leading zeros
-/// ("1e-9", not "1e-09").
-std::string default_text(double value);
-
 /// The defaults shown and parsed are the library's (ContinuationOptions, CorrectorOptions); 0
 /// for H, N_t and modes means automatic (H, N_t) or the direct solve (modes), as in the library.
 struct FrfFlags {

@@ -26,7 +26,12 @@ constexpr long long max_points = 10000;
 struct TimeintOptions {
     AbsorberFlags absorber;
     std::string w, wmin, wmax, points, sweep = "up", method = "adams";
-    std::string rtol = "1e-10", atol = "1e-10", steady_tol = "1e-8", max_periods = "3000", min_periods = "3";
+    // the library's defaults (time_integration.hpp)
+    std::string rtol = default_text(TimeIntegrationOptions{}.relative_tolerance),
+                atol = default_text(TimeIntegrationOptions{}.absolute_tolerance),
+                steady_tol = default_text(TimeIntegrationOptions{}.steady_tolerance),
+                max_periods = std::to_string(TimeIntegrationOptions{}.max_periods),
+                min_periods = std::to_string(TimeIntegrationOptions{}.min_periods);
     OutputFlags output;
     std::string config;
 };
@@ -39,11 +44,15 @@ double positive_frequency(const std::string& flag, const std::string& text) {
     return w;
 }
 
+/// "low..high" of a library range, as the help and the messages show it.
+std::string range_text(double low, double high) { return default_text(low) + ".." + default_text(high); }
+
+using Tio = TimeIntegrationOptions;  // the ranges' home
+
 double tolerance(const std::string& flag, const std::string& text, double low, double high) {
     const double value = parse_double(flag, text);
     if (!(value >= low && value <= high))
-        throw UsageError(flag + " = '" + text + "' is out of range: allowed " + format_number(low) + ".." +
-                         format_number(high));
+        throw UsageError(flag + " = '" + text + "' is out of range: allowed " + range_text(low, high));
     return value;
 }
 
@@ -84,12 +93,16 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     const std::string title = "hbf timeint: " + (o.config.empty() ? chosen.law_name + " (sweep " + o.sweep + ")" : o.config);
     const std::vector<double> omegas = frequencies(command, o);
     TimeIntegrationOptions tio;
-    tio.relative_tolerance = tolerance("--rtol", o.rtol, 1e-14, 1e-3);
-    tio.absolute_tolerance = tolerance("--atol", o.atol, 1e-16, 1e-3);
-    tio.steady_tolerance = tolerance("--steady-tol", o.steady_tol, 1e-14, 1e-2);
+    tio.relative_tolerance =
+        tolerance("--rtol", o.rtol, Tio::smallest_relative_tolerance, Tio::largest_relative_tolerance);
+    tio.absolute_tolerance =
+        tolerance("--atol", o.atol, Tio::smallest_absolute_tolerance, Tio::largest_absolute_tolerance);
+    tio.steady_tolerance =
+        tolerance("--steady-tol", o.steady_tol, Tio::smallest_steady_tolerance, Tio::largest_steady_tolerance);
     const long long max_periods = parse_integer("--max-periods", o.max_periods);
-    if (max_periods < 1 || max_periods > 1000000)
-        throw UsageError("--max-periods = '" + o.max_periods + "' is out of range: allowed 1..1000000");
+    if (max_periods < 1 || max_periods > Tio::largest_max_periods)
+        throw UsageError("--max-periods = '" + o.max_periods + "' is out of range: allowed 1.." +
+                         std::to_string(Tio::largest_max_periods));
     const long long min_periods = parse_integer("--min-periods", o.min_periods);
     if (min_periods > max_periods && given(command, "--max-periods") && !given(command, "--min-periods"))
         throw UsageError("--max-periods = '" + o.max_periods + "' is below --min-periods (" + o.min_periods +
@@ -167,19 +180,23 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
                         "sweep direction: up (wmin to wmax) or down (wmax to wmin); each point starts from the "
                         "previous point's steady state")
         ->capture_default_str()->type_name("up|down");
-    command.add_option("--rtol", o.rtol, "CVODE relative tolerance, 1e-14..1e-3")
+    command.add_option("--rtol", o.rtol,
+                       "CVODE relative tolerance, " +
+                           range_text(Tio::smallest_relative_tolerance, Tio::largest_relative_tolerance))
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--atol", o.atol,
                         "CVODE absolute tolerance relative to the response's scale s (displacements atol s, velocities "
-                        "atol h w s; s = min(|K^-1 F|, |M^-1 F| / (h w)^2): the same in any units and at any w), "
-                        "1e-16..1e-3")
+                        "atol h w s; s = min(|K^-1 F|, |M^-1 F| / (h w)^2): the same in any units and at any w), " +
+                            range_text(Tio::smallest_absolute_tolerance, Tio::largest_absolute_tolerance))
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--steady-tol", o.steady_tol,
                         "Poincare convergence: the state at the start of consecutive periods changes by <= "
                         "steady-tol relative to the displacement scale max(|y|_inf, |y'|_inf / w) (velocities divided by w: "
-                        "the same in any units), 1e-14..1e-2")
+                        "the same in any units), " +
+                            range_text(Tio::smallest_steady_tolerance, Tio::largest_steady_tolerance))
         ->capture_default_str()->type_name("NUMBER");
-    command.add_option("--max-periods", o.max_periods, "periods per frequency at most, 1..1000000")
+    command.add_option("--max-periods", o.max_periods,
+                       "periods per frequency at most, 1.." + std::to_string(Tio::largest_max_periods))
         ->capture_default_str()->type_name("INT");
     command.add_option("--min-periods", o.min_periods, "periods per frequency at least, 1..max-periods")
         ->capture_default_str()->type_name("INT");
