@@ -128,14 +128,15 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
         throw UsageError("--modes = " + modes + " is out of range: allowed 0 (direct solve) or 1.." +
                          std::to_string(HarmonicBalanceOptions::max_modes));
     if (given(command, "--modes")) choices.modes = clamped;
-    if (!exact.empty()) {
-        choices.exact = exact == "on";
-        // The lowest frequency sets the polish's cost per period (exact_cost_refusal).
-        const double lowest = choices.omega_start ? *choices.omega_start : ContinuationOptions{}.omega_start;
-        const std::string refusal = lowest > 0.0 ? exact_cost_refusal(system, lowest) : exact_solver_refusal(system);
-        if (*choices.exact && !refusal.empty()) throw UsageError("--exact on: " + refusal + " (use --exact off)");
-    }
+    if (!exact.empty()) choices.exact = exact == "on";
     FrfSettings s = frf_settings(system, chosen.outputs, choices);
+    if (s.exact && choices.exact) {
+        // The lowest frequency (the settings' own: flag, file or default) sets the polish's
+        // cost per period (exact_cost_refusal).
+        const double lowest = s.continuation.omega_start;
+        const std::string refusal = lowest > 0.0 ? exact_cost_refusal(system, lowest) : exact_solver_refusal(system);
+        if (!refusal.empty()) throw UsageError("--exact on: " + refusal + " (use --exact off)");
+    }
     s.peaks_of_every_output = false;  // hbf frf's peaks: those of the first output (its --summary)
     HarmonicBalanceOptions& hbo = s.harmonic_balance;
     check_time_samples(command, time_samples, chosen, config, hbo);
