@@ -81,17 +81,15 @@ json summary_json(const AbsorberParameters& p, FrictionLaw law, double wmin, dou
 }
 
 std::string columns_help() {
-    std::string text =
-        "Output: CSV with a header row, one row per frequency of the uniform grid "
-        "wmin..wmax (both ends included). All quantities are nondimensional (paper eq. 2): "
-        "y = x / x_s with x_s = N / k1, w = Omega / omega1, omega1 = sqrt(k1/m1). "
-        "An empty field means no finite value exists there (no slipping solution, or an "
-        "exact undamped resonance).\nColumns:\n";
-    for (const auto& c : io::analytic_columns()) text += "  " + c.name + ": " + c.meaning + "\n";
-    text +=
-        "For dahl and lugre, y*_stick is the pre-sliding (linear contact) response and y*_slip is "
-        "the same equivalent-viscous solution as coulomb's (the laws coincide in full slip).\n";
-    return text;
+    return columns_footer(
+        R"(Output: CSV with a header row, one row per frequency of the uniform grid wmin..wmax (both ends
+included). All quantities are nondimensional (paper eq. 2): y = x / x_s with x_s = N / k1,
+w = Omega / omega1, omega1 = sqrt(k1/m1). An empty field means no finite value exists there (no slipping
+solution, or an exact undamped resonance).
+Columns:)",
+        io::analytic_columns(),
+        R"(For dahl and lugre, y*_stick is the pre-sliding (linear contact) response and y*_slip is the same
+equivalent-viscous solution as coulomb's (the laws coincide in full slip).)");
 }
 
 int run(const CLI::App& command, const AnalyticOptions& o) {

@@ -183,20 +183,21 @@ void add_flags(CLI::App& command, FrfOptions& o) {
                         "CSV of the --overlay-timeint points (hbf timeint's columns) [default: the plot's name "
                         "with -timeint.csv]")
         ->option_text("FILE");
-    std::string footer = "Output: CSV with a header row, one row per continuation point in branch order, then the "
-                         "--at samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1 (with "
-                         "--config: the file's units).\n"
-                         "Columns:\n";
-    for (const auto& c : io::frf_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
-    footer += "Exit code 1 when the continuation could not start or stalled (min step), when the exact polish failed "
-              "at some point (those rows keep their HB values, exact = failed), or when an --at frequency got no row "
-              "(outside the branch, or its solve failed; named on standard error); the points computed so far are "
-              "still written. Exit code 3 when the result is written but incomplete or doubtful: an amplitude cap (an unbounded "
-              "resonance), a branch that left the range or used up its points, an unlocated transition, a point that "
-              "fails the energy balance, or a warning of Ceres (each reason one line on standard error). With --stability, "
-              "uncertain verdicts (column stable = uncertain: the two routes disagree, typically at a fold) are a note "
-              "on standard error, not an exit code: the FRF itself is complete.";
-    command.footer(footer);
+    command.footer(columns_footer(
+        R"(Output: CSV with a header row, one row per continuation point in branch order, then the --at
+samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1 (with
+--config: the file's units).
+Columns:)",
+        io::frf_columns(2),
+        R"(Exit code 1 when the continuation could not start or stalled (min step), when the exact polish
+failed at some point (those rows keep their HB values, exact = failed), or when an --at frequency
+got no row (outside the branch, or its solve failed; named on standard error); the points computed
+so far are still written. Exit code 3 when the result is written but incomplete or doubtful: an
+amplitude cap (an unbounded resonance), a branch that left the range or used up its points, an
+unlocated transition, a point that fails the energy balance, or a warning of Ceres (each reason one
+line on standard error). With --stability, uncertain verdicts (column stable = uncertain: the two
+routes disagree, typically at a fold) are a note on standard error, not an exit code: the FRF itself
+is complete.)"));
 }
 }  // namespace
 

@@ -38,18 +38,28 @@ std::string law_harmonics() {
 }
 }  // namespace
 
-void FrfFlags::add_to(CLI::App& command) {
-    command.add_option("--wmin", wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
-    command.add_option("--wmax", wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
+void add_discretisation_flags(CLI::App& command, std::string& harmonics, std::string& time_samples,
+                              const std::string& automatic) {
     command.add_option("--harmonics", harmonics,
-                       "number of harmonics H, 1.." + std::to_string(max_harmonics) +
-                           "; 0 = automatic: 10 with the exact polish (HB only supplies the branch and the starting "
-                           "guesses); without it the largest of the contacts' laws' own: " + law_harmonics() +
+                       "number of harmonics H, 1.." + std::to_string(max_harmonics) + "; 0 = automatic: " + automatic +
+                           ": " + law_harmonics() +
                            "; times h with --excitation-harmonic h. odd or odd:H balances the odd harmonics 1, 3, 5, ... <= H only "
                        "(automatic H with odd): the half-wave symmetric solutions y(t + T/2) = -y(t), which every "
                        "law here admits under a force at an odd harmonic, with half the unknowns; a solution that "
                        "breaks the symmetry is not found")
         ->capture_default_str()->type_name("INT|odd[:H]");
+    command.add_option("--time-samples", time_samples,
+                       "AFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "
+                       ">= max(64, 8 (2H + 1))")
+        ->capture_default_str()->type_name("INT");
+}
+
+void FrfFlags::add_to(CLI::App& command) {
+    command.add_option("--wmin", wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
+    command.add_option("--wmax", wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
+    add_discretisation_flags(command, harmonics, time_samples,
+                             "10 with the exact polish (HB only supplies the branch and the starting guesses); "
+                             "without it the largest of the contacts' laws' own");
     command.add_option("--modes", modes,
                        "condensed formulation: 0 solves the structure per harmonic and frequency by a sparse LU "
                        "(exact; cost linear in N); m > 0 uses its m lowest modes plus the static residual "
@@ -63,10 +73,6 @@ void FrfFlags::add_to(CLI::App& command) {
                        "size), full (every DOF's coefficients: a dense Jacobian, small models), automatic (condensed "
                        "for damped or larger than 16-DOF models with an invertible K, else full)")
         ->capture_default_str()->type_name("automatic|condensed|full");
-    command.add_option("--time-samples", time_samples,
-                       "AFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "
-                       ">= max(64, 8 (2H + 1))")
-        ->capture_default_str()->type_name("INT");
     command.add_option("--max-amplitude", max_amplitude,
                        "amplitude cap, in the system's displacement units (nondimensional for the preset): the "
                        "branch stops when a bound of max |y_i| exceeds it (unbounded resonance), then restarts "

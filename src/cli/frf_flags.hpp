@@ -29,6 +29,11 @@ struct FrfFlags {
     FrfSettings settings(const CLI::App& command, ChosenSystem& chosen) const;
 };
 
+/// --harmonics and --time-samples into `harmonics` and `time_samples` (hbf frf's and hbf loop's
+/// help); `automatic` says what the automatic H is, before the laws' own counts.
+void add_discretisation_flags(CLI::App& command, std::string& harmonics, std::string& time_samples,
+                              const std::string& automatic);
+
 /// A comma-separated list of frequencies > 0 (--at); throws UsageError naming `flag`.
 std::vector<double> parse_frequencies(const std::string& flag, const std::string& text);
 

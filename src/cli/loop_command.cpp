@@ -7,6 +7,7 @@
 #include "arguments.hpp"
 #include "outputs.hpp"
 #include "commands.hpp"
+#include "frf_flags.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/design.hpp"
 #include "hbf/error.hpp"
@@ -117,25 +118,19 @@ void add_flags(CLI::App& command, LoopOptions& o) {
                         "the solution is the one reached by following the branch from wmin (from 0.9 w when "
                         "w <= wmin), > 0")
         ->capture_default_str()->type_name("NUMBER");
-    command.add_option("--harmonics", o.harmonics,
-                        "number of harmonics H, 1.." + std::to_string(max_harmonics) +
-                            "; 0 = automatic; odd or odd:H for the odd harmonics only (as hbf "
-                        "frf)")
-        ->capture_default_str()->type_name("INT|odd[:H]");
-    command.add_option("--time-samples", o.time_samples,
-                        "time samples per period N_t > 2H (the rows); 0 = automatic (as hbf frf)")
-        ->capture_default_str()->type_name("INT");
+    add_discretisation_flags(command, o.harmonics, o.time_samples, "the largest of the contacts' laws' own");
     command.add_option("--contact", o.contact, "which contact's q, v, f and stick to write (1-based)")
         ->capture_default_str()->type_name("INT");
     command.add_option("--config", o.config, "the structure from a TOML system file (as hbf frf --config)")
         ->option_text("FILE.toml");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output", "", "FILE",
                                       "draw f against v through gnuplot (.png or .svg)", ""});
-    std::string footer = "Output: CSV with a header row, one row per time sample of one period (the AFT grid). "
-                         "Nondimensional for the preset (t in 1/omega1, y in x_s = N/k1, f in N).\nColumns:\n";
-    for (const auto& c : loop_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
-    footer += "(y1, y2: one column per DOF of the system.) Exit code 1 when the branch does not reach w.";
-    command.footer(footer);
+    command.footer(columns_footer(
+        R"(Output: CSV with a header row, one row per time sample of one period (the AFT grid). Nondimensional
+for the preset (t in 1/omega1, y in x_s = N/k1, f in N).
+Columns:)",
+        loop_columns(2),
+        R"((y1, y2: one column per DOF of the system.) Exit code 1 when the branch does not reach w.)"));
 }
 }  // namespace
 

@@ -286,15 +286,15 @@ void add_flags(CLI::App& command, MapOptions& o) {
     command.add_option("--plot-style", o.style,
                         "curves, heatmap, or auto (curves for up to 8 values, else a heat map)")
         ->capture_default_str()->type_name("auto|curves|heatmap");
-    std::string footer = "Output: a tidy CSV, one row per FRF point: the parameter's value (column named after it), "
-                         "frf_status (the FRF's continuation status: completed, amplitude_cap, left_range, point_budget, "
-                         "min_step, start_failed), then the columns of hbf frf:\n";
-    for (const auto& c : io::frf_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
-    footer += "An FRF that fails is one row with its status and empty fields, and the map goes on. Exit code 3 when "
-              "any FRF failed, is incomplete or has an unbounded resonance (counted on standard error).\n"
-              "MPI: mpirun -n K hbf map ... splits the values over K ranks (value k on rank k mod K); rank 0 gathers "
-              "and writes.";
-    command.footer(footer);
+    command.footer(columns_footer(
+        R"(Output: a tidy CSV, one row per FRF point: the parameter's value (column named after it), frf_status
+(the FRF's continuation status: completed, amplitude_cap, left_range, point_budget, min_step,
+start_failed), then the columns of hbf frf:)",
+        io::frf_columns(2),
+        R"(An FRF that fails is one row with its status and empty fields, and the map goes on. Exit code 3 when
+any FRF failed, is incomplete or has an unbounded resonance (counted on standard error).
+MPI: mpirun -n K hbf map ... splits the values over K ranks (value k on rank k mod K); rank 0
+gathers and writes.)"));
 }
 }  // namespace
 

@@ -380,13 +380,13 @@ void add_flags(CLI::App& command, OptimizeOptions_& o) {
                             "minimum-displacement rule and the viscous Den Hartog absorber (peak ratios to the optimum)",
                             "FILE", "draw the largest peak against the parameter, the optimum marked",
                             "no summary line on standard error"});
-    std::string footer = "Output: the convergence trace, one row per FRF in the order computed. Columns:\n";
-    for (const auto& c : trace_columns("mu", true)) footer += "  " + c.name + ": " + c.meaning + "\n";
-    footer += "The objective is the largest max over one period of |y1(t)| (the first output with --config) over the "
-              "whole FRF, every branch and fold included (nondimensional for the preset). Exit code 0 when the search "
-              "converged; 3 when the optimum lies at an end of the range, the FRF budget ran out, or an FRF near the "
-              "optimum failed; 1 when no value of the range gives a bounded response.";
-    command.footer(footer);
+    command.footer(columns_footer(
+        R"(Output: the convergence trace, one row per FRF in the order computed. Columns:)",
+        trace_columns("mu", true),
+        R"(The objective is the largest max over one period of |y1(t)| (the first output with --config) over
+the whole FRF, every branch and fold included (nondimensional for the preset). Exit code 0 when the
+search converged; 3 when the optimum lies at an end of the range, the FRF budget ran out, or an FRF
+near the optimum failed; 1 when no value of the range gives a bounded response.)"));
 }
 }  // namespace
 

@@ -36,6 +36,12 @@ void OutputFlags::check(const CLI::App& command, const std::vector<io::InputFile
 
 bool OutputFlags::verbose() const { return !quiet && isatty(STDERR_FILENO); }
 
+std::string columns_footer(const std::string& intro, const std::vector<io::Column>& columns, const std::string& outro) {
+    std::string text = intro + "\n";
+    for (const auto& c : columns) text += "  " + c.name + ": " + c.meaning + "\n";
+    return text + outro;
+}
+
 int OutputFlags::dry_run_done(const std::string& command) const {
     std::cerr << "hbf " << command << ": dry run: every input and output is valid; nothing computed, nothing written\n";
     return 0;

@@ -40,4 +40,8 @@ struct OutputFlags {
     int dry_run_done(const std::string& command) const;
 };
 
+/// A command's --help footer: `intro` (ending with what introduces the columns), one line per
+/// column ("  name: meaning"), then `outro` (the exit codes, what a failure leaves).
+std::string columns_footer(const std::string& intro, const std::vector<io::Column>& columns, const std::string& outro);
+
 }  // namespace hbf::cli

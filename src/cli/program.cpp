@@ -16,18 +16,18 @@ int run_program(int argc, char** argv) {
                  "hbf");
     app.set_version_flag("--version", "hbf 0.1.0");
     app.require_subcommand(1);
-    app.footer(
-        "Exit codes: 0 success; 2 bad input (an invalid flag or value, or an output path that cannot be used, "
-        "found before any work: the message names it, no output file is written); 1 failure (a solver that "
-        "did not converge or stalled, a failed exact polish, an --at frequency without a solution, a write "
-        "that fails: what was computed is written and stderr says where and why); 3 written but incomplete or "
-        "doubtful (a capped, truncated or partial branch, an unlocated transition, a point failing the energy "
-        "balance, warnings of the numerical libraries: each a warning line on stderr and in the JSON "
-        "summary). A note on stderr (e.g. a peak not refined, flagged in the JSON) leaves the exit code as it is.\n"
-        "Outputs: '-' is standard output; a regular file (or a symlink to one, which stays a symlink) is "
-        "replaced atomically when the command succeeds; a character device or FIFO (e.g. /dev/null) is "
-        "written in place, never replaced; no two outputs may name the same file.\n"
-        "Run 'hbf <command> --help' for a command's flags and output columns.");
+    app.footer(R"(Exit codes: 0 success; 2 bad input (an invalid flag or value, or an output path that cannot be used,
+found before any work: the message names it, no output file is written); 1 failure (a solver that
+did not converge or stalled, a failed exact polish, an --at frequency without a solution, a write
+that fails: what was computed is written and stderr says where and why); 3 written but incomplete or
+doubtful (a capped, truncated or partial branch, an unlocated transition, a point failing the energy
+balance, warnings of the numerical libraries: each a warning line on stderr and in the JSON
+summary). A note on stderr (e.g. a peak not refined, flagged in the JSON) leaves the exit code as it
+is.
+Outputs: '-' is standard output; a regular file (or a symlink to one, which stays a symlink) is
+replaced atomically when the command succeeds; a character device or FIFO (e.g. /dev/null) is
+written in place, never replaced; no two outputs may name the same file.
+Run 'hbf <command> --help' for a command's flags and output columns.)");
 
     std::map<std::string, Runner> runners;
     runners["analytic"] = add_analytic_command(app);

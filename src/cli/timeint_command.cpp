@@ -215,20 +215,20 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
                         "integrate the structure of a TOML system file (as hbf frf --config; its frequency range "
                         "and solver settings are not used: give --w or --wmin/--wmax/--points)")
         ->option_text("FILE.toml");
-    std::string footer =
-        "Each frequency is integrated period by period until the Poincare map converges (with Newton shooting "
-        "steps when it contracts slowly). The first frequency starts from the linear steady state with the contact "
-        "stuck, the next ones from the previous steady state (a sweep follows one branch: hysteresis between up and "
-        "down sweeps). Output: CSV with a header row, one row per frequency in sweep order. Nondimensional as in "
-        "the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.\nColumns:\n";
-    for (const auto& c : io::timeint_columns(2)) footer += "  " + c.name + ": " + c.meaning + "\n";
-    footer += "converged = true needs the Poincare map converged and the final period's physics: energy balance "
-              "(input work = dissipated energy per period), contacts stuck for the whole period moving together, "
-              "and permanent stick on the centred linear stuck state (as --method exact), each to "
-              "max(1e-6, 100 max(rtol, steady-tol)). A point that did not converge is written with converged = "
-              "false and reported on standard error, and the exit code is 1 (like a stalled hbf frf branch: what "
-              "was computed is written).";
-    command.footer(footer);
+    command.footer(columns_footer(
+        R"(Each frequency is integrated period by period until the Poincare map converges (with Newton shooting
+steps when it contracts slowly). The first frequency starts from the linear steady state with the
+contact stuck, the next ones from the previous steady state (a sweep follows one branch: hysteresis
+between up and down sweeps). Output: CSV with a header row, one row per frequency in sweep order.
+Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.
+Columns:)",
+        io::timeint_columns(2),
+        R"(converged = true needs the Poincare map converged and the final period's physics: energy balance
+(input work = dissipated energy per period), contacts stuck for the whole period moving together,
+and permanent stick on the centred linear stuck state (as --method exact), each to max(1e-6, 100
+max(rtol, steady-tol)). A point that did not converge is written with converged = false and reported
+on standard error, and the exit code is 1 (like a stalled hbf frf branch: what was computed is
+written).)"));
 }
 }  // namespace
 
