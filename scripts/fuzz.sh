@@ -65,7 +65,7 @@ if [[ ! -f $BUILD/CMakeCache.txt ]]; then
     || { cat "$BUILD/configure.log" >&2; exit 1; }
 fi
 echo "== building the fuzz targets in $(basename "$BUILD")/ ($JOBS jobs)" >&2
-build_targets=()
+build_targets=(fuzz_dictionary)
 for t in "${targets[@]}"; do build_targets+=("fuzz_$t"); done
 if ! cmake --build "$BUILD" --parallel "$JOBS" --target "${build_targets[@]}" >"$BUILD/build.log" 2>&1; then
   tail -n 60 "$BUILD/build.log" >&2
@@ -142,8 +142,17 @@ for t in "${targets[@]}"; do
   artifacts=$BUILD/artifacts/$t
   mkdir -p "$corpus" "$artifacts"
   while IFS= read -r f; do [[ -f $f ]] && cp -n "$f" "$corpus/"; done < <(seeds "$t")
+  # The dictionary: the hand-written words (tests/fuzz/<target>.dict), then those generated from
+  # the commands and the law registry (fuzz_dictionary: tests/fuzz/dictionary.cpp).
   dict=()
-  [[ -f $FUZZ_DIR/$t.dict ]] && dict=(-dict="$FUZZ_DIR/$t.dict")
+  if [[ -f $FUZZ_DIR/$t.dict ]]; then
+    mkdir -p "$BUILD/dict"
+    cp "$FUZZ_DIR/$t.dict" "$BUILD/dict/$t.dict"
+    case $t in
+      cli | config) "$BUILD/fuzz_dictionary" "$t" >>"$BUILD/dict/$t.dict" ;;
+    esac
+    dict=(-dict="$BUILD/dict/$t.dict")
+  fi
   before=$(find "$artifacts" -type f | sort)
   rm -rf "$TMPDIR" && mkdir -p "$TMPDIR"
   log=$BUILD/logs/$t.log
