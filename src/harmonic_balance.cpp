@@ -72,6 +72,10 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     if (!(force_scale_ > 0.0)) throw InvalidInput("excitation vector is zero: allowed a non-zero force amplitude");
     for (std::size_t index = 0; index < system_.contacts.size(); ++index) {
         Contact& c = system_.contacts[index];
+        if (c.base_motion != 0.0)
+            throw InvalidInput("contact " + std::to_string(index + 1) + ": base_motion = " + format_number(c.base_motion) +
+                               " is a time-domain element's (the static condensation of massless DOFs): allowed 0 in "
+                               "harmonic balance, which keeps the massless DOFs and their load");
         directions_.push_back(system_.contact_direction(c));
         // Automatic parameters (exact Coulomb's lagrangian_penalty) from the structure along w.
         const Eigen::VectorXd& w = directions_.back();

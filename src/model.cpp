@@ -158,6 +158,10 @@ void System::validate() const {
                                    " other than dof");
         }
         require_positive(k.friction_limit, (where + "friction_limit").c_str(), "slip force mu N");
+        if (k.base_motion != 0.0 && (!std::isfinite(k.base_motion) || !elastic_slider(k)))
+            throw InvalidInput(where + "base_motion = " + format_number(k.base_motion) +
+                               " is not allowed: allowed 0, or a finite value on an elastic slider (jenkins) of the "
+                               "time domain");
         contact_law(k.law).validate(k, where);
     }
     // Two exact Coulomb contacts along the same direction share one relative velocity: in stick
@@ -461,6 +465,14 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
     }
     Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(n + m);
     rhs.head(n) = system.excitation.cast<Complex>();
+    // An elastic slider whose spring's far end moves (Contact::base_motion p): its stuck force
+    // k (w^T Y + p) loads the structure by -k p w.
+    for (int c = 0; c < nc; ++c) {
+        const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
+        if (contact.base_motion != 0.0)
+            rhs.head(n) -= element[static_cast<std::size_t>(c)] * contact.base_motion *
+                           system.contact_direction(contact).cast<Complex>();
+    }
     StuckResponse out;
     Eigen::FullPivLU<Eigen::MatrixXcd> lu(kkt);
     if (!lu.isInvertible()) return out;
@@ -474,7 +486,7 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
         const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
         if (rigid_in_stick(contact)) continue;
         out.force(c) = element[static_cast<std::size_t>(c)] *
-                       system.contact_direction(contact).cast<Complex>().dot(out.amplitude);
+                       (system.contact_direction(contact).cast<Complex>().dot(out.amplitude) + contact.base_motion);
     }
     return out;
 }

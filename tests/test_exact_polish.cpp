@@ -5,7 +5,9 @@
 
 #include "hbf/analytic.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/design.hpp"
 #include "hbf/error.hpp"
+#include "hbf/event_exact.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/time_integration.hpp"
 #include "support.hpp"
@@ -165,6 +167,63 @@ TEST_CASE("Jenkins FRF polished: within 1e-7 of time integration, HB's own gap r
         const double exact = run.polish.metrics[k].y_max[0];
         Analyser analyse(hb);
         CHECK(std::abs(run.polish.exact[k].hb_gap - std::abs(analyse(point).y_max[0] - exact) / exact) < 1e-12);
+    }
+}
+
+TEST_CASE("A load on the massless shoe: the polish is on by default and equals time integration to 1e-8",
+          "[exact][massless]") {
+    // test::massless_contact with its massless Coulomb shoe loaded too, F = (1, 0.6): the static
+    // condensation turns the shoe into a Jenkins element whose spring's far end moves with the
+    // shoe's load (Contact::base_motion). Harmonic balance keeps the massless shoe and its load
+    // as they are (the dynamic Lagrangian on DOF 2): its gap to the polished value is its own
+    // truncation error only.
+    System shoe = test::massless_contact(4.0, 0.3);
+    shoe.excitation = Eigen::Vector2d(1.0, 0.6);
+    CHECK(exact_solver_refusal(shoe).empty());
+    const FrfSettings settings = default_frf_settings(shoe, {});
+    CHECK(settings.exact);
+    HarmonicBalance hb(shoe, settings.harmonic_balance);
+    const Run run = polished_frf(hb);
+    CHECK(run.polish.failed == 0);
+    REQUIRE(run.polish.points.size() > 20);
+    for (std::size_t k = 0; k < run.polish.points.size(); k += run.polish.points.size() / 8) {
+        const SolutionPoint& point = run.polish.points[k];
+        const Eigen::VectorXd start = exact_start_state(hb, point);
+        const PeriodicResponse r = integrate_steady_state(shoe, point.omega, tight(), &start);
+        INFO("w = " << point.omega << ": " << r.summary());
+        REQUIRE(r.converged);
+        CHECK(std::abs(run.polish.metrics[k].y_max[0] - r.y_max[0]) < 1e-8 * r.y_max[0]);
+        CHECK(std::abs(run.polish.metrics[k].y_max[1] - r.y_max[1]) < 1e-6 * r.y_max[1]);  // sampled
+    }
+}
+
+TEST_CASE("A load on the massless shoe: harmonic balance, which keeps the shoe, converges to the exact orbit",
+          "[exact][massless]") {
+    // Independent of the condensation: HB solves the 2-DOF model with its massless shoe and the
+    // shoe's load directly (dynamic Lagrangian). Its error against the exact orbit (condensed,
+    // with the base motion) falls with H; against the orbit without the base motion (the
+    // shoe's load only moved to the mass) it would stall at their difference.
+    System shoe = test::massless_contact(4.0, 0.3);
+    shoe.excitation = Eigen::Vector2d(1.0, 0.6);
+    System without = test::jenkins_equivalent(4.0, 0.3);
+    without.excitation(0) = 1.6;
+    for (double omega : {0.6, 2.5}) {
+        const ExactOrbit exact = exact_periodic_orbit(shoe, omega, linear_stuck_state(shoe, omega));
+        const ExactOrbit other = exact_periodic_orbit(without, omega, linear_stuck_state(without, omega));
+        REQUIRE(exact.converged);
+        REQUIRE(other.converged);
+        std::vector<double> gaps;
+        for (int h : {10, 20, 40, 80}) {
+            HarmonicBalance hb(shoe, {h, 0});
+            const SolutionAt at = solve_at(hb, omega, 0.3);
+            REQUIRE(at.found);
+            gaps.push_back(std::abs(Analyser(hb)(at.point).y_max[0] - exact.y_max[0]) / exact.y_max[0]);
+        }
+        const double difference = std::abs(other.y_max[0] - exact.y_max[0]) / exact.y_max[0];
+        INFO("w = " << omega << ": HB gaps at H = 10, 20, 40, 80: " << gaps[0] << ", " << gaps[1] << ", " << gaps[2]
+                    << ", " << gaps[3] << "; without the base motion " << difference);
+        CHECK(gaps[3] < gaps[0] / 4);
+        CHECK(gaps[3] < difference / 4);
     }
 }
 

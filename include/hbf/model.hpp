@@ -77,6 +77,13 @@ struct Contact {
     /// `values`, lists of numbers (a table of pairs, row by row) in `lists`.
     std::map<std::string, double> values;
     std::map<std::string, std::vector<double>> lists;
+    /// Time-domain elements only (contact.hpp: an elastic slider): the far end of the slider's
+    /// spring moves by base_motion cos(h omega t) along w, so that its elongation is
+    /// w^T y + base_motion cos(h omega t) - s. The static condensation of massless DOFs sets it
+    /// (a load on the massless DOFs a contact moves reaches the slider so); 0 for every contact
+    /// a user gives: System::validate allows it on jenkins contacts only, and harmonic balance
+    /// refuses it.
+    double base_motion = 0;
 };
 
 using SparseMatrix = Eigen::SparseMatrix<double>;

@@ -75,12 +75,15 @@ Modes Engine::initial_modes(Eigen::VectorXd& zhat, const Modes& hints) {
             if (modes[static_cast<std::size_t>(c)] == 0 && hint != 0 && v == 0.0) modes[static_cast<std::size_t>(c)] = hint;
         } else {
             const int s_index = 2 * n_dofs_ + c;
-            const double q = relative(c, zhat);
+            // The spring's far end: q + p cos(omega t), moving at v - p omega sin(omega t).
+            const double q = relative(c, zhat) + k.base_motion * zhat(cos_index());
+            const double end_velocity = v - k.base_motion * omega_ * zhat(sin_index());
             const double f = k.stiffness * (q - zhat(s_index));
             if (std::abs(f) >= k.friction_limit * (1.0 - 1e-12)) {
                 const int dir = sign_of(f);
                 zhat(s_index) = q - dir * k.friction_limit / k.stiffness;
-                modes[static_cast<std::size_t>(c)] = (v * dir > 0.0 || (v == 0.0 && hint == dir)) ? dir : 0;
+                modes[static_cast<std::size_t>(c)] =
+                    (end_velocity * dir > 0.0 || (end_velocity == 0.0 && hint == dir)) ? dir : 0;
             }
         }
     }
@@ -168,9 +171,10 @@ ModeData Engine::build(const Modes& modes) const {
         const int mode = modes[static_cast<std::size_t>(c)];
         if (mode != 0) {
             m.force(c, one_index()) = mode * k.friction_limit;
-        } else if (!coulomb(c)) {  // an elastic slider's spring
+        } else if (!coulomb(c)) {  // an elastic slider's spring: k (w^T y + p cos - s)
             m.force.row(c).head(nd) = k.stiffness * direction(c).transpose();
             m.force(c, 2 * nd + c) = -k.stiffness;
+            m.force(c, cos_index()) = k.stiffness * k.base_motion;
         } else {
             stuck.push_back(c);
         }
@@ -197,8 +201,10 @@ ModeData Engine::build(const Modes& modes) const {
     m.a.block(0, nd, nd, nd).setIdentity();
     m.a.middleRows(nd, nd) = acceleration;
     for (int c = 0; c < n_contacts_; ++c)
-        if (!coulomb(c) && modes[static_cast<std::size_t>(c)] != 0)
+        if (!coulomb(c) && modes[static_cast<std::size_t>(c)] != 0) {  // s' = w^T v - p omega sin
             m.a.row(2 * nd + c).segment(nd, nd) = direction(c).transpose();
+            m.a(2 * nd + c, sin_index()) = -omega_ * contact(c).base_motion;
+        }
     m.a(cos_index(), sin_index()) = -omega_;
     m.a(sin_index(), cos_index()) = omega_;
     for (int c = 0; c < n_contacts_; ++c) {
@@ -207,6 +213,7 @@ ModeData Engine::build(const Modes& modes) const {
         if (mode != 0) {
             Guard g{c, Eigen::RowVectorXd::Zero(n)};
             g.row.segment(nd, nd) = mode * direction(c).transpose();
+            g.row(sin_index()) = -mode * omega_ * contact(c).base_motion;  // the spring's far end
             m.guards.push_back(g);
         } else {
             for (int sign : {1, -1}) {

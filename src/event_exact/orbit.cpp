@@ -11,6 +11,7 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "metrics.hpp"
+#include "polynomial.hpp"
 #include "validation.hpp"
 
 namespace hbf::detail::exact {
@@ -39,8 +40,10 @@ bool permanent_stick_state(const System& system, double omega, Eigen::VectorXd& 
 
 /// Orthonormal basis B of the states allowed at the section with `modes`, and the particular
 /// state z_p: z = z_p + B xi (coulomb sliders fixed at 0; coulomb stuck: v_c = 0; jenkins
-/// slipping: s_c = q_c - mode F_c / k_t).
-void section_manifold(const Engine& e, const Modes& modes, Eigen::MatrixXd& basis, Eigen::VectorXd& particular) {
+/// slipping: s_c = q_c + p_c cos(omega t) - mode F_c / k_t, p_c its base motion, t the
+/// section's time).
+void section_manifold(const Engine& e, const Modes& modes, double t, Eigen::MatrixXd& basis,
+                      Eigen::VectorXd& particular) {
     const int nd = e.dofs(), nz = e.nz();
     std::vector<Eigen::RowVectorXd> rows;
     std::vector<double> values;
@@ -61,7 +64,9 @@ void section_manifold(const Engine& e, const Modes& modes, Eigen::MatrixXd& basi
             row.head(nd) = e.direction(c).transpose();
             row(2 * nd + c) = -1.0;
             rows.push_back(row);
-            values.push_back(mode * e.contact(c).friction_limit / e.contact(c).stiffness);
+            // the spring's far end is at q + p cos(omega t) (Contact::base_motion)
+            values.push_back(mode * e.contact(c).friction_limit / e.contact(c).stiffness -
+                             e.contact(c).base_motion * std::cos(e.omega() * t));
         }
     }
     if (rows.empty()) {
@@ -172,7 +177,7 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
         fill_metrics(e, f, 0.0, options, orbit);
         Eigen::MatrixXd basis;
         Eigen::VectorXd particular;
-        section_manifold(e, stick, basis, particular);
+        section_manifold(e, stick, 0.0, basis, particular);
         fill_stability(f.psi, basis, e.nz(), options, orbit);
     };
 
@@ -215,7 +220,7 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
         Eigen::VectorXd z = t_s == 0.0 ? Eigen::VectorXd(warm.steps.front().u.col(0).head(e.nz()))
                                        : Eigen::VectorXd(state_at(warm.steps, t_s).head(e.nz()));
         Eigen::VectorXd particular;
-        section_manifold(e, section_modes, basis, particular);
+        section_manifold(e, section_modes, t_s, basis, particular);
         z = particular + basis * (basis.transpose() * (z - particular));
 
         auto map = [&](const Eigen::VectorXd& start) {
@@ -410,6 +415,9 @@ ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensati
         out.y_amp1[static_cast<std::size_t>(i)] = std::hypot(probes.c1(i), probes.s1(i));
         out.harmonic1(i) = std::complex<double>(probes.c1(i), -probes.s1(i));
     }
+    // The force's work on the original DOFs (the load on the massless DOFs included: in the
+    // reduced system it works through the sliders' base motion).
+    out.input_energy = pi * system.excitation.dot(probes.s1.head(n));
     out.output_max.assign(probes.max.begin() + n, probes.max.end());
     out.output_amp1.clear();
     for (std::size_t o = 0; o < options.outputs.size(); ++o) {

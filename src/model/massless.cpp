@@ -107,9 +107,6 @@ MasslessCondensation::MasslessCondensation(const System& system) : system_(syste
             if (!rigid_slider(contact) && !elastic_slider(contact))
                 throw InvalidInput(why + name + " moves massless DOFs: allowed there coulomb and jenkins (a " +
                                    "spring in series with them is a Jenkins element); give the DOF a mass");
-            if (f_s.cwiseAbs().maxCoeff() > 0.0)
-                throw InvalidInput(why + name + " moves massless DOFs that are also excited: allowed the "
-                                   "excitation on massive DOFs only in that case");
             g_w_.col(c) = lu.solve(w_s);
             const double g = w_s.dot(g_w_.col(c));
             if (!(g > 0.0))
@@ -124,6 +121,8 @@ MasslessCondensation::MasslessCondensation(const System& system) : system_(syste
             reduced.law = FrictionLaw::jenkins;  // the elastic slider (contact.hpp)
             reduced.stiffness = rigid_slider(contact) ? 1.0 / g : 1.0 / (1.0 / contact.stiffness + g);
             reduced.lagrangian_penalty = 0.0;
+            // The load on the massless DOFs moves the spring's far end: q gains w_S^T K_SS^-1 F_S cos.
+            reduced.base_motion = w_s.dot(g_f_);
             w_r -= k_sr.transpose() * g_w_.col(c);
             if (!(w_r.cwiseAbs().maxCoeff() > 0.0))
                 throw InvalidInput(why + name + " moves massless DOFs that no massive DOF feels: allowed a contact "
@@ -164,6 +163,7 @@ MasslessCondensation::MasslessMap MasslessCondensation::massless_map() const {
         const Contact& k = reduced_.contacts[static_cast<std::size_t>(c)];
         m.from_massive -= k.stiffness * g_w_.col(c) * k.direction.transpose();
         m.from_sliders.col(c) = k.stiffness * g_w_.col(c);
+        m.load -= k.stiffness * k.base_motion * g_w_.col(c);  // f's share of the base motion
     }
     return m;
 }

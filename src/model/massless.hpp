@@ -10,11 +10,13 @@
 //     M_RR y_R'' + C_RR y_R' + (K_RR - K_RS K_SS^-1 K_SR) y_R + W^_R f = (F_R - K_RS K_SS^-1 F_S) cos,
 // with W^_R = W_R - K_RS K_SS^-1 W_S. A contact on massive DOFs only keeps its law. A contact
 // that moves massless DOFs sees q = w^_R^T y_R - g f with the compliance
-// g = w_S^T K_SS^-1 w_S > 0: exact Coulomb in series with that compliance is a Jenkins element
-// of stiffness 1 / g along w^_R whose slider is the original q; a Jenkins contact (k_t) becomes
-// one of stiffness 1 / (1 / k_t + g) with the same slider. Refused, with the reason: other laws
-// on massless DOFs, two such contacts coupled through K_SS^-1, F_S != 0 together with them,
-// damping on massless DOFs, a singular K_SS, or an M singular other than by zero rows.
+// g = w_S^T K_SS^-1 w_S > 0 and the load's share p = w_S^T K_SS^-1 F_S: exact Coulomb in series
+// with that compliance is a Jenkins element of stiffness 1 / g along w^_R whose slider is the
+// original q and whose spring's far end moves by p cos(h omega t) (Contact::base_motion:
+// f = (w^_R^T y_R + p cos - q) / g); a Jenkins contact (k_t) becomes one of stiffness
+// 1 / (1 / k_t + g) with the same slider and base motion. Refused, with the reason: other laws
+// on massless DOFs, two such contacts coupled through K_SS^-1, damping on massless DOFs, a
+// singular K_SS, or an M singular other than by zero rows.
 #pragma once
 
 #include <Eigen/Dense>
@@ -38,7 +40,8 @@ public:
 
     /// The massless DOFs as linear functions of the reduced state: y_S = load cos(h w t) +
     /// from_massive y_R + from_sliders s, with the converted contacts' forces
-    /// f_c = k_c (w^_c^T y_R - s_c) substituted (s: the reduced contacts' internal states).
+    /// f_c = k_c (w^_c^T y_R + p_c cos - s_c) substituted (s: the reduced contacts' internal
+    /// states, p: their base motion).
     struct MasslessMap {
         Eigen::VectorXd load;          ///< K_SS^-1 F_S (S)
         Eigen::MatrixXd from_massive;  ///< S x R

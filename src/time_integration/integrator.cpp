@@ -36,6 +36,7 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
     f_ = Eigen::VectorXd::Zero(nc_);
     zdot_ = Eigen::VectorXd::Zero(nc_);
     velocity_c_ = Eigen::VectorXd::Zero(nc_);
+    end_ = end_rate_ = end_acc_ = Eigen::VectorXd::Zero(nc_);
     acc_ = Eigen::VectorXd::Zero(n_);
     load_ = Eigen::VectorXd::Zero(n_);
     ground_stuck_dof_.assign(static_cast<std::size_t>(n_), 0);
@@ -203,9 +204,15 @@ void Integrator::evaluate(double t, const double* x) {
     load_.noalias() = excitation_ * std::cos(drive_ * t);
     load_.noalias() -= system_.damping * vm;
     load_.noalias() -= system_.stiffness * ym;
+    const double drive_cos = std::cos(drive_ * t), drive_sin = std::sin(drive_ * t);
     for (int c = 0; c < nc_; ++c) {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
-        const double vc = k.relative(v);
+        if (k.base != 0.0) {
+            end_(c) = k.base * drive_cos;
+            end_rate_(c) = -k.base * drive_ * drive_sin;
+            end_acc_(c) = -k.base * drive_ * drive_ * drive_cos;
+        }
+        const double vc = k.relative(v) + end_rate_(c);  // the moving end's velocity
         velocity_c_(c) = vc;
         double f = 0.0, zd = 0.0;
         const int mode = mode_[static_cast<std::size_t>(c)];
@@ -213,7 +220,7 @@ void Integrator::evaluate(double t, const double* x) {
             case ContactData::Kind::smooth: f = k.law->time_force(k.parameters, vc, z[c], zd); break;
             case ContactData::Kind::elastic_slider:
                 if (mode == 0) {
-                    f = k.stiffness * (k.relative(y) - z[c]);
+                    f = k.stiffness * (k.relative(y) + end_(c) - z[c]);
                 } else {
                     f = mode * k.limit;
                     zd = vc;
@@ -256,19 +263,23 @@ void Integrator::derivative(double t, const double* x, double* dx) {
         q[n_ + i] = y[i] * sn;
         input += excitation_(i) * v[i];
     }
-    for (int c = 0; c < nc_; ++c) friction += f_(c) * velocity_c_(c);
+    // The sliders' base motion is the work of a load on condensed massless DOFs: input.
+    double base_input = 0.0;
+    for (int c = 0; c < nc_; ++c) {
+        friction += f_(c) * velocity_c_(c);
+        base_input += f_(c) * end_rate_(c);
+    }
     Eigen::Map<const Eigen::VectorXd> vm(v, n_);
     q[2 * n_] = friction;
     q[2 * n_ + 1] = vm.dot(system_.damping * vm);
-    q[2 * n_ + 2] = input * (drive_ == omega_ ? cs : std::cos(drive_ * t));
+    q[2 * n_ + 2] = input * (drive_ == omega_ ? cs : std::cos(drive_ * t)) + base_input;
 }
 
-double Integrator::mode_root(int c, const double* x) const {
+double Integrator::mode_root(int c) const {
     const ContactData& k = contacts_[static_cast<std::size_t>(c)];
     const int mode = mode_[static_cast<std::size_t>(c)];
     if (mode != 0) return mode * velocity_c_(c);
-    if (k.elastic()) return k.limit - std::abs(k.stiffness * (k.relative(x) - x[2 * n_ + c]));
-    return k.limit - std::abs(f_(c));  // rigid slider: lambda
+    return k.limit - std::abs(f_(c));  // the spring's force (elastic slider) or lambda (rigid)
 }
 
 bool Integrator::in_stick(int c, const double* x) const {
@@ -287,7 +298,7 @@ void Integrator::roots(double t, const double* x, double* g) {
     evaluate(t, x);
     for (int c = 0; c < nc_; ++c) {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
-        g[c] = k.event_driven() ? mode_root(c, x) : -margin(c, x);  // > 0 in stick
+        g[c] = k.event_driven() ? mode_root(c) : -margin(c, x);  // > 0 in stick
     }
     for (int i = 0; i < n_; ++i) g[nc_ + i] = ground_stuck_dof_[static_cast<std::size_t>(i)] ? 1.0 : x[n_ + i];
     // Turning points of the outputs that combine DOFs: c^T y' = 0.
@@ -354,11 +365,11 @@ int Integrator::handle_events(double t, double* x, const std::vector<int>& hits)
             if (mode == 0) {
                 mode = sign_of(f_(c));
                 if (mode == 0) mode = 1;
-                x[2 * n_ + c] = k.relative(x) - mode * k.limit / k.stiffness;
+                x[2 * n_ + c] = k.relative(x) + end_(c) - mode * k.limit / k.stiffness;
             } else {
                 // reversal unless the relative acceleration keeps the direction (a touch)
                 const Eigen::VectorXd w = system_.contact_direction(system_.contacts[static_cast<std::size_t>(c)]);
-                if (mode * w.dot(acc_) <= 0.0) mode = 0;
+                if (mode * (w.dot(acc_) + end_acc_(c)) <= 0.0) mode = 0;
             }
         }
     }
@@ -421,10 +432,11 @@ void Integrator::settle_initial(Eigen::VectorXd& state) {
         } else if (k.elastic()) {
             double& s = x[2 * n_ + c];
             if (mode != 0 && mode * vc < 0.0) mode = 0;
-            if (mode != 0) s = k.relative(x) - mode * k.limit / k.stiffness;
-            const double f = k.stiffness * (k.relative(x) - s);
+            const double end = k.relative(x) + end_(c);  // the spring's far end at t = 0
+            if (mode != 0) s = end - mode * k.limit / k.stiffness;
+            const double f = k.stiffness * (end - s);
             if (mode == 0 && std::abs(f) > k.limit) {
-                s = k.relative(x) - sign_of(f) * k.limit / k.stiffness;
+                s = end - sign_of(f) * k.limit / k.stiffness;
                 if (sign_of(f) * vc > 0.0) mode = sign_of(f);
             }
         }
@@ -549,7 +561,7 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
             for (int c = 0; c < nc_; ++c) {
                 const ContactData& k = contacts_[static_cast<std::size_t>(c)];
                 if (!k.event_driven()) continue;
-                const double g = mode_root(c, x);
+                const double g = mode_root(c);
                 const double guard = mode_[static_cast<std::size_t>(c)] != 0 ? v_guard * vscale : f_guard * k.limit;
                 if (g < -guard) hits.push_back(c);
             }

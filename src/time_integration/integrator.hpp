@@ -27,13 +27,14 @@ struct ContactData {
     int a = 0, b = Contact::ground;
     double limit = 0;        // F_c
     double stiffness = 0;    // k_t of an elastic slider
+    double base = 0;         // its spring's far end moves by base cos(h omega t) (Contact::base_motion)
     Eigen::VectorXd w;       // a general force direction (empty: the DOF pair a, b)
     Contact parameters;      // the law and its parameters (its direction left empty: w)
 
     explicit ContactData(const Contact& c)
         : kind(rigid_slider(c) ? Kind::rigid_slider : elastic_slider(c) ? Kind::elastic_slider : Kind::smooth),
           law(&contact_law(c.law)), has_state(law->time_state() != TimeState::none), a(c.dof), b(c.other_dof),
-          limit(c.friction_limit), stiffness(c.stiffness), w(c.direction), parameters(c) {
+          limit(c.friction_limit), stiffness(c.stiffness), base(c.base_motion), w(c.direction), parameters(c) {
         parameters.direction.resize(0);
     }
     bool rigid() const { return kind == Kind::rigid_slider; }
@@ -118,7 +119,7 @@ private:
     /// the smooth laws), and the margin of time_integration.hpp.
     bool in_stick(int c, const double* x) const;
     double margin(int c, const double* x) const;
-    double mode_root(int c, const double* x) const;
+    double mode_root(int c) const;
     void load(const Eigen::VectorXd& state);
     Eigen::VectorXd store() const;
     void reinit(double t);
@@ -149,6 +150,9 @@ private:
     std::vector<const Output*> combined_outputs_;  // options_.outputs that combine DOFs (own roots)
     // scratch of evaluate()
     Eigen::VectorXd f_, zdot_, acc_, load_, lambda_, velocity_c_;
+    // Per contact, at the last evaluate(): the base motion of an elastic slider's spring end
+    // (displacement, velocity, acceleration); velocity_c_ includes its velocity.
+    Eigen::VectorXd end_, end_rate_, end_acc_;
 
     CvodeSolver cvode_;                  // its state, solvers and the vectors below
     N_Vector dky_ = nullptr, absolute_ = nullptr;

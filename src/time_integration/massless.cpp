@@ -37,13 +37,13 @@ void expand(const MasslessCondensation& condensation, PeriodicResponse& r, const
     const double omega = r.omega;
     const Eigen::Index samples = r.time.size();
     // Friction forces of the reduced contacts at a reduced state (the converted ones are
-    // Jenkins elements: f = k (w^_R^T y_R - s)), for the state at t = 0.
+    // Jenkins elements: f = k (w^_R^T y_R + p cos - s)), for the state at t = 0 (cos = 1).
     auto forces_at = [&](const Eigen::VectorXd& reduced_state) {
         Eigen::VectorXd f = Eigen::VectorXd::Zero(nc);
         for (int c = 0; c < nc; ++c) {
             if (!condensation.converted(c)) continue;
             const Contact& k = reduced.contacts[static_cast<std::size_t>(c)];
-            f(c) = k.stiffness * (k.direction.dot(reduced_state.head(nr)) - reduced_state(2 * nr + c));
+            f(c) = k.stiffness * (k.direction.dot(reduced_state.head(nr)) + k.base_motion - reduced_state(2 * nr + c));
         }
         return f;
     };
