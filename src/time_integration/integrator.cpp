@@ -204,10 +204,10 @@ void Integrator::evaluate(double t, const double* x) {
     load_.noalias() = excitation_ * std::cos(drive_ * t);
     load_.noalias() -= system_.damping * vm;
     load_.noalias() -= system_.stiffness * ym;
-    const double drive_cos = std::cos(drive_ * t), drive_sin = std::sin(drive_ * t);
     for (int c = 0; c < nc_; ++c) {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
         if (k.base != 0.0) {
+            const double drive_cos = std::cos(drive_ * t), drive_sin = std::sin(drive_ * t);
             end_(c) = k.base * drive_cos;
             end_rate_(c) = -k.base * drive_ * drive_sin;
             end_acc_(c) = -k.base * drive_ * drive_ * drive_cos;
