@@ -76,7 +76,7 @@ Modes Engine::initial_modes(Eigen::VectorXd& zhat, const Modes& hints) {
         } else {
             const int s_index = 2 * n_dofs_ + c;
             // The spring's far end: q + p cos(omega t), moving at v - p omega sin(omega t).
-            const double q = relative(c, zhat) + k.base_motion * zhat(cos_index());
+            const double q = spring_end(c, zhat);
             const double end_velocity = v - k.base_motion * omega_ * zhat(sin_index());
             const double f = k.stiffness * (q - zhat(s_index));
             if (std::abs(f) >= k.friction_limit * (1.0 - 1e-12)) {

@@ -72,6 +72,11 @@ public:
 
     double velocity(int c, const Eigen::VectorXd& zhat) const { return direction(c).dot(zhat.segment(n_dofs_, n_dofs_)); }
     double relative(int c, const Eigen::VectorXd& zhat) const { return direction(c).dot(zhat.head(n_dofs_)); }
+    /// An elastic slider's spring's far end, q + p cos(omega t) (p: Contact::base_motion, 0 but
+    /// for a load on condensed massless DOFs); q for every other contact.
+    double spring_end(int c, const Eigen::VectorXd& zhat) const {
+        return relative(c, zhat) + contact(c).base_motion * zhat(cos_index());
+    }
 
     /// The linear system of a stick/slip pattern, built on first use and cached.
     const ModeData& mode(const Modes& modes);

@@ -96,11 +96,8 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
         const Eigen::VectorXd z0 = st.u.col(0), z1 = evaluate(st.u, st.s_end);
         for (int c = 0; c < nc; ++c) {
             const int mode = st.modes[static_cast<std::size_t>(c)];
-            if (mode != 0) {  // F_c times the slider's travel (an elastic slider's: its spring's far end's)
-                const double p = e.contact(c).base_motion;
-                out.energy += mode * e.contact(c).friction_limit *
-                              (e.relative(c, z1) + p * z1(e.cos_index()) - e.relative(c, z0) - p * z0(e.cos_index()));
-            }
+            // F_c times the slider's travel (an elastic slider's: its spring's far end's)
+            if (mode != 0) out.energy += mode * e.contact(c).friction_limit * (e.spring_end(c, z1) - e.spring_end(c, z0));
         }
     }
     c1z *= 2.0 / period;
