@@ -71,18 +71,36 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     force_scale_ = system_.excitation.cwiseAbs().maxCoeff();
     if (!(force_scale_ > 0.0)) throw InvalidInput("excitation vector is zero: allowed a non-zero force amplitude");
     for (std::size_t index = 0; index < system_.contacts.size(); ++index) {
-        Contact& c = system_.contacts[index];
+        const Contact& c = system_.contacts[index];
         if (c.base_motion != 0.0)
             throw InvalidInput("contact " + std::to_string(index + 1) + ": base_motion = " + format_number(c.base_motion) +
                                " is a time-domain element's (the static condensation of massless DOFs): allowed 0 in "
                                "harmonic balance, which keeps the massless DOFs and their load");
         directions_.push_back(system_.contact_direction(c));
+    }
+    // The static deflections u_c = K^-1 w_c (one factorisation; not ok where K is singular):
+    // the contacts' static flexibility w_c^T u_c and the structure's mass along u_c, which set
+    // the automatic law parameters and the condensed formulation's shift below.
+    Eigen::MatrixXd w(system_.dofs(), nc);
+    for (int c = 0; c < nc; ++c) w.col(c) = directions_[static_cast<std::size_t>(c)];
+    const Receptance::Harmonic unshifted =
+        nc > 0 ? Receptance(system_.mass, system_.damping, system_.stiffness, w, system_.excitation,
+                            Eigen::MatrixXd(0, system_.dofs()))
+                     .solve(0, 1.0, false)
+               : Receptance::Harmonic{};
+    for (int c = 0; c < nc; ++c) {
+        Contact& contact = system_.contacts[static_cast<std::size_t>(c)];
+        const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(c)];
+        DirectionScale scale{d.dot(system_.stiffness * d), d.dot(system_.mass * d), system_.mass.diagonal().maxCoeff()};
+        const double g = unshifted.ok ? unshifted.contact(c, c).real() : 0.0;
+        if (g > 0.0 && std::isfinite(g)) {
+            const Eigen::VectorXd phi = unshifted.solution.col(c).real() / g;
+            scale.static_stiffness = 1.0 / g;
+            scale.static_mass = phi.dot(system_.mass * phi);
+        }
         // Automatic parameters (exact Coulomb's lagrangian_penalty) from the structure along w.
-        const Eigen::VectorXd& w = directions_.back();
-        contact_law(c.law).complete(c, {w.dot(system_.stiffness * w), w.dot(system_.mass * w),
-                                        system_.mass.diagonal().maxCoeff()},
-                                    "contact " + std::to_string(index + 1) + ": ");
-        models_.push_back(make_friction_model(c));
+        contact_law(contact.law).complete(contact, scale, "contact " + std::to_string(c + 1) + ": ");
+        models_.push_back(make_friction_model(contact));
     }
 
     // The condensed formulation solves the structure with a spring kappa_c and a damper delta_c
@@ -97,12 +115,6 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     // turn weighs the high harmonics ~(k w)^2 and the exact-Coulomb start of that beam fails at
     // H = 20, not at H = 10).
     if (options.formulation != Formulation::full && nc > 0) {
-        Eigen::MatrixXd w(system_.dofs(), nc);
-        for (int c = 0; c < nc; ++c) w.col(c) = directions_[static_cast<std::size_t>(c)];
-        const Receptance::Harmonic unshifted =
-            Receptance(system_.mass, system_.damping, system_.stiffness, w, system_.excitation,
-                       Eigen::MatrixXd(0, system_.dofs()))
-                .solve(0, 1.0, false);
         shift_stiffness_.resize(nc);
         shift_damping_.resize(nc);
         SparseMatrix stiffness = system_.stiffness, damping = system_.damping;

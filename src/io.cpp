@@ -284,6 +284,13 @@ std::vector<std::pair<std::string, double>> frf_parameters(const System& system,
         {"max_amplitude", co.max_amplitude},
         {"tolerance", co.corrector.tolerance}};
     parameters.insert(parameters.end(), solver.begin(), solver.end());
+    // The dynamic Lagrangian's penalty in use (the automatic one where none was given).
+    const std::vector<Contact>& contacts = hb.system().contacts;
+    for (std::size_t c = 0; c < contacts.size(); ++c)
+        if (contacts[c].law == FrictionLaw::coulomb)
+            parameters.emplace_back(contacts.size() == 1 ? std::string("lagrangian_penalty")
+                                                         : "lagrangian_penalty_" + std::to_string(c + 1),
+                                    contacts[c].lagrangian_penalty);
     return parameters;
 }
 

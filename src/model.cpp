@@ -291,7 +291,8 @@ const std::vector<PresetParameter>& preset_parameters() {
          "dynamic Lagrangian parameter epsilon of exact Coulomb, force per velocity, allowed 1/30 to 4 times the "
          "automatic value (measured to converge; outside it the iteration stalls or follows spurious branches); "
          "within it the results converge to the same solution as H grows; 0 means automatic: sqrt(k m) of the "
-         "contact direction, 1.24 for the paper's absorber: allowed 0.0413..4.96",
+         "contact direction, at most 30 times the structure's static impedance; 1.24 for the paper's absorber: "
+         "allowed 0.0413..4.96",
          true, true, true},
     };
     return table;

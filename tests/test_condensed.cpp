@@ -564,3 +564,74 @@ TEST_CASE("hbf frf --modes: the beam's FRF by the modal receptance equals the di
     CHECK(negative.exit_code == 2);
     CHECK_THAT(negative.err, Catch::Contains("--modes"));
 }
+
+namespace {
+/// A uniform Euler-Bernoulli cantilever of `elements` Hermite-cubic elements (clamped at x = 0;
+/// DOFs 2 i, 2 i + 1 = transverse displacement and rotation of node i + 1), the make_beam.py
+/// beam (steel, 1 m, 40 mm x 10 mm), with an exact Coulomb contact at the tip's displacement.
+System hermite_cantilever(int elements, double ei, double rho_a, double length) {
+    const int n = 2 * elements;
+    const double l = length / elements;
+    Eigen::Matrix4d ke, me;
+    ke << 12, 6 * l, -12, 6 * l, 6 * l, 4 * l * l, -6 * l, 2 * l * l, -12, -6 * l, 12, -6 * l, 6 * l, 2 * l * l,
+        -6 * l, 4 * l * l;
+    me << 156, 22 * l, 54, -13 * l, 22 * l, 4 * l * l, 13 * l, -3 * l * l, 54, 13 * l, 156, -22 * l, -13 * l,
+        -3 * l * l, -22 * l, 4 * l * l;
+    ke *= ei / (l * l * l);
+    me *= rho_a * l / 420.0;
+    std::vector<Eigen::Triplet<double>> k, m;
+    for (int e = 0; e < elements; ++e)
+        for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4; ++b) {
+                const int i = 2 * e - 2 + a, j = 2 * e - 2 + b;  // node e's DOFs start at 2 e - 2
+                if (i < 0 || j < 0) continue;                    // the clamped node
+                k.emplace_back(i, j, ke(a, b));
+                m.emplace_back(i, j, me(a, b));
+            }
+    System s;
+    s.stiffness.resize(n, n);
+    s.mass.resize(n, n);
+    s.stiffness.setFromTriplets(k.begin(), k.end());
+    s.mass.setFromTriplets(m.begin(), m.end());
+    s.damping = 1e-4 * s.stiffness;
+    s.excitation = Eigen::VectorXd::Zero(n);
+    s.excitation(n / 2 - 2) = 10.0;  // mid-span
+    Contact c;
+    c.dof = n - 2;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = 3.0;
+    s.contacts.push_back(c);
+    return s;
+}
+}  // namespace
+
+TEST_CASE("The automatic DLFT penalty is the contact's impedance capped by the structure's: mesh-independent",
+          "[condensed][beam]") {
+    // Hand-derived references. Paper's absorber (r = 0.1, wa = 1): along w = (1, -1) k = w'Kw =
+    // 1 + 4 r wa^2 = 1.4 and m = w'Mw = 1.1; the static deflection under a unit contact load is
+    // u = K^-1 w = (0, -10): kappa = 1 / (w'u) = 0.1 and phi = u / (w'u) = (0, -1), m_s = r = 0.1,
+    // so the cap 30 sqrt(kappa m_s) = 3 leaves sqrt(1.54).
+    for (const Formulation f : {Formulation::condensed, Formulation::full}) {
+        const HarmonicBalance hb(friction_absorber(AbsorberParameters{}, FrictionLaw::coulomb), {5, 0, f});
+        CHECK(std::abs(hb.system().contacts[0].lagrangian_penalty / std::sqrt(1.4 * 1.1) - 1.0) < 1e-14);
+    }
+    // Cantilever with a tip contact: Hermite cubics represent the static tip-load deflection
+    // exactly, so for any number of elements kappa = 3 EI / L^3 and the Rayleigh mass of
+    // phi(x) = x^2 (3 L - x) / (2 L^3) is rho A L int_0^1 (xi^2 (3 - xi) / 2)^2 dxi =
+    // rho A L (9/5 - 1 + 1/7) / 4 = 33/140 rho A L. The tip node's own sqrt(k m) grows like
+    // the number of elements and is capped from 20 elements on: the penalty of 100 and 1000
+    // elements is the same 30 sqrt(kappa m_s) (the start of the 1000-element beam failed with
+    // sqrt(k m)).
+    const double ei = 2.1e11 * 0.04 * 1e-6 / 12.0, rho_a = 7850.0 * 0.04 * 0.01, length = 1.0;
+    const double cap = 30.0 * std::sqrt(3.0 * ei / std::pow(length, 3) * 33.0 / 140.0 * rho_a * length);
+    for (const int elements : {4, 100, 1000}) {
+        const System s = hermite_cantilever(elements, ei, rho_a, length);
+        const int tip = s.contacts[0].dof;
+        const double own = std::sqrt(s.stiffness.coeff(tip, tip) * s.mass.coeff(tip, tip));
+        const HarmonicBalance hb(s, {5, 0, Formulation::automatic});
+        INFO(elements << " elements: sqrt(k m) = " << own << ", cap = " << cap);
+        CHECK(std::abs(hb.system().contacts[0].lagrangian_penalty / std::min(own, cap) - 1.0) < 1e-9);
+        if (elements >= 100) CHECK(own > 5.0 * cap);
+        if (elements == 4) CHECK(own < cap);
+    }
+}

@@ -74,9 +74,15 @@ struct StuckElement {
 
 /// The structure as a contact sees it along its direction w, for the laws' automatic parameters.
 struct DirectionScale {
-    double stiffness = 0;     ///< w^T K w
+    double stiffness = 0;     ///< w^T K w (the contact's DOFs alone, the rest of the structure held)
     double mass = 0;          ///< w^T M w
     double largest_mass = 0;  ///< the largest diagonal entry of M
+    /// The structure's static deflection under a unit load along w, u = K^-1 w, as a one-DOF
+    /// model seen by the contact: static_stiffness = 1 / (w^T u) and static_mass = phi^T M phi
+    /// for phi = u / (w^T u) (the Rayleigh mass of that shape). Both converge with mesh
+    /// refinement, unlike w^T K w and w^T M w. 0 where K is singular along w.
+    double static_stiffness = 0;
+    double static_mass = 0;
 };
 
 /// The internal state a law carries in time (time integration, the event-exact solver and the
