@@ -157,17 +157,27 @@ TEST_CASE("Jenkins FRF polished: within 1e-7 of time integration, HB's own gap r
     HarmonicBalance hb(friction_absorber(p, FrictionLaw::jenkins), {10, 0});
     const Run run = polished_frf(hb);
     CHECK(run.polish.failed == 0);
+    int compared = 0;
     for (std::size_t k = 0; k < run.polish.points.size(); k += 25) {
         const SolutionPoint& point = run.polish.points[k];
+        // Where the exact orbit's largest multiplier is within 1e-3 of 1 the Poincare map
+        // contracts by less than 1e-3 a period, and the integrator's own error per period
+        // (measured 2.3e-10 at w = 0.8613, |mu| = 0.99957) stays above tight()'s steady
+        // tolerance 1e-11: the reference cannot settle there, the exact solver can. Skipped.
+        if (run.polish.exact[k].max_multiplier > 0.999) continue;
         const Eigen::VectorXd start = exact_start_state(hb, point);
         const PeriodicResponse r = integrate_steady_state(hb.system(), point.omega, tight(), &start);
+        INFO("w = " << point.omega << ": " << r.summary() << "; exact max |multiplier| "
+                    << run.polish.exact[k].max_multiplier);
         REQUIRE(r.converged);
+        ++compared;
         CHECK(std::abs(run.polish.metrics[k].y_max[0] - r.y_max[0]) < 1e-7);
         // hb_gap is HB's relative error against the exact value.
         const double exact = run.polish.metrics[k].y_max[0];
         Analyser analyse(hb);
         CHECK(std::abs(run.polish.exact[k].hb_gap - std::abs(analyse(point).y_max[0] - exact) / exact) < 1e-12);
     }
+    CHECK(compared >= 4);
 }
 
 TEST_CASE("A load on the massless shoe: the polish is on by default and equals time integration to 1e-8",
