@@ -88,6 +88,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
                             Eigen::MatrixXd(0, system_.dofs()))
                      .solve(0, 1.0, false)
                : Receptance::Harmonic{};
+    Eigen::VectorXd static_stiffness = Eigen::VectorXd::Zero(nc);  // 1 / (w_c^T u_c); 0 where K is singular
     for (int c = 0; c < nc; ++c) {
         Contact& contact = system_.contacts[static_cast<std::size_t>(c)];
         const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(c)];
@@ -95,7 +96,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         const double g = unshifted.ok ? unshifted.contact(c, c).real() : 0.0;
         if (g > 0.0 && std::isfinite(g)) {
             const Eigen::VectorXd phi = unshifted.solution.col(c).real() / g;
-            scale.static_stiffness = 1.0 / g;
+            static_stiffness(c) = scale.static_stiffness = 1.0 / g;
             scale.static_mass = phi.dot(system_.mass * phi);
         }
         // Automatic parameters (exact Coulomb's lagrangian_penalty) from the structure along w.
@@ -121,8 +122,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         for (int c = 0; c < nc; ++c) {
             const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(c)];
             const double m = d.dot(system_.mass * d), v = d.dot(system_.damping * d);
-            const double g = unshifted.ok ? unshifted.contact(c, c).real() : 0.0;
-            const double k = g > 0.0 ? 1.0 / g : std::max(d.dot(system_.stiffness * d), 0.0);
+            const double k = static_stiffness(c) > 0.0 ? static_stiffness(c) : std::max(d.dot(system_.stiffness * d), 0.0);
             shift_stiffness_(c) = k;
             shift_damping_(c) = k > 0.0 && m > 0.0 ? std::sqrt(k * m) : std::max(v, 0.0);
             // w w^T from the nonzeros of w only (never an N x N dense product)
