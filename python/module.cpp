@@ -876,6 +876,13 @@ PYBIND11_MODULE(_core, m) {
             d["output_amp1"] = metrics.output_amp1;
             d["stick_fraction"] = metrics.stick_fraction;
             d["regime"] = metrics.regime;
+            py::list stick_fractions, regimes;
+            for (const ContactRegime& r : metrics.contacts) {
+                stick_fractions.append(r.stick_fraction);
+                regimes.append(r.regime);
+            }
+            d["stick_fractions"] = stick_fractions;
+            d["regimes"] = regimes;
             d["energy"] = metrics.energy;
             d["input_energy"] = metrics.input_energy;
             d["viscous_energy"] = metrics.viscous_energy;

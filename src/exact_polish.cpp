@@ -1,9 +1,12 @@
 // hbfriction — harmonic-balance branches polished by the event-exact solver (exact_polish.hpp).
 #include "hbf/exact_polish.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
@@ -26,6 +29,7 @@ PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb, cons
     m.output_amp1 = orbit.output_amp1;
     m.stick_fraction = orbit.stick_fraction;
     m.regime = orbit.regime;
+    m.contacts = orbit.contacts;
     m.energy = orbit.energy;
     m.input_energy = orbit.input_energy;
     if (system.damping.nonZeros() == 0) {
@@ -99,7 +103,8 @@ std::string to_string(PolishStatus status) {
 std::string PolishedBranch::summary() const {
     std::ostringstream s;
     s << "exact polish: " << polished << " points exact, " << failed << " failed (HB values kept), " << unstable
-      << " unstable, " << transitions << " transitions, largest HB gap " << format_number(max_hb_gap) << ", "
+      << " unstable, " << transitions << " transitions" << per_contact_counts(contact_transitions)
+      << ", largest HB gap " << format_number(max_hb_gap) << ", "
       << format_number(seconds) << " s";
     return s.str();
 }
@@ -223,66 +228,95 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, q.metrics, system);
     }
 
-    // 2. Exact transitions between consecutive exact points of a branch with different regimes.
+    // 2. Exact transitions between consecutive exact points of a branch: for every contact
+    //    whose regime differs between them, where it changes (to 1e-10 in omega), in branch order.
     std::vector<Polished> with_transitions;
     Corrector corrector(hb, corrector_options);
     Analyser analyse(hb, {dof}, options.exact.outputs);
     int transitions = 0;
+    const int contacts = static_cast<int>(system.contacts.size());
+    const auto all_stuck = [](const ExactOrbit& o) {
+        for (const ContactRegime& r : o.contacts)
+            if (r.regime != "stick") return false;
+        return true;
+    };
     for (std::size_t k = 0; k < branch.size(); ++k) {
         with_transitions.push_back(branch[k]);
         if (!options.transitions || k + 1 >= branch.size()) continue;
         const Polished &a = branch[k], &b = branch[k + 1];
         if (a.point.branch != b.point.branch || !a.orbit.converged || !b.orbit.converged) continue;
-        const Boundary boundary = boundary_between(a.orbit.regime, b.orbit.regime);
-        if (boundary == Boundary::none || a.point.omega == b.point.omega) continue;
-        const std::string stuck_side = boundary == Boundary::stick_stick_slip ? "stick" : "stick-slip";
-        ExactOrbit lo = a.orbit, hi = b.orbit;
-        bool ok = true;
-        if (boundary == Boundary::stick_stick_slip) {
-            // Where the permanent-stick state's load crosses 1 (closed form), then its orbit.
-            const bool a_stuck = a.orbit.regime == "stick";
-            double w_stick = (a_stuck ? a : b).point.omega, w_slip = (a_stuck ? b : a).point.omega;
-            if (!(permanent_stick_load(system, w_stick) <= 1.0 && permanent_stick_load(system, w_slip) > 1.0)) continue;
-            while (std::abs(w_slip - w_stick) > 1e-12 * std::abs(w_slip)) {
-                const double mid = 0.5 * (w_stick + w_slip);
-                (permanent_stick_load(system, mid) <= 1.0 ? w_stick : w_slip) = mid;
+        if (a.point.omega == b.point.omega) continue;
+        std::vector<Polished> found;
+        for (int c = 0; c < contacts; ++c) {
+            const auto regime = [c](const ExactOrbit& o) { return o.contacts[static_cast<std::size_t>(c)].regime; };
+            const Boundary boundary = boundary_between(regime(a.orbit), regime(b.orbit));
+            if (boundary == Boundary::none) continue;
+            const std::string stuck_side = boundary == Boundary::stick_stick_slip ? "stick" : "stick-slip";
+            ExactOrbit lo = a.orbit, hi = b.orbit;
+            bool ok = true, closed_form = false;
+            const bool a_stuck = regime(a.orbit) == "stick";
+            const ExactOrbit& stick_end = (a_stuck ? a : b).orbit;
+            if (boundary == Boundary::stick_stick_slip && all_stuck(stick_end)) {
+                // From full stick: where the permanent-stick state's load crosses 1 (closed
+                // form), if contact c is the one at its limit there (another contact may break
+                // away first: then c's boundary lies on a stick-slip orbit, found below).
+                double w_stick = stick_end.omega, w_slip = (a_stuck ? b : a).point.omega;
+                if (permanent_stick_load(system, w_stick) <= 1.0 && permanent_stick_load(system, w_slip) > 1.0) {
+                    while (std::abs(w_slip - w_stick) > 1e-12 * std::abs(w_slip)) {
+                        const double mid = 0.5 * (w_stick + w_slip);
+                        (permanent_stick_load(system, mid) <= 1.0 ? w_stick : w_slip) = mid;
+                    }
+                    if (permanent_stick_load(system, w_stick, c) >= (1.0 - 1e-9) * permanent_stick_load(system, w_stick)) {
+                        lo = exact_periodic_orbit(system, w_stick, stick_end.state, options.exact);
+                        hi = lo;
+                        ok = lo.converged && all_stuck(lo);
+                        closed_form = true;
+                    }
+                }
             }
-            lo = exact_periodic_orbit(system, w_stick, (a_stuck ? a : b).orbit.state, options.exact);
-            hi = lo;
-            ok = lo.converged && lo.regime == "stick";
-        }
-        while (ok && std::abs(hi.omega - lo.omega) > 1e-10 * std::abs(hi.omega)) {
-            const double mid = 0.5 * (lo.omega + hi.omega);
-            ExactOrbit o = solve(system, mid, lo.state, &hi.state, options.exact);
-            if (!o.converged) {
-                ok = false;
-                break;
+            while (ok && std::abs(hi.omega - lo.omega) > 1e-10 * std::abs(hi.omega)) {
+                const double mid = 0.5 * (lo.omega + hi.omega);
+                ExactOrbit o = solve(system, mid, lo.state, &hi.state, options.exact);
+                if (!o.converged) {
+                    ok = false;
+                    break;
+                }
+                (regime(o) == regime(lo) ? lo : hi) = std::move(o);
             }
-            (o.regime == lo.regime ? lo : hi) = std::move(o);
+            if (!ok) continue;
+            const ExactOrbit& side = closed_form || regime(lo) == stuck_side ? lo : hi;
+            Polished t;
+            t.point.omega = side.omega;
+            t.point.kind = PointKind::transition;
+            t.point.boundary = boundary;
+            t.point.contact = c;
+            t.point.branch = a.point.branch;
+            t.orbit = side;
+            // The HB solution at that frequency, for the HB gap.
+            const double s = (side.omega - a.point.omega) / (b.point.omega - a.point.omega);
+            t.point.x = a.point.x + s * (b.point.x - a.point.x);
+            const double x_scale = hb.unknown_scale(t.point.x);
+            const bool hb_ok = corrector.solve_at(t.point.x, side.omega, x_scale, t.point.iterations, t.point.residual);
+            PointMetrics hb_m = analyse(t.point);
+            t.exact = exact_point(side, hb_m, dof);
+            if (!hb_ok) t.exact.hb_gap = std::numeric_limits<double>::quiet_NaN();
+            t.metrics = exact_metrics(side, hb_m, hb.system());
+            found.push_back(std::move(t));
         }
-        if (!ok) continue;
-        const ExactOrbit& side = lo.regime == stuck_side ? lo : hi;
-        Polished t;
-        t.point.omega = side.omega;
-        t.point.kind = PointKind::transition;
-        t.point.boundary = boundary;
-        t.point.branch = a.point.branch;
-        t.orbit = side;
-        // The HB solution at that frequency, for the HB gap.
-        const double s = (side.omega - a.point.omega) / (b.point.omega - a.point.omega);
-        t.point.x = a.point.x + s * (b.point.x - a.point.x);
-        const double x_scale = hb.unknown_scale(t.point.x);
-        const bool hb_ok = corrector.solve_at(t.point.x, side.omega, x_scale, t.point.iterations, t.point.residual);
-        PointMetrics hb_m = analyse(t.point);
-        t.exact = exact_point(side, hb_m, dof);
-        if (!hb_ok) t.exact.hb_gap = std::numeric_limits<double>::quiet_NaN();
-        t.metrics = exact_metrics(side, hb_m, hb.system());
-        with_transitions.push_back(std::move(t));
-        ++transitions;
+        // In branch order (omega runs monotonically between two neighbouring points).
+        const bool rising = b.point.omega > a.point.omega;
+        std::sort(found.begin(), found.end(), [rising](const Polished& p, const Polished& q) {
+            return rising ? p.point.omega < q.point.omega : p.point.omega > q.point.omega;
+        });
+        transitions += static_cast<int>(found.size());
+        for (Polished& t : found) with_transitions.push_back(std::move(t));
     }
 
     PolishedBranch out;
     out.transitions = transitions;
+    out.contact_transitions.assign(static_cast<std::size_t>(contacts), 0);
+    for (const Polished& q : with_transitions)
+        if (q.point.kind == PointKind::transition) ++out.contact_transitions[static_cast<std::size_t>(q.point.contact)];
     for (const auto* list : {&with_transitions, &samples})
         for (const Polished& q : *list) {
             out.points.push_back(q.point);

@@ -257,6 +257,7 @@ PeriodicResponse exact_steady_state(const System& system, double omega, ExactOpt
     r.harmonic1 = orbit.harmonic1;
     r.stick_fraction = orbit.stick_fraction;
     r.regime = orbit.regime;
+    r.contacts = orbit.contacts;
     r.stick_margin_min = orbit.stick_margin_min;
     r.stick_margin_max = orbit.stick_margin_max;
     r.switches = orbit.switches;

@@ -107,23 +107,66 @@ std::vector<Column> output_columns(const std::vector<Output>& outputs, const std
     return columns;
 }
 
+/// The columns stick_fraction and regime for one contact; with several, one pair per contact
+/// i, stick_fraction_c<i> and regime_c<i>, in place of them.
+std::vector<Column> per_contact(int contacts, const Column& stick, const Column& regime) {
+    if (contacts <= 1) {
+        Column s = stick, r = regime;
+        s.meaning += "; with several contacts one column per contact i: stick_fraction_c<i>";
+        r.meaning += "; with several contacts one column per contact i: regime_c<i>";
+        return {s, r};
+    }
+    std::vector<Column> columns;
+    for (int c = 1; c <= contacts; ++c) {
+        const std::string suffix = "_c" + std::to_string(c), of = " (contact " + std::to_string(c) + ")";
+        columns.push_back({stick.name + suffix, stick.meaning + of, stick.type});
+        columns.push_back({regime.name + suffix, regime.meaning + of, regime.type});
+    }
+    return columns;
+}
+
+/// The contacts a table reports: the most of its rows' (a failed row has none).
+template <class Rows>
+int contacts_of(const Rows& rows) {
+    std::size_t n = 1;
+    for (const auto& r : rows) n = std::max(n, r.contacts.size());
+    return static_cast<int>(n);
+}
+
+/// The stick_fraction and regime cells of a row (per_contact's columns).
+void add_regimes(std::vector<Cell>& row, int contacts, double stick_fraction, const std::string& regime,
+                 const std::vector<ContactRegime>& per) {
+    if (contacts <= 1) {
+        row.insert(row.end(), {stick_fraction, regime.empty() ? std::string("none") : regime});
+        return;
+    }
+    for (int c = 0; c < contacts; ++c) {
+        const auto i = static_cast<std::size_t>(c);
+        if (i < per.size()) row.insert(row.end(), {per[i].stick_fraction, per[i].regime});
+        else row.insert(row.end(), {Cell(), std::string("none")});
+    }
+}
+
 }  // namespace
 
 std::vector<Column> frf_columns(int dofs) { return frf_columns(all_dofs(dofs)); }
 
-std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
+std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts) {
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
                                          "in the file's units); with --excitation-harmonic h the fundamental "
                                          "of the response, the force acting at h w"}};
     const auto mine = output_columns(outputs, "one period", "");
     columns.insert(columns.end(), mine.begin(), mine.end());
-    const std::vector<Column> rest = {
-        {"stick_fraction", "share of the period in stick, contact 1, by the law's own definition (AFT samples; "
+    const std::vector<Column> regimes = per_contact(
+        contacts,
+        {"stick_fraction", "share of the period in stick, by the law's own definition (AFT samples; "
                            "coulomb: |lambda + eps v| < mu; jenkins: slider at rest; dahl/lugre: |sigma0 z| < 0.95 g(v); "
-                           "coulomb-reg: |f| < 0.95 mu); stick phases shorter than 2 / (2H + 1) of the period are not resolved by H harmonics and count as slip; "
+                           "coulomb-reg: |f| < 0.95 mu; iwan: every slider at rest); stick phases shorter than 2 / (2H + 1) of the period are not resolved by H harmonics and count as slip; "
                            "with exact = yes: from the exact event times"},
         {"regime", "stick (every sample sticks), slip (no stick phase) or stick-slip; none for a structure without "
-                   "contacts", ColumnType::text},
+                   "contacts", ColumnType::text});
+    columns.insert(columns.end(), regimes.begin(), regimes.end());
+    const std::vector<Column> rest = {
         {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
         {"branch", "branch number: 1, 2 for the branch restarted from wmax after an amplitude cap, 3 for the branch between two capped resonances", ColumnType::integer},
         {"point", "regular, fold (located where the tangent's w-component is zero: dR/dX singular, a real turn of the branch in w), transition (located boundary between stick and stick-slip "
@@ -160,7 +203,8 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs) {
 Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
                 const std::vector<Output>& outputs, const std::vector<ExactPoint>& exact,
                 const BranchStability* stability) {
-    Table table{frf_columns(outputs), {}};
+    const int contacts = contacts_of(metrics);
+    Table table{frf_columns(outputs, contacts), {}};
     table.cells.resize(table.columns.size());
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
@@ -168,7 +212,8 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
         std::vector<Cell> row = {p.omega};
         for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(m.output_max[j]);
         for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(m.output_amp1[j]);
-        row.insert(row.end(), {m.stick_fraction, m.regime, m.energy, static_cast<long long>(p.branch),
+        add_regimes(row, contacts, m.stick_fraction, m.regime, m.contacts);
+        row.insert(row.end(), {m.energy, static_cast<long long>(p.branch),
                                to_string(p.kind), static_cast<long long>(p.iterations), p.residual, p.step});
         const FloquetResult* floquet = stability && k < stability->points.size() ? &stability->points[k] : nullptr;
         const bool polished = k < exact.size() && exact[k].status == PolishStatus::exact;
@@ -198,18 +243,22 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 
 std::vector<Column> timeint_columns(int dofs) { return timeint_columns(all_dofs(dofs)); }
 
-std::vector<Column> timeint_columns(const std::vector<Output>& outputs) {
+std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts) {
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
                                          "in the file's units); with --excitation-harmonic h the fundamental "
                                          "of the response, the force acting at h w"}};
     const auto mine = output_columns(outputs, "the final period", " (turning points by root finding)");
     columns.insert(columns.end(), mine.begin(), mine.end());
-    const std::vector<Column> rest = {
-        {"stick_fraction", "share of the final period contact 1 is in stick (coulomb, jenkins: exact event times; "
-                           "dahl, lugre: |sigma0 z| < 0.95 g(v); coulomb-reg: |tanh(v/eps)| < 0.95)"},
+    const std::vector<Column> regimes = per_contact(
+        contacts,
+        {"stick_fraction", "share of the final period in stick (coulomb, jenkins: exact event times; "
+                           "dahl, lugre: |sigma0 z| < 0.95 g(v); coulomb-reg: |tanh(v/eps)| < 0.95; iwan: every "
+                           "slider stuck)"},
         {"regime", "stick (never left stick in the final period), slip (never stuck) or stick-slip; none for a "
                    "structure without contacts; failed where not one period could be integrated (the row's "
-                   "numbers are then empty)", ColumnType::text},
+                   "numbers are then empty)", ColumnType::text});
+    columns.insert(columns.end(), regimes.begin(), regimes.end());
+    const std::vector<Column> rest = {
         {"energy", "friction energy dissipated per cycle, integral of f q' over the final period"},
         {"periods", "periods integrated (including the shooting-Jacobian periods)", ColumnType::integer},
         {"converged", "true if the state at the start of consecutive periods changed by <= steady-tol (relative) "
@@ -225,23 +274,24 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs) {
 }
 
 Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::vector<Output>& outputs) {
-    Table table{timeint_columns(outputs), {}};
+    const int contacts = contacts_of(responses);
+    Table table{timeint_columns(outputs, contacts), {}};
     table.cells.resize(table.columns.size());
     for (const PeriodicResponse& r : responses) {
         std::vector<Cell> row = {r.omega};
         // A point where not even one period was integrated has no values: empty fields, regime
         // failed (never zeros that read as a response).
         if (r.output_max.size() < outputs.size()) {
-            row.resize(1 + 2 * outputs.size() + 1);
-            row.insert(row.end(), {std::string("failed"), Cell(), static_cast<long long>(r.periods),
-                                   std::string("false"), Cell(), Cell(), Cell()});
+            row.resize(1 + 2 * outputs.size());
+            for (int c = 0; c < contacts; ++c) row.insert(row.end(), {Cell(), std::string("failed")});
+            row.insert(row.end(), {Cell(), static_cast<long long>(r.periods), std::string("false"), Cell(), Cell(), Cell()});
             table.add_row(std::move(row));
             continue;
         }
         for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(r.output_max[j]);
         for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(j < r.output_amp1.size() ? r.output_amp1[j] : 0.0);
-        row.insert(row.end(), {r.stick_fraction, r.regime.empty() ? std::string("none") : r.regime, r.energy,
-                               static_cast<long long>(r.periods), std::string(r.converged ? "true" : "false"),
+        add_regimes(row, contacts, r.stick_fraction, r.regime, r.contacts);
+        row.insert(row.end(), {r.energy, static_cast<long long>(r.periods), std::string(r.converged ? "true" : "false"),
                                r.stick_margin_min, r.stick_margin_max, static_cast<long long>(r.switches)});
         table.add_row(std::move(row));
     }
@@ -358,6 +408,7 @@ void write_frf_summary(std::ostream& out, const std::string& law,
         if (points[k].kind == PointKind::transition) {
             json entry = located(k);
             entry["between"] = to_string(points[k].boundary);
+            entry["contact"] = points[k].contact + 1;
             transitions.push_back(entry);
         }
     if (polish) {

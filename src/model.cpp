@@ -428,6 +428,13 @@ PhysicalAbsorber to_physical(const AbsorberParameters& p, double m1, double k1, 
     return a;
 }
 
+ContactRegime contact_regime(double stick_time, double period) {
+    ContactRegime r;
+    r.regime = stick_time >= period * (1.0 - 1e-12) ? "stick" : stick_time <= period * 1e-12 ? "slip" : "stick-slip";
+    r.stick_fraction = r.regime == "stick" ? 1.0 : r.regime == "slip" ? 0.0 : std::clamp(stick_time / period, 0.0, 1.0);
+    return r;
+}
+
 double energy_imbalance(double input, double viscous, double friction, double reach) {
     const double scale = std::max({reach, std::abs(input), std::abs(viscous) + std::abs(friction)});
     return scale > 0.0 ? std::abs(input - viscous - friction) / scale : 0.0;

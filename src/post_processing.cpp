@@ -59,13 +59,13 @@ int stick_phase_samples(int harmonics, int time_samples) {
     return (2 * time_samples + 2 * harmonics) / (2 * harmonics + 1);  // ceil(2 N_t / (2H + 1))
 }
 
-StickPattern stick_pattern(const Eigen::VectorXd& phi, int min_run) {
+ContactRegime stick_pattern(const Eigen::VectorXd& phi, int min_run) {
     const Eigen::Index n = phi.size();
-    StickPattern p;
+    ContactRegime p;
     if (n == 0) return p;
     const Eigen::Index sticking = (phi.array() < 0.0).count();
     if (sticking == n) {
-        p.fraction = 1.0;
+        p.stick_fraction = 1.0;
         p.regime = "stick";
         return p;
     }
@@ -81,7 +81,7 @@ StickPattern stick_pattern(const Eigen::VectorXd& phi, int min_run) {
         if (run >= min_run) in_phases += run;
         run = 0;
     }
-    p.fraction = static_cast<double>(in_phases) / static_cast<double>(n);
+    p.stick_fraction = static_cast<double>(in_phases) / static_cast<double>(n);
     p.regime = in_phases == 0 ? "slip" : "stick-slip";
     return p;
 }
@@ -135,13 +135,17 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
     if (s.contacts.empty()) {
         m.regime = "none";
     } else {
-        // Stick fraction and regime of contact 1 from its law's own stick samples.
-        const Eigen::VectorXd phi = hb_.stick_indicator(point.x, omega, 0);
-        const StickPattern pattern = stick_pattern(phi, stick_phase_samples(hb_.harmonics(), hb_.time_samples()));
-        m.stick_fraction = pattern.fraction;
-        m.regime = pattern.regime;
-        m.stick_indicator_max = phi.maxCoeff();
-        m.stick_indicator_min = phi.minCoeff();
+        // Stick fraction and regime of every contact from its law's own stick samples.
+        const int min_run = stick_phase_samples(hb_.harmonics(), hb_.time_samples());
+        for (int c = 0; c < static_cast<int>(s.contacts.size()); ++c) {
+            const Eigen::VectorXd phi = hb_.stick_indicator(point.x, omega, c);
+            m.contacts.push_back(stick_pattern(phi, min_run));
+            if (c > 0) continue;
+            m.stick_indicator_max = phi.maxCoeff();
+            m.stick_indicator_min = phi.minCoeff();
+        }
+        m.stick_fraction = m.contacts.front().stick_fraction;
+        m.regime = m.contacts.front().regime;
         // Dissipated energy: integral over the period 2 pi / omega of f q', on the AFT grid.
         Fourier& aft = hb_.fourier();
         Eigen::VectorXd v(aft.time_samples());

@@ -202,8 +202,12 @@ void fill_metrics(PeriodicResponse& out, const PeriodRecord& r, const Eigen::Vec
         out.regime = "none";
         out.stick_margin_min = out.stick_margin_max = 0.0;
     } else {
-        out.stick_fraction = r.always_stuck[0] ? 1.0 : r.never_stuck[0] ? 0.0 : std::clamp(r.stick_time[0] / period, 0.0, 1.0);
-        out.regime = r.always_stuck[0] ? "stick" : r.never_stuck[0] ? "slip" : "stick-slip";
+        // Per time-domain element here; integrate_steady_state regroups them by contact.
+        out.contacts.clear();
+        for (std::size_t c = 0; c < r.stick_time.size(); ++c)
+            out.contacts.push_back(contact_regime(r.always_stuck[c] ? period : r.never_stuck[c] ? 0.0 : r.stick_time[c], period));
+        out.stick_fraction = out.contacts.front().stick_fraction;
+        out.regime = out.contacts.front().regime;
         out.stick_margin_min = std::isfinite(r.margin_min) ? r.margin_min : 0.0;
         out.stick_margin_max = std::isfinite(r.margin_max) ? r.margin_max : 0.0;
     }
@@ -310,15 +314,23 @@ PeriodicResponse integrate_steady_state(const System& given, double omega, const
         throw InvalidInput("initial state has " + std::to_string(initial_state->size()) +
                            " entries or non-finite values: allowed " + std::to_string(size) +
                            " finite values (2 N + 2 n_e, n_e the contacts' time-domain elements)");
-    if (system.has_positive_definite_mass()) return integrate_with_mass(system, omega, options, initial_state);
-    // Massless DOFs: condensed statically (exact), integrated, expanded.
-    const detail::MasslessCondensation condensation(system);
-    const TimeIntegrationOptions reduced_options = detail::reduced_options(condensation, options);
-    Eigen::VectorXd reduced_start;
-    if (initial_state) reduced_start = condensation.reduce_state(*initial_state);
-    PeriodicResponse r = integrate_with_mass(condensation.reduced(), omega, reduced_options,
-                                             initial_state ? &reduced_start : nullptr);
-    detail::expand(condensation, r, options);
+    PeriodicResponse r;
+    if (system.has_positive_definite_mass()) {
+        r = integrate_with_mass(system, omega, options, initial_state);
+    } else {
+        // Massless DOFs: condensed statically (exact), integrated, expanded.
+        const detail::MasslessCondensation condensation(system);
+        const TimeIntegrationOptions reduced_options = detail::reduced_options(condensation, options);
+        Eigen::VectorXd reduced_start;
+        if (initial_state) reduced_start = condensation.reduce_state(*initial_state);
+        r = integrate_with_mass(condensation.reduced(), omega, reduced_options, initial_state ? &reduced_start : nullptr);
+        detail::expand(condensation, r, options);
+    }
+    if (!r.contacts.empty()) {
+        r.contacts = contact_regimes(given, r.contacts);
+        r.stick_fraction = r.contacts.front().stick_fraction;
+        r.regime = r.contacts.front().regime;
+    }
     return r;
 }
 

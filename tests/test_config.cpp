@@ -1,8 +1,10 @@
 // General systems from a TOML file (`hbf frf --config`): the shipped examples against the
 // preset, Den Hartog's exact solution and the time integrator; validation messages.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
 #include "hbf/analytic.hpp"
@@ -17,8 +19,16 @@ const std::string systems = std::string(HBF_SOURCE_DIR) + "/examples/systems/";
 
 
 /// The sample rows (point = sample) at frequency w of an `hbf frf` CSV.
-std::vector<std::vector<std::string>> samples_at(const std::vector<std::vector<std::string>>& rows, double w,
-                                                 std::size_t point_column) {
+/// The index of the column `name` in the header row.
+std::size_t column(const std::vector<std::vector<std::string>>& rows, const std::string& name) {
+    const auto at = std::find(rows.front().begin(), rows.front().end(), name);
+    REQUIRE(at != rows.front().end());
+    return static_cast<std::size_t>(at - rows.front().begin());
+}
+
+/// The rows of kind sample at w.
+std::vector<std::vector<std::string>> samples_at(const std::vector<std::vector<std::string>>& rows, double w) {
+    const std::size_t point_column = column(rows, "point");
     std::vector<std::vector<std::string>> found;
     for (std::size_t k = 1; k < rows.size(); ++k)
         if (rows[k][point_column] == "sample" && std::stod(rows[k][0]) == w) found.push_back(rows[k]);
@@ -51,7 +61,7 @@ TEST_CASE("examples/systems/den_hartog.toml reproduces Den Hartog's exact non-st
         CHECK(std::abs(std::stod(rows[k][1]) - hbf::analytic::den_hartog(eta, 0.3).amplitude) <= 1e-9);
         CHECK(rows[k][4] == "slip");
     }
-    for (double eta : {0.6, 0.7}) CHECK(samples_at(rows, eta, 7).size() == 1);
+    for (double eta : {0.6, 0.7}) CHECK(samples_at(rows, eta).size() == 1);
 }
 
 TEST_CASE("examples/systems/chain3_exact.toml (Jenkins + Coulomb) polished: equal to tight time integration",
@@ -66,9 +76,9 @@ TEST_CASE("examples/systems/chain3_exact.toml (Jenkins + Coulomb) polished: equa
     tight.absolute_tolerance = 1e-14;
     tight.steady_tolerance = 1e-11;
     for (double w : {0.33, 1.0, 2.3}) {
-        const auto at = samples_at(rows, w, 9);
+        const auto at = samples_at(rows, w);
         REQUIRE(at.size() == 1);
-        REQUIRE(at[0][13] == "yes");
+        REQUIRE(at[0][column(rows, "exact")] == "yes");
         const hbf::PeriodicResponse ti = hbf::integrate_steady_state(config.system, w, tight);
         REQUIRE(ti.converged);
         INFO("w = " << w << ": exact y1 " << at[0][1] << ", y3 " << at[0][2] << "; TI " << ti.summary());
@@ -106,7 +116,7 @@ TEST_CASE("examples/systems/chain3.toml: two contacts, reported DOFs 1 and 3, eq
     // the chain is damped, so the time integration from rest settles on its own.
     const hbf::PeriodicResponse ti = hbf::integrate_steady_state(config.system, w, hbf::TimeIntegrationOptions{});
     REQUIRE(ti.converged);
-    const auto at = samples_at(rows, w, 9);
+    const auto at = samples_at(rows, w);
     REQUIRE(!at.empty());
     double best = std::numeric_limits<double>::infinity();  // the HB solution TI found
     std::size_t k = 0;
@@ -303,4 +313,49 @@ TEST_CASE("examples/systems/jenkins_negative_stiffness.toml: stable stick, unsta
     }
     CHECK(unstable > 10);
     CHECK_THAT(slurp(json), Catch::Contains("\"unstable\": " + std::to_string(unstable)));
+}
+
+TEST_CASE("examples/systems/chain3_exact.toml: both contacts' regimes in the CSV, their transitions in the JSON",
+          "[config][exact][contacts]") {
+    TempDir dir;
+    const fs::path json = dir.path / "s.json";
+    const Result r =
+        run_hbf("frf --quiet --config '" + systems + "chain3_exact.toml' --summary '" + json.string() + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = parse_csv(r.out);
+    // Two contacts: a stick fraction and a regime per contact, no unsuffixed column.
+    CHECK(std::find(rows[0].begin(), rows[0].end(), "regime") == rows[0].end());
+    const std::size_t point = column(rows, "point"), w = column(rows, "w");
+    const std::size_t regime[2] = {column(rows, "regime_c1"), column(rows, "regime_c2")};
+    const std::size_t fraction[2] = {column(rows, "stick_fraction_c1"), column(rows, "stick_fraction_c2")};
+    int csv_transitions = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        if (rows[k][point] == "transition") ++csv_transitions;
+        for (int c = 0; c < 2; ++c) {  // the regime is the stick fraction's
+            const double f = std::stod(rows[k][fraction[c]]);
+            const std::string& g = rows[k][regime[c]];
+            CHECK(g == (f == 1.0 ? "stick" : f == 0.0 ? "slip" : "stick-slip"));
+        }
+    }
+    const nlohmann::json summary = nlohmann::json::parse(slurp(json));
+    const nlohmann::json& transitions = summary.at("transitions");
+    CHECK(static_cast<int>(transitions.size()) == csv_transitions);
+    int per_contact[2] = {0, 0};
+    for (const nlohmann::json& t : transitions) {
+        const int c = t.at("contact").get<int>();
+        REQUIRE((c == 1 || c == 2));
+        ++per_contact[c - 1];
+        // Its row: the stick side of that contact's boundary.
+        const std::string stuck = t.at("between").get<std::string>() == "stick|stick-slip" ? "stick" : "stick-slip";
+        bool found = false;
+        for (std::size_t k = 1; k < rows.size(); ++k)
+            if (rows[k][point] == "transition" &&
+                std::abs(std::stod(rows[k][w]) - t.at("w").get<double>()) <= 1e-13 * t.at("w").get<double>()) {
+                found = true;
+                CHECK(rows[k][regime[c - 1]] == stuck);
+            }
+        CHECK(found);
+    }
+    CHECK(per_contact[0] > 0);
+    CHECK(per_contact[1] > 0);
 }

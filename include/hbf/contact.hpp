@@ -188,6 +188,12 @@ System time_domain_system(const System& system);
 bool splits_contacts(const System& system);
 /// The number of time-domain elements of the system (its contacts when none is split).
 int time_domain_elements(const System& system);
+/// Every contact's regime from its time-domain elements' (time_domain_system's order): a
+/// contact split into several sliders (iwan) sticks while all of them do. Its sliders share
+/// one displacement and each sticks from a reversal of it until its own spring force reaches
+/// its limit (Masing), so their stick phases nest: the contact's stick fraction is the
+/// smallest of theirs, its regime stick if all stick throughout, slip if one never sticks.
+std::vector<ContactRegime> contact_regimes(const System& system, const std::vector<ContactRegime>& elements);
 
 /// The system as the time-domain solvers see it, copied only when a law splits a contact:
 ///     const TimeDomainView view(system); const System& s = view.system();

@@ -87,10 +87,15 @@ struct ContinuationOptions {
 /// point past a change of stability of that kind (stability.hpp: a real multiplier through +1
 /// without a turn, through -1, a complex pair), set by the stability analysis.
 enum class PointKind { regular, fold, sample, transition, cap, branch_point, period_doubling, neimark_sacker };
-/// The regime boundary a transition point lies on (contact 1).
+/// The regime boundary a transition point lies on (of the contact SolutionPoint::contact).
 enum class Boundary { none, stick_stick_slip, stick_slip_slip };
 /// "", "stick|stick-slip", "stick-slip|slip".
 std::string to_string(Boundary boundary);
+struct SolutionPoint;
+/// The transition points of `points` per contact (`contacts` entries: SolutionPoint::contact).
+std::vector<int> transitions_per_contact(const std::vector<SolutionPoint>& points, int contacts);
+/// " (contact 1: a, contact 2: b, ...)" for several contacts; "" for one.
+std::string per_contact_counts(const std::vector<int>& counts);
 std::string to_string(PointKind kind);
 
 /// One solution: omega, the coefficients X (HarmonicBalance layout) and diagnostics.
@@ -104,6 +109,7 @@ struct SolutionPoint {
     int branch = 1;         ///< 1-based branch number: 1 from omega_start, 2 from omega_end after
                             ///< an amplitude cap, 3 between two caps
     Boundary boundary = Boundary::none;  ///< kind transition: which regimes meet here
+    int contact = 0;        ///< kind transition: the contact (0-based) whose regime changes here
 };
 
 /// Work counters of a Corrector.
@@ -135,6 +141,7 @@ struct BranchResult {
     int corrections = 0;                ///< corrector calls, including failed ones
     int failed_corrections = 0;
     int transitions = 0;                ///< points of kind transition
+    std::vector<int> contact_transitions;  ///< of them, per contact (with locate_transitions)
     int located_folds = 0;              ///< folds located and inserted (kind fold)
     int unconfirmed_folds = 0;          ///< sign changes of the tangent's omega-component that are
                                         ///< not a real turn in omega (noise on a nearly vertical
@@ -232,7 +239,9 @@ struct PointMetrics {
     std::vector<double> output_amp1;  ///< per output: first-harmonic amplitude of o(t)
     double stick_fraction = 0;   ///< share of the AFT samples of contact 1 in stick phases, by
                                  ///< the law's own definition (stick_pattern below)
-    std::string regime;          ///< "stick", "slip" or "stick-slip" (stick_pattern below)
+    std::string regime;          ///< "stick", "slip" or "stick-slip" (stick_pattern below) of
+                                 ///< contact 1; "none" without contacts
+    std::vector<ContactRegime> contacts;  ///< every contact's, in order (contacts[0]: the two above)
     double stick_indicator_max = 0;  ///< max over the samples of contact 1's stick indicator
                                      ///< (< 0: permanent stick)
     double stick_indicator_min = 0;  ///< min over the samples (>= 0: permanent slip)
@@ -266,13 +275,9 @@ double response_floor(const System& system, double omega);
 /// ceil(2 N_t / (2H + 1)) samples (stick_phase_samples): shorter runs count as slip. regime:
 /// "stick" (every sample sticks), "slip" (no stick phase) or "stick-slip"; fraction: share
 /// of the samples in stick phases.
-struct StickPattern {
-    double fraction = 0;
-    std::string regime;
-};
+ContactRegime stick_pattern(const Eigen::VectorXd& phi, int min_run);
 /// Shortest stick phase, in samples, that H harmonics on N_t samples resolve (see above).
 int stick_phase_samples(int harmonics, int time_samples);
-StickPattern stick_pattern(const Eigen::VectorXd& phi, int min_run);
 
 /// Samples per period of the fine reconstruction used for y_max and the stick fraction.
 int fine_time_samples(int harmonics);

@@ -120,6 +120,7 @@ struct ExactOrbit {
     std::vector<double> output_amp1;  ///< per options.outputs: first-harmonic amplitude of o(t)
     double stick_fraction = 0;    ///< share of the period contact 1 is stuck (exact event times)
     std::string regime;           ///< "stick", "slip" or "stick-slip" (contact 1; "none" without)
+    std::vector<ContactRegime> contacts;  ///< every contact's (exact event times), in order
     double energy = 0;            ///< friction energy per cycle, sum over slip phases of F_c |dq|
     double input_energy = 0;      ///< int F^T y' cos(omega t) dt = pi F^T s1
     std::vector<ExactEvent> events;  ///< one period, by time
@@ -175,8 +176,10 @@ std::string exact_cost_refusal(const System& system, double omega_min);
 /// The load of the permanent-stick state (the convention above) at omega: max over the contacts
 /// of max_t |f_c(t)| / F_c. Permanent stick holds iff it is <= 1; the stick|stick-slip
 /// transitions are where it crosses 1. Infinity where the stuck structure is singular (an
-/// undamped resonance of it). Throws like exact_periodic_orbit.
-double permanent_stick_load(const System& system, double omega);
+/// undamped resonance of it). With `contact` >= 0 (0-based): that contact's load alone, max
+/// over its time-domain elements (it breaks away where this crosses 1 if every other contact
+/// still sticks there). Throws like exact_periodic_orbit.
+double permanent_stick_load(const System& system, double omega, int contact = -1);
 
 /// The periodic orbit at omega near `initial_state` (time_integration.hpp's convention, size
 /// 2N + 2 n_c; the modes are hints, the state decides). With massless DOFs the orbit is

@@ -61,6 +61,7 @@ struct PolishedBranch {
     std::vector<Peak> peaks;            ///< exact peaks of `dof` or of the outputs (refined = the
                                         ///< search in omega converged)
     int polished = 0, failed = 0, unstable = 0, transitions = 0;
+    std::vector<int> contact_transitions;  ///< transitions per contact
     double max_hb_gap = 0;              ///< largest hb_gap over the polished points
     double seconds = 0;
     /// One line: polished, failed, unstable, transitions, largest HB gap, time.

@@ -136,8 +136,10 @@ Table analytic_table(const std::vector<analytic::Row>& rows);
 void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows);
 
 /// Columns of `hbf frf` reporting `outputs` (model.hpp; in this order: <name>_max for each,
-/// then <name>_amp1 for each; a DOF i is the output y<i+1>), or all `dofs` DOFs.
-std::vector<Column> frf_columns(const std::vector<Output>& outputs);
+/// then <name>_amp1 for each; a DOF i is the output y<i+1>), or all `dofs` DOFs. With several
+/// `contacts`, stick_fraction_c<i> and regime_c<i> for each contact i replace stick_fraction
+/// and regime (the tables count the contacts of their rows).
+std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts = 1);
 std::vector<Column> frf_columns(int dofs);
 
 /// The table of `hbf frf` (frf_columns(outputs)), one row per point (metrics[k] and exact[k]
@@ -158,7 +160,7 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 /// diagnostics stick_margin_min, stick_margin_max, switches.
 std::vector<Column> timeint_columns(int dofs);
 /// The same for `outputs` (in this order; as frf_columns(outputs)).
-std::vector<Column> timeint_columns(const std::vector<Output>& outputs);
+std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts = 1);
 
 /// The table of `hbf timeint` (timeint_columns(outputs)), one row per response; a response
 /// without a single integrated period has empty numbers and regime failed.

@@ -182,6 +182,20 @@ StuckResponse stuck_linear_response(const System& system, double omega);
 /// (nothing moves).
 double energy_imbalance(double input, double viscous, double friction, double reach);
 
+/// One contact over a period: the share of the period it sticks and its regime, "stick"
+/// (stuck throughout), "slip" (never stuck) or "stick-slip". Each solver says how it decides
+/// (harmonic balance: the law's stick samples, continuation.hpp stick_pattern; the exact
+/// solver and time integration: the event times). Reported for every contact, in order
+/// (PointMetrics, ExactOrbit, PeriodicResponse::contacts).
+struct ContactRegime {
+    double stick_fraction = 0;
+    std::string regime;
+};
+/// The regime of a contact stuck for `stick_time` of `period`: stick within 1e-12 of the
+/// period, slip within 1e-12 of 0, else stick-slip (event-exact times); the fraction is then
+/// exactly 1, 0, or stick_time / period.
+ContactRegime contact_regime(double stick_time, double period);
+
 /// Where the linear structure resonates: an undamped natural frequency of one of its three
 /// linear limits, as a fundamental frequency (the natural frequency divided by the excitation
 /// harmonic h: the force at h omega meets it there).

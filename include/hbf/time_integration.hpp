@@ -187,6 +187,7 @@ struct PeriodicResponse {
     /// "stick" if contact 1 never left stick in the period, "slip" if it never stuck, else
     /// "stick-slip" ("none" without contacts).
     std::string regime;
+    std::vector<ContactRegime> contacts;  ///< every contact's, in order (contacts[0]: the two above)
     /// Stick indicator of contact 1 (friction.hpp), min and max over the period: coulomb
     /// |lambda|/F_c - 1 in stick and, at each slip -> stick/reversal instant, the required
     /// |lambda|/F_c - 1; jenkins |f|/F_c - 1; dahl, lugre |sigma0 z| / (ratio g(v)) - 1;

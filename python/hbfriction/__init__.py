@@ -472,7 +472,8 @@ def frf(system, settings=None, *, outputs=None, stability=None, **options):
 
 class Solution:
     """One harmonic-balance solution (hbf loop): omega, the metrics (y_max, y_amp1 per DOF,
-    output_max, output_amp1 per output, stick_fraction, regime, energy, energy_error), the
+    output_max, output_amp1 per output, stick_fraction and regime of contact 1, stick_fractions and
+    regimes of every contact (lists, in order), energy, energy_error), the
     coefficients (2H + 1 rows: c0, c1, s1, ..., one column per DOF), and one period of signals of
     the chosen contact: t, y (samples x DOFs), q, v, f (the law's force), phi (stick indicator:
     sticks where < 0), f_series (f's H-harmonic series)."""
@@ -487,7 +488,8 @@ class Solution:
         self.coefficients = _np.array(flat).reshape(shape)
         for key in ("y_max", "y_amp1", "output_max", "output_amp1"):
             setattr(self, key, _np.array(d[key], dtype=float))
-        for key in ("stick_fraction", "regime", "energy", "input_energy", "viscous_energy", "energy_error"):
+        for key in ("stick_fraction", "regime", "stick_fractions", "regimes", "energy", "input_energy",
+                    "viscous_energy", "energy_error"):
             setattr(self, key, d[key])
         sig = d["signals"]
         self.t = _np.array(sig["t"])

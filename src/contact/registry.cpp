@@ -179,6 +179,25 @@ int time_domain_elements(const System& system) {
     return static_cast<int>(count);
 }
 
+std::vector<ContactRegime> contact_regimes(const System& system, const std::vector<ContactRegime>& elements) {
+    std::vector<ContactRegime> out;
+    std::size_t e = 0;
+    for (const Contact& c : system.contacts) {
+        const std::size_t count = contact_law(c.law).time_elements(c).size();
+        if (e + count > elements.size())
+            throw std::logic_error("contact_regimes: fewer element regimes than time-domain elements");
+        ContactRegime r = elements[e];
+        for (std::size_t k = 1; k < count; ++k) {
+            const ContactRegime& o = elements[e + k];
+            r.stick_fraction = std::min(r.stick_fraction, o.stick_fraction);
+            if (o.regime == "slip" || (o.regime == "stick-slip" && r.regime == "stick")) r.regime = o.regime;
+        }
+        out.push_back(std::move(r));
+        e += count;
+    }
+    return out;
+}
+
 System time_domain_system(const System& system) {
     System lowered = system;
     lowered.contacts.clear();

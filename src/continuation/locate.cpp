@@ -13,10 +13,17 @@ namespace hbf::detail {
 
 namespace {
 
-/// The regime of contact 1 at a point (stick_pattern).
-std::string regime_at(HarmonicBalance& hb, const SolutionPoint& p) {
-    return stick_pattern(hb.stick_indicator(p.x, p.omega, 0), stick_phase_samples(hb.harmonics(), hb.time_samples()))
+/// The regime of contact `contact` at a point (stick_pattern).
+std::string regime_at(HarmonicBalance& hb, const SolutionPoint& p, int contact) {
+    return stick_pattern(hb.stick_indicator(p.x, p.omega, contact),
+                         stick_phase_samples(hb.harmonics(), hb.time_samples()))
         .regime;
+}
+/// Every contact's regime at a point.
+std::vector<std::string> regimes_at(HarmonicBalance& hb, const SolutionPoint& p) {
+    std::vector<std::string> r;
+    for (int c = 0; c < static_cast<int>(hb.system().contacts.size()); ++c) r.push_back(regime_at(hb, p, c));
+    return r;
 }
 
 /// Whether the point lies on the stick side of the boundary (stick|stick-slip: in full
@@ -43,16 +50,17 @@ Chord chord_between(HarmonicBalance& hb, const SolutionPoint& a, const SolutionP
     return c;
 }
 
-/// Locates, between successive points a and b of a branch, where g(u) (max phi for
-/// stick|stick-slip, min phi for stick-slip|slip) changes sign, by bisection along the chord
-/// (see continue_branch). Returns false if a correction fails.
+/// Locates, between successive points a and b of a branch, where contact `contact`'s g(u) (max
+/// phi for stick|stick-slip, min phi for stick-slip|slip) changes sign, by bisection along the
+/// chord (see continue_branch). Returns false if a correction fails.
 bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, const SolutionPoint& a,
-                       const SolutionPoint& b, Boundary boundary, double omega_scale, SolutionPoint& out) {
+                       const SolutionPoint& b, Boundary boundary, int contact, double omega_scale,
+                       SolutionPoint& out) {
     const Chord c = chord_between(hb, a, b, omega_scale);
     if (!(c.length > 0.0)) return false;
     const double x_scale = c.x_scale, length = c.length;
     const Eigen::VectorXd& chord = c.direction;
-    auto side = [&](const SolutionPoint& p) { return stick_side(boundary, regime_at(hb, p)); };
+    auto side = [&](const SolutionPoint& p) { return stick_side(boundary, regime_at(hb, p, contact)); };
     const bool side_a = side(a);
     SolutionPoint lo = a, hi = b;  // lo on a's side, hi on b's
     double t_lo = 0.0, t_hi = 1.0;
@@ -94,6 +102,7 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, Corrector& pat
     out = side_a ? lo : hi;
     out.kind = PointKind::transition;
     out.boundary = boundary;
+    out.contact = contact;
     out.step = 0.0;
     return true;
 }
@@ -180,24 +189,29 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
     Corrector patient(hb, patient_options);
     std::vector<SolutionPoint> points;
     points.reserve(result.points.size() + 8);
-    std::string previous = regime_at(hb, result.points.front());
+    std::vector<std::string> previous = regimes_at(hb, result.points.front());
     points.push_back(result.points.front());
+    const bool several = previous.size() > 1;
     int lost = 0;
     std::string where;
     for (std::size_t k = 1; k < result.points.size(); ++k) {
         const SolutionPoint &a = result.points[k - 1], &b = result.points[k];
-        const std::string current = regime_at(hb, b);
+        const std::vector<std::string> current = regimes_at(hb, b);
         if (a.branch == b.branch) {
             std::vector<SolutionPoint> found;
-            for (const Boundary boundary : {Boundary::stick_stick_slip, Boundary::stick_slip_slip}) {
-                if (stick_side(boundary, previous) == stick_side(boundary, current)) continue;
-                SolutionPoint t;
-                if (bisect_transition(hb, corrector, patient, a, b, boundary, omega_scale, t)) {
-                    found.push_back(std::move(t));
-                } else {
-                    ++lost;
-                    where += (where.empty() ? "" : ", ") + to_string(boundary) + " between w = " + format_number(a.omega) +
-                             " and " + format_number(b.omega);
+            for (int c = 0; c < static_cast<int>(current.size()); ++c) {
+                const auto i = static_cast<std::size_t>(c);
+                for (const Boundary boundary : {Boundary::stick_stick_slip, Boundary::stick_slip_slip}) {
+                    if (stick_side(boundary, previous[i]) == stick_side(boundary, current[i])) continue;
+                    SolutionPoint t;
+                    if (bisect_transition(hb, corrector, patient, a, b, boundary, c, omega_scale, t)) {
+                        found.push_back(std::move(t));
+                    } else {
+                        ++lost;
+                        where += (where.empty() ? "" : ", ") + to_string(boundary) +
+                                 (several ? " of contact " + std::to_string(c + 1) : std::string()) +
+                                 " between w = " + format_number(a.omega) + " and " + format_number(b.omega);
+                    }
                 }
             }
             // In branch order: by the distance from a along the chord.
@@ -211,6 +225,7 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
         previous = current;
     }
     result.transitions = static_cast<int>(points.size() - result.points.size());
+    result.contact_transitions = transitions_per_contact(points, static_cast<int>(hb.system().contacts.size()));
     result.points = std::move(points);
     result.unlocated_transitions += lost;
     if (lost > 0)

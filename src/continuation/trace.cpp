@@ -52,11 +52,27 @@ std::string to_string(ContinuationStatus status) {
     return "unknown";
 }
 
+std::vector<int> transitions_per_contact(const std::vector<SolutionPoint>& points, int contacts) {
+    std::vector<int> counts(static_cast<std::size_t>(std::max(contacts, 0)), 0);
+    for (const SolutionPoint& p : points)
+        if (p.kind == PointKind::transition && p.contact >= 0 && p.contact < contacts)
+            ++counts[static_cast<std::size_t>(p.contact)];
+    return counts;
+}
+
+std::string per_contact_counts(const std::vector<int>& counts) {
+    if (counts.size() < 2) return "";
+    std::string s = " (";
+    for (std::size_t c = 0; c < counts.size(); ++c)
+        s += (c > 0 ? ", contact " : "contact ") + std::to_string(c + 1) + ": " + std::to_string(counts[c]);
+    return s + ")";
+}
+
 std::string BranchResult::summary() const {
     std::ostringstream s;
     const auto folds = std::count_if(points.begin(), points.end(), [](const SolutionPoint& p) { return p.kind == PointKind::fold; });
     s << to_string(status) << ": " << points.size() << " points, " << folds << " folds, " << transitions
-      << " stick-slip transitions";
+      << " stick-slip transitions" << per_contact_counts(contact_transitions);
     if (unconfirmed_folds > 0)
         s << " (" << unconfirmed_folds << " sign change(s) of dw/ds without a real turn in w not counted as folds)";
     if (!message.empty()) s << "; " << message;

@@ -36,7 +36,7 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     Eigen::VectorXd c1z = Eigen::VectorXd::Zero(e.n()), s1z = Eigen::VectorXd::Zero(e.n());
     const Eigen::Index n_probes = probes ? probes->rows.rows() : 0;
     if (probes) probes->max.assign(static_cast<std::size_t>(n_probes), 0.0);
-    double stick_time = 0.0;
+    std::vector<double> stick_time(static_cast<std::size_t>(nc), 0.0);  // per element
     out.energy = 0.0;
     double margin_min = std::numeric_limits<double>::infinity(), margin_max = -margin_min;
     auto margin = [&](const Modes& modes, const Eigen::VectorXd& z) {
@@ -92,7 +92,8 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
             c1z += weight * length * z(e.cos_index()) * z;
             s1z += weight * length * z(e.sin_index()) * z;
         }
-        if (nc > 0 && st.modes[0] == 0) stick_time += length;
+        for (int c = 0; c < nc; ++c)
+            if (st.modes[static_cast<std::size_t>(c)] == 0) stick_time[static_cast<std::size_t>(c)] += length;
         const Eigen::VectorXd z0 = st.u.col(0), z1 = evaluate(st.u, st.s_end);
         for (int c = 0; c < nc; ++c) {
             const int mode = st.modes[static_cast<std::size_t>(c)];
@@ -113,13 +114,13 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     out.output_amp1.clear();
     for (const Output& o : outputs) out.output_amp1.push_back(std::hypot(o.of(c1), o.of(s1)));
     out.input_energy = pi * e.excitation().dot(s1);
-    out.stick_fraction = nc > 0 ? std::min(1.0, stick_time / period) : 0.0;
     out.stick_margin_min = std::isfinite(margin_min) ? margin_min : 0.0;
     out.stick_margin_max = std::isfinite(margin_max) ? margin_max : 0.0;
-    if (nc == 0) out.regime = "none";
-    else if (stick_time >= period * (1.0 - 1e-12)) out.regime = "stick";
-    else if (stick_time <= period * 1e-12) out.regime = "slip";
-    else out.regime = "stick-slip";
+    // Per time-domain element here; exact_periodic_orbit regroups them by contact.
+    out.contacts.clear();
+    for (double t : stick_time) out.contacts.push_back(contact_regime(t, period));
+    out.stick_fraction = nc > 0 ? out.contacts.front().stick_fraction : 0.0;
+    out.regime = nc > 0 ? out.contacts.front().regime : "none";
     // Events in [0, T), by time.
     out.events.clear();
     for (ExactEvent ev : flow.events) {

@@ -6,8 +6,10 @@
 #include <complex>
 #include <limits>
 #include <memory>
+#include <string>
 
 #include "engine.hpp"
+#include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "metrics.hpp"
@@ -449,14 +451,31 @@ ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensati
 
 namespace hbf {
 
-double permanent_stick_load(const System& given, double omega) {
+double permanent_stick_load(const System& given, double omega, int contact) {
     using namespace detail::exact;
     given.validate();
     const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
     const System& system = view.system();
     validate_system(system, omega);
-    Eigen::VectorXd z;
-    return stuck_steady_state(system, omega, z);
+    if (contact < 0) {
+        Eigen::VectorXd z;
+        return stuck_steady_state(system, omega, z);
+    }
+    if (contact >= static_cast<int>(given.contacts.size()))
+        throw InvalidInput("contact " + std::to_string(contact + 1) + " is out of range: allowed 1.." +
+                           std::to_string(given.contacts.size()));
+    const StuckResponse stuck = stuck_linear_response(system, omega);
+    if (!stuck.ok) return std::numeric_limits<double>::infinity();
+    // The contact's elements (time_domain_system's order).
+    std::size_t first = 0;
+    for (int c = 0; c < contact; ++c)
+        first += contact_law(given.contacts[static_cast<std::size_t>(c)].law).time_elements(given.contacts[static_cast<std::size_t>(c)]).size();
+    const std::size_t count =
+        contact_law(given.contacts[static_cast<std::size_t>(contact)].law).time_elements(given.contacts[static_cast<std::size_t>(contact)]).size();
+    double load = 0.0;
+    for (std::size_t e = first; e < first + count; ++e)
+        load = std::max(load, std::abs(stuck.force(static_cast<Eigen::Index>(e))) / system.contacts[e].friction_limit);
+    return load;
 }
 
 ExactOrbit exact_periodic_orbit(const System& given, double omega, const Eigen::VectorXd& initial_state,
@@ -469,8 +488,14 @@ ExactOrbit exact_periodic_orbit(const System& given, double omega, const Eigen::
     check_state_size(system, initial_state);
     options.validate();
     for (const Output& o : options.outputs) o.validate(system.dofs());
-    if (condensation) return massless_orbit(system, *condensation, omega, initial_state, options);
-    return orbit_of(system, omega, initial_state, options);
+    ExactOrbit orbit = condensation ? massless_orbit(system, *condensation, omega, initial_state, options)
+                                    : orbit_of(system, omega, initial_state, options);
+    if (!orbit.contacts.empty()) {
+        orbit.contacts = contact_regimes(given, orbit.contacts);
+        orbit.stick_fraction = orbit.contacts.front().stick_fraction;
+        orbit.regime = orbit.contacts.front().regime;
+    }
+    return orbit;
 }
 
 }  // namespace hbf

@@ -121,3 +121,20 @@ def test_contacts_are_values_assigned_back():
     assert s.contacts[0].friction_limit == 0.3
     b = hbfriction.frf(s, wmin=1.0, wmax=1.05)
     assert b.status == "completed"
+
+
+def test_every_contact_is_reported():
+    # chain3_exact.toml: Jenkins between m1 and m2, exact Coulomb from m3. The FRF's table has a
+    # stick fraction and a regime per contact, and its transitions name their contact; solve_at
+    # gives the same per-contact regimes as the FRF's sample row at that frequency (same H).
+    s = hbfriction.load(os.path.join(SOURCE, "examples", "systems", "chain3_exact.toml"))
+    b = hbfriction.frf(s, exact=False, harmonics=20, at=[1.0])
+    assert "regime" not in b and "regime_c1" in b and "regime_c2" in b
+    contacts = {t["contact"] for t in b.transitions}
+    assert contacts == {1, 2}
+    row = [k for k in range(len(b)) if b.point[k] == "sample"][0]
+    one = hbfriction.solve_at(s, 1.0, harmonics=20)
+    assert len(one.regimes) == 2 and len(one.stick_fractions) == 2
+    assert one.regimes == [b.regime_c1[row], b.regime_c2[row]]
+    assert one.stick_fractions == pytest.approx([b.stick_fraction_c1[row], b.stick_fraction_c2[row]], abs=1e-12)
+    assert one.regime == one.regimes[0] and one.stick_fraction == one.stick_fractions[0]
