@@ -46,7 +46,10 @@
 // without static load). It is used when that state holds every contact (|f_c| <= F_c) and
 // either the period from the given start never slips or Newton ends on another member of the
 // family (an orbit that dissipates nothing: at most slips of vanishing length at the edge of
-// the friction cone).
+// the friction cone). The same holds for a contact stuck all period while others slip: its
+// offset is free within its friction limit, and the orbit is shifted statically to its zero
+// mean force (K dy = w_c fbar_c), also when Newton ends on the family's edge, where the contact
+// grazes its limit with slips dissipating less than 1e-9 of the orbit's friction energy.
 //
 // Event detection: each guard polynomial is sampled 16 times a step; a sign change, or a
 // local minimum below zero between two samples (a short phase near grazing), is an event, and

@@ -24,6 +24,19 @@ Eigen::VectorXd mean_forces(Engine& e, const Engine::Flow& flow) {
     return mean / e.period();
 }
 
+Eigen::VectorXd slip_work(Engine& e, const Engine::Flow& flow) {
+    Eigen::VectorXd work = Eigen::VectorXd::Zero(e.contacts());
+    for (const Step& st : flow.steps) {
+        if (st.s_end * st.h <= 0.0) continue;
+        const Eigen::VectorXd z0 = st.u.col(0), z1 = evaluate(st.u, st.s_end);
+        for (int c = 0; c < e.contacts(); ++c) {
+            const int mode = st.modes[static_cast<std::size_t>(c)];
+            if (mode != 0) work(c) += mode * e.contact(c).friction_limit * (e.spring_end(c, z1) - e.spring_end(c, z0));
+        }
+    }
+    return work;
+}
+
 void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out,
                   Probes* probes) {
     const int nd = e.dofs(), nc = e.contacts();
@@ -94,13 +107,8 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
         }
         for (int c = 0; c < nc; ++c)
             if (st.modes[static_cast<std::size_t>(c)] == 0) stick_time[static_cast<std::size_t>(c)] += length;
-        const Eigen::VectorXd z0 = st.u.col(0), z1 = evaluate(st.u, st.s_end);
-        for (int c = 0; c < nc; ++c) {
-            const int mode = st.modes[static_cast<std::size_t>(c)];
-            // F_c times the slider's travel (an elastic slider's: its spring's far end's)
-            if (mode != 0) out.energy += mode * e.contact(c).friction_limit * (e.spring_end(c, z1) - e.spring_end(c, z0));
-        }
     }
+    out.energy = slip_work(e, flow).sum();
     c1z *= 2.0 / period;
     s1z *= 2.0 / period;
     const Eigen::VectorXd c1 = c1z.head(nd), s1 = s1z.head(nd);

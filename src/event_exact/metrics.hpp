@@ -12,6 +12,9 @@ namespace hbf::detail::exact {
 
 /// Mean friction force of every contact over one recorded period (Gauss-Legendre per step).
 Eigen::VectorXd mean_forces(Engine& e, const Engine::Flow& flow);
+/// Energy every contact dissipates over one recorded period: over its slip steps, F_c times
+/// the travel of its slider (an elastic slider's: its spring's far end).
+Eigen::VectorXd slip_work(Engine& e, const Engine::Flow& flow);
 
 /// Linear functions p(t) = L zhat(t) of the flow beyond the DOFs (the massless DOFs of a
 /// condensed system, and outputs on them): rows L over zhat, and what fill_metrics finds.
