@@ -10,7 +10,6 @@
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
-#include "golden_section.hpp"
 #include "stopwatch.hpp"
 
 namespace hbf {
@@ -341,6 +340,9 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         };
         const auto& p = with_transitions;
         auto y = [&](std::size_t k) { return value_of(p[k].metrics.y_max, p[k].metrics.output_max); };
+        double largest = 0.0;
+        for (std::size_t k = 0; k < p.size(); ++k)
+            if (std::isfinite(y(k))) largest = std::max(largest, y(k));
         for (std::size_t k = 1; k + 1 < p.size(); ++k) {
             const Polished &a = p[k - 1], &m = p[k], &b = p[k + 1];
             if (a.point.branch != m.point.branch || b.point.branch != m.point.branch) continue;
@@ -351,27 +353,13 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                 weight = 0.0;
                 for (const auto& term : options.exact.outputs[o].terms()) weight += std::abs(term.second);
             }
-            if (y(k) <= weight * response_floor(system, m.point.omega)) continue;  // rounding around zero, not a peak
-            Peak peak{m.point.omega, y(k), m.point.branch, false, static_cast<int>(o)};
-            const bool monotone = (m.point.omega - a.point.omega) * (b.point.omega - m.point.omega) > 0.0 &&
-                                  m.point.kind != PointKind::fold && b.point.kind != PointKind::fold &&
-                                  a.point.kind != PointKind::fold;
-            if (monotone) {
-                bool ok = true;
-                auto value = [&](double omega, bool& good) {
-                    const ExactOrbit e = solve(system, omega, m.orbit.state, nullptr, options.exact);
-                    if (!e.converged) good = false;
-                    return e.converged ? value_of(e.y_max, e.output_max) : 0.0;
-                };
-                const detail::GoldenMaximum best =
-                    detail::brent_maximum(value, std::min(a.point.omega, b.point.omega),
-                                                   std::max(a.point.omega, b.point.omega), 1e-9, ok);
-                if (ok && best.value >= y(k)) {
-                    peak.omega = best.x;
-                    peak.y_max = best.value;
-                    peak.refined = true;
-                }
-            }
+            if (!is_peak_value(y(k), largest, weight * response_floor(system, m.point.omega))) continue;
+            Peak peak{m.point.omega, y(k), m.point.branch, false, static_cast<int>(o), {}};
+            refine_peak(peak, a.point, m.point, b.point, [&](double omega, bool& good) {
+                const ExactOrbit e = solve(system, omega, m.orbit.state, nullptr, options.exact);
+                if (!e.converged) good = false;
+                return e.converged ? value_of(e.y_max, e.output_max) : 0.0;
+            });
             out.peaks.push_back(peak);
         }
     }

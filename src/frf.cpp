@@ -181,10 +181,11 @@ Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
                              format_number(frf.points[worst].omega) +
                              "): the residual is small but the solution is not; a tighter --tolerance or more "
                              "harmonics may help");
-    const auto unrefined = std::count_if(frf.peaks.begin(), frf.peaks.end(), [](const Peak& p) { return !p.refined; });
-    if (unrefined > 0)
-        v.notes.push_back(std::to_string(unrefined) + " peak(s) not refined (at a fold, or a solve failed): the JSON "
-                          "gives the branch point (refined = false)");
+    std::vector<std::string> names;
+    for (const Output& o : settings.outputs) names.push_back(o.name());
+    const std::string unrefined = unrefined_peaks(frf.peaks, names);
+    if (!unrefined.empty())
+        v.notes.push_back(unrefined + "; the JSON gives the branch point (refined = false, why)");
     if (frf.stability && (frf.stability->uncertain > 0 || frf.stability->not_computed > 0)) {
         const BranchStability& b = *frf.stability;
         std::string example;

@@ -391,6 +391,7 @@ void write_frf_summary(std::ostream& out, const std::string& law,
         entry["y_max"] = peak.y_max;
         entry["branch"] = peak.branch;
         entry["refined"] = peak.refined;
+        if (!peak.refined) entry["why"] = peak.why;
         peak_list.push_back(entry);
     }
     // A fold or transition: w, and <name>_max of every reported output (as the CSV columns).

@@ -210,6 +210,75 @@ PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int 
     return s;
 }
 
+bool is_peak_value(double y, double largest, double floor) {
+    return y > floor && y > 1e-8 * largest;
+}
+
+void refine_peak(Peak& peak, const SolutionPoint& a, const SolutionPoint& m, const SolutionPoint& b,
+                 const std::function<double(double, bool&)>& value) {
+    peak.refined = false;
+    for (const SolutionPoint* p : {&a, &m, &b})
+        if (p->kind == PointKind::fold) {
+            peak.why = "a fold at w = " + format_number(p->omega) + " beside it: y is not a function of w there";
+            return;
+        }
+    if (!((m.omega - a.omega) * (b.omega - m.omega) > 0.0)) {
+        peak.why = "the branch turns in w there (not a function of w)";
+        return;
+    }
+    double failed_at = 0.0;
+    bool ok = true;
+    const auto search = [&](double lo, double hi) {
+        return detail::brent_maximum(
+            [&](double omega, bool& good) {
+                const double y = value(omega, good);
+                if (!good && failed_at == 0.0) failed_at = omega;
+                return y;
+            },
+            lo, hi, 1e-9, ok);
+    };
+    const double lo = std::min(a.omega, b.omega), hi = std::max(a.omega, b.omega);
+    detail::GoldenMaximum best = search(lo, hi);
+    // Brent assumes one maximum in the bracket; a corner of y(w) (an HB sample switching
+    // between stick and slip) can hold it on a lower local one: then each side of m alone.
+    for (const auto& [from, to] : {std::make_pair(lo, m.omega), std::make_pair(m.omega, hi)}) {
+        if (!ok || best.value >= peak.y_max) break;
+        const detail::GoldenMaximum side = search(from, to);
+        if (ok && side.value > best.value) best = side;
+    }
+    if (!ok) {
+        peak.why = "the solve failed at w = " + format_number(failed_at);
+        return;
+    }
+    if (best.value >= peak.y_max) {
+        peak.omega = best.x;
+        peak.y_max = best.value;
+        peak.refined = true;
+        peak.why.clear();
+    } else if (m.kind == PointKind::transition) {
+        peak.refined = true;  // the corner at the located transition is the maximum
+        peak.why.clear();
+    } else {
+        peak.why = "no value above the branch point's in [" + format_number(std::min(a.omega, b.omega)) + ", " +
+                   format_number(std::max(a.omega, b.omega)) + "] (a corner of the curve, largest found " +
+                   format_number(best.value) + " at w = " + format_number(best.x) + ")";
+    }
+}
+
+std::string unrefined_peaks(const std::vector<Peak>& peaks, const std::vector<std::string>& names) {
+    std::string list;
+    int count = 0;
+    for (const Peak& p : peaks) {
+        if (p.refined) continue;
+        ++count;
+        const std::string name = p.output >= 0 && static_cast<std::size_t>(p.output) < names.size()
+                                     ? names[static_cast<std::size_t>(p.output)] + " "
+                                     : std::string();
+        list += (list.empty() ? "" : "; ") + name + "at w = " + format_number(p.omega) + " (" + p.why + ")";
+    }
+    return count == 0 ? "" : std::to_string(count) + " peak(s) not refined: " + list;
+}
+
 namespace {
 std::vector<Peak> output_peaks(HarmonicBalance& hb, const BranchResult& branch, const Output& output,
                                const CorrectorOptions& options) {
@@ -221,39 +290,29 @@ std::vector<Peak> output_peaks(HarmonicBalance& hb, const BranchResult& branch, 
     std::vector<Peak> peaks;
     double weight = 0.0;  // |c|_1
     for (const auto& term : output.terms()) weight += std::abs(term.second);
+    const double largest = y.empty() ? 0.0 : *std::max_element(y.begin(), y.end());
     for (std::size_t k = 1; k + 1 < points.size(); ++k) {
         const SolutionPoint &a = points[k - 1], &m = points[k], &b = points[k + 1];
         if (a.branch != m.branch || b.branch != m.branch || !(y[k] > y[k - 1] && y[k] >= y[k + 1])) continue;
-        if (y[k] <= weight * response_floor(hb.system(), m.omega)) continue;  // rounding around zero, not a peak
-        Peak peak{m.omega, y[k], m.branch, false};
-        const bool monotone = (m.omega - a.omega) * (b.omega - m.omega) > 0.0 && m.kind != PointKind::fold &&
-                              b.kind != PointKind::fold;
-        if (monotone) {
-            // y(omega) on the segment a-m-b, solved exactly at omega from the interpolation.
-            const SolutionPoint& low = a.omega < b.omega ? a : b;
-            const SolutionPoint& high = a.omega < b.omega ? b : a;
-            bool ok = true;
-            auto value = [&](double omega, bool& good) {
-                const SolutionPoint& left = omega <= m.omega ? low : m;  // low < m < high in omega
-                const SolutionPoint& right = omega <= m.omega ? m : high;
-                const double s = (omega - left.omega) / (right.omega - left.omega);
-                SolutionPoint p;
-                p.omega = omega;
-                p.x = left.x + s * (right.x - left.x);
-                const double x_scale = hb.unknown_scale(p.x);
-                if (!corrector.solve_at(p.x, omega, x_scale, p.iterations, p.residual)) {
-                    good = false;
-                    return 0.0;
-                }
-                return analyse(p).output_max.front();
-            };
-            const detail::GoldenMaximum best = detail::brent_maximum(value, low.omega, high.omega, 1e-9, ok);
-            if (ok && best.value >= y[k]) {
-                peak.omega = best.x;
-                peak.y_max = best.value;
-                peak.refined = true;
+        if (!is_peak_value(y[k], largest, weight * response_floor(hb.system(), m.omega))) continue;
+        Peak peak{m.omega, y[k], m.branch, false, 0, {}};
+        // y(omega) on the segment a-m-b, solved exactly at omega from the interpolation.
+        const SolutionPoint& low = a.omega < b.omega ? a : b;
+        const SolutionPoint& high = a.omega < b.omega ? b : a;
+        refine_peak(peak, a, m, b, [&](double omega, bool& good) {
+            const SolutionPoint& left = omega <= m.omega ? low : m;  // low < m < high in omega
+            const SolutionPoint& right = omega <= m.omega ? m : high;
+            const double s = (omega - left.omega) / (right.omega - left.omega);
+            SolutionPoint p;
+            p.omega = omega;
+            p.x = left.x + s * (right.x - left.x);
+            const double x_scale = hb.unknown_scale(p.x);
+            if (!corrector.solve_at(p.x, omega, x_scale, p.iterations, p.residual)) {
+                good = false;
+                return 0.0;
             }
-        }
+            return analyse(p).output_max.front();
+        });
         peaks.push_back(peak);
     }
     return peaks;

@@ -581,3 +581,51 @@ TEST_CASE("Peak refinement by Brent's method: the maximum of a resonance curve i
     CHECK_FALSE(ok);
     CHECK(calls == 4);
 }
+
+TEST_CASE("refine_peak: a lower local maximum in the bracket, corners, folds and failed solves, each with its reason",
+          "[continuation][peaks]") {
+    using hbf::PointKind;
+    auto point = [](double w, PointKind kind = PointKind::regular) {
+        hbf::SolutionPoint p;
+        p.omega = w;
+        p.kind = kind;
+        return p;
+    };
+    // y = max(0.75 - 2 (w - 0.3)^2, 1 - 300 |w - 0.62|): a smooth local maximum 0.75 at 0.3
+    // and a narrow peak 1 at the corner 0.62. Branch points 0, 0.6195 (y = 0.85) and 1: Brent
+    // over [0, 1] settles on 0.3 (below y(0.6195)); each side of 0.6195 alone finds 0.62.
+    auto y = [](double w) { return std::max(0.75 - 2.0 * (w - 0.3) * (w - 0.3), 1.0 - 300.0 * std::abs(w - 0.62)); };
+    bool ok = true;
+    CHECK(hbf::detail::brent_maximum([&](double w, bool&) { return y(w); }, 0.0, 1.0, 1e-9, ok).value < y(0.6195));
+    hbf::Peak peak{0.6195, y(0.6195), 1, false, 0, {}};
+    hbf::refine_peak(peak, point(0.0), point(0.6195), point(1.0), [&](double w, bool&) { return y(w); });
+    INFO(peak.why);
+    CHECK(peak.refined);
+    CHECK(std::abs(peak.omega - 0.62) < 1e-8);
+    CHECK(std::abs(peak.y_max - 1.0) < 1e-7);
+    // A fold beside it, and a failed solve, named.
+    hbf::Peak folded{0.6195, y(0.6195), 1, false, 0, {}};
+    hbf::refine_peak(folded, point(0.0), point(0.6195), point(1.0, PointKind::fold), [&](double w, bool&) { return y(w); });
+    CHECK_FALSE(folded.refined);
+    CHECK_THAT(folded.why, Catch::Contains("a fold at w = 1"));
+    hbf::Peak failed{0.6195, y(0.6195), 1, false, 0, {}};
+    hbf::refine_peak(failed, point(0.0), point(0.6195), point(1.0), [&](double w, bool& ok) {
+        ok = w < 0.5;
+        return y(w);
+    });
+    CHECK_FALSE(failed.refined);
+    CHECK_THAT(failed.why, Catch::Contains("the solve failed at w = 0.6"));
+    // A corner exactly at the branch point: a located transition is the peak itself; a regular
+    // point is reported as such, with the largest value the search found.
+    auto tent = [](double w) { return 1.0 - std::abs(w - 0.6); };
+    hbf::Peak at_transition{0.6, 1.0, 1, false, 0, {}};
+    hbf::refine_peak(at_transition, point(0.0), point(0.6, PointKind::transition), point(1.0),
+                     [&](double w, bool&) { return tent(w); });
+    CHECK(at_transition.refined);
+    CHECK(at_transition.omega == 0.6);
+    CHECK(at_transition.y_max == 1.0);
+    // Rounding is not a peak: 1e-9 of the output's largest value.
+    CHECK_FALSE(hbf::is_peak_value(1e-9, 1.0, 1e-12));
+    CHECK(hbf::is_peak_value(1e-7, 1.0, 1e-12));
+    CHECK_FALSE(hbf::is_peak_value(1e-7, 1e-6, 2e-7));
+}

@@ -320,13 +320,32 @@ struct Peak {
     int branch = 1;
     bool refined = false;    ///< located by the search below (false: the best branch point)
     int output = 0;          ///< which of the outputs asked for (0-based; 0 for a single DOF)
+    std::string why;         ///< refined = false: why not (refine_peak)
 };
+
+/// Whether a local maximum y of an output is a peak, not rounding: above `floor` (its weight
+/// |c|_1 times response_floor) and above 1e-8 of the output's largest value on the branch (a
+/// response held at zero by a stuck contact wiggles at the solver's tolerance).
+bool is_peak_value(double y, double largest, double floor);
+/// Refines `peak`, found at branch point m between its neighbours a and b (same branch, y(m)
+/// = peak.y_max above both), by Brent's search in omega over the neighbours' interval with
+/// value(omega, ok) (ok = false where the solve fails), to |delta omega| <= 1e-9 omega. Not
+/// refined, with the reason in peak.why: a fold among a, m, b, or omega not monotone through
+/// them (y is not a function of omega there); a failed solve (its omega named); no value
+/// above y(m) found (a corner of the curve, such as a stick/slip switch between two points).
+/// A peak at a located transition (m of kind transition: a corner, located to 1e-10) is that
+/// point, refined.
+void refine_peak(Peak& peak, const SolutionPoint& a, const SolutionPoint& m, const SolutionPoint& b,
+                 const std::function<double(double, bool&)>& value);
+/// "N peak(s) not refined: <output> at w = W (why); ..." for the unrefined peaks (their
+/// outputs' names in `names`, by Peak::output), or "" when every peak is refined.
+std::string unrefined_peaks(const std::vector<Peak>& peaks, const std::vector<std::string>& names);
 
 /// Peaks of DOF `dof` (0-based): every branch point whose y_max exceeds both neighbours on
 /// the same branch, refined by a search in omega (Brent: parabolic steps, golden-section fallback) over the neighbours'
 /// interval, solving exactly at each trial frequency (from the branch interpolation), to
-/// |delta omega| <= 1e-9 omega. Where a fold lies between the neighbours (not a function of
-/// omega there) or a solve fails, the branch point itself is reported (refined = false).
+/// |delta omega| <= 1e-9 omega (refine_peak; where it cannot, the branch point itself, with
+/// refined = false and why).
 std::vector<Peak> find_peaks(HarmonicBalance& hb, const BranchResult& branch, int dof, const CorrectorOptions& options);
 /// The same for each output in turn (model.hpp): the peaks of outputs[0], then of outputs[1],
 /// ..., each marked with its index in Peak::output.
