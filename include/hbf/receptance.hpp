@@ -94,7 +94,7 @@ public:
 
 private:
     using SparseComplex = Eigen::SparseMatrix<std::complex<double>>;
-    /// b - Z_k x, with Z_k's entries and the products in long double (iterative refinement).
+    /// b - Z_k x in double-double, the products with K, M and C exact (iterative refinement).
     Eigen::MatrixXcd precise_residual(int k, double omega, const Eigen::MatrixXcd& rhs, const Eigen::MatrixXcd& x) const;
     /// x = Z_k^-1 rhs and dx = its omega-derivative (refined); false where Z_k is (numerically) singular.
     bool direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, Eigen::MatrixXcd& x, Eigen::MatrixXcd& dx);
