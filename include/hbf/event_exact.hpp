@@ -161,16 +161,20 @@ bool exact_solver_supports(const System& system);
 /// Why exact_solver_supports is false (one sentence naming the cause), empty when it is true.
 std::string exact_solver_refusal(const System& system);
 
-/// The flows advance in Taylor steps no longer than 1 / |lambda_max| of the contact pattern
-/// (and T / 24): one period at omega costs max(24, T |lambda_max|) steps, each recorded. The
-/// larger of the all-stuck and the all-slipping patterns (validate_system's refusals apply).
+/// The flows split each contact pattern's modes at a gap above 4 w: the slow ones advance in
+/// Taylor steps no longer than 1 / |lambda_slow| (and T / 24), the fast ones in closed form
+/// (sums of exponentials, sampled 2 |lambda| times per unit time for the events and maxima
+/// while they are above rounding). The cost of one period at omega in Taylor steps: T /
+/// step + the fast samples / 16 (a fast mode with decay rate sigma counted over min(T,
+/// 4 x 37 / sigma): four events, each exciting it, then e^-37); the larger of the all-stuck
+/// and the all-slipping patterns (validate_system's refusals apply).
 double exact_steps_per_period(const System& system, double omega);
 /// The bound on exact_steps_per_period that keeps the exact solver's time and memory bounded,
 /// for flows of `state_size` unknowns (2 N + n_c + 3): min(50000, 2e6 / state_size), each
 /// recorded step holding about 20 Taylor coefficients of the state (at most ~0.3 GB). A period
-/// of the shipped models takes 24 to 650 steps; w = 1e-6 on the paper's absorber would take
-/// 7e6 and many GB. Until the flows are eigen-based, a frequency range reaching below the bound
-/// is refused by the polish (and leaves the automatic polish off).
+/// of the shipped models takes a few dozen steps. A range reaching below the bound (lightly damped
+/// modes far above w: w = 1e-6 on the undamped paper's absorber) is refused by the polish (and
+/// leaves the automatic polish off).
 double exact_max_steps_per_period(int state_size);
 /// exact_solver_refusal, or else why a branch down to omega_min would cost more than
 /// exact_max_steps_per_period steps per period; empty when the exact solver can run there.

@@ -103,8 +103,9 @@ void FrfFlags::add_to(CLI::App& command) {
                        "64 DOFs with mass (massless DOFs are condensed statically: a contact on them becomes a "
                        "Jenkins element), a force at harmonic 1 and a period at wmin of at most 50000 Taylor steps (fewer "
                        "on large models: 2e6 / the flow's state size) "
-                       "(2 pi / wmin against the structure's fastest mode), off otherwise (the exact solver is dense "
-                       "and steps with the fastest mode); on where it does not apply is an error naming why]")
+                       "(2 pi / wmin against the slow modes; modes far above w are flowed in closed form and count by "
+                       "their samples while they ring: lightly damped stiff modes at a low wmin exceed it), off "
+                       "otherwise (the exact solver is dense); on where it does not apply is an error naming why]")
         ->type_name("on|off");
     command.add_option("--stability", stability,
                        "Floquet stability of every point (columns stable, stability_margin; unstable intervals and "

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
+#include "fast_modes.hpp"
 #include "hbf/error.hpp"
 #include "polynomial.hpp"
 #include "validation.hpp"
@@ -13,7 +15,63 @@ namespace hbf::detail::exact {
 
 namespace {
 int sign_of(double x) { return x > 0.0 ? 1 : (x < 0.0 ? -1 : 0); }
+
 }  // namespace
+
+Eigen::VectorXd Step::state(double s) const {
+    Eigen::VectorXd z = evaluate(u, s);
+    if (!fast()) return z;
+    const FastModes& f = data->fast;
+    for (std::size_t k = 0; k < active.size(); ++k) {
+        const Eigen::Index j = active[k];
+        const std::complex<double> c = d(static_cast<Eigen::Index>(k)) * std::exp(f.lambda(j) * (h * s));
+        z += (f.right.col(j) * c).real();
+    }
+    return z;
+}
+
+Signal Step::signal(const Eigen::RowVectorXd& row) const {
+    Signal g;
+    g.poly.noalias() = row * u;
+    if (!fast()) return g;
+    const FastModes& f = data->fast;
+    const Eigen::Index na = static_cast<Eigen::Index>(active.size());
+    g.amp.resize(na);
+    g.rate.resize(na);
+    for (Eigen::Index k = 0; k < na; ++k) {
+        const Eigen::Index j = active[static_cast<std::size_t>(k)];
+        g.amp(k) = row.cast<std::complex<double>>().dot(f.right.col(j)) * d(k);
+        g.rate(k) = f.lambda(j) * h;
+    }
+    return g;
+}
+
+Signal Step::signal(Eigen::Index i) const {
+    Signal g;
+    g.poly = u.row(i);
+    if (!fast()) return g;
+    const FastModes& f = data->fast;
+    const Eigen::Index na = static_cast<Eigen::Index>(active.size());
+    g.amp.resize(na);
+    g.rate.resize(na);
+    for (Eigen::Index k = 0; k < na; ++k) {
+        const Eigen::Index j = active[static_cast<std::size_t>(k)];
+        g.amp(k) = f.right(i, j) * d(k);
+        g.rate(k) = f.lambda(j) * h;
+    }
+    return g;
+}
+
+Eigen::VectorXcd Step::fast_integral(std::complex<double> mu) const {
+    Eigen::VectorXcd sum = Eigen::VectorXcd::Zero(u.rows());
+    if (!fast()) return sum;
+    const FastModes& f = data->fast;
+    for (std::size_t k = 0; k < active.size(); ++k) {
+        const Eigen::Index j = active[k];
+        sum += f.right.col(j) * (d(static_cast<Eigen::Index>(k)) * exp_integral(f.lambda(j) + mu, s_end * h));
+    }
+    return sum;
+}
 
 Engine::Engine(const System& system, double omega) : system_(system), omega_(omega), period_(2.0 * pi / omega) {
     n_dofs_ = system.dofs();
@@ -98,37 +156,69 @@ Engine::Flow Engine::flow(Eigen::VectorXd zhat, Modes modes, double t0, double d
     const double t_end = t0 + duration;
     int events = 0;
     Eigen::MatrixXd buffer;
-    Eigen::RowVectorXd coefficients;
+    Step st;
+    const int nd = n_dofs_;
     while (t < t_end) {
         const ModeData& m = mode(modes);
         const double remaining = t_end - t;
         const bool last = remaining <= m.h * (1.0 + 1e-12);
         const double s_end = last ? remaining / m.h : 1.0;
-        const Eigen::Index used = step_polynomial(m.a, zhat, m.h, buffer);
-        const auto u = buffer.leftCols(used);
+        // The fast modes present (above rounding in the displacements or the velocities); the
+        // Taylor polynomial carries the rest.
+        st.active.clear();
+        Eigen::VectorXd slow = zhat;
+        if (m.fast.size() > 0) {
+            const Eigen::VectorXcd d = m.fast.left * zhat;
+            const double y_size = std::max(zhat.head(nd).cwiseAbs().maxCoeff(),
+                                           zhat.segment(2 * nd, nz_ - 2 * nd).cwiseAbs().maxCoeff());
+            const double v_size = zhat.segment(nd, nd).cwiseAbs().maxCoeff();
+            for (Eigen::Index j = 0; j < m.fast.size(); ++j) {
+                const double size = std::abs(d(j)) * m.fast.right_size(j);
+                if (size > 1e-16 * y_size || size > 1e-16 * v_size) st.active.push_back(j);
+            }
+            st.d.resize(static_cast<Eigen::Index>(st.active.size()));
+            for (std::size_t k = 0; k < st.active.size(); ++k) {
+                const Eigen::Index j = st.active[k];
+                st.d(static_cast<Eigen::Index>(k)) = d(j);
+                slow -= (m.fast.right.col(j) * d(j)).real();
+            }
+        }
+        if (m.fast.size() > 0) {
+            const Eigen::Index used = step_polynomial(m.a_slow, m.slow_coordinates * slow, m.h, buffer);
+            st.u.noalias() = m.slow_basis * buffer.leftCols(used);
+        } else {
+            const Eigen::Index used = step_polynomial(m.a_slow, slow, m.h, buffer);
+            st.u = buffer.leftCols(used);
+        }
+        st.t0 = t;
+        st.h = m.h;
+        st.data = &m;
         double best = std::numeric_limits<double>::infinity();
         const Guard* trigger = nullptr;
         for (const Guard& g : m.guards) {
-            coefficients.noalias() = g.row * u;
             const double eta = 1e-12 * (g.row.cwiseAbs().array() * zhat.transpose().cwiseAbs().array()).sum();
-            const double s = first_root(coefficients, s_end, eta);
+            const double s = first_root(st.signal(g.row), s_end, eta);
             if (s >= 0.0 && s < best) {
                 best = s;
                 trigger = &g;
             }
         }
         if (!trigger) {
-            if (record) out.steps.push_back({t, m.h, s_end, modes, u});
-            const Eigen::VectorXd next = evaluate(u, s_end);
-            if (monodromy) out.psi = (s_end == 1.0 ? m.step_exp : taylor_exp(m.a, s_end * m.h)) * out.psi;
+            st.s_end = s_end;
+            if (record) out.steps.push_back({st.t0, st.h, s_end, modes, st.u, &m, st.active, st.d});
+            const Eigen::VectorXd next = st.state(s_end);
+            if (monodromy) out.psi = (s_end == 1.0 ? m.step_exp : m.exponential(s_end * m.h)) * out.psi;
             zhat = next;
             t = last ? t_end : t + m.h;
+            if (m.fast.size() > 0) restore_constraints(zhat, modes, t);
             continue;
         }
-        if (record) out.steps.push_back({t, m.h, best, modes, u});
-        zhat = evaluate(u, best);
-        if (monodromy) out.psi = taylor_exp(m.a, best * m.h) * out.psi;
+        st.s_end = best;
+        if (record) out.steps.push_back({st.t0, st.h, best, modes, st.u, &m, st.active, st.d});
+        zhat = st.state(best);
+        if (monodromy) out.psi = m.exponential(best * m.h) * out.psi;
         t = std::min(t + best * m.h, t_end);
+        if (m.fast.size() > 0) restore_constraints(zhat, modes, t);
         const Modes next = settle(zhat, modes, trigger->contact);
         if (monodromy) {
             const Eigen::MatrixXd& a_after = mode(next).a;
@@ -159,6 +249,31 @@ Engine::Flow Engine::flow(Eigen::VectorXd zhat, Modes modes, double t0, double d
     out.zhat = zhat;
     out.modes = modes;
     return out;
+}
+
+void Engine::restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const {
+    const int nd = n_dofs_;
+    zhat(cos_index()) = std::cos(omega_ * t);
+    zhat(sin_index()) = std::sin(omega_ * t);
+    zhat(one_index()) = 1.0;
+    std::vector<int> stuck;
+    for (int c = 0; c < n_contacts_; ++c) {
+        const int mode = modes[static_cast<std::size_t>(c)];
+        if (coulomb(c)) {
+            zhat(2 * nd + c) = 0.0;
+            if (mode == 0) stuck.push_back(c);
+        } else if (mode != 0) {
+            zhat(2 * nd + c) = spring_end(c, zhat) - mode * contact(c).friction_limit / contact(c).stiffness;
+        }
+    }
+    if (stuck.empty()) return;
+    // v on w_c^T v = 0 (the stuck contacts), the M-orthogonal projection the pattern's flow keeps.
+    const int s = static_cast<int>(stuck.size());
+    Eigen::MatrixXd w(nd, s);
+    for (int j = 0; j < s; ++j) w.col(j) = direction(stuck[static_cast<std::size_t>(j)]);
+    const Eigen::MatrixXd mw = mass_inverse_ * w;
+    const Eigen::VectorXd slip = w.transpose() * zhat.segment(nd, nd);
+    zhat.segment(nd, nd) -= mw * (w.transpose() * mw).completeOrthogonalDecomposition().solve(slip);
 }
 
 ModeData Engine::build(const Modes& modes) const {
@@ -211,28 +326,29 @@ ModeData Engine::build(const Modes& modes) const {
         const int mode = modes[static_cast<std::size_t>(c)];
         const double limit = contact(c).friction_limit;
         if (mode != 0) {
-            Guard g{c, Eigen::RowVectorXd::Zero(n)};
+            Guard g{c, Eigen::RowVectorXd::Zero(n), {}};
             g.row.segment(nd, nd) = mode * direction(c).transpose();
             g.row(sin_index()) = -mode * omega_ * contact(c).base_motion;  // the spring's far end
             m.guards.push_back(g);
         } else {
             for (int sign : {1, -1}) {
-                Guard g{c, -sign * m.force.row(c)};
+                Guard g{c, -sign * m.force.row(c), {}};
                 g.row(one_index()) += limit;
                 m.guards.push_back(g);
             }
         }
     }
-    // Step: short against the fastest mode of the pattern (|lambda| h <= 1) and T / 48.
-    const Eigen::MatrixXd az = m.a.topLeftCorner(nz_, nz_);
+    // The fast modes split off; the step short against the slow ones (|lambda| h <= 1) and T / 24.
     double rho = omega_;
-    if (nz_ > 0) {
-        Eigen::EigenSolver<Eigen::MatrixXd> eigen(az, false);
-        if (eigen.info() == Eigen::Success) rho = std::max(rho, eigen.eigenvalues().cwiseAbs().maxCoeff());
-        else rho = std::max(rho, az.cwiseAbs().rowwise().sum().maxCoeff());
+    m.a_slow = m.a;
+    if (split_fast_modes(m.a, nz_, n_dofs_, omega_, m, rho)) {
+        for (Guard& g : m.guards) g.fast = g.row.cast<std::complex<double>>() * m.fast.right;
+    } else {
+        m.fast = FastModes{};
+        m.a_slow = m.a;
     }
     m.h = std::min(period_ / 24.0, 1.0 / rho);
-    m.step_exp = taylor_exp(m.a, m.h);
+    m.step_exp = m.exponential(m.h);
     return m;
 }
 
@@ -243,7 +359,7 @@ const Step& step_at(const std::vector<Step>& steps, double t) {
 }
 Eigen::VectorXd state_at(const std::vector<Step>& steps, double t) {
     const Step& s = step_at(steps, t);
-    return evaluate(s.u, std::min(std::max((t - s.t0) / s.h, 0.0), s.s_end));
+    return s.state(std::min(std::max((t - s.t0) / s.h, 0.0), s.s_end));
 }
 
 Eigen::VectorXd full_state(const Engine& e, const Eigen::VectorXd& zhat, const Modes& modes) {

@@ -1,18 +1,22 @@
 // hbfriction — internal to event_exact: the flow engine. Each stick/slip pattern (the modes
 // of the contacts) is an autonomous linear system zhat' = A_m zhat; the engine builds and caches
-// them, flows a state over Taylor steps through the contact events (their times the roots of
-// the guard polynomials) and multiplies the monodromy with the saltation matrices (see
-// event_exact.hpp).
+// them, flows a state over steps through the contact events (their times the roots of the
+// guards) and multiplies the monodromy with the saltation matrices (see event_exact.hpp).
+// The pattern's fast modes (eigenvalues far above the forcing's) are split off by their
+// spectral projector: on them the flow is a closed-form sum of exponentials, so the Taylor
+// steps of the rest follow the slow modes and the forcing, not the stiffest mode.
 #pragma once
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <complex>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "hbf/contact.hpp"
 #include "hbf/event_exact.hpp"
+#include "polynomial.hpp"
 
 namespace hbf::detail::exact {
 
@@ -23,6 +27,19 @@ using Modes = std::vector<int>;
 struct Guard {
     int contact = 0;
     Eigen::RowVectorXd row;
+    Eigen::RowVectorXcd fast;  ///< row * FastModes::right
+};
+
+/// The fast modes of a pattern: eigenvalues lambda_j of a beyond the slow ones, right and left
+/// eigenvectors with left * right = I (n_f of them). Their part of zhat is
+/// right * (left * zhat), and it flows as right * diag(exp(lambda t)) * (left * zhat).
+struct FastModes {
+    Eigen::VectorXcd lambda;
+    Eigen::MatrixXcd right;  ///< n x n_f
+    Eigen::MatrixXcd left;   ///< n_f x n
+    Eigen::VectorXd right_size;  ///< max |right(i, j)| per column
+    Eigen::MatrixXd projector;   ///< Re(right * left)
+    Eigen::Index size() const { return lambda.size(); }
 };
 
 /// The linear system of one stick/slip pattern.
@@ -30,15 +47,38 @@ struct ModeData {
     Eigen::MatrixXd a;       ///< zhat' = a zhat
     Eigen::MatrixXd force;   ///< n_c x n: friction force of each contact as row * zhat
     std::vector<Guard> guards;
-    double h = 0;            ///< step length
+    FastModes fast;          ///< none when every mode is slow
+    /// The slow flow in coordinates xi = slow_coordinates * zhat_slow, zhat_slow = slow_basis * xi
+    /// (a basis of the slow invariant subspace, n x n_s, orthonormal in balanced coordinates):
+    /// xi' = a_slow xi. In these coordinates the stiff modes' rounding (K y with K ~ the fastest
+    /// eigenvalue squared) is not integrated over the long step. With no fast modes: a, and no
+    /// basis. slow_restrict = slow_coordinates (I - projector).
+    Eigen::MatrixXd a_slow, slow_basis, slow_coordinates, slow_restrict;
+    double h = 0;            ///< step length (against the slow modes and the period)
     Eigen::MatrixXd step_exp;  ///< exp(a h)
+    /// exp(a t): exp(a_slow t) on the slow part, closed form on the fast one.
+    Eigen::MatrixXd exponential(double t) const;
 };
 
-/// One step of a recorded flow: zhat(t0 + s h) = sum_k u.col(k) s^k for s in [0, s_end].
+/// One step of a recorded flow: zhat(t0 + s h) = sum_k u.col(k) s^k
+/// + Re sum_j right.col(active_j) d_j exp(lambda_j h s) for s in [0, s_end] (the fast modes
+/// present at the step's start: `data`'s FastModes).
 struct Step {
     double t0 = 0, h = 0, s_end = 0;
     Modes modes;
     Eigen::MatrixXd u;
+    const ModeData* data = nullptr;
+    std::vector<Eigen::Index> active;
+    Eigen::VectorXcd d;  ///< their coordinates at t0 (left * zhat)
+    bool fast() const { return !active.empty(); }
+    /// zhat at s.
+    Eigen::VectorXd state(double s) const;
+    /// The signal row * zhat over the step (polynomial.hpp).
+    Signal signal(const Eigen::RowVectorXd& row) const;
+    Signal signal(Eigen::Index i) const;  ///< of zhat(i)
+    /// int_0^{s_end h} zhat_fast(t0 + t) exp(mu t) dt (complex mu; the fast part zhat_fast is
+    /// real, so its integrals against cos and sin are the real and imaginary parts at mu = i w).
+    Eigen::VectorXcd fast_integral(std::complex<double> mu) const;
 };
 
 /// The flows, events and mode data of one system at one frequency.
@@ -109,6 +149,11 @@ public:
 
 private:
     ModeData build(const Modes& modes) const;
+    /// Puts zhat back on the pattern's invariant relations where a split flow (its fast modes
+    /// in closed form) left it off them by rounding of the eigenvectors: Coulomb sliders at 0,
+    /// stuck Coulomb contacts at rest (w^T v = 0), slipping Jenkins sliders at their limit, and
+    /// the forcing's states at cos(w t), sin(w t), 1.
+    void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const;
 
     const System& system_;
     double omega_, period_;

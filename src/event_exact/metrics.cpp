@@ -20,6 +20,7 @@ Eigen::VectorXd mean_forces(Engine& e, const Engine::Flow& flow) {
         const ModeData& m = e.mode(st.modes);
         for (const auto& [node, weight] : gauss_legendre())
             mean += weight * length * (m.force * evaluate(st.u, node * st.s_end));
+        if (st.fast()) mean += m.force * st.fast_integral(0.0).real();
     }
     return mean / e.period();
 }
@@ -28,7 +29,7 @@ Eigen::VectorXd slip_work(Engine& e, const Engine::Flow& flow) {
     Eigen::VectorXd work = Eigen::VectorXd::Zero(e.contacts());
     for (const Step& st : flow.steps) {
         if (st.s_end * st.h <= 0.0) continue;
-        const Eigen::VectorXd z0 = st.u.col(0), z1 = evaluate(st.u, st.s_end);
+        const Eigen::VectorXd z0 = st.state(0.0), z1 = st.state(st.s_end);
         for (int c = 0; c < e.contacts(); ++c) {
             const int mode = st.modes[static_cast<std::size_t>(c)];
             if (mode != 0) work(c) += mode * e.contact(c).friction_limit * (e.spring_end(c, z1) - e.spring_end(c, z0));
@@ -52,11 +53,12 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     std::vector<double> stick_time(static_cast<std::size_t>(nc), 0.0);  // per element
     out.energy = 0.0;
     double margin_min = std::numeric_limits<double>::infinity(), margin_max = -margin_min;
-    auto margin = [&](const Modes& modes, const Eigen::VectorXd& z) {
-        const double value = std::abs(e.mode(modes).force.row(0).dot(z)) / e.contact(0).friction_limit - 1.0;
+    auto margin_of = [&](double force) {
+        const double value = std::abs(force) / e.contact(0).friction_limit - 1.0;
         margin_min = std::min(margin_min, value);
         margin_max = std::max(margin_max, value);
     };
+    auto margin = [&](const Modes& modes, const Eigen::VectorXd& z) { margin_of(e.mode(modes).force.row(0).dot(z)); };
     for (std::size_t k = 0; k < flow.events.size() && nc > 0; ++k) {
         const ExactEvent& ev = flow.events[k];
         if (ev.contact != 0 || ev.mode_before == 0 || !e.coulomb(0)) continue;
@@ -64,46 +66,76 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
         trial[0] = 0;
         margin(trial, flow.event_states[k]);
     }
+    Eigen::VectorXd z_node;
     for (const Step& st : flow.steps) {
         const double length = st.s_end * st.h;
         if (length <= 0.0) continue;
         if (nc > 0 && (st.modes[0] == 0 || !e.coulomb(0)))
-            for (int j = 0; j <= 16; ++j) margin(st.modes, evaluate(st.u, st.s_end * j / 16));
-        // Turning points of every DOF and output: roots of y_i' (its polynomial), from 16
-        // samples.
-        auto turning_points = [&st](const Eigen::RowVectorXd& y, const Eigen::RowVectorXd& v, double& best) {
-            constexpr int samples = 16;
-            double s_prev = 0.0, v_prev = horner(v, 0.0);
-            best = std::max(best, std::abs(horner(y, 0.0)));
-            for (int j = 1; j <= samples; ++j) {
-                const double s = st.s_end * j / samples;
-                const double vs = horner(v, s);
-                best = std::max(best, std::abs(horner(y, s)));
-                if ((v_prev <= 0.0 && vs >= 0.0) || (v_prev >= 0.0 && vs <= 0.0))
-                    best = std::max(best, std::abs(horner(y, refine_root(v, s_prev, s))));
+            st.signal(Eigen::RowVectorXd(e.mode(st.modes).force.row(0)))  // 17 samples
+                .sample(st.s_end, std::numeric_limits<double>::infinity(), [&](double, double force, double) {
+                margin_of(force);
+                return true;
+            });
+        // Turning points of every DOF, output and probe: roots of their slope between samples
+        // (16 a step, closer where a fast exponential is present).
+        auto turning_points = [&st](const Signal& y, double& best) {
+            best = std::max(best, std::abs(y.value(0.0)));
+            if (!y.fast()) {
+                constexpr int samples = 16;
+                Eigen::RowVectorXd d = Eigen::RowVectorXd::Zero(std::max<Eigen::Index>(1, y.poly.size() - 1));
+                for (Eigen::Index k = 1; k < y.poly.size(); ++k) d(k - 1) = static_cast<double>(k) * y.poly(k);
+                double s_prev = 0.0, v_prev = horner(d, 0.0);
+                for (int j = 1; j <= samples; ++j) {
+                    const double s = st.s_end * j / samples;
+                    const double vs = horner(d, s);
+                    best = std::max(best, std::abs(horner(y.poly, s)));
+                    if ((v_prev <= 0.0 && vs >= 0.0) || (v_prev >= 0.0 && vs <= 0.0))
+                        best = std::max(best, std::abs(horner(y.poly, refine_root(d, s_prev, s))));
+                    s_prev = s;
+                    v_prev = vs;
+                }
+                return;
+            }
+            // Fast exponentials: samples resolving every one above rounding of |y|. An extremum
+            // between two samples is refined only where it can exceed the best so far: within
+            // one sample (half a radian of the fastest exponential) it lies within the samples'
+            // values plus their slopes times the spacing.
+            double size = std::abs(horner(y.poly, 0.0));
+            for (Eigen::Index j = 0; j < y.amp.size(); ++j) size += std::abs(y.amp(j).real()) + std::abs(y.amp(j).imag());
+            double s_prev = 0.0, v_prev = 0.0, y_prev = 0.0;
+            y.sample(st.s_end, 1e-15 * size, [&](double s, double value, double slope) {
+                best = std::max(best, std::abs(value));
+                if (s > 0.0 && ((v_prev <= 0.0 && slope >= 0.0) || (v_prev >= 0.0 && slope <= 0.0)) &&
+                    std::max(std::abs(y_prev), std::abs(value)) + (s - s_prev) * std::max(std::abs(v_prev), std::abs(slope)) > best)
+                    best = std::max(best, std::abs(y.value(signal_extremum(y, s_prev, s))));
                 s_prev = s;
-                v_prev = vs;
-            }
+                v_prev = slope;
+                y_prev = value;
+                return true;
+            });
         };
-        for (int i = 0; i < nd; ++i) turning_points(st.u.row(i), st.u.row(nd + i), out.y_max[static_cast<std::size_t>(i)]);
+        if (!probes)  // the probes include the DOFs
+            for (int i = 0; i < nd; ++i) turning_points(st.signal(i), out.y_max[static_cast<std::size_t>(i)]);
         for (std::size_t o = 0; o < outputs.size(); ++o) {
-            Eigen::RowVectorXd y = Eigen::RowVectorXd::Zero(st.u.cols()), v = y;
-            for (const auto& [i, c] : outputs[o].terms()) {
-                y += c * st.u.row(i);
-                v += c * st.u.row(nd + i);
-            }
-            turning_points(y, v, out.output_max[o]);
+            Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(e.n());
+            for (const auto& [i, c] : outputs[o].terms()) row(i) += c;
+            turning_points(st.signal(row), out.output_max[o]);
         }
-        if (n_probes > 0) {  // p = L zhat, p' = L A zhat
-            const Eigen::MatrixXd y = probes->rows * st.u, v = (probes->rows * e.mode(st.modes).a) * st.u;
+        if (n_probes > 0)  // p = L zhat
             for (Eigen::Index p = 0; p < n_probes; ++p)
-                turning_points(y.row(p), v.row(p), probes->max[static_cast<std::size_t>(p)]);
-        }
-        // First harmonics by Gauss-Legendre (cos and sin are states of zhat).
+                turning_points(st.signal(Eigen::RowVectorXd(probes->rows.row(p))), probes->max[static_cast<std::size_t>(p)]);
+        // First harmonics by Gauss-Legendre (cos and sin are states of zhat), the fast part's
+        // in closed form.
         for (const auto& [node, weight] : rule) {
-            const Eigen::VectorXd z = evaluate(st.u, node * st.s_end);
-            c1z += weight * length * z(e.cos_index()) * z;
-            s1z += weight * length * z(e.sin_index()) * z;
+            z_node = evaluate(st.u, node * st.s_end);
+            c1z += (weight * length * z_node(e.cos_index())) * z_node;
+            s1z += (weight * length * z_node(e.sin_index())) * z_node;
+        }
+        if (st.fast()) {
+            const std::complex<double> phase(st.u(e.cos_index(), 0), st.u(e.sin_index(), 0));
+            const Eigen::VectorXcd turned = phase * st.fast_integral(std::complex<double>(0.0, e.omega()));
+            c1z += turned.real();
+            s1z += turned.imag();
         }
         for (int c = 0; c < nc; ++c)
             if (st.modes[static_cast<std::size_t>(c)] == 0) stick_time[static_cast<std::size_t>(c)] += length;
@@ -160,7 +192,7 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
             const double t = period * j / options.samples;
             const double tt = t < t_s ? t + period : t;
             const Step& st = step_at(flow.steps, tt);
-            const Eigen::VectorXd z = evaluate(st.u, std::min(std::max((tt - st.t0) / st.h, 0.0), st.s_end));
+            const Eigen::VectorXd z = st.state(std::min(std::max((tt - st.t0) / st.h, 0.0), st.s_end));
             out.time(j) = t;
             out.displacement.row(j) = z.head(nd).transpose();
             out.velocity.row(j) = z.segment(nd, nd).transpose();

@@ -26,7 +26,8 @@ struct Probes {
     Eigen::MatrixXd samples, sample_rates;  ///< options.samples x n_p
 };
 
-/// Fills the orbit's metrics from one recorded period [t_s, t_s + T], and `probes`' if given.
+/// Fills the orbit's metrics from one recorded period [t_s, t_s + T], and `probes`' if given
+/// (then not the DOFs' maxima y_max: the probes' rows include them).
 void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out,
                   Probes* probes = nullptr);
 

@@ -40,12 +40,17 @@ bool permanent_stick_state(const System& system, double omega, Eigen::VectorXd& 
     return stuck_steady_state(system, omega, z) <= 1.0;
 }
 
-/// Orthonormal basis B of the states allowed at the section with `modes`, and the particular
+/// Basis B of the states allowed at the section with `modes`, its left inverse C (C B = I: the
+/// projection onto them is z_p + B C (z - z_p)), and the particular
 /// state z_p: z = z_p + B xi (coulomb sliders fixed at 0; coulomb stuck: v_c = 0; jenkins
 /// slipping: s_c = q_c + p_c cos(omega t) - mode F_c / k_t, p_c its base motion, t the
 /// section's time).
+/// B is orthonormal in the scaled state S z (velocities divided by w, as SectionNorm's): the
+/// Newton matrix C (Psi - I) B and the multipliers' C Psi B are then the same numbers in any
+/// units (in raw units y and y' differ by w, and the rank threshold of the Newton solve would
+/// cut the wrong singular values).
 void section_manifold(const Engine& e, const Modes& modes, double t, Eigen::MatrixXd& basis,
-                      Eigen::VectorXd& particular) {
+                      Eigen::MatrixXd& cobasis, Eigen::VectorXd& particular) {
     const int nd = e.dofs(), nz = e.nz();
     std::vector<Eigen::RowVectorXd> rows;
     std::vector<double> values;
@@ -71,8 +76,11 @@ void section_manifold(const Engine& e, const Modes& modes, double t, Eigen::Matr
                              e.contact(c).base_motion * std::cos(e.omega() * t));
         }
     }
+    Eigen::VectorXd scale = Eigen::VectorXd::Ones(nz);  // S
+    scale.segment(nd, nd).setConstant(1.0 / e.omega());
     if (rows.empty()) {
         basis = Eigen::MatrixXd::Identity(nz, nz);
+        cobasis = basis;
         particular = Eigen::VectorXd::Zero(nz);
         return;
     }
@@ -82,16 +90,19 @@ void section_manifold(const Engine& e, const Modes& modes, double t, Eigen::Matr
         constraints.row(static_cast<Eigen::Index>(k)) = rows[k];
         d(static_cast<Eigen::Index>(k)) = values[k];
     }
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(constraints.transpose());
+    const Eigen::MatrixXd scaled = constraints * scale.cwiseInverse().asDiagonal();  // on S z
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(scaled.transpose());
     const Eigen::Index rank = qr.rank();
     const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(nz, nz);
-    basis = q.rightCols(nz - rank);
-    particular = constraints.completeOrthogonalDecomposition().solve(d);
+    const Eigen::MatrixXd orthonormal = q.rightCols(nz - rank);
+    basis = scale.cwiseInverse().asDiagonal() * orthonormal;
+    cobasis = orthonormal.transpose() * scale.asDiagonal();
+    particular = scale.cwiseInverse().asDiagonal() * scaled.completeOrthogonalDecomposition().solve(d);
 }
 
-void fill_stability(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& basis, int nz, const ExactOptions& options,
-                    ExactOrbit& out) {
-    const Eigen::MatrixXd reduced = basis.transpose() * psi.topLeftCorner(nz, nz) * basis;
+void fill_stability(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& basis, const Eigen::MatrixXd& cobasis, int nz,
+                    const ExactOptions& options, ExactOrbit& out) {
+    const Eigen::MatrixXd reduced = cobasis * psi.topLeftCorner(nz, nz) * basis;
     if (reduced.rows() == 0) {
         out.multipliers.resize(0);
         out.max_multiplier = 0;
@@ -125,9 +136,10 @@ struct SectionNorm {
     }
 };
 
-/// exact_periodic_orbit on a system with M > 0 (validated).
+/// exact_periodic_orbit on a system with M > 0 (validated); with `probes`, their metrics from
+/// the orbit's period instead of the DOFs' maxima (fill_metrics).
 ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& initial_state,
-                    const ExactOptions& options) {
+                    const ExactOptions& options, Probes* probes = nullptr) {
     Engine e(system, omega);
     const double period = e.period();
     ExactOrbit out;
@@ -158,7 +170,7 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
     const Modes modes = e.initial_modes(zhat, hints);
     if (!plain_periods(zhat, modes, options.warmup_periods)) {
         out.message = "warm-up: " + warm.message;
-        if (!warm.steps.empty()) fill_metrics(e, warm, 0.0, options, out);  // the period as far as it went
+        if (!warm.steps.empty()) fill_metrics(e, warm, 0.0, options, out, probes);  // the period as far as it went
         out.state = initial_state;
         return out;
     }
@@ -176,16 +188,16 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
         orbit.message = orbit.converged ? "permanent stick: the linear stuck steady state with zero mean friction "
                                           "force (convention for the undetermined offset)"
                                         : "the permanent-stick state left stick within the period";
-        fill_metrics(e, f, 0.0, options, orbit);
-        Eigen::MatrixXd basis;
+        fill_metrics(e, f, 0.0, options, orbit, probes);
+        Eigen::MatrixXd basis, cobasis;
         Eigen::VectorXd particular;
-        section_manifold(e, stick, 0.0, basis, particular);
-        fill_stability(f.psi, basis, e.nz(), options, orbit);
+        section_manifold(e, stick, 0.0, basis, cobasis, particular);
+        fill_stability(f.psi, basis, cobasis, e.nz(), options, orbit);
     };
 
     Engine::Flow f;
     double t_s = 0.0;
-    Eigen::MatrixXd basis;
+    Eigen::MatrixXd basis, cobasis;
     int restart_periods = 8;
     for (int attempt = 0;; ++attempt) {
         // Permanent stick: no event and every contact stuck over the last plain period.
@@ -219,11 +231,11 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
             t_s = std::fmod(t_s, period);
             section_modes = step_at(warm.steps, t_s).modes;
         }
-        Eigen::VectorXd z = t_s == 0.0 ? Eigen::VectorXd(warm.steps.front().u.col(0).head(e.nz()))
+        Eigen::VectorXd z = t_s == 0.0 ? Eigen::VectorXd(warm.steps.front().state(0.0).head(e.nz()))
                                        : Eigen::VectorXd(state_at(warm.steps, t_s).head(e.nz()));
         Eigen::VectorXd particular;
-        section_manifold(e, section_modes, t_s, basis, particular);
-        z = particular + basis * (basis.transpose() * (z - particular));
+        section_manifold(e, section_modes, t_s, basis, cobasis, particular);
+        z = particular + basis * (cobasis * (z - particular));
 
         auto map = [&](const Eigen::VectorXd& start) {
             Eigen::VectorXd zh = e.augment(start, t_s);
@@ -253,12 +265,12 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
                     return false;
                 }
                 const Eigen::MatrixXd jacobian =
-                    basis.transpose() *
+                    cobasis *
                     (f.psi.topLeftCorner(e.nz(), e.nz()) - Eigen::MatrixXd::Identity(e.nz(), e.nz())) * basis;
                 Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> solver;
                 solver.setThreshold(1e-11);
                 solver.compute(jacobian);
-                const Eigen::VectorXd step = -(basis * solver.solve(basis.transpose() * r));
+                const Eigen::VectorXd step = -(basis * solver.solve(cobasis * r));
                 double alpha = 1.0;
                 for (int trial = 0; trial < 12; ++trial, alpha *= 0.5) {
                     const Eigen::VectorXd trial_z = z + alpha * step;
@@ -313,7 +325,7 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
                         shifted(2 * e.dofs() + c) += e.direction(c).dot(dy) + mean(c) / e.contact(c).stiffness;
                 const Eigen::VectorXd kept = z;
                 Engine::Flow kept_flow = f;
-                z = particular + basis * (basis.transpose() * (shifted - particular));
+                z = particular + basis * (cobasis * (shifted - particular));
                 f = map(z);
                 out.converged = false;
                 newton();
@@ -351,8 +363,8 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
             return orbit;
         }
     }
-    fill_metrics(e, f, t_s, options, out);
-    fill_stability(f.psi, basis, e.nz(), options, out);
+    fill_metrics(e, f, t_s, options, out, probes);
+    fill_stability(f.psi, basis, cobasis, e.nz(), options, out);
     // A member of the permanent-stick family with another offset (no slip, or slips of
     // vanishing length at the edge of the friction cone, dissipating nothing) where the
     // conventional one holds: the convention instead.
@@ -373,21 +385,18 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
 /// The orbit of a system with massless DOFs: solved on its static condensation (exact: the
 /// massless DOFs follow the massive ones, the load and the sliders linearly), then expressed
 /// in the original DOFs. The massless DOFs and the outputs are functions of the reduced
-/// state, p = L zhat, whose maxima and harmonics come from one more exact period (Probes).
+/// state, p = L zhat, whose maxima and harmonics come from the orbit's period (Probes).
 ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensation& condensation, double omega,
                           const Eigen::VectorXd& initial_state, const ExactOptions& options) {
     const System& reduced = condensation.reduced();
     const int n = system.dofs(), nc = static_cast<int>(system.contacts.size()), nr = reduced.dofs();
     ExactOptions reduced_options = options;
     reduced_options.outputs.clear();
-    reduced_options.samples = 0;
-    ExactOrbit out = orbit_of(reduced, omega, condensation.reduce_state(initial_state), reduced_options);
-
-    Engine e(reduced, omega);
     // Rows over zhat = [y_R, y_R', s, cos, sin, 1]: every original DOF, then every output.
+    const int cos_index = 2 * nr + nc;
     const detail::MasslessCondensation::MasslessMap map = condensation.massless_map();
     Probes probes;
-    probes.rows = Eigen::MatrixXd::Zero(n + static_cast<Eigen::Index>(options.outputs.size()), e.n());
+    probes.rows = Eigen::MatrixXd::Zero(n + static_cast<Eigen::Index>(options.outputs.size()), cos_index + 3);
     for (int i = 0; i < n; ++i) {
         const int p = condensation.position(i);
         if (!condensation.massless(i)) {
@@ -396,23 +405,15 @@ ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensati
         }
         probes.rows.row(i).head(nr) = map.from_massive.row(p);
         probes.rows.row(i).segment(2 * nr, nc) = map.from_sliders.row(p);
-        probes.rows(i, e.cos_index()) = map.load(p);
+        probes.rows(i, cos_index) = map.load(p);
     }
     for (std::size_t o = 0; o < options.outputs.size(); ++o)
         for (const auto& [i, c] : options.outputs[o].terms())
             probes.rows.row(n + static_cast<Eigen::Index>(o)) += c * probes.rows.row(i);
-    // One exact period from the orbit's state at t = 0 (its modes there as the hint).
-    Modes modes(static_cast<std::size_t>(nc));
-    for (int c = 0; c < nc; ++c) modes[static_cast<std::size_t>(c)] = static_cast<int>(out.state(2 * nr + nc + c));
-    const Engine::Flow f =
-        e.flow(e.augment(out.state.head(e.nz()), 0.0), modes, 0.0, e.period(), false, true, options.max_events_per_period);
-    ExactOrbit period;
-    ExactOptions sampled = reduced_options;
-    sampled.samples = options.samples;
-    if (!f.steps.empty()) fill_metrics(e, f, 0.0, sampled, period, &probes);
-    if (f.steps.empty() || !f.ok) {
+    ExactOrbit out = orbit_of(reduced, omega, condensation.reduce_state(initial_state), reduced_options, &probes);
+    if (probes.max.size() != static_cast<std::size_t>(probes.rows.rows())) {
         out.converged = false;
-        out.message += "; the period of the massless DOFs could not be integrated: " + f.message;
+        out.message += "; no period of the massless DOFs was integrated";
         return out;
     }
     // The original's metrics and state.
@@ -443,10 +444,8 @@ ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensati
     }
     out.state = state;
     if (options.samples > 0) {
-        out.time = period.time;
         out.displacement = probes.samples.leftCols(n);
         out.velocity = probes.sample_rates.leftCols(n);
-        out.friction_force = period.friction_force;
     }
     return out;
 }

@@ -7,8 +7,49 @@
 
 namespace hbf::detail::exact {
 
-/// exp(a d) by scaling and squaring of its Taylor series (to rounding).
-Eigen::MatrixXd taylor_exp(const Eigen::MatrixXd& a, double d) {
+Eigen::VectorXd balance(Eigen::MatrixXd& a) {
+    const Eigen::Index n = a.rows();
+    Eigen::VectorXd d = Eigen::VectorXd::Ones(n);
+    for (int sweep = 0; sweep < 100; ++sweep) {
+        bool done = true;
+        for (Eigen::Index i = 0; i < n; ++i) {
+            double c = a.col(i).cwiseAbs().sum() - std::abs(a(i, i));
+            double r = a.row(i).cwiseAbs().sum() - std::abs(a(i, i));
+            if (c == 0.0 || r == 0.0) continue;
+            const double total = c + r;
+            double f = 1.0;
+            while (c < r / 2.0) {
+                f *= 2.0;
+                c *= 4.0;
+            }
+            while (c >= r * 2.0) {
+                f /= 2.0;
+                c /= 4.0;
+            }
+            if ((c + r) / f < 0.95 * total) {
+                done = false;
+                d(i) *= f;
+                a.row(i) /= f;
+                a.col(i) *= f;
+            }
+        }
+        if (done) break;
+    }
+    return d;
+}
+
+/// The fast modes of a (n x n, its last 3 states cos, sin, 1 of the forcing; nz = n - 3), the
+/// slow flow's coordinates (ModeData) and the largest slow |eigenvalue|. The dynamic block az
+/// is balanced first (d^-1 az d); its eigenvectors give right [d v; 0] and left
+/// [w^T d^-1, w^T d^-1 B (lambda - Omega)^-1] (B: the forcing columns, Omega: their
+/// rotation), normalised by G = W^T V. Returns false (no split) when no eigenvalue is fast,
+/// an eigen-solve fails or its vectors do not pass the residual checks.
+/// exp(a d) by scaling and squaring of its Taylor series (to rounding), on a balanced a: the
+/// number of squarings follows the norm of a, which balancing brings down to the size of its
+/// eigenvalues whatever the units (a mechanical a in raw units has entries K / M next to 1).
+Eigen::MatrixXd taylor_exp(const Eigen::MatrixXd& given, double d) {
+    Eigen::MatrixXd a = given;
+    const Eigen::VectorXd balancing = balance(a);
     const double norm = (a * d).cwiseAbs().colwise().sum().maxCoeff();
     int squarings = 0;
     double scale = d;
@@ -25,7 +66,7 @@ Eigen::MatrixXd taylor_exp(const Eigen::MatrixXd& a, double d) {
         if (term.cwiseAbs().maxCoeff() <= 1e-18 * sum.cwiseAbs().maxCoeff()) break;
     }
     for (int k = 0; k < squarings; ++k) sum = sum * sum;
-    return sum;
+    return balancing.asDiagonal() * sum * balancing.cwiseInverse().asDiagonal();
 }
 
 /// Taylor coefficients of the flow over one step: u_k = (a h)^k z / k!, until they vanish.

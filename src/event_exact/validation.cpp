@@ -108,6 +108,9 @@ std::string exact_solver_refusal(const System& system) {
 bool exact_solver_supports(const System& system) { return exact_solver_refusal(system).empty(); }
 
 namespace {
+/// A Taylor step costs about as much as this many samples of the fast modes.
+constexpr double kSamplesPerStep = 16.0;
+
 /// Steps per period (exact_steps_per_period) and the size of the flows' state.
 std::pair<double, int> steps_and_size(const System& given, double omega) {
     using namespace detail::exact;
@@ -119,7 +122,15 @@ std::pair<double, int> steps_and_size(const System& given, double omega) {
     double steps = 0.0;
     for (int mode : {0, 1}) {  // every contact stuck, every contact slipping
         const ModeData& m = e.mode(Modes(static_cast<std::size_t>(e.contacts()), mode));
-        steps = std::max(steps, e.period() / m.h);
+        // A fast mode is sampled 2 |lambda| times per unit time while it is above rounding:
+        // after an event it decays by e^-37 within 37 / sigma (sigma = -Re lambda); 4 events.
+        double samples = 0.0;
+        for (Eigen::Index j = 0; j < m.fast.size(); ++j) {
+            const double sigma = -m.fast.lambda(j).real();
+            const double active = sigma > 0.0 ? std::min(e.period(), 4 * 37.0 / sigma) : e.period();
+            samples = std::max(samples, 2.0 * std::abs(m.fast.lambda(j)) * active);
+        }
+        steps = std::max(steps, e.period() / m.h + samples / kSamplesPerStep);
     }
     return {steps, e.n()};
 }
@@ -139,7 +150,8 @@ std::string exact_cost_refusal(const System& system, double omega_min) {
     const double bound = exact_max_steps_per_period(size);
     if (steps > bound)
         return "at w = " + format_number(omega_min) + " one period takes " + format_number(std::round(steps)) +
-               " Taylor steps (the period 2 pi / w against the fastest mode of the structure), above the bound " +
+               " Taylor steps (the period 2 pi / w against the slow modes of the structure, plus the samples "
+               "of its fast modes / 16), above the bound " +
                format_number(std::round(bound)) + " that keeps the exact solver's time and memory bounded";
     return {};
 }

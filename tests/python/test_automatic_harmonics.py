@@ -49,32 +49,34 @@ def test_cli_python_and_benchmark_choose_the_same_h(law, tmp_path):
 
 STIFF_JENKINS = """[structure]
 mass = [1.0]
-stiffness = [1.0e8]
-damping = [100.0]
-excitation = [1.0e3]
+stiffness = [1.0e10]
+damping = [1.0]
+excitation = [1.0e5]
 
 [[contact]]
 dof = 1
 law = "jenkins"
-friction_limit = 50.0
-stiffness = 1.0e7
+friction_limit = 5000.0
+stiffness = 1.0e9
 
 [frequency]
-wmin = 9000.0
-wmax = 11000.0
+wmin = 90000.0
+wmax = 110000.0
 """
 
 
 def test_the_file_s_lowest_frequency_decides_the_automatic_polish_in_both_front_ends(tmp_path):
-    # A stiff oscillator (natural frequency 1e4): at the default w = 0.5 one period would take
-    # 1.3e5 Taylor steps, above the exact solver's bound; at the file's wmin = 9000, 7. The
+    # A stiff, lightly damped oscillator (natural frequency 1e5, damping ratio 5e-6): at the
+    # default w = 0.5 its mode is far above w and flowed in closed form, but it rings through the
+    # whole period (decay time 2 s against T = 12.6 s): 2.6e6 samples, 1.6e5 Taylor steps' worth,
+    # above the exact solver's bound; at the file's wmin = 90000 the mode is slow: 24 steps. The
     # library's frf_settings decides on the file's wmin for hbf and Python alike (Python decided
     # on 0.5 before: no polish, and a different automatic H).
     path = tmp_path / "stiff.toml"
     path.write_text(STIFF_JENKINS)
     system = hbfriction.load(str(path))
     assert hbfriction._core.exact_cost_refusal(system, 0.5)
-    assert not hbfriction._core.exact_cost_refusal(system, 9000.0)
+    assert not hbfriction._core.exact_cost_refusal(system, 90000.0)
     summary = tmp_path / "summary.json"
     run_hbf("frf", "--config", str(path), "--out", str(tmp_path / "frf.csv"), "--summary", str(summary))
     cli = json.loads(summary.read_text())
