@@ -21,43 +21,12 @@
 #include <string>
 #include <vector>
 
+#include "chain.hpp"
 #include "hbf/design.hpp"
 
 using namespace hbf;
 
 namespace {
-
-/// The chain in units where mass is `mass_unit` times and stiffness `stiffness_unit` times the
-/// reference's numbers (lengths unchanged): time scales by c = sqrt(mass_unit / stiffness_unit).
-System chain(int n, double mass_unit, double stiffness_unit) {
-    std::vector<Eigen::Triplet<double>> k, m;
-    const double spring = n * stiffness_unit, mass = mass_unit / n;
-    for (int i = 0; i < n; ++i) {
-        m.emplace_back(i, i, mass);
-        k.emplace_back(i, i, spring);
-        if (i > 0) {
-            k.emplace_back(i - 1, i - 1, spring);
-            k.emplace_back(i - 1, i, -spring);
-            k.emplace_back(i, i - 1, -spring);
-        }
-    }
-    System s;
-    s.mass.resize(n, n);
-    s.stiffness.resize(n, n);
-    s.mass.setFromTriplets(m.begin(), m.end());
-    s.stiffness.setFromTriplets(k.begin(), k.end());
-    const double time_unit = std::sqrt(mass_unit / stiffness_unit);
-    const double w1 = M_PI / 2.0 / time_unit;
-    s.damping = (2.0 * 0.01 / w1) * s.stiffness;  // zeta = beta w / 2 = 1 % at w1
-    s.excitation = Eigen::VectorXd::Zero(n);
-    s.excitation(n - 1) = stiffness_unit;  // force = stiffness x length
-    Contact contact;
-    contact.dof = n - 1;
-    contact.law = FrictionLaw::coulomb;
-    contact.friction_limit = 0.5 * stiffness_unit;
-    s.contacts.push_back(contact);
-    return s;
-}
 
 struct Run {
     double seconds = 0, peak = 0;
@@ -93,7 +62,7 @@ int main(int argc, char** argv) {
                 "exact/HB10", "exact/HB20", "units [s]", "units/exact", "peak", "peak (units)");
     const double mass_unit = 1e-6, stiffness_unit = 1e9, time_unit = std::sqrt(mass_unit / stiffness_unit);
     for (int n : sizes) {
-        const System reference = chain(n, 1.0, 1.0), other = chain(n, mass_unit, stiffness_unit);
+        const System reference = bench::chain(n, 1), other = bench::chain(n, 1, mass_unit, stiffness_unit);
         const Run polished = run(reference, 1.0, std::nullopt, std::nullopt);
         const Run same_h = run(reference, 1.0, false, 10);
         const Run hb = run(reference, 1.0, false, std::nullopt);

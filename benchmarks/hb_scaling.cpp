@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "chain.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/harmonic_balance.hpp"
 
@@ -32,37 +33,7 @@ using namespace hbf;
 
 namespace {
 
-System chain(int n, int contacts) {
-    std::vector<Eigen::Triplet<double>> k, m;
-    const double spring = n, mass = 1.0 / n;
-    for (int i = 0; i < n; ++i) {
-        m.emplace_back(i, i, mass);
-        // Spring i joins DOF i - 1 (the wall for i = 0) and DOF i.
-        k.emplace_back(i, i, spring);
-        if (i > 0) {
-            k.emplace_back(i - 1, i - 1, spring);
-            k.emplace_back(i - 1, i, -spring);
-            k.emplace_back(i, i - 1, -spring);
-        }
-    }
-    System s;
-    s.mass.resize(n, n);
-    s.stiffness.resize(n, n);
-    s.mass.setFromTriplets(m.begin(), m.end());
-    s.stiffness.setFromTriplets(k.begin(), k.end());
-    const double w1 = M_PI / 2.0;
-    s.damping = (2.0 * 0.01 / w1) * s.stiffness;  // zeta = beta w / 2 = 1 % at w1
-    s.excitation = Eigen::VectorXd::Zero(n);
-    s.excitation(n - 1) = 1.0;
-    for (int c = 0; c < contacts; ++c) {
-        Contact contact;
-        contact.dof = n - 1 - c * std::max(1, n / 10);
-        contact.law = FrictionLaw::coulomb;
-        contact.friction_limit = 0.5 - 0.1 * c;
-        s.contacts.push_back(contact);
-    }
-    return s;
-}
+using bench::chain;
 
 struct Case {
     int dofs = 0, contacts = 1, harmonics = 10;

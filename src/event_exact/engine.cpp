@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 
 #include "fast_modes.hpp"
 #include "hbf/error.hpp"
@@ -30,36 +31,36 @@ Eigen::VectorXd Step::state(double s) const {
     return z;
 }
 
-Signal Step::signal(const Eigen::RowVectorXd& row) const {
-    Signal g;
-    g.poly.noalias() = row * u;
-    if (!fast()) return g;
-    const FastModes& f = data->fast;
-    const Eigen::Index na = static_cast<Eigen::Index>(active.size());
+namespace {
+/// g with the step's fast exponentials: amplitude weight(j) d_j and rate lambda_j h for each
+/// active fast mode j (weight(j): the signal's row times the mode's right eigenvector).
+template <class Weight>
+Signal with_exponentials(const Step& st, Signal g, const Weight& weight) {
+    if (!st.fast()) return g;
+    const FastModes& f = st.data->fast;
+    const Eigen::Index na = static_cast<Eigen::Index>(st.active.size());
     g.amp.resize(na);
     g.rate.resize(na);
     for (Eigen::Index k = 0; k < na; ++k) {
-        const Eigen::Index j = active[static_cast<std::size_t>(k)];
-        g.amp(k) = row.cast<std::complex<double>>().dot(f.right.col(j)) * d(k);
-        g.rate(k) = f.lambda(j) * h;
+        const Eigen::Index j = st.active[static_cast<std::size_t>(k)];
+        g.amp(k) = weight(j) * st.d(k);
+        g.rate(k) = f.lambda(j) * st.h;
     }
     return g;
+}
+}  // namespace
+
+Signal Step::signal(const Eigen::RowVectorXd& row) const {
+    Signal g;
+    g.poly.noalias() = row * u;
+    const Eigen::RowVectorXcd complex_row = row.cast<std::complex<double>>();
+    return with_exponentials(*this, std::move(g), [&](Eigen::Index j) { return complex_row.dot(data->fast.right.col(j)); });
 }
 
 Signal Step::signal(Eigen::Index i) const {
     Signal g;
     g.poly = u.row(i);
-    if (!fast()) return g;
-    const FastModes& f = data->fast;
-    const Eigen::Index na = static_cast<Eigen::Index>(active.size());
-    g.amp.resize(na);
-    g.rate.resize(na);
-    for (Eigen::Index k = 0; k < na; ++k) {
-        const Eigen::Index j = active[static_cast<std::size_t>(k)];
-        g.amp(k) = f.right(i, j) * d(k);
-        g.rate(k) = f.lambda(j) * h;
-    }
-    return g;
+    return with_exponentials(*this, std::move(g), [&](Eigen::Index j) { return data->fast.right(i, j); });
 }
 
 Eigen::VectorXcd Step::fast_integral(std::complex<double> mu) const {
