@@ -195,7 +195,9 @@ double permanent_stick_load(const System& system, double omega, int contact = -1
 /// their maxima (turning points) and harmonics are as exact as the others'. Throws InvalidInput for an invalid
 /// system, a law other than coulomb/jenkins, omega <= 0, bad options or a state of the wrong
 /// size. Non-convergence is a status (converged = false, message) with the last iterate's
-/// metrics.
+/// metrics. The flows split off the fast modes (exact_steps_per_period); an orbit whose Newton
+/// stalls below a residual of 1e-8 with them is solved again with plain Taylor flows when
+/// those stay within exact_max_steps_per_period (its message then says so).
 ExactOrbit exact_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
                                 const ExactOptions& options = {});
 

@@ -74,7 +74,8 @@ Eigen::VectorXcd Step::fast_integral(std::complex<double> mu) const {
     return sum;
 }
 
-Engine::Engine(const System& system, double omega) : system_(system), omega_(omega), period_(2.0 * pi / omega) {
+Engine::Engine(const System& system, double omega, bool split)
+    : system_(system), omega_(omega), period_(2.0 * pi / omega), split_(split) {
     n_dofs_ = system.dofs();
     n_contacts_ = static_cast<int>(system.contacts.size());
     nz_ = 2 * n_dofs_ + n_contacts_;
@@ -342,11 +343,17 @@ ModeData Engine::build(const Modes& modes) const {
     // The fast modes split off; the step short against the slow ones (|lambda| h <= 1) and T / 24.
     double rho = omega_;
     m.a_slow = m.a;
-    if (split_fast_modes(m.a, nz_, n_dofs_, omega_, m, rho)) {
+    if (split_ && split_fast_modes(m.a, nz_, n_dofs_, omega_, m, rho)) {
         for (Guard& g : m.guards) g.fast = g.row.cast<std::complex<double>>() * m.fast.right;
     } else {
         m.fast = FastModes{};
         m.a_slow = m.a;
+        if (!split_ && nz_ > 0) {  // the step against the fastest mode
+            Eigen::EigenSolver<Eigen::MatrixXd> eigen(m.a.topLeftCorner(nz_, nz_), false);
+            rho = std::max(omega_, eigen.info() == Eigen::Success
+                                       ? eigen.eigenvalues().cwiseAbs().maxCoeff()
+                                       : m.a.topLeftCorner(nz_, nz_).cwiseAbs().rowwise().sum().maxCoeff());
+        }
     }
     m.h = std::min(period_ / 24.0, 1.0 / rho);
     m.step_exp = m.exponential(m.h);

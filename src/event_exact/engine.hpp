@@ -84,7 +84,9 @@ struct Step {
 /// The flows, events and mode data of one system at one frequency.
 class Engine {
 public:
-    Engine(const System& system, double omega);
+    /// split: flow the patterns' fast modes in closed form (fast_modes.hpp); false: every mode
+    /// in the Taylor steps, short against the fastest.
+    Engine(const System& system, double omega, bool split = true);
 
     int dofs() const { return n_dofs_; }
     int contacts() const { return n_contacts_; }
@@ -157,6 +159,7 @@ private:
 
     const System& system_;
     double omega_, period_;
+    bool split_ = true;
     int n_dofs_ = 0, n_contacts_ = 0, nz_ = 0, n_ = 0;
     Eigen::MatrixXd mass_inverse_;
     std::vector<char> rigid_;  // per contact: a rigid slider (coulomb)

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "engine.hpp"
 #include "hbf/contact.hpp"
@@ -139,8 +140,8 @@ struct SectionNorm {
 /// exact_periodic_orbit on a system with M > 0 (validated); with `probes`, their metrics from
 /// the orbit's period instead of the DOFs' maxima (fill_metrics).
 ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& initial_state,
-                    const ExactOptions& options, Probes* probes = nullptr) {
-    Engine e(system, omega);
+                    const ExactOptions& options, Probes* probes = nullptr, bool split = true) {
+    Engine e(system, omega, split);
     const double period = e.period();
     ExactOrbit out;
     out.omega = omega;
@@ -387,7 +388,7 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
 /// in the original DOFs. The massless DOFs and the outputs are functions of the reduced
 /// state, p = L zhat, whose maxima and harmonics come from the orbit's period (Probes).
 ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensation& condensation, double omega,
-                          const Eigen::VectorXd& initial_state, const ExactOptions& options) {
+                          const Eigen::VectorXd& initial_state, const ExactOptions& options, bool split) {
     const System& reduced = condensation.reduced();
     const int n = system.dofs(), nc = static_cast<int>(system.contacts.size()), nr = reduced.dofs();
     ExactOptions reduced_options = options;
@@ -410,7 +411,7 @@ ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensati
     for (std::size_t o = 0; o < options.outputs.size(); ++o)
         for (const auto& [i, c] : options.outputs[o].terms())
             probes.rows.row(n + static_cast<Eigen::Index>(o)) += c * probes.rows.row(i);
-    ExactOrbit out = orbit_of(reduced, omega, condensation.reduce_state(initial_state), reduced_options, &probes);
+    ExactOrbit out = orbit_of(reduced, omega, condensation.reduce_state(initial_state), reduced_options, &probes, split);
     if (probes.max.size() != static_cast<std::size_t>(probes.rows.rows())) {
         out.converged = false;
         out.message += "; no period of the massless DOFs was integrated";
@@ -493,8 +494,30 @@ ExactOrbit exact_periodic_orbit(const System& given, double omega, const Eigen::
     check_state_size(system, initial_state);
     options.validate();
     for (const Output& o : options.outputs) o.validate(system.dofs());
-    ExactOrbit orbit = condensation ? massless_orbit(system, *condensation, omega, initial_state, options)
-                                    : orbit_of(system, omega, initial_state, options);
+    auto solve = [&](bool split) {
+        return condensation ? massless_orbit(system, *condensation, omega, initial_state, options, split)
+                            : orbit_of(system, omega, initial_state, options, nullptr, split);
+    };
+    ExactOrbit orbit = solve(true);
+    if (!orbit.converged && orbit.residual < 1e-8) {
+        // The split flows (fast modes in closed form) can leave a residual floor near 1e-11 (seen
+        // in some units on a 10-DOF chain); the plain Taylor flows do not. They are tried, for an
+        // orbit that stalled that close (not a start that led nowhere), when their steps against
+        // the fastest mode stay within the cost bound.
+        Engine plain(condensation ? condensation->reduced() : system, omega, false);
+        double steps = 0.0;
+        for (int mode : {0, 1})
+            steps = std::max(steps, plain.period() / plain.mode(Modes(static_cast<std::size_t>(plain.contacts()), mode)).h);
+        if (steps <= exact_max_steps_per_period(plain.n())) {
+            ExactOrbit retry = solve(false);
+            if (retry.converged) {
+                retry.iterations += orbit.iterations;
+                retry.periods += orbit.periods;
+                retry.message += " (plain Taylor flows: with the fast modes split off, " + orbit.message + ")";
+                orbit = std::move(retry);
+            }
+        }
+    }
     if (!orbit.contacts.empty()) {
         orbit.contacts = contact_regimes(given, orbit.contacts);
         orbit.stick_fraction = orbit.contacts.front().stick_fraction;
