@@ -38,7 +38,6 @@ struct FastModes {
     Eigen::MatrixXcd right;  ///< n x n_f
     Eigen::MatrixXcd left;   ///< n_f x n
     Eigen::VectorXd right_size;  ///< max |right(i, j)| per column
-    Eigen::MatrixXd projector;   ///< Re(right * left)
     Eigen::Index size() const { return lambda.size(); }
 };
 

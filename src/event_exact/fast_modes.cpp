@@ -154,7 +154,6 @@ bool split_fast_modes(const Eigen::MatrixXd& a, int nz, int dofs, double omega, 
     fast.right = dhat.asDiagonal() * right;
     fast.left = left * dhat.cwiseInverse().asDiagonal();
     fast.right_size = fast.right.cwiseAbs().colwise().maxCoeff().transpose();
-    fast.projector = (fast.right * fast.left).real();
     slow_radius = below_cut;
     return true;
 }

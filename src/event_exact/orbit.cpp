@@ -505,10 +505,7 @@ ExactOrbit exact_periodic_orbit(const System& given, double omega, const Eigen::
         // orbit that stalled that close (not a start that led nowhere), when their steps against
         // the fastest mode stay within the cost bound.
         Engine plain(condensation ? condensation->reduced() : system, omega, false);
-        double steps = 0.0;
-        for (int mode : {0, 1})
-            steps = std::max(steps, plain.period() / plain.mode(Modes(static_cast<std::size_t>(plain.contacts()), mode)).h);
-        if (steps <= exact_max_steps_per_period(plain.n())) {
+        if (period_cost(plain) <= exact_max_steps_per_period(plain.n())) {
             ExactOrbit retry = solve(false);
             if (retry.converged) {
                 retry.iterations += orbit.iterations;

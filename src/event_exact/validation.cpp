@@ -110,15 +110,10 @@ bool exact_solver_supports(const System& system) { return exact_solver_refusal(s
 namespace {
 /// A Taylor step costs about as much as this many samples of the fast modes.
 constexpr double kSamplesPerStep = 16.0;
+}  // namespace
 
-/// Steps per period (exact_steps_per_period) and the size of the flows' state.
-std::pair<double, int> steps_and_size(const System& given, double omega) {
-    using namespace detail::exact;
-    given.validate();
-    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
-    const System& system = view.system();
-    const auto condensation = validate_system(system, omega);
-    Engine e(condensation ? condensation->reduced() : system, omega);
+namespace detail::exact {
+double period_cost(Engine& e) {
     double steps = 0.0;
     for (int mode : {0, 1}) {  // every contact stuck, every contact slipping
         const ModeData& m = e.mode(Modes(static_cast<std::size_t>(e.contacts()), mode));
@@ -132,7 +127,20 @@ std::pair<double, int> steps_and_size(const System& given, double omega) {
         }
         steps = std::max(steps, e.period() / m.h + samples / kSamplesPerStep);
     }
-    return {steps, e.n()};
+    return steps;
+}
+}  // namespace detail::exact
+
+namespace {
+/// Steps per period (exact_steps_per_period) and the size of the flows' state.
+std::pair<double, int> steps_and_size(const System& given, double omega) {
+    using namespace detail::exact;
+    given.validate();
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const System& system = view.system();
+    const auto condensation = validate_system(system, omega);
+    Engine e(condensation ? condensation->reduced() : system, omega);
+    return {period_cost(e), e.n()};
 }
 }  // namespace
 

@@ -14,6 +14,11 @@ namespace hbf::detail::exact {
 /// static condensation of its massless DOFs, null when M > 0 (none is needed).
 std::unique_ptr<detail::MasslessCondensation> validate_system(const System& system, double omega);
 
+class Engine;
+/// The cost of one period of e's flows in Taylor steps: T / step plus the fast modes' samples /
+/// 16, the larger of the all-stuck and all-slipping patterns (exact_steps_per_period).
+double period_cost(Engine& e);
+
 /// Throws InvalidInput unless `state` has the size of `system`'s (2 N + 2 n_c).
 void check_state_size(const System& system, const Eigen::VectorXd& state);
 
