@@ -33,6 +33,7 @@
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/modal_exact.hpp"
 #include "hbf/io.hpp"
 #include "hbf/memory.hpp"
 #include "hbf/time_integration.hpp"
@@ -608,6 +609,10 @@ PYBIND11_MODULE(_core, m) {
         py::arg("path"));
     m.def("exact_solver_refusal", [](const PySystem& s) { return exact_solver_supports(s.system) ? std::string() : exact_solver_refusal(s.system); });
     m.def("exact_cost_refusal", [](const PySystem& s, double omega) { return exact_cost_refusal(s.system, omega); });
+    m.def(
+        "exact_polish_refusal",
+        [](const PySystem& s, double omega, int modes) { return exact_polish_refusal(s.system, omega, modes); },
+        py::arg("system"), py::arg("omega") = 0.0, py::arg("modes") = 0);
     m.def("stability_refusal", [](const PySystem& s) { return stability_refusal(s.system); });
 
     // ---- options (the C++ names and defaults) -------------------------------------------------

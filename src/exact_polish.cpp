@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/modal_exact.hpp"
 #include "stopwatch.hpp"
 
 namespace hbf {
@@ -64,12 +66,109 @@ ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof)
     return e;
 }
 
+/// The structure the exact solver runs on: the system itself, or its modal form (modal_exact.hpp)
+/// for models beyond exact_solver_max_dofs. Orbits come back in the structure's terms: y_max
+/// and y_amp1 per DOF of the structure (NaN for a DOF no output reports), the outputs as asked;
+/// their `state` stays the model's (a start for the next solve).
+class ExactModel {
+public:
+    ExactModel(const System& structure, int modes, const ExactOptions& options, int dof) : structure_(structure) {
+        options_ = options;
+        if (modes > 0) {
+            modal_.emplace(structure, modes);
+            if (options_.outputs.empty()) {  // the DOF of hb_gap and the peaks, as an output of the model
+                options_.outputs = {Output::dof(dof)};
+                dof_output_ = dof;
+            }
+            for (Output& o : options_.outputs) o = modal_->output(o);
+            options_.dof_maxima = false;
+        }
+    }
+    const System& system() const { return modal_ ? modal_->system() : structure_; }
+    int modes() const { return modal_ ? modal_->modes() : 0; }
+    /// A state of the structure (exact_start_state) as a start of the model.
+    Eigen::VectorXd start(const Eigen::VectorXd& state) const { return modal_ ? modal_->reduce_state(state) : state; }
+    ExactOrbit orbit(double omega, const Eigen::VectorXd& start) const {
+        ExactOrbit o = exact_periodic_orbit(system(), omega, start, options_);
+        if (!modal_) return o;
+        const auto n = static_cast<std::size_t>(structure_.dofs());
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        o.y_max.assign(n, nan);
+        o.y_amp1.assign(n, nan);
+        o.harmonic1.resize(0);
+        for (std::size_t k = 0; k < options_.outputs.size(); ++k) {
+            const int i = dof_output_ >= 0 ? dof_output_ : original_dofs_(k);
+            if (i < 0) continue;
+            o.y_max[static_cast<std::size_t>(i)] = o.output_max[k];
+            o.y_amp1[static_cast<std::size_t>(i)] = o.output_amp1[k];
+        }
+        if (dof_output_ >= 0) {
+            o.output_max.clear();
+            o.output_amp1.clear();
+        }
+        return o;
+    }
+    void set_original_outputs(const std::vector<Output>& outputs) { original_ = outputs; }
+
+private:
+    int original_dofs_(std::size_t k) const { return k < original_.size() ? original_[k].single_dof() : -1; }
+    const System& structure_;
+    std::optional<ModalExactModel> modal_;
+    ExactOptions options_;
+    std::vector<Output> original_;
+    int dof_output_ = -1;
+};
+
+/// The modal form's modes (modal_exact.hpp) chosen by their effect: at the highest frequency of
+/// the branch (where the contact forces' harmonics reach the truncated modes first), the exact
+/// orbit with 10, 20, 40 and largest_exact_modes modes in turn, from the HB point's state,
+/// until two consecutive counts agree to modal_truncation_tolerance (relative change of the
+/// outputs' maxima and of the friction energy); the smaller of the two is used and the change is
+/// its estimated truncation. A count whose cost per period is refused at the lowest frequency
+/// ends the search. truncation is NaN where no two counts could be compared.
+struct ModalChoice {
+    int modes = 0;
+    double truncation = std::numeric_limits<double>::quiet_NaN();
+    double omega = 0;  ///< the probe frequency
+};
+ModalChoice choose_modes(HarmonicBalance& hb, const SolutionPoint& probe, double omega_min, const ExactOptions& options,
+                         int dof) {
+    const System& structure = hb.system();
+    ModalChoice choice;
+    choice.omega = probe.omega;
+    const int largest = largest_exact_modes(structure);
+    std::vector<int> counts;
+    for (int m : {10, 20, 40, largest})
+        if (m <= largest && (counts.empty() || m > counts.back())) counts.push_back(m);
+    const Eigen::VectorXd state = exact_start_state(hb, probe);
+    std::vector<double> previous;
+    for (int m : counts) {
+        const ExactModel model(structure, m, options, dof);
+        if (choice.modes > 0 && !exact_cost_refusal(model.system(), omega_min).empty()) break;
+        const ExactOrbit o = model.orbit(probe.omega, model.start(state));
+        if (!o.converged) break;
+        std::vector<double> values = o.output_max.empty() ? std::vector<double>{o.y_max[static_cast<std::size_t>(dof)]}
+                                                          : o.output_max;
+        values.push_back(o.energy);
+        if (!previous.empty()) {
+            double change = 0.0;
+            for (std::size_t k = 0; k < values.size(); ++k)
+                change = std::max(change, std::abs(values[k] - previous[k]) / std::max(std::abs(previous[k]), 1e-300));
+            choice.truncation = change;
+            if (change <= modal_truncation_tolerance) return choice;
+        }
+        choice.modes = m;
+        previous = values;
+    }
+    if (choice.modes == 0) choice.modes = exact_solver_modes(structure);
+    return choice;
+}
+
 /// An exact solve from one or two starts (the second tried when the first fails).
-ExactOrbit solve(const System& system, double omega, const Eigen::VectorXd& first, const Eigen::VectorXd* second,
-                 const ExactOptions& options) {
-    ExactOrbit orbit = exact_periodic_orbit(system, omega, first, options);
+ExactOrbit solve(const ExactModel& model, double omega, const Eigen::VectorXd& first, const Eigen::VectorXd* second) {
+    ExactOrbit orbit = model.orbit(omega, first);
     if (!orbit.converged && second) {
-        ExactOrbit other = exact_periodic_orbit(system, omega, *second, options);
+        ExactOrbit other = model.orbit(omega, *second);
         if (other.converged) return other;
     }
     return orbit;
@@ -101,7 +200,12 @@ std::string to_string(PolishStatus status) {
 
 std::string PolishedBranch::summary() const {
     std::ostringstream s;
-    s << "exact polish: " << polished << " points exact, " << failed << " failed (HB values kept), " << unstable
+    s << "exact polish";
+    if (modes > 0)
+        s << " (on the modal form: " << modes << " modes + residual Ritz vectors, truncation "
+          << (std::isfinite(modal_truncation) ? format_number(modal_truncation) : std::string("not estimated"))
+          << " at w = " << format_number(truncation_omega) << ")";
+    s << ": " << polished << " points exact, " << failed << " failed (HB values kept), " << unstable
       << " unstable, " << transitions << " transitions" << per_contact_counts(contact_transitions)
       << ", largest HB gap " << format_number(max_hb_gap) << ", "
       << format_number(seconds) << " s";
@@ -157,14 +261,43 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                              const std::vector<PointMetrics>& hb_metrics, const PolishOptions& options,
                              const CorrectorOptions& corrector_options) {
     detail::Stopwatch watch;
-    const System& system = hb.system();
+    const System& structure = hb.system();
+    options.exact.validate();
+    if (options.dof < 0 || options.dof >= structure.dofs())
+        throw InvalidInput("polish dof = " + std::to_string(options.dof) + " is out of range: allowed 0.." +
+                           std::to_string(structure.dofs() - 1));
+    const int dof = options.dof;
+    int modes = exact_solver_modes(structure);
+    ModalChoice modal;
+    if (modes > 0) {  // the probe: the highest bounded branch point
+        const SolutionPoint* probe = nullptr;
+        double omega_min = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < points.size(); ++k) {
+            if (points[k].kind == PointKind::transition || points[k].kind == PointKind::sample) continue;
+            bool bounded = true;
+            for (double a : hb_metrics[k].y_amp1) bounded = bounded && std::isfinite(a);
+            omega_min = std::min(omega_min, points[k].omega);
+            if (bounded && (!probe || points[k].omega > probe->omega)) probe = &points[k];
+        }
+        if (probe) {
+            try {
+                modal = choose_modes(hb, *probe, omega_min, options.exact, dof);
+                modes = modal.modes;
+            } catch (const InvalidInput&) {  // the model's own refusal, given below
+            }
+        }
+    }
+    std::optional<ExactModel> made;
+    try {
+        made.emplace(structure, modes, options.exact, dof);
+    } catch (const InvalidInput& e) {
+        throw InvalidInput(std::string("exact polish: ") + e.what() + " (use --exact off)");
+    }
+    ExactModel& model = *made;
+    model.set_original_outputs(options.exact.outputs);
+    const System& system = model.system();  // the structure, or its modal form
     if (!exact_solver_supports(system))
         throw InvalidInput("exact polish: " + exact_solver_refusal(system) + " (use --exact off)");
-    options.exact.validate();
-    if (options.dof < 0 || options.dof >= system.dofs())
-        throw InvalidInput("polish dof = " + std::to_string(options.dof) + " is out of range: allowed 0.." +
-                           std::to_string(system.dofs() - 1));
-    const int dof = options.dof;
 
     // 1. Every branch point and sample at its own frequency, from its HB state, else from the
     //    previous exact point of its branch (where HB is too far off, e.g. near a transition
@@ -199,8 +332,8 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                                            branch.back().point.branch == p.branch && branch.back().orbit.converged
                                        ? &branch.back()
                                        : nullptr;
-        q.orbit = solve(system, p.omega, exact_start_state(hb, p), previous ? &previous->orbit.state : nullptr,
-                        options.exact);
+        q.orbit = solve(model, p.omega, model.start(exact_start_state(hb, p)),
+                        previous ? &previous->orbit.state : nullptr);
         if (p.kind == PointKind::sample) {
             samples.push_back(std::move(q));
         } else {
@@ -212,19 +345,19 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         Polished &q = branch[k - 1], &next = branch[k];
         if (q.orbit.converged || !next.orbit.converged || q.point.branch != next.point.branch || unbounded(q.metrics))
             continue;
-        ExactOrbit retry = exact_periodic_orbit(system, q.point.omega, next.orbit.state, options.exact);
+        ExactOrbit retry = model.orbit(q.point.omega, next.orbit.state);
         if (retry.converged) q.orbit = std::move(retry);
     }
     for (std::size_t k = 0; k < branch.size(); ++k) {
         Polished& q = branch[k];
         if (keep_hb(q)) continue;
         q.exact = exact_point(q.orbit, branch_hb[k], dof);
-        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, branch_hb[k], system);
+        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, branch_hb[k], structure);
     }
     for (Polished& q : samples) {
         if (keep_hb(q)) continue;
         q.exact = exact_point(q.orbit, q.metrics, dof);
-        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, q.metrics, system);
+        if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, q.metrics, structure);
     }
 
     // 2. Exact transitions between consecutive exact points of a branch: for every contact
@@ -266,7 +399,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                         (permanent_stick_load(system, mid) <= 1.0 ? w_stick : w_slip) = mid;
                     }
                     if (permanent_stick_load(system, w_stick, c) >= (1.0 - 1e-9) * permanent_stick_load(system, w_stick)) {
-                        lo = exact_periodic_orbit(system, w_stick, stick_end.state, options.exact);
+                        lo = model.orbit(w_stick, stick_end.state);
                         hi = lo;
                         ok = lo.converged && all_stuck(lo);
                         closed_form = true;
@@ -275,7 +408,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             }
             while (ok && std::abs(hi.omega - lo.omega) > 1e-10 * std::abs(hi.omega)) {
                 const double mid = 0.5 * (lo.omega + hi.omega);
-                ExactOrbit o = solve(system, mid, lo.state, &hi.state, options.exact);
+                ExactOrbit o = solve(model, mid, lo.state, &hi.state);
                 if (!o.converged) {
                     ok = false;
                     break;
@@ -312,6 +445,9 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     }
 
     PolishedBranch out;
+    out.modes = model.modes();
+    out.modal_truncation = modal.truncation;
+    out.truncation_omega = modal.omega;
     out.transitions = transitions;
     out.contact_transitions.assign(static_cast<std::size_t>(contacts), 0);
     for (const Polished& q : with_transitions)
@@ -353,10 +489,10 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                 weight = 0.0;
                 for (const auto& term : options.exact.outputs[o].terms()) weight += std::abs(term.second);
             }
-            if (!is_peak_value(y(k), largest, weight * response_floor(system, m.point.omega))) continue;
+            if (!is_peak_value(y(k), largest, weight * response_floor(structure, m.point.omega))) continue;
             Peak peak{m.point.omega, y(k), m.point.branch, false, static_cast<int>(o), {}};
             refine_peak(peak, a.point, m.point, b.point, [&](double omega, bool& good) {
-                const ExactOrbit e = solve(system, omega, m.orbit.state, nullptr, options.exact);
+                const ExactOrbit e = solve(model, omega, m.orbit.state, nullptr);
                 if (!e.converged) good = false;
                 return e.converged ? value_of(e.y_max, e.output_max) : 0.0;
             });

@@ -16,6 +16,7 @@
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/modal_exact.hpp"
 
 namespace hbf {
 
@@ -133,8 +134,9 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
     if (choices.exact)
         s.exact = *choices.exact;
     else
-        s.exact = co.omega_start > 0.0 && std::isfinite(co.omega_start) ? exact_cost_refusal(system, co.omega_start).empty()
-                                                                          : exact_solver_supports(system);
+        s.exact = exact_polish_refusal(system, co.omega_start > 0.0 && std::isfinite(co.omega_start) ? co.omega_start : 0.0,
+                                       0)
+                      .empty();
     HarmonicBalanceOptions& hbo = s.harmonic_balance;
     hbo.harmonics = choices.harmonics ? *choices.harmonics : automatic_harmonics(system, s.exact);
     if (choices.time_samples) hbo.time_samples = *choices.time_samples;
@@ -167,6 +169,22 @@ Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
     if (frf.polish && frf.polish->failed > 0)
         v.errors.push_back(frf.polish->summary() +
                            "; the failed rows keep their harmonic-balance values (column exact = failed)");
+    // A polish on the modal form of a large model (modal_exact.hpp) is exact for that form: its
+    // estimated truncation is said, and flagged where it is large or could not be estimated.
+    if (frf.polish && frf.polish->modes > 0) {
+        const PolishedBranch& p = *frf.polish;
+        const std::string what = "the exact polish ran on the modal form (" + std::to_string(p.modes) +
+                                 " modes + residual Ritz vectors; modal_exact.hpp): estimated truncation ";
+        if (!std::isfinite(p.modal_truncation))
+            v.warnings.push_back(what + "not available (no two mode counts converged at w = " +
+                                 format_number(p.truncation_omega) + "): the exact values carry an unknown truncation");
+        else if (p.modal_truncation > 1e-6)
+            v.warnings.push_back(what + format_number(p.modal_truncation) + " at w = " +
+                                 format_number(p.truncation_omega) + ", above 1e-6 (the largest mode count the exact "
+                                 "solver takes)");
+        else
+            v.notes.push_back(what + format_number(p.modal_truncation) + " at w = " + format_number(p.truncation_omega));
+    }
     // The energy balance of every harmonic-balance point (column energy_error).
     std::size_t unbalanced = 0, worst = 0;
     const double limit = energy_balance_limit(settings.continuation.corrector.tolerance);
@@ -357,7 +375,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     MessageCollector collector;  // what Ceres and CVODE report during this FRF, on this thread
     if (settings.exact) {  // before the work: the polish must be possible at the branch's lowest w
         const double lowest = std::min(settings.continuation.omega_start, settings.continuation.omega_end);
-        const std::string refusal = lowest > 0.0 ? exact_cost_refusal(hb.system(), lowest) : std::string();
+        const std::string refusal = lowest > 0.0 ? exact_polish_refusal(hb.system(), lowest) : std::string();
         if (!refusal.empty()) throw InvalidInput("exact polish: " + refusal + " (use exact off)");
     }
     const std::vector<Output> outputs = settings.outputs.empty() ? std::vector<Output>{Output::dof(0)} : settings.outputs;

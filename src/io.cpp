@@ -419,6 +419,9 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                       {"unstable", polish->unstable},
                       {"transitions", polish->transitions},
                       {"max_hb_gap", polish->max_hb_gap},
+                      {"modes", polish->modes},
+                      {"modal_truncation",
+                       std::isfinite(polish->modal_truncation) ? json(polish->modal_truncation) : json()},
                       {"seconds", polish->seconds}};
     } else {
         j["exact"] = {{"enabled", false}};

@@ -10,6 +10,7 @@
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/modal_exact.hpp"
 #include "hbf/friction.hpp"
 #include "stability/monodromy.hpp"
 #include "stability/variational.hpp"
@@ -90,7 +91,7 @@ std::string stability_refusal(const System& system) {
         all_exact = all_exact && !smooth(c.law);
     }
     if (all_exact) {
-        const std::string why = exact_solver_refusal(system);
+        const std::string why = exact_polish_refusal(system);
         return why.empty() ? "" : "coulomb/jenkins stability comes from the event-exact solver, which refuses: " + why;
     }
     if (!all_smooth)

@@ -61,6 +61,14 @@ struct PolishedBranch {
     std::vector<Peak> peaks;            ///< exact peaks of `dof` or of the outputs (refined = the
                                         ///< search in omega converged)
     int polished = 0, failed = 0, unstable = 0, transitions = 0;
+    /// Modes of the modal form the exact solver ran on (modal_exact.hpp: models beyond
+    /// exact_solver_max_dofs), 0 where it ran on the structure itself.
+    int modes = 0;
+    /// With a modal form: its estimated truncation, the relative change of the outputs' maxima
+    /// and the friction energy at truncation_omega (the branch's highest frequency) from `modes`
+    /// to the next count tried (exact_polish.cpp: choose_modes); NaN where not estimated.
+    double modal_truncation = 0;
+    double truncation_omega = 0;
     std::vector<int> contact_transitions;  ///< transitions per contact
     double max_hb_gap = 0;              ///< largest hb_gap over the polished points
     double seconds = 0;
@@ -74,8 +82,10 @@ struct PolishedBranch {
 Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& point);
 
 /// Polishes `points` (a branch in order, then samples of kind sample) as described above.
-/// `hb_metrics[k]` are the HB metrics of points[k]. Throws InvalidInput when a contact's law is
-/// not covered by the exact solver (exact_solver_supports).
+/// `hb_metrics[k]` are the HB metrics of points[k]. A model beyond exact_solver_max_dofs DOFs with
+/// mass is polished on its modal form (modal_exact.hpp) with exact_solver_modes(system)
+/// modes. Throws InvalidInput when a contact's law is not covered by the exact
+/// solver or the modal form cannot be built (exact_polish_refusal says why).
 PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoint>& points,
                              const std::vector<PointMetrics>& hb_metrics, const PolishOptions& options,
                              const CorrectorOptions& corrector);

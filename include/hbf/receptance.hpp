@@ -91,6 +91,19 @@ public:
     int modes() const { return static_cast<int>(modal_.lambda.size()); }
     /// Natural frequencies sqrt(lambda_j) of the modes in use, ascending.
     Eigen::VectorXd natural_frequencies() const { return modal_.lambda.cwiseSqrt(); }
+    /// The modal basis in use (after use_modes): what a time-domain modal model of the
+    /// structure is built from (event_exact.hpp's ModalExactModel).
+    struct ModalBasis {
+        Eigen::VectorXd lambda, damping;  ///< lambda_j ascending, c_j = phi_j^T C phi_j
+        Eigen::MatrixXd phi;              ///< N x m, M-normalised
+        Eigen::MatrixXd residual_w;       ///< R W (N x n_c), R = K^-1 - Phi Lambda^-1 Phi^T
+        Eigen::VectorXd residual_load;    ///< R F
+        double residual_damping = 0;      ///< b of Rayleigh damping, else 0 (use_modes)
+    };
+    ModalBasis modal_basis() const {
+        return {modal_.lambda, modal_.damping, modal_.phi, modal_.residual_w, modal_.residual_load,
+                modal_.residual_damping};
+    }
 
 private:
     using SparseComplex = Eigen::SparseMatrix<std::complex<double>>;

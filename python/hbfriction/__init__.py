@@ -297,7 +297,7 @@ def _settings(system, settings, outputs, stability, values):
     exact = None
     if "exact" in values:
         exact = bool(values.pop("exact"))
-        refusal = _core.exact_solver_refusal(system)
+        refusal = _core.exact_polish_refusal(system)
         if exact and refusal:
             raise ValueError("exact = True: %s (use exact=False)" % refusal)
     if settings is None:

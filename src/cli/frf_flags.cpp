@@ -5,6 +5,7 @@
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/modal_exact.hpp"
 
 namespace hbf::cli {
 
@@ -141,7 +142,7 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
         // The lowest frequency (the settings' own: flag, file or default) sets the polish's
         // cost per period (exact_cost_refusal).
         const double lowest = s.continuation.omega_start;
-        const std::string refusal = lowest > 0.0 ? exact_cost_refusal(system, lowest) : exact_solver_refusal(system);
+        const std::string refusal = exact_polish_refusal(system, lowest > 0.0 ? lowest : 0.0);
         if (!refusal.empty()) throw UsageError("--exact on: " + refusal + " (use --exact off)");
     }
     s.peaks_of_every_output = false;  // hbf frf's peaks: those of the first output (its --summary)

@@ -43,7 +43,7 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     const int nd = e.dofs(), nc = e.contacts();
     const double period = e.period();
     const auto& rule = gauss_legendre();
-    out.y_max.assign(static_cast<std::size_t>(nd), 0.0);
+    out.y_max.assign(static_cast<std::size_t>(nd), options.dof_maxima ? 0.0 : std::numeric_limits<double>::quiet_NaN());
     const std::vector<Output>& outputs = options.outputs;
     out.output_max.assign(outputs.size(), 0.0);
     // First harmonics of the whole zhat (cos and sin are states of zhat, so probes on them too).
@@ -114,7 +114,7 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
                 return true;
             });
         };
-        if (!probes)  // the probes include the DOFs
+        if (!probes && options.dof_maxima)  // the probes include the DOFs
             for (int i = 0; i < nd; ++i) turning_points(st.signal(i), out.y_max[static_cast<std::size_t>(i)]);
         for (std::size_t o = 0; o < outputs.size(); ++o) {
             Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(e.n());

@@ -371,7 +371,10 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
     // conventional one holds: the convention instead.
     double scale = 0.0;
     for (int c = 0; c < e.contacts(); ++c) scale += e.contact(c).friction_limit;
-    scale *= 1.0 + *std::max_element(out.y_max.begin(), out.y_max.end());
+    double largest = 0.0;  // NaN where the DOF maxima are not computed
+    for (double y : out.y_max)
+        if (std::isfinite(y)) largest = std::max(largest, y);
+    scale *= 1.0 + largest;
     if (out.converged && stuck_holds && out.energy <= 1e-9 * scale) {
         ExactOrbit orbit;
         orbit.omega = omega;
