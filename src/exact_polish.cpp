@@ -122,8 +122,9 @@ private:
 /// The modal form's modes (modal_exact.hpp) chosen by their effect: at the highest frequency of
 /// the branch (where the contact forces' harmonics reach the truncated modes first), the exact
 /// orbit with 10, 20, 40 and largest_exact_modes modes in turn, from the HB point's state,
-/// until two consecutive counts agree to modal_truncation_tolerance (relative change of the
-/// outputs' maxima and of the friction energy); the smaller of the two is used and the change is
+/// until two consecutive counts agree to modal_truncation_tolerance (the change of the outputs'
+/// maxima relative to the largest, of the friction energy relative to the excitation's work);
+/// the smaller of the two is used and the change is
 /// its estimated truncation. A count whose cost per period is refused at the lowest frequency
 /// ends the search. truncation is NaN where no two counts could be compared.
 struct ModalChoice {
@@ -147,13 +148,21 @@ ModalChoice choose_modes(HarmonicBalance& hb, const SolutionPoint& probe, double
         if (choice.modes > 0 && !exact_cost_refusal(model.system(), omega_min).empty()) break;
         const ExactOrbit o = model.orbit(probe.omega, model.start(state));
         if (!o.converged) break;
+        // the outputs' maxima, then the friction energy and the excitation's work
         std::vector<double> values = o.output_max.empty() ? std::vector<double>{o.y_max[static_cast<std::size_t>(dof)]}
                                                           : o.output_max;
         values.push_back(o.energy);
+        values.push_back(o.input_energy);
         if (!previous.empty()) {
-            double change = 0.0;
-            for (std::size_t k = 0; k < values.size(); ++k)
-                change = std::max(change, std::abs(values[k] - previous[k]) / std::max(std::abs(previous[k]), 1e-300));
+            // relative to the largest output (an output held at rest by a stuck contact is
+            // rounding) and to the excitation's work (no friction energy in permanent stick)
+            const std::size_t outputs = values.size() - 2;
+            double largest = 0.0, change = 0.0;
+            for (std::size_t k = 0; k < outputs; ++k) largest = std::max(largest, previous[k]);
+            for (std::size_t k = 0; k < outputs; ++k)
+                change = std::max(change, std::abs(values[k] - previous[k]) / std::max(largest, 1e-300));
+            change = std::max(change, std::abs(values[outputs] - previous[outputs]) /
+                                          std::max(std::abs(previous[outputs + 1]), 1e-300));
             choice.truncation = change;
             if (change <= modal_truncation_tolerance) return choice;
         }

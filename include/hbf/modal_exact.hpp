@@ -94,7 +94,8 @@ int largest_exact_modes(const System& system);
 
 /// The polish chooses the modes by their effect (exact_polish.hpp): the smallest count of
 /// 10, 20, 40, largest_exact_modes whose exact orbit at the branch's highest frequency changes
-/// by at most this (relative, the outputs' maxima) with the next count.
+/// by at most this with the next count (the outputs' maxima relative to the largest, the
+/// friction energy relative to the excitation's work).
 constexpr double modal_truncation_tolerance = 1e-9;
 
 /// Why the exact polish of `system` cannot run (one sentence), empty when it can: on the
