@@ -152,7 +152,14 @@ FloquetResult StabilityAnalyser::operator()(const SolutionPoint& point) {
         return r;
     }
     if (!smooth_) {
-        // Coulomb / Jenkins: the event-exact orbit from the HB state at t = 0.
+        // Coulomb / Jenkins: the event-exact orbit from the HB state at t = 0. A model beyond the
+        // exact solver's size has its verdicts from the polish on its modal form
+        // (analyse_branch_stability's `polish`); without it, none.
+        if (!exact_solver_supports(hb_.system())) {
+            r.message = "the stability of coulomb/jenkins contacts on this model comes from the exact polish on its "
+                        "modal form (modal_exact.hpp), which did not run here (exact off)";
+            return r;
+        }
         const ExactOrbit orbit = exact_periodic_orbit(hb_.system(), point.omega, start_state(point));
         r.route = "exact";
         r.multipliers = orbit.multipliers;

@@ -11,6 +11,7 @@
 #include "hbf/exact_polish.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/modal_exact.hpp"
+#include "hbf/stability.hpp"
 
 using namespace hbf;
 
@@ -162,4 +163,31 @@ TEST_CASE("Modal exact form: refusals name the reason") {
     dahl.contacts.front().stiffness = 10.0;
     CHECK(exact_solver_modes(dahl) == 0);
     CHECK_THAT(exact_polish_refusal(dahl), Catch::Contains("dahl"));
+}
+
+TEST_CASE("Modal exact form: stability verdicts of a large model come from its polish, and say so without it") {
+    // The 100-DOF chain: with the polish every point has the exact multipliers of the modal
+    // form; with exact off the verdict is not computed (the structure is beyond the exact
+    // solver) and the message says where it would come from.
+    const System s = rayleigh_chain(100, 1, 49);
+    FrfChoices choices;
+    choices.omega_start = 1.5;
+    choices.omega_end = 1.6;
+    for (bool exact : {true, false}) {
+        choices.exact = exact;
+        FrfSettings settings = frf_settings(s, {Output::dof(99)}, choices);
+        settings.stability = true;
+        HarmonicBalance hb(s, settings.harmonic_balance);
+        const FrfResult frf = compute_frf(hb, settings);
+        REQUIRE(frf.stability);
+        const BranchStability& b = *frf.stability;
+        INFO("exact " << exact << ": " << b.summary());
+        if (exact) {
+            CHECK(b.stable == static_cast<int>(frf.points.size()));  // a passive structure
+            CHECK(b.not_computed == 0);
+        } else {
+            CHECK(b.not_computed == static_cast<int>(frf.points.size()));
+            CHECK_THAT(b.points.front().message, Catch::Contains("modal form"));
+        }
+    }
 }

@@ -92,7 +92,9 @@ struct FloquetResult {
 
 /// Why the stability of this system cannot be analysed (one sentence), empty when it can:
 /// every contact smooth (dahl, lugre, coulomb-reg) with M positive definite, or every contact
-/// exact coulomb/jenkins with exact_solver_supports.
+/// exact coulomb/jenkins where the exact polish can run (exact_polish_refusal: on the structure,
+/// or on its modal form beyond exact_solver_max_dofs, whose verdicts then come from the polish
+/// only: a point it did not polish has none).
 std::string stability_refusal(const System& system);
 
 /// Analyses points of one HarmonicBalance (its system and harmonics).
