@@ -118,3 +118,17 @@ def test_write_csv_follows_the_output_policy(tmp_path):
     with pytest.raises(ValueError):
         b.write_csv(str(tmp_path / "missing" / "x.csv"))
     assert not (tmp_path / "missing").exists()
+
+
+def test_a_finite_element_model_is_polished_on_its_modal_form(tmp_path):
+    # The 200-DOF beam (beyond the exact solver's 64 DOFs): exact=True is accepted and polishes
+    # on the modal form, as hbf frf does by default; the same table and summary (modes, the
+    # truncation estimate) as the CLI.
+    path = os.path.join(SOURCE, "examples", "systems", "beam", "beam200.toml")
+    text, summary = cli_frf(tmp_path, "--config", path, "--wmin", "74", "--wmax", "76")
+    assert summary["exact"]["modes"] == 20
+    assert summary["exact"]["modal_truncation"] < 1e-9
+    b = hbfriction.frf(hbfriction.load(path), wmin=74.0, wmax=76.0, exact=True)
+    assert set(b.exact) == {"yes"}
+    assert_table_equals_csv(b, text)
+    assert_same_summary(b.metadata, summary)
