@@ -125,8 +125,8 @@ TEST_CASE("Modal exact form: the polish of a model beyond the exact solver's siz
     CHECK(largest_exact_modes(s) == 62);
     CHECK(exact_polish_refusal(s, 1.0).empty());
     FrfChoices choices;
-    choices.omega_start = 1.3;
-    choices.omega_end = 1.8;
+    choices.omega_start = 1.5;
+    choices.omega_end = 1.65;
     const FrfSettings settings = frf_settings(s, {Output::dof(99)}, choices);
     REQUIRE(settings.exact);
     HarmonicBalance hb(s, settings.harmonic_balance);
@@ -135,7 +135,7 @@ TEST_CASE("Modal exact form: the polish of a model beyond the exact solver's siz
     const PolishedBranch& p = *frf.polish;
     INFO(p.summary());
     CHECK(p.modes >= 10);
-    CHECK(p.truncation_omega == Approx(1.8));
+    CHECK(p.truncation_omega == Approx(1.65));
     REQUIRE(std::isfinite(p.modal_truncation));
     CHECK(p.failed == 0);
     CHECK(p.polished > 10);
