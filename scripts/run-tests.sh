@@ -26,7 +26,7 @@ if [[ ${LONG:-0} == 1 ]]; then
   exclude=()
 fi
 if [[ ${SANITIZE:-0} == 1 ]]; then
-  # The 200-DOF beam against BDF time integration (3 min in Release) is left out under the
+  # The 200-DOF beam against BDF time integration (2 min in Release) is left out under the
   # sanitizers, where it runs for hours; its code paths (the sparse Newton-GMRES integrator,
   # the condensed HB, the modal exact form) are exercised by smaller tests that do run
   # (test_time_integration: 24 DOFs; test_condensed: the reduced beam; test_modal_exact).
