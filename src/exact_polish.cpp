@@ -72,7 +72,8 @@ ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof)
 /// their `state` stays the model's (a start for the next solve).
 class ExactModel {
 public:
-    ExactModel(const System& structure, int modes, const ExactOptions& options, int dof) : structure_(structure) {
+    ExactModel(const System& structure, int modes, const ExactOptions& options, int dof)
+        : structure_(structure), original_(options.outputs) {
         options_ = options;
         if (modes > 0) {
             modal_.emplace(structure, modes);
@@ -108,14 +109,13 @@ public:
         }
         return o;
     }
-    void set_original_outputs(const std::vector<Output>& outputs) { original_ = outputs; }
 
 private:
     int original_dofs_(std::size_t k) const { return k < original_.size() ? original_[k].single_dof() : -1; }
     const System& structure_;
+    std::vector<Output> original_;  // the outputs as asked (of the structure)
     std::optional<ModalExactModel> modal_;
     ExactOptions options_;
-    std::vector<Output> original_;
     int dof_output_ = -1;
 };
 
@@ -276,6 +276,11 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         throw InvalidInput("polish dof = " + std::to_string(options.dof) + " is out of range: allowed 0.." +
                            std::to_string(structure.dofs() - 1));
     const int dof = options.dof;
+    const auto unbounded = [](const PointMetrics& m) {
+        for (double a : m.y_amp1)
+            if (!std::isfinite(a)) return true;
+        return false;
+    };
     int modes = exact_solver_modes(structure);
     ModalChoice modal;
     if (modes > 0) {  // the probe: the highest bounded branch point
@@ -283,10 +288,8 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         double omega_min = std::numeric_limits<double>::infinity();
         for (std::size_t k = 0; k < points.size(); ++k) {
             if (points[k].kind == PointKind::transition || points[k].kind == PointKind::sample) continue;
-            bool bounded = true;
-            for (double a : hb_metrics[k].y_amp1) bounded = bounded && std::isfinite(a);
             omega_min = std::min(omega_min, points[k].omega);
-            if (bounded && (!probe || points[k].omega > probe->omega)) probe = &points[k];
+            if (!unbounded(hb_metrics[k]) && (!probe || points[k].omega > probe->omega)) probe = &points[k];
         }
         if (probe) {
             try {
@@ -303,7 +306,6 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         throw InvalidInput(std::string("exact polish: ") + e.what() + " (use --exact off)");
     }
     ExactModel& model = *made;
-    model.set_original_outputs(options.exact.outputs);
     const System& system = model.system();  // the structure, or its modal form
     if (!exact_solver_supports(system))
         throw InvalidInput("exact polish: " + exact_solver_refusal(system) + " (use --exact off)");
@@ -316,11 +318,6 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     // A point whose HB response is infinite (a branch capped exactly on an undamped resonance the
     // contacts do not see: Receptance's limit) has no periodic orbit to polish: it stays HB
     // (status off), the branch's amplitude_cap says why.
-    const auto unbounded = [](const PointMetrics& m) {
-        for (double a : m.y_amp1)
-            if (!std::isfinite(a)) return true;
-        return false;
-    };
     const auto keep_hb = [&](Polished& q) {
         if (!unbounded(q.metrics)) return false;
         q.exact.status = PolishStatus::off;

@@ -81,11 +81,8 @@ ModalExactModel::ModalExactModel(const System& system, int modes) {
     // stiffness d^T K d = F^T R F - (W^T R F)^T R_c^-1 W^T R F is above rounding.
     const double load_flexibility = system.excitation.dot(basis.residual_load);
     const double load_stiffness = load_flexibility - contact_load.dot(k_rr * contact_load);
-    const double load_total =
-        basis.residual_load.size() > 0
-            ? (phi_.transpose() * system.excitation).dot(lambda_.cwiseInverse().cwiseProduct(phi_.transpose() * system.excitation)) +
-                  load_flexibility
-            : 0.0;
+    const Eigen::VectorXd modal_load = phi_.transpose() * system.excitation;
+    const double load_total = modal_load.dot(lambda_.cwiseInverse().cwiseProduct(modal_load)) + load_flexibility;
     const bool load_mode = load_stiffness > 1e-12 * load_total;
     const int extra = nr + (load_mode ? 1 : 0);
     Eigen::MatrixXd basis_r(dofs_, extra);
@@ -126,7 +123,7 @@ ModalExactModel::ModalExactModel(const System& system, int modes) {
     damping.bottomRightCorner(extra, extra) = 0.5 * (damping_r + damping_r.transpose());
     stiffness.topLeftCorner(m, m) = lambda_.asDiagonal();
     stiffness.bottomRightCorner(extra, extra) = stiffness_r;
-    load.head(m) = phi_.transpose() * system.excitation;
+    load.head(m) = modal_load;
     load.tail(extra) = load_r;
     modal_.mass = sparse(mass);
     modal_.damping = sparse(damping);
