@@ -48,6 +48,13 @@ std::shared_ptr<const Spectrum> spectrum_of(const Eigen::MatrixXd& az, int dofs)
     const double stiffness = az.block(dofs, 0, dofs, dofs).cwiseAbs().maxCoeff();
     if (stiffness > 0.0) physical.segment(dofs, dofs).setConstant(std::sqrt(stiffness));
     Eigen::MatrixXd balanced = physical.cwiseInverse().asDiagonal() * az * physical.asDiagonal();
+    // Entries at the rounding level of the scaled block are residues of cancellations (a stuck
+    // contact's row after the constraint's projection: exactly zero in some units, 1e-16 of the
+    // block in others). Balancing reads them as couplings and scales their coordinates by up to
+    // 1e-7, which left the split's bases ill-conditioned and its period maps noisy at 1e-10
+    // (Newton then stalled, in some units only). They are zero here.
+    const double largest = balanced.cwiseAbs().maxCoeff();
+    balanced = (balanced.array().abs() <= 1e-13 * largest).select(0.0, balanced);
     s->d = physical.cwiseProduct(balance(balanced));
     s->size = balanced.cwiseAbs().maxCoeff();
     Eigen::EigenSolver<Eigen::MatrixXd> right_solver(balanced, true);
