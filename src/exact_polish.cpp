@@ -87,6 +87,11 @@ public:
     }
     const System& system() const { return modal_ ? modal_->system() : structure_; }
     int modes() const { return modal_ ? modal_->modes() : 0; }
+    /// Entries of a model state before its stick/slip hints: y, y' and the sliders.
+    Eigen::Index state_dofs() const {
+        const System& s = system();
+        return 2 * s.dofs() + time_domain_elements(s);
+    }
     /// A state of the structure (exact_start_state) as a start of the model.
     Eigen::VectorXd start(const Eigen::VectorXd& state) const { return modal_ ? modal_->reduce_state(state) : state; }
     ExactOrbit orbit(double omega, const Eigen::VectorXd& start) const {
@@ -315,6 +320,8 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     //    it misplaces), else (second pass) from the next one.
     std::vector<Polished> branch, samples;
     std::vector<PointMetrics> branch_hb;
+    Eigen::VectorXd previous_start;  // the model's start from HB at the last branch point
+    Eigen::VectorXd before_previous, before_previous_exact;  // HB's and the exact state one point earlier
     // A point whose HB response is infinite (a branch capped exactly on an undamped resonance the
     // contacts do not see: Receptance's limit) has no periodic orbit to polish: it stays HB
     // (status off), the branch's amplitude_cap says why.
@@ -338,8 +345,35 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                                            branch.back().point.branch == p.branch && branch.back().orbit.converged
                                        ? &branch.back()
                                        : nullptr;
-        q.orbit = solve(model, p.omega, model.start(exact_start_state(hb, p)),
-                        previous ? &previous->orbit.state : nullptr);
+        const Eigen::VectorXd hb_start = model.start(exact_start_state(hb, p));
+        const Eigen::Index hints = hb_start.size() - model.state_dofs();
+        if (previous && previous_start.size() == hb_start.size() && previous->orbit.state.size() == hb_start.size()) {
+            // A start on the exact branch: the secant through the last two exact states, scaled
+            // by the ratio of HB's displacement steps (so that it follows the branch through
+            // folds as HB's points do); with one exact state, that state moved as HB's moved.
+            // Either is closer than HB's own state (whose velocities carry its Gibbs error):
+            // fewer Newton iterations. The stick/slip hints (the last entries) are HB's here.
+            Eigen::VectorXd predicted;
+            const Eigen::Index nd = model.system().dofs();
+            const double step = (hb_start - previous_start).head(nd).norm();
+            const double last_step = before_previous.size() == hb_start.size() && before_previous_exact.size() == hb_start.size()
+                                         ? (previous_start - before_previous).head(nd).norm()
+                                         : 0.0;
+            if (last_step > 0.0 && step <= 4.0 * last_step) {  // no far extrapolation
+                predicted = previous->orbit.state + (step / last_step) * (previous->orbit.state - before_previous_exact);
+            } else {
+                predicted = previous->orbit.state + (hb_start - previous_start);
+            }
+            predicted.tail(hints) = hb_start.tail(hints);
+            q.orbit = solve(model, p.omega, predicted, &hb_start);
+        } else {
+            q.orbit = solve(model, p.omega, hb_start, previous ? &previous->orbit.state : nullptr);
+        }
+        if (p.kind != PointKind::sample) {
+            before_previous = previous ? previous_start : Eigen::VectorXd();
+            before_previous_exact = previous ? previous->orbit.state : Eigen::VectorXd();
+            previous_start = hb_start;
+        }
         if (p.kind == PointKind::sample) {
             samples.push_back(std::move(q));
         } else {
@@ -497,9 +531,13 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             }
             if (!is_peak_value(y(k), largest, weight * response_floor(structure, m.point.omega))) continue;
             Peak peak{m.point.omega, y(k), m.point.branch, false, static_cast<int>(o), {}};
+            // Each solve starts from the last converged one (Brent's points close in, so the
+            // start is nearly the orbit: fewer Newton iterations), else from the branch point.
+            Eigen::VectorXd last = m.orbit.state;
             refine_peak(peak, a.point, m.point, b.point, [&](double omega, bool& good) {
-                const ExactOrbit e = solve(model, omega, m.orbit.state, nullptr);
+                const ExactOrbit e = solve(model, omega, last, &m.orbit.state);
                 if (!e.converged) good = false;
+                if (e.converged) last = e.state;
                 return e.converged ? value_of(e.y_max, e.output_max) : 0.0;
             });
             out.peaks.push_back(peak);

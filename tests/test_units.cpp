@@ -109,8 +109,11 @@ TEST_CASE("Units: exact Coulomb in SI units has the nondimensional samples, peak
         CHECK(p.at("output") == q.at("output"));
         CHECK(p.at("refined") == true);
         CHECK(q.at("refined") == true);
-        // golden section to |dw| <= 1e-9 w; y_max is flat there
-        CHECK(q.at("w").get<double>() / omega1 == Approx(p.at("w").get<double>()).epsilon(1e-8));
+        // Brent's bracket shrinks to 1e-9 w, but values locate a maximum only to about
+        // sqrt(dy / c) in w/w_peak, with dy the values' rounding (1e-13 of the orbit) and c the
+        // curvature y''w^2/(2y) (about 400 on these resonances): 1.6e-8 (measured 1.5e-8 when
+        // the searches' solves start from their last orbit). y_max itself is flat there.
+        CHECK(q.at("w").get<double>() / omega1 == Approx(p.at("w").get<double>()).epsilon(1e-7));
         CHECK(q.at("y_max").get<double>() / x_s == Approx(p.at("y_max").get<double>()).epsilon(1e-12));
     }
     REQUIRE(sa.at("transitions").size() == sb.at("transitions").size());

@@ -329,7 +329,10 @@ struct Peak {
 bool is_peak_value(double y, double largest, double floor);
 /// Refines `peak`, found at branch point m between its neighbours a and b (same branch, y(m)
 /// = peak.y_max above both), by Brent's search in omega over the neighbours' interval with
-/// value(omega, ok) (ok = false where the solve fails), to |delta omega| <= 1e-9 omega. Not
+/// value(omega, ok) (ok = false where the solve fails), until its bracket is below 1e-9 omega
+/// (values locate a maximum in omega only to about sqrt(dy / c) relative, dy the values'
+/// rounding relative to y and c = y'' omega^2 / (2 y) the peak's curvature: 1e-8 to 1e-7 on
+/// sharp exact resonances; y_max itself is flat there, exact to its rounding). Not
 /// refined, with the reason in peak.why: a fold among a, m, b, or omega not monotone through
 /// them (y is not a function of omega there); a failed solve (its omega named); no value
 /// above y(m) found (a corner of the curve, such as a stick/slip switch between two points).

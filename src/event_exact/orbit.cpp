@@ -148,13 +148,15 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
     SectionNorm norm{e.dofs(), omega, 0.0};
     norm.reference = norm.size(initial_state.head(e.nz()));
 
-    // Plain periods from zhat (at t = 0) with modes; the last one recorded.
+    // Plain periods from zhat (at t = 0) with modes; the last one recorded (with its monodromy
+    // if asked).
     Engine::Flow warm;
-    auto plain_periods = [&](Eigen::VectorXd zhat, Modes modes, int periods) {
+    auto plain_periods = [&](Eigen::VectorXd zhat, Modes modes, int periods, bool monodromy = false) {
         for (int p = 0; p < periods; ++p) {
             zhat(e.cos_index()) = 1.0;
             zhat(e.sin_index()) = 0.0;
-            warm = e.flow(zhat, modes, 0.0, period, false, p + 1 == periods, options.max_events_per_period);
+            warm = e.flow(zhat, modes, 0.0, period, monodromy && p + 1 == periods, p + 1 == periods,
+                          options.max_events_per_period);
             ++out.periods;
             if (!warm.ok) return false;
             zhat = warm.zhat;
@@ -169,7 +171,21 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
     for (int c = 0; c < e.contacts(); ++c)
         hints[static_cast<std::size_t>(c)] = static_cast<int>(std::lround(initial_state(e.nz() + c)));
     const Modes modes = e.initial_modes(zhat, hints);
-    if (!plain_periods(zhat, modes, options.warmup_periods)) {
+    // A single warm-up period starts on the section manifold at t = 0 and carries its monodromy:
+    // where no event falls near t = 0 it is the first period map of Newton on the section t = 0
+    // (one period less per orbit; from a start close to the orbit, the common case in a
+    // continuation, a third to a fifth of the periods).
+    Eigen::VectorXd first_z;
+    const bool first_map = options.warmup_periods == 1;
+    if (first_map) {
+        Eigen::MatrixXd b0, c0;
+        Eigen::VectorXd p0;
+        section_manifold(e, modes, 0.0, b0, c0, p0);
+        first_z = p0 + b0 * (c0 * (zhat.head(e.nz()) - p0));
+        zhat = e.augment(first_z, 0.0);
+    }
+    const Modes start_modes = first_map ? e.initial_modes(zhat, modes) : modes;
+    if (!plain_periods(zhat, start_modes, options.warmup_periods, first_map)) {
         out.message = "warm-up: " + warm.message;
         if (!warm.steps.empty()) fill_metrics(e, warm, 0.0, options, out, probes);  // the period as far as it went
         out.state = initial_state;
@@ -214,29 +230,46 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
             permanent(out);
             return out;
         }
-        // The section: the middle of the longest event-free stretch of the last plain period.
+        // The section: the middle of the longest event-free stretch of the last plain period;
+        // t = 0 on the first attempt when the warm-up was its period map there, the start was
+        // close to periodic (|P(z) - z| <= 1e-2 |z|: a far start, e.g. a linear guess, takes the
+        // plain period to settle its stick/slip pattern first) and no event lies within 1/50 of a
+        // period of t = 0 (Newton's steps do not move events across it).
         t_s = 0.0;
         Modes section_modes = warm.steps.front().modes;
-        if (!warm.events.empty()) {
-            std::vector<double> times;
-            for (const ExactEvent& ev : warm.events) times.push_back(ev.time);
-            std::sort(times.begin(), times.end());
-            double best_gap = -1.0;
-            for (std::size_t k = 0; k < times.size(); ++k) {
-                const double next = k + 1 < times.size() ? times[k + 1] : times.front() + period;
-                if (next - times[k] > best_gap) {
-                    best_gap = next - times[k];
-                    t_s = times[k] + 0.5 * (next - times[k]);
-                }
-            }
-            t_s = std::fmod(t_s, period);
-            section_modes = step_at(warm.steps, t_s).modes;
+        bool reuse = attempt == 0 && first_map && warm.psi.size() > 0 && section_modes == start_modes &&
+                     norm.relative_change(warm.zhat.head(e.nz()), first_z) <= 1e-2;
+        for (const ExactEvent& ev : warm.events) {
+            const double phase = std::fmod(ev.time, period);
+            if (std::min(phase, period - phase) < period / 50.0) reuse = false;
         }
-        Eigen::VectorXd z = t_s == 0.0 ? Eigen::VectorXd(warm.steps.front().state(0.0).head(e.nz()))
-                                       : Eigen::VectorXd(state_at(warm.steps, t_s).head(e.nz()));
-        Eigen::VectorXd particular;
-        section_manifold(e, section_modes, t_s, basis, cobasis, particular);
-        z = particular + basis * (cobasis * (z - particular));
+        Eigen::VectorXd z, particular;
+        if (reuse) {
+            section_manifold(e, section_modes, 0.0, basis, cobasis, particular);
+            z = first_z;
+            f = std::move(warm);
+            warm = Engine::Flow{};
+        } else {
+            if (!warm.events.empty()) {
+                std::vector<double> times;
+                for (const ExactEvent& ev : warm.events) times.push_back(ev.time);
+                std::sort(times.begin(), times.end());
+                double best_gap = -1.0;
+                for (std::size_t k = 0; k < times.size(); ++k) {
+                    const double next = k + 1 < times.size() ? times[k + 1] : times.front() + period;
+                    if (next - times[k] > best_gap) {
+                        best_gap = next - times[k];
+                        t_s = times[k] + 0.5 * (next - times[k]);
+                    }
+                }
+                t_s = std::fmod(t_s, period);
+                section_modes = step_at(warm.steps, t_s).modes;
+            }
+            z = t_s == 0.0 ? Eigen::VectorXd(warm.steps.front().state(0.0).head(e.nz()))
+                           : Eigen::VectorXd(state_at(warm.steps, t_s).head(e.nz()));
+            section_manifold(e, section_modes, t_s, basis, cobasis, particular);
+            z = particular + basis * (cobasis * (z - particular));
+        }
 
         auto map = [&](const Eigen::VectorXd& start) {
             Eigen::VectorXd zh = e.augment(start, t_s);
@@ -293,7 +326,7 @@ ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& i
                 }
             }
         };
-        f = map(z);
+        if (!reuse) f = map(z);
         bool retry = newton();
         if (out.converged) {
             // Contacts stuck over the whole period (others slipping) have an undetermined offset:
