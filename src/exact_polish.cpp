@@ -83,6 +83,19 @@ public:
             }
             for (Output& o : options_.outputs) o = modal_->output(o);
             options_.dof_maxima = false;
+        } else if (!options_.outputs.empty()) {
+            // Maxima of what is reported only, as harmonic balance's Analyser finds them (the
+            // outputs, DOF 1 and the DOF of hb_gap): the others' turning points cost most of a
+            // polished orbit's metrics on a model with many DOFs (they stay NaN, as in HB's).
+            for (int i : {dof, 0}) {
+                bool present = false;
+                for (const Output& o : options_.outputs) present = present || o.single_dof() == i;
+                if (!present) {
+                    options_.outputs.push_back(Output::dof(i));
+                    ++extra_outputs_;
+                }
+            }
+            options_.dof_maxima = false;
         }
     }
     const System& system() const { return modal_ ? modal_->system() : structure_; }
@@ -96,7 +109,15 @@ public:
     Eigen::VectorXd start(const Eigen::VectorXd& state) const { return modal_ ? modal_->reduce_state(state) : state; }
     ExactOrbit orbit(double omega, const Eigen::VectorXd& start) const {
         ExactOrbit o = exact_periodic_orbit(system(), omega, start, options_);
-        if (!modal_) return o;
+        if (!modal_) {
+            if (options_.dof_maxima || o.output_max.size() != options_.outputs.size()) return o;
+            for (std::size_t k = 0; k < options_.outputs.size(); ++k)
+                if (options_.outputs[k].single_dof() >= 0)
+                    o.y_max[static_cast<std::size_t>(options_.outputs[k].single_dof())] = o.output_max[k];
+            o.output_max.resize(o.output_max.size() - static_cast<std::size_t>(extra_outputs_));
+            o.output_amp1.resize(o.output_amp1.size() - static_cast<std::size_t>(extra_outputs_));
+            return o;
+        }
         const auto n = static_cast<std::size_t>(structure_.dofs());
         const double nan = std::numeric_limits<double>::quiet_NaN();
         o.y_max.assign(n, nan);
@@ -122,6 +143,7 @@ private:
     std::optional<ModalExactModel> modal_;
     ExactOptions options_;
     int dof_output_ = -1;
+    int extra_outputs_ = 0;  // DOFs appended to the outputs for their maxima (structure only)
 };
 
 /// The modal form's modes (modal_exact.hpp) chosen by their effect: at the highest frequency of

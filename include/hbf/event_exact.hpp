@@ -89,8 +89,9 @@ struct ExactOptions {
     int samples = 0;
     /// Outputs o(t) = c^T y(t) (model.hpp) whose output_max and output_amp1 are computed.
     std::vector<Output> outputs;
-    /// Turning points of every DOF (ExactOrbit::y_max); false leaves y_max NaN (a modal model's
-    /// coordinates, whose maxima mean nothing: the outputs carry what is reported).
+    /// Turning points of every DOF (ExactOrbit::y_max); false leaves y_max NaN and finds the
+    /// outputs' maxima only (a modal model's coordinates, whose maxima mean nothing; the DOFs a
+    /// caller does not report).
     bool dof_maxima = true;
 
     /// Throws InvalidInput naming the first option out of range.

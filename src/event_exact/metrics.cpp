@@ -49,7 +49,11 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     // First harmonics of the whole zhat (cos and sin are states of zhat, so probes on them too).
     Eigen::VectorXd c1z = Eigen::VectorXd::Zero(e.n()), s1z = Eigen::VectorXd::Zero(e.n());
     const Eigen::Index n_probes = probes ? probes->rows.rows() : 0;
-    if (probes) probes->max.assign(static_cast<std::size_t>(n_probes), 0.0);
+    if (probes) {
+        probes->max.assign(static_cast<std::size_t>(n_probes), 0.0);
+        for (Eigen::Index p = 0; p < probes->first_max; ++p)
+            probes->max[static_cast<std::size_t>(p)] = std::numeric_limits<double>::quiet_NaN();
+    }
     std::vector<double> stick_time(static_cast<std::size_t>(nc), 0.0);  // per element
     out.energy = 0.0;
     double margin_min = std::numeric_limits<double>::infinity(), margin_max = -margin_min;
@@ -135,7 +139,7 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
             turning_points(st.signal(row), out.output_max[o]);
         }
         if (n_probes > 0)  // p = L zhat
-            for (Eigen::Index p = 0; p < n_probes; ++p)
+            for (Eigen::Index p = probes->first_max; p < n_probes; ++p)
                 turning_points(st.signal(Eigen::RowVectorXd(probes->rows.row(p))), probes->max[static_cast<std::size_t>(p)]);
         // First harmonics by Gauss-Legendre (cos and sin are states of zhat), the fast part's
         // in closed form.

@@ -21,6 +21,7 @@ Eigen::VectorXd slip_work(Engine& e, const Engine::Flow& flow);
 struct Probes {
     Eigen::MatrixXd rows;            ///< n_p x n
     std::vector<double> max;         ///< max over the period of |p(t)| (turning points refined)
+    Eigen::Index first_max = 0;      ///< rows before it get no maximum (NaN): DOFs not asked for
     Eigen::VectorXd c1, s1;          ///< first harmonic: p ~ c1 cos + s1 sin
     Eigen::VectorXd value, rate;     ///< p and p' at t = 0
     Eigen::MatrixXd samples, sample_rates;  ///< options.samples x n_p

@@ -447,6 +447,7 @@ ExactOrbit massless_orbit(const System& system, const detail::MasslessCondensati
     for (std::size_t o = 0; o < options.outputs.size(); ++o)
         for (const auto& [i, c] : options.outputs[o].terms())
             probes.rows.row(n + static_cast<Eigen::Index>(o)) += c * probes.rows.row(i);
+    if (!options.dof_maxima) probes.first_max = n;  // the outputs' maxima only
     ExactOrbit out = orbit_of(reduced, omega, condensation.reduce_state(initial_state), reduced_options, &probes, split);
     if (probes.max.size() != static_cast<std::size_t>(probes.rows.rows())) {
         out.converged = false;
