@@ -8,12 +8,31 @@
 #   - for exit 2, nothing on standard output;
 #   - the directory afterwards: no file created, none replaced (names, types, inodes and
 #     contents compared), and /dev/null and /dev/full still character devices.
-# Run by CTest as `hostile_inputs.sh HBF SOURCE_DIR`. As root, the whole list runs again as the
-# unprivileged user nobody (setpriv), where permissions apply (a read-only directory).
+# Run as `hostile_inputs.sh HBF SOURCE_DIR [PASS]`. PASS "self" runs the list as the current
+# user; "nobody" runs it as the unprivileged user nobody (setpriv, root only: exit 77, skipped,
+# otherwise), where permissions apply (a read-only directory); "both" (the default) does both, the
+# second only as root. CTest runs the two passes as two tests, in parallel.
 set -uo pipefail
 
 HBF=$(realpath "${1:?usage: hostile_inputs.sh /path/to/hbf SOURCE_DIR}")
 SRC=$(realpath "${2:?usage: hostile_inputs.sh /path/to/hbf SOURCE_DIR}")
+PASS=${3:-both}
+case $PASS in
+  self | both) ;;
+  nobody)
+    if [[ $(id -u) -ne 0 ]] || ! command -v setpriv >/dev/null ||
+      ! setpriv --reuid=nobody --regid=nogroup --clear-groups test -x "$HBF"; then
+      echo "hostile inputs: the unprivileged pass needs root, setpriv, and $HBF executable by nobody: skipped"
+      exit 77
+    fi
+    exec setpriv --reuid=nobody --regid=nogroup --clear-groups --reset-env \
+      env PATH="$PATH" TMPDIR=/tmp bash "$0" "$HBF" "$SRC" self
+    ;;
+  *)
+    echo "hostile_inputs.sh: PASS = '$PASS' is not one of self, nobody, both" >&2
+    exit 2
+    ;;
+esac
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/hbf-hostile.XXXXXX")
 chmod 755 "$WORK"
 trap 'rm -rf "$WORK"' EXIT
@@ -404,11 +423,13 @@ echo "hostile inputs [$who]: $cases cases, $failures failed"
 status=$((failures > 0))
 
 # As root: the same list again as an unprivileged user, where permissions apply.
-if [[ $(id -u) -eq 0 && -z ${HOSTILE_INNER:-} ]] && command -v setpriv >/dev/null &&
-  setpriv --reuid=nobody --regid=nogroup --clear-groups test -x "$HBF"; then
-  HOSTILE_INNER=1 setpriv --reuid=nobody --regid=nogroup --clear-groups --reset-env \
-    env PATH="$PATH" HOSTILE_INNER=1 TMPDIR=/tmp bash "$0" "$HBF" "$SRC" || status=1
-elif [[ $(id -u) -eq 0 && -z ${HOSTILE_INNER:-} ]]; then
-  echo "hostile inputs: the unprivileged pass was skipped (nobody cannot run $HBF, or setpriv is missing)"
+if [[ $PASS == both && $(id -u) -eq 0 ]]; then
+  bash "$0" "$HBF" "$SRC" nobody
+  got=$?
+  if [[ $got -eq 77 ]]; then
+    echo "hostile inputs: the unprivileged pass was skipped (nobody cannot run $HBF, or setpriv is missing)"
+  elif [[ $got -ne 0 ]]; then
+    status=1
+  fi
 fi
 exit $status
