@@ -12,7 +12,8 @@ as the preconditioner of an iterative refinement whose residual is formed in lon
 from the files' exact double entries. It does so twice:
   * with C as written in the damping file (the model the files describe);
   * with C applied as a (M x) + b (K x) in long double (the model the generator meant),
-and prints mid-span and tip receptances with their deviation from the first (coarsest) mesh.
+and prints the mid-span and tip complex amplitudes under the 10 N mid-span force, with the
+mid-span deviation from the first (coarsest) mesh's.
 If the second agrees across meshes while the first does not, the difference is in the data.
 
 Usage (Debian's python3 with python3-numpy and python3-scipy, which scripts/install-deps.sh
