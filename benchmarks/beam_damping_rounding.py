@@ -39,6 +39,7 @@ LD = np.longdouble
 
 
 def rayleigh_coefficients():
+    sys.dont_write_bytecode = True  # no __pycache__ beside the shipped example
     sys.path.insert(0, BEAM)
     import make_beam as mb  # the generator's constants and its rule for a and b
     c0 = math.sqrt(mb.E * mb.INERTIA / (mb.RHO * mb.AREA * mb.LENGTH ** 4))
