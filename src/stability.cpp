@@ -358,6 +358,17 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
             b.points.push_back(r);
         } else {
             b.points.push_back(analyse(points[k]));
+            FloquetResult& r = b.points.back();
+            // At a located fold a multiplier of the smooth problem is 1 by definition: the
+            // verdict changes there, and the harmonic-balance branch may meet it at a corner (a
+            // time sample's |v| changing sign) whose one-sided monodromy says 1.1 where time
+            // integration from the orbit decays (measured on the Dahl superharmonic fold).
+            // (The exact route's verdict is on the exact orbit itself, not on the HB branch: kept.)
+            if (points[k].kind == PointKind::fold && r.route != "exact" &&
+                (r.stability == Stability::stable || r.stability == Stability::unstable)) {
+                r.stability = Stability::uncertain;
+                r.message = "a fold: a Floquet multiplier passes through 1 here (stable on one side, unstable on the other)";
+            }
         }
         const FloquetResult& r = b.points.back();
         switch (r.stability) {
