@@ -148,8 +148,16 @@ TEST_CASE("Dahl superharmonic folds: every verdict confirmed by a perturbed time
     INFO(b.summary());
     CHECK(b.not_computed == 0);
     // The only uncertain verdicts are at located folds (where a multiplier is 1 by definition).
-    for (std::size_t k = 0; k < frf.points.size(); ++k)
+    // And every located fold is uncertain, saying why: a multiplier passes through 1 there (a
+    // fold located at a corner of the HB branch had a one-sided monodromy of 1.1 while time
+    // integration from the orbit decayed: it was called unstable).
+    for (std::size_t k = 0; k < frf.points.size(); ++k) {
         if (b.points[k].stability == Stability::uncertain) CHECK(frf.points[k].kind == PointKind::fold);
+        if (frf.points[k].kind == PointKind::fold) {
+            CHECK(b.points[k].stability == Stability::uncertain);
+            CHECK_FALSE(b.points[k].message.empty());  // the fold, or Hill and the monodromy disagreeing
+        }
+    }
     CHECK(b.sorting_disagreements == 0);
     CHECK(b.unstable_points >= 3);
     REQUIRE(b.unstable.size() == 1);
