@@ -471,7 +471,8 @@ def frf(system, settings=None, *, outputs=None, stability=None, **options):
 
 
 class Solution:
-    """One harmonic-balance solution (hbf loop): omega, the metrics (y_max, y_amp1 per DOF,
+    """One harmonic-balance solution (hbf loop): omega, the metrics (y_max, y_amp1 per DOF, y_max
+    NaN for a DOF outside the system's outputs: not computed, each max |y_i(t)| costs a fine grid;
     output_max, output_amp1 per output, stick_fraction and regime of contact 1, stick_fractions and
     regimes of every contact (lists, in order), energy, energy_error), the
     coefficients (2H + 1 rows: c0, c1, s1, ..., one column per DOF), and one period of signals of
