@@ -217,11 +217,11 @@ bool Receptance::direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, 
         double previous = std::numeric_limits<double>::infinity();
         for (int step = 0; step < 40 && x.allFinite(); ++step) {
             const Eigen::MatrixXcd dx_step = solve(precise_residual(k, omega, rhs, x));
-            x += dx_step;
             const double size = dx_step.cwiseAbs().maxCoeff();
-            if (size > 0.5 * previous) break;
+            if (size > previous) break;  // diverging (cond(Z) eps > 1): keep the better x
+            x += dx_step;
+            if (size > 0.5 * previous || size <= 1e-15 * x.cwiseAbs().maxCoeff()) break;
             previous = size;
-            if (dx_step.cwiseAbs().maxCoeff() <= 1e-15 * x.cwiseAbs().maxCoeff()) break;
         }
     };
     if (dofs() <= dense_limit) {
