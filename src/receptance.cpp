@@ -127,12 +127,16 @@ Receptance::Receptance(Eigen::SparseMatrix<double> mass, Eigen::SparseMatrix<dou
         }
         return v;
     };
+    auto symmetric = [](const Eigen::SparseMatrix<double>& m) {
+        const Eigen::SparseMatrix<double> difference = m - Eigen::SparseMatrix<double>(m.transpose());
+        return Eigen::Map<const Eigen::VectorXd>(difference.valuePtr(), difference.nonZeros()).isZero(0.0);
+    };
+    symmetric_ = symmetric(stiffness_) && symmetric(mass_) && symmetric(damping_);
     k_values_ = values_on_pattern(stiffness_);
     m_values_ = values_on_pattern(mass_);
     c_values_ = values_on_pattern(damping_);
     z_ = pattern.cast<Complex>();
     z_.makeCompressed();
-    dz_ = z_;
     if (dofs() > dense_limit) {
         lu_ = std::make_unique<Eigen::SparseLU<SparseComplex>>();
         lu_->analyzePattern(z_);
@@ -141,106 +145,137 @@ Receptance::Receptance(Eigen::SparseMatrix<double> mass, Eigen::SparseMatrix<dou
 
 Eigen::MatrixXcd Receptance::precise_residual(int k, double omega, const Eigen::MatrixXcd& rhs,
                                               const Eigen::MatrixXcd& x) const {
-    // In double-double (error-free products by FMA): Z_k x cancels to |b| out of terms of size
-    // |Z| |x|, 4e10 times larger on the 1000-element beam, where long double's 64-bit mantissa
-    // left the refinement stalled at 1e-8 (G noisy at 2e-8 between frequencies 1e-9 apart).
-    // The products K x, (k w)^2 M x and k w C x are each formed exactly, with k w and (k w)^2
-    // exact too, so the refinement converges to the solution of Z_k as given.
     const DoubleDouble kw = two_product(static_cast<double>(k), omega);
     const DoubleDouble kw2 = product(kw, kw);
+    return precise_combination(1.0, {-kw2.hi, -kw2.lo}, {kw.hi, kw.lo}, rhs, x);
+}
+
+Eigen::MatrixXcd Receptance::precise_derivative_product(int k, double omega, const Eigen::MatrixXcd& x) const {
+    // dZ_k/domega x = (-2 k^2 omega M + i k C) x: C holds a multiple of K in Rayleigh damping,
+    // and C x cancels as K x does (in double it erred by 1e-4 on the 10,000-DOF beam).
+    const DoubleDouble m_coefficient = product(two_product(-2.0 * k, static_cast<double>(k)), omega);
+    return -precise_combination(0.0, {m_coefficient.hi, m_coefficient.lo}, {static_cast<double>(k), 0.0},
+                                Eigen::MatrixXcd::Zero(x.rows(), x.cols()), x);
+}
+
+Eigen::MatrixXcd Receptance::precise_combination(double k_coefficient, std::pair<double, double> m_pair,
+                                                 std::pair<double, double> c_pair, const Eigen::MatrixXcd& rhs,
+                                                 const Eigen::MatrixXcd& x) const {
+    const DoubleDouble m_coefficient = {m_pair.first, m_pair.second}, c_coefficient = {c_pair.first, c_pair.second};
+    // b - Z_k x to about twice the working precision: Z_k x cancels to |b| out of terms of size
+    // |Z| |x|, 4e10 times larger on the 1000-element beam, where long double's 64-bit mantissa
+    // left the refinement stalled at 1e-8 (G noisy at 2e-8 between frequencies 1e-9 apart).
+    // Each entry's coefficient K_ij - (k w)^2 M_ij + i k w C_ij is formed in double-double from
+    // the three matrices kept apart (k w and (k w)^2 exact too), so the refinement converges to
+    // the solution of Z_k as given. Its products with x are error-free (FMA) and summed with a
+    // compensated sum (Ogita, Rump & Oishi's Dot2: a running sum and one running error term):
+    // the result is as if computed in double-double and rounded, error <= eps |r| + (n eps)^2
+    // sum |Z_ij x_j|, with fewer operations than a double-double accumulator (12 % less time
+    // for the 10,000-DOF beam's receptance).
     const Eigen::Index rows = rhs.rows(), columns = rhs.cols();
-    std::vector<DoubleDouble> re(static_cast<std::size_t>(rhs.size())), im(re.size());
-    for (Eigen::Index c = 0; c < columns; ++c)
-        for (Eigen::Index i = 0; i < rows; ++i) {
-            re[static_cast<std::size_t>(c * rows + i)] = {rhs(i, c).real(), 0.0};
-            im[static_cast<std::size_t>(c * rows + i)] = {rhs(i, c).imag(), 0.0};
-        }
+    Eigen::MatrixXd sum_re = rhs.real(), sum_im = rhs.imag();
+    Eigen::MatrixXd err_re = Eigen::MatrixXd::Zero(rows, columns), err_im = err_re;
+    const Eigen::MatrixXd x_re = x.real(), x_im = x.imag();
+    // s += -(a.hi + a.lo) v into (s, e): the product error-free, the sum's error into e.
+    auto subtract = [](double& s, double& e, const DoubleDouble& a, double v) {
+        const double p = a.hi * v;
+        const double product_error = std::fma(a.hi, v, -p) + a.lo * v;
+        const double t = s - p, z = t - s;
+        e += ((s - (t - z)) + (-p - z)) - product_error;
+        s = t;
+    };
     for (int j = 0; j < z_.outerSize(); ++j)
-        for (int p = z_.outerIndexPtr()[j]; p < z_.outerIndexPtr()[j + 1]; ++p) {
-            const Eigen::Index i = z_.innerIndexPtr()[p], q = p;
-            const double kv = k_values_(q), mv = m_values_(q), cv = c_values_(q);
-            const DoubleDouble m2 = product(kw2, mv), c1 = product(kw, cv);  // (k w)^2 M_ij, k w C_ij
+        for (int q = z_.outerIndexPtr()[j]; q < z_.outerIndexPtr()[j + 1]; ++q) {
+            const Eigen::Index i = z_.innerIndexPtr()[q];
+            // Z_ij = zr + i zi in double-double.
+            DoubleDouble zr = {k_coefficient * k_values_(q), 0.0};
+            if (m_values_(q) != 0.0) accumulate(zr, product(m_coefficient, m_values_(q)));
+            const DoubleDouble zi = c_values_(q) != 0.0 ? product(c_coefficient, c_values_(q)) : DoubleDouble{};
+            const DoubleDouble minus_zi = {-zi.hi, -zi.lo};
             for (Eigen::Index c = 0; c < columns; ++c) {
-                const double xr = x(j, c).real(), xi = x(j, c).imag();
-                DoubleDouble& r = re[static_cast<std::size_t>(c * rows + i)];
-                DoubleDouble& m = im[static_cast<std::size_t>(c * rows + i)];
-                // b - (K - (k w)^2 M + i k w C)(xr + i xi)
-                if (kv != 0.0) {
-                    accumulate(r, two_product(-kv, xr));
-                    accumulate(m, two_product(-kv, xi));
-                }
-                if (mv != 0.0) {
-                    accumulate(r, product(m2, xr));
-                    accumulate(m, product(m2, xi));
-                }
-                if (cv != 0.0) {
-                    accumulate(r, product(c1, xi));
-                    accumulate(m, product(c1, -xr));
+                const double xr = x_re(j, c), xi = x_im(j, c);
+                // re: b - (zr xr - zi xi); im: b - (zr xi + zi xr)
+                subtract(sum_re(i, c), err_re(i, c), zr, xr);
+                subtract(sum_im(i, c), err_im(i, c), zr, xi);
+                if (zi.hi != 0.0) {
+                    subtract(sum_re(i, c), err_re(i, c), minus_zi, xi);
+                    subtract(sum_im(i, c), err_im(i, c), zi, xr);
                 }
             }
         }
     Eigen::MatrixXcd out(rows, columns);
-    for (Eigen::Index c = 0; c < columns; ++c)
-        for (Eigen::Index i = 0; i < rows; ++i) {
-            const auto at = static_cast<std::size_t>(c * rows + i);
-            out(i, c) = Complex(re[at].hi + re[at].lo, im[at].hi + im[at].lo);
-        }
+    out.real() = sum_re + err_re;
+    out.imag() = sum_im + err_im;
     return out;
 }
 
 bool Receptance::direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, Eigen::MatrixXcd& x,
-                              Eigen::MatrixXcd& dx) {
+                              Eigen::MatrixXcd& w_dx) {
     const double kw = k * omega;
-    // Z_k and dZ_k/domega = -2 k^2 omega M + i k C, on the union pattern.
+    // Z_k on the union pattern (dZ_k/domega = -2 k^2 omega M + i k C is applied by
+    // precise_derivative_product).
     {
-        Eigen::Map<Eigen::VectorXcd> z(z_.valuePtr(), z_.nonZeros()), dz(dz_.valuePtr(), dz_.nonZeros());
+        Eigen::Map<Eigen::VectorXcd> z(z_.valuePtr(), z_.nonZeros());
         z.real() = k_values_ - kw * kw * m_values_;
         z.imag() = kw * c_values_;
-        dz.real() = -2.0 * k * k * omega * m_values_;
-        dz.imag() = static_cast<double>(k) * c_values_;
     }
     const SparseComplex& z = z_;
-    const SparseComplex& dz = dz_;
     // Small models use a dense LU (no sparse bookkeeping), large ones a sparse LU.
     // Iterative refinement with the residual b - Z x in double-double (precise_residual), Z's
     // terms K, (k w)^2 M, k w C kept apart: a finite-element K is badly conditioned (~N^4 for a
     // beam) and its entries reach 1e10, so Z rounded to double alone moves a lightly damped
     // resonance by ~1e-7 relative; refined, the solution is accurate to working precision
     // (mixed-precision refinement), and so is the condensed residual.
-    auto refine = [&](const auto& solve) {
-        // Until the correction is below 1e-15 of x, or stops shrinking (by half a step), at most
+    auto refine = [&](const auto& solve, const Eigen::MatrixXcd& b, Eigen::MatrixXcd& y) {
+        // Until the correction is below 1e-15 of y, or stops shrinking (by half a step), at most
         // 40 steps. Each step shrinks the error by about cond(Z) eps: 2 to 4 steps on the
-        // 200- and 2000-DOF beams; on the 10,000-DOF beam 0.06 at the first harmonic near w = 30,
-        // 12 steps (measured). Capped at 5 steps, G kept an error of 1e-7 there, which varied
+        // 200- and 2000-DOF beams; on the 10,000-DOF beam 0.17 at the first harmonic near w = 30,
+        // 20 steps (measured). Capped at 5 steps, G kept an error of 1e-7 there, which varied
         // between frequencies: the corrector needed 11 iterations a point, half its
         // corrections failed, and the default FRF did not finish in 90 minutes.
+        y = solve(b);
         double previous = std::numeric_limits<double>::infinity();
-        for (int step = 0; step < 40 && x.allFinite(); ++step) {
-            const Eigen::MatrixXcd dx_step = solve(precise_residual(k, omega, rhs, x));
-            const double size = dx_step.cwiseAbs().maxCoeff();
-            if (size > previous) break;  // diverging (cond(Z) eps > 1): keep the better x
-            x += dx_step;
-            if (size > 0.5 * previous || size <= 1e-15 * x.cwiseAbs().maxCoeff()) break;
+        for (int step = 0; step < 40 && y.allFinite(); ++step) {
+            const Eigen::MatrixXcd dy = solve(precise_residual(k, omega, b, y));
+            // Largest moduli by their squares (std::abs of a complex calls hypot: 5 % of the time).
+            const double size = std::sqrt(dy.cwiseAbs2().maxCoeff());
+            if (size > previous) break;  // diverging (cond(Z) eps > 1): keep the better y
+            y += dy;
+            if (size > 0.5 * previous || size <= 1e-15 * std::sqrt(y.cwiseAbs2().maxCoeff())) break;
             previous = size;
         }
     };
+    // The sensitivities W^T dx/domega = -W^T Z^-1 dZ x, dZ x formed in double-double (C x cancels
+    // like K x when C holds a multiple of K). For a symmetric Z, W^T Z^-1 is the refined
+    // solution's W columns transposed: -(Z^-1 W)^T dZ x, no further solve; otherwise the solve of
+    // dZ x is refined as x is. Unrefined, it erred by cond(Z) eps: 0.17 on the 10,000-DOF beam at
+    // k = 1, w = 30, and that dG/domega cost the continuation 5 to 20 corrector iterations a
+    // point where 2 do, and a crawl at stick-slip kinks (250 points over 0.15 rad/s).
+    auto solve_all = [&](const auto& solve) {
+        refine(solve, rhs, x);
+        if (!x.allFinite()) return;
+        const Eigen::MatrixXcd dz_x = precise_derivative_product(k, omega, x);
+        const Eigen::MatrixXcd wt = directions_.transpose().cast<Complex>();
+        if (symmetric_) {
+            w_dx = -x.leftCols(contacts()).transpose() * dz_x;
+        } else {
+            Eigen::MatrixXcd dx;
+            refine(solve, Eigen::MatrixXcd(-dz_x), dx);
+            w_dx = wt * dx;
+        }
+    };
     if (dofs() <= dense_limit) {
-        const Eigen::MatrixXcd zd(z);
-        const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(zd);
-        x = lu.solve(rhs);
-        refine([&](const Eigen::MatrixXcd& r) { return Eigen::MatrixXcd(lu.solve(r)); });
-        if (x.allFinite()) dx = -lu.solve(Eigen::MatrixXcd(dz * x));
+        const Eigen::PartialPivLU<Eigen::MatrixXcd> lu{Eigen::MatrixXcd(z)};
+        solve_all([&](const Eigen::MatrixXcd& r) { return Eigen::MatrixXcd(lu.solve(r)); });
     } else {
         Eigen::SparseLU<SparseComplex>& lu = *lu_;
         lu.factorize(z);
         if (lu.info() != Eigen::Success) return false;
-        x = lu.solve(rhs);
-        refine([&](const Eigen::MatrixXcd& r) { return Eigen::MatrixXcd(lu.solve(r)); });
-        if (x.allFinite()) dx = -Eigen::MatrixXcd(lu.solve(Eigen::MatrixXcd(dz * x)));
+        solve_all([&](const Eigen::MatrixXcd& r) { return Eigen::MatrixXcd(lu.solve(r)); });
     }
     // A factorisation that succeeded on a numerically singular Z_k shows in the backward error
     // |Z x - b| / (|Z| |x| + |b|) (unit-free: FE stiffnesses reach 1e10, displacements 1e-6).
-    if (!x.allFinite() || !dx.allFinite()) return false;
+    if (!x.allFinite() || !w_dx.allFinite()) return false;
     const double z_size = Eigen::Map<const Eigen::VectorXcd>(z.valuePtr(), z.nonZeros()).cwiseAbs().maxCoeff();
     const double scale = z_size * x.cwiseAbs().maxCoeff() + rhs.cwiseAbs().maxCoeff();
     return (z * x - rhs).cwiseAbs().maxCoeff() <= 1e-8 * scale;
@@ -264,9 +299,9 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solu
     Eigen::MatrixXcd rhs(dofs(), nc + (load ? 1 : 0));
     rhs.leftCols(nc) = directions_.cast<Complex>();
     if (load) rhs.col(nc) = excitation_.cast<Complex>();
-    Eigen::MatrixXcd x, dx;
+    Eigen::MatrixXcd x, w_dx;
     Eigen::VectorXcd pole;  // the F column's pole term where the contacts do not see it (below)
-    if (!direct_solve(k, omega, rhs, x, dx)) {
+    if (!direct_solve(k, omega, rhs, x, w_dx)) {
         // An undamped resonance of a part of the structure that no contact sees, hit exactly
         // (two uncoupled oscillators, one with a contact: the contacts' shift regularises only
         // what they see). G_k and W^T Z_k^-1 F are smooth through it: Z_k^-1 = v v^T / mu(w) +
@@ -285,7 +320,7 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solu
             return h;
         }
         x = 0.5 * (below + above);
-        dx = 0.5 * (d_below + d_above);
+        w_dx = 0.5 * (d_below + d_above);
         for (Eigen::Index c = 0; c < rhs.cols(); ++c) {
             const Eigen::VectorXcd jump = above.col(c) - below.col(c);
             const double size = jump.cwiseAbs().maxCoeff();
@@ -301,11 +336,11 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solu
     // Sensitivities (above): d(Z^-1 b)/domega = -Z^-1 (dZ) Z^-1 b.
     const Eigen::MatrixXcd wt = directions_.transpose().cast<Complex>();
     h.contact = wt * x.leftCols(nc);
-    h.contact_omega = wt * dx.leftCols(nc);
+    h.contact_omega = w_dx.leftCols(nc);
     h.output = outputs_.cast<Complex>() * x.leftCols(nc);
     if (load) {
         h.contact_load = wt * x.col(nc);
-        h.contact_load_omega = wt * dx.col(nc);
+        h.contact_load_omega = w_dx.col(nc);
         h.output_load = outputs_.cast<Complex>() * x.col(nc);
         if (pole.size() > 0) {
             const Complex infinity(std::numeric_limits<double>::infinity(), 0.0);

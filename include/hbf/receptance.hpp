@@ -37,6 +37,7 @@
 #include <complex>
 #include <memory>
 #include <string>
+#include <utility>
 
 namespace hbf {
 
@@ -109,15 +110,23 @@ private:
     using SparseComplex = Eigen::SparseMatrix<std::complex<double>>;
     /// b - Z_k x in double-double, the products with K, M and C exact (iterative refinement).
     Eigen::MatrixXcd precise_residual(int k, double omega, const Eigen::MatrixXcd& rhs, const Eigen::MatrixXcd& x) const;
-    /// x = Z_k^-1 rhs and dx = its omega-derivative (refined); false where Z_k is (numerically) singular.
-    bool direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, Eigen::MatrixXcd& x, Eigen::MatrixXcd& dx);
+    /// dZ_k/domega x, formed as precisely (C x cancels like K x when C holds a multiple of K).
+    Eigen::MatrixXcd precise_derivative_product(int k, double omega, const Eigen::MatrixXcd& x) const;
+    /// rhs - (a_K K + a_M M + i a_C C) x, a_M and a_C in double-double (first + second).
+    Eigen::MatrixXcd precise_combination(double k_coefficient, std::pair<double, double> m_coefficient,
+                                         std::pair<double, double> c_coefficient, const Eigen::MatrixXcd& rhs,
+                                         const Eigen::MatrixXcd& x) const;
+    /// x = Z_k^-1 rhs (refined) and w_dx = W^T dx/domega (n_c x columns); rhs's first n_c columns
+    /// are W. False where Z_k is (numerically) singular.
+    bool direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, Eigen::MatrixXcd& x, Eigen::MatrixXcd& w_dx);
     Eigen::SparseMatrix<double> mass_, damping_, stiffness_;
     Eigen::MatrixXd directions_, outputs_;
     Eigen::VectorXd excitation_;
     // Z_k = K - (k w)^2 M + i k w C on the union pattern of K, M, C: the values of K, M, C at
     // the pattern's entries (zeros where a matrix has none), and the matrix whose values are set.
-    SparseComplex z_, dz_;
+    SparseComplex z_;
     Eigen::VectorXd k_values_, m_values_, c_values_;
+    bool symmetric_ = false;  // K, M, C all symmetric: W^T Z_k^-1 = (Z_k^-1 W)^T
     std::unique_ptr<Eigen::SparseLU<SparseComplex>> lu_;  // analysed once (large models)
     Harmonic solve_modal(int k, double omega, bool load, bool solution) const;
     struct Modal {
