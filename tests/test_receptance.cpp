@@ -278,6 +278,28 @@ Eigen::MatrixXcd quad_solve(const Eigen::MatrixXd& k, const Eigen::MatrixXd& m, 
     }
     return x;
 }
+
+/// An n x n matrix of uniform numbers in [-0.5, 0.5) from a fixed 64-bit LCG seed.
+Eigen::MatrixXd random_matrix(int n, std::uint64_t seed) {
+    Eigen::MatrixXd random(n, n);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+            random(i, j) = static_cast<double>(seed >> 11) / 9007199254740992.0 - 0.5;
+        }
+    return random;
+}
+
+/// K = Q diag(lambda) Q^T, lambda from 1 to 1e16 (log-spaced), Q the orthogonal factor of
+/// `random`: symmetric, cond 1e16.
+Eigen::MatrixXd ill_conditioned_stiffness(const Eigen::MatrixXd& random) {
+    const Eigen::Index n = random.rows();
+    const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(random).householderQ();
+    Eigen::VectorXd lambda(n);
+    for (Eigen::Index i = 0; i < n; ++i) lambda(i) = std::pow(10.0, 16.0 * static_cast<double>(i) / static_cast<double>(n - 1));
+    const Eigen::MatrixXd k = q * lambda.asDiagonal() * q.transpose();
+    return 0.5 * (k + k.transpose());
+}
 }  // namespace
 
 TEST_CASE("Receptance: the refined solve is exact to working precision at cond(Z) ~ 1e16 (more than 5 refinement steps)",
@@ -288,19 +310,8 @@ TEST_CASE("Receptance: the refined solve is exact to working precision at cond(Z
     // steps, as it was, G kept an error of 5e-8 here (measured; the 10,000-DOF beam: 1e-7, and
     // its FRF crawled). Reference: the same stored matrices solved in binary128.
     const int n = 40;
-    std::uint64_t seed = 12345;
-    auto uniform = [&] {
-        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-        return static_cast<double>(seed >> 11) / 9007199254740992.0 - 0.5;
-    };
-    Eigen::MatrixXd random(n, n);
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) random(i, j) = uniform();
-    const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(random).householderQ();
-    Eigen::VectorXd lambda(n);
-    for (int i = 0; i < n; ++i) lambda(i) = std::pow(10.0, 16.0 * i / (n - 1));
-    Eigen::MatrixXd k = q * lambda.asDiagonal() * q.transpose();
-    k = (0.5 * (k + k.transpose())).eval();
+    const Eigen::MatrixXd random = random_matrix(n, 12345);
+    const Eigen::MatrixXd k = ill_conditioned_stiffness(random);
     const Eigen::MatrixXd m = Eigen::MatrixXd::Identity(n, n), c = 1e-3 * Eigen::MatrixXd::Identity(n, n);
     Eigen::MatrixXd w = Eigen::MatrixXd::Zero(n, 2);
     w(0, 0) = 1.0;
@@ -330,19 +341,8 @@ TEST_CASE("Receptance: dG/domega is exact to 1e-9 at cond(Z) ~ 1e16 with damping
     // dZ x formed in double-double (C x cancels like K x). Reference: central differences of the
     // binary128 solve at d = 1e-6 (truncation ~d^2: 1e-7 at d = 1e-4, 3e-11 here; rounding ~1e-16 / d).
     const int n = 40;
-    std::uint64_t seed = 4242;
-    auto uniform = [&] {
-        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-        return static_cast<double>(seed >> 11) / 9007199254740992.0 - 0.5;
-    };
-    Eigen::MatrixXd random(n, n);
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) random(i, j) = uniform();
-    const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(random).householderQ();
-    Eigen::VectorXd lambda(n);
-    for (int i = 0; i < n; ++i) lambda(i) = std::pow(10.0, 16.0 * i / (n - 1));
-    Eigen::MatrixXd k = q * lambda.asDiagonal() * q.transpose();
-    k = (0.5 * (k + k.transpose())).eval();
+    const Eigen::MatrixXd random = random_matrix(n, 4242);
+    Eigen::MatrixXd k = ill_conditioned_stiffness(random);
     // Symmetric (W^T Z^-1 = (Z^-1 W)^T, no further solve) and with a skew-symmetric part added
     // to K (e.g. a follower force: the refined solve of dZ x).
     const bool skew = GENERATE(false, true);
