@@ -255,13 +255,12 @@ bool Receptance::direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, 
         refine(solve, rhs, x);
         if (!x.allFinite()) return;
         const Eigen::MatrixXcd dz_x = precise_derivative_product(k, omega, x);
-        const Eigen::MatrixXcd wt = directions_.transpose().cast<Complex>();
         if (symmetric_) {
             w_dx = -x.leftCols(contacts()).transpose() * dz_x;
         } else {
             Eigen::MatrixXcd dx;
             refine(solve, Eigen::MatrixXcd(-dz_x), dx);
-            w_dx = wt * dx;
+            w_dx = directions_.transpose().cast<Complex>() * dx;
         }
     };
     if (dofs() <= dense_limit) {
