@@ -89,6 +89,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
                      .solve(0, 1.0, false)
                : Receptance::Harmonic{};
     Eigen::VectorXd static_stiffness = Eigen::VectorXd::Zero(nc);  // 1 / (w_c^T u_c); 0 where K is singular
+    Eigen::VectorXd static_mass = Eigen::VectorXd::Zero(nc);       // phi_c^T M phi_c, phi_c = u_c / (w_c^T u_c)
     for (int c = 0; c < nc; ++c) {
         Contact& contact = system_.contacts[static_cast<std::size_t>(c)];
         const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(c)];
@@ -97,7 +98,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         if (g > 0.0 && std::isfinite(g)) {
             const Eigen::VectorXd phi = unshifted.solution.col(c).real() / g;
             static_stiffness(c) = scale.static_stiffness = 1.0 / g;
-            scale.static_mass = phi.dot(system_.mass * phi);
+            static_mass(c) = scale.static_mass = phi.dot(system_.mass * phi);
         }
         // Automatic parameters (exact Coulomb's lagrangian_penalty) from the structure along w.
         contact_law(contact.law).complete(contact, scale, "contact " + std::to_string(c + 1) + ": ");
@@ -110,19 +111,31 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     // regular wherever the contacts move, also at an undamped resonance of the free structure
     // hit exactly by a harmonic, and at k = 0 for a rigid-body mode the contacts hold.
     // kappa_c = the structure's static stiffness seen by the contact, 1 / (w^T K^-1 w) (w^T K w
-    // where K is singular), and delta_c = sqrt(kappa_c w^T M w): so that the shift is of the
-    // size of the contact's own dynamics (measured on the 200-DOF beam: w^T K w, 4e6 times
-    // stiffer, makes the linear limits crawl at the residual's rounding level; this choice in
-    // turn weighs the high harmonics ~(k w)^2 and the exact-Coulomb start of that beam fails at
-    // H = 20, not at H = 10).
+    // where K is singular), and delta_c = sqrt(kappa_c m_c), m_c the larger of w^T M w and the
+    // mass phi^T M phi of the static deflection shape phi = K^-1 w / (w^T K^-1 w): so that the
+    // shift is of the size of the contact's own dynamics (measured on the 200-DOF beam: w^T K w,
+    // 4e6 times stiffer, makes the linear limits crawl at the residual's rounding level; this
+    // choice in turn weighs the high harmonics ~(k w)^2 and the exact-Coulomb start of that beam
+    // fails at H = 20, not at H = 10).
+    // The shifted structure has a resonance of its own (kappa_c about doubles the stiffness of
+    // the contact's shape: 72.75 rad/s on the cantilever beam, whose first mode is at 52.5),
+    // which delta_c must damp. With the contact node's own mass w^T M w alone (~1/N on a refined
+    // mesh) it did not: delta = 0.70 N s/m on the 10,000-DOF beam against sqrt(kappa phi^T M phi)
+    // = 39.4; Z'_1 was singular to working precision near that resonance, G_1 was noise (fourth
+    // differences over steps of 1e-8 w: 74 % of it), the corrector converged to spurious
+    // solutions 0.5 % apart and the continuation stalled (min_step at 72.84 rad/s after 50
+    // minutes). phi^T M phi converges with refinement, so delta_c does too. w^T M w stays where
+    // it is the larger (a relative direction between lumped masses: 1.1 against 0.1 on the
+    // paper's absorber, where 0.1 failed an FRF of the coarse joint optimisation in mu and wa).
     if (options.formulation != Formulation::full && nc > 0) {
         shift_stiffness_.resize(nc);
         shift_damping_.resize(nc);
         SparseMatrix stiffness = system_.stiffness, damping = system_.damping;
         for (int c = 0; c < nc; ++c) {
             const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(c)];
-            const double m = d.dot(system_.mass * d), v = d.dot(system_.damping * d);
+            const double v = d.dot(system_.damping * d);
             const double k = static_stiffness(c) > 0.0 ? static_stiffness(c) : std::max(d.dot(system_.stiffness * d), 0.0);
+            const double m = std::max(static_mass(c), d.dot(system_.mass * d));
             shift_stiffness_(c) = k;
             shift_damping_(c) = k > 0.0 && m > 0.0 ? std::sqrt(k * m) : std::max(v, 0.0);
             // w w^T from the nonzeros of w only (never an N x N dense product)

@@ -675,6 +675,55 @@ TEST_CASE("The automatic DLFT penalty is the contact's impedance capped by the s
     }
 }
 
+TEST_CASE("The condensed residual is smooth in w at the shifted structure's own resonance (10,000-DOF beam)",
+          "[condensed][beam]") {
+    // The condensed formulation solves the structure with a spring kappa = 1 / G_0 and a damper
+    // delta along each contact (harmonic_balance.cpp). On the cantilever, kappa = 3 EI / L^3 at
+    // the tip, and that spring gives the shifted structure a resonance of its own. Derived: the
+    // clamped shape W = A (cosh bx - cos bx) + B (sinh bx - sin bx) with W''(L) = 0 and
+    // EI W'''(L) = k W(L) has a nonzero (A, B) where
+    // EI b^3 (1 + cos bL cosh bL) + k (sin bL cosh bL - cos bL sinh bL) = 0 (k = 0: the
+    // cantilever's 1 + cos cosh = 0; k -> inf: clamped-pinned, tan = tanh); with k = 3 EI / L^3,
+    // x = bL solves x^3 (1 + cos x cosh x) + 3 (sin x cosh x - cos x sinh x) = 0 between 1.875
+    // and 3.927 (x = 2.2135, w = 73.15 rad/s). Fully stuck (a friction limit of 1e9 N), the
+    // residual at a fixed X is linear in the receptances, smooth in w: its Taylor remainder
+    // R(X, w + d) - R(X, w) - dR/dw d shrinks like d^2. With delta from the tip node's own mass
+    // (sqrt(kappa w^T M w) = 0.7 N s/m on 5000 elements, against sqrt(kappa m_s) = 39 N s/m from
+    // the static deflection shape) the shifted Z_1 was singular to working precision there: the
+    // remainder stayed at 3e-4 to 2e-3 of the force scale for d from 1e-4 w down to 1e-6 w
+    // (noise), the corrector found spurious solutions and the continuation stalled.
+    const double ei = 2.1e11 * 0.04 * 1e-6 / 12.0, rho_a = 7850.0 * 0.04 * 0.01, length = 1.0;
+    auto equation = [](double x) {
+        return x * x * x * (1.0 + std::cos(x) * std::cosh(x)) +
+               3.0 * (std::sin(x) * std::cosh(x) - std::cos(x) * std::sinh(x));
+    };
+    double low = 1.875, high = 3.927;
+    REQUIRE(equation(low) > 0.0);
+    REQUIRE(equation(high) < 0.0);
+    for (int i = 0; i < 100; ++i) (equation(0.5 * (low + high)) > 0.0 ? low : high) = 0.5 * (low + high);
+    const double x = 0.5 * (low + high), shifted = x * x * std::sqrt(ei / (rho_a * std::pow(length, 4)));
+    System s = hermite_cantilever(5000, ei, rho_a, length);
+    s.contacts[0].friction_limit = 1e9;
+    HarmonicBalance hb(s, {3, 0, Formulation::condensed});
+    for (const double offset : {-3e-3, 0.0, 3e-3}) {
+        const double w = shifted * (1.0 + offset);
+        const Eigen::VectorXd guess = hb.linear_guess(w);
+        Eigen::VectorXd r, r_omega, moved;
+        Eigen::MatrixXd jacobian;
+        hb.evaluate(guess, w, r, &jacobian, &r_omega);
+        std::vector<double> remainder;
+        for (const double d : {1e-4, 1e-5}) {
+            hb.evaluate(guess, w * (1.0 + d), moved);
+            remainder.push_back((moved - r - r_omega * (w * d)).cwiseAbs().maxCoeff() / hb.force_scale());
+        }
+        INFO("w = " << w << " (the shifted resonance " << shifted << "): remainders " << remainder[0] << ", "
+                    << remainder[1]);
+        // Measured 5.5e-9 and 5.5e-11 at the resonance (second order).
+        CHECK(remainder[0] < 1e-7);
+        CHECK(remainder[1] < 0.02 * remainder[0]);
+    }
+}
+
 TEST_CASE("The modal receptance of a refined mesh is exact: a 1000-element cantilever against the closed form",
           "[condensed][beam][modal][receptance]") {
     // The Euler-Bernoulli cantilever's receptance at its free end (deflection per tip force):
