@@ -1,26 +1,41 @@
 // hbfriction — friction contacts whose normal load follows the motion and which separate
-// (issue 31). First step: the 2D elastic element (one normal and one tangential direction) on
-// the samples of one period, with the exact Jacobian of its AFT force.
+// (issue 31): the elastic element in 2D (one tangential direction) and 3D (two), on the
+// samples of one period, with the exact Jacobian of its AFT force.
 //
-// Definition. Relative displacements u (tangential) and v (normal, positive closing), normal
-// stiffness k_n > 0, tangential stiffness k_t > 0, friction coefficient mu >= 0, and n_0, the
-// normal force at v = 0 (a preload N_0 >= 0, or -k_n g_0 for an initial gap g_0 >= 0):
-//   N = max(0, n_0 + k_n v)                  normal force; separated where it is 0;
-//   T = k_t (u - s),  |T| <= mu N            tangential force; the slider s moves only where
-//                                            |T| = mu N, in the direction of T;
-//   separated: T = 0, s = u                  (the tangential spring unloads).
-// With v = 0 and n_0 = N_0 it is the Jenkins element with F_c = mu N_0 (contact.hpp's jenkins).
+// Definition. Relative displacements u (tangential, d = 1 or 2 components) and v (normal,
+// positive closing), normal stiffness k_n > 0, tangential stiffness k_t > 0, friction
+// coefficient mu >= 0, and n_0, the normal force at v = 0 (a preload N_0 >= 0, or -k_n g_0 for
+// an initial gap g_0 >= 0):
+//   N = max(0, n_0 + k_n v)                 normal force; separated where it is 0;
+//   T = k_t (u - s),  |T| <= mu N           tangential force (|.| the Euclidean norm: a
+//                                           circular cone in 3D); the slider s moves only
+//                                           where |T| = mu N, in the direction of T;
+//   separated: T = 0, s = u                 (the tangential spring unloads).
+// With v = 0 and n_0 = N_0 the 2D element is the Jenkins element with F_c = mu N_0 (contact.hpp).
 //
-// On the samples (u_j, v_j), j = 0..N_t-1, of one period the slider is marched period after
-// period, as Jenkins' is: the trial force k_t (u_j - s) either stays within mu N_j (stuck: s
-// kept) or the slider moves to s = u_j - mu N_j sign(trial) / k_t (slipping); a separated
-// sample sets s = u_j. After a slip or a separation the start is forgotten, so the second
-// period is the periodic cycle. A cycle with neither (permanent stick) has a one-parameter
-// family of slider positions, the interval of s with |k_t (u_j - s)| <= mu N_j at every
-// sample: its midpoint is taken (for a constant N it is Jenkins' centred slider
-// (max u + min u) / 2, the symmetric solution). Each force sample is then linear in at most
-// three samples of (u, v) on its stick/slip/separation pattern (its own and its slider's
-// anchors), so the Jacobian P (dF/dX) E is exact on the pattern.
+// Time discretisation. On the samples (u_j, v_j), j = 0..N_t-1, of one period the slider is
+// marched by the return map: the trial force t = k_t (u_j - s) either stays within mu N_j
+// (stuck: s kept) or is scaled back onto the cone, T = mu N_j t / |t|, and the slider moves to
+// s = u_j - T / k_t (slipping); a separated sample sets s = u_j. The periodic cycle is the
+// slider s_0 before sample 0 that one period maps onto itself, s_0 = Phi(s_0):
+//   * a separation forgets s_0, and so does a slip in 2D: the second period is periodic;
+//   * a 3D slip keeps the part of a change of s_0 normal to the slip direction, scaled by
+//     mu N_j / |t_j| < 1: the fixed point is found by Newton's method on Phi, whose derivative
+//     the march carries (it converges geometrically only, slowly near the stick limit of a
+//     circular motion, if merely iterated);
+//   * a period without slip or separation (permanent stick) leaves a set of periodic slider
+//     positions, {s : |s - u_j| <= r_j for all j}, r_j = mu N_j / k_t: the one with the largest
+//     margin is taken, argmin_s max_j (|s - u_j| - r_j) (2D: the midpoint of the interval
+//     max_j (u_j - r_j) .. min_j (u_j + r_j), for a constant N Jenkins' centred slider
+//     (max u + min u) / 2; 3D: the centre of the smallest circle enclosing the circles of
+//     radii -r_j about u_j, by Welzl's algorithm, rotation-equivariant like the element).
+// The return map is exact at the samples where the slip direction does not turn between them
+// (2D, and 3D motion along a line: the in-phase loop's samples equal its closed form); where it
+// turns, it is first order in the sample spacing (circular sliding: the energy per cycle errs
+// by 1.1 %, 0.28 %, 0.07 % at 128, 512, 2048 samples; tests/test_normal_contact.cpp).
+// The Jacobian is exact on the stick/slip/separation pattern: the slider's derivative with
+// respect to the coefficients is carried along the march (forward mode), started from the
+// periodic fixed point's (I - Phi')^-1 or from the permanent-stick centre's active constraints.
 #pragma once
 
 #include <Eigen/Dense>
@@ -33,42 +48,38 @@ namespace hbf {
 /// The state of a contact at one time sample.
 enum class ContactState : unsigned char { separated, stuck, slipping };
 
-/// The 2D elastic friction element (see the top of this file).
-struct ElasticContact2D {
+/// The elastic friction element with a normal direction (see the top of this file).
+struct ElasticContact {
     double normal_stiffness = 0;      ///< k_n > 0
     double tangential_stiffness = 0;  ///< k_t > 0
     double friction_coefficient = 0;  ///< mu >= 0
     double normal_offset = 0;         ///< n_0: the normal force at v = 0 (N_0, or -k_n g_0)
+    int tangential_directions = 1;    ///< d: 1 (the 2D element) or 2 (3D)
 };
 
 /// The periodic cycle on the samples.
 struct NormalContactCycle {
-    Eigen::VectorXd tangential;  ///< T_j
+    Eigen::MatrixXd tangential;  ///< T_j (N_t x d)
     Eigen::VectorXd normal;      ///< N_j
     std::vector<ContactState> state;
-    /// The slider's dependence: s at sample j (after the sample) equals
-    /// sum_m (u_weight[m] u_{anchor[m]} + v_weight[m] v_{anchor[m]}) + const over up to two
-    /// anchors; a stuck sample's T_j = k_t (u_j - s_{j-1}).
-    struct Slider {
-        int anchor[2] = {-1, -1};
-        double u_weight[2] = {0.0, 0.0};
-        double v_weight[2] = {0.0, 0.0};
-    };
-    std::vector<Slider> slider_before;  ///< s_{j-1}'s dependence, for each sample j
     bool permanent_stick = false;
+    /// The slider before sample 0 (the periodic s_0).
+    Eigen::VectorXd slider;
 };
 
-/// The periodic cycle of `element` on the samples u, v (equal sizes). Throws InvalidInput for
-/// parameters out of range or samples of different sizes.
-NormalContactCycle march(const ElasticContact2D& element, const Eigen::VectorXd& u, const Eigen::VectorXd& v);
+/// The periodic cycle of `element` on the samples u (N_t x d) and v (N_t). Throws InvalidInput
+/// for parameters out of range or samples of mismatched sizes, and std::runtime_error, naming
+/// the residual, when Newton's method does not reach a 3D cycle's fixed point (to 1e-13 of the
+/// motion's size within 50 steps).
+NormalContactCycle march(const ElasticContact& element, const Eigen::MatrixXd& u, const Eigen::VectorXd& v);
 
-/// The AFT forces and their exact Jacobian with respect to the coefficients of u and v (the
-/// normal force does not depend on u).
+/// The AFT forces and their exact Jacobian. q stacks the coefficients (2H+1 each) of
+/// u_1, .., u_d, v; force stacks those of T_1, .., T_d, N; jacobian = d force / d q.
 struct NormalContactEvaluation {
-    Eigen::VectorXd tangential, normal;  ///< coefficients (2H+1)
-    Eigen::MatrixXd tangential_u, tangential_v, normal_v;
+    Eigen::VectorXd force;
+    Eigen::MatrixXd jacobian;
 };
-void evaluate(const ElasticContact2D& element, Fourier& fourier, const Eigen::VectorXd& u, const Eigen::VectorXd& v,
+void evaluate(const ElasticContact& element, Fourier& fourier, const Eigen::VectorXd& q,
               NormalContactEvaluation& out, bool jacobian);
 
 }  // namespace hbf

@@ -1,8 +1,11 @@
-// hbfriction — the 2D elastic friction element with a varying normal load (normal_contact.hpp).
+// hbfriction — the elastic friction element with a varying normal load (normal_contact.hpp).
 #include "hbf/normal_contact.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "hbf/error.hpp"
@@ -11,7 +14,7 @@ namespace hbf {
 
 namespace {
 
-void validate(const ElasticContact2D& e) {
+void validate(const ElasticContact& e) {
     auto require = [](bool ok, const char* key, const char* allowed, double value) {
         if (!ok)
             throw InvalidInput(std::string(key) + " = " + format_number(value) + " is out of range: allowed " + allowed);
@@ -23,131 +26,386 @@ void validate(const ElasticContact2D& e) {
     require(e.friction_coefficient >= 0.0 && std::isfinite(e.friction_coefficient), "friction_coefficient",
             "finite and >= 0", e.friction_coefficient);
     require(std::isfinite(e.normal_offset), "normal_offset", "finite", e.normal_offset);
+    require(e.tangential_directions == 1 || e.tangential_directions == 2, "tangential_directions",
+            "1 (2D element) or 2 (3D)", e.tangential_directions);
 }
+
+using Matrix = Eigen::MatrixXd;
+using Vector = Eigen::VectorXd;
+
+/// The march of one element on given samples, with the derivatives of everything with respect
+/// to the inputs' coefficients q = [u_1; ..; u_d; v] (m = (d + 1) n of them) when a synthesis
+/// matrix E (N_t x n) is given. A derivative is a matrix with d + m columns: first with respect
+/// to the slider s_0 before sample 0, then with respect to q.
+class Marcher {
+public:
+    Marcher(const ElasticContact& e, const Matrix& u, const Vector& v, const Matrix* synthesis)
+        : e_(e), u_(u), v_(v), E_(synthesis), d_(e.tangential_directions), nt_(static_cast<int>(u.rows())),
+          n_(synthesis ? static_cast<int>(synthesis->cols()) : 0), m_((d_ + 1) * n_) {
+        normal_ = (e.normal_offset + e.normal_stiffness * v.array()).cwiseMax(0.0).matrix();
+        radius_ = e.friction_coefficient * normal_ / e.tangential_stiffness;
+        scale_ = std::max({u.cwiseAbs().maxCoeff(), radius_.maxCoeff(), std::numeric_limits<double>::min()});
+    }
+
+    /// The periodic cycle; with `jacobian` (needs the synthesis matrix and the analysis P) the
+    /// force coefficients' derivative d [T_1..T_d] / dq, (d n) x m.
+    NormalContactCycle cycle(const Matrix* analysis, Matrix* jacobian) {
+        NormalContactCycle c;
+        c.normal = normal_;
+        Vector centred(d_);
+        Matrix centre_derivative;  // d s_0 / d q in permanent stick (d x m)
+        centre(centred, jacobian ? &centre_derivative : nullptr);
+        // Find the fixed point s_0 = Phi(s_0) from the centre: a pass without slip or separation
+        // is permanent stick (then the centre is admissible, and taken); otherwise Newton on Phi
+        // (Phi' = 0 after a 2D slip or any separation, so that is one plain step there).
+        Vector s0 = centred, previous_residual;
+        for (int iteration = 0;; ++iteration) {
+            Vector end;
+            Matrix end_derivative;
+            if (!pass(s0, end, end_derivative, nullptr, nullptr, nullptr, false)) {
+                s0 = centred;
+                c.permanent_stick = true;
+                break;
+            }
+            const Vector residual = end - s0;
+            if (residual.cwiseAbs().maxCoeff() <= 1e-13 * scale_) break;
+            if (iteration >= 50)
+                throw std::runtime_error("normal contact: the periodic slider was not found (residual " +
+                                         format_number(residual.norm()) + " after 50 Newton steps)");
+            const bool newton = previous_residual.size() == 0 || residual.norm() < 0.5 * previous_residual.norm();
+            if (newton && d_ == 2)
+                s0 += (Matrix::Identity(d_, d_) - end_derivative).fullPivLu().solve(residual);
+            else
+                s0 = end;  // a plain step where Newton did not halve the residual
+            previous_residual = residual;
+        }
+        c.slider = s0;
+        Vector end;
+        Matrix end_derivative, force_derivative;
+        c.tangential.resize(nt_, d_);
+        c.state.resize(static_cast<std::size_t>(nt_));
+        pass(s0, end, end_derivative, &c, jacobian ? analysis : nullptr, jacobian ? &force_derivative : nullptr,
+             jacobian != nullptr);
+        if (!jacobian) return c;
+        // d s_0 / d q: the centre's in permanent stick, else (I - Phi')^-1 dPhi/dq.
+        Matrix ds0;
+        if (c.permanent_stick)
+            ds0 = centre_derivative;
+        else
+            ds0 = (Matrix::Identity(d_, d_) - end_derivative.leftCols(d_)).fullPivLu().solve(end_derivative.rightCols(m_));
+        *jacobian = force_derivative.rightCols(m_) + force_derivative.leftCols(d_) * ds0;
+        return c;
+    }
+
+private:
+    /// d u_j / dq (d rows) added into `out` (d + m columns), times factor.
+    void add_du(int j, Eigen::Ref<Matrix> out, double factor) const {
+        for (int k = 0; k < d_; ++k) out.block(k, d_ + k * n_, 1, n_) += factor * E_->row(j);
+    }
+    /// d r_j / dq added into row `row` of `out`, times factor: mu k_n / k_t on closed samples.
+    void add_dr(int j, Eigen::Ref<Matrix> out, int row, double factor) const {
+        if (normal_(j) <= 0.0) return;
+        out.block(row, d_ + d_ * n_, 1, n_) +=
+            factor * e_.friction_coefficient * e_.normal_stiffness / e_.tangential_stiffness * E_->row(j);
+    }
+
+    /// One period from s0: the slider after it (`end`) and, with derivatives (E given), its
+    /// derivative (d x (d + m)). With `cycle` the forces and states are recorded; with
+    /// `analysis` and `force` the force coefficients' derivative (d n x (d + m)) is summed.
+    /// Returns whether a sample slipped or separated.
+    bool pass(const Vector& s0, Vector& end, Matrix& end_derivative, NormalContactCycle* cycle, const Matrix* analysis,
+              Matrix* force, bool with_q) const {
+        // Derivatives with respect to s_0 always (Newton needs Phi'), to q when asked for.
+        const bool derive_q = with_q && E_ != nullptr;
+        const int columns = d_ + (derive_q ? m_ : 0);
+        Vector s = s0;
+        Matrix ds = Matrix::Zero(d_, columns);
+        ds.leftCols(d_).setIdentity();
+        if (force) force->setZero(d_ * n_, columns);
+        bool event = false;
+        const double kt = e_.tangential_stiffness, mu = e_.friction_coefficient;
+        Matrix dt(d_, columns), dtau(d_, columns);
+        for (int j = 0; j < nt_; ++j) {
+            const auto index = static_cast<std::size_t>(j);
+            if (normal_(j) <= 0.0) {  // separated: T = 0, s = u_j
+                event = true;
+                s = u_.row(j).transpose();
+                ds.setZero();
+                if (derive_q) add_du(j, ds, 1.0);
+                if (cycle) {
+                    cycle->state[index] = ContactState::separated;
+                    cycle->tangential.row(j).setZero();
+                }
+                continue;
+            }
+            const Vector trial = kt * (u_.row(j).transpose() - s);
+            const double size = trial.norm(), limit = mu * normal_(j);
+            dt = -kt * ds;  // d trial = k_t (d u_j - d s)
+            if (derive_q) add_du(j, dt, kt);
+            if (size <= limit) {
+                if (cycle) {
+                    cycle->state[index] = ContactState::stuck;
+                    cycle->tangential.row(j) = trial.transpose();
+                }
+                if (force)
+                    for (int k = 0; k < d_; ++k) force->middleRows(k * n_, n_) += analysis->col(j) * dt.row(k);
+                continue;
+            }
+            event = true;
+            const Vector direction = trial / size, tau = limit * direction;
+            // d tau = mu direction dN + limit (I - direction direction^T) d trial / |trial|
+            dtau = (limit / size) * (dt - direction * (direction.transpose() * dt));
+            if (derive_q) {
+                Matrix dn = Matrix::Zero(1, columns);
+                dn.block(0, d_ + d_ * n_, 1, n_) = e_.normal_stiffness * E_->row(j);
+                dtau += mu * direction * dn;
+            }
+            ds = -dtau / kt;  // s = u_j - tau / k_t
+            if (derive_q) add_du(j, ds, 1.0);
+            s = u_.row(j).transpose() - tau / kt;
+            if (cycle) {
+                cycle->state[index] = ContactState::slipping;
+                cycle->tangential.row(j) = tau.transpose();
+            }
+            if (force)
+                for (int k = 0; k < d_; ++k) force->middleRows(k * n_, n_) += analysis->col(j) * dtau.row(k);
+        }
+        end = s;
+        end_derivative = ds;
+        return event;
+    }
+
+    /// The permanent-stick slider argmin_s max_j (|s - u_j| - r_j) into s (and its derivative
+    /// with respect to q, d x m, when `derivative` is given); true when it is admissible (every
+    /// sample closed and within its radius).
+    bool centre(Vector& s, Matrix* derivative) const {
+        const bool closed = (normal_.array() > 0.0).all();
+        if (d_ == 1) {
+            Eigen::Index a = 0, b = 0;
+            const double lower = (u_.col(0).array() - radius_.array()).maxCoeff(&a);
+            const double upper = (u_.col(0).array() + radius_.array()).minCoeff(&b);
+            s.resize(1);
+            s(0) = 0.5 * (lower + upper);
+            if (derivative && E_) {
+                Matrix full = Matrix::Zero(1, d_ + m_);
+                add_du(static_cast<int>(a), full, 0.5);
+                add_du(static_cast<int>(b), full, 0.5);
+                add_dr(static_cast<int>(a), full, 0, -0.5);
+                add_dr(static_cast<int>(b), full, 0, 0.5);
+                *derivative = full.rightCols(m_);
+            }
+            return closed && lower <= upper;
+        }
+        const Basis best = smallest_enclosing();
+        s = best.s;
+        if (derivative && E_) *derivative = basis_derivative(best).rightCols(m_);
+        return closed && best.value <= 0.0;
+    }
+
+    struct Basis {
+        Eigen::Vector2d s = Eigen::Vector2d::Zero();
+        double value = 0;  ///< max_j (|s - u_j| - r_j)
+        std::array<int, 3> member = {-1, -1, -1};
+        int size = 0;
+    };
+    Eigen::Vector2d point(int j) const { return u_.row(j).transpose(); }
+    double excess(int j, const Basis& b) const { return (b.s - point(j)).norm() - radius_(j) - b.value; }
+    Basis one(int a) const {
+        Basis b;
+        b.s = point(a);
+        b.value = -radius_(a);
+        b.member[0] = a;
+        b.size = 1;
+        return b;
+    }
+    /// The optimum of constraints a and b, both tight when possible.
+    Basis two(int a, int b) const {
+        const Eigen::Vector2d gap = point(b) - point(a);
+        const double distance = gap.norm(), t = 0.5 * (distance + radius_(a) - radius_(b));
+        if (t <= 0.0) return one(a);
+        if (t >= distance) return one(b);
+        Basis out;
+        out.s = point(a) + t * gap / distance;
+        out.value = t - radius_(a);
+        out.member = {a, b, -1};
+        out.size = 2;
+        return out;
+    }
+    /// The point with |s - u_i| - r_i equal for i = a, b, c (the circle tangent to three),
+    /// with the smallest common value; the best pair where that fails.
+    Basis three(int a, int b, int c) const {
+        // 2 s.(u_i - u_a) + 2 R (r_i - r_a) = |u_i|^2 - |u_a|^2 - r_i^2 + r_a^2 (i = b, c),
+        // then |s - u_a| = R + r_a, a quadratic in R.
+        const Eigen::Vector2d ua = point(a);
+        Eigen::Matrix2d A;
+        Eigen::Vector2d rhs, coupling;
+        int row = 0;
+        for (int i : {b, c}) {
+            const Eigen::Vector2d ui = point(i);
+            A.row(row) = 2.0 * (ui - ua).transpose();
+            coupling(row) = 2.0 * (radius_(i) - radius_(a));
+            rhs(row) = ui.squaredNorm() - ua.squaredNorm() - radius_(i) * radius_(i) + radius_(a) * radius_(a);
+            ++row;
+        }
+        Basis out;
+        const Eigen::FullPivLU<Eigen::Matrix2d> lu(A);
+        if (lu.isInvertible()) {
+            const Eigen::Vector2d s0 = lu.solve(rhs), s1 = -lu.solve(coupling);
+            const Eigen::Vector2d w = s0 - ua;
+            const double qa = s1.squaredNorm() - 1.0, qb = 2.0 * (w.dot(s1) - radius_(a)),
+                         qc = w.squaredNorm() - radius_(a) * radius_(a);
+            double roots[2];
+            int count = 0;
+            if (std::abs(qa) < 1e-14) {
+                if (qb != 0.0) roots[count++] = -qc / qb;
+            } else {
+                const double disc = qb * qb - 4.0 * qa * qc;
+                if (disc >= 0.0) {
+                    const double root = std::sqrt(disc);
+                    roots[count++] = (-qb - root) / (2.0 * qa);
+                    roots[count++] = (-qb + root) / (2.0 * qa);
+                }
+            }
+            const double floor = -std::min({radius_(a), radius_(b), radius_(c)});
+            double best = std::numeric_limits<double>::infinity();
+            for (int k = 0; k < count; ++k)
+                if (roots[k] >= floor && roots[k] < best) best = roots[k];
+            if (std::isfinite(best)) {
+                out.s = s0 + best * s1;
+                out.value = best;
+                out.member = {a, b, c};
+                out.size = 3;
+                if (std::max({std::abs(excess(a, out)), std::abs(excess(b, out)), std::abs(excess(c, out))}) <=
+                    1e-9 * scale_)
+                    return out;
+            }
+        }
+        // Degenerate (collinear centres, no tangent circle): the best pair that covers the third.
+        Basis fallback;
+        fallback.value = std::numeric_limits<double>::infinity();
+        const std::array<std::array<int, 3>, 3> pairs = {{{a, b, c}, {a, c, b}, {b, c, a}}};
+        for (const auto& p : pairs) {
+            const Basis candidate = two(p[0], p[1]);
+            if (excess(p[2], candidate) <= 1e-12 * scale_ && candidate.value < fallback.value) fallback = candidate;
+        }
+        if (std::isfinite(fallback.value)) return fallback;
+        throw std::runtime_error("normal contact: no permanent-stick centre for samples " + std::to_string(a) + ", " +
+                                 std::to_string(b) + ", " + std::to_string(c));
+    }
+
+    /// Welzl's algorithm (iterative, on a fixed pseudo-random order: reproducible).
+    Basis smallest_enclosing() const {
+        std::vector<int> order(static_cast<std::size_t>(nt_));
+        for (int j = 0; j < nt_; ++j) order[static_cast<std::size_t>(j)] = j;
+        unsigned long long state = 0x9E3779B97F4A7C15ull;
+        for (int j = nt_ - 1; j > 0; --j) {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            std::swap(order[static_cast<std::size_t>(j)], order[static_cast<std::size_t>((state >> 33) % (j + 1))]);
+        }
+        const double tolerance = 1e-12 * scale_;
+        Basis b = one(order[0]);
+        for (int i = 1; i < nt_; ++i) {
+            const int pi = order[static_cast<std::size_t>(i)];
+            if (excess(pi, b) <= tolerance) continue;
+            b = one(pi);
+            for (int j = 0; j < i; ++j) {
+                const int pj = order[static_cast<std::size_t>(j)];
+                if (excess(pj, b) <= tolerance) continue;
+                b = two(pi, pj);
+                for (int k = 0; k < j; ++k) {
+                    const int pk = order[static_cast<std::size_t>(k)];
+                    if (excess(pk, b) <= tolerance) continue;
+                    b = three(pi, pj, pk);
+                }
+            }
+        }
+        return b;
+    }
+
+    /// d s / d(s_0, q) (2 x (2 + m)) of a basis: its tight constraints |s - u_i| - r_i = R.
+    Matrix basis_derivative(const Basis& b) const {
+        Matrix out = Matrix::Zero(2, d_ + m_);
+        if (b.size == 1) {
+            add_du(b.member[0], out, 1.0);
+            return out;
+        }
+        if (b.size == 2) {  // s = u_a + t e, t = (|u_b - u_a| + r_a - r_b) / 2
+            const int a = b.member[0], c = b.member[1];
+            const Eigen::Vector2d gap = point(c) - point(a);
+            const double distance = gap.norm(), t = 0.5 * (distance + radius_(a) - radius_(c));
+            const Eigen::Vector2d e = gap / distance;
+            Matrix dgap = Matrix::Zero(2, d_ + m_);
+            add_du(c, dgap, 1.0);
+            add_du(a, dgap, -1.0);
+            Matrix dt = 0.5 * (e.transpose() * dgap);
+            add_dr(a, dt, 0, 0.5);
+            add_dr(c, dt, 0, -0.5);
+            add_du(a, out, 1.0);
+            out += e * dt + (t / distance) * (dgap - e * (e.transpose() * dgap));
+            return out;
+        }
+        // [n_i^T, -1] d(s, R) = n_i^T d u_i + d r_i, i over the three tight constraints.
+        Eigen::Matrix3d A;
+        Matrix rhs = Matrix::Zero(3, d_ + m_);
+        for (int k = 0; k < 3; ++k) {
+            const int i = b.member[static_cast<std::size_t>(k)];
+            const Eigen::Vector2d normal = (b.s - point(i)).normalized();
+            A.row(k) << normal.transpose(), -1.0;
+            Matrix du = Matrix::Zero(2, d_ + m_);
+            add_du(i, du, 1.0);
+            rhs.row(k) = normal.transpose() * du;
+            add_dr(i, rhs, k, 1.0);
+        }
+        return A.fullPivLu().solve(rhs).topRows(2);
+    }
+
+    const ElasticContact& e_;
+    const Matrix& u_;
+    const Vector& v_;
+    const Matrix* E_;
+    int d_, nt_, n_, m_;
+    Vector normal_, radius_;
+    double scale_ = 1.0;
+};
 
 }  // namespace
 
-NormalContactCycle march(const ElasticContact2D& e, const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
+NormalContactCycle march(const ElasticContact& e, const Eigen::MatrixXd& u, const Eigen::VectorXd& v) {
     validate(e);
-    if (u.size() != v.size() || u.size() == 0)
-        throw InvalidInput("normal contact: " + std::to_string(u.size()) + " tangential and " +
-                           std::to_string(v.size()) + " normal samples: allowed equal, nonzero counts");
-    const int nt = static_cast<int>(u.size());
-    const double kt = e.tangential_stiffness, kn = e.normal_stiffness, mu = e.friction_coefficient;
-    using Slider = NormalContactCycle::Slider;
-    NormalContactCycle c;
-    c.normal = (e.normal_offset + kn * v.array()).cwiseMax(0.0).matrix();
-    c.tangential.resize(nt);
-    c.state.assign(static_cast<std::size_t>(nt), ContactState::stuck);
-    c.slider_before.assign(static_cast<std::size_t>(nt), Slider{});
-    // The permanent-stick interval of the slider, max_j (u_j - mu N_j / k_t) ..
-    // min_j (u_j + mu N_j / k_t), from samples a and b; its midpoint starts the march.
-    Eigen::Index a = 0, b = 0;
-    const Eigen::ArrayXd travel = mu * c.normal.array() / kt;
-    const double lower = (u.array() - travel).maxCoeff(&a), upper = (u.array() + travel).minCoeff(&b);
-    const bool separates = (c.normal.array() <= 0.0).any();
-    double slider = 0.0;
-    Slider dependence;
-    if (lower <= upper && !separates) {
-        slider = 0.5 * (lower + upper);
-        // d travel_j / d v_j = mu k_n / k_t on closed samples (all of them here).
-        dependence.anchor[0] = static_cast<int>(a);
-        dependence.u_weight[0] = 0.5;
-        dependence.v_weight[0] = -0.5 * mu * kn / kt;
-        dependence.anchor[1] = static_cast<int>(b);
-        dependence.u_weight[1] = 0.5;
-        dependence.v_weight[1] = 0.5 * mu * kn / kt;
-    } else {
-        slider = 0.5 * (u.maxCoeff() + u.minCoeff());  // forgotten at the first event
-    }
-    // Two periods settle the cycle when it slips or separates (the first event forgets the
-    // start); more only while the slider at the period's end still changes. The samples of the
-    // last period before its first event hang on the previous period's last event, which is
-    // the same sample once the cycle repeats.
-    constexpr int max_periods = 8;
-    for (int period = 0; period < max_periods; ++period) {
-        const double start = slider;
-        bool event = false;
-        for (int j = 0; j < nt; ++j) {
-            const auto index = static_cast<std::size_t>(j);
-            c.slider_before[index] = dependence;
-            if (c.normal(j) <= 0.0) {
-                c.state[index] = ContactState::separated;
-                c.tangential(j) = 0.0;
-                slider = u(j);
-                dependence = Slider{};
-                dependence.anchor[0] = j;
-                dependence.u_weight[0] = 1.0;
-                event = true;
-                continue;
-            }
-            const double trial = kt * (u(j) - slider), limit = mu * c.normal(j);
-            if (std::abs(trial) <= limit) {
-                c.state[index] = ContactState::stuck;
-                c.tangential(j) = trial;
-                continue;
-            }
-            const double sign = trial > 0.0 ? 1.0 : -1.0;
-            c.state[index] = ContactState::slipping;
-            c.tangential(j) = sign * limit;
-            slider = u(j) - sign * limit / kt;
-            dependence = Slider{};
-            dependence.anchor[0] = j;
-            dependence.u_weight[0] = 1.0;
-            dependence.v_weight[0] = -sign * mu * kn / kt;
-            event = true;
-        }
-        if (!event) {
-            c.permanent_stick = true;
-            break;
-        }
-        if (period > 0 && slider == start) break;
-    }
-    return c;
+    if (u.rows() != v.size() || u.rows() == 0 || u.cols() != e.tangential_directions)
+        throw InvalidInput("normal contact: " + std::to_string(u.rows()) + " x " + std::to_string(u.cols()) +
+                           " tangential and " + std::to_string(v.size()) +
+                           " normal samples: allowed N_t x d and N_t, N_t > 0, d = tangential_directions");
+    Marcher marcher(e, u, v, nullptr);
+    return marcher.cycle(nullptr, nullptr);
 }
 
-void evaluate(const ElasticContact2D& e, Fourier& fourier, const Eigen::VectorXd& u, const Eigen::VectorXd& v,
-              NormalContactEvaluation& out, bool jacobian) {
-    const int nt = fourier.time_samples(), n = fourier.size();
-    Eigen::VectorXd ut(nt), vt(nt);
-    fourier.to_time(u, ut);
-    fourier.to_time(v, vt);
-    const NormalContactCycle cycle = march(e, ut, vt);
-    out.tangential.resize(n);
-    out.normal.resize(n);
-    fourier.to_coefficients(cycle.tangential, out.tangential);
-    fourier.to_coefficients(cycle.normal, out.normal);
+void evaluate(const ElasticContact& e, Fourier& fourier, const Eigen::VectorXd& q, NormalContactEvaluation& out,
+              bool jacobian) {
+    validate(e);
+    const int nt = fourier.time_samples(), n = fourier.size(), d = e.tangential_directions, m = (d + 1) * n;
+    if (q.size() != m)
+        throw InvalidInput("normal contact: " + std::to_string(q.size()) + " coefficients: allowed (d + 1) (2H + 1) = " +
+                           std::to_string(m));
+    Eigen::MatrixXd u(nt, d);
+    Eigen::VectorXd v(nt);
+    for (int k = 0; k < d; ++k) fourier.to_time(q.segment(k * n, n), u.col(k));
+    fourier.to_time(q.segment(d * n, n), v);
+    Marcher marcher(e, u, v, jacobian ? &fourier.synthesis() : nullptr);
+    Eigen::MatrixXd tangential_jacobian;
+    const NormalContactCycle cycle =
+        marcher.cycle(jacobian ? &fourier.analysis() : nullptr, jacobian ? &tangential_jacobian : nullptr);
+    out.force.resize(m);
+    for (int k = 0; k < d; ++k) fourier.to_coefficients(cycle.tangential.col(k), out.force.segment(k * n, n));
+    fourier.to_coefficients(cycle.normal, out.force.segment(d * n, n));
     if (!jacobian) return;
-    const double kt = e.tangential_stiffness, kn = e.normal_stiffness, mu = e.friction_coefficient;
-    // Own samples: stuck T_j = k_t u_j - k_t s_{j-1}; slipping T_j = sign mu (n_0 + k_n v_j);
-    // closed N_j = n_0 + k_n v_j.
-    Eigen::VectorXd own_u = Eigen::VectorXd::Zero(nt), own_v = Eigen::VectorXd::Zero(nt), closed(nt);
-    const Eigen::MatrixXd& P = fourier.analysis();
-    Eigen::MatrixXd slider_u = Eigen::MatrixXd::Zero(n, nt), slider_v = Eigen::MatrixXd::Zero(n, nt);
-    for (int j = 0; j < nt; ++j) {
-        const auto index = static_cast<std::size_t>(j);
-        closed(j) = cycle.normal(j) > 0.0 ? kn : 0.0;
-        if (cycle.state[index] == ContactState::slipping) {
-            own_v(j) = (cycle.tangential(j) > 0.0 ? 1.0 : -1.0) * mu * kn;
-        } else if (cycle.state[index] == ContactState::stuck) {
-            own_u(j) = kt;
-            const NormalContactCycle::Slider& s = cycle.slider_before[index];
-            for (int m = 0; m < 2; ++m) {
-                if (s.anchor[m] < 0) continue;
-                slider_u.col(s.anchor[m]) -= kt * s.u_weight[m] * P.col(j);
-                slider_v.col(s.anchor[m]) -= kt * s.v_weight[m] * P.col(j);
-            }
-        }
-    }
-    const Eigen::MatrixXd& E = fourier.synthesis();
-    out.tangential_u.resize(n, n);
-    out.tangential_v.resize(n, n);
-    out.normal_v.resize(n, n);
-    fourier.multiplication_matrix(own_u, out.tangential_u);
-    fourier.multiplication_matrix(own_v, out.tangential_v);
-    fourier.multiplication_matrix(closed, out.normal_v);
-    out.tangential_u.noalias() += slider_u * E;
-    out.tangential_v.noalias() += slider_v * E;
+    out.jacobian = Eigen::MatrixXd::Zero(m, m);
+    out.jacobian.topRows(d * n) = tangential_jacobian;
+    Eigen::VectorXd closed(nt);
+    for (int j = 0; j < nt; ++j) closed(j) = cycle.normal(j) > 0.0 ? e.normal_stiffness : 0.0;
+    Eigen::MatrixXd normal_block(n, n);
+    fourier.multiplication_matrix(closed, normal_block);
+    out.jacobian.block(d * n, d * n, n, n) = normal_block;
 }
 
 }  // namespace hbf
