@@ -2,13 +2,17 @@
 #include <sys/wait.h>
 
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "cli_support.hpp"
+#include "progress.hpp"  // src/cli
 #include "hbf/analytic.hpp"
 
 namespace fs = std::filesystem;
@@ -432,4 +436,38 @@ TEST_CASE("hbf frf --at: a frequency within rounding of wmin is sampled, one out
     for (const auto& row : parse_csv(r.out))
         if (row.size() > 9 && row[9] == "sample") ++samples;
     CHECK(samples == 2);
+}
+
+TEST_CASE("Progress: a redrawn line on a terminal, one kept line per interval into a log, nothing when off",
+          "[cli]") {
+    // hbf frf on a 10,000-DOF beam runs for 20 minutes: into a log file (standard error not a
+    // terminal) it writes one progress line a minute, none within the first minute, so that
+    // short runs stay silent. Here the interval is zero or an hour, and the sink a temporary file.
+    auto run = [](hbf::cli::ProgressLine::Mode mode, std::chrono::steady_clock::duration interval) {
+        std::FILE* sink = std::tmpfile();
+        REQUIRE(sink != nullptr);
+        {
+            hbf::cli::ProgressLine line(mode, "frf", sink, interval);
+            for (int k = 0; k < 3; ++k) line.update("w = " + std::to_string(k));
+            line.update("w = 3", true);
+        }
+        std::rewind(sink);
+        std::string text;
+        for (int c = std::fgetc(sink); c != EOF; c = std::fgetc(sink)) text += static_cast<char>(c);
+        std::fclose(sink);
+        return text;
+    };
+    using Mode = hbf::cli::ProgressLine::Mode;
+    const std::string every = run(Mode::log, std::chrono::steady_clock::duration::zero());
+    CHECK(std::count(every.begin(), every.end(), '\n') == 4);
+    CHECK(every.rfind("hbf frf: w = 0 ", 0) == 0);
+    CHECK(every.find('\r') == std::string::npos);
+    CHECK(run(Mode::log, std::chrono::hours(1)).empty());
+    CHECK(run(Mode::off, std::chrono::steady_clock::duration::zero()).empty());
+    const std::string terminal = run(Mode::terminal, std::chrono::hours(1));
+    CHECK(terminal.rfind("\rhbf frf: w = 0 ", 0) == 0);  // the first update, then the forced last
+    CHECK(terminal.find("w = 3") != std::string::npos);
+    CHECK(terminal.size() >= 4);
+    CHECK(terminal.compare(terminal.size() - 4, 4, "\r\033[K") == 0);  // erased when done
+    CHECK(terminal.find('\n') == std::string::npos);
 }

@@ -78,7 +78,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         return o.output.dry_run_done("frf");
     }
     HarmonicBalance hb(system, settings.harmonic_balance);
-    ProgressLine progress(o.output.verbose(), "frf");
+    ProgressLine progress(o.output.progress(), "frf");
     co.progress = [&progress](double omega, int points) {
         char text[64];
         std::snprintf(text, sizeof text, "w = %-12.6g %6d points", omega, points);
@@ -172,8 +172,8 @@ void add_flags(CLI::App& command, FrfOptions& o) {
                    "draw max over one period of |o(t)| of the first reported output o against w through gnuplot: the "
                    "branch in order, folds, transitions and samples marked; with --stability unstable parts dashed and "
                    "uncertain points marked (.png or .svg)",
-                   "no progress (on a terminal: w reached, points, elapsed time, redrawn 4 times a second) or "
-                   "summary line on standard error"});
+                   "no progress (w reached, points, elapsed time: on a terminal redrawn 4 times a second, "
+                   "otherwise, e.g. into a log file, one line a minute) or summary line on standard error"});
     command.add_option("--overlay-timeint", o.overlay,
                         "also integrate K frequencies of a uniform grid over [wmin, wmax] in time (an up-sweep, "
                         "hbf timeint's defaults) and draw them as markers on the --plot; their rows go to "

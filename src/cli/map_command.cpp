@@ -120,7 +120,7 @@ int run(const CLI::App& command, const MapOptions& o) {
     // This rank's share: FRFs k with k mod ranks = rank.
     std::vector<int> mine;
     for (int k = mpi.rank(); k < static_cast<int>(values.size()); k += mpi.size()) mine.push_back(k);
-    ProgressLine progress(root && o.output.verbose(), "map");
+    ProgressLine progress(root ? o.output.progress() : ProgressLine::Mode::off, "map");
     const auto draw = [&](int finished, int total) {
         const int width = 30, filled = total > 0 ? width * finished / total : width;
         progress.update("[" + std::string(static_cast<std::size_t>(filled), '#') +
@@ -283,7 +283,7 @@ void add_flags(CLI::App& command, MapOptions& o) {
                                       "FILE",
                                       "draw the first output's max over one period against w: one curve per value, or "
                                       "a heat map over (w, parameter) with the colour on a log scale (.png or .svg)",
-                                      "no progress bar or summary line on standard error"});
+                                      "no progress bar (on a terminal; otherwise one line a minute) or summary line on standard error"});
     command.add_option("--plot-style", o.style,
                         "curves, heatmap, or auto (curves for up to 8 values, else a heat map)")
         ->capture_default_str()->type_name("auto|curves|heatmap");

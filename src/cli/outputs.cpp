@@ -36,6 +36,11 @@ void OutputFlags::check(const CLI::App& command, const std::vector<io::InputFile
 
 bool OutputFlags::verbose() const { return !quiet && isatty(STDERR_FILENO); }
 
+ProgressLine::Mode OutputFlags::progress() const {
+    if (quiet) return ProgressLine::Mode::off;
+    return isatty(STDERR_FILENO) ? ProgressLine::Mode::terminal : ProgressLine::Mode::log;
+}
+
 std::string columns_footer(const std::string& intro, const std::vector<io::Column>& columns, const std::string& outro) {
     std::string text = intro + "\n";
     for (const auto& c : columns) text += "  " + c.name + ": " + c.meaning + "\n";

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hbf/io.hpp"
+#include "progress.hpp"
 
 namespace hbf::cli {
 
@@ -35,6 +36,9 @@ struct OutputFlags {
                std::vector<io::OutputTarget> extra = {}) const;
     /// Progress and summary lines: not --quiet, and standard error is a terminal.
     bool verbose() const;
+    /// The progress display: off with --quiet, a redrawn line on a terminal, else a line a
+    /// minute (progress.hpp).
+    ProgressLine::Mode progress() const;
     /// The end of a --dry-run, after its checks: says on standard error that every input and
     /// output is valid and nothing is computed or written; returns exit code 0.
     int dry_run_done(const std::string& command) const;
