@@ -355,6 +355,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         return true;
     };
     for (std::size_t k = 0; k < points.size(); ++k) {
+        if (options.progress) options.progress(static_cast<int>(k), static_cast<int>(points.size()));
         const SolutionPoint& p = points[k];
         if (p.kind == PointKind::transition) continue;
         Polished q{p, hb_metrics[k], {}, {}};

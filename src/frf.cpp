@@ -398,6 +398,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         po.exact.outputs = outputs;
         po.peaks = settings.peaks;
         po.peaks_of_every_output = settings.peaks_of_every_output;
+        po.progress = settings.polish_progress;
         r.polish = polish_branch(hb, r.points, r.metrics, po, corrector);
         r.points = r.polish->points;
         r.metrics = r.polish->metrics;

@@ -38,7 +38,14 @@ Run polished_frf(HarmonicBalance& hb, const ExactOptions& exact = {}) {
     for (const SolutionPoint& p : run.branch.points) run.hb_metrics.push_back(analyse(p));
     PolishOptions po;
     po.exact = exact;
+    // The progress hook sees every point once, in order, with the branch's size.
+    int expected = 0;
+    bool in_order = true;
+    const int total = static_cast<int>(run.branch.points.size());
+    po.progress = [&](int done, int all) { in_order = in_order && done == expected++ && all == total; };
     run.polish = polish_branch(hb, run.branch.points, run.hb_metrics, po, co.corrector);
+    CHECK(in_order);
+    CHECK(expected == total);
     return run;
 }
 

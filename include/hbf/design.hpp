@@ -46,6 +46,9 @@ struct FrfSettings {
     /// when it ran).
     bool stability = false;
     StabilityOptions stability_options;
+    /// The exact polish's progress (PolishOptions::progress); the continuation's is
+    /// continuation.progress. May be empty.
+    std::function<void(int done, int total)> polish_progress;
 
     /// The ranges every front end applies (hbf frf, Python's frf(), the studies), checked
     /// before any work: throws InvalidInput naming the first field out of range, its value and

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,9 @@ struct PolishOptions {
     int dof = 0;
     /// With exact.outputs: refine the peaks of every output (false: of the first only).
     bool peaks_of_every_output = true;
+    /// Called before each point is polished with (points done, points in all): a progress
+    /// display. May be empty; it must not throw.
+    std::function<void(int done, int total)> progress;
 };
 
 /// What the polish did to one point.

@@ -84,6 +84,11 @@ int run(const CLI::App& command, const FrfOptions& o) {
         std::snprintf(text, sizeof text, "w = %-12.6g %6d points", omega, points);
         progress.update(text);
     };
+    settings.polish_progress = [&progress](int done, int total) {
+        char text[64];
+        std::snprintf(text, sizeof text, "exact polish %6d of %d points", done, total);
+        progress.update(text);
+    };
     FrfResult frf = compute_frf(hb, settings);
     progress.clear();
     const BranchResult& branch = frf.branch;
