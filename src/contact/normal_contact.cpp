@@ -98,6 +98,8 @@ public:
     }
 
 private:
+    /// u_j as a plane vector (second component 0 in 2D).
+    Eigen::Vector2d sample(int j) const { return {u_(j, 0), d_ == 2 ? u_(j, 1) : 0.0}; }
     /// d u_j / dq (d rows) added into `out` (d + m columns), times factor.
     void add_du(int j, Eigen::Ref<Matrix> out, double factor) const {
         for (int k = 0; k < d_; ++k) out.block(k, d_ + k * n_, 1, n_) += factor * E_->row(j);
@@ -118,18 +120,21 @@ private:
         // Derivatives with respect to s_0 always (Newton needs Phi'), to q when asked for.
         const bool derive_q = with_q && E_ != nullptr;
         const int columns = d_ + (derive_q ? m_ : 0);
-        Vector s = s0;
+        // Tangential vectors on the stack (the second component 0 in 2D): the march allocates
+        // nothing per sample.
+        Eigen::Vector2d s = Eigen::Vector2d::Zero();
+        s.head(d_) = s0;
         Matrix ds = Matrix::Zero(d_, columns);
         ds.leftCols(d_).setIdentity();
         if (force) force->setZero(d_ * n_, columns);
         bool event = false;
         const double kt = e_.tangential_stiffness, mu = e_.friction_coefficient;
-        Matrix dt(d_, columns), dtau(d_, columns);
+        Matrix dt(d_, columns), dtau(d_, columns), along(1, columns);
         for (int j = 0; j < nt_; ++j) {
             const auto index = static_cast<std::size_t>(j);
             if (normal_(j) <= 0.0) {  // separated: T = 0, s = u_j
                 event = true;
-                s = u_.row(j).transpose();
+                s = sample(j);
                 ds.setZero();
                 if (derive_q) add_du(j, ds, 1.0);
                 if (cycle) {
@@ -138,39 +143,40 @@ private:
                 }
                 continue;
             }
-            const Vector trial = kt * (u_.row(j).transpose() - s);
+            const Eigen::Vector2d trial = kt * (sample(j) - s);
             const double size = trial.norm(), limit = mu * normal_(j);
             dt = -kt * ds;  // d trial = k_t (d u_j - d s)
             if (derive_q) add_du(j, dt, kt);
             if (size <= limit) {
                 if (cycle) {
                     cycle->state[index] = ContactState::stuck;
-                    cycle->tangential.row(j) = trial.transpose();
+                    cycle->tangential.row(j) = trial.head(d_).transpose();
                 }
                 if (force)
-                    for (int k = 0; k < d_; ++k) force->middleRows(k * n_, n_) += analysis->col(j) * dt.row(k);
+                    for (int k = 0; k < d_; ++k) force->middleRows(k * n_, n_).noalias() += analysis->col(j) * dt.row(k);
                 continue;
             }
             event = true;
-            const Vector direction = trial / size, tau = limit * direction;
+            const Eigen::Vector2d direction = trial / size, tau = limit * direction;
             // d tau = mu direction dN + limit (I - direction direction^T) d trial / |trial|
-            dtau = (limit / size) * (dt - direction * (direction.transpose() * dt));
-            if (derive_q) {
-                Matrix dn = Matrix::Zero(1, columns);
-                dn.block(0, d_ + d_ * n_, 1, n_) = e_.normal_stiffness * E_->row(j);
-                dtau += mu * direction * dn;
-            }
+            along.noalias() = direction.head(d_).transpose() * dt;
+            dtau = dt;
+            dtau.noalias() -= direction.head(d_) * along;
+            dtau *= limit / size;
+            if (derive_q)  // + mu direction dN, dN = k_n dv_j
+                for (int k = 0; k < d_; ++k)
+                    dtau.block(k, d_ + d_ * n_, 1, n_) += mu * direction(k) * e_.normal_stiffness * E_->row(j);
             ds = -dtau / kt;  // s = u_j - tau / k_t
             if (derive_q) add_du(j, ds, 1.0);
-            s = u_.row(j).transpose() - tau / kt;
+            s = sample(j) - tau / kt;
             if (cycle) {
                 cycle->state[index] = ContactState::slipping;
-                cycle->tangential.row(j) = tau.transpose();
+                cycle->tangential.row(j) = tau.head(d_).transpose();
             }
             if (force)
-                for (int k = 0; k < d_; ++k) force->middleRows(k * n_, n_) += analysis->col(j) * dtau.row(k);
+                for (int k = 0; k < d_; ++k) force->middleRows(k * n_, n_).noalias() += analysis->col(j) * dtau.row(k);
         }
-        end = s;
+        end = s.head(d_);
         end_derivative = ds;
         return event;
     }
