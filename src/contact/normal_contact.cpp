@@ -58,15 +58,23 @@ public:
         // Find the fixed point s_0 = Phi(s_0) from the centre: a pass without slip or separation
         // is permanent stick (then the centre is admissible, and taken); otherwise Newton on Phi
         // (Phi' = 0 after a 2D slip or any separation, so that is one plain step there).
+        // Without the Jacobian every pass records the forces, and the last one (from the s_0
+        // found) is the cycle; with it a last pass from s_0 carries the derivatives.
+        c.tangential.resize(nt_, d_);
+        c.state.resize(static_cast<std::size_t>(nt_));
+        NormalContactCycle* record = jacobian ? nullptr : &c;
         Vector s0 = centred, previous_residual;
+        bool recorded = false;  // the recorded forces are those of the final s_0
         for (int iteration = 0;; ++iteration) {
             Vector end;
             Matrix end_derivative;
-            if (!pass(s0, end, end_derivative, nullptr, nullptr, nullptr, false)) {
+            if (!pass(s0, end, end_derivative, record, nullptr, nullptr, false)) {
+                recorded = iteration == 0;  // from the centre itself
                 s0 = centred;
                 c.permanent_stick = true;
                 break;
             }
+            recorded = true;
             const Vector residual = end - s0;
             if (residual.cwiseAbs().maxCoeff() <= 1e-13 * scale_) break;
             if (iteration >= 50)
@@ -82,11 +90,11 @@ public:
         c.slider = s0;
         Vector end;
         Matrix end_derivative, force_derivative;
-        c.tangential.resize(nt_, d_);
-        c.state.resize(static_cast<std::size_t>(nt_));
-        pass(s0, end, end_derivative, &c, jacobian ? analysis : nullptr, jacobian ? &force_derivative : nullptr,
-             jacobian != nullptr);
-        if (!jacobian) return c;
+        if (!jacobian) {
+            if (!recorded) pass(s0, end, end_derivative, &c, nullptr, nullptr, false);
+            return c;
+        }
+        pass(s0, end, end_derivative, &c, analysis, &force_derivative, true);
         // d s_0 / d q: the centre's in permanent stick, else (I - Phi')^-1 dPhi/dq.
         Matrix ds0;
         if (c.permanent_stick)
