@@ -49,7 +49,7 @@ public:
 
     /// The periodic cycle; with `jacobian` (needs the synthesis matrix and the analysis P) the
     /// force coefficients' derivative d [T_1..T_d] / dq, (d n) x m.
-    NormalContactCycle cycle(const Matrix* analysis, Matrix* jacobian) {
+    NormalContactCycle cycle(const Matrix* analysis, Matrix* jacobian, Vector* own_u = nullptr, Vector* own_v = nullptr) {
         NormalContactCycle c;
         c.normal = normal_;
         Vector centred(d_);
@@ -94,7 +94,7 @@ public:
             if (!recorded) pass(s0, end, end_derivative, &c, nullptr, nullptr, false);
             return c;
         }
-        pass(s0, end, end_derivative, &c, analysis, &force_derivative, true);
+        pass(s0, end, end_derivative, &c, analysis, &force_derivative, true, own_u, own_v);
         // d s_0 / d q: the centre's in permanent stick, else (I - Phi')^-1 dPhi/dq.
         Matrix ds0;
         if (c.permanent_stick)
@@ -121,10 +121,15 @@ private:
 
     /// One period from s0: the slider after it (`end`) and, with derivatives (E given), its
     /// derivative (d x (d + m)). With `cycle` the forces and states are recorded; with
-    /// `analysis` and `force` the force coefficients' derivative (d n x (d + m)) is summed.
+    /// `analysis` and `force` the force coefficients' derivative (d n x (d + m)) is summed, but
+    /// for the parts diagonal in the samples, returned as sample weights instead (the caller's
+    /// P diag(w) E, computed by FFT): own_u(j) = k_t on stuck samples (d T_k / d u_k) and, in
+    /// 2D, own_v(j) = sign mu k_n on slipping ones (d T / d v). A stuck run's slider term
+    /// -k_t d s is one rank-one update per run (d s does not change while the slider rests), and
+    /// a 2D slip has no slider term at all; only a 3D slip adds a dense row block per sample.
     /// Returns whether a sample slipped or separated.
     bool pass(const Vector& s0, Vector& end, Matrix& end_derivative, NormalContactCycle* cycle, const Matrix* analysis,
-              Matrix* force, bool with_q) const {
+              Matrix* force, bool with_q, Vector* own_u = nullptr, Vector* own_v = nullptr) const {
         // Derivatives with respect to s_0 always (Newton needs Phi'), to q when asked for.
         const bool derive_q = with_q && E_ != nullptr;
         const int columns = d_ + (derive_q ? m_ : 0);
@@ -134,14 +139,29 @@ private:
         s.head(d_) = s0;
         Matrix ds = Matrix::Zero(d_, columns);
         ds.leftCols(d_).setIdentity();
-        if (force) force->setZero(d_ * n_, columns);
-        bool event = false;
+        Vector run;  // sum of P's columns over the current stuck run
+        bool in_run = false;
+        if (force) {
+            force->setZero(d_ * n_, columns);
+            own_u->setZero(nt_);
+            own_v->setZero(nt_);
+            run.setZero(n_);
+        }
         const double kt = e_.tangential_stiffness, mu = e_.friction_coefficient;
+        auto flush = [&] {  // the stuck run's -k_t (sum_j P_j) d s
+            if (!force || !in_run) return;
+            run *= kt;
+            for (int k = 0; k < d_; ++k) force->middleRows(k * n_, n_).noalias() -= run * ds.row(k);
+            run.setZero();
+            in_run = false;
+        };
+        bool event = false;
         Matrix dt(d_, columns), dtau(d_, columns), along(1, columns);
         for (int j = 0; j < nt_; ++j) {
             const auto index = static_cast<std::size_t>(j);
             if (normal_(j) <= 0.0) {  // separated: T = 0, s = u_j
                 event = true;
+                flush();
                 s = sample(j);
                 ds.setZero();
                 if (derive_q) add_du(j, ds, 1.0);
@@ -153,37 +173,54 @@ private:
             }
             const Eigen::Vector2d trial = kt * (sample(j) - s);
             const double size = trial.norm(), limit = mu * normal_(j);
-            dt = -kt * ds;  // d trial = k_t (d u_j - d s)
-            if (derive_q) add_du(j, dt, kt);
             if (size <= limit) {
                 if (cycle) {
                     cycle->state[index] = ContactState::stuck;
                     cycle->tangential.row(j) = trial.head(d_).transpose();
                 }
-                if (force)
-                    for (int k = 0; k < d_; ++k) force->middleRows(k * n_, n_).noalias() += analysis->col(j) * dt.row(k);
+                if (force) {  // d T_j = k_t (d u_j - d s)
+                    (*own_u)(j) = kt;
+                    run += analysis->col(j);
+                    in_run = true;
+                }
                 continue;
             }
             event = true;
+            flush();
             const Eigen::Vector2d direction = trial / size, tau = limit * direction;
-            // d tau = mu direction dN + limit (I - direction direction^T) d trial / |trial|
-            along.noalias() = direction.head(d_).transpose() * dt;
-            dtau = dt;
-            dtau.noalias() -= direction.head(d_) * along;
-            dtau *= limit / size;
-            if (derive_q)  // + mu direction dN, dN = k_n dv_j
-                for (int k = 0; k < d_; ++k)
-                    dtau.block(k, d_ + d_ * n_, 1, n_) += mu * direction(k) * e_.normal_stiffness * E_->row(j);
-            ds = -dtau / kt;  // s = u_j - tau / k_t
-            if (derive_q) add_du(j, ds, 1.0);
+            if (d_ == 1) {
+                // d tau = sign mu dN: no slider term (|trial| - limit scales it away)
+                ds.setZero();
+                if (derive_q) {
+                    add_du(j, ds, 1.0);
+                    ds.block(0, d_ + n_, 1, n_) -= direction(0) * mu * e_.normal_stiffness / kt * E_->row(j);
+                }
+                if (force) (*own_v)(j) = direction(0) * mu * e_.normal_stiffness;
+            } else {
+                // d tau = mu direction dN + limit (I - direction direction^T) d trial / |trial|,
+                // d trial = k_t (d u_j - d s)
+                dt = -kt * ds;
+                if (derive_q) add_du(j, dt, kt);
+                along.noalias() = direction.head(d_).transpose() * dt;
+                dtau = dt;
+                dtau.noalias() -= direction.head(d_) * along;
+                dtau *= limit / size;
+                if (derive_q)
+                    for (int k = 0; k < d_; ++k)
+                        dtau.block(k, d_ + d_ * n_, 1, n_) += mu * direction(k) * e_.normal_stiffness * E_->row(j);
+                ds = -dtau / kt;  // s = u_j - tau / k_t
+                if (derive_q) add_du(j, ds, 1.0);
+                if (force)
+                    for (int k = 0; k < d_; ++k)
+                        force->middleRows(k * n_, n_).noalias() += analysis->col(j) * dtau.row(k);
+            }
             s = sample(j) - tau / kt;
             if (cycle) {
                 cycle->state[index] = ContactState::slipping;
                 cycle->tangential.row(j) = tau.head(d_).transpose();
             }
-            if (force)
-                for (int k = 0; k < d_; ++k) force->middleRows(k * n_, n_).noalias() += analysis->col(j) * dtau.row(k);
         }
+        flush();
         end = s.head(d_);
         end_derivative = ds;
         return event;
@@ -407,8 +444,9 @@ void evaluate(const ElasticContact& e, Fourier& fourier, const Eigen::VectorXd& 
     fourier.to_time(q.segment(d * n, n), v);
     Marcher marcher(e, u, v, jacobian ? &fourier.synthesis() : nullptr);
     Eigen::MatrixXd tangential_jacobian;
-    const NormalContactCycle cycle =
-        marcher.cycle(jacobian ? &fourier.analysis() : nullptr, jacobian ? &tangential_jacobian : nullptr);
+    Eigen::VectorXd own_u, own_v;
+    const NormalContactCycle cycle = marcher.cycle(jacobian ? &fourier.analysis() : nullptr,
+                                                   jacobian ? &tangential_jacobian : nullptr, &own_u, &own_v);
     out.force.resize(m);
     for (int k = 0; k < d; ++k) fourier.to_coefficients(cycle.tangential.col(k), out.force.segment(k * n, n));
     fourier.to_coefficients(cycle.normal, out.force.segment(d * n, n));
@@ -417,9 +455,17 @@ void evaluate(const ElasticContact& e, Fourier& fourier, const Eigen::VectorXd& 
     out.jacobian.topRows(d * n) = tangential_jacobian;
     Eigen::VectorXd closed(nt);
     for (int j = 0; j < nt; ++j) closed(j) = cycle.normal(j) > 0.0 ? e.normal_stiffness : 0.0;
-    Eigen::MatrixXd normal_block(n, n);
-    fourier.multiplication_matrix(closed, normal_block);
-    out.jacobian.block(d * n, d * n, n, n) = normal_block;
+    Eigen::MatrixXd block(n, n);
+    fourier.multiplication_matrix(closed, block);
+    out.jacobian.block(d * n, d * n, n, n) = block;
+    // The parts diagonal in the samples (Marcher::pass): d T_k / d u_k on stuck samples, and in
+    // 2D d T / d v on slipping ones.
+    fourier.multiplication_matrix(own_u, block);
+    for (int k = 0; k < d; ++k) out.jacobian.block(k * n, k * n, n, n) += block;
+    if (d == 1) {
+        fourier.multiplication_matrix(own_v, block);
+        out.jacobian.block(0, n, n, n) += block;
+    }
 }
 
 }  // namespace hbf
