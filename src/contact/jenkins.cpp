@@ -68,7 +68,7 @@ public:
             }
         }
         // P W E over the anchors only (one per stuck run: two a period, against N_t columns;
-        // measured 8 times faster at H = 20 than the dense product).
+        // 9.6 us against 816 us for the dense product at H = 20, benchmarks/normal_contact).
         out.force_q = stiffness_ * m;
         for (int k = 0; k < nt; ++k)
             if (used[static_cast<std::size_t>(k)]) out.force_q.noalias() -= stiffness_ * anchored.col(k) * E.row(k);

@@ -40,7 +40,7 @@ using Vector = Eigen::VectorXd;
 class Marcher {
 public:
     Marcher(const ElasticContact& e, const Matrix& u, const Vector& v, const Matrix* synthesis)
-        : e_(e), u_(u), v_(v), E_(synthesis), d_(e.tangential_directions), nt_(static_cast<int>(u.rows())),
+        : e_(e), u_(u), E_(synthesis), d_(e.tangential_directions), nt_(static_cast<int>(u.rows())),
           n_(synthesis ? static_cast<int>(synthesis->cols()) : 0), m_((d_ + 1) * n_) {
         normal_ = (e.normal_offset + e.normal_stiffness * v.array()).cwiseMax(0.0).matrix();
         radius_ = e.friction_coefficient * normal_ / e.tangential_stiffness;
@@ -226,11 +226,10 @@ private:
         return event;
     }
 
-    /// The permanent-stick slider argmin_s max_j (|s - u_j| - r_j) into s (and its derivative
-    /// with respect to q, d x m, when `derivative` is given); true when it is admissible (every
-    /// sample closed and within its radius).
-    bool centre(Vector& s, Matrix* derivative) const {
-        const bool closed = (normal_.array() > 0.0).all();
+    /// The permanent-stick slider argmin_s max_j (|s - u_j| - r_j) into s, and its derivative
+    /// with respect to q (d x m) when `derivative` is given. Whether it is admissible shows in
+    /// the march from it (a pass without slip or separation).
+    void centre(Vector& s, Matrix* derivative) const {
         if (d_ == 1) {
             Eigen::Index a = 0, b = 0;
             const double lower = (u_.col(0).array() - radius_.array()).maxCoeff(&a);
@@ -245,12 +244,11 @@ private:
                 add_dr(static_cast<int>(b), full, 0, 0.5);
                 *derivative = full.rightCols(m_);
             }
-            return closed && lower <= upper;
+            return;
         }
         const Basis best = smallest_enclosing();
         s = best.s;
         if (derivative && E_) *derivative = basis_derivative(best).rightCols(m_);
-        return closed && best.value <= 0.0;
     }
 
     struct Basis {
@@ -412,7 +410,6 @@ private:
 
     const ElasticContact& e_;
     const Matrix& u_;
-    const Vector& v_;
     const Matrix* E_;
     int d_, nt_, n_, m_;
     Vector normal_, radius_;
