@@ -458,8 +458,9 @@ PYBIND11_MODULE(_core, m) {
                 parameters.insert_or_assign(p.key, p);
                 const bool simple = p.kind == LawParameter::Kind::number && p.range != LawParameter::Range::interval;
                 const std::string range = simple ? (p.range == LawParameter::Range::positive ? "> 0" : ">= 0")
-                                                 : p.kind == LawParameter::Kind::pairs ? "a list of pairs (a, b)"
-                                                                                       : p.allowed();
+                                                 : p.kind == LawParameter::Kind::pairs     ? "a list of pairs (a, b)"
+                                                 : p.kind == LawParameter::Kind::direction ? "N numbers, one per DOF"
+                                                                                           : p.allowed();
                 std::string& doc = docs[p.key];
                 doc += (doc.empty() ? "" : "; ") + std::string(p.meaning) + " (" + law->name() + ", " + range +
                        (p.zero_means ? std::string("; 0: ") + p.zero_means : std::string()) + ")";
@@ -485,6 +486,20 @@ PYBIND11_MODULE(_core, m) {
                             list.insert(list.end(), pair.begin(), pair.end());
                         }
                         if (list.empty()) c.lists.erase(key); else c.lists[key] = list;
+                    },
+                    docs[key].c_str());
+                continue;
+            }
+            if (p.kind == LawParameter::Kind::direction) {  // a vector over the DOFs; empty: not given
+                contact.def_property(
+                    key.c_str(),
+                    [key](const Contact& c) {
+                        const auto at = c.lists.find(key);
+                        return at == c.lists.end() ? std::vector<double>() : at->second;
+                    },
+                    [key](Contact& c, const py::object& v) {
+                        const Eigen::VectorXd d = v.is_none() ? Eigen::VectorXd() : to_vector(v, key.c_str());
+                        if (d.size() == 0) c.lists.erase(key); else c.lists[key].assign(d.data(), d.data() + d.size());
                     },
                     docs[key].c_str());
                 continue;
@@ -724,12 +739,13 @@ PYBIND11_MODULE(_core, m) {
                 d["default_harmonics"] = law->default_harmonics();
                 d["smooth"] = law->smooth();
                 d["exact_stick"] = law->exact_stick();
+                d["preset"] = law->has_preset();
                 out.append(d);
             }
             return out;
         },
         "The registry of contact laws (contact.hpp): name, definition, parameters (Contact keys), "
-        "preset_parameters (symbols of preset_parameters()), default_harmonics, smooth, exact_stick.");
+        "preset_parameters (symbols of preset_parameters()), default_harmonics, smooth, exact_stick, preset (the absorber preset can carry it).");
     m.def(
         "preset_parameters",
         [] {

@@ -202,6 +202,7 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
     // the law's parameters (contact.hpp)
     const std::vector<LawParameter> parameters = contact_law(c.law).parameters();
     for (const LawParameter& p : parameters) allowed.insert(p.key);
+    if (!contact_law(c.law).has_friction_limit()) allowed.erase("friction_limit");  // mu N instead
     for (auto&& [key, node] : t) {
         const std::string k(key.str());
         if (allowed.count(k) == 0) {
@@ -233,11 +234,19 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
                 fail(r.file, t.get("other_dof")->source(), where + ".other_dof", "equals dof: a contact joins two different DOFs (omit other_dof for the ground)");
         }
     }
-    if (!t.get("friction_limit")) fail(r.file, t.source(), where + ".friction_limit", "missing: the slip force F_c = mu N (> 0)");
-    c.friction_limit = r.number(*t.get("friction_limit"), where + ".friction_limit");
+    if (contact_law(c.law).has_friction_limit()) {
+        if (!t.get("friction_limit"))
+            fail(r.file, t.source(), where + ".friction_limit", "missing: the slip force F_c = mu N (> 0)");
+        c.friction_limit = r.number(*t.get("friction_limit"), where + ".friction_limit");
+    }
     for (const LawParameter& p : parameters) {
         const toml::node* node = t.get(p.key);
         if (!node) continue;
+        if (p.kind == LawParameter::Kind::direction) {  // a vector over the model's coordinates
+            const Eigen::VectorXd v = r.vector(*node, where + "." + p.key, dofs);
+            c.lists[p.key].assign(v.data(), v.data() + v.size());
+            continue;
+        }
         if (p.kind != LawParameter::Kind::pairs) {
             p.set(c, r.number(*node, where + "." + p.key));
             continue;

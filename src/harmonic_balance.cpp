@@ -76,33 +76,48 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
             throw InvalidInput("contact " + std::to_string(index + 1) + ": base_motion = " + format_number(c.base_motion) +
                                " is a time-domain element's (the static condensation of massless DOFs): allowed 0 in "
                                "harmonic balance, which keeps the massless DOFs and their load");
-        directions_.push_back(system_.contact_direction(c));
+        const Eigen::MatrixXd w = system_.contact_directions(c);
+        signal_first_.push_back(signals_);
+        signal_count_.push_back(static_cast<int>(w.cols()));
+        for (Eigen::Index j = 0; j < w.cols(); ++j) directions_.push_back(w.col(j));
+        signals_ += static_cast<int>(w.cols());
     }
-    // The static deflections u_c = K^-1 w_c (one factorisation; not ok where K is singular):
-    // the contacts' static flexibility w_c^T u_c and the structure's mass along u_c, which set
-    // the automatic law parameters and the condensed formulation's shift below.
-    Eigen::MatrixXd w(system_.dofs(), nc);
-    for (int c = 0; c < nc; ++c) w.col(c) = directions_[static_cast<std::size_t>(c)];
+    const int ns = signals_;
+    // The static deflections u_a = K^-1 w_a of every signal a (one factorisation; not ok where
+    // K is singular): the static flexibility w_a^T u_a and the structure's mass along u_a, which
+    // set the automatic law parameters and the condensed formulation's shift below.
+    Eigen::MatrixXd w(system_.dofs(), ns);
+    for (int a = 0; a < ns; ++a) w.col(a) = directions_[static_cast<std::size_t>(a)];
     const Receptance::Harmonic unshifted =
         nc > 0 ? Receptance(system_.mass, system_.damping, system_.stiffness, w, system_.excitation,
                             Eigen::MatrixXd(0, system_.dofs()))
                      .solve(0, 1.0, false)
                : Receptance::Harmonic{};
-    Eigen::VectorXd static_stiffness = Eigen::VectorXd::Zero(nc);  // 1 / (w_c^T u_c); 0 where K is singular
-    Eigen::VectorXd static_mass = Eigen::VectorXd::Zero(nc);       // phi_c^T M phi_c, phi_c = u_c / (w_c^T u_c)
+    Eigen::VectorXd static_stiffness = Eigen::VectorXd::Zero(ns);  // 1 / (w_a^T u_a); 0 where K is singular
+    Eigen::VectorXd static_mass = Eigen::VectorXd::Zero(ns);       // phi_a^T M phi_a, phi_a = u_a / (w_a^T u_a)
+    std::vector<DirectionScale> scales;
+    for (int a = 0; a < ns; ++a) {
+        const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(a)];
+        DirectionScale scale{d.dot(system_.stiffness * d), d.dot(system_.mass * d), system_.mass.diagonal().maxCoeff()};
+        const double g = unshifted.ok ? unshifted.contact(a, a).real() : 0.0;
+        if (g > 0.0 && std::isfinite(g)) {
+            const Eigen::VectorXd phi = unshifted.solution.col(a).real() / g;
+            static_stiffness(a) = scale.static_stiffness = 1.0 / g;
+            static_mass(a) = scale.static_mass = phi.dot(system_.mass * phi);
+        }
+        scales.push_back(scale);
+    }
     for (int c = 0; c < nc; ++c) {
         Contact& contact = system_.contacts[static_cast<std::size_t>(c)];
-        const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(c)];
-        DirectionScale scale{d.dot(system_.stiffness * d), d.dot(system_.mass * d), system_.mass.diagonal().maxCoeff()};
-        const double g = unshifted.ok ? unshifted.contact(c, c).real() : 0.0;
-        if (g > 0.0 && std::isfinite(g)) {
-            const Eigen::VectorXd phi = unshifted.solution.col(c).real() / g;
-            static_stiffness(c) = scale.static_stiffness = 1.0 / g;
-            static_mass(c) = scale.static_mass = phi.dot(system_.mass * phi);
-        }
         // Automatic parameters (exact Coulomb's lagrangian_penalty) from the structure along w.
-        contact_law(contact.law).complete(contact, scale, "contact " + std::to_string(c + 1) + ": ");
+        contact_law(contact.law)
+            .complete(contact, scales[static_cast<std::size_t>(signal_first_[static_cast<std::size_t>(c)])],
+                      "contact " + std::to_string(c + 1) + ": ");
         models_.push_back(make_friction_model(contact));
+        if (models_.back()->signals() != signal_count_[static_cast<std::size_t>(c)])
+            throw InvalidInput("contact " + std::to_string(c + 1) + ": law " + to_string(contact.law) + " reads " +
+                               std::to_string(models_.back()->signals()) + " directions, the contact has " +
+                               std::to_string(signal_count_[static_cast<std::size_t>(c)]));
     }
 
     // The condensed formulation solves the structure with a spring kappa_c and a damper delta_c
@@ -128,10 +143,10 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     // it is the larger (a relative direction between lumped masses: 1.1 against 0.1 on the
     // paper's absorber, where 0.1 failed an FRF of the coarse joint optimisation in mu and wa).
     if (options.formulation != Formulation::full && nc > 0) {
-        shift_stiffness_.resize(nc);
-        shift_damping_.resize(nc);
+        shift_stiffness_.resize(ns);
+        shift_damping_.resize(ns);
         SparseMatrix stiffness = system_.stiffness, damping = system_.damping;
-        for (int c = 0; c < nc; ++c) {
+        for (int c = 0; c < ns; ++c) {  // every signal
             const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(c)];
             const double v = d.dot(system_.damping * d);
             const double k = static_stiffness(c) > 0.0 ? static_stiffness(c) : std::max(d.dot(system_.stiffness * d), 0.0);
@@ -207,7 +222,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         throw InvalidInput("modes = " + std::to_string(options.modes) +
                            ": the modal receptance belongs to the condensed formulation, which this system does not "
                            "use (allowed: modes = 0)");
-    all_unknowns_ = (condensed_ ? nc : system_.dofs()) * n;
+    all_unknowns_ = (condensed_ ? ns : system_.dofs()) * n;
     // A displacement floor for the full formulation's unknowns: the force over the stiffest
     // diagonal entry (a displacement in the system's units; the force scale itself is for
     // nondimensional K ~ 1).
@@ -224,6 +239,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         const int signals = all_unknowns_ / n;
         throw InvalidInput(
             "harmonics = " + std::to_string(harmonics_) + " with " + std::to_string(nc) + " contact(s)" +
+            (ns > nc ? " (" + std::to_string(ns) + " directions)" : std::string()) +
             (condensed_ ? std::string() : " on " + std::to_string(system_.dofs()) + " DOFs (full formulation)") +
             " makes " + std::to_string(all_unknowns_) + " harmonic-balance unknowns (" + std::to_string(signals) +
             " signals x " + std::to_string(n) + " coefficients), whose dense Jacobian would take " +
@@ -257,15 +273,21 @@ Eigen::VectorXd HarmonicBalance::all_harmonics(const Eigen::VectorXd& x) const {
 
 void HarmonicBalance::shift_force(int c, double omega, const Eigen::VectorXd& q, FrictionEvaluation& e,
                                   bool jacobian) const {
-    // f' = f - kappa q - delta q' (the spring and damper the condensed structure carries).
-    const double kappa = shift_stiffness_(c), delta = shift_damping_(c);
+    // f'_a = f_a - kappa_a q_a - delta_a q_a' along each direction a of the contact (the springs
+    // and dampers the condensed structure carries).
+    const int n = coefficients();
     const Eigen::MatrixXd& D1 = fourier_->derivative();
-    const Eigen::VectorXd dq = D1 * q;
-    e.force -= kappa * q + delta * omega * dq;
-    if (!jacobian) return;
-    e.force_q -= delta * omega * D1;
-    e.force_q.diagonal().array() -= kappa;
-    e.force_omega -= delta * dq;
+    for (int j = 0; j < signal_count_[static_cast<std::size_t>(c)]; ++j) {
+        const int a = signal_first_[static_cast<std::size_t>(c)] + j;
+        const double kappa = shift_stiffness_(a), delta = shift_damping_(a);
+        const Eigen::VectorXd dq = D1 * q.segment(j * n, n);
+        e.force.segment(j * n, n) -= kappa * q.segment(j * n, n) + delta * omega * dq;
+        if (!jacobian) continue;
+        auto block = e.force_q.block(j * n, j * n, n, n);
+        block -= delta * omega * D1;
+        block.diagonal().array() -= kappa;
+        e.force_omega.segment(j * n, n) -= delta * dq;
+    }
 }
 
 double HarmonicBalance::unknown_scale(const Eigen::VectorXd& x) const {
@@ -282,7 +304,7 @@ bool HarmonicBalance::prepare_receptance(double omega) {
         structure_failure_ = "w = " + format_number(omega) + " is not a positive frequency";
         return false;
     }
-    const int nc = static_cast<int>(models_.size());
+    const int nc = signals_;
     row_scale_.resize(harmonics() + 1, nc);
     row_scale_omega_.resize(harmonics() + 1, nc);
     for (int k = 0; k <= harmonics(); ++k) {
@@ -327,13 +349,14 @@ void HarmonicBalance::add_receptance(int c, int d, const Eigen::Ref<const Eigen:
 }
 
 Eigen::MatrixXd HarmonicBalance::shifted_forces(const Eigen::VectorXd& x, double omega) {
-    const int nc = static_cast<int>(models_.size());
-    Eigen::MatrixXd forces(coefficients(), nc);
+    const int n = coefficients(), nc = static_cast<int>(models_.size());
+    Eigen::MatrixXd forces(n, signals_);
     for (int c = 0; c < nc; ++c) {
         const Eigen::VectorXd q = relative_all(x, c);
         models_[static_cast<std::size_t>(c)]->evaluate(*fourier_, omega, q, state_all(x, c), scratch_, false);
         shift_force(c, omega, q, scratch_, false);
-        forces.col(c) = scratch_.force;
+        forces.middleCols(signal_first_[static_cast<std::size_t>(c)], signal_count_[static_cast<std::size_t>(c)]) =
+            Eigen::Map<const Eigen::MatrixXd>(scratch_.force.data(), n, signal_count_[static_cast<std::size_t>(c)]);
     }
     return forces;
 }
@@ -346,7 +369,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double om
     if (!prepare_receptance(omega)) return y;
     // Y_k = Z_k^-1 (F_k - W Lambda_k), F on harmonic h only; in the real layout (c, s) with
     // Y = c - i s, as in add_receptance.
-    const int nc = static_cast<int>(models_.size());
+    const int nc = signals_;
     const Eigen::MatrixXd forces = shifted_forces(x, omega);
     // Z_k^-1 [W, F]: kept by the direct solve; the modal one forms it here (its cost grows with N).
     auto solved = [&](int k) -> const Receptance::Harmonic& {
@@ -411,10 +434,13 @@ Eigen::VectorXd HarmonicBalance::state(const Eigen::VectorXd& x, int contact) co
 }
 
 Eigen::VectorXd HarmonicBalance::relative_all(const Eigen::VectorXd& x, int contact) const {
-    const int n = coefficients();
-    if (condensed_) return x.segment(contact * n, n);
+    const int n = coefficients(), first = signal_first_[static_cast<std::size_t>(contact)],
+              count = signal_count_[static_cast<std::size_t>(contact)];
+    if (condensed_) return x.segment(first * n, count * n);
     const Eigen::Map<const Eigen::MatrixXd> y(x.data(), n, system_.dofs());
-    return y * directions_[static_cast<std::size_t>(contact)];
+    Eigen::VectorXd q(count * n);
+    for (int j = 0; j < count; ++j) q.segment(j * n, n) = y * directions_[static_cast<std::size_t>(first + j)];
+    return q;
 }
 
 Eigen::VectorXd HarmonicBalance::embed_harmonics(const Eigen::VectorXd& low, int low_harmonics) const {
@@ -491,7 +517,7 @@ void HarmonicBalance::evaluate_all(const Eigen::VectorXd& x, double omega, Eigen
 void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                                          Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
     detail::Stopwatch watch;
-    const int n = coefficients(), nc = static_cast<int>(models_.size());
+    const int n = coefficients(), ns = signals_, nc = static_cast<int>(models_.size());
     residual.resize(all_unknowns_);
     if (!prepare_receptance(omega)) {
         residual.setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -501,67 +527,71 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
         return;
     }
     const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
-    // The contact rows before scaling: q - q0 + sum_d Gr_cd f_d (q0 on harmonic h only).
-    Eigen::Map<Eigen::MatrixXd> rq(residual.data(), n, nc);
-    rq = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, nc);
+    // The rows of every signal a before scaling: q_a - q0_a + sum_b Gr_ab f_b (q0 on harmonic h
+    // only).
+    Eigen::Map<Eigen::MatrixXd> rq(residual.data(), n, ns);
+    rq = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, ns);
     const int cos_row = 2 * load_harmonic() - 1, sin_row = cos_row + 1;
     const Receptance::Harmonic& loaded = harmonic_[static_cast<std::size_t>(load_harmonic())];
-    for (int c = 0; c < nc; ++c) {
-        rq(cos_row, c) -= loaded.contact_load(c).real();
-        rq(sin_row, c) += loaded.contact_load(c).imag();  // s = -Im
+    for (int a = 0; a < ns; ++a) {
+        rq(cos_row, a) -= loaded.contact_load(a).real();
+        rq(sin_row, a) += loaded.contact_load(a).imag();  // s = -Im
     }
     if (jacobian) {
         jacobian->setZero(all_unknowns_, all_unknowns_);
-        jacobian->topLeftCorner(nc * n, nc * n).setIdentity();
+        jacobian->topLeftCorner(ns * n, ns * n).setIdentity();
     }
     if (jacobian_omega) {
         jacobian_omega->setZero(all_unknowns_);
-        for (int c = 0; c < nc; ++c) {
-            (*jacobian_omega)(c * n + cos_row) = -loaded.contact_load_omega(c).real();
-            (*jacobian_omega)(c * n + sin_row) = loaded.contact_load_omega(c).imag();
+        for (int a = 0; a < ns; ++a) {
+            (*jacobian_omega)(a * n + cos_row) = -loaded.contact_load_omega(a).real();
+            (*jacobian_omega)(a * n + sin_row) = loaded.contact_load_omega(a).imag();
         }
     }
     statistics_.structure_seconds += watch.lap();
     for (int d = 0; d < nc; ++d) {
-        const int offset = state_offset_[static_cast<std::size_t>(d)];
-        const Eigen::VectorXd q = x.segment(d * n, n);
+        const auto dd = static_cast<std::size_t>(d);
+        const int offset = state_offset_[dd], first = signal_first_[dd], count = signal_count_[dd];
+        const Eigen::VectorXd q = x.segment(first * n, count * n);
         const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
         FrictionEvaluation& e = scratch_;
-        models_[static_cast<std::size_t>(d)]->evaluate(*fourier_, omega, q, z, e, want_jacobian);
+        models_[dd]->evaluate(*fourier_, omega, q, z, e, want_jacobian);
         shift_force(d, omega, q, e, want_jacobian);
         const double model_seconds = watch.lap();
         statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
         statistics_.jacobian_seconds += e.jacobian_seconds;
-        for (int c = 0; c < nc; ++c) {
-            add_receptance(c, d, e.force, rq.col(c));
-            if (jacobian) {
-                add_receptance(c, d, e.force_q, jacobian->block(c * n, d * n, n, n));
-                if (offset >= 0) add_receptance(c, d, e.force_z, jacobian->block(c * n, offset, n, n));
+        for (int a = 0; a < ns; ++a)
+            for (int j = 0; j < count; ++j) {  // the force along direction b = first + j
+                const int b = first + j;
+                add_receptance(a, b, e.force.segment(j * n, n), rq.col(a));
+                if (jacobian) {
+                    add_receptance(a, b, e.force_q.middleRows(j * n, n), jacobian->block(a * n, first * n, n, count * n));
+                    if (offset >= 0) add_receptance(a, b, e.force_z, jacobian->block(a * n, offset, n, n));
+                }
+                if (jacobian_omega) {
+                    auto column = jacobian_omega->segment(a * n, n);
+                    add_receptance(a, b, e.force_omega.segment(j * n, n), column);
+                    add_receptance(a, b, e.force.segment(j * n, n), column, true);
+                }
             }
-            if (jacobian_omega) {
-                auto column = jacobian_omega->segment(c * n, n);
-                add_receptance(c, d, e.force_omega, column);
-                add_receptance(c, d, e.force, column, true);
-            }
-        }
         if (offset >= 0) {
             residual.segment(offset, n) = e.state_residual;
             if (jacobian) {
-                jacobian->block(offset, d * n, n, n) = e.state_q;
+                jacobian->block(offset, first * n, n, n) = e.state_q;
                 jacobian->block(offset, offset, n, n) = e.state_z;
             }
             if (jacobian_omega) jacobian_omega->segment(offset, n) = e.state_omega;
         }
         statistics_.jacobian_seconds += watch.lap();
     }
-    // Scale contact c's rows of harmonic k by 1 / |G_k,cc|: a force, and for one contact on one
+    // Scale signal a's rows of harmonic k by 1 / |G_k,aa|: a force, and for one contact on one
     // DOF the full formulation's row up to its sign. The scale depends on omega (row_scale_omega_).
-    for (int c = 0; c < nc; ++c)
+    for (int a = 0; a < ns; ++a)
         for (int row = 0; row < n; ++row) {
             const int k = (row + 1) / 2;
-            const double s = row_scale_(k, c);
-            const int i = c * n + row;
-            if (jacobian_omega) (*jacobian_omega)(i) = s * (*jacobian_omega)(i) + row_scale_omega_(k, c) * residual(i);
+            const double s = row_scale_(k, a);
+            const int i = a * n + row;
+            if (jacobian_omega) (*jacobian_omega)(i) = s * (*jacobian_omega)(i) + row_scale_omega_(k, a) * residual(i);
             residual(i) *= s;
             if (jacobian) jacobian->row(i) *= s;
         }
@@ -600,10 +630,11 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
 
     statistics_.jacobian_seconds += watch.lap();
 
-    // Friction contacts through the AFT.
+    // Friction contacts through the AFT: contact c's force along each of its directions w_a,
+    // sum_a f_a w_a^T, and its Jacobian sum_ab w_a(i) w_b(j) df_a/dq_b.
     for (std::size_t c = 0; c < models_.size(); ++c) {
-        const Eigen::VectorXd& w = directions_[c];
-        const Eigen::VectorXd q = Y * w;
+        const int first = signal_first_[c], count = signal_count_[c];
+        const Eigen::VectorXd q = relative_all(x, static_cast<int>(c));
         const int offset = state_offset_[c];
         const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
         FrictionEvaluation& e = scratch_;
@@ -611,23 +642,34 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
         const double model_seconds = watch.lap();
         statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
         statistics_.jacobian_seconds += e.jacobian_seconds;
-        RY += e.force * w.transpose();
-        if (offset >= 0) residual.segment(offset, n) = e.state_residual;
-        if (jacobian) {
-            for (int i = 0; i < dofs; ++i) {
-                if (w(i) == 0.0) continue;
-                for (int j = 0; j < dofs; ++j)
-                    if (w(j) != 0.0) jacobian->block(i * n, j * n, n, n) += w(i) * w(j) * e.force_q;
-                if (offset >= 0) {
+        for (int a = 0; a < count; ++a) {
+            const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(first + a)];
+            RY += e.force.segment(a * n, n) * w.transpose();
+            if (jacobian_omega)
+                Eigen::Map<Eigen::MatrixXd>(jacobian_omega->data(), n, dofs) += e.force_omega.segment(a * n, n) * w.transpose();
+            if (!jacobian) continue;
+            for (int b = 0; b < count; ++b) {
+                const Eigen::VectorXd& v = directions_[static_cast<std::size_t>(first + b)];
+                const auto block = e.force_q.block(a * n, b * n, n, n);
+                for (int i = 0; i < dofs; ++i) {
+                    if (w(i) == 0.0) continue;
+                    for (int j = 0; j < dofs; ++j)
+                        if (v(j) != 0.0) jacobian->block(i * n, j * n, n, n) += w(i) * v(j) * block;
+                }
+            }
+        }
+        if (offset >= 0) {  // a state law: one direction
+            const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(first)];
+            residual.segment(offset, n) = e.state_residual;
+            if (jacobian) {
+                for (int i = 0; i < dofs; ++i) {
+                    if (w(i) == 0.0) continue;
                     jacobian->block(i * n, offset, n, n) += w(i) * e.force_z;
                     jacobian->block(offset, i * n, n, n) += w(i) * e.state_q;
                 }
+                jacobian->block(offset, offset, n, n) += e.state_z;
             }
-            if (offset >= 0) jacobian->block(offset, offset, n, n) += e.state_z;
-        }
-        if (jacobian_omega) {
-            Eigen::Map<Eigen::MatrixXd>(jacobian_omega->data(), n, dofs) += e.force_omega * w.transpose();
-            if (offset >= 0) jacobian_omega->segment(offset, n) += e.state_omega;
+            if (jacobian_omega) jacobian_omega->segment(offset, n) += e.state_omega;
         }
         statistics_.jacobian_seconds += watch.lap();  // residual/Jacobian assembly of this contact
     }

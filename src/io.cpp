@@ -151,7 +151,30 @@ void add_regimes(std::vector<Cell>& row, int contacts, double stick_fraction, co
 
 std::vector<Column> frf_columns(int dofs) { return frf_columns(all_dofs(dofs)); }
 
-std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts) {
+std::vector<int> normal_contacts(const System& system) {
+    std::vector<int> out;
+    for (std::size_t c = 0; c < system.contacts.size(); ++c)
+        if (system.contact_directions(system.contacts[c]).cols() > 1) out.push_back(static_cast<int>(c));
+    return out;
+}
+
+namespace {
+/// The contacts with a normal direction among a table's rows (ContactRegime::normal_mean is
+/// computed for them): normal_contacts of the rows' system.
+template <class Rows>
+std::vector<int> normal_contacts_of(const Rows& rows) {
+    std::vector<int> out;
+    for (const auto& r : rows)
+        for (std::size_t c = 0; c < r.contacts.size(); ++c)
+            if (!std::isnan(r.contacts[c].normal_mean) &&
+                std::find(out.begin(), out.end(), static_cast<int>(c)) == out.end())
+                out.push_back(static_cast<int>(c));
+    std::sort(out.begin(), out.end());
+    return out;
+}
+}  // namespace
+
+std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts, const std::vector<int>& normal) {
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
                                          "in the file's units); with --excitation-harmonic h the fundamental "
                                          "of the response, the force acting at h w"}};
@@ -166,8 +189,24 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
         {"regime", "stick (every sample sticks), slip (no stick phase) or stick-slip; none for a structure without "
                    "contacts", ColumnType::text});
     columns.insert(columns.end(), regimes.begin(), regimes.end());
+    for (int c : normal) {
+        const std::string suffix = contacts > 1 ? "_c" + std::to_string(c + 1) : "",
+                          of = contacts > 1 ? " (contact " + std::to_string(c + 1) + ")" : "";
+        columns.push_back({"separated_fraction" + suffix,
+                           "contacts with a normal direction only (law elastic): share of the period the contact "
+                           "is open, normal force N = 0 (AFT samples; 1 - stick_fraction - separated_fraction "
+                           "slips)" + of});
+        columns.push_back({"normal_force_mean" + suffix,
+                           "law elastic only: mean over the period of the normal force N(t) >= 0" + of});
+        columns.push_back({"normal_force_amp" + suffix, "law elastic only: half the range of the normal force over "
+                                                        "the period, (max N - min N) / 2" + of});
+    }
+    columns.push_back({"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"});
+    if (contacts > 1 && !normal.empty())
+        for (int c = 1; c <= contacts; ++c)
+            columns.push_back({"energy_c" + std::to_string(c), "friction energy contact " + std::to_string(c) +
+                                                                   " dissipates per cycle"});
     const std::vector<Column> rest = {
-        {"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"},
         {"branch", "branch number: 1, 2 for the branch restarted from wmax after an amplitude cap, 3 for the branch between two capped resonances", ColumnType::integer},
         {"point", "regular, fold (located where the tangent's w-component is zero: dR/dX singular, a real turn of the branch in w), transition (located boundary between stick and stick-slip "
                   "or between stick-slip and slip, contact 1), cap (the amplitude bound passed --max-amplitude here: "
@@ -204,7 +243,8 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
                 const std::vector<Output>& outputs, const std::vector<ExactPoint>& exact,
                 const BranchStability* stability) {
     const int contacts = contacts_of(metrics);
-    Table table{frf_columns(outputs, contacts), {}};
+    const std::vector<int> normal = normal_contacts_of(metrics);
+    Table table{frf_columns(outputs, contacts, normal), {}};
     table.cells.resize(table.columns.size());
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
@@ -213,7 +253,17 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
         for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(m.output_max[j]);
         for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(m.output_amp1[j]);
         add_regimes(row, contacts, m.stick_fraction, m.regime, m.contacts);
-        row.insert(row.end(), {m.energy, static_cast<long long>(p.branch),
+        auto of = [&](int c, double ContactRegime::*field) {
+            const auto i = static_cast<std::size_t>(c);
+            return i < m.contacts.size() && std::isfinite(m.contacts[i].*field) ? Cell(m.contacts[i].*field) : Cell();
+        };
+        for (int c : normal)
+            row.insert(row.end(), {of(c, &ContactRegime::separated_fraction), of(c, &ContactRegime::normal_mean),
+                                   of(c, &ContactRegime::normal_amplitude)});
+        row.emplace_back(m.energy);
+        if (contacts > 1 && !normal.empty())
+            for (int c = 0; c < contacts; ++c) row.push_back(of(c, &ContactRegime::energy));
+        row.insert(row.end(), {static_cast<long long>(p.branch),
                                to_string(p.kind), static_cast<long long>(p.iterations), p.residual, p.step});
         const FloquetResult* floquet = stability && k < stability->points.size() ? &stability->points[k] : nullptr;
         const bool polished = k < exact.size() && exact[k].status == PolishStatus::exact;

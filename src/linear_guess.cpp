@@ -16,60 +16,69 @@ namespace hbf {
 
 Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const {
     using Complex = std::complex<double>;
-    const int n = coefficients(), dofs = system_.dofs(), nc = static_cast<int>(system_.contacts.size());
+    const int n = coefficients(), dofs = system_.dofs(), ns = signals_;
     // The response to F cos(h w t) sits on harmonic h, at the frequency h w.
     const int h = load_harmonic(), cos_row = 2 * h - 1, sin_row = cos_row + 1;
-    const double drive = h * omega;
-    // Each contact as a linear element of complex stiffness k + i omega d (pre-sliding), or held
-    // rigid (exact Coulomb: its force is the constraint's multiplier); none when sliding.
-    std::vector<Complex> element(static_cast<std::size_t>(nc), Complex(0.0, 0.0));
-    std::vector<bool> rigid(static_cast<std::size_t>(nc), false);
+    // Each direction of each contact as a linear element of complex stiffness k + i omega d
+    // (pre-sliding), or held rigid (exact Coulomb: its force is the constraint's multiplier);
+    // none when sliding. A preloaded element (StuckElement::offset) also loads harmonic 0.
+    std::vector<StuckElement> element(static_cast<std::size_t>(ns));
+    bool preload = false;
     for (std::size_t c = 0; c < system_.contacts.size() && !sliding; ++c) {
         const Contact& k = system_.contacts[c];
-        const StuckElement stuck = contact_law(k.law).stuck(k);
-        if (stuck.rigid)
-            rigid[c] = true;
-        else
-            element[c] = stuck.at(drive);
-    }
-    // Harmonic h: Q = Q0 - G Lambda with Lambda_c = element_c Q_c, or Q_c = 0 (rigid).
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(all_unknowns_);
-    Eigen::VectorXcd force = Eigen::VectorXcd::Zero(nc);
-    auto put = [&](Eigen::Index offset, Complex a) {
-        if (!std::isfinite(std::abs(a))) return;  // exact resonance: start from rest
-        x(offset + cos_row) = a.real();  // y = Re(Y e^{i h theta}) = Re Y cos - Im Y sin
-        x(offset + sin_row) = -a.imag();
-    };
-    if (condensed_) {
-        const Receptance::Harmonic g = receptance_->solve(h, omega, true);
-        if (g.ok) {
-            // Unknown u_c: Q_c, or Lambda_c for a rigid contact.
-            Eigen::MatrixXcd a(nc, nc);
-            for (int c = 0; c < nc; ++c)
-                for (int d = 0; d < nc; ++d) {
-                    const auto dd = static_cast<std::size_t>(d);
-                    // Lambda' = Lambda - (kappa + i w delta) Q (the shifted structure's force)
-                    const Complex shift(shift_stiffness_(d), drive * shift_damping_(d));
-                    a(c, d) = rigid[dd] ? g.contact(c, d) : g.contact(c, d) * (element[dd] - shift) + (c == d ? 1.0 : 0.0);
-                }
-            const Eigen::VectorXcd u = a.fullPivLu().solve(g.contact_load);
-            for (int c = 0; c < nc; ++c) {
-                const auto cc = static_cast<std::size_t>(c);
-                force(c) = rigid[cc] ? u(c) : element[cc] * u(c);
-                if (!rigid[cc]) put(c * n, u(c));
-            }
+        const std::vector<StuckElement> along = contact_law(k.law).stuck_directions(k);
+        for (int j = 0; j < signal_count_[c]; ++j) {
+            element[static_cast<std::size_t>(signal_first_[c] + j)] = along[static_cast<std::size_t>(j)];
+            preload = preload || along[static_cast<std::size_t>(j)].offset != 0.0;
         }
-    } else {
-        // (K - w^2 M + i w C + sum_c element_c w_c w_c^T) Y + W_R Lambda_R = F, W_R^T Y = 0.
+    }
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(all_unknowns_);
+    Eigen::VectorXcd force = Eigen::VectorXcd::Zero(ns);  // harmonic h's element forces
+    // Harmonic k at the frequency k w (k = h: the force F; k = 0: the preloads): the amplitudes
+    // of the signals (condensed) or the DOFs (full), and the elements' forces.
+    auto solve = [&](int k, Eigen::VectorXcd& amplitude, Eigen::VectorXcd& forces) {
+        const double frequency = k * omega;
+        forces = Eigen::VectorXcd::Zero(ns);
+        Eigen::VectorXcd offset(ns);
+        for (int a = 0; a < ns; ++a) offset(a) = k == 0 ? element[static_cast<std::size_t>(a)].offset : 0.0;
+        if (condensed_) {
+            // Q = Q0 - G Lambda with Lambda_a = element_a Q_a + offset_a, or Q_a = 0 (rigid).
+            const Receptance::Harmonic g = k == 0 ? harmonic_[0] : receptance_->solve(k, omega, k == h);
+            if (!g.ok) return false;
+            Eigen::MatrixXcd m(ns, ns);
+            for (int a = 0; a < ns; ++a)
+                for (int b = 0; b < ns; ++b) {
+                    const StuckElement& e = element[static_cast<std::size_t>(b)];
+                    // Lambda' = Lambda - (kappa + i w delta) Q (the shifted structure's force)
+                    const Complex shift(shift_stiffness_(b), frequency * shift_damping_(b));
+                    m(a, b) = e.rigid ? g.contact(a, b) : g.contact(a, b) * (e.at(frequency) - shift) + (a == b ? 1.0 : 0.0);
+                }
+            Eigen::VectorXcd rhs = -(g.contact * offset);
+            if (k == h) rhs += g.contact_load;
+            const Eigen::VectorXcd u = m.fullPivLu().solve(rhs);
+            amplitude = Eigen::VectorXcd::Zero(ns);
+            for (int a = 0; a < ns; ++a) {
+                const StuckElement& e = element[static_cast<std::size_t>(a)];
+                forces(a) = e.rigid ? u(a) : e.at(frequency) * u(a) + offset(a);
+                if (!e.rigid) amplitude(a) = u(a);
+            }
+            return true;
+        }
+        // (K - w^2 M + i w C + sum_a element_a w_a w_a^T) Y + W_R Lambda_R = F - sum_a offset_a w_a,
+        // W_R^T Y = 0.
         std::vector<int> stuck;
         Eigen::MatrixXcd z = dynamic_stiffness(Eigen::MatrixXd(system_.mass), Eigen::MatrixXd(system_.damping),
-                                               Eigen::MatrixXd(system_.stiffness), drive);
-        for (int c = 0; c < nc; ++c) {
-            const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(c)];
-            if (rigid[static_cast<std::size_t>(c)])
-                stuck.push_back(c);
+                                               Eigen::MatrixXd(system_.stiffness), frequency);
+        Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(dofs);
+        if (k == h) rhs = system_.excitation.cast<Complex>();
+        for (int a = 0; a < ns; ++a) {
+            const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(a)];
+            const StuckElement& e = element[static_cast<std::size_t>(a)];
+            rhs -= offset(a) * w.cast<Complex>();
+            if (e.rigid)
+                stuck.push_back(a);
             else
-                z += element[static_cast<std::size_t>(c)] * (w * w.transpose()).cast<Complex>();
+                z += e.at(frequency) * (w * w.transpose()).cast<Complex>();
         }
         const auto m = static_cast<Eigen::Index>(stuck.size());
         Eigen::MatrixXcd a = Eigen::MatrixXcd::Zero(dofs + m, dofs + m);
@@ -79,12 +88,26 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
             a.block(0, dofs + j, dofs, 1) = w.cast<Complex>();
             a.block(dofs + j, 0, 1, dofs) = w.cast<Complex>().transpose();
         }
-        Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(dofs + m);
-        rhs.head(dofs) = system_.excitation.cast<Complex>();
-        const Eigen::VectorXcd amplitude = a.fullPivLu().solve(rhs);
-        for (int d = 0; d < dofs; ++d) put(d * n, amplitude(d));
-        for (Eigen::Index j = 0; j < m; ++j) force(stuck[static_cast<std::size_t>(j)]) = amplitude(dofs + j);
-    }
+        Eigen::VectorXcd full = Eigen::VectorXcd::Zero(dofs + m);
+        full.head(dofs) = rhs;
+        const Eigen::VectorXcd solution = a.fullPivLu().solve(full);
+        amplitude = solution.head(dofs);
+        for (Eigen::Index j = 0; j < m; ++j) forces(stuck[static_cast<std::size_t>(j)]) = solution(dofs + j);
+        return true;
+    };
+    const int signals = condensed_ ? ns : dofs;
+    Eigen::VectorXcd amplitude;
+    if (solve(h, amplitude, force))
+        for (int a = 0; a < signals; ++a) {
+            const Complex u = amplitude(a);
+            if (!std::isfinite(std::abs(u))) continue;  // exact resonance: start from rest
+            x(a * n + cos_row) = u.real();  // y = Re(Y e^{i h theta}) = Re Y cos - Im Y sin
+            x(a * n + sin_row) = -u.imag();
+        }
+    Eigen::VectorXcd mean_forces;
+    if (preload && !odd_ && solve(0, amplitude, mean_forces))
+        for (int a = 0; a < signals; ++a)
+            if (std::isfinite(amplitude(a).real())) x(a * n) = amplitude(a).real();
     for (std::size_t c = 0; c < system_.contacts.size(); ++c) {
         if (state_offset_[c] < 0) continue;
         const Contact& k = system_.contacts[c];
@@ -92,7 +115,7 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
         // zero so far; sliding: the friction force at its limit in phase with the velocity
         // (harmonic h of F_c sign(v) is (4/pi) F_c v / |v|, v ~ (s_h cos - c_h sin) for v on
         // harmonic h); stuck: the law's state in the linear stuck response
-        contact_law(k.law).guess_state(k, sliding, q, cos_row, force(static_cast<Eigen::Index>(c)),
+        contact_law(k.law).guess_state(k, sliding, q, cos_row, force(signal_first_[c]),
                                        x.segment(state_offset_[c], n));
     }
     if (!odd_) return x;

@@ -27,6 +27,22 @@ Eigen::VectorXd System::contact_direction(const Contact& contact) const {
     return w;
 }
 
+Eigen::MatrixXd System::contact_directions(const Contact& contact) const {
+    std::vector<const std::vector<double>*> extra;
+    for (const LawParameter& p : contact_law(contact.law).parameters())
+        if (p.kind == LawParameter::Kind::direction)
+            if (const auto at = contact.lists.find(p.key); at != contact.lists.end()) extra.push_back(&at->second);
+    Eigen::MatrixXd w(dofs(), static_cast<Eigen::Index>(extra.size()) + 1);
+    w.col(0) = contact_direction(contact);
+    for (std::size_t j = 0; j < extra.size(); ++j) {
+        if (static_cast<int>(extra[j]->size()) != dofs())
+            throw InvalidInput("contact_directions: a direction has " + std::to_string(extra[j]->size()) +
+                               " entries: allowed " + std::to_string(dofs()) + " (the number of DOFs)");
+        w.col(static_cast<Eigen::Index>(j) + 1) = Eigen::Map<const Eigen::VectorXd>(extra[j]->data(), dofs());
+    }
+    return w;
+}
+
 Output::Output(std::string name, std::vector<Term> terms) : name_(std::move(name)), terms_(std::move(terms)) {}
 
 Output Output::dof(int i) { return Output("y" + std::to_string(i + 1), {{i, 1.0}}); }
@@ -157,12 +173,30 @@ void System::validate() const {
                                    " is out of range: allowed ground (-1) or 0.." + std::to_string(n - 1) +
                                    " other than dof");
         }
-        require_positive(k.friction_limit, (where + "friction_limit").c_str(), "slip force mu N");
+        const ContactLaw& law = contact_law(k.law);
+        if (law.has_friction_limit())
+            require_positive(k.friction_limit, (where + "friction_limit").c_str(), "slip force mu N");
+        else if (k.friction_limit != 0.0)
+            throw InvalidInput(where + "friction_limit = " + format_number(k.friction_limit) + " does not apply to law " +
+                               law.name() + " (its slip force is mu times the normal force): allowed 0 (not given)");
+        for (const LawParameter& p : law.parameters()) {
+            if (p.kind != LawParameter::Kind::direction) continue;
+            const auto at = k.lists.find(p.key);
+            if (at == k.lists.end()) continue;
+            const Eigen::Map<const Eigen::VectorXd> d(at->second.data(), static_cast<Eigen::Index>(at->second.size()));
+            if (d.size() != n)
+                throw InvalidInput(where + p.key + " has " + std::to_string(d.size()) + " entries: allowed " +
+                                   std::to_string(n) + " (the number of DOFs)");
+            const double largest = d.size() > 0 ? d.cwiseAbs().maxCoeff() : 0.0;
+            if (!d.allFinite() || !(largest >= 1e-100 && largest <= 1e100))
+                throw InvalidInput(where + p.key + " (" + p.meaning + ") must be finite and not all zero: allowed "
+                                   "entries up to 1e100 with the largest at least 1e-100");
+        }
         if (k.base_motion != 0.0 && (!std::isfinite(k.base_motion) || !elastic_slider(k)))
             throw InvalidInput(where + "base_motion = " + format_number(k.base_motion) +
                                " is not allowed: allowed 0, or a finite value on an elastic slider (jenkins) of the "
                                "time domain");
-        contact_law(k.law).validate(k, where);
+        law.validate(k, where);
     }
     // Two exact Coulomb contacts along the same direction share one relative velocity: in stick
     // their two forces are indeterminate (only the sum is defined), and harmonic balance's
@@ -313,6 +347,9 @@ void check_given_preset_parameters(FrictionLaw law, const AbsorberParameters& p,
 }
 
 void AbsorberParameters::validate(FrictionLaw law) const {
+    if (!contact_law(law).has_preset())
+        throw InvalidInput("law = " + to_string(law) + " has no preset: the paper's absorber has no normal direction "
+                           "(allowed: a system file, --config, with the contact's normal_direction)");
     require_positive(mass_ratio, "r", "mass ratio m2/m1");
     require_positive(tuning_ratio, "wa", "tuning ratio omega2/omega1");
     require_positive(friction_coefficient, "mu", "friction coefficient");
@@ -456,8 +493,11 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
             continue;
         }
         element[static_cast<std::size_t>(c)] = stuck.at(omega);
-        const Eigen::VectorXd w = system.contact_direction(contact);
-        a += element[static_cast<std::size_t>(c)] * (w * w.transpose()).cast<Complex>();
+        // every direction's spring and damper (one for the laws along one direction)
+        const Eigen::MatrixXd w = system.contact_directions(contact);
+        const std::vector<StuckElement> along = contact_law(contact.law).stuck_directions(contact);
+        for (Eigen::Index j = 0; j < w.cols(); ++j)
+            a += along[static_cast<std::size_t>(j)].at(omega) * (w.col(j) * w.col(j).transpose()).cast<Complex>();
     }
     const int m = static_cast<int>(rigid.size());
     Eigen::MatrixXcd kkt = Eigen::MatrixXcd::Zero(n + m, n + m);
@@ -544,15 +584,19 @@ std::vector<LinearResonance> linear_resonances(const System& system, double omeg
     add(natural_frequencies(stiffness, mass), LinearResonance::Limit::released);
     Eigen::MatrixXd stuck = stiffness;
     bool springs = false;
-    Eigen::MatrixXd directions(n, static_cast<Eigen::Index>(system.contacts.size()));
+    Eigen::MatrixXd directions(n, 0);  // every direction of every contact
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
         const Contact& contact = system.contacts[c];
-        const Eigen::VectorXd w = system.contact_direction(contact);
-        directions.col(static_cast<Eigen::Index>(c)) = w;
-        const StuckElement element = contact_law(contact.law).stuck(contact);
-        if (!element.rigid && element.stiffness != 0.0) {  // a stuck spring (jenkins, dahl, lugre)
-            stuck += element.stiffness * w * w.transpose();
-            springs = springs || element.stiffness > 0.0;
+        const Eigen::MatrixXd w = system.contact_directions(contact);
+        directions.conservativeResize(Eigen::NoChange, directions.cols() + w.cols());
+        directions.rightCols(w.cols()) = w;
+        const std::vector<StuckElement> along = contact_law(contact.law).stuck_directions(contact);
+        for (Eigen::Index j = 0; j < w.cols(); ++j) {
+            const StuckElement& element = along[static_cast<std::size_t>(j)];
+            if (!element.rigid && element.stiffness != 0.0) {  // a stuck spring (jenkins, dahl, lugre, elastic)
+                stuck += element.stiffness * w.col(j) * w.col(j).transpose();
+                springs = springs || element.stiffness > 0.0;
+            }
         }
     }
     if (springs) add(natural_frequencies(stuck, mass), LinearResonance::Limit::stuck);

@@ -149,10 +149,25 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
         // Dissipated energy: integral over the period 2 pi / omega of f q', on the AFT grid.
         Fourier& aft = hb_.fourier();
         Eigen::VectorXd v(aft.time_samples());
+        // A contact with several directions: the sum over them (its normal spring's work
+        // N v' vanishes over a period, being conservative).
+        const int n = aft.size(), nt = aft.time_samples();
         for (int c = 0; c < static_cast<int>(s.contacts.size()); ++c) {
-            aft.to_time(omega * (aft.derivative() * hb_.relative(point.x, c)), v);
+            const Eigen::VectorXd q = hb_.relative(point.x, c);
             const Eigen::VectorXd f = hb_.force_samples(point.x, omega, c);
-            m.energy += 2.0 * M_PI / omega * f.dot(v) / aft.time_samples();
+            ContactRegime& r = m.contacts[static_cast<std::size_t>(c)];
+            r.energy = 0.0;
+            for (Eigen::Index a = 0; a < q.size() / n; ++a) {
+                aft.to_time(omega * (aft.derivative() * q.segment(a * n, n)), v);
+                r.energy += 2.0 * M_PI / omega * f.segment(a * nt, nt).dot(v) / nt;
+            }
+            m.energy += r.energy;
+            if (q.size() > n) {  // a normal direction: its force is the last signal's
+                const Eigen::VectorXd normal = f.tail(nt);
+                r.separated_fraction = static_cast<double>((normal.array() <= 0.0).count()) / nt;
+                r.normal_mean = normal.mean();
+                r.normal_amplitude = 0.5 * (normal.maxCoeff() - normal.minCoeff());
+            }
         }
     }
     // Viscous dissipation per period 2 pi / w of y' = sum_k k w (s_k cos - c_k sin):
@@ -196,12 +211,13 @@ PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int 
         f.to_time(y.col(i), samples);
         s.y.col(i) = samples;
     }
-    const Eigen::VectorXd q = hb.relative(point.x, contact);
+    // the contact's first direction (the tangential one of an element with a normal direction)
+    const Eigen::VectorXd q = hb.relative(point.x, contact).head(f.size());
     s.q.resize(nt);
     s.v.resize(nt);
     f.to_time(q, s.q);
     f.to_time(point.omega * (f.derivative() * q), s.v);
-    s.f = hb.force_samples(point.x, point.omega, contact);
+    s.f = hb.force_samples(point.x, point.omega, contact).head(nt);
     Eigen::VectorXd coefficients(f.size());
     f.to_coefficients(s.f, coefficients);
     s.f_series.resize(nt);

@@ -85,6 +85,9 @@ std::string stability_refusal(const System& system) {
             return "the mass matrix is singular (massless DOFs): the stability analysis needs M positive definite";
         return "";
     }
+    for (const Contact& c : system.contacts)
+        if (!contact_law(c.law).time_domain())
+            return "law " + to_string(c.law) + " has no time-domain form yet: no stability analysis";
     bool all_smooth = true, all_exact = true;
     for (const Contact& c : system.contacts) {
         all_smooth = all_smooth && smooth(c.law);

@@ -13,8 +13,9 @@
 // Everything else asks the registry (contact_law(law)) instead of switching on the law, so that
 // a law is added by adding its file and a line of the table.
 //
-// The interface is per contact direction (one relative displacement q = w^T y); elements with a
-// normal and one or two tangential directions will add their directions here.
+// A contact sees one relative displacement q = w^T y (the laws along one direction), or several
+// (the elements with a normal direction: their extra directions are parameters of
+// Kind::direction, and System::contact_directions stacks them after the contact's own).
 #pragma once
 
 #include <complex>
@@ -37,8 +38,11 @@ struct LawParameter {
     /// closed as given.
     enum class Range { positive, non_negative, interval };
     /// number: one finite number; integer: one whole number; pairs: a table of rows of two
-    /// numbers (stored row by row in Contact::lists), checked by the law's validate().
-    enum class Kind { number, integer, pairs };
+    /// numbers (stored row by row in Contact::lists), checked by the law's validate();
+    /// direction: a vector over the model's coordinates (N entries in Contact::lists, finite,
+    /// not all zero: System::validate), one more relative displacement the contact sees
+    /// (System::contact_directions); optional unless the law's validate() requires it.
+    enum class Kind { number, integer, pairs, direction };
     const char* key;
     double Contact::*field;
     const char* meaning;  ///< what it is, with its symbol ("contact stiffness sigma0")
@@ -69,6 +73,9 @@ struct StuckElement {
     bool rigid = false;
     double stiffness = 0;
     double damping = 0;
+    /// The force at zero displacement (a preload: the elements with a normal direction), which
+    /// harmonic balance's first guess carries on harmonic 0.
+    double offset = 0;
     std::complex<double> at(double frequency) const { return {stiffness, frequency * damping}; }
 };
 
@@ -123,8 +130,21 @@ public:
     /// the centred stuck state as its solution.
     virtual bool exact_stick() const = 0;
     virtual TimeState time_state() const = 0;
-    /// The linear element while the contact sticks.
+    /// The linear element while the contact sticks (along its first direction).
     virtual StuckElement stuck(const Contact& contact) const = 0;
+    /// The linear element along each of the contact's directions (System::contact_directions),
+    /// uncoupled: the default is {stuck(contact)} for the laws along one direction.
+    virtual std::vector<StuckElement> stuck_directions(const Contact& contact) const { return {stuck(contact)}; }
+    /// Whether the law has the parameter friction_limit (> 0, required). The elements with a
+    /// normal direction have a friction coefficient instead (their limit follows the normal load).
+    virtual bool has_friction_limit() const { return true; }
+    /// Whether the paper's absorber (model.hpp: friction_absorber, hbf --law) can carry the law:
+    /// not the elements with a normal direction (the absorber has none).
+    virtual bool has_preset() const { return true; }
+    /// Whether the time-domain solvers (time integration, the event-exact solver, the stability
+    /// analysis) integrate the law; the default is true. For a law without them, every such
+    /// solver refuses the system up front, naming the law (refuse_time_domain).
+    virtual bool time_domain() const { return true; }
     /// The periodic force by AFT (harmonic balance). Throws InvalidInput for parameters the
     /// model cannot take (exact Coulomb: lagrangian_penalty must be > 0).
     virtual std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const = 0;
@@ -165,6 +185,10 @@ public:
     /// contact (pre-)sticks; its sign changes are the stick/slip events. The default throws.
     virtual double time_margin(const Contact& contact, double v, double z) const;
 };
+
+/// Throws InvalidInput naming the first contact whose law the time-domain solvers do not
+/// integrate (ContactLaw::time_domain), and `what` ("time integration").
+void refuse_time_domain(const System& system, const std::string& what);
 
 /// The registry: every law, in the order of their names in messages.
 const std::vector<const ContactLaw*>& contact_laws();

@@ -310,6 +310,8 @@ struct PointSignals {
     Eigen::VectorXd q, v, f, phi;  ///< f: the law's own force (FrictionModel::force_samples)
     Eigen::VectorXd f_series;      ///< f's H-harmonic Fourier series (what the balance sees)
 };
+/// A contact with several directions (friction.hpp: signals): q, v and f along its first
+/// (tangential) direction.
 PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int contact);
 
 /// A resonance peak: a local maximum of max_t |y_dof(t)| (or of an output's |o(t)|) along a

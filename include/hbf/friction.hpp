@@ -47,20 +47,28 @@ public:
     virtual ~FrictionModel() = default;
     /// Number of internal-state signals this law adds to the unknowns (0 or 1).
     virtual int state_signals() const = 0;
+    /// Number of relative displacements the contact sees (System::contact_directions): 1 for
+    /// the laws along one direction; 2 or 3 for the elements with a normal direction (the
+    /// tangential ones, then the normal one). q and force stack their coefficients, 2H+1 each,
+    /// in that order, and force_q is (signals (2H+1)) square. Laws with more than one signal
+    /// have no state signal.
+    virtual int signals() const { return 1; }
     /// Fills `out` from the coefficients of q and z (z is empty when state_signals() == 0).
     /// Jacobians are computed only when `jacobian` is true.
     virtual void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
                           FrictionEvaluation& out, bool jacobian) const = 0;
     /// Force samples f(theta_j) on the time grid of `fourier` (for post-processing): the law's
     /// own force in time (exact Coulomb: the projected multiplier, |f| <= F_c; Jenkins: the
-    /// marched force), whose H-harmonic series is what the balance equations see.
+    /// marched force), whose H-harmonic series is what the balance equations see. With several
+    /// signals, the samples of each force stacked (signals N_t).
     virtual Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
                                           const Eigen::VectorXd& z) const = 0;
     /// Stick indicator phi(theta_j) on the time grid of `fourier`: the sample sticks iff
     /// phi < 0 (definitions at the top of this file). phi is a continuous measure of the
     /// distance to the friction limit: coulomb |lambda + eps v| / F_c - 1; dahl, lugre
     /// |sigma0 z| / (ratio g(v)) - 1; coulomb-reg |tanh(v / eps)| / ratio - 1; jenkins
-    /// |f| / F_c - 1 where the slider rests and 0 where it moves.
+    /// |f| / F_c - 1 where the slider rests and 0 where it moves; the elements with a normal
+    /// direction |T| / (mu N) - 1 where stuck, 0 where slipping, 1 where separated.
     virtual Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,
                                             const Eigen::VectorXd& z) const = 0;
 };

@@ -142,11 +142,13 @@ public:
     /// the modal receptance a looser bound from the modal coordinates (receptance.hpp), whose
     /// cost does not grow with N. +infinity where the structure is singular.
     double amplitude_bound(const Eigen::VectorXd& x, double omega);
-    /// Coefficients of the relative displacement q_c of contact c, and of its internal state
-    /// (empty for memoryless laws).
+    /// Coefficients of the relative displacement q_c of contact c (a contact with several
+    /// directions, System::contact_directions: each direction's, stacked), and of its internal
+    /// state (empty for memoryless laws).
     Eigen::VectorXd relative(const Eigen::VectorXd& x, int contact) const;
     Eigen::VectorXd state(const Eigen::VectorXd& x, int contact) const;
-    /// Friction force samples of contact c on the AFT time grid.
+    /// Friction force samples of contact c on the AFT time grid (several directions: stacked,
+    /// friction.hpp).
     Eigen::VectorXd force_samples(const Eigen::VectorXd& x, double omega, int contact);
     /// Stick indicator of contact c on the AFT time grid (sticks where < 0; friction.hpp).
     Eigen::VectorXd stick_indicator(const Eigen::VectorXd& x, double omega, int contact);
@@ -190,14 +192,16 @@ private:
                        Eigen::VectorXd* jacobian_omega);
     void evaluate_condensed(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                             Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega);
-    /// Every contact's force minus its shift (below), coefficients (2H+1) x n_c (condensed).
+    /// Every contact's force minus its shift (below), coefficients (2H+1) x signals (condensed).
     Eigen::MatrixXd shifted_forces(const Eigen::VectorXd& x, double omega);
-    /// Contact c's force minus the spring and damper of the shifted structure (constructor).
+    /// Contact c's force minus the springs and dampers of the shifted structure along its
+    /// directions (constructor).
     void shift_force(int c, double omega, const Eigen::VectorXd& q, FrictionEvaluation& e, bool jacobian) const;
     /// The receptance of harmonics 0..H at omega (cached for the last omega); false when a
     /// Z_k is singular there (structure_failure_ says which).
     bool prepare_receptance(double omega);
-    /// out += Gr_cd in, for the real form Gr of G_k (`omega_derivative`: of dG_k/domega).
+    /// out += Gr_cd in, for the real form Gr of G_k between signals c and d (`omega_derivative`:
+    /// of dG_k/domega).
     void add_receptance(int c, int d, const Eigen::Ref<const Eigen::MatrixXd>& in, Eigen::Ref<Eigen::MatrixXd> out,
                         bool omega_derivative = false) const;
 
@@ -211,13 +215,17 @@ private:
     std::unique_ptr<Receptance> receptance_;
     std::vector<Receptance::Harmonic> harmonic_;  // per k = 0..H at receptance_omega_
     double receptance_omega_ = -1.0;
-    Eigen::VectorXd static_flexibility_;          // G_0,cc
-    Eigen::VectorXd shift_stiffness_, shift_damping_;  // kappa_c, delta_c
-    Eigen::MatrixXd row_scale_, row_scale_omega_; // 1 / |G_k,cc| and its omega-derivative ((H+1) x n_c)
+    Eigen::VectorXd static_flexibility_;          // G_0,aa per signal a
+    Eigen::VectorXd shift_stiffness_, shift_damping_;  // kappa_a, delta_a per signal
+    Eigen::MatrixXd row_scale_, row_scale_omega_; // 1 / |G_k,aa| and its omega-derivative ((H+1) x signals)
     std::string structure_failure_;
     std::vector<std::unique_ptr<FrictionModel>> models_;
     std::vector<int> state_offset_;  // start of each contact's state block, -1 if none
-    std::vector<Eigen::VectorXd> directions_;
+    // The signals: one relative displacement each, w_a^T y, contact c's directions being the
+    // signals signal_first_[c] .. + signal_count_[c] - 1 (System::contact_directions).
+    std::vector<Eigen::VectorXd> directions_;  // w_a, per signal
+    std::vector<int> signal_first_, signal_count_;  // per contact
+    int signals_ = 0;
     int unknowns_ = 0;      // the corrector's unknowns: signals x balanced_coefficients()
     int all_unknowns_ = 0;  // signals x (2H + 1): the layout of every harmonic
     bool odd_ = false;

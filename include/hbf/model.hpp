@@ -25,6 +25,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <complex>
+#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -112,6 +113,10 @@ struct System {
     int dofs() const { return static_cast<int>(mass.rows()); }
     /// w_c: the relative displacement of contact c is q_c = w_c^T y.
     Eigen::VectorXd contact_direction(const Contact& contact) const;
+    /// Every direction of contact c, N x s: w_c first, then the law's direction parameters the
+    /// contact has (contact.hpp: LawParameter::Kind::direction), in the law's order (the
+    /// elements with a normal direction: the second tangential one if given, then the normal).
+    Eigen::MatrixXd contact_directions(const Contact& contact) const;
     /// Throws InvalidInput when dimensions, symmetry or contact parameters are wrong. M must be
     /// positive semi-definite (checked by a sparse LDL^T); see has_positive_definite_mass.
     void validate() const;
@@ -190,6 +195,15 @@ double energy_imbalance(double input, double viscous, double friction, double re
 struct ContactRegime {
     double stick_fraction = 0;
     std::string regime;
+    /// Contacts with a normal direction (contact.hpp: law elastic), harmonic balance: the share
+    /// of the period separated (N = 0; stick_fraction + separated_fraction <= 1, the rest
+    /// slips), the normal force's mean over the period and half its range (max - min) / 2, on
+    /// the AFT samples. NaN for the other laws and solvers.
+    double separated_fraction = std::numeric_limits<double>::quiet_NaN();
+    double normal_mean = std::numeric_limits<double>::quiet_NaN();
+    double normal_amplitude = std::numeric_limits<double>::quiet_NaN();
+    /// The friction energy the contact dissipates per cycle (harmonic balance; NaN elsewhere).
+    double energy = std::numeric_limits<double>::quiet_NaN();
 };
 /// The regime of a contact stuck for `stick_time` of `period`: stick within 1e-12 of the
 /// period, slip within 1e-12 of 0, else stick-slip (event-exact times); the fraction is then

@@ -162,7 +162,7 @@ def _copy(obj, kind=None):
 _ABSORBER_NAMES = {"r": "mass_ratio", "wa": "tuning_ratio", "mu": "friction_coefficient", "fe": "excitation"}
 _ABSORBER_NAMES.update({p["keyword"]: p["field"] for p in _core.preset_parameters()})
 _KEYWORDS = {p["field"]: p["keyword"] for p in _core.preset_parameters()}
-_LAWS = tuple(law["name"] for law in _core.contact_laws())
+_LAWS = tuple(law["name"] for law in _core.contact_laws() if law["preset"])  # the absorber's
 
 
 def absorber(law="coulomb", parameters=None, excitation_harmonic=1, **values):
@@ -177,6 +177,9 @@ def absorber(law="coulomb", parameters=None, excitation_harmonic=1, **values):
     law is an error, as in hbf. Reports y1 and y2.
     """
     if law not in _LAWS:
+        if law in (l["name"] for l in _core.contact_laws()):
+            raise ValueError("law = '%s' has no preset: the paper's absorber has no normal direction (allowed %s; "
+                             "build a System with the contact's normal_direction)" % (law, ", ".join(_LAWS)))
         raise ValueError("law = '%s' is not known: allowed %s" % (law, ", ".join(_LAWS)))
     p = AbsorberParameters() if parameters is None else _copy(parameters, AbsorberParameters)
     fields = set(_fields(p))

@@ -41,7 +41,9 @@ long long parse_integer(const std::string& flag, const std::string& text) {
 
 std::string AbsorberFlags::laws_help() {
     std::string help = "friction law:";
-    const std::vector<const ContactLaw*>& laws = contact_laws();
+    std::vector<const ContactLaw*> laws;  // those the absorber can carry (the others: --config)
+    for (const ContactLaw* law : contact_laws())
+        if (law->has_preset()) laws.push_back(law);
     for (std::size_t i = 0; i < laws.size(); ++i)
         help += std::string(i == 0 ? " " : i + 1 == laws.size() ? " or " : ", ") + laws[i]->name() + " (" +
                 laws[i]->definition() + ")";

@@ -151,7 +151,8 @@ int run(const CLI::App& command, const MapOptions& o) {
     // The tidy CSV: the parameter and the FRF's status, then hbf frf's columns, one row per
     // point; an FRF without points is one row of empty fields.
     const std::vector<io::Column> columns =
-        io::frf_columns(chosen.outputs, static_cast<int>(parameter.system(values.front()).contacts.size()));
+        io::frf_columns(chosen.outputs, static_cast<int>(parameter.system(values.front()).contacts.size()),
+                        io::normal_contacts(parameter.system(values.front())));
     io::OutputFile out(o.output.out);
     out.stream() << o.param << ",frf_status";
     for (const io::Column& c : columns) out.stream() << ',' << c.name;

@@ -44,7 +44,8 @@ ContactKey find_contact_key(const std::string& name) {
     if (key == "friction_limit") return {key, true};
     for (const ContactLaw* law : contact_laws())
         for (const LawParameter& p : law->parameters())
-            if (key == p.key && p.kind != LawParameter::Kind::pairs) return {key, true, p};
+            if (key == p.key && p.kind != LawParameter::Kind::pairs && p.kind != LawParameter::Kind::direction)
+                return {key, true, p};
     return {};
 }
 /// "> 0", ">= 0", or the parameter's interval.
@@ -53,9 +54,9 @@ std::string bound(const LawParameter& p) {
     if (p.kind == LawParameter::Kind::number && p.range != R::interval) return p.range == R::positive ? "> 0" : ">= 0";
     return p.allowed();
 }
-/// Whether `key` applies to `law` (friction_limit to every law).
+/// Whether `key` applies to `law` (friction_limit to every law that has it).
 bool applies(const ContactKey& key, FrictionLaw law) {
-    if (key.name == "friction_limit") return true;
+    if (key.name == "friction_limit") return contact_law(law).has_friction_limit();
     const std::vector<LawParameter> p = contact_law(law).parameters();
     return std::any_of(p.begin(), p.end(), [&](const LawParameter& q) { return key.name == q.key; });
 }

@@ -16,6 +16,7 @@ const ContactLaw& lugre_law();
 const ContactLaw& coulomb_regularized_law();
 const ContactLaw& jenkins_law();
 const ContactLaw& iwan_law();
+const ContactLaw& elastic_law();
 
 const std::vector<const ContactLaw*>& contact_laws() {
     static const std::vector<const ContactLaw*> laws = {
@@ -25,6 +26,7 @@ const std::vector<const ContactLaw*>& contact_laws() {
         &coulomb_regularized_law(),
         &jenkins_law(),
         &iwan_law(),
+        &elastic_law(),
     };
     static const bool unique = [] {
         for (std::size_t a = 0; a < laws.size(); ++a)
@@ -146,7 +148,8 @@ void ContactLaw::complete(Contact&, const DirectionScale&, const std::string&) c
 
 void ContactLaw::validate(const Contact& contact, const std::string& where) const {
     for (const LawParameter& p : parameters()) {
-        if (p.kind == LawParameter::Kind::pairs) continue;  // the law's own validate
+        if (p.kind == LawParameter::Kind::pairs || p.kind == LawParameter::Kind::direction)
+            continue;  // the law's own validate (directions: also System::validate)
         const double value = p.get(contact);
         if (!p.allows(value))
             throw InvalidInput(where + p.key + " (" + p.meaning + ") = " + format_number(value) +
@@ -212,7 +215,21 @@ System time_domain_system(const System& system) {
     return lowered;
 }
 
-TimeDomainView::TimeDomainView(const System& system) : original_(system), split_(splits_contacts(system)) {
+void refuse_time_domain(const System& system, const std::string& what) {
+    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+        const ContactLaw& law = contact_law(system.contacts[c].law);
+        if (law.time_domain()) continue;
+        std::string covered;
+        for (const ContactLaw* l : contact_laws())
+            if (l->time_domain()) covered += (covered.empty() ? "" : ", ") + std::string(l->name());
+        throw InvalidInput("contact " + std::to_string(c + 1) + ": law = " + law.name() + " has no time-domain form yet, "
+                           "so " + what + " cannot take it (harmonic balance can): allowed " + covered);
+    }
+}
+
+TimeDomainView::TimeDomainView(const System& system) : original_(system), split_(false) {
+    refuse_time_domain(system, "the time-domain solvers (time integration, the event-exact solver)");
+    split_ = splits_contacts(system);
     if (split_) lowered_ = time_domain_system(system);
 }
 

@@ -10,7 +10,7 @@ import pytest
 import hbfriction
 from conftest import run_hbf
 
-LAWS = [law["name"] for law in hbfriction._core.contact_laws()]
+LAWS = [law["name"] for law in hbfriction._core.contact_laws() if law["preset"]]
 BENCHMARK = os.environ.get("HBF_HB_VS_TIMEINT", "")
 
 

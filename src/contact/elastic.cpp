@@ -1,0 +1,208 @@
+// hbfriction — contact law `elastic`: the friction contact with a normal direction, whose
+// normal load follows the motion and which separates (normal_contact.hpp: the element).
+//
+// Definition: along the contact's tangential direction(s) u (w_t^T y; in 3D also the
+// second_direction) and its normal direction v (normal_direction^T y, positive closing):
+//   N = max(0, N_0 - k_n g_0 + k_n v),  T = k_t (u - s),  |T| <= mu N  (a circular cone in 3D),
+// the slider s moving in the direction of T while |T| = mu N; separated (N = 0): T = 0. The
+// structure receives the force T along w_t (and the second direction) and N along the normal
+// direction, as every law's force f along w (harmonic_balance.hpp).
+// Parameters: stiffness k_t (> 0), normal_stiffness k_n (> 0), friction_coefficient mu (>= 0),
+// preload N_0 (>= 0) or gap g_0 (>= 0), normal_direction (required) and second_direction (3D),
+// vectors over the model's coordinates, orthogonal to each other and to the contact's own
+// direction; the two tangential directions of equal length (the cone is circular in the units
+// of u). No friction_limit: the slip force is mu N.
+// While stuck (harmonic balance's first guess): k_t along the tangential directions and k_n
+// along the normal one with the force N_0 at v = 0, when the contact is closed at rest.
+//
+// Harmonic balance: no extra unknowns; the AFT marches the slider over the period from its
+// periodic fixed point (normal_contact.cpp), with the exact Jacobian on the
+// stick/slip/separation pattern. Not smooth, no exact-stick solver, no time-domain form yet.
+#include <cmath>
+#include <limits>
+
+#include "hbf/contact.hpp"
+#include "hbf/error.hpp"
+#include "hbf/normal_contact.hpp"
+#include "../stopwatch.hpp"
+
+namespace hbf {
+
+namespace {
+
+constexpr const char* normal_key = "normal_direction";
+constexpr const char* second_key = "second_direction";
+
+/// The element of a contact (validated).
+ElasticContact element_of(const Contact& c) {
+    ElasticContact e;
+    e.tangential_stiffness = c.stiffness;
+    e.normal_stiffness = c.values.at("normal_stiffness");
+    e.friction_coefficient = c.values.at("friction_coefficient");
+    const auto preload = c.values.find("preload"), gap = c.values.find("gap");
+    e.normal_offset = (preload == c.values.end() ? 0.0 : preload->second) -
+                      e.normal_stiffness * (gap == c.values.end() ? 0.0 : gap->second);
+    e.tangential_directions = c.lists.count(second_key) ? 2 : 1;
+    return e;
+}
+
+/// The element's AFT (normal_contact.hpp) as a FrictionModel of d + 1 signals.
+class ElasticModel final : public FrictionModel {
+public:
+    explicit ElasticModel(const ElasticContact& element) : element_(element) {}
+    int state_signals() const override { return 0; }
+    int signals() const override { return element_.tangential_directions + 1; }
+
+    void evaluate(Fourier& fourier, double, const Eigen::VectorXd& q, const Eigen::VectorXd&, FrictionEvaluation& out,
+                  bool jacobian) const override {
+        detail::Stopwatch watch;
+        hbf::evaluate(element_, fourier, q, scratch_, jacobian);
+        out.force = scratch_.force;
+        out.jacobian_seconds = 0.0;
+        if (!jacobian) return;
+        out.force_q = scratch_.jacobian;
+        out.force_omega = Eigen::VectorXd::Zero(q.size());  // rate-independent
+        out.jacobian_seconds = watch.lap();  // the march and its derivatives together
+    }
+
+    Eigen::VectorXd force_samples(Fourier& fourier, double, const Eigen::VectorXd& q,
+                                  const Eigen::VectorXd&) const override {
+        const NormalContactCycle cycle = cycle_of(fourier, q);
+        const int nt = fourier.time_samples(), d = element_.tangential_directions;
+        Eigen::VectorXd f(nt * (d + 1));
+        for (int j = 0; j < d; ++j) f.segment(j * nt, nt) = cycle.tangential.col(j);
+        f.tail(nt) = cycle.normal;
+        return f;
+    }
+
+    Eigen::VectorXd stick_indicator(Fourier& fourier, double, const Eigen::VectorXd& q,
+                                    const Eigen::VectorXd&) const override {
+        const NormalContactCycle cycle = cycle_of(fourier, q);
+        Eigen::VectorXd phi(fourier.time_samples());
+        constexpr double tiny = std::numeric_limits<double>::denorm_min();
+        for (Eigen::Index j = 0; j < phi.size(); ++j) {
+            const double limit = element_.friction_coefficient * cycle.normal(j);
+            switch (cycle.state[static_cast<std::size_t>(j)]) {
+                case ContactState::separated: phi(j) = 1.0; break;
+                case ContactState::slipping: phi(j) = 0.0; break;
+                case ContactState::stuck:
+                    // < 0 also at the limit itself (a sample that sticks there)
+                    phi(j) = limit > 0.0 ? std::min(cycle.tangential.row(j).norm() / limit - 1.0, -tiny) : -1.0;
+                    break;
+            }
+        }
+        return phi;
+    }
+
+private:
+    NormalContactCycle cycle_of(Fourier& fourier, const Eigen::VectorXd& q) const {
+        const int nt = fourier.time_samples(), n = fourier.size(), d = element_.tangential_directions;
+        Eigen::MatrixXd u(nt, d);
+        Eigen::VectorXd samples(nt), v(nt);
+        for (int j = 0; j < d; ++j) {
+            fourier.to_time(q.segment(j * n, n), samples);
+            u.col(j) = samples;
+        }
+        fourier.to_time(q.segment(d * n, n), v);
+        return march(element_, u, v);
+    }
+
+    ElasticContact element_;
+    mutable NormalContactEvaluation scratch_;
+};
+
+class Elastic final : public ContactLaw {
+public:
+    FrictionLaw id() const override { return static_cast<FrictionLaw>(6); }  // the next free id
+    const char* name() const override { return "elastic"; }
+    const char* definition() const override {
+        return "elastic friction contact with a normal direction: N = max(0, N_0 - k_n g_0 + k_n v), "
+               "T = k_t (u - s), |T| <= mu N (2D; 3D with second_direction: a circular cone), separated where N = 0";
+    }
+    std::vector<LawParameter> parameters() const override {
+        using R = LawParameter::Range;
+        LawParameter normal{normal_key, nullptr, "normal direction n (v = n^T y, positive closing)", R::positive};
+        normal.kind = LawParameter::Kind::direction;
+        LawParameter second{second_key, nullptr, "second tangential direction (3D)", R::positive};
+        second.kind = LawParameter::Kind::direction;
+        return {{"stiffness", &Contact::stiffness, "tangential stiffness k_t", R::positive},
+                {"normal_stiffness", nullptr, "normal stiffness k_n", R::positive},
+                {"friction_coefficient", nullptr, "friction coefficient mu", R::non_negative},
+                {"preload", nullptr, "normal preload N_0 (the normal force at v = 0)", R::non_negative},
+                {"gap", nullptr, "initial gap g_0 (open by g_0 at v = 0)", R::non_negative},
+                second,
+                normal};
+    }
+    int default_harmonics() const override { return 10; }
+    bool smooth() const override { return false; }
+    bool exact_stick() const override { return false; }
+    bool has_friction_limit() const override { return false; }
+    bool has_preset() const override { return false; }
+    bool time_domain() const override { return false; }
+    TimeState time_state() const override { return TimeState::none; }
+    StuckElement stuck(const Contact& contact) const override { return stuck_directions(contact).front(); }
+    std::vector<StuckElement> stuck_directions(const Contact& contact) const override {
+        const ElasticContact e = element_of(contact);
+        const bool closed = e.normal_offset >= 0.0, loaded = e.normal_offset > 0.0 && e.friction_coefficient > 0.0;
+        std::vector<StuckElement> out(static_cast<std::size_t>(e.tangential_directions),
+                                      StuckElement{false, loaded ? e.tangential_stiffness : 0.0, 0.0, 0.0});
+        out.push_back({false, closed ? e.normal_stiffness : 0.0, 0.0, std::max(e.normal_offset, 0.0)});
+        return out;
+    }
+    std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
+        return std::make_unique<ElasticModel>(element_of(contact));
+    }
+
+    void validate(const Contact& contact, const std::string& where) const override {
+        for (const char* key : {"normal_stiffness", "friction_coefficient"})
+            if (!contact.values.count(key))
+                throw InvalidInput(where + key + " is missing: law elastic needs it (" +
+                                   (std::string(key) == "normal_stiffness" ? "k_n > 0" : "mu >= 0") + ")");
+        ContactLaw::validate(contact, where);  // the ranges
+        const auto preload = contact.values.find("preload"), gap = contact.values.find("gap");
+        if (preload != contact.values.end() && gap != contact.values.end() && preload->second > 0.0 && gap->second > 0.0)
+            throw InvalidInput(where + "preload = " + format_number(preload->second) + " is given with gap = " +
+                               format_number(gap->second) + ": allowed one of them (a preloaded contact is closed)");
+        const auto normal = contact.lists.find(normal_key);
+        if (normal == contact.lists.end())
+            throw InvalidInput(where + normal_key + " is missing: law elastic needs the normal direction, a vector over "
+                               "the model's coordinates orthogonal to the tangential one");
+        // The directions (System::validate checked their sizes): orthogonal, and the two
+        // tangential ones of equal length.
+        const auto size = static_cast<Eigen::Index>(normal->second.size());
+        Eigen::VectorXd tangential = contact.direction;
+        if (tangential.size() == 0) {
+            tangential = Eigen::VectorXd::Zero(size);
+            if (contact.dof >= 0 && contact.dof < size) tangential(contact.dof) = 1.0;
+            if (contact.other_dof >= 0 && contact.other_dof < size) tangential(contact.other_dof) = -1.0;
+        }
+        std::vector<std::pair<std::string, Eigen::VectorXd>> directions = {{"the tangential direction", tangential}};
+        if (const auto second = contact.lists.find(second_key); second != contact.lists.end())
+            directions.emplace_back(second_key, Eigen::Map<const Eigen::VectorXd>(second->second.data(), size));
+        directions.emplace_back(normal_key, Eigen::Map<const Eigen::VectorXd>(normal->second.data(), size));
+        for (std::size_t a = 0; a < directions.size(); ++a)
+            for (std::size_t b = a + 1; b < directions.size(); ++b) {
+                const Eigen::VectorXd &u = directions[a].second, &v = directions[b].second;
+                if (u.size() != v.size() || std::abs(u.dot(v)) > 1e-12 * u.norm() * v.norm())
+                    throw InvalidInput(where + directions[b].first + " is not orthogonal to " + directions[a].first +
+                                       " (cosine " + format_number(u.dot(v) / (u.norm() * v.norm())) +
+                                       "): allowed orthogonal directions, to 1e-12");
+            }
+        if (directions.size() == 3) {
+            const double a = directions[0].second.norm(), b = directions[1].second.norm();
+            if (std::abs(a - b) > 1e-12 * std::max(a, b))
+                throw InvalidInput(where + second_key + " has length " + format_number(b) +
+                                   " and the tangential direction " + format_number(a) +
+                                   ": allowed equal lengths (the friction cone is circular in the tangential plane)");
+        }
+    }
+};
+
+}  // namespace
+
+const ContactLaw& elastic_law() {
+    static const Elastic law;
+    return law;
+}
+
+}  // namespace hbf
