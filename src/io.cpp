@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -159,14 +160,14 @@ std::vector<int> normal_contacts(const System& system) {
 }
 
 namespace {
-/// The contacts with a normal direction among a table's rows (ContactRegime::normal_mean is
-/// computed for them): normal_contacts of the rows' system.
+/// The contacts with a normal direction among a table's rows (ContactRegime::separated_fraction
+/// is computed for them): normal_contacts of the rows' system.
 template <class Rows>
 std::vector<int> normal_contacts_of(const Rows& rows) {
     std::vector<int> out;
     for (const auto& r : rows)
         for (std::size_t c = 0; c < r.contacts.size(); ++c)
-            if (!std::isnan(r.contacts[c].normal_mean) &&
+            if (!std::isnan(r.contacts[c].separated_fraction) &&
                 std::find(out.begin(), out.end(), static_cast<int>(c)) == out.end())
                 out.push_back(static_cast<int>(c));
     std::sort(out.begin(), out.end());
@@ -293,7 +294,7 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 
 std::vector<Column> timeint_columns(int dofs) { return timeint_columns(all_dofs(dofs)); }
 
-std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts) {
+std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts, const std::vector<int>& normal) {
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
                                          "in the file's units); with --excitation-harmonic h the fundamental "
                                          "of the response, the force acting at h w"}};
@@ -308,6 +309,10 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
                    "structure without contacts; failed where not one period could be integrated (the row's "
                    "numbers are then empty)", ColumnType::text});
     columns.insert(columns.end(), regimes.begin(), regimes.end());
+    for (int c : normal)
+        columns.push_back({"separated_fraction" + (contacts > 1 ? "_c" + std::to_string(c + 1) : std::string()),
+                           "law elastic only: share of the final period the contact is open (N = 0; exact event "
+                           "times)" + (contacts > 1 ? " (contact " + std::to_string(c + 1) + ")" : std::string())});
     const std::vector<Column> rest = {
         {"energy", "friction energy dissipated per cycle, integral of f q' over the final period"},
         {"periods", "periods integrated (including the shooting-Jacobian periods)", ColumnType::integer},
@@ -315,7 +320,8 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
                       "and the final period passed its physics checks (energy balance; contacts stuck for the whole "
                       "period keep their relative displacement; permanent stick is the centred linear stuck "
                       "state); false: the row holds the last period integrated", ColumnType::text},
-        {"stick_margin_min", "min over the final period of contact 1's stick indicator (< 0 in stick)"},
+        {"stick_margin_min", "min over the final period of contact 1's stick indicator (< 0 in stick; law elastic: "
+                             "|T| / (mu N) - 1 stuck, 0 slipping, 1 open, at every step)"},
         {"stick_margin_max", "max of the stick indicator (< 0: full stick; coulomb also at each velocity reversal)"},
         {"switches", "stick/slip mode changes of all contacts in the final period", ColumnType::integer},
     };
@@ -325,7 +331,8 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
 
 Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::vector<Output>& outputs) {
     const int contacts = contacts_of(responses);
-    Table table{timeint_columns(outputs, contacts), {}};
+    const std::vector<int> normal = normal_contacts_of(responses);
+    Table table{timeint_columns(outputs, contacts, normal), {}};
     table.cells.resize(table.columns.size());
     for (const PeriodicResponse& r : responses) {
         std::vector<Cell> row = {r.omega};
@@ -334,6 +341,7 @@ Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::v
         if (r.output_max.size() < outputs.size()) {
             row.resize(1 + 2 * outputs.size());
             for (int c = 0; c < contacts; ++c) row.insert(row.end(), {Cell(), std::string("failed")});
+            for (std::size_t c = 0; c < normal.size(); ++c) row.emplace_back();
             row.insert(row.end(), {Cell(), static_cast<long long>(r.periods), std::string("false"), Cell(), Cell(), Cell()});
             table.add_row(std::move(row));
             continue;
@@ -341,6 +349,12 @@ Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::v
         for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(r.output_max[j]);
         for (std::size_t j = 0; j < outputs.size(); ++j) row.emplace_back(j < r.output_amp1.size() ? r.output_amp1[j] : 0.0);
         add_regimes(row, contacts, r.stick_fraction, r.regime, r.contacts);
+        for (int c : normal) {
+            const auto i = static_cast<std::size_t>(c);
+            row.push_back(i < r.contacts.size() && std::isfinite(r.contacts[i].separated_fraction)
+                              ? Cell(r.contacts[i].separated_fraction)
+                              : Cell());
+        }
         row.insert(row.end(), {r.energy, static_cast<long long>(r.periods), std::string(r.converged ? "true" : "false"),
                                r.stick_margin_min, r.stick_margin_max, static_cast<long long>(r.switches)});
         table.add_row(std::move(row));
@@ -498,6 +512,47 @@ void write_frf_summary(std::ostream& out, const std::string& law,
     j["peaks"] = peak_list;
     j["folds"] = folds;
     j["transitions"] = transitions;
+    // Every contact over the branch: the range of its stick fraction, and for a contact with a
+    // normal direction the largest open share with where it is open, and its normal force.
+    json contact_list = json::array();
+    std::size_t contact_count = 0;
+    for (const PointMetrics& m : metrics) contact_count = std::max(contact_count, m.contacts.size());
+    for (std::size_t c = 0; c < contact_count; ++c) {
+        double stick_min = 1.0, stick_max = 0.0, open_max = 0.0, open_from = 0.0, open_to = 0.0;
+        double mean_min = std::numeric_limits<double>::infinity(), mean_max = -mean_min, amp_max = 0.0;
+        bool normal = false, open = false;
+        for (std::size_t k = 0; k < points.size() && k < metrics.size(); ++k) {
+            if (c >= metrics[k].contacts.size()) continue;
+            const ContactRegime& r = metrics[k].contacts[c];
+            stick_min = std::min(stick_min, r.stick_fraction);
+            stick_max = std::max(stick_max, r.stick_fraction);
+            if (!std::isfinite(r.separated_fraction)) continue;
+            normal = true;
+            if (r.separated_fraction > 0.0) {
+                const double w = points[k].omega;
+                open_from = open ? std::min(open_from, w) : w;
+                open_to = open ? std::max(open_to, w) : w;
+                open = true;
+            }
+            open_max = std::max(open_max, r.separated_fraction);
+            if (std::isfinite(r.normal_mean)) {
+                mean_min = std::min(mean_min, r.normal_mean);
+                mean_max = std::max(mean_max, r.normal_mean);
+                amp_max = std::max(amp_max, r.normal_amplitude);
+            }
+        }
+        json entry = {{"contact", c + 1}, {"stick_fraction_min", stick_min}, {"stick_fraction_max", stick_max}};
+        if (normal) {
+            entry["separated_fraction_max"] = open_max;
+            entry["open_from_w"] = open ? json(open_from) : json();
+            entry["open_to_w"] = open ? json(open_to) : json();
+            if (std::isfinite(mean_min))
+                entry["normal_force_mean_range"] = {mean_min, mean_max};
+            entry["normal_force_amp_max"] = amp_max;
+        }
+        contact_list.push_back(entry);
+    }
+    j["contacts"] = contact_list;
     j["status"] = to_string(branch.status);
     j["coverage"] = branch.coverage;
     j["message"] = branch.message;

@@ -87,7 +87,7 @@ std::string stability_refusal(const System& system) {
     }
     for (const Contact& c : system.contacts)
         if (!contact_law(c.law).time_domain())
-            return "law " + to_string(c.law) + " has no time-domain form yet: no stability analysis";
+            return "law " + to_string(c.law) + " is not smooth and has no event-exact solver: no stability analysis";
     bool all_smooth = true, all_exact = true;
     for (const Contact& c : system.contacts) {
         all_smooth = all_smooth && smooth(c.law);

@@ -13,6 +13,7 @@
 
 #include "hbf/error.hpp"
 #include "stopwatch.hpp"
+#include "time_integration/elastic_contacts.hpp"
 #include "time_integration/integrator.hpp"
 #include "time_integration/massless.hpp"
 
@@ -118,7 +119,10 @@ std::string PeriodicResponse::summary() const {
     return s.str();
 }
 
-int state_size(const System& system) { return 2 * system.dofs() + 2 * time_domain_elements(system); }
+int state_size(const System& system) {
+    if (detail::has_elastic_contacts(system)) return detail::elastic_state_size(system);
+    return 2 * system.dofs() + 2 * time_domain_elements(system);
+}
 
 double response_scale(const System& system, double omega) {
     system.validate();
@@ -282,6 +286,7 @@ PhysicsCheck check_physics(const System& system, double omega, const PeriodRecor
 
 Eigen::VectorXd linear_stuck_state(const System& given, double omega) {
     given.validate();
+    if (detail::has_elastic_contacts(given)) return detail::elastic_linear_stuck_state(given, omega);
     const TimeDomainView view(given);  // the state is per time-domain element (contact.hpp)
     const System& system = view.system();
     require_positive(omega, "w", "excitation frequency");
@@ -303,6 +308,16 @@ Eigen::VectorXd linear_stuck_state(const System& given, double omega) {
 PeriodicResponse integrate_steady_state(const System& given, double omega, const TimeIntegrationOptions& options,
                                         const Eigen::VectorXd* initial_state) {
     given.validate();
+    if (detail::has_elastic_contacts(given)) {  // contacts with a normal direction: their own integrator
+        require_positive(omega, "w", "excitation frequency");
+        require_finite(omega, "w", "excitation frequency");
+        options.validate();
+        for (const Output& o : options.outputs) o.validate(given.dofs());
+        detail::Stopwatch clock;
+        PeriodicResponse r = detail::integrate_elastic_contacts(given, omega, options, initial_state);
+        r.seconds = clock.lap();
+        return r;
+    }
     const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
     const System& system = view.system();
     require_positive(omega, "w", "excitation frequency");

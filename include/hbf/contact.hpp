@@ -141,9 +141,10 @@ public:
     /// Whether the paper's absorber (model.hpp: friction_absorber, hbf --law) can carry the law:
     /// not the elements with a normal direction (the absorber has none).
     virtual bool has_preset() const { return true; }
-    /// Whether the time-domain solvers (time integration, the event-exact solver, the stability
-    /// analysis) integrate the law; the default is true. For a law without them, every such
-    /// solver refuses the system up front, naming the law (refuse_time_domain).
+    /// Whether the event-exact solver, the general time integrator (time_integration.hpp: the
+    /// laws' time-domain elements) and the stability analysis take the law; the default is true.
+    /// For a law without them, each refuses the system up front, naming the law
+    /// (refuse_time_domain). Law elastic: false (time integration has its own integrator for it).
     virtual bool time_domain() const { return true; }
     /// The periodic force by AFT (harmonic balance). Throws InvalidInput for parameters the
     /// model cannot take (exact Coulomb: lagrangian_penalty must be > 0).

@@ -167,7 +167,8 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 /// diagnostics stick_margin_min, stick_margin_max, switches.
 std::vector<Column> timeint_columns(int dofs);
 /// The same for `outputs` (in this order; as frf_columns(outputs)).
-std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts = 1);
+std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts = 1,
+                                    const std::vector<int>& normal = {});
 
 /// The table of `hbf timeint` (timeint_columns(outputs)), one row per response; a response
 /// without a single integrated period has empty numbers and regime failed.

@@ -30,6 +30,12 @@
 //   s' = 0, f = k_t (q - s), event when F_c - |f| reaches 0 -> slip with mode sign(f) and
 //   s = q - mode F_c / k_t. Slip: s' = q', f = mode F_c, event when mode v_c reaches 0 ->
 //   stick (unless q'' keeps the direction: a touch without reversal).
+// * elastic (contacts with a normal direction, 2D/3D, normal load and lift-off): integrated by
+//   their own event-driven CVODE integrator (src/time_integration/elastic_contacts.hpp): each
+//   contact separated, stuck or slipping, its slider a state (d components), the stick, slip
+//   and separation events found by root finding. Its state is [y, y', sliders, modes] (mode 0
+//   separated, 1 stuck, 2 slipping), state_size() long; every contact must be elastic and M
+//   positive definite.
 //
 // A cap on events per period guards against chattering (reported, never a hang).
 //
@@ -224,7 +230,8 @@ struct PeriodicResponse {
     std::string summary() const;
 };
 
-/// 2N + 2 n_c (see PeriodicResponse).
+/// 2N + 2 n_c (see PeriodicResponse); with law elastic 2N + sum_c (d_c + 1) (d_c tangential
+/// directions: the sliders, and one mode per contact).
 int state_size(const System& system);
 
 /// The displacement scale of the steady state at omega (units of y), from which the absolute

@@ -17,7 +17,8 @@
 //
 // Harmonic balance: no extra unknowns; the AFT marches the slider over the period from its
 // periodic fixed point (normal_contact.cpp), with the exact Jacobian on the
-// stick/slip/separation pattern. Not smooth, no exact-stick solver, no time-domain form yet.
+// stick/slip/separation pattern. Not smooth, no exact-stick solver (so no stability verdict);
+// time integration by its own event-driven integrator (time_integration/elastic_contacts.hpp).
 #include <cmath>
 #include <limits>
 

@@ -222,13 +222,13 @@ void refuse_time_domain(const System& system, const std::string& what) {
         std::string covered;
         for (const ContactLaw* l : contact_laws())
             if (l->time_domain()) covered += (covered.empty() ? "" : ", ") + std::string(l->name());
-        throw InvalidInput("contact " + std::to_string(c + 1) + ": law = " + law.name() + " has no time-domain form yet, "
-                           "so " + what + " cannot take it (harmonic balance can): allowed " + covered);
+        throw InvalidInput("contact " + std::to_string(c + 1) + ": law = " + law.name() + " is outside " + what +
+                           " (harmonic balance and time integration take it): allowed " + covered);
     }
 }
 
 TimeDomainView::TimeDomainView(const System& system) : original_(system), split_(false) {
-    refuse_time_domain(system, "the time-domain solvers (time integration, the event-exact solver)");
+    refuse_time_domain(system, "the event-exact solver and the time-domain elements of the general integrator");
     split_ = splits_contacts(system);
     if (split_) lowered_ = time_domain_system(system);
 }
