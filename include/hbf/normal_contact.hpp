@@ -16,7 +16,10 @@
 // Time discretisation. On the samples (u_j, v_j), j = 0..N_t-1, of one period the slider is
 // marched by the return map: the trial force t = k_t (u_j - s) either stays within mu N_j
 // (stuck: s kept) or is scaled back onto the cone, T = mu N_j t / |t|, and the slider moves to
-// s = u_j - T / k_t (slipping); a separated sample sets s = u_j. The periodic cycle is the
+// s = u_j - T / k_t (slipping); a separated sample sets s = u_j, and the first closed sample
+// after it starts from the slider where u was at the closing instant, interpolated linearly
+// between the two samples by g = n_0 + k_n v (g crosses 0 there), so that the spring is
+// unloaded at closing whatever the sample spacing. The periodic cycle is the
 // slider s_0 before sample 0 that one period maps onto itself, s_0 = Phi(s_0):
 //   * a separation forgets s_0, and so does a slip in 2D: the second period is periodic;
 //   * a 3D slip keeps the part of a change of s_0 normal to the slip direction, scaled by

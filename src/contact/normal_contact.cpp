@@ -42,7 +42,8 @@ public:
     Marcher(const ElasticContact& e, const Matrix& u, const Vector& v, const Matrix* synthesis)
         : e_(e), u_(u), E_(synthesis), d_(e.tangential_directions), nt_(static_cast<int>(u.rows())),
           n_(synthesis ? static_cast<int>(synthesis->cols()) : 0), m_((d_ + 1) * n_) {
-        normal_ = (e.normal_offset + e.normal_stiffness * v.array()).cwiseMax(0.0).matrix();
+        gap_force_ = (e.normal_offset + e.normal_stiffness * v.array()).matrix();  // N before the max
+        normal_ = gap_force_.cwiseMax(0.0);
         radius_ = e.friction_coefficient * normal_ / e.tangential_stiffness;
         scale_ = std::max({u.cwiseAbs().maxCoeff(), radius_.maxCoeff(), std::numeric_limits<double>::min()});
     }
@@ -170,6 +171,28 @@ private:
                     cycle->tangential.row(j).setZero();
                 }
                 continue;
+            }
+            const int p = j > 0 ? j - 1 : nt_ - 1;
+            if (normal_(p) <= 0.0) {
+                // Closing between samples p (open) and j: the slider is where u was at the
+                // closing instant, theta of the way from p to j by linear interpolation of
+                // g = N_0 + k_n v (g_p <= 0 < g_j), so that T grows from 0 there; the
+                // alternative, u_p, is first order in the sample spacing (the tangential motion
+                // between p and the closing would be seen as elastic load). At j = 0, p is the
+                // period's last sample: s_0 = u_p then, and the interpolation overrides it.
+                const double gp = gap_force_(p), gj = gap_force_(j), theta = gp / (gp - gj);
+                s = sample(p) + theta * (sample(j) - sample(p));
+                ds.setZero();
+                if (derive_q) {
+                    add_du(p, ds, 1.0 - theta);
+                    add_du(j, ds, theta);
+                    // d theta = k_n (g_p dv_j - g_j dv_p) / (g_p - g_j)^2
+                    const double scale = e_.normal_stiffness / ((gp - gj) * (gp - gj));
+                    for (int k = 0; k < d_; ++k) {
+                        const double jump = sample(j)(k) - sample(p)(k);
+                        ds.block(k, d_ + d_ * n_, 1, n_) += jump * scale * (gp * E_->row(j) - gj * E_->row(p));
+                    }
+                }
             }
             const Eigen::Vector2d trial = kt * (sample(j) - s);
             const double size = trial.norm(), limit = mu * normal_(j);
@@ -412,7 +435,7 @@ private:
     const Matrix& u_;
     const Matrix* E_;
     int d_, nt_, n_, m_;
-    Vector normal_, radius_;
+    Vector gap_force_, normal_, radius_;
     double scale_ = 1.0;
 };
 
