@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "hbf/fourier.hpp"
+#include "hbf/model.hpp"
 
 namespace hbf {
 
@@ -84,5 +85,10 @@ struct NormalContactEvaluation {
 };
 void evaluate(const ElasticContact& element, Fourier& fourier, const Eigen::VectorXd& q,
               NormalContactEvaluation& out, bool jacobian);
+
+/// The element of a contact of law elastic (src/contact/elastic.cpp: its keys), validated by
+/// System::validate: k_t = stiffness, n_0 = preload - normal_stiffness gap, d = 2 with a
+/// second_direction.
+ElasticContact elastic_element(const Contact& contact);
 
 }  // namespace hbf

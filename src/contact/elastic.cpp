@@ -34,18 +34,6 @@ namespace {
 constexpr const char* normal_key = "normal_direction";
 constexpr const char* second_key = "second_direction";
 
-/// The element of a contact (validated).
-ElasticContact element_of(const Contact& c) {
-    ElasticContact e;
-    e.tangential_stiffness = c.stiffness;
-    e.normal_stiffness = c.values.at("normal_stiffness");
-    e.friction_coefficient = c.values.at("friction_coefficient");
-    const auto preload = c.values.find("preload"), gap = c.values.find("gap");
-    e.normal_offset = (preload == c.values.end() ? 0.0 : preload->second) -
-                      e.normal_stiffness * (gap == c.values.end() ? 0.0 : gap->second);
-    e.tangential_directions = c.lists.count(second_key) ? 2 : 1;
-    return e;
-}
 
 /// The element's AFT (normal_contact.hpp) as a FrictionModel of d + 1 signals.
 class ElasticModel final : public FrictionModel {
@@ -143,7 +131,7 @@ public:
     TimeState time_state() const override { return TimeState::none; }
     StuckElement stuck(const Contact& contact) const override { return stuck_directions(contact).front(); }
     std::vector<StuckElement> stuck_directions(const Contact& contact) const override {
-        const ElasticContact e = element_of(contact);
+        const ElasticContact e = elastic_element(contact);
         const bool closed = e.normal_offset >= 0.0, loaded = e.normal_offset > 0.0 && e.friction_coefficient > 0.0;
         std::vector<StuckElement> out(static_cast<std::size_t>(e.tangential_directions),
                                       StuckElement{false, loaded ? e.tangential_stiffness : 0.0, 0.0, 0.0});
@@ -151,7 +139,7 @@ public:
         return out;
     }
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
-        return std::make_unique<ElasticModel>(element_of(contact));
+        return std::make_unique<ElasticModel>(elastic_element(contact));
     }
 
     void validate(const Contact& contact, const std::string& where) const override {
@@ -200,6 +188,18 @@ public:
 };
 
 }  // namespace
+
+ElasticContact elastic_element(const Contact& c) {
+    ElasticContact e;
+    e.tangential_stiffness = c.stiffness;
+    e.normal_stiffness = c.values.at("normal_stiffness");
+    e.friction_coefficient = c.values.at("friction_coefficient");
+    const auto preload = c.values.find("preload"), gap = c.values.find("gap");
+    e.normal_offset = (preload == c.values.end() ? 0.0 : preload->second) -
+                      e.normal_stiffness * (gap == c.values.end() ? 0.0 : gap->second);
+    e.tangential_directions = c.lists.count(second_key) ? 2 : 1;
+    return e;
+}
 
 const ContactLaw& elastic_law() {
     static const Elastic law;

@@ -12,6 +12,7 @@
 #include "cvode/solver.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/normal_contact.hpp"
 
 namespace hbf::detail {
 
@@ -46,12 +47,11 @@ public:
             e.d = static_cast<int>(w.cols()) - 1;
             e.tangential = w.leftCols(e.d);
             e.normal = w.col(e.d);
-            e.kt = c.stiffness;
-            e.kn = c.values.at("normal_stiffness");
-            e.mu = c.values.at("friction_coefficient");
-            const auto preload = c.values.find("preload"), gap = c.values.find("gap");
-            e.offset = (preload == c.values.end() ? 0.0 : preload->second) -
-                       e.kn * (gap == c.values.end() ? 0.0 : gap->second);
+            const ElasticContact element = elastic_element(c);  // the law's parameters
+            e.kt = element.tangential_stiffness;
+            e.kn = element.normal_stiffness;
+            e.mu = element.friction_coefficient;
+            e.offset = element.normal_offset;
             e.first = sliders_;
             sliders_ += e.d;
             elements_.push_back(e);
