@@ -138,3 +138,23 @@ def test_every_contact_is_reported():
     assert one.regimes == [b.regime_c1[row], b.regime_c2[row]]
     assert one.stick_fractions == pytest.approx([b.stick_fraction_c1[row], b.stick_fraction_c2[row]], abs=1e-12)
     assert one.regime == one.regimes[0] and one.stick_fraction == one.stick_fractions[0]
+
+
+def test_a_contact_with_a_normal_direction_from_python(tmp_path):
+    # examples/systems/liftoff3.toml built from NumPy (law elastic: no friction_limit, the normal
+    # direction a vector over the DOFs): the same table as hbf frf --config on the file, with
+    # the contact's opening and normal force columns; a wrong normal direction is refused.
+    k = np.array([[1.5, 0.5, -0.5], [0.5, 1.5, 0.0], [-0.5, 0.0, 0.5]])
+    contact = hbfriction.Contact(dof=0, law="elastic", stiffness=3.0, normal_stiffness=5.0,
+                                 friction_coefficient=0.3, preload=1.0, normal_direction=[0.0, 1.0, 0.0])
+    assert contact.normal_direction == [0.0, 1.0, 0.0] and contact.second_direction == []
+    s = hbfriction.System([1.0, 0.5, 0.3], k, [0.05, 0.15, 0.0], damping=0.03 * k, contacts=[contact])
+    b = hbfriction.frf(s, outputs=[0, 1], wmin=0.3, wmax=3.0)
+    assert b.status == "completed"
+    assert max(b.separated_fraction) > 0.5 and min(b.normal_force_mean) > 0.0
+    csv_path = tmp_path / "frf.csv"
+    run_hbf("frf", "--config", os.path.join(SOURCE, "examples", "systems", "liftoff3.toml"), "--out", str(csv_path))
+    assert_table_equals_csv(b, csv_path.read_text())
+    contact.normal_direction = [1.0, 1.0, 0.0]  # not orthogonal to the tangential direction
+    with pytest.raises(ValueError, match="normal_direction"):
+        hbfriction.frf(hbfriction.System([1.0, 0.5, 0.3], k, [0.05, 0.15, 0.0], contacts=[contact]))
