@@ -474,6 +474,8 @@ TEST_CASE("elastic contact from a system file: examples/systems/liftoff3.toml pa
     ::test::check_bad_config(head + good + "normal_direction = [0.0, 1.0, 0.0]\n",
                            {"contact[1].normal_direction", "3 entries", "allowed 2"}, dir);
     ::test::check_bad_input("frf --law elastic", {"law = elastic has no preset"}, dir);
+    ::test::check_bad_input("frf --config '" + example + "' --stability on",
+                            {"law elastic", "no stability analysis"}, dir);
 }
 
 TEST_CASE("elastic contact, time integration: with a static normal coordinate it is the Jenkins absorber's "
