@@ -63,6 +63,7 @@ public:
         cvode_ = std::make_unique<CvodeSolver>(length_, options.method == IntegrationMethod::adams ? CV_ADAMS : CV_BDF,
                                                rhs_callback, this, CvodeSolver::Warnings::record);
         absolute_ = cvode_->vector();
+        dky_ = cvode_->vector();  // the samples' interpolation (one vector for every period)
         double* tol = N_VGetArrayPointer(absolute_);
         const double a = options.absolute_tolerance * scale;
         const double force = std::max(system.excitation.cwiseAbs().maxCoeff(), 1e-300);
@@ -127,7 +128,6 @@ public:
             r.displacement.resize(samples, n_);
             r.velocity.resize(samples, n_);
         }
-        N_Vector dky = cvode_->vector();
         std::vector<int> found(static_cast<std::size_t>(2 * m_));
         double t = 0.0, since = 0.0;
         int next = 0, events = 0;
@@ -157,8 +157,8 @@ public:
                 r.margin_max = std::max(r.margin_max, margin);
             }
             while (next < samples && r.time(next) <= t) {
-                cvode_->check(CVodeGetDky(cvode_->memory(), r.time(next), 0, dky), "CVodeGetDky");
-                const double* s = N_VGetArrayPointer(dky);
+                cvode_->check(CVodeGetDky(cvode_->memory(), r.time(next), 0, dky_), "CVodeGetDky");
+                const double* s = N_VGetArrayPointer(dky_);
                 r.displacement.row(next) = Eigen::Map<const Eigen::VectorXd>(s, n_).transpose();
                 r.velocity.row(next) = Eigen::Map<const Eigen::VectorXd>(s + n_, n_).transpose();
                 ++next;
@@ -359,7 +359,7 @@ private:
     std::vector<Element> elements_;
     std::vector<int> mode_;
     std::unique_ptr<CvodeSolver> cvode_;
-    N_Vector absolute_ = nullptr;
+    N_Vector absolute_ = nullptr, dky_ = nullptr;
 };
 
 /// max |y| of a periodic sampled signal, refined by a parabola through the largest sample.
