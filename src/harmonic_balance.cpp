@@ -304,9 +304,9 @@ bool HarmonicBalance::prepare_receptance(double omega) {
         structure_failure_ = "w = " + format_number(omega) + " is not a positive frequency";
         return false;
     }
-    const int nc = signals_;
-    row_scale_.resize(harmonics() + 1, nc);
-    row_scale_omega_.resize(harmonics() + 1, nc);
+    const int ns = signals_;
+    row_scale_.resize(harmonics() + 1, ns);
+    row_scale_omega_.resize(harmonics() + 1, ns);
     for (int k = 0; k <= harmonics(); ++k) {
         if (skipped(k)) {  // odd harmonics only: the even ones are never balanced nor solved
             row_scale_.row(k).setOnes();
@@ -321,7 +321,7 @@ bool HarmonicBalance::prepare_receptance(double omega) {
         }
         // Row scale 1 / min(|G_k,cc|, G_0,cc) (bounded near an antiresonance, where G_k,cc -> 0)
         // and its omega-derivative -Re(conj(g) g') / |g|^3.
-        for (int c = 0; c < nc; ++c) {
+        for (int c = 0; c < ns; ++c) {
             const std::complex<double> g = h.contact(c, c);
             const double floor = 1e-10 * static_flexibility_(c), size = std::abs(g);
             const bool dynamic = size < static_flexibility_(c) && size > floor && k > 0;
@@ -369,7 +369,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double om
     if (!prepare_receptance(omega)) return y;
     // Y_k = Z_k^-1 (F_k - W Lambda_k), F on harmonic h only; in the real layout (c, s) with
     // Y = c - i s, as in add_receptance.
-    const int nc = signals_;
+    const int ns = signals_;
     const Eigen::MatrixXd forces = shifted_forces(x, omega);
     // Z_k^-1 [W, F]: kept by the direct solve; the modal one forms it here (its cost grows with N).
     auto solved = [&](int k) -> const Receptance::Harmonic& {
@@ -380,7 +380,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double om
     if (odd_)
         y.row(0).setZero();  // no mean by the half-wave symmetry
     else
-        y.row(0) = -(solved(0).solution.leftCols(nc).real() * forces.row(0).transpose()).transpose();
+        y.row(0) = -(solved(0).solution.leftCols(ns).real() * forces.row(0).transpose()).transpose();
     for (int k = 1; k <= harmonics(); ++k) {
         if (skipped(k)) {  // zero by the half-wave symmetry
             y.row(2 * k - 1).setZero();
@@ -390,8 +390,8 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double om
         const Receptance::Harmonic& h = solved(k);
         const Eigen::VectorXcd lambda = forces.row(2 * k - 1).transpose().cast<std::complex<double>>() -
                                         std::complex<double>(0.0, 1.0) * forces.row(2 * k).transpose();
-        Eigen::VectorXcd amplitude = -h.solution.leftCols(nc) * lambda;
-        if (k == load_harmonic()) amplitude += h.solution.col(nc);
+        Eigen::VectorXcd amplitude = -h.solution.leftCols(ns) * lambda;
+        if (k == load_harmonic()) amplitude += h.solution.col(ns);
         y.row(2 * k - 1) = amplitude.real().transpose();
         y.row(2 * k) = -amplitude.imag().transpose();
     }

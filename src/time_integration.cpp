@@ -308,11 +308,11 @@ Eigen::VectorXd linear_stuck_state(const System& given, double omega) {
 PeriodicResponse integrate_steady_state(const System& given, double omega, const TimeIntegrationOptions& options,
                                         const Eigen::VectorXd* initial_state) {
     given.validate();
+    require_positive(omega, "w", "excitation frequency");
+    require_finite(omega, "w", "excitation frequency");
+    options.validate();
+    for (const Output& o : options.outputs) o.validate(given.dofs());
     if (detail::has_elastic_contacts(given)) {  // contacts with a normal direction: their own integrator
-        require_positive(omega, "w", "excitation frequency");
-        require_finite(omega, "w", "excitation frequency");
-        options.validate();
-        for (const Output& o : options.outputs) o.validate(given.dofs());
         detail::Stopwatch clock;
         PeriodicResponse r = detail::integrate_elastic_contacts(given, omega, options, initial_state);
         r.seconds = clock.lap();
@@ -320,10 +320,6 @@ PeriodicResponse integrate_steady_state(const System& given, double omega, const
     }
     const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
     const System& system = view.system();
-    require_positive(omega, "w", "excitation frequency");
-    require_finite(omega, "w", "excitation frequency");
-    options.validate();
-    for (const Output& o : options.outputs) o.validate(system.dofs());
     const int size = state_size(system);
     if (initial_state && (initial_state->size() != size || !initial_state->allFinite()))
         throw InvalidInput("initial state has " + std::to_string(initial_state->size()) +
