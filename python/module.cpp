@@ -537,7 +537,8 @@ PYBIND11_MODULE(_core, m) {
 
     py::class_<PySystem>(m, "System", "A linear structure with friction contacts (model.hpp)")
         .def(py::init([](const py::object& mass, const py::object& stiffness, const py::object& excitation,
-                         const py::object& damping, const py::object& contacts, const py::object& excitation_harmonic) {
+                         const py::object& damping, const py::object& contacts, const py::object& excitation_harmonic,
+                         const py::object& static_load) {
                  PySystem s;
                  s.system.mass = to_sparse(mass, "mass");
                  s.system.stiffness = to_sparse(stiffness, "stiffness");
@@ -546,11 +547,12 @@ PYBIND11_MODULE(_core, m) {
                  s.system.excitation = to_vector(excitation, "excitation");
                  s.system.excitation_harmonic = to_int(excitation_harmonic, "excitation_harmonic");
                  s.system.contacts = to_contacts(contacts, "contacts");
+                 if (!static_load.is_none()) s.system.static_load = to_vector(static_load, "static_load");
                  s.system.validate();
                  return s;
              }),
              py::arg("mass"), py::arg("stiffness"), py::arg("excitation"), py::arg("damping") = py::none(),
-             py::arg("contacts") = py::none(), py::arg("excitation_harmonic") = 1)
+             py::arg("contacts") = py::none(), py::arg("excitation_harmonic") = 1, py::arg("static_load") = py::none())
         .def_property(
             "mass", [](const PySystem& s) { return from_sparse(s.system.mass); },
             [](PySystem& s, const py::object& v) { s.system.mass = to_sparse(v, "mass"); })
@@ -566,6 +568,12 @@ PYBIND11_MODULE(_core, m) {
         .def_property(
             "excitation_harmonic", [](const PySystem& s) { return s.system.excitation_harmonic; },
             [](PySystem& s, const py::object& h) { s.system.excitation_harmonic = to_int(h, "excitation_harmonic"); })
+        .def_property(
+            "static_load", [](const PySystem& s) { return to_list(s.system.static_load); },
+            [](PySystem& s, const py::object& v) {
+                s.system.static_load = v.is_none() ? Eigen::VectorXd() : to_vector(v, "static_load");
+            },
+            "F_s, the constant load (N entries, or [] / None for none): harmonic balance carries it on harmonic 0")
         .def_property(
             "contacts", [](const PySystem& s) { return s.system.contacts; },
             [](PySystem& s, const py::object& c) { s.system.contacts = to_contacts(c, "contacts"); })

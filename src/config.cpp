@@ -393,7 +393,7 @@ SystemConfig read_system_config(const std::string& path) {
     System& s = config.system;
     const toml::table* structure = root["structure"].as_table();
     if (!structure) fail(path, root.source(), "structure", "missing table [structure] (mass, stiffness, excitation)");
-    r.only(*structure, {"mass", "damping", "stiffness", "excitation", "excitation_harmonic"}, "structure");
+    r.only(*structure, {"mass", "damping", "stiffness", "excitation", "excitation_harmonic", "static_load"}, "structure");
     for (const char* key : {"mass", "stiffness", "excitation"})
         if (!structure->get(key)) fail(path, structure->source(), std::string("structure.") + key, "missing");
     s.mass = r.matrix(*structure->get("mass"), "structure.mass");
@@ -402,6 +402,8 @@ SystemConfig read_system_config(const std::string& path) {
     s.damping = structure->get("damping") ? r.matrix(*structure->get("damping"), "structure.damping")
                                           : SparseMatrix(n, n);
     s.excitation = r.vector(*structure->get("excitation"), "structure.excitation", -1);
+    if (const toml::node* load = structure->get("static_load"))
+        s.static_load = r.vector(*load, "structure.static_load", n);
     if (const toml::node* h = structure->get("excitation_harmonic"))
         s.excitation_harmonic = r.integer(*h, "structure.excitation_harmonic");
     for (const auto& [key, m] : {std::pair<const char*, const SparseMatrix*>{"stiffness", &s.stiffness}, {"damping", &s.damping}})
@@ -435,6 +437,7 @@ SystemConfig read_system_config(const std::string& path) {
         } else {
             // (key, the word System::validate uses for it), the most specific first
             for (const auto& [k, word] : {std::pair<const char*, const char*>{"excitation_harmonic", "excitation harmonic"},
+                                          {"static_load", "static load"},
                                           {"mass", "mass"}, {"damping", "damping"}, {"stiffness", "stiffness"},
                                           {"excitation", "excitation"}})
                 if (what.find(word) != std::string::npos) {

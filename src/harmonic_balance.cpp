@@ -7,6 +7,7 @@
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/static_state.hpp"
 #include "stopwatch.hpp"
 
 namespace hbf {
@@ -203,7 +204,19 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         }
         Receptance::Harmonic h0 = receptance->solve(0, 1.0, false);
         const bool usable = h0.ok && (h0.contact.real().diagonal().array() > 0.0).all();
-        if (usable) {
+        if (usable && system_.has_static_load()) {
+            // Harmonic 0 of the static load on the shifted structure: one more sparse solve of K'.
+            Receptance loaded(system_.mass, damping, stiffness, w, system_.static_load, Eigen::MatrixXd(0, system_.dofs()));
+            const Receptance::Harmonic s0 = loaded.solve(0, 1.0, true, true);
+            if (s0.ok) {
+                static_contact_ = s0.contact_load.real();
+                static_deflection_ = s0.solution.col(ns).real();
+            } else if (options.formulation == Formulation::condensed) {
+                throw InvalidInput("formulation = condensed: the static load meets a singular static problem (" +
+                                   s0.message + "); allowed: formulation = full");
+            }
+        }
+        if (usable && (!system_.has_static_load() || static_contact_.size() > 0)) {
             condensed_ = true;
             receptance_ = std::move(receptance);
             static_flexibility_ = h0.contact.real().diagonal();
@@ -250,6 +263,9 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     }
     // The balanced harmonics: all, or the odd ones only (c_k, s_k for odd k).
     odd_ = options.odd_harmonics;
+    if (odd_ && system_.has_static_load())
+        throw InvalidInput("odd harmonics only: a static load is carried by harmonic 0, which the half-wave symmetry "
+                           "drops (allowed: every harmonic with static_load, or no static load)");
     if (odd_ && system_.excitation_harmonic % 2 == 0)
         throw InvalidInput("odd harmonics only: the excitation harmonic h = " + std::to_string(system_.excitation_harmonic) +
                            " is even, so the solution is not half-wave symmetric (allowed: an odd h, or every harmonic)");
@@ -259,6 +275,11 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         for (int row : balanced_) balanced_index_.push_back(signal * n + row);
     unknowns_ = static_cast<int>(balanced_index_.size());
     if (build_fourier) fourier_ = std::make_unique<Fourier>(harmonics_, time_samples_);
+    if (build_fourier && has_static_problem(system_)) {
+        // The structure at rest under its static load and preloads: harmonic 0's first guess.
+        const StaticState s = static_state(system_);
+        if (s.ok) static_guess_ = s.displacement;
+    }
 }
 
 Eigen::VectorXd HarmonicBalance::all_harmonics(const Eigen::VectorXd& x) const {
@@ -381,6 +402,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double om
         y.row(0).setZero();  // no mean by the half-wave symmetry
     else
         y.row(0) = -(solved(0).solution.leftCols(ns).real() * forces.row(0).transpose()).transpose();
+    if (static_deflection_.size() > 0) y.row(0) += static_deflection_.transpose();
     for (int k = 1; k <= harmonics(); ++k) {
         if (skipped(k)) {  // zero by the half-wave symmetry
             y.row(2 * k - 1).setZero();
@@ -537,6 +559,7 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
         rq(cos_row, a) -= loaded.contact_load(a).real();
         rq(sin_row, a) += loaded.contact_load(a).imag();  // s = -Im
     }
+    if (static_contact_.size() > 0) rq.row(0) -= static_contact_.transpose();
     if (jacobian) {
         jacobian->setZero(all_unknowns_, all_unknowns_);
         jacobian->topLeftCorner(ns * n, ns * n).setIdentity();
@@ -613,6 +636,7 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
     const Eigen::MatrixXd D2Y = D1 * D1Y;
     RY = omega * omega * D2Y * M + omega * D1Y * C + Y * K;
     RY.row(2 * load_harmonic() - 1) -= system_.excitation.transpose();
+    if (system_.static_load.size() > 0) RY.row(0) -= system_.static_load.transpose();
     statistics_.structure_seconds += watch.lap();
     const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
     if (jacobian) {

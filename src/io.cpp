@@ -414,7 +414,7 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                        std::size_t samples, double wall_seconds, const std::vector<Output>& outputs,
                        const PolishedBranch* polish, const std::vector<std::string>& errors,
                        const std::vector<std::string>& warnings, const std::vector<std::string>& notes,
-                       const BranchStability* stability) {
+                       const BranchStability* stability, const StaticState* static_state) {
     using nlohmann::json;
     json j;
     j["parameters"] = {{"law", law}};
@@ -553,6 +553,24 @@ void write_frf_summary(std::ostream& out, const std::string& law,
         contact_list.push_back(entry);
     }
     j["contacts"] = contact_list;
+    if (static_state) {  // static_state.hpp: each contact under the static load alone
+        json rest = {{"solved", static_state->ok}};
+        if (!static_state->ok) rest["message"] = static_state->message;
+        json list = json::array();
+        for (std::size_t c = 0; static_state->ok && c < static_state->contacts.size(); ++c) {
+            const StaticContactState& k = static_state->contacts[c];
+            json entry = {{"contact", c + 1}, {"state", k.state}};
+            if (k.force.size() > 1) {  // a normal direction (the last)
+                entry["normal_force"] = k.force(k.force.size() - 1);
+                entry["tangential_force"] = k.force.head(k.force.size() - 1).norm();
+            } else if (k.force.size() == 1) {
+                entry["force"] = k.force(0);
+            }
+            list.push_back(entry);
+        }
+        rest["contacts"] = list;
+        j["static_state"] = rest;
+    }
     j["status"] = to_string(branch.status);
     j["coverage"] = branch.coverage;
     j["message"] = branch.message;

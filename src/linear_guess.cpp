@@ -55,6 +55,7 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
                 }
             Eigen::VectorXcd rhs = -(g.contact * offset);
             if (k == h) rhs += g.contact_load;
+            if (k == 0 && static_contact_.size() > 0) rhs += static_contact_.cast<Complex>();
             const Eigen::VectorXcd u = m.fullPivLu().solve(rhs);
             amplitude = Eigen::VectorXcd::Zero(ns);
             for (int a = 0; a < ns; ++a) {
@@ -71,6 +72,7 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
                                                Eigen::MatrixXd(system_.stiffness), frequency);
         Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(dofs);
         if (k == h) rhs = system_.excitation.cast<Complex>();
+        if (k == 0 && system_.static_load.size() > 0) rhs += system_.static_load.cast<Complex>();
         for (int a = 0; a < ns; ++a) {
             const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(a)];
             const StuckElement& e = element[static_cast<std::size_t>(a)];
@@ -105,7 +107,11 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
             x(a * n + sin_row) = -u.imag();
         }
     Eigen::VectorXcd mean_forces;
-    if (preload && !odd_ && solve(0, amplitude, mean_forces))
+    if (static_guess_.size() > 0 && !sliding) {
+        // Harmonic 0 from the static state (static_state.hpp): the structure loaded before it vibrates.
+        for (int a = 0; a < signals; ++a)
+            x(a * n) = condensed_ ? directions_[static_cast<std::size_t>(a)].dot(static_guess_) : static_guess_(a);
+    } else if ((preload || system_.has_static_load()) && !odd_ && solve(0, amplitude, mean_forces))
         for (int a = 0; a < signals; ++a)
             if (std::isfinite(amplitude(a).real())) x(a * n) = amplitude(a).real();
     for (std::size_t c = 0; c < system_.contacts.size(); ++c) {

@@ -144,6 +144,10 @@ void System::validate() const {
         throw InvalidInput("excitation vector has " + std::to_string(excitation.size()) +
                            " entries: allowed " + std::to_string(n) + " (the number of DOFs)");
     if (!excitation.allFinite()) throw InvalidInput("excitation vector has non-finite entries");
+    if (static_load.size() != 0 && static_load.size() != n)
+        throw InvalidInput("static load vector has " + std::to_string(static_load.size()) + " entries: allowed " +
+                           std::to_string(n) + " (the number of DOFs), or none");
+    if (!static_load.allFinite()) throw InvalidInput("static load vector has non-finite entries");
     if (excitation_harmonic < 1 || excitation_harmonic > max_excitation_harmonic)
         throw InvalidInput("excitation harmonic h = " + std::to_string(excitation_harmonic) +
                            " is out of range: allowed 1.." + std::to_string(max_excitation_harmonic) +

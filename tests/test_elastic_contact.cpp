@@ -11,6 +11,7 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/stability.hpp"
+#include "hbf/static_state.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 #include "hbf/time_integration.hpp"
@@ -611,4 +612,256 @@ TEST_CASE("examples/systems/absorber_normal.toml: the paper's absorber whose con
         CHECK(std::abs(normal[k].at("w").get<double>() - jenkins[k].at("w").get<double>()) <= 1e-8);
         CHECK(std::abs(normal[k].at("y_max").get<double>() / jenkins[k].at("y_max").get<double>() - 1.0) <= 1e-8);
     }
+}
+
+// ---- static loads (System::static_load, static_state.hpp) ----
+
+TEST_CASE("static state: liftoff3.toml's contact stuck, slipping and open under static loads, against the "
+          "closed forms",
+          "[elastic_contact][static_load]") {
+    // K y + (T, N, 0) = F_s with N = N_0 + k_n y2 (N_0 = 1, k_n = 5) and the tangential force
+    // T = k_t y1 (k_t = 3) while |T| <= mu N (mu = 0.3), T = mu N sign(y1) beyond, T = N = 0 open:
+    // each a linear system, solved here and checked for its own conditions.
+    System s = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml").system;
+    Eigen::Matrix3d k(Eigen::MatrixXd(s.stiffness));
+    const double kt = 3.0, kn = 5.0, mu = 0.3, n0 = 1.0;
+    struct Case {
+        Eigen::Vector3d load;
+        std::string state;
+    };
+    for (const Case& c : {Case{Eigen::Vector3d(0, 0, 0), "stuck"}, Case{Eigen::Vector3d(0.3, 0.2, 0), "slipping"},
+                          Case{Eigen::Vector3d(-0.3, 0.2, 0), "slipping"}, Case{Eigen::Vector3d(0, -1.5, 0.1), "open"}}) {
+        s.static_load = c.load;
+        Eigen::Matrix3d a = k;
+        Eigen::Vector3d rhs = c.load;
+        if (c.state != "open") {
+            a(1, 1) += kn;
+            rhs(1) -= n0;
+        }
+        if (c.state == "stuck") a(0, 0) += kt;
+        const double sign = c.load(0) >= 0 ? 1.0 : -1.0;  // the slip direction (checked below)
+        if (c.state == "slipping") {
+            a(0, 1) += sign * mu * kn;
+            rhs(0) -= sign * mu * n0;
+        }
+        const Eigen::Vector3d y = a.fullPivLu().solve(rhs);
+        const double normal = n0 + kn * y(1);
+        INFO(c.state << " under " << c.load.transpose() << ": y = " << y.transpose() << ", N = " << normal);
+        // the closed form's own conditions
+        if (c.state == "open") CHECK(normal < 0.0);
+        if (c.state == "stuck") CHECK(std::abs(kt * y(0)) < mu * normal);
+        if (c.state == "slipping") CHECK((kt * y(0) * sign > mu * normal && normal > 0.0));
+        const StaticState r = static_state(s);
+        INFO(r.message);
+        REQUIRE(r.ok);
+        CHECK(r.contacts[0].state == c.state);
+        CHECK((r.displacement - y).cwiseAbs().maxCoeff() <= 1e-12);
+        CHECK(std::abs(r.contacts[0].force(1) - (c.state == "open" ? 0.0 : normal)) <= 1e-12);
+    }
+    // Bad input: a static load of the wrong size, or not finite, names the key.
+    s.static_load = Eigen::Vector2d(1.0, 0.0);
+    CHECK_THROWS_WITH(s.validate(), Catch::Contains("static load vector has 2 entries"));
+    s.static_load = Eigen::Vector3d(1.0, NAN, 0.0);
+    CHECK_THROWS_WITH(s.validate(), Catch::Contains("static load vector has non-finite entries"));
+}
+
+TEST_CASE("static state of the laws along one direction: Jenkins and Iwan clamp, Dahl's monotonic curve, exact "
+          "Coulomb refused",
+          "[static_load]") {
+    // One DOF y on a spring k = 2 to the ground, the contact to the ground, a static load P.
+    auto one = [](const Contact& c, double load) {
+        System s;
+        s.mass = sparse(Eigen::MatrixXd::Identity(1, 1));
+        s.stiffness = sparse(2.0 * Eigen::MatrixXd::Identity(1, 1));
+        s.damping = SparseMatrix(1, 1);
+        s.excitation = Eigen::VectorXd::Constant(1, 0.1);
+        s.static_load = Eigen::VectorXd::Constant(1, load);
+        s.contacts.push_back(c);
+        return s;
+    };
+    Contact jenkins;
+    jenkins.law = FrictionLaw::jenkins;
+    jenkins.stiffness = 3.0;
+    jenkins.friction_limit = 0.5;
+    // stuck: y = P / (k + k_t) with k_t y <= F_c; slipping: y = (P - F_c) / k
+    StaticState r = static_state(one(jenkins, 0.5));
+    REQUIRE(r.ok);
+    CHECK(r.contacts[0].state == "stuck");
+    CHECK(std::abs(r.displacement(0) - 0.5 / 5.0) <= 1e-14);
+    r = static_state(one(jenkins, -2.0));
+    REQUIRE(r.ok);
+    CHECK(r.contacts[0].state == "slipping");
+    CHECK(std::abs(r.displacement(0) - (-2.0 + 0.5) / 2.0) <= 1e-14);
+    CHECK(std::abs(r.contacts[0].force(0) + 0.5) <= 1e-14);
+    // Dahl: k y + F_c (1 - exp(-sigma0 y / F_c)) = P, presliding
+    Contact dahl = jenkins;
+    dahl.law = FrictionLaw::dahl;
+    r = static_state(one(dahl, 1.0));
+    REQUIRE(r.ok);
+    const double y = r.displacement(0);
+    CHECK(r.contacts[0].state == "presliding");
+    CHECK(std::abs(2.0 * y + 0.5 * (1.0 - std::exp(-3.0 * y / 0.5)) - 1.0) <= 1e-12);
+    // Iwan: the sum of its sliders' clamps; at a load far beyond its macro-slip force F_S it slips
+    // with f = F_S: y = (P - F_S) / k
+    Contact iwan = jenkins;
+    iwan.law = parse_friction_law("iwan");
+    r = static_state(one(iwan, 5.0));
+    REQUIRE(r.ok);
+    CHECK(r.contacts[0].state == "slipping");
+    CHECK(std::abs(r.displacement(0) - (5.0 - 0.5) / 2.0) <= 1e-12);
+    // exact Coulomb: no single-valued static force
+    Contact coulomb = jenkins;
+    coulomb.law = FrictionLaw::coulomb;
+    r = static_state(one(coulomb, 0.2));
+    CHECK(!r.ok);
+    CHECK_THAT(r.message, Catch::Contains("law coulomb has no single-valued static force"));
+}
+
+TEST_CASE("static load in harmonic balance: a load whose free deflection is normal to the contact is a larger "
+          "preload, the response shifted by that deflection (full and condensed, preload and gap)",
+          "[elastic_contact][static_load]") {
+    // liftoff3.toml with the static load F_s = K d, d = (0, delta, 0): the structure without its
+    // contact would deflect by d, along the contact's normal only. With y = y_B + d the equations
+    // K y + e2 max(0, n_0 + k_n y2) + e1 T(y1) = F_s + F cos become those of y_B without the load
+    // and with n_0 + k_n delta in place of n_0 (the tangential motion y1 unchanged): the same
+    // periodic responses shifted by d, at every point (stick, stick-slip, lift-off), whatever the
+    // permanent-stick convention (it sees the same tangential motion).
+    const System file = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml").system;
+    const double delta = 0.1, kn = 5.0;
+    const Eigen::Vector3d d(0.0, delta, 0.0);
+    struct Case {
+        double preload, gap;
+    };
+    for (const Case& c : {Case{1.0, 0.0}, Case{0.0, 0.05}}) {
+        System loaded = file, shifted = file;
+        loaded.contacts[0].values.erase("preload");
+        if (c.preload > 0.0) loaded.contacts[0].values["preload"] = c.preload;
+        if (c.gap > 0.0) loaded.contacts[0].values["gap"] = c.gap;
+        loaded.static_load = Eigen::MatrixXd(file.stiffness) * d;
+        shifted.contacts[0].values["preload"] = c.preload - kn * c.gap + kn * delta;  // n_0 + k_n delta > 0
+        // the unknowns of a formulation from the DOFs' coefficients y ((2H+1) x N)
+        const Eigen::MatrixXd w = loaded.contact_directions(loaded.contacts[0]);
+        auto unknowns = [&](Formulation f, const Eigen::MatrixXd& y) {
+            if (f == Formulation::full) return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(y.data(), y.size()));
+            Eigen::VectorXd x(2 * y.rows());
+            x << y * w.col(0), y * w.col(1);
+            return x;
+        };
+        for (double omega : {0.6, 1.2, 2.2}) {
+            // B (full) from its linear guess; the others from B's solution, A's shifted by d (from
+            // their own linear guesses, the open contact's, the corrector misses some lift-off points)
+            Eigen::MatrixXd yb0;
+            for (const Formulation f : {Formulation::full, Formulation::condensed}) {
+                HarmonicBalanceOptions options{10, 0};
+                options.formulation = f;
+                HarmonicBalance a(loaded, options), b(shifted, options);
+                SolutionPoint pa, pb;
+                const PointMetrics mb = yb0.size() == 0 ? solve(b, omega, pb) : solve(b, omega, pb, unknowns(f, yb0));
+                const Eigen::MatrixXd yb = b.dofs(pb.x, omega);
+                if (yb0.size() == 0) yb0 = yb;
+                Eigen::MatrixXd start = yb;
+                start.row(0) += d.transpose();
+                const PointMetrics ma = solve(a, omega, pa, unknowns(f, start));
+                Eigen::MatrixXd ya = a.dofs(pa.x, omega);
+                ya.row(0) -= d.transpose();
+                const double gap = (ya - yb).cwiseAbs().maxCoeff() / yb.cwiseAbs().maxCoeff();
+                INFO((c.gap > 0 ? "gap" : "preload") << ", " << (f == Formulation::full ? "full" : "condensed")
+                                                      << " at w = " << omega << ": relative difference " << gap
+                                                      << ", regime " << ma.contacts[0].regime << ", open "
+                                                      << ma.contacts[0].separated_fraction);
+                CHECK(gap <= 1e-8);  // the corrector's tolerance
+                CHECK(std::abs(ma.contacts[0].normal_mean - mb.contacts[0].normal_mean) <= 1e-8);
+                CHECK(ma.energy_error <= 1e-8);
+            }
+        }
+    }
+}
+
+TEST_CASE("static load: harmonic balance against time integration started from the static state, and the "
+          "solvers that refuse a static load",
+          "[elastic_contact][static_load][time_integration]") {
+    // liftoff3.toml (coupled: the static load also loads the contact tangentially) with a static
+    // load pressing the contact and pushing it sideways (the static state: stuck, N = 0.447,
+    // |T| = 0.117). In stick-slip the periodic state is unique, and harmonic balance converges in H
+    // to time integration (which starts from the static state). (In permanent stick they differ
+    // by the mean tangential force: static_state.hpp.)
+    System s = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml").system;
+    s.static_load = Eigen::Vector3d(0.1, 0.3, 0.0);
+    const Eigen::MatrixXd directions = s.contact_directions(s.contacts[0]);
+    for (double omega : {1.18, 2.2}) {
+        const PeriodicResponse ti = integrate_steady_state(s, omega, hbf::test::tight_time_integration());
+        INFO("w = " << omega << ": " << ti.message);
+        REQUIRE(ti.converged);
+        CHECK(ti.regime != "stick");
+        std::vector<double> errors;
+        for (int harmonics : {5, 40}) {
+            HarmonicBalance hb(s, HarmonicBalanceOptions{harmonics, 0});
+            SolutionPoint p;
+            solve(hb, omega, p, from_orbit(hb, ti, directions));
+            errors.push_back(first_harmonic_gap(hb, p, ti));
+            // the mean: harmonic 0 of every DOF against the orbit's mean
+            const Eigen::MatrixXd y = hb.dofs(p.x, omega);
+            const Eigen::VectorXd mean = ti.displacement.colwise().mean();
+            if (harmonics == 40) CHECK((y.row(0).transpose() - mean).cwiseAbs().maxCoeff() <= 1e-4);
+        }
+        INFO("H = 5, 40: " << errors[0] << ", " << errors[1]);
+        CHECK(errors[1] <= 5e-5);
+        CHECK(errors[1] < errors[0] / 5);
+    }
+    // odd harmonics drop harmonic 0; the general integrator and the exact solver carry no load
+    HarmonicBalanceOptions odd{5, 0};
+    odd.odd_harmonics = true;
+    CHECK_THROWS_WITH(HarmonicBalance(s, odd), Catch::Contains("static load"));
+    System jenkins = friction_absorber(AbsorberParameters{}, FrictionLaw::jenkins);
+    jenkins.static_load = Eigen::Vector2d(0.1, 0.0);
+    CHECK_THROWS_WITH(integrate_steady_state(jenkins, 1.0, TimeIntegrationOptions{}),
+                      Catch::Contains("static load"));
+    CHECK_THAT(exact_solver_refusal(jenkins), Catch::Contains("static load"));
+}
+
+TEST_CASE("static load from a system file: hbf frf reports the static state (stderr and JSON), bad loads exit 2",
+          "[elastic_contact][static_load][cli]") {
+    const ::test::TempDir dir;
+    const std::string example =
+        ::test::slurp(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml");
+    const std::string anchor = "excitation = [0.05, 0.15, 0.0]\n";
+    REQUIRE(example.find(anchor) != std::string::npos);
+    auto with = [&](const std::string& line) {
+        std::string text = example;
+        return text.replace(text.find(anchor), anchor.size(), anchor + line);
+    };
+    const ::test::fs::path file = dir.path / "loaded.toml", out = dir.path / "frf.csv", summary = dir.path / "frf.json";
+    ::test::write_file(file, with("static_load = [0.1, 0.3, 0.0]\n"));
+    const ::test::Result r = ::test::run_hbf("frf --config '" + file.string() + "' --out '" + out.string() +
+                                                 "' --summary '" + summary.string() + "'",
+                                             dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK_THAT(r.err, Catch::Contains("static state: contact 1: stuck"));
+    // stuck: (K + diag(k_t, k_n, 0)) y = F_s - (0, N_0, 0), N = N_0 + k_n y2, T = k_t y1
+    Eigen::Matrix3d k;
+    k << 1.5 + 3.0, 0.5, -0.5, 0.5, 1.5 + 5.0, 0.0, -0.5, 0.0, 0.5;
+    const Eigen::Vector3d y = k.fullPivLu().solve(Eigen::Vector3d(0.1, 0.3 - 1.0, 0.0));
+    const nlohmann::json rest = nlohmann::json::parse(::test::slurp(summary)).at("static_state");
+    CHECK(rest.at("solved").get<bool>());
+    REQUIRE(rest.at("contacts").size() == 1);
+    CHECK(rest.at("contacts")[0].at("state").get<std::string>() == "stuck");
+    CHECK(std::abs(rest.at("contacts")[0].at("normal_force").get<double>() - (1.0 + 5.0 * y(1))) <= 1e-12);
+    CHECK(std::abs(rest.at("contacts")[0].at("tangential_force").get<double>() - 3.0 * std::abs(y(0))) <= 1e-12);
+    // the mean normal force of the FRF's first point (permanent stick at w = 0.3) near the static one
+    const auto rows = ::test::parse_csv(::test::slurp(out));
+    REQUIRE(rows.size() > 10);
+    CHECK(std::abs(::test::column(rows, rows[1], "normal_force_mean") - (1.0 + 5.0 * y(1))) <= 0.05);
+
+    ::test::check_bad_config(with("static_load = [0.1, 0.3]\n"), {"structure.static_load", "2", "3"}, dir);
+    ::test::check_bad_config(with("static_load = [0.1, nan, 0.0]\n"), {"structure.static_load"}, dir);
+    ::test::write_file(file, with("static_load = [0.1, 0.3, 0.0]\n"));
+    ::test::check_bad_input("frf --config '" + file.string() + "' --harmonics odd", {"static load", "harmonic 0"}, dir);
+    // the general integrator (a jenkins contact) carries no static load
+    const ::test::fs::path jenkins = dir.path / "jenkins.toml";
+    ::test::write_file(jenkins, "[structure]\nmass = [1.0]\nstiffness = [[1.0]]\nexcitation = [0.5]\n"
+                                "static_load = [0.1]\n[[contact]]\ndof = 1\nlaw = \"jenkins\"\n"
+                                "friction_limit = 0.3\nstiffness = 1.0\n");
+    ::test::check_bad_input("timeint --config '" + jenkins.string() + "' --w 1", {"static load", "general time integrator"},
+                            dir);
 }

@@ -79,6 +79,21 @@ struct StuckElement {
     std::complex<double> at(double frequency) const { return {stiffness, frequency * damping}; }
 };
 
+/// A contact's force under a static load (static_state.hpp), along each of its directions
+/// (System::contact_directions) at the static relative displacements q, for the contact loaded
+/// monotonically from its unloaded state (sliders and internal states at 0, a preload acting
+/// at q = 0): ContactLaw::static_force.
+struct StaticForce {
+    Eigen::VectorXd force;     ///< per direction
+    Eigen::MatrixXd jacobian;  ///< d force / d q
+    /// "open" (law elastic: N = 0), "stuck", "slipping" (at the friction limit), or
+    /// "presliding" (Dahl, LuGre: below the limit, no exact stick).
+    std::string state;
+    /// Law elastic: where the tangential slider rests (u - T / k_t; u where open), one entry per
+    /// tangential direction (time integration starts from it); empty for the other laws.
+    Eigen::VectorXd slider;
+};
+
 /// The structure as a contact sees it along its direction w, for the laws' automatic parameters.
 struct DirectionScale {
     double stiffness = 0;     ///< w^T K w (the contact's DOFs alone, the rest of the structure held)
@@ -149,6 +164,11 @@ public:
     /// The periodic force by AFT (harmonic balance). Throws InvalidInput for parameters the
     /// model cannot take (exact Coulomb: lagrangian_penalty must be > 0).
     virtual std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const = 0;
+    /// The static force (StaticForce above) at q, one entry per direction. False when the law
+    /// has no single-valued static force (exact Coulomb: the stuck force is set-valued). The
+    /// default covers the laws made of elastic sliders (jenkins, iwan: each slider's k (q - s)
+    /// clamped at its slip force, stuck while every slider is), and is false otherwise.
+    virtual bool static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const;
     /// The local linearisation (smooth laws); the default throws InvalidInput.
     virtual LocalLinearization linearize(const Contact& contact, double v, double z) const;
     /// Harmonic balance's first guess of the law's state signal (laws whose periodic_model has
@@ -222,6 +242,8 @@ std::vector<ContactRegime> contact_regimes(const System& system, const std::vect
 
 /// The system as the time-domain solvers see it, copied only when a law splits a contact:
 ///     const TimeDomainView view(system); const System& s = view.system();
+/// Throws InvalidInput for a law outside them (refuse_time_domain) and for a static load (which
+/// only harmonic balance and the time integration of law elastic carry).
 class TimeDomainView {
 public:
     explicit TimeDomainView(const System& system);

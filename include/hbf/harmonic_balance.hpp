@@ -217,6 +217,13 @@ private:
     double receptance_omega_ = -1.0;
     Eigen::VectorXd static_flexibility_;          // G_0,aa per signal a
     Eigen::VectorXd shift_stiffness_, shift_damping_;  // kappa_a, delta_a per signal
+    // The static load (System::static_load), condensed: W^T K'^-1 F_s per signal (harmonic 0's
+    // motion without friction) and K'^-1 F_s (the DOFs' part of it), K' the shifted stiffness;
+    // empty without a static load.
+    Eigen::VectorXd static_contact_, static_deflection_;
+    // The static state's y_s (static_state.hpp), harmonic 0's first guess; empty without a
+    // static load or preload, or where the static problem has no solution.
+    Eigen::VectorXd static_guess_;
     Eigen::MatrixXd row_scale_, row_scale_omega_; // 1 / |G_k,aa| and its omega-derivative ((H+1) x signals)
     std::string structure_failure_;
     std::vector<std::unique_ptr<FrictionModel>> models_;

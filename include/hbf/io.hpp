@@ -15,6 +15,7 @@
 #include "hbf/continuation.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/stability.hpp"
+#include "hbf/static_state.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf::io {
@@ -207,6 +208,7 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                        const PolishedBranch* polish = nullptr, const std::vector<std::string>& errors = {},
                        const std::vector<std::string>& warnings = {},
                        const std::vector<std::string>& notes = {},
-                       const BranchStability* stability = nullptr);
+                       const BranchStability* stability = nullptr,
+                       const StaticState* static_state = nullptr);
 
 }  // namespace hbf::io

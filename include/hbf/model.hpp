@@ -108,9 +108,16 @@ struct System {
     /// h, 1..max_excitation_harmonic: the force acts at h omega, omega being the fundamental
     /// frequency of the periodic response sought (harmonic balance needs H >= h).
     int excitation_harmonic = 1;
+    /// F_s, a constant load (bolt preload, centrifugal or pressure loads): empty or N finite
+    /// entries, M y'' + C y' + K y + sum_c w_c f_c = F_s + F cos(h omega t). Harmonic balance
+    /// carries it on harmonic 0 (so not with odd harmonics only); the contacts' static state
+    /// under it alone is static_state.hpp's.
+    Eigen::VectorXd static_load;
     std::vector<Contact> contacts;
 
     int dofs() const { return static_cast<int>(mass.rows()); }
+    /// Whether static_load is given with a non-zero entry.
+    bool has_static_load() const { return static_load.size() > 0 && static_load.cwiseAbs().maxCoeff() > 0.0; }
     /// w_c: the relative displacement of contact c is q_c = w_c^T y.
     Eigen::VectorXd contact_direction(const Contact& contact) const;
     /// Every direction of contact c, N x s: w_c first, then the law's direction parameters the

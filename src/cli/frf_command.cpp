@@ -78,6 +78,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
         return o.output.dry_run_done("frf");
     }
     HarmonicBalance hb(system, settings.harmonic_balance);
+    // The contacts' state under the static load and preloads alone (static_state.hpp).
+    std::optional<StaticState> rest;
+    if (has_static_problem(system)) rest = static_state(system);
     ProgressLine progress(o.output.progress(), "frf");
     co.progress = [&progress](double omega, int points) {
         char text[64];
@@ -123,7 +126,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         summary = std::make_unique<io::OutputFile>(o.output.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
                               outputs, polish ? &*polish : nullptr, verdict.errors, verdict.warnings,
-                              verdict.notes, stability);
+                              verdict.notes, stability, rest ? &*rest : nullptr);
     }
     std::unique_ptr<io::OutputFile> overlay_file;
     if (!overlay.empty()) {
@@ -159,6 +162,8 @@ int run(const CLI::App& command, const FrfOptions& o) {
     if (verbose && verdict.errors.empty() && branch.status == ContinuationStatus::completed)
         std::cerr << "hbf frf: " << branch.summary() << " in " << format_number(seconds) << " s\n";
     if (stability && verbose) std::cerr << "hbf frf: " << stability->summary() << "\n";
+    if (rest && !o.output.quiet)
+        std::cerr << "hbf frf: static state" << (rest->ok ? ": " : " not solved: ") << describe(*rest) << "\n";
     if (polish && polish->failed == 0 && (verbose || branch.status != ContinuationStatus::completed))
         std::cerr << "hbf frf: note: " << polish->summary() << " (the transitions are the exact solver's)\n";
     return finish("frf", verdict);

@@ -150,6 +150,13 @@ double bristle_time_force(const Contact& contact, double sigma1, double sigma2, 
     return sigma0 * z + sigma1 * rate + sigma2 * v;
 }
 
+void bristle_static_force(const Contact& contact, double limit, double q, StaticForce& out) {
+    const double decay = std::exp(-contact.stiffness * std::abs(q) / limit);
+    out.force = Eigen::VectorXd::Constant(1, std::copysign(limit * (1.0 - decay), q));
+    out.jacobian = Eigen::MatrixXd::Constant(1, 1, contact.stiffness * decay);
+    out.state = "presliding";
+}
+
 double bristle_time_margin(const Contact& contact, double v, double z) {
     return std::abs(contact.stiffness * z) / (stick_force_ratio * sliding_limit(contact, v)) - 1.0;
 }

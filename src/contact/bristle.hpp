@@ -23,5 +23,9 @@ void bristle_guess(const Contact& contact, bool sliding, const Eigen::VectorXd& 
 /// sigma2 = 0); the margin |sigma0 z| / (stick_force_ratio g(v)) - 1.
 double bristle_time_force(const Contact& contact, double sigma1, double sigma2, double v, double z, double& rate);
 double bristle_time_margin(const Contact& contact, double v, double z);
+/// The static force of a bristle loaded monotonically from z = 0 at a vanishing velocity
+/// (ContactLaw::static_force): dz/dq = 1 - sigma0 z / g for q growing, so
+/// f = sigma0 z = g (1 - exp(-sigma0 |q| / g)) sign(q), g = `limit` (Dahl: F_c; LuGre: g(0) = F_s).
+void bristle_static_force(const Contact& contact, double limit, double q, StaticForce& out);
 
 }  // namespace hbf::detail

@@ -91,6 +91,13 @@ public:
     double time_margin(const Contact& contact, double v, double) const override {
         return std::abs(std::tanh(v / contact.regularization)) / stick_force_ratio - 1.0;
     }
+    /// A velocity law: at rest it carries no force (f = F_c tanh(0) = 0), so statically it slips.
+    bool static_force(const Contact&, const Eigen::VectorXd&, StaticForce& out) const override {
+        out.force = Eigen::VectorXd::Zero(1);
+        out.jacobian = Eigen::MatrixXd::Zero(1, 1);
+        out.state = "slipping";
+        return true;
+    }
     LocalLinearization linearize(const Contact& contact, double v, double) const override {
         LocalLinearization l;
         const double t = std::tanh(v / contact.regularization);

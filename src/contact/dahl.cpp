@@ -34,6 +34,10 @@ public:
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         return detail::bristle_model(contact, 0.0, 0.0);
     }
+    bool static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const override {
+        detail::bristle_static_force(contact, contact.friction_limit, q(0), out);
+        return true;
+    }
     LocalLinearization linearize(const Contact& contact, double v, double z) const override {
         return detail::bristle_linearization(contact, 0.0, 0.0, v, z);
     }

@@ -141,6 +141,40 @@ public:
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         return std::make_unique<ElasticModel>(elastic_element(contact));
     }
+    /// q = (u_1, .., u_d, v): N = n_0 + k_n v (open where <= 0: no force); the trial force
+    /// k_t u is kept within mu N (stuck, slider at 0), else scaled onto the cone along itself
+    /// (slipping: under monotonic loading the slider moves along the force).
+    bool static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const override {
+        const ElasticContact e = elastic_element(contact);
+        const int d = e.tangential_directions;
+        out.force = Eigen::VectorXd::Zero(d + 1);
+        out.jacobian = Eigen::MatrixXd::Zero(d + 1, d + 1);
+        const double normal = e.normal_offset + e.normal_stiffness * q(d);
+        out.slider = q.head(d);  // where open (T = 0)
+        if (!(normal > 0.0)) {
+            out.state = "open";
+            return true;
+        }
+        out.force(d) = normal;
+        out.jacobian(d, d) = e.normal_stiffness;
+        const Eigen::VectorXd trial = e.tangential_stiffness * q.head(d);
+        const double size = trial.norm(), limit = e.friction_coefficient * normal;
+        if (size <= limit) {
+            out.state = "stuck";
+            out.slider.setZero();
+            out.force.head(d) = trial;
+            out.jacobian.topLeftCorner(d, d).diagonal().setConstant(e.tangential_stiffness);
+            return true;
+        }
+        out.state = "slipping";
+        const Eigen::VectorXd direction = trial / size;
+        out.force.head(d) = limit * direction;
+        out.slider = q.head(d) - out.force.head(d) / e.tangential_stiffness;
+        out.jacobian.topLeftCorner(d, d) = (limit * e.tangential_stiffness / size) *
+                                           (Eigen::MatrixXd::Identity(d, d) - direction * direction.transpose());
+        out.jacobian.block(0, d, d, 1) = e.friction_coefficient * e.normal_stiffness * direction;
+        return true;
+    }
 
     void validate(const Contact& contact, const std::string& where) const override {
         for (const char* key : {"normal_stiffness", "friction_coefficient"})

@@ -52,6 +52,13 @@ public:
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         return detail::bristle_model(contact, contact.damping, contact.viscous);
     }
+    /// At a vanishing velocity the bristle's limit is g(0): F_s with a Stribeck curve, else F_c.
+    bool static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const override {
+        const double g0 = contact.stribeck_velocity > 0.0 && contact.static_limit > 0.0 ? contact.static_limit
+                                                                                         : contact.friction_limit;
+        detail::bristle_static_force(contact, g0, q(0), out);
+        return true;
+    }
     LocalLinearization linearize(const Contact& contact, double v, double z) const override {
         return detail::bristle_linearization(contact, contact.damping, contact.viscous, v, z);
     }

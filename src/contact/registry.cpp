@@ -144,6 +144,28 @@ LocalLinearization ContactLaw::linearize(const Contact&, double, double) const {
 void ContactLaw::guess_state(const Contact&, bool, const Eigen::VectorXd&, int, std::complex<double>,
                              Eigen::Ref<Eigen::VectorXd>) const {}
 
+bool ContactLaw::static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const {
+    if (!exact_stick() || time_state() != TimeState::slider || q.size() != 1) return false;
+    // Monotonic loading from s = 0: each slider's spring k q until k |q| reaches its slip force.
+    double force = 0.0, slope = 0.0;
+    bool stuck = true;
+    for (const Contact& e : time_elements(contact)) {
+        if (!elastic_slider(e)) return false;
+        const double trial = e.stiffness * q(0);
+        if (std::abs(trial) <= e.friction_limit) {
+            force += trial;
+            slope += e.stiffness;
+        } else {
+            force += std::copysign(e.friction_limit, trial);
+            stuck = false;
+        }
+    }
+    out.force = Eigen::VectorXd::Constant(1, force);
+    out.jacobian = Eigen::MatrixXd::Constant(1, 1, slope);
+    out.state = stuck ? "stuck" : "slipping";
+    return true;
+}
+
 void ContactLaw::complete(Contact&, const DirectionScale&, const std::string&) const {}
 
 void ContactLaw::validate(const Contact& contact, const std::string& where) const {
@@ -229,6 +251,9 @@ void refuse_time_domain(const System& system, const std::string& what) {
 
 TimeDomainView::TimeDomainView(const System& system) : original_(system), split_(false) {
     refuse_time_domain(system, "the event-exact solver and the time-domain elements of the general integrator");
+    if (system.has_static_load())
+        throw InvalidInput("static load: the event-exact solver and the general time integrator do not carry one "
+                           "(harmonic balance does, and the time integration of law elastic): allowed no static_load");
     split_ = splits_contacts(system);
     if (split_) lowered_ = time_domain_system(system);
 }

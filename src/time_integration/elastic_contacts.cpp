@@ -13,6 +13,7 @@
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/normal_contact.hpp"
+#include "hbf/static_state.hpp"
 
 namespace hbf::detail {
 
@@ -41,6 +42,7 @@ public:
         damping_ = Eigen::MatrixXd(system.damping);
         if (damping_.size() == 0) damping_ = Eigen::MatrixXd::Zero(n_, n_);
         stiffness_ = Eigen::MatrixXd(system.stiffness);
+        static_load_ = system.static_load.size() > 0 ? system.static_load : Eigen::VectorXd::Zero(n_);
         for (const Contact& c : system.contacts) {
             const Eigen::MatrixXd w = system.contact_directions(c);
             Element e;
@@ -239,7 +241,7 @@ private:
 
     void derivative(double t, const double* x, double* dx) const {
         const Eigen::Map<const Eigen::VectorXd> y(x, n_), dy(x + n_, n_);
-        Eigen::VectorXd force = system_.excitation * std::cos(drive_ * t) - damping_ * dy - stiffness_ * y;
+        Eigen::VectorXd force = system_.excitation * std::cos(drive_ * t) + static_load_ - damping_ * dy - stiffness_ * y;
         double friction = 0.0;
         for (int c = 0; c < m_; ++c) {
             const Element& e = elements_[static_cast<std::size_t>(c)];
@@ -351,6 +353,7 @@ private:
     }
 
     const System& system_;
+    Eigen::VectorXd static_load_;  // F_s (zero without one)
     const double omega_, drive_, period_;
     const TimeIntegrationOptions options_;
     const int n_;
@@ -398,6 +401,7 @@ Eigen::VectorXd elastic_linear_stuck_state(const System& system, double omega) {
         k += normal.stiffness * w * w.transpose();
         load -= normal.offset * w;
     }
+    if (system.static_load.size() > 0) load += system.static_load;
     const Eigen::VectorXd rest = k.fullPivLu().solve(load);
     const StuckResponse stuck = stuck_linear_response(system, omega);
     const Eigen::VectorXcd y = stuck.ok ? stuck.amplitude : Eigen::VectorXcd::Zero(n);
@@ -437,6 +441,22 @@ PeriodicResponse integrate_elastic_contacts(const System& system, double omega, 
     ElasticIntegrator integrator(system, omega, options, scale);
     Eigen::VectorXd x = initial_state ? *initial_state : Eigen::VectorXd::Zero(size);
     if (!initial_state) x.tail(static_cast<Eigen::Index>(system.contacts.size())).setConstant(1.0);  // stuck
+    if (!initial_state && system.has_static_load()) {
+        // At rest in the static state (static_state.hpp): the static load applied before the
+        // vibration.
+        const StaticState rest = static_state(system);
+        if (!rest.ok) throw InvalidInput("static load: " + rest.message);
+        x.head(system.dofs()) = rest.displacement;
+        int at = 2 * system.dofs();
+        for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+            const StaticContactState& k = rest.contacts[c];
+            const auto d = k.slider.size();  // tangential components
+            x.segment(at, d) = k.slider;
+            x(size - static_cast<Eigen::Index>(system.contacts.size()) + static_cast<Eigen::Index>(c)) =
+                k.state == "open" ? 0.0 : 1.0;  // separated, or stuck (on the cone where slipping)
+            at += static_cast<int>(d);
+        }
+    }
     integrator.settle(x);
     PeriodicResponse out;
     out.omega = omega;

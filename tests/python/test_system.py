@@ -158,3 +158,28 @@ def test_a_contact_with_a_normal_direction_from_python(tmp_path):
     contact.normal_direction = [1.0, 1.0, 0.0]  # not orthogonal to the tangential direction
     with pytest.raises(ValueError, match="normal_direction"):
         hbfriction.frf(hbfriction.System([1.0, 0.5, 0.3], k, [0.05, 0.15, 0.0], contacts=[contact]))
+
+
+def test_a_static_load_from_python(tmp_path):
+    # liftoff3.toml with a static load (System.static_load, [structure] static_load in a file):
+    # the same table from NumPy as hbf frf --config on the file; a load of the wrong size is
+    # refused naming it, and the property round-trips (None clears it).
+    path = os.path.join(SOURCE, "examples", "systems", "liftoff3.toml")
+    s = hbfriction.load(path)
+    assert s.static_load == []
+    s.static_load = [0.1, 0.3, 0.0]
+    assert s.static_load == [0.1, 0.3, 0.0]
+    b = hbfriction.frf(s, outputs=[0, 1], wmin=0.3, wmax=3.0)
+    assert b.status == "completed"
+    text = open(path).read().replace("excitation = [0.05, 0.15, 0.0]\n",
+                                     "excitation = [0.05, 0.15, 0.0]\nstatic_load = [0.1, 0.3, 0.0]\n")
+    loaded = tmp_path / "loaded.toml"
+    loaded.write_text(text)
+    csv_path = tmp_path / "frf.csv"
+    run_hbf("frf", "--config", str(loaded), "--out", str(csv_path))
+    assert_table_equals_csv(b, csv_path.read_text())
+    with pytest.raises(ValueError, match="static load vector has 2 entries"):
+        s.static_load = [0.1, 0.3]
+        s.validate()
+    s.static_load = None
+    assert s.static_load == []

@@ -1,0 +1,181 @@
+// hbfriction — the static contact problem (static_state.hpp).
+#include "hbf/static_state.hpp"
+
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "hbf/contact.hpp"
+#include "hbf/error.hpp"
+
+namespace hbf {
+
+bool has_static_problem(const System& system) {
+    if (system.has_static_load()) return true;
+    for (const Contact& c : system.contacts)
+        for (const StuckElement& e : contact_law(c.law).stuck_directions(c))
+            if (e.offset != 0.0) return true;
+    return false;
+}
+
+namespace {
+
+struct Evaluation {
+    Eigen::VectorXd residual;
+    std::vector<StaticForce> forces;
+    double size = 0;  // |residual|_inf
+};
+
+}  // namespace
+
+StaticState static_state(const System& system) {
+    system.validate();
+    StaticState out;
+    const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
+    const Eigen::VectorXd load = system.static_load.size() > 0 ? system.static_load : Eigen::VectorXd::Zero(n);
+    std::vector<Eigen::MatrixXd> directions;
+    for (const Contact& c : system.contacts) directions.push_back(system.contact_directions(c));
+    out.displacement = Eigen::VectorXd::Zero(n);
+    out.contacts.resize(static_cast<std::size_t>(nc));
+
+    // The force scale: the load and every contact's force at rest (its preload).
+    double scale = load.size() > 0 ? load.cwiseAbs().maxCoeff() : 0.0;
+    for (const Contact& c : system.contacts)
+        for (const StuckElement& e : contact_law(c.law).stuck_directions(c)) scale = std::max(scale, std::abs(e.offset));
+    for (int c = 0; c < nc; ++c) {
+        const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
+        StaticForce probe;
+        if (!contact_law(contact.law).static_force(contact, Eigen::VectorXd::Zero(directions[static_cast<std::size_t>(c)].cols()),
+                                                   probe)) {
+            out.message = "contact " + std::to_string(c + 1) + ": law " + to_string(contact.law) +
+                          " has no single-valued static force (its stuck force is set-valued): the static contact state "
+                          "is not computed";
+            return out;
+        }
+    }
+    if (!(scale > 0.0)) {  // nothing loads the structure: it rests at y = 0
+        for (int c = 0; c < nc; ++c) {
+            const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
+            StaticContactState& s = out.contacts[static_cast<std::size_t>(c)];
+            StaticForce f;
+            s.relative = Eigen::VectorXd::Zero(directions[static_cast<std::size_t>(c)].cols());
+            contact_law(contact.law).static_force(contact, s.relative, f);
+            s.state = f.state;
+            s.force = f.force;
+            s.slider = f.slider;
+        }
+        out.ok = true;
+        return out;
+    }
+
+    auto evaluate = [&](const Eigen::VectorXd& y, Evaluation& e) {
+        e.residual = system.stiffness * y - load;
+        e.forces.resize(static_cast<std::size_t>(nc));
+        for (int c = 0; c < nc; ++c) {
+            const auto cc = static_cast<std::size_t>(c);
+            const Contact& contact = system.contacts[cc];
+            contact_law(contact.law).static_force(contact, directions[cc].transpose() * y, e.forces[cc]);
+            e.residual += directions[cc] * e.forces[cc].force;
+        }
+        e.size = e.residual.cwiseAbs().maxCoeff();
+    };
+    // The Jacobian K + sum_c W_c J_c W_c^T, the products on the directions' nonzeros only.
+    auto jacobian = [&](const Evaluation& e) {
+        std::vector<Eigen::Triplet<double>> entries;
+        for (int c = 0; c < nc; ++c) {
+            const auto cc = static_cast<std::size_t>(c);
+            const Eigen::MatrixXd& w = directions[cc];
+            std::vector<int> support;
+            for (int i = 0; i < n; ++i)
+                if (w.row(i).cwiseAbs().maxCoeff() > 0.0) support.push_back(i);
+            const Eigen::MatrixXd block = e.forces[cc].jacobian;
+            for (int i : support)
+                for (int j : support) {
+                    const double value = w.row(i).dot(block * w.row(j).transpose());
+                    if (value != 0.0) entries.emplace_back(i, j, value);
+                }
+        }
+        SparseMatrix j(n, n);
+        j.setFromTriplets(entries.begin(), entries.end());
+        j += system.stiffness;
+        return j;
+    };
+
+    constexpr int max_iterations = 100;
+    constexpr double tolerance = 1e-10;
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(n);
+    Evaluation current;
+    evaluate(y, current);
+    Eigen::SparseLU<SparseMatrix> lu;
+    bool analysed = false;
+    for (int it = 0; it < max_iterations && current.size > tolerance * scale; ++it) {
+        out.iterations = it + 1;
+        const SparseMatrix j = jacobian(current);
+        if (!analysed) {
+            lu.analyzePattern(j);  // the pattern of K plus every direction's support: fixed
+            analysed = true;
+        }
+        lu.factorize(j);
+        Eigen::VectorXd step;
+        if (lu.info() == Eigen::Success) step = lu.solve(-current.residual);
+        if (lu.info() != Eigen::Success || !step.allFinite()) {
+            out.message = "the static problem is singular at Newton step " + std::to_string(it + 1) +
+                          " (a part of the structure held only by contacts that open or slip: no static equilibrium "
+                          "under this load)";
+            out.displacement = y;
+            return out;
+        }
+        // Backtracking on |residual|_inf: piecewise-smooth forces (stick/slip, open/closed)
+        // can send a full step across a kink.
+        double t = 1.0;
+        Evaluation trial;
+        for (int halving = 0; halving < 40; ++halving, t *= 0.5) {
+            evaluate(y + t * step, trial);
+            if (trial.size < current.size) break;
+        }
+        if (!(trial.size < current.size)) {
+            out.message = "Newton's method stalls at step " + std::to_string(it + 1) + " with a residual of " +
+                          format_number(current.size / scale) +
+                          " of the force scale (no static equilibrium under this load, or none near the unloaded state)";
+            out.displacement = y;
+            out.residual = current.size / scale;
+            return out;
+        }
+        y += t * step;
+        current = std::move(trial);
+    }
+    out.displacement = y;
+    out.residual = current.size / scale;
+    if (current.size > tolerance * scale) {
+        out.message = "Newton's method did not reach " + format_number(tolerance) + " of the force scale in " +
+                      std::to_string(max_iterations) + " steps (residual " + format_number(out.residual) + ")";
+        return out;
+    }
+    for (int c = 0; c < nc; ++c) {
+        const auto cc = static_cast<std::size_t>(c);
+        out.contacts[cc].state = current.forces[cc].state;
+        out.contacts[cc].force = current.forces[cc].force;
+        out.contacts[cc].relative = directions[cc].transpose() * y;
+        out.contacts[cc].slider = current.forces[cc].slider;
+    }
+    out.ok = true;
+    return out;
+}
+
+std::string describe(const StaticState& state) {
+    if (!state.ok) return state.message;
+    std::ostringstream s;
+    for (std::size_t c = 0; c < state.contacts.size(); ++c) {
+        const StaticContactState& k = state.contacts[c];
+        s << (c > 0 ? ", " : "") << "contact " << c + 1 << ": " << k.state;
+        if (k.force.size() > 1)
+            s << " (N = " << format_number(k.force(k.force.size() - 1))
+              << ", |T| = " << format_number(k.force.head(k.force.size() - 1).norm()) << ")";
+        else if (k.force.size() == 1)
+            s << " (f = " << format_number(k.force(0)) << ")";
+    }
+    return s.str();
+}
+
+}  // namespace hbf
