@@ -12,6 +12,9 @@
 //     excitation_harmonic = 1                 # optional: h, 1..100 (default 1): the force acts
 //                                             # at h w, w the response's fundamental (h = 2:
 //                                             # subharmonic response of order 1/2); HB needs H >= h
+//     static_load = [0.0, 0.1]                # optional: F_s, a constant load (N numbers or an
+//                                             # N x 1 .mtx): HB's harmonic 0, the static contact
+//                                             # state (static_state.hpp)
 //
 //     [[contact]]                 # one table per friction contact, any number
 //     dof = 1                     # DOF a (1-based)
