@@ -865,3 +865,46 @@ TEST_CASE("static load from a system file: hbf frf reports the static state (std
     ::test::check_bad_input("timeint --config '" + jenkins.string() + "' --w 1", {"static load", "general time integrator"},
                             dir);
 }
+
+TEST_CASE("continuation through a corner sharper than a right angle: liftoff3.toml with excitation [0.05, 0.2, 0] "
+          "passes w = 1.8857, where permanent stick turns into stick-slip",
+          "[elastic_contact][continuation]") {
+    // It stalled there (min_step, exit 1): every arclength hyperplane missed the branch beyond
+    // the corner. Now the corner is crossed by a solve at a fixed frequency just beyond it, and
+    // the branch completes; the point after the corner is a solution (time integration there,
+    // stick-slip, within harmonic balance's H = 10 error).
+    const ::test::TempDir dir;
+    std::string text = ::test::slurp(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml");
+    const std::string anchor = "excitation = [0.05, 0.15, 0.0]";
+    REQUIRE(text.find(anchor) != std::string::npos);
+    text.replace(text.find(anchor), anchor.size(), "excitation = [0.05, 0.2, 0.0]");
+    const ::test::fs::path file = dir.path / "corner.toml", out = dir.path / "frf.csv", summary = dir.path / "frf.json";
+    ::test::write_file(file, text);
+    const ::test::Result r = ::test::run_hbf(
+        "frf --config '" + file.string() + "' --out '" + out.string() + "' --summary '" + summary.string() + "'", dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const nlohmann::json j = nlohmann::json::parse(::test::slurp(summary));
+    CHECK(j.at("status").get<std::string>() == "completed");
+    CHECK(j.at("solver").at("crossed_corners").get<int>() >= 1);
+    CHECK(j.at("coverage").get<double>() == 1.0);
+    // the first stick-slip point beyond w = 1.8857 against time integration
+    const auto rows = ::test::parse_csv(::test::slurp(out));
+    double omega = 0, y1 = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        const double w = ::test::column(rows, rows[k], "w");
+        if (w > 1.8858 && ::test::column(rows, rows[k], "stick_fraction") < 1.0) {
+            omega = w;
+            y1 = ::test::column(rows, rows[k], "y1_max");
+            break;
+        }
+    }
+    REQUIRE(omega > 0.0);
+    REQUIRE(omega < 1.9);
+    System s = io::read_system_config(file.string()).system;
+    const PeriodicResponse ti = integrate_steady_state(s, omega, hbf::test::tight_time_integration());
+    INFO("w = " << omega << ": HB y1_max " << y1 << ", TI " << ti.summary());
+    REQUIRE(ti.converged);
+    CHECK(ti.regime == "stick-slip");
+    CHECK(std::abs(y1 - ti.y_max[0]) <= 1e-3 * ti.y_max[0]);
+}

@@ -274,6 +274,12 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     double h = o.initial_step;
     double rejected_turn = -1.0;  // turn of the last step rejected for turning too sharply
     int leaps = 0;                // steps over a spot the corrector cannot land on (below)
+    // corners crossed at fixed frequencies (below), and the frequency of the last one: each
+    // must lie beyond the previous, so that the branch cannot circle one corner
+    constexpr int max_corners = 100;
+    int corners = 0;
+    double corner_omega = direction > 0 ? -std::numeric_limits<double>::infinity()
+                                        : std::numeric_limits<double>::infinity();
     std::unique_ptr<Corrector> patient;  // more iterations for small steps that fail (below)
     std::unique_ptr<Corrector> rough;    // resonance_resolved's
     const double end = direction > 0 ? omega_high : omega_low;
@@ -314,6 +320,63 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
                 // like any step.
                 h = o.initial_step * std::pow(4.0, ++leaps);
                 continue;
+            }
+            if (h < o.min_step && t(n) != 0.0 && corners < max_corners && (omega - corner_omega) * t(n) > 0.0) {
+                // A corner sharper than a right angle (in the scaled coordinates): the hyperplane
+                // of every arclength step misses the branch beyond it, and a tangent oriented by
+                // the last one points back into the corner. Cross at fixed frequencies a little
+                // further in the direction the branch was moving in w, and orient the tangent
+                // there by that direction (measured: examples/systems/liftoff3.toml with
+                // excitation [0.05, 0.2, 0] stalled at w = 1.8857, where permanent stick turns
+                // into stick-slip). The landing must be near (scaled distance <= 0.1: not another
+                // branch) and cross no linear resonance unresolved.
+                const double sense = t(n) > 0.0 ? 1.0 : -1.0;
+                corner_omega = omega;
+                bool crossed = false;
+                for (double scaled : {1e-4, 1e-3, 1e-2}) {
+                    double wq = omega + sense * scaled * w_scale;
+                    if ((wq - end) * direction >= 0.0) break;
+                    Eigen::VectorXd xq = x;
+                    ++corrections;
+                    if (!patient->solve_at(xq, wq, x_scale, it, res)) {
+                        ++failures;
+                        continue;
+                    }
+                    const double distance = std::hypot((xq - x).norm() / x_scale, (wq - omega) / w_scale);
+                    double unresolved = 0.0;
+                    if (distance > 0.1 || !resonance_resolved(hb, corrector, rough, o, x, omega, xq, wq, end, direction,
+                                                              x_scale, result.resonances, unresolved))
+                        continue;
+                    Eigen::VectorXd along = Eigen::VectorXd::Zero(n + 1);
+                    along(n) = sense;
+                    const Eigen::VectorXd t_new = tangent(xq, wq, along);
+                    out.points.push_back(make_point(wq, xq, it, res, distance));
+                    if (o.progress) o.progress(wq, static_cast<int>(result.points.size() + out.points.size()));
+                    ++corners;
+                    ++result.crossed_corners;
+                    x = xq;
+                    omega = wq;
+                    t = t_new;
+                    const double new_scale = hb.unknown_scale(x);
+                    t.head(n) *= x_scale / new_scale;
+                    t.normalize();
+                    x_scale = new_scale;
+                    h = o.initial_step;
+                    leaps = 0;
+                    rejected_turn = -1.0;
+                    crossed = true;
+                    break;
+                }
+                if (crossed) {
+                    if (hb.amplitude_bound(x, omega) > o.max_amplitude) {
+                        out.status = ContinuationStatus::amplitude_cap;
+                        out.points.back().kind = PointKind::cap;
+                        out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " +
+                                      format_number(omega);
+                        return out;
+                    }
+                    continue;
+                }
             }
             if (h < o.min_step) {
                 out.status = ContinuationStatus::min_step;
