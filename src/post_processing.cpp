@@ -211,13 +211,21 @@ PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int 
         f.to_time(y.col(i), samples);
         s.y.col(i) = samples;
     }
-    // the contact's first direction (the tangential one of an element with a normal direction)
-    const Eigen::VectorXd q = hb.relative(point.x, contact).head(f.size());
-    s.q.resize(nt);
+    // every direction of the contact, the first (the tangential one of an element with a
+    // normal direction) also as q, v, f
+    const Eigen::VectorXd all_q = hb.relative(point.x, contact), all_f = hb.force_samples(point.x, point.omega, contact);
+    const auto signals = all_q.size() / f.size();
+    s.q_directions.resize(nt, signals);
+    s.f_directions = Eigen::Map<const Eigen::MatrixXd>(all_f.data(), nt, signals);
+    for (Eigen::Index a = 0; a < signals; ++a) {
+        f.to_time(all_q.segment(a * f.size(), f.size()), samples);
+        s.q_directions.col(a) = samples;
+    }
+    const Eigen::VectorXd q = all_q.head(f.size());
+    s.q = s.q_directions.col(0);
     s.v.resize(nt);
-    f.to_time(q, s.q);
     f.to_time(point.omega * (f.derivative() * q), s.v);
-    s.f = hb.force_samples(point.x, point.omega, contact).head(nt);
+    s.f = s.f_directions.col(0);
     Eigen::VectorXd coefficients(f.size());
     f.to_coefficients(s.f, coefficients);
     s.f_series.resize(nt);

@@ -908,3 +908,27 @@ TEST_CASE("continuation through a corner sharper than a right angle: liftoff3.to
     CHECK(ti.regime == "stick-slip");
     CHECK(std::abs(y1 - ti.y_max[0]) <= 1e-3 * ti.y_max[0]);
 }
+
+TEST_CASE("hbf loop on a contact of law elastic writes its normal displacement and force and where it is open",
+          "[elastic_contact][cli]") {
+    // At w = 2.8 the example's contact is open 60 % of the period: every sample must have
+    // fn = max(0, N_0 + k_n qn) (N_0 = 1, k_n = 5), open = 1 exactly where fn = 0, and the
+    // tangential force within the cone, |f| <= mu fn (mu = 0.3).
+    const ::test::TempDir dir;
+    const std::string example = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml";
+    const ::test::fs::path out = dir.path / "loop.csv";
+    const ::test::Result r = ::test::run_hbf("loop --config '" + example + "' --w 2.8 --out '" + out.string() + "'", dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = ::test::parse_csv(::test::slurp(out));
+    REQUIRE(rows.size() > 100);
+    int open = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        const double qn = ::test::column(rows, rows[k], "qn"), fn = ::test::column(rows, rows[k], "fn");
+        CHECK(std::abs(fn - std::max(0.0, 1.0 + 5.0 * qn)) <= 1e-12);
+        CHECK(::test::column(rows, rows[k], "open") == (fn > 0.0 ? 0.0 : 1.0));
+        CHECK(std::abs(::test::column(rows, rows[k], "f")) <= 0.3 * fn + 1e-12);
+        open += fn > 0.0 ? 0 : 1;
+    }
+    CHECK(open > static_cast<int>(rows.size()) / 3);
+}

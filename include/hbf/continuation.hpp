@@ -312,9 +312,13 @@ struct PointSignals {
     Eigen::MatrixXd y;          ///< N_t x N: y_i(t_j)
     Eigen::VectorXd q, v, f, phi;  ///< f: the law's own force (FrictionModel::force_samples)
     Eigen::VectorXd f_series;      ///< f's H-harmonic Fourier series (what the balance sees)
+    /// Every direction of the contact (System::contact_directions; q, f are the first column):
+    /// N_t x s relative displacements and forces (law elastic: the tangential ones, then the
+    /// normal displacement v and force N).
+    Eigen::MatrixXd q_directions, f_directions;
 };
 /// A contact with several directions (friction.hpp: signals): q, v and f along its first
-/// (tangential) direction.
+/// (tangential) direction, and every direction in q_directions, f_directions.
 PointSignals point_signals(HarmonicBalance& hb, const SolutionPoint& point, int contact);
 
 /// A resonance peak: a local maximum of max_t |y_dof(t)| (or of an output's |o(t)|) along a

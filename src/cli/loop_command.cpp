@@ -24,7 +24,9 @@ struct LoopOptions {
     std::string config;
 };
 
-std::vector<io::Column> loop_columns(int dofs) {
+/// The columns for a system of `dofs` DOFs and a contact with `signals` directions (law
+/// elastic: 2 or 3, the normal last).
+std::vector<io::Column> loop_columns(int dofs, int signals) {
     std::vector<io::Column> columns = {{"t", "time over one period, t = theta / w (theta = w t from 0 to 2 pi)"}};
     for (int i = 1; i <= dofs; ++i)
         columns.push_back({"y" + std::to_string(i), "displacement y" + std::to_string(i) + "(t)"});
@@ -37,6 +39,15 @@ std::vector<io::Column> loop_columns(int dofs) {
         {"f_series", "f's Fourier series truncated to the H harmonics: the force the harmonic-balance equations "
                      "see (it overshoots mu near a discontinuity: Gibbs)"}};
     columns.insert(columns.end(), rest.begin(), rest.end());
+    if (signals == 3) {
+        columns.push_back({"q2", "law elastic, 3D: relative displacement along the second tangential direction"});
+        columns.push_back({"f2", "law elastic, 3D: tangential force along the second direction (|(f, f2)| <= mu fn)"});
+    }
+    if (signals >= 2) {
+        columns.push_back({"qn", "law elastic: normal relative displacement v = n^T y (positive closing)"});
+        columns.push_back({"fn", "law elastic: normal force N = max(0, N_0 - k_n g_0 + k_n v)"});
+        columns.push_back({"open", "law elastic: 1 where the contact is separated (N = 0), else 0"});
+    }
     return columns;
 }
 
@@ -76,14 +87,19 @@ int run(const CLI::App& command, const LoopOptions& o) {
     const PointSignals s = point_signals(hb, *at, static_cast<int>(contact - 1));
 
     io::OutputFile out(o.output.out);
-    const auto columns = loop_columns(hb.system().dofs());
+    const auto signals = s.q_directions.cols();
+    const auto columns = loop_columns(hb.system().dofs(), static_cast<int>(signals));
     for (std::size_t k = 0; k < columns.size(); ++k) out.stream() << (k ? "," : "") << columns[k].name;
     out.stream() << '\n';
     for (Eigen::Index j = 0; j < s.time.size(); ++j) {
         out.stream() << io::csv_field(s.time(j));
         for (Eigen::Index i = 0; i < s.y.cols(); ++i) out.stream() << ',' << io::csv_field(s.y(j, i));
         out.stream() << ',' << io::csv_field(s.q(j)) << ',' << io::csv_field(s.v(j)) << ',' << io::csv_field(s.f(j))
-                     << ',' << (s.phi(j) < 0.0 ? 1 : 0) << ',' << io::csv_field(s.f_series(j)) << '\n';
+                     << ',' << (s.phi(j) < 0.0 ? 1 : 0) << ',' << io::csv_field(s.f_series(j));
+        for (Eigen::Index a = 1; a < signals; ++a)
+            out.stream() << ',' << io::csv_field(s.q_directions(j, a)) << ',' << io::csv_field(s.f_directions(j, a));
+        if (signals >= 2) out.stream() << ',' << (s.f_directions(j, signals - 1) > 0.0 ? 0 : 1);
+        out.stream() << '\n';
     }
     if (!o.output.plot.empty()) {
         io::PlotSpec spec;
@@ -129,8 +145,8 @@ void add_flags(CLI::App& command, LoopOptions& o) {
         R"(Output: CSV with a header row, one row per time sample of one period (the AFT grid). Nondimensional
 for the preset (t in 1/omega1, y in x_s = N/k1, f in N).
 Columns:)",
-        loop_columns(2),
-        R"((y1, y2: one column per DOF of the system.) Exit code 1 when the branch does not reach w.)"));
+        loop_columns(2, 3),
+        R"((y1, y2: one column per DOF of the system; q2, f2 for a 3D contact of law elastic, qn, fn, open for every contact of law elastic.) Exit code 1 when the branch does not reach w.)"));
 }
 }  // namespace
 
