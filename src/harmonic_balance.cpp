@@ -433,6 +433,8 @@ double HarmonicBalance::amplitude_bound(const Eigen::VectorXd& x, double omega) 
                                           std::complex<double>(0.0, 1.0) * forces.row(2 * k).transpose());
             bound += receptance_->response_bound(k, omega, lambda, k == load_harmonic());
         }
+        // the static load's deflection K'^-1 F_s on harmonic 0 (dofs() adds it)
+        if (static_deflection_.size() > 0) bound += static_deflection_.cwiseAbs().maxCoeff();
         return bound;
     }
     const Eigen::MatrixXd y = dofs(x, omega);

@@ -283,6 +283,26 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     std::unique_ptr<Corrector> patient;  // more iterations for small steps that fail (below)
     std::unique_ptr<Corrector> rough;    // resonance_resolved's
     const double end = direction > 0 ? omega_high : omega_low;
+    // Moves the trace to an accepted point p with the tangent t_new there. Distances are
+    // relative to the current amplitude: a branch that grows by orders of magnitude (a sharp
+    // resonance) is not paced by the scale of its starting point. False (status amplitude_cap)
+    // when the amplitude cap is reached.
+    auto advance = [&](const SolutionPoint& p, const Eigen::VectorXd& t_new) {
+        out.points.push_back(p);
+        if (o.progress) o.progress(p.omega, static_cast<int>(result.points.size() + out.points.size()));
+        x = p.x;
+        omega = p.omega;
+        t = t_new;
+        const double new_scale = hb.unknown_scale(x);
+        t.head(n) *= x_scale / new_scale;
+        t.normalize();
+        x_scale = new_scale;
+        if (!(hb.amplitude_bound(x, omega) > o.max_amplitude)) return true;
+        out.status = ContinuationStatus::amplitude_cap;
+        if (out.points.back().kind == PointKind::regular) out.points.back().kind = PointKind::cap;
+        out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(omega);
+        return false;
+    };
     while (true) {
         if (static_cast<int>(out.points.size()) >= o.max_points) {
             out.status = ContinuationStatus::point_budget;
@@ -350,33 +370,16 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
                     Eigen::VectorXd along = Eigen::VectorXd::Zero(n + 1);
                     along(n) = sense;
                     const Eigen::VectorXd t_new = tangent(xq, wq, along);
-                    out.points.push_back(make_point(wq, xq, it, res, distance));
-                    if (o.progress) o.progress(wq, static_cast<int>(result.points.size() + out.points.size()));
                     ++corners;
                     ++result.crossed_corners;
-                    x = xq;
-                    omega = wq;
-                    t = t_new;
-                    const double new_scale = hb.unknown_scale(x);
-                    t.head(n) *= x_scale / new_scale;
-                    t.normalize();
-                    x_scale = new_scale;
                     h = o.initial_step;
                     leaps = 0;
                     rejected_turn = -1.0;
                     crossed = true;
+                    if (!advance(make_point(wq, xq, it, res, distance), t_new)) return out;
                     break;
                 }
-                if (crossed) {
-                    if (hb.amplitude_bound(x, omega) > o.max_amplitude) {
-                        out.status = ContinuationStatus::amplitude_cap;
-                        out.points.back().kind = PointKind::cap;
-                        out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " +
-                                      format_number(omega);
-                        return out;
-                    }
-                    continue;
-                }
+                if (crossed) continue;
             }
             if (h < o.min_step) {
                 out.status = ContinuationStatus::min_step;
@@ -454,23 +457,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         leaps = 0;
         SolutionPoint p = make_point(wp, xp, it, res, h);
         if (t_new(n) * t(n) < 0.0) p.kind = PointKind::fold;
-        out.points.push_back(p);
-        if (o.progress) o.progress(wp, static_cast<int>(result.points.size() + out.points.size()));
-        x = xp;
-        omega = wp;
-        t = t_new;
-        // Distances are relative to the current amplitude: a branch that grows by orders of
-        // magnitude (a sharp resonance) is not paced by the scale of its starting point.
-        const double new_scale = hb.unknown_scale(x);
-        t.head(n) *= x_scale / new_scale;
-        t.normalize();
-        x_scale = new_scale;
-        if (hb.amplitude_bound(x, omega) > o.max_amplitude) {
-            out.status = ContinuationStatus::amplitude_cap;
-            if (out.points.back().kind == PointKind::regular) out.points.back().kind = PointKind::cap;
-            out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(omega);
-            return out;
-        }
+        if (!advance(p, t_new)) return out;
         // Next step: grow after an easy correction, at most up to where the tangent would
         // turn by about 0.7 max_turn (the turn grows about linearly with the step; not at a
         // kink, whose turn does not depend on the step).
