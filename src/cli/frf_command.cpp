@@ -178,7 +178,9 @@ void add_flags(CLI::App& command, FrfOptions& o) {
         ->type_name("LIST");
     o.output.add_to(
         command, {"write the CSV to FILE instead of standard output",
-                   "write a JSON summary (parameters, solver statistics, peaks, folds, status, wall time) to FILE", "FILE",
+                   "write a JSON summary (parameters, solver statistics, peaks, folds, per-contact ranges, the "
+                   "static contact state under static_load and preloads, status, wall time) to FILE",
+                   "FILE",
                    "draw max over one period of |o(t)| of the first reported output o against w through gnuplot: the "
                    "branch in order, folds, transitions and samples marked; with --stability unstable parts dashed and "
                    "uncertain points marked (.png or .svg)",
