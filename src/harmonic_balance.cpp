@@ -7,7 +7,6 @@
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
-#include "hbf/static_state.hpp"
 #include "stopwatch.hpp"
 
 namespace hbf {
@@ -275,11 +274,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         for (int row : balanced_) balanced_index_.push_back(signal * n + row);
     unknowns_ = static_cast<int>(balanced_index_.size());
     if (build_fourier) fourier_ = std::make_unique<Fourier>(harmonics_, time_samples_);
-    if (build_fourier && has_static_problem(system_)) {
-        // The structure at rest under its static load and preloads: harmonic 0's first guess.
-        const StaticState s = static_state(system_);
-        if (s.ok) static_guess_ = s.displacement;
-    }
+    if (build_fourier && has_static_problem(system_)) rest_ = static_state(system_);
 }
 
 Eigen::VectorXd HarmonicBalance::all_harmonics(const Eigen::VectorXd& x) const {

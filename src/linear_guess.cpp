@@ -107,10 +107,11 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
             x(a * n + sin_row) = -u.imag();
         }
     Eigen::VectorXcd mean_forces;
-    if (static_guess_.size() > 0 && !sliding) {
+    if (rest_ && rest_->ok && !sliding) {
         // Harmonic 0 from the static state (static_state.hpp): the structure loaded before it vibrates.
+        const Eigen::VectorXd& rest = rest_->displacement;
         for (int a = 0; a < signals; ++a)
-            x(a * n) = condensed_ ? directions_[static_cast<std::size_t>(a)].dot(static_guess_) : static_guess_(a);
+            x(a * n) = condensed_ ? directions_[static_cast<std::size_t>(a)].dot(rest) : rest(a);
     } else if ((preload || system_.has_static_load()) && !odd_ && solve(0, amplitude, mean_forces))
         for (int a = 0; a < signals; ++a)
             if (std::isfinite(amplitude(a).real())) x(a * n) = amplitude(a).real();

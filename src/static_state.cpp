@@ -54,21 +54,6 @@ StaticState static_state(const System& system) {
             return out;
         }
     }
-    if (!(scale > 0.0)) {  // nothing loads the structure: it rests at y = 0
-        for (int c = 0; c < nc; ++c) {
-            const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
-            StaticContactState& s = out.contacts[static_cast<std::size_t>(c)];
-            StaticForce f;
-            s.relative = Eigen::VectorXd::Zero(directions[static_cast<std::size_t>(c)].cols());
-            contact_law(contact.law).static_force(contact, s.relative, f);
-            s.state = f.state;
-            s.force = f.force;
-            s.slider = f.slider;
-        }
-        out.ok = true;
-        return out;
-    }
-
     auto evaluate = [&](const Eigen::VectorXd& y, Evaluation& e) {
         e.residual = system.stiffness * y - load;
         e.forces.resize(static_cast<std::size_t>(nc));
@@ -139,14 +124,14 @@ StaticState static_state(const System& system) {
                           format_number(current.size / scale) +
                           " of the force scale (no static equilibrium under this load, or none near the unloaded state)";
             out.displacement = y;
-            out.residual = current.size / scale;
+            out.residual = scale > 0.0 ? current.size / scale : 0.0;
             return out;
         }
         y += t * step;
         current = std::move(trial);
     }
     out.displacement = y;
-    out.residual = current.size / scale;
+    out.residual = scale > 0.0 ? current.size / scale : 0.0;
     if (current.size > tolerance * scale) {
         out.message = "Newton's method did not reach " + format_number(tolerance) + " of the force scale in " +
                       std::to_string(max_iterations) + " steps (residual " + format_number(out.residual) + ")";

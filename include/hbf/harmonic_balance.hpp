@@ -32,6 +32,7 @@
 
 #include <Eigen/Dense>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,7 @@
 #include "hbf/friction.hpp"
 #include "hbf/model.hpp"
 #include "hbf/receptance.hpp"
+#include "hbf/static_state.hpp"
 
 namespace hbf {
 
@@ -114,6 +116,10 @@ public:
     bool odd_harmonics() const { return odd_; }
     /// Modes of the modal receptance in use (0: the direct solve).
     int modes() const { return modes_; }
+    /// The contacts' static state under the system's static load and preloads (static_state.hpp),
+    /// solved once by the constructor; null when the system has neither (has_static_problem).
+    /// Harmonic 0's first guess when solved.
+    const StaticState* rest_state() const { return rest_ ? &*rest_ : nullptr; }
     int harmonics() const { return harmonics_; }
     int time_samples() const { return time_samples_; }
     /// 2H + 1: the coefficients of one signal as relative(), state() and dofs() return them (in
@@ -221,9 +227,7 @@ private:
     // motion without friction) and K'^-1 F_s (the DOFs' part of it), K' the shifted stiffness;
     // empty without a static load.
     Eigen::VectorXd static_contact_, static_deflection_;
-    // The static state's y_s (static_state.hpp), harmonic 0's first guess; empty without a
-    // static load or preload, or where the static problem has no solution.
-    Eigen::VectorXd static_guess_;
+    std::optional<StaticState> rest_;  // rest_state()
     Eigen::MatrixXd row_scale_, row_scale_omega_; // 1 / |G_k,aa| and its omega-derivative ((H+1) x signals)
     std::string structure_failure_;
     std::vector<std::unique_ptr<FrictionModel>> models_;

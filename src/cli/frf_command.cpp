@@ -79,8 +79,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     }
     HarmonicBalance hb(system, settings.harmonic_balance);
     // The contacts' state under the static load and preloads alone (static_state.hpp).
-    std::optional<StaticState> rest;
-    if (has_static_problem(system)) rest = static_state(system);
+    const StaticState* rest = hb.rest_state();
     ProgressLine progress(o.output.progress(), "frf");
     co.progress = [&progress](double omega, int points) {
         char text[64];
@@ -126,7 +125,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         summary = std::make_unique<io::OutputFile>(o.output.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
                               outputs, polish ? &*polish : nullptr, verdict.errors, verdict.warnings,
-                              verdict.notes, stability, rest ? &*rest : nullptr);
+                              verdict.notes, stability, rest);
     }
     std::unique_ptr<io::OutputFile> overlay_file;
     if (!overlay.empty()) {
