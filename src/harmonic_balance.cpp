@@ -110,8 +110,9 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     for (int c = 0; c < nc; ++c) {
         Contact& contact = system_.contacts[static_cast<std::size_t>(c)];
         // Automatic parameters (exact Coulomb's lagrangian_penalty) from the structure along w.
+        const auto first = scales.begin() + signal_first_[static_cast<std::size_t>(c)];
         contact_law(contact.law)
-            .complete(contact, scales[static_cast<std::size_t>(signal_first_[static_cast<std::size_t>(c)])],
+            .complete(contact, std::vector<DirectionScale>(first, first + signal_count_[static_cast<std::size_t>(c)]),
                       "contact " + std::to_string(c + 1) + ": ");
         models_.push_back(make_friction_model(contact));
         if (models_.back()->signals() != signal_count_[static_cast<std::size_t>(c)])
@@ -242,6 +243,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     full_displacement_scale_ = k_max > 0.0 ? force_scale_ / k_max : force_scale_;
     for (const auto& model : models_) {
         state_offset_.push_back(model->state_signals() > 0 ? all_unknowns_ : -1);
+        state_count_.push_back(model->state_signals());
         all_unknowns_ += model->state_signals() * n;
     }
     // The residual's Jacobian is dense (all_unknowns_^2 doubles, held by the corrector, Ceres
@@ -481,8 +483,9 @@ Eigen::VectorXd HarmonicBalance::embed_harmonics(const Eigen::VectorXd& low, int
 }
 
 Eigen::VectorXd HarmonicBalance::state_all(const Eigen::VectorXd& x, int contact) const {
-    const int offset = state_offset_[static_cast<std::size_t>(contact)];
-    return offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, coefficients()));
+    const auto c = static_cast<std::size_t>(contact);
+    const int offset = state_offset_[c];
+    return offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, state_count_[c] * coefficients()));
 }
 
 Eigen::VectorXd HarmonicBalance::force_samples(const Eigen::VectorXd& x, double omega, int contact) {
@@ -572,8 +575,9 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
     for (int d = 0; d < nc; ++d) {
         const auto dd = static_cast<std::size_t>(d);
         const int offset = state_offset_[dd], first = signal_first_[dd], count = signal_count_[dd];
+        const int states = state_count_[dd] * n;
         const Eigen::VectorXd q = x.segment(first * n, count * n);
-        const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
+        const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, states));
         FrictionEvaluation& e = scratch_;
         models_[dd]->evaluate(*fourier_, omega, q, z, e, want_jacobian);
         shift_force(d, omega, q, e, want_jacobian);
@@ -586,7 +590,8 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
                 add_receptance(a, b, e.force.segment(j * n, n), rq.col(a));
                 if (jacobian) {
                     add_receptance(a, b, e.force_q.middleRows(j * n, n), jacobian->block(a * n, first * n, n, count * n));
-                    if (offset >= 0) add_receptance(a, b, e.force_z, jacobian->block(a * n, offset, n, n));
+                    if (offset >= 0)
+                        add_receptance(a, b, e.force_z.middleRows(j * n, n), jacobian->block(a * n, offset, n, states));
                 }
                 if (jacobian_omega) {
                     auto column = jacobian_omega->segment(a * n, n);
@@ -595,12 +600,12 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
                 }
             }
         if (offset >= 0) {
-            residual.segment(offset, n) = e.state_residual;
+            residual.segment(offset, states) = e.state_residual;
             if (jacobian) {
-                jacobian->block(offset, first * n, n, n) = e.state_q;
-                jacobian->block(offset, offset, n, n) = e.state_z;
+                jacobian->block(offset, first * n, states, count * n) = e.state_q;
+                jacobian->block(offset, offset, states, states) = e.state_z;
             }
-            if (jacobian_omega) jacobian_omega->segment(offset, n) = e.state_omega;
+            if (jacobian_omega) jacobian_omega->segment(offset, states) = e.state_omega;
         }
         statistics_.jacobian_seconds += watch.lap();
     }
@@ -656,8 +661,8 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
     for (std::size_t c = 0; c < models_.size(); ++c) {
         const int first = signal_first_[c], count = signal_count_[c];
         const Eigen::VectorXd q = relative_all(x, static_cast<int>(c));
-        const int offset = state_offset_[c];
-        const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, n));
+        const int offset = state_offset_[c], states = state_count_[c] * n;
+        const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, states));
         FrictionEvaluation& e = scratch_;
         models_[c]->evaluate(*fourier_, omega, q, z, e, want_jacobian);
         const double model_seconds = watch.lap();
@@ -679,18 +684,20 @@ void HarmonicBalance::evaluate_full(const Eigen::VectorXd& x, double omega, Eige
                 }
             }
         }
-        if (offset >= 0) {  // a state law: one direction
-            const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(first)];
-            residual.segment(offset, n) = e.state_residual;
+        if (offset >= 0) {  // the state signals: rows of their own, read by every direction
+            residual.segment(offset, states) = e.state_residual;
             if (jacobian) {
-                for (int i = 0; i < dofs; ++i) {
-                    if (w(i) == 0.0) continue;
-                    jacobian->block(i * n, offset, n, n) += w(i) * e.force_z;
-                    jacobian->block(offset, i * n, n, n) += w(i) * e.state_q;
+                for (int a = 0; a < count; ++a) {
+                    const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(first + a)];
+                    for (int i = 0; i < dofs; ++i) {
+                        if (w(i) == 0.0) continue;
+                        jacobian->block(i * n, offset, n, states) += w(i) * e.force_z.middleRows(a * n, n);
+                        jacobian->block(offset, i * n, states, n) += w(i) * e.state_q.middleCols(a * n, n);
+                    }
                 }
-                jacobian->block(offset, offset, n, n) += e.state_z;
+                jacobian->block(offset, offset, states, states) += e.state_z;
             }
-            if (jacobian_omega) jacobian_omega->segment(offset, n) += e.state_omega;
+            if (jacobian_omega) jacobian_omega->segment(offset, states) += e.state_omega;
         }
         statistics_.jacobian_seconds += watch.lap();  // residual/Jacobian assembly of this contact
     }

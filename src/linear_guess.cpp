@@ -119,11 +119,14 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
         if (state_offset_[c] < 0) continue;
         const Contact& k = system_.contacts[c];
         const Eigen::VectorXd q = relative_all(x, static_cast<int>(c));
+        const int first = signal_first_[c], count = signal_count_[c];
+        Eigen::VectorXd mean = Eigen::VectorXd::Zero(count);
+        if (mean_forces.size() == ns) mean = mean_forces.segment(first, count).real();
         // zero so far; sliding: the friction force at its limit in phase with the velocity
         // (harmonic h of F_c sign(v) is (4/pi) F_c v / |v|, v ~ (s_h cos - c_h sin) for v on
         // harmonic h); stuck: the law's state in the linear stuck response
-        contact_law(k.law).guess_state(k, sliding, q, cos_row, force(signal_first_[c]),
-                                       x.segment(state_offset_[c], n));
+        contact_law(k.law).guess_state(k, sliding, q, cos_row, force.segment(first, count), mean,
+                                       x.segment(state_offset_[c], state_count_[c] * n));
     }
     if (!odd_) return x;
     Eigen::VectorXd balanced(unknowns_);

@@ -14,6 +14,7 @@
 #include "hbf/error.hpp"
 #include "stopwatch.hpp"
 #include "time_integration/elastic_contacts.hpp"
+#include "time_integration/unilateral_contacts.hpp"
 #include "time_integration/integrator.hpp"
 #include "time_integration/massless.hpp"
 
@@ -121,6 +122,7 @@ std::string PeriodicResponse::summary() const {
 
 int state_size(const System& system) {
     if (detail::has_elastic_contacts(system)) return detail::elastic_state_size(system);
+    if (detail::has_unilateral_contacts(system)) return 2 * system.dofs();
     return 2 * system.dofs() + 2 * time_domain_elements(system);
 }
 
@@ -287,6 +289,7 @@ PhysicsCheck check_physics(const System& system, double omega, const PeriodRecor
 Eigen::VectorXd linear_stuck_state(const System& given, double omega) {
     given.validate();
     if (detail::has_elastic_contacts(given)) return detail::elastic_linear_stuck_state(given, omega);
+    if (detail::has_unilateral_contacts(given)) return Eigen::VectorXd::Zero(2 * given.dofs());  // at rest
     const TimeDomainView view(given);  // the state is per time-domain element (contact.hpp)
     const System& system = view.system();
     require_positive(omega, "w", "excitation frequency");
@@ -315,6 +318,12 @@ PeriodicResponse integrate_steady_state(const System& given, double omega, const
     if (detail::has_elastic_contacts(given)) {  // contacts with a normal direction: their own integrator
         detail::Stopwatch clock;
         PeriodicResponse r = detail::integrate_elastic_contacts(given, omega, options, initial_state);
+        r.seconds = clock.lap();
+        return r;
+    }
+    if (detail::has_unilateral_contacts(given)) {  // rigid contacts on massless nodes: their own integrator
+        detail::Stopwatch clock;
+        PeriodicResponse r = detail::integrate_unilateral_contacts(given, omega, options, initial_state);
         r.seconds = clock.lap();
         return r;
     }

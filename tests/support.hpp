@@ -85,6 +85,18 @@ inline TimeIntegrationOptions tight_time_integration() {
     return o;
 }
 
+/// Harmonic balance's start from an integrated orbit (condensed, no state signals): its
+/// relative displacements along `directions` (N x signals), on the H harmonics of `hb`.
+inline Eigen::VectorXd from_orbit(HarmonicBalance& hb, const PeriodicResponse& orbit, const Eigen::MatrixXd& directions) {
+    Fourier fourier(hb.harmonics(), static_cast<int>(orbit.time.size()));
+    Eigen::VectorXd x(hb.unknowns()), coefficients(fourier.size());
+    for (Eigen::Index a = 0; a < directions.cols(); ++a) {
+        fourier.to_coefficients(orbit.displacement * directions.col(a), coefficients);
+        x.segment(a * hb.coefficients(), hb.coefficients()) = coefficients;
+    }
+    return x;
+}
+
 }  // namespace hbf::test
 
 namespace hbf::test {

@@ -114,6 +114,12 @@ struct DirectionScale {
 ///   slider:  the slider position s of a spring in series with a Coulomb slider (jenkins).
 enum class TimeState { none, bristle, slider };
 
+/// The time integrator of a law: the general one (with the event-exact solver: time_domain()),
+/// or a law's own: elastic_contacts (law elastic: CVODE with the contact modes as events),
+/// unilateral_contacts (law unilateral: a complementarity solve per step on the massless
+/// contact coordinates); time_integration.hpp.
+enum class TimeIntegrator { general, elastic_contacts, unilateral_contacts };
+
 /// What the time-domain solvers (time integration, the event-exact solver) integrate. A law
 /// with exact stick is made of event-driven elements, each a contact whose law is one of the
 /// two primitives below (time_elements); a smooth law is integrated as itself, by its
@@ -161,6 +167,9 @@ public:
     /// For a law without them, each refuses the system up front, naming the law
     /// (refuse_time_domain). Law elastic: false (time integration has its own integrator for it).
     virtual bool time_domain() const { return true; }
+    /// The integrator time integration uses for the law (TimeIntegrator above); the default is
+    /// the general one, which needs time_domain().
+    virtual TimeIntegrator time_integrator() const { return TimeIntegrator::general; }
     /// The periodic force by AFT (harmonic balance). Throws InvalidInput for parameters the
     /// model cannot take (exact Coulomb: lagrangian_penalty must be > 0).
     virtual std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const = 0;
@@ -171,17 +180,21 @@ public:
     virtual bool static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const;
     /// The local linearisation (smooth laws); the default throws InvalidInput.
     virtual LocalLinearization linearize(const Contact& contact, double v, double z) const;
-    /// Harmonic balance's first guess of the law's state signal (laws whose periodic_model has
-    /// state_signals() == 1), on the load harmonic's rows cos_row, cos_row + 1 of z, given the
-    /// relative displacement's coefficients q: sliding, the state of a force at its limit in
-    /// phase with the velocity; stuck, the state of the stuck linear response, whose complex
-    /// force amplitude is `stuck_force`. The default leaves z at zero.
+    /// Harmonic balance's first guess of the law's state signals (laws whose periodic_model has
+    /// state_signals() > 0: z stacks them, 2H+1 coefficients each), on the load harmonic's rows
+    /// cos_row, cos_row + 1 (and row 0) of each, given the relative displacements' coefficients
+    /// q: sliding, the state of a force at its limit in phase with the velocity; stuck, the state
+    /// of the stuck linear response, whose complex force amplitudes along the contact's
+    /// directions are `stuck_forces` and whose mean forces (harmonic 0, where a static load or a
+    /// preload is solved; else 0) are `mean_forces`. The default leaves z at zero.
     virtual void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
-                             std::complex<double> stuck_force, Eigen::Ref<Eigen::VectorXd> z) const;
+                             const Eigen::VectorXcd& stuck_forces, const Eigen::VectorXd& mean_forces,
+                             Eigen::Ref<Eigen::VectorXd> z) const;
     /// Fills the parameters harmonic balance chooses when they are 0 (exact Coulomb's
     /// lagrangian_penalty), and refuses a chosen one outside the range measured to converge,
-    /// naming it after `where` ("contact 1: "). The default does nothing.
-    virtual void complete(Contact& contact, const DirectionScale& scale, const std::string& where) const;
+    /// naming it after `where` ("contact 1: "); `scales` are the structure along each of the
+    /// contact's directions (System::contact_directions' order). The default does nothing.
+    virtual void complete(Contact& contact, const std::vector<DirectionScale>& scales, const std::string& where) const;
     /// The paper's absorber preset (model.hpp: friction_absorber, PresetParameter): the symbols
     /// of the preset parameters the law reads ("wb", "xi", ...), in the order they are checked.
     virtual std::vector<std::string> preset_parameters() const { return {}; }

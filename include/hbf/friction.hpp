@@ -45,13 +45,15 @@ struct FrictionEvaluation {
 class FrictionModel {
 public:
     virtual ~FrictionModel() = default;
-    /// Number of internal-state signals this law adds to the unknowns (0 or 1).
+    /// Number of internal-state signals this law adds to the unknowns, 2H+1 coefficients each
+    /// (0; 1 for exact Coulomb's multiplier and the bristle; one per direction for law
+    /// unilateral's multipliers). z and state_residual stack them; force_z is
+    /// (signals x state_signals) blocks, state_q (state_signals x signals) blocks.
     virtual int state_signals() const = 0;
     /// Number of relative displacements the contact sees (System::contact_directions): 1 for
     /// the laws along one direction; 2 or 3 for the elements with a normal direction (the
     /// tangential ones, then the normal one). q and force stack their coefficients, 2H+1 each,
-    /// in that order, and force_q is (signals (2H+1)) square. Laws with more than one signal
-    /// have no state signal.
+    /// in that order, and force_q is (signals (2H+1)) square.
     virtual int signals() const { return 1; }
     /// Fills `out` from the coefficients of q and z (z is empty when state_signals() == 0).
     /// Jacobians are computed only when `jacobian` is true.

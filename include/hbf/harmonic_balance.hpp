@@ -232,6 +232,7 @@ private:
     std::string structure_failure_;
     std::vector<std::unique_ptr<FrictionModel>> models_;
     std::vector<int> state_offset_;  // start of each contact's state block, -1 if none
+    std::vector<int> state_count_;   // its state signals (FrictionModel::state_signals), n coefficients each
     // The signals: one relative displacement each, w_a^T y, contact c's directions being the
     // signals signal_first_[c] .. + signal_count_[c] - 1 (System::contact_directions).
     std::vector<Eigen::VectorXd> directions_;  // w_a, per signal

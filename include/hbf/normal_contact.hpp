@@ -42,6 +42,8 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "hbf/fourier.hpp"
@@ -90,5 +92,14 @@ void evaluate(const ElasticContact& element, Fourier& fourier, const Eigen::Vect
 /// System::validate: k_t = stiffness, n_0 = preload - normal_stiffness gap, d = 2 with a
 /// second_direction.
 ElasticContact elastic_element(const Contact& contact);
+
+/// The directions of a contact with a normal direction (laws elastic and unilateral), named
+/// for messages: the tangential one (Contact::direction, or its dof / other_dof), the
+/// second_direction (3D), the normal_direction; empty without a normal_direction.
+std::vector<std::pair<std::string, Eigen::VectorXd>> contact_direction_vectors(const Contact& contact);
+/// Throws InvalidInput, naming the key after `where` and the law, unless the contact has a
+/// normal_direction, its directions are orthogonal (to 1e-12) and its two tangential ones (3D)
+/// of equal length (the friction cone is circular in the tangential plane).
+void validate_normal_directions(const Contact& contact, const std::string& where, const char* law);
 
 }  // namespace hbf

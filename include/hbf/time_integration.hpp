@@ -36,6 +36,11 @@
 //   and separation events found by root finding. Its state is [y, y', sliders, modes] (mode 0
 //   separated, 1 stuck, 2 slipping), state_size() long; every contact must be elastic and M
 //   positive definite.
+// * unilateral (rigid Signorini + Coulomb contacts on massless coordinates): their own
+//   fixed-step integrator (src/time_integration/unilateral_contacts.hpp): velocity Verlet on
+//   the DOFs with mass and, at every step, the complementarity problem of the massless contact
+//   nodes solved exactly (semi-smooth Newton); at least 16 samples_per_period steps per period.
+//   Its state is [y, y'] (2N); every contact must be unilateral, on massless undamped DOFs.
 //
 // A cap on events per period guards against chattering (reported, never a hang).
 //
@@ -231,7 +236,7 @@ struct PeriodicResponse {
 };
 
 /// 2N + 2 n_c (see PeriodicResponse); with law elastic 2N + sum_c (d_c + 1) (d_c tangential
-/// directions: the sliders, and one mode per contact).
+/// directions: the sliders, and one mode per contact); with law unilateral 2N.
 int state_size(const System& system);
 
 /// The displacement scale of the steady state at omega (units of y), from which the absolute
@@ -250,7 +255,7 @@ double response_scale(const System& system, double omega);
 /// pre-sliding spring sigma0 and damper sigma1 + sigma2 (z = q), coulomb-reg as the damper
 /// F_c / eps; modes 0. It is the exact periodic solution when the contacts really stick
 /// (coulomb, jenkins); otherwise a start close to the stick regime. Rest (zeros) at an
-/// undamped resonance of that linear system.
+/// undamped resonance of that linear system. With law unilateral: rest (zeros).
 Eigen::VectorXd linear_stuck_state(const System& system, double omega);
 
 /// Integrates from `initial_state` (nullptr: rest, modes stick) period by period until the

@@ -129,7 +129,8 @@ public:
     }
     /// eps = the contact direction's impedance sqrt(k m), lambda and eps v of the same order,
     /// capped at 30 times the impedance of the structure's static deflection shape (below).
-    void complete(Contact& c, const DirectionScale& scale, const std::string& where) const override {
+    void complete(Contact& c, const std::vector<DirectionScale>& scales, const std::string& where) const override {
+        const DirectionScale& scale = scales.front();
         const double k = scale.stiffness, m = scale.mass;
         double automatic = k > 0.0 ? std::sqrt(k * m) : m;
         if (!(automatic > 0.0))  // a massless contact on a massless, unsprung direction
@@ -160,7 +161,9 @@ public:
     /// The state is the force lambda: sliding, (4/pi) F_c in phase with the velocity (harmonic h
     /// of F_c sign(v) for v on harmonic h); stuck, the stuck response's constraint force.
     void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
-                     std::complex<double> stuck_force, Eigen::Ref<Eigen::VectorXd> z) const override {
+                     const Eigen::VectorXcd& stuck_forces, const Eigen::VectorXd&,
+                     Eigen::Ref<Eigen::VectorXd> z) const override {
+        const std::complex<double> stuck_force = stuck_forces(0);
         const double speed = std::hypot(q(cos_row), q(cos_row + 1));
         if (sliding && speed > 0.0) {
             const double limit = 4.0 / M_PI * contact.friction_limit;

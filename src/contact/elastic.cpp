@@ -128,6 +128,7 @@ public:
     bool has_friction_limit() const override { return false; }
     bool has_preset() const override { return false; }
     bool time_domain() const override { return false; }
+    TimeIntegrator time_integrator() const override { return TimeIntegrator::elastic_contacts; }
     TimeState time_state() const override { return TimeState::none; }
     StuckElement stuck(const Contact& contact) const override { return stuck_directions(contact).front(); }
     std::vector<StuckElement> stuck_directions(const Contact& contact) const override {
@@ -186,42 +187,52 @@ public:
         if (preload != contact.values.end() && gap != contact.values.end() && preload->second > 0.0 && gap->second > 0.0)
             throw InvalidInput(where + "preload = " + format_number(preload->second) + " is given with gap = " +
                                format_number(gap->second) + ": allowed one of them (a preloaded contact is closed)");
-        const auto normal = contact.lists.find(normal_key);
-        if (normal == contact.lists.end())
-            throw InvalidInput(where + normal_key + " is missing: law elastic needs the normal direction, a vector over "
-                               "the model's coordinates orthogonal to the tangential one");
-        // The directions (System::validate checked their sizes): orthogonal, and the two
-        // tangential ones of equal length.
-        const auto size = static_cast<Eigen::Index>(normal->second.size());
-        Eigen::VectorXd tangential = contact.direction;
-        if (tangential.size() == 0) {
-            tangential = Eigen::VectorXd::Zero(size);
-            if (contact.dof >= 0 && contact.dof < size) tangential(contact.dof) = 1.0;
-            if (contact.other_dof >= 0 && contact.other_dof < size) tangential(contact.other_dof) = -1.0;
-        }
-        std::vector<std::pair<std::string, Eigen::VectorXd>> directions = {{"the tangential direction", tangential}};
-        if (const auto second = contact.lists.find(second_key); second != contact.lists.end())
-            directions.emplace_back(second_key, Eigen::Map<const Eigen::VectorXd>(second->second.data(), size));
-        directions.emplace_back(normal_key, Eigen::Map<const Eigen::VectorXd>(normal->second.data(), size));
-        for (std::size_t a = 0; a < directions.size(); ++a)
-            for (std::size_t b = a + 1; b < directions.size(); ++b) {
-                const Eigen::VectorXd &u = directions[a].second, &v = directions[b].second;
-                if (u.size() != v.size() || std::abs(u.dot(v)) > 1e-12 * u.norm() * v.norm())
-                    throw InvalidInput(where + directions[b].first + " is not orthogonal to " + directions[a].first +
-                                       " (cosine " + format_number(u.dot(v) / (u.norm() * v.norm())) +
-                                       "): allowed orthogonal directions, to 1e-12");
-            }
-        if (directions.size() == 3) {
-            const double a = directions[0].second.norm(), b = directions[1].second.norm();
-            if (std::abs(a - b) > 1e-12 * std::max(a, b))
-                throw InvalidInput(where + second_key + " has length " + format_number(b) +
-                                   " and the tangential direction " + format_number(a) +
-                                   ": allowed equal lengths (the friction cone is circular in the tangential plane)");
-        }
+        validate_normal_directions(contact, where, "elastic");
     }
 };
 
 }  // namespace
+
+std::vector<std::pair<std::string, Eigen::VectorXd>> contact_direction_vectors(const Contact& contact) {
+    const auto normal = contact.lists.find(normal_key);
+    if (normal == contact.lists.end()) return {};
+    const auto size = static_cast<Eigen::Index>(normal->second.size());
+    Eigen::VectorXd tangential = contact.direction;
+    if (tangential.size() == 0) {
+        tangential = Eigen::VectorXd::Zero(size);
+        if (contact.dof >= 0 && contact.dof < size) tangential(contact.dof) = 1.0;
+        if (contact.other_dof >= 0 && contact.other_dof < size) tangential(contact.other_dof) = -1.0;
+    }
+    std::vector<std::pair<std::string, Eigen::VectorXd>> directions = {{"the tangential direction", tangential}};
+    if (const auto second = contact.lists.find(second_key); second != contact.lists.end())
+        directions.emplace_back(second_key, Eigen::Map<const Eigen::VectorXd>(second->second.data(), size));
+    directions.emplace_back(normal_key, Eigen::Map<const Eigen::VectorXd>(normal->second.data(), size));
+    return directions;
+}
+
+void validate_normal_directions(const Contact& contact, const std::string& where, const char* law) {
+    if (!contact.lists.count(normal_key))
+        throw InvalidInput(where + normal_key + " is missing: law " + law + " needs the normal direction, a vector over "
+                           "the model's coordinates orthogonal to the tangential one");
+    // The directions (System::validate checked their sizes): orthogonal, and the two
+    // tangential ones of equal length.
+    const auto directions = contact_direction_vectors(contact);
+    for (std::size_t a = 0; a < directions.size(); ++a)
+        for (std::size_t b = a + 1; b < directions.size(); ++b) {
+            const Eigen::VectorXd &u = directions[a].second, &v = directions[b].second;
+            if (u.size() != v.size() || std::abs(u.dot(v)) > 1e-12 * u.norm() * v.norm())
+                throw InvalidInput(where + directions[b].first + " is not orthogonal to " + directions[a].first +
+                                   " (cosine " + format_number(u.dot(v) / (u.norm() * v.norm())) +
+                                   "): allowed orthogonal directions, to 1e-12");
+        }
+    if (directions.size() == 3) {
+        const double a = directions[0].second.norm(), b = directions[1].second.norm();
+        if (std::abs(a - b) > 1e-12 * std::max(a, b))
+            throw InvalidInput(where + second_key + " has length " + format_number(b) +
+                               " and the tangential direction " + format_number(a) +
+                               ": allowed equal lengths (the friction cone is circular in the tangential plane)");
+    }
+}
 
 ElasticContact elastic_element(const Contact& c) {
     ElasticContact e;

@@ -69,7 +69,7 @@ public:
         return detail::bristle_time_margin(contact, v, z);
     }
     void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
-                     std::complex<double>, Eigen::Ref<Eigen::VectorXd> z) const override {
+                     const Eigen::VectorXcd&, const Eigen::VectorXd&, Eigen::Ref<Eigen::VectorXd> z) const override {
         detail::bristle_guess(contact, sliding, q, cos_row, z);
     }
 };

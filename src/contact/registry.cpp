@@ -17,6 +17,7 @@ const ContactLaw& coulomb_regularized_law();
 const ContactLaw& jenkins_law();
 const ContactLaw& iwan_law();
 const ContactLaw& elastic_law();
+const ContactLaw& unilateral_law();
 
 const std::vector<const ContactLaw*>& contact_laws() {
     static const std::vector<const ContactLaw*> laws = {
@@ -27,6 +28,7 @@ const std::vector<const ContactLaw*>& contact_laws() {
         &jenkins_law(),
         &iwan_law(),
         &elastic_law(),
+        &unilateral_law(),
     };
     static const bool unique = [] {
         for (std::size_t a = 0; a < laws.size(); ++a)
@@ -141,8 +143,8 @@ LocalLinearization ContactLaw::linearize(const Contact&, double, double) const {
                        " (smooth laws)");
 }
 
-void ContactLaw::guess_state(const Contact&, bool, const Eigen::VectorXd&, int, std::complex<double>,
-                             Eigen::Ref<Eigen::VectorXd>) const {}
+void ContactLaw::guess_state(const Contact&, bool, const Eigen::VectorXd&, int, const Eigen::VectorXcd&,
+                             const Eigen::VectorXd&, Eigen::Ref<Eigen::VectorXd>) const {}
 
 bool ContactLaw::static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const {
     if (!exact_stick() || time_state() != TimeState::slider || q.size() != 1) return false;
@@ -166,7 +168,7 @@ bool ContactLaw::static_force(const Contact& contact, const Eigen::VectorXd& q, 
     return true;
 }
 
-void ContactLaw::complete(Contact&, const DirectionScale&, const std::string&) const {}
+void ContactLaw::complete(Contact&, const std::vector<DirectionScale>&, const std::string&) const {}
 
 void ContactLaw::validate(const Contact& contact, const std::string& where) const {
     for (const LawParameter& p : parameters()) {

@@ -251,7 +251,7 @@ private:
             double* ds = dx + 2 * n_ + e.first;
             const int mode = mode_[static_cast<std::size_t>(c)];
             for (int j = 0; j < e.d; ++j)
-                ds[j] = mode == separated ? l.du(j)
+                ds[j] = mode == separated || e.mu == 0.0 ? l.du(j)  // mu = 0: no tangential force
                         : mode == stuck   ? 0.0
                         : l.trial > 0.0   ? l.lambda * (l.u(j) - l.s(j)) * e.kt / l.trial
                                           : 0.0;
@@ -283,7 +283,7 @@ private:
                     g[2 * c + 1] = closing;
                     break;
                 default:
-                    g[2 * c] = l.lambda;
+                    g[2 * c] = e.mu == 0.0 ? 1.0 : l.lambda;  // mu = 0 slips freely while closed
                     g[2 * c + 1] = closing;
             }
         }
@@ -298,8 +298,12 @@ private:
         double* s = x + 2 * n_ + e.first;
         const Eigen::Map<const Eigen::VectorXd> y(x, n_);
         const Eigen::VectorXd u = e.tangential.transpose() * y;
-        if (mode == separated) {  // closing: stuck with an unloaded spring
-            mode = stuck;
+        if (mode == separated) {
+            // closing with an unloaded spring: it sticks unless the trial force k_t |u'| grows
+            // faster than the cone mu k_n v' (then it slips at once: the stick margin, 0 at
+            // closing, would fall without a sign change, which root finding cannot see)
+            const Local l = local(c, x);
+            mode = e.kt * l.du.norm() > e.mu * e.kn * l.dv ? slipping : stuck;
             for (int j = 0; j < e.d; ++j) s[j] = u(j);
         } else if (opening) {
             mode = separated;
@@ -327,6 +331,11 @@ private:
             return;
         }
         if (mode == separated) mode = stuck;
+        if (e.mu == 0.0) {  // no tangential force: the slider follows u
+            mode = slipping;
+            for (int j = 0; j < e.d; ++j) s[j] = u(j);
+            return;
+        }
         const Eigen::VectorXd r = u - Eigen::Map<const Eigen::VectorXd>(s, e.d);
         const double limit = e.mu * normal / e.kt;
         if (r.norm() > limit) {  // beyond the cone: onto it
@@ -365,7 +374,8 @@ private:
     N_Vector absolute_ = nullptr, dky_ = nullptr;
 };
 
-/// max |y| of a periodic sampled signal, refined by a parabola through the largest sample.
+}  // namespace
+
 double refined_max(const Eigen::VectorXd& y) {
     const Eigen::Index n = y.size();
     Eigen::Index j = 0;
@@ -377,11 +387,10 @@ double refined_max(const Eigen::VectorXd& y) {
     return b - 0.25 * (a - c) * offset;
 }
 
-}  // namespace
 
 bool has_elastic_contacts(const System& system) {
     return std::any_of(system.contacts.begin(), system.contacts.end(),
-                       [&](const Contact& c) { return system.contact_directions(c).cols() > 1; });
+                       [](const Contact& c) { return contact_law(c.law).time_integrator() == TimeIntegrator::elastic_contacts; });
 }
 
 int elastic_state_size(const System& system) {
@@ -422,7 +431,7 @@ Eigen::VectorXd elastic_linear_stuck_state(const System& system, double omega) {
 PeriodicResponse integrate_elastic_contacts(const System& system, double omega, const TimeIntegrationOptions& options,
                                             const Eigen::VectorXd* initial_state) {
     for (std::size_t c = 0; c < system.contacts.size(); ++c)
-        if (system.contact_directions(system.contacts[c]).cols() < 2)
+        if (contact_law(system.contacts[c].law).time_integrator() != TimeIntegrator::elastic_contacts)
             throw InvalidInput("contact " + std::to_string(c + 1) + ": law = " + to_string(system.contacts[c].law) +
                                " with contacts of law elastic: time integration takes law elastic alone (allowed: "
                                "every contact elastic, or no elastic contact)");

@@ -49,4 +49,8 @@ Eigen::VectorXd elastic_linear_stuck_state(const System& system, double omega);
 PeriodicResponse integrate_elastic_contacts(const System& system, double omega, const TimeIntegrationOptions& options,
                                             const Eigen::VectorXd* initial_state);
 
+/// max |y| of a periodic sampled signal, refined by a parabola through the largest sample (and
+/// its neighbours).
+double refined_max(const Eigen::VectorXd& y);
+
 }  // namespace hbf::detail

@@ -1,0 +1,381 @@
+// hbfriction — contact law `unilateral`: rigid unilateral contact with Coulomb friction
+// (Signorini + Coulomb) on massless contact coordinates, by the dynamic Lagrangian.
+//
+// Definition: along the contact's tangential direction(s) u (w_t^T y; in 3D also the
+// second_direction) and its normal direction v (normal_direction^T y, positive closing), with
+// the initial gap g_0 >= 0 and the friction coefficient mu >= 0, the forces (T, N) on the
+// structure (along w_t and the normal direction, as every law's force f along w) satisfy
+//   Signorini:  N >= 0,  g = g_0 - v >= 0,  N g = 0      (no penetration, no adhesion);
+//   Coulomb:    |T| <= mu N;  u' = 0 where |T| < mu N (stick);  T = mu N u' / |u'| where
+//               u' != 0 (slip along the force: maximal dissipation, a circular cone in 3D).
+// Open (g > 0): N = 0 and T = 0. The contact is rigid: while closed, v = g_0 is held and N is a
+// constraint's multiplier; while stuck, u is held. On a coordinate with mass such a contact
+// impacts (velocity jumps, which a Fourier series cannot carry), so the law takes massless
+// contact coordinates only: every direction w must carry no inertia, w^T M w = 0 (a reduced
+// model's massless interface nodes, linked to the structure by its stiffness). A massless node
+// tied by springs k_t, k_n to a mass is then law elastic's element (its slider the node).
+// Parameters: friction_coefficient mu (>= 0), gap g_0 (>= 0, default 0), normal_direction
+// (required) and second_direction (3D), as for law elastic (orthogonal, the tangential ones of
+// equal length); lagrangian_penalty eps_t (tangential, force per velocity) and normal_penalty
+// eps_n (force per displacement), 0 = automatic (complete()). No friction_limit, no stiffness.
+// A preload is a static load (System::static_load) pushing the node onto its obstacle.
+// While stuck (harmonic balance's first guess): rigid along every direction when closed at rest
+// (g_0 = 0), released when open (g_0 > 0).
+//
+// Harmonic balance by the dynamic Lagrangian (Nacivet et al. 2003, here in the fixed-point form
+// of law coulomb): the forces lambda_T, lambda_N themselves are unknown signals (d + 1 state
+// signals) and the law is written as the projections
+//   lambda_N = max(0, a),                 a = lambda_N + eps_n (v - g_0),
+//   lambda_T = proj_{|.| <= mu max(0, a)} (lambda_T + eps_t u'),
+// which hold, for any eps_n, eps_t > 0, iff the Signorini and Coulomb conditions above do
+// (a <= 0: open, v <= g_0, lambda = 0; a > 0: v = g_0, and the tangential projection is
+// Coulomb's, as in coulomb.cpp, within the cone of radius mu lambda_N). Balanced like the
+// equations of motion: r = Lambda - P proj(E ...), with the force f = lambda. The Jacobian is
+// exact on each open/stick/slip pattern of the samples (semi-smooth). In permanent stick (every
+// sample stuck) the mean tangential force is not determined; its c0 row is replaced by
+//   2D: max_j (lambda_T,j - mu N_j) + min_j (lambda_T,j + mu N_j) = 0, the force centred between
+//       the cone's limits: law elastic's centred slider (normal_contact.hpp) when the node is
+//       tied to its structure by a spring;
+//   3D: mean lambda_T = 0 (rotation-equivariant; law elastic takes the largest-margin centre
+//       instead, which equals it for a centrally symmetric cycle).
+// Not smooth (no stability verdict), no exact-stick solver; the time-domain reference is its own
+// integrator with a complementarity solve per step (time_integration/unilateral_contacts.hpp).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "hbf/contact.hpp"
+#include "hbf/error.hpp"
+#include "hbf/normal_contact.hpp"
+#include "../stopwatch.hpp"
+
+namespace hbf {
+
+namespace {
+
+constexpr const char* normal_key = "normal_direction";
+constexpr const char* second_key = "second_direction";
+
+/// The law's parameters as the AFT reads them.
+struct Unilateral {
+    double mu = 0, gap = 0, eps_t = 0, eps_n = 0;
+    int d = 1;  // tangential directions
+};
+
+Unilateral unilateral_element(const Contact& c) {
+    Unilateral e;
+    e.mu = c.values.at("friction_coefficient");
+    const auto gap = c.values.find("gap");
+    e.gap = gap == c.values.end() ? 0.0 : gap->second;
+    e.eps_t = c.lagrangian_penalty;
+    const auto eps_n = c.values.find("normal_penalty");
+    e.eps_n = eps_n == c.values.end() ? 0.0 : eps_n->second;
+    e.d = c.lists.count(second_key) ? 2 : 1;
+    return e;
+}
+
+/// The samples of one evaluation: a = lambda_N + eps_n (v - g_0), t = lambda_T + eps_t u', and
+/// the projected forces.
+struct Samples {
+    Eigen::VectorXd a, normal;    // a_j, N*_j = max(0, a_j)
+    Eigen::MatrixXd t, force;     // t_j, the projected lambda_T,j (N_t x d)
+    Eigen::MatrixXd lambda;       // lambda_T,j (N_t x d)
+    std::vector<ContactState> state;
+};
+
+/// The dynamic Lagrangian for unilateral contact (see the top of this file).
+class UnilateralModel final : public FrictionModel {
+public:
+    explicit UnilateralModel(const Unilateral& e) : e_(e) {}
+    int state_signals() const override { return e_.d + 1; }
+    int signals() const override { return e_.d + 1; }
+
+    void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
+                  FrictionEvaluation& out, bool jacobian) const override {
+        const int n = fourier.size(), d = e_.d, m = (d + 1) * n;
+        const Samples s = samples(fourier, omega, q, z);
+        const int nt = fourier.time_samples();
+        Eigen::VectorXd projected(n);
+        out.state_residual = z;
+        for (int j = 0; j < d; ++j) {
+            fourier.to_coefficients(s.force.col(j), projected);
+            out.state_residual.segment(j * n, n) -= projected;
+        }
+        fourier.to_coefficients(s.normal, projected);
+        out.state_residual.segment(d * n, n) -= projected;
+        out.force = z;
+        const bool permanent_stick =
+            std::all_of(s.state.begin(), s.state.end(), [](ContactState c) { return c == ContactState::stuck; });
+        Eigen::Index high = 0, low = 0;
+        if (permanent_stick) {
+            // The mean tangential force is free in permanent stick (see the top of this file).
+            if (d == 1) {
+                const Eigen::VectorXd lt = s.lambda.col(0);
+                (lt - e_.mu * s.normal).maxCoeff(&high);
+                (lt + e_.mu * s.normal).minCoeff(&low);
+                out.state_residual(0) = 0.5 * (lt(high) - e_.mu * s.normal(high) + lt(low) + e_.mu * s.normal(low));
+            } else {
+                for (int j = 0; j < d; ++j) out.state_residual(j * n) = z(j * n);
+            }
+        }
+        out.jacobian_seconds = 0.0;
+        if (!jacobian) return;
+        detail::Stopwatch watch;
+        // Per sample: d proj_T / d t (d x d), d proj_T / d a (d), d N* / d a.
+        std::vector<Eigen::VectorXd> dtt(static_cast<std::size_t>(d * d), Eigen::VectorXd::Zero(nt));
+        std::vector<Eigen::VectorXd> dta(static_cast<std::size_t>(d), Eigen::VectorXd::Zero(nt));
+        Eigen::VectorXd dna = Eigen::VectorXd::Zero(nt);
+        for (int k = 0; k < nt; ++k) {
+            const auto state = s.state[static_cast<std::size_t>(k)];
+            if (state == ContactState::separated) continue;
+            dna(k) = 1.0;
+            if (state == ContactState::stuck) {
+                for (int j = 0; j < d; ++j) dtt[static_cast<std::size_t>(j * d + j)](k) = 1.0;
+                continue;
+            }
+            const Eigen::VectorXd t = s.t.row(k).transpose();
+            const double size = t.norm();
+            if (!(size > 0.0)) continue;
+            const Eigen::VectorXd direction = t / size;
+            const double radius = e_.mu * s.normal(k);
+            for (int i = 0; i < d; ++i) {
+                dta[static_cast<std::size_t>(i)](k) = e_.mu * direction(i);
+                for (int j = 0; j < d; ++j)
+                    dtt[static_cast<std::size_t>(i * d + j)](k) =
+                        radius / size * ((i == j ? 1.0 : 0.0) - direction(i) * direction(j));
+            }
+        }
+        const Eigen::MatrixXd& D1 = fourier.derivative();
+        out.state_z = Eigen::MatrixXd::Identity(m, m);
+        out.state_q = Eigen::MatrixXd::Zero(m, m);
+        out.state_omega = Eigen::VectorXd::Zero(m);
+        Eigen::MatrixXd product(n, n);
+        for (int i = 0; i < d; ++i) {
+            for (int j = 0; j < d; ++j) {  // through t_j = lambda_T,j + eps_t u_j'
+                fourier.multiplication_matrix(dtt[static_cast<std::size_t>(i * d + j)], product);
+                out.state_z.block(i * n, j * n, n, n) -= product;
+                out.state_q.block(i * n, j * n, n, n) = -e_.eps_t * omega * fourier.times_derivative(product);
+                out.state_omega.segment(i * n, n) -= e_.eps_t * (product * (D1 * q.segment(j * n, n)));
+            }
+            // through a = lambda_N + eps_n (v - g_0)
+            fourier.multiplication_matrix(dta[static_cast<std::size_t>(i)], product);
+            out.state_z.block(i * n, d * n, n, n) -= product;
+            out.state_q.block(i * n, d * n, n, n) = -e_.eps_n * product;
+        }
+        fourier.multiplication_matrix(dna, product);
+        out.state_z.block(d * n, d * n, n, n) -= product;
+        out.state_q.block(d * n, d * n, n, n) = -e_.eps_n * product;
+        if (permanent_stick) {
+            if (d == 1) {
+                const Eigen::MatrixXd& E = fourier.synthesis();
+                out.state_z.row(0).setZero();
+                out.state_q.row(0).setZero();
+                out.state_z.block(0, 0, 1, n) = 0.5 * (E.row(high) + E.row(low));
+                out.state_z.block(0, n, 1, n) = 0.5 * e_.mu * (E.row(low) - E.row(high));
+                out.state_q.block(0, n, 1, n) = 0.5 * e_.mu * e_.eps_n * (E.row(low) - E.row(high));
+            } else {
+                for (int j = 0; j < d; ++j) {
+                    out.state_z.row(j * n).setZero();
+                    out.state_q.row(j * n).setZero();
+                    out.state_z(j * n, j * n) = 1.0;
+                }
+            }
+            for (int j = 0; j < d; ++j) out.state_omega(j * n) = 0.0;
+        }
+        out.force_q = Eigen::MatrixXd::Zero(m, m);
+        out.force_z = Eigen::MatrixXd::Identity(m, m);
+        out.force_omega = Eigen::VectorXd::Zero(m);
+        out.jacobian_seconds = watch.lap();
+    }
+
+    /// The law's own forces: the projections (|T| <= mu N, N >= 0 at every sample), stacked
+    /// per direction; at a solution their H-harmonic series are z.
+    Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+                                  const Eigen::VectorXd& z) const override {
+        const Samples s = samples(fourier, omega, q, z);
+        const int nt = fourier.time_samples(), d = e_.d;
+        Eigen::VectorXd f(nt * (d + 1));
+        for (int j = 0; j < d; ++j) f.segment(j * nt, nt) = s.force.col(j);
+        f.tail(nt) = s.normal;
+        return f;
+    }
+
+    /// As law elastic: |t| / (mu N) - 1 where stuck (< 0), 0 where slipping, 1 where open.
+    Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+                                    const Eigen::VectorXd& z) const override {
+        const Samples s = samples(fourier, omega, q, z);
+        Eigen::VectorXd phi(fourier.time_samples());
+        constexpr double tiny = std::numeric_limits<double>::denorm_min();
+        for (Eigen::Index k = 0; k < phi.size(); ++k) {
+            switch (s.state[static_cast<std::size_t>(k)]) {
+                case ContactState::separated: phi(k) = 1.0; break;
+                case ContactState::slipping: phi(k) = 0.0; break;
+                case ContactState::stuck: {
+                    const double radius = e_.mu * s.normal(k);
+                    phi(k) = radius > 0.0 ? std::min(s.t.row(k).norm() / radius - 1.0, -tiny) : -1.0;
+                    break;
+                }
+            }
+        }
+        return phi;
+    }
+
+private:
+    Samples samples(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z) const {
+        const int n = fourier.size(), nt = fourier.time_samples(), d = e_.d;
+        const Eigen::MatrixXd& D1 = fourier.derivative();
+        Samples s;
+        Eigen::VectorXd v(nt), lambda(nt), velocity(nt);
+        fourier.to_time(q.segment(d * n, n), v);
+        fourier.to_time(z.segment(d * n, n), lambda);
+        s.a = lambda.array() + e_.eps_n * (v.array() - e_.gap);
+        s.normal = s.a.cwiseMax(0.0);
+        s.t.resize(nt, d);
+        s.lambda.resize(nt, d);
+        for (int j = 0; j < d; ++j) {
+            fourier.to_time(omega * (D1 * q.segment(j * n, n)), velocity);
+            fourier.to_time(z.segment(j * n, n), lambda);
+            s.lambda.col(j) = lambda;
+            s.t.col(j) = lambda + e_.eps_t * velocity;
+        }
+        s.force = Eigen::MatrixXd::Zero(nt, d);
+        s.state.assign(static_cast<std::size_t>(nt), ContactState::separated);
+        for (int k = 0; k < nt; ++k) {
+            if (!(s.a(k) > 0.0)) continue;
+            const double radius = e_.mu * s.normal(k), size = s.t.row(k).norm();
+            if (size < radius) {
+                s.state[static_cast<std::size_t>(k)] = ContactState::stuck;
+                s.force.row(k) = s.t.row(k);
+            } else {
+                s.state[static_cast<std::size_t>(k)] = ContactState::slipping;
+                if (size > 0.0) s.force.row(k) = radius / size * s.t.row(k);
+            }
+        }
+        return s;
+    }
+
+    Unilateral e_;
+};
+
+class UnilateralLaw final : public ContactLaw {
+public:
+    FrictionLaw id() const override { return static_cast<FrictionLaw>(7); }  // the next free id
+    const char* name() const override { return "unilateral"; }
+    const char* definition() const override {
+        return "rigid unilateral contact with Coulomb friction on massless coordinates: N >= 0, v <= g_0, "
+               "N (g_0 - v) = 0; |T| <= mu N, T = mu N u'/|u'| where sliding (2D; 3D with second_direction)";
+    }
+    std::vector<LawParameter> parameters() const override {
+        using R = LawParameter::Range;
+        LawParameter normal{normal_key, nullptr, "normal direction n (v = n^T y, positive closing)", R::positive};
+        normal.kind = LawParameter::Kind::direction;
+        LawParameter second{second_key, nullptr, "second tangential direction (3D)", R::positive};
+        second.kind = LawParameter::Kind::direction;
+        return {{"friction_coefficient", nullptr, "friction coefficient mu", R::non_negative},
+                {"gap", nullptr, "initial gap g_0 (open by g_0 at v = 0)", R::non_negative},
+                {"lagrangian_penalty", &Contact::lagrangian_penalty,
+                 "dynamic Lagrangian eps_t, tangential (force per velocity; 0 = automatic)", R::non_negative,
+                 "automatic: sqrt(k_t m), k_t = w^T K w and m the largest mass, at most 30 times the structure's "
+                 "static impedance"},
+                {"normal_penalty", nullptr, "dynamic Lagrangian eps_n, normal (force per displacement; 0 = automatic)",
+                 R::non_negative, "automatic: n^T K n, the contact node's own normal stiffness"},
+                second,
+                normal};
+    }
+    int default_harmonics() const override { return 20; }
+    bool smooth() const override { return false; }
+    bool exact_stick() const override { return false; }
+    bool has_friction_limit() const override { return false; }
+    bool has_preset() const override { return false; }
+    bool time_domain() const override { return false; }
+    TimeIntegrator time_integrator() const override { return TimeIntegrator::unilateral_contacts; }
+    TimeState time_state() const override { return TimeState::none; }
+    StuckElement stuck(const Contact& contact) const override { return stuck_directions(contact).front(); }
+    /// Closed at rest (g_0 = 0): rigid along every direction; open: released (no force).
+    std::vector<StuckElement> stuck_directions(const Contact& contact) const override {
+        const Unilateral e = unilateral_element(contact);
+        return std::vector<StuckElement>(static_cast<std::size_t>(e.d + 1),
+                                         StuckElement{e.gap == 0.0, 0.0, 0.0, 0.0});
+    }
+    std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
+        const Unilateral e = unilateral_element(contact);
+        if (!(e.eps_t > 0.0) || !(e.eps_n > 0.0))
+            throw InvalidInput("lagrangian_penalty = " + format_number(e.eps_t) + ", normal_penalty = " +
+                               format_number(e.eps_n) + " are out of range: allowed > 0 (HarmonicBalance chooses them "
+                               "when 0)");
+        return std::make_unique<UnilateralModel>(e);
+    }
+    /// The stuck forces (harmonic h) and the mean forces (harmonic 0) of the linear response
+    /// with the contact held; sliding: (4/pi) mu N_mean in phase with the tangential velocity.
+    void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
+                     const Eigen::VectorXcd& stuck_forces, const Eigen::VectorXd& mean_forces,
+                     Eigen::Ref<Eigen::VectorXd> z) const override {
+        const Unilateral e = unilateral_element(contact);
+        const Eigen::Index n = z.size() / (e.d + 1);
+        const double normal = std::max(mean_forces.size() > e.d ? mean_forces(e.d) : 0.0, 0.0);
+        z(e.d * n) = normal;
+        double speed = 0.0;
+        for (int j = 0; j < e.d; ++j) speed = std::hypot(speed, std::hypot(q(j * n + cos_row), q(j * n + cos_row + 1)));
+        for (int j = 0; j < e.d; ++j) {
+            auto zj = z.segment(j * n, n);
+            if (sliding && speed > 0.0) {
+                const double limit = 4.0 / M_PI * e.mu * normal / speed;
+                zj(cos_row) = limit * q(j * n + cos_row + 1);
+                zj(cos_row + 1) = -limit * q(j * n + cos_row);
+            } else if (!sliding && j < stuck_forces.size() && std::isfinite(std::abs(stuck_forces(j)))) {
+                zj(cos_row) = stuck_forces(j).real();
+                zj(cos_row + 1) = -stuck_forces(j).imag();
+                if (j < mean_forces.size()) zj(0) = mean_forces(j);
+            }
+        }
+        if (!sliding && e.d < stuck_forces.size() && std::isfinite(std::abs(stuck_forces(e.d)))) {
+            z(e.d * n + cos_row) = stuck_forces(e.d).real();
+            z(e.d * n + cos_row + 1) = -stuck_forces(e.d).imag();
+        }
+    }
+    /// Requires massless directions (see the top of this file) and fills the penalties.
+    void complete(Contact& c, const std::vector<DirectionScale>& scales, const std::string& where) const override {
+        const auto directions = contact_direction_vectors(c);
+        for (std::size_t a = 0; a < scales.size() && a < directions.size(); ++a) {
+            const double inertia = scales[a].mass, size = directions[a].second.squaredNorm();
+            if (std::abs(inertia) > 1e-12 * scales[a].largest_mass * size)
+                throw InvalidInput(where + (a == 0 ? std::string("direction") : directions[a].first) +
+                                   " carries mass: w^T M w = " + format_number(inertia) +
+                                   "; law unilateral needs massless contact coordinates (allowed w^T M w = 0: a rigid "
+                                   "contact on a mass impacts; law elastic gives the contact a stiffness)");
+        }
+        const DirectionScale &t = scales.front(), &n = scales.back();
+        if (c.lagrangian_penalty == 0.0) {
+            double automatic = std::sqrt(std::max(t.stiffness, 0.0) * t.largest_mass);
+            const double structure = std::sqrt(t.static_stiffness * t.static_mass);
+            if (structure > 0.0) automatic = std::min(automatic, 30.0 * structure);
+            c.lagrangian_penalty = automatic;
+        }
+        if (!c.values.count("normal_penalty") || c.values.at("normal_penalty") == 0.0)
+            c.values["normal_penalty"] = n.stiffness > 0.0 ? n.stiffness : n.static_stiffness;
+        if (!(c.lagrangian_penalty > 0.0) || !(c.values.at("normal_penalty") > 0.0))
+            throw InvalidInput(where + "law unilateral: the structure has no stiffness along the contact's directions "
+                               "(w^T K w = 0), from which the automatic lagrangian_penalty and normal_penalty follow: "
+                               "allowed both given > 0, or a structure that holds the contact nodes");
+    }
+
+    void validate(const Contact& contact, const std::string& where) const override {
+        if (!contact.values.count("friction_coefficient"))
+            throw InvalidInput(where + "friction_coefficient is missing: law unilateral needs it (mu >= 0)");
+        ContactLaw::validate(contact, where);  // the ranges
+        if (contact.values.count("preload") && contact.values.at("preload") != 0.0)
+            throw InvalidInput(where + "preload = " + format_number(contact.values.at("preload")) +
+                               " is not a parameter of law unilateral (a rigid contact): allowed a static_load pushing "
+                               "the contact node onto its obstacle");
+        validate_normal_directions(contact, where, "unilateral");
+    }
+};
+
+}  // namespace
+
+const ContactLaw& unilateral_law() {
+    static const UnilateralLaw law;
+    return law;
+}
+
+}  // namespace hbf

@@ -1,0 +1,509 @@
+// hbfriction — time integration of rigid unilateral contacts on massless coordinates
+// (unilateral_contacts.hpp).
+#include "unilateral_contacts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "elastic_contacts.hpp"
+#include "hbf/contact.hpp"
+#include "hbf/error.hpp"
+
+namespace hbf::detail {
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+constexpr int max_dofs = 2000;
+constexpr long max_steps_per_period = 1L << 22;
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+/// One contact's block of lambda: d tangential entries from `first`, then the normal one.
+struct Block {
+    int first = 0, d = 1;
+    double mu = 0, gap = 0;
+};
+
+/// The contacts' state after a step: per contact 0 open, 1 stuck, 2 slipping.
+struct Step {
+    VectorXd yc, lambda, q, free;  // free: q0, the relative displacements without contact forces
+    std::vector<int> state;
+};
+
+class UnilateralIntegrator {
+public:
+    UnilateralIntegrator(const System& system, double omega, long steps)
+        : omega_(omega), drive_(system.excitation_harmonic * omega), steps_(steps),
+          dt_(2.0 * pi / omega / static_cast<double>(steps)) {
+        const int n = system.dofs();
+        const MatrixXd M(system.mass), K(system.stiffness);
+        MatrixXd C = MatrixXd(system.damping);
+        if (C.size() == 0) C = MatrixXd::Zero(n, n);
+        for (int i = 0; i < n; ++i) (M.col(i).cwiseAbs().maxCoeff() > 0.0 ? massive_ : massless_).push_back(i);
+        auto pick = [](const MatrixXd& a, const std::vector<int>& rows, const std::vector<int>& cols) {
+            MatrixXd out(rows.size(), cols.size());
+            for (std::size_t i = 0; i < rows.size(); ++i)
+                for (std::size_t j = 0; j < cols.size(); ++j) out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = a(rows[i], cols[j]);
+            return out;
+        };
+        auto part = [](const VectorXd& v, const std::vector<int>& rows) {
+            VectorXd out(rows.size());
+            for (std::size_t i = 0; i < rows.size(); ++i) out(static_cast<Eigen::Index>(i)) = v.size() ? v(rows[i]) : 0.0;
+            return out;
+        };
+        for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+            const Contact& k = system.contacts[c];
+            const std::string where = "contact " + std::to_string(c + 1) + ": ";
+            if (contact_law(k.law).time_integrator() != TimeIntegrator::unilateral_contacts)
+                throw InvalidInput(where + "law = " + to_string(k.law) + " with contacts of law unilateral: time "
+                                   "integration takes law unilateral alone (allowed: every contact unilateral, or none)");
+            const MatrixXd w = system.contact_directions(k);
+            for (int i : massive_)
+                if (w.row(i).cwiseAbs().maxCoeff() > 0.0)
+                    throw InvalidInput(where + "a direction of the contact is on DOF " + std::to_string(i + 1) +
+                                       ", which has mass: time integration of law unilateral needs the contact "
+                                       "directions on massless DOFs (a row and column of M that are zero)");
+            Block b;
+            b.first = lambdas_;
+            b.d = static_cast<int>(w.cols()) - 1;
+            b.mu = k.values.at("friction_coefficient");
+            const auto gap = k.values.find("gap");
+            b.gap = gap == k.values.end() ? 0.0 : gap->second;
+            blocks_.push_back(b);
+            directions_.push_back(w);
+            lambdas_ += static_cast<int>(w.cols());
+        }
+        for (int i : massless_)
+            if (C.row(i).cwiseAbs().maxCoeff() > 0.0 || C.col(i).cwiseAbs().maxCoeff() > 0.0)
+                throw InvalidInput("damping matrix: DOF " + std::to_string(i + 1) +
+                                   " is massless and damped: time integration of law unilateral needs the massless "
+                                   "DOFs undamped (their positions then follow the masses statically)");
+        Mmm_ = pick(M, massive_, massive_);
+        Cmm_ = pick(C, massive_, massive_);
+        Kmm_ = pick(K, massive_, massive_);
+        Kmc_ = pick(K, massive_, massless_);
+        Kcm_ = pick(K, massless_, massive_);
+        const MatrixXd Kcc = pick(K, massless_, massless_);
+        Fm_ = part(system.excitation, massive_);
+        Fc_ = part(system.excitation, massless_);
+        Sm_ = part(system.static_load, massive_);
+        Sc_ = part(system.static_load, massless_);
+        const Eigen::LLT<MatrixXd> mass(Mmm_);
+        if (massive_.empty() || mass.info() != Eigen::Success)
+            throw InvalidInput("mass matrix: its part on the DOFs with mass is not positive definite (or there is "
+                               "none): time integration of law unilateral needs M_mm > 0");
+        minv_ = mass.solve(MatrixXd::Identity(Mmm_.rows(), Mmm_.cols()));
+        velocity_ = (Mmm_ + 0.5 * dt_ * Cmm_).partialPivLu();
+        const Eigen::FullPivLU<MatrixXd> stiffness(Kcc);
+        if (massless_.empty() || !stiffness.isInvertible())
+            throw InvalidInput("stiffness matrix: singular on the massless DOFs (K_cc): time integration of law "
+                               "unilateral solves the massless contact nodes statically, which needs K_cc regular");
+        kcc_inv_ = stiffness.inverse();
+        Wc_ = MatrixXd(massless_.size(), lambdas_);
+        for (std::size_t c = 0; c < blocks_.size(); ++c)
+            for (std::size_t i = 0; i < massless_.size(); ++i)
+                Wc_.block(static_cast<Eigen::Index>(i), blocks_[c].first, 1, directions_[c].cols()) =
+                    directions_[c].row(massless_[i]);
+        B_ = kcc_inv_ * Wc_;
+        G_ = Wc_.transpose() * B_;
+        eps_ = VectorXd(lambdas_);
+        for (int a = 0; a < lambdas_; ++a) {
+            if (!(G_(a, a) > 0.0))
+                throw InvalidInput("stiffness matrix: the massless nodes have no flexibility along contact direction " +
+                                   std::to_string(a + 1) + " (w^T K_cc^-1 w = " + format_number(G_(a, a)) +
+                                   "): allowed a positive definite K_cc");
+            eps_(a) = 1.0 / G_(a, a);
+        }
+    }
+
+    int massive() const { return static_cast<int>(massive_.size()); }
+    long steps() const { return steps_; }
+    double dt() const { return dt_; }
+
+    /// The contacts at time t for the masses at ym, the tangential displacements of the last
+    /// step `previous` (its normal entries unused), lambda warm-started from `out.lambda`.
+    bool contacts(double t, const VectorXd& ym, const VectorXd& previous, Step& out, std::string& failure) const {
+        const VectorXd yc0 = kcc_inv_ * (Fc_ * std::cos(drive_ * t) + Sc_ - Kcm_ * ym);
+        const VectorXd q0 = Wc_.transpose() * yc0;
+        if (out.lambda.size() != lambdas_) out.lambda = VectorXd::Zero(lambdas_);
+        VectorXd residual(lambdas_), trial(lambdas_), trial_residual(lambdas_);
+        MatrixXd slope(lambdas_, lambdas_);
+        double size = evaluate(q0, previous, out.lambda, residual, &slope, out.state);
+        for (int iteration = 0; iteration < 100; ++iteration) {
+            const double scale = std::max(out.lambda.cwiseAbs().maxCoeff(), (eps_.cwiseProduct(q0)).cwiseAbs().maxCoeff());
+            if (size <= 1e-12 * scale || size == 0.0) {
+                out.free = q0;
+                out.q = q0 - G_ * out.lambda;
+                out.yc = yc0 - B_ * out.lambda;
+                return true;
+            }
+            // J = I - D (I - diag(e) G): the projections' derivative D at the current pattern
+            const MatrixXd jacobian = MatrixXd::Identity(lambdas_, lambdas_) -
+                                      slope * (MatrixXd::Identity(lambdas_, lambdas_) - eps_.asDiagonal() * G_);
+            const VectorXd step = jacobian.partialPivLu().solve(-residual);
+            double fraction = 1.0, trial_size = 0.0;
+            std::vector<int> trial_state;
+            MatrixXd trial_slope(lambdas_, lambdas_);
+            for (int halving = 0; halving < 30; ++halving, fraction *= 0.5) {
+                trial = out.lambda + fraction * step;
+                trial_size = evaluate(q0, previous, trial, trial_residual, &trial_slope, trial_state);
+                if (trial_size < size) break;
+            }
+            if (!(trial_size < size)) break;
+            out.lambda = trial;
+            residual = trial_residual;
+            slope = trial_slope;
+            out.state = trial_state;
+            size = trial_size;
+        }
+        failure = "the contact problem at t = " + format_number(t) + " did not converge (residual " +
+                  format_number(size) + " of the contact forces)";
+        return false;
+    }
+
+    /// The force on the masses at time t (the contact forces act on the massless nodes alone).
+    VectorXd force(double t, const VectorXd& ym, const VectorXd& yc) const {
+        return Fm_ * std::cos(drive_ * t) + Sm_ - Kmm_ * ym - Kmc_ * yc;
+    }
+
+    /// One Verlet step from t (ym, vm, am, the contacts `step` at t) to t + dt.
+    bool advance(double t, VectorXd& ym, VectorXd& vm, VectorXd& am, Step& step, std::string& failure) const {
+        const VectorXd previous = step.q;
+        const std::vector<int> before = step.state;
+        ym += dt_ * vm + 0.5 * dt_ * dt_ * am;
+        if (!contacts(t + dt_, ym, previous, step, failure)) return false;
+        // A contact that closes within the step holds its tangential node from the closing
+        // instant, not from the step's start: the history moves to the free tangential position
+        // there, interpolated linearly by the free normal displacement's crossing of g_0
+        // (second order in the step, where holding the start would be first order).
+        VectorXd history = previous;
+        bool closed = false;
+        for (std::size_t c = 0; c < blocks_.size() && before.size() == blocks_.size(); ++c) {
+            if (before[c] != 0 || step.state[c] == 0) continue;
+            const Block& b = blocks_[c];
+            const int normal = b.first + b.d;
+            const double reach = step.free(normal) - previous(normal);
+            const double fraction = reach > 0.0 ? std::clamp((b.gap - previous(normal)) / reach, 0.0, 1.0) : 1.0;
+            for (int j = b.first; j < normal; ++j) history(j) = previous(j) + fraction * (step.free(j) - previous(j));
+            closed = true;
+        }
+        if (closed && !contacts(t + dt_, ym, history, step, failure)) return false;
+        const VectorXd f = force(t + dt_, ym, step.yc);
+        vm = velocity_.solve(Mmm_ * vm + 0.5 * dt_ * (Mmm_ * am + f));
+        am = acceleration(f, vm);
+        return true;
+    }
+
+    /// M^-1 (f - C v) on the DOFs with mass.
+    VectorXd acceleration(const VectorXd& f, const VectorXd& vm) const { return minv_ * (f - Cmm_ * vm); }
+
+    const std::vector<int>& massive_dofs() const { return massive_; }
+    const std::vector<int>& massless_dofs() const { return massless_; }
+    const std::vector<Block>& blocks() const { return blocks_; }
+    const MatrixXd& damping() const { return Cmm_; }
+    const VectorXd& excitation_massive() const { return Fm_; }
+    const VectorXd& excitation_massless() const { return Fc_; }
+    double drive() const { return drive_; }
+
+private:
+    /// The residual lambda - proj(...) (returns its largest entry), the projections'
+    /// derivative and every contact's branch.
+    double evaluate(const VectorXd& q0, const VectorXd& previous, const VectorXd& lambda, VectorXd& residual,
+                    MatrixXd* slope, std::vector<int>& state) const {
+        const VectorXd q = q0 - G_ * lambda;
+        residual = lambda;
+        if (slope) slope->setZero(lambdas_, lambdas_);
+        state.assign(blocks_.size(), 0);
+        for (std::size_t c = 0; c < blocks_.size(); ++c) {
+            const Block& b = blocks_[c];
+            const int normal = b.first + b.d;
+            const double a = lambda(normal) + eps_(normal) * (q(normal) - b.gap);
+            if (!(a > 0.0)) continue;  // open: lambda = 0
+            residual(normal) -= a;
+            if (slope) (*slope)(normal, normal) = 1.0;
+            VectorXd t(b.d);
+            for (int j = 0; j < b.d; ++j)
+                t(j) = lambda(b.first + j) + eps_(b.first + j) * (q(b.first + j) - previous(b.first + j));
+            const double radius = b.mu * a, length = t.norm();
+            if (length < radius) {
+                state[c] = 1;
+                residual.segment(b.first, b.d) -= t;
+                if (slope) slope->block(b.first, b.first, b.d, b.d).setIdentity();
+                continue;
+            }
+            state[c] = 2;
+            if (!(length > 0.0)) continue;
+            const VectorXd direction = t / length;
+            residual.segment(b.first, b.d) -= radius * direction;
+            if (slope) {
+                slope->block(b.first, b.first, b.d, b.d) =
+                    radius / length * (MatrixXd::Identity(b.d, b.d) - direction * direction.transpose());
+                slope->block(b.first, normal, b.d, 1) = b.mu * direction;
+            }
+        }
+        return residual.cwiseAbs().maxCoeff();
+    }
+
+    double omega_, drive_;
+    long steps_;
+    double dt_;
+    std::vector<int> massive_, massless_;
+    std::vector<Block> blocks_;
+    std::vector<MatrixXd> directions_;
+    int lambdas_ = 0;
+    MatrixXd Mmm_, Cmm_, Kmm_, Kmc_, Kcm_, minv_, kcc_inv_, Wc_, B_, G_;
+    VectorXd Fm_, Fc_, Sm_, Sc_, eps_;
+    Eigen::PartialPivLU<MatrixXd> velocity_;
+};
+
+/// The steps per period: a multiple of `samples`, at least 16 of them, and at least 20 per
+/// period of the stiffest mode of (M_mm, K_mm).
+long steps_per_period(const System& system, double omega, int samples) {
+    const int n = system.dofs();
+    const MatrixXd M(system.mass), K(system.stiffness);
+    std::vector<int> massive;
+    for (int i = 0; i < n; ++i)
+        if (M.col(i).cwiseAbs().maxCoeff() > 0.0) massive.push_back(i);
+    const auto m = static_cast<Eigen::Index>(massive.size());
+    MatrixXd Mmm(m, m), Kmm(m, m);
+    for (Eigen::Index i = 0; i < m; ++i)
+        for (Eigen::Index j = 0; j < m; ++j) {
+            Mmm(i, j) = M(massive[static_cast<std::size_t>(i)], massive[static_cast<std::size_t>(j)]);
+            Kmm(i, j) = K(massive[static_cast<std::size_t>(i)], massive[static_cast<std::size_t>(j)]);
+        }
+    double highest = 0.0;
+    if (m > 0) {
+        Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> modes(Kmm, Mmm, Eigen::EigenvaluesOnly);
+        if (modes.info() == Eigen::Success) highest = std::sqrt(std::max(modes.eigenvalues().maxCoeff(), 0.0));
+    }
+    const double needed = std::max(16.0 * samples, 20.0 * highest / omega);
+    const double multiple = std::ceil(needed / samples);
+    if (!(multiple * samples <= static_cast<double>(max_steps_per_period)))
+        throw InvalidInput("w = " + format_number(omega) + ": the stiffest mode of the DOFs with mass (" +
+                           format_number(highest) + " rad per time unit) needs " + format_number(multiple * samples) +
+                           " steps per period for time integration of law unilateral: allowed at most " +
+                           std::to_string(max_steps_per_period) + " (a higher w, or a softer model)");
+    return static_cast<long>(multiple) * samples;
+}
+
+}  // namespace
+
+bool has_unilateral_contacts(const System& system) {
+    return std::any_of(system.contacts.begin(), system.contacts.end(), [](const Contact& c) {
+        return contact_law(c.law).time_integrator() == TimeIntegrator::unilateral_contacts;
+    });
+}
+
+PeriodicResponse integrate_unilateral_contacts(const System& system, double omega,
+                                               const TimeIntegrationOptions& options,
+                                               const Eigen::VectorXd* initial_state) {
+    const int n = system.dofs();
+    if (n > max_dofs)
+        throw InvalidInput("dofs = " + std::to_string(n) + " with law unilateral: time integration of rigid contacts "
+                           "allows at most " + std::to_string(max_dofs) + " DOFs");
+    if (initial_state && (initial_state->size() != 2 * n || !initial_state->allFinite()))
+        throw InvalidInput("initial state has " + std::to_string(initial_state->size()) +
+                           " entries or non-finite values: allowed " + std::to_string(2 * n) +
+                           " finite values (y and y' of every DOF)");
+    const int kept = options.samples_per_period;
+    const long steps = steps_per_period(system, omega, kept);
+    const UnilateralIntegrator integrator(system, omega, steps);
+    const std::vector<int>& massive = integrator.massive_dofs();
+    const std::vector<int>& massless = integrator.massless_dofs();
+    const int nm = integrator.massive();
+    VectorXd ym = VectorXd::Zero(nm), vm = VectorXd::Zero(nm);
+    Step step;
+    if (initial_state)
+        for (int i = 0; i < nm; ++i) {
+            ym(i) = (*initial_state)(massive[static_cast<std::size_t>(i)]);
+            vm(i) = (*initial_state)(n + massive[static_cast<std::size_t>(i)]);
+        }
+    std::string failure;
+    PeriodicResponse out;
+    out.omega = omega;
+    out.displacement_scale = options.displacement_scale > 0.0 ? options.displacement_scale : response_scale(system, omega);
+    // the history before t = 0: the nodes where the initial state puts them (at rest: free of contact forces)
+    {
+        int lambdas = 0;
+        for (const Block& b : integrator.blocks()) lambdas = std::max(lambdas, b.first + b.d + 1);
+        step.q = VectorXd::Zero(lambdas);
+        if (initial_state) {
+            std::size_t c = 0;
+            for (const Contact& k : system.contacts) {
+                const MatrixXd w = system.contact_directions(k);
+                step.q.segment(integrator.blocks()[c].first, w.cols()) = w.transpose() * initial_state->head(n);
+                ++c;
+            }
+        }
+    }
+    auto fail = [&](const std::string& where) {
+        out.message = failure + " (" + where + ", w = " + format_number(omega) + ")";
+        out.state = VectorXd::Zero(2 * n);
+        return out;
+    };
+    if (!integrator.contacts(0.0, ym, step.q, step, failure)) return fail("t = 0");
+    VectorXd am = integrator.acceleration(integrator.force(0.0, ym, step.yc), vm);
+    const double dt = integrator.dt(), period = 2.0 * pi / omega;
+    auto state_of = [&](const VectorXd& y, const VectorXd& v, const Step& s) {
+        VectorXd x(2 * nm + s.q.size());
+        x << y, v / omega, s.q;
+        return x;
+    };
+    for (int k = 1; k <= options.max_periods + 1; ++k) {
+        const bool final = out.converged;
+        const VectorXd start = state_of(ym, vm, step);
+        // the final period's records
+        MatrixXd Y, V, L;
+        std::vector<std::vector<int>> states;
+        if (final) {
+            Y.resize(steps + 1, n);
+            V.resize(steps + 1, nm);
+            L.resize(steps + 1, step.lambda.size());
+            states.reserve(static_cast<std::size_t>(steps + 1));
+        }
+        auto record = [&](long j) {
+            for (int i = 0; i < nm; ++i) Y(j, massive[static_cast<std::size_t>(i)]) = ym(i);
+            for (std::size_t i = 0; i < massless.size(); ++i) Y(j, massless[i]) = step.yc(static_cast<Eigen::Index>(i));
+            V.row(j) = vm.transpose();
+            L.row(j) = step.lambda.transpose();
+            states.push_back(step.state);
+        };
+        if (final) record(0);
+        for (long j = 0; j < steps; ++j) {
+            if (!integrator.advance(static_cast<double>(j) * dt, ym, vm, am, step, failure))
+                return fail("period " + std::to_string(k));
+            if (final) record(j + 1);
+        }
+        out.periods = k;
+        if (!final) {
+            const VectorXd end = state_of(ym, vm, step);
+            const double size_now = end.cwiseAbs().maxCoeff();
+            const double change = (end - start).cwiseAbs().maxCoeff();
+            out.poincare_change = size_now > 0.0 ? change / size_now : change;
+            if (k >= options.min_periods && out.poincare_change <= options.steady_tolerance) out.converged = true;
+            if (!out.converged && k == options.max_periods) break;
+            continue;
+        }
+        // ---- the final period's metrics ----
+        out.message = "converged after " + std::to_string(k - 1) + " periods (Poincare change " +
+                      format_number(out.poincare_change) + ")";
+        const auto S = static_cast<Eigen::Index>(steps);
+        out.harmonic1 = Eigen::VectorXcd::Zero(n);
+        for (Eigen::Index j = 0; j < S; ++j) {
+            const double phase = omega * static_cast<double>(j) * dt;
+            out.harmonic1 += (2.0 / static_cast<double>(S)) * Y.row(j).transpose().cast<std::complex<double>>() *
+                             std::complex<double>(std::cos(phase), std::sin(phase));
+        }
+        // (c1 - i s1) from sum y (cos + i sin): c1 = 2/S sum y cos, s1 = 2/S sum y sin
+        out.harmonic1 = out.harmonic1.conjugate().eval();
+        for (int i = 0; i < n; ++i) {
+            out.y_max.push_back(refined_max(Y.col(i).head(S)));
+            out.y_amp1.push_back(std::abs(out.harmonic1(i)));
+        }
+        for (const Output& o : options.outputs) {
+            VectorXd series(S);
+            for (Eigen::Index j = 0; j < S; ++j) series(j) = o.of(Y.row(j).transpose());
+            out.output_max.push_back(refined_max(series));
+            std::complex<double> h(0.0, 0.0);
+            for (int i = 0; i < n; ++i) h += o.of(VectorXd::Unit(n, i)) * out.harmonic1(i);
+            out.output_amp1.push_back(std::abs(h));
+        }
+        // energies: input sum F cos(t_mid) . dy, viscous trapezoid of v^T C v, friction lambda_mid . dq
+        VectorXd F = system.excitation.size() ? VectorXd(system.excitation) : VectorXd::Zero(n);
+        out.input_energy = out.viscous_energy = out.energy = 0.0;
+        std::vector<double> energy(system.contacts.size(), 0.0), stuck(system.contacts.size(), 0.0),
+            open(system.contacts.size(), 0.0);
+        std::vector<MatrixXd> w;
+        for (const Contact& c : system.contacts) w.push_back(system.contact_directions(c));
+        const std::vector<Block>& blocks = integrator.blocks();
+        double normal_work = 0.0;
+        out.stick_margin_min = std::numeric_limits<double>::infinity();
+        out.stick_margin_max = -std::numeric_limits<double>::infinity();
+        out.switches = 0;
+        std::vector<VectorXd> normal(blocks.size(), VectorXd(S));
+        out.friction_force = MatrixXd(kept, static_cast<Eigen::Index>(blocks.size()));
+        for (Eigen::Index j = 0; j < S; ++j) {
+            const double mid = (static_cast<double>(j) + 0.5) * dt;
+            const VectorXd dy = (Y.row(j + 1) - Y.row(j)).transpose();
+            out.input_energy += std::cos(system.excitation_harmonic * omega * mid) * F.dot(dy);
+            out.viscous_energy += 0.5 * dt * (V.row(j) * integrator.damping() * V.row(j).transpose() +
+                                              V.row(j + 1) * integrator.damping() * V.row(j + 1).transpose())(0, 0);
+            for (std::size_t c = 0; c < blocks.size(); ++c) {
+                const Block& b = blocks[c];
+                const VectorXd lambda = 0.5 * (L.row(j) + L.row(j + 1)).segment(b.first, b.d + 1).transpose();
+                const VectorXd dq = w[c].transpose() * dy;
+                energy[c] += lambda.head(b.d).dot(dq.head(b.d));  // the friction's; the normal one
+                normal_work += lambda(b.d) * dq(b.d);           // does none (but at a corner in a step)
+                const int now = states[static_cast<std::size_t>(j + 1)][c], before = states[static_cast<std::size_t>(j)][c];
+                if (now == 1) stuck[c] += dt;
+                if (now == 0) open[c] += dt;
+                if (now != before) ++out.switches;
+                normal[c](j) = L(j + 1, b.first + b.d);
+                if (c == 0) {
+                    const double limit = b.mu * normal[c](j);
+                    const double margin = now == 0 ? 1.0
+                                          : now == 2 ? 0.0
+                                          : (limit > 0.0 ? L.row(j + 1).segment(b.first, b.d).norm() / limit - 1.0 : -1.0);
+                    out.stick_margin_min = std::min(out.stick_margin_min, margin);
+                    out.stick_margin_max = std::max(out.stick_margin_max, margin);
+                }
+            }
+        }
+        for (std::size_t c = 0; c < blocks.size(); ++c) {
+            ContactRegime regime = contact_regime(stuck[c], period);
+            regime.separated_fraction = open[c] / period;
+            regime.normal_mean = normal[c].mean();
+            regime.normal_amplitude = 0.5 * (normal[c].maxCoeff() - normal[c].minCoeff());
+            regime.energy = energy[c];
+            out.energy += energy[c];
+            out.contacts.push_back(regime);
+        }
+        if (!out.contacts.empty()) {
+            out.stick_fraction = out.contacts.front().stick_fraction;
+            out.regime = out.contacts.front().regime;
+        } else {
+            out.regime = "none";
+            out.stick_margin_min = out.stick_margin_max = 0.0;
+        }
+        const double reach = pi * system.excitation_harmonic * system.excitation.norm() * out.harmonic1.norm();
+        out.energy_error = energy_imbalance(out.input_energy, out.viscous_energy, out.energy + normal_work, reach);
+        // the samples, every (steps / kept)-th step; massless velocities by central differences
+        const long stride = steps / kept;
+        out.time.resize(kept);
+        out.displacement.resize(kept, n);
+        out.velocity.resize(kept, n);
+        for (int j = 0; j < kept; ++j) {
+            const Eigen::Index at = static_cast<Eigen::Index>(j) * stride;
+            out.time(j) = static_cast<double>(at) * dt;
+            out.displacement.row(j) = Y.row(at);
+            const Eigen::Index before = at == 0 ? S - 1 : at - 1;
+            const VectorXd central = (Y.row(at + 1) - Y.row(before)).transpose() / (2.0 * dt);
+            for (int i = 0; i < nm; ++i) out.velocity(j, massive[static_cast<std::size_t>(i)]) = V(at, i);
+            for (int i : massless) out.velocity(j, i) = central(i);
+            for (std::size_t c = 0; c < blocks.size(); ++c)
+                out.friction_force(j, static_cast<Eigen::Index>(c)) = L(at, blocks[c].first);
+        }
+        out.state = VectorXd(2 * n);
+        out.state << out.displacement.row(0).transpose(), out.velocity.row(0).transpose();
+        out.steps = static_cast<long>(k) * steps;
+        if (out.energy_error > options.physics_tolerance()) {
+            out.converged = false;
+            out.message += "; but the energy balance fails: " + format_number(out.energy_error) + " > " +
+                           format_number(options.physics_tolerance());
+        }
+        return out;
+    }
+    out.state = VectorXd::Zero(2 * n);
+    out.message = "no steady state within " + std::to_string(options.max_periods) + " periods (Poincare change " +
+                  format_number(out.poincare_change) + ")";
+    out.steps = static_cast<long>(out.periods) * steps;
+    return out;
+}
+
+}  // namespace hbf::detail
