@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <memory>
 
 #include "hbf/config.hpp"
 #include "hbf/contact.hpp"
@@ -82,9 +83,11 @@ System liftoff3() {
     return io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml").system;
 }
 
-PointMetrics solve(HarmonicBalance& hb, double omega, SolutionPoint& p, const Eigen::VectorXd& start = {}) {
+PointMetrics solve(HarmonicBalance& hb, double omega, SolutionPoint& p, const Eigen::VectorXd& start = {},
+                   double tolerance = 1e-9) {
     CorrectorOptions options;
     options.max_iterations = 100;
+    options.tolerance = tolerance;
     Corrector corrector(hb, options);
     p.x = start.size() > 0 ? start : hb.linear_guess(omega);
     p.omega = omega;
@@ -293,4 +296,149 @@ TEST_CASE("unilateral contact: the exact Jacobians of both formulations against 
             }
         }
     }
+}
+
+namespace {
+
+/// The anisotropic 3D structure of test_elastic_contact.cpp (y1, y2 tangential, y3 normal)
+/// whose contact slides on an elliptic orbit, as law elastic.
+System anisotropic_3d() {
+    System s;
+    s.mass = sparse(Eigen::MatrixXd(Eigen::Vector3d(1.0, 1.2, 0.8).asDiagonal()));
+    s.damping = sparse(Eigen::MatrixXd(0.02 * Eigen::Vector3d(1.0, 1.7, 2.0).asDiagonal()));
+    s.stiffness = sparse(Eigen::MatrixXd(Eigen::Vector3d(1.0, 1.7, 2.0).asDiagonal()));
+    s.excitation = Eigen::Vector3d(0.6, 0.5, 0.1);
+    Contact c;
+    c.law = parse_friction_law("elastic");
+    c.dof = 0;
+    c.stiffness = 1.5;
+    c.values["normal_stiffness"] = 4.0;
+    c.values["friction_coefficient"] = 0.3;
+    c.values["preload"] = 1.0;
+    c.lists["second_direction"] = {0.0, 1.0, 0.0};
+    c.lists["normal_direction"] = {0.0, 0.0, 1.0};
+    s.contacts.push_back(c);
+    return s;
+}
+
+/// The unknowns x of a contact's two tangential signals (and multipliers) turned by `angle`
+/// in their plane: the start of the rotated contact.
+Eigen::VectorXd rotate_tangential(const Eigen::VectorXd& x, int n, double angle) {
+    Eigen::VectorXd out = x;
+    for (int first : {0, 3}) {  // the relative displacements (signals 0, 1), the multipliers (3, 4)
+        const Eigen::VectorXd a = x.segment(first * n, n), b = x.segment((first + 1) * n, n);
+        out.segment(first * n, n) = std::cos(angle) * a + std::sin(angle) * b;
+        out.segment((first + 1) * n, n) = -std::sin(angle) * a + std::cos(angle) * b;
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("unilateral contact 3D: rotating the tangential directions leaves the response unchanged (1e-10), "
+          "circular sliding dissipates the closed-form energy, and harmonic balance converges to time integration",
+          "[unilateral_contact][time_integration]") {
+    const System elastic = anisotropic_3d();
+    const System nodes = nodes_model(elastic);
+    const double angle = 0.7;
+    System rotated = nodes;
+    Contact& turned = rotated.contacts[0];
+    turned.direction = Eigen::VectorXd::Zero(nodes.dofs());
+    turned.direction(3) = std::cos(angle);
+    turned.direction(4) = std::sin(angle);
+    turned.lists["second_direction"] = std::vector<double>(static_cast<std::size_t>(nodes.dofs()), 0.0);
+    turned.lists["second_direction"][3] = -std::sin(angle);
+    turned.lists["second_direction"][4] = std::cos(angle);
+    for (double omega : {0.9, 1.1, 1.3}) {
+        HarmonicBalance reference(elastic, HarmonicBalanceOptions{8, 0, Formulation::condensed});
+        SolutionPoint pr;
+        solve(reference, omega, pr);
+        HarmonicBalance a(nodes, HarmonicBalanceOptions{8, 0, Formulation::condensed}),
+            b(rotated, HarmonicBalanceOptions{8, 0, Formulation::condensed});
+        SolutionPoint pa, pb;
+        const Eigen::VectorXd start = from_elastic(a, reference, pr, elastic.contacts[0]);
+        const PointMetrics ma = solve(a, omega, pa, start);
+        const PointMetrics mb = solve(b, omega, pb, rotate_tangential(pa.x, a.coefficients(), angle));
+        const Eigen::MatrixXd ya = a.dofs(pa.x, omega), yb = b.dofs(pb.x, omega);
+        INFO("w = " << omega << ": stick " << ma.contacts[0].stick_fraction << ", open "
+                    << ma.contacts[0].separated_fraction << ", energy " << ma.energy);
+        CHECK((ya - yb).cwiseAbs().maxCoeff() <= 1e-10 * ya.cwiseAbs().maxCoeff());
+        CHECK(std::abs(ma.energy - mb.energy) <= 1e-10 * std::abs(ma.energy));
+        CHECK(std::abs(ma.contacts[0].stick_fraction - mb.contacts[0].stick_fraction) <= 1e-12);
+        CHECK(ma.energy > 0.0);
+        CHECK(ma.energy_error <= 1e-8);
+    }
+    // Circular motion u = a (cos, sin) at a constant N_0 (drivers as in test_elastic_contact.cpp:
+    // y1 on a stiff spring kappa, y2 at its own resonance behind a large damper, y3 held): the
+    // node circles at radius sqrt(a^2 - (mu N_0 / k_t)^2) with T (|T| = mu N_0) along its
+    // velocity, dissipating 2 pi mu N_0 sqrt(a^2 - (mu N_0 / k_t)^2) per cycle. Every signal is
+    // a single harmonic: the dynamic Lagrangian is exact at any H, to the drivers' 1e-6 (kappa
+    // 1e6: the corrector's acceptance is relative to the excitation, here kappa a, so that the
+    // multipliers' rows, of the size mu N_0, are solved to 1e-14 kappa a; at kappa = 1e9 and the
+    // default 1e-9 they were not, and the energy erred by 2e-2).
+    const double kt = 2.0, mu = 0.4, n0 = 1.0, radius = 0.5, kappa = 1e6, omega = 1.0;
+    const double exact = 2 * M_PI * mu * n0 * std::sqrt(radius * radius - std::pow(mu * n0 / kt, 2));
+    System turning = anisotropic_3d();
+    turning.mass = sparse(Eigen::MatrixXd(Eigen::Matrix3d::Identity()));
+    turning.damping = sparse(Eigen::MatrixXd(Eigen::Vector3d(0.0, kappa, 0.0).asDiagonal()));
+    turning.stiffness = sparse(Eigen::MatrixXd(Eigen::Vector3d(kappa, omega * omega, kappa).asDiagonal()));
+    turning.excitation = Eigen::Vector3d((kappa - omega * omega) * radius, omega * kappa * radius, 0.0);
+    turning.contacts[0].stiffness = kt;
+    turning.contacts[0].values["friction_coefficient"] = mu;
+    turning.contacts[0].values["preload"] = n0;
+    const System circle = nodes_model(turning);
+    for (int harmonics : {3, 10}) {
+        HarmonicBalance reference(turning, HarmonicBalanceOptions{harmonics, 0, Formulation::condensed});
+        SolutionPoint pr;
+        solve(reference, omega, pr);
+        HarmonicBalance hb(circle, HarmonicBalanceOptions{harmonics, 0, Formulation::condensed});
+        SolutionPoint p;
+        const PointMetrics m = solve(hb, omega, p, from_elastic(hb, reference, pr, turning.contacts[0]), 1e-14);
+        INFO("H = " << harmonics << ": W = " << m.energy << " against " << exact);
+
+        CHECK(m.contacts[0].stick_fraction == 0.0);
+        CHECK(m.contacts[0].separated_fraction == 0.0);
+        CHECK(m.energy == Approx(exact).epsilon(1e-5));
+    }
+    // Harmonic balance against the law's time integration on the elliptic orbit at w = 1.1. In
+    // 3D the per-step Coulomb law slides along the force at the step's end: first order where
+    // the slip direction turns (measured against H = 40: 2.7e-4 at 2048 steps per period,
+    // 1.3e-4 at 4096), while harmonic balance has converged in H by H = 20 (sliding throughout:
+    // the same gaps at H = 20 and 40 to 1e-7; 1.4e-3, 3.5e-4 at H = 5, 10).
+    HarmonicBalance reference(elastic, HarmonicBalanceOptions{8, 0, Formulation::condensed});
+    SolutionPoint pr;
+    solve(reference, 1.1, pr);
+    std::vector<SolutionPoint> points;
+    std::vector<std::unique_ptr<HarmonicBalance>> balances;
+    for (int harmonics : {5, 20, 40}) {
+        balances.push_back(std::make_unique<HarmonicBalance>(nodes, HarmonicBalanceOptions{harmonics, 0, Formulation::condensed}));
+        points.emplace_back();
+        const PointMetrics m = solve(*balances.back(), 1.1, points.back(), from_elastic(*balances.back(), reference, pr, elastic.contacts[0]));
+        CHECK(m.regime == "slip");
+        CHECK(m.energy_error <= 1e-8);
+    }
+    std::vector<std::vector<double>> gaps;  // [steps][H]
+    for (int samples : {128, 256}) {
+        TimeIntegrationOptions options;
+        options.steady_tolerance = 1e-10;
+        options.samples_per_period = samples;
+        const PeriodicResponse tu = integrate_steady_state(nodes, 1.1, options);
+        INFO(tu.message);
+        REQUIRE(tu.converged);
+        CHECK(tu.regime == "slip");
+        CHECK(tu.energy_error <= 1e-6);
+        gaps.emplace_back();
+        for (std::size_t k = 0; k < points.size(); ++k) {
+            const Eigen::MatrixXd y = balances[k]->dofs(points[k].x, 1.1);
+            double gap = 0;
+            for (int i = 0; i < 3; ++i) gap = std::max(gap, std::abs(std::complex<double>(y(1, i), -y(2, i)) - tu.harmonic1(i)));
+            gaps.back().push_back(gap / tu.harmonic1.head(3).cwiseAbs().maxCoeff());
+        }
+    }
+    INFO("H = 5, 20, 40 against 2048 steps: " << gaps[0][0] << ", " << gaps[0][1] << ", " << gaps[0][2]
+                                            << "; against 4096: " << gaps[1][0] << ", " << gaps[1][1] << ", " << gaps[1][2]);
+    CHECK(std::abs(gaps[1][1] - gaps[1][2]) <= 1e-6);     // converged in H
+    CHECK(gaps[0][2] / gaps[1][2] == Approx(2.0).epsilon(0.15));  // first order in the step
+    CHECK(gaps[1][2] <= 2e-4);
+    CHECK(gaps[1][0] > 5 * gaps[1][2]);  // H = 5 is not converged
 }

@@ -16,8 +16,8 @@
 // tied by springs k_t, k_n to a mass is then law elastic's element (its slider the node).
 // Parameters: friction_coefficient mu (>= 0), gap g_0 (>= 0, default 0), normal_direction
 // (required) and second_direction (3D), as for law elastic (orthogonal, the tangential ones of
-// equal length); lagrangian_penalty eps_t (tangential, force per velocity) and normal_penalty
-// eps_n (force per displacement), 0 = automatic (complete()). No friction_limit, no stiffness.
+// equal length); tangential_penalty eps_t and normal_penalty eps_n (force per displacement),
+// 0 = automatic (complete()). No friction_limit, no stiffness.
 // A preload is a static load (System::static_load) pushing the node onto its obstacle.
 // While stuck (harmonic balance's first guess): rigid along every direction when closed at rest
 // (g_0 = 0), released when open (g_0 > 0).
@@ -26,10 +26,14 @@
 // of law coulomb): the forces lambda_T, lambda_N themselves are unknown signals (d + 1 state
 // signals) and the law is written as the projections
 //   lambda_N = max(0, a),                 a = lambda_N + eps_n (v - g_0),
-//   lambda_T = proj_{|.| <= mu max(0, a)} (lambda_T + eps_t u'),
+//   lambda_T = proj_{|.| <= mu max(0, a)} (lambda_T + eps_t du/dtheta),
 // which hold, for any eps_n, eps_t > 0, iff the Signorini and Coulomb conditions above do
 // (a <= 0: open, v <= g_0, lambda = 0; a > 0: v = g_0, and the tangential projection is
-// Coulomb's, as in coulomb.cpp, within the cone of radius mu lambda_N). Balanced like the
+// Coulomb's, as in coulomb.cpp, within the cone of radius mu lambda_N). The tangential rate is
+// taken in the phase theta = w t (du/dtheta = u' / w), so that both penalties are stiffnesses,
+// of the size of the contact nodes' own (n^T K n: a massless node has no impedance sqrt(k m) to
+// scale a velocity with, and the structure's, through a stiff support, can be 1e-8 of it: the
+// iteration then stalls). Balanced like the
 // equations of motion: r = Lambda - P proj(E ...), with the force f = lambda. The Jacobian is
 // exact on each open/stick/slip pattern of the samples (semi-smooth). In permanent stick (every
 // sample stuck) the mean tangential force is not determined; its c0 row is replaced by
@@ -67,8 +71,8 @@ Unilateral unilateral_element(const Contact& c) {
     e.mu = c.values.at("friction_coefficient");
     const auto gap = c.values.find("gap");
     e.gap = gap == c.values.end() ? 0.0 : gap->second;
-    e.eps_t = c.lagrangian_penalty;
-    const auto eps_n = c.values.find("normal_penalty");
+    const auto eps_t = c.values.find("tangential_penalty"), eps_n = c.values.find("normal_penalty");
+    e.eps_t = eps_t == c.values.end() ? 0.0 : eps_t->second;
     e.eps_n = eps_n == c.values.end() ? 0.0 : eps_n->second;
     e.d = c.lists.count(second_key) ? 2 : 1;
     return e;
@@ -90,10 +94,10 @@ public:
     int state_signals() const override { return e_.d + 1; }
     int signals() const override { return e_.d + 1; }
 
-    void evaluate(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
+    void evaluate(Fourier& fourier, double, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
                   FrictionEvaluation& out, bool jacobian) const override {
         const int n = fourier.size(), d = e_.d, m = (d + 1) * n;
-        const Samples s = samples(fourier, omega, q, z);
+        const Samples s = samples(fourier, q, z);
         const int nt = fourier.time_samples();
         Eigen::VectorXd projected(n);
         out.state_residual = z;
@@ -145,7 +149,6 @@ public:
                         radius / size * ((i == j ? 1.0 : 0.0) - direction(i) * direction(j));
             }
         }
-        const Eigen::MatrixXd& D1 = fourier.derivative();
         out.state_z = Eigen::MatrixXd::Identity(m, m);
         out.state_q = Eigen::MatrixXd::Zero(m, m);
         out.state_omega = Eigen::VectorXd::Zero(m);
@@ -154,8 +157,7 @@ public:
             for (int j = 0; j < d; ++j) {  // through t_j = lambda_T,j + eps_t u_j'
                 fourier.multiplication_matrix(dtt[static_cast<std::size_t>(i * d + j)], product);
                 out.state_z.block(i * n, j * n, n, n) -= product;
-                out.state_q.block(i * n, j * n, n, n) = -e_.eps_t * omega * fourier.times_derivative(product);
-                out.state_omega.segment(i * n, n) -= e_.eps_t * (product * (D1 * q.segment(j * n, n)));
+                out.state_q.block(i * n, j * n, n, n) = -e_.eps_t * fourier.times_derivative(product);
             }
             // through a = lambda_N + eps_n (v - g_0)
             fourier.multiplication_matrix(dta[static_cast<std::size_t>(i)], product);
@@ -180,7 +182,6 @@ public:
                     out.state_z(j * n, j * n) = 1.0;
                 }
             }
-            for (int j = 0; j < d; ++j) out.state_omega(j * n) = 0.0;
         }
         out.force_q = Eigen::MatrixXd::Zero(m, m);
         out.force_z = Eigen::MatrixXd::Identity(m, m);
@@ -190,9 +191,9 @@ public:
 
     /// The law's own forces: the projections (|T| <= mu N, N >= 0 at every sample), stacked
     /// per direction; at a solution their H-harmonic series are z.
-    Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+    Eigen::VectorXd force_samples(Fourier& fourier, double, const Eigen::VectorXd& q,
                                   const Eigen::VectorXd& z) const override {
-        const Samples s = samples(fourier, omega, q, z);
+        const Samples s = samples(fourier, q, z);
         const int nt = fourier.time_samples(), d = e_.d;
         Eigen::VectorXd f(nt * (d + 1));
         for (int j = 0; j < d; ++j) f.segment(j * nt, nt) = s.force.col(j);
@@ -201,9 +202,9 @@ public:
     }
 
     /// As law elastic: |t| / (mu N) - 1 where stuck (< 0), 0 where slipping, 1 where open.
-    Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,
+    Eigen::VectorXd stick_indicator(Fourier& fourier, double, const Eigen::VectorXd& q,
                                     const Eigen::VectorXd& z) const override {
-        const Samples s = samples(fourier, omega, q, z);
+        const Samples s = samples(fourier, q, z);
         Eigen::VectorXd phi(fourier.time_samples());
         constexpr double tiny = std::numeric_limits<double>::denorm_min();
         for (Eigen::Index k = 0; k < phi.size(); ++k) {
@@ -221,7 +222,7 @@ public:
     }
 
 private:
-    Samples samples(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z) const {
+    Samples samples(Fourier& fourier, const Eigen::VectorXd& q, const Eigen::VectorXd& z) const {
         const int n = fourier.size(), nt = fourier.time_samples(), d = e_.d;
         const Eigen::MatrixXd& D1 = fourier.derivative();
         Samples s;
@@ -233,7 +234,7 @@ private:
         s.t.resize(nt, d);
         s.lambda.resize(nt, d);
         for (int j = 0; j < d; ++j) {
-            fourier.to_time(omega * (D1 * q.segment(j * n, n)), velocity);
+            fourier.to_time(D1 * q.segment(j * n, n), velocity);  // du/dtheta
             fourier.to_time(z.segment(j * n, n), lambda);
             s.lambda.col(j) = lambda;
             s.t.col(j) = lambda + e_.eps_t * velocity;
@@ -273,10 +274,9 @@ public:
         second.kind = LawParameter::Kind::direction;
         return {{"friction_coefficient", nullptr, "friction coefficient mu", R::non_negative},
                 {"gap", nullptr, "initial gap g_0 (open by g_0 at v = 0)", R::non_negative},
-                {"lagrangian_penalty", &Contact::lagrangian_penalty,
-                 "dynamic Lagrangian eps_t, tangential (force per velocity; 0 = automatic)", R::non_negative,
-                 "automatic: sqrt(k_t m), k_t = w^T K w and m the largest mass, at most 30 times the structure's "
-                 "static impedance"},
+                {"tangential_penalty", nullptr,
+                 "dynamic Lagrangian eps_t, tangential (force per displacement, on du/dtheta; 0 = automatic)",
+                 R::non_negative, "automatic: w^T K w, the contact node's own tangential stiffness"},
                 {"normal_penalty", nullptr, "dynamic Lagrangian eps_n, normal (force per displacement; 0 = automatic)",
                  R::non_negative, "automatic: n^T K n, the contact node's own normal stiffness"},
                 second,
@@ -300,7 +300,7 @@ public:
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         const Unilateral e = unilateral_element(contact);
         if (!(e.eps_t > 0.0) || !(e.eps_n > 0.0))
-            throw InvalidInput("lagrangian_penalty = " + format_number(e.eps_t) + ", normal_penalty = " +
+            throw InvalidInput("tangential_penalty = " + format_number(e.eps_t) + ", normal_penalty = " +
                                format_number(e.eps_n) + " are out of range: allowed > 0 (HarmonicBalance chooses them "
                                "when 0)");
         return std::make_unique<UnilateralModel>(e);
@@ -344,18 +344,15 @@ public:
                                    "; law unilateral needs massless contact coordinates (allowed w^T M w = 0: a rigid "
                                    "contact on a mass impacts; law elastic gives the contact a stiffness)");
         }
-        const DirectionScale &t = scales.front(), &n = scales.back();
-        if (c.lagrangian_penalty == 0.0) {
-            double automatic = std::sqrt(std::max(t.stiffness, 0.0) * t.largest_mass);
-            const double structure = std::sqrt(t.static_stiffness * t.static_mass);
-            if (structure > 0.0) automatic = std::min(automatic, 30.0 * structure);
-            c.lagrangian_penalty = automatic;
-        }
-        if (!c.values.count("normal_penalty") || c.values.at("normal_penalty") == 0.0)
-            c.values["normal_penalty"] = n.stiffness > 0.0 ? n.stiffness : n.static_stiffness;
-        if (!(c.lagrangian_penalty > 0.0) || !(c.values.at("normal_penalty") > 0.0))
+        // The penalties: the contact nodes' own stiffness along the first tangential and the
+        // normal direction (the structure's static stiffness there where w^T K w is 0).
+        for (const auto& [key, scale] : {std::pair<const char*, const DirectionScale*>{"tangential_penalty", &scales.front()},
+                                         {"normal_penalty", &scales.back()}})
+            if (!c.values.count(key) || c.values.at(key) == 0.0)
+                c.values[key] = scale->stiffness > 0.0 ? scale->stiffness : scale->static_stiffness;
+        if (!(c.values.at("tangential_penalty") > 0.0) || !(c.values.at("normal_penalty") > 0.0))
             throw InvalidInput(where + "law unilateral: the structure has no stiffness along the contact's directions "
-                               "(w^T K w = 0), from which the automatic lagrangian_penalty and normal_penalty follow: "
+                               "(w^T K w = 0), from which the automatic tangential_penalty and normal_penalty follow: "
                                "allowed both given > 0, or a structure that holds the contact nodes");
     }
 
