@@ -194,12 +194,12 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
         const std::string suffix = contacts > 1 ? "_c" + std::to_string(c + 1) : "",
                           of = contacts > 1 ? " (contact " + std::to_string(c + 1) + ")" : "";
         columns.push_back({"separated_fraction" + suffix,
-                           "contacts with a normal direction only (law elastic): share of the period the contact "
+                           "contacts with a normal direction only (laws elastic, unilateral): share of the period the contact "
                            "is open, normal force N = 0 (AFT samples; 1 - stick_fraction - separated_fraction "
                            "slips)" + of});
         columns.push_back({"normal_force_mean" + suffix,
-                           "law elastic only: mean over the period of the normal force N(t) >= 0" + of});
-        columns.push_back({"normal_force_amp" + suffix, "law elastic only: half the range of the normal force over "
+                           "laws elastic, unilateral only: mean over the period of the normal force N(t) >= 0" + of});
+        columns.push_back({"normal_force_amp" + suffix, "laws elastic, unilateral only: half the range of the normal force over "
                                                         "the period, (max N - min N) / 2" + of});
     }
     columns.push_back({"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"});
@@ -311,7 +311,7 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
     columns.insert(columns.end(), regimes.begin(), regimes.end());
     for (int c : normal)
         columns.push_back({"separated_fraction" + (contacts > 1 ? "_c" + std::to_string(c + 1) : std::string()),
-                           "law elastic only: share of the final period the contact is open (N = 0; exact event "
+                           "laws elastic, unilateral only: share of the final period the contact is open (N = 0; exact event "
                            "times)" + (contacts > 1 ? " (contact " + std::to_string(c + 1) + ")" : std::string())});
     const std::vector<Column> rest = {
         {"energy", "friction energy dissipated per cycle, integral of f q' over the final period"},
@@ -320,7 +320,7 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
                       "and the final period passed its physics checks (energy balance; contacts stuck for the whole "
                       "period keep their relative displacement; permanent stick is the centred linear stuck "
                       "state); false: the row holds the last period integrated", ColumnType::text},
-        {"stick_margin_min", "min over the final period of contact 1's stick indicator (< 0 in stick; law elastic: "
+        {"stick_margin_min", "min over the final period of contact 1's stick indicator (< 0 in stick; laws elastic, unilateral: "
                              "|T| / (mu N) - 1 stuck, 0 slipping, 1 open, at every step)"},
         {"stick_margin_max", "max of the stick indicator (< 0: full stick; coulomb also at each velocity reversal)"},
         {"switches", "stick/slip mode changes of all contacts in the final period", ColumnType::integer},

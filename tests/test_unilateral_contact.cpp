@@ -16,6 +16,7 @@
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 #include "hbf/time_integration.hpp"
+#include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
 #include "support.hpp"
@@ -441,4 +442,79 @@ TEST_CASE("unilateral contact 3D: rotating the tangential directions leaves the 
     CHECK(gaps[0][2] / gaps[1][2] == Approx(2.0).epsilon(0.15));  // first order in the step
     CHECK(gaps[1][2] <= 2e-4);
     CHECK(gaps[1][0] > 5 * gaps[1][2]);  // H = 5 is not converged
+}
+
+TEST_CASE("unilateral contact from a system file: examples/systems/liftoff3_rigid.toml passes through stick, "
+          "stick-slip and lift-off in hbf frf and hbf timeint, and bad keys, directions and models exit 2",
+          "[unilateral_contact][cli]") {
+    const ::test::TempDir dir;
+    const std::string example = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3_rigid.toml";
+    const ::test::fs::path out = dir.path / "frf.csv", summary = dir.path / "frf.json";
+    const ::test::Result r = ::test::run_hbf(
+        "frf --config '" + example + "' --out '" + out.string() + "' --summary '" + summary.string() + "'", dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const nlohmann::json json = nlohmann::json::parse(::test::slurp(summary));
+    CHECK(json.at("status") == "completed");
+    const nlohmann::json contacts = json.at("contacts");
+    REQUIRE(contacts.size() == 1);
+    CHECK(contacts[0].at("stick_fraction_max").get<double>() == 1.0);
+    CHECK(contacts[0].at("separated_fraction_max").get<double>() > 0.5);
+    CHECK(contacts[0].at("open_from_w").get<double>() > 2.0);
+    const auto rows = ::test::parse_csv(::test::slurp(out));
+    REQUIRE(rows.size() > 100);
+    bool stick = false, slip = false, open = false;
+    double worst = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        const double stuck = ::test::column(rows, rows[k], "stick_fraction");
+        stick = stick || stuck == 1.0;
+        slip = slip || (stuck > 0.0 && stuck < 1.0);
+        open = open || ::test::column(rows, rows[k], "separated_fraction") > 0.0;
+        worst = std::max(worst, ::test::column(rows, rows[k], "energy_error"));
+        CHECK(::test::column(rows, rows[k], "normal_force_mean") > 0.0);
+    }
+    CHECK(stick);
+    CHECK(slip);
+    CHECK(open);
+    CHECK(worst <= 1e-8);  // input work = viscous + friction dissipation on every point
+    // the law's time integration from the command line, in lift-off
+    const ::test::fs::path integrated = dir.path / "timeint.csv";
+    const ::test::Result t = ::test::run_hbf("timeint --config '" + example + "' --w 2.8 --out '" + integrated.string() + "'", dir);
+    INFO(t.err);
+    REQUIRE(t.exit_code == 0);
+    const auto ti = ::test::parse_csv(::test::slurp(integrated));
+    REQUIRE(ti.size() == 2);
+    CHECK(::test::column(ti, ti[1], "separated_fraction") == Approx(0.596).margin(0.002));  // law elastic: 0.5963
+
+    const std::string head = "[structure]\nmass = [1.0, 0.0, 0.0]\nstiffness = [[3.0, -1.0, 0.0], [-1.0, 1.0, 0.0], "
+                             "[0.0, 0.0, 1.0]]\nexcitation = [1.0, 0.0, 0.0]\nstatic_load = [0.0, 0.0, 1.0]\n"
+                             "[[contact]]\ndof = 2\nlaw = \"unilateral\"\n";
+    const std::string normal = "normal_direction = [0.0, 0.0, 1.0]\n";
+    ::test::check_bad_config(head + normal, {"contact[1]", "friction_coefficient", "missing"}, dir);
+    ::test::check_bad_config(head + "friction_coefficient = 0.3\n", {"normal_direction", "missing"}, dir);
+    ::test::check_bad_config(head + "friction_coefficient = -0.3\n" + normal, {"contact[1]", "friction_coefficient", ">= 0"}, dir);
+    ::test::check_bad_config(head + "friction_coefficient = 0.3\ngap = -1.0\n" + normal, {"contact[1]", "gap", ">= 0"}, dir);
+    ::test::check_bad_config(head + "friction_coefficient = 0.3\nstiffness = 2.0\n" + normal,
+                             {"contact[1].stiffness", "does not apply to law 'unilateral'"}, dir);
+    ::test::check_bad_config(head + "friction_coefficient = 0.3\nnormal_direction = [0.0, 1.0, 1.0]\n",
+                             {"contact[1]", "normal_direction", "not orthogonal"}, dir);
+    ::test::check_bad_config(head + "friction_coefficient = 0.3\nnormal_direction = [0.0, 0.0, 1.0, 0.0]\n",
+                             {"contact[1].normal_direction", "4 entries", "allowed 3"}, dir);
+    // a rigid contact on a coordinate with mass: refused (it would impact)
+    const std::string massive = "[structure]\nmass = [1.0, 1.0]\nstiffness = [[2.0, 0.0], [0.0, 2.0]]\n"
+                                "excitation = [1.0, 0.0]\n[[contact]]\ndof = 1\nlaw = \"unilateral\"\n"
+                                "friction_coefficient = 0.3\nnormal_direction = [0.0, 1.0]\n";
+    ::test::check_bad_config(massive, {"contact 1", "carries mass", "massless contact coordinates"}, dir);
+    ::test::check_bad_input("frf --config '" + example + "' --stability on", {"law unilateral", "no stability analysis"}, dir);
+    ::test::check_bad_input("frf --law unilateral", {"law = unilateral has no preset"}, dir);
+    // time integration: a damped massless node is refused, naming it
+    const std::string damped = head + "friction_coefficient = 0.3\n" + normal +
+                               "";  // (damping below, in [structure])
+    const ::test::fs::path file = dir.path / "damped.toml";
+    std::string text = damped;
+    text.replace(text.find("excitation"), 0, "damping = [[0.1, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, 0.0]]\n");
+    ::test::write_file(file, text);
+    const ::test::Result d = ::test::run_hbf("timeint --config '" + file.string() + "' --w 1.0", dir);
+    CHECK(d.exit_code == 2);
+    CHECK_THAT(d.err, Catch::Contains("DOF 2 is massless and damped"));
 }

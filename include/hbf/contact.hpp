@@ -256,7 +256,7 @@ std::vector<ContactRegime> contact_regimes(const System& system, const std::vect
 /// The system as the time-domain solvers see it, copied only when a law splits a contact:
 ///     const TimeDomainView view(system); const System& s = view.system();
 /// Throws InvalidInput for a law outside them (refuse_time_domain) and for a static load (which
-/// only harmonic balance and the time integration of law elastic carry).
+/// only harmonic balance and the time integration of laws elastic and unilateral carry).
 class TimeDomainView {
 public:
     explicit TimeDomainView(const System& system);

@@ -313,8 +313,8 @@ struct PointSignals {
     Eigen::VectorXd q, v, f, phi;  ///< f: the law's own force (FrictionModel::force_samples)
     Eigen::VectorXd f_series;      ///< f's H-harmonic Fourier series (what the balance sees)
     /// Every direction of the contact (System::contact_directions; q, f are the first column):
-    /// N_t x s relative displacements and forces (law elastic: the tangential ones, then the
-    /// normal displacement v and force N).
+    /// N_t x s relative displacements and forces (laws elastic, unilateral: the tangential
+    /// ones, then the normal displacement v and force N).
     Eigen::MatrixXd q_directions, f_directions;
 };
 /// A contact with several directions (friction.hpp: signals): q, v and f along its first

@@ -140,7 +140,7 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
 /// then <name>_amp1 for each; a DOF i is the output y<i+1>), or all `dofs` DOFs. With several
 /// `contacts`, stick_fraction_c<i> and regime_c<i> for each contact i replace stick_fraction
 /// and regime (the tables count the contacts of their rows). For each contact i (0-based) in
-/// `normal` (those with a normal direction: law elastic), separated_fraction, normal_force_mean
+/// `normal` (those with a normal direction: laws elastic, unilateral), separated_fraction, normal_force_mean
 /// and normal_force_amp (suffixed _c<i+1> with several contacts) follow the regimes, and with
 /// several contacts energy_c<i+1> of every contact follows energy.
 std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts = 1,

@@ -202,14 +202,16 @@ double energy_imbalance(double input, double viscous, double friction, double re
 struct ContactRegime {
     double stick_fraction = 0;
     std::string regime;
-    /// Contacts with a normal direction (contact.hpp: law elastic), harmonic balance: the share
+    /// Contacts with a normal direction (contact.hpp: laws elastic, unilateral): the share
     /// of the period separated (N = 0; stick_fraction + separated_fraction <= 1, the rest
     /// slips), the normal force's mean over the period and half its range (max - min) / 2, on
-    /// the AFT samples. NaN for the other laws and solvers.
+    /// the AFT samples (time integration: its events or steps). NaN for the other laws.
     double separated_fraction = std::numeric_limits<double>::quiet_NaN();
     double normal_mean = std::numeric_limits<double>::quiet_NaN();
     double normal_amplitude = std::numeric_limits<double>::quiet_NaN();
-    /// The friction energy the contact dissipates per cycle (harmonic balance; NaN elsewhere).
+    /// The friction energy the contact dissipates per cycle (harmonic balance, and law
+    /// unilateral's time integration; NaN elsewhere): along its tangential directions only, the
+    /// normal force doing no work over a period (post_processing.cpp).
     double energy = std::numeric_limits<double>::quiet_NaN();
 };
 /// The regime of a contact stuck for `stick_time` of `period`: stick within 1e-12 of the

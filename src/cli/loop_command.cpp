@@ -40,13 +40,13 @@ std::vector<io::Column> loop_columns(int dofs, int signals) {
                      "see (it overshoots mu near a discontinuity: Gibbs)"}};
     columns.insert(columns.end(), rest.begin(), rest.end());
     if (signals == 3) {
-        columns.push_back({"q2", "law elastic, 3D: relative displacement along the second tangential direction"});
-        columns.push_back({"f2", "law elastic, 3D: tangential force along the second direction (|(f, f2)| <= mu fn)"});
+        columns.push_back({"q2", "laws elastic, unilateral, 3D: relative displacement along the second tangential direction"});
+        columns.push_back({"f2", "laws elastic, unilateral, 3D: tangential force along the second direction (|(f, f2)| <= mu fn)"});
     }
     if (signals >= 2) {
-        columns.push_back({"qn", "law elastic: normal relative displacement v = n^T y (positive closing)"});
-        columns.push_back({"fn", "law elastic: normal force N = max(0, N_0 - k_n g_0 + k_n v)"});
-        columns.push_back({"open", "law elastic: 1 where the contact is separated (N = 0), else 0"});
+        columns.push_back({"qn", "laws elastic, unilateral: normal relative displacement v = n^T y (positive closing)"});
+        columns.push_back({"fn", "laws elastic, unilateral: normal force N (elastic: max(0, N_0 - k_n g_0 + k_n v); unilateral: the obstacle's reaction)"});
+        columns.push_back({"open", "laws elastic, unilateral: 1 where the contact is separated (N = 0), else 0"});
     }
     return columns;
 }
@@ -146,7 +146,7 @@ void add_flags(CLI::App& command, LoopOptions& o) {
 for the preset (t in 1/omega1, y in x_s = N/k1, f in N).
 Columns:)",
         loop_columns(2, 3),
-        R"((y1, y2: one column per DOF of the system; q2, f2 for a 3D contact of law elastic, qn, fn, open for every contact of law elastic.) Exit code 1 when the branch does not reach w.)"));
+        R"((y1, y2: one column per DOF of the system; q2, f2 for a 3D contact of laws elastic and unilateral, qn, fn, open for every such contact.) Exit code 1 when the branch does not reach w.)"));
 }
 }  // namespace
 

@@ -255,7 +255,7 @@ TimeDomainView::TimeDomainView(const System& system) : original_(system), split_
     refuse_time_domain(system, "the event-exact solver and the time-domain elements of the general integrator");
     if (system.has_static_load())
         throw InvalidInput("static load: the event-exact solver and the general time integrator do not carry one "
-                           "(harmonic balance does, and the time integration of law elastic): allowed no static_load");
+                           "(harmonic balance does, and the time integration of laws elastic and unilateral): allowed no static_load");
     split_ = splits_contacts(system);
     if (split_) lowered_ = time_domain_system(system);
 }

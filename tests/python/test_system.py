@@ -160,6 +160,34 @@ def test_a_contact_with_a_normal_direction_from_python(tmp_path):
         hbfriction.frf(hbfriction.System([1.0, 0.5, 0.3], k, [0.05, 0.15, 0.0], contacts=[contact]))
 
 
+def test_a_rigid_unilateral_contact_from_python(tmp_path):
+    # examples/systems/liftoff3_rigid.toml built from NumPy (law unilateral on two massless
+    # nodes, the preload a static load): the same table as hbf frf --config on the file; a
+    # contact on a coordinate with mass is refused naming it.
+    path = os.path.join(SOURCE, "examples", "systems", "liftoff3_rigid.toml")
+    k = np.array([[4.5, 0.5, -0.5, -3.0, 0.0], [0.5, 6.5, 0.0, 0.0, -5.0], [-0.5, 0.0, 0.5, 0.0, 0.0],
+                  [-3.0, 0.0, 0.0, 3.0, 0.0], [0.0, -5.0, 0.0, 0.0, 5.0]])
+    c = np.zeros((5, 5))
+    c[:3, :3] = [[0.045, 0.015, -0.015], [0.015, 0.045, 0.0], [-0.015, 0.0, 0.015]]
+    contact = hbfriction.Contact(dof=3, law="unilateral", friction_coefficient=0.3,
+                                 normal_direction=[0.0, 0.0, 0.0, 0.0, 1.0])
+    s = hbfriction.System([1.0, 0.5, 0.3, 0.0, 0.0], k, [0.05, 0.15, 0.0, 0.0, 0.0], damping=c,
+                          contacts=[contact])
+    s.static_load = [0.0, -1.0, 0.0, 0.0, 1.0]
+    b = hbfriction.frf(s, outputs=[0, 1], wmin=0.3, wmax=3.0)
+    assert b.status == "completed"
+    assert max(b.separated_fraction) > 0.5 and min(b.normal_force_mean) > 0.0
+    csv_path = tmp_path / "frf.csv"
+    run_hbf("frf", "--config", path, "--out", str(csv_path))
+    assert_table_equals_csv(b, csv_path.read_text())
+    contact.dof = 0  # y1 has mass
+    contact.normal_direction = [0.0, 0.0, 0.0, 0.0, 1.0]
+    with pytest.raises(ValueError, match="carries mass"):
+        heavy = hbfriction.System([1.0, 0.5, 0.3, 0.0, 0.0], k, [0.05, 0.15, 0.0, 0.0, 0.0], contacts=[contact])
+        heavy.static_load = [0.0, -1.0, 0.0, 0.0, 1.0]
+        hbfriction.frf(heavy)
+
+
 def test_a_static_load_from_python(tmp_path):
     # liftoff3.toml with a static load (System.static_load, [structure] static_load in a file):
     # the same table from NumPy as hbf frf --config on the file; a load of the wrong size is
