@@ -112,6 +112,10 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
         const Eigen::VectorXd& rest = rest_->displacement;
         for (int a = 0; a < signals; ++a)
             x(a * n) = condensed_ ? directions_[static_cast<std::size_t>(a)].dot(rest) : rest(a);
+        mean_forces = Eigen::VectorXcd::Zero(ns);  // the contacts' static forces (the multipliers' means)
+        for (std::size_t c = 0; c < rest_->contacts.size(); ++c)
+            for (Eigen::Index j = 0; j < rest_->contacts[c].force.size() && j < signal_count_[c]; ++j)
+                mean_forces(signal_first_[c] + j) = rest_->contacts[c].force(j);
     } else if ((preload || system_.has_static_load()) && !odd_ && solve(0, amplitude, mean_forces))
         for (int a = 0; a < signals; ++a)
             if (std::isfinite(amplitude(a).real())) x(a * n) = amplitude(a).real();

@@ -8,6 +8,7 @@
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/normal_contact.hpp"
 
 namespace hbf {
 
@@ -27,6 +28,65 @@ struct Evaluation {
     double size = 0;  // |residual|_inf
 };
 
+/// The static state of rigid unilateral contacts (law unilateral): the complementarity problem
+/// of normal_contact.hpp on the whole structure, G = W^T K^-1 W, q0 = W^T K^-1 F_s, loaded in
+/// one increment from rest (tangential reference 0: the holonomic solution).
+StaticState rigid_static_state(const System& system, const Eigen::VectorXd& load,
+                               const std::vector<Eigen::MatrixXd>& directions, double scale) {
+    StaticState out;
+    const int n = system.dofs();
+    out.displacement = Eigen::VectorXd::Zero(n);
+    std::vector<RigidContact> contacts;
+    int entries = 0;
+    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+        const Contact& k = system.contacts[c];
+        if (contact_law(k.law).time_integrator() != TimeIntegrator::unilateral_contacts) {
+            out.message = "contact " + std::to_string(c + 1) + ": law " + to_string(k.law) +
+                          " with rigid contacts (law unilateral): the static state of such a mix is not computed";
+            return out;
+        }
+        contacts.push_back(rigid_contact(k, entries));
+        entries += static_cast<int>(directions[c].cols());
+    }
+    Eigen::MatrixXd w(n, entries);
+    for (std::size_t c = 0; c < contacts.size(); ++c) w.middleCols(contacts[c].first, directions[c].cols()) = directions[c];
+    Eigen::SparseLU<SparseMatrix> lu(system.stiffness);
+    Eigen::MatrixXd u;
+    Eigen::VectorXd y0;
+    if (lu.info() == Eigen::Success) {
+        u = lu.solve(w);
+        y0 = lu.solve(load);
+    }
+    if (lu.info() != Eigen::Success || !u.allFinite() || !y0.allFinite()) {
+        out.message = "the stiffness matrix is singular: the static state of rigid contacts needs K regular (a structure "
+                      "that holds itself without its contacts)";
+        return out;
+    }
+    RigidContactSolution solution;
+    const bool solved = solve_rigid_contacts(contacts, w.transpose() * u, w.transpose() * y0,
+                                             Eigen::VectorXd::Zero(entries), solution);
+    out.iterations = solution.iterations;
+    out.displacement = y0 - u * solution.lambda;
+    const Eigen::VectorXd residual = system.stiffness * out.displacement + w * solution.lambda - load;
+    const double size = std::max(scale, solution.lambda.size() > 0 ? solution.lambda.cwiseAbs().maxCoeff() : 0.0);
+    out.residual = size > 0.0 ? residual.cwiseAbs().maxCoeff() / size : 0.0;
+    if (!solved) {
+        out.message = "the rigid contacts' complementarity problem did not converge (residual " +
+                      format_number(solution.residual) + " of the contact forces)";
+        return out;
+    }
+    static const char* names[] = {"open", "stuck", "slipping"};
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        StaticContactState k;
+        k.state = names[solution.state[c]];
+        k.relative = solution.q.segment(contacts[c].first, directions[c].cols());
+        k.force = solution.lambda.segment(contacts[c].first, directions[c].cols());
+        out.contacts.push_back(k);
+    }
+    out.ok = true;
+    return out;
+}
+
 }  // namespace
 
 StaticState static_state(const System& system) {
@@ -43,6 +103,10 @@ StaticState static_state(const System& system) {
     double scale = load.size() > 0 ? load.cwiseAbs().maxCoeff() : 0.0;
     for (const Contact& c : system.contacts)
         for (const StuckElement& e : contact_law(c.law).stuck_directions(c)) scale = std::max(scale, std::abs(e.offset));
+    if (std::any_of(system.contacts.begin(), system.contacts.end(), [](const Contact& c) {
+            return contact_law(c.law).time_integrator() == TimeIntegrator::unilateral_contacts;
+        }))
+        return rigid_static_state(system, load, directions, scale);
     for (int c = 0; c < nc; ++c) {
         const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
         StaticForce probe;

@@ -15,6 +15,7 @@
 #include "hbf/error.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
+#include "hbf/static_state.hpp"
 #include "hbf/time_integration.hpp"
 #include <nlohmann/json.hpp>
 
@@ -517,4 +518,59 @@ TEST_CASE("unilateral contact from a system file: examples/systems/liftoff3_rigi
     const ::test::Result d = ::test::run_hbf("timeint --config '" + file.string() + "' --w 1.0", dir);
     CHECK(d.exit_code == 2);
     CHECK_THAT(d.err, Catch::Contains("DOF 2 is massless and damped"));
+}
+
+TEST_CASE("unilateral contact: the static state under static loads equals law elastic's (liftoff3: stuck, slipping "
+          "both ways, open), and harmonic balance under a static load matches the law's time integration",
+          "[unilateral_contact][static_load]") {
+    // The node model's static state is a complementarity problem on the whole structure; law
+    // elastic's is Newton's method on its piecewise-linear static force (its own closed forms in
+    // test_elastic_contact.cpp): the same forces and displacements of the masses.
+    const System base = liftoff3();
+    for (const Eigen::Vector3d& load : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0.2, 0),
+                                        Eigen::Vector3d(-0.3, 0.2, 0), Eigen::Vector3d(0, -1.5, 0.1)}) {
+        System elastic = base;
+        elastic.static_load = load;
+        const System nodes = nodes_model(elastic);
+        const StaticState e = static_state(elastic), u = static_state(nodes);
+        INFO("load " << load.transpose() << ": " << e.message << " / " << u.message);
+        REQUIRE(e.ok);
+        REQUIRE(u.ok);
+        CHECK(u.contacts[0].state == e.contacts[0].state);
+        CHECK((u.contacts[0].force - e.contacts[0].force).cwiseAbs().maxCoeff() <= 1e-12);
+        CHECK((u.displacement.head(3) - e.displacement).cwiseAbs().maxCoeff() <= 1e-12);
+        CHECK(u.residual <= 1e-12);
+    }
+    // A tangential static load at w = 1.2 (stick-slip): harmonic balance, started from the
+    // static state, against the law's time integration (the static load on every step).
+    System loaded = base;
+    loaded.static_load = Eigen::Vector3d(0.05, 0.1, 0.0);
+    const System nodes = nodes_model(loaded);
+    TimeIntegrationOptions options;
+    options.steady_tolerance = 1e-10;
+    const PeriodicResponse tu = integrate_steady_state(nodes, 1.2, options);
+    INFO(tu.message);
+    REQUIRE(tu.converged);
+    const Eigen::VectorXd rest = linear_stuck_state(loaded, 1.2);
+    const PeriodicResponse te = integrate_steady_state(loaded, 1.2, hbf::test::tight_time_integration(), &rest);
+    REQUIRE(te.converged);
+    HarmonicBalance reference(loaded, HarmonicBalanceOptions{40, 0, Formulation::condensed});
+    SolutionPoint pr;
+    solve(reference, 1.2, pr, hbf::test::from_orbit(reference, te, loaded.contact_directions(loaded.contacts[0])));
+    HarmonicBalance hb(nodes, HarmonicBalanceOptions{40, 0, Formulation::condensed});
+    REQUIRE(hb.rest_state());
+    CHECK(hb.rest_state()->ok);
+    SolutionPoint p;
+    const PointMetrics m = solve(hb, 1.2, p, from_elastic(hb, reference, pr, loaded.contacts[0]));
+    const Eigen::MatrixXd y = hb.dofs(p.x, 1.2);
+    double gap = 0, mean = 0;
+    for (int i = 0; i < 3; ++i) {
+        gap = std::max(gap, std::abs(std::complex<double>(y(1, i), -y(2, i)) - tu.harmonic1(i)));
+        mean = std::max(mean, std::abs(y(0, i) - tu.displacement.col(i).mean()));
+    }
+    INFO("first harmonics " << gap / tu.harmonic1.head(3).cwiseAbs().maxCoeff() << ", means " << mean);
+    CHECK(gap <= 5e-3 * tu.harmonic1.head(3).cwiseAbs().maxCoeff());  // measured 2.9e-3 (1/H, above)
+    CHECK(mean <= 1e-4);  // the static load's mean deflection (measured 2.4e-5)
+    CHECK(m.energy_error <= 1e-8);
+    CHECK(tu.regime == m.regime);
 }

@@ -93,6 +93,35 @@ void evaluate(const ElasticContact& element, Fourier& fourier, const Eigen::Vect
 /// second_direction.
 ElasticContact elastic_element(const Contact& contact);
 
+/// Rigid unilateral contacts with Coulomb friction (law unilateral, src/contact/unilateral.cpp)
+/// as a complementarity problem on their relative displacements, q = q0 - G lambda: q0 those
+/// without contact forces, G = W^T K^-1 W the Delassus matrix of the structure that holds the
+/// contacts statically (time integration: the massless nodes' K_cc; the static state: all of
+/// K), lambda stacked per contact, its d tangential entries from `first`, then the normal one.
+/// One increment from `reference` (the tangential displacements it starts from):
+///   lambda_N = max(0, lambda_N + e (v - g_0)),
+///   lambda_T = proj_{|.| <= mu lambda_N} (lambda_T + e (u - u_reference)),
+/// e = 1 / diag(G): Signorini on the displacement, Coulomb on the increment (stick holds the
+/// reference; a slip moves along the force). Solved by the semi-smooth Newton method with the
+/// exact generalised Jacobian and halving steps, from out.lambda (a warm start; zero when its
+/// size differs), to 1e-12 of the forces' size, at most 100 steps.
+struct RigidContact {
+    int first = 0;  ///< its first entry in lambda
+    int d = 1;      ///< tangential directions
+    double mu = 0, gap = 0;
+};
+struct RigidContactSolution {
+    Eigen::VectorXd lambda, q;
+    std::vector<int> state;  ///< per contact: 0 open, 1 stuck, 2 slipping
+    double residual = 0;     ///< |lambda - proj(...)|_inf at the end
+    int iterations = 0;
+};
+/// False (with out at its last iterate) when Newton's method does not converge.
+bool solve_rigid_contacts(const std::vector<RigidContact>& contacts, const Eigen::MatrixXd& G, const Eigen::VectorXd& q0,
+                          const Eigen::VectorXd& reference, RigidContactSolution& out);
+/// A contact of law unilateral as the problem's entry starting at `first`.
+RigidContact rigid_contact(const Contact& contact, int first);
+
 /// The directions of a contact with a normal direction (laws elastic and unilateral), named
 /// for messages: the tangential one (Contact::direction, or its dof / other_dof), the
 /// second_direction (3D), the normal_direction; empty without a normal_direction.

@@ -9,7 +9,11 @@
 // holonomic (deformation-theory) solution: it is the incremental one for a load applied
 // proportionally in which no contact unloads, and an approximation where one would (the
 // redistribution between several slipping contacts). Solved by Newton's method with
-// backtracking from y = 0, on the sparse K plus each contact's small Jacobian block.
+// backtracking from y = 0, on the sparse K plus each contact's small Jacobian block. Rigid
+// unilateral contacts (law unilateral, whose static force is set-valued) instead solve their
+// complementarity problem (normal_contact.hpp: solve_rigid_contacts) on the whole structure,
+// G = W^T K^-1 W, loaded in one increment from rest (K must be regular; not mixed with other
+// laws).
 //
 // What it gives: each contact's static state (open, stuck, slipping; presliding for Dahl and
 // LuGre), its forces and relative displacements, reported by hbf frf (stderr and the JSON
@@ -57,8 +61,9 @@ bool has_static_problem(const System& system);
 
 /// The static state (see the top of this file). System::validate first (throws InvalidInput).
 /// Not ok, with the reason, where a law has no single-valued static force (exact Coulomb),
-/// the static stiffness is singular (a part held only by contacts that open or slip), or
-/// Newton's method does not reach 1e-10 of the force scale within 100 steps.
+/// the static stiffness is singular (a part held only by contacts that open or slip; rigid
+/// contacts: K singular), rigid contacts are mixed with other laws, or Newton's method does not
+/// reach 1e-10 of the force scale within 100 steps (rigid contacts: 1e-12 of their forces).
 StaticState static_state(const System& system);
 
 /// "contact 1: stuck (N = 1.2, |T| = 0.3), contact 2: open": one line for messages.

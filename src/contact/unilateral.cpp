@@ -370,6 +370,92 @@ public:
 
 }  // namespace
 
+RigidContact rigid_contact(const Contact& contact, int first) {
+    const Unilateral e = unilateral_element(contact);
+    return {first, e.d, e.mu, e.gap};
+}
+
+namespace {
+
+/// The residual lambda - proj(...) of solve_rigid_contacts (returns its largest entry), the
+/// projections' derivative and every contact's branch.
+double rigid_residual(const std::vector<RigidContact>& contacts, const Eigen::VectorXd& eps, const Eigen::VectorXd& q,
+                      const Eigen::VectorXd& reference, const Eigen::VectorXd& lambda, Eigen::VectorXd& residual,
+                      Eigen::MatrixXd& slope, std::vector<int>& state) {
+    const auto m = lambda.size();
+    residual = lambda;
+    slope.setZero(m, m);
+    state.assign(contacts.size(), 0);
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        const RigidContact& b = contacts[c];
+        const int normal = b.first + b.d;
+        const double a = lambda(normal) + eps(normal) * (q(normal) - b.gap);
+        if (!(a > 0.0)) continue;  // open: lambda = 0
+        residual(normal) -= a;
+        slope(normal, normal) = 1.0;
+        Eigen::VectorXd t(b.d);
+        for (int j = 0; j < b.d; ++j)
+            t(j) = lambda(b.first + j) + eps(b.first + j) * (q(b.first + j) - reference(b.first + j));
+        const double radius = b.mu * a, length = t.norm();
+        if (length < radius) {
+            state[c] = 1;
+            residual.segment(b.first, b.d) -= t;
+            slope.block(b.first, b.first, b.d, b.d).setIdentity();
+            continue;
+        }
+        state[c] = 2;
+        if (!(length > 0.0)) continue;
+        const Eigen::VectorXd direction = t / length;
+        residual.segment(b.first, b.d) -= radius * direction;
+        slope.block(b.first, b.first, b.d, b.d) =
+            radius / length * (Eigen::MatrixXd::Identity(b.d, b.d) - direction * direction.transpose());
+        slope.block(b.first, normal, b.d, 1) = b.mu * direction;
+    }
+    return residual.size() > 0 ? residual.cwiseAbs().maxCoeff() : 0.0;
+}
+
+}  // namespace
+
+bool solve_rigid_contacts(const std::vector<RigidContact>& contacts, const Eigen::MatrixXd& G, const Eigen::VectorXd& q0,
+                          const Eigen::VectorXd& reference, RigidContactSolution& out) {
+    const auto m = q0.size();
+    const Eigen::VectorXd eps = G.diagonal().cwiseInverse();
+    if (out.lambda.size() != m) out.lambda = Eigen::VectorXd::Zero(m);
+    Eigen::VectorXd residual(m), trial(m), trial_residual(m);
+    Eigen::MatrixXd slope(m, m), trial_slope(m, m);
+    std::vector<int> trial_state;
+    const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(m, m);
+    const Eigen::MatrixXd coupling = I - eps.asDiagonal() * G;  // d(lambda + e q) / d lambda
+    double size = rigid_residual(contacts, eps, q0 - G * out.lambda, reference, out.lambda, residual, slope, out.state);
+    const double free = m > 0 ? eps.cwiseProduct(q0).cwiseAbs().maxCoeff() : 0.0;
+    for (out.iterations = 0; out.iterations <= 100; ++out.iterations) {
+        const double scale = std::max(m > 0 ? out.lambda.cwiseAbs().maxCoeff() : 0.0, free);
+        if (size <= 1e-12 * scale || size == 0.0) {
+            out.q = q0 - G * out.lambda;
+            out.residual = size;
+            return true;
+        }
+        if (out.iterations == 100) break;
+        const Eigen::VectorXd step = (I - slope * coupling).partialPivLu().solve(-residual);
+        double fraction = 1.0, trial_size = size;
+        for (int halving = 0; halving < 30; ++halving, fraction *= 0.5) {
+            trial = out.lambda + fraction * step;
+            trial_size = rigid_residual(contacts, eps, q0 - G * trial, reference, trial, trial_residual, trial_slope,
+                                        trial_state);
+            if (trial_size < size) break;
+        }
+        if (!(trial_size < size)) break;
+        out.lambda = trial;
+        residual = trial_residual;
+        slope = trial_slope;
+        out.state = trial_state;
+        size = trial_size;
+    }
+    out.q = q0 - G * out.lambda;
+    out.residual = size;
+    return false;
+}
+
 const ContactLaw& unilateral_law() {
     static const UnilateralLaw law;
     return law;

@@ -12,6 +12,7 @@
 #include "elastic_contacts.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/normal_contact.hpp"
 
 namespace hbf::detail {
 
@@ -24,11 +25,7 @@ constexpr long max_steps_per_period = 1L << 22;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-/// One contact's block of lambda: d tangential entries from `first`, then the normal one.
-struct Block {
-    int first = 0, d = 1;
-    double mu = 0, gap = 0;
-};
+using Block = RigidContact;  // one contact's entries of lambda (normal_contact.hpp)
 
 /// The contacts' state after a step: per contact 0 open, 1 stuck, 2 slipping.
 struct Step {
@@ -69,13 +66,7 @@ public:
                     throw InvalidInput(where + "a direction of the contact is on DOF " + std::to_string(i + 1) +
                                        ", which has mass: time integration of law unilateral needs the contact "
                                        "directions on massless DOFs (a row and column of M that are zero)");
-            Block b;
-            b.first = lambdas_;
-            b.d = static_cast<int>(w.cols()) - 1;
-            b.mu = k.values.at("friction_coefficient");
-            const auto gap = k.values.find("gap");
-            b.gap = gap == k.values.end() ? 0.0 : gap->second;
-            blocks_.push_back(b);
+            blocks_.push_back(rigid_contact(k, lambdas_));
             directions_.push_back(w);
             lambdas_ += static_cast<int>(w.cols());
         }
@@ -112,14 +103,11 @@ public:
                     directions_[c].row(massless_[i]);
         B_ = kcc_inv_ * Wc_;
         G_ = Wc_.transpose() * B_;
-        eps_ = VectorXd(lambdas_);
-        for (int a = 0; a < lambdas_; ++a) {
+        for (int a = 0; a < lambdas_; ++a)
             if (!(G_(a, a) > 0.0))
                 throw InvalidInput("stiffness matrix: the massless nodes have no flexibility along contact direction " +
                                    std::to_string(a + 1) + " (w^T K_cc^-1 w = " + format_number(G_(a, a)) +
                                    "): allowed a positive definite K_cc");
-            eps_(a) = 1.0 / G_(a, a);
-        }
     }
 
     int massive() const { return static_cast<int>(massive_.size()); }
@@ -127,44 +115,22 @@ public:
     double dt() const { return dt_; }
 
     /// The contacts at time t for the masses at ym, the tangential displacements of the last
-    /// step `previous` (its normal entries unused), lambda warm-started from `out.lambda`.
+    /// step `previous` (its normal entries unused), lambda warm-started from `out.lambda`
+    /// (normal_contact.hpp: solve_rigid_contacts).
     bool contacts(double t, const VectorXd& ym, const VectorXd& previous, Step& out, std::string& failure) const {
         const VectorXd yc0 = kcc_inv_ * (Fc_ * std::cos(drive_ * t) + Sc_ - Kcm_ * ym);
-        const VectorXd q0 = Wc_.transpose() * yc0;
-        if (out.lambda.size() != lambdas_) out.lambda = VectorXd::Zero(lambdas_);
-        VectorXd residual(lambdas_), trial(lambdas_), trial_residual(lambdas_);
-        MatrixXd slope(lambdas_, lambdas_);
-        double size = evaluate(q0, previous, out.lambda, residual, &slope, out.state);
-        for (int iteration = 0; iteration < 100; ++iteration) {
-            const double scale = std::max(out.lambda.cwiseAbs().maxCoeff(), (eps_.cwiseProduct(q0)).cwiseAbs().maxCoeff());
-            if (size <= 1e-12 * scale || size == 0.0) {
-                out.free = q0;
-                out.q = q0 - G_ * out.lambda;
-                out.yc = yc0 - B_ * out.lambda;
-                return true;
-            }
-            // J = I - D (I - diag(e) G): the projections' derivative D at the current pattern
-            const MatrixXd jacobian = MatrixXd::Identity(lambdas_, lambdas_) -
-                                      slope * (MatrixXd::Identity(lambdas_, lambdas_) - eps_.asDiagonal() * G_);
-            const VectorXd step = jacobian.partialPivLu().solve(-residual);
-            double fraction = 1.0, trial_size = 0.0;
-            std::vector<int> trial_state;
-            MatrixXd trial_slope(lambdas_, lambdas_);
-            for (int halving = 0; halving < 30; ++halving, fraction *= 0.5) {
-                trial = out.lambda + fraction * step;
-                trial_size = evaluate(q0, previous, trial, trial_residual, &trial_slope, trial_state);
-                if (trial_size < size) break;
-            }
-            if (!(trial_size < size)) break;
-            out.lambda = trial;
-            residual = trial_residual;
-            slope = trial_slope;
-            out.state = trial_state;
-            size = trial_size;
-        }
-        failure = "the contact problem at t = " + format_number(t) + " did not converge (residual " +
-                  format_number(size) + " of the contact forces)";
-        return false;
+        out.free = Wc_.transpose() * yc0;
+        RigidContactSolution solution;
+        solution.lambda = out.lambda;
+        const bool ok = solve_rigid_contacts(blocks_, G_, out.free, previous, solution);
+        out.lambda = solution.lambda;
+        out.q = solution.q;
+        out.state = solution.state;
+        out.yc = yc0 - B_ * out.lambda;
+        if (!ok)
+            failure = "the contact problem at t = " + format_number(t) + " did not converge (residual " +
+                      format_number(solution.residual) + " of the contact forces)";
+        return ok;
     }
 
     /// The force on the masses at time t (the contact forces act on the massless nodes alone).
@@ -212,44 +178,6 @@ public:
     double drive() const { return drive_; }
 
 private:
-    /// The residual lambda - proj(...) (returns its largest entry), the projections'
-    /// derivative and every contact's branch.
-    double evaluate(const VectorXd& q0, const VectorXd& previous, const VectorXd& lambda, VectorXd& residual,
-                    MatrixXd* slope, std::vector<int>& state) const {
-        const VectorXd q = q0 - G_ * lambda;
-        residual = lambda;
-        if (slope) slope->setZero(lambdas_, lambdas_);
-        state.assign(blocks_.size(), 0);
-        for (std::size_t c = 0; c < blocks_.size(); ++c) {
-            const Block& b = blocks_[c];
-            const int normal = b.first + b.d;
-            const double a = lambda(normal) + eps_(normal) * (q(normal) - b.gap);
-            if (!(a > 0.0)) continue;  // open: lambda = 0
-            residual(normal) -= a;
-            if (slope) (*slope)(normal, normal) = 1.0;
-            VectorXd t(b.d);
-            for (int j = 0; j < b.d; ++j)
-                t(j) = lambda(b.first + j) + eps_(b.first + j) * (q(b.first + j) - previous(b.first + j));
-            const double radius = b.mu * a, length = t.norm();
-            if (length < radius) {
-                state[c] = 1;
-                residual.segment(b.first, b.d) -= t;
-                if (slope) slope->block(b.first, b.first, b.d, b.d).setIdentity();
-                continue;
-            }
-            state[c] = 2;
-            if (!(length > 0.0)) continue;
-            const VectorXd direction = t / length;
-            residual.segment(b.first, b.d) -= radius * direction;
-            if (slope) {
-                slope->block(b.first, b.first, b.d, b.d) =
-                    radius / length * (MatrixXd::Identity(b.d, b.d) - direction * direction.transpose());
-                slope->block(b.first, normal, b.d, 1) = b.mu * direction;
-            }
-        }
-        return residual.cwiseAbs().maxCoeff();
-    }
-
     double omega_, drive_;
     long steps_;
     double dt_;
@@ -258,7 +186,7 @@ private:
     std::vector<MatrixXd> directions_;
     int lambdas_ = 0;
     MatrixXd Mmm_, Cmm_, Kmm_, Kmc_, Kcm_, minv_, kcc_inv_, Wc_, B_, G_;
-    VectorXd Fm_, Fc_, Sm_, Sc_, eps_;
+    VectorXd Fm_, Fc_, Sm_, Sc_;
     Eigen::PartialPivLU<MatrixXd> velocity_;
 };
 
