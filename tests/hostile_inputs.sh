@@ -26,7 +26,7 @@ case $PASS in
       exit 77
     fi
     exec setpriv --reuid=nobody --regid=nogroup --clear-groups --reset-env \
-      env PATH="$PATH" TMPDIR=/tmp bash "$0" "$HBF" "$SRC" self
+      env PATH="$PATH" TMPDIR=/tmp HOSTILE_UNPRIVILEGED=1 bash "$0" "$HBF" "$SRC" self
     ;;
   *)
     echo "hostile_inputs.sh: PASS = '$PASS' is not one of self, nobody, both" >&2
@@ -344,8 +344,10 @@ expect 2 "Taylor steps" '' frf --wmin 1e-12 --wmax 1e-11 --exact on --out x.csv
 expect 2 "Taylor steps" '' timeint --w 1e-9 --method exact --out x.csv
 expect 2 "Taylor steps" 'write_system s.toml; sed -i "s/law = \"dahl\"/law = \"jenkins\"/; s/stiffness = 0.016/stiffness = 1e12/" s.toml' frf --config s.toml --exact on --out x.csv
 # The largest H (max_harmonics, model.hpp): the absorber's exact-Coulomb branch, the costliest
-# law there (34 s measured; H = 200 took 524 s and is refused above).
-expect 0 "" '' frf --harmonics 100 --quiet --out /dev/null
+# law there (34 s measured; H = 200 took 524 s and is refused above). A bound on time and
+# memory, not on permissions: the current user's pass only (the unprivileged pass runs in
+# parallel on the 2-core CI machine).
+[[ -n ${HOSTILE_UNPRIVILEGED:-} ]] || expect 0 "" '' frf --harmonics 100 --quiet --out /dev/null
 # 100 reported outputs: every output's exact peaks refined (3.8 s; 14.5 s with golden section).
 OUTPUTS="write_system s.toml; sed -i 's/law = \"dahl\"/law = \"coulomb\"/; /stiffness = 0.016/d' s.toml; for i in \$(seq 100); do printf '[[output]]\nname = \"o%d\"\nrow = [1.0, 0.0%02d]\n' \$i \$i >> s.toml; done"
 expect 0 "" "$OUTPUTS" frf --config s.toml --quiet --out /dev/null

@@ -60,6 +60,9 @@ namespace {
 constexpr const char* normal_key = "normal_direction";
 constexpr const char* second_key = "second_direction";
 
+/// A tangential vector (d = 1 or 2 entries) on the stack: no allocation per sample.
+using Tangential = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 2, 1>;
+
 /// The law's parameters as the AFT reads them.
 struct Unilateral {
     double mu = 0, gap = 0, eps_t = 0, eps_n = 0;
@@ -137,10 +140,10 @@ public:
                 for (int j = 0; j < d; ++j) dtt[static_cast<std::size_t>(j * d + j)](k) = 1.0;
                 continue;
             }
-            const Eigen::VectorXd t = s.t.row(k).transpose();
+            const Tangential t = s.t.row(k).transpose();
             const double size = t.norm();
             if (!(size > 0.0)) continue;
-            const Eigen::VectorXd direction = t / size;
+            const Tangential direction = t / size;
             const double radius = e_.mu * s.normal(k);
             for (int i = 0; i < d; ++i) {
                 dta[static_cast<std::size_t>(i)](k) = e_.mu * direction(i);
@@ -393,7 +396,7 @@ double rigid_residual(const std::vector<RigidContact>& contacts, const Eigen::Ve
         if (!(a > 0.0)) continue;  // open: lambda = 0
         residual(normal) -= a;
         slope(normal, normal) = 1.0;
-        Eigen::VectorXd t(b.d);
+        Eigen::VectorXd t(b.d);  // (a Tangential here trips GCC 12's -Warray-bounds in Eigen's SSE loads)
         for (int j = 0; j < b.d; ++j)
             t(j) = lambda(b.first + j) + eps(b.first + j) * (q(b.first + j) - reference(b.first + j));
         const double radius = b.mu * a, length = t.norm();
