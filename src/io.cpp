@@ -302,19 +302,20 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
     columns.insert(columns.end(), mine.begin(), mine.end());
     const std::vector<Column> regimes = per_contact(
         contacts,
-        {"stick_fraction", "share of the final period in stick (coulomb, jenkins: exact event times; "
+        {"stick_fraction", "share of the final period in stick (coulomb, jenkins, elastic: exact event times; "
                            "dahl, lugre: |sigma0 z| < 0.95 g(v); coulomb-reg: |tanh(v/eps)| < 0.95; iwan: every "
-                           "slider stuck)"},
+                           "slider stuck; unilateral: its steps, |T| < mu N)"},
         {"regime", "stick (never left stick in the final period), slip (never stuck) or stick-slip; none for a "
                    "structure without contacts; failed where not one period could be integrated (the row's "
                    "numbers are then empty)", ColumnType::text});
     columns.insert(columns.end(), regimes.begin(), regimes.end());
     for (int c : normal)
         columns.push_back({"separated_fraction" + (contacts > 1 ? "_c" + std::to_string(c + 1) : std::string()),
-                           "laws elastic, unilateral only: share of the final period the contact is open (N = 0; exact event "
-                           "times)" + (contacts > 1 ? " (contact " + std::to_string(c + 1) + ")" : std::string())});
+                           "laws elastic, unilateral only: share of the final period the contact is open (N = 0; elastic: "
+                           "exact event times; unilateral: its steps)" + (contacts > 1 ? " (contact " + std::to_string(c + 1) + ")" : std::string())});
     const std::vector<Column> rest = {
-        {"energy", "friction energy dissipated per cycle, integral of f q' over the final period"},
+        {"energy", "friction energy dissipated per cycle, integral of f q' over the final period (laws elastic, "
+                   "unilateral: along the tangential directions)"},
         {"periods", "periods integrated (including the shooting-Jacobian periods)", ColumnType::integer},
         {"converged", "true if the state at the start of consecutive periods changed by <= steady-tol (relative) "
                       "and the final period passed its physics checks (energy balance; contacts stuck for the whole "

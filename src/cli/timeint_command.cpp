@@ -233,7 +233,7 @@ written).)"));
 }  // namespace
 
 Runner add_timeint_command(CLI::App& app) {
-    return register_command<TimeintOptions>(app, "timeint", "Periodic steady states of the paper's friction absorber by time integration (SUNDIALS CVODE): "
+    return register_command<TimeintOptions>(app, "timeint", "Periodic steady states of the paper's friction absorber by time integration (SUNDIALS CVODE; law unilateral: velocity Verlet with a complementarity solve per step): "
                    "the reference for harmonic balance. One frequency (--w) or a sweep (--wmin --wmax --points).", add_flags, run);
 }
 
