@@ -36,7 +36,7 @@ struct Step {
 class UnilateralIntegrator {
 public:
     UnilateralIntegrator(const System& system, double omega, long steps)
-        : omega_(omega), drive_(system.excitation_harmonic * omega), steps_(steps),
+        : drive_(system.excitation_harmonic * omega),
           dt_(2.0 * pi / omega / static_cast<double>(steps)) {
         const int n = system.dofs();
         const MatrixXd M(system.mass), K(system.stiffness);
@@ -111,7 +111,7 @@ public:
     }
 
     int massive() const { return static_cast<int>(massive_.size()); }
-    long steps() const { return steps_; }
+    int lambdas() const { return lambdas_; }
     double dt() const { return dt_; }
 
     /// The contacts at time t for the masses at ym, the tangential displacements of the last
@@ -173,13 +173,9 @@ public:
     const std::vector<int>& massless_dofs() const { return massless_; }
     const std::vector<Block>& blocks() const { return blocks_; }
     const MatrixXd& damping() const { return Cmm_; }
-    const VectorXd& excitation_massive() const { return Fm_; }
-    const VectorXd& excitation_massless() const { return Fc_; }
-    double drive() const { return drive_; }
 
 private:
-    double omega_, drive_;
-    long steps_;
+    double drive_;
     double dt_;
     std::vector<int> massive_, massless_;
     std::vector<Block> blocks_;
@@ -258,9 +254,7 @@ PeriodicResponse integrate_unilateral_contacts(const System& system, double omeg
     out.displacement_scale = options.displacement_scale > 0.0 ? options.displacement_scale : response_scale(system, omega);
     // the history before t = 0: the nodes where the initial state puts them (at rest: free of contact forces)
     {
-        int lambdas = 0;
-        for (const Block& b : integrator.blocks()) lambdas = std::max(lambdas, b.first + b.d + 1);
-        step.q = VectorXd::Zero(lambdas);
+        step.q = VectorXd::Zero(integrator.lambdas());
         if (initial_state) {
             std::size_t c = 0;
             for (const Contact& k : system.contacts) {
