@@ -342,6 +342,95 @@ Output read_output(const Reader& r, const toml::table& t, int index, int dofs, c
     return *output;
 }
 
+/// [reduction]: the FE system of [structure] and [[contact]] reduced onto its interface
+/// (reduction.hpp); the contacts, loads and outputs, given on FE DOFs, are carried over.
+static void read_reduction(const Reader& r, const toml::node& node, SystemConfig& config,
+                    const std::vector<toml::source_region>& contact_lines) {
+    const std::string& path = r.file;
+    const toml::table* t = node.as_table();
+    if (!t) fail(path, node.source(), "reduction", "expected a table [reduction]");
+    r.only(*t, {"interface", "modes", "method", "damping_ratios", "rayleigh"}, "reduction");
+    const System& fe = config.system;
+    const int n = fe.dofs();
+    ReductionOptions o;
+    if (const toml::node* v = t->get("method")) {
+        const auto name = v->as_string();
+        if (!name) fail(path, v->source(), "reduction.method", "expected a string: craig-bampton, massless-boundary or macneal");
+        try {
+            o.method = parse_reduction_method(name->get());
+        } catch (const InvalidInput& e) {
+            fail(path, v->source(), "reduction.method", e.what());
+        }
+    }
+    const toml::node* modes = t->get("modes");
+    if (!modes) fail(path, t->source(), "reduction.modes", "missing: the number of normal modes kept (0 = static condensation for craig-bampton and massless-boundary)");
+    o.modes = r.integer(*modes, "reduction.modes");
+    if (const toml::node* v = t->get("interface")) {
+        // 1-based FE DOFs: a list, or a Matrix Market index vector (one column).
+        Eigen::VectorXd list;
+        if (v->is_array()) {
+            const std::vector<double> values = r.list(*v, "reduction.interface");
+            list = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+        } else {
+            list = r.vector(*v, "reduction.interface", -1);
+        }
+        for (Eigen::Index k = 0; k < list.size(); ++k) {
+            const double d = list(k);
+            if (!(d == std::floor(d)) || std::abs(d) > 1e9)
+                fail(path, v->source(), "reduction.interface",
+                     "entry " + std::to_string(k + 1) + " = " + format_number(d) + " is not a DOF: allowed integers 1.." + std::to_string(n));
+            o.interface_dofs.push_back(static_cast<int>(d) - 1);
+        }
+        if (o.interface_dofs.empty()) fail(path, v->source(), "reduction.interface", "empty: allowed a list of 1-based FE DOFs");
+    } else {
+        // Default: the DOFs the contacts act on, ascending.
+        std::set<int> dofs;
+        for (const Contact& c : fe.contacts) {
+            const Eigen::MatrixXd w = fe.contact_directions(c);
+            for (Eigen::Index i = 0; i < n; ++i)
+                if (w.row(i).cwiseAbs().maxCoeff() > 0.0) dofs.insert(static_cast<int>(i));
+        }
+        o.interface_dofs.assign(dofs.begin(), dofs.end());
+    }
+    const toml::node* ratios = t->get("damping_ratios");
+    const toml::node* rayleigh = t->get("rayleigh");
+    if (ratios && rayleigh) fail(path, rayleigh->source(), "reduction.rayleigh", "given with reduction.damping_ratios: allowed one of them");
+    if (ratios) {
+        o.damping = ReductionOptions::Damping::modal;
+        o.modal_ratios = r.list(*ratios, "reduction.damping_ratios");
+    }
+    if (rayleigh) {
+        const std::vector<double> ab = r.list(*rayleigh, "reduction.rayleigh");
+        if (ab.size() != 2) fail(path, rayleigh->source(), "reduction.rayleigh", "expected [a, b]: C_r = a M_r + b K_r");
+        o.damping = ReductionOptions::Damping::rayleigh;
+        o.rayleigh_mass = ab[0];
+        o.rayleigh_stiffness = ab[1];
+    }
+    ReducedSystem reduced;
+    try {
+        reduced = reduce(fe, o);
+        config.outputs = reduced_outputs(config.outputs, reduced.model);
+        reduced.system.validate();
+    } catch (const InvalidInput& e) {
+        const std::string what = e.what();
+        if (what.rfind("contact ", 0) == 0) {
+            const std::size_t c = std::stoul(what.substr(8)) - 1;
+            fail(path, c < contact_lines.size() ? contact_lines[c] : t->source(), "contact[" + std::to_string(c + 1) + "]", what);
+        }
+        std::string key = "reduction";
+        toml::source_region where = t->source();
+        for (const char* k : {"interface", "modes", "method", "damping_ratios", "rayleigh"})
+            if (what.rfind("reduction." + std::string(k), 0) == 0) {
+                key = "reduction." + std::string(k);
+                if (const toml::node* v = t->get(k)) where = v->source();
+            }
+        if (what.rfind("reduction.damping:", 0) == 0) key = "reduction";
+        fail(path, where, key, what);
+    }
+    config.system = std::move(reduced.system);
+    config.reduction = std::make_shared<const ReducedModel>(std::move(reduced.model));
+}
+
 FrfChoices SystemConfig::choices() const {
     FrfChoices c;
     c.omega_start = omega_start;
@@ -388,7 +477,7 @@ SystemConfig read_system_config(const std::string& path) {
     } catch (const toml::parse_error& e) {
         fail(path, e.source(), "", "syntax error: " + std::string(e.description()));
     }
-    r.only(root, {"structure", "contact", "frequency", "solver", "output"}, "");
+    r.only(root, {"structure", "contact", "frequency", "solver", "output", "reduction"}, "");
 
     System& s = config.system;
     const toml::table* structure = root["structure"].as_table();
@@ -542,6 +631,7 @@ SystemConfig read_system_config(const std::string& path) {
                                   std::to_string(n) + " ([output] report = [...] or [[output]] rows choose others)";
         }
     }
+    if (const toml::node* node = root.get("reduction")) read_reduction(r, *node, config, contact_lines);
     return config;
 }
 

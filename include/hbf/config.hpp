@@ -59,17 +59,31 @@
 //     [[output]]
 //     dof = 1                     # a DOF (1-based), named y1 unless a name is given
 //
+//     [reduction]                 # optional: [structure] is an FE model, reduced onto its
+//                                 # interface before anything else (reduction.hpp); contacts,
+//                                 # loads and outputs stay on FE DOFs (1-based)
+//     interface = [101, 102, 103] # DOFs kept as coordinates (a list or an N x 1 .mtx of
+//                                 # 1-based DOFs); default: the DOFs the contacts act on. The
+//                                 # loaded DOFs are kept too (statics exact)
+//     modes = 20                  # normal modes kept (fixed-interface; macneal: free)
+//     method = "craig-bampton"    # or "massless-boundary" (CBMB: massless interface), "macneal"
+//     damping_ratios = [0.01]     # optional: modal ratios of the reduced model's modes (the
+//                                 # last repeated); or rayleigh = [a, b]: C = a M_r + b K_r;
+//                                 # default: [structure] damping projected (T^T C T)
+//
 // Contact keys that do not apply to the contact's law are rejected, as are unknown keys and
 // tables: a misspelt key is an error, not a silent default. Every error names the file, the
 // line and the key.
 #pragma once
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "hbf/design.hpp"
 #include "hbf/model.hpp"
+#include "hbf/reduction.hpp"
 
 namespace hbf::io {
 
@@ -100,6 +114,9 @@ struct SystemConfig {
     /// The [frequency] and [solver] values as the FRF's choices (design.hpp: frf_settings): the
     /// one mapping of the file's settings onto an FRF's, for hbf and Python.
     FrfChoices choices() const;
+    /// [reduction]: the FE model's reduction (system is then the reduced one; outputs are
+    /// rows of its recovery matrix); null without [reduction].
+    std::shared_ptr<const ReducedModel> reduction;
 };
 
 /// Reads and validates a system file (see above). Throws InvalidInput with
