@@ -15,20 +15,15 @@
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/harmonic_balance.hpp"
+#include "config_reader.hpp"
+#include "hbf/interface.hpp"
 
 namespace hbf::io {
 
-namespace {
+using detail::fail;
+using detail::Reader;
 
-/// Throws InvalidInput "FILE:LINE: key 'K': what".
-[[noreturn]] void fail(const std::string& file, const toml::source_region& where, const std::string& key,
-                       const std::string& what) {
-    std::string message = file;
-    if (where.begin.line > 0) message += ":" + std::to_string(where.begin.line);
-    message += ": ";
-    if (!key.empty()) message += "key '" + key + "': ";
-    throw InvalidInput(message + what);
-}
+namespace {
 
 /// Limits checked before the TOML parser sees a file: it recurses once per level of a dotted
 /// table header and crashed (stack overflow) on a 40,000-level one. A system file needs 3.
@@ -95,96 +90,6 @@ void check_nesting(const std::string& path, const std::string& text) {
     }
 }
 
-/// Reading context of one file: its path (for messages) and directory (for .mtx files).
-struct Reader {
-    std::string file, directory;
-    std::vector<InputFile>* inputs = nullptr;  ///< every Matrix Market file read is added
-
-    double number(const toml::node& node, const std::string& key) const {
-        if (auto v = node.as_floating_point()) return v->get();
-        if (auto v = node.as_integer()) return static_cast<double>(v->get());
-        fail(file, node.source(), key, "expected a number");
-    }
-
-    int integer(const toml::node& node, const std::string& key) const {
-        if (auto v = node.as_integer()) {
-            const auto value = v->get();
-            if (value < -1000000000LL || value > 1000000000LL) fail(file, node.source(), key, "integer out of range");
-            return static_cast<int>(value);
-        }
-        fail(file, node.source(), key, "expected an integer");
-    }
-
-    std::vector<double> list(const toml::node& node, const std::string& key) const {
-        const toml::array* a = node.as_array();
-        if (!a) fail(file, node.source(), key, "expected a list of numbers");
-        std::vector<double> values;
-        for (const toml::node& item : *a) values.push_back(number(item, key));
-        return values;
-    }
-
-    /// A matrix: rows [[...], [...]], a flat list (diagonal), or a Matrix Market file name.
-    SparseMatrix matrix(const toml::node& node, const std::string& key) const {
-        if (auto name = node.as_string()) {
-            const std::string path = name->get().empty() || name->get().front() == '/' ? name->get()
-                                                                                       : directory + name->get();
-            if (inputs) inputs->push_back({key, path});
-            try {
-                return read_matrix_market(path);
-            } catch (const InvalidInput& e) {
-                fail(file, node.source(), key, e.what());
-            }
-        }
-        const toml::array* a = node.as_array();
-        if (!a || a->empty()) fail(file, node.source(), key, "expected a matrix: rows [[..], ..], a diagonal [..] or a file name");
-        if (!a->front().is_array()) {
-            const std::vector<double> d = list(node, key);
-            return sparse(Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size())).asDiagonal());
-        }
-        const auto n = static_cast<Eigen::Index>(a->size());
-        Eigen::MatrixXd m(n, n);
-        for (Eigen::Index i = 0; i < n; ++i) {
-            const toml::node& row_node = *a->get(static_cast<std::size_t>(i));
-            const std::vector<double> row = list(row_node, key);
-            if (static_cast<Eigen::Index>(row.size()) != n)
-                fail(file, row_node.source(), key,
-                     "row " + std::to_string(i + 1) + " has " + std::to_string(row.size()) + " entries: allowed " +
-                         std::to_string(n) + " (a square matrix)");
-            for (Eigen::Index j = 0; j < n; ++j) m(i, j) = row[static_cast<std::size_t>(j)];
-        }
-        return sparse(m);
-    }
-
-    /// A vector of n entries: a list of numbers, or a Matrix Market file of one column.
-    Eigen::VectorXd vector(const toml::node& node, const std::string& key, Eigen::Index n) const {
-        Eigen::VectorXd v;
-        if (node.is_string()) {
-            const SparseMatrix m = matrix(node, key);
-            if (m.cols() != 1) fail(file, node.source(), key, "the Matrix Market file has " + std::to_string(m.cols()) +
-                                                                  " columns: allowed 1 (a vector)");
-            v = Eigen::MatrixXd(m).col(0);
-        } else {
-            const std::vector<double> d = list(node, key);
-            v = Eigen::Map<const Eigen::VectorXd>(d.data(), static_cast<Eigen::Index>(d.size()));
-        }
-        if (n >= 0 && v.size() != n)
-            fail(file, node.source(), key, std::to_string(v.size()) + " entries: allowed " + std::to_string(n) +
-                                               " (the number of DOFs)");
-        return v;
-    }
-
-    /// Rejects keys of `table` outside `allowed`, naming the table.
-    void only(const toml::table& table, const std::set<std::string>& allowed, const std::string& where) const {
-        for (auto&& [key, node] : table) {
-            if (allowed.count(std::string(key.str())) == 0) {
-                std::string list;
-                for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-                fail(file, key.source(), where.empty() ? std::string(key.str()) : where + "." + std::string(key.str()),
-                     "unknown key: allowed " + list);
-            }
-        }
-    }
-};
 
 Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs) {
     const std::string where = "contact[" + std::to_string(index + 1) + "]";
@@ -342,95 +247,6 @@ Output read_output(const Reader& r, const toml::table& t, int index, int dofs, c
     return *output;
 }
 
-/// [reduction]: the FE system of [structure] and [[contact]] reduced onto its interface
-/// (reduction.hpp); the contacts, loads and outputs, given on FE DOFs, are carried over.
-static void read_reduction(const Reader& r, const toml::node& node, SystemConfig& config,
-                    const std::vector<toml::source_region>& contact_lines) {
-    const std::string& path = r.file;
-    const toml::table* t = node.as_table();
-    if (!t) fail(path, node.source(), "reduction", "expected a table [reduction]");
-    r.only(*t, {"interface", "modes", "method", "damping_ratios", "rayleigh"}, "reduction");
-    const System& fe = config.system;
-    const int n = fe.dofs();
-    ReductionOptions o;
-    if (const toml::node* v = t->get("method")) {
-        const auto name = v->as_string();
-        if (!name) fail(path, v->source(), "reduction.method", "expected a string: craig-bampton, massless-boundary or macneal");
-        try {
-            o.method = parse_reduction_method(name->get());
-        } catch (const InvalidInput& e) {
-            fail(path, v->source(), "reduction.method", e.what());
-        }
-    }
-    const toml::node* modes = t->get("modes");
-    if (!modes) fail(path, t->source(), "reduction.modes", "missing: the number of normal modes kept (0 = static condensation for craig-bampton and massless-boundary)");
-    o.modes = r.integer(*modes, "reduction.modes");
-    if (const toml::node* v = t->get("interface")) {
-        // 1-based FE DOFs: a list, or a Matrix Market index vector (one column).
-        Eigen::VectorXd list;
-        if (v->is_array()) {
-            const std::vector<double> values = r.list(*v, "reduction.interface");
-            list = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
-        } else {
-            list = r.vector(*v, "reduction.interface", -1);
-        }
-        for (Eigen::Index k = 0; k < list.size(); ++k) {
-            const double d = list(k);
-            if (!(d == std::floor(d)) || std::abs(d) > 1e9)
-                fail(path, v->source(), "reduction.interface",
-                     "entry " + std::to_string(k + 1) + " = " + format_number(d) + " is not a DOF: allowed integers 1.." + std::to_string(n));
-            o.interface_dofs.push_back(static_cast<int>(d) - 1);
-        }
-        if (o.interface_dofs.empty()) fail(path, v->source(), "reduction.interface", "empty: allowed a list of 1-based FE DOFs");
-    } else {
-        // Default: the DOFs the contacts act on, ascending.
-        std::set<int> dofs;
-        for (const Contact& c : fe.contacts) {
-            const Eigen::MatrixXd w = fe.contact_directions(c);
-            for (Eigen::Index i = 0; i < n; ++i)
-                if (w.row(i).cwiseAbs().maxCoeff() > 0.0) dofs.insert(static_cast<int>(i));
-        }
-        o.interface_dofs.assign(dofs.begin(), dofs.end());
-    }
-    const toml::node* ratios = t->get("damping_ratios");
-    const toml::node* rayleigh = t->get("rayleigh");
-    if (ratios && rayleigh) fail(path, rayleigh->source(), "reduction.rayleigh", "given with reduction.damping_ratios: allowed one of them");
-    if (ratios) {
-        o.damping = ReductionOptions::Damping::modal;
-        o.modal_ratios = r.list(*ratios, "reduction.damping_ratios");
-    }
-    if (rayleigh) {
-        const std::vector<double> ab = r.list(*rayleigh, "reduction.rayleigh");
-        if (ab.size() != 2) fail(path, rayleigh->source(), "reduction.rayleigh", "expected [a, b]: C_r = a M_r + b K_r");
-        o.damping = ReductionOptions::Damping::rayleigh;
-        o.rayleigh_mass = ab[0];
-        o.rayleigh_stiffness = ab[1];
-    }
-    ReducedSystem reduced;
-    try {
-        reduced = reduce(fe, o);
-        config.outputs = reduced_outputs(config.outputs, reduced.model);
-        reduced.system.validate();
-    } catch (const InvalidInput& e) {
-        const std::string what = e.what();
-        if (what.rfind("contact ", 0) == 0) {
-            const std::size_t c = std::stoul(what.substr(8)) - 1;
-            fail(path, c < contact_lines.size() ? contact_lines[c] : t->source(), "contact[" + std::to_string(c + 1) + "]", what);
-        }
-        std::string key = "reduction";
-        toml::source_region where = t->source();
-        for (const char* k : {"interface", "modes", "method", "damping_ratios", "rayleigh"})
-            if (what.rfind("reduction." + std::string(k), 0) == 0) {
-                key = "reduction." + std::string(k);
-                if (const toml::node* v = t->get(k)) where = v->source();
-            }
-        if (what.rfind("reduction.damping:", 0) == 0) key = "reduction";
-        fail(path, where, key, what);
-    }
-    config.system = std::move(reduced.system);
-    config.reduction = std::make_shared<const ReducedModel>(std::move(reduced.model));
-}
-
 FrfChoices SystemConfig::choices() const {
     FrfChoices c;
     c.omega_start = omega_start;
@@ -477,7 +293,7 @@ SystemConfig read_system_config(const std::string& path) {
     } catch (const toml::parse_error& e) {
         fail(path, e.source(), "", "syntax error: " + std::string(e.description()));
     }
-    r.only(root, {"structure", "contact", "frequency", "solver", "output", "reduction"}, "");
+    r.only(root, {"structure", "contact", "interface", "frequency", "solver", "output", "reduction"}, "");
 
     System& s = config.system;
     const toml::table* structure = root["structure"].as_table();
@@ -511,6 +327,24 @@ SystemConfig read_system_config(const std::string& path) {
             contact_lines.push_back(node.source());
         }
     }
+    // [[interface]]: one contact per node, after the [[contact]] tables (on the reduced
+    // coordinates when there is a [reduction]: config_fe.cpp).
+    std::vector<ContactInterface> interfaces;
+    std::vector<toml::source_region> interface_lines;
+    if (const toml::node* node = root.get("interface")) {
+        const toml::array* list = node->as_array();
+        if (!list || !list->is_array_of_tables()) fail(path, node->source(), "interface", "expected [[interface]] tables");
+        for (const toml::node& item : *list) {
+            interfaces.push_back(detail::read_interface(r, *item.as_table(), static_cast<int>(interfaces.size()), static_cast<int>(n)));
+            interface_lines.push_back(item.source());
+        }
+    }
+    const bool reduced = root.get("reduction") != nullptr;
+    std::vector<std::string> contact_keys;
+    for (std::size_t c = 0; c < s.contacts.size(); ++c) contact_keys.push_back("contact[" + std::to_string(c + 1) + "]");
+    if (!reduced)
+        detail::add_interface_contacts(path, interfaces, interface_lines, s, static_cast<int>(n), static_cast<int>(n),
+                                       [](int dof) { return dof; }, contact_keys, contact_lines);
     // Matrix properties and contact parameter ranges: System::validate names the item; the
     // file and line are added here.
     try {
@@ -521,7 +355,7 @@ SystemConfig read_system_config(const std::string& path) {
         toml::source_region where = structure->source();
         if (what.rfind("contact ", 0) == 0) {
             const std::size_t c = std::stoul(what.substr(8)) - 1;
-            key = "contact[" + std::to_string(c + 1) + "]";
+            key = c < contact_keys.size() ? contact_keys[c] : "contact[" + std::to_string(c + 1) + "]";
             if (c < contact_lines.size()) where = contact_lines[c];
         } else {
             // (key, the word System::validate uses for it), the most specific first
@@ -631,7 +465,8 @@ SystemConfig read_system_config(const std::string& path) {
                                   std::to_string(n) + " ([output] report = [...] or [[output]] rows choose others)";
         }
     }
-    if (const toml::node* node = root.get("reduction")) read_reduction(r, *node, config, contact_lines);
+    if (const toml::node* node = root.get("reduction"))
+        detail::read_reduction(r, *node, config, contact_lines, interfaces, interface_lines);
     return config;
 }
 

@@ -54,6 +54,9 @@ struct LawParameter {
     bool low_open = false, high_open = false;  ///< Range::interval
     /// The value of a parameter kept in Contact::values when the contact has none.
     double default_value = 0;
+    /// A force or stiffness that a meshed interface (interface.hpp) gives per unit area: each
+    /// node's value is the interface's times the node's area.
+    bool per_area = false;
 
     /// The contact's value (number and integer kinds).
     double get(const Contact& contact) const;

@@ -114,13 +114,16 @@ public:
         normal.kind = LawParameter::Kind::direction;
         LawParameter second{second_key, nullptr, "second tangential direction (3D)", R::positive};
         second.kind = LawParameter::Kind::direction;
-        return {{"stiffness", &Contact::stiffness, "tangential stiffness k_t", R::positive},
-                {"normal_stiffness", nullptr, "normal stiffness k_n", R::positive},
-                {"friction_coefficient", nullptr, "friction coefficient mu", R::non_negative},
-                {"preload", nullptr, "normal preload N_0 (the normal force at v = 0)", R::non_negative},
-                {"gap", nullptr, "initial gap g_0 (open by g_0 at v = 0)", R::non_negative},
-                second,
-                normal};
+        std::vector<LawParameter> list = {
+            {"stiffness", &Contact::stiffness, "tangential stiffness k_t", R::positive},
+            {"normal_stiffness", nullptr, "normal stiffness k_n", R::positive},
+            {"friction_coefficient", nullptr, "friction coefficient mu", R::non_negative},
+            {"preload", nullptr, "normal preload N_0 (the normal force at v = 0)", R::non_negative},
+            {"gap", nullptr, "initial gap g_0 (open by g_0 at v = 0)", R::non_negative},
+            second,
+            normal};
+        for (int k : {0, 1, 3}) list[static_cast<std::size_t>(k)].per_area = true;  // k_t, k_n, N_0
+        return list;
     }
     int default_harmonics() const override { return 10; }
     bool smooth() const override { return false; }

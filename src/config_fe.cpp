@@ -1,0 +1,239 @@
+// hbfriction — system files (config.hpp): the finite-element tables, [reduction] (reduction.hpp)
+// and [[interface]] (interface.hpp).
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <set>
+
+#include "config_reader.hpp"
+#include "hbf/contact.hpp"
+#include "hbf/interface.hpp"
+#include "hbf/reduction.hpp"
+
+namespace hbf::io::detail {
+
+/// [reduction]: the FE system of [structure] and [[contact]] reduced onto its interface
+/// (reduction.hpp); the contacts, loads and outputs, given on FE DOFs, are carried over.
+void read_reduction(const Reader& r, const toml::node& node, SystemConfig& config,
+                    const std::vector<toml::source_region>& contact_lines,
+                    const std::vector<ContactInterface>& interfaces,
+                    const std::vector<toml::source_region>& interface_lines) {
+    const std::string& path = r.file;
+    const toml::table* t = node.as_table();
+    if (!t) fail(path, node.source(), "reduction", "expected a table [reduction]");
+    r.only(*t, {"interface", "modes", "method", "damping_ratios", "rayleigh"}, "reduction");
+    const System& fe = config.system;
+    const int n = fe.dofs();
+    ReductionOptions o;
+    if (const toml::node* v = t->get("method")) {
+        const auto name = v->as_string();
+        if (!name) fail(path, v->source(), "reduction.method", "expected a string: craig-bampton, massless-boundary or macneal");
+        try {
+            o.method = parse_reduction_method(name->get());
+        } catch (const InvalidInput& e) {
+            fail(path, v->source(), "reduction.method", e.what());
+        }
+    }
+    const toml::node* modes = t->get("modes");
+    if (!modes) fail(path, t->source(), "reduction.modes", "missing: the number of normal modes kept (0 = static condensation for craig-bampton and massless-boundary)");
+    o.modes = r.integer(*modes, "reduction.modes");
+    if (const toml::node* v = t->get("interface")) {
+        // 1-based FE DOFs: a list, or a Matrix Market index vector (one column).
+        Eigen::VectorXd list;
+        if (v->is_array()) {
+            const std::vector<double> values = r.list(*v, "reduction.interface");
+            list = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+        } else {
+            list = r.vector(*v, "reduction.interface", -1);
+        }
+        for (Eigen::Index k = 0; k < list.size(); ++k) {
+            const double d = list(k);
+            if (!(d == std::floor(d)) || std::abs(d) > 1e9)
+                fail(path, v->source(), "reduction.interface",
+                     "entry " + std::to_string(k + 1) + " = " + format_number(d) + " is not a DOF: allowed integers 1.." + std::to_string(n));
+            o.interface_dofs.push_back(static_cast<int>(d) - 1);
+        }
+        if (o.interface_dofs.empty()) fail(path, v->source(), "reduction.interface", "empty: allowed a list of 1-based FE DOFs");
+    } else {
+        // Default: the DOFs the contacts act on, ascending, then the interfaces' nodes in order.
+        std::set<int> dofs;
+        for (const Contact& c : fe.contacts) {
+            const Eigen::MatrixXd w = fe.contact_directions(c);
+            for (Eigen::Index i = 0; i < n; ++i)
+                if (w.row(i).cwiseAbs().maxCoeff() > 0.0) dofs.insert(static_cast<int>(i));
+        }
+        o.interface_dofs.assign(dofs.begin(), dofs.end());
+        for (const ContactInterface& iface : interfaces)
+            for (const std::vector<int>& node : iface.nodes)
+                for (int d : node)
+                    if (dofs.insert(d).second) o.interface_dofs.push_back(d);
+    }
+    const toml::node* ratios = t->get("damping_ratios");
+    const toml::node* rayleigh = t->get("rayleigh");
+    if (ratios && rayleigh) fail(path, rayleigh->source(), "reduction.rayleigh", "given with reduction.damping_ratios: allowed one of them");
+    if (ratios) {
+        o.damping = ReductionOptions::Damping::modal;
+        o.modal_ratios = r.list(*ratios, "reduction.damping_ratios");
+    }
+    if (rayleigh) {
+        const std::vector<double> ab = r.list(*rayleigh, "reduction.rayleigh");
+        if (ab.size() != 2) fail(path, rayleigh->source(), "reduction.rayleigh", "expected [a, b]: C_r = a M_r + b K_r");
+        o.damping = ReductionOptions::Damping::rayleigh;
+        o.rayleigh_mass = ab[0];
+        o.rayleigh_stiffness = ab[1];
+    }
+    ReducedSystem reduced;
+    try {
+        reduced = reduce(fe, o);
+        config.outputs = reduced_outputs(config.outputs, reduced.model);
+        reduced.system.validate();
+    } catch (const InvalidInput& e) {
+        const std::string what = e.what();
+        if (what.rfind("contact ", 0) == 0) {
+            const std::size_t c = std::stoul(what.substr(8)) - 1;
+            fail(path, c < contact_lines.size() ? contact_lines[c] : t->source(), "contact[" + std::to_string(c + 1) + "]", what);
+        }
+        std::string key = "reduction";
+        toml::source_region where = t->source();
+        for (const char* k : {"interface", "modes", "method", "damping_ratios", "rayleigh"})
+            if (what.rfind("reduction." + std::string(k), 0) == 0) {
+                key = "reduction." + std::string(k);
+                if (const toml::node* v = t->get(k)) where = v->source();
+            }
+        if (what.rfind("reduction.damping:", 0) == 0) key = "reduction";
+        fail(path, where, key, what);
+    }
+    std::vector<std::string> contact_keys;
+    std::vector<toml::source_region> lines = contact_lines;
+    for (std::size_t c = 0; c < reduced.system.contacts.size(); ++c) contact_keys.push_back("contact[" + std::to_string(c + 1) + "]");
+    const ReducedModel& model = reduced.model;
+    add_interface_contacts(path, interfaces, interface_lines, reduced.system, n, model.reduced(),
+                           [&model](int dof) { return model.coordinate(dof); }, contact_keys, lines);
+    try {
+        reduced.system.validate();
+    } catch (const InvalidInput& e) {
+        const std::string what = e.what();
+        if (what.rfind("contact ", 0) == 0) {
+            const std::size_t c = std::stoul(what.substr(8)) - 1;
+            if (c < contact_keys.size()) fail(path, lines[c], contact_keys[c], what);
+        }
+        fail(path, t->source(), "reduction", what);
+    }
+    config.system = std::move(reduced.system);
+    config.reduction = std::make_shared<const ReducedModel>(std::move(reduced.model));
+}
+
+ContactInterface read_interface(const Reader& r, const toml::table& t, int index, int dofs) {
+    const std::string where = "interface[" + std::to_string(index + 1) + "]";
+    ContactInterface iface;
+    const toml::node* law_node = t.get("law");
+    if (!law_node || !law_node->is_string())
+        fail(r.file, law_node ? law_node->source() : t.source(), where + ".law", "missing: a string (elastic or unilateral)");
+    try {
+        iface.prototype.law = parse_friction_law(law_node->as_string()->get());
+    } catch (const InvalidInput& e) {
+        fail(r.file, law_node->source(), where + ".law", e.what());
+    }
+    // Keys: the interface's own, and the law's numbers (directions come from the frames; the
+    // preload is given as a pressure).
+    std::set<std::string> allowed = {"name", "nodes", "normal", "tangent", "area", "law"};
+    const std::vector<LawParameter> parameters = contact_law(iface.prototype.law).parameters();
+    for (const LawParameter& p : parameters) {
+        if (p.kind == LawParameter::Kind::direction) continue;
+        if (std::string(p.key) == "preload") {
+            allowed.insert("preload_pressure");
+            continue;
+        }
+        allowed.insert(p.key);
+    }
+    r.only(t, allowed, where);
+    if (const toml::node* v = t.get("name")) {
+        if (!v->is_string()) fail(r.file, v->source(), where + ".name", "expected a string");
+        iface.name = v->as_string()->get();
+    }
+    // A list of rows (numbers), or a Matrix Market file of `columns` columns (-1: any).
+    auto rows = [&](const toml::node& v, const std::string& key) {
+        Eigen::MatrixXd m;
+        if (v.is_string()) {
+            m = Eigen::MatrixXd(r.matrix(v, key));
+        } else if (const toml::array* a = v.as_array(); a && !a->empty() && a->front().is_array()) {
+            for (std::size_t i = 0; i < a->size(); ++i) {
+                const std::vector<double> row = r.list(*a->get(i), key);
+                if (i == 0) m.resize(static_cast<Eigen::Index>(a->size()), static_cast<Eigen::Index>(row.size()));
+                if (static_cast<Eigen::Index>(row.size()) != m.cols())
+                    fail(r.file, a->get(i)->source(), key, "row " + std::to_string(i + 1) + " has " + std::to_string(row.size()) +
+                                                              " entries: allowed " + std::to_string(m.cols()) + " as row 1");
+                for (std::size_t j = 0; j < row.size(); ++j) m(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = row[j];
+            }
+        } else {
+            const std::vector<double> row = r.list(v, key);
+            m = Eigen::Map<const Eigen::MatrixXd>(row.data(), 1, static_cast<Eigen::Index>(row.size()));
+        }
+        return m;
+    };
+    const toml::node* nodes = t.get("nodes");
+    if (!nodes) fail(r.file, t.source(), where + ".nodes", "missing: each node's FE DOFs (1-based), [[x, y, z], ...] or an n x 3 (2D: n x 2) .mtx");
+    const Eigen::MatrixXd node_dofs = rows(*nodes, where + ".nodes");
+    for (Eigen::Index k = 0; k < node_dofs.rows(); ++k) {
+        std::vector<int> node;
+        for (Eigen::Index j = 0; j < node_dofs.cols(); ++j) {
+            const double d = node_dofs(k, j);
+            if (!(d == std::floor(d)) || std::abs(d) > 1e9)
+                fail(r.file, nodes->source(), where + ".nodes",
+                     "node " + std::to_string(k + 1) + ": " + format_number(d) + " is not a DOF: allowed integers 1.." + std::to_string(dofs));
+            node.push_back(static_cast<int>(d) - 1);
+        }
+        iface.nodes.push_back(std::move(node));
+    }
+    const toml::node* normal = t.get("normal");
+    if (!normal) fail(r.file, t.source(), where + ".normal", "missing: the closing direction n (one for all nodes, or one per node)");
+    iface.normals = rows(*normal, where + ".normal");
+    if (const toml::node* v = t.get("tangent")) iface.tangents = rows(*v, where + ".tangent");
+    if (const toml::node* v = t.get("area")) {
+        if (v->is_number()) {
+            iface.areas = Eigen::VectorXd::Constant(1, r.number(*v, where + ".area"));
+        } else {
+            iface.areas = r.vector(*v, where + ".area", -1);
+        }
+    }
+    for (const LawParameter& p : parameters) {
+        if (p.kind == LawParameter::Kind::direction) continue;
+        const std::string key = std::string(p.key) == "preload" ? "preload_pressure" : p.key;
+        if (const toml::node* v = t.get(key)) p.set(iface.prototype, r.number(*v, where + "." + key));
+    }
+    try {
+        iface.validate(dofs);
+    } catch (const InvalidInput& e) {
+        const std::string what = e.what();
+        std::string key = where;
+        for (const char* k : {"nodes", "normal", "tangent", "area", "law"})
+            if (what.find(std::string(": ") + k + ":") != std::string::npos) {
+                key = where + "." + k;
+                break;
+            }
+        fail(r.file, t.source(), key, what);
+    }
+    return iface;
+}
+
+void add_interface_contacts(const std::string& path, const std::vector<ContactInterface>& interfaces,
+                            const std::vector<toml::source_region>& interface_lines, System& system, int dofs,
+                            int coordinates, const std::function<int(int)>& coordinate,
+                            std::vector<std::string>& contact_keys, std::vector<toml::source_region>& contact_lines) {
+    for (std::size_t i = 0; i < interfaces.size(); ++i) {
+        const std::string where = "interface[" + std::to_string(i + 1) + "]";
+        std::vector<Contact> contacts;
+        try {
+            contacts = interface_contacts(interfaces[i], dofs, coordinates, coordinate);
+        } catch (const InvalidInput& e) {
+            fail(path, interface_lines[i], where + ".nodes", e.what());
+        }
+        for (std::size_t k = 0; k < contacts.size(); ++k) {
+            system.contacts.push_back(std::move(contacts[k]));
+            contact_keys.push_back(where + " node " + std::to_string(k + 1));
+            contact_lines.push_back(interface_lines[i]);
+        }
+    }
+}
+
+}  // namespace hbf::io::detail

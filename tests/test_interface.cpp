@@ -1,0 +1,180 @@
+// Meshed contact interfaces (interface.hpp, [[interface]] in system files): the frames and the
+// per-area parameters of the expansion, a rigid patch of many nodes against one contact with the
+// summed stiffnesses and preload, and the refusals.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "hbf/config.hpp"
+#include "hbf/contact.hpp"
+#include "hbf/error.hpp"
+#include "hbf/harmonic_balance.hpp"
+#include "hbf/interface.hpp"
+#include "hbf/model.hpp"
+#include "support.hpp"
+
+using namespace hbf;
+using ::test::TempDir;
+using ::test::write_file;
+namespace fs = std::filesystem;
+
+namespace {
+
+const FrictionLaw elastic = parse_friction_law("elastic");
+
+/// A one-node interface on DOFs `dofs` with the normal n, tangent t (3D) and area a, law elastic
+/// with per-area k_t = 3, k_n = 5, preload 1, mu = 0.3.
+ContactInterface patch(const std::vector<int>& dofs, const Eigen::VectorXd& n, const Eigen::VectorXd& t, double a) {
+    ContactInterface i;
+    i.nodes = {dofs};
+    i.normals = n.transpose();
+    if (t.size() > 0) i.tangents = t.transpose();
+    i.areas = Eigen::VectorXd::Constant(1, a);
+    i.prototype.law = elastic;
+    i.prototype.stiffness = 3.0;
+    i.prototype.values["normal_stiffness"] = 5.0;
+    i.prototype.values["preload"] = 1.0;
+    i.prototype.values["friction_coefficient"] = 0.3;
+    return i;
+}
+
+/// A 3-DOF body (x, y, z), the contact's node: its tangential motion moves the normal load
+/// through K's coupling (liftoff3 in 3D), Rayleigh damping, forced along all three axes.
+System body() {
+    Eigen::Matrix3d k;
+    k << 1.5, 0.2, 0.5, 0.2, 1.2, 0.3, 0.5, 0.3, 1.5;
+    System s;
+    s.mass = sparse(Eigen::Matrix3d::Identity());
+    s.stiffness = sparse(k);
+    s.damping = sparse(0.03 * k);
+    s.excitation = Eigen::Vector3d(0.05, 0.03, 0.15);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("Interface expansion: orthonormal frames, per-area stiffnesses and preload, the rest copied", "[interface]") {
+    ContactInterface i = patch({3, 4, 5}, Eigen::Vector3d(0.0, 0.6, 0.8), Eigen::VectorXd(), 0.25);
+    i.nodes.push_back({0, 1, 2});
+    i.areas = Eigen::Vector2d(0.25, 0.5);
+    const std::vector<Contact> c = interface_contacts(i, 6, 6, [](int d) { return d; });
+    REQUIRE(c.size() == 2);
+    const System s = [&] {
+        System m = body();
+        m.mass = sparse(Eigen::MatrixXd::Identity(6, 6));
+        m.stiffness = sparse(Eigen::MatrixXd::Identity(6, 6));
+        m.damping = SparseMatrix(6, 6);
+        m.excitation = Eigen::VectorXd::Zero(6);
+        m.contacts = c;
+        return m;
+    }();
+    s.validate();
+    for (int k = 0; k < 2; ++k) {
+        const Eigen::MatrixXd w = s.contact_directions(c[static_cast<std::size_t>(k)]);  // t1, t2, n
+        REQUIRE(w.cols() == 3);
+        CHECK((w.transpose() * w - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-15);
+        const int first = k == 0 ? 3 : 0;
+        CHECK(w.col(2).segment(first, 3).isApprox(Eigen::Vector3d(0.0, 0.6, 0.8)));
+        CHECK(w.col(1).segment(first, 3).isApprox(Eigen::Vector3d(w.col(2).segment(first, 3)).cross(Eigen::Vector3d(w.col(0).segment(first, 3)))));
+        // the automatic t1: the axis least aligned with n (x), made orthogonal to it
+        CHECK(w.col(0).segment(first, 3).isApprox(Eigen::Vector3d(1.0, 0.0, 0.0)));
+        const double area = k == 0 ? 0.25 : 0.5;
+        const Contact& ck = c[static_cast<std::size_t>(k)];
+        CHECK(ck.stiffness == 3.0 * area);
+        CHECK(ck.values.at("normal_stiffness") == 5.0 * area);
+        CHECK(ck.values.at("preload") == 1.0 * area);
+        CHECK(ck.values.at("friction_coefficient") == 0.3);
+    }
+    // 2D: t1 is n turned by -90 degrees.
+    ContactInterface flat = patch({0, 1}, Eigen::Vector2d(0.0, 1.0), Eigen::VectorXd(), 1.0);
+    const Contact c2 = interface_contacts(flat, 2, 2, [](int d) { return d; }).front();
+    CHECK(c2.direction.isApprox(Eigen::Vector2d(1.0, 0.0)));
+    CHECK(c2.lists.count("second_direction") == 0);
+}
+
+TEST_CASE("A rigid patch of four nodes is one contact with the summed stiffnesses and preload (1e-8)", "[interface]") {
+    // Four nodes that move with the same body (each node's DOFs are the body's), areas 0.1 to
+    // 0.4, against one node of area 1: each node's forces are its area times the single
+    // contact's (the same stick, slip and separation), so the responses are equal. Harmonic
+    // balance at H = 10 over stick, stick-slip and lift-off, both solved to 1e-12.
+    const Eigen::Vector3d n(0.0, 0.0, 1.0), t(1.0, 0.0, 0.0);
+    System one = body(), four = body();
+    for (const Contact& c : interface_contacts(patch({0, 1, 2}, n, t, 1.0), 3, 3, [](int d) { return d; }))
+        one.contacts.push_back(c);
+    for (double a : {0.1, 0.2, 0.3, 0.4})
+        for (const Contact& c : interface_contacts(patch({0, 1, 2}, n, t, a), 3, 3, [](int d) { return d; }))
+            four.contacts.push_back(c);
+    const std::vector<double> omegas = {0.5, 1.0, 1.3, 2.0, 2.8};
+    const auto y1 = hbf::test::sampled_dofs(one, {10, 0, Formulation::automatic}, omegas, 0.3, 3.0);
+    const auto y4 = hbf::test::sampled_dofs(four, {10, 0, Formulation::automatic}, omegas, 0.3, 3.0);
+    for (std::size_t k = 0; k < omegas.size(); ++k) {
+        INFO("w = " << omegas[k]);
+        CHECK((y1[k] - y4[k]).cwiseAbs().maxCoeff() < 1e-8 * y1[k].cwiseAbs().maxCoeff());
+    }
+    // The band passes through lift-off: the single contact separates somewhere.
+    HarmonicBalance hb(one, {10, 0, Formulation::automatic});
+    bool opened = false;
+    for (const SolutionPoint& p : hbf::test::sampled_points(hb, omegas, 0.3, 3.0, 1e-12)) {
+        const Eigen::VectorXd normal = hb.force_samples(p.x, p.omega, 0).tail(hb.time_samples());
+        opened = opened || normal.minCoeff() <= 0.0;
+    }
+    CHECK(opened);
+}
+
+TEST_CASE("[[interface]] in a system file: nodes, frames and areas; bad ones name the key", "[interface][config]") {
+    TempDir dir;
+    const fs::path file = dir.path / "s.toml";
+    const std::string structure =
+        "[structure]\nmass = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]\nstiffness = [2.0, 2.0, 2.0, 2.0, 2.0, 2.0]\n"
+        "excitation = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]\n";
+    const std::string good = "[[interface]]\nname = \"pad\"\nnodes = [[1, 2, 3], [4, 5, 6]]\nnormal = [0.0, 0.0, 1.0]\n"
+                             "area = [0.5, 1.5]\nlaw = \"elastic\"\nstiffness = 2.0\nnormal_stiffness = 4.0\n"
+                             "friction_coefficient = 0.2\npreload_pressure = 3.0\n";
+    write_file(file, structure + good);
+    const hbf::io::SystemConfig config = hbf::io::read_system_config(file.string());
+    REQUIRE(config.system.contacts.size() == 2);
+    CHECK(config.system.contacts[1].stiffness == 3.0);
+    CHECK(config.system.contacts[1].values.at("preload") == 4.5);
+    CHECK(config.system.contacts[1].lists.at("normal_direction")[5] == 1.0);
+    struct Case {
+        std::string table;
+        std::vector<std::string> expected;
+    };
+    const std::vector<Case> cases = {
+        {"[[interface]]\nnodes = [[1, 2, 3], [4, 5, 9]]\nnormal = [0.0, 0.0, 1.0]\nlaw = \"elastic\"\nstiffness = 1.0\n"
+         "normal_stiffness = 1.0\nfriction_coefficient = 0.2\n",
+         {"interface[1].nodes", "node 2 has DOF 9", "allowed 1..6"}},
+        {"[[interface]]\nnodes = [[1, 2, 3], [4, 5, 3]]\nnormal = [0.0, 0.0, 1.0]\nlaw = \"elastic\"\nstiffness = 1.0\n"
+         "normal_stiffness = 1.0\nfriction_coefficient = 0.2\n",
+         {"interface[1].nodes", "DOF 3 of node 2 is used twice"}},
+        {"[[interface]]\nnodes = [[1, 2, 3]]\nnormal = [0.0, 0.5, 1.0]\nlaw = \"elastic\"\nstiffness = 1.0\n"
+         "normal_stiffness = 1.0\nfriction_coefficient = 0.2\n",
+         {"interface[1].normal", "length 1.118", "unit"}},
+        {"[[interface]]\nnodes = [[1, 2, 3]]\nnormal = [0.0, 0.0, 1.0]\ntangent = [0.6, 0.0, 0.8]\nlaw = \"elastic\"\n"
+         "stiffness = 1.0\nnormal_stiffness = 1.0\nfriction_coefficient = 0.2\n",
+         {"interface[1].tangent", "not orthogonal"}},
+        {"[[interface]]\nnodes = [[1, 2, 3]]\nnormal = [0.0, 0.0, 1.0]\narea = -1.0\nlaw = \"elastic\"\nstiffness = 1.0\n"
+         "normal_stiffness = 1.0\nfriction_coefficient = 0.2\n",
+         {"interface[1].area", "allowed > 0"}},
+        {"[[interface]]\nnodes = [[1, 2, 3]]\nnormal = [0.0, 0.0, 1.0]\nlaw = \"jenkins\"\nstiffness = 1.0\n",
+         {"interface[1].law", "no normal direction", "elastic or unilateral"}},
+        {"[[interface]]\nnodes = [[1, 2, 3]]\nnormal = [0.0, 0.0, 1.0]\nlaw = \"elastic\"\npreload = 1.0\n",
+         {"interface[1].preload", "unknown key", "preload_pressure"}},
+        {"[[interface]]\nnodes = [[1, 2, 3]]\nnormal = [0.0, 0.0, 1.0]\nlaw = \"elastic\"\nstiffness = 1.0\n"
+         "normal_stiffness = 1.0\n",
+         {"interface[1] node 1", "friction_coefficient"}},
+    };
+    for (const Case& c : cases) {
+        write_file(file, structure + c.table);
+        INFO(c.table);
+        try {
+            hbf::io::read_system_config(file.string());
+            FAIL("accepted");
+        } catch (const InvalidInput& error) {
+            for (const std::string& part : c.expected) CHECK_THAT(error.what(), Catch::Contains(part));
+        }
+    }
+}
