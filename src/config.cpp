@@ -339,6 +339,12 @@ SystemConfig read_system_config(const std::string& path) {
             interface_lines.push_back(item.source());
         }
     }
+    // Their preload pressures: static loads on the FE DOFs (before any reduction).
+    for (const ContactInterface& iface : interfaces)
+        if (iface.preload_pressure > 0.0) {
+            if (s.static_load.size() != n) s.static_load = Eigen::VectorXd::Zero(n);
+            s.static_load += interface_load(iface, static_cast<int>(n));
+        }
     const bool reduced = root.get("reduction") != nullptr;
     std::vector<std::string> contact_keys;
     for (std::size_t c = 0; c < s.contacts.size(); ++c) contact_keys.push_back("contact[" + std::to_string(c + 1) + "]");

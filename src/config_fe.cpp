@@ -138,14 +138,9 @@ ContactInterface read_interface(const Reader& r, const toml::table& t, int index
     // preload is given as a pressure).
     std::set<std::string> allowed = {"name", "nodes", "normal", "tangent", "area", "law"};
     const std::vector<LawParameter> parameters = contact_law(iface.prototype.law).parameters();
-    for (const LawParameter& p : parameters) {
-        if (p.kind == LawParameter::Kind::direction) continue;
-        if (std::string(p.key) == "preload") {
-            allowed.insert("preload_pressure");
-            continue;
-        }
-        allowed.insert(p.key);
-    }
+    allowed.insert("preload_pressure");
+    for (const LawParameter& p : parameters)
+        if (p.kind != LawParameter::Kind::direction && std::string(p.key) != "preload") allowed.insert(p.key);
     r.only(t, allowed, where);
     if (const toml::node* v = t.get("name")) {
         if (!v->is_string()) fail(r.file, v->source(), where + ".name", "expected a string");
@@ -196,17 +191,16 @@ ContactInterface read_interface(const Reader& r, const toml::table& t, int index
             iface.areas = r.vector(*v, where + ".area", -1);
         }
     }
-    for (const LawParameter& p : parameters) {
-        if (p.kind == LawParameter::Kind::direction) continue;
-        const std::string key = std::string(p.key) == "preload" ? "preload_pressure" : p.key;
-        if (const toml::node* v = t.get(key)) p.set(iface.prototype, r.number(*v, where + "." + key));
-    }
+    for (const LawParameter& p : parameters)
+        if (p.kind != LawParameter::Kind::direction)
+            if (const toml::node* v = t.get(p.key)) p.set(iface.prototype, r.number(*v, where + "." + p.key));
+    if (const toml::node* v = t.get("preload_pressure")) iface.preload_pressure = r.number(*v, where + ".preload_pressure");
     try {
         iface.validate(dofs);
     } catch (const InvalidInput& e) {
         const std::string what = e.what();
         std::string key = where;
-        for (const char* k : {"nodes", "normal", "tangent", "area", "law"})
+        for (const char* k : {"nodes", "normal", "tangent", "area", "preload_pressure", "law"})
             if (what.find(std::string(": ") + k + ":") != std::string::npos) {
                 key = where + "." + k;
                 break;

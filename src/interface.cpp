@@ -102,12 +102,28 @@ void ContactInterface::validate(int dofs) const {
         if (!(areas(k) > 0.0 && std::isfinite(areas(k))))
             throw InvalidInput(at + "area: entry " + std::to_string(k + 1) + " = " + format_number(areas(k)) +
                                " is out of range: allowed > 0");
+    if (!(preload_pressure >= 0.0 && std::isfinite(preload_pressure)))
+        throw InvalidInput(at + "preload_pressure: " + format_number(preload_pressure) +
+                           " is out of range: allowed finite and >= 0");
     bool normal_law = false;
     for (const LawParameter& p : contact_law(prototype.law).parameters())
         normal_law = normal_law || (p.kind == LawParameter::Kind::direction && std::string(p.key) == "normal_direction");
     if (!normal_law)
         throw InvalidInput(at + "law: '" + to_string(prototype.law) +
                            "' has no normal direction: allowed elastic or unilateral (the laws with a normal load)");
+}
+
+Eigen::VectorXd interface_load(const ContactInterface& iface, int dofs) {
+    iface.validate(dofs);
+    Eigen::VectorXd load = Eigen::VectorXd::Zero(dofs);
+    const int d = iface.dimension();
+    for (int k = 0; k < static_cast<int>(iface.nodes.size()); ++k) {
+        const Eigen::MatrixXd f = iface.frame(k);
+        for (int j = 0; j < d; ++j)
+            load(iface.nodes[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)]) +=
+                iface.preload_pressure * iface.area(k) * f(j, d - 1);
+    }
+    return load;
 }
 
 std::vector<Contact> interface_contacts(const ContactInterface& iface, int dofs, int coordinates,
@@ -145,7 +161,7 @@ std::vector<Contact> interface_contacts(const ContactInterface& iface, int dofs,
         }
         const double area = iface.area(k);
         for (const LawParameter& p : parameters)
-            if (p.per_area) p.set(c, p.get(iface.prototype) * area);
+            if (p.per_area && (p.field || iface.prototype.values.count(p.key))) p.set(c, p.get(iface.prototype) * area);
         out.push_back(std::move(c));
     }
     return out;

@@ -14,7 +14,10 @@
 #include <string>
 #include <vector>
 
-namespace test {
+// In hbf::test with the helpers of support.hpp, and reachable as test:: (the alias below): the
+// test sources are compiled in unity batches, where a file's `using namespace hbf` meets
+// another's `test::`.
+namespace hbf::test {
 namespace fs = std::filesystem;
 
 struct Result {
@@ -118,4 +121,6 @@ inline void check_bad_config(const std::string& text, const std::vector<std::str
     fs::remove(file);
 }
 
-}  // namespace test
+}  // namespace hbf::test
+
+namespace test = hbf::test;

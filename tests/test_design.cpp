@@ -297,7 +297,7 @@ TEST_CASE("FrfSettings::validate holds the ranges of every front end: the librar
 }
 
 TEST_CASE("hbf optimize: Coulomb, fe = 1, wa = 1 and wa = 1/(1+r) match brute-force scans by hbf map to 0.1 % in mu",
-          "[design][optimize][cli]") {
+          "[.long][design][optimize][cli]") {
     ::test::TempDir dir;
     for (const std::string wa : {"1", "0.909090909090909"}) {
         INFO("wa = " << wa);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cli_support.hpp"
@@ -26,7 +27,8 @@ namespace {
 const FrictionLaw elastic = parse_friction_law("elastic");
 
 /// A one-node interface on DOFs `dofs` with the normal n, tangent t (3D) and area a, law elastic
-/// with per-area k_t = 3, k_n = 5, preload 1, mu = 0.3.
+/// with per-area k_t = 3, k_n = 5, its own preload N_0 = 1 and mu = 0.3, pressed by a preload
+/// pressure 0.1.
 ContactInterface patch(const std::vector<int>& dofs, const Eigen::VectorXd& n, const Eigen::VectorXd& t, double a) {
     ContactInterface i;
     i.nodes = {dofs};
@@ -38,6 +40,7 @@ ContactInterface patch(const std::vector<int>& dofs, const Eigen::VectorXd& n, c
     i.prototype.values["normal_stiffness"] = 5.0;
     i.prototype.values["preload"] = 1.0;
     i.prototype.values["friction_coefficient"] = 0.3;
+    i.preload_pressure = 0.1;
     return i;
 }
 
@@ -95,36 +98,50 @@ TEST_CASE("Interface expansion: orthonormal frames, per-area stiffnesses and pre
     CHECK(c2.lists.count("second_direction") == 0);
 }
 
-TEST_CASE("A rigid patch of four nodes is one contact with the summed stiffnesses and preload (1e-8)", "[interface]") {
+TEST_CASE("A rigid patch of four nodes is one contact with the summed stiffnesses and preloads (1e-8)", "[interface]") {
     // Four nodes that move with the same body (each node's DOFs are the body's), areas 0.1 to
     // 0.4, against one node of area 1: each node's forces are its area times the single
     // contact's (the same stick, slip and separation), so the responses are equal. Harmonic
     // balance at H = 10 over stick, stick-slip and lift-off, both solved to 1e-12.
     const Eigen::Vector3d n(0.0, 0.0, 1.0), t(1.0, 0.0, 0.0);
     System one = body(), four = body();
+    one.static_load = four.static_load = Eigen::VectorXd::Zero(3);
     for (const Contact& c : interface_contacts(patch({0, 1, 2}, n, t, 1.0), 3, 3, [](int d) { return d; }))
         one.contacts.push_back(c);
-    for (double a : {0.1, 0.2, 0.3, 0.4})
+    one.static_load += interface_load(patch({0, 1, 2}, n, t, 1.0), 3);
+    for (double a : {0.1, 0.2, 0.3, 0.4}) {
         for (const Contact& c : interface_contacts(patch({0, 1, 2}, n, t, a), 3, 3, [](int d) { return d; }))
             four.contacts.push_back(c);
-    const std::vector<double> omegas = {0.5, 1.0, 1.3, 2.0, 2.8};
-    const auto y1 = hbf::test::sampled_dofs(one, {10, 0, Formulation::automatic}, omegas, 0.3, 3.0);
-    const auto y4 = hbf::test::sampled_dofs(four, {10, 0, Formulation::automatic}, omegas, 0.3, 3.0);
-    for (std::size_t k = 0; k < omegas.size(); ++k) {
-        INFO("w = " << omegas[k]);
-        CHECK((y1[k] - y4[k]).cwiseAbs().maxCoeff() < 1e-8 * y1[k].cwiseAbs().maxCoeff());
+        four.static_load += interface_load(patch({0, 1, 2}, n, t, a), 3);
     }
-    // The band passes through lift-off: the single contact separates somewhere.
-    HarmonicBalance hb(one, {10, 0, Formulation::automatic});
+    CHECK(one.static_load.isApprox(Eigen::Vector3d(0.0, 0.0, 0.1)));
+    // The four-node system's unknowns are the single contact's repeated for each node (every
+    // node sees the same motion): its residual there must vanish, and the DOFs it recovers must
+    // be the single contact's. (Following the four-node branch itself would compare two
+    // continuations, which turn differently at the kinks of a nonsmooth branch.)
+    const std::vector<double> omegas = {1.1, 1.5, 2.2, 2.6, 2.9};
+    HarmonicBalance hb1(one, {10, 0, Formulation::automatic}), hb4(four, {10, 0, Formulation::automatic});
+    REQUIRE(hb4.unknowns() == 4 * hb1.unknowns());
     bool opened = false;
-    for (const SolutionPoint& p : hbf::test::sampled_points(hb, omegas, 0.3, 3.0, 1e-12)) {
-        const Eigen::VectorXd normal = hb.force_samples(p.x, p.omega, 0).tail(hb.time_samples());
+    for (const SolutionPoint& p : hbf::test::sampled_points(hb1, omegas, 1.0, 3.0, 1e-12)) {
+        INFO("w = " << p.omega);
+        Eigen::VectorXd x4(hb4.unknowns());
+        for (int node = 0; node < 4; ++node) x4.segment(node * hb1.unknowns(), hb1.unknowns()) = p.x;
+        Eigen::VectorXd r1, r4;
+        hb1.evaluate(p.x, p.omega, r1);
+        hb4.evaluate(x4, p.omega, r4);
+        CHECK(r1.cwiseAbs().maxCoeff() < 1e-12 * hb1.force_scale());
+        CHECK(r4.cwiseAbs().maxCoeff() < 1e-10 * hb4.force_scale());
+        const Eigen::MatrixXd y1 = hb1.dofs(p.x, p.omega), y4 = hb4.dofs(x4, p.omega);
+        CHECK((y1 - y4).cwiseAbs().maxCoeff() < 1e-8 * y1.cwiseAbs().maxCoeff());
+        // The band passes through lift-off: the single contact separates somewhere.
+        const Eigen::VectorXd normal = hb1.force_samples(p.x, p.omega, 0).tail(hb1.time_samples());
         opened = opened || normal.minCoeff() <= 0.0;
     }
     CHECK(opened);
 }
 
-TEST_CASE("[[interface]] in a system file: nodes, frames and areas; bad ones name the key", "[interface][config]") {
+TEST_CASE("[[interface]] in a system file: nodes, frames and areas, and bad ones name the key", "[interface][config]") {
     TempDir dir;
     const fs::path file = dir.path / "s.toml";
     const std::string structure =
@@ -137,7 +154,8 @@ TEST_CASE("[[interface]] in a system file: nodes, frames and areas; bad ones nam
     const hbf::io::SystemConfig config = hbf::io::read_system_config(file.string());
     REQUIRE(config.system.contacts.size() == 2);
     CHECK(config.system.contacts[1].stiffness == 3.0);
-    CHECK(config.system.contacts[1].values.at("preload") == 4.5);
+    CHECK(config.system.contacts[1].values.count("preload") == 0);  // the pressure is a static load
+    CHECK(config.system.static_load == (Eigen::VectorXd(6) << 0.0, 0.0, 1.5, 0.0, 0.0, 4.5).finished());
     CHECK(config.system.contacts[1].lists.at("normal_direction")[5] == 1.0);
     struct Case {
         std::string table;

@@ -18,10 +18,10 @@ using namespace hbf;
 
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
+constexpr double pi_ = 3.14159265358979323846;
 
 Eigen::VectorXd phases(int samples) {
-    return Eigen::VectorXd::LinSpaced(samples, 0.0, 2.0 * pi * (samples - 1) / samples);
+    return Eigen::VectorXd::LinSpaced(samples, 0.0, 2.0 * pi_ * (samples - 1) / samples);
 }
 
 /// Coefficients [c0, c1, s1, ...] of a signal with a few harmonics (a fixed, generic choice).
@@ -107,7 +107,7 @@ TEST_CASE("Normal contact: the hysteresis loop of in-phase normal and tangential
     for (const double V : {0.0, 0.3, 0.5, 0.9}) {
         const double ca = (kt * U - 2.0 * mu * n0 - mu * kn * V) / (kt * U + mu * kn * V);
         const double cc = (2.0 * mu * n0 - mu * kn * V - kt * U) / (kt * U - mu * kn * V);
-        const double ta = std::acos(ca), tc = 2.0 * pi - std::acos(cc);
+        const double ta = std::acos(ca), tc = 2.0 * pi_ - std::acos(cc);
         const ElasticContact element{kn, kt, mu, n0, 1};
         double previous = 0.0;  // the energy error at 256 samples
         for (const int samples : {256, 1024}) {
@@ -126,10 +126,10 @@ TEST_CASE("Normal contact: the hysteresis loop of in-phase normal and tangential
                     state = ContactState::slipping;
                 } else if (t(j) <= ta) {
                     expected = mu * (n0 + kn * V) - kt * U * (1.0 - x);
-                } else if (t(j) < pi) {
+                } else if (t(j) < pi_) {
                     expected = -mu * (n0 + kn * V * x);
                     state = ContactState::slipping;
-                } else if (t(j) == pi) {
+                } else if (t(j) == pi_) {
                     expected = -mu * (n0 - kn * V);  // B's end, C's start
                     state = ContactState::slipping;
                 } else if (t(j) <= tc) {
@@ -144,7 +144,7 @@ TEST_CASE("Normal contact: the hysteresis loop of in-phase normal and tangential
             }
             double s1 = 0.0;
             for (int j = 0; j < samples; ++j) s1 += 2.0 / samples * cycle.tangential(j, 0) * std::sin(t(j));
-            const double marched = -pi * U * s1;
+            const double marched = -pi_ * U * s1;
             INFO("V = " << V << ", " << samples << " samples: largest sample error " << worst << ", W marched "
                         << marched << ", closed form " << energy(V));
             CHECK(worst < 1e-13);
@@ -370,7 +370,7 @@ TEST_CASE("Normal contact in 3D: circular motion slides steadily, against the cl
     // R(2 pi / N_t) T_j), and its energy pi U (c_1(T_2) - s_1(T_1)) tends to the closed form as
     // N_t grows.
     const double kt = 4.0, mu = 0.5, n0 = 2.0, U = 0.6, c = mu * n0 / kt;
-    const double closed = mu * n0 * 2.0 * pi * std::sqrt(U * U - c * c);
+    const double closed = mu * n0 * 2.0 * pi_ * std::sqrt(U * U - c * c);
     const ElasticContact element{10.0, kt, mu, n0, 2};
     double previous = 0.0;
     for (const int samples : {128, 512, 2048}) {
@@ -379,7 +379,7 @@ TEST_CASE("Normal contact in 3D: circular motion slides steadily, against the cl
         u.col(0) = U * t.array().cos();
         u.col(1) = U * t.array().sin();
         const NormalContactCycle cycle = march(element, u, Eigen::VectorXd::Zero(samples));
-        const double step = 2.0 * pi / samples;
+        const double step = 2.0 * pi_ / samples;
         double size_error = 0.0, turn_error = 0.0, c1 = 0.0, s1 = 0.0;
         int slipping = 0;
         for (int j = 0; j < samples; ++j) {
@@ -393,7 +393,7 @@ TEST_CASE("Normal contact in 3D: circular motion slides steadily, against the cl
             c1 += 2.0 / samples * f(1) * std::cos(t(j));
             s1 += 2.0 / samples * f(0) * std::sin(t(j));
         }
-        const double energy = pi * U * (c1 - s1), error = std::abs(energy - closed);
+        const double energy = pi_ * U * (c1 - s1), error = std::abs(energy - closed);
         INFO(samples << " samples: energy " << energy << " against " << closed << ", |T| error " << size_error
                      << ", turn error " << turn_error);
         CHECK(slipping == samples);
@@ -430,7 +430,7 @@ TEST_CASE("Normal contact in 3D permanent stick: the slider has the largest marg
     const double best = worst(s);
     CHECK(best < 0.0);  // admissible
     for (int k = 0; k < 16; ++k) {
-        const double a = 2.0 * pi * k / 16.0;
+        const double a = 2.0 * pi_ * k / 16.0;
         CHECK(worst(s + 2e-8 * Eigen::Vector2d(std::cos(a), std::sin(a))) >= best - 1e-15);
     }
     for (int j = 0; j < samples; ++j) {

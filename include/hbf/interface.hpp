@@ -9,10 +9,11 @@
 // each a unit vector over the node's DOFs. In 2D, t1 is n turned by -90 degrees
 // (t1 = (n_y, -n_x)); in 3D it is given, or chosen as the coordinate axis least aligned with n,
 // made orthogonal to n. The law must have a normal direction (elastic, unilateral). Its
-// parameters marked per_area (contact.hpp: law elastic's k_t, k_n and its preload, given as
-// preload_pressure) are per unit area: each node gets the interface's value times its area,
-// so that an interface moved as a rigid patch is one contact with the summed stiffnesses and
-// preload. The others (mu, g_0, the penalties) are copied to every node.
+// parameters marked per_area (contact.hpp: law elastic's k_t, k_n and its own preload N_0) are
+// per unit area: each node gets the interface's value times its area, so that an interface
+// moved as a rigid patch is one contact with the summed stiffnesses. The others (mu, g_0, the
+// penalties) are copied to every node. A preload pressure p presses the nodes into the
+// contact: a static load p A_k n on node k (interface_load), which the contacts carry.
 #pragma once
 
 #include <Eigen/Dense>
@@ -33,6 +34,8 @@ struct ContactInterface {
     /// The law and its parameters as for one contact (the per_area ones per unit area); its
     /// directions are set by the expansion.
     Contact prototype;
+    /// p >= 0: the static load p A_k n on node k (interface_load).
+    double preload_pressure = 0;
 
     int dimension() const { return nodes.empty() ? 0 : static_cast<int>(nodes.front().size()); }
     double area(int node) const;
@@ -41,7 +44,8 @@ struct ContactInterface {
     /// Throws InvalidInput naming the interface and the field: no node, nodes of other than 2 or
     /// 3 DOFs or of different sizes, a DOF outside 0..dofs-1 or used twice in the interface, a
     /// normal or tangent of the wrong size, not unit (to 1e-6) or a tangent not orthogonal to
-    /// its normal (to 1e-6), an area not > 0, a law without a normal direction.
+    /// its normal (to 1e-6), an area not > 0, a preload pressure not finite and >= 0, a law
+    /// without a normal direction.
     void validate(int dofs) const;
 };
 
@@ -50,6 +54,9 @@ struct ContactInterface {
 /// DOF's motion is (the DOF itself without reduction, its retained coordinate after one:
 /// reduction.hpp), or -1 when it has none (InvalidInput naming the node). The directions have
 /// `coordinates` entries.
+/// The preload pressure's static load on the FE DOFs (`dofs` entries): p A_k n_k on node k.
+Eigen::VectorXd interface_load(const ContactInterface& iface, int dofs);
+
 std::vector<Contact> interface_contacts(const ContactInterface& iface, int dofs, int coordinates,
                                         const std::function<int(int)>& coordinate);
 
