@@ -1,0 +1,204 @@
+#!/usr/bin/env python3
+"""Writes a 3D finite-element bar of brick elements whose free end is pressed against a rigid
+wall over a meshed contact patch, for hbf frf --config (issue 32).
+
+A steel bar (0.2 m long, 20 mm x 20 mm section, SI units) of NX x NY x NZ trilinear 8-node
+brick elements (2 x 2 x 2 Gauss points, consistent mass), clamped at x = 0. Its end face x = L
+is pressed against a rigid wall by a preload pressure: each of its (NY + 1) (NZ + 1) nodes is a
+contact node (law elastic: penalty stiffnesses per unit area, Coulomb friction, lift-off),
+closing along +x, its frame t1 = y, t2 = z. A transverse force F cos(omega t) along y acts at
+the centre node of the mid-length section: the bar bends, its end face slides along y and
+turns, so that one side of the face is pressed harder and the other unloaded: the contact goes
+from full stick (small forces) through stick-slip to partial lift-off as the response grows
+near the first bending resonance.
+
+The system file reduces the model onto the contact nodes inside hbf ([reduction]:
+Craig-Bampton, 20 fixed-interface modes, 1 % modal damping of the reduced model's modes).
+
+Writes, beside this script (or in --out DIR): block_mass.mtx, block_stiffness.mtx (Matrix
+Market, symmetric, coordinate), block_nodes.mtx (the contact nodes' DOF triples, 1-based, an
+n x 3 array), block_areas.mtx (their areas, n x 1) and block.toml.
+DOFs: node (i, j, k) (i = 1..NX along x, j = 0..NY along y, k = 0..NZ along z; the nodes at
+i = 0 are clamped) has DOFs 3 p + 1, 3 p + 2, 3 p + 3 (x, y, z; 1-based), p = ((i - 1) (NY + 1)
++ j) (NZ + 1) + k.
+Only the Python standard library is used.
+
+Usage: make_block.py [--nx 10] [--ny 4] [--nz 4] [--out DIR]
+"""
+import argparse
+import math
+import os
+
+E = 210e9           # Young's modulus [Pa]
+NU = 0.3            # Poisson's ratio
+RHO = 7850.0        # density [kg/m^3]
+LENGTH, WIDTH, HEIGHT = 0.2, 0.02, 0.02  # along x, y, z [m]
+PRESSURE = 2.0e6    # preload pressure on the end face [Pa] (800 N over 4 cm^2)
+K_NORMAL = 5.0e13   # normal contact stiffness per unit area [N/m^3]
+K_TANGENT = 2.0e13  # tangential contact stiffness per unit area [N/m^3]
+MU = 0.3            # friction coefficient
+FORCE = 150.0       # transverse force amplitude at mid-length [N]
+MODES = 20          # fixed-interface modes kept by the reduction
+ZETA = 0.01         # modal damping ratio of the reduced model
+
+
+def gauss_points():
+    g = 1.0 / math.sqrt(3.0)
+    return [(a, b, c) for a in (-g, g) for b in (-g, g) for c in (-g, g)]
+
+
+CORNERS = [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
+           (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)]
+
+
+def element_matrices(hx, hy, hz):
+    """24 x 24 stiffness and consistent mass of a rectangular brick hx x hy x hz (DOFs corner by
+    corner, x y z each), by 2 x 2 x 2 Gauss quadrature (exact for the mass; the standard
+    trilinear element for the stiffness)."""
+    lam = E * NU / ((1 + NU) * (1 - 2 * NU))
+    g = E / (2 * (1 + NU))
+    d = [[lam + 2 * g, lam, lam, 0, 0, 0],
+         [lam, lam + 2 * g, lam, 0, 0, 0],
+         [lam, lam, lam + 2 * g, 0, 0, 0],
+         [0, 0, 0, g, 0, 0],
+         [0, 0, 0, 0, g, 0],
+         [0, 0, 0, 0, 0, g]]
+    jac = hx * hy * hz / 8.0
+    k = [[0.0] * 24 for _ in range(24)]
+    m = [[0.0] * 24 for _ in range(24)]
+    for (xi, eta, zeta) in gauss_points():
+        n = [(1 + a * xi) * (1 + b * eta) * (1 + c * zeta) / 8 for (a, b, c) in CORNERS]
+        dn = [(a * (1 + b * eta) * (1 + c * zeta) / 8 * 2 / hx,
+               b * (1 + a * xi) * (1 + c * zeta) / 8 * 2 / hy,
+               c * (1 + a * xi) * (1 + b * eta) / 8 * 2 / hz) for (a, b, c) in CORNERS]
+        bm = [[0.0] * 24 for _ in range(6)]  # strains xx, yy, zz, yz, xz, xy
+        for p, (dx, dy, dz) in enumerate(dn):
+            bm[0][3 * p] = dx
+            bm[1][3 * p + 1] = dy
+            bm[2][3 * p + 2] = dz
+            bm[3][3 * p + 1], bm[3][3 * p + 2] = dz, dy
+            bm[4][3 * p], bm[4][3 * p + 2] = dz, dx
+            bm[5][3 * p], bm[5][3 * p + 1] = dy, dx
+        db = [[sum(d[r][s] * bm[s][c] for s in range(6)) for c in range(24)] for r in range(6)]
+        for a in range(24):
+            for b in range(24):
+                k[a][b] += jac * sum(bm[r][a] * db[r][b] for r in range(6))
+        for p in range(8):
+            for q in range(8):
+                v = RHO * jac * n[p] * n[q]
+                for c in range(3):
+                    m[3 * p + c][3 * q + c] += v
+    return k, m
+
+
+def write_mtx(path, n, entries, comment):
+    with open(path, "w") as f:
+        f.write("%%MatrixMarket matrix coordinate real symmetric\n")
+        f.write("% " + comment + "\n")
+        items = sorted((j, i, v) for (i, j), v in entries.items() if v != 0.0)
+        f.write("%d %d %d\n" % (n, n, len(items)))
+        for j, i, v in items:
+            f.write("%d %d %.17g\n" % (i + 1, j + 1, v))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--nx", type=int, default=10)
+    parser.add_argument("--ny", type=int, default=4)
+    parser.add_argument("--nz", type=int, default=4)
+    parser.add_argument("--out", default=os.path.dirname(os.path.abspath(__file__)))
+    args = parser.parse_args()
+    nx, ny, nz = args.nx, args.ny, args.nz
+    if min(nx, ny, nz) < 1 or ny % 2 or nz % 2:
+        parser.error("--nx, --ny, --nz must be >= 1, and --ny, --nz even (a centre node for the force)")
+    hx, hy, hz = LENGTH / nx, WIDTH / ny, HEIGHT / nz
+    ke, me = element_matrices(hx, hy, hz)
+
+    def node(i, j, k):  # 0-based node number of a free node (i >= 1)
+        return ((i - 1) * (ny + 1) + j) * (nz + 1) + k
+
+    n = 3 * nx * (ny + 1) * (nz + 1)
+    k_entries, m_entries = {}, {}
+    for ei in range(nx):
+        for ej in range(ny):
+            for ek in range(nz):
+                dofs = []
+                for (a, b, c) in CORNERS:
+                    i, j, k = ei + (a + 1) // 2, ej + (b + 1) // 2, ek + (c + 1) // 2
+                    p = node(i, j, k) if i >= 1 else None
+                    dofs += [None] * 3 if p is None else [3 * p, 3 * p + 1, 3 * p + 2]
+                for a in range(24):
+                    for b in range(24):
+                        r, s = dofs[a], dofs[b]
+                        if r is None or s is None or r < s:
+                            continue
+                        k_entries[(r, s)] = k_entries.get((r, s), 0.0) + ke[a][b]
+                        m_entries[(r, s)] = m_entries.get((r, s), 0.0) + me[a][b]
+    out = args.out
+    write_mtx(os.path.join(out, "block_stiffness.mtx"), n, k_entries,
+              "brick bar %d x %d x %d elements, K [N/m] (make_block.py)" % (nx, ny, nz))
+    write_mtx(os.path.join(out, "block_mass.mtx"), n, m_entries,
+              "brick bar %d x %d x %d elements, consistent M [kg] (make_block.py)" % (nx, ny, nz))
+    # The end face's nodes: DOF triples and tributary areas (corners 1/4, edges 1/2 of hy hz).
+    with open(os.path.join(out, "block_nodes.mtx"), "w") as f_nodes, \
+            open(os.path.join(out, "block_areas.mtx"), "w") as f_areas:
+        count = (ny + 1) * (nz + 1)
+        f_nodes.write("%%MatrixMarket matrix array integer general\n")
+        f_nodes.write("% the end face's contact nodes: FE DOFs (x, y, z) of each, 1-based (make_block.py)\n")
+        f_nodes.write("%d 3\n" % count)
+        f_areas.write("%%MatrixMarket matrix array real general\n")
+        f_areas.write("% the contact nodes' tributary areas [m^2] (make_block.py)\n")
+        f_areas.write("%d 1\n" % count)
+        columns = [[], [], []]
+        for j in range(ny + 1):
+            for k in range(nz + 1):
+                p = node(nx, j, k)
+                for c in range(3):
+                    columns[c].append(3 * p + c + 1)
+                wy = 0.5 if j in (0, ny) else 1.0
+                wz = 0.5 if k in (0, nz) else 1.0
+                f_areas.write("%.17g\n" % (wy * wz * hy * hz))
+        for c in range(3):  # array format: column by column
+            for v in columns[c]:
+                f_nodes.write("%d\n" % v)
+    centre = node(nx, ny // 2, nz // 2)
+    middle = node(max(1, nx // 2), ny // 2, nz // 2)
+    excitation = ["0"] * n
+    excitation[3 * middle + 1] = repr(FORCE)
+    with open(os.path.join(out, "block.toml"), "w") as f:
+        f.write("""# A steel bar of %d x %d x %d brick elements (%d DOFs), clamped at x = 0, its end face pressed
+# against a rigid wall (written by make_block.py: see there). SI units: m, N, kg, w in rad/s.
+# The %d nodes of the end face are contact nodes (law elastic: per-area stiffnesses, Coulomb
+# friction mu = %g, lift-off), preloaded by %g Pa; a transverse force of %g N (y) at the centre
+# node of the mid-length section. Reduced inside hbf (Craig-Bampton onto the contact nodes and
+# the loaded DOF).
+[structure]
+mass = "block_mass.mtx"
+stiffness = "block_stiffness.mtx"
+excitation = [%s]
+
+[[interface]]
+name = "end face"
+nodes = "block_nodes.mtx"        # each node's FE DOFs (x, y, z)
+area = "block_areas.mtx"         # tributary areas [m^2]
+normal = [1.0, 0.0, 0.0]         # closing along +x (into the wall)
+tangent = [0.0, 1.0, 0.0]        # t1 = y, t2 = n x t1 = z
+law = "elastic"
+friction_coefficient = %g
+stiffness = %g          # k_t per unit area [N/m^3]
+normal_stiffness = %g   # k_n per unit area [N/m^3]
+preload_pressure = %g      # [Pa]: each node's N_0 = pressure x area
+
+[reduction]
+modes = %d
+method = "craig-bampton"
+damping_ratios = [%g]
+
+[output]
+report = [%d, %d, %d]      # y at mid-length (the force), the end face centre's y and x
+""" % (nx, ny, nz, n, (ny + 1) * (nz + 1), MU, PRESSURE, FORCE, ", ".join(excitation), MU, K_TANGENT, K_NORMAL,
+            PRESSURE, MODES, ZETA, 3 * middle + 2, 3 * centre + 2, 3 * centre + 1))
+
+
+if __name__ == "__main__":
+    main()
