@@ -14,6 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "hbf/config.hpp"
+#include "hbf/error.hpp"
+
 // In hbf::test with the helpers of support.hpp, and reachable as test:: (the alias below): the
 // test sources are compiled in unity batches, where a file's `using namespace hbf` meets
 // another's `test::`.
@@ -119,6 +122,19 @@ inline void check_bad_config(const std::string& text, const std::vector<std::str
     INFO(text);
     check_bad_input("frf --config '" + file.string() + "'", expected, dir);
     fs::remove(file);
+}
+
+/// Writes `text` to `file` and expects the system-file reader to refuse it, with every part of
+/// `expected` in its message.
+inline void check_refused_config(const fs::path& file, const std::string& text, const std::vector<std::string>& expected) {
+    write_file(file, text);
+    INFO(text);
+    try {
+        hbf::io::read_system_config(file.string());
+        FAIL("accepted");
+    } catch (const hbf::InvalidInput& error) {
+        for (const std::string& part : expected) CHECK_THAT(error.what(), Catch::Contains(part));
+    }
 }
 
 }  // namespace hbf::test
