@@ -86,7 +86,6 @@ void read_reduction(const Reader& r, const toml::node& node, SystemConfig& confi
     try {
         reduced = reduce(fe, o);
         config.outputs = reduced_outputs(config.outputs, reduced.model);
-        reduced.system.validate();
     } catch (const InvalidInput& e) {
         const std::string what = e.what();
         if (what.rfind("contact ", 0) == 0) {

@@ -115,6 +115,12 @@ Receptance::ModalBasis lowest_modes(const SparseMatrix& mass, const SparseMatrix
     } catch (const InvalidInput& e) {
         std::string why = e.what();
         if (why.rfind("modes: ", 0) == 0) why = why.substr(7);
+        // The modal basis's advice is [solver] modes' (the direct solve): not an option here.
+        const std::string advice = "use modes = 0, the direct solve";
+        if (const auto at = why.find(advice); at != std::string::npos) {
+            const auto separator = why.find_last_of(";:", at);
+            if (separator != std::string::npos) why.erase(separator, at + advice.size() - separator);
+        }
         throw InvalidInput("reduction.modes: the normal modes of " + what + " cannot be computed: " + why);
     }
     return r.modal_basis();
