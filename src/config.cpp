@@ -255,6 +255,7 @@ FrfChoices SystemConfig::choices() const {
     c.time_samples = time_samples;
     c.modes = modes;
     c.odd_harmonics = odd_harmonics;
+    c.jacobian = jacobian;
     return c;
 }
 
@@ -395,12 +396,21 @@ SystemConfig read_system_config(const std::string& path) {
     if (const toml::node* node = root.get("solver")) {
         const toml::table* t = node->as_table();
         if (!t) fail(path, node->source(), "solver", "expected a table [solver]");
-        r.only(*t, {"harmonics", "time_samples", "modes", "odd_harmonics"}, "solver");
+        r.only(*t, {"harmonics", "time_samples", "modes", "odd_harmonics", "jacobian"}, "solver");
         for (auto&& [key, value] : *t) config.lines["solver." + std::string(key.str())] = static_cast<int>(value.source().begin.line);
         if (const toml::node* v = t->get("odd_harmonics")) {
             const auto flag = v->as_boolean();
             if (!flag) fail(path, v->source(), "solver.odd_harmonics", "expected true or false");
             config.odd_harmonics = flag->get();
+        }
+        if (const toml::node* v = t->get("jacobian")) {
+            const auto text = v->as_string();
+            if (!text) fail(path, v->source(), "solver.jacobian", "expected a string: automatic, dense or structured");
+            try {
+                config.jacobian = parse_jacobian_form(text->get());
+            } catch (const InvalidInput& e) {
+                fail(path, v->source(), "solver.jacobian", e.what());
+            }
         }
         if (const toml::node* v = t->get("modes")) {
             config.modes = r.integer(*v, "solver.modes");

@@ -142,6 +142,7 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
     if (choices.time_samples) hbo.time_samples = *choices.time_samples;
     if (choices.modes) hbo.modes = *choices.modes;
     if (choices.odd_harmonics) hbo.odd_harmonics = *choices.odd_harmonics;
+    if (choices.jacobian) hbo.jacobian = *choices.jacobian;
     co.locate_transitions = !s.exact;
     s.peaks = true;
     s.peaks_of_every_output = true;

@@ -26,6 +26,21 @@ std::string to_string(Formulation formulation) {
     return "unknown";
 }
 
+std::string to_string(JacobianForm form) {
+    switch (form) {
+        case JacobianForm::automatic: return "automatic";
+        case JacobianForm::dense: return "dense";
+        case JacobianForm::structured: return "structured";
+    }
+    return "unknown";
+}
+
+JacobianForm parse_jacobian_form(const std::string& name) {
+    for (JacobianForm f : {JacobianForm::automatic, JacobianForm::dense, JacobianForm::structured})
+        if (name == to_string(f)) return f;
+    throw InvalidInput("jacobian = '" + name + "' is not known: allowed automatic, dense, structured");
+}
+
 Formulation parse_formulation(const std::string& name) {
     for (Formulation f : {Formulation::automatic, Formulation::full, Formulation::condensed})
         if (name == to_string(f)) return f;
@@ -220,8 +235,8 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
             condensed_ = true;
             receptance_ = std::move(receptance);
             static_flexibility_ = h0.contact.real().diagonal();
-            harmonic_.resize(static_cast<std::size_t>(harmonics() + 1));
-            harmonic_[0] = std::move(h0);
+            harmonic_ = std::make_shared<std::vector<Receptance::Harmonic>>(static_cast<std::size_t>(harmonics() + 1));
+            (*harmonic_)[0] = std::move(h0);
         } else if (options.formulation == Formulation::condensed) {
             throw InvalidInput("formulation = condensed needs a regular static problem (harmonic 0): " +
                                (h0.ok ? std::string("a contact direction has no static flexibility")
@@ -246,10 +261,33 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         state_count_.push_back(model->state_signals());
         all_unknowns_ += model->state_signals() * n;
     }
-    // The residual's Jacobian is dense (all_unknowns_^2 doubles, held by the corrector, Ceres
-    // and the tangent: about four copies): bounded so that every allowed input runs in bounded
+    // The Jacobian's form: structured only for the condensed formulation with memoryless laws
+    // and every harmonic (structured_jacobian.hpp).
+    const bool memoryless =
+        std::all_of(state_count_.begin(), state_count_.end(), [](int states) { return states == 0; });
+    const bool structurable = condensed_ && memoryless && !options.odd_harmonics;
+    if (options.jacobian == JacobianForm::structured && !structurable)
+        throw InvalidInput(std::string("jacobian = structured needs ") +
+                           (!condensed_ ? "the condensed formulation, which this system does not use"
+                            : !memoryless ? "memoryless contact laws (dahl and lugre carry internal states)"
+                                          : "every harmonic (odd_harmonics = false)") +
+                           ": allowed jacobian = dense or automatic");
+    structured_ = options.jacobian == JacobianForm::structured ||
+                  (options.jacobian == JacobianForm::automatic && structurable && all_unknowns_ > structured_threshold);
+    if (structured_) {
+        // The receptances G_k and dG_k/domega and the preconditioner's LUs: 64 (H + 1) n_s^2 bytes.
+        const double bytes = 64.0 * (harmonics_ + 1) * static_cast<double>(ns) * ns;
+        if (bytes > max_structured_bytes)
+            throw InvalidInput("harmonics = " + std::to_string(harmonics_) + " with " + std::to_string(ns) +
+                               " contact directions needs " + format_number(std::round(bytes / 1048576.0)) +
+                               " MB for the receptances and the preconditioner (64 (H + 1) n_s^2 bytes): allowed at most " +
+                               format_number(max_structured_bytes / 1048576.0) +
+                               " MB (fewer harmonics, fewer contact nodes)");
+    }
+    // The dense Jacobian (all_unknowns_^2 doubles, held by the corrector, Ceres and the
+    // tangent: about four copies) is bounded so that every allowed input runs in bounded
     // memory (6000 unknowns: about 1 GB in all).
-    if (all_unknowns_ > max_unknowns) {
+    if (!structured_ && all_unknowns_ > max_unknowns) {
         const int signals = all_unknowns_ / n;
         throw InvalidInput(
             "harmonics = " + std::to_string(harmonics_) + " with " + std::to_string(nc) + " contact(s)" +
@@ -260,7 +298,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
             format_number(std::round(8.0 * all_unknowns_ * static_cast<double>(all_unknowns_) / 1048576.0)) +
             " MB per copy: allowed at most " + std::to_string(max_unknowns) +
             " unknowns (fewer harmonics, fewer contacts" + (condensed_ ? std::string() : ", the condensed formulation") +
-            ")");
+            (structurable ? ", jacobian = structured" : "") + ")");
     }
     // The balanced harmonics: all, or the odd ones only (c_k, s_k for odd k).
     odd_ = options.odd_harmonics;
@@ -323,6 +361,11 @@ bool HarmonicBalance::prepare_receptance(double omega) {
         return false;
     }
     const int ns = signals_;
+    if (harmonic_.use_count() > 1) {  // a structured Jacobian holds the old receptances
+        auto fresh = std::make_shared<std::vector<Receptance::Harmonic>>(static_cast<std::size_t>(harmonics() + 1));
+        (*fresh)[0] = (*harmonic_)[0];
+        harmonic_ = std::move(fresh);
+    }
     row_scale_.resize(harmonics() + 1, ns);
     row_scale_omega_.resize(harmonics() + 1, ns);
     for (int k = 0; k <= harmonics(); ++k) {
@@ -331,21 +374,34 @@ bool HarmonicBalance::prepare_receptance(double omega) {
             row_scale_omega_.row(k).setZero();
             continue;
         }
-        Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
-        if (k > 0) h = receptance_->solve(k, omega, k == load_harmonic(), false);  // the N-long solution: in dofs()
+        Receptance::Harmonic& h = (*harmonic_)[static_cast<std::size_t>(k)];
+        // The N-long solution: in dofs(). Structured with the modal receptance: G_k factored.
+        if (k > 0) h = receptance_->solve(k, omega, k == load_harmonic(), false, !structured_);
         if (!h.ok) {
             structure_failure_ = h.message;
             return false;
         }
         // Row scale 1 / min(|G_k,cc|, G_0,cc) (bounded near an antiresonance, where G_k,cc -> 0)
-        // and its omega-derivative -Re(conj(g) g') / |g|^3.
+        // and its omega-derivative -Re(conj(g) g') / |g|^3. With G_k factored (G_B (I + S
+        // G_B)^-1) its diagonal is not formed: the contact's own part g = G_B,cc / (1 + s_c
+        // G_B,cc) stands for it (exact for one contact; a scale of the same size for many).
+        const Receptance::Harmonic::Factored* f = h.factored.get();
         for (int c = 0; c < ns; ++c) {
-            const std::complex<double> g = h.contact(c, c);
+            std::complex<double> g, g_omega;
+            if (f) {
+                const std::complex<double> b = f->g_b(c, c), b_omega = f->g_b_omega(c, c), s = f->shift(c);
+                const std::complex<double> denominator = 1.0 + s * b;
+                g = b / denominator;
+                g_omega = (b_omega - f->shift_omega(c) * b * b) / (denominator * denominator);
+            } else {
+                g = h.contact(c, c);
+                g_omega = k > 0 ? h.contact_omega(c, c) : 0.0;
+            }
             const double floor = 1e-10 * static_flexibility_(c), size = std::abs(g);
             const bool dynamic = size < static_flexibility_(c) && size > floor && k > 0;
             row_scale_(k, c) = 1.0 / std::max(std::min(size, static_flexibility_(c)), floor);
             row_scale_omega_(k, c) =
-                dynamic ? -std::real(std::conj(g) * h.contact_omega(c, c)) / (size * size * size) : 0.0;
+                dynamic ? -std::real(std::conj(g) * g_omega) / (size * size * size) : 0.0;
         }
     }
     return true;
@@ -355,10 +411,10 @@ void HarmonicBalance::add_receptance(int c, int d, const Eigen::Ref<const Eigen:
                                      Eigen::Ref<Eigen::MatrixXd> out, bool omega_derivative) const {
     // G_0 is real; harmonic k: G_k = a + i b maps (c_k, s_k) to (a c_k + b s_k, -b c_k + a s_k),
     // since y = Re(Y e^{i k theta}) = c cos + s sin with Y = c - i s.
-    if (!omega_derivative) out.row(0) += harmonic_[0].contact(c, d).real() * in.row(0);
+    if (!omega_derivative) out.row(0) += (*harmonic_)[0].contact(c, d).real() * in.row(0);
     for (int k = 1; k <= harmonics(); ++k) {
         if (skipped(k)) continue;
-        const Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
+        const Receptance::Harmonic& h = (*harmonic_)[static_cast<std::size_t>(k)];
         const std::complex<double> g = omega_derivative ? h.contact_omega(c, d) : h.contact(c, d);
         const double a = g.real(), b = g.imag();
         out.row(2 * k - 1) += a * in.row(2 * k - 1) + b * in.row(2 * k);
@@ -391,7 +447,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double om
     const Eigen::MatrixXd forces = shifted_forces(x, omega);
     // Z_k^-1 [W, F]: kept by the direct solve; the modal one forms it here (its cost grows with N).
     auto solved = [&](int k) -> const Receptance::Harmonic& {
-        Receptance::Harmonic& h = harmonic_[static_cast<std::size_t>(k)];
+        Receptance::Harmonic& h = (*harmonic_)[static_cast<std::size_t>(k)];
         if (h.solution.size() == 0) h = receptance_->solve(k, omega, k == load_harmonic(), true);
         return h;
     };
@@ -530,10 +586,94 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::Ve
 
 void HarmonicBalance::evaluate_all(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                                    Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
-    if (condensed_)
+    if (structured_ && jacobian == nullptr)
+        evaluate_structured(x, omega, residual, nullptr, jacobian_omega);
+    else if (condensed_)
         evaluate_condensed(x, omega, residual, jacobian, jacobian_omega);
     else
         evaluate_full(x, omega, residual, jacobian, jacobian_omega);
+}
+
+void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
+                               StructuredJacobian& jacobian, Eigen::VectorXd* jacobian_omega) {
+    if (!structured_)
+        throw InvalidInput("harmonic balance: the structured Jacobian needs jacobian = structured");
+    ++statistics_.residuals;
+    ++statistics_.jacobians;
+    evaluate_structured(x, omega, residual, &jacobian, jacobian_omega);
+}
+
+void HarmonicBalance::evaluate_structured(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
+                                          StructuredJacobian* jacobian, Eigen::VectorXd* jacobian_omega) {
+    detail::Stopwatch watch;
+    const int n = coefficients(), ns = signals_, nc = static_cast<int>(models_.size());
+    residual.resize(all_unknowns_);
+    if (jacobian_omega) jacobian_omega->setZero(all_unknowns_);
+    if (!prepare_receptance(omega)) {
+        residual.setConstant(std::numeric_limits<double>::quiet_NaN());
+        statistics_.structure_seconds += watch.lap();
+        return;
+    }
+    const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
+    // q - q0 (q0 on harmonic h, and the static load's share on harmonic 0), as evaluate_condensed.
+    Eigen::Map<Eigen::MatrixXd> rq(residual.data(), n, ns);
+    rq = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, ns);
+    const Receptance::Harmonic& loaded = (*harmonic_)[static_cast<std::size_t>(load_harmonic())];
+    add_harmonic_amplitudes(-loaded.contact_load, load_harmonic(), rq);
+    if (static_contact_.size() > 0) rq.row(0) -= static_contact_.transpose();
+    Eigen::Map<Eigen::MatrixXd> rw(jacobian_omega ? jacobian_omega->data() : nullptr, jacobian_omega ? n : 0,
+                                   jacobian_omega ? ns : 0);
+    if (jacobian_omega) add_harmonic_amplitudes(-loaded.contact_load_omega, load_harmonic(), rw);
+    if (jacobian) {
+        jacobian->coefficients_ = n;
+        jacobian->signals_ = ns;
+        jacobian->harmonics_ = harmonics_;
+        jacobian->first_ = signal_first_;
+        jacobian->count_ = signal_count_;
+        jacobian->df_.resize(static_cast<std::size_t>(nc));
+    }
+    statistics_.structure_seconds += watch.lap();
+    // Every contact's forces (and their blocks) through the AFT.
+    forces_.resize(n, ns);
+    if (jacobian_omega) forces_omega_.resize(n, ns);
+    for (int d = 0; d < nc; ++d) {
+        const auto dd = static_cast<std::size_t>(d);
+        const int first = signal_first_[dd], count = signal_count_[dd];
+        FrictionEvaluation& e = scratch_;
+        models_[dd]->evaluate(*fourier_, omega, x.segment(first * n, count * n), Eigen::VectorXd(), e, want_jacobian);
+        shift_force(d, omega, x.segment(first * n, count * n), e, want_jacobian);
+        const double model_seconds = watch.lap();
+        statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
+        statistics_.jacobian_seconds += e.jacobian_seconds;
+        Eigen::Map<Eigen::VectorXd>(forces_.col(first).data(), count * n) = e.force;
+        if (jacobian_omega) Eigen::Map<Eigen::VectorXd>(forces_omega_.col(first).data(), count * n) = e.force_omega;
+        if (jacobian) jacobian->df_[dd] = e.force_q;
+        statistics_.jacobian_seconds += watch.lap();
+    }
+    // + Gr f, all contacts at once per harmonic; d/domega: Gr f_omega + Gr' f.
+    for (int k = 0; k <= harmonics_; ++k) {
+        const Receptance::Harmonic& h = (*harmonic_)[static_cast<std::size_t>(k)];
+        const Eigen::VectorXcd f = harmonic_amplitudes(forces_, k);
+        add_harmonic_amplitudes(h.apply(f), k, rq);
+        if (!jacobian_omega) continue;
+        Eigen::VectorXcd y = h.apply(harmonic_amplitudes(forces_omega_, k));
+        if (k > 0) y += h.apply_omega(f);
+        add_harmonic_amplitudes(y, k, rw);
+    }
+    statistics_.structure_seconds += watch.lap();
+    // Rows scaled by S (evaluate_condensed); the scale depends on omega.
+    if (jacobian) jacobian->row_scale_.resize(all_unknowns_);
+    for (int a = 0; a < ns; ++a)
+        for (int row = 0; row < n; ++row) {
+            const int k = (row + 1) / 2;
+            const double scale = row_scale_(k, a);
+            const int i = a * n + row;
+            if (jacobian_omega) (*jacobian_omega)(i) = scale * (*jacobian_omega)(i) + row_scale_omega_(k, a) * residual(i);
+            residual(i) *= scale;
+            if (jacobian) jacobian->row_scale_(i) = scale;
+        }
+    if (jacobian) jacobian->receptance_ = harmonic_;
+    statistics_.jacobian_seconds += watch.lap();
 }
 
 void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
@@ -548,13 +688,14 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
         statistics_.structure_seconds += watch.lap();
         return;
     }
+    for (auto& h : *harmonic_) h.materialize();  // structured HB asked for a dense Jacobian (tests)
     const bool want_jacobian = jacobian != nullptr || jacobian_omega != nullptr;
     // The rows of every signal a before scaling: q_a - q0_a + sum_b Gr_ab f_b (q0 on harmonic h
     // only).
     Eigen::Map<Eigen::MatrixXd> rq(residual.data(), n, ns);
     rq = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, ns);
     const int cos_row = 2 * load_harmonic() - 1, sin_row = cos_row + 1;
-    const Receptance::Harmonic& loaded = harmonic_[static_cast<std::size_t>(load_harmonic())];
+    const Receptance::Harmonic& loaded = (*harmonic_)[static_cast<std::size_t>(load_harmonic())];
     for (int a = 0; a < ns; ++a) {
         rq(cos_row, a) -= loaded.contact_load(a).real();
         rq(sin_row, a) += loaded.contact_load(a).imag();  // s = -Im

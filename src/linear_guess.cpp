@@ -43,7 +43,7 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
         for (int a = 0; a < ns; ++a) offset(a) = k == 0 ? element[static_cast<std::size_t>(a)].offset : 0.0;
         if (condensed_) {
             // Q = Q0 - G Lambda with Lambda_a = element_a Q_a + offset_a, or Q_a = 0 (rigid).
-            const Receptance::Harmonic g = k == 0 ? harmonic_[0] : receptance_->solve(k, omega, k == h);
+            const Receptance::Harmonic g = k == 0 ? (*harmonic_)[0] : receptance_->solve(k, omega, k == h);
             if (!g.ok) return false;
             Eigen::MatrixXcd m(ns, ns);
             for (int a = 0; a < ns; ++a)

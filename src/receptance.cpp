@@ -280,11 +280,34 @@ bool Receptance::direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, 
     return (z * x - rhs).cwiseAbs().maxCoeff() <= 1e-8 * scale;
 }
 
-Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solution) {
+Eigen::VectorXcd Receptance::Harmonic::apply(const Eigen::VectorXcd& z) const {
+    if (contact.size() > 0 || !factored) return contact * z;
+    return factored->g_b * factored->lu.solve(z);
+}
+
+Eigen::VectorXcd Receptance::Harmonic::apply_omega(const Eigen::VectorXcd& z) const {
+    if (contact.size() > 0 || !factored) return contact_omega * z;
+    // G = G_B A^-1, A = I + S G_B: G' = G_B' A^-1 - G_B A^-1 (S' G_B + S G_B') A^-1.
+    const Factored& f = *factored;
+    const Eigen::VectorXcd y = f.lu.solve(z);
+    const Eigen::VectorXcd inner = f.shift_omega.cwiseProduct(f.g_b * y) + f.shift.cwiseProduct(f.g_b_omega * y);
+    return f.g_b_omega * y - f.g_b * f.lu.solve(inner);
+}
+
+void Receptance::Harmonic::materialize() {
+    if (contact.size() > 0 || !factored) return;
+    const Factored& f = *factored;
+    const Eigen::MatrixXcd a_inverse = f.lu.inverse();
+    contact = f.g_b * a_inverse;
+    contact_omega = f.g_b_omega * a_inverse -
+                    contact * (f.shift_omega.asDiagonal() * f.g_b + f.shift.asDiagonal() * f.g_b_omega) * a_inverse;
+}
+
+Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solution, bool explicit_contact) {
     if (k < 0) throw InvalidInput("harmonic k = " + std::to_string(k) + " is out of range: allowed k >= 0");
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
-    if (modes() > 0) return solve_modal(k, omega, load, solution);
+    if (modes() > 0) return solve_modal(k, omega, load, solution, explicit_contact);
     Harmonic h;
     h.k = k;
     h.omega = omega;
@@ -556,7 +579,8 @@ double Receptance::response_bound(int k, double omega, const Eigen::VectorXcd& l
     return std::isfinite(bound) ? bound : std::numeric_limits<double>::infinity();
 }
 
-Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, bool with_solution) const {
+Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, bool with_solution,
+                                             bool explicit_contact) const {
     const Modal& md = modal_;
     const int nc = contacts();
     const auto m = md.lambda.size();
@@ -596,8 +620,8 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
         // smooth through it; only the Woodbury form divides by the pole. The mean of w (1 -+
         // 1e-6) (an error ~1e-12 of the regular part; the offsets are never exact poles).
         const double delta = 1e-6;
-        const Harmonic below = solve_modal(k, omega * (1.0 - delta), load, with_solution);
-        const Harmonic above = solve_modal(k, omega * (1.0 + delta), load, with_solution);
+        const Harmonic below = solve_modal(k, omega * (1.0 - delta), load, with_solution, true);
+        const Harmonic above = solve_modal(k, omega * (1.0 + delta), load, with_solution, true);
         if (!below.ok || !above.ok) return singular();
         h = below;
         h.omega = omega;
@@ -616,24 +640,33 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
     Eigen::VectorXcd shift_omega(nc);
     for (int c = 0; c < nc; ++c) shift_omega(c) = Complex(0.0, k * md.delta(c));
     const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(nc, nc);
-    const Eigen::PartialPivLU<Eigen::MatrixXcd> a_lu(identity + shift.asDiagonal() * g_b);
-    const Eigen::MatrixXcd a_inverse = a_lu.inverse();
-    if (!a_inverse.allFinite()) return singular();
-    h.contact = g_b * a_inverse;
-    h.contact_omega = g_b_omega * a_inverse -
-                      g_b * a_inverse * (shift_omega.asDiagonal() * g_b + shift.asDiagonal() * g_b_omega) * a_inverse;
+    auto factors = std::make_shared<Harmonic::Factored>();
+    factors->lu.compute(identity + shift.asDiagonal() * g_b);
+    const Eigen::PartialPivLU<Eigen::MatrixXcd>& a_lu = factors->lu;
+    // A^-1 itself only where something needs it formed (G_k explicit, outputs, the N-long solution).
+    const bool formed = explicit_contact || outputs() > 0 || with_solution;
+    const Eigen::MatrixXcd a_inverse = formed ? Eigen::MatrixXcd(a_lu.inverse()) : Eigen::MatrixXcd();
+    if (!a_inverse.allFinite() || !a_lu.matrixLU().allFinite()) return singular();
+    if (explicit_contact) {
+        h.contact = g_b * a_inverse;
+        h.contact_omega = g_b_omega * a_inverse -
+                          g_b * a_inverse * (shift_omega.asDiagonal() * g_b + shift.asDiagonal() * g_b_omega) * a_inverse;
+    }
     const Eigen::MatrixXcd t_b_w = real_product(md.t_phi, dp, r_factor, md.t_r_w);
-    h.output = t_b_w * a_inverse;
+    h.output = outputs() > 0 ? Eigen::MatrixXcd(t_b_w * a_inverse) : Eigen::MatrixXcd(0, nc);
     Eigen::VectorXcd u;
     if (load) {
         const Eigen::VectorXcd dpl = d.cwiseProduct(md.p_load.cast<Complex>());
         const Eigen::VectorXcd u_b_omega =
             pc.transpose() * dd.cwiseProduct(md.p_load.cast<Complex>()) + r_factor_omega * md.w_r_f.cast<Complex>();
-        const Eigen::PartialPivLU<Eigen::MatrixXcd> b_lu(identity + g_b * shift.asDiagonal());
-        u = b_lu.solve(t.u_b);
+        // (I + G_B S)^-1 v = v - G_B A^-1 (S v) (push-through): no second LU.
+        auto b_solve = [&](const Eigen::VectorXcd& v) -> Eigen::VectorXcd {
+            return v - g_b * a_lu.solve(Eigen::VectorXcd(shift.cwiseProduct(v)));
+        };
+        u = b_solve(t.u_b);
         h.contact_load = u;
         h.contact_load_omega =
-            b_lu.solve(Eigen::VectorXcd(u_b_omega - (g_b_omega * shift.asDiagonal() + g_b * shift_omega.asDiagonal()) * u));
+            b_solve(Eigen::VectorXcd(u_b_omega - g_b_omega * shift.cwiseProduct(u) - g_b * shift_omega.cwiseProduct(u)));
         const Eigen::VectorXcd t_b_f = real_product(md.t_phi, dpl, r_factor, md.t_r_f);
         h.output_load = t_b_f - t_b_w * (shift.asDiagonal() * u);
         if (!u.allFinite() || !h.contact_load_omega.allFinite()) return singular();
@@ -652,7 +685,16 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
             h.solution.col(nc) = column;
         }
     }
-    h.ok = h.contact.allFinite() && h.contact_omega.allFinite();
+    if (!explicit_contact) {
+        factors->g_b = g_b;
+        factors->g_b_omega = g_b_omega;
+        factors->shift = shift;
+        factors->shift_omega = shift_omega;
+        h.ok = g_b.allFinite() && g_b_omega.allFinite();
+        h.factored = std::move(factors);
+    } else {
+        h.ok = h.contact.allFinite() && h.contact_omega.allFinite();
+    }
     if (!h.ok) return singular();
     return h;
 }

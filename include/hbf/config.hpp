@@ -44,6 +44,11 @@
 //     modes = 0                   # condensed HB: 0 solves the structure directly (sparse LU),
 //                                 # m > 0 uses m modes + static residual flexibility
 //                                 # (cost independent of N; M > 0, K > 0, C modal)
+//     jacobian = "automatic"      # dense | structured (harmonic_balance.hpp, JacobianForm):
+//                                 # structured keeps I + G Df in its block structure and solves
+//                                 # Newton steps by preconditioned GMRES (interfaces of many
+//                                 # nodes; condensed, memoryless laws, every harmonic);
+//                                 # automatic: structured above 1500 unknowns where allowed
 //
 //     [output]
 //     report = [1, 2]             # DOFs written as y<i>_max, y<i>_amp1 (1-based); default: the
@@ -100,6 +105,7 @@ struct SystemConfig {
     std::optional<int> harmonics, time_samples;     ///< [solver]
     std::optional<int> modes;                       ///< [solver] modal receptance (0: direct)
     std::optional<bool> odd_harmonics;              ///< [solver] odd harmonics only
+    std::optional<JacobianForm> jacobian;           ///< [solver] dense or structured dR/dX
     /// The reported outputs in file order: [output] report's DOFs, or the [[output]] tables;
     /// default the excited DOFs and those of the contacts, in DOF order (every DOF when there
     /// are none), with outputs_note saying so when that leaves DOFs out.

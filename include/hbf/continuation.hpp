@@ -120,6 +120,11 @@ struct CorrectorStatistics {
     double evaluation_seconds = 0;  ///< of which in HarmonicBalance::evaluate
     long long noise_limited = 0;    ///< corrections accepted above the tolerance but within 8
                                     ///< times the residual's own rounding noise (Corrector::correct)
+    // The structured Jacobian (HarmonicBalance::structured()): Newton steps by GMRES instead of Ceres.
+    long long krylov_iterations = 0;   ///< GMRES products with I + Gr Df (corrections and tangents)
+    long long factorizations = 0;      ///< preconditioner factorisations (H + 1 complex LUs each)
+    double factorization_seconds = 0;  ///< their time
+    double krylov_seconds = 0;         ///< time in GMRES (products and preconditioner solves)
 };
 
 /// How a continuation ended. completed: the branch spans [wmin, wmax]; every other status is
@@ -166,7 +171,11 @@ struct BranchResult {
     std::string summary() const;
 };
 
-/// Corrects u = (x, omega) onto R = 0 with Ceres; keeps the Ceres problem between calls.
+/// Corrects u = (x, omega) onto R = 0: with Ceres (dense Jacobian; keeps the Ceres problem
+/// between calls), or with the structured Jacobian (HarmonicBalance::structured()) by Newton
+/// steps solved by preconditioned GMRES (structured_jacobian.hpp) with a backtracking line
+/// search on |R|^2 + (arclength residual)^2, the preconditioner kept between steps and
+/// corrections while GMRES converges in few iterations.
 class Corrector {
 public:
     Corrector(HarmonicBalance& hb, CorrectorOptions options);
@@ -184,9 +193,13 @@ public:
     /// Counters accumulated over all calls.
     const CorrectorStatistics& statistics() const;
     /// dR/dX and dR/domega at (x, omega) if the last evaluation was made exactly there (as
-    /// after a successful correction); false otherwise.
+    /// after a successful correction) and the Jacobian is dense; false otherwise.
     bool cached_jacobian(const Eigen::VectorXd& x, double omega, Eigen::MatrixXd& jacobian,
                          Eigen::VectorXd& jacobian_omega) const;
+    /// branch_tangent at (x, omega), from the last evaluation when it was made there (dense or
+    /// structured Jacobian; the structured one by GMRES with the corrector's preconditioner).
+    Eigen::VectorXd tangent(const Eigen::VectorXd& x, double omega, double x_scale, const Eigen::VectorXd& previous,
+                            double omega_scale = 1.0);
 
 private:
     struct Impl;

@@ -79,6 +79,7 @@ struct FrfChoices {
     std::optional<int> harmonics;  ///< as given (FrfSettings::validate checks it); unset: automatic
     std::optional<int> time_samples, modes;
     std::optional<bool> odd_harmonics;
+    std::optional<JacobianForm> jacobian;  ///< harmonic_balance.hpp (automatic when unset)
     std::optional<bool> exact;     ///< unset: automatic
 };
 

@@ -41,6 +41,7 @@
 #include "hbf/model.hpp"
 #include "hbf/receptance.hpp"
 #include "hbf/static_state.hpp"
+#include "hbf/structured_jacobian.hpp"
 
 namespace hbf {
 
@@ -55,6 +56,18 @@ enum class Formulation {
 std::string to_string(Formulation formulation);
 /// Inverse of to_string; throws InvalidInput naming the allowed values.
 Formulation parse_formulation(const std::string& name);
+
+/// How the corrector and the tangent hold and solve dR/dX (structured_jacobian.hpp).
+enum class JacobianForm {
+    automatic,   ///< structured where allowed and the unknowns exceed structured_threshold, else dense
+    dense,       ///< formed densely, solved by dense factorisations (Ceres); at most max_unknowns
+    structured,  ///< condensed, every law memoryless, every harmonic: I + Gr Df kept in its
+                 ///< structure, Newton with preconditioned GMRES; for interfaces of many nodes
+};
+/// "automatic", "dense", "structured".
+std::string to_string(JacobianForm form);
+/// Inverse of to_string; throws InvalidInput naming the allowed values.
+JacobianForm parse_jacobian_form(const std::string& name);
 
 struct HarmonicBalanceOptions {
     int harmonics = 10;    ///< H >= 1: harmonics 0..H are balanced
@@ -73,6 +86,8 @@ struct HarmonicBalanceOptions {
     /// is not found. The AFT runs on all samples as before, so each evaluation costs the same;
     /// the corrector's and the tangent's linear algebra shrink (~1/8 for the dense solves).
     bool odd_harmonics = false;
+    /// dR/dX dense or in its structure (JacobianForm).
+    JacobianForm jacobian = JacobianForm::automatic;
 
     /// The ranges of hbf and Python (HarmonicBalance itself takes any H >= 1): throws
     /// InvalidInput naming the field: harmonics 1..max_harmonics (model.hpp: above it a branch
@@ -98,6 +113,11 @@ class HarmonicBalance {
 public:
     /// The bound on the unknowns (before the odd-harmonic selection): the Jacobian is dense.
     static constexpr int max_unknowns = 6000;
+    /// Automatic choice: the structured Jacobian above this many unknowns (where it is allowed).
+    static constexpr int structured_threshold = 1500;
+    /// The structured form's bound: the receptances and the preconditioner, 64 (H + 1) n_s^2
+    /// bytes, at most this many (memory bounded for every allowed input).
+    static constexpr double max_structured_bytes = 6e9;
     /// Validates the system; throws InvalidInput for bad options or an unsupported law, for
     /// `condensed` on a system whose static stiffness K is singular (a rigid-body mode) or that
     /// has no contact, and for more than max_unknowns unknowns (contacts' relative motions and
@@ -111,7 +131,12 @@ public:
     const System& system() const { return system_; }
     /// The formulation in use (never automatic).
     Formulation formulation() const { return condensed_ ? Formulation::condensed : Formulation::full; }
-    HarmonicBalanceOptions options() const { return {harmonics(), time_samples(), formulation(), modes_, odd_}; }
+    HarmonicBalanceOptions options() const {
+        return {harmonics(), time_samples(), formulation(), modes_, odd_,
+                structured_ ? JacobianForm::structured : JacobianForm::dense};
+    }
+    /// True when dR/dX is kept in its structure (JacobianForm::structured).
+    bool structured() const { return structured_; }
     /// True when only the odd harmonics are balanced (HarmonicBalanceOptions::odd_harmonics).
     bool odd_harmonics() const { return odd_; }
     /// Modes of the modal receptance in use (0: the direct solve).
@@ -138,6 +163,9 @@ public:
     /// residual is NaN and structure_failure() says why.
     void evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                   Eigen::MatrixXd* jacobian = nullptr, Eigen::VectorXd* jacobian_omega = nullptr);
+    /// The same with dR/dX in its structure (structured() only; throws otherwise).
+    void evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual, StructuredJacobian& jacobian,
+                  Eigen::VectorXd* jacobian_omega);
     /// Why the last evaluation could not solve the linear structure (empty when it could).
     const std::string& structure_failure() const { return structure_failure_; }
 
@@ -198,6 +226,10 @@ private:
                        Eigen::VectorXd* jacobian_omega);
     void evaluate_condensed(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                             Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega);
+    /// The condensed residual with the receptances applied to all contacts at once (one
+    /// complex matrix-vector product per harmonic); the contacts' blocks into `jacobian`.
+    void evaluate_structured(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
+                             StructuredJacobian* jacobian, Eigen::VectorXd* jacobian_omega);
     /// Every contact's force minus its shift (below), coefficients (2H+1) x signals (condensed).
     Eigen::MatrixXd shifted_forces(const Eigen::VectorXd& x, double omega);
     /// Contact c's force minus the springs and dampers of the shifted structure along its
@@ -218,8 +250,11 @@ private:
     int harmonics_ = 0, time_samples_ = 0;
     std::unique_ptr<Fourier> fourier_;
     bool condensed_ = false;
+    bool structured_ = false;
     std::unique_ptr<Receptance> receptance_;
-    std::vector<Receptance::Harmonic> harmonic_;  // per k = 0..H at receptance_omega_
+    // per k = 0..H at receptance_omega_; shared with the structured Jacobians built from it
+    // (copied on write when a new omega finds it shared)
+    std::shared_ptr<std::vector<Receptance::Harmonic>> harmonic_;
     double receptance_omega_ = -1.0;
     Eigen::VectorXd static_flexibility_;          // G_0,aa per signal a
     Eigen::VectorXd shift_stiffness_, shift_damping_;  // kappa_a, delta_a per signal
@@ -249,6 +284,7 @@ private:
     double full_displacement_scale_ = 1.0;
     int modes_ = 0;  ///< |F| / max K_ii (unknown_scale, full formulation)
     FrictionEvaluation scratch_;
+    Eigen::MatrixXd forces_, forces_omega_;  // evaluate_structured's n x n_s buffers
     EvaluationStatistics statistics_;
 };
 

@@ -67,6 +67,22 @@ public:
         Eigen::MatrixXcd output;            ///< T Z_k^-1 W (n_o x n_c)
         Eigen::VectorXcd output_load;       ///< T Z_k^-1 F
         Eigen::MatrixXcd solution;          ///< Z_k^-1 [W, F] (N x (n_c + 1), F only with load)
+        /// The modal receptance solved without forming G_k (solve's `explicit_contact` false):
+        /// G_k = G_B (I + S G_B)^-1 with G_B = W^T B_k^-1 W (the closed-form modal sum) and S the
+        /// contacts' shift diag(kappa + i k w delta): one LU of n_c x n_c instead of its inverse
+        /// and five products of that size. `contact` and `contact_omega` are then empty; apply
+        /// and apply_omega give their products, materialize forms them.
+        struct Factored {
+            Eigen::MatrixXcd g_b, g_b_omega;
+            Eigen::VectorXcd shift, shift_omega;
+            Eigen::PartialPivLU<Eigen::MatrixXcd> lu;  ///< of I + S G_B
+        };
+        std::shared_ptr<const Factored> factored;
+        /// G_k z and dG_k/domega z, from `contact` or from `factored`.
+        Eigen::VectorXcd apply(const Eigen::VectorXcd& z) const;
+        Eigen::VectorXcd apply_omega(const Eigen::VectorXcd& z) const;
+        /// Forms `contact` and `contact_omega` from `factored` (no-op when formed).
+        void materialize();
     };
     /// Models up to this many DOFs are solved by a dense LU, larger ones by a sparse LU (its
     /// symbolic analysis done once: Z_k has the pattern of K + M + C for every k).
@@ -76,7 +92,9 @@ public:
     /// per thread (it keeps the sparse factorisation's workspace). The N-long `solution` is
     /// always filled by the direct solve; the modal one fills it only when `solution` is true
     /// (its cost grows with N).
-    Harmonic solve(int k, double omega, bool load = true, bool solution = true);
+    /// `explicit_contact` false: the modal receptance leaves G_k factored (Harmonic::Factored);
+    /// the direct solve always forms it.
+    Harmonic solve(int k, double omega, bool load = true, bool solution = true, bool explicit_contact = true);
 
     /// Switches to the modal basis of the comment above with `modes` modes (fewer when the
     /// model has fewer DOFs), and contact springs kappa and dampers delta (one per direction)
@@ -128,7 +146,7 @@ private:
     Eigen::VectorXd k_values_, m_values_, c_values_;
     bool symmetric_ = false;  // K, M, C all symmetric: W^T Z_k^-1 = (Z_k^-1 W)^T
     std::unique_ptr<Eigen::SparseLU<SparseComplex>> lu_;  // analysed once (large models)
-    Harmonic solve_modal(int k, double omega, bool load, bool solution) const;
+    Harmonic solve_modal(int k, double omega, bool load, bool solution, bool explicit_contact = true) const;
     struct Modal {
         Eigen::VectorXd lambda, damping;         // lambda_j, c_j
         Eigen::MatrixXd phi;                     // N x m

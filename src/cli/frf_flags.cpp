@@ -68,6 +68,13 @@ void FrfFlags::add_to(CLI::App& command) {
                        "part; needs M > 0, K > 0 and C diagonal in the modes, e.g. Rayleigh). A --config file's "
                        "[solver] modes applies unless given")
         ->capture_default_str()->type_name("INT");
+    command.add_option("--jacobian", jacobian,
+                       "how the corrector holds dR/dX: dense (formed; Ceres' dense solvers; at most 6000 unknowns), "
+                       "structured (condensed formulation with memoryless laws and every harmonic: I + G Df kept in "
+                       "its block structure, Newton steps by GMRES preconditioned with the contacts' mean tangents; "
+                       "interfaces of many nodes), automatic (structured above 1500 unknowns where allowed). A "
+                       "--config file's [solver] jacobian applies unless given")
+        ->type_name("FORM");
     command.add_option("--formulation", formulation,
                        "how the linear structure enters harmonic balance: condensed (the unknowns are the contacts' "
                        "relative displacements, the structure solved exactly per harmonic by a sparse LU: any model "
@@ -136,6 +143,13 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
         throw UsageError("--modes = " + modes + " is out of range: allowed 0 (direct solve) or 1.." +
                          std::to_string(HarmonicBalanceOptions::max_modes));
     if (given(command, "--modes")) choices.modes = clamped;
+    if (given(command, "--jacobian")) {
+        try {
+            choices.jacobian = parse_jacobian_form(jacobian);
+        } catch (const InvalidInput&) {
+            throw UsageError("--jacobian = '" + jacobian + "' is not known: allowed automatic, dense, structured");
+        }
+    }
     if (!exact.empty()) choices.exact = exact == "on";
     FrfSettings s = frf_settings(system, chosen.outputs, choices);
     if (s.exact && choices.exact) {

@@ -18,6 +18,7 @@ struct FrfFlags {
                 harmonics = "0", time_samples = "0", max_amplitude = default_text(ContinuationOptions{}.max_amplitude),
                 max_step = default_text(ContinuationOptions{}.max_step),
                 tolerance = default_text(CorrectorOptions{}.tolerance), formulation = "automatic", modes = "0";
+    std::string jacobian;  ///< --jacobian (empty: the --config file's, else automatic)
     std::string exact, config, stability = "off";
 
     /// Adds --wmin --wmax --harmonics --modes --formulation --time-samples --max-amplitude

@@ -235,14 +235,10 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     Trace out;
     int& corrections = result.corrections;
     int& failures = result.failed_corrections;
-    Eigen::MatrixXd jacobian;
-    Eigen::VectorXd jacobian_omega;
     const double w_scale = frequency_scale(o);
     auto tangent = [&](const Eigen::VectorXd& at, double w, const Eigen::VectorXd& previous) {
         detail::Stopwatch watch;
-        Eigen::VectorXd t = corrector.cached_jacobian(at, w, jacobian, jacobian_omega)
-                                ? branch_tangent(jacobian, jacobian_omega, x_scale, previous, w_scale)
-                                : branch_tangent(hb, at, w, x_scale, previous, w_scale);
+        Eigen::VectorXd t = corrector.tangent(at, w, x_scale, previous, w_scale);
         result.predictor_seconds += watch.lap();
         return t;
     };

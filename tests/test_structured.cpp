@@ -1,0 +1,275 @@
+// The condensed Jacobian kept in its structure (structured_jacobian.hpp, issue 32): equal to the
+// dense condensed Jacobian, its bordered GMRES solve equal to a dense LU (and exact in one
+// iteration where every contact sticks: the preconditioner is then the operator), Newton with
+// it converging to the dense corrector's solutions, and the choices and refusals of the form.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "../benchmarks/lattice.hpp"
+#include "cli_support.hpp"
+#include "hbf/continuation.hpp"
+#include "hbf/error.hpp"
+#include "hbf/harmonic_balance.hpp"
+#include "hbf/structured_jacobian.hpp"
+
+using namespace hbf;
+using ::test::TempDir;
+
+namespace {
+
+/// A 3 x 2 face of a two-layer block (6 contact nodes of law elastic, 18 signals).
+System small_block(double force = 0.002) {
+    bench::LatticeOptions o;
+    o.nx = 3;
+    o.ny = 2;
+    o.force = force;
+    return bench::lattice(o);
+}
+
+HarmonicBalanceOptions options(int harmonics, JacobianForm form, int modes = 0) {
+    HarmonicBalanceOptions o;
+    o.harmonics = harmonics;
+    o.formulation = Formulation::condensed;
+    o.modes = modes;
+    o.jacobian = form;
+    return o;
+}
+
+double max_abs(const Eigen::MatrixXd& m) { return m.cwiseAbs().maxCoeff(); }
+
+/// The solution at omega: the first point of hbf frf's start there (from the static state).
+Eigen::VectorXd solution_at(HarmonicBalance& hb, double omega) {
+    ContinuationOptions start;
+    start.omega_start = omega;
+    start.omega_end = omega * 1.001;
+    const BranchResult first = continue_branch(hb, start);
+    REQUIRE(first.points.size() > 0);
+    REQUIRE(first.points.front().omega == omega);
+    return first.points.front().x;
+}
+
+}  // namespace
+
+TEST_CASE("Structured Jacobian: S (I + Gr Df) equals the dense condensed Jacobian, stuck, slipping and open",
+          "[structured]") {
+    for (int modes : {0, 12}) {
+        CAPTURE(modes);
+        HarmonicBalance hb(small_block(), options(3, JacobianForm::structured, modes));
+        REQUIRE(hb.structured());
+        const double omega = 0.8;
+        // The stuck linear response, enlarged: some nodes slip, some lift off, some stick.
+        for (double scale : {0.01, 30.0, 300.0}) {
+            CAPTURE(scale);
+            Eigen::VectorXd x = scale * hb.linear_guess(omega);
+            x(3) += 1e-3 * scale;  // a harmonic the linear guess leaves empty
+            Eigen::VectorXd r_dense, r_structured, w_dense, w_structured;
+            Eigen::MatrixXd j_dense;
+            hb.evaluate(x, omega, r_dense, &j_dense, &w_dense);  // the per-pair dense assembly
+            StructuredJacobian j;
+            hb.evaluate(x, omega, r_structured, j, &w_structured);  // batched per harmonic
+            REQUIRE(max_abs(r_structured - r_dense) <= 1e-13 * max_abs(r_dense));
+            REQUIRE(max_abs(w_structured - w_dense) <= 1e-12 * max_abs(w_dense));
+            const Eigen::MatrixXd j_structured = j.dense();
+            REQUIRE(max_abs(j_structured - j_dense) <= 1e-12 * max_abs(j_dense));
+            // abs_row_sums bounds the row sums of |dR/dX| from above.
+            const Eigen::VectorXd sums = j_dense.cwiseAbs().rowwise().sum(), bound = j.abs_row_sums();
+            REQUIRE((bound.array() >= sums.array() * (1.0 - 1e-12)).all());
+        }
+    }
+}
+
+TEST_CASE("Structured Jacobian: the bordered GMRES solve equals a dense LU, in one iteration where all stick",
+          "[structured]") {
+    HarmonicBalance hb(small_block(), options(4, JacobianForm::structured));
+    const double omega = 0.8;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (bool stuck : {true, false}) {  // the stuck linear response, small; the solution near resonance
+        CAPTURE(stuck);
+        const Eigen::VectorXd x = stuck ? Eigen::VectorXd(1e-3 * hb.linear_guess(omega)) : solution_at(hb, 0.92);
+        Eigen::VectorXd r, w;
+        StructuredJacobian j;
+        hb.evaluate(x, omega, r, j, &w);
+        const int n = j.size();
+        Eigen::VectorXd c(n), b(n), rhs(n), sol;
+        for (int i = 0; i < n; ++i) {
+            c(i) = u(rng);
+            b(i) = u(rng);
+            rhs(i) = u(rng);
+        }
+        const double d = 0.7, rho = -0.3;
+        const BlockPreconditioner p(j);
+        double mu = 0;
+        const KrylovReport report = solve_bordered(j, p, c, b, d, rhs, rho, sol, mu, 1e-12);
+        REQUIRE(report.converged);
+        Eigen::MatrixXd a(n + 1, n + 1);
+        a.topLeftCorner(n, n) = j.row_scale().cwiseInverse().asDiagonal() * j.dense();  // A = S^-1 dR/dX
+        a.topRightCorner(n, 1) = c;
+        a.bottomLeftCorner(1, n) = b.transpose();
+        a(n, n) = d;
+        Eigen::VectorXd full(n + 1);
+        full << rhs, rho;
+        const Eigen::VectorXd reference = a.partialPivLu().solve(full);
+        REQUIRE(max_abs(sol - reference.head(n)) <= 1e-9 * max_abs(reference));
+        REQUIRE(std::abs(mu - reference(n)) <= 1e-9 * max_abs(reference));
+        // Stuck everywhere, each contact's tangent is constant over the period: the
+        // preconditioner is A itself up to the mean force's coupling of harmonic 0 (the elastic
+        // law's stuck offset), and GMRES needs three iterations at most.
+        INFO("GMRES iterations " << report.iterations);
+        if (stuck) REQUIRE(report.iterations <= 3);
+        if (!stuck) REQUIRE(report.iterations > 6);  // the slipping nodes are not (the test's premise)
+    }
+}
+
+TEST_CASE("Structured Jacobian: Newton with GMRES lands on the dense corrector's solutions across the resonance",
+          "[structured]") {
+    const System s = small_block();
+    HarmonicBalance structured(s, options(5, JacobianForm::structured));
+    HarmonicBalance dense(s, options(5, JacobianForm::dense));
+    REQUIRE_FALSE(dense.structured());
+    CorrectorOptions co;
+    co.tolerance = 1e-11;
+    Corrector newton(structured, co);
+    // Newton (with a backtracking line search) converges locally; from a far start on this
+    // nonsmooth problem (lift-off, stick-slip) it may crawl where Ceres' Levenberg-Marquardt
+    // still converges (measured: from the stuck linear guess at w = 0.6 the exact dense Newton
+    // step too reduces |R| by 1 % per step): so each solve starts 10 % off the dense solution.
+    for (double omega : {0.6, 0.85, 0.9, 0.95, 1.2}) {
+        CAPTURE(omega);
+        const Eigen::VectorXd xd = solution_at(dense, omega);
+        int it_s = 0;
+        double res_s = 0;
+        const double scale = dense.unknown_scale(xd);
+        Eigen::VectorXd xs = 0.9 * xd;
+        for (Eigen::Index i = 0; i < xs.size(); i += 7) xs(i) += 0.05 * max_abs(xd);
+        const bool solved = newton.solve_at(xs, omega, scale, it_s, res_s);
+        INFO("newton " << it_s << " iterations, residual " << res_s << ", GMRES " << newton.statistics().krylov_iterations);
+        REQUIRE(solved);
+        REQUIRE(max_abs(xs - xd) <= 1e-8 * max_abs(xd));
+    }
+    REQUIRE(newton.statistics().krylov_iterations > 0);
+    REQUIRE(newton.statistics().factorizations > 0);
+    // The whole FRF: the same branch (status, folds) and the same largest response.
+    ContinuationOptions o;
+    o.omega_start = 0.6;
+    o.omega_end = 1.2;
+    o.locate_transitions = false;
+    const BranchResult a = continue_branch(structured, o), b = continue_branch(dense, o);
+    REQUIRE(a.status == ContinuationStatus::completed);
+    REQUIRE(b.status == ContinuationStatus::completed);
+    REQUIRE(a.located_folds == b.located_folds);
+    auto peak = [](HarmonicBalance& hb, const BranchResult& r) {
+        double best = 0;
+        for (const SolutionPoint& p : r.points) best = std::max(best, hb.amplitude_bound(p.x, p.omega));
+        return best;
+    };
+    // Different steps sample the peak differently: a loose bound, the points themselves are
+    // solutions to 1e-9 (the corrector's tolerance) on both.
+    REQUIRE(std::abs(peak(structured, a) - peak(dense, b)) <= 0.02 * peak(dense, b));
+}
+
+TEST_CASE("Structured Jacobian: chosen automatically above the threshold; refused where it does not apply",
+          "[structured]") {
+    // 100 nodes in 3D at H = 15: 9300 unknowns, beyond the dense bound, allowed structured.
+    bench::LatticeOptions big;
+    big.nx = big.ny = 10;
+    const System s = bench::lattice(big);
+    REQUIRE_NOTHROW(HarmonicBalance::validate(s, options(15, JacobianForm::automatic, 20)));
+    try {
+        HarmonicBalance::validate(s, options(15, JacobianForm::dense, 20));
+        FAIL("dense beyond max_unknowns was accepted");
+    } catch (const InvalidInput& e) {
+        REQUIRE_THAT(e.what(), Catch::Contains("9300") && Catch::Contains("jacobian = structured"));
+    }
+    HarmonicBalance small(small_block(), options(3, JacobianForm::automatic));
+    REQUIRE_FALSE(small.structured());  // 270 unknowns: the dense form
+    // odd harmonics only, a law with internal states: named refusals.
+    HarmonicBalanceOptions odd = options(3, JacobianForm::structured);
+    odd.odd_harmonics = true;
+    System symmetric = small_block();
+    REQUIRE_THROWS_WITH(HarmonicBalance(symmetric, odd), Catch::Contains("jacobian = structured") &&
+                                                             Catch::Contains("odd_harmonics"));
+    System dahl = small_block();
+    Contact c;
+    c.dof = 0;
+    c.law = parse_friction_law("dahl");
+    c.friction_limit = 0.01;
+    c.stiffness = 1.0;
+    dahl.contacts.push_back(c);
+    REQUIRE_THROWS_WITH(HarmonicBalance(dahl, options(3, JacobianForm::structured)),
+                        Catch::Contains("jacobian = structured") && Catch::Contains("memoryless"));
+    REQUIRE_THROWS_WITH(parse_jacobian_form("sparse"), Catch::Contains("allowed automatic, dense, structured"));
+}
+
+TEST_CASE("Factored modal receptance: G_B (I + S G_B)^-1 applied equals the formed G_k and its derivative",
+          "[structured]") {
+    const System s = small_block();
+    Eigen::MatrixXd w(s.dofs(), 0);
+    for (const Contact& c : s.contacts) {
+        const Eigen::MatrixXd d = s.contact_directions(c);
+        w.conservativeResize(Eigen::NoChange, w.cols() + d.cols());
+        w.rightCols(d.cols()) = d;
+    }
+    const auto ns = w.cols();
+    Receptance r(s.mass, s.damping, s.stiffness, w, s.excitation, Eigen::MatrixXd(0, s.dofs()));
+    r.use_modes(12, Eigen::VectorXd::Constant(ns, 0.7), Eigen::VectorXd::Constant(ns, 0.05));
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Eigen::VectorXcd z(ns);
+    for (Eigen::Index i = 0; i < ns; ++i) z(i) = {u(rng), u(rng)};
+    for (int k : {1, 3}) {
+        CAPTURE(k);
+        const Receptance::Harmonic formed = r.solve(k, 0.8, true, false, true);
+        Receptance::Harmonic factored = r.solve(k, 0.8, true, false, false);
+        REQUIRE(formed.ok);
+        REQUIRE(factored.ok);
+        REQUIRE(factored.contact.size() == 0);
+        REQUIRE(factored.factored != nullptr);
+        const Eigen::VectorXcd gz = formed.contact * z, gz_omega = formed.contact_omega * z;
+        REQUIRE((factored.apply(z) - gz).cwiseAbs().maxCoeff() <= 1e-12 * gz.cwiseAbs().maxCoeff());
+        REQUIRE((factored.apply_omega(z) - gz_omega).cwiseAbs().maxCoeff() <= 1e-12 * gz_omega.cwiseAbs().maxCoeff());
+        REQUIRE((factored.contact_load - formed.contact_load).cwiseAbs().maxCoeff() <=
+                1e-12 * formed.contact_load.cwiseAbs().maxCoeff());
+        REQUIRE((factored.contact_load_omega - formed.contact_load_omega).cwiseAbs().maxCoeff() <=
+                1e-12 * formed.contact_load_omega.cwiseAbs().maxCoeff());
+        factored.materialize();
+        REQUIRE((factored.contact - formed.contact).cwiseAbs().maxCoeff() <= 1e-12 * formed.contact.cwiseAbs().maxCoeff());
+    }
+}
+
+TEST_CASE("hbf frf --jacobian structured: the lift-off example's FRF and peak equal the dense corrector's; "
+          "bad forms refused",
+          "[structured]") {
+    TempDir dir;
+    const std::string example = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml";
+    nlohmann::json summary[2];
+    int k = 0;
+    for (const std::string form : {"structured", "dense"}) {
+        const fs::path out = dir.path / (form + ".csv"), json = dir.path / (form + ".json");
+        const auto r = ::test::run_hbf("frf --config '" + example + "' --jacobian " + form + " --out '" + out.string() +
+                                           "' --summary '" + json.string() + "'",
+                                       dir);
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+        summary[k++] = nlohmann::json::parse(::test::slurp(json));
+    }
+    CHECK(summary[0]["parameters"]["structured_jacobian"] == 1);
+    CHECK(summary[1]["parameters"]["structured_jacobian"] == 0);
+    CHECK(summary[0]["solver"]["krylov_iterations"].get<long long>() > 0);
+    // The located peak (a stick-slip corner or a smooth maximum, polished): the same solution.
+    const auto& a = summary[0]["peaks"][0];
+    const auto& b = summary[1]["peaks"][0];
+    INFO(a.dump() << "\n" << b.dump());
+    CHECK(std::abs(a["w"].get<double>() - b["w"].get<double>()) <= 1e-7 * b["w"].get<double>());
+    CHECK(std::abs(a["y_max"].get<double>() - b["y_max"].get<double>()) <= 1e-7 * b["y_max"].get<double>());
+    ::test::check_bad_input("frf --config '" + example + "' --jacobian sparse", {"--jacobian", "allowed automatic, dense, structured"},
+                            dir);
+    ::test::check_bad_config(::test::slurp(example) + "\n[solver]\njacobian = 3\n", {"solver.jacobian", "expected a string"},
+                             dir);
+    ::test::check_bad_input("frf --law dahl --jacobian structured", {"jacobian = structured", "memoryless"}, dir);
+}
