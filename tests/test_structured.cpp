@@ -83,7 +83,7 @@ TEST_CASE("Structured Jacobian: S (I + Gr Df) equals the dense condensed Jacobia
     }
 }
 
-TEST_CASE("Structured Jacobian: the bordered GMRES solve equals a dense LU, in one iteration where all stick",
+TEST_CASE("Structured Jacobian: the bordered GMRES solve equals a dense LU, in three iterations at most where all stick",
           "[structured]") {
     HarmonicBalance hb(small_block(), options(4, JacobianForm::structured));
     const double omega = 0.8;
@@ -173,7 +173,7 @@ TEST_CASE("Structured Jacobian: Newton with GMRES lands on the dense corrector's
     REQUIRE(std::abs(peak(structured, a) - peak(dense, b)) <= 0.02 * peak(dense, b));
 }
 
-TEST_CASE("Structured Jacobian: chosen automatically above the threshold; refused where it does not apply",
+TEST_CASE("Structured Jacobian: chosen automatically above the threshold, refused where it does not apply",
           "[structured]") {
     // 100 nodes in 3D at H = 15: 9300 unknowns, beyond the dense bound, allowed structured.
     bench::LatticeOptions big;
@@ -242,7 +242,7 @@ TEST_CASE("Factored modal receptance: G_B (I + S G_B)^-1 applied equals the form
     }
 }
 
-TEST_CASE("hbf frf --jacobian structured: the lift-off example's FRF and peak equal the dense corrector's; "
+TEST_CASE("hbf frf --jacobian structured: the lift-off example's FRF and peak equal the dense corrector's, "
           "bad forms refused",
           "[structured]") {
     TempDir dir;
