@@ -11,10 +11,6 @@
 // seconds per FRF and per point, peak memory, the ratio full / condensed in time, and the time
 // per point against the same formulation at the smallest N (the goal: < 2 at 1000
 // DOFs). The last line is one JSON object with every case.
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
@@ -26,6 +22,7 @@
 #include <vector>
 
 #include "chain.hpp"
+#include "child_process.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/harmonic_balance.hpp"
 
@@ -50,11 +47,7 @@ struct Result {
 
 /// Runs the case in a child process; its peak resident memory is measured by wait4.
 Result run(const Case& c) {
-    int fd[2];
-    if (pipe(fd) != 0) return {};
-    const pid_t pid = fork();
-    if (pid == 0) {
-        close(fd[0]);
+    const bench::ChildResult child = bench::run_in_child([&] {
         std::ostringstream line;
         try {
             HarmonicBalance hb(chain(c.dofs, c.contacts), HarmonicBalanceOptions{c.harmonics, 0, c.formulation, c.modes});
@@ -66,23 +59,12 @@ Result run(const Case& c) {
         } catch (const std::exception& e) {
             line << "error 0 0 0";
         }
-        const std::string text = line.str();
-        if (write(fd[1], text.data(), text.size()) < 0) _exit(2);
-        close(fd[1]);
-        _exit(0);
-    }
-    close(fd[1]);
-    std::string text;
-    char buffer[256];
-    for (ssize_t got; (got = read(fd[0], buffer, sizeof buffer)) > 0;) text.append(buffer, static_cast<std::size_t>(got));
-    close(fd[0]);
-    int status = 0;
-    struct rusage usage {};
-    wait4(pid, &status, 0, &usage);
+        return line.str();
+    });
     Result r;
-    std::istringstream in(text);
+    std::istringstream in(child.text);
     r.ran = static_cast<bool>(in >> r.status >> r.unknowns >> r.points >> r.seconds);
-    r.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
+    r.peak_mb = child.peak_mb;
     return r;
 }
 

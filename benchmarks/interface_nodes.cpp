@@ -12,10 +12,6 @@
 // receptances (G_k and dG_k/domega at each new w, the products with them), the GMRES solves,
 // the preconditioner's factorisations; GMRES iterations per Newton step. The last line is one
 // JSON object with every case.
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -26,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "child_process.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "lattice.hpp"
@@ -94,11 +91,7 @@ double stuck_frequency(const System& s) {
 }
 
 Result run(const Case& c) {
-    int fd[2];
-    if (pipe(fd) != 0) return {};
-    const pid_t pid = fork();
-    if (pid == 0) {
-        close(fd[0]);
+    const bench::ChildResult child = bench::run_in_child([&] {
         std::ostringstream line;
         try {
             const System s = bench::lattice(lattice_for(c));
@@ -125,26 +118,15 @@ Result run(const Case& c) {
         } catch (const std::exception& e) {
             line << "error " << e.what();
         }
-        const std::string text = line.str();
-        if (write(fd[1], text.data(), text.size()) < 0) _exit(2);
-        close(fd[1]);
-        _exit(0);
-    }
-    close(fd[1]);
-    std::string text;
-    char buffer[256];
-    for (ssize_t got; (got = read(fd[0], buffer, sizeof buffer)) > 0;) text.append(buffer, static_cast<std::size_t>(got));
-    close(fd[0]);
-    int status = 0;
-    struct rusage usage {};
-    wait4(pid, &status, 0, &usage);
+        return line.str();
+    });
     Result r;
-    std::istringstream in(text);
+    std::istringstream in(child.text);
     r.ran = static_cast<bool>(in >> r.status >> r.unknowns >> r.points >> r.seconds >> r.aft >> r.structure >>
                               r.jacobian >> r.krylov >> r.factorization >> r.predictor >> r.iterations >>
                               r.krylov_iterations);
-    if (!r.ran) r.error = text;
-    r.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
+    if (!r.ran) r.error = child.text;
+    r.peak_mb = child.peak_mb;
     return r;
 }
 
