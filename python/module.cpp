@@ -596,6 +596,7 @@ PYBIND11_MODULE(_core, m) {
                                    if (s.time_samples) d["time_samples"] = *s.time_samples;
                                    if (s.modes) d["modes"] = *s.modes;
                                    if (s.odd_harmonics) d["odd_harmonics"] = *s.odd_harmonics;
+                                   if (s.jacobian) d["jacobian"] = to_string(*s.jacobian);
                                    return d;
                                })
         .def("validate", [](const PySystem& s) {
@@ -648,6 +649,10 @@ PYBIND11_MODULE(_core, m) {
     enum_property(hbo, "formulation", &HarmonicBalanceOptions::formulation,
                   {{"automatic", Formulation::automatic}, {"full", Formulation::full}, {"condensed", Formulation::condensed}},
                   "automatic, full or condensed");
+    enum_property(hbo, "jacobian", &HarmonicBalanceOptions::jacobian,
+                  {{"automatic", JacobianForm::automatic}, {"dense", JacobianForm::dense},
+                   {"structured", JacobianForm::structured}},
+                  "automatic, dense or structured (dR/dX kept in its structure, GMRES: many contact nodes)");
 
     py::class_<CorrectorOptions> corr(m, "CorrectorOptions", "continuation.hpp");
     corr.def(py::init<>())
@@ -723,6 +728,7 @@ PYBIND11_MODULE(_core, m) {
                 else if (name == "time_samples") c.time_samples = given.harmonic_balance.time_samples;
                 else if (name == "modes") c.modes = given.harmonic_balance.modes;
                 else if (name == "odd_harmonics") c.odd_harmonics = given.harmonic_balance.odd_harmonics;
+                else if (name == "jacobian") c.jacobian = given.harmonic_balance.jacobian;
                 else bad("frf_settings: '" + name + "' is not a choice");
             }
             if (exact) c.exact = *exact;

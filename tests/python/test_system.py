@@ -235,3 +235,21 @@ def test_a_reduced_finite_element_model_from_a_file(tmp_path):
     run_hbf("frf", "--config", str(path), "--exact", "off", "--out", str(csv_path))
     assert "y99_max" in csv_path.read_text().splitlines()[0]
     assert_table_equals_csv(b, csv_path.read_text())
+
+
+def test_the_structured_jacobian_from_python():
+    # jacobian="structured" (the condensed Jacobian in its structure, GMRES): the lift-off
+    # example's peak equals the dense corrector's, the summary says which form ran, and a TOML
+    # file's [solver] jacobian is read; a form that does not exist is refused.
+    s = hbfriction.load(os.path.join(SOURCE, "examples", "systems", "liftoff3.toml"))
+    structured = hbfriction.frf(s, jacobian="structured")
+    dense = hbfriction.frf(s, jacobian="dense")
+    assert structured.status == dense.status == "completed"
+    assert structured.metadata["parameters"]["structured_jacobian"] == 1
+    assert dense.metadata["parameters"]["structured_jacobian"] == 0
+    assert structured.metadata["solver"]["krylov_iterations"] > 0
+    a, b = structured.peaks[0], dense.peaks[0]
+    assert a["w"] == pytest.approx(b["w"], rel=1e-7)
+    assert a["y_max"] == pytest.approx(b["y_max"], rel=1e-7)
+    with pytest.raises(ValueError, match="jacobian"):
+        hbfriction.frf(s, jacobian="sparse")
