@@ -275,12 +275,15 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     structured_ = options.jacobian == JacobianForm::structured ||
                   (options.jacobian == JacobianForm::automatic && structurable && all_unknowns_ > structured_threshold);
     if (structured_) {
-        // The receptances G_k and dG_k/domega and the preconditioner's LUs: 64 (H + 1) n_s^2 bytes.
-        const double bytes = 64.0 * (harmonics_ + 1) * static_cast<double>(ns) * ns;
+        // The receptances (G_k and dG_k/domega, or G_B, G_B' and an LU: up to 48 bytes per
+        // entry), held twice (this evaluation's and the preconditioner's older one), the
+        // preconditioner's LU and the products' temporaries: measured 150 to 180 (H + 1) n_s^2
+        // bytes of peak memory (benchmarks/interface_nodes: 534 MB at n_s = 600, H = 7).
+        const double bytes = 160.0 * (harmonics_ + 1) * static_cast<double>(ns) * ns;
         if (bytes > max_structured_bytes)
             throw InvalidInput("harmonics = " + std::to_string(harmonics_) + " with " + std::to_string(ns) +
                                " contact directions needs " + format_number(std::round(bytes / 1048576.0)) +
-                               " MB for the receptances and the preconditioner (64 (H + 1) n_s^2 bytes): allowed at most " +
+                               " MB for the receptances and the preconditioner (about 160 (H + 1) n_s^2 bytes): allowed at most " +
                                format_number(max_structured_bytes / 1048576.0) +
                                " MB (fewer harmonics, fewer contact nodes)");
     }

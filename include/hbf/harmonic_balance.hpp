@@ -115,7 +115,7 @@ public:
     static constexpr int max_unknowns = 6000;
     /// Automatic choice: the structured Jacobian above this many unknowns (where it is allowed).
     static constexpr int structured_threshold = 1500;
-    /// The structured form's bound: the receptances and the preconditioner, 64 (H + 1) n_s^2
+    /// The structured form's bound: the receptances and the preconditioner, about 160 (H + 1) n_s^2
     /// bytes, at most this many (memory bounded for every allowed input).
     static constexpr double max_structured_bytes = 6e9;
     /// Validates the system; throws InvalidInput for bad options or an unsupported law, for
