@@ -330,7 +330,6 @@ bool Corrector::Impl::correct_newton(Eigen::VectorXd& x, double& omega, const Ei
             const Eigen::VectorXd xt = xk + lambda * u;
             const double wt = wk + lambda * dw;
             if (!(wt > 0.0)) continue;
-            const Eigen::VectorXd x_before = nm.x;
             nm.evaluate(hb, xt, wt);
             if (!nm.r.allFinite()) continue;
             const double gt = arclength(xt, wt), phit = merit(nm.r, gt);

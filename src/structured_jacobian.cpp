@@ -49,9 +49,15 @@ Eigen::VectorXd StructuredJacobian::abs_row_sums() const {
     Eigen::MatrixXd sums = Eigen::MatrixXd::Ones(n, signals_);
     const auto& g = *receptance_;
     for (int k = 0; k <= harmonics_; ++k) {
-        Receptance::Harmonic formed = g[static_cast<std::size_t>(k)];
-        formed.materialize();  // G_k factored: formed here (rarely asked: Corrector's noise test)
-        const Eigen::MatrixXcd& gk = formed.contact;
+        // G_k factored: formed here, on a copy of its factors (rarely asked: the corrector's
+        // noise test); formed already: used as it is.
+        const Receptance::Harmonic& held = g[static_cast<std::size_t>(k)];
+        Receptance::Harmonic formed;
+        if (held.contact.size() == 0) {
+            formed.factored = held.factored;
+            formed.materialize();
+        }
+        const Eigen::MatrixXcd& gk = held.contact.size() > 0 ? held.contact : formed.contact;
         // |a c + b s| <= |G| sqrt2 max(|c|, |s|): an upper bound per row of the real 2 x 2 form.
         const Eigen::VectorXd larger = k == 0 ? Eigen::VectorXd(u.row(0).transpose())
                                               : Eigen::VectorXd(u.row(2 * k - 1).cwiseMax(u.row(2 * k)).transpose());
@@ -126,7 +132,6 @@ BlockPreconditioner::BlockPreconditioner(const StructuredJacobian& jacobian)
         lu_[static_cast<std::size_t>(k)].compute(pk);
         factored_[static_cast<std::size_t>(k)] = factored;
     }
-    (void)n;
 }
 
 void BlockPreconditioner::apply(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
