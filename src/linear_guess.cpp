@@ -10,6 +10,7 @@
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/static_state.hpp"
 #include "stopwatch.hpp"
 
 namespace hbf {
@@ -24,9 +25,10 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
     // none when sliding. A preloaded element (StuckElement::offset) also loads harmonic 0.
     std::vector<StuckElement> element(static_cast<std::size_t>(ns));
     bool preload = false;
+    const std::vector<std::vector<StuckElement>> elements =
+        sliding ? std::vector<std::vector<StuckElement>>() : stuck_elements(system_);  // about the static state
     for (std::size_t c = 0; c < system_.contacts.size() && !sliding; ++c) {
-        const Contact& k = system_.contacts[c];
-        const std::vector<StuckElement> along = contact_law(k.law).stuck_directions(k);
+        const std::vector<StuckElement>& along = elements[c];
         for (int j = 0; j < signal_count_[c]; ++j) {
             element[static_cast<std::size_t>(signal_first_[c] + j)] = along[static_cast<std::size_t>(j)];
             preload = preload || along[static_cast<std::size_t>(j)].offset != 0.0;

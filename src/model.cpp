@@ -11,6 +11,7 @@
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/static_state.hpp"
 
 namespace hbf {
 
@@ -489,9 +490,11 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
                                            Eigen::MatrixXd(system.stiffness), omega);
     std::vector<int> rigid;
     std::vector<Complex> element(static_cast<std::size_t>(nc), Complex(0.0, 0.0));
+    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);  // about the static state
     for (int c = 0; c < nc; ++c) {
         const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
-        const StuckElement stuck = contact_law(contact.law).stuck(contact);
+        const std::vector<StuckElement>& along = elements[static_cast<std::size_t>(c)];
+        const StuckElement stuck = along.front();
         if (stuck.rigid) {
             rigid.push_back(c);
             continue;
@@ -499,7 +502,6 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
         element[static_cast<std::size_t>(c)] = stuck.at(omega);
         // every direction's spring and damper (one for the laws along one direction)
         const Eigen::MatrixXd w = system.contact_directions(contact);
-        const std::vector<StuckElement> along = contact_law(contact.law).stuck_directions(contact);
         for (Eigen::Index j = 0; j < w.cols(); ++j)
             a += along[static_cast<std::size_t>(j)].at(omega) * (w.col(j) * w.col(j).transpose()).cast<Complex>();
     }
@@ -536,7 +538,7 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
     for (int j = 0; j < m; ++j) out.force(rigid[static_cast<std::size_t>(j)]) = scale * x(n + j);
     for (int c = 0; c < nc; ++c) {
         const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
-        if (rigid_in_stick(contact)) continue;
+        if (elements[static_cast<std::size_t>(c)].front().rigid) continue;
         out.force(c) = element[static_cast<std::size_t>(c)] *
                        (system.contact_direction(contact).cast<Complex>().dot(out.amplitude) + contact.base_motion);
     }
@@ -589,12 +591,13 @@ std::vector<LinearResonance> linear_resonances(const System& system, double omeg
     Eigen::MatrixXd stuck = stiffness;
     bool springs = false;
     Eigen::MatrixXd directions(n, 0);  // every direction of every contact
+    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);  // about the static state
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
         const Contact& contact = system.contacts[c];
         const Eigen::MatrixXd w = system.contact_directions(contact);
         directions.conservativeResize(Eigen::NoChange, directions.cols() + w.cols());
         directions.rightCols(w.cols()) = w;
-        const std::vector<StuckElement> along = contact_law(contact.law).stuck_directions(contact);
+        const std::vector<StuckElement>& along = elements[c];
         for (Eigen::Index j = 0; j < w.cols(); ++j) {
             const StuckElement& element = along[static_cast<std::size_t>(j)];
             if (!element.rigid && element.stiffness != 0.0) {  // a stuck spring (jenkins, dahl, lugre, elastic)

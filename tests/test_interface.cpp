@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <complex>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/interface.hpp"
 #include "hbf/model.hpp"
+#include "hbf/time_integration.hpp"
 #include "support.hpp"
 
 using namespace hbf;
@@ -187,4 +189,60 @@ TEST_CASE("[[interface]] in a system file: nodes, frames and areas, and bad ones
     };
     for (const Case& c : cases) hbf::test::check_refused_config(file, structure + c.table, c.expected);
     ::test::check_bad_config(structure + cases.front().table, cases.front().expected, dir);  // hbf: exit 2
+}
+
+TEST_CASE("A node pressed only by the preload pressure sticks in the linear limits, and time integration starts on "
+          "its stuck orbit", "[interface][time_integration]") {
+    // The one-node patch without a preload of its own (N_0 = 0): the pressure's static load is
+    // what presses it (as on a meshed interface). Stuck, the body carries the node's springs
+    // k_t A along t1 and t2 and k_n A along n (area 1: 3 and 5), assembled here by hand:
+    //   Y = (K + S - w^2 M + i w C)^-1 F,  S = 3 (t1 t1^T + t2 t2^T) + 5 n n^T,
+    // and the stuck orbit is y(t) = y_s + Re(Y e^{i w t}), y_s = (K + 5 n n^T)^-1 F_s the static
+    // state without a tangential force (harmonic balance's centred convention). Before the
+    // linear limits took the static state, the node counted as unloaded: no tangential spring,
+    // time integration started from the free-sliding response and stuck with its sliders there
+    // (the 25-node block: y_max 24 % above harmonic balance's at a stuck frequency).
+    const Eigen::Vector3d n(0.0, 0.0, 1.0), t(1.0, 0.0, 0.0), t2 = n.cross(t);
+    ContactInterface node = patch({0, 1, 2}, n, t, 1.0);
+    node.prototype.values["preload"] = 0.0;
+    node.preload_pressure = 0.5;
+    System s = body();
+    s.excitation *= 0.01;  // stuck: |T| stays well inside mu N = 0.15
+    s.contacts = interface_contacts(node, 3, 3, [](int d) { return d; });
+    s.static_load = interface_load(node, 3);
+    s.validate();
+    const Eigen::Matrix3d springs = 3.0 * (t * t.transpose() + t2 * t2.transpose()) + 5.0 * n * n.transpose();
+    const Eigen::Matrix3d k(s.stiffness), c(s.damping);
+    const double omega = 1.0;
+    const Eigen::Vector3cd y = (k + springs - omega * omega * Eigen::Matrix3d::Identity() +
+                                std::complex<double>(0.0, omega) * c)
+                                   .fullPivLu()
+                                   .solve(s.excitation.cast<std::complex<double>>());
+    const StuckResponse stuck = stuck_linear_response(s, omega);
+    REQUIRE(stuck.ok);
+    CHECK((stuck.amplitude - y).cwiseAbs().maxCoeff() < 1e-12 * y.cwiseAbs().maxCoeff());
+    // the stuck resonances: sqrt of the eigenvalues of K + S (M = I)
+    const Eigen::Vector3d lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(k + springs).eigenvalues();
+    std::vector<double> stuck_limits;
+    for (const LinearResonance& r : linear_resonances(s, 0.1, 10.0))
+        if (r.limit == LinearResonance::Limit::stuck) stuck_limits.push_back(r.omega);
+    REQUIRE(stuck_limits.size() == 3);
+    for (int i = 0; i < 3; ++i) CHECK(stuck_limits[static_cast<std::size_t>(i)] == Approx(std::sqrt(lambda(i))).epsilon(1e-10));
+    // time integration from linear_stuck_state (as hbf timeint starts) stays on the stuck orbit
+    const Eigen::Vector3d rest = (k + 5.0 * n * n.transpose()).fullPivLu().solve(s.static_load);
+    const Eigen::VectorXd start = linear_stuck_state(s, omega);
+    const PeriodicResponse ti = integrate_steady_state(s, omega, hbf::test::tight_time_integration(), &start);
+    INFO(ti.message);
+    REQUIRE(ti.converged);
+    CHECK(ti.regime == "stick");
+    for (int i = 0; i < 3; ++i) {
+        double y_max = 0.0;
+        for (int j = 0; j < 20000; ++j) {
+            const double phase = 2.0 * M_PI * j / 20000.0;
+            y_max = std::max(y_max, std::abs(rest(i) + (y(i) * std::polar(1.0, phase)).real()));
+        }
+        INFO("DOF " << i);
+        CHECK(ti.y_amp1[static_cast<std::size_t>(i)] == Approx(std::abs(y(i))).epsilon(1e-8));
+        CHECK(ti.y_max[static_cast<std::size_t>(i)] == Approx(y_max).epsilon(1e-6));
+    }
 }

@@ -159,6 +159,14 @@ public:
     /// The linear element along each of the contact's directions (System::contact_directions),
     /// uncoupled: the default is {stuck(contact)} for the laws along one direction.
     virtual std::vector<StuckElement> stuck_directions(const Contact& contact) const { return {stuck(contact)}; }
+    /// The same about a static state in which the contact carries the normal force `normal`
+    /// (static_state.hpp: a static load may press a contact that has no preload of its own):
+    /// the laws with a normal direction stick with their springs (rigid) where normal > 0.
+    /// The default, and any law where normal <= 0: stuck_directions(contact).
+    virtual std::vector<StuckElement> stuck_directions_at(const Contact& contact, double normal) const {
+        (void)normal;
+        return stuck_directions(contact);
+    }
     /// Whether the law has the parameter friction_limit (> 0, required). The elements with a
     /// normal direction have a friction coefficient instead (their limit follows the normal load).
     virtual bool has_friction_limit() const { return true; }

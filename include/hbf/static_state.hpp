@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "hbf/contact.hpp"
 #include "hbf/model.hpp"
 
 namespace hbf {
@@ -65,6 +66,15 @@ bool has_static_problem(const System& system);
 /// contacts: K singular), rigid contacts are mixed with other laws, or Newton's method does not
 /// reach 1e-10 of the force scale within 100 steps (rigid contacts: 1e-12 of their forces).
 StaticState static_state(const System& system);
+
+/// Each contact's linear elements while it sticks (ContactLaw::stuck_directions), about the
+/// static state where the system has a static load and a contact with a normal direction: a
+/// contact the load presses (static normal force > 0) sticks with its springs even without a
+/// preload of its own (an interface's preload_pressure is such a load). The linear limits
+/// (stuck_linear_response, linear_resonances), harmonic balance's first guess and time
+/// integration's stuck start use it. Without a static load, or where the static state is not
+/// solved: stuck_directions.
+std::vector<std::vector<StuckElement>> stuck_elements(const System& system);
 
 /// "contact 1: stuck (N = 1.2, |T| = 0.3), contact 2: open": one line for messages.
 std::string describe(const StaticState& state);

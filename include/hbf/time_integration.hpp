@@ -255,7 +255,12 @@ double response_scale(const System& system, double omega);
 /// pre-sliding spring sigma0 and damper sigma1 + sigma2 (z = q), coulomb-reg as the damper
 /// F_c / eps; modes 0. It is the exact periodic solution when the contacts really stick
 /// (coulomb, jenkins); otherwise a start close to the stick regime. Rest (zeros) at an
-/// undamped resonance of that linear system. With law unilateral: rest (zeros).
+/// undamped resonance of that linear system. With law unilateral: rest (zeros). With law
+/// elastic: the static state under the static load and preloads with the contacts' normal
+/// springs alone (no tangential static force), plus that linear steady state with every pressed
+/// contact stuck (static_state.hpp: stuck_elements; pressed by its own preload or by the static
+/// load), the sliders centred (at the static state's tangential positions: the stuck force
+/// has zero mean, harmonic balance's convention).
 Eigen::VectorXd linear_stuck_state(const System& system, double omega);
 
 /// Integrates from `initial_state` (nullptr: rest, modes stick) period by period until the

@@ -142,6 +142,15 @@ public:
         out.push_back({false, closed ? e.normal_stiffness : 0.0, 0.0, std::max(e.normal_offset, 0.0)});
         return out;
     }
+    std::vector<StuckElement> stuck_directions_at(const Contact& contact, double normal) const override {
+        std::vector<StuckElement> out = stuck_directions(contact);
+        if (!(normal > 0.0)) return out;
+        const ElasticContact e = elastic_element(contact);  // pressed: closed, and stuck where mu > 0
+        for (std::size_t j = 0; j + 1 < out.size(); ++j)
+            out[j].stiffness = e.friction_coefficient > 0.0 ? e.tangential_stiffness : 0.0;
+        out.back().stiffness = e.normal_stiffness;
+        return out;
+    }
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         return std::make_unique<ElasticModel>(elastic_element(contact));
     }

@@ -300,6 +300,12 @@ public:
         return std::vector<StuckElement>(static_cast<std::size_t>(e.d + 1),
                                          StuckElement{e.gap == 0.0, 0.0, 0.0, 0.0});
     }
+    std::vector<StuckElement> stuck_directions_at(const Contact& contact, double normal) const override {
+        std::vector<StuckElement> out = stuck_directions(contact);
+        if (normal > 0.0)  // pressed shut
+            for (StuckElement& e : out) e.rigid = true;
+        return out;
+    }
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         const Unilateral e = unilateral_element(contact);
         if (!(e.eps_t > 0.0) || !(e.eps_n > 0.0))

@@ -404,8 +404,10 @@ Eigen::VectorXd elastic_linear_stuck_state(const System& system, double omega) {
     Eigen::VectorXd state = Eigen::VectorXd::Zero(elastic_state_size(system));
     Eigen::MatrixXd k(system.stiffness);
     Eigen::VectorXd load = Eigen::VectorXd::Zero(n);
-    for (const Contact& c : system.contacts) {
-        const StuckElement normal = contact_law(c.law).stuck_directions(c).back();
+    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);  // about the static state
+    for (std::size_t i = 0; i < system.contacts.size(); ++i) {
+        const Contact& c = system.contacts[i];
+        const StuckElement normal = elements[i].back();
         const Eigen::VectorXd w = system.contact_directions(c).rightCols(1);
         k += normal.stiffness * w * w.transpose();
         load -= normal.offset * w;
@@ -415,15 +417,17 @@ Eigen::VectorXd elastic_linear_stuck_state(const System& system, double omega) {
     const StuckResponse stuck = stuck_linear_response(system, omega);
     const Eigen::VectorXcd y = stuck.ok ? stuck.amplitude : Eigen::VectorXcd::Zero(n);
     state.head(n) = rest.allFinite() ? rest : Eigen::VectorXd::Zero(n);
-    state.head(n) += y.real();
-    state.segment(n, n) = -system.excitation_harmonic * omega * y.imag();
+    // The sliders where the static state puts no tangential force: centred, the stuck force
+    // k_t (u - s) is the linear response's alone, of zero mean (not zero at t = 0).
     int at = 2 * n;
     for (const Contact& c : system.contacts) {
         const Eigen::MatrixXd w = system.contact_directions(c);
-        const Eigen::VectorXd s = w.leftCols(w.cols() - 1).transpose() * state.head(n);  // no tangential force
+        const Eigen::VectorXd s = w.leftCols(w.cols() - 1).transpose() * state.head(n);
         state.segment(at, s.size()) = s;
         at += static_cast<int>(s.size());
     }
+    state.head(n) += y.real();
+    state.segment(n, n) = -system.excitation_harmonic * omega * y.imag();
     state.tail(static_cast<Eigen::Index>(system.contacts.size())).setConstant(1.0);  // stuck
     return state;
 }
