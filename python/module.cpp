@@ -12,6 +12,7 @@
 //  - The GIL is released during every computation (FRFs, solves, time integration, searches);
 //    Python callables (optimize's system of p) are called with the GIL re-acquired.
 #include <pybind11/pybind11.h>
+#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include <nlohmann/json.hpp>
@@ -34,8 +35,10 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
+#include "hbf/interface.hpp"
 #include "hbf/io.hpp"
 #include "hbf/memory.hpp"
+#include "hbf/reduction.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace py = pybind11;
@@ -196,6 +199,47 @@ py::object from_sparse(const SparseMatrix& m) {
 
 std::vector<double> to_list(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
+/// A 2-D array as a matrix (a 1-D array: one row), finite entries.
+Eigen::MatrixXd to_rows(const py::handle& value, const std::string& name) {
+    const py::buffer_info b = float_buffer(value, name);
+    if (b.ndim != 1 && b.ndim != 2) bad(name + ": a 1-D or 2-D array is required (got " + std::to_string(b.ndim) + " dimensions)");
+    const auto rows = static_cast<Eigen::Index>(b.ndim == 2 ? b.shape[0] : 1);
+    const auto cols = static_cast<Eigen::Index>(b.ndim == 2 ? b.shape[1] : b.shape[0]);
+    Eigen::MatrixXd m(rows, cols);
+    const auto* data = static_cast<const double*>(b.ptr);  // C order (ascontiguousarray)
+    for (Eigen::Index i = 0; i < rows; ++i)
+        for (Eigen::Index j = 0; j < cols; ++j) {
+            m(i, j) = data[i * cols + j];
+            if (!std::isfinite(m(i, j)))
+                bad(name + "[" + std::to_string(i) + ", " + std::to_string(j) + "] = " + format_number(m(i, j)) + " is not finite");
+        }
+    return m;
+}
+
+/// Each node's DOFs (0-based): an n x d array of whole numbers (a 1-D array: one node).
+std::vector<std::vector<int>> to_nodes(const py::handle& value, const std::string& name) {
+    const Eigen::MatrixXd m = to_rows(value, name);
+    std::vector<std::vector<int>> nodes(static_cast<std::size_t>(m.rows()));
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+        for (Eigen::Index j = 0; j < m.cols(); ++j) {
+            const double v = m(i, j);
+            if (v != std::floor(v) || std::abs(v) > 2e9)
+                bad(name + "[" + std::to_string(i) + ", " + std::to_string(j) + "] = " + format_number(v) +
+                    " is not a DOF index: allowed whole numbers (0-based)");
+            nodes[static_cast<std::size_t>(i)].push_back(static_cast<int>(v));
+        }
+    return nodes;
+}
+
+py::dict interface_dict(const InterfaceContacts& f) {
+    py::dict d;
+    d["name"] = f.name;
+    d["first"] = f.first;
+    d["count"] = f.count;
+    d["dimension"] = f.dimension;
+    return d;
+}
+
 /// A list of Contact objects; TypeError naming `name` (and the item) for anything else.
 std::vector<Contact> to_contacts(const py::handle& value, const std::string& name) {
     if (value.is_none()) return {};
@@ -272,7 +316,7 @@ void finish_run(FrfRun& run, const PySystem& s, const FrfSettings& settings, con
     const FrfResult& r = run.result;
     run.verdict = r.verdict;
     const BranchStability* stability = r.stability ? &*r.stability : nullptr;
-    run.table = io::frf_table(r.points, r.metrics, settings.outputs, r.exact, stability);
+    run.table = io::frf_table(r.points, r.metrics, settings.outputs, r.exact, stability, s.interfaces);
     if (hb == nullptr) {
         run.summary = nlohmann::json{{"status", to_string(r.branch.status)}, {"message", r.branch.message}}.dump();
         return;
@@ -576,7 +620,93 @@ PYBIND11_MODULE(_core, m) {
             "F_s, the constant load (N entries, or [] / None for none): harmonic balance carries it on harmonic 0")
         .def_property(
             "contacts", [](const PySystem& s) { return s.system.contacts; },
-            [](PySystem& s, const py::object& c) { s.system.contacts = to_contacts(c, "contacts"); })
+            [](PySystem& s, const py::object& c) {
+                s.system.contacts = to_contacts(c, "contacts");
+                s.interfaces.clear();  // the nodes' contacts are gone
+            })
+        .def_property_readonly(
+            "interfaces",
+            [](const PySystem& s) {
+                py::list out;
+                for (const InterfaceContacts& f : s.interfaces) out.append(interface_dict(f));
+                return out;
+            },
+            "the meshed interfaces (add_interface, a file's [[interface]]): dicts name, first, count, dimension; "
+            "interface k's nodes are contacts[first:first + count], in node order")
+        .def(
+            "_add_interface",
+            [](PySystem& s, const py::object& nodes, const py::object& normal, const Contact& contact,
+               const py::object& tangent, const py::object& area, double preload_pressure, const std::string& name) {
+                if (s.reduction)
+                    bad("add_interface: the system is already reduced: add the interface to the FE system, then "
+                        "reduce it (hbfriction.reduce keeps the nodes' DOFs)");
+                ContactInterface i;
+                i.name = name.empty() ? "interface " + std::to_string(s.interfaces.size() + 1) : name;
+                i.nodes = to_nodes(nodes, "nodes");
+                i.normals = to_rows(normal, "normal");
+                if (!tangent.is_none()) i.tangents = to_rows(tangent, "tangent");
+                if (!area.is_none()) i.areas = to_vector(area, "area");
+                i.prototype = contact;
+                i.preload_pressure = preload_pressure;
+                const int n = s.system.dofs();
+                std::vector<Contact> added;
+                try {
+                    added = interface_contacts(i, n, n, [](int d) { return d; });
+                } catch (const InvalidInput& e) {  // the library counts nodes, rows and DOFs from 1, as the files do
+                    bad(std::string(e.what()) + " (nodes, rows and DOFs counted from 1 here, as in a system file: "
+                                                "the Python index is one less)");
+                }
+                System next = s.system;
+                const InterfaceContacts where{i.name, static_cast<int>(next.contacts.size()),
+                                              static_cast<int>(added.size()), i.dimension()};
+                next.contacts.insert(next.contacts.end(), added.begin(), added.end());
+                if (preload_pressure > 0.0) {
+                    if (next.static_load.size() != n) next.static_load = Eigen::VectorXd::Zero(n);
+                    next.static_load += interface_load(i, n);
+                }
+                next.validate();
+                s.system = std::move(next);
+                s.interfaces.push_back(where);
+                return interface_dict(where);
+            })
+        .def_property_readonly(
+            "recovery",
+            [](const PySystem& s) -> py::object {
+                if (!s.reduction) return py::none();
+                const Eigen::MatrixXd& t = s.reduction->recovery;
+                py::array_t<double> out({t.rows(), t.cols()});
+                auto v = out.mutable_unchecked<2>();
+                for (Eigen::Index i = 0; i < t.rows(); ++i)
+                    for (Eigen::Index j = 0; j < t.cols(); ++j) v(i, j) = t(i, j);
+                return std::move(out);
+            },
+            "a reduced system's recovery matrix T (FE DOFs x reduced coordinates, y = T q; None unreduced)")
+        .def_property_readonly(
+            "retained", [](const PySystem& s) -> py::object {
+                if (!s.reduction) return py::none();
+                return py::cast(s.reduction->retained);
+            },
+            "a reduced system's FE DOF (0-based) of each retained coordinate (the first ones; None unreduced)")
+        .def_property_readonly(
+            "mode_frequencies", [](const PySystem& s) -> py::object {
+                if (!s.reduction) return py::none();
+                return py::cast(to_list(s.reduction->mode_frequencies));
+            },
+            "a reduced system's kept normal modes' frequencies sqrt(lambda_j) (fixed-interface; macneal: free)")
+        .def(
+            "fe_outputs",
+            [](const PySystem& s, const std::vector<int>& dofs) {
+                if (!s.reduction) bad("fe_outputs: the system is not reduced (its outputs are its DOFs)");
+                std::vector<Output> fe;
+                for (int d : dofs) {
+                    if (d < 0 || d >= s.reduction->dofs())
+                        bad("fe_outputs: FE DOF " + std::to_string(d) + " is out of range: allowed 0.." +
+                            std::to_string(s.reduction->dofs() - 1));
+                    fe.push_back(Output::dof(d));
+                }
+                return reduced_outputs(fe, *s.reduction);
+            },
+            py::arg("dofs"), "outputs of FE DOFs (0-based; named y<dof + 1>) as rows of the recovery matrix")
         .def_property(
             "outputs", [](const PySystem& s) { return s.outputs; },
             [](PySystem& s, const std::vector<Output>& o) {
@@ -631,6 +761,53 @@ PYBIND11_MODULE(_core, m) {
             return s;
         },
         py::arg("path"));
+    m.def(
+        "reduce_system",
+        [](const PySystem& s, int modes, const std::string& method, const py::object& interface,
+           const py::object& ratios, const py::object& rayleigh) {
+            if (s.reduction) bad("reduce: the system is already reduced");
+            ReductionOptions o;
+            o.modes = modes;
+            o.method = parse_reduction_method(method);
+            const int n = s.system.dofs();
+            if (interface.is_none()) {  // the DOFs the contacts act on, ascending
+                for (Eigen::Index i = 0; i < n; ++i)
+                    for (const Contact& c : s.system.contacts)
+                        if (s.system.contact_directions(c).row(i).cwiseAbs().maxCoeff() > 0.0) {
+                            o.interface_dofs.push_back(static_cast<int>(i));
+                            break;
+                        }
+            } else {
+                for (const std::vector<int>& row : to_nodes(interface, "interface"))
+                    o.interface_dofs.insert(o.interface_dofs.end(), row.begin(), row.end());
+            }
+            if (!ratios.is_none() && !rayleigh.is_none())
+                bad("reduce: damping_ratios and rayleigh are alternatives: give one");
+            if (!ratios.is_none()) {
+                const Eigen::VectorXd z = to_vector(ratios, "damping_ratios");
+                o.damping = ReductionOptions::Damping::modal;
+                o.modal_ratios.assign(z.data(), z.data() + z.size());
+                if (o.modal_ratios.empty()) bad("reduction.damping_ratios: empty: allowed ratios in [0, 1)");
+            } else if (!rayleigh.is_none()) {
+                const Eigen::VectorXd ab = to_vector(rayleigh, "rayleigh");
+                if (ab.size() != 2) bad("reduction.rayleigh: " + std::to_string(ab.size()) + " numbers: allowed (a, b)");
+                o.damping = ReductionOptions::Damping::rayleigh;
+                o.rayleigh_mass = ab(0);
+                o.rayleigh_stiffness = ab(1);
+            }
+            ReducedSystem r = reduce(s.system, o);
+            PySystem out;
+            static_cast<io::SystemConfig&>(out) = s;
+            out.absorber = s.absorber;
+            out.source = s.source;
+            out.system = std::move(r.system);
+            out.system.validate();
+            out.outputs = s.outputs.empty() ? std::vector<Output>() : reduced_outputs(s.outputs, r.model);
+            out.reduction = std::make_shared<const ReducedModel>(std::move(r.model));
+            return out;
+        },
+        py::arg("system"), py::arg("modes"), py::arg("method"), py::arg("interface"), py::arg("damping_ratios"),
+        py::arg("rayleigh"));
     m.def("exact_solver_refusal", [](const PySystem& s) { return exact_solver_supports(s.system) ? std::string() : exact_solver_refusal(s.system); });
     m.def("exact_cost_refusal", [](const PySystem& s, double omega) { return exact_cost_refusal(s.system, omega); });
     m.def(

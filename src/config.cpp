@@ -350,8 +350,9 @@ SystemConfig read_system_config(const std::string& path) {
     std::vector<std::string> contact_keys;
     for (std::size_t c = 0; c < s.contacts.size(); ++c) contact_keys.push_back("contact[" + std::to_string(c + 1) + "]");
     if (!reduced)
-        detail::add_interface_contacts(path, interfaces, interface_lines, s, static_cast<int>(n), static_cast<int>(n),
-                                       [](int dof) { return dof; }, contact_keys, contact_lines);
+        config.interfaces = detail::add_interface_contacts(path, interfaces, interface_lines, s, static_cast<int>(n),
+                                                           static_cast<int>(n), [](int dof) { return dof; },
+                                                           contact_keys, contact_lines);
     // Matrix properties and contact parameter ranges: System::validate names the item; the
     // file and line are added here.
     try {

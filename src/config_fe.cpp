@@ -106,7 +106,7 @@ void read_reduction(const Reader& r, const toml::node& node, SystemConfig& confi
     std::vector<toml::source_region> lines = contact_lines;
     for (std::size_t c = 0; c < reduced.system.contacts.size(); ++c) contact_keys.push_back("contact[" + std::to_string(c + 1) + "]");
     const ReducedModel& model = reduced.model;
-    add_interface_contacts(path, interfaces, interface_lines, reduced.system, n, model.reduced(),
+    config.interfaces = add_interface_contacts(path, interfaces, interface_lines, reduced.system, n, model.reduced(),
                            [&model](int dof) { return model.coordinate(dof); }, contact_keys, lines);
     try {
         reduced.system.validate();
@@ -209,12 +209,15 @@ ContactInterface read_interface(const Reader& r, const toml::table& t, int index
     return iface;
 }
 
-void add_interface_contacts(const std::string& path, const std::vector<ContactInterface>& interfaces,
+std::vector<InterfaceContacts> add_interface_contacts(const std::string& path, const std::vector<ContactInterface>& interfaces,
                             const std::vector<toml::source_region>& interface_lines, System& system, int dofs,
                             int coordinates, const std::function<int(int)>& coordinate,
                             std::vector<std::string>& contact_keys, std::vector<toml::source_region>& contact_lines) {
+    std::vector<InterfaceContacts> out;
     for (std::size_t i = 0; i < interfaces.size(); ++i) {
         const std::string where = "interface[" + std::to_string(i + 1) + "]";
+        out.push_back({interfaces[i].name.empty() ? "interface " + std::to_string(i + 1) : interfaces[i].name,
+                       static_cast<int>(system.contacts.size()), 0, interfaces[i].dimension()});
         std::vector<Contact> contacts;
         try {
             contacts = interface_contacts(interfaces[i], dofs, coordinates, coordinate);
@@ -226,7 +229,9 @@ void add_interface_contacts(const std::string& path, const std::vector<ContactIn
             contact_keys.push_back(where + " node " + std::to_string(k + 1));
             contact_lines.push_back(interface_lines[i]);
         }
+        out.back().count = static_cast<int>(contacts.size());
     }
+    return out;
 }
 
 }  // namespace hbf::io::detail

@@ -130,8 +130,9 @@ void read_reduction(const Reader& r, const toml::node& node, SystemConfig& confi
 ContactInterface read_interface(const Reader& r, const toml::table& t, int index, int dofs);
 
 /// Appends every interface's contacts (on `coordinates` coordinates, coordinate(dof) mapping
-/// FE DOFs) to system.contacts, with their keys ("interface[2] node 5") and lines for messages.
-void add_interface_contacts(const std::string& path, const std::vector<ContactInterface>& interfaces,
+/// FE DOFs) to system.contacts, with their keys ("interface[2] node 5") and lines for messages;
+/// returns where each interface's contacts are.
+std::vector<InterfaceContacts> add_interface_contacts(const std::string& path, const std::vector<ContactInterface>& interfaces,
                             const std::vector<toml::source_region>& interface_lines, System& system, int dofs,
                             int coordinates, const std::function<int(int)>& coordinate,
                             std::vector<std::string>& contact_keys, std::vector<toml::source_region>& contact_lines);

@@ -175,7 +175,8 @@ std::vector<int> normal_contacts_of(const Rows& rows) {
 }
 }  // namespace
 
-std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts, const std::vector<int>& normal) {
+std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts, const std::vector<int>& normal,
+                                const std::vector<InterfaceContacts>& interfaces) {
     std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
                                          "in the file's units); with --excitation-harmonic h the fundamental "
                                          "of the response, the force acting at h w"}};
@@ -201,6 +202,18 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
                            "laws elastic, unilateral only: mean over the period of the normal force N(t) >= 0" + of});
         columns.push_back({"normal_force_amp" + suffix, "laws elastic, unilateral only: half the range of the normal force over "
                                                         "the period, (max N - min N) / 2" + of});
+    }
+    for (std::size_t k = 0; k < interfaces.size(); ++k) {
+        const InterfaceContacts& f = interfaces[k];
+        const std::string suffix = "_i" + std::to_string(k + 1),
+                          of = " of interface " + std::to_string(k + 1) + " ('" + f.name + "', " +
+                               std::to_string(f.count) + " nodes: contacts " + std::to_string(f.first + 1) + ".." +
+                               std::to_string(f.first + f.count) + "), averaged over its nodes";
+        columns.push_back({"stuck_share" + suffix, "share of the period in stick" + of + " (mean of stick_fraction_c<i>)"});
+        columns.push_back({"slip_share" + suffix, "share of the period slipping" + of +
+                                                      " (1 - stuck_share - open_share)"});
+        columns.push_back({"open_share" + suffix, "share of the period open, N = 0" + of +
+                                                      " (mean of separated_fraction_c<i>; 0 for laws without a normal direction)"});
     }
     columns.push_back({"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"});
     if (contacts > 1 && !normal.empty())
@@ -242,10 +255,10 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
 
 Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
                 const std::vector<Output>& outputs, const std::vector<ExactPoint>& exact,
-                const BranchStability* stability) {
+                const BranchStability* stability, const std::vector<InterfaceContacts>& interfaces) {
     const int contacts = contacts_of(metrics);
     const std::vector<int> normal = normal_contacts_of(metrics);
-    Table table{frf_columns(outputs, contacts, normal), {}};
+    Table table{frf_columns(outputs, contacts, normal, interfaces), {}};
     table.cells.resize(table.columns.size());
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
@@ -261,6 +274,24 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
         for (int c : normal)
             row.insert(row.end(), {of(c, &ContactRegime::separated_fraction), of(c, &ContactRegime::normal_mean),
                                    of(c, &ContactRegime::normal_amplitude)});
+        for (const InterfaceContacts& f : interfaces) {
+            double stuck = 0.0, open = 0.0;
+            bool known = f.count > 0;
+            for (int c = f.first; c < f.first + f.count; ++c) {
+                const auto i = static_cast<std::size_t>(c);
+                known = known && i < m.contacts.size() && std::isfinite(m.contacts[i].stick_fraction);
+                if (!known) break;
+                stuck += m.contacts[i].stick_fraction;
+                if (std::isfinite(m.contacts[i].separated_fraction)) open += m.contacts[i].separated_fraction;
+            }
+            if (!known) {
+                row.insert(row.end(), {Cell(), Cell(), Cell()});
+                continue;
+            }
+            stuck /= f.count;
+            open /= f.count;
+            row.insert(row.end(), {stuck, std::max(0.0, 1.0 - stuck - open), open});
+        }
         row.emplace_back(m.energy);
         if (contacts > 1 && !normal.empty())
             for (int c = 0; c < contacts; ++c) row.push_back(of(c, &ContactRegime::energy));
@@ -288,8 +319,9 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
 
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
                    const std::vector<PointMetrics>& metrics, const std::vector<Output>& outputs,
-                   const std::vector<ExactPoint>& exact, const BranchStability* stability) {
-    write_csv(out, frf_table(points, metrics, outputs, exact, stability));
+                   const std::vector<ExactPoint>& exact, const BranchStability* stability,
+                   const std::vector<InterfaceContacts>& interfaces) {
+    write_csv(out, frf_table(points, metrics, outputs, exact, stability, interfaces));
 }
 
 std::vector<Column> timeint_columns(int dofs) { return timeint_columns(all_dofs(dofs)); }

@@ -246,3 +246,59 @@ TEST_CASE("A node pressed only by the preload pressure sticks in the linear limi
         CHECK(ti.y_max[static_cast<std::size_t>(i)] == Approx(y_max).epsilon(1e-6));
     }
 }
+
+TEST_CASE("hbf frf: the interface's node-averaged shares stuck, slipping and open, and --plot-contacts",
+          "[interface][cli]") {
+    // Two uncoupled nodes of interface "pad" (normal z): node 1 driven along x (it slips near its
+    // resonance), node 2 not driven (it sticks). Each row's shares must be the means of the
+    // per-node columns, and the three must add up to 1.
+    TempDir dir;
+    const fs::path file = dir.path / "s.toml";
+    write_file(file, "[structure]\nmass = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]\nstiffness = [2.0, 2.0, 2.0, 2.0, 2.0, 2.0]\n"
+                     "excitation = [0.5, 0.0, 0.0, 0.0, 0.0, 0.0]\ndamping = [0.05, 0.05, 0.05, 0.05, 0.05, 0.05]\n"
+                     "[[interface]]\nname = \"pad\"\nnodes = [[1, 2, 3], [4, 5, 6]]\nnormal = [0.0, 0.0, 1.0]\n"
+                     "area = [0.5, 1.5]\nlaw = \"elastic\"\nstiffness = 2.0\nnormal_stiffness = 4.0\n"
+                     "friction_coefficient = 0.2\npreload_pressure = 3.0\n[frequency]\nwmin = 0.5\nwmax = 3.0\n"
+                     "[solver]\nharmonics = 5\n");
+    const hbf::io::SystemConfig config = hbf::io::read_system_config(file.string());
+    REQUIRE(config.interfaces.size() == 1);
+    CHECK(config.interfaces[0].name == "pad");
+    CHECK((config.interfaces[0].first == 0 && config.interfaces[0].count == 2 && config.interfaces[0].dimension == 3));
+    const fs::path plot = dir.path / "states.svg";
+    const auto r = hbf::test::run_hbf("frf --quiet --config '" + file.string() + "' --plot-contacts '" + plot.string() + "'", dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = hbf::test::parse_csv(r.out);
+    REQUIRE(rows.size() > 10);
+    auto column = [&](const std::string& name) {
+        const auto at = std::find(rows[0].begin(), rows[0].end(), name);
+        REQUIRE(at != rows[0].end());
+        return static_cast<std::size_t>(at - rows[0].begin());
+    };
+    const std::size_t stuck = column("stuck_share_i1"), slip = column("slip_share_i1"), open = column("open_share_i1"),
+                      s1 = column("stick_fraction_c1"), s2 = column("stick_fraction_c2"),
+                      o1 = column("separated_fraction_c1"), o2 = column("separated_fraction_c2");
+    double least = 1.0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        const auto& row = rows[k];
+        auto v = [&](std::size_t i) { return std::stod(row[i]); };
+        CHECK(v(stuck) == Approx((v(s1) + v(s2)) / 2).epsilon(1e-13));
+        CHECK(v(open) == Approx((v(o1) + v(o2)) / 2).margin(1e-14));
+        CHECK(v(stuck) + v(slip) + v(open) == Approx(1.0).epsilon(1e-13));
+        CHECK(v(s2) == 1.0);  // the undriven node sticks
+        least = std::min(least, v(stuck));
+    }
+    CHECK(least < 0.9);  // node 1 slips near its resonance
+    CHECK(fs::file_size(plot) > 1000);
+    CHECK(hbf::test::slurp(plot).find("slipping") != std::string::npos);
+    // refusals, before any work and with no output
+    for (const auto& [flag, expected] : std::vector<std::pair<std::string, std::string>>{
+             {"--plot-contacts ''", "--plot-contacts is empty"},
+             {"--plot-contacts states.pdf", "--plot-contacts"},
+             {"--plot-contacts '" + file.string() + "'", "--plot-contacts"}}) {
+        const auto bad = hbf::test::run_hbf("frf --quiet --config '" + file.string() + "' " + flag, dir);
+        INFO(flag << ": " << bad.err);
+        CHECK(bad.exit_code == 2);
+        CHECK(bad.err.find(expected) != std::string::npos);
+    }
+}

@@ -87,6 +87,7 @@
 #include <vector>
 
 #include "hbf/design.hpp"
+#include "hbf/interface.hpp"
 #include "hbf/model.hpp"
 #include "hbf/reduction.hpp"
 
@@ -123,6 +124,8 @@ struct SystemConfig {
     /// [reduction]: the FE model's reduction (system is then the reduced one; outputs are
     /// rows of its recovery matrix); null without [reduction].
     std::shared_ptr<const ReducedModel> reduction;
+    /// The [[interface]] tables' contacts in system.contacts (after the [[contact]] tables').
+    std::vector<InterfaceContacts> interfaces;
 };
 
 /// Reads and validates a system file (see above). Throws InvalidInput with

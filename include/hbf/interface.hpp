@@ -57,6 +57,16 @@ struct ContactInterface {
 /// The preload pressure's static load on the FE DOFs (`dofs` entries): p A_k n_k on node k.
 Eigen::VectorXd interface_load(const ContactInterface& iface, int dofs);
 
+/// Where an interface's contacts are in a System: contacts first .. first + count - 1, one per
+/// node in node order (hbf frf's per-contact columns _c<first + 1> .. and Python's
+/// Branch.interface_states read them back per node).
+struct InterfaceContacts {
+    std::string name;   ///< the interface's name ("interface k" when it has none)
+    int first = 0;      ///< 0-based index of its first node's contact
+    int count = 0;      ///< its nodes
+    int dimension = 0;  ///< 2 or 3
+};
+
 std::vector<Contact> interface_contacts(const ContactInterface& iface, int dofs, int coordinates,
                                         const std::function<int(int)>& coordinate);
 

@@ -142,9 +142,12 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
 /// and regime (the tables count the contacts of their rows). For each contact i (0-based) in
 /// `normal` (those with a normal direction: laws elastic, unilateral), separated_fraction, normal_force_mean
 /// and normal_force_amp (suffixed _c<i+1> with several contacts) follow the regimes, and with
-/// several contacts energy_c<i+1> of every contact follows energy.
+/// several contacts energy_c<i+1> of every contact follows energy. For each meshed interface k
+/// (1-based, `interfaces`: its nodes' contacts), stuck_share_i<k>, slip_share_i<k> and
+/// open_share_i<k> (its nodes' period shares, averaged over the nodes) come before energy.
 std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts = 1,
-                                const std::vector<int>& normal = {});
+                                const std::vector<int>& normal = {},
+                                const std::vector<InterfaceContacts>& interfaces = {});
 /// The contacts of `system` with a normal direction (System::contact_directions has more than
 /// one column), 0-based: frf_columns' `normal`.
 std::vector<int> normal_contacts(const System& system);
@@ -154,14 +157,15 @@ std::vector<Column> frf_columns(int dofs);
 /// belong to points[k]; as write_frf_csv below).
 Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
                 const std::vector<Output>& outputs, const std::vector<ExactPoint>& exact = {},
-                const BranchStability* stability = nullptr);
+                const BranchStability* stability = nullptr, const std::vector<InterfaceContacts>& interfaces = {});
 
 /// Writes the header row and one row per point (metrics[k] and exact[k] belong to points[k];
 /// metrics[k].output_max[j] and output_amp1[j] belong to outputs[j]; `exact` empty: no
 /// polish, the columns exact = off, stable and hb_gap empty).
 void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
                    const std::vector<PointMetrics>& metrics, const std::vector<Output>& outputs,
-                   const std::vector<ExactPoint>& exact = {}, const BranchStability* stability = nullptr);
+                   const std::vector<ExactPoint>& exact = {}, const BranchStability* stability = nullptr,
+                   const std::vector<InterfaceContacts>& interfaces = {});
 
 /// Columns of `hbf timeint` for a system with `dofs` DOFs: the `hbf frf` columns that apply
 /// (w, y<i>_max, y<i>_amp1, stick_fraction, regime, energy), then periods, converged and the

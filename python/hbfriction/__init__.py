@@ -58,7 +58,7 @@ from ._core import (AbsorberParameters, Contact, ContinuationOptions, CorrectorO
 
 __version__ = _core.__version__
 # hbfriction.map is left out of __all__: a star import would hide the built-in map.
-__all__ = ["absorber", "load", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "analytic",
+__all__ = ["absorber", "load", "reduce", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "analytic",
            "optimize", "options", "Branch", "Solution", "Table", "OptimizeResult", "MapResult",
            "IncompleteResultWarning", "SolveError", "AbsorberParameters", "FrfSettings",
            "HarmonicBalanceOptions", "ContinuationOptions", "CorrectorOptions", "StabilityOptions",
@@ -209,6 +209,54 @@ def load(path):
         return _core.read_system_config(str(path))
     except ValueError as e:  # the library names the file as hbf's flag does
         raise ValueError(str(e).replace("--config = ", "path = ", 1)) from None
+
+
+def _add_interface(self, nodes, normal, *, tangent=None, area=None, preload_pressure=0.0, name="", contact=None,
+                   **parameters):
+    """Adds a meshed contact interface (include/hbf/interface.hpp; a file's [[interface]]): one
+    contact per node against a rigid counter-face, in node order, and the preload pressure's
+    static load. Returns the interface as in ``interfaces`` (name, first, count, dimension).
+
+    nodes: an n x 2 (2D) or n x 3 (3D) array of each node's DOFs (0-based; x, y(, z)).
+    normal: the closing direction, one for every node (d numbers) or one per node (n x d), unit.
+    tangent (3D): t1, orthogonal to the normal (one or n x 3; default: the axis least aligned
+    with the normal, made orthogonal); t2 = n x t1. In 2D t1 is the normal turned by -90 degrees.
+    area: the nodes' areas (one number or n; default 1): the law's per-area parameters (law
+    elastic: stiffness k_t, normal_stiffness k_n, preload N_0) are per unit area.
+    preload_pressure: p >= 0, the static load p A_k n on node k.
+    contact: a Contact prototype (its law and parameters; dof and directions are set per node), or
+    the law and its parameters as keywords: law="elastic" (the default), friction_coefficient=...,
+    stiffness=..., normal_stiffness=....
+    Add interfaces to the FE system, then reduce() it: the nodes' DOFs are kept.
+    """
+    if contact is None:
+        contact = Contact(law=parameters.pop("law", "elastic"), **parameters)
+    elif parameters:
+        raise TypeError("add_interface: give the law's parameters in contact= or as keywords, not both (got %s)"
+                        % ", ".join(sorted(parameters)))
+    area = None if area is None else _np.atleast_1d(_np.asarray(area, dtype=float))
+    return self._add_interface(nodes, normal, contact, tangent, area, float(preload_pressure), str(name))
+
+
+System.add_interface = _add_interface
+
+
+def reduce(system, modes, *, method="craig-bampton", interface=None, damping_ratios=None, rayleigh=None):
+    """The FE system reduced onto its contacts' DOFs (include/hbf/reduction.hpp; a file's
+    [reduction]): a new System on the retained DOFs (first, in order) and `modes` normal modes,
+    with its contacts, loads, outputs and interfaces carried over, and ``recovery`` (T: y = T q),
+    ``retained``, ``mode_frequencies`` and ``fe_outputs(dofs)`` for results on any FE DOF.
+
+    method: "craig-bampton" (fixed-interface modes), "massless-boundary" (CBMB: massless
+    retained coordinates) or "macneal" (free-interface modes with residual flexibility).
+    interface: the FE DOFs to keep (0-based; default: every DOF a contact acts on, ascending);
+    the DOFs the excitation and static load act on are kept too.
+    damping_ratios: modal ratios of the reduced model's modes (the last one repeated), or
+    rayleigh=(a, b): C_r = a M_r + b K_r; neither: the FE damping projected (T^T C T).
+    """
+    if not isinstance(system, System):
+        raise TypeError("reduce: system must be an hbfriction.System, got %s" % type(system).__name__)
+    return _core.reduce_system(system, modes, str(method), interface, damping_ratios, rayleigh)
 
 
 def _outputs(system, outputs):
@@ -412,6 +460,7 @@ class Branch(Table):
         self.warnings = list(run.warnings)
         self.notes = list(run.notes)
         self.seconds = run.seconds
+        self.interfaces = []  # the system's meshed interfaces (frf() sets them: interface_states)
 
     @property
     def peaks(self):
@@ -431,6 +480,50 @@ class Branch(Table):
         """The largest peak of the first output: dict(value, w, state) (state: bounded, unbounded,
         incomplete or failed)."""
         return self._run.peak
+
+    def per_contact(self, column):
+        """A per-contact column of every contact as a 2-D array (rows x contacts): column_c<i>
+        (stick_fraction, regime, separated_fraction, normal_force_mean, normal_force_amp, energy),
+        or the column itself for one contact."""
+        if column in self._data:
+            return self._data[column][:, None]
+        names = []
+        while "%s_c%d" % (column, len(names) + 1) in self._data:
+            names.append("%s_c%d" % (column, len(names) + 1))
+        if not names:
+            raise KeyError("%s: no per-contact column (stick_fraction, regime, separated_fraction, normal_force_mean, "
+                           "normal_force_amp, energy)" % column)
+        return _np.stack([self._data[n] for n in names], axis=1)
+
+    def interface_states(self, interface=0):
+        """The nodes of a meshed interface (index or name; System.interfaces) along the FRF: a dict
+        with name, first and count, the per-node arrays (rows x nodes) stick_fraction and
+        separated_fraction (share of the period open; 0 for laws without a normal direction),
+        slip_fraction (the rest), normal_force_mean, normal_force_amp and energy (where the law has
+        them), and the node-averaged shares stuck_share, slip_share, open_share (rows; the CSV's
+        *_share_i<k> columns)."""
+        found = [f for k, f in enumerate(self.interfaces) if interface in (k, f["name"])]
+        if not found:
+            raise KeyError("interface %r: the FRF's system has %s" % (
+                interface, ", ".join("%d (%r)" % (k, f["name"]) for k, f in enumerate(self.interfaces)) or "none"))
+        f = found[0]
+        nodes = slice(f["first"], f["first"] + f["count"])
+        out = dict(f)
+        out["stick_fraction"] = self.per_contact("stick_fraction")[:, nodes]
+        try:
+            out["separated_fraction"] = self.per_contact("separated_fraction")[:, nodes]
+        except KeyError:
+            out["separated_fraction"] = _np.zeros_like(out["stick_fraction"])
+        out["slip_fraction"] = _np.clip(1.0 - out["stick_fraction"] - out["separated_fraction"], 0.0, 1.0)
+        for column in ("normal_force_mean", "normal_force_amp", "energy"):
+            try:
+                out[column] = self.per_contact(column)[:, nodes]
+            except KeyError:
+                pass
+        out["stuck_share"] = out["stick_fraction"].mean(axis=1)
+        out["open_share"] = out["separated_fraction"].mean(axis=1)
+        out["slip_share"] = _np.clip(1.0 - out["stuck_share"] - out["open_share"], 0.0, 1.0)
+        return out
 
     def coefficients(self):
         """The harmonic-balance unknowns of every point (harmonic_balance.hpp layout), one array per row."""
@@ -469,6 +562,7 @@ def frf(system, settings=None, *, outputs=None, stability=None, **options):
     """
     s = _settings(system, settings, outputs, stability, options)
     branch = Branch(_core.compute_frf(system, s), s)
+    branch.interfaces = system.interfaces
     _judge(branch.status, branch.errors + branch.warnings, "the FRF")
     return branch
 

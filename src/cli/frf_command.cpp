@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -30,8 +32,60 @@ struct FrfOptions {
     AbsorberFlags absorber;
     FrfFlags frf;
     OutputFlags output;
-    std::string at, overlay, overlay_out;
+    std::string at, overlay, overlay_out, plot_contacts;
 };
+
+/// The contact groups of --plot-contacts and the CSV's *_share_i<k> columns: a file's meshed
+/// interfaces, else every contact as one group.
+std::vector<InterfaceContacts> contact_groups(const System& system, const std::optional<io::SystemConfig>& config) {
+    if (config && !config->interfaces.empty()) return config->interfaces;
+    return {InterfaceContacts{"every contact", 0, static_cast<int>(system.contacts.size()), 0}};
+}
+
+/// --plot-contacts: each group's shares of the period stuck, slipping and open (averaged over its
+/// contacts) against w, the branch in order (a break between branches; no --at samples).
+io::PlotSpec contact_share_plot(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
+                                const std::vector<InterfaceContacts>& groups, const std::string& title) {
+    io::PlotSpec spec;
+    spec.title = title;
+    spec.xlabel = "w";
+    spec.ylabel = "share of the period, mean over the group's contacts";
+    const char* words[] = {"stuck", "slipping", "open"};
+    const int types[] = {7, 9, 6};
+    for (const InterfaceContacts& g : groups) {
+        io::PlotCurve curves[3];
+        for (int j = 0; j < 3; ++j)
+            curves[j] = {std::string(words[j]) + (groups.size() > 1 ? " (" + g.name + ")" : std::string()), {}, {},
+                         io::PlotCurve::Style::line, types[j]};
+        int branch = -1;
+        for (std::size_t k = 0; k < points.size() && k < metrics.size(); ++k) {
+            if (points[k].kind == PointKind::sample) continue;
+            double stuck = 0.0, open = 0.0;
+            bool known = g.count > 0;
+            for (int c = g.first; known && c < g.first + g.count; ++c) {
+                const auto i = static_cast<std::size_t>(c);
+                known = i < metrics[k].contacts.size() && std::isfinite(metrics[k].contacts[i].stick_fraction);
+                if (!known) break;
+                stuck += metrics[k].contacts[i].stick_fraction;
+                if (std::isfinite(metrics[k].contacts[i].separated_fraction)) open += metrics[k].contacts[i].separated_fraction;
+            }
+            const double nan = std::numeric_limits<double>::quiet_NaN();
+            const bool next_branch = branch >= 0 && points[k].branch != branch;
+            branch = points[k].branch;
+            const double share[3] = {stuck / g.count, std::max(0.0, 1.0 - (stuck + open) / g.count), open / g.count};
+            for (int j = 0; j < 3; ++j) {
+                if (next_branch) {
+                    curves[j].x.push_back(nan);
+                    curves[j].y.push_back(nan);
+                }
+                curves[j].x.push_back(points[k].omega);
+                curves[j].y.push_back(known ? share[j] : nan);
+            }
+        }
+        for (const io::PlotCurve& c : curves) spec.curves.push_back(c);
+    }
+    return spec;
+}
 
 
 int run(const CLI::App& command, const FrfOptions& o) {
@@ -40,6 +94,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
     long long overlay_points = 0;
     std::string overlay_out = o.overlay_out;
     o.output.check_plot();  // before any work
+    if (given(command, "--plot-contacts") && o.plot_contacts.empty())
+        throw UsageError("--plot-contacts is empty: allowed FILE.png|FILE.svg");
+    io::check_plot("--plot-contacts", o.plot_contacts);
     // An empty value is never "not given" (it would silently change what runs).
     if (given(command, "--at") && o.at.empty())
         throw UsageError("--at is empty: allowed a comma-separated list of frequencies > 0");
@@ -60,8 +117,11 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // The system: the paper's absorber from its flags, or any structure from --config (whose
     // frequency range and solver settings the flags override).
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
-    o.output.check(command, chosen.inputs(), {{"--overlay-out", overlay_out, command.count("--overlay-out") > 0}});
+    o.output.check(command, chosen.inputs(), {{"--overlay-out", overlay_out, command.count("--overlay-out") > 0},
+                                              {"--plot-contacts", o.plot_contacts, !o.plot_contacts.empty(), false, true}});
     const System& system = chosen.system;
+    if (!o.plot_contacts.empty() && system.contacts.empty())
+        throw UsageError("--plot-contacts draws the contacts' states: the system has no contact");
     const std::string& law_name = chosen.law_name;
     const std::vector<Output>& outputs = chosen.outputs;
     const std::optional<io::SystemConfig>& config = chosen.config;
@@ -113,7 +173,8 @@ int run(const CLI::App& command, const FrfOptions& o) {
     }
     io::OutputFile out(o.output.out);
     const BranchStability* stability = frf.stability ? &*frf.stability : nullptr;
-    io::write_frf_csv(out.stream(), points, metrics, outputs, frf.exact, stability);
+    const std::vector<InterfaceContacts> interfaces = config ? config->interfaces : std::vector<InterfaceContacts>();
+    io::write_frf_csv(out.stream(), points, metrics, outputs, frf.exact, stability, interfaces);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     // Everything that makes the result failed (exit 1) or incomplete/doubtful (exit 3): said on
     // stderr after the files are committed, and in the JSON summary (judge_frf, design.hpp).
@@ -153,6 +214,10 @@ int run(const CLI::App& command, const FrfOptions& o) {
         }
         io::write_plot(o.output.plot, spec);  // before the CSV is committed: a failed plot leaves no output
     }
+    if (!o.plot_contacts.empty())
+        io::write_plot(o.plot_contacts,
+                       contact_share_plot(points, metrics, contact_groups(system, config),
+                                          "hbf frf: contact states" + (config ? " (" + o.frf.config + ")" : std::string())));
     out.commit();
     if (summary) summary->commit();
     if (overlay_file) overlay_file->commit();
@@ -190,6 +255,12 @@ void add_flags(CLI::App& command, FrfOptions& o) {
                         "hbf timeint's defaults) and draw them as markers on the --plot; their rows go to "
                         "--overlay-out")
         ->option_text("K");
+    command.add_option("--plot-contacts", o.plot_contacts,
+                       "draw the contacts' states against w through gnuplot: the shares of the period stuck, "
+                       "slipping and open (N = 0), averaged over each [[interface]]'s nodes (columns "
+                       "stuck_share_i<k>, slip_share_i<k>, open_share_i<k>), or over every contact of a system "
+                       "without interfaces (.png or .svg)")
+        ->option_text("FILE.png|FILE.svg");
     command.add_option("--overlay-out", o.overlay_out,
                         "CSV of the --overlay-timeint points (hbf timeint's columns) [default: the plot's name "
                         "with -timeint.csv]")

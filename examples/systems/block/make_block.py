@@ -37,9 +37,11 @@ PRESSURE = 2.0e6    # preload pressure on the end face [Pa] (800 N over 4 cm^2)
 K_NORMAL = 5.0e13   # normal contact stiffness per unit area [N/m^3]
 K_TANGENT = 2.0e13  # tangential contact stiffness per unit area [N/m^3]
 MU = 0.3            # friction coefficient
-FORCE = 150.0       # transverse force amplitude at mid-length [N]
+FORCE = 10.0        # transverse force amplitude at mid-length [N]
 MODES = 20          # fixed-interface modes kept by the reduction
 ZETA = 0.01         # modal damping ratio of the reduced model
+W_MIN, W_MAX = 14000.0, 20000.0  # the frequency band [rad/s] around the first bending resonance
+HARMONICS = 3       # harmonic balance (README: the convergence in H against time integration)
 
 
 def gauss_points():
@@ -135,6 +137,7 @@ def main():
                         k_entries[(r, s)] = k_entries.get((r, s), 0.0) + ke[a][b]
                         m_entries[(r, s)] = m_entries.get((r, s), 0.0) + me[a][b]
     out = args.out
+    os.makedirs(out, exist_ok=True)
     write_mtx(os.path.join(out, "block_stiffness.mtx"), n, k_entries,
               "brick bar %d x %d x %d elements, K [N/m] (make_block.py)" % (nx, ny, nz))
     write_mtx(os.path.join(out, "block_mass.mtx"), n, m_entries,
@@ -194,10 +197,17 @@ modes = %d
 method = "craig-bampton"
 damping_ratios = [%g]
 
+[frequency]   # rad/s: stuck at both ends, stick-slip and partial lift-off near the resonance
+wmin = %r
+wmax = %r
+
+[solver]
+harmonics = %d
+
 [output]
 report = [%d, %d, %d]      # y at mid-length (the force), the end face centre's y and x
 """ % (nx, ny, nz, n, (ny + 1) * (nz + 1), MU, PRESSURE, FORCE, ", ".join(excitation), MU, K_TANGENT, K_NORMAL,
-            PRESSURE, MODES, ZETA, 3 * middle + 2, 3 * centre + 2, 3 * centre + 1))
+            PRESSURE, MODES, ZETA, W_MIN, W_MAX, HARMONICS, 3 * middle + 2, 3 * centre + 2, 3 * centre + 1))
 
 
 if __name__ == "__main__":

@@ -1,0 +1,15 @@
+# Runs an example's generator SCRIPT (with ARGS, space-separated) into WORK and compares every
+# file of FILES (space-separated) with the shipped one in SOURCE.
+separate_arguments(ARGS UNIX_COMMAND "${ARGS}")
+separate_arguments(FILES UNIX_COMMAND "${FILES}")
+file(REMOVE_RECURSE ${WORK})
+execute_process(COMMAND ${PYTHON} ${SOURCE}/${SCRIPT} ${ARGS} --out ${WORK} RESULT_VARIABLE status)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "${SCRIPT} failed: ${status}")
+endif()
+foreach(name ${FILES})
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/${name} ${SOURCE}/${name} RESULT_VARIABLE different)
+  if(different)
+    message(FATAL_ERROR "${name}: the shipped file differs from what ${SCRIPT} writes")
+  endif()
+endforeach()
