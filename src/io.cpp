@@ -205,10 +205,12 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
     }
     for (std::size_t k = 0; k < interfaces.size(); ++k) {
         const InterfaceContacts& f = interfaces[k];
+        // (a group without nodes: the --help's description of every interface k)
         const std::string suffix = "_i" + std::to_string(k + 1),
-                          of = " of interface " + std::to_string(k + 1) + " ('" + f.name + "', " +
-                               std::to_string(f.count) + " nodes: contacts " + std::to_string(f.first + 1) + ".." +
-                               std::to_string(f.first + f.count) + "), averaged over its nodes";
+                          of = f.count == 0 ? " of [[interface]] k (columns _i<k>, one set per interface), averaged over its nodes"
+                                            : " of interface " + std::to_string(k + 1) + " ('" + f.name + "', " +
+                                                  std::to_string(f.count) + " nodes: contacts " + std::to_string(f.first + 1) +
+                                                  ".." + std::to_string(f.first + f.count) + "), averaged over its nodes";
         columns.push_back({"stuck_share" + suffix, "share of the period in stick" + of + " (mean of stick_fraction_c<i>)"});
         columns.push_back({"slip_share" + suffix, "share of the period slipping" + of +
                                                       " (1 - stuck_share - open_share)"});

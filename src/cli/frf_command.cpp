@@ -270,7 +270,7 @@ void add_flags(CLI::App& command, FrfOptions& o) {
 samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1 (with
 --config: the file's units).
 Columns:)",
-        io::frf_columns({Output::dof(0), Output::dof(1)}, 1, {0}),  // with the normal-contact columns
+        io::frf_columns({Output::dof(0), Output::dof(1)}, 1, {0}, {InterfaceContacts{}}),  // with the normal-contact columns
         R"(Exit code 1 when the continuation could not start or stalled (min step), when the exact polish
 failed at some point (those rows keep their HB values, exact = failed), or when an --at frequency
 got no row (outside the branch, or its solve failed; named on standard error); the points computed
