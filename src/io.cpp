@@ -255,6 +255,23 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
     return columns;
 }
 
+std::optional<InterfaceShares> interface_shares(const PointMetrics& metrics, const InterfaceContacts& group) {
+    if (group.count <= 0) return std::nullopt;
+    double stuck = 0.0, open = 0.0;
+    for (int c = group.first; c < group.first + group.count; ++c) {
+        const auto i = static_cast<std::size_t>(c);
+        if (c < 0 || i >= metrics.contacts.size() || !std::isfinite(metrics.contacts[i].stick_fraction))
+            return std::nullopt;
+        stuck += metrics.contacts[i].stick_fraction;
+        if (std::isfinite(metrics.contacts[i].separated_fraction)) open += metrics.contacts[i].separated_fraction;
+    }
+    InterfaceShares s;
+    s.stuck = stuck / group.count;
+    s.open = open / group.count;
+    s.slipping = std::max(0.0, 1.0 - s.stuck - s.open);
+    return s;
+}
+
 Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,
                 const std::vector<Output>& outputs, const std::vector<ExactPoint>& exact,
                 const BranchStability* stability, const std::vector<InterfaceContacts>& interfaces) {
@@ -277,22 +294,11 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
             row.insert(row.end(), {of(c, &ContactRegime::separated_fraction), of(c, &ContactRegime::normal_mean),
                                    of(c, &ContactRegime::normal_amplitude)});
         for (const InterfaceContacts& f : interfaces) {
-            double stuck = 0.0, open = 0.0;
-            bool known = f.count > 0;
-            for (int c = f.first; c < f.first + f.count; ++c) {
-                const auto i = static_cast<std::size_t>(c);
-                known = known && i < m.contacts.size() && std::isfinite(m.contacts[i].stick_fraction);
-                if (!known) break;
-                stuck += m.contacts[i].stick_fraction;
-                if (std::isfinite(m.contacts[i].separated_fraction)) open += m.contacts[i].separated_fraction;
-            }
-            if (!known) {
+            const std::optional<InterfaceShares> shares = interface_shares(m, f);
+            if (shares)
+                row.insert(row.end(), {shares->stuck, shares->slipping, shares->open});
+            else
                 row.insert(row.end(), {Cell(), Cell(), Cell()});
-                continue;
-            }
-            stuck /= f.count;
-            open /= f.count;
-            row.insert(row.end(), {stuck, std::max(0.0, 1.0 - stuck - open), open});
         }
         row.emplace_back(m.energy);
         if (contacts > 1 && !normal.empty())

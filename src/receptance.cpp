@@ -545,38 +545,77 @@ Receptance::ModalTerms Receptance::modal_terms(int k, double omega) const {
     }
     // The residual flexibility's factor 1 / (1 + i k w b) (see use_modes).
     t.r_factor = 1.0 / Complex(1.0, kw * md.residual_damping);
-    const Eigen::MatrixXcd pc = md.p.cast<Complex>();
-    t.g_b = pc.transpose() * (t.d.asDiagonal() * pc) + t.r_factor * md.w_r_w.cast<Complex>();
-    t.u_b = pc.transpose() * t.d.cwiseProduct(md.p_load.cast<Complex>()) + t.r_factor * md.w_r_f.cast<Complex>();
+    // P^T diag(d) P + r W^T R W as two real products (P real: half the work of a complex one;
+    // the n_c x m x n_c product dominates an interface of hundreds of nodes).
+    t.g_b.resize(nc, nc);
+    t.g_b.real() = md.p.transpose() * (t.d.real().asDiagonal() * md.p) + t.r_factor.real() * md.w_r_w;
+    t.g_b.imag() = md.p.transpose() * (t.d.imag().asDiagonal() * md.p) + t.r_factor.imag() * md.w_r_w;
+    t.u_b = md.p.transpose().cast<Complex>() * t.d.cwiseProduct(md.p_load.cast<Complex>()) +
+            t.r_factor * md.w_r_f.cast<Complex>();
     t.shift.resize(nc);
     for (int c = 0; c < nc; ++c) t.shift(c) = Complex(md.kappa(c), kw * md.delta(c));
     return t;
 }
 
-double Receptance::response_bound(int k, double omega, const Eigen::VectorXcd& lambda, bool load) const {
+Receptance::ModalResponse Receptance::modal_response_terms(int k, double omega, const Eigen::VectorXcd& lambda,
+                                                          bool load) const {
     const Modal& md = modal_;
     const int nc = contacts();
-    if (md.lambda.size() == 0) throw InvalidInput("response_bound needs the modal receptance (use_modes)");
+    if (md.lambda.size() == 0) throw InvalidInput("the modal response needs the modal receptance (use_modes)");
+    if (lambda.size() != nc) throw InvalidInput("the modal response needs one force per contact direction");
+    ModalResponse r;
     const ModalTerms t = modal_terms(k, omega);
-    if (!t.d.allFinite()) {  // a mode a contact sees, hit exactly: the limit (solve_modal)
+    if (!t.d.allFinite()) {  // a mode a contact sees, hit exactly (solve_modal takes the limit)
+        r.regular = false;
+        return r;
+    }
+    // A mode hit exactly that no contact sees, under the load: unbounded (solve_modal).
+    for (Eigen::Index j : t.hidden)
+        if (load && std::abs(md.p_load(j)) > 1e-8 * md.p_load.cwiseAbs().maxCoeff()) r.unbounded = true;
+    const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(nc, nc);
+    // Y = B^-1 (W g + F [load]) with g = -A^-1 lambda - S u: solve_modal's N-long solution
+    // (B^-1 W A^-1 and B^-1 F - B^-1 W S u) applied to (-lambda, 1), without forming it.
+    r.g = -Eigen::PartialPivLU<Eigen::MatrixXcd>(identity + t.shift.asDiagonal() * t.g_b).solve(lambda);
+    if (load)
+        r.g -= t.shift.cwiseProduct(Eigen::PartialPivLU<Eigen::MatrixXcd>(identity + t.g_b * t.shift.asDiagonal()).solve(t.u_b));
+    r.eta = md.p.cast<Complex>() * r.g;
+    if (load) r.eta += md.p_load.cast<Complex>();
+    r.eta = t.d.cwiseProduct(r.eta);
+    r.r_factor = t.r_factor;
+    return r;
+}
+
+double Receptance::response_bound(int k, double omega, const Eigen::VectorXcd& lambda, bool load) const {
+    const Modal& md = modal_;
+    const ModalResponse r = modal_response_terms(k, omega, lambda, load);
+    if (!r.regular) {  // the limit, as solve_modal takes it
         const double delta = 1e-6;
         return std::max(response_bound(k, omega * (1.0 - delta), lambda, load),
                         response_bound(k, omega * (1.0 + delta), lambda, load));
     }
-    // A mode hit exactly that no contact sees, under the load: unbounded (solve_modal).
-    for (Eigen::Index j : t.hidden)
-        if (load && std::abs(md.p_load(j)) > 1e-8 * md.p_load.cwiseAbs().maxCoeff())
-            return std::numeric_limits<double>::infinity();
-    const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(nc, nc);
-    // Y = B^-1 (W g + F [load]) with g = -A^-1 lambda - D u (solve_modal's solution).
-    Eigen::VectorXcd g = -Eigen::PartialPivLU<Eigen::MatrixXcd>(identity + t.shift.asDiagonal() * t.g_b).solve(lambda);
-    if (load) g -= t.shift.cwiseProduct(Eigen::PartialPivLU<Eigen::MatrixXcd>(identity + t.g_b * t.shift.asDiagonal()).solve(t.u_b));
-    Eigen::VectorXcd eta = md.p.cast<Complex>() * g;
-    if (load) eta += md.p_load.cast<Complex>();
-    eta = t.d.cwiseProduct(eta);
-    const double bound = md.phi_max.dot(eta.cwiseAbs()) + std::abs(t.r_factor) * (md.residual_w_max.dot(g.cwiseAbs()) +
-                                                                                    (load ? md.residual_load_max : 0.0));
+    if (r.unbounded) return std::numeric_limits<double>::infinity();
+    const double bound = md.phi_max.dot(r.eta.cwiseAbs()) + std::abs(r.r_factor) * (md.residual_w_max.dot(r.g.cwiseAbs()) +
+                                                                                      (load ? md.residual_load_max : 0.0));
     return std::isfinite(bound) ? bound : std::numeric_limits<double>::infinity();
+}
+
+Eigen::VectorXcd Receptance::modal_response(int k, double omega, const Eigen::VectorXcd& lambda, bool load) const {
+    const Modal& md = modal_;
+    const ModalResponse r = modal_response_terms(k, omega, lambda, load);
+    if (!r.regular || r.unbounded) {  // rare: solve_modal's N-long solution handles both
+        const Harmonic h = solve_modal(k, omega, load, true);
+        if (!h.ok) return Eigen::VectorXcd::Constant(dofs(), Complex(std::numeric_limits<double>::quiet_NaN(), 0.0));
+        Eigen::VectorXcd y = -h.solution.leftCols(contacts()) * lambda;
+        if (load) y += h.solution.col(contacts());
+        return y;
+    }
+    // Phi eta + r (R W g + R F [load]), as real products (real_product's reason).
+    Eigen::VectorXcd y(dofs());
+    Eigen::VectorXd residual_re = md.residual_w * r.g.real(), residual_im = md.residual_w * r.g.imag();
+    if (load) residual_re += md.residual_load;
+    y.real() = md.phi * r.eta.real() + r.r_factor.real() * residual_re - r.r_factor.imag() * residual_im;
+    y.imag() = md.phi * r.eta.imag() + r.r_factor.real() * residual_im + r.r_factor.imag() * residual_re;
+    return y;
 }
 
 Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, bool with_solution,
@@ -636,7 +675,9 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
     }
     const Eigen::MatrixXcd pc = md.p.cast<Complex>();
     const Eigen::MatrixXcd dp = d.asDiagonal() * pc;
-    const Eigen::MatrixXcd g_b_omega = pc.transpose() * (dd.asDiagonal() * pc) + r_factor_omega * md.w_r_w.cast<Complex>();
+    Eigen::MatrixXcd g_b_omega(nc, nc);  // as g_b in modal_terms: two real products
+    g_b_omega.real() = md.p.transpose() * (dd.real().asDiagonal() * md.p) + r_factor_omega.real() * md.w_r_w;
+    g_b_omega.imag() = md.p.transpose() * (dd.imag().asDiagonal() * md.p) + r_factor_omega.imag() * md.w_r_w;
     Eigen::VectorXcd shift_omega(nc);
     for (int c = 0; c < nc; ++c) shift_omega(c) = Complex(0.0, k * md.delta(c));
     const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(nc, nc);

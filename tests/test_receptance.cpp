@@ -161,6 +161,16 @@ TEST_CASE("Modal receptance with every mode equals the direct solve, contact spr
         CHECK((b.output - a.output).norm() < 1e-10 * a.output.norm());
         CHECK((b.output_load - a.output_load).norm() < 1e-10 * a.output_load.norm());
         CHECK((b.solution - a.solution).norm() < 1e-10 * a.solution.norm());
+        // The N-long response to given contact forces without forming Z^-1 W (HB's dofs()),
+        // against the direct solution applied to them, with and without the load.
+        const Eigen::Vector2cd lambda(std::complex<double>(0.3, -1.1), std::complex<double>(-0.8, 0.25));
+        for (const bool load : {false, true}) {
+            Eigen::VectorXcd expected = -a.solution.leftCols(2) * lambda;
+            if (load) expected += a.solution.col(2);
+            const Eigen::VectorXcd y = modal.modal_response(k, omega, lambda, load);
+            INFO("load = " << load);
+            CHECK((y - expected).norm() < 1e-10 * expected.norm());
+        }
         if (k > 0) {
             CHECK((b.contact_omega - a.contact_omega).norm() < 1e-9 * a.contact_omega.norm());
             CHECK((b.contact_load_omega - a.contact_load_omega).norm() < 1e-9 * a.contact_load_omega.norm());

@@ -153,6 +153,15 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
 std::vector<int> normal_contacts(const System& system);
 std::vector<Column> frf_columns(int dofs);
 
+/// An interface's node-averaged period shares at one point (frf_table's *_share_i<k> columns,
+/// hbf frf --plot-contacts): stuck (mean stick_fraction), open (mean separated_fraction, 0 for
+/// laws without a normal direction) and slipping = 1 - stuck - open. Empty when a contact's
+/// stick fraction is unknown (NaN) or the group has no contacts.
+struct InterfaceShares {
+    double stuck = 0.0, slipping = 0.0, open = 0.0;
+};
+std::optional<InterfaceShares> interface_shares(const PointMetrics& metrics, const InterfaceContacts& group);
+
 /// The table of `hbf frf` (frf_columns(outputs)), one row per point (metrics[k] and exact[k]
 /// belong to points[k]; as write_frf_csv below).
 Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<PointMetrics>& metrics,

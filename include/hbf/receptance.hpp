@@ -106,6 +106,11 @@ public:
     /// lambda), from the modal coordinates and the largest entries of the modes and of the
     /// residual flexibility (cost independent of N). +infinity where Z'_k is singular.
     double response_bound(int k, double omega, const Eigen::VectorXcd& lambda, bool load) const;
+    /// Modal receptance only: Y = Z'_k^-1 (F [load] - W lambda), the N-long response to the
+    /// contacts' forces lambda (one per direction), in O(N (m + n_c)): what
+    /// solve(k, omega, load, true).solution gives applied to (-lambda, 1), without forming that
+    /// N x n_c matrix (n_c times the work). NaN where Z'_k is singular.
+    Eigen::VectorXcd modal_response(int k, double omega, const Eigen::VectorXcd& lambda, bool load) const;
     /// Modes in use (0: the direct sparse solve).
     int modes() const { return static_cast<int>(modal_.lambda.size()); }
     /// Natural frequencies sqrt(lambda_j) of the modes in use, ascending.
@@ -163,6 +168,14 @@ private:
         Eigen::MatrixXd w_r_w, t_r_w;
         Eigen::VectorXd w_r_f, t_r_f;
     } modal_;
+    /// What response_bound and modal_response share: Y = Phi eta + r_factor (R W g + R F [load]).
+    struct ModalResponse {
+        bool regular = true;     ///< false: a mode a contact sees is hit exactly (take a limit)
+        bool unbounded = false;  ///< a mode no contact sees is hit exactly under the load
+        Eigen::VectorXcd g, eta;
+        std::complex<double> r_factor;
+    };
+    ModalResponse modal_response_terms(int k, double omega, const Eigen::VectorXcd& lambda, bool load) const;
     /// What solve_modal and response_bound share at harmonic k: the modal factors d_j, the
     /// residual's factor, G_B = W^T B_k^-1 W, u_B = W^T B_k^-1 F and the contact shift.
     struct ModalTerms {

@@ -60,26 +60,19 @@ io::PlotSpec contact_share_plot(const std::vector<SolutionPoint>& points, const 
         int branch = -1;
         for (std::size_t k = 0; k < points.size() && k < metrics.size(); ++k) {
             if (points[k].kind == PointKind::sample) continue;
-            double stuck = 0.0, open = 0.0;
-            bool known = g.count > 0;
-            for (int c = g.first; known && c < g.first + g.count; ++c) {
-                const auto i = static_cast<std::size_t>(c);
-                known = i < metrics[k].contacts.size() && std::isfinite(metrics[k].contacts[i].stick_fraction);
-                if (!known) break;
-                stuck += metrics[k].contacts[i].stick_fraction;
-                if (std::isfinite(metrics[k].contacts[i].separated_fraction)) open += metrics[k].contacts[i].separated_fraction;
-            }
+            const std::optional<io::InterfaceShares> shares = io::interface_shares(metrics[k], g);
             const double nan = std::numeric_limits<double>::quiet_NaN();
             const bool next_branch = branch >= 0 && points[k].branch != branch;
             branch = points[k].branch;
-            const double share[3] = {stuck / g.count, std::max(0.0, 1.0 - (stuck + open) / g.count), open / g.count};
+            const double share[3] = {shares ? shares->stuck : nan, shares ? shares->slipping : nan,
+                                     shares ? shares->open : nan};
             for (int j = 0; j < 3; ++j) {
                 if (next_branch) {
                     curves[j].x.push_back(nan);
                     curves[j].y.push_back(nan);
                 }
                 curves[j].x.push_back(points[k].omega);
-                curves[j].y.push_back(known ? share[j] : nan);
+                curves[j].y.push_back(share[j]);
             }
         }
         for (const io::PlotCurve& c : curves) spec.curves.push_back(c);
