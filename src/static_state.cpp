@@ -4,6 +4,8 @@
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <sstream>
 
 #include "hbf/contact.hpp"
@@ -233,6 +235,32 @@ StaticState static_state(const System& system) {
 std::string describe(const StaticState& state) {
     if (!state.ok) return state.message;
     std::ostringstream s;
+    if (state.contacts.size() > 8) {
+        // A meshed interface: counts per state and the ranges of the forces (each contact's
+        // in the --summary JSON), not a line per node.
+        std::map<std::string, int> count;
+        double n_low = std::numeric_limits<double>::infinity(), n_high = -n_low, t_high = 0.0;
+        bool normal = false;
+        for (const StaticContactState& k : state.contacts) {
+            ++count[k.state];
+            if (k.force.size() < 2) continue;
+            normal = true;
+            const double n = k.force(k.force.size() - 1);
+            n_low = std::min(n_low, n);
+            n_high = std::max(n_high, n);
+            t_high = std::max(t_high, k.force.head(k.force.size() - 1).norm());
+        }
+        s << state.contacts.size() << " contacts:";
+        const char* separator = " ";
+        for (const auto& [name, number] : count) {
+            s << separator << number << " " << name;
+            separator = ", ";
+        }
+        if (normal)
+            s << " (N from " << format_number(n_low) << " to " << format_number(n_high) << ", |T| up to "
+              << format_number(t_high) << ")";
+        return s.str();
+    }
     for (std::size_t c = 0; c < state.contacts.size(); ++c) {
         const StaticContactState& k = state.contacts[c];
         s << (c > 0 ? ", " : "") << "contact " << c + 1 << ": " << k.state;

@@ -13,6 +13,7 @@
 #include "hbf/config.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/static_state.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/interface.hpp"
 #include "hbf/model.hpp"
@@ -301,4 +302,21 @@ TEST_CASE("hbf frf: the interface's node-averaged shares stuck, slipping and ope
         CHECK(bad.exit_code == 2);
         CHECK(bad.err.find(expected) != std::string::npos);
     }
+}
+
+TEST_CASE("The static state of a meshed interface is described by counts and force ranges", "[interface]") {
+    // Above 8 contacts one line per node would bury the message: counts per state and the
+    // smallest and largest normal force and the largest tangential one, from the given forces.
+    StaticState state;
+    state.ok = true;
+    for (int c = 0; c < 10; ++c) {
+        StaticContactState k;
+        k.state = c < 3 ? "open" : "stuck";
+        k.force = Eigen::Vector3d(0.1 * c, -0.05 * c, c < 3 ? 0.0 : 0.5 * c);
+        state.contacts.push_back(k);
+    }
+    // N from 0 (open) to 4.5 (c = 9), |T| up to |(0.9, -0.45)| = 1.00623058987491
+    CHECK(describe(state) == "10 contacts: 3 open, 7 stuck (N from 0 to 4.5, |T| up to 1.00623058987491)");
+    state.contacts.resize(2);
+    CHECK(describe(state) == "contact 1: open (N = 0, |T| = 0), contact 2: open (N = 0, |T| = 0.111803398874989)");
 }

@@ -80,6 +80,10 @@ struct ContinuationOptions {
     /// Called after each accepted branch point with its omega and the number of points so far
     /// (all branches): a progress display. May be empty; it must not throw.
     std::function<void(double omega, int points)> progress;
+    /// Called before each marked fold is located (with locate_folds) with the folds done and
+    /// their number: locating them can take longer than the branch (a 99-node interface's many
+    /// folds at corners). May be empty; it must not throw.
+    std::function<void(int done, int total)> fold_progress;
 };
 
 /// cap: the last point of a trace stopped by the amplitude cap (an unbounded resonance; a
@@ -221,8 +225,8 @@ Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& J, const Eigen::VectorXd& 
 /// Folds (with locate_folds): wherever the tangent's omega-component changes sign between two
 /// successive points, the zero of that component (the last unknown of the bordered tangent
 /// system, zero exactly where dR/dX is singular) is found by regula falsi along the chord (trial
-/// points corrected on the hyperplane normal to it) to 1e-12 of the chord, and inserted as the
-/// point of kind fold, if omega there is beyond omega at both neighbours by more than 1e-10
+/// points corrected on the hyperplane normal to it) to 1e-12 of the chord or 1e-10 of
+/// arclength, and inserted as the point of kind fold, if omega there is beyond omega at both neighbours by more than 1e-10
 /// omega (a real turn); other sign changes are noise and count in unconfirmed_folds.
 /// Stick-slip transitions of contact 1 (with locate_transitions): wherever the regime changes
 /// between two successive points of a branch, the boundary is located by bisection along the

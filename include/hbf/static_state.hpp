@@ -76,7 +76,8 @@ StaticState static_state(const System& system);
 /// solved: stuck_directions.
 std::vector<std::vector<StuckElement>> stuck_elements(const System& system);
 
-/// "contact 1: stuck (N = 1.2, |T| = 0.3), contact 2: open": one line for messages.
+/// "contact 1: stuck (N = 1.2, |T| = 0.3), contact 2: open": one line for messages; above 8
+/// contacts "99 contacts: 90 stuck, 9 open (N from 0 to 9.8, |T| up to 0.05)".
 std::string describe(const StaticState& state);
 
 }  // namespace hbf

@@ -139,6 +139,11 @@ int run(const CLI::App& command, const FrfOptions& o) {
         std::snprintf(text, sizeof text, "w = %-12.6g %6d points", omega, points);
         progress.update(text);
     };
+    co.fold_progress = [&progress](int done, int total) {
+        char text[64];
+        std::snprintf(text, sizeof text, "locating folds %6d of %d", done, total);
+        progress.update(text);
+    };
     settings.polish_progress = [&progress](int done, int total) {
         char text[64];
         std::snprintf(text, sizeof text, "exact polish %6d of %d points", done, total);

@@ -112,7 +112,7 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, Corrector& pat
 /// tangent, i.e. the last unknown of the bordered system [dR/dX, dR/domega; chord^T] t = e
 /// (branch_tangent), oriented along the chord; it is zero exactly where dR/dX is singular. Each
 /// trial point is corrected onto the branch on the hyperplane normal to the chord; the bracket
-/// shrinks by regula falsi (Illinois), to 1e-12 of the chord. On a piecewise-smooth branch g
+/// shrinks by regula falsi (Illinois), to 1e-12 of the chord or 1e-10 of arclength. On a piecewise-smooth branch g
 /// may jump through zero at a corner instead (a fold of the HB equations at a kink: Dahl's |v|
 /// at a sample, a stick/slip switch): the bracket then closes on the corner, which is the fold.
 /// Returns false when a correction fails, or when the turn is not real: omega at the located
@@ -134,7 +134,12 @@ bool locate_fold(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, 
     SolutionPoint best = std::abs(g_lo) < std::abs(g_hi) ? a : b;
     double g_best = std::min(std::abs(g_lo), std::abs(g_hi));
     int kept = 0;  // Illinois: +1 after moving the low end, -1 after the high end
-    for (int iteration = 0; iteration < 60 && (t_hi - t_lo) > 1e-12; ++iteration) {
+    // To 1e-12 of the chord, or 1e-10 of arclength (the transitions' bisection's tolerance): a
+    // fold at a corner of the branch (below) closes its bracket only linearly, and on an
+    // interface of 99 nodes with many such folds the last decades cost more Jacobians than the
+    // branch itself.
+    for (int iteration = 0; iteration < 60 && (t_hi - t_lo) > 1e-12 && (t_hi - t_lo) * c.length > 1e-10;
+         ++iteration) {
         double t = (t_lo * g_hi - t_hi * g_lo) / (g_hi - g_lo);
         if (!(t > t_lo && t < t_hi)) t = 0.5 * (t_lo + t_hi);
         SolutionPoint m = a;
@@ -164,6 +169,12 @@ bool locate_fold(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, 
             if (kept == 1) g_hi *= 0.5;
             kept = 1;
         }
+        // A corner: g does not fall with the bracket (|g| above 1e4 times its arclength once that
+        // is below 1e-7; a smooth fold's g falls like the curvature times the distance). Its
+        // bracket closes only by halving (some 40 corrections and tangents on the block's
+        // interface); 1e-7 of arclength places it well within any use of a fold.
+        const double arclength = (t_hi - t_lo) * c.length;
+        if (arclength < 1e-7 && g_best > 1e4 * arclength) break;
     }
     // A corner: g jumps through zero (a time sample's |v| or stick/slip switching makes the HB
     // residual piecewise smooth) and the bracket closed on it without a small g: the turn is
@@ -234,18 +245,22 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
 }
 
 void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options, double omega_scale,
-                  BranchResult& result) {
+                  BranchResult& result, const std::function<void(int done, int total)>& progress) {
     CorrectorOptions patient_options = options;
     patient_options.max_iterations = std::max(100, 5 * patient_options.max_iterations);
     Corrector patient(hb, patient_options);
     std::vector<SolutionPoint> points;
     points.reserve(result.points.size() + 8);
+    const int marked = static_cast<int>(std::count_if(result.points.begin(), result.points.end(),
+                                                      [](const SolutionPoint& p) { return p.kind == PointKind::fold; }));
+    int done = 0;
     for (std::size_t k = 0; k < result.points.size(); ++k) {
         SolutionPoint b = result.points[k];
         // The last point of a capped trace keeps its mark (the cap stopped it there).
         const bool last = k + 1 == result.points.size() || result.points[k + 1].branch != b.branch;
         if (b.kind == PointKind::fold && !last && k > 0 && result.points[k - 1].branch == b.branch) {
             SolutionPoint fold;
+            if (progress) progress(done++, marked);
             b.kind = PointKind::regular;
             if (locate_fold(hb, corrector, patient, result.points[k - 1], b, omega_scale, fold)) {
                 points.push_back(std::move(fold));

@@ -2,6 +2,8 @@
 // between the points of a traced branch (locate.cpp); continue_branch (trace.cpp) calls them.
 #pragma once
 
+#include <functional>
+
 #include "hbf/continuation.hpp"
 
 namespace hbf::detail {
@@ -15,6 +17,6 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
 /// omega-component changed sign) by the located fold inserted before it (locate_fold); a
 /// sign change that is not a real turn in omega is unmarked. Counts in `result`.
 void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options, double omega_scale,
-                  BranchResult& result);
+                  BranchResult& result, const std::function<void(int done, int total)>& progress = {});
 
 }  // namespace hbf::detail

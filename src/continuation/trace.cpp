@@ -581,7 +581,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     BranchResult result;
     if (o.resolve_resonances) result.resonances = linear_resonances(hb.system(), o.omega_start, o.omega_end);
     follow_branches(hb, corrector, o, result);
-    if (o.locate_folds) insert_folds(hb, corrector, o.corrector, frequency_scale(o), result);
+    if (o.locate_folds) insert_folds(hb, corrector, o.corrector, frequency_scale(o), result, o.fold_progress);
     if (o.locate_transitions) insert_transitions(hb, corrector, o.corrector, frequency_scale(o), result);
     result.coverage = branch_coverage(result.points, o.omega_start, o.omega_end);
     result.corrector = corrector.statistics();
