@@ -65,7 +65,9 @@ void FrfFlags::add_to(CLI::App& command) {
                        "condensed formulation: 0 solves the structure per harmonic and frequency by a sparse LU "
                        "(exact; cost linear in N); m > 0 uses its m lowest modes plus the static residual "
                        "flexibility (cost independent of N; truncation error ~ (k w / w_{m+1})^2 of the dynamic "
-                       "part; needs M > 0, K > 0 and C diagonal in the modes, e.g. Rayleigh). A --config file's "
+                       "part; needs M > 0, K > 0 and C diagonal in the modes, e.g. Rayleigh); m at least the model's DOFs "
+                       "takes every mode, nothing truncated (on a reduced model's few hundred dense coordinates "
+                       "several times faster than the direct solve). A --config file's "
                        "[solver] modes applies unless given")
         ->capture_default_str()->type_name("INT");
     command.add_option("--jacobian", jacobian,
