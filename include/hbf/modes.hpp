@@ -1,0 +1,167 @@
+// hbfriction — nonlinear modes of friction-damped structures: the extended periodic motion
+// concept (EPMC; Krack 2015, Computers & Structures 154), backbone and modal damping.
+//
+// A nonlinear mode at modal amplitude a is the periodic motion of the unforced structure with
+// an artificial damping xi that makes it periodic,
+//
+//     M y'' + (C - xi M) y' + K y + sum_c w_c f_c = F_s        (no excitation F cos),
+//
+// xi > 0 feeding in per cycle what C and the contacts dissipate. Harmonic balance (full
+// formulation, harmonic_balance.hpp) gives its residual R(X, omega) - xi omega (D1 Y) M; the
+// unknowns are the harmonics X, the frequency omega and xi, and two more equations fix the
+// phase and the amplitude of the modal coordinate q(t) = phi^T M y(t), phi the chosen linear
+// mode of the stuck structure (M-normalised, stuck_modes below):
+//
+//     q's cos(theta) coefficient = a,    q's sin(theta) coefficient = 0.
+//
+// Solved by Newton's method (dense LU of the bordered Jacobian, exact derivatives), followed in
+// log10 a from a_min to a_max with a secant predictor on (X / a, omega, xi) and step control.
+// Modal damping ratio zeta = xi / (2 omega): the viscous damping ratio of a linear mode that
+// dissipates what the nonlinear one does at the same amplitude and frequency when the motion is
+// a single harmonic. The energy definition zeta_E = E / (2 pi omega^2 a^2), E the energy C and
+// the contacts dissipate per cycle, equals it for a single-harmonic q; with higher harmonics
+// the two differ (both reported).
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hbf/continuation.hpp"
+#include "hbf/harmonic_balance.hpp"
+#include "hbf/model.hpp"
+
+namespace hbf {
+
+/// A linear mode of the stuck structure: M, K' = K + sum k w w^T and C' = C + sum d w w^T over
+/// every contact direction's stuck element (static_state.hpp: stuck_elements), the rigid ones
+/// (exact Coulomb) as constraints w^T y = 0.
+struct LinearMode {
+    int index = 0;          ///< 1-based, by ascending frequency
+    double omega = 0;       ///< undamped natural frequency sqrt(lambda)
+    /// phi^T C' phi / (2 omega): the mode's damping ratio when C' is diagonal in the stuck modes
+    /// (then omega = |s| and zeta = -Re s / |s| for the damped eigenvalue s), a first-order
+    /// estimate otherwise.
+    double zeta = 0;
+    Eigen::VectorXd shape;  ///< phi, M-normalised (phi^T M phi = 1), N entries
+};
+
+/// The stuck structure's modes by ascending frequency; rigid-body modes (omega below 1e-6 of
+/// the highest) are included with omega = 0. Throws InvalidInput where neither the constrained
+/// M nor K' is positive definite, or every DOF is constrained.
+std::vector<LinearMode> stuck_modes(const System& system);
+
+struct ModeOptions {
+    /// The linear mode followed: 1-based index among stuck_modes (near_frequency = 0), or the
+    /// one nearest near_frequency (> 0).
+    int mode = 1;
+    double near_frequency = 0;
+    /// Range of the modal amplitude a (q = phi^T M y, first harmonic), 0 < a_min < a_max.
+    double amplitude_min = 1e-4, amplitude_max = 1.0;
+    double initial_step = 0.05;  ///< first step in log10 a (decades), > 0
+    double max_step = 0.1;       ///< largest step in log10 a, initial_step..1
+    double min_step = 1e-6;      ///< below this the continuation stops (status min_step)
+    /// A step is retried with half the length where omega changes by more than this (relative).
+    double max_omega_change = 0.02;
+    int max_points = 2000;       ///< point budget
+    int max_iterations = 30;     ///< Newton iterations per point
+    /// Accept when max |residual| <= tolerance: the structure's rows relative to the mode's
+    /// inertial force a omega_0^2 |M phi|_inf, the constraints relative to a.
+    double tolerance = 1e-10;
+    /// Called after each accepted point with its amplitude and the number of points; must not throw.
+    std::function<void(double amplitude, int points)> progress;
+    /// Throws InvalidInput naming the first field out of range.
+    void validate() const;
+};
+
+/// One point of the backbone: the harmonics x (HarmonicBalance's full layout), omega and xi at
+/// modal amplitude a.
+struct ModePoint {
+    double amplitude = 0;
+    double omega = 0;
+    double xi = 0;
+    Eigen::VectorXd x;
+    int iterations = 0;     ///< Newton iterations
+    double residual = 0;    ///< max |scaled residual| (ModeOptions::tolerance)
+    double step = 0;        ///< step in log10 a that led here (0 for the first point)
+    double zeta() const { return xi / (2.0 * omega); }
+};
+
+/// completed: a_min to a_max; min_step: a step failed at the smallest length; point_budget;
+/// start_failed: the first point (a_min) did not converge.
+enum class ModeStatus { completed, min_step, point_budget, start_failed };
+std::string to_string(ModeStatus status);
+
+struct Backbone {
+    LinearMode linear;              ///< the mode followed
+    std::vector<ModePoint> points;  ///< by increasing amplitude
+    ModeStatus status = ModeStatus::completed;
+    std::string message;            ///< where and why it stopped (empty when completed)
+    int failed_steps = 0;           ///< steps retried with half the length
+    long long evaluations = 0;      ///< residual and Jacobian evaluations
+    double seconds = 0;
+};
+
+/// Quantities of one backbone point (ModeMetrics::of).
+struct ModeMetrics {
+    double zeta = 0;            ///< xi / (2 omega)
+    double zeta_energy = 0;     ///< (E_friction + E_viscous) / (2 pi omega^2 a^2)
+    double friction_energy = 0; ///< dissipated per cycle by the contacts (AFT grid; as hbf frf's energy)
+    double viscous_energy = 0;  ///< dissipated per cycle by C
+    /// Fed in per cycle by -xi M y': xi pi omega sum_k k^2 (c_k^T M c_k + s_k^T M s_k).
+    double injected_energy = 0;
+    /// |injected - viscous - friction| / max(injected, viscous + |friction|, 1e-8 2 pi omega^2
+    /// a^2): the energy balance of the solution. The floor: a damping ratio below 1e-8 is
+    /// measured absolutely (the friction energy of a stuck contact on the AFT grid is rounding,
+    /// 1e-17 of 2 pi omega^2 a^2, with either sign).
+    double energy_error = 0;
+    /// Per harmonic k = 0..H: sqrt(Y_k^T M Y_k) (both coefficients) over the M-norm of all
+    /// harmonics: the mode shape's harmonic content.
+    std::vector<double> harmonic_content;
+    std::vector<ContactRegime> contacts;  ///< stick and separated shares per contact
+    std::vector<double> output_max;       ///< per output: max over one period of |o(t)|
+    std::vector<double> output_amp1;      ///< per output: first-harmonic amplitude
+};
+
+/// The EPMC problem of one mode (see the top of this file).
+class NonlinearModes {
+public:
+    /// `system` with its excitation ignored; `hbo`'s formulation must be automatic or full
+    /// (full is used: InvalidInput for condensed), odd_harmonics is not allowed (the modal
+    /// motion may have a mean). Throws InvalidInput for bad options, a mode out of range
+    /// (naming the range), a rigid-body mode.
+    NonlinearModes(System system, const HarmonicBalanceOptions& hbo, const ModeOptions& options);
+
+    const LinearMode& linear() const { return linear_; }
+    HarmonicBalance& harmonic_balance() { return *hb_; }
+    const ModeOptions& options() const { return options_; }
+
+    /// The scaled residual (size unknowns + 2) at (x, omega, xi) for amplitude a, and with a
+    /// non-null pointer its Jacobian with respect to (x, omega, xi).
+    void residual(const Eigen::VectorXd& x, double omega, double xi, double amplitude, Eigen::VectorXd& r,
+                  Eigen::MatrixXd* jacobian = nullptr);
+    /// Newton from `point` (its x, omega, xi the guess) at point.amplitude; true when the
+    /// tolerance is met (point holds the result, iterations and residual).
+    bool solve(ModePoint& point);
+    /// The linear mode's motion at amplitude a: y = a phi cos(theta) (with the static state on
+    /// harmonic 0), omega and xi of the linear mode: the first guess.
+    ModePoint linear_guess(double amplitude);
+    /// Follows the mode from a_min to a_max.
+    Backbone follow();
+
+    /// Metrics of a point; `outputs` as hbf frf's (validated against the system).
+    ModeMetrics metrics(const ModePoint& point, const std::vector<Output>& outputs = {});
+
+private:
+    System system_;
+    ModeOptions options_;
+    LinearMode linear_;
+    std::unique_ptr<HarmonicBalance> hb_;
+    Eigen::VectorXd m_phi_;  // M phi
+    double force_unit_ = 1;  // omega_0^2 |M phi|_inf (times a: the structure rows' scale)
+    double static_force_ = 0;  // largest static load or preload (the residual's rounding floor)
+    long long evaluations_ = 0;
+};
+
+}  // namespace hbf

@@ -1,0 +1,400 @@
+// hbfriction — nonlinear modes by the extended periodic motion concept (modes.hpp).
+#include "hbf/modes.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "hbf/contact.hpp"
+#include "hbf/error.hpp"
+#include "hbf/static_state.hpp"
+#include "stopwatch.hpp"
+
+namespace hbf {
+
+namespace {
+
+Eigen::MatrixXd dense_or_zero(const SparseMatrix& matrix, int n) {
+    if (matrix.rows() != n || matrix.cols() != n) return Eigen::MatrixXd::Zero(n, n);
+    return Eigen::MatrixXd(matrix);
+}
+
+double infinity_norm(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+}  // namespace
+
+std::vector<LinearMode> stuck_modes(const System& system) {
+    system.validate();
+    const int n = system.dofs();
+    const Eigen::MatrixXd mass = dense_or_zero(system.mass, n);
+    Eigen::MatrixXd stiffness = dense_or_zero(system.stiffness, n), damping = dense_or_zero(system.damping, n);
+    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);
+    std::vector<Eigen::VectorXd> rigid;
+    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+        const Eigen::MatrixXd directions = system.contact_directions(system.contacts[c]);
+        for (Eigen::Index j = 0; j < directions.cols() && j < static_cast<Eigen::Index>(elements[c].size()); ++j) {
+            const StuckElement& e = elements[c][static_cast<std::size_t>(j)];
+            const Eigen::VectorXd w = directions.col(j);
+            if (e.rigid) {
+                rigid.push_back(w);
+            } else {
+                stiffness += e.stiffness * w * w.transpose();
+                damping += e.damping * w * w.transpose();
+            }
+        }
+    }
+    // The motions the rigid contacts allow: an orthonormal basis T of {y : w^T y = 0}.
+    Eigen::MatrixXd basis = Eigen::MatrixXd::Identity(n, n);
+    if (!rigid.empty()) {
+        Eigen::MatrixXd w(n, static_cast<Eigen::Index>(rigid.size()));
+        for (std::size_t j = 0; j < rigid.size(); ++j) w.col(static_cast<Eigen::Index>(j)) = rigid[j];
+        Eigen::JacobiSVD<Eigen::MatrixXd> svd(w, Eigen::ComputeFullU);
+        const auto rank = svd.rank();
+        if (rank >= n) throw InvalidInput("the stuck structure has no motion: its rigid (exact Coulomb) contacts constrain every DOF");
+        basis = svd.matrixU().rightCols(n - rank);
+    }
+    Eigen::MatrixXd mr = basis.transpose() * mass * basis, kr = basis.transpose() * stiffness * basis;
+    mr = 0.5 * (mr + mr.transpose()).eval();
+    kr = 0.5 * (kr + kr.transpose()).eval();
+    std::vector<LinearMode> modes;
+    if (Eigen::LLT<Eigen::MatrixXd>(mr).info() == Eigen::Success) {
+        Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(kr, mr);  // K v = lambda M v, v^T M v = 1
+        if (solver.info() != Eigen::Success) throw InvalidInput("the stuck structure's eigenproblem did not converge");
+        const double largest = std::max(solver.eigenvalues().cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+        for (Eigen::Index j = 0; j < solver.eigenvalues().size(); ++j) {
+            LinearMode m;
+            const double lambda = solver.eigenvalues()(j);
+            m.omega = lambda > 1e-12 * largest ? std::sqrt(lambda) : 0.0;
+            m.shape = basis * solver.eigenvectors().col(j);
+            modes.push_back(m);
+        }
+    } else if (Eigen::LLT<Eigen::MatrixXd>(kr).info() == Eigen::Success) {
+        // Massless DOFs: M v = mu K v (mu = 1 / lambda); mu = 0 are the massless directions.
+        Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(mr, kr);
+        if (solver.info() != Eigen::Success) throw InvalidInput("the stuck structure's eigenproblem did not converge");
+        const double largest = solver.eigenvalues().maxCoeff();
+        for (Eigen::Index j = solver.eigenvalues().size() - 1; j >= 0; --j) {
+            const double mu = solver.eigenvalues()(j);
+            if (!(mu > 1e-14 * largest)) continue;
+            LinearMode m;
+            m.omega = std::sqrt(1.0 / mu);
+            m.shape = basis * solver.eigenvectors().col(j) / std::sqrt(mu);  // v^T K v = 1 -> phi^T M phi = 1
+            modes.push_back(m);
+        }
+    } else {
+        throw InvalidInput("the stuck structure's mass and stiffness matrices are both singular (a rigid-body "
+                           "mode and massless DOFs): nonlinear modes need one of them positive definite");
+    }
+    for (std::size_t j = 0; j < modes.size(); ++j) {
+        LinearMode& m = modes[j];
+        m.index = static_cast<int>(j) + 1;
+        Eigen::Index largest = 0;
+        m.shape.cwiseAbs().maxCoeff(&largest);
+        if (m.shape(largest) < 0.0) m.shape = -m.shape;  // reproducible sign: the largest entry positive
+        m.zeta = m.omega > 0.0 ? m.shape.dot(damping * m.shape) / (2.0 * m.omega) : 0.0;
+    }
+    return modes;
+}
+
+std::string to_string(ModeStatus status) {
+    switch (status) {
+        case ModeStatus::completed: return "completed";
+        case ModeStatus::min_step: return "min_step";
+        case ModeStatus::point_budget: return "point_budget";
+        case ModeStatus::start_failed: return "start_failed";
+    }
+    return "unknown";
+}
+
+void ModeOptions::validate() const {
+    if (near_frequency != 0.0 && !(near_frequency > 0.0 && std::isfinite(near_frequency)))
+        throw InvalidInput("near_frequency = " + format_number(near_frequency) +
+                           " is out of range: allowed > 0 (or 0: the mode by its index)");
+    if (near_frequency == 0.0 && mode < 1) throw InvalidInput("mode = " + std::to_string(mode) + " is out of range: allowed >= 1");
+    if (!(amplitude_min > 0.0 && std::isfinite(amplitude_min)))
+        throw InvalidInput("amplitude_min = " + format_number(amplitude_min) + " is out of range: allowed > 0");
+    if (!(amplitude_max > amplitude_min && std::isfinite(amplitude_max)))
+        throw InvalidInput("amplitude_max = " + format_number(amplitude_max) + " is out of range: allowed > amplitude_min = " +
+                           format_number(amplitude_min));
+    if (!(max_step > 0.0 && max_step <= 1.0))
+        throw InvalidInput("max_step = " + format_number(max_step) + " is out of range: allowed (0, 1] decades");
+    if (!(initial_step > 0.0 && initial_step <= max_step))
+        throw InvalidInput("initial_step = " + format_number(initial_step) + " is out of range: allowed (0, max_step = " +
+                           format_number(max_step) + "] decades");
+    if (!(min_step > 0.0 && min_step <= initial_step))
+        throw InvalidInput("min_step = " + format_number(min_step) + " is out of range: allowed (0, initial_step]");
+    if (!(max_omega_change > 0.0 && max_omega_change <= 1.0))
+        throw InvalidInput("max_omega_change = " + format_number(max_omega_change) + " is out of range: allowed (0, 1]");
+    if (max_points < 2 || max_points > 1000000)
+        throw InvalidInput("max_points = " + std::to_string(max_points) + " is out of range: allowed 2..1000000");
+    if (max_iterations < 1 || max_iterations > 1000)
+        throw InvalidInput("max_iterations = " + std::to_string(max_iterations) + " is out of range: allowed 1..1000");
+    if (!(tolerance >= CorrectorOptions::smallest_tolerance && tolerance <= CorrectorOptions::largest_tolerance))
+        throw InvalidInput("tolerance = " + format_number(tolerance) + " is out of range: allowed " +
+                           format_number(CorrectorOptions::smallest_tolerance) + ".." +
+                           format_number(CorrectorOptions::largest_tolerance));
+}
+
+NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo, const ModeOptions& options)
+    : system_(std::move(system)), options_(options) {
+    options_.validate();
+    hbo.validate();
+    if (hbo.formulation == Formulation::condensed)
+        throw InvalidInput("formulation = condensed is not available for nonlinear modes: allowed automatic or full "
+                           "(the full formulation is used)");
+    if (hbo.odd_harmonics)
+        throw InvalidInput("odd harmonics only is not available for nonlinear modes (the modal motion may have a mean "
+                           "and even harmonics): allowed every harmonic");
+    const std::vector<LinearMode> modes = stuck_modes(system_);
+    const int count = static_cast<int>(modes.size());
+    if (count == 0) throw InvalidInput("the stuck structure has no mode with mass");
+    if (options_.near_frequency > 0.0) {
+        int best = -1;
+        for (int j = 0; j < count; ++j)
+            if (modes[static_cast<std::size_t>(j)].omega > 0.0 &&
+                (best < 0 || std::abs(modes[static_cast<std::size_t>(j)].omega - options_.near_frequency) <
+                                 std::abs(modes[static_cast<std::size_t>(best)].omega - options_.near_frequency)))
+                best = j;
+        if (best < 0) throw InvalidInput("the stuck structure has only rigid-body modes (omega = 0)");
+        linear_ = modes[static_cast<std::size_t>(best)];
+    } else {
+        if (options_.mode > count)
+            throw InvalidInput("mode = " + std::to_string(options_.mode) + " is out of range: allowed 1.." +
+                               std::to_string(count) + " (the stuck structure's modes)");
+        linear_ = modes[static_cast<std::size_t>(options_.mode - 1)];
+    }
+    if (!(linear_.omega > 0.0))
+        throw InvalidInput("mode " + std::to_string(linear_.index) +
+                           " is a rigid-body mode of the stuck structure (omega = 0): a nonlinear mode needs an "
+                           "oscillating linear mode; choose another mode");
+    // The residual's own excitation is removed (residual): a unit force on DOF 1 at harmonic 1
+    // only keeps HarmonicBalance's checks of a forced problem satisfied.
+    System unforced = system_;
+    unforced.excitation = Eigen::VectorXd::Zero(system_.dofs());
+    unforced.excitation(0) = 1.0;
+    unforced.excitation_harmonic = 1;
+    HarmonicBalanceOptions full = hbo;
+    full.formulation = Formulation::full;
+    full.modes = 0;
+    full.jacobian = JacobianForm::dense;
+    hb_ = std::make_unique<HarmonicBalance>(unforced, full);
+    m_phi_ = system_.mass * linear_.shape;
+    force_unit_ = linear_.omega * linear_.omega * infinity_norm(m_phi_);
+    static_force_ = system_.static_load.size() ? infinity_norm(system_.static_load) : 0.0;
+    for (const std::vector<StuckElement>& along : stuck_elements(system_))
+        for (const StuckElement& e : along) static_force_ = std::max(static_force_, std::abs(e.offset));
+}
+
+void NonlinearModes::residual(const Eigen::VectorXd& x, double omega, double xi, double amplitude, Eigen::VectorXd& r,
+                              Eigen::MatrixXd* jacobian) {
+    const int n = hb_->coefficients(), dofs = system_.dofs(), u = hb_->unknowns();
+    Eigen::VectorXd structure, structure_omega;
+    Eigen::MatrixXd structure_x;
+    hb_->evaluate(x, omega, structure, jacobian ? &structure_x : nullptr, jacobian ? &structure_omega : nullptr);
+    ++evaluations_;
+    structure(1) += 1.0;  // the placeholder force on DOF 1's cos 1 row (constructor), removed
+    const Eigen::Map<const Eigen::MatrixXd> y(x.data(), n, dofs);
+    const Eigen::MatrixXd& d1 = hb_->fourier().derivative();
+    const Eigen::MatrixXd d1ym = (d1 * y) * system_.mass;  // (D1 Y) M
+    Eigen::Map<Eigen::MatrixXd>(structure.data(), n, dofs) -= xi * omega * d1ym;
+    // Rows of the structure relative to the mode's inertial force (floored by the static loads'
+    // rounding), the constraints relative to the amplitude.
+    const double scale = std::max(amplitude * force_unit_, 1e-5 * static_force_);
+    r.resize(u + 2);
+    r.head(u) = structure / scale;
+    const double cos1 = y.row(1).dot(m_phi_), sin1 = y.row(2).dot(m_phi_);
+    r(u) = (cos1 - amplitude) / amplitude;
+    r(u + 1) = sin1 / amplitude;
+    if (!jacobian) return;
+    Eigen::MatrixXd& j = *jacobian;
+    j.setZero(u + 2, u + 2);
+    j.topLeftCorner(u, u) = structure_x;
+    for (int k = 0; k < system_.mass.outerSize(); ++k)
+        for (SparseMatrix::InnerIterator it(system_.mass, k); it; ++it)
+            j.block(it.row() * n, it.col() * n, n, n) -= xi * omega * it.value() * d1;
+    Eigen::VectorXd flat = Eigen::Map<const Eigen::VectorXd>(d1ym.data(), d1ym.size());
+    j.col(u).head(u) = structure_omega;
+    j.col(u).head(n * dofs) -= xi * flat;
+    j.col(u + 1).head(n * dofs) = -omega * flat;
+    j.topRows(u) /= scale;
+    for (int i = 0; i < dofs; ++i) {
+        j(u, i * n + 1) = m_phi_(i) / amplitude;
+        j(u + 1, i * n + 2) = m_phi_(i) / amplitude;
+    }
+}
+
+bool NonlinearModes::solve(ModePoint& point) {
+    const int u = hb_->unknowns();
+    const double a = point.amplitude;
+    Eigen::VectorXd r, trial_r;
+    Eigen::MatrixXd j;
+    // Columns scaled to comparable sizes: x by a, omega and xi by the linear frequency.
+    Eigen::VectorXd scale = Eigen::VectorXd::Constant(u + 2, a);
+    scale(u) = scale(u + 1) = linear_.omega;
+    for (int iteration = 0;; ++iteration) {
+        residual(point.x, point.omega, point.xi, a, r, &j);
+        const double norm = infinity_norm(r);
+        point.iterations = iteration;
+        point.residual = norm;
+        if (!std::isfinite(norm)) return false;
+        if (norm <= options_.tolerance) return true;
+        if (iteration >= options_.max_iterations) return false;
+        const Eigen::VectorXd step = scale.asDiagonal() * Eigen::VectorXd(
+            Eigen::PartialPivLU<Eigen::MatrixXd>(j * scale.asDiagonal()).solve(-r));
+        if (!step.allFinite()) return false;
+        // Backtracking on max |r| (the laws are not smooth: a full step can overshoot a switch).
+        double length = 1.0;
+        bool accepted = false;
+        for (int halving = 0; halving < 12 && !accepted; ++halving, length *= 0.5) {
+            const Eigen::VectorXd x = point.x + length * step.head(u);
+            const double omega = point.omega + length * step(u), xi = point.xi + length * step(u + 1);
+            if (!(omega > 0.0)) continue;
+            residual(x, omega, xi, a, trial_r);
+            if (infinity_norm(trial_r) < norm) {
+                point.x = x;
+                point.omega = omega;
+                point.xi = xi;
+                accepted = true;
+            }
+        }
+        if (!accepted) return false;
+    }
+}
+
+ModePoint NonlinearModes::linear_guess(double amplitude) {
+    ModePoint p;
+    p.amplitude = amplitude;
+    p.omega = linear_.omega;
+    p.xi = 2.0 * linear_.omega * linear_.zeta;
+    const int n = hb_->coefficients(), dofs = system_.dofs();
+    p.x = hb_->linear_guess(linear_.omega);  // harmonic 0: the static state; the rest replaced
+    for (int i = 0; i < dofs; ++i) {
+        p.x.segment(i * n + 1, n - 1).setZero();
+        p.x(i * n + 1) = amplitude * linear_.shape(i);
+    }
+    // Internal states (Dahl, LuGre) follow q while pre-sliding: z = q on the harmonics >= 1.
+    int offset = n * dofs;
+    for (int c = 0; c < static_cast<int>(system_.contacts.size()); ++c) {
+        const Eigen::VectorXd z = hb_->state(p.x, c);
+        if (z.size() == 0) continue;
+        const Eigen::VectorXd q = hb_->relative(p.x, c);
+        for (Eigen::Index s = 0; s < z.size() / n; ++s)
+            if ((s + 1) * n <= q.size()) p.x.segment(offset + s * n + 1, n - 1) = q.segment(s * n + 1, n - 1);
+        offset += static_cast<int>(z.size());
+    }
+    return p;
+}
+
+Backbone NonlinearModes::follow() {
+    detail::Stopwatch watch;
+    Backbone b;
+    b.linear = linear_;
+    const long long evaluations = evaluations_;
+    const int u = hb_->unknowns();
+    const double first = std::log10(options_.amplitude_min), last = std::log10(options_.amplitude_max);
+    ModePoint start = linear_guess(options_.amplitude_min);
+    if (!solve(start)) {
+        b.status = ModeStatus::start_failed;
+        b.message = "the first point (a = " + format_number(options_.amplitude_min) + ") did not converge from the linear mode: residual " +
+                    format_number(start.residual) + " after " + std::to_string(start.iterations) + " Newton iterations";
+    } else {
+        b.points.push_back(start);
+        if (options_.progress) options_.progress(start.amplitude, 1);
+    }
+    // (x / a, omega, xi): nearly constant in the linear range, so the secant predicts well.
+    auto scaled = [u](const ModePoint& p) {
+        Eigen::VectorXd v(u + 2);
+        v.head(u) = p.x / p.amplitude;
+        v(u) = p.omega;
+        v(u + 1) = p.xi;
+        return v;
+    };
+    double s = first, h = options_.initial_step;
+    while (b.status == ModeStatus::completed && s < last - 1e-12) {
+        if (static_cast<int>(b.points.size()) >= options_.max_points) {
+            b.status = ModeStatus::point_budget;
+            b.message = "point budget " + std::to_string(options_.max_points) + " reached at a = " +
+                        format_number(b.points.back().amplitude);
+            break;
+        }
+        const double length = std::min(h, last - s);
+        const double target = length == last - s ? options_.amplitude_max : std::pow(10.0, s + length);
+        const ModePoint& previous = b.points.back();
+        Eigen::VectorXd predicted = scaled(previous);
+        if (b.points.size() >= 2) {
+            const ModePoint& before = b.points[b.points.size() - 2];
+            const double chord = std::log10(previous.amplitude) - std::log10(before.amplitude);
+            predicted += (scaled(previous) - scaled(before)) * (length / chord);
+        }
+        ModePoint trial;
+        trial.amplitude = target;
+        trial.x = predicted.head(u) * target;
+        trial.omega = predicted(u);
+        trial.xi = predicted(u + 1);
+        const bool ok = trial.omega > 0.0 && solve(trial) &&
+                        std::abs(trial.omega - previous.omega) <= options_.max_omega_change * previous.omega;
+        if (!ok) {
+            ++b.failed_steps;
+            h = 0.5 * length;
+            if (h < options_.min_step) {
+                b.status = ModeStatus::min_step;
+                b.message = "no point beyond a = " + format_number(previous.amplitude) + " (omega = " +
+                            format_number(previous.omega) + "): Newton's method failed down to the step " +
+                            format_number(length) + " decades (residual " + format_number(trial.residual) + ")";
+            }
+            continue;
+        }
+        trial.step = length;
+        b.points.push_back(trial);
+        if (options_.progress) options_.progress(trial.amplitude, static_cast<int>(b.points.size()));
+        s += length;
+        if (trial.iterations <= 4) h = std::min(1.5 * length, options_.max_step);
+        else h = length;
+    }
+    b.evaluations = evaluations_ - evaluations;
+    b.seconds = watch.lap();
+    return b;
+}
+
+ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Output>& outputs) {
+    ModeMetrics m;
+    m.zeta = point.zeta();
+    Analyser analyse(*hb_, {}, outputs);
+    SolutionPoint sp;
+    sp.omega = point.omega;
+    sp.x = point.x;
+    const PointMetrics pm = analyse(sp);
+    m.friction_energy = pm.energy;
+    m.viscous_energy = pm.viscous_energy;
+    m.contacts = pm.contacts;
+    m.output_max = pm.output_max;
+    m.output_amp1 = pm.output_amp1;
+    const Eigen::MatrixXd y = hb_->dofs(point.x, point.omega);
+    const int harmonics = hb_->harmonics();
+    double kinetic = 0.0;  // sum_k k^2 (c_k^T M c_k + s_k^T M s_k)
+    m.harmonic_content.assign(static_cast<std::size_t>(harmonics + 1), 0.0);
+    Eigen::VectorXd mean = y.row(0).transpose();
+    if (hb_->rest_state() && hb_->rest_state()->ok) mean -= hb_->rest_state()->displacement;  // the static deflection left out
+    m.harmonic_content[0] = mean.dot(system_.mass * mean);
+    for (int k = 1; k <= harmonics; ++k)
+        for (int row : {2 * k - 1, 2 * k}) {
+            const Eigen::VectorXd c = y.row(row).transpose();
+            const double e = c.dot(system_.mass * c);
+            m.harmonic_content[static_cast<std::size_t>(k)] += e;
+            kinetic += k * k * e;
+        }
+    double total = 0.0;
+    for (double e : m.harmonic_content) total += e;
+    for (double& e : m.harmonic_content) e = total > 0.0 ? std::sqrt(e / total) : 0.0;
+    m.injected_energy = point.xi * M_PI * point.omega * kinetic;
+    const double dissipated = m.friction_energy + m.viscous_energy;
+    const double modal = 2.0 * M_PI * point.omega * point.omega * point.amplitude * point.amplitude;
+    const double reference = std::max({std::abs(m.injected_energy), m.viscous_energy + std::abs(m.friction_energy),
+                                       1e-8 * modal});
+    m.energy_error = std::abs(m.injected_energy - dissipated) / reference;
+    m.zeta_energy = dissipated / modal;
+    return m;
+}
+
+}  // namespace hbf

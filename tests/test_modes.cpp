@@ -1,0 +1,278 @@
+// Nonlinear modes (modes.hpp: EPMC) against independent references: the stuck structure's
+// complex eigenvalues, the describing function of the Jenkins element (derived below), its
+// large-amplitude rate, and the energy balance.
+#include <Eigen/Eigenvalues>
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "hbf/error.hpp"
+#include "hbf/modes.hpp"
+#include "support.hpp"
+
+using namespace hbf;
+
+namespace {
+
+/// m y'' + c y' + k y + f_J = 0: one DOF with a Jenkins element (k_t, F_c) to the ground.
+System jenkins_oscillator(double m, double c, double k, double kt, double limit) {
+    System s;
+    s.mass = sparse(Eigen::MatrixXd::Constant(1, 1, m));
+    s.damping = sparse(Eigen::MatrixXd::Constant(1, 1, c));
+    s.stiffness = sparse(Eigen::MatrixXd::Constant(1, 1, k));
+    s.excitation = Eigen::VectorXd::Ones(1);
+    Contact j;
+    j.law = FrictionLaw::jenkins;
+    j.friction_limit = limit;
+    j.stiffness = kt;
+    s.contacts.push_back(j);
+    return s;
+}
+
+/// The damped eigenvalues s of M y'' + C y' + K y = 0 (state space, Eigen's general solver),
+/// with Im s > 0, by ascending |s|.
+std::vector<std::complex<double>> damped_eigenvalues(const Eigen::MatrixXd& m, const Eigen::MatrixXd& c,
+                                                     const Eigen::MatrixXd& k) {
+    const Eigen::Index n = m.rows();
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+    a.topRightCorner(n, n).setIdentity();
+    const Eigen::MatrixXd minv = m.inverse();
+    a.bottomLeftCorner(n, n) = -minv * k;
+    a.bottomRightCorner(n, n) = -minv * c;
+    const Eigen::VectorXcd values = Eigen::EigenSolver<Eigen::MatrixXd>(a).eigenvalues();
+    std::vector<std::complex<double>> upper;
+    for (Eigen::Index j = 0; j < values.size(); ++j)
+        if (values(j).imag() > 0.0) upper.push_back(values(j));
+    std::sort(upper.begin(), upper.end(), [](auto x, auto y) { return std::abs(x) < std::abs(y); });
+    return upper;
+}
+
+/// The Jenkins element's force over one period of q = a cos(theta) in steady state (derived in
+/// the test below): after the reversal at theta = 0 it sticks, f = F_c - k_t a (1 - cos theta),
+/// until f = -F_c at cos theta* = 1 - 2 F_c / (k_t a), then slips at -F_c; f(theta + pi) = -f(theta).
+double jenkins_loop(double theta, double a, double kt, double limit) {
+    theta = std::fmod(theta, 2.0 * M_PI);
+    const double sign = theta < M_PI ? 1.0 : -1.0;
+    if (theta >= M_PI) theta -= M_PI;
+    if (kt * a <= limit) return sign * kt * a * std::cos(theta);  // stuck: the spring alone
+    const double f = limit - kt * a * (1.0 - std::cos(theta));
+    return sign * std::max(f, -limit);
+}
+
+}  // namespace
+
+TEST_CASE("Nonlinear modes: the stuck structure's modes and the small-amplitude limit equal its damped eigenvalues",
+          "[modes]") {
+    // Two DOFs, a Jenkins contact between them (stuck: its spring k_t), mass-proportional damping
+    // (diagonal in every M-normalised basis: the EPMC limit is then exactly |s| and -Re s / |s|).
+    const double kt = 3.0, limit = 0.5;
+    Eigen::MatrixXd m(2, 2), k(2, 2);
+    m << 2.0, 0.0, 0.0, 1.0;
+    k << 5.0, -1.0, -1.0, 2.0;
+    const Eigen::MatrixXd c = 0.02 * m;
+    System s;
+    s.mass = sparse(m);
+    s.damping = sparse(c);
+    s.stiffness = sparse(k);
+    s.excitation = Eigen::VectorXd::Ones(2);
+    Contact j;
+    j.law = FrictionLaw::jenkins;
+    j.dof = 0;
+    j.other_dof = 1;
+    j.friction_limit = limit;
+    j.stiffness = kt;
+    s.contacts.push_back(j);
+    Eigen::Vector2d w(1.0, -1.0);
+    const auto eigen = damped_eigenvalues(m, c, k + kt * w * w.transpose());
+    const std::vector<LinearMode> modes = stuck_modes(s);
+    REQUIRE(modes.size() == 2);
+    for (int mode = 1; mode <= 2; ++mode) {
+        const LinearMode& lm = modes[static_cast<std::size_t>(mode - 1)];
+        const std::complex<double> e = eigen[static_cast<std::size_t>(mode - 1)];
+        CHECK(std::abs(lm.omega - std::abs(e)) <= 1e-12 * std::abs(e));
+        CHECK(std::abs(lm.zeta + e.real() / std::abs(e)) <= 1e-12);
+        CHECK(std::abs(lm.shape.dot(m * lm.shape) - 1.0) <= 1e-12);
+        ModeOptions o;
+        o.mode = mode;
+        o.amplitude_min = 1e-6;  // the contact force k_t |w^T phi| a is far below F_c: stuck
+        o.amplitude_max = 1e-4;
+        HarmonicBalanceOptions hbo;
+        hbo.harmonics = 5;
+        NonlinearModes modes_of(s, hbo, o);
+        const Backbone b = modes_of.follow();
+        REQUIRE(b.status == ModeStatus::completed);
+        REQUIRE(b.points.size() >= 2);
+        for (const ModePoint& p : b.points) {
+            CHECK(std::abs(p.omega - std::abs(e)) <= 1e-10 * std::abs(e));
+            CHECK(std::abs(p.zeta() + e.real() / std::abs(e)) <= 1e-10);
+            const ModeMetrics mm = modes_of.metrics(p);
+            CHECK(mm.contacts.at(0).regime == "stick");
+            CHECK(std::abs(mm.zeta_energy - p.zeta()) <= 1e-9 * p.zeta());  // one harmonic: the two definitions agree
+            CHECK(mm.energy_error <= 1e-9);
+            CHECK(mm.harmonic_content.at(1) >= 1.0 - 1e-12);
+        }
+    }
+}
+
+TEST_CASE("Nonlinear modes: exact Coulomb stuck is the rigidly joined absorber", "[modes]") {
+    // Paper's absorber, contact held rigid (y1 = y2): one mode, M and K projected on (1, 1).
+    const System s = friction_absorber(AbsorberParameters{}, FrictionLaw::coulomb);
+    const std::vector<LinearMode> modes = stuck_modes(s);
+    REQUIRE(modes.size() == 1);
+    const Eigen::Vector2d t(1.0, 1.0);
+    const double mass = t.dot(Eigen::MatrixXd(s.mass) * t), stiffness = t.dot(Eigen::MatrixXd(s.stiffness) * t);
+    CHECK(std::abs(modes[0].omega - std::sqrt(stiffness / mass)) <= 1e-13);
+    CHECK(std::abs(modes[0].shape(0) - modes[0].shape(1)) <= 1e-14);
+    ModeOptions o;
+    o.amplitude_min = 1e-6;
+    o.amplitude_max = 1e-5;
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 5;
+    NonlinearModes nm(s, hbo, o);
+    const Backbone b = nm.follow();
+    REQUIRE(b.status == ModeStatus::completed);
+    for (const ModePoint& p : b.points) {
+        CHECK(std::abs(p.omega - modes[0].omega) <= 1e-10 * modes[0].omega);
+        CHECK(std::abs(p.xi) <= 1e-10 * modes[0].omega);  // the absorber has no viscous damping
+    }
+}
+
+TEST_CASE("Nonlinear modes: a Jenkins oscillator at H = 1 is the describing function", "[modes]") {
+    // Describing function of the Jenkins element on q = a cos(theta) (loop: jenkins_loop), with
+    // c = cos(theta*) = 1 - 2 F_c / (k_t a) beyond the slip amplitude a_s = F_c / k_t:
+    //   f ~ f_c cos + f_s sin,  f_c = (k_t a / pi) (theta* - sin(2 theta*) / 2),  f_s = -(k_t a / pi) sin^2 theta*
+    // (integrals of the two branches; f_c -> k_t a as theta* -> pi). The EPMC at H = 1,
+    // m y'' + (c - xi m) y' + k y + f = 0 with y = a cos(theta):
+    //   cos: (k - m omega^2) a + f_c = 0   ->  omega^2 = (k + f_c / a) / m
+    //   sin: -(c - xi m) a omega + f_s = 0 ->  xi = (c - f_s / (a omega)) / m.
+    // At large a, sin^2 theta* -> 4 F_c / (k_t a): zeta - c / (2 m omega) -> 2 F_c / (pi k a).
+    const double m = 1.0, c = 0.01, k = 1.0, kt = 0.5, limit = 0.1;
+    const System s = jenkins_oscillator(m, c, k, kt, limit);
+    ModeOptions o;
+    o.amplitude_min = 0.05;  // stuck below a_s = 0.2 (m = 1: the modal amplitude is y's)
+    o.amplitude_max = 50.0;
+    o.tolerance = 1e-12;
+    std::vector<double> errors;
+    for (int samples : {1024, 4096}) {
+        HarmonicBalanceOptions hbo;
+        hbo.harmonics = 1;
+        hbo.time_samples = samples;
+        NonlinearModes nm(s, hbo, o);
+        const Backbone b = nm.follow();
+        REQUIRE(b.status == ModeStatus::completed);
+        REQUIRE(b.points.size() >= 20);
+        REQUIRE(b.points.back().amplitude == Approx(50.0).epsilon(1e-14));
+        double discrete_error = 0.0, continuous_error = 0.0;
+        for (const ModePoint& p : b.points) {
+            const double a = p.amplitude;
+            // The same sums the AFT makes (the loop at the samples theta_j = 2 pi j / N_t):
+            double fc = 0.0, fs = 0.0;
+            for (int jj = 0; jj < samples; ++jj) {
+                const double theta = 2.0 * M_PI * jj / samples, f = jenkins_loop(theta, a, kt, limit);
+                fc += 2.0 * f * std::cos(theta) / samples;
+                fs += 2.0 * f * std::sin(theta) / samples;
+            }
+            const double omega = std::sqrt((k + fc / a) / m), xi = (c - fs / (a * omega)) / m;
+            discrete_error = std::max({discrete_error, std::abs(p.omega - omega) / omega, std::abs(p.xi - xi) / xi});
+            // The integrals (closed form)
+            double fc_exact = kt * a, fs_exact = 0.0;
+            if (kt * a > limit) {
+                const double star = std::acos(1.0 - 2.0 * limit / (kt * a));
+                fc_exact = kt * a / M_PI * (star - 0.5 * std::sin(2.0 * star));
+                fs_exact = -kt * a / M_PI * std::sin(star) * std::sin(star);
+            }
+            const double omega_exact = std::sqrt((k + fc_exact / a) / m), xi_exact = (c - fs_exact / (a * omega_exact)) / m;
+            continuous_error = std::max({continuous_error, std::abs(p.omega - omega_exact) / omega_exact,
+                                         std::abs(p.xi - xi_exact) / xi_exact});
+            if (a <= limit / kt) {  // stuck: the linear mode of k + k_t
+                CHECK(std::abs(p.omega - std::sqrt((k + kt) / m)) <= 1e-12);
+                CHECK(std::abs(p.xi - c / m) <= 1e-12);
+            }
+        }
+        CHECK(discrete_error <= 1e-10);
+        // The AFT's sums differ from the integrals by O(N_t^-2) (the loop has a kink at theta*):
+        // measured 5.2 / N_t^2 at N_t = 1024 and 5.4 / N_t^2 at 4096 (largest over the points).
+        INFO("N_t = " << samples << ": largest relative difference from the closed form " << continuous_error);
+        CHECK(continuous_error <= 10.0 / (double(samples) * samples));
+        errors.push_back(continuous_error);
+        // Large amplitude: the friction part of zeta decays like 2 F_c / (pi k a).
+        const ModePoint& last = b.points.back();
+        const double friction_zeta = last.zeta() - c / (2.0 * m * last.omega);
+        CHECK(std::abs(friction_zeta * last.amplitude / (2.0 * limit / (M_PI * k)) - 1.0) <= 0.02);
+    }
+    // Second order in 1 / N_t: four times the samples, at least ten times closer (measured 15).
+    CHECK(errors[0] / errors[1] >= 10.0);
+}
+
+TEST_CASE("Nonlinear modes: the Jenkins backbone at H = 7 conserves energy and softens to the released system",
+          "[modes]") {
+    const double m = 1.0, c = 0.0, k = 1.0, kt = 0.5, limit = 0.1;
+    const System s = jenkins_oscillator(m, c, k, kt, limit);
+    ModeOptions o;
+    o.amplitude_min = 0.05;
+    o.amplitude_max = 100.0;
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 7;
+    NonlinearModes nm(s, hbo, o);
+    const Backbone b = nm.follow();
+    REQUIRE(b.status == ModeStatus::completed);
+    double previous = std::numeric_limits<double>::infinity();
+    for (const ModePoint& p : b.points) {
+        const ModeMetrics mm = nm.metrics(p);
+        INFO("a = " << p.amplitude << " xi = " << p.xi << " injected " << mm.injected_energy << " friction " << mm.friction_energy);
+        CHECK(mm.energy_error <= 1e-8);
+        CHECK(p.omega <= previous * (1.0 + 1e-12));  // softening: omega falls with a
+        previous = p.omega;
+        CHECK(p.omega >= std::sqrt(k / m) * (1.0 - 1e-12));
+        CHECK(p.omega <= std::sqrt((k + kt) / m) * (1.0 + 1e-12));
+    }
+    const ModePoint& last = b.points.back();
+    // Released limit: omega -> sqrt(k / m) with omega^2 - k / m ~ f_c / a = O(1 / a) (above),
+    // and zeta a -> 2 F_c / (pi k) (the friction force's first harmonic is 4 F_c / pi; higher
+    // harmonics change it by O(1 / a) too).
+    CHECK(std::abs(last.omega * last.omega - k / m) <= 2.0 * kt * limit / (kt * last.amplitude) + 1e-12);
+    CHECK(std::abs(last.zeta() * last.amplitude / (2.0 * limit / (M_PI * k)) - 1.0) <= 0.02);
+}
+
+TEST_CASE("Nonlinear modes: bad input is refused naming the parameter", "[modes]") {
+    const System s = jenkins_oscillator(1.0, 0.0, 1.0, 0.5, 0.1);
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 3;
+    auto refuses = [&](const ModeOptions& o, const std::string& what) {
+        try {
+            NonlinearModes nm(s, hbo, o);
+            FAIL("accepted: " << what);
+        } catch (const InvalidInput& e) {
+            CHECK_THAT(e.what(), Catch::Contains(what));
+        }
+    };
+    ModeOptions o;
+    o.mode = 2;
+    refuses(o, "mode = 2 is out of range: allowed 1..1");
+    o = ModeOptions{};
+    o.amplitude_min = -1.0;
+    refuses(o, "amplitude_min");
+    o = ModeOptions{};
+    o.amplitude_min = 1.0;
+    o.amplitude_max = 1.0;
+    refuses(o, "amplitude_max");
+    // A free mass with a Jenkins element between it and a second free mass: the stuck structure
+    // translates rigidly (mode 1, omega = 0).
+    System free;
+    free.mass = sparse(Eigen::MatrixXd::Identity(2, 2));
+    free.stiffness = sparse(Eigen::MatrixXd::Zero(2, 2));
+    free.damping = SparseMatrix(2, 2);
+    free.excitation = Eigen::VectorXd::Ones(2);
+    Contact j;
+    j.law = FrictionLaw::jenkins;
+    j.dof = 0;
+    j.other_dof = 1;
+    j.friction_limit = 0.1;
+    j.stiffness = 1.0;
+    free.contacts.push_back(j);
+    try {
+        NonlinearModes nm(free, hbo, ModeOptions{});
+        FAIL("a rigid-body mode accepted");
+    } catch (const InvalidInput& e) {
+        CHECK_THAT(e.what(), Catch::Contains("rigid-body mode"));
+    }
+}
