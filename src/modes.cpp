@@ -100,6 +100,7 @@ std::vector<LinearMode> stuck_modes(const System& system) {
 std::string to_string(ModeStatus status) {
     switch (status) {
         case ModeStatus::completed: return "completed";
+        case ModeStatus::left_range: return "left_range";
         case ModeStatus::min_step: return "min_step";
         case ModeStatus::point_budget: return "point_budget";
         case ModeStatus::start_failed: return "start_failed";
@@ -181,6 +182,7 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
     hb_ = std::make_unique<HarmonicBalance>(unforced, full);
     m_phi_ = system_.mass * linear_.shape;
     force_unit_ = linear_.omega * linear_.omega * infinity_norm(m_phi_);
+    phi_max_ = infinity_norm(linear_.shape);
     static_force_ = system_.static_load.size() ? infinity_norm(system_.static_load) : 0.0;
     for (const std::vector<StuckElement>& along : stuck_elements(system_))
         for (const StuckElement& e : along) static_force_ = std::max(static_force_, std::abs(e.offset));
@@ -203,8 +205,11 @@ void NonlinearModes::residual(const Eigen::VectorXd& x, double omega, double xi,
     const double scale = std::max(amplitude * force_unit_, 1e-5 * static_force_);
     r.resize(u + 2);
     r.head(u) = structure / scale;
-    const double cos1 = y.row(1).dot(m_phi_), sin1 = y.row(2).dot(m_phi_);
-    r(u) = (cos1 - amplitude) / amplitude;
+    // Amplitude: the M-norm of the first harmonic, sqrt(c1^T M c1 + s1^T M s1) = a; phase: the
+    // modal coordinate's sine coefficient phi^T M s1 = 0.
+    const Eigen::VectorXd m_cos1 = system_.mass * y.row(1).transpose(), m_sin1 = system_.mass * y.row(2).transpose();
+    const double norm1 = std::sqrt(y.row(1).dot(m_cos1) + y.row(2).dot(m_sin1)), sin1 = y.row(2).dot(m_phi_);
+    r(u) = (norm1 - amplitude) / amplitude;
     r(u + 1) = sin1 / amplitude;
     if (!jacobian) return;
     Eigen::MatrixXd& j = *jacobian;
@@ -219,47 +224,126 @@ void NonlinearModes::residual(const Eigen::VectorXd& x, double omega, double xi,
     j.col(u + 1).head(n * dofs) = -omega * flat;
     j.topRows(u) /= scale;
     for (int i = 0; i < dofs; ++i) {
-        j(u, i * n + 1) = m_phi_(i) / amplitude;
+        if (norm1 > 0.0) {
+            j(u, i * n + 1) = m_cos1(i) / (norm1 * amplitude);
+            j(u, i * n + 2) = m_sin1(i) / (norm1 * amplitude);
+        }
         j(u + 1, i * n + 2) = m_phi_(i) / amplitude;
     }
 }
 
-bool NonlinearModes::solve(ModePoint& point) {
+bool NonlinearModes::solve(ModePoint& point) { return correct(point, nullptr, nullptr); }
+
+Eigen::VectorXd NonlinearModes::column_scale(const ModePoint& point) const {
+    const int u = hb_->unknowns(), n = hb_->coefficients();
+    const double displacement = point.amplitude * phi_max_;
+    Eigen::VectorXd scale = Eigen::VectorXd::Constant(u + 3, displacement);
+    // Internal states (Dahl's z, exact Coulomb's multiplier: a force) by their own size.
+    int offset = n * system_.dofs();
+    for (int c = 0; c < static_cast<int>(system_.contacts.size()); ++c) {
+        const auto states = static_cast<int>(hb_->state(point.x, c).size());
+        if (states == 0) continue;
+        scale.segment(offset, states).setConstant(std::max(displacement, infinity_norm(point.x.segment(offset, states))));
+        offset += states;
+    }
+    scale(u) = scale(u + 1) = linear_.omega;
+    scale(u + 2) = 1.0;
+    return scale;
+}
+
+bool NonlinearModes::correct(ModePoint& point, const Eigen::VectorXd* tangent, const Eigen::VectorXd* predicted) {
     const int u = hb_->unknowns();
-    const double a = point.amplitude;
+    const bool arclength = tangent != nullptr;
+    const int size = arclength ? u + 3 : u + 2;
+    // Columns scaled to comparable sizes: x by a |phi|_inf, omega and xi by the linear
+    // frequency, log10 a by 1 (the arclength's coordinates; the scale of the predictor's point).
+    const Eigen::VectorXd scale = column_scale(point).head(size);
+    Eigen::VectorXd v(size);
+    v.head(u) = point.x;
+    v(u) = point.omega;
+    v(u + 1) = point.xi;
+    if (arclength) v(u + 2) = std::log10(point.amplitude);
     Eigen::VectorXd r, trial_r;
     Eigen::MatrixXd j;
-    // Columns scaled to comparable sizes: x by a, omega and xi by the linear frequency.
-    Eigen::VectorXd scale = Eigen::VectorXd::Constant(u + 2, a);
-    scale(u) = scale(u + 1) = linear_.omega;
+    // The residual of v: G, and along the arclength t . (v - v_predicted) / scale.
+    auto evaluate = [&](const Eigen::VectorXd& at, Eigen::VectorXd& out, Eigen::MatrixXd* jacobian) {
+        const double amplitude = arclength ? std::pow(10.0, at(u + 2)) : point.amplitude;
+        Eigen::MatrixXd jg;
+        Eigen::VectorXd g;
+        residual(at.head(u), at(u), at(u + 1), amplitude, g, jacobian ? &jg : nullptr);
+        out.resize(size);
+        out.head(u + 2) = g;
+        if (!arclength) {
+            if (jacobian) *jacobian = std::move(jg);
+            return;
+        }
+        out(u + 2) = tangent->dot((at - *predicted).cwiseQuotient(scale));
+        if (!jacobian) return;
+        jacobian->setZero(size, size);
+        jacobian->topLeftCorner(u + 2, u + 2) = jg;
+        // dG/d(log10 a): the structure's rows are divided by a force_unit (unless floored), the
+        // constraints are |Y_1|_M / a - 1 and phi^T M s1 / a.
+        const double ln10 = std::log(10.0);
+        if (amplitude * force_unit_ >= 1e-5 * static_force_) jacobian->col(u + 2).head(u) = -ln10 * g.head(u);
+        (*jacobian)(u, u + 2) = -ln10 * (g(u) + 1.0);
+        (*jacobian)(u + 1, u + 2) = -ln10 * g(u + 1);
+        jacobian->row(u + 2) = tangent->cwiseQuotient(scale).transpose();
+    };
     for (int iteration = 0;; ++iteration) {
-        residual(point.x, point.omega, point.xi, a, r, &j);
+        evaluate(v, r, &j);
         const double norm = infinity_norm(r);
         point.iterations = iteration;
-        point.residual = norm;
+        point.residual = infinity_norm(r.head(u + 2));
         if (!std::isfinite(norm)) return false;
-        if (norm <= options_.tolerance) return true;
+        if (norm <= options_.tolerance) break;
         if (iteration >= options_.max_iterations) return false;
-        const Eigen::VectorXd step = scale.asDiagonal() * Eigen::VectorXd(
-            Eigen::PartialPivLU<Eigen::MatrixXd>(j * scale.asDiagonal()).solve(-r));
+        const Eigen::VectorXd step =
+            scale.asDiagonal() * Eigen::VectorXd(Eigen::PartialPivLU<Eigen::MatrixXd>(j * scale.asDiagonal()).solve(-r));
         if (!step.allFinite()) return false;
         // Backtracking on max |r| (the laws are not smooth: a full step can overshoot a switch).
         double length = 1.0;
         bool accepted = false;
         for (int halving = 0; halving < 12 && !accepted; ++halving, length *= 0.5) {
-            const Eigen::VectorXd x = point.x + length * step.head(u);
-            const double omega = point.omega + length * step(u), xi = point.xi + length * step(u + 1);
-            if (!(omega > 0.0)) continue;
-            residual(x, omega, xi, a, trial_r);
+            const Eigen::VectorXd trial = v + length * step;
+            if (!(trial(u) > 0.0)) continue;
+            evaluate(trial, trial_r, nullptr);
             if (infinity_norm(trial_r) < norm) {
-                point.x = x;
-                point.omega = omega;
-                point.xi = xi;
+                v = trial;
                 accepted = true;
             }
         }
         if (!accepted) return false;
     }
+    point.x = v.head(u);
+    point.omega = v(u);
+    point.xi = v(u + 1);
+    if (arclength) point.amplitude = std::pow(10.0, v(u + 2));
+    return true;
+}
+
+Eigen::VectorXd NonlinearModes::tangent(const ModePoint& point, const Eigen::VectorXd& previous) {
+    // The null vector of [dG/d(x, omega, xi), dG/d(log10 a)] in the scaled coordinates, from the
+    // bordered system [J D; previous^T] t = e_last, oriented along `previous`.
+    const int u = hb_->unknowns();
+    Eigen::VectorXd g;
+    Eigen::MatrixXd jg;
+    residual(point.x, point.omega, point.xi, point.amplitude, g, &jg);
+    Eigen::MatrixXd j = Eigen::MatrixXd::Zero(u + 3, u + 3);
+    j.topLeftCorner(u + 2, u + 2) = jg;
+    const double ln10 = std::log(10.0);
+    if (point.amplitude * force_unit_ >= 1e-5 * static_force_) j.col(u + 2).head(u) = -ln10 * g.head(u);
+    j(u, u + 2) = -ln10 * (g(u) + 1.0);
+    j(u + 1, u + 2) = -ln10 * g(u + 1);
+    const Eigen::VectorXd scale = column_scale(point);
+    j.topRows(u + 2) = j.topRows(u + 2) * scale.asDiagonal();
+    j.row(u + 2) = previous.transpose();
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(u + 3);
+    e(u + 2) = 1.0;
+    Eigen::VectorXd t = Eigen::PartialPivLU<Eigen::MatrixXd>(j).solve(e);
+    if (!t.allFinite() || t.norm() == 0.0) return previous;
+    t.normalize();
+    if (t.dot(previous) < 0.0) t = -t;
+    return t;
 }
 
 ModePoint NonlinearModes::linear_guess(double amplitude) {
@@ -296,61 +380,97 @@ Backbone NonlinearModes::follow() {
     ModePoint start = linear_guess(options_.amplitude_min);
     if (!solve(start)) {
         b.status = ModeStatus::start_failed;
-        b.message = "the first point (a = " + format_number(options_.amplitude_min) + ") did not converge from the linear mode: residual " +
-                    format_number(start.residual) + " after " + std::to_string(start.iterations) + " Newton iterations";
-    } else {
-        b.points.push_back(start);
-        if (options_.progress) options_.progress(start.amplitude, 1);
+        b.message = "the first point (a = " + format_number(options_.amplitude_min) +
+                    ") did not converge from the linear mode: residual " + format_number(start.residual) + " after " +
+                    std::to_string(start.iterations) + " Newton iterations";
+        b.evaluations = evaluations_ - evaluations;
+        b.seconds = watch.lap();
+        return b;
     }
-    // (x / a, omega, xi): nearly constant in the linear range, so the secant predicts well.
-    auto scaled = [u](const ModePoint& p) {
-        Eigen::VectorXd v(u + 2);
-        v.head(u) = p.x / p.amplitude;
-        v(u) = p.omega;
-        v(u + 1) = p.xi;
-        return v;
-    };
-    double s = first, h = options_.initial_step;
-    while (b.status == ModeStatus::completed && s < last - 1e-12) {
+    b.points.push_back(start);
+    if (options_.progress) options_.progress(start.amplitude, 1);
+    // Pseudo-arclength in the scaled coordinates (x / (a |phi|), omega / w0, xi / w0, log10 a):
+    // the backbone may turn back in a (a modal interaction, a contact releasing a second mode).
+    Eigen::VectorXd direction = Eigen::VectorXd::Zero(u + 3);
+    direction(u + 2) = 1.0;
+    Eigen::VectorXd t = tangent(start, direction);
+    double h = options_.initial_step;
+    const double corner_step = std::max(1e-4, 16.0 * options_.min_step);
+    while (true) {
+        const ModePoint& previous = b.points.back();
+        const double s = std::log10(previous.amplitude);
+        if (s >= last - 1e-12) break;
         if (static_cast<int>(b.points.size()) >= options_.max_points) {
             b.status = ModeStatus::point_budget;
             b.message = "point budget " + std::to_string(options_.max_points) + " reached at a = " +
-                        format_number(b.points.back().amplitude);
+                        format_number(previous.amplitude);
             break;
         }
-        const double length = std::min(h, last - s);
-        const double target = length == last - s ? options_.amplitude_max : std::pow(10.0, s + length);
-        const ModePoint& previous = b.points.back();
-        Eigen::VectorXd predicted = scaled(previous);
-        if (b.points.size() >= 2) {
-            const ModePoint& before = b.points[b.points.size() - 2];
-            const double chord = std::log10(previous.amplitude) - std::log10(before.amplitude);
-            predicted += (scaled(previous) - scaled(before)) * (length / chord);
-        }
+        const Eigen::VectorXd scale = column_scale(previous);
+        Eigen::VectorXd v(u + 3);
+        v.head(u) = previous.x;
+        v(u) = previous.omega;
+        v(u + 1) = previous.xi;
+        v(u + 2) = s;
+        const Eigen::VectorXd predicted = v + h * scale.cwiseProduct(t);
         ModePoint trial;
-        trial.amplitude = target;
-        trial.x = predicted.head(u) * target;
+        trial.x = predicted.head(u);
         trial.omega = predicted(u);
         trial.xi = predicted(u + 1);
-        const bool ok = trial.omega > 0.0 && solve(trial) &&
-                        std::abs(trial.omega - previous.omega) <= options_.max_omega_change * previous.omega;
+        trial.amplitude = std::pow(10.0, predicted(u + 2));
+        bool ok = trial.omega > 0.0 && correct(trial, &t, &predicted) &&
+                  std::abs(trial.omega - previous.omega) <= options_.max_omega_change * previous.omega;
+        Eigen::VectorXd next;
+        bool corner = false;
+        if (ok) {
+            next = tangent(trial, t);
+            // A sharper turn than 0.3 rad: a smaller step; still at a short step, a corner of
+            // the backbone (a stick/slip switch: its tangent jumps), crossed.
+            corner = next.dot(t) < std::cos(0.3);
+            ok = !corner || h <= corner_step;
+        }
         if (!ok) {
             ++b.failed_steps;
-            h = 0.5 * length;
+            h *= 0.5;
             if (h < options_.min_step) {
                 b.status = ModeStatus::min_step;
                 b.message = "no point beyond a = " + format_number(previous.amplitude) + " (omega = " +
-                            format_number(previous.omega) + "): Newton's method failed down to the step " +
-                            format_number(length) + " decades (residual " + format_number(trial.residual) + ")";
+                            format_number(previous.omega) + "): the corrector failed down to the step " +
+                            format_number(2.0 * h) + " (residual " + format_number(trial.residual) + ")";
+                break;
             }
             continue;
         }
-        trial.step = length;
+        if (std::log10(trial.amplitude) > last) {
+            // Past a_max: the point at a_max itself, from the chord's interpolation.
+            const double f = (last - s) / (std::log10(trial.amplitude) - s);
+            ModePoint end;
+            end.amplitude = options_.amplitude_max;
+            end.x = previous.x + f * (trial.x - previous.x);
+            end.omega = previous.omega + f * (trial.omega - previous.omega);
+            end.xi = previous.xi + f * (trial.xi - previous.xi);
+            if (solve(end)) trial = end;
+            else {
+                ++b.failed_steps;
+                h *= 0.5;
+                if (h >= options_.min_step) continue;
+                b.status = ModeStatus::min_step;
+                b.message = "the point at a_max = " + format_number(options_.amplitude_max) + " did not converge";
+                break;
+            }
+        }
+        if (std::log10(trial.amplitude) < first) {
+            b.status = ModeStatus::left_range;
+            b.message = "the backbone turned back below a_min = " + format_number(options_.amplitude_min) +
+                        " at omega = " + format_number(trial.omega);
+            break;
+        }
+        trial.step = h;
+        if (corner) ++b.corners;
         b.points.push_back(trial);
+        t = next;
         if (options_.progress) options_.progress(trial.amplitude, static_cast<int>(b.points.size()));
-        s += length;
-        if (trial.iterations <= 4) h = std::min(1.5 * length, options_.max_step);
-        else h = length;
+        if (trial.iterations <= 4) h = std::min(1.5 * h, options_.max_step);
     }
     b.evaluations = evaluations_ - evaluations;
     b.seconds = watch.lap();
@@ -396,5 +516,70 @@ ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Ou
     m.zeta_energy = dissipated / modal;
     return m;
 }
+
+namespace io {
+
+std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics) {
+    std::vector<Column> c = {
+        {"a", "modal amplitude: M-norm of the first harmonic c1 cos + s1 sin of y, sqrt(c1^T M c1 + s1^T M s1) "
+              "(units sqrt(mass) x length); in the linear limit the amplitude of q = phi^T M y, phi the stuck "
+              "mode with phi^T M phi = 1"},
+        {"w", "frequency omega of the nonlinear mode (the periodic motion's fundamental)"},
+        {"xi", "artificial damping xi: the term -xi M y' that makes the free motion periodic (feeds in what is dissipated)"},
+        {"zeta", "modal damping ratio xi / (2 w)"},
+        {"zeta_energy", "energy damping ratio (friction_energy + viscous_energy) / (2 pi w^2 a^2); equals zeta when q "
+                        "is a single harmonic"},
+        {"energy", "energy dissipated per cycle by the contacts and the viscous damping C"},
+        {"friction_energy", "energy the contacts dissipate per cycle (integral of f q' on the AFT grid)"},
+        {"viscous_energy", "energy C dissipates per cycle"},
+        {"energy_error", "energy balance |xi-injected - energy| relative to the larger of them (floor: 1e-8 2 pi w^2 a^2)"}};
+    for (const Output& o : outputs) {
+        c.push_back({o.name() + "_max", "max over one period of |" + o.name() + "(t)|"});
+        c.push_back({o.name() + "_amp1", "first-harmonic amplitude of " + o.name() + "(t)"});
+    }
+    for (std::size_t k = 0; k < normal.size(); ++k) {
+        const std::string n = std::to_string(k + 1);
+        c.push_back({"stick_fraction_c" + n, "share of the period contact " + n + " sticks (its law's definition, as hbf frf)"});
+        c.push_back({"regime_c" + n, "stick, slip or stick-slip (contact " + n + ")", ColumnType::text});
+        if (normal[k])
+            c.push_back({"separated_fraction_c" + n, "share of the period contact " + n + " is open (N = 0)"});
+    }
+    for (int k = 0; k <= harmonics; ++k)
+        c.push_back({"h" + std::to_string(k), "harmonic content: sqrt(Y_k^T M Y_k) over the M-norm of every harmonic (k = " +
+                                                  std::to_string(k) + (k == 0 ? ": the mean minus the static deflection)" : ")")});
+    c.push_back({"iterations", "Newton iterations of the point", ColumnType::integer});
+    c.push_back({"residual", "max |scaled residual| of the point (structure rows relative to a w0^2 |M phi|, "
+                             "constraints relative to a)"});
+    return c;
+}
+
+Table backbone_table(const Backbone& backbone, const std::vector<ModeMetrics>& metrics,
+                     const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics) {
+    Table table{backbone_columns(outputs, normal, harmonics), {}};
+    for (std::size_t k = 0; k < backbone.points.size() && k < metrics.size(); ++k) {
+        const ModePoint& p = backbone.points[k];
+        const ModeMetrics& m = metrics[k];
+        std::vector<Cell> row = {p.amplitude,       p.omega,           p.xi,
+                                 m.zeta,            m.zeta_energy,     m.friction_energy + m.viscous_energy,
+                                 m.friction_energy, m.viscous_energy,  m.energy_error};
+        for (std::size_t o = 0; o < outputs.size(); ++o) {
+            row.emplace_back(m.output_max.at(o));
+            row.emplace_back(m.output_amp1.at(o));
+        }
+        for (std::size_t c = 0; c < normal.size(); ++c) {
+            const ContactRegime& r = m.contacts.at(c);
+            row.emplace_back(r.stick_fraction);
+            row.emplace_back(r.regime);
+            if (normal[c]) row.emplace_back(r.separated_fraction);
+        }
+        for (int h = 0; h <= harmonics; ++h) row.emplace_back(m.harmonic_content.at(static_cast<std::size_t>(h)));
+        row.emplace_back(static_cast<long long>(p.iterations));
+        row.emplace_back(p.residual);
+        table.add_row(std::move(row));
+    }
+    return table;
+}
+
+}  // namespace io
 
 }  // namespace hbf

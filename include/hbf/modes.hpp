@@ -9,13 +9,18 @@
 // xi > 0 feeding in per cycle what C and the contacts dissipate. Harmonic balance (full
 // formulation, harmonic_balance.hpp) gives its residual R(X, omega) - xi omega (D1 Y) M; the
 // unknowns are the harmonics X, the frequency omega and xi, and two more equations fix the
-// phase and the amplitude of the modal coordinate q(t) = phi^T M y(t), phi the chosen linear
-// mode of the stuck structure (M-normalised, stuck_modes below):
+// amplitude (Krack's normalisation: the M-norm of the first harmonic) and the phase (by the
+// modal coordinate q(t) = phi^T M y(t), phi the chosen linear mode of the stuck structure,
+// M-normalised: stuck_modes below):
 //
-//     q's cos(theta) coefficient = a,    q's sin(theta) coefficient = 0.
+//     sqrt(c1^T M c1 + s1^T M s1) = a,    phi^T M s1 = 0     (y's harmonic 1: c1 cos + s1 sin).
 //
-// Solved by Newton's method (dense LU of the bordered Jacobian, exact derivatives), followed in
-// log10 a from a_min to a_max with a secant predictor on (X / a, omega, xi) and step control.
+// In the linear limit y = a phi cos(theta): a is the modal coordinate's amplitude. Where the
+// motion changes shape (a contact releasing another mode) a stays the size of the whole first
+// harmonic, not its projection on phi.
+// Solved by Newton's method (dense LU, exact derivatives), followed from a_min to a_max by
+// pseudo-arclength continuation in (X / (a |phi|), omega / w0, xi / w0, log10 a) (the backbone
+// may turn back in a where a contact releases a second mode), with step control.
 // Modal damping ratio zeta = xi / (2 omega): the viscous damping ratio of a linear mode that
 // dissipates what the nonlinear one does at the same amplitude and frequency when the motion is
 // a single harmonic. The energy definition zeta_E = E / (2 pi omega^2 a^2), E the energy C and
@@ -30,6 +35,7 @@
 
 #include "hbf/continuation.hpp"
 #include "hbf/harmonic_balance.hpp"
+#include "hbf/io.hpp"
 #include "hbf/model.hpp"
 
 namespace hbf {
@@ -57,17 +63,19 @@ struct ModeOptions {
     /// one nearest near_frequency (> 0).
     int mode = 1;
     double near_frequency = 0;
-    /// Range of the modal amplitude a (q = phi^T M y, first harmonic), 0 < a_min < a_max.
+    /// Range of the modal amplitude a (the first harmonic's M-norm, top of this file), 0 < a_min < a_max.
     double amplitude_min = 1e-4, amplitude_max = 1.0;
-    double initial_step = 0.05;  ///< first step in log10 a (decades), > 0
-    double max_step = 0.1;       ///< largest step in log10 a, initial_step..1
-    double min_step = 1e-6;      ///< below this the continuation stops (status min_step)
+    /// Arclength steps in the scaled coordinates (log10 a counts in decades): the first, the
+    /// largest (initial_step..1) and the smallest (below it the continuation stops).
+    double initial_step = 0.05;
+    double max_step = 0.1;
+    double min_step = 1e-6;
     /// A step is retried with half the length where omega changes by more than this (relative).
     double max_omega_change = 0.02;
     int max_points = 2000;       ///< point budget
     int max_iterations = 30;     ///< Newton iterations per point
     /// Accept when max |residual| <= tolerance: the structure's rows relative to the mode's
-    /// inertial force a omega_0^2 |M phi|_inf, the constraints relative to a.
+    /// inertial force a omega_0^2 |M phi|_inf, the amplitude and phase rows relative to a.
     double tolerance = 1e-10;
     /// Called after each accepted point with its amplitude and the number of points; must not throw.
     std::function<void(double amplitude, int points)> progress;
@@ -88,9 +96,10 @@ struct ModePoint {
     double zeta() const { return xi / (2.0 * omega); }
 };
 
-/// completed: a_min to a_max; min_step: a step failed at the smallest length; point_budget;
-/// start_failed: the first point (a_min) did not converge.
-enum class ModeStatus { completed, min_step, point_budget, start_failed };
+/// completed: a_min to a_max; left_range: the backbone turned back below a_min; min_step: a
+/// step failed at the smallest length; point_budget; start_failed: the first point (a_min) did
+/// not converge.
+enum class ModeStatus { completed, left_range, min_step, point_budget, start_failed };
 std::string to_string(ModeStatus status);
 
 struct Backbone {
@@ -99,6 +108,7 @@ struct Backbone {
     ModeStatus status = ModeStatus::completed;
     std::string message;            ///< where and why it stopped (empty when completed)
     int failed_steps = 0;           ///< steps retried with half the length
+    int corners = 0;                ///< turns sharper than 0.3 rad crossed at a step <= 1e-4 (stick/slip switches)
     long long evaluations = 0;      ///< residual and Jacobian evaluations
     double seconds = 0;
 };
@@ -144,6 +154,10 @@ public:
     /// Newton from `point` (its x, omega, xi the guess) at point.amplitude; true when the
     /// tolerance is met (point holds the result, iterations and residual).
     bool solve(ModePoint& point);
+    /// The unit tangent of the backbone at a solution in the scaled coordinates (x / (a
+    /// |phi|_inf), internal states by their size, omega / w0, xi / w0, log10 a) (size unknowns
+    /// + 3), oriented along `previous`.
+    Eigen::VectorXd tangent(const ModePoint& point, const Eigen::VectorXd& previous);
     /// The linear mode's motion at amplitude a: y = a phi cos(theta) (with the static state on
     /// harmonic 0), omega and xi of the linear mode: the first guess.
     ModePoint linear_guess(double amplitude);
@@ -154,14 +168,33 @@ public:
     ModeMetrics metrics(const ModePoint& point, const std::vector<Output>& outputs = {});
 
 private:
+    /// Newton on G = 0 at fixed amplitude (tangent null), or with log10 a free and the
+    /// arclength condition t . (v - predicted) / scale = 0.
+    bool correct(ModePoint& point, const Eigen::VectorXd* tangent, const Eigen::VectorXd* predicted);
+    /// The arclength's coordinate scales at a point: a |phi|_inf for the DOFs, each contact's
+    /// internal states by their largest entry (at least a |phi|_inf), w0, w0, 1.
+    Eigen::VectorXd column_scale(const ModePoint& point) const;
     System system_;
     ModeOptions options_;
     LinearMode linear_;
     std::unique_ptr<HarmonicBalance> hb_;
     Eigen::VectorXd m_phi_;  // M phi
     double force_unit_ = 1;  // omega_0^2 |M phi|_inf (times a: the structure rows' scale)
+    double phi_max_ = 1;     // |phi|_inf
     double static_force_ = 0;  // largest static load or preload (the residual's rounding floor)
     long long evaluations_ = 0;
 };
+
+namespace io {
+/// The backbone's columns for `outputs`, `contacts` contacts (`normal`: which have a normal
+/// direction: a separated_fraction column) and H harmonics, in order (the CSV header, --help and
+/// Python): a, w, xi, zeta, zeta_energy, energy, friction_energy, viscous_energy, energy_error,
+/// per output <name>_max and <name>_amp1, per contact stick_fraction_c<k>, regime_c<k>
+/// [separated_fraction_c<k>], h0..hH (harmonic content), iterations, residual.
+std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics);
+/// One row per point (metrics[k] belongs to backbone.points[k]).
+Table backbone_table(const Backbone& backbone, const std::vector<ModeMetrics>& metrics,
+                     const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics);
+}  // namespace io
 
 }  // namespace hbf

@@ -26,6 +26,7 @@ Runner add_analytic_command(CLI::App& app);
 Runner add_frf_command(CLI::App& app);
 Runner add_loop_command(CLI::App& app);
 Runner add_map_command(CLI::App& app);
+Runner add_modes_command(CLI::App& app);
 Runner add_optimize_command(CLI::App& app);
 Runner add_timeint_command(CLI::App& app);
 

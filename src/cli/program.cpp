@@ -34,6 +34,7 @@ Run 'hbf <command> --help' for a command's flags and output columns.)");
     runners["frf"] = add_frf_command(app);
     runners["loop"] = add_loop_command(app);
     runners["map"] = add_map_command(app);
+    runners["modes"] = add_modes_command(app);
     runners["optimize"] = add_optimize_command(app);
     runners["timeint"] = add_timeint_command(app);
 

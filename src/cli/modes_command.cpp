@@ -1,0 +1,253 @@
+// `hbf modes`: a nonlinear mode of the structure (EPMC, modes.hpp): backbone and modal damping
+// against the modal amplitude, as CSV, JSON summary and plots.
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "frf_flags.hpp"
+#include "outputs.hpp"
+#include "hbf/error.hpp"
+#include "hbf/io.hpp"
+#include "hbf/modes.hpp"
+#include "hbf/plot.hpp"
+
+namespace hbf::cli {
+
+namespace {
+
+struct ModesOptions {
+    AbsorberFlags absorber;
+    std::string mode = "1", near, amin, amax, harmonics = "0", time_samples = "0",
+                tolerance = default_text(ModeOptions{}.tolerance), max_step = default_text(ModeOptions{}.max_step),
+                max_points = std::to_string(ModeOptions{}.max_points);
+    std::string plot_damping;
+    OutputFlags output;
+    std::string config;
+};
+
+double number_in(const std::string& flag, const std::string& text, double low, double high, bool open_low) {
+    const double v = parse_double(flag, text);
+    if (!(open_low ? v > low : v >= low) || !(v <= high))
+        throw UsageError(flag + " = " + text + " is out of range: allowed " + (open_low ? "(" : "[") + default_text(low) +
+                         ", " + default_text(high) + "]");
+    return v;
+}
+
+int run(const CLI::App& command, const ModesOptions& o) {
+    o.output.check_plot();  // before any work
+    if (given(command, "--plot-damping") && o.plot_damping.empty())
+        throw UsageError("--plot-damping is empty: allowed FILE.png|FILE.svg");
+    io::check_plot("--plot-damping", o.plot_damping);
+    const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
+    o.output.check(command, chosen.inputs(),
+                   {{"--plot-damping", o.plot_damping, !o.plot_damping.empty(), false, true}});
+    ModeOptions mo;
+    if (given(command, "--near") && given(command, "--mode"))
+        throw UsageError("--near cannot be combined with --mode: give the mode by its index or by a frequency");
+    if (given(command, "--near")) {
+        mo.near_frequency = parse_double("--near", o.near);
+        if (!(mo.near_frequency > 0.0)) throw UsageError("--near = " + o.near + " is out of range: allowed > 0");
+    } else {
+        const long long mode = parse_integer("--mode", o.mode);
+        if (mode < 1 || mode > 1000000) throw UsageError("--mode = " + o.mode + " is out of range: allowed >= 1");
+        mo.mode = static_cast<int>(mode);
+    }
+    if (o.amin.empty() || o.amax.empty())
+        throw UsageError(std::string(o.amin.empty() ? "--amin" : "--amax") +
+                         " is required: the range of the modal amplitude a (hbf modes --help: a)");
+    mo.amplitude_min = parse_double("--amin", o.amin);
+    if (!(mo.amplitude_min > 0.0)) throw UsageError("--amin = " + o.amin + " is out of range: allowed > 0");
+    mo.amplitude_max = parse_double("--amax", o.amax);
+    if (!(mo.amplitude_max > mo.amplitude_min))
+        throw UsageError("--amax = " + o.amax + " is out of range: allowed > --amin = " + format_number(mo.amplitude_min));
+    if (std::log10(mo.amplitude_max / mo.amplitude_min) > 12.0)
+        throw UsageError("--amax / --amin = " + format_number(mo.amplitude_max / mo.amplitude_min) +
+                         " is out of range: allowed up to 1e12 (twelve decades)");
+    mo.tolerance = number_in("--tolerance", o.tolerance, CorrectorOptions::smallest_tolerance,
+                             CorrectorOptions::largest_tolerance, false);
+    mo.max_step = number_in("--max-step", o.max_step, 0.0, 1.0, true);
+    mo.initial_step = std::min(mo.initial_step, mo.max_step);
+    mo.min_step = std::min(mo.min_step, mo.initial_step);
+    const long long max_points = parse_integer("--max-points", o.max_points);
+    if (max_points < 2 || max_points > 100000)
+        throw UsageError("--max-points = " + o.max_points + " is out of range: allowed 2..100000");
+    mo.max_points = static_cast<int>(max_points);
+    HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config, false);
+    if (hbo.formulation == Formulation::condensed && !given(command, "--config"))
+        hbo.formulation = Formulation::automatic;
+    if (hbo.formulation == Formulation::condensed)
+        throw UsageError("--config: solver.formulation = condensed is not available for hbf modes yet: the full "
+                         "formulation is used (remove the line or set it to automatic or full)");
+    hbo.formulation = Formulation::full;
+    hbo.modes = 0;
+    hbo.jacobian = JacobianForm::dense;
+    if (hbo.odd_harmonics) throw UsageError("--harmonics odd: hbf modes balances every harmonic (a mode may have a mean)");
+
+    ProgressLine progress(o.output.progress(), "modes");
+    mo.progress = [&progress](double a, int points) {
+        progress.update("a = " + format_number(a) + ", " + std::to_string(points) + " points");
+    };
+    NonlinearModes nm(chosen.system, hbo, mo);  // throws InvalidInput: a mode out of range, a rigid-body mode
+    if (o.output.dry_run) return o.output.dry_run_done("modes");
+    io::OutputFile out(o.output.out);
+    const Backbone b = nm.follow();
+    progress.clear();
+    std::vector<ModeMetrics> metrics;
+    for (const ModePoint& p : b.points) metrics.push_back(nm.metrics(p, chosen.outputs));
+    std::vector<bool> normal;
+    for (std::size_t c = 0; c < chosen.system.contacts.size(); ++c)
+        normal.push_back(!metrics.empty() && !std::isnan(metrics.front().contacts.at(c).separated_fraction));
+    const int harmonics = nm.harmonic_balance().harmonics();
+    io::write_csv(out.stream(), io::backbone_table(b, metrics, chosen.outputs, normal, harmonics));
+    const std::string title = "hbf modes: " + (o.config.empty() ? chosen.law_name : o.config) + ", mode " +
+                              std::to_string(b.linear.index) + ", H = " + std::to_string(harmonics);
+    if (!o.output.plot.empty()) {
+        io::PlotSpec spec;
+        spec.title = title + " (backbone)";
+        spec.xlabel = "w = frequency of the nonlinear mode";
+        spec.ylabel = "a = modal amplitude";
+        spec.log_y = true;
+        io::PlotCurve line{"backbone", {}, {}, io::PlotCurve::Style::line, 7};
+        for (const ModePoint& p : b.points) {
+            line.x.push_back(p.omega);
+            line.y.push_back(p.amplitude);
+        }
+        spec.curves = {line};
+        io::write_plot(o.output.plot, spec);
+    }
+    if (!o.plot_damping.empty()) {
+        io::PlotSpec spec;
+        spec.title = title + " (modal damping)";
+        spec.xlabel = "a = modal amplitude";
+        spec.ylabel = "damping ratio";
+        spec.log_x = true;
+        spec.log_y = true;
+        io::PlotCurve zeta{"zeta = xi / (2 w)", {}, {}, io::PlotCurve::Style::line, 7};
+        io::PlotCurve energy{"zeta_energy = E / (2 pi w^2 a^2)", {}, {}, io::PlotCurve::Style::dashed, 7};
+        // A log axis: damping ratios at the solver's resolution (100 x the tolerance: the
+        // rounding of an undamped stuck mode, of either sign) are left out.
+        const double resolution = 100.0 * mo.tolerance;
+        for (std::size_t k = 0; k < b.points.size(); ++k) {
+            if (!(b.points[k].zeta() > resolution)) continue;
+            zeta.x.push_back(b.points[k].amplitude);
+            zeta.y.push_back(b.points[k].zeta());
+            if (metrics[k].zeta_energy > resolution) {
+                energy.x.push_back(b.points[k].amplitude);
+                energy.y.push_back(metrics[k].zeta_energy);
+            }
+        }
+        spec.curves = {zeta, energy};
+        io::write_plot(o.plot_damping, spec);
+    }
+    std::unique_ptr<io::OutputFile> summary;
+    double worst_energy = 0.0;
+    for (const ModeMetrics& m : metrics) worst_energy = std::max(worst_energy, m.energy_error);
+    if (!o.output.summary.empty()) {
+        using nlohmann::json;
+        json j;
+        j["command"] = "modes";
+        j["system"] = o.config.empty() ? chosen.law_name : o.config;
+        j["mode"] = b.linear.index;
+        j["linear"] = {{"omega", b.linear.omega}, {"zeta", b.linear.zeta}};
+        j["harmonics"] = harmonics;
+        j["time_samples"] = nm.harmonic_balance().time_samples();
+        j["amplitude_range"] = {mo.amplitude_min, mo.amplitude_max};
+        j["status"] = to_string(b.status);
+        j["message"] = b.message;
+        j["points"] = b.points.size();
+        j["failed_steps"] = b.failed_steps;
+        j["evaluations"] = b.evaluations;
+        j["seconds"] = b.seconds;
+        j["largest_energy_error"] = worst_energy;
+        if (!b.points.empty()) {
+            j["first"] = {{"a", b.points.front().amplitude}, {"w", b.points.front().omega}, {"zeta", b.points.front().zeta()}};
+            j["last"] = {{"a", b.points.back().amplitude}, {"w", b.points.back().omega}, {"zeta", b.points.back().zeta()}};
+        }
+        summary = std::make_unique<io::OutputFile>(o.output.summary);
+        summary->stream() << j.dump(2) << '\n';
+    }
+    out.commit();
+    if (summary) summary->commit();
+    if (o.output.verbose())
+        std::cerr << "hbf modes: mode " << b.linear.index << " (stuck: w = " << format_number(b.linear.omega)
+                  << ", zeta = " << format_number(b.linear.zeta) << "): " << to_string(b.status) << ", "
+                  << b.points.size() << " points in " << format_number(b.seconds) << " s\n";
+    Verdict verdict;
+    if (b.status == ModeStatus::start_failed)
+        verdict.error(b.message);
+    else if (b.status != ModeStatus::completed)
+        verdict.warning("the backbone is incomplete (" + to_string(b.status) + "): " + b.message);
+    const double limit = energy_balance_limit(mo.tolerance);
+    if (worst_energy > limit)
+        verdict.warning("points fail the energy balance (largest relative error " + format_number(worst_energy) +
+                        ", allowed " + format_number(limit) + "; hbf modes --help: energy_error)");
+    return finish("modes", verdict);
+}
+
+void add_flags(CLI::App& command, ModesOptions& o) {
+    o.absorber.add_system_flags(command);
+    command.add_option("--mode", o.mode,
+                       "the linear mode of the stuck structure followed, 1-based by ascending frequency (stuck: every "
+                       "contact's stuck spring, exact Coulomb contacts held rigid)")
+        ->capture_default_str()->type_name("INT");
+    command.add_option("--near", o.near, "instead of --mode: the stuck mode nearest this frequency, > 0")
+        ->type_name("NUMBER");
+    command.add_option("--amin", o.amin,
+                       "smallest modal amplitude a (first point; required), > 0: a = the M-norm of y's first "
+                       "harmonic (c1 cos + s1 sin), sqrt(c1^T M c1 + s1^T M s1); the modal coordinate's amplitude in "
+                       "the linear limit")
+        ->type_name("NUMBER");
+    command.add_option("--amax", o.amax, "largest modal amplitude a (required), > amin, at most 1e12 amin")
+        ->type_name("NUMBER");
+    add_discretisation_flags(command, o.harmonics, o.time_samples, "the largest of the contacts' laws' own");
+    command.add_option("--tolerance", o.tolerance,
+                       "Newton's acceptance: max |residual|, the structure's rows relative to the mode's inertial force "
+                       "a w0^2 |M phi|_inf, the amplitude and phase rows relative to a; " +
+                           default_text(CorrectorOptions::smallest_tolerance) + ".." +
+                           default_text(CorrectorOptions::largest_tolerance))
+        ->capture_default_str()->type_name("NUMBER");
+    command.add_option("--max-step", o.max_step, "largest pseudo-arclength step in the scaled coordinates (x / (a |phi|), w / w0, xi / w0, log10 a: decades), (0, 1]")
+        ->capture_default_str()->type_name("NUMBER");
+    command.add_option("--max-points", o.max_points, "point budget, 2..100000 (exit 3 when reached)")
+        ->capture_default_str()->type_name("INT");
+    command.add_option("--config", o.config, "the structure from a TOML system file (as hbf frf --config; its "
+                                             "excitation and frequency range are not used)")
+        ->option_text("FILE.toml");
+    command.add_option("--plot-damping", o.plot_damping,
+                       "draw zeta and zeta_energy against a (log-log; values below 100 x --tolerance, rounding, left out) "
+                       "through gnuplot (.png or .svg)")
+        ->type_name("FILE.png|FILE.svg");
+    o.output.add_to(command, {"write the CSV to FILE instead of standard output",
+                              "write a JSON summary (mode, linear limit, status, points, seconds, largest energy error)",
+                              "FILE", "draw the backbone, a (log) against w, through gnuplot (.png or .svg)",
+                              "no progress on standard error"});
+    command.footer(columns_footer(
+        R"(The extended periodic motion concept (Krack 2015): the periodic free motions of
+M y'' + (C - xi M) y' + K y + f_contacts = F_s, xi the artificial damping that makes them
+periodic, by harmonic balance (full formulation) with the amplitude and phase of the first
+harmonic c1 cos + s1 sin fixed (sqrt(c1^T M c1 + s1^T M s1) = a, phi^T M s1 = 0, phi the stuck
+mode), followed from --amin to --amax by pseudo-arclength in log a (the backbone may turn back in
+a) from the stuck structure's linear mode. The excitation of the system is not used. Nondimensional for the preset (y in x_s = N/k1, w in omega1).
+Columns:)",
+        io::backbone_columns({Output::dof(0), Output::dof(1)}, {false}, 1),
+        R"((y1, y2: the system's outputs; one stick_fraction/regime pair per contact, separated_fraction for
+contacts with a normal direction; h0..hH for the H harmonics.) Exit code 0 when the backbone spans
+[amin, amax]; 3 when it stops early (Newton fails at the smallest step, the point budget) or a point
+fails the energy balance, with every point computed written; 1 when the first point fails; 2 for
+bad input (a mode out of range, a rigid-body mode, an empty amplitude range).)"));
+}
+
+}  // namespace
+
+Runner add_modes_command(CLI::App& app) {
+    return register_command<ModesOptions>(
+        app, "modes",
+        "Nonlinear mode of the structure (extended periodic motion concept): frequency and modal damping ratio against "
+        "the modal amplitude (backbone), from the stuck structure's linear mode.",
+        add_flags, run);
+}
+
+}  // namespace hbf::cli
