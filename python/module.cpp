@@ -38,6 +38,7 @@
 #include "hbf/interface.hpp"
 #include "hbf/io.hpp"
 #include "hbf/memory.hpp"
+#include "hbf/modes.hpp"
 #include "hbf/reduction.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -1174,6 +1175,70 @@ PYBIND11_MODULE(_core, m) {
             return py::make_tuple(table_columns(table), details, v);
         },
         py::arg("system"), py::arg("omegas"), py::arg("options"), py::arg("exact"), py::arg("exact_tolerance"));
+
+    m.def("mode_defaults", [] {
+        const ModeOptions o;
+        py::dict d;
+        d["mode"] = o.mode;
+        d["tolerance"] = o.tolerance;
+        d["max_step"] = o.max_step;
+        d["max_points"] = o.max_points;
+        return d;
+    });
+    m.def(
+        "modes",
+        [](const PySystem& s, HarmonicBalanceOptions hbo, int mode, double near, double amplitude_min,
+           double amplitude_max, double tolerance, double max_step, int max_points, std::vector<Output> outputs) {
+            // hbf modes: the full formulation, every harmonic (NonlinearModes refuses the others)
+            if (hbo.formulation != Formulation::condensed) hbo.formulation = Formulation::full;
+            hbo.modes = 0;
+            hbo.jacobian = JacobianForm::dense;
+            if (outputs.empty()) outputs = s.reported();
+            for (const Output& o : outputs) o.validate(s.system.dofs());
+            ModeOptions mo;
+            mo.mode = mode;
+            mo.near_frequency = near;
+            mo.amplitude_min = amplitude_min;
+            mo.amplitude_max = amplitude_max;
+            mo.tolerance = tolerance;
+            mo.max_step = max_step;
+            mo.initial_step = std::min(mo.initial_step, max_step);
+            mo.min_step = std::min(mo.min_step, mo.initial_step);
+            mo.max_points = max_points;
+            Backbone b;
+            io::Table table;
+            Verdict verdict;
+            int harmonics = 0;
+            without_gil([&] {
+                NonlinearModes nm(s.system, hbo, mo);
+                b = nm.follow();
+                std::vector<ModeMetrics> metrics;
+                for (const ModePoint& p : b.points) metrics.push_back(nm.metrics(p, outputs));
+                std::vector<bool> normal;
+                for (std::size_t c = 0; c < s.system.contacts.size(); ++c)
+                    normal.push_back(!metrics.empty() && !std::isnan(metrics.front().contacts.at(c).separated_fraction));
+                harmonics = nm.harmonic_balance().harmonics();
+                table = io::backbone_table(b, metrics, outputs, normal, harmonics);
+                verdict = judge_backbone(b, metrics, mo.tolerance);
+                return 0;
+            });
+            py::dict d;
+            d["mode"] = b.linear.index;
+            d["omega"] = b.linear.omega;
+            d["zeta"] = b.linear.zeta;
+            d["shape"] = to_list(b.linear.shape);
+            d["harmonics"] = harmonics;
+            d["message"] = b.message;
+            d["seconds"] = b.seconds;
+            d["evaluations"] = b.evaluations;
+            py::dict v;
+            v["status"] = verdict.status();
+            v["errors"] = verdict.errors;
+            v["warnings"] = verdict.warnings;
+            return py::make_tuple(table_columns(table), d, v);
+        },
+        py::arg("system"), py::arg("options"), py::arg("mode"), py::arg("near"), py::arg("amplitude_min"),
+        py::arg("amplitude_max"), py::arg("tolerance"), py::arg("max_step"), py::arg("max_points"), py::arg("outputs"));
 
     m.def(
         "analytic",

@@ -517,6 +517,27 @@ ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Ou
     return m;
 }
 
+Verdict judge_backbone(const Backbone& backbone, const std::vector<ModeMetrics>& metrics, double tolerance) {
+    Verdict verdict;
+    if (backbone.status == ModeStatus::start_failed)
+        verdict.error(backbone.message);
+    else if (backbone.status != ModeStatus::completed)
+        verdict.warning("the backbone is incomplete (" + to_string(backbone.status) + "): " + backbone.message);
+    double worst = 0.0;
+    std::size_t where = 0;
+    for (std::size_t k = 0; k < metrics.size(); ++k)
+        if (metrics[k].energy_error > worst) {
+            worst = metrics[k].energy_error;
+            where = k;
+        }
+    const double limit = energy_balance_limit(tolerance);
+    if (worst > limit && where < backbone.points.size())
+        verdict.warning("points fail the energy balance (largest relative error " + format_number(worst) + " at a = " +
+                        format_number(backbone.points[where].amplitude) + ", allowed " + format_number(limit) +
+                        "; energy_error)");
+    return verdict;
+}
+
 namespace io {
 
 std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics) {
@@ -527,8 +548,8 @@ std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const s
         {"w", "frequency omega of the nonlinear mode (the periodic motion's fundamental)"},
         {"xi", "artificial damping xi: the term -xi M y' that makes the free motion periodic (feeds in what is dissipated)"},
         {"zeta", "modal damping ratio xi / (2 w)"},
-        {"zeta_energy", "energy damping ratio (friction_energy + viscous_energy) / (2 pi w^2 a^2); equals zeta when q "
-                        "is a single harmonic"},
+        {"zeta_energy", "energy damping ratio (friction_energy + viscous_energy) / (2 pi w^2 a^2); equals zeta when the "
+                        "motion is a single harmonic (xi's energy balance), differs with higher harmonics"},
         {"energy", "energy dissipated per cycle by the contacts and the viscous damping C"},
         {"friction_energy", "energy the contacts dissipate per cycle (integral of f q' on the AFT grid)"},
         {"viscous_energy", "energy C dissipates per cycle"},

@@ -37,6 +37,7 @@
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/io.hpp"
 #include "hbf/model.hpp"
+#include "hbf/verdict.hpp"
 
 namespace hbf {
 
@@ -184,6 +185,11 @@ private:
     double static_force_ = 0;  // largest static load or preload (the residual's rounding floor)
     long long evaluations_ = 0;
 };
+
+/// What the backbone is worth: an error when the first point failed, a warning when it stopped
+/// before a_max (its status and message) or a point fails the energy balance (above
+/// energy_balance_limit(tolerance)). hbf modes' exit code and Python's status.
+Verdict judge_backbone(const Backbone& backbone, const std::vector<ModeMetrics>& metrics, double tolerance);
 
 namespace io {
 /// The backbone's columns for `outputs`, `contacts` contacts (`normal`: which have a normal

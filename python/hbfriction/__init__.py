@@ -58,7 +58,7 @@ from ._core import (AbsorberParameters, Contact, ContinuationOptions, CorrectorO
 
 __version__ = _core.__version__
 # hbfriction.map is left out of __all__: a star import would hide the built-in map.
-__all__ = ["absorber", "load", "reduce", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "analytic",
+__all__ = ["absorber", "load", "reduce", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "modes", "analytic",
            "optimize", "options", "Branch", "Solution", "Table", "OptimizeResult", "MapResult",
            "IncompleteResultWarning", "SolveError", "AbsorberParameters", "FrfSettings",
            "HarmonicBalanceOptions", "ContinuationOptions", "CorrectorOptions", "StabilityOptions",
@@ -689,6 +689,46 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
     table.errors = verdict["errors"]
     table.warnings = verdict["warnings"]
     _judge(table.status, table.errors + table.warnings, "the time integration")
+    return table
+
+
+def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmonics=None, time_samples=None,
+          outputs=None, tolerance=None, max_step=None, max_points=None):
+    """A nonlinear mode by the extended periodic motion concept (hbf modes): frequency and modal
+    damping ratio against the modal amplitude a (the M-norm of the first harmonic), followed from
+    amplitude_min to amplitude_max from the stuck structure's linear mode `mode` (1-based, default
+    1) or the one nearest the frequency `near`. harmonics, time_samples: as frf (automatic H from
+    the laws). Returns a Table with hbf modes' columns (a, w, xi, zeta, zeta_energy, energies, the
+    outputs' amplitudes, per-contact shares, harmonic content), plus ``linear`` (dict: mode, omega,
+    zeta, shape of the stuck mode), ``seconds`` and status/errors/warnings: incomplete where the
+    backbone stops before amplitude_max or fails the energy balance, failed where its first point
+    does not converge (as hbf modes' exit codes 3 and 1)."""
+    _check_system(system)
+    if mode is not None and near is not None:
+        raise ValueError("modes: mode and near cannot both be given: the mode by its index or by a frequency")
+    given, names = FrfSettings(), []
+    for name, value in (("harmonics", harmonics), ("time_samples", time_samples)):
+        if value is not None:
+            _assign(given.harmonic_balance, name, value)
+            names.append(name)
+    s = _core.frf_settings(system, given, names, False)  # as hbf modes: the automatic H without the polish
+    d = _core.mode_defaults()
+    o = _outputs(system, outputs) if outputs is not None else (system.outputs or [Output.dof(i) for i in range(system.dofs)])
+    columns, details, verdict = _core.modes(
+        system, s.harmonic_balance, int(d["mode"] if mode is None else mode), float(0.0 if near is None else near),
+        float(amplitude_min), float(amplitude_max), float(d["tolerance"] if tolerance is None else tolerance),
+        float(d["max_step"] if max_step is None else max_step), int(d["max_points"] if max_points is None else max_points), o)
+    table = Table(columns)
+    linear = dict(details)
+    linear["shape"] = _np.array(details["shape"])
+    table.linear = {k: linear[k] for k in ("mode", "omega", "zeta", "shape")}
+    table.harmonics = details["harmonics"]
+    table.seconds = details["seconds"]
+    table.message = details["message"]
+    table.status = verdict["status"]
+    table.errors = verdict["errors"]
+    table.warnings = verdict["warnings"]
+    _judge(table.status, table.errors + table.warnings, "the backbone")
     return table
 
 

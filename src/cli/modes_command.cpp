@@ -175,20 +175,14 @@ int run(const CLI::App& command, const ModesOptions& o) {
         std::cerr << "hbf modes: mode " << b.linear.index << " (stuck: w = " << format_number(b.linear.omega)
                   << ", zeta = " << format_number(b.linear.zeta) << "): " << to_string(b.status) << ", "
                   << b.points.size() << " points in " << format_number(b.seconds) << " s\n";
-    Verdict verdict;
-    if (b.status == ModeStatus::start_failed)
-        verdict.error(b.message);
-    else if (b.status != ModeStatus::completed)
-        verdict.warning("the backbone is incomplete (" + to_string(b.status) + "): " + b.message);
-    const double limit = energy_balance_limit(mo.tolerance);
-    if (worst_energy > limit)
-        verdict.warning("points fail the energy balance (largest relative error " + format_number(worst_energy) +
-                        ", allowed " + format_number(limit) + "; hbf modes --help: energy_error)");
-    return finish("modes", verdict);
+    return finish("modes", judge_backbone(b, metrics, mo.tolerance));
 }
 
 void add_flags(CLI::App& command, ModesOptions& o) {
     o.absorber.add_system_flags(command);
+    // A nonlinear mode is a free motion: the excitation's amplitude and harmonic do not enter.
+    command.remove_option(command.get_option("--fe"));
+    command.remove_option(command.get_option("--excitation-harmonic"));
     command.add_option("--mode", o.mode,
                        "the linear mode of the stuck structure followed, 1-based by ascending frequency (stuck: every "
                        "contact's stuck spring, exact Coulomb contacts held rigid)")

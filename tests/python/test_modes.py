@@ -1,0 +1,119 @@
+"""Nonlinear modes (hbf modes, hbfriction.modes): the binding and the command against the
+describing function of a Jenkins oscillator (derived in tests/test_modes.cpp), and bad input."""
+import csv
+import io
+import math
+import os
+
+import numpy as np
+import pytest
+
+import hbfriction
+from conftest import run_hbf
+
+JENKINS = """# m y'' + c y' + k y + f_Jenkins = 0 (one DOF, a Jenkins element to the ground)
+[structure]
+mass = [1.0]
+stiffness = [1.0]
+damping = [0.01]
+excitation = [1.0]
+
+[[contact]]
+dof = 1
+law = "jenkins"
+friction_limit = 0.1
+stiffness = 0.5
+"""
+
+
+def describing_function(a, m=1.0, c=0.01, k=1.0, kt=0.5, limit=0.1):
+    """omega and xi of the EPMC at H = 1 from the closed-form first harmonic of the Jenkins loop."""
+    fc, fs = kt * a, 0.0
+    if kt * a > limit:
+        star = math.acos(1.0 - 2.0 * limit / (kt * a))
+        fc = kt * a / math.pi * (star - 0.5 * math.sin(2.0 * star))
+        fs = -kt * a / math.pi * math.sin(star) ** 2
+    omega = math.sqrt((k + fc / a) / m)
+    return omega, (c - fs / (a * omega)) / m
+
+
+@pytest.fixture
+def jenkins(tmp_path):
+    path = tmp_path / "jenkins.toml"
+    path.write_text(JENKINS)
+    return str(path)
+
+
+def test_python_backbone_is_the_describing_function(jenkins):
+    t = hbfriction.modes(hbfriction.load(jenkins), 0.05, 20.0, harmonics=1, time_samples=4096)
+    assert t.status == "completed"
+    assert t.linear["mode"] == 1
+    assert abs(t.linear["omega"] - math.sqrt(1.5)) < 1e-14
+    assert len(t) >= 20 and abs(t.a[-1] - 20.0) < 1e-12
+    for a, w, xi, zeta in zip(t.a, t.w, t.xi, t.zeta):
+        omega, damping = describing_function(a)
+        # the AFT's sums differ from the integrals by about 5 / N_t^2 (tests/test_modes.cpp)
+        assert abs(w - omega) <= 1e-6 * omega
+        assert abs(xi - damping) <= 1e-6 * damping
+        assert abs(zeta - xi / (2.0 * w)) <= 1e-15
+    assert "zeta_energy" in t.meaning and t.regime_c1[0] == "stick" and t.regime_c1[-1] != "stick"
+
+
+def test_command_writes_the_same_backbone(jenkins, tmp_path):
+    out = tmp_path / "modes.csv"
+    summary = tmp_path / "modes.json"
+    code, _, err = run_hbf("modes", "--config", jenkins, "--amin", "0.05", "--amax", "20", "--harmonics", "1",
+                           "--time-samples", "4096", "--out", str(out), "--summary", str(summary), "--quiet")
+    assert code == 0, err
+    rows = list(csv.DictReader(io.StringIO(out.read_text())))
+    t = hbfriction.modes(hbfriction.load(jenkins), 0.05, 20.0, harmonics=1, time_samples=4096)
+    assert len(rows) == len(t)
+    assert [float(r["w"]) for r in rows] == pytest.approx(list(t.w), rel=1e-14)
+    assert '"status": "completed"' in summary.read_text()
+
+
+def test_absorber_backbone_spans_stick_to_slip():
+    # Exact Coulomb: stuck, the rigidly joined masses (omega^2 = k1 / (m1 + m2), nondimensional
+    # 1 / (1 + r)); sliding, the lower mode of the released absorber.
+    t = hbfriction.modes(hbfriction.absorber(), 0.01, 100.0)
+    assert t.status == "completed"
+    assert abs(t.w[0] - 1.0 / math.sqrt(1.1)) < 1e-12
+    released = np.sqrt(np.linalg.eigvals(np.array([[1.0 + 0.1, -0.1], [-1.0, 1.0]])).real.min())
+    assert abs(t.w[-1] - released) < 0.01 * released
+    assert t.regime_c1[0] == "stick" and t.regime_c1[-1] == "slip"
+    assert np.all(t.energy_error <= 1e-6)
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--mode", "3", "--amin", "0.1", "--amax", "1"), "mode = 3 is out of range: allowed 1..1"),
+    (("--amin", "1", "--amax", "0.5"), "--amax = 0.5 is out of range: allowed > --amin = 1"),
+    (("--amin", "-1", "--amax", "1"), "--amin = -1 is out of range: allowed > 0"),
+    (("--amax", "1"), "--amin is required"),
+    (("--mode", "1", "--near", "1", "--amin", "0.1", "--amax", "1"), "--near cannot be combined with --mode"),
+])
+def test_command_refuses_bad_input(args, message):
+    code, out, err = run_hbf("modes", *args, check=False)
+    assert code == 2
+    assert message in err
+    assert out == ""
+
+
+def test_rigid_body_mode_is_refused(tmp_path):
+    path = tmp_path / "free.toml"
+    path.write_text("""[structure]
+mass = [[1.0, 0.0], [0.0, 1.0]]
+stiffness = [[0.0, 0.0], [0.0, 0.0]]
+excitation = [1.0, 0.0]
+
+[[contact]]
+dof = 1
+other_dof = 2
+law = "jenkins"
+friction_limit = 0.1
+stiffness = 1.0
+""")
+    with pytest.raises(ValueError) as e:
+        hbfriction.modes(hbfriction.load(str(path)), 0.1, 1.0)
+    assert "rigid-body mode" in str(e.value)
+    code, _, err = run_hbf("modes", "--config", str(path), "--amin", "0.1", "--amax", "1", check=False)
+    assert code == 2 and "rigid-body mode" in err
