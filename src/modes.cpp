@@ -477,6 +477,10 @@ Backbone NonlinearModes::follow() {
     return b;
 }
 
+std::vector<double> NonlinearModes::metrics_of(const ModePoint& point, const std::vector<Output>& outputs) {
+    return metrics(point, outputs).output_amp1;
+}
+
 ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Output>& outputs) {
     ModeMetrics m;
     m.zeta = point.zeta();
@@ -515,6 +519,70 @@ ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Ou
     m.energy_error = std::abs(m.injected_energy - dissipated) / reference;
     m.zeta_energy = dissipated / modal;
     return m;
+}
+
+std::vector<SynthesisPoint> NonlinearModes::synthesize(const Backbone& backbone, const std::vector<ModeMetrics>& metrics,
+                                                      const Eigen::VectorXd& force, const std::vector<Output>& outputs) {
+    if (force.size() != system_.dofs())
+        throw InvalidInput("force has " + std::to_string(force.size()) + " entries: allowed " +
+                           std::to_string(system_.dofs()) + " (one per DOF)");
+    const Eigen::Index n = hb_->coefficients();
+    // The discriminant of (w^2 - Omega^2)^2 + Omega^2 xi^2 = |psi^H F|^2 / a^2 in Omega^2, and
+    // b = 2 w^2 - xi^2 (Omega^2 = (b -+ sqrt(discriminant)) / 2).
+    auto quadratic = [&](const ModePoint& p, double& b) {
+        double c = 0.0, s = 0.0;  // psi^H F = (c1 + i s1)^T F / a (each DOF's cos 1 and sin 1 rows)
+        for (Eigen::Index i = 0; i < force.size(); ++i) {
+            c += p.x(i * n + 1) * force(i);
+            s += p.x(i * n + 2) * force(i);
+        }
+        const double load = std::hypot(c, s) / p.amplitude, w2 = p.omega * p.omega;
+        b = 2.0 * w2 - p.xi * p.xi;
+        return b * b - 4.0 * (w2 * w2 - load * load / (p.amplitude * p.amplitude));
+    };
+    std::vector<SynthesisPoint> lower, upper;
+    auto add = [&](const ModePoint& p, const std::vector<double>& amp1) {
+        double b = 0.0;
+        const double discriminant = quadratic(p, b);
+        if (!(discriminant >= 0.0)) return;  // F cannot sustain this amplitude
+        const double root = std::sqrt(discriminant);
+        for (int flank : {-1, 1}) {
+            const double x = 0.5 * (b + flank * root);  // Omega^2
+            if (!(x > 0.0)) continue;
+            SynthesisPoint q;
+            q.omega = std::sqrt(x);
+            q.amplitude = p.amplitude;
+            q.mode_omega = p.omega;
+            q.flank = flank;
+            q.output_amp1 = amp1;
+            (flank < 0 ? lower : upper).push_back(q);
+        }
+    };
+    for (std::size_t k = 0; k < backbone.points.size() && k < metrics.size(); ++k) {
+        const ModePoint& p = backbone.points[k];
+        double b = 0.0;
+        if (k > 0) {
+            // Where F's largest sustainable amplitude (the synthesised peak: discriminant 0) lies
+            // between two backbone points, it is found by bisection in a, the mode solved at each
+            // trial amplitude (the peak would otherwise be cut at the sampling).
+            const ModePoint& q = backbone.points[k - 1];
+            const bool inside = quadratic(q, b) >= 0.0, here = quadratic(p, b) >= 0.0;
+            if (inside != here) {
+                ModePoint in = inside ? q : p, out = inside ? p : q;
+                bool ok = true;
+                for (int it = 0; it < 60 && ok && std::abs(out.amplitude - in.amplitude) > 1e-12 * in.amplitude; ++it) {
+                    ModePoint mid = in;
+                    mid.amplitude = std::sqrt(in.amplitude * out.amplitude);
+                    ok = solve(mid);
+                    if (ok) (quadratic(mid, b) >= 0.0 ? in : out) = mid;
+                }
+                add(in, metrics_of(in, outputs));
+            }
+        }
+        add(p, metrics[k].output_amp1);
+    }
+    std::vector<SynthesisPoint> all(lower.begin(), lower.end());
+    all.insert(all.end(), upper.rbegin(), upper.rend());
+    return all;
 }
 
 Verdict judge_backbone(const Backbone& backbone, const std::vector<ModeMetrics>& metrics, double tolerance) {

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/modes.hpp"
 #include "support.hpp"
@@ -233,6 +234,60 @@ TEST_CASE("Nonlinear modes: the Jenkins backbone at H = 7 conserves energy and s
     // harmonics change it by O(1 / a) too).
     CHECK(std::abs(last.omega * last.omega - k / m) <= 2.0 * kt * limit / (kt * last.amplitude) + 1e-12);
     CHECK(std::abs(last.zeta() * last.amplitude / (2.0 * limit / (M_PI * k)) - 1.0) <= 0.02);
+}
+
+TEST_CASE("Single-nonlinear-mode synthesis: at its phase resonance it is the forced response", "[modes]") {
+    // One DOF with a Jenkins element at H = 1: the forced balance is
+    //   (k - m W^2) x + f_c(x) + i (c W x - f_s(x)) = F,
+    // the synthesis (viscous xi at the mode's frequency) replaces -f_s by -f_s W / w(x): the two
+    // coincide where W = w(x), the phase resonance, where xi w a = F / sqrt(m) (psi = 1 / sqrt(m)).
+    const double m = 2.0, c = 0.01, k = 1.0, kt = 0.5, limit = 0.1, force = 0.03;
+    const System s = jenkins_oscillator(m, c, k, kt, limit);
+    ModeOptions o;
+    o.amplitude_min = 0.05;
+    o.amplitude_max = 5.0;
+    o.tolerance = 1e-12;
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 1;
+    hbo.time_samples = 1024;
+    NonlinearModes nm(s, hbo, o);
+    const Backbone b = nm.follow();
+    REQUIRE(b.status == ModeStatus::completed);
+    std::vector<ModeMetrics> metrics;
+    for (const ModePoint& p : b.points) metrics.push_back(nm.metrics(p, {Output::dof(0)}));
+    const std::vector<SynthesisPoint> curve = nm.synthesize(b, metrics, Eigen::VectorXd::Constant(1, force), {Output::dof(0)});
+    REQUIRE(curve.size() >= 10);
+    // Both flanks, Omega rising along the curve: the lower flank below sqrt(w^2 - xi^2 / 2), the upper above.
+    for (std::size_t j = 1; j < curve.size(); ++j) CHECK(curve[j].omega >= curve[j - 1].omega * (1.0 - 1e-12));
+    CHECK(curve.front().flank == -1);
+    CHECK(curve.back().flank == 1);
+    // The phase resonance: xi(a) w(a) a = F / sqrt(m), bracketed on the backbone and bisected by
+    // solving the mode at each trial amplitude.
+    auto gap = [&](const ModePoint& p) { return p.xi * p.omega * p.amplitude - force / std::sqrt(m); };
+    std::size_t j = 1;
+    while (j < b.points.size() && (gap(b.points[j - 1]) > 0.0) == (gap(b.points[j]) > 0.0)) ++j;
+    REQUIRE(j < b.points.size());
+    ModePoint low = b.points[j - 1], high = b.points[j], mid = low;
+    for (int it = 0; it < 60 && high.amplitude - low.amplitude > 1e-13 * high.amplitude; ++it) {
+        mid = low;
+        mid.amplitude = 0.5 * (low.amplitude + high.amplitude);
+        REQUIRE(nm.solve(mid));
+        ((gap(mid) > 0.0) == (gap(high) > 0.0) ? high : low) = mid;
+    }
+    // The forced harmonic balance at W = w(a*) (same H and samples), followed from below.
+    HarmonicBalance forced([&] {
+        System f = s;
+        f.excitation = Eigen::VectorXd::Constant(1, force);
+        return f;
+    }(), hbo);
+    ContinuationOptions co;
+    co.corrector.tolerance = 1e-12;
+    const SolutionAt at = solve_at(forced, mid.omega, 0.5 * mid.omega, co);
+    REQUIRE(at.found);
+    const double amplitude = std::hypot(at.point.x(1), at.point.x(2));  // y's first harmonic
+    CHECK(std::abs(amplitude * std::sqrt(m) - mid.amplitude) <= 1e-8 * mid.amplitude);
+    // In quadrature with the force there (phase resonance): y = a sin-like, its cos part vanishes.
+    CHECK(std::abs(at.point.x(1)) <= 1e-7 * amplitude);
 }
 
 TEST_CASE("Nonlinear modes: bad input is refused naming the parameter", "[modes]") {

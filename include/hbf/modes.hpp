@@ -135,6 +135,23 @@ struct ModeMetrics {
     std::vector<double> output_amp1;      ///< per output: first-harmonic amplitude
 };
 
+/// One point of a forced response synthesised from a nonlinear mode (single-nonlinear-mode
+/// synthesis, Krack et al. 2014): the structure moves in the mode's shape at amplitude a, and
+/// the mode's own equation with the EPMC damping,
+///     (w(a)^2 - Omega^2 + i Omega xi(a)) a = psi^H F,   psi = (c1 - i s1) / a  (psi^H M psi = 1),
+/// is solved for the excitation frequency Omega: |psi^H F|^2 / a^2 = (w^2 - Omega^2)^2 +
+/// Omega^2 xi^2, a quadratic in Omega^2 with up to two positive roots (the two flanks of the
+/// resonance; none where a exceeds what F can sustain). Valid near the resonance of a mode
+/// well separated from the others; friction's rate-independent dissipation is taken at the
+/// mode's own frequency (viscous in Omega), exact at the phase resonance Omega = w(a).
+struct SynthesisPoint {
+    double omega = 0;      ///< excitation frequency Omega
+    double amplitude = 0;  ///< the backbone point's modal amplitude a
+    double mode_omega = 0; ///< the backbone point's frequency w(a) (Omega = w(a): phase resonance)
+    int flank = 0;         ///< -1 the root below the backbone's w^2 - xi^2 / 2, +1 the one above
+    std::vector<double> output_amp1;  ///< each output's first-harmonic amplitude (the mode's at a)
+};
+
 /// The EPMC problem of one mode (see the top of this file).
 class NonlinearModes {
 public:
@@ -167,8 +184,16 @@ public:
 
     /// Metrics of a point; `outputs` as hbf frf's (validated against the system).
     ModeMetrics metrics(const ModePoint& point, const std::vector<Output>& outputs = {});
+    /// The synthesised response to F cos(Omega t) (F: N entries; SynthesisPoint) from a backbone
+    /// of this mode and its points' metrics (their output_amp1, of `outputs`): the lower flank by
+    /// increasing a, then the upper by decreasing a. The largest amplitude F sustains (the
+    /// synthesised peak, where the two flanks meet) is located between the backbone's points by
+    /// bisection in a, solving the mode there. Throws InvalidInput for F of the wrong size.
+    std::vector<SynthesisPoint> synthesize(const Backbone& backbone, const std::vector<ModeMetrics>& metrics,
+                                           const Eigen::VectorXd& force, const std::vector<Output>& outputs = {});
 
 private:
+    std::vector<double> metrics_of(const ModePoint& point, const std::vector<Output>& outputs);
     /// Newton on G = 0 at fixed amplitude (tangent null), or with log10 a free and the
     /// arclength condition t . (v - predicted) / scale = 0.
     bool correct(ModePoint& point, const Eigen::VectorXd* tangent, const Eigen::VectorXd* predicted);

@@ -23,7 +23,7 @@ struct ModesOptions {
     std::string mode = "1", near, amin, amax, harmonics = "0", time_samples = "0",
                 tolerance = default_text(ModeOptions{}.tolerance), max_step = default_text(ModeOptions{}.max_step),
                 max_points = std::to_string(ModeOptions{}.max_points);
-    std::string plot_damping;
+    std::string plot_damping, synthesis_out;
     OutputFlags output;
     std::string config;
 };
@@ -36,14 +36,34 @@ double number_in(const std::string& flag, const std::string& text, double low, d
     return v;
 }
 
+/// The columns of --synthesis-out.
+std::vector<io::Column> synthesis_columns(const std::vector<Output>& outputs) {
+    std::vector<io::Column> c = {
+        {"w", "excitation frequency of the synthesised forced response (the system's excitation F cos(w t))"},
+        {"a", "modal amplitude of the backbone point it comes from"},
+        {"w_mode", "that point's frequency w(a) (w = w_mode: phase resonance, where the synthesis is exact for a "
+                   "single mode)"},
+        {"flank", "-1 the lower root of (w_mode^2 - w^2)^2 + w^2 xi^2 = |psi^H F|^2 / a^2, +1 the upper",
+         io::ColumnType::integer}};
+    for (const Output& o : outputs)
+        c.push_back({o.name() + "_amp1", "first-harmonic amplitude of " + o.name() + "(t) (the mode's at a)"});
+    return c;
+}
+
 int run(const CLI::App& command, const ModesOptions& o) {
     o.output.check_plot();  // before any work
     if (given(command, "--plot-damping") && o.plot_damping.empty())
         throw UsageError("--plot-damping is empty: allowed FILE.png|FILE.svg");
     io::check_plot("--plot-damping", o.plot_damping);
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
+    if (given(command, "--synthesis-out") && o.synthesis_out.empty())
+        throw UsageError("--synthesis-out is empty: allowed FILE.csv");
     o.output.check(command, chosen.inputs(),
-                   {{"--plot-damping", o.plot_damping, !o.plot_damping.empty(), false, true}});
+                   {{"--plot-damping", o.plot_damping, !o.plot_damping.empty(), false, true},
+                    {"--synthesis-out", o.synthesis_out, given(command, "--synthesis-out")}});
+    if (!o.synthesis_out.empty() && chosen.system.excitation_harmonic != 1)
+        throw UsageError("--synthesis-out synthesises the response to F cos(w t): the system's excitation harmonic is " +
+                         std::to_string(chosen.system.excitation_harmonic) + " (allowed 1)");
     ModeOptions mo;
     if (given(command, "--near") && given(command, "--mode"))
         throw UsageError("--near cannot be combined with --mode: give the mode by its index or by a frequency");
@@ -93,6 +113,8 @@ int run(const CLI::App& command, const ModesOptions& o) {
     NonlinearModes nm(chosen.system, hbo, mo);  // throws InvalidInput: a mode out of range, a rigid-body mode
     if (o.output.dry_run) return o.output.dry_run_done("modes");
     io::OutputFile out(o.output.out);
+    std::unique_ptr<io::OutputFile> synthesis;
+    if (!o.synthesis_out.empty()) synthesis = std::make_unique<io::OutputFile>(o.synthesis_out);
     const Backbone b = nm.follow();
     progress.clear();
     std::vector<ModeMetrics> metrics;
@@ -169,8 +191,18 @@ int run(const CLI::App& command, const ModesOptions& o) {
         summary = std::make_unique<io::OutputFile>(o.output.summary);
         summary->stream() << j.dump(2) << '\n';
     }
+    if (synthesis) {
+        io::Table table{synthesis_columns(chosen.outputs), {}};
+        for (const SynthesisPoint& q : nm.synthesize(b, metrics, chosen.system.excitation, chosen.outputs)) {
+            std::vector<io::Cell> row = {q.omega, q.amplitude, q.mode_omega, static_cast<long long>(q.flank)};
+            for (double v : q.output_amp1) row.emplace_back(v);
+            table.add_row(std::move(row));
+        }
+        io::write_csv(synthesis->stream(), table);
+    }
     out.commit();
     if (summary) summary->commit();
+    if (synthesis) synthesis->commit();
     if (o.output.verbose())
         std::cerr << "hbf modes: mode " << b.linear.index << " (stuck: w = " << format_number(b.linear.omega)
                   << ", zeta = " << format_number(b.linear.zeta) << "): " << to_string(b.status) << ", "
@@ -180,8 +212,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
 
 void add_flags(CLI::App& command, ModesOptions& o) {
     o.absorber.add_system_flags(command);
-    // A nonlinear mode is a free motion: the excitation's amplitude and harmonic do not enter.
-    command.remove_option(command.get_option("--fe"));
+    // A nonlinear mode is a free motion: the excitation enters only --synthesis-out (harmonic 1).
     command.remove_option(command.get_option("--excitation-harmonic"));
     command.add_option("--mode", o.mode,
                        "the linear mode of the stuck structure followed, 1-based by ascending frequency (stuck: every "
@@ -210,6 +241,13 @@ void add_flags(CLI::App& command, ModesOptions& o) {
     command.add_option("--config", o.config, "the structure from a TOML system file (as hbf frf --config; its "
                                              "excitation and frequency range are not used)")
         ->option_text("FILE.toml");
+    command.add_option("--synthesis-out", o.synthesis_out,
+                       "write the forced response to the system's excitation F cos(w t) (the preset: --fe) "
+                       "synthesised from the mode (single-nonlinear-mode synthesis, Krack et al. 2014: "
+                       "(w_mode^2 - w^2 + i w xi) a = psi^H F at each backbone point, psi its first harmonic per "
+                       "unit a) as CSV: w, a, w_mode, flank and the outputs' _amp1; valid near the resonance of a "
+                       "mode well separated from the others")
+        ->type_name("FILE.csv");
     command.add_option("--plot-damping", o.plot_damping,
                        "draw zeta and zeta_energy against a (log-log; values below 100 x --tolerance, rounding, left out) "
                        "through gnuplot (.png or .svg)")
@@ -224,7 +262,8 @@ M y'' + (C - xi M) y' + K y + f_contacts = F_s, xi the artificial damping that m
 periodic, by harmonic balance (full formulation) with the amplitude and phase of the first
 harmonic c1 cos + s1 sin fixed (sqrt(c1^T M c1 + s1^T M s1) = a, phi^T M s1 = 0, phi the stuck
 mode), followed from --amin to --amax by pseudo-arclength in log a (the backbone may turn back in
-a) from the stuck structure's linear mode. The excitation of the system is not used. Nondimensional for the preset (y in x_s = N/k1, w in omega1).
+a) from the stuck structure's linear mode. The system's excitation is used only by
+--synthesis-out. Nondimensional for the preset (y in x_s = N/k1, w in omega1).
 Columns:)",
         io::backbone_columns({Output::dof(0), Output::dof(1)}, {false}, 1),
         R"((y1, y2: the system's outputs; one stick_fraction/regime pair per contact, separated_fraction for
