@@ -145,6 +145,21 @@ for v in 0 101 201 1.5; do expect 2 "--excitation-harmonic" '' frf --excitation-
 expect 2 "--harmonics" '' frf --excitation-harmonic 3 --harmonics 2 --out x.csv
 for v in -1 x; do expect 2 "--modes" '' frf --modes "$v" --out x.csv; done
 for v in 0 -1 'a,b' '1,,2' ''; do expect 2 "--at" '' frf --at "$v" --out x.csv; done
+# hbf modes (issue 33): the amplitude range, the mode, the steps, the outputs
+for v in nan inf -1 0 abc 1e-999 ''; do expect 2 "--amin" '' modes --amin "$v" --amax 1 --out x.csv; done
+for v in 0.05 nan 1e400 ''; do expect 2 "--amax" '' modes --amin 0.1 --amax "$v" --out x.csv; done
+expect 2 "--amin is required" '' modes --amax 1 --out x.csv
+expect 2 "twelve decades" '' modes --amin 1e-20 --amax 1 --out x.csv
+for v in 0 -1 1.5 abc; do expect 2 "--mode" '' modes --mode "$v" --amin 0.1 --amax 1 --out x.csv; done
+expect 2 "mode = 2 is out of range: allowed 1..1" '' modes --mode 2 --amin 0.1 --amax 1 --out x.csv
+for v in 0 -1 nan; do expect 2 "--near" '' modes --near "$v" --amin 0.1 --amax 1 --out x.csv; done
+expect 2 "--near cannot be combined with --mode" '' modes --near 1 --mode 1 --amin 0.1 --amax 1 --out x.csv
+for v in 0 2 nan; do expect 2 "--max-step" '' modes --max-step "$v" --amin 0.1 --amax 1 --out x.csv; done
+for v in 1 100001 x; do expect 2 "--max-points" '' modes --max-points "$v" --amin 0.1 --amax 1 --out x.csv; done
+expect 2 "--harmonics odd" '' modes --harmonics odd --amin 0.1 --amax 1 --out x.csv
+expect 2 "--synthesis-out" '' modes --amin 0.1 --amax 1 --out x.csv --synthesis-out x.csv
+expect 2 "an input of this run" 'write_system s.toml' modes --config s.toml --amin 0.1 --amax 1 --out s.toml
+expect 0 "" '' modes --amin 0.01 --amax 10 --quiet --out /dev/null --synthesis-out /dev/null
 expect 2 "--xi" '' frf --xi 0.1 --out x.csv
 expect 2 "--wb" '' frf --law coulomb --wb 0.4 --out x.csv
 expect 2 "--eps" '' frf --law dahl --eps 0.1 --out x.csv
