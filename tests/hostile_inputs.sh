@@ -158,6 +158,7 @@ for v in 0 2 nan; do expect 2 "--max-step" '' modes --max-step "$v" --amin 0.1 -
 for v in 1 100001 x; do expect 2 "--max-points" '' modes --max-points "$v" --amin 0.1 --amax 1 --out x.csv; done
 expect 2 "--harmonics odd" '' modes --harmonics odd --amin 0.1 --amax 1 --out x.csv
 expect 2 "--synthesis-out" '' modes --amin 0.1 --amax 1 --out x.csv --synthesis-out x.csv
+expect 2 "--plot-synthesis" '' modes --amin 0.1 --amax 1 --out x.csv --plot-synthesis x.txt
 expect 2 "an input of this run" 'write_system s.toml' modes --config s.toml --amin 0.1 --amax 1 --out s.toml
 expect 0 "" '' modes --amin 0.01 --amax 10 --quiet --out /dev/null --synthesis-out /dev/null
 expect 2 "--xi" '' frf --xi 0.1 --out x.csv

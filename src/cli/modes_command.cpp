@@ -1,6 +1,9 @@
 // `hbf modes`: a nonlinear mode of the structure (EPMC, modes.hpp): backbone and modal damping
 // against the modal amplitude, as CSV, JSON summary and plots.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -9,6 +12,7 @@
 #include "commands.hpp"
 #include "frf_flags.hpp"
 #include "outputs.hpp"
+#include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/io.hpp"
 #include "hbf/modes.hpp"
@@ -23,7 +27,7 @@ struct ModesOptions {
     std::string mode = "1", near, amin, amax, harmonics = "0", time_samples = "0",
                 tolerance = default_text(ModeOptions{}.tolerance), max_step = default_text(ModeOptions{}.max_step),
                 max_points = std::to_string(ModeOptions{}.max_points);
-    std::string plot_damping, synthesis_out;
+    std::string plot_damping, synthesis_out, plot_synthesis;
     OutputFlags output;
     std::string config;
 };
@@ -58,12 +62,17 @@ int run(const CLI::App& command, const ModesOptions& o) {
     const ChosenSystem chosen = choose_system(command, o.absorber, o.config);
     if (given(command, "--synthesis-out") && o.synthesis_out.empty())
         throw UsageError("--synthesis-out is empty: allowed FILE.csv");
+    if (given(command, "--plot-synthesis") && o.plot_synthesis.empty())
+        throw UsageError("--plot-synthesis is empty: allowed FILE.png|FILE.svg");
+    io::check_plot("--plot-synthesis", o.plot_synthesis);
     o.output.check(command, chosen.inputs(),
                    {{"--plot-damping", o.plot_damping, !o.plot_damping.empty(), false, true},
-                    {"--synthesis-out", o.synthesis_out, given(command, "--synthesis-out")}});
-    if (!o.synthesis_out.empty() && chosen.system.excitation_harmonic != 1)
-        throw UsageError("--synthesis-out synthesises the response to F cos(w t): the system's excitation harmonic is " +
-                         std::to_string(chosen.system.excitation_harmonic) + " (allowed 1)");
+                    {"--synthesis-out", o.synthesis_out, given(command, "--synthesis-out")},
+                    {"--plot-synthesis", o.plot_synthesis, !o.plot_synthesis.empty(), false, true}});
+    const bool synthesise = !o.synthesis_out.empty() || !o.plot_synthesis.empty();
+    if (synthesise && chosen.system.excitation_harmonic != 1)
+        throw UsageError("--synthesis-out and --plot-synthesis synthesise the response to F cos(w t): the system's "
+                         "excitation harmonic is " + std::to_string(chosen.system.excitation_harmonic) + " (allowed 1)");
     ModeOptions mo;
     if (given(command, "--near") && given(command, "--mode"))
         throw UsageError("--near cannot be combined with --mode: give the mode by its index or by a frequency");
@@ -96,6 +105,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
         throw UsageError("--max-points = " + o.max_points + " is out of range: allowed 2..100000");
     mo.max_points = static_cast<int>(max_points);
     HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config, false);
+    const HarmonicBalanceOptions forced = hbo;  // the full FRF of --plot-synthesis: as hbf frf would solve it
     if (hbo.formulation == Formulation::condensed && !given(command, "--config"))
         hbo.formulation = Formulation::automatic;
     if (hbo.formulation == Formulation::condensed)
@@ -191,9 +201,71 @@ int run(const CLI::App& command, const ModesOptions& o) {
         summary = std::make_unique<io::OutputFile>(o.output.summary);
         summary->stream() << j.dump(2) << '\n';
     }
+    std::vector<SynthesisPoint> curve;
+    if (synthesise) curve = nm.synthesize(b, metrics, chosen.system.excitation, chosen.outputs);
+    Verdict frf_verdict;
+    if (!o.plot_synthesis.empty()) {
+        // The synthesis over the full harmonic-balance FRF of the same system and force (hbf frf
+        // over the synthesised band), the first output's first harmonic, and the two peaks.
+        const std::string& name = chosen.outputs.front().name();
+        io::PlotSpec spec;
+        spec.xlabel = "w = excitation frequency";
+        spec.ylabel = name + "_amp1 = first-harmonic amplitude of " + name + "(t)";
+        io::PlotCurve full{"harmonic balance (hbf frf)", {}, {}, io::PlotCurve::Style::line, 7};
+        io::PlotCurve synthesised{"synthesised from the mode", {}, {}, io::PlotCurve::Style::dashed, 7};
+        double w_low = std::numeric_limits<double>::infinity(), w_high = 0.0, s_peak = 0.0, s_w = 0.0;
+        for (const SynthesisPoint& q : curve)
+            if (q.output_amp1.front() > s_peak) {
+                s_peak = q.output_amp1.front();
+                s_w = q.omega;
+            }
+        // The resonance's band, where the synthesis means something: down to 10 % of its peak.
+        for (const SynthesisPoint& q : curve) {
+            if (!(q.output_amp1.front() >= 0.1 * s_peak)) continue;
+            synthesised.x.push_back(q.omega);
+            synthesised.y.push_back(q.output_amp1.front());
+            w_low = std::min(w_low, q.omega);
+            w_high = std::max(w_high, q.omega);
+        }
+        std::string difference = "no synthesised response (the force sustains no backbone point)";
+        if (w_high > w_low) {
+            FrfSettings fs;
+            fs.harmonic_balance = forced;
+            fs.continuation.omega_start = w_low;
+            fs.continuation.omega_end = w_high;
+            fs.outputs = {chosen.outputs.front()};
+            fs.peaks = false;
+            const FrfResult frf = compute_frf(chosen.system, fs);
+            double f_peak = 0.0, f_w = 0.0;
+            for (std::size_t k = 0; k < frf.points.size(); ++k) {
+                const double y = frf.metrics[k].output_amp1.front();
+                full.x.push_back(frf.points[k].omega);
+                full.y.push_back(y);
+                if (y > f_peak) {
+                    f_peak = y;
+                    f_w = frf.points[k].omega;
+                }
+            }
+            for (const std::string& w : frf.verdict.warnings) frf_verdict.note("--plot-synthesis: the full FRF: " + w);
+            for (const std::string& e : frf.verdict.errors) frf_verdict.note("--plot-synthesis: the full FRF: " + e);
+            difference = "peak: synthesis w = " + format_number(s_w) + ", " + format_number(s_peak) + "; harmonic balance w = " +
+                         format_number(f_w) + ", " + format_number(f_peak) + " (" +
+                         format_number(std::abs(s_w - f_w) / f_w) + " and " +
+                         format_number(std::abs(s_peak - f_peak) / f_peak) + " relative)";
+            char title[200];
+            std::snprintf(title, sizeof title, "mode %d synthesised: peak w %.4g vs %.4g, %s %.4g vs %.4g (HB)",
+                          b.linear.index, s_w, f_w, (name + "_amp1").c_str(), s_peak, f_peak);
+            spec.title = title;
+        } else {
+            spec.title = "mode " + std::to_string(b.linear.index) + ": " + difference;
+        }
+        spec.curves = {full, synthesised};
+        io::write_plot(o.plot_synthesis, spec);
+        frf_verdict.note("--plot-synthesis: " + difference);
+    }
     if (synthesis) {
         io::Table table{synthesis_columns(chosen.outputs), {}};
-        for (const SynthesisPoint& q : nm.synthesize(b, metrics, chosen.system.excitation, chosen.outputs)) {
+        for (const SynthesisPoint& q : curve) {
             std::vector<io::Cell> row = {q.omega, q.amplitude, q.mode_omega, static_cast<long long>(q.flank)};
             for (double v : q.output_amp1) row.emplace_back(v);
             table.add_row(std::move(row));
@@ -207,7 +279,9 @@ int run(const CLI::App& command, const ModesOptions& o) {
         std::cerr << "hbf modes: mode " << b.linear.index << " (stuck: w = " << format_number(b.linear.omega)
                   << ", zeta = " << format_number(b.linear.zeta) << "): " << to_string(b.status) << ", "
                   << b.points.size() << " points in " << format_number(b.seconds) << " s\n";
-    return finish("modes", judge_backbone(b, metrics, mo.tolerance));
+    Verdict verdict = judge_backbone(b, metrics, mo.tolerance);
+    verdict.add(frf_verdict);
+    return finish("modes", verdict);
 }
 
 void add_flags(CLI::App& command, ModesOptions& o) {
@@ -248,6 +322,12 @@ void add_flags(CLI::App& command, ModesOptions& o) {
                        "unit a) as CSV: w, a, w_mode, flank and the outputs' _amp1; valid near the resonance of a "
                        "mode well separated from the others")
         ->type_name("FILE.csv");
+    command.add_option("--plot-synthesis", o.plot_synthesis,
+                       "draw the synthesised response (as --synthesis-out) over the full harmonic-balance FRF of the same "
+                       "system and force (hbf frf over the synthesised band), the first output's first harmonic, "
+                       "with both peaks and their difference in the title (and a note on standard error) "
+                       "through gnuplot (.png or .svg)")
+        ->type_name("FILE.png|FILE.svg");
     command.add_option("--plot-damping", o.plot_damping,
                        "draw zeta and zeta_energy against a (log-log; values below 100 x --tolerance, rounding, left out) "
                        "through gnuplot (.png or .svg)")
