@@ -1188,7 +1188,8 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "modes",
         [](const PySystem& s, HarmonicBalanceOptions hbo, int mode, double near, double amplitude_min,
-           double amplitude_max, double tolerance, double max_step, int max_points, std::vector<Output> outputs) {
+           double amplitude_max, double tolerance, double max_step, int max_points, std::vector<Output> outputs,
+           bool synthesis) {
             // hbf modes: the full formulation, every harmonic (NonlinearModes refuses the others)
             if (hbo.formulation != Formulation::condensed) hbo.formulation = Formulation::full;
             hbo.modes = 0;
@@ -1206,9 +1207,12 @@ PYBIND11_MODULE(_core, m) {
             mo.min_step = std::min(mo.min_step, mo.initial_step);
             mo.max_points = max_points;
             Backbone b;
-            io::Table table;
+            io::Table table, synthesised;
             Verdict verdict;
             int harmonics = 0;
+            if (synthesis && s.system.excitation_harmonic != 1)
+                bad("synthesis: the response to F cos(w t) is synthesised: the system's excitation harmonic is " +
+                    std::to_string(s.system.excitation_harmonic) + " (allowed 1)");
             without_gil([&] {
                 NonlinearModes nm(s.system, hbo, mo);
                 b = nm.follow();
@@ -1219,6 +1223,7 @@ PYBIND11_MODULE(_core, m) {
                     normal.push_back(!metrics.empty() && !std::isnan(metrics.front().contacts.at(c).separated_fraction));
                 harmonics = nm.harmonic_balance().harmonics();
                 table = io::backbone_table(b, metrics, outputs, normal, harmonics);
+                if (synthesis) synthesised = io::synthesis_table(nm.synthesize(b, metrics, s.system.excitation, outputs), outputs);
                 verdict = judge_backbone(b, metrics, mo.tolerance);
                 return 0;
             });
@@ -1235,10 +1240,12 @@ PYBIND11_MODULE(_core, m) {
             v["status"] = verdict.status();
             v["errors"] = verdict.errors;
             v["warnings"] = verdict.warnings;
+            d["synthesis"] = synthesis ? py::object(table_columns(synthesised)) : py::object(py::none());
             return py::make_tuple(table_columns(table), d, v);
         },
         py::arg("system"), py::arg("options"), py::arg("mode"), py::arg("near"), py::arg("amplitude_min"),
-        py::arg("amplitude_max"), py::arg("tolerance"), py::arg("max_step"), py::arg("max_points"), py::arg("outputs"));
+        py::arg("amplitude_max"), py::arg("tolerance"), py::arg("max_step"), py::arg("max_points"), py::arg("outputs"),
+        py::arg("synthesis"));
 
     m.def(
         "analytic",

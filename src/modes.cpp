@@ -655,6 +655,29 @@ std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const s
     return c;
 }
 
+std::vector<Column> synthesis_columns(const std::vector<Output>& outputs) {
+    std::vector<Column> c = {
+        {"w", "excitation frequency of the synthesised forced response (the system's excitation F cos(w t))"},
+        {"a", "modal amplitude of the backbone point it comes from"},
+        {"w_mode", "that point's frequency w(a) (w = w_mode: phase resonance, where the synthesis is exact for a "
+                   "single mode)"},
+        {"flank", "-1 the lower root of (w_mode^2 - w^2)^2 + w^2 xi^2 = |psi^H F|^2 / a^2, +1 the upper",
+         ColumnType::integer}};
+    for (const Output& o : outputs)
+        c.push_back({o.name() + "_amp1", "first-harmonic amplitude of " + o.name() + "(t) (the mode's at a)"});
+    return c;
+}
+
+Table synthesis_table(const std::vector<SynthesisPoint>& curve, const std::vector<Output>& outputs) {
+    Table table{synthesis_columns(outputs), {}};
+    for (const SynthesisPoint& q : curve) {
+        std::vector<Cell> row = {q.omega, q.amplitude, q.mode_omega, static_cast<long long>(q.flank)};
+        for (double v : q.output_amp1) row.emplace_back(v);
+        table.add_row(std::move(row));
+    }
+    return table;
+}
+
 Table backbone_table(const Backbone& backbone, const std::vector<ModeMetrics>& metrics,
                      const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics) {
     Table table{backbone_columns(outputs, normal, harmonics), {}};

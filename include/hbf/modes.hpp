@@ -223,6 +223,11 @@ namespace io {
 /// per output <name>_max and <name>_amp1, per contact stick_fraction_c<k>, regime_c<k>
 /// [separated_fraction_c<k>], h0..hH (harmonic content), iterations, residual.
 std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics);
+/// The synthesised response's columns (hbf modes --synthesis-out, Python): w, a, w_mode, flank
+/// and each output's _amp1.
+std::vector<Column> synthesis_columns(const std::vector<Output>& outputs);
+/// One row per synthesised point.
+Table synthesis_table(const std::vector<SynthesisPoint>& curve, const std::vector<Output>& outputs);
 /// One row per point (metrics[k] belongs to backbone.points[k]).
 Table backbone_table(const Backbone& backbone, const std::vector<ModeMetrics>& metrics,
                      const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics);

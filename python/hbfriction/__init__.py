@@ -693,7 +693,7 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
 
 
 def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmonics=None, time_samples=None,
-          outputs=None, tolerance=None, max_step=None, max_points=None):
+          outputs=None, tolerance=None, max_step=None, max_points=None, synthesis=False):
     """A nonlinear mode by the extended periodic motion concept (hbf modes): frequency and modal
     damping ratio against the modal amplitude a (the M-norm of the first harmonic), followed from
     amplitude_min to amplitude_max from the stuck structure's linear mode `mode` (1-based, default
@@ -702,7 +702,9 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     outputs' amplitudes, per-contact shares, harmonic content), plus ``linear`` (dict: mode, omega,
     zeta, shape of the stuck mode), ``seconds`` and status/errors/warnings: incomplete where the
     backbone stops before amplitude_max or fails the energy balance, failed where its first point
-    does not converge (as hbf modes' exit codes 3 and 1)."""
+    does not converge (as hbf modes' exit codes 3 and 1). synthesis=True adds ``synthesis``: a
+    Table with hbf modes --synthesis-out's columns, the response to the system's excitation
+    synthesised from the mode."""
     _check_system(system)
     if mode is not None and near is not None:
         raise ValueError("modes: mode and near cannot both be given: the mode by its index or by a frequency")
@@ -717,8 +719,10 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     columns, details, verdict = _core.modes(
         system, s.harmonic_balance, int(d["mode"] if mode is None else mode), float(0.0 if near is None else near),
         float(amplitude_min), float(amplitude_max), float(d["tolerance"] if tolerance is None else tolerance),
-        float(d["max_step"] if max_step is None else max_step), int(d["max_points"] if max_points is None else max_points), o)
+        float(d["max_step"] if max_step is None else max_step), int(d["max_points"] if max_points is None else max_points), o,
+        bool(synthesis))
     table = Table(columns)
+    table.synthesis = Table(details["synthesis"]) if synthesis else None
     linear = dict(details)
     linear["shape"] = _np.array(details["shape"])
     table.linear = {k: linear[k] for k in ("mode", "omega", "zeta", "shape")}

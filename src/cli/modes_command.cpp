@@ -40,20 +40,6 @@ double number_in(const std::string& flag, const std::string& text, double low, d
     return v;
 }
 
-/// The columns of --synthesis-out.
-std::vector<io::Column> synthesis_columns(const std::vector<Output>& outputs) {
-    std::vector<io::Column> c = {
-        {"w", "excitation frequency of the synthesised forced response (the system's excitation F cos(w t))"},
-        {"a", "modal amplitude of the backbone point it comes from"},
-        {"w_mode", "that point's frequency w(a) (w = w_mode: phase resonance, where the synthesis is exact for a "
-                   "single mode)"},
-        {"flank", "-1 the lower root of (w_mode^2 - w^2)^2 + w^2 xi^2 = |psi^H F|^2 / a^2, +1 the upper",
-         io::ColumnType::integer}};
-    for (const Output& o : outputs)
-        c.push_back({o.name() + "_amp1", "first-harmonic amplitude of " + o.name() + "(t) (the mode's at a)"});
-    return c;
-}
-
 int run(const CLI::App& command, const ModesOptions& o) {
     o.output.check_plot();  // before any work
     if (given(command, "--plot-damping") && o.plot_damping.empty())
@@ -263,15 +249,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
         io::write_plot(o.plot_synthesis, spec);
         frf_verdict.note("--plot-synthesis: " + difference);
     }
-    if (synthesis) {
-        io::Table table{synthesis_columns(chosen.outputs), {}};
-        for (const SynthesisPoint& q : curve) {
-            std::vector<io::Cell> row = {q.omega, q.amplitude, q.mode_omega, static_cast<long long>(q.flank)};
-            for (double v : q.output_amp1) row.emplace_back(v);
-            table.add_row(std::move(row));
-        }
-        io::write_csv(synthesis->stream(), table);
-    }
+    if (synthesis) io::write_csv(synthesis->stream(), io::synthesis_table(curve, chosen.outputs));
     out.commit();
     if (summary) summary->commit();
     if (synthesis) synthesis->commit();

@@ -72,6 +72,22 @@ def test_command_writes_the_same_backbone(jenkins, tmp_path):
     assert '"status": "completed"' in summary.read_text()
 
 
+def test_synthesis_is_the_commands(jenkins, tmp_path):
+    out = tmp_path / "synthesis.csv"
+    run_hbf("modes", "--config", jenkins, "--amin", "0.01", "--amax", "10", "--harmonics", "3",
+            "--synthesis-out", str(out), "--out", os.devnull, "--quiet")
+    rows = list(csv.DictReader(io.StringIO(out.read_text())))
+    t = hbfriction.modes(hbfriction.load(jenkins), 0.01, 10.0, harmonics=3, synthesis=True)
+    s = t.synthesis
+    assert len(rows) == len(s) > 10
+    assert [float(r["w"]) for r in rows] == pytest.approx(list(s.w), rel=1e-14)
+    # Each point solves the mode's equation |w_mode^2 - w^2 + i w xi| a = |psi^H F| (F = 1 on the one DOF, m = 1).
+    xi = np.interp(s.a, t.a, t.xi)
+    lhs = np.abs(s.w_mode ** 2 - s.w ** 2 + 1j * s.w * xi) * s.a
+    assert np.max(np.abs(lhs - 1.0)) < 1e-3  # xi interpolated between backbone points
+    assert list(np.unique(s.flank)) == [-1, 1]
+
+
 def test_absorber_backbone_spans_stick_to_slip():
     # Exact Coulomb: stuck, the rigidly joined masses (omega^2 = k1 / (m1 + m2), nondimensional
     # 1 / (1 + r)); sliding, the lower mode of the released absorber.
