@@ -1190,12 +1190,6 @@ PYBIND11_MODULE(_core, m) {
         [](const PySystem& s, HarmonicBalanceOptions hbo, int mode, double near, double amplitude_min,
            double amplitude_max, double tolerance, double max_step, int max_points, std::vector<Output> outputs,
            bool synthesis) {
-            // hbf modes: the full formulation, every harmonic (NonlinearModes refuses the others)
-            if (hbo.formulation != Formulation::condensed) hbo.formulation = Formulation::full;
-            hbo.modes = 0;
-            hbo.jacobian = JacobianForm::dense;
-            if (outputs.empty()) outputs = s.reported();
-            for (const Output& o : outputs) o.validate(s.system.dofs());
             ModeOptions mo;
             mo.mode = mode;
             mo.near_frequency = near;
@@ -1206,42 +1200,29 @@ PYBIND11_MODULE(_core, m) {
             mo.initial_step = std::min(mo.initial_step, max_step);
             mo.min_step = std::min(mo.min_step, mo.initial_step);
             mo.max_points = max_points;
-            Backbone b;
-            io::Table table, synthesised;
-            Verdict verdict;
-            int harmonics = 0;
-            if (synthesis && s.system.excitation_harmonic != 1)
-                bad("synthesis: the response to F cos(w t) is synthesised: the system's excitation harmonic is " +
-                    std::to_string(s.system.excitation_harmonic) + " (allowed 1)");
+            if (outputs.empty()) outputs = s.reported();
+            ModeRun run;
             without_gil([&] {
-                NonlinearModes nm(s.system, hbo, mo);
-                b = nm.follow();
-                std::vector<ModeMetrics> metrics;
-                for (const ModePoint& p : b.points) metrics.push_back(nm.metrics(p, outputs));
-                std::vector<bool> normal;
-                for (std::size_t c = 0; c < s.system.contacts.size(); ++c)
-                    normal.push_back(!metrics.empty() && !std::isnan(metrics.front().contacts.at(c).separated_fraction));
-                harmonics = nm.harmonic_balance().harmonics();
-                table = io::backbone_table(b, metrics, outputs, normal, harmonics);
-                if (synthesis) synthesised = io::synthesis_table(nm.synthesize(b, metrics, s.system.excitation, outputs), outputs);
-                verdict = judge_backbone(b, metrics, mo.tolerance);
+                run = compute_mode(s.system, hbo, mo, outputs, synthesis);
                 return 0;
             });
+            const Backbone& b = run.backbone;
             py::dict d;
             d["mode"] = b.linear.index;
             d["omega"] = b.linear.omega;
             d["zeta"] = b.linear.zeta;
             d["shape"] = to_list(b.linear.shape);
-            d["harmonics"] = harmonics;
+            d["harmonics"] = run.harmonics;
             d["message"] = b.message;
             d["seconds"] = b.seconds;
             d["evaluations"] = b.evaluations;
             py::dict v;
-            v["status"] = verdict.status();
-            v["errors"] = verdict.errors;
-            v["warnings"] = verdict.warnings;
-            d["synthesis"] = synthesis ? py::object(table_columns(synthesised)) : py::object(py::none());
-            return py::make_tuple(table_columns(table), d, v);
+            v["status"] = run.verdict.status();
+            v["errors"] = run.verdict.errors;
+            v["warnings"] = run.verdict.warnings;
+            d["synthesis"] = synthesis ? py::object(table_columns(io::synthesis_table(run.synthesis, outputs)))
+                                       : py::object(py::none());
+            return py::make_tuple(table_columns(run.table), d, v);
         },
         py::arg("system"), py::arg("options"), py::arg("mode"), py::arg("near"), py::arg("amplitude_min"),
         py::arg("amplitude_max"), py::arg("tolerance"), py::arg("max_step"), py::arg("max_points"), py::arg("outputs"),

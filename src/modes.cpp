@@ -619,6 +619,36 @@ Verdict judge_backbone(const Backbone& backbone, const std::vector<ModeMetrics>&
     return verdict;
 }
 
+HarmonicBalanceOptions mode_harmonic_balance(HarmonicBalanceOptions hbo) {
+    if (hbo.formulation != Formulation::condensed) hbo.formulation = Formulation::full;
+    hbo.modes = 0;
+    hbo.jacobian = JacobianForm::dense;
+    return hbo;
+}
+
+ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const ModeOptions& options,
+                     std::vector<Output> outputs, bool synthesis) {
+    if (outputs.empty())
+        for (int i = 0; i < system.dofs(); ++i) outputs.push_back(Output::dof(i));
+    for (const Output& o : outputs) o.validate(system.dofs());
+    if (synthesis && system.excitation_harmonic != 1)
+        throw InvalidInput("synthesis: the response to F cos(w t) is synthesised: the system's excitation harmonic is " +
+                           std::to_string(system.excitation_harmonic) + " (allowed 1)");
+    NonlinearModes nm(system, mode_harmonic_balance(hbo), options);
+    ModeRun run;
+    run.backbone = nm.follow();
+    for (const ModePoint& p : run.backbone.points) run.metrics.push_back(nm.metrics(p, outputs));
+    std::vector<bool> normal;  // the contacts with a normal direction: a separated_fraction column
+    for (std::size_t c = 0; c < system.contacts.size(); ++c)
+        normal.push_back(!run.metrics.empty() && !std::isnan(run.metrics.front().contacts.at(c).separated_fraction));
+    run.harmonics = nm.harmonic_balance().harmonics();
+    run.time_samples = nm.harmonic_balance().time_samples();
+    run.table = io::backbone_table(run.backbone, run.metrics, outputs, normal, run.harmonics);
+    if (synthesis) run.synthesis = nm.synthesize(run.backbone, run.metrics, system.excitation, outputs);
+    run.verdict = judge_backbone(run.backbone, run.metrics, options.tolerance);
+    return run;
+}
+
 namespace io {
 
 std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics) {

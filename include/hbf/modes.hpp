@@ -216,6 +216,25 @@ private:
 /// energy_balance_limit(tolerance)). hbf modes' exit code and Python's status.
 Verdict judge_backbone(const Backbone& backbone, const std::vector<ModeMetrics>& metrics, double tolerance);
 
+/// One nonlinear mode as the front ends compute it (hbf modes, Python's modes()): the backbone,
+/// its points' metrics, its table, the synthesised response (with `synthesis`) and the verdict.
+struct ModeRun {
+    Backbone backbone;
+    std::vector<ModeMetrics> metrics;
+    io::Table table;
+    std::vector<SynthesisPoint> synthesis;  ///< the response to system.excitation (with `synthesis`)
+    Verdict verdict;
+    int harmonics = 0, time_samples = 0;
+};
+/// `hbo` is used in the full formulation with every harmonic (NonlinearModes: InvalidInput for
+/// condensed or odd harmonics); `outputs` empty: every DOF. Throws InvalidInput as
+/// NonlinearModes and for `synthesis` on a system whose excitation harmonic is not 1.
+ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const ModeOptions& options,
+                     std::vector<Output> outputs, bool synthesis);
+/// The options compute_mode uses (formulation full unless condensed, which it refuses; the
+/// direct structure, the dense Jacobian).
+HarmonicBalanceOptions mode_harmonic_balance(HarmonicBalanceOptions hbo);
+
 namespace io {
 /// The backbone's columns for `outputs`, `contacts` contacts (`normal`: which have a normal
 /// direction: a separated_fraction column) and H harmonics, in order (the CSV header, --help and

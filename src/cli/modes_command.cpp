@@ -97,29 +97,25 @@ int run(const CLI::App& command, const ModesOptions& o) {
     if (hbo.formulation == Formulation::condensed)
         throw UsageError("--config: solver.formulation = condensed is not available for hbf modes yet: the full "
                          "formulation is used (remove the line or set it to automatic or full)");
-    hbo.formulation = Formulation::full;
-    hbo.modes = 0;
-    hbo.jacobian = JacobianForm::dense;
     if (hbo.odd_harmonics) throw UsageError("--harmonics odd: hbf modes balances every harmonic (a mode may have a mean)");
 
     ProgressLine progress(o.output.progress(), "modes");
     mo.progress = [&progress](double a, int points) {
         progress.update("a = " + format_number(a) + ", " + std::to_string(points) + " points");
     };
-    NonlinearModes nm(chosen.system, hbo, mo);  // throws InvalidInput: a mode out of range, a rigid-body mode
+    // Every check of the run (a mode out of range, a rigid-body mode: InvalidInput) before any output.
+    const NonlinearModes checked(chosen.system, mode_harmonic_balance(hbo), mo);
     if (o.output.dry_run) return o.output.dry_run_done("modes");
     io::OutputFile out(o.output.out);
     std::unique_ptr<io::OutputFile> synthesis;
     if (!o.synthesis_out.empty()) synthesis = std::make_unique<io::OutputFile>(o.synthesis_out);
-    const Backbone b = nm.follow();
+    const ModeRun run = compute_mode(chosen.system, hbo, mo, chosen.outputs, synthesise);
     progress.clear();
-    std::vector<ModeMetrics> metrics;
-    for (const ModePoint& p : b.points) metrics.push_back(nm.metrics(p, chosen.outputs));
-    std::vector<bool> normal;
-    for (std::size_t c = 0; c < chosen.system.contacts.size(); ++c)
-        normal.push_back(!metrics.empty() && !std::isnan(metrics.front().contacts.at(c).separated_fraction));
-    const int harmonics = nm.harmonic_balance().harmonics();
-    io::write_csv(out.stream(), io::backbone_table(b, metrics, chosen.outputs, normal, harmonics));
+    const Backbone& b = run.backbone;
+    const std::vector<ModeMetrics>& metrics = run.metrics;
+    const std::vector<SynthesisPoint>& curve = run.synthesis;
+    const int harmonics = run.harmonics;
+    io::write_csv(out.stream(), run.table);
     const std::string title = "hbf modes: " + (o.config.empty() ? chosen.law_name : o.config) + ", mode " +
                               std::to_string(b.linear.index) + ", H = " + std::to_string(harmonics);
     if (!o.output.plot.empty()) {
@@ -171,7 +167,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
         j["mode"] = b.linear.index;
         j["linear"] = {{"omega", b.linear.omega}, {"zeta", b.linear.zeta}};
         j["harmonics"] = harmonics;
-        j["time_samples"] = nm.harmonic_balance().time_samples();
+        j["time_samples"] = run.time_samples;
         j["amplitude_range"] = {mo.amplitude_min, mo.amplitude_max};
         j["status"] = to_string(b.status);
         j["message"] = b.message;
@@ -187,8 +183,6 @@ int run(const CLI::App& command, const ModesOptions& o) {
         summary = std::make_unique<io::OutputFile>(o.output.summary);
         summary->stream() << j.dump(2) << '\n';
     }
-    std::vector<SynthesisPoint> curve;
-    if (synthesise) curve = nm.synthesize(b, metrics, chosen.system.excitation, chosen.outputs);
     Verdict frf_verdict;
     if (!o.plot_synthesis.empty()) {
         // The synthesis over the full harmonic-balance FRF of the same system and force (hbf frf
@@ -257,7 +251,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
         std::cerr << "hbf modes: mode " << b.linear.index << " (stuck: w = " << format_number(b.linear.omega)
                   << ", zeta = " << format_number(b.linear.zeta) << "): " << to_string(b.status) << ", "
                   << b.points.size() << " points in " << format_number(b.seconds) << " s\n";
-    Verdict verdict = judge_backbone(b, metrics, mo.tolerance);
+    Verdict verdict = run.verdict;
     verdict.add(frf_verdict);
     return finish("modes", verdict);
 }
