@@ -149,7 +149,8 @@ for v in 0 -1 'a,b' '1,,2' ''; do expect 2 "--at" '' frf --at "$v" --out x.csv; 
 for v in nan inf -1 0 abc 1e-999 ''; do expect 2 "--amin" '' modes --amin "$v" --amax 1 --out x.csv; done
 for v in 0.05 nan 1e400 ''; do expect 2 "--amax" '' modes --amin 0.1 --amax "$v" --out x.csv; done
 expect 2 "--amin is required" '' modes --amax 1 --out x.csv
-expect 2 "twelve decades" '' modes --amin 1e-20 --amax 1 --out x.csv
+expect 2 "decades: allowed up to 12" '' modes --amin 1e-20 --amax 1 --out x.csv
+expect 2 "decades: allowed up to 12" '' modes --amin 1e-300 --amax 1e300 --out x.csv
 for v in 0 -1 1.5 abc; do expect 2 "--mode" '' modes --mode "$v" --amin 0.1 --amax 1 --out x.csv; done
 expect 2 "mode = 2 is out of range: allowed 1..1" '' modes --mode 2 --amin 0.1 --amax 1 --out x.csv
 for v in 0 -1 nan; do expect 2 "--near" '' modes --near "$v" --amin 0.1 --amax 1 --out x.csv; done

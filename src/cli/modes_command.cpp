@@ -78,9 +78,10 @@ int run(const CLI::App& command, const ModesOptions& o) {
     mo.amplitude_max = parse_double("--amax", o.amax);
     if (!(mo.amplitude_max > mo.amplitude_min))
         throw UsageError("--amax = " + o.amax + " is out of range: allowed > --amin = " + format_number(mo.amplitude_min));
-    if (std::log10(mo.amplitude_max / mo.amplitude_min) > 12.0)
-        throw UsageError("--amax / --amin = " + format_number(mo.amplitude_max / mo.amplitude_min) +
-                         " is out of range: allowed up to 1e12 (twelve decades)");
+    const double decades = std::log10(mo.amplitude_max) - std::log10(mo.amplitude_min);  // no overflow
+    if (decades > 12.0)
+        throw UsageError("--amax / --amin spans " + format_number(std::round(decades * 100.0) / 100.0) +
+                         " decades: allowed up to 12 (--amax <= 1e12 --amin)");
     mo.tolerance = number_in("--tolerance", o.tolerance, CorrectorOptions::smallest_tolerance,
                              CorrectorOptions::largest_tolerance, false);
     mo.max_step = number_in("--max-step", o.max_step, 0.0, 1.0, true);
