@@ -664,7 +664,8 @@ std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const s
         {"energy", "energy dissipated per cycle by the contacts and the viscous damping C"},
         {"friction_energy", "energy the contacts dissipate per cycle (integral of f q' on the AFT grid)"},
         {"viscous_energy", "energy C dissipates per cycle"},
-        {"energy_error", "energy balance |xi-injected - energy| relative to the larger of them (floor: 1e-8 2 pi w^2 a^2)"}};
+        {"energy_error", "energy balance |xi-injected - energy - normal forces' work on the AFT grid| relative to the "
+                         "larger of xi-injected and energy (floor: 1e-8 2 pi w^2 a^2)"}};
     for (const Output& o : outputs) {
         c.push_back({o.name() + "_max", "max over one period of |" + o.name() + "(t)|"});
         c.push_back({o.name() + "_amp1", "first-harmonic amplitude of " + o.name() + "(t)"});

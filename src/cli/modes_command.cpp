@@ -315,8 +315,9 @@ M y'' + (C - xi M) y' + K y + f_contacts = F_s, xi the artificial damping that m
 periodic, by harmonic balance (full formulation) with the amplitude and phase of the first
 harmonic c1 cos + s1 sin fixed (sqrt(c1^T M c1 + s1^T M s1) = a, phi^T M s1 = 0, phi the stuck
 mode), followed from --amin to --amax by pseudo-arclength in log a (the backbone may turn back in
-a) from the stuck structure's linear mode. The system's excitation is used only by
---synthesis-out. Nondimensional for the preset (y in x_s = N/k1, w in omega1).
+a) from the stuck structure's linear mode. The system's excitation (the preset: --fe) is used
+only by --synthesis-out and --plot-synthesis. Nondimensional for the preset (y in x_s = N/k1, w
+in omega1).
 Columns:)",
         io::backbone_columns({Output::dof(0), Output::dof(1)}, {false}, 1),
         R"((y1, y2: the system's outputs; one stick_fraction/regime pair per contact, separated_fraction for
