@@ -646,6 +646,22 @@ ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const Mod
     run.table = io::backbone_table(run.backbone, run.metrics, outputs, normal, run.harmonics);
     if (synthesis) run.synthesis = nm.synthesize(run.backbone, run.metrics, system.excitation, outputs);
     run.verdict = judge_backbone(run.backbone, run.metrics, options.tolerance);
+    if (synthesis && !run.backbone.points.empty()) {
+        // The synthesis covers the backbone's amplitudes only: a response that reaches its last
+        // point has its peak beyond it (the curve is cut, not a peak); none at all means the
+        // force sustains no computed amplitude (the response lies below the first point).
+        const double last = run.backbone.points.back().amplitude;
+        const bool cut = std::any_of(run.synthesis.begin(), run.synthesis.end(),
+                                     [&](const SynthesisPoint& q) { return q.amplitude == last; });
+        if (cut)
+            run.verdict.warning("the synthesised response is cut at the backbone's last point a = " + format_number(last) +
+                                ": the excitation sustains that amplitude, so its peak lies beyond the backbone "
+                                "(raise the amplitude range's upper end)");
+        else if (run.synthesis.empty())
+            run.verdict.warning("the synthesised response is empty: the excitation sustains no amplitude of the backbone "
+                                "(its response lies below a = " + format_number(run.backbone.points.front().amplitude) +
+                                ": lower the amplitude range's lower end)");
+    }
     return run;
 }
 

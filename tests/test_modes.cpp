@@ -291,6 +291,42 @@ TEST_CASE("Single-nonlinear-mode synthesis: at its phase resonance it is the for
     CHECK(std::abs(at.point.x(1)) <= 1e-7 * amplitude);
 }
 
+TEST_CASE("Single-nonlinear-mode synthesis: a response cut at the backbone's end or empty is a warning, not a result", "[modes]") {
+    // The Jenkins oscillator at H = 1: the largest amplitude F sustains is the phase resonance's,
+    // xi w a = F / sqrt(m) (the test above). Where the backbone's last point still has
+    // xi w a < F / sqrt(m) the synthesised peak lies beyond it (the curve is cut); where the
+    // first point already has xi w a > F / sqrt(m) no backbone amplitude is sustained.
+    const double m = 1.0;
+    ModeOptions o;
+    o.amplitude_min = 0.05;
+    o.amplitude_max = 10.0;
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 1;
+    hbo.time_samples = 256;
+    auto warned = [](const Verdict& v, const std::string& what) {
+        for (const std::string& w : v.warnings)
+            if (w.find(what) != std::string::npos) return true;
+        return false;
+    };
+    for (double force : {1.0, 0.03, 1e-4}) {
+        System s = jenkins_oscillator(m, 0.01, 1.0, 0.5, 0.1);
+        s.excitation(0) = force;
+        const ModeRun run = compute_mode(s, hbo, o, {}, true);
+        REQUIRE(run.backbone.status == ModeStatus::completed);
+        const ModePoint& first = run.backbone.points.front();
+        const ModePoint& last = run.backbone.points.back();
+        const bool beyond = last.xi * last.omega * last.amplitude < force / std::sqrt(m);
+        const bool below = first.xi * first.omega * first.amplitude > force / std::sqrt(m);
+        INFO("force " << force);
+        CHECK(beyond == (force == 1.0));  // the three cases are what they are meant to be
+        CHECK(below == (force == 1e-4));
+        CHECK(warned(run.verdict, "cut at the backbone's last point") == beyond);
+        CHECK(warned(run.verdict, "synthesised response is empty") == below);
+        CHECK(run.synthesis.empty() == below);
+        CHECK(run.verdict.status() == std::string(beyond || below ? "incomplete" : "completed"));
+    }
+}
+
 TEST_CASE("Nonlinear modes with lift-off: the energy balance closes through stick, slip and separation", "[modes]") {
     // liftoff3.toml (law elastic, a preloaded contact that separates): the energy xi feeds in
     // equals what C and the contact dissipate, to the tolerance's level, at every point; the

@@ -701,7 +701,9 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     the laws). Returns a Table with hbf modes' columns (a, w, xi, zeta, zeta_energy, energies, the
     outputs' amplitudes, per-contact shares, harmonic content), plus ``linear`` (dict: mode, omega,
     zeta, shape of the stuck mode), ``seconds`` and status/errors/warnings: incomplete where the
-    backbone stops before amplitude_max or fails the energy balance, failed where its first point
+    backbone stops before amplitude_max or fails the energy balance, or (synthesis=True) where the
+    synthesised response is cut at the backbone's last point (its peak lies beyond amplitude_max)
+    or empty (below amplitude_min); failed where its first point
     does not converge (as hbf modes' exit codes 3 and 1). synthesis=True adds ``synthesis``: a
     Table with hbf modes --synthesis-out's columns, the response to the system's excitation
     synthesised from the mode."""

@@ -323,7 +323,8 @@ Columns:)",
         R"((y1, y2: the system's outputs; one stick_fraction/regime pair per contact, separated_fraction for
 contacts with a normal direction; h0..hH for the H harmonics.) Exit code 0 when the backbone spans
 [amin, amax]; 3 when it stops early (Newton fails at the smallest step, the point budget) or a point
-fails the energy balance, with every point computed written; 1 when the first point fails; 2 for
+fails the energy balance, or the synthesised response (--synthesis-out, --plot-synthesis) is cut at
+the backbone's last point (its peak lies beyond --amax) or empty, with every point computed written; 1 when the first point fails; 2 for
 bad input (a mode out of range, a rigid-body mode, an empty amplitude range).)"));
 }
 

@@ -73,11 +73,15 @@ def test_command_writes_the_same_backbone(jenkins, tmp_path):
 
 
 def test_synthesis_is_the_commands(jenkins, tmp_path):
+    # F = 1 sustains up to a ~ 100 (released: xi w a ~ c a + 4 F_c / pi = F), inside the range:
+    # a complete synthesis (exit 0); with amax 10 its peak lies beyond and the curve is cut (exit 3).
     out = tmp_path / "synthesis.csv"
-    run_hbf("modes", "--config", jenkins, "--amin", "0.01", "--amax", "10", "--harmonics", "3",
-            "--synthesis-out", str(out), "--out", os.devnull, "--quiet")
+    code, _, err = run_hbf("modes", "--config", jenkins, "--amin", "0.01", "--amax", "300", "--harmonics", "3",
+                           "--synthesis-out", str(out), "--out", os.devnull, "--quiet")
+    assert code == 0, err
     rows = list(csv.DictReader(io.StringIO(out.read_text())))
-    t = hbfriction.modes(hbfriction.load(jenkins), 0.01, 10.0, harmonics=3, synthesis=True)
+    t = hbfriction.modes(hbfriction.load(jenkins), 0.01, 300.0, harmonics=3, synthesis=True)
+    assert t.status == "completed"
     s = t.synthesis
     assert len(rows) == len(s) > 10
     assert [float(r["w"]) for r in rows] == pytest.approx(list(s.w), rel=1e-14)
@@ -86,6 +90,12 @@ def test_synthesis_is_the_commands(jenkins, tmp_path):
     lhs = np.abs(s.w_mode ** 2 - s.w ** 2 + 1j * s.w * xi) * s.a
     assert np.max(np.abs(lhs - 1.0)) < 1e-3  # xi interpolated between backbone points
     assert list(np.unique(s.flank)) == [-1, 1]
+    code, _, err = run_hbf("modes", "--config", jenkins, "--amin", "0.01", "--amax", "10", "--harmonics", "3",
+                           "--synthesis-out", str(out), "--out", os.devnull, "--quiet", check=False)
+    assert code == 3 and "cut at the backbone's last point a = 10" in err
+    with pytest.warns(hbfriction.IncompleteResultWarning, match="cut at the backbone"):
+        cut = hbfriction.modes(hbfriction.load(jenkins), 0.01, 10.0, harmonics=3, synthesis=True)
+    assert cut.status == "incomplete" and max(cut.synthesis.a) == cut.a[-1]
 
 
 def test_absorber_backbone_spans_stick_to_slip():
