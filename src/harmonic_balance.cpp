@@ -379,7 +379,7 @@ bool HarmonicBalance::prepare_receptance(double omega) {
         }
         Receptance::Harmonic& h = (*harmonic_)[static_cast<std::size_t>(k)];
         // The N-long solution: in dofs(). Structured with the modal receptance: G_k factored.
-        if (k > 0) h = receptance_->solve(k, omega, k == load_harmonic(), false, !structured_);
+        if (k > 0) h = receptance_->solve(k, omega, carries_load(k), false, !structured_);
         if (!h.ok) {
             structure_failure_ = h.message;
             return false;
@@ -400,7 +400,10 @@ bool HarmonicBalance::prepare_receptance(double omega) {
                 g = h.contact(c, c);
                 g_omega = k > 0 ? h.contact_omega(c, c) : 0.0;
             }
-            const double floor = 1e-10 * static_flexibility_(c), size = std::abs(g);
+            // A free motion (set_free_motion) sits where G_k,cc -> 0 (an exact Coulomb contact
+            // stuck: the mode is G's antiresonance), so its floor is higher: the scale stays
+            // constant, and the rows smooth in omega and xi, around that point.
+            const double floor = (free_ ? 1e-3 : 1e-10) * static_flexibility_(c), size = std::abs(g);
             const bool dynamic = size < static_flexibility_(c) && size > floor && k > 0;
             row_scale_(k, c) = 1.0 / std::max(std::min(size, static_flexibility_(c)), floor);
             row_scale_omega_(k, c) =
@@ -438,6 +441,58 @@ Eigen::MatrixXd HarmonicBalance::shifted_forces(const Eigen::VectorXd& x, double
     return forces;
 }
 
+void HarmonicBalance::set_free_motion(double xi) {
+    if (!condensed_)
+        throw InvalidInput("set_free_motion: the condensed formulation's (the full formulation adds -xi w (D1 Y) M itself)");
+    if (odd_) throw InvalidInput("set_free_motion: not with odd harmonics only (a free motion may have even harmonics)");
+    if (free_ && xi == receptance_->mass_damping()) return;
+    receptance_->set_mass_damping(xi);
+    free_ = true;
+    receptance_omega_ = -1.0;  // every receptance k >= 1 again at the next evaluation
+}
+
+Eigen::MatrixXcd HarmonicBalance::contact_response(int k, double omega) {
+    if (!condensed_) throw InvalidInput("contact_response: the condensed formulation's");
+    if (k < 1 || k > harmonics())
+        throw InvalidInput("contact_response: harmonic k = " + std::to_string(k) + " is out of range: allowed 1.." +
+                           std::to_string(harmonics()));
+    const Receptance::Harmonic h = receptance_->solve(k, omega, false, true, true);
+    if (!h.ok || !h.solution.allFinite()) return {};
+    return h.solution.leftCols(signals_);
+}
+
+Eigen::VectorXcd HarmonicBalance::shifted_force_harmonic(const Eigen::VectorXd& x, double omega, int k,
+                                                         Eigen::MatrixXcd* d_x) {
+    if (!condensed_ || odd_) throw InvalidInput("shifted_force_harmonic: the condensed formulation's, every harmonic");
+    if (k < 1 || k > harmonics())
+        throw InvalidInput("shifted_force_harmonic: harmonic k = " + std::to_string(k) + " is out of range: allowed 1.." +
+                           std::to_string(harmonics()));
+    using Complex = std::complex<double>;
+    const int n = coefficients(), nc = static_cast<int>(models_.size());
+    Eigen::VectorXcd lambda(signals_);
+    if (d_x) d_x->setZero(signals_, unknowns_);
+    for (int c = 0; c < nc; ++c) {
+        const auto cc = static_cast<std::size_t>(c);
+        const int offset = state_offset_[cc], first = signal_first_[cc], count = signal_count_[cc];
+        const int states = state_count_[cc] * n;
+        const Eigen::VectorXd q = x.segment(first * n, count * n);
+        const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, states));
+        FrictionEvaluation& e = scratch_;
+        models_[cc]->evaluate(*fourier_, omega, q, z, e, d_x != nullptr);
+        shift_force(c, omega, q, e, d_x != nullptr);
+        for (int j = 0; j < count; ++j) {
+            const int a = first + j, cos_row = j * n + 2 * k - 1, sin_row = cos_row + 1;
+            lambda(a) = Complex(e.force(cos_row), -e.force(sin_row));  // c - i s
+            if (!d_x) continue;
+            for (int col = 0; col < count * n; ++col)
+                (*d_x)(a, first * n + col) = Complex(e.force_q(cos_row, col), -e.force_q(sin_row, col));
+            for (int col = 0; offset >= 0 && col < states; ++col)
+                (*d_x)(a, offset + col) = Complex(e.force_z(cos_row, col), -e.force_z(sin_row, col));
+        }
+    }
+    return lambda;
+}
+
 Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double omega) {
     const int n = coefficients(), dofs = system_.dofs();
     const Eigen::VectorXd x = all_harmonics(unknowns);
@@ -451,7 +506,7 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double om
     // Z_k^-1 [W, F]: kept by the direct solve (the modal one applies Z_k^-1 to the forces below).
     auto solved = [&](int k) -> const Receptance::Harmonic& {
         Receptance::Harmonic& h = (*harmonic_)[static_cast<std::size_t>(k)];
-        if (h.solution.size() == 0) h = receptance_->solve(k, omega, k == load_harmonic(), true);
+        if (h.solution.size() == 0) h = receptance_->solve(k, omega, carries_load(k), true);
         return h;
     };
     if (odd_)
@@ -472,11 +527,11 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double om
         if (modes_ > 0 && kept.solution.size() == 0) {
             // The modal receptance applies Z'_k^-1 to this one right-hand side: O(N (m + n_c))
             // instead of forming Z'_k^-1 W (N x n_c; 90 % of a 99-node interface's FRF).
-            amplitude = receptance_->modal_response(k, omega, lambda, k == load_harmonic());
+            amplitude = receptance_->modal_response(k, omega, lambda, carries_load(k));
         } else {
             const Receptance::Harmonic& h = solved(k);
             amplitude = -h.solution.leftCols(ns) * lambda;
-            if (k == load_harmonic()) amplitude += h.solution.col(ns);
+            if (carries_load(k)) amplitude += h.solution.col(ns);
         }
         y.row(2 * k - 1) = amplitude.real().transpose();
         y.row(2 * k) = -amplitude.imag().transpose();
@@ -495,7 +550,7 @@ double HarmonicBalance::amplitude_bound(const Eigen::VectorXd& x, double omega) 
                 k == 0 ? Eigen::VectorXcd(forces.row(0).transpose().cast<std::complex<double>>())
                        : Eigen::VectorXcd(forces.row(2 * k - 1).transpose().cast<std::complex<double>>() -
                                           std::complex<double>(0.0, 1.0) * forces.row(2 * k).transpose());
-            bound += receptance_->response_bound(k, omega, lambda, k == load_harmonic());
+            bound += receptance_->response_bound(k, omega, lambda, carries_load(k));
         }
         // the static load's deflection K'^-1 F_s on harmonic 0 (dofs() adds it)
         if (static_deflection_.size() > 0) bound += static_deflection_.cwiseAbs().maxCoeff();
@@ -630,11 +685,11 @@ void HarmonicBalance::evaluate_structured(const Eigen::VectorXd& x, double omega
     Eigen::Map<Eigen::MatrixXd> rq(residual.data(), n, ns);
     rq = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, ns);
     const Receptance::Harmonic& loaded = (*harmonic_)[static_cast<std::size_t>(load_harmonic())];
-    add_harmonic_amplitudes(-loaded.contact_load, load_harmonic(), rq);
+    if (!free_) add_harmonic_amplitudes(-loaded.contact_load, load_harmonic(), rq);
     if (static_contact_.size() > 0) rq.row(0) -= static_contact_.transpose();
     Eigen::Map<Eigen::MatrixXd> rw(jacobian_omega ? jacobian_omega->data() : nullptr, jacobian_omega ? n : 0,
                                    jacobian_omega ? ns : 0);
-    if (jacobian_omega) add_harmonic_amplitudes(-loaded.contact_load_omega, load_harmonic(), rw);
+    if (jacobian_omega && !free_) add_harmonic_amplitudes(-loaded.contact_load_omega, load_harmonic(), rw);
     if (jacobian) {
         jacobian->coefficients_ = n;
         jacobian->signals_ = ns;
@@ -707,7 +762,7 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
     rq = Eigen::Map<const Eigen::MatrixXd>(x.data(), n, ns);
     const int cos_row = 2 * load_harmonic() - 1, sin_row = cos_row + 1;
     const Receptance::Harmonic& loaded = (*harmonic_)[static_cast<std::size_t>(load_harmonic())];
-    for (int a = 0; a < ns; ++a) {
+    for (int a = 0; a < ns && !free_; ++a) {
         rq(cos_row, a) -= loaded.contact_load(a).real();
         rq(sin_row, a) += loaded.contact_load(a).imag();  // s = -Im
     }
@@ -718,7 +773,7 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
     }
     if (jacobian_omega) {
         jacobian_omega->setZero(all_unknowns_);
-        for (int a = 0; a < ns; ++a) {
+        for (int a = 0; a < ns && !free_; ++a) {
             (*jacobian_omega)(a * n + cos_row) = -loaded.contact_load_omega(a).real();
             (*jacobian_omega)(a * n + sin_row) = loaded.contact_load_omega(a).imag();
         }

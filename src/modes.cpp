@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 
 #include "hbf/contact.hpp"
@@ -141,9 +142,6 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
     : system_(std::move(system)), options_(options) {
     options_.validate();
     hbo.validate();
-    if (hbo.formulation == Formulation::condensed)
-        throw InvalidInput("formulation = condensed is not available for nonlinear modes: allowed automatic or full "
-                           "(the full formulation is used)");
     if (hbo.odd_harmonics)
         throw InvalidInput("odd harmonics only is not available for nonlinear modes (the modal motion may have a mean "
                            "and even harmonics): allowed every harmonic");
@@ -175,11 +173,20 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
     unforced.excitation = Eigen::VectorXd::Zero(system_.dofs());
     unforced.excitation(0) = 1.0;
     unforced.excitation_harmonic = 1;
-    HarmonicBalanceOptions full = hbo;
-    full.formulation = Formulation::full;
-    full.modes = 0;
-    full.jacobian = JacobianForm::dense;
-    hb_ = std::make_unique<HarmonicBalance>(unforced, full);
+    hb_ = std::make_unique<HarmonicBalance>(unforced, mode_harmonic_balance(hbo, system_));
+    condensed_ = hb_->formulation() == Formulation::condensed;
+    guess_shape_ = linear_.shape;
+    if (condensed_) {
+        hb_->set_free_motion(0.0);  // the placeholder load dropped; xi set per evaluation
+        std::vector<Eigen::VectorXd> directions;
+        for (const Contact& c : system_.contacts) {
+            const Eigen::MatrixXd w = system_.contact_directions(c);
+            for (Eigen::Index j = 0; j < w.cols(); ++j) directions.push_back(w.col(j));
+        }
+        guess_shape_.resize(static_cast<Eigen::Index>(directions.size()));
+        for (std::size_t a = 0; a < directions.size(); ++a)
+            guess_shape_(static_cast<Eigen::Index>(a)) = directions[a].dot(linear_.shape);
+    }
     m_phi_ = system_.mass * linear_.shape;
     force_unit_ = linear_.omega * linear_.omega * infinity_norm(m_phi_);
     phi_max_ = infinity_norm(linear_.shape);
@@ -190,6 +197,7 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
 
 void NonlinearModes::residual(const Eigen::VectorXd& x, double omega, double xi, double amplitude, Eigen::VectorXd& r,
                               Eigen::MatrixXd* jacobian) {
+    if (condensed_) return residual_condensed(x, omega, xi, amplitude, r, jacobian);
     const int n = hb_->coefficients(), dofs = system_.dofs(), u = hb_->unknowns();
     Eigen::VectorXd structure, structure_omega;
     Eigen::MatrixXd structure_x;
@@ -232,6 +240,87 @@ void NonlinearModes::residual(const Eigen::VectorXd& x, double omega, double xi,
     }
 }
 
+void NonlinearModes::residual_condensed(const Eigen::VectorXd& x, double omega, double xi, double amplitude,
+                                        Eigen::VectorXd& r, Eigen::MatrixXd* jacobian) {
+    const int u = hb_->unknowns();
+    using Complex = std::complex<double>;
+    const Eigen::VectorXcd m_phi = m_phi_.cast<Complex>();
+    // The amplitude row's |Y_1|_M and the phase row's phi^T M s1 of y's first harmonic Y_1 =
+    // -Z'_1^-1 W Lambda'_1 (the contacts' shifted forces: dofs()'s recovery; not through the
+    // contacts' motion Q_1, which vanishes while an exact Coulomb contact sticks); with
+    // `gradients` their derivatives in x (dY_1 = -Z'_1^-1 W dLambda'_1).
+    struct Rows {
+        double norm = std::numeric_limits<double>::quiet_NaN(), sine = std::numeric_limits<double>::quiet_NaN();
+        Eigen::RowVectorXd norm_x, sine_x;
+    };
+    auto rows = [&](double at_omega, bool gradients) {
+        Rows out;
+        Eigen::MatrixXcd d_lambda;
+        const Eigen::VectorXcd lambda = hb_->shifted_force_harmonic(x, at_omega, 1, gradients ? &d_lambda : nullptr);
+        const Eigen::MatrixXcd response = hb_->contact_response(1, at_omega);
+        if (response.size() == 0) return out;
+        const Eigen::VectorXcd y1 = -(response * lambda);
+        Eigen::VectorXcd my(y1.size());
+        my.real() = system_.mass * y1.real();
+        my.imag() = system_.mass * y1.imag();
+        out.norm = std::sqrt(std::max(0.0, y1.dot(my).real()));  // Y^H M Y
+        out.sine = -(m_phi.dot(y1)).imag();                        // s1 = -Im Y_1
+        if (gradients) {
+            // (M Y)^H dY = v^H dLambda with v = -R^H M Y; phi^T M dY = b^T dLambda with b = -R^T M phi.
+            const Eigen::VectorXcd v = -(response.adjoint() * my), b = -(response.transpose() * m_phi);
+            out.norm_x = out.norm > 0.0 ? Eigen::RowVectorXd((v.adjoint() * d_lambda).real() / out.norm)
+                                        : Eigen::RowVectorXd::Zero(u);
+            out.sine_x = -(b.transpose() * d_lambda).imag();
+        }
+        return out;
+    };
+    const double scale = std::max(amplitude * force_unit_, 1e-5 * static_force_);
+    auto structure = [&](double at_xi, Eigen::VectorXd& out, Eigen::MatrixXd* jx, Eigen::VectorXd* jw) {
+        hb_->set_free_motion(at_xi);
+        hb_->evaluate(x, omega, out, jx, jw);
+        ++evaluations_;
+    };
+    // Central differences in xi first (they move the receptances' damping), then the point.
+    const double h_xi = 1e-6 * std::max(linear_.omega, std::abs(xi)), h_omega = 1e-6 * omega;
+    Eigen::VectorXd d_xi;
+    Rows xi_up, xi_down;
+    if (jacobian) {
+        Eigen::VectorXd up, down;
+        structure(xi + h_xi, up, nullptr, nullptr);
+        xi_up = rows(omega, false);
+        structure(xi - h_xi, down, nullptr, nullptr);
+        xi_down = rows(omega, false);
+        d_xi = (up - down) / (2.0 * h_xi);
+    }
+    Eigen::VectorXd structure_r, structure_omega;
+    Eigen::MatrixXd structure_x;
+    structure(xi, structure_r, jacobian ? &structure_x : nullptr, jacobian ? &structure_omega : nullptr);
+    const Rows here = rows(omega, jacobian != nullptr);
+    r.resize(u + 2);
+    r.head(u) = structure_r / scale;
+    r(u) = (here.norm - amplitude) / amplitude;
+    r(u + 1) = here.sine / amplitude;
+    if (!jacobian) return;
+    const Rows omega_up = rows(omega + h_omega, false), omega_down = rows(omega - h_omega, false);
+    Eigen::MatrixXd& j = *jacobian;
+    j.setZero(u + 2, u + 2);
+    j.topLeftCorner(u, u) = structure_x / scale;
+    j.col(u).head(u) = structure_omega / scale;
+    j.col(u + 1).head(u) = d_xi / scale;
+    if (here.norm_x.size() != u) return;  // Z'_1 singular: the rows are NaN, Newton stops
+    j.row(u).head(u) = here.norm_x / amplitude;
+    j.row(u + 1).head(u) = here.sine_x / amplitude;
+    j(u, u) = (omega_up.norm - omega_down.norm) / (2.0 * h_omega * amplitude);
+    j(u + 1, u) = (omega_up.sine - omega_down.sine) / (2.0 * h_omega * amplitude);
+    j(u, u + 1) = (xi_up.norm - xi_down.norm) / (2.0 * h_xi * amplitude);
+    j(u + 1, u + 1) = (xi_up.sine - xi_down.sine) / (2.0 * h_xi * amplitude);
+}
+
+Eigen::MatrixXd NonlinearModes::motion(const ModePoint& point) {
+    if (condensed_) hb_->set_free_motion(point.xi);
+    return hb_->dofs(point.x, point.omega);
+}
+
 bool NonlinearModes::solve(ModePoint& point) { return correct(point, nullptr, nullptr); }
 
 Eigen::VectorXd NonlinearModes::column_scale(const ModePoint& point) const {
@@ -239,7 +328,7 @@ Eigen::VectorXd NonlinearModes::column_scale(const ModePoint& point) const {
     const double displacement = point.amplitude * phi_max_;
     Eigen::VectorXd scale = Eigen::VectorXd::Constant(u + 3, displacement);
     // Internal states (Dahl's z, exact Coulomb's multiplier: a force) by their own size.
-    int offset = n * system_.dofs();
+    int offset = n * static_cast<int>(guess_shape_.size());
     for (int c = 0; c < static_cast<int>(system_.contacts.size()); ++c) {
         const auto states = static_cast<int>(hb_->state(point.x, c).size());
         if (states == 0) continue;
@@ -351,14 +440,14 @@ ModePoint NonlinearModes::linear_guess(double amplitude) {
     p.amplitude = amplitude;
     p.omega = linear_.omega;
     p.xi = 2.0 * linear_.omega * linear_.zeta;
-    const int n = hb_->coefficients(), dofs = system_.dofs();
+    const int n = hb_->coefficients(), coordinates = static_cast<int>(guess_shape_.size());
     p.x = hb_->linear_guess(linear_.omega);  // harmonic 0: the static state; the rest replaced
-    for (int i = 0; i < dofs; ++i) {
+    for (int i = 0; i < coordinates; ++i) {  // every DOF, or (condensed) every contact direction
         p.x.segment(i * n + 1, n - 1).setZero();
-        p.x(i * n + 1) = amplitude * linear_.shape(i);
+        p.x(i * n + 1) = amplitude * guess_shape_(i);
     }
     // Internal states (Dahl, LuGre) follow q while pre-sliding: z = q on the harmonics >= 1.
-    int offset = n * dofs;
+    int offset = n * coordinates;
     for (int c = 0; c < static_cast<int>(system_.contacts.size()); ++c) {
         const Eigen::VectorXd z = hb_->state(p.x, c);
         if (z.size() == 0) continue;
@@ -366,6 +455,40 @@ ModePoint NonlinearModes::linear_guess(double amplitude) {
         for (Eigen::Index s = 0; s < z.size() / n; ++s)
             if ((s + 1) * n <= q.size()) p.x.segment(offset + s * n + 1, n - 1) = q.segment(s * n + 1, n - 1);
         offset += static_cast<int>(z.size());
+    }
+    if (condensed_) {
+        // Condensed, the motion is recovered from the contacts' forces, and a rigid (exact
+        // Coulomb) contact carries the stuck mode by its multiplier alone (q = 0): its harmonic 1
+        // from the structure's balance Z_1 a phi + W Lambda_1 = 0 (Z_1 = K - w0^2 M + i w0 (C -
+        // xi0 M); least squares over the contacts' directions, exact for rigid ones alone).
+        const std::vector<std::vector<StuckElement>> elements = stuck_elements(system_);
+        const int dofs = system_.dofs(), signals = coordinates;
+        Eigen::MatrixXd w(dofs, signals);
+        std::vector<int> first_signal;
+        bool rigid = false;
+        for (std::size_t c = 0, a = 0; c < system_.contacts.size(); ++c) {
+            const Eigen::MatrixXd directions = system_.contact_directions(system_.contacts[c]);
+            first_signal.push_back(static_cast<int>(a));
+            for (Eigen::Index j = 0; j < directions.cols(); ++j, ++a) w.col(static_cast<Eigen::Index>(a)) = directions.col(j);
+            for (const StuckElement& e : elements[c]) rigid = rigid || e.rigid;
+        }
+        if (rigid) {
+            const Eigen::VectorXd y = amplitude * linear_.shape;
+            const Eigen::VectorXd real = system_.stiffness * y - p.omega * p.omega * (system_.mass * y);
+            const Eigen::VectorXd imag = p.omega * (system_.damping * y - p.xi * (system_.mass * y));
+            const Eigen::LDLT<Eigen::MatrixXd> normal(w.transpose() * w);
+            const Eigen::VectorXd cosine = -normal.solve(w.transpose() * real), sine = normal.solve(w.transpose() * imag);
+            offset = n * coordinates;
+            for (std::size_t c = 0; c < system_.contacts.size(); ++c) {
+                const auto states = hb_->state(p.x, static_cast<int>(c)).size();
+                if (states == n && elements[c].size() == 1 && elements[c][0].rigid) {
+                    p.x.segment(offset + 1, n - 1).setZero();
+                    p.x(offset + 1) = cosine(first_signal[c]);
+                    p.x(offset + 2) = sine(first_signal[c]);
+                }
+                offset += static_cast<int>(states);
+            }
+        }
     }
     return p;
 }
@@ -484,6 +607,7 @@ std::vector<double> NonlinearModes::metrics_of(const ModePoint& point, const std
 ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Output>& outputs) {
     ModeMetrics m;
     m.zeta = point.zeta();
+    const Eigen::MatrixXd y = motion(point);  // condensed: the free structure at the point's xi (for the Analyser too)
     Analyser analyse(*hb_, {}, outputs);
     SolutionPoint sp;
     sp.omega = point.omega;
@@ -494,7 +618,6 @@ ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Ou
     m.contacts = pm.contacts;
     m.output_max = pm.output_max;
     m.output_amp1 = pm.output_amp1;
-    const Eigen::MatrixXd y = hb_->dofs(point.x, point.omega);
     const int harmonics = hb_->harmonics();
     double kinetic = 0.0;  // sum_k k^2 (c_k^T M c_k + s_k^T M s_k)
     m.harmonic_content.assign(static_cast<std::size_t>(harmonics + 1), 0.0);
@@ -539,15 +662,11 @@ std::vector<SynthesisPoint> NonlinearModes::synthesize(const Backbone& backbone,
     if (force.size() != system_.dofs())
         throw InvalidInput("force has " + std::to_string(force.size()) + " entries: allowed " +
                            std::to_string(system_.dofs()) + " (one per DOF)");
-    const Eigen::Index n = hb_->coefficients();
     // The discriminant of (w^2 - Omega^2)^2 + Omega^2 xi^2 = |psi^H F|^2 / a^2 in Omega^2, and
     // b = 2 w^2 - xi^2 (Omega^2 = (b -+ sqrt(discriminant)) / 2).
     auto quadratic = [&](const ModePoint& p, double& b) {
-        double c = 0.0, s = 0.0;  // psi^H F = (c1 + i s1)^T F / a (each DOF's cos 1 and sin 1 rows)
-        for (Eigen::Index i = 0; i < force.size(); ++i) {
-            c += p.x(i * n + 1) * force(i);
-            s += p.x(i * n + 2) * force(i);
-        }
+        const Eigen::MatrixXd y = motion(p);  // psi^H F = (c1 + i s1)^T F / a (each DOF's cos 1 and sin 1 rows)
+        const double c = y.row(1).dot(force), s = y.row(2).dot(force);
         const double load = std::hypot(c, s) / p.amplitude, w2 = p.omega * p.omega;
         b = 2.0 * w2 - p.xi * p.xi;
         return b * b - 4.0 * (w2 * w2 - load * load / (p.amplitude * p.amplitude));
@@ -619,9 +738,11 @@ Verdict judge_backbone(const Backbone& backbone, const std::vector<ModeMetrics>&
     return verdict;
 }
 
-HarmonicBalanceOptions mode_harmonic_balance(HarmonicBalanceOptions hbo) {
-    if (hbo.formulation != Formulation::condensed) hbo.formulation = Formulation::full;
-    hbo.modes = 0;
+HarmonicBalanceOptions mode_harmonic_balance(HarmonicBalanceOptions hbo, const System& system) {
+    if (hbo.formulation == Formulation::automatic && hbo.modes == 0 &&
+        static_cast<long long>(system.dofs()) * (2LL * hbo.harmonics + 1) <= mode_full_limit)
+        hbo.formulation = Formulation::full;
+    if (hbo.formulation == Formulation::full) hbo.modes = 0;
     hbo.jacobian = JacobianForm::dense;
     return hbo;
 }
@@ -634,7 +755,7 @@ ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const Mod
     if (synthesis && system.excitation_harmonic != 1)
         throw InvalidInput("synthesis: the response to F cos(w t) is synthesised: the system's excitation harmonic is " +
                            std::to_string(system.excitation_harmonic) + " (allowed 1)");
-    NonlinearModes nm(system, mode_harmonic_balance(hbo), options);
+    NonlinearModes nm(system, hbo, options);
     ModeRun run;
     run.backbone = nm.follow();
     for (const ModePoint& p : run.backbone.points) run.metrics.push_back(nm.metrics(p, outputs));

@@ -135,6 +135,7 @@ Receptance::Receptance(Eigen::SparseMatrix<double> mass, Eigen::SparseMatrix<dou
     k_values_ = values_on_pattern(stiffness_);
     m_values_ = values_on_pattern(mass_);
     c_values_ = values_on_pattern(damping_);
+    c_values_given_ = c_values_;
     z_ = pattern.cast<Complex>();
     z_.makeCompressed();
     if (dofs() > dense_limit) {
@@ -386,6 +387,14 @@ Receptance::Harmonic Receptance::solve(int k, double omega, bool load, bool solu
 
 namespace hbf {
 
+void Receptance::set_mass_damping(double xi) {
+    require_finite(xi, "xi", "artificial damping");
+    mass_damping_ = xi;
+    c_values_ = c_values_given_ - xi * m_values_;
+    if (modal_.damping_given.size() > 0)
+        modal_.damping = modal_.damping_given - Eigen::VectorXd::Constant(modal_.damping_given.size(), xi);
+}
+
 void Receptance::use_modes(int modes, const Eigen::VectorXd& contact_stiffness, const Eigen::VectorXd& contact_damping) {
     const int n = dofs(), nc = contacts();
     if (modes < 1) throw InvalidInput("modes = " + std::to_string(modes) + " is out of range: allowed >= 1");
@@ -499,7 +508,8 @@ void Receptance::use_modes(int modes, const Eigen::VectorXd& contact_stiffness, 
     Modal& md = modal_;
     md.residual_damping = rayleigh_b;
     md.lambda = lambda;
-    md.damping = c;
+    md.damping_given = c;
+    md.damping = c - Eigen::VectorXd::Constant(m, mass_damping_);
     md.phi = phi;
     md.p = phi.transpose() * directions_;
     md.p_load = phi.transpose() * excitation_;

@@ -327,6 +327,109 @@ TEST_CASE("Single-nonlinear-mode synthesis: a response cut at the backbone's end
     }
 }
 
+TEST_CASE("Nonlinear modes, condensed formulation: the full formulation's solutions, every law and element", "[modes]") {
+    // Both formulations solve the same discrete equations (the condensed one eliminates the
+    // structure exactly per harmonic: Y_k = Z_k^-1 (-W Lambda_k) with C - xi M), so the full
+    // backbone's points, carried into the condensed layout (the contacts' relative displacements,
+    // then the states), solve the condensed EPMC at the same amplitude with the same omega and xi
+    // to the solver's tolerance; and the condensed formulation follows the whole backbone itself.
+    // The modal receptance with every mode (nothing truncated) is exact too.
+    struct Case {
+        std::string name;
+        System system;
+        int harmonics, modes;
+        double a_min, a_max;
+    };
+    const std::string dir = std::string(HBF_SOURCE_DIR) + "/examples/systems/";
+    std::vector<Case> cases = {
+        {"absorber, exact Coulomb (DLFT multiplier)", friction_absorber(AbsorberParameters{}, FrictionLaw::coulomb), 10, 0,
+         0.01, 100.0},
+        {"absorber, Dahl (state z)", friction_absorber(AbsorberParameters{}, FrictionLaw::dahl), 5, 0, 0.01, 10.0},
+        {"liftoff3.toml, law elastic (preload, separation)", io::read_system_config(dir + "liftoff3.toml").system, 5, 0,
+         1e-3, 1.0},
+        {"chain3.toml, Jenkins and Dahl, modal receptance with its 3 modes", io::read_system_config(dir + "chain3.toml").system,
+         5, 3, 1e-3, 3.0},
+        {"liftoff3.toml, modal receptance with its 3 modes", io::read_system_config(dir + "liftoff3.toml").system, 5, 3,
+         1e-3, 1.0},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        ModeOptions o;
+        o.amplitude_min = c.a_min;
+        o.amplitude_max = c.a_max;
+        HarmonicBalanceOptions hbo;
+        hbo.harmonics = c.harmonics;
+        hbo.formulation = Formulation::full;
+        NonlinearModes full(c.system, hbo, o);
+        REQUIRE(full.formulation() == Formulation::full);
+        const Backbone fb = full.follow();
+        REQUIRE(fb.status == ModeStatus::completed);
+        hbo.formulation = Formulation::condensed;
+        hbo.modes = c.modes;
+        NonlinearModes condensed(c.system, hbo, o);
+        REQUIRE(condensed.formulation() == Formulation::condensed);
+        HarmonicBalance& hf = full.harmonic_balance();
+        const int contacts = static_cast<int>(c.system.contacts.size());
+        int compared = 0;
+        double worst = 0.0;
+        for (std::size_t k = 0; k < fb.points.size(); k += 7) {
+            const ModePoint& p = fb.points[k];
+            std::vector<Eigen::VectorXd> parts;
+            for (int d = 0; d < contacts; ++d) parts.push_back(hf.relative(p.x, d));
+            for (int d = 0; d < contacts; ++d) parts.push_back(hf.state(p.x, d));
+            ModePoint q = p;
+            q.x.resize(condensed.harmonic_balance().unknowns());
+            Eigen::Index at = 0;
+            for (const Eigen::VectorXd& part : parts) {
+                REQUIRE(at + part.size() <= q.x.size());
+                q.x.segment(at, part.size()) = part;
+                at += part.size();
+            }
+            REQUIRE(at == q.x.size());
+            // Already a solution (Newton takes no step, or one to the tolerance).
+            REQUIRE(condensed.solve(q));
+            CHECK(q.iterations <= 2);
+            const double w0 = full.linear().omega;
+            worst = std::max({worst, std::abs(q.omega - p.omega) / w0, std::abs(q.xi - p.xi) / w0});
+            // And the condensed motion is the full one (every DOF's harmonics, recovered).
+            const Eigen::MatrixXd yf = full.motion(p), yc = condensed.motion(q);
+            CHECK((yf - yc).cwiseAbs().maxCoeff() <= 1e-8 * p.amplitude * full.linear().shape.cwiseAbs().maxCoeff());
+            ++compared;
+        }
+        INFO("largest difference in omega, xi relative to w0: " << worst);
+        CHECK(compared >= 3);
+        CHECK(worst <= 1e-9);
+        const Backbone cb = condensed.follow();
+        INFO(cb.message);
+        CHECK(cb.status == ModeStatus::completed);
+        REQUIRE(!cb.points.empty());
+        // Its end is the full backbone's end (the same a_max): omega and xi.
+        CHECK(std::abs(cb.points.back().omega - fb.points.back().omega) <= 1e-8 * full.linear().omega);
+        CHECK(std::abs(cb.points.back().xi - fb.points.back().xi) <= 1e-8 * full.linear().omega);
+        for (std::size_t k = 0; k < cb.points.size(); k += 5)
+            CHECK(condensed.metrics(cb.points[k]).energy_error <= 1e-7);
+    }
+}
+
+TEST_CASE("Nonlinear modes, automatic formulation: full for small models, condensed above the limit, modes ask for condensed",
+          "[modes]") {
+    const System s = friction_absorber(AbsorberParameters{}, FrictionLaw::coulomb);
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 10;
+    CHECK(mode_harmonic_balance(hbo, s).formulation == Formulation::full);
+    hbo.modes = 2;
+    CHECK(mode_harmonic_balance(hbo, s).formulation == Formulation::automatic);  // HarmonicBalance's choice: condensed
+    const System beam = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/beam/beam200.toml").system;
+    hbo.modes = 0;
+    REQUIRE(beam.dofs() * 21 > mode_full_limit);
+    ModeOptions o;
+    o.amplitude_min = 1e-6;
+    o.amplitude_max = 1e-5;
+    NonlinearModes nm(beam, hbo, o);
+    CHECK(nm.formulation() == Formulation::condensed);
+    CHECK(nm.harmonic_balance().unknowns() < 200);
+}
+
 TEST_CASE("Nonlinear modes with lift-off: the energy balance closes through stick, slip and separation", "[modes]") {
     // liftoff3.toml (law elastic, a preloaded contact that separates): the energy xi feeds in
     // equals what C and the contact dissipate, to the tolerance's level, at every point; the

@@ -207,6 +207,22 @@ public:
     /// still pace the steps.
     double unknown_scale(const Eigen::VectorXd& x) const;
 
+    /// Nonlinear modes (modes.hpp), condensed formulation: from now on the free structure with
+    /// the extra damping -xi M, i.e. the excitation F cos(h w t) dropped (the static load and
+    /// preloads kept) and C replaced by C - xi M in every receptance (Receptance::
+    /// set_mass_damping); residual, dofs(), contact_response() follow. Throws InvalidInput in the full
+    /// formulation (modes.hpp adds -xi w (D1 Y) M itself) and for odd harmonics only.
+    void set_free_motion(double xi);
+    /// Condensed (every harmonic): the contacts' forces minus the shift's springs and dampers at
+    /// harmonic k >= 1, Lambda'_k (one per signal, complex c - i s), and with `d_x` their
+    /// derivatives in the unknowns (signals x unknowns): what dofs() applies the shifted
+    /// receptance to, Y_k = -contact_response(k) Lambda'_k for a free motion (set_free_motion).
+    Eigen::VectorXcd shifted_force_harmonic(const Eigen::VectorXd& x, double omega, int k, Eigen::MatrixXcd* d_x = nullptr);
+    /// Condensed: Z'_k^-1 W (N x signals, complex), the shifted structure's (C - xi M after
+    /// set_free_motion) response to unit forces along the contacts at harmonic k >= 1; one solve
+    /// with the N-long solution (cost linear in N); empty where Z'_k is singular.
+    Eigen::MatrixXcd contact_response(int k, double omega);
+
     /// Counters accumulated since construction or the last reset_statistics().
     const EvaluationStatistics& statistics() const { return statistics_; }
     void reset_statistics() { statistics_ = EvaluationStatistics{}; }
@@ -214,6 +230,8 @@ public:
 private:
     /// Harmonic k > 0 is left out (odd harmonics only, k even): its receptance is never formed.
     bool skipped(int k) const { return odd_ && k > 0 && k % 2 == 0; }
+    /// Harmonic k carries the load (k = h and not set_free_motion).
+    bool carries_load(int k) const { return !free_ && k == load_harmonic(); }
     /// x in the layout of every harmonic 0..H (signals of 2H + 1 coefficients), from the
     /// unknowns (the same vector unless odd_).
     Eigen::VectorXd all_harmonics(const Eigen::VectorXd& x) const;
@@ -276,6 +294,7 @@ private:
     int unknowns_ = 0;      // the corrector's unknowns: signals x balanced_coefficients()
     int all_unknowns_ = 0;  // signals x (2H + 1): the layout of every harmonic
     bool odd_ = false;
+    bool free_ = false;  // set_free_motion
     std::vector<int> balanced_;        // per signal: the balanced positions among 0..2H
     std::vector<int> balanced_index_;  // over all unknowns: the position in the all-harmonic layout
     Eigen::VectorXd all_residual_, all_jacobian_omega_;  // evaluate's buffers (odd_ only)

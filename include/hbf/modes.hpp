@@ -8,17 +8,25 @@
 //
 // xi > 0 feeding in per cycle what C and the contacts dissipate. Harmonic balance (full
 // formulation, harmonic_balance.hpp) gives its residual R(X, omega) - xi omega (D1 Y) M; the
-// unknowns are the harmonics X, the frequency omega and xi, and two more equations fix the
+// unknowns are the harmonics X, the frequency omega and xi (condensed formulation: the
+// contacts' relative displacements Q, the structure C - xi M solved per harmonic by the
+// receptance, HarmonicBalance::set_free_motion), and two more equations fix the
 // amplitude (Krack's normalisation: the M-norm of the first harmonic) and the phase (by the
 // modal coordinate q(t) = phi^T M y(t), phi the chosen linear mode of the stuck structure,
 // M-normalised: stuck_modes below):
 //
 //     sqrt(c1^T M c1 + s1^T M s1) = a,    phi^T M s1 = 0     (y's harmonic 1: c1 cos + s1 sin).
 //
+// Condensed, y's first harmonic is recovered from the contacts' forces, Y_1 = -Z'_1^-1 W
+// Lambda'_1 (HarmonicBalance::contact_response, shifted_force_harmonic), so both rows need one
+// solve of harmonic 1 with the N-long solution (cost linear in N); the structure's rows are
+// those of the condensed FRF (independent of N with the modal receptance).
 // In the linear limit y = a phi cos(theta): a is the modal coordinate's amplitude. Where the
 // motion changes shape (a contact releasing another mode) a stays the size of the whole first
 // harmonic, not its projection on phi.
-// Solved by Newton's method (dense LU, exact derivatives), followed from a_min to a_max by
+// Solved by Newton's method (dense LU, exact derivatives; condensed: the derivatives in xi, and
+// those of the two rows in omega, by central differences: the residual is analytic in both at
+// fixed X), followed from a_min to a_max by
 // pseudo-arclength continuation in (X / (a |phi|), omega / w0, xi / w0, log10 a) (the backbone
 // may turn back in a where a contact releases a second mode), with step control.
 // Modal damping ratio zeta = xi / (2 omega): the viscous damping ratio of a linear mode that
@@ -155,13 +163,19 @@ struct SynthesisPoint {
 /// The EPMC problem of one mode (see the top of this file).
 class NonlinearModes {
 public:
-    /// `system` with its excitation ignored; `hbo`'s formulation must be automatic or full
-    /// (full is used: InvalidInput for condensed), odd_harmonics is not allowed (the modal
-    /// motion may have a mean). Throws InvalidInput for bad options, a mode out of range
-    /// (naming the range), a rigid-body mode.
+    /// `system` with its excitation ignored; `hbo`'s formulation full, condensed (with its
+    /// modes: the modal receptance) or automatic (mode_harmonic_balance); odd_harmonics is not
+    /// allowed (the modal motion may have a mean). Throws InvalidInput for bad options, a mode
+    /// out of range (naming the range), a rigid-body mode, condensed where HarmonicBalance
+    /// refuses it (K singular).
     NonlinearModes(System system, const HarmonicBalanceOptions& hbo, const ModeOptions& options);
 
     const LinearMode& linear() const { return linear_; }
+    /// The formulation in use (full or condensed).
+    Formulation formulation() const { return hb_->formulation(); }
+    /// Coefficients of every DOF at a point ((2H+1) x N; condensed: recovered from the contact
+    /// forces of the free structure with its xi).
+    Eigen::MatrixXd motion(const ModePoint& point);
     HarmonicBalance& harmonic_balance() { return *hb_; }
     const ModeOptions& options() const { return options_; }
 
@@ -197,6 +211,9 @@ private:
     /// Newton on G = 0 at fixed amplitude (tangent null), or with log10 a free and the
     /// arclength condition t . (v - predicted) / scale = 0.
     bool correct(ModePoint& point, const Eigen::VectorXd* tangent, const Eigen::VectorXd* predicted);
+    /// residual() of the condensed formulation.
+    void residual_condensed(const Eigen::VectorXd& x, double omega, double xi, double amplitude, Eigen::VectorXd& r,
+                            Eigen::MatrixXd* jacobian);
     /// The arclength's coordinate scales at a point: a |phi|_inf for the DOFs, each contact's
     /// internal states by their largest entry (at least a |phi|_inf), w0, w0, 1.
     Eigen::VectorXd column_scale(const ModePoint& point) const;
@@ -205,6 +222,8 @@ private:
     LinearMode linear_;
     std::unique_ptr<HarmonicBalance> hb_;
     Eigen::VectorXd m_phi_;  // M phi
+    Eigen::VectorXd guess_shape_;  // the unknowns' harmonic 1 of the linear mode per unit a: phi, or W^T phi (condensed)
+    bool condensed_ = false;
     double force_unit_ = 1;  // omega_0^2 |M phi|_inf (times a: the structure rows' scale)
     double phi_max_ = 1;     // |phi|_inf
     double static_force_ = 0;  // largest static load or preload (the residual's rounding floor)
@@ -226,14 +245,16 @@ struct ModeRun {
     Verdict verdict;
     int harmonics = 0, time_samples = 0;
 };
-/// `hbo` is used in the full formulation with every harmonic (NonlinearModes: InvalidInput for
-/// condensed or odd harmonics); `outputs` empty: every DOF. Throws InvalidInput as
+/// `hbo` as mode_harmonic_balance makes it (NonlinearModes: InvalidInput for odd harmonics);
+/// `outputs` empty: every DOF. Throws InvalidInput as
 /// NonlinearModes and for `synthesis` on a system whose excitation harmonic is not 1.
 ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const ModeOptions& options,
                      std::vector<Output> outputs, bool synthesis);
-/// The options compute_mode uses (formulation full unless condensed, which it refuses; the
-/// direct structure, the dense Jacobian).
-HarmonicBalanceOptions mode_harmonic_balance(HarmonicBalanceOptions hbo);
+/// The options the modes use: the dense Jacobian; automatic becomes full where the full
+/// formulation has at most mode_full_limit unknowns (N (2H + 1)) and no modes are asked for,
+/// else HarmonicBalance's own automatic choice (condensed where K is invertible); full has no modes.
+HarmonicBalanceOptions mode_harmonic_balance(HarmonicBalanceOptions hbo, const System& system);
+constexpr int mode_full_limit = 1000;
 
 namespace io {
 /// The backbone's columns for `outputs`, `contacts` contacts (`normal`: which have a normal

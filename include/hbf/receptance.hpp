@@ -111,6 +111,13 @@ public:
     /// solve(k, omega, load, true).solution gives applied to (-lambda, 1), without forming that
     /// N x n_c matrix (n_c times the work). NaN where Z'_k is singular.
     Eigen::VectorXcd modal_response(int k, double omega, const Eigen::VectorXcd& lambda, bool load) const;
+    /// Replaces C by C - xi M from now on (the extended periodic motion concept's artificial
+    /// damping, modes.hpp; xi = 0 restores C): the direct solve's Z_k exactly, the modal
+    /// receptance's c_j by c_j - xi (M-normalised modes); the static residual flexibility keeps
+    /// its own damping (its modes' -xi M, like their inertia, is left out: relative size
+    /// k w xi / lambda_{m+1}).
+    void set_mass_damping(double xi);
+    double mass_damping() const { return mass_damping_; }
     /// Modes in use (0: the direct sparse solve).
     int modes() const { return static_cast<int>(modal_.lambda.size()); }
     /// Natural frequencies sqrt(lambda_j) of the modes in use, ascending.
@@ -149,11 +156,14 @@ private:
     // the pattern's entries (zeros where a matrix has none), and the matrix whose values are set.
     SparseComplex z_;
     Eigen::VectorXd k_values_, m_values_, c_values_;
+    Eigen::VectorXd c_values_given_;  // C's own values (c_values_ = them - xi M's: set_mass_damping)
+    double mass_damping_ = 0;
     bool symmetric_ = false;  // K, M, C all symmetric: W^T Z_k^-1 = (Z_k^-1 W)^T
     std::unique_ptr<Eigen::SparseLU<SparseComplex>> lu_;  // analysed once (large models)
     Harmonic solve_modal(int k, double omega, bool load, bool solution, bool explicit_contact = true) const;
     struct Modal {
-        Eigen::VectorXd lambda, damping;         // lambda_j, c_j
+        Eigen::VectorXd lambda, damping;         // lambda_j, c_j (minus xi: set_mass_damping)
+        Eigen::VectorXd damping_given;           // c_j = phi_j^T C phi_j
         Eigen::MatrixXd phi;                     // N x m
         Eigen::MatrixXd p;                       // Phi^T W (m x n_c)
         Eigen::VectorXd p_load;                  // Phi^T F

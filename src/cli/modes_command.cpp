@@ -26,7 +26,7 @@ struct ModesOptions {
     AbsorberFlags absorber;
     std::string mode = "1", near, amin, amax, harmonics = "0", time_samples = "0",
                 tolerance = default_text(ModeOptions{}.tolerance), max_step = default_text(ModeOptions{}.max_step),
-                max_points = std::to_string(ModeOptions{}.max_points);
+                max_points = std::to_string(ModeOptions{}.max_points), formulation = "automatic", modes;
     std::string plot_damping, synthesis_out, plot_synthesis;
     OutputFlags output;
     std::string config;
@@ -93,11 +93,22 @@ int run(const CLI::App& command, const ModesOptions& o) {
     mo.max_points = static_cast<int>(max_points);
     HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config, false);
     const HarmonicBalanceOptions forced = hbo;  // the full FRF of --plot-synthesis: as hbf frf would solve it
-    if (hbo.formulation == Formulation::condensed && !given(command, "--config"))
-        hbo.formulation = Formulation::automatic;
-    if (hbo.formulation == Formulation::condensed)
-        throw UsageError("--config: solver.formulation = condensed is not available for hbf modes yet: the full "
-                         "formulation is used (remove the line or set it to automatic or full)");
+    try {
+        hbo.formulation = parse_formulation(o.formulation);
+    } catch (const InvalidInput&) {
+        throw UsageError("--formulation = '" + o.formulation + "' is not known: allowed automatic, condensed, full");
+    }
+    if (given(command, "--modes")) {
+        const long long m = parse_integer("--modes", o.modes);
+        if (m < 0 || m > HarmonicBalanceOptions::max_modes)
+            throw UsageError("--modes = " + o.modes + " is out of range: allowed 0 (direct solve) or 1.." +
+                             std::to_string(HarmonicBalanceOptions::max_modes));
+        hbo.modes = static_cast<int>(m);
+    }
+    if (hbo.modes > 0 && hbo.formulation == Formulation::full)
+        throw UsageError("--modes " + std::to_string(hbo.modes) +
+                         " (the modal receptance) needs the condensed formulation: allowed --formulation condensed or "
+                         "automatic, or --modes 0");
     if (hbo.odd_harmonics) throw UsageError("--harmonics odd: hbf modes balances every harmonic (a mode may have a mean)");
 
     ProgressLine progress(o.output.progress(), "modes");
@@ -105,7 +116,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
         progress.update("a = " + format_number(a) + ", " + std::to_string(points) + " points");
     };
     // Every check of the run (a mode out of range, a rigid-body mode: InvalidInput) before any output.
-    const NonlinearModes checked(chosen.system, mode_harmonic_balance(hbo), mo);
+    const NonlinearModes checked(chosen.system, hbo, mo);
     if (o.output.dry_run) return o.output.dry_run_done("modes");
     io::OutputFile out(o.output.out);
     std::unique_ptr<io::OutputFile> synthesis;
@@ -275,6 +286,18 @@ void add_flags(CLI::App& command, ModesOptions& o) {
     command.add_option("--amax", o.amax, "largest modal amplitude a (required), > amin, at most 1e12 amin")
         ->type_name("NUMBER");
     add_discretisation_flags(command, o.harmonics, o.time_samples, "the largest of the contacts' laws' own");
+    command.add_option("--formulation", o.formulation,
+                       "how the structure enters: full (every DOF's harmonics are unknowns: a dense Jacobian of N (2H + 1) "
+                       "rows), condensed (the contacts' relative displacements only, the structure with C - xi M "
+                       "solved per harmonic: the direct sparse LU, or --modes), automatic (full up to " +
+                           std::to_string(mode_full_limit) +
+                           " unknowns N (2H + 1), and with --modes 0, else condensed where K is invertible)")
+        ->capture_default_str()->type_name("automatic|condensed|full");
+    command.add_option("--modes", o.modes,
+                       "condensed formulation: 0 (default, or a --config file's [solver] modes) solves the structure "
+                       "directly; m > 0 by its m lowest modes plus the static residual flexibility (as hbf frf "
+                       "--modes: cost independent of N; needs M > 0, K > 0 and C diagonal in the modes)")
+        ->type_name("INT");
     command.add_option("--tolerance", o.tolerance,
                        "Newton's acceptance: max |residual|, the structure's rows relative to the mode's inertial force "
                        "a w0^2 |M phi|_inf, the amplitude and phase rows relative to a; " +
@@ -312,7 +335,7 @@ void add_flags(CLI::App& command, ModesOptions& o) {
     command.footer(columns_footer(
         R"(The extended periodic motion concept (Krack 2015): the periodic free motions of
 M y'' + (C - xi M) y' + K y + f_contacts = F_s, xi the artificial damping that makes them
-periodic, by harmonic balance (full formulation) with the amplitude and phase of the first
+periodic, by harmonic balance (--formulation) with the amplitude and phase of the first
 harmonic c1 cos + s1 sin fixed (sqrt(c1^T M c1 + s1^T M s1) = a, phi^T M s1 = 0, phi the stuck
 mode), followed from --amin to --amax by pseudo-arclength in log a (the backbone may turn back in
 a) from the stuck structure's linear mode. The system's excitation (the preset: --fe) is used
