@@ -1213,6 +1213,8 @@ PYBIND11_MODULE(_core, m) {
             d["zeta"] = b.linear.zeta;
             d["shape"] = to_list(b.linear.shape);
             d["harmonics"] = run.harmonics;
+            d["formulation"] = to_string(run.formulation);
+            d["modes_used"] = run.modes;
             d["message"] = b.message;
             d["seconds"] = b.seconds;
             d["evaluations"] = b.evaluations;

@@ -400,10 +400,11 @@ bool HarmonicBalance::prepare_receptance(double omega) {
                 g = h.contact(c, c);
                 g_omega = k > 0 ? h.contact_omega(c, c) : 0.0;
             }
-            // A free motion (set_free_motion) sits where G_k,cc -> 0 (an exact Coulomb contact
-            // stuck: the mode is G's antiresonance), so its floor is higher: the scale stays
-            // constant, and the rows smooth in omega and xi, around that point.
-            const double floor = (free_ ? 1e-3 : 1e-10) * static_flexibility_(c), size = std::abs(g);
+            // A free motion (set_free_motion) sits where G_1,cc -> 0 (an exact Coulomb contact
+            // stuck: the mode is G's antiresonance, G_1's entries a cancellation), so its rows
+            // keep the static scale 1 / G_0,cc: constant in omega and xi, and G_1's rounding not
+            // magnified (a floor of 1e-3 G_0 left 3e-8 of the beam's stuck mode unconverged).
+            const double floor = (free_ ? 1.0 : 1e-10) * static_flexibility_(c), size = std::abs(g);
             const bool dynamic = size < static_flexibility_(c) && size > floor && k > 0;
             row_scale_(k, c) = 1.0 / std::max(std::min(size, static_flexibility_(c)), floor);
             row_scale_omega_(k, c) =

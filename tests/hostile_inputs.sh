@@ -162,6 +162,10 @@ expect 2 "--synthesis-out" '' modes --amin 0.1 --amax 1 --out x.csv --synthesis-
 expect 2 "--plot-synthesis" '' modes --amin 0.1 --amax 1 --out x.csv --plot-synthesis x.txt
 expect 2 "an input of this run" 'write_system s.toml' modes --config s.toml --amin 0.1 --amax 1 --out s.toml
 expect 0 "" '' modes --amin 0.01 --amax 10 --quiet --out /dev/null --synthesis-out /dev/null
+for v in -1 x 100001; do expect 2 "--modes" '' modes --modes "$v" --amin 0.1 --amax 1 --out x.csv; done
+for v in bogus ''; do expect 2 "--formulation" '' modes --formulation "$v" --amin 0.1 --amax 1 --out x.csv; done
+expect 2 "needs the condensed formulation" '' modes --modes 2 --formulation full --amin 0.1 --amax 1 --out x.csv
+expect 0 "" '' modes --formulation condensed --amin 0.01 --amax 10 --quiet --out /dev/null
 expect 2 "--xi" '' frf --xi 0.1 --out x.csv
 expect 2 "--wb" '' frf --law coulomb --wb 0.4 --out x.csv
 expect 2 "--eps" '' frf --law dahl --eps 0.1 --out x.csv

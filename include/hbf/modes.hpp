@@ -244,6 +244,8 @@ struct ModeRun {
     std::vector<SynthesisPoint> synthesis;  ///< the response to system.excitation (with `synthesis`)
     Verdict verdict;
     int harmonics = 0, time_samples = 0;
+    Formulation formulation = Formulation::full;  ///< the one used
+    int modes = 0;                                ///< condensed: the modal receptance's modes (0: direct)
 };
 /// `hbo` as mode_harmonic_balance makes it (NonlinearModes: InvalidInput for odd harmonics);
 /// `outputs` empty: every DOF. Throws InvalidInput as

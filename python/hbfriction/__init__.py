@@ -693,14 +693,16 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
 
 
 def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmonics=None, time_samples=None,
-          outputs=None, tolerance=None, max_step=None, max_points=None, synthesis=False):
+          formulation=None, modes=None, outputs=None, tolerance=None, max_step=None, max_points=None, synthesis=False):
     """A nonlinear mode by the extended periodic motion concept (hbf modes): frequency and modal
     damping ratio against the modal amplitude a (the M-norm of the first harmonic), followed from
     amplitude_min to amplitude_max from the stuck structure's linear mode `mode` (1-based, default
     1) or the one nearest the frequency `near`. harmonics, time_samples: as frf (automatic H from
-    the laws). Returns a Table with hbf modes' columns (a, w, xi, zeta, zeta_energy, energies, the
+    the laws). formulation: "full", "condensed" or "automatic" (default: full up to 1000 unknowns
+    N (2H + 1) without modes, else condensed), modes: the condensed formulation's modal receptance
+    (0: the direct solve), as hbf modes --formulation, --modes. Returns a Table with hbf modes' columns (a, w, xi, zeta, zeta_energy, energies, the
     outputs' amplitudes, per-contact shares, harmonic content), plus ``linear`` (dict: mode, omega,
-    zeta, shape of the stuck mode), ``seconds`` and status/errors/warnings: incomplete where the
+    zeta, shape of the stuck mode), ``harmonics``, ``formulation`` and ``modes`` used, ``seconds`` and status/errors/warnings: incomplete where the
     backbone stops before amplitude_max or fails the energy balance, or (synthesis=True) where the
     synthesised response is cut at the backbone's last point (its peak lies beyond amplitude_max)
     or empty (below amplitude_min); failed where its first point
@@ -711,11 +713,16 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     if mode is not None and near is not None:
         raise ValueError("modes: mode and near cannot both be given: the mode by its index or by a frequency")
     given, names = FrfSettings(), []
-    for name, value in (("harmonics", harmonics), ("time_samples", time_samples)):
+    for name, value in (("harmonics", harmonics), ("time_samples", time_samples), ("modes", modes)):
         if value is not None:
             _assign(given.harmonic_balance, name, value)
             names.append(name)
     s = _core.frf_settings(system, given, names, False)  # as hbf modes: the automatic H without the polish
+    if formulation is not None:
+        _assign(s.harmonic_balance, "formulation", formulation)
+    if s.harmonic_balance.modes > 0 and str(s.harmonic_balance.formulation) == "full":
+        raise ValueError("modes: modes = %d (the modal receptance) needs the condensed formulation: allowed "
+                         "formulation='condensed' or 'automatic', or modes=0" % s.harmonic_balance.modes)
     d = _core.mode_defaults()
     o = _outputs(system, outputs) if outputs is not None else (system.outputs or [Output.dof(i) for i in range(system.dofs)])
     columns, details, verdict = _core.modes(
@@ -729,6 +736,8 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     linear["shape"] = _np.array(details["shape"])
     table.linear = {k: linear[k] for k in ("mode", "omega", "zeta", "shape")}
     table.harmonics = details["harmonics"]
+    table.formulation = details["formulation"]
+    table.modes = details["modes_used"]
     table.seconds = details["seconds"]
     table.message = details["message"]
     table.status = verdict["status"]

@@ -180,6 +180,8 @@ int run(const CLI::App& command, const ModesOptions& o) {
         j["linear"] = {{"omega", b.linear.omega}, {"zeta", b.linear.zeta}};
         j["harmonics"] = harmonics;
         j["time_samples"] = run.time_samples;
+        j["formulation"] = to_string(run.formulation);
+        j["modes"] = run.modes;
         j["amplitude_range"] = {mo.amplitude_min, mo.amplitude_max};
         j["status"] = to_string(b.status);
         j["message"] = b.message;

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import hbfriction
-from conftest import run_hbf
+from conftest import SOURCE, run_hbf
 
 JENKINS = """# m y'' + c y' + k y + f_Jenkins = 0 (one DOF, a Jenkins element to the ground)
 [structure]
@@ -143,3 +143,31 @@ stiffness = 1.0
     assert "rigid-body mode" in str(e.value)
     code, _, err = run_hbf("modes", "--config", str(path), "--amin", "0.1", "--amax", "1", check=False)
     assert code == 2 and "rigid-body mode" in err
+
+
+def test_condensed_formulation_is_the_full_one():
+    # The condensed formulation eliminates the structure exactly per harmonic: the same discrete
+    # backbone (tests/test_modes.cpp compares point by point); the ends at the same a_max agree.
+    system = hbfriction.absorber()
+    full = hbfriction.modes(system, 0.01, 100.0, harmonics=10, formulation="full")
+    condensed = hbfriction.modes(system, 0.01, 100.0, harmonics=10, formulation="condensed")
+    assert full.formulation == "full" and condensed.formulation == "condensed" and condensed.modes == 0
+    assert full.status == condensed.status == "completed"
+    assert abs(condensed.w[-1] - full.w[-1]) < 1e-8 and abs(condensed.xi[-1] - full.xi[-1]) < 1e-8
+    assert abs(condensed.w[0] - full.w[0]) < 1e-12
+    with pytest.raises(ValueError, match="needs the condensed formulation"):
+        hbfriction.modes(system, 0.01, 1.0, formulation="full", modes=2)
+
+
+def test_beam_by_the_modal_receptance():
+    # The 200-DOF beam (exact Coulomb at the tip): automatic is condensed there (N (2H + 1) > 1000);
+    # its stuck mode by 20 modes and the residual flexibility equals the direct solve's to the
+    # truncation, (w / w_21)^2 of the dynamic part: below 1e-7 here.
+    beam = hbfriction.load(os.path.join(SOURCE, "examples", "systems", "beam", "beam200.toml"))
+    direct = hbfriction.modes(beam, 1e-6, 3e-5, harmonics=5)
+    modal = hbfriction.modes(beam, 1e-6, 3e-5, harmonics=5, modes=20)
+    assert direct.formulation == modal.formulation == "condensed" and modal.modes == 20
+    assert direct.status == modal.status == "completed"
+    assert abs(modal.w[0] / direct.w[0] - 1.0) < 1e-7
+    assert abs(direct.w[0] - direct.linear["omega"]) < 1e-10 * direct.w[0]
+    assert abs(modal.zeta[-1] / direct.zeta[-1] - 1.0) < 1e-6
