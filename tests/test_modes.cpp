@@ -430,6 +430,74 @@ TEST_CASE("Nonlinear modes, automatic formulation: full for small models, conden
     CHECK(nm.harmonic_balance().unknowns() < 200);
 }
 
+TEST_CASE("Nonlinear modes against the event-exact solver: the gap closes with H (Jenkins, exact Coulomb)", "[modes]") {
+    // The EPMC orbit is a free motion of the structure with C - xi M: for Jenkins and exact
+    // Coulomb contacts the exact flows and events give it without truncation (ExactModeCheck:
+    // shooting on y(0), y'(0), omega, xi at the harmonic-balance orbit's modal displacement and
+    // velocity at a section where every contact slips). The gap between the two is harmonic
+    // balance's truncation error: it must fall as H grows. Measured (largest over the points):
+    // Jenkins oscillator 2.0e-4, 3.4e-5, 1.3e-5, 2.1e-6 at H = 3, 7, 15, 31 (about H^-2: the
+    // Jenkins force has kinks); the exact Coulomb absorber at a = 3: 2.0e-2, 1.2e-2, 6.0e-3,
+    // 3.4e-3 (first order: the force jumps at every stop, the DLFT's 1 / H).
+    struct Case {
+        std::string name;
+        System system;
+        std::vector<double> amplitudes;
+        double largest_at_31;  // the gap at H = 31 must be below this
+        double order;          // gap(3) / gap(31) >= (31 / 3)^order / 3
+    };
+    const std::vector<Case> cases = {
+        {"Jenkins oscillator", jenkins_oscillator(1.0, 0.01, 1.0, 0.5, 0.1), {0.5, 2.0, 10.0}, 5e-6, 2.0},
+        {"absorber, exact Coulomb", friction_absorber(AbsorberParameters{}, FrictionLaw::coulomb), {3.0, 10.0}, 5e-3, 1.0},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        std::vector<double> gaps;
+        for (int harmonics : {3, 7, 15, 31}) {
+            ModeOptions o;
+            o.amplitude_min = 0.05;
+            o.amplitude_max = 20.0;
+            HarmonicBalanceOptions hbo;
+            hbo.harmonics = harmonics;
+            NonlinearModes nm(c.system, hbo, o);
+            const Backbone b = nm.follow();
+            REQUIRE(b.status == ModeStatus::completed);
+            double largest = 0.0;
+            for (double target : c.amplitudes) {
+                std::size_t best = 0;
+                for (std::size_t k = 0; k < b.points.size(); ++k)
+                    if (std::abs(std::log(b.points[k].amplitude / target)) < std::abs(std::log(b.points[best].amplitude / target)))
+                        best = k;
+                const ExactModeCheck check = nm.exact_check(b.points[best]);
+                INFO("H = " << harmonics << ", a = " << b.points[best].amplitude << ": " << check.message);
+                REQUIRE(check.checked);
+                CHECK(check.residual <= 1e-12);
+                largest = std::max(largest, check.gap);
+            }
+            gaps.push_back(largest);
+        }
+        INFO("gaps at H = 3, 7, 15, 31: " << gaps[0] << " " << gaps[1] << " " << gaps[2] << " " << gaps[3]);
+        for (std::size_t k = 1; k < gaps.size(); ++k) CHECK(gaps[k] < gaps[k - 1]);
+        CHECK(gaps[3] <= c.largest_at_31);
+        CHECK(gaps[0] / gaps[3] >= std::pow(31.0 / 3.0, c.order) / 3.0);
+    }
+    // Permanent stick is the linear mode: not a case for the exact solver (its reason given).
+    ModeOptions o;
+    o.amplitude_min = 0.01;
+    o.amplitude_max = 0.1;
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 5;
+    NonlinearModes nm(jenkins_oscillator(1.0, 0.01, 1.0, 0.5, 0.1), hbo, o);
+    const ExactModeCheck stuck = nm.exact_check(nm.follow().points.front());
+    CHECK(!stuck.checked);
+    CHECK(stuck.message.find("permanent stick") != std::string::npos);
+    // Laws the exact solver does not cover are refused with the reason.
+    NonlinearModes dahl(friction_absorber(AbsorberParameters{}, FrictionLaw::dahl), hbo, o);
+    const ExactModeCheck refused = dahl.exact_check(dahl.linear_guess(0.01));
+    CHECK(!refused.checked);
+    CHECK(refused.message.find("exact Coulomb and Jenkins") != std::string::npos);
+}
+
 TEST_CASE("Nonlinear modes with lift-off: the energy balance closes through stick, slip and separation", "[modes]") {
     // liftoff3.toml (law elastic, a preloaded contact that separates): the energy xi feeds in
     // equals what C and the contact dissipate, to the tolerance's level, at every point; the

@@ -160,6 +160,25 @@ struct SynthesisPoint {
     std::vector<double> output_amp1;  ///< each output's first-harmonic amplitude (the mode's at a)
 };
 
+/// A backbone point checked by the event-exact solver (event_exact.hpp: exact_flow). The EPMC
+/// orbit is a periodic free motion of the structure with damping C - xi M: for exact Coulomb
+/// and Jenkins contacts the same linear flows and friction events as the forced exact orbits.
+/// Newton shooting on (y(0), y'(0), omega, xi): one period's flow returns to its start, and the
+/// modal coordinate q = phi^T M y has at t = 0 the value and velocity of the harmonic-balance
+/// orbit at the section theta0 (the middle of its longest stretch where every contact slips):
+/// both orbits are compared at the same modal displacement and velocity there, a functional of
+/// the orbit that converges with H, not at the same a (the first harmonic's M-norm, which the
+/// flow does not give). The monodromy is exact, the derivatives in omega and xi central
+/// differences of the flow.
+struct ExactModeCheck {
+    bool checked = false;   ///< false: not applicable or not converged (message says why)
+    std::string message;
+    double omega = 0, xi = 0;  ///< the exact orbit's
+    double gap = 0;            ///< max(|omega - omega_HB|, |xi - xi_HB|) / omega (checked only)
+    int iterations = 0;
+    double residual = 0;       ///< |P(z) - z| relative to |z| (velocities divided by omega)
+};
+
 /// The EPMC problem of one mode (see the top of this file).
 class NonlinearModes {
 public:
@@ -196,6 +215,11 @@ public:
     /// Follows the mode from a_min to a_max.
     Backbone follow();
 
+    /// The point against the event-exact solver (ExactModeCheck): every contact exact Coulomb
+    /// or Jenkins along one direction, M positive definite, at most exact_solver_max_dofs DOFs,
+    /// and some contact slipping somewhere in the period (permanent stick is the linear mode);
+    /// otherwise checked = false with the reason.
+    ExactModeCheck exact_check(const ModePoint& point);
     /// Metrics of a point; `outputs` as hbf frf's (validated against the system).
     ModeMetrics metrics(const ModePoint& point, const std::vector<Output>& outputs = {});
     /// The synthesised response to F cos(Omega t) (F: N entries; SynthesisPoint) from a backbone
