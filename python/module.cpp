@@ -1189,7 +1189,7 @@ PYBIND11_MODULE(_core, m) {
         "modes",
         [](const PySystem& s, HarmonicBalanceOptions hbo, int mode, double near, double amplitude_min,
            double amplitude_max, double tolerance, double max_step, int max_points, std::vector<Output> outputs,
-           bool synthesis) {
+           bool synthesis, bool exact_check) {
             ModeOptions mo;
             mo.mode = mode;
             mo.near_frequency = near;
@@ -1203,7 +1203,7 @@ PYBIND11_MODULE(_core, m) {
             if (outputs.empty()) outputs = s.reported();
             ModeRun run;
             without_gil([&] {
-                run = compute_mode(s.system, hbo, mo, outputs, synthesis);
+                run = compute_mode(s.system, hbo, mo, outputs, synthesis, exact_check);
                 return 0;
             });
             const Backbone& b = run.backbone;
@@ -1222,13 +1222,14 @@ PYBIND11_MODULE(_core, m) {
             v["status"] = run.verdict.status();
             v["errors"] = run.verdict.errors;
             v["warnings"] = run.verdict.warnings;
+            v["notes"] = run.verdict.notes;
             d["synthesis"] = synthesis ? py::object(table_columns(io::synthesis_table(run.synthesis, outputs)))
                                        : py::object(py::none());
             return py::make_tuple(table_columns(run.table), d, v);
         },
         py::arg("system"), py::arg("options"), py::arg("mode"), py::arg("near"), py::arg("amplitude_min"),
         py::arg("amplitude_max"), py::arg("tolerance"), py::arg("max_step"), py::arg("max_points"), py::arg("outputs"),
-        py::arg("synthesis"));
+        py::arg("synthesis"), py::arg("exact_check"));
 
     m.def(
         "analytic",

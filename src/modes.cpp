@@ -901,7 +901,7 @@ HarmonicBalanceOptions mode_harmonic_balance(HarmonicBalanceOptions hbo, const S
 }
 
 ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const ModeOptions& options,
-                     std::vector<Output> outputs, bool synthesis) {
+                     std::vector<Output> outputs, bool synthesis, bool exact_check) {
     if (outputs.empty())
         for (int i = 0; i < system.dofs(); ++i) outputs.push_back(Output::dof(i));
     for (const Output& o : outputs) o.validate(system.dofs());
@@ -922,6 +922,40 @@ ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const Mod
     run.table = io::backbone_table(run.backbone, run.metrics, outputs, normal, run.harmonics);
     if (synthesis) run.synthesis = nm.synthesize(run.backbone, run.metrics, system.excitation, outputs);
     run.verdict = judge_backbone(run.backbone, run.metrics, options.tolerance);
+    if (exact_check) {
+        std::vector<io::Column> columns = io::exact_columns();
+        std::vector<std::vector<io::Cell>> cells(columns.size());
+        double largest = 0.0;
+        std::size_t checked = 0, where = 0;
+        std::string reason;
+        for (std::size_t k = 0; k < run.backbone.points.size(); ++k) {
+            const ExactModeCheck c = nm.exact_check(run.backbone.points[k]);
+            run.exact.push_back(c);
+            cells[0].push_back(c.checked ? io::Cell(c.omega) : io::Cell());
+            cells[1].push_back(c.checked ? io::Cell(c.xi) : io::Cell());
+            cells[2].push_back(c.checked ? io::Cell(c.gap) : io::Cell());
+            if (c.checked) {
+                ++checked;
+                if (c.gap >= largest) {
+                    largest = c.gap;
+                    where = k;
+                }
+            } else if (reason.empty()) {
+                reason = c.message + " (first at a = " + format_number(run.backbone.points[k].amplitude) + ")";
+            }
+        }
+        for (std::size_t c = 0; c < columns.size(); ++c) {
+            run.table.columns.push_back(columns[c]);
+            run.table.cells.push_back(std::move(cells[c]));
+        }
+        std::string note = "exact check: " + std::to_string(checked) + " of " + std::to_string(run.backbone.points.size()) +
+                           " points checked by the event-exact solver";
+        if (checked > 0)
+            note += ", largest exact_gap " + format_number(largest) + " at a = " +
+                    format_number(run.backbone.points[where].amplitude);
+        if (checked < run.backbone.points.size()) note += "; not checked: " + reason;
+        run.verdict.note(note);
+    }
     if (synthesis && !run.backbone.points.empty()) {
         // The synthesis covers the backbone's amplitudes only: a response that reaches its last
         // point has its peak beyond it (the curve is cut, not a peak); none at all means the
@@ -976,6 +1010,14 @@ std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const s
     c.push_back({"residual", "max |scaled residual| of the point (structure rows relative to a w0^2 |M phi|, "
                              "constraints relative to a)"});
     return c;
+}
+
+std::vector<Column> exact_columns() {
+    return {{"exact_w", "frequency of the event-exact free orbit with C - xi M (exact Coulomb, Jenkins) at the same "
+                        "modal displacement and velocity at a section where every contact slips; empty where not "
+                        "checked (permanent stick: the linear mode; laws it does not cover; its shooting failed)"},
+            {"exact_xi", "that orbit's artificial damping xi"},
+            {"exact_gap", "max(|w - exact_w|, |xi - exact_xi|) / exact_w: harmonic balance's truncation error here"}};
 }
 
 std::vector<Column> synthesis_columns(const std::vector<Output>& outputs) {

@@ -270,12 +270,16 @@ struct ModeRun {
     int harmonics = 0, time_samples = 0;
     Formulation formulation = Formulation::full;  ///< the one used
     int modes = 0;                                ///< condensed: the modal receptance's modes (0: direct)
+    std::vector<ExactModeCheck> exact;            ///< per point (with `exact_check`)
 };
 /// `hbo` as mode_harmonic_balance makes it (NonlinearModes: InvalidInput for odd harmonics);
 /// `outputs` empty: every DOF. Throws InvalidInput as
 /// NonlinearModes and for `synthesis` on a system whose excitation harmonic is not 1.
+/// With `exact_check`, every point against the event-exact solver (NonlinearModes::exact_check),
+/// the table's columns exact_w, exact_xi, exact_gap (io::exact_columns) and a note with the
+/// largest gap and the points not checked.
 ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const ModeOptions& options,
-                     std::vector<Output> outputs, bool synthesis);
+                     std::vector<Output> outputs, bool synthesis, bool exact_check = false);
 /// The options the modes use: the dense Jacobian; automatic becomes full where the full
 /// formulation has at most mode_full_limit unknowns (N (2H + 1)) and no modes are asked for,
 /// else HarmonicBalance's own automatic choice (condensed where K is invertible); full has no modes.
@@ -289,6 +293,8 @@ namespace io {
 /// per output <name>_max and <name>_amp1, per contact stick_fraction_c<k>, regime_c<k>
 /// [separated_fraction_c<k>], h0..hH (harmonic content), iterations, residual.
 std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics);
+/// The event-exact check's columns (compute_mode with exact_check): exact_w, exact_xi, exact_gap.
+std::vector<Column> exact_columns();
 /// The synthesised response's columns (hbf modes --synthesis-out, Python): w, a, w_mode, flank
 /// and each output's _amp1.
 std::vector<Column> synthesis_columns(const std::vector<Output>& outputs);

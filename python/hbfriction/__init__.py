@@ -693,7 +693,8 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
 
 
 def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmonics=None, time_samples=None,
-          formulation=None, modes=None, outputs=None, tolerance=None, max_step=None, max_points=None, synthesis=False):
+          formulation=None, modes=None, outputs=None, tolerance=None, max_step=None, max_points=None, synthesis=False,
+          exact_check=False):
     """A nonlinear mode by the extended periodic motion concept (hbf modes): frequency and modal
     damping ratio against the modal amplitude a (the M-norm of the first harmonic), followed from
     amplitude_min to amplitude_max from the stuck structure's linear mode `mode` (1-based, default
@@ -708,7 +709,9 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     or empty (below amplitude_min); failed where its first point
     does not converge (as hbf modes' exit codes 3 and 1). synthesis=True adds ``synthesis``: a
     Table with hbf modes --synthesis-out's columns, the response to the system's excitation
-    synthesised from the mode."""
+    synthesised from the mode. exact_check=True checks every point against the event-exact solver
+    (exact Coulomb and Jenkins; hbf modes --exact-check): columns exact_w, exact_xi, exact_gap (NaN
+    where not checked) and ``notes`` with the largest gap."""
     _check_system(system)
     if mode is not None and near is not None:
         raise ValueError("modes: mode and near cannot both be given: the mode by its index or by a frequency")
@@ -729,7 +732,7 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
         system, s.harmonic_balance, int(d["mode"] if mode is None else mode), float(0.0 if near is None else near),
         float(amplitude_min), float(amplitude_max), float(d["tolerance"] if tolerance is None else tolerance),
         float(d["max_step"] if max_step is None else max_step), int(d["max_points"] if max_points is None else max_points), o,
-        bool(synthesis))
+        bool(synthesis), bool(exact_check))
     table = Table(columns)
     table.synthesis = Table(details["synthesis"]) if synthesis else None
     linear = dict(details)
@@ -743,6 +746,7 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     table.status = verdict["status"]
     table.errors = verdict["errors"]
     table.warnings = verdict["warnings"]
+    table.notes = verdict["notes"]
     _judge(table.status, table.errors + table.warnings, "the backbone")
     return table
 

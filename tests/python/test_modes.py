@@ -171,3 +171,22 @@ def test_beam_by_the_modal_receptance():
     assert abs(modal.w[0] / direct.w[0] - 1.0) < 1e-7
     assert abs(direct.w[0] - direct.linear["omega"]) < 1e-10 * direct.w[0]
     assert abs(modal.zeta[-1] / direct.zeta[-1] - 1.0) < 1e-6
+
+
+def test_exact_check_columns(tmp_path):
+    # Every point of the exact Coulomb absorber's backbone against the event-exact solver: the
+    # stuck points are the linear mode (empty), the slipping ones checked; the gap is harmonic
+    # balance's truncation error (about 1 / H for exact Coulomb: tests/test_modes.cpp).
+    t = hbfriction.modes(hbfriction.absorber(), 0.1, 20.0, harmonics=20, exact_check=True)
+    assert t.status == "completed"
+    stuck = np.array([r == "stick" for r in t.regime_c1])
+    gap = np.asarray(t.exact_gap, dtype=float)
+    assert np.all(np.isnan(gap[stuck])) and np.all(np.isfinite(gap[~stuck][-20:]))
+    assert np.nanmax(gap) < 0.05 and np.nanmax(gap[-10:]) < 2e-3
+    assert any("exact check:" in n for n in t.notes)
+    out = tmp_path / "m.csv"
+    code, _, err = run_hbf("modes", "--amin", "0.1", "--amax", "20", "--harmonics", "20", "--exact-check",
+                           "--out", str(out), "--quiet")
+    assert code == 0, err
+    rows = list(csv.DictReader(io.StringIO(out.read_text())))
+    assert [r["exact_gap"] == "" for r in rows] == list(stuck)
