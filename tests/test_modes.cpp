@@ -351,6 +351,20 @@ TEST_CASE("Nonlinear modes, condensed formulation: the full formulation's soluti
          5, 3, 1e-3, 3.0},
         {"liftoff3.toml, modal receptance with its 3 modes", io::read_system_config(dir + "liftoff3.toml").system, 5, 3,
          1e-3, 1.0},
+        {"absorber, LuGre (state z)", friction_absorber(AbsorberParameters{}, FrictionLaw::lugre), 5, 0, 0.01, 10.0},
+        // eps = 2 (the damper F_c / eps = 0.1): with the preset's eps = 0.05 the stuck damper (4) makes the
+        // stuck structure overdamped (zeta 7.2 by the undamped mode), and Newton from the undamped mode
+        // lands on different EPMC solutions in the two formulations (a warning says so: hbf modes).
+        {"absorber, regularised Coulomb", [] {
+             AbsorberParameters p;
+             p.regularization = 2.0;
+             return friction_absorber(p, FrictionLaw::coulomb_regularized);
+         }(), 5, 0, 0.01, 10.0},
+        {"Iwan oscillator (Segalman's defaults)", [] {
+             System s = jenkins_oscillator(1.0, 0.01, 1.0, 0.5, 0.1);
+             s.contacts[0].law = parse_friction_law("iwan");
+             return s;
+         }(), 5, 0, 0.05, 20.0},
     };
     for (const Case& c : cases) {
         INFO(c.name);
