@@ -429,6 +429,17 @@ void HarmonicBalance::add_receptance(int c, int d, const Eigen::Ref<const Eigen:
     }
 }
 
+FrictionEvaluation& HarmonicBalance::evaluate_contact(const Eigen::VectorXd& x, double omega, int c, bool jacobian) {
+    const auto cc = static_cast<std::size_t>(c);
+    const int n = coefficients(), offset = state_offset_[cc], first = signal_first_[cc];
+    const Eigen::VectorXd q = x.segment(first * n, signal_count_[cc] * n);
+    const Eigen::VectorXd z =
+        offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, state_count_[cc] * n));
+    models_[cc]->evaluate(*fourier_, omega, q, z, scratch_, jacobian);
+    shift_force(c, omega, q, scratch_, jacobian);
+    return scratch_;
+}
+
 Eigen::MatrixXd HarmonicBalance::shifted_forces(const Eigen::VectorXd& x, double omega) {
     const int n = coefficients(), nc = static_cast<int>(models_.size());
     Eigen::MatrixXd forces(n, signals_);
@@ -476,11 +487,7 @@ Eigen::VectorXcd HarmonicBalance::shifted_force_harmonic(const Eigen::VectorXd& 
         const auto cc = static_cast<std::size_t>(c);
         const int offset = state_offset_[cc], first = signal_first_[cc], count = signal_count_[cc];
         const int states = state_count_[cc] * n;
-        const Eigen::VectorXd q = x.segment(first * n, count * n);
-        const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, states));
-        FrictionEvaluation& e = scratch_;
-        models_[cc]->evaluate(*fourier_, omega, q, z, e, d_x != nullptr);
-        shift_force(c, omega, q, e, d_x != nullptr);
+        const FrictionEvaluation& e = evaluate_contact(x, omega, c, d_x != nullptr);
         for (int j = 0; j < count; ++j) {
             const int a = first + j, cos_row = j * n + 2 * k - 1, sin_row = cos_row + 1;
             lambda(a) = Complex(e.force(cos_row), -e.force(sin_row));  // c - i s
@@ -784,11 +791,7 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
         const auto dd = static_cast<std::size_t>(d);
         const int offset = state_offset_[dd], first = signal_first_[dd], count = signal_count_[dd];
         const int states = state_count_[dd] * n;
-        const Eigen::VectorXd q = x.segment(first * n, count * n);
-        const Eigen::VectorXd z = offset < 0 ? Eigen::VectorXd() : Eigen::VectorXd(x.segment(offset, states));
-        FrictionEvaluation& e = scratch_;
-        models_[dd]->evaluate(*fourier_, omega, q, z, e, want_jacobian);
-        shift_force(d, omega, q, e, want_jacobian);
+        const FrictionEvaluation& e = evaluate_contact(x, omega, d, want_jacobian);
         const double model_seconds = watch.lap();
         statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
         statistics_.jacobian_seconds += e.jacobian_seconds;

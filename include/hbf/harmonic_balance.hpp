@@ -248,6 +248,9 @@ private:
     /// complex matrix-vector product per harmonic); the contacts' blocks into `jacobian`.
     void evaluate_structured(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& residual,
                              StructuredJacobian* jacobian, Eigen::VectorXd* jacobian_omega);
+    /// Contact c's law evaluated on x (every harmonic's layout) at omega, minus its shift
+    /// (shift_force), into scratch_ (with its Jacobians when `jacobian`).
+    FrictionEvaluation& evaluate_contact(const Eigen::VectorXd& x, double omega, int c, bool jacobian);
     /// Every contact's force minus its shift (below), coefficients (2H+1) x signals (condensed).
     Eigen::MatrixXd shifted_forces(const Eigen::VectorXd& x, double omega);
     /// Contact c's force minus the springs and dampers of the shifted structure along its
