@@ -488,12 +488,17 @@ ModePoint NonlinearModes::linear_guess(double amplitude) {
             const Eigen::VectorXd cosine = -normal.solve(w.transpose() * real), sine = normal.solve(w.transpose() * imag);
             offset = n * coordinates;
             for (std::size_t c = 0; c < system_.contacts.size(); ++c) {
+                // One multiplier signal per direction (exact Coulomb; law unilateral pressed shut).
                 const auto states = hb_->state(p.x, static_cast<int>(c)).size();
-                if (states == n && elements[c].size() == 1 && elements[c][0].rigid) {
-                    p.x.segment(offset + 1, n - 1).setZero();
-                    p.x(offset + 1) = cosine(first_signal[c]);
-                    p.x(offset + 2) = sine(first_signal[c]);
-                }
+                const auto count = static_cast<Eigen::Index>(elements[c].size());
+                bool all_rigid = count > 0;
+                for (const StuckElement& e : elements[c]) all_rigid = all_rigid && e.rigid;
+                if (all_rigid && states == n * count)
+                    for (Eigen::Index j = 0; j < count; ++j) {
+                        p.x.segment(offset + j * n + 1, n - 1).setZero();
+                        p.x(offset + j * n + 1) = cosine(first_signal[c] + j);
+                        p.x(offset + j * n + 2) = sine(first_signal[c] + j);
+                    }
                 offset += static_cast<int>(states);
             }
         }

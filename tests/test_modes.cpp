@@ -365,6 +365,8 @@ TEST_CASE("Nonlinear modes, condensed formulation: the full formulation's soluti
              s.contacts[0].law = parse_friction_law("iwan");
              return s;
          }(), 5, 0, 0.05, 20.0},
+        {"liftoff3_rigid.toml, law unilateral on massless nodes (multipliers per direction)",
+         io::read_system_config(dir + "liftoff3_rigid.toml").system, 5, 0, 1e-3, 1.0},
     };
     for (const Case& c : cases) {
         INFO(c.name);
