@@ -261,10 +261,13 @@ void NonlinearModes::residual_condensed(const Eigen::VectorXd& x, double omega, 
         double norm = std::numeric_limits<double>::quiet_NaN(), sine = std::numeric_limits<double>::quiet_NaN();
         Eigen::RowVectorXd norm_x, sine_x;
     };
-    auto rows = [&](double at_omega, bool gradients) {
+    // The forces at omega once (they do not depend on xi); at omega -+ h again (velocity laws).
+    Eigen::MatrixXcd d_lambda;
+    const Eigen::VectorXcd lambda_here = hb_->shifted_force_harmonic(x, omega, 1, jacobian ? &d_lambda : nullptr);
+    auto rows = [&](double at_omega, bool gradients) {  // gradients: at omega only
         Rows out;
-        Eigen::MatrixXcd d_lambda;
-        const Eigen::VectorXcd lambda = hb_->shifted_force_harmonic(x, at_omega, 1, gradients ? &d_lambda : nullptr);
+        const Eigen::VectorXcd lambda =
+            at_omega == omega ? lambda_here : hb_->shifted_force_harmonic(x, at_omega, 1, nullptr);
         const Eigen::MatrixXcd response = hb_->contact_response(1, at_omega);
         if (response.size() == 0) return out;
         const Eigen::VectorXcd y1 = -(response * lambda);
