@@ -7,6 +7,7 @@
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
 #include "golden_section.hpp"
+#include "peak_newton.hpp"
 
 namespace hbf {
 
@@ -245,6 +246,67 @@ bool is_peak_value(double y, double largest, double floor) {
     return y > floor && y > 1e-8 * largest;
 }
 
+namespace detail {
+PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double w0, double h_rel, double max_move,
+                       const std::function<bool(double, double)>& corner) {
+    PeakNewton r;
+    double w = w0;
+    bool fine = false;
+    auto at = [&](double x, bool& good) {
+        const double y = value(x, good);
+        if (!good && r.message.empty()) r.message = "the solve at w = " + format_number(x) + " failed";
+        return y;
+    };
+    for (int it = 0; it < 40; ++it) {
+        r.iterations = it + 1;
+        bool good = true;
+        const double h = (fine ? 10.0 : 1.0) * h_rel * w;
+        const double y0 = at(w, good);
+        const double ym = good ? at(w - h, good) : 0.0;
+        const double yp = good ? at(w + h, good) : 0.0;
+        const double ymm = good && fine ? at(w - 2.0 * h, good) : 0.0;
+        const double ypp = good && fine ? at(w + 2.0 * h, good) : 0.0;
+        if (!good) return r;
+        const double d1 = fine ? (ymm - 8.0 * ym + 8.0 * yp - ypp) / (12.0 * h) : (yp - ym) / (2.0 * h);
+        const double d2 = fine ? (-ymm + 16.0 * ym - 30.0 * y0 + 16.0 * yp - ypp) / (12.0 * h * h)
+                               : (yp - 2.0 * y0 + ym) / (h * h);
+        const bool concave = d2 < 0.0;
+        // Newton on a concave stretch; uphill by 0.2 % of w on a convex one.
+        const double step = concave ? std::clamp(-d1 / d2, -0.02 * w, 0.02 * w) : (d1 >= 0.0 ? 1.0 : -1.0) * 2e-3 * w;
+        if (std::abs(w + step - w0) > max_move * w0) {
+            r.no_maximum = true;
+            r.message = "no maximum within " + format_number(100.0 * max_move) + " % of w = " + format_number(w0);
+            return r;
+        }
+        const double next = w + step;
+        if (fine && concave && std::abs(step) <= 1e-6 * w) {
+            // One 5-point step from within 1e-6 w leaves about step^2 |Y3 / Y2| plus the
+            // stencil's error (peak_newton.hpp): converged. A stick/slip corner inside the
+            // stencil is the caller's to locate.
+            if (corner && corner(w - 2.0 * h, w + 2.0 * h)) {
+                r.ok = true;
+                r.corner = true;
+                r.omega = w;
+                r.value = y0;
+                return r;
+            }
+            const double y = at(next, good);
+            if (!good) return r;
+            r.ok = true;
+            r.omega = next;
+            r.value = y;
+            r.curvature = d2 * next * next / y;
+            return r;
+        }
+        fine = concave && std::abs(step) <= 1e-6 * w;
+        w = next;
+    }
+    r.no_maximum = true;
+    r.message = "Newton on dY/dw did not settle near w = " + format_number(w0);
+    return r;
+}
+}  // namespace detail
+
 void refine_peak(Peak& peak, const SolutionPoint& a, const SolutionPoint& m, const SolutionPoint& b,
                  const std::function<double(double, bool&)>& value) {
     peak.refined = false;
@@ -282,6 +344,14 @@ void refine_peak(Peak& peak, const SolutionPoint& a, const SolutionPoint& m, con
         return;
     }
     if (best.value >= peak.y_max) {
+        // Brent locates the maximum by values (to ~sqrt(rounding / curvature)); Newton on the
+        // difference derivative sharpens it (peak_newton.hpp). Kept only when it stays within
+        // 1e-6 w and its value is not below Brent's beyond rounding (a corner is Brent's).
+        const detail::PeakNewton sharp = detail::peak_newton(value, best.x, 1e-5, 1e-6);
+        if (sharp.ok && sharp.value >= best.value - 1e-9 * std::abs(best.value)) {
+            best.x = sharp.omega;
+            best.value = sharp.value;
+        }
         peak.omega = best.x;
         peak.y_max = best.value;
         peak.refined = true;

@@ -29,6 +29,7 @@ Runner add_map_command(CLI::App& app);
 Runner add_modes_command(CLI::App& app);
 Runner add_optimize_command(CLI::App& app);
 Runner add_timeint_command(CLI::App& app);
+Runner add_track_command(CLI::App& app);
 
 /// The whole command line: parses argv, runs the chosen command, returns the exit code
 /// (hbf/verdict.hpp: ExitCode). main() calls it after setting up the process.

@@ -37,6 +37,7 @@ Run 'hbf <command> --help' for a command's flags and output columns.)");
     runners["modes"] = add_modes_command(app);
     runners["optimize"] = add_optimize_command(app);
     runners["timeint"] = add_timeint_command(app);
+    runners["track"] = add_track_command(app);
 
     const std::string program = "hbf";
     if (argc > 1 && argv[1][0] != '-' && runners.count(argv[1]) == 0) {
