@@ -20,6 +20,7 @@ struct PeakNewton {
     bool ok = false;
     bool no_maximum = false;  ///< Y is not concave near the start, or the search left max_move
     bool corner = false;      ///< `corner` said the regimes change within the stencil at the end
+    bool kink = false;        ///< Y' changes sign across 1e-12 w: a kink of Y is the maximum (omega)
     double omega = 0, value = 0;
     double curvature = std::numeric_limits<double>::quiet_NaN();  ///< Y'' w^2 / Y at the end
     int iterations = 0;
@@ -32,7 +33,10 @@ struct PeakNewton {
 /// moves more than max_move w0 from w0 or does not settle in 40 iterations. `corner(lo, hi)`
 /// (may be empty) says whether the regimes differ between lo and hi: when they do across the
 /// final stencil, the search stops with corner = true at its last w (the caller locates the
-/// corner). value(w, ok) sets ok = false for a failed solve (the search stops: message names w).
+/// corner). Once Y' has shown both signs, steps that leave the bracket bisect it; a bracket
+/// closed to 1e-12 w is a kink of Y (kink = true: the maximum over one period switches between
+/// two turning points in time). value(w, ok) sets ok = false for a failed solve (the search
+/// stops: message names w).
 PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double w0, double h_rel, double max_move,
                        const std::function<bool(double, double)>& corner = {});
 

@@ -252,15 +252,21 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
     PeakNewton r;
     double w = w0;
     bool fine = false;
+    // Relative steps of the 3- and 5-point stencils: h_rel and 10 h_rel, at most 0.5 % and 2 %
+    // of the peak's relative width 1 / sqrt(c), c = -Y'' w^2 / Y (a sharp peak needs a short one).
+    double coarse = h_rel, wide = 10.0 * h_rel, width = 1.0;
+    // A bracket of the root of Y' once both signs were seen: Newton steps that leave it bisect it.
+    double lo = 0.0, hi = 0.0;
+    bool has_lo = false, has_hi = false;
     auto at = [&](double x, bool& good) {
         const double y = value(x, good);
         if (!good && r.message.empty()) r.message = "the solve at w = " + format_number(x) + " failed";
         return y;
     };
-    for (int it = 0; it < 40; ++it) {
+    for (int it = 0; it < 60; ++it) {
         r.iterations = it + 1;
         bool good = true;
-        const double h = (fine ? 10.0 : 1.0) * h_rel * w;
+        const double h = (fine ? wide : coarse) * w;
         const double y0 = at(w, good);
         const double ym = good ? at(w - h, good) : 0.0;
         const double yp = good ? at(w + h, good) : 0.0;
@@ -271,18 +277,46 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
         const double d2 = fine ? (-ymm + 16.0 * ym - 30.0 * y0 + 16.0 * yp - ypp) / (12.0 * h * h)
                                : (yp - 2.0 * y0 + ym) / (h * h);
         const bool concave = d2 < 0.0;
-        // Newton on a concave stretch; uphill by 0.2 % of w on a convex one.
-        const double step = concave ? std::clamp(-d1 / d2, -0.02 * w, 0.02 * w) : (d1 >= 0.0 ? 1.0 : -1.0) * 2e-3 * w;
-        if (std::abs(w + step - w0) > max_move * w0) {
+        if (concave && y0 > 0.0) {
+            width = std::min(1.0, 1.0 / std::sqrt(-d2 * w * w / y0));
+            coarse = std::min(h_rel, 5e-3 * width);
+            wide = std::min(10.0 * h_rel, 2e-2 * width);
+        }
+        if (d1 > 0.0) {
+            lo = w;
+            has_lo = true;
+        } else {
+            hi = w;
+            has_hi = true;
+        }
+        if (has_lo && has_hi && lo < hi && hi - lo <= 1e-12 * w) {
+            // Y' changes sign across a bracket of 1e-12 w without a concave stencil there: a
+            // kink of Y (the largest turning point in time switches), whose maximum it is.
+            const double mid = 0.5 * (lo + hi);
+            const double y = at(mid, good);
+            if (!good) return r;
+            r.ok = true;
+            r.kink = true;
+            r.omega = mid;
+            r.value = y;
+            return r;
+        }
+        // Newton on a concave stretch; uphill by 0.2 % of w (at most half the width) on a convex one.
+        double next = w + (concave ? std::clamp(-d1 / d2, -0.02 * w, 0.02 * w)
+                                   : (d1 >= 0.0 ? 1.0 : -1.0) * std::min(2e-3, 0.5 * width) * w);
+        const bool bracketed = has_lo && has_hi && lo < hi;
+        if (bracketed && !(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        const double step = next - w;
+        if (std::abs(next - w0) > max_move * w0) {
             r.no_maximum = true;
             r.message = "no maximum within " + format_number(100.0 * max_move) + " % of w = " + format_number(w0);
             return r;
         }
-        const double next = w + step;
-        if (fine && concave && std::abs(step) <= 1e-6 * w) {
-            // One 5-point step from within 1e-6 w leaves about step^2 |Y3 / Y2| plus the
-            // stencil's error (peak_newton.hpp): converged. A stick/slip corner inside the
-            // stencil is the caller's to locate.
+        const double close = std::min(1e-6, 1e-3 * width) * w;
+        if (fine && concave && std::abs(step) <= close) {
+            // One 5-point step from within 1e-6 w (or a thousandth of the width) leaves about
+            // step^2 |Y3 / Y2| plus the stencil's error (peak_newton.hpp): converged. A
+            // stick/slip corner inside the stencil is the caller's to locate.
             if (corner && corner(w - 2.0 * h, w + 2.0 * h)) {
                 r.ok = true;
                 r.corner = true;
@@ -298,7 +332,7 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
             r.curvature = d2 * next * next / y;
             return r;
         }
-        fine = concave && std::abs(step) <= 1e-6 * w;
+        fine = concave && std::abs(step) <= close;
         w = next;
     }
     r.no_maximum = true;

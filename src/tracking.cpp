@@ -88,7 +88,7 @@ public:
         exact_options_.outputs = {output_};
         exact_options_.dof_maxima = false;
         corrector_options_ = settings.continuation.corrector;
-        corrector_options_.tolerance = std::min(corrector_options_.tolerance, 1e-11);
+        corrector_options_.tolerance = std::min(corrector_options_.tolerance, 1e-10);
     }
     bool exact() const { return exact_; }
     long long solves() const { return solves_; }
@@ -114,12 +114,29 @@ public:
         SolutionPoint point;
         point.omega = w;
         point.x = start.size() == static_cast<Eigen::Index>(hb_->unknowns()) ? start : hb_->linear_guess(w);
-        const bool ok = corrector_->solve_at(point.x, w, hb_->unknown_scale(point.x), point.iterations, point.residual);
+        const auto solve = [&](Eigen::VectorXd& x, double at_w) {
+            return corrector_->solve_at(x, at_w, hb_->unknown_scale(x), point.iterations, point.residual);
+        };
+        bool ok = solve(point.x, w);
+        // Near a sharp resonance a start from another w may be too far: march from the last
+        // solution of this p in 4, then 16 sub-steps, then try the linear response.
+        for (int pieces : {4, 16}) {
+            if (ok || last_x_.size() == 0) break;
+            point.x = last_x_;
+            ok = true;
+            for (int k = 1; k <= pieces && ok; ++k) ok = solve(point.x, last_w_ + (w - last_w_) * k / pieces);
+        }
+        if (!ok) {
+            point.x = hb_->linear_guess(w);
+            ok = solve(point.x, w);
+        }
         if (!ok) {
             s.message = "the HB corrector did not converge at w = " + format_number(w) + " (residual " +
                         format_number(point.residual) + ")";
             return s;
         }
+        last_x_ = point.x;
+        last_w_ = w;
         const PointMetrics m = (*analyser_)(point);
         s.ok = !m.output_max.empty() && std::isfinite(m.output_max.front());
         s.y = s.ok ? m.output_max.front() : 0.0;
@@ -145,6 +162,7 @@ private:
         hb_.reset();
         system_ = factory_(p);
         p_ = p;
+        last_x_.resize(0);
         has_ = true;
         if (exact_) return;
         hb_ = std::make_unique<HarmonicBalance>(system_, settings_.harmonic_balance);
@@ -165,6 +183,8 @@ private:
     std::unique_ptr<Corrector> corrector_;
     std::unique_ptr<Analyser> analyser_;
     long long solves_ = 0;
+    Eigen::VectorXd last_x_;  ///< HB: the last solution at this p, at last_w_
+    double last_w_ = 0;
 };
 
 /// One located feature at fixed p.
@@ -259,6 +279,7 @@ Fix locate_peak(ResponseSolver& solver, double p, double w0, const Eigen::Vector
     } else {
         f.omega = r.omega;
         f.curvature = r.curvature;
+        f.corner = r.kink;
     }
     f.ok = true;
     f.value = last.y;
@@ -463,7 +484,8 @@ TrackResult track(const std::function<System(double)>& system, const FrfSettings
     const std::string what = peaks ? "peak of " + out_name : "stick-slip boundary";
     if (starts.empty())
         throw InvalidInput("no " + what + " on the FRF over w = " + format_number(w_lo) + ".." + format_number(w_hi) +
-                           " at p = " + format_number(options.p_start) + ": nothing to track");
+                           " at p = " + format_number(options.p_start) + ": nothing to track" +
+                           (start.status() == "completed" ? std::string() : " (that FRF: " + start.summary() + ")"));
     if (!std::isnan(options.omega)) {
         const auto near = std::min_element(starts.begin(), starts.end(), [&](const Start& a, const Start& b) {
             return std::abs(a.omega - options.omega) < std::abs(b.omega - options.omega);
@@ -743,8 +765,8 @@ TrackResult track(const std::function<System(double)>& system, const FrfSettings
         p = target;
         if (kind == "at") ++next_at;
         if (options.progress) options.progress(p);
-        step = iterations <= 3 ? std::min(1.6 * step, options.max_step * range)
-                               : iterations >= 6 ? std::max(0.6 * step, smallest) : step;
+        // Longer steps while the features are found in a few Newton iterations.
+        if (iterations <= 6) step = std::min(1.6 * step, options.max_step * range);
     }
     result.p_reached = p;
     result.solves = solver.solves();

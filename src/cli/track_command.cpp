@@ -25,7 +25,7 @@ struct TrackFlags {
     AbsorberFlags absorber;
     FrfFlags frf;
     std::string feature = "peak", param, range, omega, at, contact = "1", of_contact, max_step = "0.05",
-                min_step = "1e-7", max_points = "5000", plot_of = "w";
+                min_step = "1e-7", max_points = "5000", plot_of = "w", output_name;
     OutputFlags output;
 };
 
@@ -81,6 +81,17 @@ int run(const CLI::App& command, const TrackFlags& o) {
     if (given(command, "--stability") && o.frf.stability != "off")
         throw UsageError("--stability applies to hbf frf and hbf map: hbf track follows peaks and boundaries");
     FrfSettings settings = o.frf.settings(command, chosen);
+    if (given(command, "--output")) {  // the tracked output first
+        std::string names;
+        auto it = settings.outputs.end();
+        for (auto k = settings.outputs.begin(); k != settings.outputs.end(); ++k) {
+            names += (names.empty() ? "" : ", ") + k->name();
+            if (k->name() == o.output_name) it = k;
+        }
+        if (it == settings.outputs.end())
+            throw UsageError("--output = '" + o.output_name + "' is not an output of the system: allowed " + names);
+        std::rotate(settings.outputs.begin(), it, it + 1);
+    }
     TrackOptions t;
     t.feature = o.feature == "peak" ? TrackFeature::peak : TrackFeature::boundary;
     std::tie(t.p_start, t.p_end) = parse_span("--range", o.range);
@@ -276,6 +287,10 @@ void add_flags(CLI::App& command, TrackFlags& o) {
                               "draw the curves in the (parameter, w) plane (or (parameter, value) with --plot-of value), "
                               "the exchanges marked (.png or .svg)",
                               "no progress line or summary line on standard error"});
+    command.add_option("--output", o.output_name, "the output whose peaks are followed (and whose value the CSV "
+                                                  "reports): a name of the system's outputs (the preset: y1, y2; "
+                                                  "--config: its [[output]] names) [default: the first]")
+        ->type_name("NAME");
     command.add_option("--plot-of", o.plot_of, "what --plot draws against the parameter: w or value")
         ->capture_default_str()->type_name("w|value");
     command.footer(columns_footer(

@@ -1,0 +1,240 @@
+// Peaks and stick-slip boundaries followed through a second parameter (tracking.hpp, hbf track),
+// against independent references: the refined peaks of FRFs computed one by one (what hbf map
+// does), the paper's closed-form limit friction coefficient, FRFs just before and after the
+// events the tracking reports.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "cli_support.hpp"
+#include "hbf/analytic.hpp"
+#include "hbf/error.hpp"
+#include "hbf/tracking.hpp"
+
+namespace {
+using namespace hbf;
+
+AbsorberParameters absorber_fe1(double mu) {
+    AbsorberParameters p;
+    p.excitation = 1.0;
+    p.friction_coefficient = mu;
+    return p;
+}
+System coulomb_absorber(double mu) { return friction_absorber(absorber_fe1(mu), FrictionLaw::coulomb); }
+
+/// The refined peaks of y1 on the FRF of `system` (compute_frf, as hbf frf and hbf map).
+std::vector<Peak> frf_peaks(const System& system) {
+    const FrfResult r = compute_frf(system, default_frf_settings(system, {}));
+    std::vector<Peak> out;
+    for (const Peak& k : r.peaks)
+        if (k.output == 0 && k.refined) out.push_back(k);
+    return out;
+}
+}  // namespace
+
+TEST_CASE("track: the absorber's exact Coulomb peaks over mu equal the refined peaks of 40 FRFs; the equal-peak "
+          "point and the end of a peak agree with FRFs around them",
+          "[tracking]") {
+    // fe = 1, mu from 0.3 to 1 (below about 0.29 the resonance is unbounded): the case.
+    const FrfSettings settings = default_frf_settings(coulomb_absorber(0.3), {});
+    REQUIRE(settings.exact);
+    TrackOptions o;
+    o.p_start = 0.3;
+    o.p_end = 1.0;
+    std::vector<double> values;
+    for (int k = 0; k < 40; ++k) values.push_back(0.3 + 0.7 * k / 39.0);
+    values.back() = 1.0;
+    o.at = values;
+    const TrackResult r = track(coulomb_absorber, settings, o);
+    INFO(r.summary());
+    CHECK(r.exact);
+    CHECK(r.status() == "completed");
+    REQUIRE(r.curves.size() == 2);
+
+    // The largest peak at each value against the FRFs' (hbf map's) largest refined peak.
+    const std::vector<FrfResult> frfs = compute_frfs(
+        static_cast<int>(values.size()), [&](int k) { return coulomb_absorber(values[static_cast<std::size_t>(k)]); },
+        settings, 2);
+    double dw = 0.0, dy = 0.0;
+    int compared = 0;
+    for (std::size_t k = 0; k < values.size(); ++k) {
+        REQUIRE(frfs[k].peak.state == PeakState::bounded);
+        // The tracked value at values[k]: the start (k = 0) or the "at" point, largest of the curves.
+        double w = 0.0, y = -1.0;
+        for (const TrackCurve& c : r.curves)
+            for (const TrackPoint& q : c.points)
+                if (std::abs(q.p - values[k]) <= 1e-12 && (q.kind == "at" || q.kind == "start") && q.value > y) {
+                    y = q.value;
+                    w = q.omega;
+                }
+        REQUIRE(y > 0.0);
+        dw = std::max(dw, std::abs(w - frfs[k].peak.omega) / w);
+        dy = std::max(dy, std::abs(y - frfs[k].peak.value) / y);
+        ++compared;
+    }
+    CHECK(compared == 40);
+    CHECK(dw < 1e-8);
+    CHECK(dy < 1e-8);
+
+    // One exchange (the equal-peak design): the FRF there has two refined peaks of that value.
+    const auto exchange = std::find_if(r.events.begin(), r.events.end(), [](const TrackEvent& e) { return e.kind == "exchange"; });
+    REQUIRE(exchange != r.events.end());
+    const std::vector<Peak> at_exchange = frf_peaks(coulomb_absorber(exchange->p));
+    REQUIRE(at_exchange.size() == 2);
+    CHECK(std::abs(at_exchange[0].y_max - exchange->value) < 1e-8 * exchange->value);
+    CHECK(std::abs(at_exchange[1].y_max - exchange->value) < 1e-8 * exchange->value);
+    CHECK(std::abs(at_exchange[0].omega - exchange->omega) < 1e-8);
+    CHECK(std::abs(at_exchange[1].omega - exchange->other_omega) < 1e-8);
+
+    // The upper peak ends inside the range: two peaks on the FRF just before, one just after.
+    const TrackCurve& upper = r.curves[1];
+    CHECK(upper.status == TrackStatus::vanished);
+    const double end = upper.points.back().p;
+    CHECK(end > 0.5);
+    CHECK(end < 0.6);
+    CHECK(frf_peaks(coulomb_absorber(end - 2e-3)).size() == 2);
+    CHECK(frf_peaks(coulomb_absorber(end + 2e-3)).size() == 1);
+    CHECK(r.curves[0].status == TrackStatus::completed);
+}
+
+TEST_CASE("track: the exact Coulomb stick boundaries follow the paper's limit friction coefficient to 1e-10",
+          "[tracking]") {
+    // Full stick holds iff mu >= mu_limit(w) = fe r w^2 / |1 - (1 + r) w^2| (analytic.hpp, paper
+    // eqs. 14-15 as derived): the stick|stick-slip boundaries are mu = mu_limit(w), on both sides
+    // of the stuck resonance 1 / sqrt(1 + r).
+    const FrfSettings settings = default_frf_settings(coulomb_absorber(0.3), {});
+    TrackOptions o;
+    o.feature = TrackFeature::boundary;
+    o.p_start = 0.3;
+    o.p_end = 2.0;
+    const TrackResult r = track(coulomb_absorber, settings, o);
+    INFO(r.summary());
+    int stick_curves = 0, points = 0;
+    double worst = 0.0;
+    const double w_stuck = 1.0 / std::sqrt(1.1);
+    bool below = false, above = false;
+    for (const TrackCurve& c : r.curves) {
+        if (c.boundary != Boundary::stick_stick_slip) continue;
+        ++stick_curves;
+        CHECK(c.status == TrackStatus::completed);
+        for (const TrackPoint& q : c.points) {
+            const double limit = analytic::coulomb_limit_friction(absorber_fe1(q.p), q.omega);
+            worst = std::max(worst, std::abs(limit - q.p) / q.p);
+            ++points;
+            (q.omega < w_stuck ? below : above) = true;
+        }
+    }
+    CHECK(stick_curves == 2);
+    CHECK(below);
+    CHECK(above);
+    CHECK(points > 20);
+    CHECK(worst < 1e-10);
+    // The two stick-slip|slip boundaries close the pure-slip interval where they meet.
+    int slip_curves = 0;
+    for (const TrackCurve& c : r.curves)
+        if (c.boundary == Boundary::stick_slip_slip) {
+            ++slip_curves;
+            CHECK(c.status == TrackStatus::vanished);
+        }
+    CHECK(slip_curves == 2);
+}
+
+TEST_CASE("track: harmonic-balance peaks of a smooth law (Dahl) follow the FRFs' refined peaks", "[tracking]") {
+    // Dahl absorber, mu = 0.5, the force fe from 0.8 to 1: HB (H = 10) at both ends; the peak
+    // is sharp (Y'' w^2 / Y ~ 1e5) and the FRF's peaks come from solves at HB's default
+    // tolerance 1e-9 (the tracking's at 1e-10): measured 6e-5 in w.
+    AbsorberParameters base;
+    base.friction_coefficient = 0.5;
+    const auto system = [&](double fe) {
+        AbsorberParameters p = base;
+        p.excitation = fe;
+        return friction_absorber(p, FrictionLaw::dahl);
+    };
+    const FrfSettings settings = default_frf_settings(system(0.8), {});
+    REQUIRE_FALSE(settings.exact);
+    TrackOptions o;
+    o.p_start = 0.8;
+    o.p_end = 1.0;
+    o.at = {0.9};
+    const TrackResult r = track(system, settings, o);
+    INFO(r.summary());
+    CHECK_FALSE(r.exact);
+    CHECK(r.status() == "completed");
+    for (double fe : {0.9, 1.0}) {
+        const FrfResult frf = compute_frf(system(fe), settings);
+        for (const Peak& k : frf.peaks) {
+            if (k.output != 0) continue;
+            double best = 1.0;
+            for (const TrackCurve& c : r.curves)
+                for (const TrackPoint& q : c.points)
+                    if (std::abs(q.p - fe) < 1e-12) best = std::min(best, std::abs(q.omega - k.omega) / k.omega);
+            CHECK(best < 2e-4);
+        }
+    }
+}
+
+TEST_CASE("track: a curve that leaves the range or the amplitude cap is a warning; bad options name themselves",
+          "[tracking]") {
+    FrfSettings settings = default_frf_settings(coulomb_absorber(0.6), {});
+    TrackOptions o;
+    o.p_start = 0.6;
+    o.p_end = 1.0;
+    o.omega = 0.91;
+    settings.continuation.omega_end = 0.92;  // the peak reaches w = 0.92 near mu = 0.83
+    TrackResult r = track(coulomb_absorber, settings, o);
+    REQUIRE(r.curves.size() == 1);
+    CHECK(r.curves[0].status == TrackStatus::left_range);
+    CHECK(r.status() == "incomplete");
+    CHECK(r.curves[0].points.back().omega > 0.92);
+    settings.continuation.omega_end = 1.6;
+    settings.continuation.max_amplitude = 12.0;  // the peak reaches 12 near mu = 0.83
+    r = track(coulomb_absorber, settings, o);
+    CHECK(r.curves[0].status == TrackStatus::amplitude_cap);
+    CHECK(r.status() == "incomplete");
+    settings.continuation.max_amplitude = 1e3;
+    // No peak near the start frequency: an error listing the peaks found.
+    o.omega = 1.4;
+    CHECK_THROWS_WITH(track(coulomb_absorber, settings, o), Catch::Contains("no peak of y1 within 10 %") &&
+                                                               Catch::Contains("found at w = 0.9"));
+    o.omega = std::numeric_limits<double>::quiet_NaN();
+    o.p_end = o.p_start;
+    CHECK_THROWS_WITH(track(coulomb_absorber, settings, o), Catch::Contains("p_end = 0.6 is out of range"));
+    o.p_end = 1.0;
+    o.at = {1.5};
+    CHECK_THROWS_WITH(track(coulomb_absorber, settings, o), Catch::Contains("at: p = 1.5 is out of range"));
+}
+
+TEST_CASE("hbf track: CSV, summary and exit codes; bad input is exit 2 with nothing written", "[tracking][cli]") {
+    test::TempDir dir;
+    const std::string preset = "track --law coulomb --fe 1 --param mu ";
+    const auto in = [&](const char* name) { return "'" + (dir.path / name).string() + "'"; };
+    auto r = test::run_hbf(preset + "--range 0.6:1 --omega 0.91 --out " + in("t.csv") + " --summary " + in("t.json") + " --quiet", dir);
+    CHECK(r.exit_code == 0);
+    const auto rows = test::parse_csv(test::slurp(dir.path / "t.csv"));
+    REQUIRE(rows.size() > 5);
+    CHECK(rows[0] == std::vector<std::string>{"curve", "mu", "w", "y1_max", "kind", "regime", "curvature", "corner"});
+    const std::string json = test::slurp(dir.path / "t.json");
+    CHECK_THAT(json, Catch::Contains("\"outcome\": \"completed\""));
+    CHECK_THAT(json, Catch::Contains("\"solver\": \"exact\""));
+    // the peak leaves [wmin, wmax]: written, exit 3
+    r = test::run_hbf(preset + "--range 0.6:1 --omega 0.91 --wmax 0.92 --out " + in("l.csv") + " --quiet", dir);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("left_range"));
+    CHECK(std::filesystem::exists(dir.path / "l.csv"));
+    // bad input: nothing written
+    for (const std::string& bad : {std::string("--param zz --range 0.6:1"), std::string("--param mu --range 0.6:1 --output y9"),
+                                   std::string("--param mu --range 0.6:1 --omega 1.4"),
+                                   std::string("--param mu --range 0.6:0.6"), std::string("--param mu --range 0.6:1 --feature fold2"),
+                                   std::string("--param mu --range -1:1")}) {
+        test::TempDir empty;
+        r = test::run_hbf("track --law coulomb --fe 1 " + bad + " --out '" + (empty.path / "x.csv").string() + "' --quiet", empty);
+        INFO(bad << ": " << r.err);
+        CHECK(r.exit_code == 2);
+        CHECK_FALSE(std::filesystem::exists(empty.path / "x.csv"));
+        CHECK_THAT(r.err, Catch::Contains("error"));
+    }
+    r = test::run_hbf("track --law coulomb --param mu --range 0.6:1 --output y9 --out " + in("x.csv"), dir);
+    CHECK_THAT(r.err, Catch::Contains("--output = 'y9' is not an output of the system: allowed y1, y2"));
+    r = test::run_hbf("track --law coulomb --param zz --range 0.6:1 --out " + in("x.csv"), dir);
+    CHECK_THAT(r.err, Catch::Contains("--param = 'zz' is not known"));
+}
