@@ -257,7 +257,7 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
     double coarse = h_rel, wide = 10.0 * h_rel, width = 1.0;
     // A bracket of the root of Y' once both signs were seen: Newton steps that leave it bisect it.
     double lo = 0.0, hi = 0.0;
-    bool has_lo = false, has_hi = false;
+    bool has_lo = false, has_hi = false, bracket_fine = false;
     auto at = [&](double x, bool& good) {
         const double y = value(x, good);
         if (!good && r.message.empty()) r.message = "the solve at w = " + format_number(x) + " failed";
@@ -281,6 +281,10 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
             width = std::min(1.0, 1.0 / std::sqrt(-d2 * w * w / y0));
             coarse = std::min(h_rel, 5e-3 * width);
             wide = std::min(10.0 * h_rel, 2e-2 * width);
+        }
+        if (fine != bracket_fine) {  // the 3- and 5-point derivatives differ by their truncation
+            has_lo = has_hi = false;
+            bracket_fine = fine;
         }
         if (d1 > 0.0) {
             lo = w;
@@ -312,11 +316,12 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
             r.message = "no maximum within " + format_number(100.0 * max_move) + " % of w = " + format_number(w0);
             return r;
         }
-        const double close = std::min(1e-6, 1e-3 * width) * w;
-        if (fine && concave && std::abs(step) <= close) {
-            // One 5-point step from within 1e-6 w (or a thousandth of the width) leaves about
-            // step^2 |Y3 / Y2| plus the stencil's error (peak_newton.hpp): converged. A
-            // stick/slip corner inside the stencil is the caller's to locate.
+        // 5-point steps from within `close`; converged at a step below `done`: a Newton step's
+        // error is about the step times the relative error of the stencil's Y'' (~1e-3), so a
+        // step of 1e-8 w leaves ~1e-11 w.
+        const double close = std::min(1e-6, 1e-3 * width) * w, done = std::min(1e-8, 1e-5 * width) * w;
+        if (fine && concave && std::abs(step) <= done) {
+            // A stick/slip corner inside the stencil is the caller's to locate.
             if (corner && corner(w - 2.0 * h, w + 2.0 * h)) {
                 r.ok = true;
                 r.corner = true;

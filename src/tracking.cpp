@@ -11,6 +11,7 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/exact_polish.hpp"
+#include "golden_section.hpp"
 #include "peak_newton.hpp"
 #include "stopwatch.hpp"
 
@@ -102,10 +103,38 @@ public:
         ++solves_;
         Solution s;
         if (exact_) {
-            const ExactOrbit o = exact_periodic_orbit(system_, w, start, exact_options_);
-            s.ok = o.converged && !o.output_max.empty() && std::isfinite(o.output_max.front());
+            const auto good = [](const ExactOrbit& o) {
+                return o.converged && !o.output_max.empty() && std::isfinite(o.output_max.front());
+            };
+            ExactOrbit o = exact_periodic_orbit(system_, w, start, exact_options_);
+            // Where the stick/slip pattern changes near w a start from another w or p may fail:
+            // march from the last orbit of this p in 4, then 16 sub-steps; then start from the
+            // harmonic-balance solution at (w, p), as the polish does.
+            for (int pieces : {4, 16}) {
+                if (good(o) || last_x_.size() == 0 || last_w_ == w) break;
+                ExactOrbit q;
+                q.state = last_x_;
+                q.converged = true;
+                q.output_max = {0.0};
+                for (int k = 1; k <= pieces && good(q); ++k)
+                    q = exact_periodic_orbit(system_, last_w_ + (w - last_w_) * k / pieces, q.state, exact_options_);
+                if (good(q)) o = std::move(q);
+            }
+            if (!good(o)) {
+                ensure_hb();
+                SolutionPoint point;
+                point.omega = w;
+                point.x = hb_->linear_guess(w);
+                if (corrector_->solve_at(point.x, w, hb_->unknown_scale(point.x), point.iterations, point.residual)) {
+                    ExactOrbit q = exact_periodic_orbit(system_, w, exact_start_state(*hb_, point), exact_options_);
+                    if (good(q)) o = std::move(q);
+                }
+            }
+            s.ok = good(o);
             s.message = o.message;
             if (!s.ok) return s;
+            last_x_ = o.state;
+            last_w_ = w;
             s.y = o.output_max.front();
             for (const ContactRegime& r : o.contacts) s.regimes.push_back(r.regime);
             s.state = o.state;
@@ -165,9 +194,14 @@ private:
         last_x_.resize(0);
         has_ = true;
         if (exact_) return;
+        ensure_hb();
+        analyser_ = std::make_unique<Analyser>(*hb_, std::vector<int>{}, std::vector<Output>{output_});
+    }
+    /// The HB objects of the current system (built once per p; the exact solver's fallback too).
+    void ensure_hb() {
+        if (hb_) return;
         hb_ = std::make_unique<HarmonicBalance>(system_, settings_.harmonic_balance);
         corrector_ = std::make_unique<Corrector>(*hb_, corrector_options_);
-        analyser_ = std::make_unique<Analyser>(*hb_, std::vector<int>{}, std::vector<Output>{output_});
     }
 
     std::function<System(double)> factory_;
@@ -183,7 +217,7 @@ private:
     std::unique_ptr<Corrector> corrector_;
     std::unique_ptr<Analyser> analyser_;
     long long solves_ = 0;
-    Eigen::VectorXd last_x_;  ///< HB: the last solution at this p, at last_w_
+    Eigen::VectorXd last_x_;  ///< the last solution at this p (exact state or HB X), at last_w_
     double last_w_ = 0;
 };
 
@@ -408,12 +442,17 @@ TrackPoint point_of(double p, const Fix& f, const std::string& kind) {
     t.regime = f.regime;
     t.curvature = f.curvature;
     t.corner = f.corner;
+    t.state = f.state;
     return t;
 }
 
 }  // namespace
 
-TrackResult track(const std::function<System(double)>& system, const FrfSettings& settings, const TrackOptions& options) {
+namespace {
+/// track() with the FRFs at p_start and p_end when already computed (the optimizer's scan; with
+/// the same settings and peaks): null computes them.
+TrackResult track_with(const std::function<System(double)>& system, const FrfSettings& settings,
+                       const TrackOptions& options, const FrfResult* known_start, const FrfResult* known_end) {
     options.validate();
     settings.validate();
     detail::Stopwatch watch;
@@ -439,8 +478,8 @@ TrackResult track(const std::function<System(double)>& system, const FrfSettings
     frf.continuation.locate_transitions = !peaks;
     frf.stability = false;
     frf.at.clear();
-    const FrfResult start = compute_frf(first, frf);
-    ++result.frfs;
+    const FrfResult start = known_start ? *known_start : compute_frf(first, frf);
+    result.frfs += known_start ? 0 : 1;
     result.exact = start.polish.has_value();
     result.harmonics = frf.harmonic_balance.harmonics;
     if (start.status() != "completed")
@@ -661,7 +700,7 @@ TrackResult track(const std::function<System(double)>& system, const FrfSettings
                         failure = std::move(f);
                         continue;
                     }
-                    c.points.push_back(point_of(mid, f, "step"));
+                    c.points.push_back(point_of(mid, f, "search"));
                     ++points;
                     advance(l, mid, f);
                     lo = mid;
@@ -675,7 +714,13 @@ TrackResult track(const std::function<System(double)>& system, const FrfSettings
                                   ": " + failure.message);
                     result.events.push_back({"vanished", l.p1, l.w1, l.value, c.id, 0, 0});
                 } else {
-                    end_curve(l, TrackStatus::failed, "the solves failed" + where + ": " + failure.message);
+                    const double first = c.points.empty() ? 0.0 : c.points.front().value;
+                    const std::string growth =
+                        peaks && first > 0.0 && l.value > 5.0 * first
+                            ? " (the peak grew from " + format_number(first) + " to " + format_number(l.value) +
+                                  ": the resonance may become unbounded there)"
+                            : "";
+                    end_curve(l, TrackStatus::failed, "the solves failed" + where + ": " + failure.message + growth);
                 }
             }
             live = std::move(kept);
@@ -774,8 +819,8 @@ TrackResult track(const std::function<System(double)>& system, const FrfSettings
     // 3. The check at the end (peaks): an FRF at p_end, whose peaks every completed curve
     //    should reach; one that none reaches was born inside the range.
     if (peaks) {
-        const FrfResult end = compute_frf(system(options.p_end), frf);
-        ++result.frfs;
+        const FrfResult end = known_end ? *known_end : compute_frf(system(options.p_end), frf);
+        result.frfs += known_end ? 0 : 1;
         for (const Peak& k : end.peaks) {
             if (k.output != 0) continue;
             bool reached = false;
@@ -808,6 +853,265 @@ TrackResult track(const std::function<System(double)>& system, const FrfSettings
     result.verdict.add(start.messages);
     result.seconds = watch.lap();
     return result;
+}
+
+}  // namespace
+
+TrackResult track(const std::function<System(double)>& system, const FrfSettings& settings, const TrackOptions& options) {
+    return track_with(system, settings, options, nullptr, nullptr);
+}
+
+std::string TrackOptimum::summary(const std::string& name) const {
+    std::string s = to_string(status) + ": " + name + " = " + format_number(parameter) + ", largest peak " +
+                    format_number(value) + " at w = " + format_number(omega) + (kind.empty() ? "" : " (" + kind + ")") +
+                    ", " + std::to_string(solves) + " solves, " + std::to_string(frfs) + " FRFs, " + format_number(seconds) + " s";
+    if (!message.empty()) s += "; " + message;
+    return s;
+}
+
+Verdict TrackOptimum::verdict(const std::string& name) const {
+    Verdict v;
+    if (status == OptimizeStatus::at_bound || status == OptimizeStatus::budget) v.warning(summary(name));
+    if (status == OptimizeStatus::unbounded || status == OptimizeStatus::failed) v.error(summary(name));
+    for (const std::string& c : failed_curves)
+        v.note("a tracked peak failed (the largest peak beyond it counts as unknown; the FRF at the optimum confirmed "
+               "it): " + c);
+    for (const TrackResult& t : tracks)
+        for (const std::string& n : t.verdict.notes) v.note(n);
+    if (restarts > 0)
+        v.note("the FRF at an optimum found had a larger peak than the tracked ones (born after the start): the tracks "
+               "started again there " + std::to_string(restarts) + " time(s)");
+    return v;
+}
+
+namespace {
+/// One round of optimize_by_tracking: the tracks from `start` to both ends and the minimum of
+/// the largest peak along them (result's fields).
+void search_tracks(TrackOptimum& result, const std::function<System(double)>& system, const FrfSettings& settings,
+                   double lower, double upper, double start, double tolerance,
+                   const std::vector<std::pair<double, const FrfResult*>>& known) {
+    const auto frf_at = [&](double p) -> const FrfResult* {
+        for (const auto& [x, r] : known)
+            if (x == p) return r;
+        return nullptr;
+    };
+    result.tracks.clear();
+    result.kind.clear();
+    result.message.clear();
+    result.other_omega = std::numeric_limits<double>::quiet_NaN();
+    for (double end : {lower, upper}) {
+        TrackOptions o;
+        o.p_start = start;
+        o.p_end = end;
+        result.tracks.push_back(track_with(system, settings, o, frf_at(start), frf_at(end)));
+        result.solves += result.tracks.back().solves;
+        result.frfs += result.tracks.back().frfs;
+    }
+    // The largest peak at each value of p every live curve was solved at (+infinity beyond a
+    // curve's amplitude cap), from lower to upper.
+    struct Sample {
+        double p, value, omega, other_omega;
+        const TrackCurve* top;
+        const TrackPoint* point;
+        bool exchange;
+    };
+    std::vector<Sample> samples;
+    for (std::size_t t = 0; t < result.tracks.size(); ++t) {
+        const TrackResult& r = result.tracks[t];
+        std::vector<double> ps;
+        for (const TrackCurve& c : r.curves)
+            for (const TrackPoint& q : c.points)
+                if (q.kind != "search") ps.push_back(q.p);
+        std::sort(ps.begin(), ps.end());
+        ps.erase(std::unique(ps.begin(), ps.end()), ps.end());
+        const double dir = t == 0 ? -1.0 : 1.0;
+        for (double p : ps) {
+            if (t == 1 && p == start) continue;  // the start is in both tracks
+            Sample s{p, -1.0, 0.0, std::numeric_limits<double>::quiet_NaN(), nullptr, nullptr, false};
+            std::vector<double> exchanged;  // the frequencies of the exchange points at p
+            for (const TrackCurve& c : r.curves) {
+                if (c.points.empty()) continue;
+                const bool unknown_beyond = c.status == TrackStatus::amplitude_cap || c.status == TrackStatus::failed;
+                if (unknown_beyond && dir * (p - c.points.back().p) > 0.0) {
+                    s.value = std::numeric_limits<double>::infinity();
+                    s.top = &c;
+                    break;
+                }
+                for (const TrackPoint& q : c.points) {
+                    if (q.p != p || q.kind == "search") continue;
+                    if (q.kind == "exchange") {
+                        exchanged.push_back(q.omega);
+                        s.exchange = true;
+                    }
+                    if (q.value > s.value) {
+                        s.value = q.value;
+                        s.omega = q.omega;
+                        s.top = &c;
+                        s.point = &q;
+                    }
+                }
+            }
+            for (double w : exchanged)
+                if (w != s.omega) s.other_omega = w;
+            if (s.top) samples.push_back(s);
+        }
+    }
+    std::sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) { return a.p < b.p; });
+    const auto best = std::min_element(samples.begin(), samples.end(),
+                                       [](const Sample& a, const Sample& b) { return a.value < b.value; });
+    if (best == samples.end() || !std::isfinite(best->value)) {
+        result.status = OptimizeStatus::unbounded;
+        result.message = "no bounded peak along the tracks";
+        return;
+    }
+    result.parameter = best->p;
+    result.value = best->value;
+    result.omega = best->omega;
+    result.status = OptimizeStatus::converged;
+    const std::size_t k = static_cast<std::size_t>(best - samples.begin());
+    if (best->exchange) {
+        result.kind = "equal peaks";
+        result.other_omega = best->other_omega;
+    } else if (k == 0 || k + 1 == samples.size()) {
+        result.kind = "bound";
+        result.status = OptimizeStatus::at_bound;
+        result.message = "the smallest largest peak is at the " + std::string(k == 0 ? "lower" : "upper") +
+                         " end of the range: the optimum may lie outside it";
+    } else if (samples[k - 1].top != best->top || samples[k + 1].top != best->top) {
+        result.kind = "peak end";
+        result.message = "the largest peak changes from one curve to another there without an exchange (a peak ends)";
+    } else {
+        // An interior minimum of one curve: Brent in p on the peak located at each trial value.
+        result.kind = "minimum";
+        const Sample &a = samples[k - 1], &b = samples[k + 1];
+        const Output output = settings.outputs.empty() ? Output::dof(0) : settings.outputs.front();
+        ResponseSolver solver(system, settings, result.tracks.front().exact, output);
+        const double lo_w = std::min(settings.continuation.omega_start, settings.continuation.omega_end),
+                     hi_w = std::max(settings.continuation.omega_start, settings.continuation.omega_end);
+        Fix last;
+        bool ok = true;
+        std::string why;
+        const detail::GoldenMaximum m = detail::brent_maximum(
+            [&](double p, bool& good) {
+                const double s = (p - a.p) / (b.p - a.p);
+                const double guess = s < 0.5 ? a.omega + 2.0 * s * (best->omega - a.omega)
+                                             : best->omega + (2.0 * s - 1.0) * (b.omega - best->omega);
+                Fix f = locate_peak(solver, p, guess, best->point->state, lo_w, hi_w);
+                if (!f.ok) {  // no peak there (near a cap): not the minimum
+                    why = f.message;
+                    (void)good;
+                    return -std::numeric_limits<double>::max();
+                }
+                last = f;
+                return -f.value;
+            },
+            a.p, b.p, tolerance, ok);
+        if (!ok) {
+            result.status = OptimizeStatus::failed;
+            result.message = "the search for the curve's minimum failed: " + why;
+        } else {
+            result.parameter = m.x;
+            result.value = -m.value;
+            // the peak at the optimum itself (Brent's last evaluation may be elsewhere)
+            const Fix f = locate_peak(solver, m.x, last.omega, last.state, lo_w, hi_w);
+            if (f.ok) {
+                result.value = f.value;
+                result.omega = f.omega;
+            }
+        }
+        result.solves += solver.solves();
+    }
+}
+}  // namespace
+
+TrackOptimum optimize_by_tracking(const std::function<System(double)>& system, const FrfSettings& settings,
+                                  const OptimizeOptions& options) {
+    if (!(std::isfinite(options.lower) && options.lower > 0.0 && std::isfinite(options.upper) &&
+          options.upper > options.lower * (1.0 + 1e-9)))
+        throw InvalidInput("lower = " + format_number(options.lower) + ", upper = " + format_number(options.upper) +
+                           " are out of range: allowed finite, 0 < lower < upper");
+    if (options.scan_points < 3 || options.scan_points > 10000)
+        throw InvalidInput("scan_points = " + std::to_string(options.scan_points) + " is out of range: allowed 3..10000");
+    if (!(options.tolerance >= 1e-14 && options.tolerance <= 0.1))
+        throw InvalidInput("tolerance = " + format_number(options.tolerance) + " is out of range: allowed 1e-14..0.1");
+    detail::Stopwatch watch;
+    TrackOptimum result;
+    // 1. The scan (as optimize_parameter's): which valley, and the bracket around its best value.
+    const int n = options.scan_points;
+    std::vector<double> grid(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k)
+        grid[static_cast<std::size_t>(k)] =
+            std::exp(std::log(options.lower) + (std::log(options.upper) - std::log(options.lower)) * k / (n - 1));
+    grid.front() = options.lower;
+    grid.back() = options.upper;
+    FrfSettings frf = settings;
+    frf.peaks = true;
+    const std::vector<FrfResult> scan = compute_frfs(
+        n, [&](int k) { return system(grid[static_cast<std::size_t>(k)]); }, frf, options.threads);
+    result.frfs += n;
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < scan.size(); ++k)
+        if (scan[k].peak.objective() < scan[best].peak.objective()) best = k;
+    result.scan = grid;
+    for (const FrfResult& r : scan) result.scan_values.push_back(r.peak.objective());
+    const auto finish = [&]() {
+        for (const TrackResult& t : result.tracks)
+            for (const TrackCurve& c : t.curves)
+                if (c.status == TrackStatus::failed)
+                    result.failed_curves.push_back("curve " + std::to_string(c.id) + " (" + c.label + "): " + c.message);
+        result.seconds = watch.lap();
+        return result;
+    };
+    if (!std::isfinite(scan[best].peak.objective())) {
+        result.status = OptimizeStatus::unbounded;
+        result.message = "no scanned value gives a bounded response: widen the range or lower the excitation";
+        return finish();
+    }
+    if (best == 0 || best + 1 == scan.size()) {
+        result.status = OptimizeStatus::at_bound;
+        result.kind = "bound";
+        result.parameter = grid[best];
+        result.value = scan[best].peak.value;
+        result.omega = scan[best].peak.omega;
+        result.message = std::string("the smallest peak of the scan is at the ") + (best == 0 ? "lower" : "upper") +
+                         " end of the range: the optimum may lie outside it";
+        return finish();
+    }
+    // 2. The peaks followed from the best scan value to its neighbours; an FRF at the minimum
+    //    found checks it (a peak born between the start and it, or a resonance that became
+    //    unbounded there, is invisible to tracking): a larger bounded peak starts the tracks
+    //    again from there (at most 3 times), an unbounded one fails the search.
+    const double lower = grid[best - 1], upper = grid[best + 1];
+    double from = grid[best];
+    for (int round = 0; round < 4; ++round) {
+        search_tracks(result, system, settings, lower, upper, from, 1e-2 * options.tolerance,
+                      {{grid[best - 1], &scan[best - 1]}, {grid[best], &scan[best]}, {grid[best + 1], &scan[best + 1]}});
+        if (result.status != OptimizeStatus::converged) break;
+        const FrfResult check = compute_frf(system(result.parameter), frf);
+        ++result.frfs;
+        result.check_value = check.peak.value;
+        if (check.peak.state != PeakState::bounded) {
+            result.status = OptimizeStatus::failed;
+            result.message = "the FRF at the tracked minimum " + format_number(result.parameter) + " is " +
+                             to_string(check.peak.state) + " (a resonance the tracked peaks do not include): use --method golden";
+            break;
+        }
+        if (!(check.peak.value > result.value * (1.0 + 1e-7))) break;
+        if (round == 3) {
+            result.status = OptimizeStatus::failed;
+            result.message = "the FRF at the minimum found still has a larger peak than the tracked ones after 3 restarts";
+            break;
+        }
+        ++result.restarts;
+        from = result.parameter;
+    }
+    if (result.status == OptimizeStatus::at_bound) {
+        // an end of the bracket: the scan's neighbour was larger, so the tracks missed a peak
+        result.status = OptimizeStatus::failed;
+        result.message = "the tracked minimum lies at the end of the scan's bracket, where the scan's FRF is larger: "
+                         "a peak the tracks do not include; use --method golden";
+    }
+    return finish();
 }
 
 }  // namespace hbf

@@ -88,7 +88,8 @@ struct TrackPoint {
     /// output's Y on the boundary (its stick side).
     double value = 0;
     /// "start" (p_start), "step", "at" (an asked value of p), "exchange" (two peaks equal),
-    /// "end" (the curve's last point: its status says why).
+    /// "search" (found while locating where the curve ends: the other curves have no point at
+    /// that p), "end" (the curve's last point: its status says why).
     std::string kind = "step";
     /// The regime of the tracked contact (boundary) or of contact 1 (peak) at the point:
     /// stick, stick-slip, slip; "none" without contacts.
@@ -96,6 +97,9 @@ struct TrackPoint {
     /// peak: Y'' w^2 / Y at the peak (< 0: a maximum; -> 0 where it vanishes); "corner": NaN.
     double curvature = std::numeric_limits<double>::quiet_NaN();
     bool corner = false;  ///< peak: on a stick/slip corner of Y (the transition itself)
+    /// The solver's state there (the exact orbit's state at t = 0, or the HB coefficients): a
+    /// start for a later solve nearby (optimize_by_tracking).
+    Eigen::VectorXd state;
 };
 
 struct TrackCurve {
@@ -146,5 +150,46 @@ struct TrackResult {
 /// error; left_range, amplitude_cap, point_budget, a peak born inside the range and a start FRF
 /// that is not complete are warnings (exit 3); vanished peaks and exchanges are notes.
 TrackResult track(const std::function<System(double)>& system, const FrfSettings& settings, const TrackOptions& options);
+
+/// The design parameter that minimises the largest peak, by tracking (hbf optimize --method
+/// tracking). First the scan of optimize_parameter (options.scan_points FRFs log-spaced over
+/// [lower, upper], on options.threads): it finds the valley and brackets it between the best
+/// scan value's neighbours (a best value at an end is at_bound, none bounded unbounded, as
+/// there). Then the peaks of the first output are followed from the best scan value to both
+/// neighbours; the largest peak along them (+infinity beyond a curve's amplitude cap or
+/// failure) is minimised: at an exchange of the two largest peaks (kind "equal peaks", located
+/// to 1e-10 |p| by the tracking), at an interior minimum of one curve (kind "minimum": Brent's
+/// search in p between the neighbouring points, each value the peak located at that p, to
+/// 1e-2 options.tolerance |p|), or where the largest peak ends (kind "peak end", to the
+/// tracking's smallest step). An FRF at the minimum found checks it: tracking only follows the
+/// peaks of its start, so a larger peak born in between starts the tracks again from there (at
+/// most 3 times), and an unbounded FRF there fails the search (use the golden-section search).
+struct TrackOptimum {
+    OptimizeStatus status = OptimizeStatus::failed;
+    double parameter = std::numeric_limits<double>::quiet_NaN();
+    double value = std::numeric_limits<double>::quiet_NaN();  ///< the largest peak there
+    double omega = std::numeric_limits<double>::quiet_NaN();  ///< its frequency
+    double other_omega = std::numeric_limits<double>::quiet_NaN();  ///< equal peaks: the other's
+    std::string kind;          ///< "equal peaks", "minimum", "peak end", "bound"
+    std::vector<TrackResult> tracks;  ///< toward lower, toward upper
+    long long solves = 0;
+    int frfs = 0;
+    double seconds = 0;
+    std::string message;
+    /// The largest refined peak of an FRF at the optimum (the check against peaks that tracking
+    /// cannot see: those born between the start and the optimum).
+    double check_value = std::numeric_limits<double>::quiet_NaN();
+    int restarts = 0;  ///< rounds started again from the optimum after the check found a larger peak
+    std::vector<double> scan, scan_values;  ///< the scan's parameters and largest peaks (+inf: unbounded)
+    std::vector<std::string> failed_curves;  ///< curves whose solves failed (beyond them: unknown)
+    /// One line: status, parameter (named `name`), the largest peak, kind, cost.
+    std::string summary(const std::string& name = "p") const;
+    /// converged: completed; at_bound a warning; unbounded and failed errors; curves whose
+    /// solves failed a note (the largest peak counts as unknown beyond them, and the FRF at the
+    /// optimum confirmed it); the tracks' notes as notes.
+    Verdict verdict(const std::string& name = "p") const;
+};
+TrackOptimum optimize_by_tracking(const std::function<System(double)>& system, const FrfSettings& settings,
+                                  const OptimizeOptions& options);
 
 }  // namespace hbf

@@ -20,6 +20,7 @@
 #include "hbf/error.hpp"
 #include "hbf/io.hpp"
 #include "hbf/plot.hpp"
+#include "hbf/tracking.hpp"
 #include "study.hpp"
 
 namespace hbf::cli {
@@ -29,7 +30,7 @@ struct OptimizeOptions_ {
     AbsorberFlags absorber;
     FrfFlags frf;
     std::string param = "mu", range, scan = "13", param_tolerance = "1e-4", max_frfs = "200", threads = "0",
-                contact = "1", wa_range, wa_scan = "7";
+                contact = "1", wa_range, wa_scan = "7", method = "golden";
     OutputFlags output;
 };
 
@@ -58,6 +59,37 @@ std::vector<io::Column> trace_columns(const std::string& param, bool joint) {
                {"seconds", "wall time of the FRF"}};
     columns.insert(columns.end(), rest.begin(), rest.end());
     return columns;
+}
+
+std::vector<io::Column> tracking_columns(const std::string& param) {
+    return {{"track", "--method tracking: down (from the best scan value to its lower neighbour) or up (to its upper "
+                      "neighbour)",
+             io::ColumnType::text},
+            {"curve", "the tracked peak (1-based within its track)"},
+            {param, "the parameter's value"},
+            {"w", "the peak's frequency"},
+            {"peak", "the peak's value: max over one period of |o(t)| of the first output"},
+            {"kind", "start, step, at, exchange (two peaks equal), search (locating where a peak ends), end",
+             io::ColumnType::text},
+            {"regime", "contact 1's regime at the peak", io::ColumnType::text}};
+}
+
+/// The tracking optimum as the search result the rest of the command reports.
+OptimizeResult as_optimize_result(const TrackOptimum& t) {
+    OptimizeResult r;
+    r.status = t.status;
+    r.parameter = t.parameter;
+    r.peak.value = t.value;
+    r.peak.omega = t.omega;
+    r.peak.state = std::isfinite(t.value) ? PeakState::bounded : PeakState::failed;
+    if (std::isfinite(t.value)) {
+        r.peaks.push_back({t.omega, t.value, 1, true, 0, {}});
+        if (std::isfinite(t.other_omega)) r.peaks.push_back({t.other_omega, t.value, 1, true, 0, {}});
+    }
+    r.bracket_lower = r.bracket_upper = t.parameter;
+    r.message = t.kind + (t.message.empty() ? "" : ": " + t.message);
+    r.seconds = t.seconds;
+    return r;
 }
 
 /// LOWER:UPPER with 0 < LOWER < UPPER (UsageError naming the flag).
@@ -96,6 +128,16 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
                          "--config the friction limit of --contact), wa (the absorber's tuning, preset only) or mu,wa "
                          "(both, preset only)");
     const bool joint = o.param == "mu,wa";
+    if (o.method != "golden" && o.method != "tracking")
+        throw UsageError("--method = '" + o.method + "' is not known: allowed golden (a scan, then golden section on "
+                         "whole FRFs) or tracking (a scan, then the peaks followed in the parameter)");
+    const bool tracking = o.method == "tracking";
+    if (tracking && joint)
+        throw UsageError("--method tracking follows the peaks in one parameter: allowed --param mu or wa (mu,wa needs "
+                         "--method golden)");
+    if (tracking && given(command, "--max-frfs"))
+        throw UsageError("--max-frfs bounds the golden-section search: --method tracking computes the scan's FRFs and "
+                         "a few checks (its cost is in the JSON)");
     if (joint && chosen.config)
         throw UsageError("--param = mu,wa needs the paper's absorber (wa is its tuning): with --config allowed mu");
     for (const char* flag : {"--wa-range", "--wa-scan"})
@@ -155,8 +197,11 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
             [&](double mu, double wa) { return parameter.with_tuning(wa).system(mu); }, settings, oo, tuning);
     // The search reported: in the parameter, or (joint) in wa, each of its evaluations the best
     // of a search in mu.
-    const OptimizeResult result =
-        joint ? joint_result.outer : optimize_parameter([&](double v) { return parameter.system(v); }, settings, oo);
+    TrackOptimum tracked;
+    if (tracking) tracked = optimize_by_tracking([&](double v) { return parameter.system(v); }, settings, oo);
+    const OptimizeResult result = joint      ? joint_result.outer
+                                  : tracking ? as_optimize_result(tracked)
+                                             : optimize_parameter([&](double v) { return parameter.system(v); }, settings, oo);
     const double best_mu = joint ? joint_result.parameter : result.parameter;
     const std::string summary_line = joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name());
 
@@ -212,11 +257,14 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     }
 
     // the library's verdict of the search (design.hpp), with the comparison FRF's messages
-    const Verdict verdict =
-        joint ? joint_result.verdict("mu", "wa", comparison_messages) : result.verdict(parameter.name(), comparison_messages);
+    Verdict verdict = joint      ? joint_result.verdict("mu", "wa", comparison_messages)
+                      : tracking ? tracked.verdict(parameter.name())
+                                 : result.verdict(parameter.name(), comparison_messages);
+    if (tracking) verdict.add(comparison_messages);
 
     io::OutputFile out(o.output.out);
-    const std::vector<io::Column> columns = trace_columns(parameter.name(), joint);
+    const std::vector<io::Column> columns =
+        tracking ? tracking_columns(parameter.name()) : trace_columns(parameter.name(), joint);
     for (std::size_t c = 0; c < columns.size(); ++c) out.stream() << (c ? "," : "") << columns[c].name;
     out.stream() << '\n';
     std::size_t row = 0;
@@ -235,6 +283,13 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
                              << ',';
                 write_row(e);
             }
+    } else if (tracking) {
+        for (std::size_t t = 0; t < tracked.tracks.size(); ++t)
+            for (const TrackCurve& c : tracked.tracks[t].curves)
+                for (const TrackPoint& q : c.points)
+                    out.stream() << (t == 0 ? "down" : "up") << ',' << c.id << ',' << io::csv_field(q.p) << ','
+                                 << io::csv_field(q.omega) << ',' << io::csv_field(q.value) << ',' << q.kind << ','
+                                 << q.regime << '\n';
     } else {
         for (const OptimizeEvaluation& e : result.trace) {
             out.stream() << ++row << ',';
@@ -275,10 +330,18 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
             for (const OptimizeResult& r : joint_result.inner) failed += r.failed;
             j["frfs"] = joint_result.frfs();
             j["failed_frfs"] = failed;
+        } else if (tracking) {
+            j["frfs"] = tracked.frfs;
+            j["solves"] = tracked.solves;
+            j["optimum"]["kind"] = tracked.kind;
+            j["optimum"]["check_peak"] = number_or_null(tracked.check_value);
+            j["restarts"] = tracked.restarts;
+            j["failed_curves"] = tracked.failed_curves;
         } else {
             j["frfs"] = result.trace.size();
             j["failed_frfs"] = result.failed;
         }
+        j["method"] = o.method;
         j["scan_points"] = oo.scan_points;
         j["param_tolerance"] = oo.tolerance;
         j["comparisons"] = comparisons;
@@ -325,6 +388,26 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
             }
         }
         spec.curves = {curve, dots, capped, failed};
+        if (tracking) {  // the scan's FRFs and the tracked peaks
+            spec.curves.clear();
+            io::PlotCurve scan{"scan FRFs (bounded)", {}, {}, io::PlotCurve::Style::markers, 7};
+            for (std::size_t k = 0; k < tracked.scan.size(); ++k)
+                if (std::isfinite(tracked.scan_values[k])) {
+                    scan.x.push_back(tracked.scan[k]);
+                    scan.y.push_back(tracked.scan_values[k]);
+                }
+            spec.curves.push_back(scan);
+            for (std::size_t t = 0; t < tracked.tracks.size(); ++t)
+                for (const TrackCurve& c : tracked.tracks[t].curves) {
+                    io::PlotCurve line{std::string(t == 0 ? "down" : "up") + ": " + c.label, {}, {},
+                                       io::PlotCurve::Style::line, static_cast<int>(2 + 3 * t + c.id)};
+                    for (const TrackPoint& q : c.points) {
+                        line.x.push_back(q.p);
+                        line.y.push_back(q.value);
+                    }
+                    spec.curves.push_back(line);
+                }
+        }
         if (result.peak.state == PeakState::bounded)
             spec.curves.push_back({joint ? "optimum wa = " + format_number(result.parameter) + ", mu = " + format_number(best_mu)
                                          : "optimum " + o.param + " = " + format_number(result.parameter),
@@ -360,6 +443,13 @@ void add_flags(CLI::App& command, OptimizeOptions_& o) {
     command.add_option("--wa-scan", o.wa_scan,
                         "--param mu,wa: values of wa of the first, log-spaced scan, 3..1000 (each a search in mu)")
         ->capture_default_str()->type_name("INT");
+    command.add_option("--method", o.method,
+                        "golden: the scan, then a golden-section search in log of the parameter on whole FRFs (to "
+                        "--param-tolerance); tracking: the scan, then the peaks followed from the best scan value to its "
+                        "neighbours (hbf track): the optimum is where two peaks are equal (located to 1e-10) or a "
+                        "peak's minimum (Brent on located peaks, to 1e-2 --param-tolerance), checked by an FRF there; "
+                        "--param mu or wa")
+        ->capture_default_str()->type_name("golden|tracking");
     command.add_option("--contact", o.contact, "--config: the contact whose friction limit is optimised (1-based)")
         ->capture_default_str()->type_name("INT");
     command.add_option("--scan", o.scan,
