@@ -30,7 +30,8 @@ struct PeakNewton {
 /// The maximum of value(w, ok) near w0: Newton steps -Y'/Y'' (a step at most 2 % of w; on a
 /// convex stretch a step of 0.2 % of w uphill), 3-point until a step is below 1e-6 w, then
 /// 5-point until a step is below 1e-8 w (usually one: the error left is ~1e-3 of the last
-/// step, plus the stencil's; both scale with the peak's width). no_maximum when the search
+/// step, plus the stencil's; both scale with the peak's width) or no longer halves (the values'
+/// rounding: harmonic balance's tolerance). no_maximum when the search
 /// moves more than max_move w0 from w0 or does not settle in 40 iterations. `corner(lo, hi)`
 /// (may be empty) says whether the regimes differ between lo and hi: when they do across the
 /// final stencil, the search stops with corner = true at its last w (the caller locates the

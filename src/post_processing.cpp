@@ -255,9 +255,12 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
     // Relative steps of the 3- and 5-point stencils: h_rel and 10 h_rel, at most 0.5 % and 2 %
     // of the peak's relative width 1 / sqrt(c), c = -Y'' w^2 / Y (a sharp peak needs a short one).
     double coarse = h_rel, wide = 10.0 * h_rel, width = 1.0;
-    // A bracket of the root of Y' once both signs were seen: Newton steps that leave it bisect it.
-    double lo = 0.0, hi = 0.0;
-    bool has_lo = false, has_hi = false, bracket_fine = false;
+    // A bracket of the root of Y' once both signs were seen, one per stencil (the 3- and
+    // 5-point derivatives differ by their truncation): Newton steps that leave it bisect it.
+    double lo[2] = {0.0, 0.0}, hi[2] = {0.0, 0.0};
+    bool has_lo[2] = {false, false}, has_hi[2] = {false, false};
+    double last_fine = std::numeric_limits<double>::infinity();  // the last 5-point step
+    int returns = 0;
     auto at = [&](double x, bool& good) {
         const double y = value(x, good);
         if (!good && r.message.empty()) r.message = "the solve at w = " + format_number(x) + " failed";
@@ -282,21 +285,18 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
             coarse = std::min(h_rel, 5e-3 * width);
             wide = std::min(10.0 * h_rel, 2e-2 * width);
         }
-        if (fine != bracket_fine) {  // the 3- and 5-point derivatives differ by their truncation
-            has_lo = has_hi = false;
-            bracket_fine = fine;
-        }
+        const int b = fine ? 1 : 0;
         if (d1 > 0.0) {
-            lo = w;
-            has_lo = true;
+            lo[b] = w;
+            has_lo[b] = true;
         } else {
-            hi = w;
-            has_hi = true;
+            hi[b] = w;
+            has_hi[b] = true;
         }
-        if (has_lo && has_hi && lo < hi && hi - lo <= 1e-12 * w) {
+        if (has_lo[b] && has_hi[b] && lo[b] < hi[b] && hi[b] - lo[b] <= 1e-12 * w) {
             // Y' changes sign across a bracket of 1e-12 w without a concave stencil there: a
             // kink of Y (the largest turning point in time switches), whose maximum it is.
-            const double mid = 0.5 * (lo + hi);
+            const double mid = 0.5 * (lo[b] + hi[b]);
             const double y = at(mid, good);
             if (!good) return r;
             r.ok = true;
@@ -308,8 +308,8 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
         // Newton on a concave stretch; uphill by 0.2 % of w (at most half the width) on a convex one.
         double next = w + (concave ? std::clamp(-d1 / d2, -0.02 * w, 0.02 * w)
                                    : (d1 >= 0.0 ? 1.0 : -1.0) * std::min(2e-3, 0.5 * width) * w);
-        const bool bracketed = has_lo && has_hi && lo < hi;
-        if (bracketed && !(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        const bool bracketed = has_lo[b] && has_hi[b] && lo[b] < hi[b];
+        if (bracketed && !(next > lo[b] && next < hi[b])) next = 0.5 * (lo[b] + hi[b]);
         const double step = next - w;
         if (std::abs(next - w0) > max_move * w0) {
             r.no_maximum = true;
@@ -320,7 +320,13 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
         // error is about the step times the relative error of the stencil's Y'' (~1e-3), so a
         // step of 1e-8 w leaves ~1e-11 w.
         const double close = std::min(1e-6, 1e-3 * width) * w, done = std::min(1e-8, 1e-5 * width) * w;
-        if (fine && concave && std::abs(step) <= done) {
+        // A 5-point step that no longer halves is at the values' rounding (HB's tolerance): done.
+        // After three returns from the 5-point stencil to the 3-point one (a Y too irregular at
+        // the 5-point width, e.g. harmonic balance's near a kink), the 3-point one finishes.
+        const bool last_stencil = fine || returns >= 3;
+        const bool floor = last_stencil && concave && std::abs(step) <= close && std::abs(step) > 0.5 * last_fine;
+        last_fine = last_stencil && concave ? std::abs(step) : std::numeric_limits<double>::infinity();
+        if (last_stencil && concave && (std::abs(step) <= done || floor)) {
             // A stick/slip corner inside the stencil is the caller's to locate.
             if (corner && corner(w - 2.0 * h, w + 2.0 * h)) {
                 r.ok = true;
@@ -337,7 +343,9 @@ PeakNewton peak_newton(const std::function<double(double, bool&)>& value, double
             r.curvature = d2 * next * next / y;
             return r;
         }
-        fine = concave && std::abs(step) <= close;
+        const bool was_fine = fine;
+        fine = concave && std::abs(step) <= close && returns < 3;
+        if (was_fine && !fine) ++returns;
         w = next;
     }
     r.no_maximum = true;
