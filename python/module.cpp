@@ -41,6 +41,7 @@
 #include "hbf/modes.hpp"
 #include "hbf/reduction.hpp"
 #include "hbf/time_integration.hpp"
+#include "hbf/tracking.hpp"
 
 namespace py = pybind11;
 using namespace hbf;
@@ -422,6 +423,67 @@ py::dict optimize_dict(const OptimizeResult& r) {
     d["errors"] = v.errors;
     d["warnings"] = v.warnings;
     d["notes"] = v.notes;
+    return d;
+}
+
+/// A tracking result (tracking.hpp) as plain Python values: per curve its points as lists.
+py::dict track_dict(const TrackResult& r) {
+    py::dict d;
+    d["feature"] = to_string(r.feature);
+    d["exact"] = r.exact;
+    d["harmonics"] = r.harmonics;
+    py::list curves;
+    for (const TrackCurve& c : r.curves) {
+        py::dict cd;
+        cd["id"] = c.id;
+        cd["label"] = c.label;
+        cd["status"] = to_string(c.status);
+        cd["message"] = c.message;
+        cd["contact"] = c.contact;
+        cd["boundary"] = to_string(c.boundary);
+        std::vector<double> p, w, value, curvature;
+        std::vector<std::string> kind, regime;
+        std::vector<bool> corner;
+        for (const TrackPoint& q : c.points) {
+            p.push_back(q.p);
+            w.push_back(q.omega);
+            value.push_back(q.value);
+            curvature.push_back(q.curvature);
+            kind.push_back(q.kind);
+            regime.push_back(q.regime);
+            corner.push_back(q.corner);
+        }
+        cd["p"] = p;
+        cd["w"] = w;
+        cd["value"] = value;
+        cd["curvature"] = curvature;
+        cd["kind"] = kind;
+        cd["regime"] = regime;
+        cd["corner"] = corner;
+        curves.append(cd);
+    }
+    d["curves"] = curves;
+    py::list events;
+    for (const TrackEvent& e : r.events) {
+        py::dict ed;
+        ed["kind"] = e.kind;
+        ed["p"] = e.p;
+        ed["w"] = e.omega;
+        ed["value"] = e.value;
+        ed["curve"] = e.curve;
+        ed["other"] = e.other;
+        ed["other_w"] = e.other_omega;
+        events.append(ed);
+    }
+    d["events"] = events;
+    d["solves"] = r.solves;
+    d["frfs"] = r.frfs;
+    d["seconds"] = r.seconds;
+    d["summary"] = r.summary();
+    d["outcome"] = r.verdict.status();
+    d["errors"] = r.verdict.errors;
+    d["warnings"] = r.verdict.warnings;
+    d["notes"] = r.verdict.notes;
     return d;
 }
 
@@ -1251,6 +1313,69 @@ PYBIND11_MODULE(_core, m) {
             const auto of = system_of(system);
             const OptimizeResult r = without_gil([&] { return optimize_parameter(of, settings, options); });
             return optimize_dict(r);
+        },
+        py::arg("system"), py::arg("settings"), py::arg("options"));
+
+    m.def(
+        "track",
+        [](const py::function& system, const FrfSettings& settings, const std::string& feature, double p_start,
+           double p_end, double omega, const std::vector<double>& at, double max_step, double min_step, int max_points,
+           int contact) {
+            if (feature != "peak" && feature != "boundary")
+                bad("feature = '" + feature + "' is not known: allowed peak or boundary");
+            TrackOptions o;
+            o.feature = feature == "peak" ? TrackFeature::peak : TrackFeature::boundary;
+            o.p_start = p_start;
+            o.p_end = p_end;
+            o.omega = omega;
+            o.at = at;
+            o.max_step = max_step;
+            o.min_step = min_step;
+            o.max_points = max_points;
+            o.contact = contact;
+            const auto of = system_of(system);
+            const TrackResult r = without_gil([&] { return track(of, settings, o); });
+            return track_dict(r);
+        },
+        py::arg("system"), py::arg("settings"), py::arg("feature"), py::arg("p_start"), py::arg("p_end"), py::arg("omega"),
+        py::arg("at"), py::arg("max_step"), py::arg("min_step"), py::arg("max_points"), py::arg("contact"));
+    m.def(
+        "optimize_tracking",
+        [](const py::function& system, const FrfSettings& settings, const OptimizeOptions& options) {
+            const auto of = system_of(system);
+            const TrackOptimum t = without_gil([&] { return optimize_by_tracking(of, settings, options); });
+            py::dict d;
+            d["status"] = to_string(t.status);
+            d["parameter"] = t.parameter;
+            PeakValue peak;
+            peak.value = t.value;
+            peak.omega = t.omega;
+            peak.state = std::isfinite(t.value) ? PeakState::bounded : PeakState::failed;
+            d["peak"] = peak_dict(peak);
+            std::vector<Peak> peaks;
+            if (std::isfinite(t.value)) {
+                peaks.push_back({t.omega, t.value, 1, true, 0, {}});
+                if (std::isfinite(t.other_omega)) peaks.push_back({t.other_omega, t.value, 1, true, 0, {}});
+            }
+            d["peaks"] = peaks_list(peaks);
+            d["bracket"] = py::make_tuple(t.parameter, t.parameter);
+            d["kind"] = t.kind;
+            d["check_peak"] = t.check_value;
+            d["restarts"] = t.restarts;
+            d["solves"] = t.solves;
+            d["frfs"] = t.frfs;
+            py::list tracks;
+            for (const TrackResult& r : t.tracks) tracks.append(track_dict(r));
+            d["tracks"] = tracks;
+            d["message"] = t.message;
+            d["seconds"] = t.seconds;
+            d["summary"] = t.summary();
+            const Verdict v = t.verdict();
+            d["outcome"] = v.status();
+            d["errors"] = v.errors;
+            d["warnings"] = v.warnings;
+            d["notes"] = v.notes;
+            return d;
         },
         py::arg("system"), py::arg("settings"), py::arg("options"));
 

@@ -59,7 +59,7 @@ from ._core import (AbsorberParameters, Contact, ContinuationOptions, CorrectorO
 __version__ = _core.__version__
 # hbfriction.map is left out of __all__: a star import would hide the built-in map.
 __all__ = ["absorber", "load", "reduce", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "modes", "analytic",
-           "optimize", "options", "Branch", "Solution", "Table", "OptimizeResult", "MapResult",
+           "optimize", "track", "TrackResult", "TrackCurve", "options", "Branch", "Solution", "Table", "OptimizeResult", "MapResult",
            "IncompleteResultWarning", "SolveError", "AbsorberParameters", "FrfSettings",
            "HarmonicBalanceOptions", "ContinuationOptions", "CorrectorOptions", "StabilityOptions",
            "TimeIntegrationOptions", "OptimizeOptions"]
@@ -782,7 +782,7 @@ class OptimizeResult:
 
     def __init__(self, d):
         self.__dict__.update({k: v for k, v in d.items() if k != "trace"})
-        trace = d["trace"]
+        trace = d["trace"]  # empty with method tracking
         self.trace = {k: _np.array([t[k] for t in trace]) for k in
                       ("parameter", "peak", "w", "state", "status", "phase", "seconds")}
 
@@ -791,9 +791,13 @@ class OptimizeResult:
 
 
 def optimize(system, lower, upper, *, settings=None, search=None, outputs=None, scan_points=None,
-             max_evaluations=None, threads=None, **options):
+             max_evaluations=None, threads=None, method="golden", **options):
     """Minimises the largest peak of the first output of frf(system(p)) over p in [lower, upper]
-    (hbf optimize): a log-spaced scan on threads, then a golden-section search in log p.
+    (hbf optimize): a log-spaced scan on threads, then a golden-section search in log p
+    (method="golden"), or the peaks followed from the best scan value to its neighbours
+    (method="tracking", hbf optimize --method tracking: the optimum where two peaks are equal or
+    one peak is smallest, checked by an FRF; the result's trace is then empty, and kind,
+    check_peak, restarts, solves, frfs and tracks (as track()'s curves) say what it did).
 
     system: a callable p -> System (e.g. lambda mu: absorber("lugre", mu=mu)); its ValueError
     for a p makes that FRF failed, as an out-of-range parameter in hbf optimize. search: an
@@ -811,7 +815,18 @@ def optimize(system, lower, upper, *, settings=None, search=None, outputs=None, 
     for name, value in (("scan_points", scan_points), ("max_evaluations", max_evaluations), ("threads", threads)):
         if value is not None:
             _assign(o, name, value)
-    result = OptimizeResult(_core.optimize(system, s, o))
+    if method not in ("golden", "tracking"):
+        raise ValueError("method = %r is not known: allowed golden or tracking" % (method,))
+    if method == "tracking":
+        if max_evaluations is not None:
+            raise ValueError("max_evaluations bounds the golden-section search: method tracking computes the scan "
+                             "and a few checks")
+        d = _core.optimize_tracking(system, s, o)
+        d["trace"] = []
+        d["tracks"] = [TrackResult(t) for t in d["tracks"]]
+        result = OptimizeResult(d)
+    else:
+        result = OptimizeResult(_core.optimize(system, s, o))
     if result.status != "converged":
         _warnings.warn("the optimisation is %s: %s" % (result.status, result.summary), IncompleteResultWarning,
                        stacklevel=2)
@@ -819,6 +834,73 @@ def optimize(system, lower, upper, *, settings=None, search=None, outputs=None, 
         _warnings.warn("the optimisation is %s: %s" % (result.outcome, "; ".join(result.warnings)),
                        IncompleteResultWarning, stacklevel=2)
     return result
+
+
+class TrackCurve:
+    """One followed feature of track(): id, label, status (completed, vanished, left_range,
+    amplitude_cap, point_budget, failed), message (why it ended), contact and boundary (boundary
+    curves), and its points as arrays: p, w, value (the output's max over one period), kind
+    (start, step, at, exchange, search, end), regime, curvature (Y'' w^2 / Y at a peak), corner."""
+
+    def __init__(self, d):
+        for k in ("id", "label", "status", "message", "contact", "boundary"):
+            setattr(self, k, d[k])
+        for k in ("p", "w", "value", "curvature"):
+            setattr(self, k, _np.array(d[k], dtype=float))
+        for k in ("kind", "regime"):
+            setattr(self, k, _np.array(d[k], dtype=str))
+        self.corner = _np.array(d["corner"], dtype=bool)
+
+    def __len__(self):
+        return len(self.p)
+
+    def __repr__(self):
+        return "<hbfriction.TrackCurve %d: %s, %s, %d points>" % (self.id, self.label, self.status, len(self))
+
+
+class TrackResult:
+    """The result of track(): feature, exact (solved by the event-exact solver), curves (a
+    TrackCurve each), events (dicts: kind exchange, vanished or born; p, w, value, curve, other,
+    other_w), solves, frfs, seconds, summary; the verdict as hbf track's exit code: outcome,
+    errors, warnings, notes."""
+
+    def __init__(self, d):
+        self.__dict__.update({k: v for k, v in d.items() if k != "curves"})
+        self.curves = [TrackCurve(c) for c in d["curves"]]
+
+    def __repr__(self):
+        return "<hbfriction.TrackResult: %s>" % self.summary
+
+
+def track(system, p_start, p_end, *, feature="peak", omega=None, at=None, max_step=0.05, min_step=1e-7,
+          max_points=5000, contact=None, settings=None, outputs=None, **options):
+    """Follows the resonance peaks of the first output (feature="peak") or the stick-slip
+    boundaries of the contacts (feature="boundary") of system(p) from p_start to p_end (hbf
+    track): the features of an FRF at p_start, each followed with a predictor in p and re-located
+    at each value (peaks by Newton on dY/dw = 0, boundaries by bisection on the regime); exact
+    for coulomb and jenkins contacts (the event-exact solver), harmonic balance otherwise.
+
+    system: a callable p -> System. omega: follow only the feature nearest to it at p_start
+    (within 10 %). at: values of p where every curve gets a point. max_step, min_step: steps in p
+    relative to |p_end - p_start|. contact: boundary only, 0-based (None: every contact's).
+    options: the FRF's, as frf() (wmin, wmax, harmonics, ...). Returns a TrackResult; warns
+    (IncompleteResultWarning) when it is not completed."""
+    if not callable(system):
+        raise TypeError("system: a callable p -> System is required")
+    for name, v in (("p_start", p_start), ("p_end", p_end)):
+        if not (isinstance(v, (int, float)) and _math.isfinite(v)):
+            raise ValueError("%s = %r is out of range: allowed a finite number" % (name, v))
+    sample = system(float(p_start))
+    _check_system(sample)
+    s = _settings(sample, settings, outputs, None, options)
+    r = TrackResult(_core.track(system, s, str(feature), float(p_start), float(p_end),
+                                float("nan") if omega is None else float(omega),
+                                [] if at is None else [float(v) for v in at], float(max_step), float(min_step),
+                                int(max_points), -1 if contact is None else int(contact)))
+    if r.outcome != "completed":
+        _warnings.warn("track is %s: %s" % (r.outcome, "; ".join(r.errors + r.warnings)), IncompleteResultWarning,
+                       stacklevel=2)
+    return r
 
 
 class MapResult:
