@@ -1321,10 +1321,12 @@ PYBIND11_MODULE(_core, m) {
         [](const py::function& system, const FrfSettings& settings, const std::string& feature, double p_start,
            double p_end, double omega, const std::vector<double>& at, double max_step, double min_step, int max_points,
            int contact) {
-            if (feature != "peak" && feature != "boundary")
-                bad("feature = '" + feature + "' is not known: allowed peak or boundary");
+            if (feature != "peak" && feature != "boundary" && feature != "fold")
+                bad("feature = '" + feature + "' is not known: allowed peak, boundary or fold");
             TrackOptions o;
-            o.feature = feature == "peak" ? TrackFeature::peak : TrackFeature::boundary;
+            o.feature = feature == "peak" ? TrackFeature::peak
+                        : feature == "boundary" ? TrackFeature::boundary
+                                                : TrackFeature::fold;
             o.p_start = p_start;
             o.p_end = p_end;
             o.omega = omega;

@@ -11,13 +11,21 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/exact_polish.hpp"
+#include "fold_tracking.hpp"
 #include "golden_section.hpp"
 #include "peak_newton.hpp"
 #include "stopwatch.hpp"
 
 namespace hbf {
 
-std::string to_string(TrackFeature feature) { return feature == TrackFeature::peak ? "peak" : "boundary"; }
+std::string to_string(TrackFeature feature) {
+    switch (feature) {
+        case TrackFeature::peak: return "peak";
+        case TrackFeature::boundary: return "boundary";
+        case TrackFeature::fold: return "fold";
+    }
+    return "?";
+}
 
 std::string to_string(TrackStatus status) {
     switch (status) {
@@ -462,6 +470,7 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
     const System first = system(options.p_start);
     (void)system(options.p_end);  // throws InvalidInput for a value out of range, before any work
     const Output output = settings.outputs.empty() ? Output::dof(0) : settings.outputs.front();
+    if (options.feature == TrackFeature::fold) return detail::track_folds(system, settings, options, output);
     if (!peaks) {
         if (first.contacts.empty()) throw InvalidInput("feature boundary: the system has no contact");
         if (options.contact >= static_cast<int>(first.contacts.size()))

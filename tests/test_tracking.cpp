@@ -8,6 +8,7 @@
 
 #include "cli_support.hpp"
 #include "hbf/analytic.hpp"
+#include "hbf/config.hpp"
 #include "hbf/error.hpp"
 #include "hbf/tracking.hpp"
 
@@ -304,4 +305,54 @@ TEST_CASE("hbf optimize --method tracking: the optimum and its cost in the JSON;
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.err, Catch::Contains("--method = 'newton' is not known"));
     CHECK_FALSE(std::filesystem::exists(dir.path / "x.csv"));
+}
+
+TEST_CASE("track: the Dahl superharmonic folds followed in the force until they merge in a cusp, checked by FRFs",
+          "[tracking][folds]") {
+    // examples/systems/dahl_superharmonic_fold.toml (H = 10, its automatic one): two folds near
+    // w = 0.198 at the file's force; lowering the force, the S-shaped stretch closes.
+    const io::SystemConfig config = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/dahl_superharmonic_fold.toml");
+    const auto system = [&](double fe) {
+        System s = config.system;
+        s.excitation *= fe;
+        return s;
+    };
+    const FrfSettings settings = frf_settings(config.system, {}, config.choices());
+    TrackOptions o;
+    o.feature = TrackFeature::fold;
+    o.p_start = 1.0;
+    o.p_end = 0.5;
+    const TrackResult r = track(system, settings, o);
+    INFO(r.summary());
+    REQUIRE(r.curves.size() == 2);
+    CHECK(r.status() == "completed");
+    CHECK(r.curves[0].status == TrackStatus::vanished);
+    REQUIRE(r.events.size() == 1);
+    const TrackEvent& cusp = r.events.front();
+    CHECK(cusp.kind == "cusp");
+    CHECK(cusp.p > 0.6);
+    CHECK(cusp.p < 0.8);
+    // The two folds approach each other all the way to the cusp.
+    const TrackCurve &a = r.curves[0], &b = r.curves[1];
+    const double first_gap = std::abs(a.points.front().omega - b.points.front().omega);
+    const double last_gap = std::abs(a.points[a.points.size() - 2].omega - b.points[b.points.size() - 2].omega);
+    CHECK(last_gap < 1e-2 * first_gap);
+    // FRFs (hbf frf's settings) 0.02 before the cusp: folds near its w; 0.02 after: none.
+    const auto folds_near = [&](double fe) {
+        const FrfResult frf = compute_frf(system(fe), settings);
+        int n = 0;
+        for (const SolutionPoint& q : frf.points)
+            if (q.kind == PointKind::fold && std::abs(q.omega - cusp.omega) < 0.02 * cusp.omega) ++n;
+        return n;
+    };
+    CHECK(folds_near(cusp.p + 0.02) >= 2);
+    CHECK(folds_near(cusp.p - 0.02) == 0);
+    // At the start the tracked folds are the FRF's.
+    const FrfResult at_start = compute_frf(system(1.0), settings);
+    std::vector<double> start_folds;
+    for (const SolutionPoint& q : at_start.points)
+        if (q.kind == PointKind::fold) start_folds.push_back(q.omega);
+    REQUIRE(start_folds.size() == 2);
+    CHECK(std::abs(a.points.front().omega - start_folds[0]) < 1e-6 * start_folds[0]);
+    CHECK(std::abs(b.points.front().omega - start_folds[1]) < 1e-6 * start_folds[1]);
 }

@@ -19,6 +19,11 @@
 //     Coulomb, Jenkins) by bisection on the exact regime to 1e-12 w, and from full stick by
 //     bisection on the permanent-stick load (closed form, event_exact.hpp) crossing 1; by
 //     harmonic balance on the AFT regimes (O(1/H) misplaced, as hbf frf's transitions).
+//   * fold: a limit point of the harmonic-balance FRF (dR/dX singular), followed with the
+//     extended system (R = 0, J v = 0, l.v = 1) by pseudo-arclength in (X, v, w, p): through a
+//     cusp, where two folds merge (the curve's p turns back; located by the secant method on
+//     the tangent's p-component), back to the start's other fold (fold_tracking.cpp). Dense:
+//     small models.
 // Each solve starts from the previous one's state (the exact orbit's state at t = 0, or the HB
 // coefficients), so the work per point is a few solves, not an FRF.
 //
@@ -43,8 +48,8 @@
 
 namespace hbf {
 
-enum class TrackFeature { peak, boundary };
-/// "peak", "boundary".
+enum class TrackFeature { peak, boundary, fold };
+/// "peak", "boundary", "fold".
 std::string to_string(TrackFeature feature);
 
 struct TrackOptions {
@@ -88,6 +93,7 @@ struct TrackPoint {
     /// output's Y on the boundary (its stick side).
     double value = 0;
     /// "start" (p_start), "step", "at" (an asked value of p), "exchange" (two peaks equal),
+    /// "cusp" (folds: where two folds merge),
     /// "search" (found while locating where the curve ends: the other curves have no point at
     /// that p), "end" (the curve's last point: its status says why).
     std::string kind = "step";
@@ -113,7 +119,7 @@ struct TrackCurve {
 };
 
 struct TrackEvent {
-    std::string kind;  ///< "exchange" (two peaks' values cross), "vanished", "born" (a peak of the last FRF no curve reaches)
+    std::string kind;  ///< "exchange" (two peaks' values cross), "vanished", "born" (a peak of the last FRF no curve reaches), "cusp" (two folds merge)
     double p = 0, omega = 0, value = 0;
     int curve = 0, other = 0;  ///< 1-based curves (other: exchange only; omega is curve's)
     double other_omega = 0;

@@ -874,8 +874,9 @@ class TrackResult:
 
 def track(system, p_start, p_end, *, feature="peak", omega=None, at=None, max_step=0.05, min_step=1e-7,
           max_points=5000, contact=None, settings=None, outputs=None, **options):
-    """Follows the resonance peaks of the first output (feature="peak") or the stick-slip
-    boundaries of the contacts (feature="boundary") of system(p) from p_start to p_end (hbf
+    """Follows the resonance peaks of the first output (feature="peak"), the stick-slip
+    boundaries of the contacts (feature="boundary") or the folds of the harmonic-balance FRF
+    through their cusps (feature="fold") of system(p) from p_start to p_end (hbf
     track): the features of an FRF at p_start, each followed with a predictor in p and re-located
     at each value (peaks by Newton on dY/dw = 0, boundaries by bisection on the regime); exact
     for coulomb and jenkins contacts (the event-exact solver), harmonic balance otherwise.

@@ -36,9 +36,10 @@ std::vector<io::Column> track_columns(const std::string& param, const std::strin
             {param, "the parameter's value"},
             {"w", "frequency of the feature at that value (nondimensional for the preset)"},
             {value, "peak: the peak's value, max over one period of |o(t)| of the first output; boundary: that "
-                    "output's max over one period on the boundary (its stick side)"},
+                    "output's max over one period on the boundary (its stick side); fold: at the fold"},
             {"kind", "start (the FRF at the first value), step (a continuation step), at (an --at value), exchange "
-                     "(two peaks equal: an equal-peak design), end (the curve's last point: its status in the JSON)",
+                     "(two peaks equal: an equal-peak design), cusp (folds: two folds merge), search (locating where "
+                     "a curve ends), end (the curve's last point: its status in the JSON)",
              io::ColumnType::text},
             {"regime", "peak: contact 1's regime at the peak; boundary: the tracked contact's on the boundary's stick "
                        "side (stick, stick-slip, slip)",
@@ -61,9 +62,10 @@ std::pair<double, double> parse_span(const std::string& flag, const std::string&
 
 int run(const CLI::App& command, const TrackFlags& o) {
     o.output.check_plot();
-    if (o.feature != "peak" && o.feature != "boundary")
+    if (o.feature != "peak" && o.feature != "boundary" && o.feature != "fold")
         throw UsageError("--feature = '" + o.feature + "' is not known: allowed peak (a resonance peak of the first "
-                         "output) or boundary (a stick-slip boundary of a contact)");
+                         "output), boundary (a stick-slip boundary of a contact) or fold (a limit point of the "
+                         "harmonic-balance FRF)");
     if (o.plot_of != "w" && o.plot_of != "value")
         throw UsageError("--plot-of = '" + o.plot_of + "' is not known: allowed w or value");
     if (!given(command, "--param")) throw UsageError("--param is required: the parameter followed (e.g. --param mu)");
@@ -93,7 +95,7 @@ int run(const CLI::App& command, const TrackFlags& o) {
         std::rotate(settings.outputs.begin(), it, it + 1);
     }
     TrackOptions t;
-    t.feature = o.feature == "peak" ? TrackFeature::peak : TrackFeature::boundary;
+    t.feature = o.feature == "peak" ? TrackFeature::peak : o.feature == "boundary" ? TrackFeature::boundary : TrackFeature::fold;
     std::tie(t.p_start, t.p_end) = parse_span("--range", o.range);
     for (double v : {t.p_start, t.p_end}) {
         try {
@@ -249,9 +251,10 @@ void add_flags(CLI::App& command, TrackFlags& o) {
     o.frf.add_to(command);
     command.add_option("--feature", o.feature,
                         "what is followed: peak (every resonance peak of the first output over [wmin, wmax] at the "
-                        "first value, or the one nearest --omega) or boundary (the stick-slip boundaries of the contacts: "
-                        "where a stick phase appears or vanishes)")
-        ->capture_default_str()->type_name("peak|boundary");
+                        "first value, or the one nearest --omega), boundary (the stick-slip boundaries of the contacts: "
+                        "where a stick phase appears or vanishes) or fold (the folds of the harmonic-balance FRF, "
+                        "through the cusps where two of them merge)")
+        ->capture_default_str()->type_name("peak|boundary|fold");
     command.add_option("--param", o.param,
                         "the parameter followed, as hbf map's --param: for the paper's absorber fe, mu, wa, r, wb, xi; "
                         "for a --config system mu, fe, structure.damping or contact.KEY of --contact")
