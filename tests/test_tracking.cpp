@@ -240,6 +240,22 @@ TEST_CASE("hbf track: CSV, summary and exit codes; bad input is exit 2 with noth
     CHECK_THAT(r.err, Catch::Contains("--output = 'y9' is not an output of the system: allowed y1, y2"));
     r = test::run_hbf("track --law coulomb --param zz --range 0.6:1 --out " + in("x.csv"), dir);
     CHECK_THAT(r.err, Catch::Contains("--param = 'zz' is not known"));
+    // hbf map draws the tracked curve over its heat map; the overlay is an input of the run
+    r = test::run_hbf("map --law coulomb --fe 1 --param mu --values 0.6,0.8 --overlay " + in("t.csv") + " --out " +
+                          in("m.csv") + " --quiet",
+                      dir);
+    CHECK(r.exit_code == 0);
+    r = test::run_hbf("map --law coulomb --param fe --values 0.6,0.8 --overlay " + in("t.csv") + " --out " +
+                          in("m2.csv") + " --quiet",
+                      dir);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Catch::Contains("has no column 'fe'"));
+    r = test::run_hbf("map --law coulomb --fe 1 --param mu --values 0.6,0.8 --overlay " + in("t.csv") + " --out " +
+                          in("t.csv") + " --quiet",
+                      dir);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Catch::Contains("--overlay"));
+    CHECK(test::parse_csv(test::slurp(dir.path / "t.csv")).size() == rows.size());  // not replaced
 }
 
 TEST_CASE("optimize_by_tracking: the friction coefficient of the smallest largest peak, checked by FRFs around it",

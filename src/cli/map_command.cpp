@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -32,7 +33,7 @@ namespace {
 struct MapOptions {
     AbsorberFlags absorber;
     FrfFlags frf;
-    std::string param, values, threads = "0", contact = "1", at, style = "auto";
+    std::string param, values, threads = "0", contact = "1", at, style = "auto", overlay;
     OutputFlags output;
 };
 
@@ -81,6 +82,47 @@ json record(int index, double value, const FrfResult& r, const std::vector<Outpu
             {"y", y}};
 }
 
+/// The curves of an hbf track CSV (columns curve, PARAM, w) as overlays of the heat map (x = w,
+/// y = the parameter), one per curve. UsageError naming --overlay for a file that cannot be read
+/// or lacks a column.
+std::vector<io::PlotCurve> read_overlay(const std::string& path, const std::string& param) {
+    std::ifstream in(path);
+    if (!in) throw UsageError("--overlay = '" + path + "' cannot be read");
+    std::string line;
+    if (!std::getline(in, line)) throw UsageError("--overlay = '" + path + "' is empty: allowed a CSV of hbf track");
+    std::vector<std::string> header;
+    {
+        std::istringstream cells(line);
+        for (std::string c; std::getline(cells, c, ',');) header.push_back(c);
+    }
+    const auto column = [&](const std::string& name) {
+        const auto it = std::find(header.begin(), header.end(), name);
+        if (it == header.end())
+            throw UsageError("--overlay = '" + path + "' has no column '" + name + "': allowed a CSV of hbf track --param " +
+                             param + " (columns curve, " + param + ", w)");
+        return static_cast<std::size_t>(it - header.begin());
+    };
+    const std::size_t c_curve = column("curve"), c_p = column(param), c_w = column("w");
+    std::vector<io::PlotCurve> curves;
+    std::string current;
+    int row = 1;
+    while (std::getline(in, line)) {
+        ++row;
+        std::vector<std::string> f;
+        std::istringstream cells(line);
+        for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+        if (f.size() <= std::max({c_curve, c_p, c_w}))
+            throw UsageError("--overlay = '" + path + "', line " + std::to_string(row) + ": too few fields");
+        if (curves.empty() || f[c_curve] != current) {
+            current = f[c_curve];
+            curves.push_back({"tracked curve " + current, {}, {}, io::PlotCurve::Style::line, 7});
+        }
+        curves.back().x.push_back(parse_double("--overlay (line " + std::to_string(row) + ", w)", f[c_w]));
+        curves.back().y.push_back(parse_double("--overlay (line " + std::to_string(row) + ", " + param + ")", f[c_p]));
+    }
+    return curves;
+}
+
 int run(const CLI::App& command, const MapOptions& o) {
     const auto started = std::chrono::steady_clock::now();
     MpiSession mpi;
@@ -91,8 +133,11 @@ int run(const CLI::App& command, const MapOptions& o) {
     if (!given(command, "--param")) throw UsageError("--param is required: the parameter of the map (e.g. --param fe)");
     if (!given(command, "--values")) throw UsageError("--values is required: V1,V2,..., START:STOP:N or log:START:STOP:N");
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
+    if (given(command, "--overlay") && o.overlay.empty()) throw UsageError("--overlay is empty: allowed a CSV of hbf track");
+    std::vector<io::InputFile> inputs = chosen.inputs();
+    if (!o.overlay.empty()) inputs.push_back({"--overlay", o.overlay});
     if (root)
-        o.output.check(command, chosen.inputs());
+        o.output.check(command, inputs);
     const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
     if (given(command, "--contact") && parameter.preset())
         throw UsageError("--contact chooses a contact of a --config system: the preset has one");
@@ -106,6 +151,7 @@ int run(const CLI::App& command, const MapOptions& o) {
     if (given(command, "--at") && o.at.empty()) throw UsageError("--at is empty: allowed a comma-separated list of frequencies > 0");
     if (!o.at.empty()) settings.at = parse_frequencies("--at", o.at);
     const std::vector<double> values = parse_values("--values", o.values);
+    const std::vector<io::PlotCurve> overlays = o.overlay.empty() ? std::vector<io::PlotCurve>{} : read_overlay(o.overlay, o.param);
     for (double v : values) {  // every value checked before the work
         try {
             (void)parameter.system(v);
@@ -227,6 +273,7 @@ int run(const CLI::App& command, const MapOptions& o) {
                 }
             }
             spec.curves = {capped};
+            spec.curves.insert(spec.curves.end(), overlays.begin(), overlays.end());
         } else {
             spec.ylabel = y_name + " (max over one period)";
             for (std::size_t k = 0; k < values.size(); ++k) {
@@ -285,6 +332,10 @@ void add_flags(CLI::App& command, MapOptions& o) {
                                       "draw the first output's max over one period against w: one curve per value, or "
                                       "a heat map over (w, parameter) with the colour on a log scale (.png or .svg)",
                                       "no progress bar (on a terminal; otherwise one line a minute) or summary line on standard error"});
+    command.add_option("--overlay", o.overlay,
+                        "draw the curves of an hbf track CSV of the same --param (its columns curve, PARAM, w) over the "
+                        "heat map: the tracked peaks, boundaries or folds in the (w, parameter) plane")
+        ->type_name("FILE.csv");
     command.add_option("--plot-style", o.style,
                         "curves, heatmap, or auto (curves for up to 8 values, else a heat map)")
         ->capture_default_str()->type_name("auto|curves|heatmap");
