@@ -279,6 +279,26 @@ expect 2 "--range" '' optimize "${FAST[@]}" --range 1 --out x.csv
 expect 2 "--range" '' optimize "${FAST[@]}" --range 1e300:1e301 --out x.csv
 expect 2 "--max-frfs" '' optimize "${FAST[@]}" --scan 13 --max-frfs 5 --out x.csv
 expect 2 "--summary" '' optimize "${FAST[@]}" --out keep.csv --summary keep.csv
+expect 2 "--method" '' optimize "${FAST[@]}" --method simplex --out x.csv
+expect 2 "--method tracking follows" '' optimize "${FAST[@]}" --param mu,wa --method tracking --out x.csv
+expect 2 "--max-frfs bounds" '' optimize "${FAST[@]}" --method tracking --max-frfs 50 --out x.csv
+expect 2 "--range" '' track "${FAST[@]}" --param mu --range 0.3 --out x.csv
+expect 2 "--range" '' track "${FAST[@]}" --param mu --range 0.3:0.3 --out x.csv
+expect 2 "--range" '' track "${FAST[@]}" --param mu --range nan:1 --out x.csv
+expect 2 "--range" '' track "${FAST[@]}" --param mu --range -1:1 --out x.csv
+expect 2 "--param is required" '' track "${FAST[@]}" --range 0.3:1 --out x.csv
+expect 2 "--param" '' track "${FAST[@]}" --param zeta --range 0.3:1 --out x.csv
+expect 2 "--feature" '' track "${FAST[@]}" --param mu --range 0.3:1 --feature valley --out x.csv
+expect 2 "--output" '' track "${FAST[@]}" --param mu --range 0.3:1 --output y7 --out x.csv
+expect 2 "--omega" '' track "${FAST[@]}" --param mu --range 0.3:1 --omega 9 --out x.csv
+expect 2 "--at" '' track "${FAST[@]}" --param mu --range 0.3:1 --at 2 --out x.csv
+expect 2 "--max-step-p" '' track "${FAST[@]}" --param mu --range 0.3:1 --max-step-p 0 --out x.csv
+expect 2 "--min-step-p" '' track "${FAST[@]}" --param mu --range 0.3:1 --min-step-p 1 --out x.csv
+expect 2 "--max-points" '' track "${FAST[@]}" --param mu --range 0.3:1 --max-points 5 --out x.csv
+expect 2 "--of-contact" '' track "${FAST[@]}" --param mu --range 0.3:1 --of-contact 1 --out x.csv
+expect 2 "--summary" '' track "${FAST[@]}" --param mu --range 0.3:1 --out keep.csv --summary keep.csv
+expect 2 "--overlay" '' map "${FAST[@]}" --param fe --values 0.1 --overlay nothere.csv --out x.csv
+expect 2 "an input of this run" '' map "${FAST[@]}" --param fe --values 0.1 --overlay keep.csv --out keep.csv
 
 # ---- paths ----------------------------------------------------------------------------
 expect 2 "--out" '' frf "${FAST[@]}" --out nodir/x.csv
@@ -322,6 +342,7 @@ expect 2 "an input of this run" 'write_system s.toml' loop --config s.toml --w 1
 expect 2 "an input of this run" 'write_system s.toml' map --config s.toml --param mu --values 0.2 --out s.toml
 expect 2 "an input of this run" 'write_system s.toml' map --config s.toml --param mu --values 0.2 --out x.csv --summary s.toml
 expect 2 "an input of this run" 'write_system s.toml' optimize --config s.toml --out s.toml
+expect 2 "an input of this run" 'write_system s.toml' track --config s.toml --param fe --range 1:0.9 --out s.toml
 # Two outputs naming one new file, spelled differently.
 expect 2 "name the same file" '' frf "${FAST[@]}" --out o.csv --summary ./o.csv
 expect 2 "name the same file" 'mkdir sub' frf "${FAST[@]}" --out o.csv --summary sub/../o.csv

@@ -62,3 +62,23 @@ def test_bad_input_and_statuses():
         r = hb.track(coulomb, 0.6, 1.0, omega=0.91, wmax=0.92)
     assert r.curves[0].status == "left_range" and r.outcome == "incomplete"
     assert any(issubclass(w.category, hb.IncompleteResultWarning) for w in caught)
+
+
+def test_folds_merge_in_a_cusp():
+    import os
+    path = os.path.join(os.environ["HBF_SOURCE_DIR"], "examples", "systems", "dahl_superharmonic_fold.toml")
+    base = hb.load(path)
+
+    def scaled(fe):
+        s = hb.load(path)
+        s.excitation = np.asarray(base.excitation) * fe
+        return s
+
+    r = hb.track(scaled, 1.0, 0.5, feature="fold")
+    assert r.outcome == "completed" and r.feature == "fold" and not r.exact
+    assert [c.status for c in r.curves] == ["vanished", "vanished"]
+    (cusp,) = [e for e in r.events if e["kind"] == "cusp"]
+    assert 0.6 < cusp["p"] < 0.8
+    # the folds at the start are the FRF's
+    folds = hb.frf(base).folds
+    assert abs(r.curves[0].w[0] - folds[0]["w"]) < 1e-6 * folds[0]["w"]
