@@ -372,3 +372,30 @@ TEST_CASE("track: the Dahl superharmonic folds followed in the force until they 
     CHECK(std::abs(a.points.front().omega - start_folds[0]) < 1e-6 * start_folds[0]);
     CHECK(std::abs(b.points.front().omega - start_folds[1]) < 1e-6 * start_folds[1]);
 }
+
+TEST_CASE("optimize_by_tracking equals the golden-section optimum to 1e-6 in mu (long)", "[.long][tracking]") {
+    // The issue's comparison: hbf optimize's golden-section search at a tight tolerance (1e-8,
+    // 54 FRFs each) against tracking, at wa = 1 and wa = 1/(1 + r); benchmarks/tracking times them.
+    for (double wa : {1.0, 1.0 / 1.1}) {
+        AbsorberParameters base;
+        base.tuning_ratio = wa;
+        const auto system = [&](double mu) {
+            AbsorberParameters p = base;
+            p.friction_coefficient = mu;
+            return friction_absorber(p, FrictionLaw::coulomb);
+        };
+        const FrfSettings settings = default_frf_settings(system(0.2), {});
+        OptimizeOptions o;
+        o.lower = 0.005;
+        o.upper = 5.0;
+        o.threads = 2;
+        const TrackOptimum t = optimize_by_tracking(system, settings, o);
+        o.tolerance = 1e-8;
+        const OptimizeResult g = optimize_parameter(system, settings, o);
+        INFO("wa = " << wa << ": tracking " << t.summary("mu") << "; golden " << g.summary("mu"));
+        REQUIRE(g.status == OptimizeStatus::converged);
+        REQUIRE(t.status == OptimizeStatus::converged);
+        CHECK(std::abs(t.parameter - g.parameter) < 1e-6 * g.parameter);
+        CHECK(std::abs(t.value - g.peak.value) < 1e-8 * g.peak.value);
+    }
+}
