@@ -33,7 +33,7 @@ std::vector<Peak> frf_peaks(const System& system) {
 }
 }  // namespace
 
-TEST_CASE("track: the absorber's exact Coulomb peaks over mu equal the refined peaks of 40 FRFs; the equal-peak "
+TEST_CASE("track: the absorber's exact Coulomb peaks over mu equal the refined peaks of 40 FRFs, the equal-peak "
           "point and the end of a peak agree with FRFs around them",
           "[tracking]") {
     // fe = 1, mu from 0.3 to 1 (below about 0.29 the resonance is unbounded): the issue's case.
@@ -142,6 +142,38 @@ TEST_CASE("track: the exact Coulomb stick boundaries follow the paper's limit fr
     CHECK(slip_curves == 2);
 }
 
+TEST_CASE("track: the exact Jenkins stick boundaries follow the closed-form limit friction coefficient",
+          "[tracking]") {
+    // A Jenkins contact (spring k_t = r wb^2 in series with the slider) sticks as long as the
+    // stuck linear system's spring force stays below mu. That stuck system is the Dahl
+    // absorber's linear limit (its pre-sliding stiffness sigma0 = r wb^2, no damping), so
+    // mu_limit(w) = contact_limit_friction(p, w, dahl) (analytic.hpp: fe r w^2 wb^2 / |Delta2|):
+    // four boundaries around the two stuck resonances.
+    const auto jenkins = [](double mu) { return friction_absorber(absorber_fe1(mu), FrictionLaw::jenkins); };
+    const FrfSettings settings = default_frf_settings(jenkins(0.3), {});
+    REQUIRE(settings.exact);
+    TrackOptions o;
+    o.feature = TrackFeature::boundary;
+    o.p_start = 0.3;
+    o.p_end = 1.5;
+    const TrackResult r = track(jenkins, settings, o);
+    INFO(r.summary());
+    CHECK(r.status() == "completed");
+    CHECK(r.curves.size() == 4);
+    double worst = 0.0;
+    int points = 0;
+    for (const TrackCurve& c : r.curves) {
+        CHECK(c.boundary == Boundary::stick_stick_slip);
+        for (const TrackPoint& q : c.points) {
+            const double limit = analytic::contact_limit_friction(absorber_fe1(q.p), q.omega, FrictionLaw::dahl);
+            worst = std::max(worst, std::abs(limit - q.p) / q.p);
+            ++points;
+        }
+    }
+    CHECK(points > 40);
+    CHECK(worst < 1e-10);
+}
+
 TEST_CASE("track: harmonic-balance peaks of a smooth law (Dahl) follow the FRFs' refined peaks", "[tracking]") {
     // Dahl absorber, mu = 0.5, the force fe from 0.8 to 1: HB (H = 10) at both ends; the peak
     // is sharp (Y'' w^2 / Y ~ 1e5) and the FRF's peaks come from solves at HB's default
@@ -176,7 +208,7 @@ TEST_CASE("track: harmonic-balance peaks of a smooth law (Dahl) follow the FRFs'
     }
 }
 
-TEST_CASE("track: a curve that leaves the range or the amplitude cap is a warning; bad options name themselves",
+TEST_CASE("track: a curve that leaves the range or the amplitude cap is a warning, bad options name themselves",
           "[tracking]") {
     FrfSettings settings = default_frf_settings(coulomb_absorber(0.6), {});
     TrackOptions o;
@@ -207,7 +239,7 @@ TEST_CASE("track: a curve that leaves the range or the amplitude cap is a warnin
     CHECK_THROWS_WITH(track(coulomb_absorber, settings, o), Catch::Contains("at: p = 1.5 is out of range"));
 }
 
-TEST_CASE("hbf track: CSV, summary and exit codes; bad input is exit 2 with nothing written", "[tracking][cli]") {
+TEST_CASE("hbf track: CSV, summary and exit codes, bad input is exit 2 with nothing written", "[tracking][cli]") {
     test::TempDir dir;
     const std::string preset = "track --law coulomb --fe 1 --param mu ";
     const auto in = [&](const char* name) { return "'" + (dir.path / name).string() + "'"; };
@@ -301,7 +333,7 @@ TEST_CASE("optimize_by_tracking: the friction coefficient of the smallest larges
     }
 }
 
-TEST_CASE("hbf optimize --method tracking: the optimum and its cost in the JSON; what it cannot do is refused",
+TEST_CASE("hbf optimize --method tracking: the optimum and its cost in the JSON, what it cannot do is refused",
           "[tracking][cli]") {
     test::TempDir dir;
     const auto in = [&](const char* name) { return "'" + (dir.path / name).string() + "'"; };

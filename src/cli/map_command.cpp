@@ -139,13 +139,7 @@ int run(const CLI::App& command, const MapOptions& o) {
     if (root)
         o.output.check(command, inputs);
     const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
-    if (given(command, "--contact") && parameter.preset())
-        throw UsageError("--contact chooses a contact of a --config system: the preset has one");
-    if (given(command, "--contact") && !parameter.preset() && !parameter.uses_contact())
-        throw UsageError("--contact chooses the contact of --param mu or contact.KEY: --param " + o.param +
-                         " belongs to the structure");
-    if (parameter.preset() && command.get_option_no_throw("--" + o.param) != nullptr && given(command, ("--" + o.param).c_str()))
-        throw UsageError("--" + o.param + " is set by --param " + o.param + " (the map's values): drop it");
+    parameter.check_flags(command, "the map's values");
     FrfSettings settings = o.frf.settings(command, chosen);
     settings.peaks = true;  // the largest peak per FRF (JSON)
     if (given(command, "--at") && o.at.empty()) throw UsageError("--at is empty: allowed a comma-separated list of frequencies > 0");

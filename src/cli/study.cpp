@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "hbf/contact.hpp"
+#include "frf_flags.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::cli {
@@ -102,6 +103,16 @@ StudyParameter::StudyParameter(const std::string& flag, const std::string& name,
                          preset_names());
     else
         throw UsageError(flag + " = '" + name + "' is not known: allowed " + preset_names());
+}
+
+void StudyParameter::check_flags(const CLI::App& command, const std::string& values) const {
+    if (given(command, "--contact") && preset())
+        throw UsageError("--contact chooses a contact of a --config system: the preset has one");
+    if (given(command, "--contact") && !preset() && !uses_contact())
+        throw UsageError("--contact chooses the contact of --param mu or contact.KEY: --param " + name_ +
+                         " belongs to the structure");
+    if (preset() && command.get_option_no_throw("--" + name_) != nullptr && given(command, ("--" + name_).c_str()))
+        throw UsageError("--" + name_ + " is set by --param " + name_ + " (" + values + "): drop it");
 }
 
 AbsorberParameters with_parameter(AbsorberParameters p, const std::string& name, double value) {

@@ -34,6 +34,10 @@ public:
     /// hbf optimize --param mu,wa). Preset only.
     StudyParameter with_tuning(double wa) const;
     const ChosenSystem& chosen() const { return chosen_; }
+    /// The checks of a study's --contact and of a preset flag the study sets itself (UsageError):
+    /// --contact needs a --config parameter of a contact (mu, contact.KEY); the preset's flag of
+    /// the parameter (e.g. --mu with --param mu) is set by `values` (e.g. "the map's values").
+    void check_flags(const CLI::App& command, const std::string& values) const;
 
 private:
     std::string name_;

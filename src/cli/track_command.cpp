@@ -73,13 +73,7 @@ int run(const CLI::App& command, const TrackFlags& o) {
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
     o.output.check(command, chosen.inputs());
     const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
-    if (given(command, "--contact") && parameter.preset())
-        throw UsageError("--contact chooses a contact of a --config system: the preset has one");
-    if (given(command, "--contact") && !parameter.preset() && !parameter.uses_contact())
-        throw UsageError("--contact chooses the contact of --param mu or contact.KEY: --param " + o.param +
-                         " belongs to the structure");
-    if (parameter.preset() && command.get_option_no_throw("--" + o.param) != nullptr && given(command, ("--" + o.param).c_str()))
-        throw UsageError("--" + o.param + " is set by --param " + o.param + " (the tracked range): drop it");
+    parameter.check_flags(command, "the tracked range");
     if (given(command, "--stability") && o.frf.stability != "off")
         throw UsageError("--stability applies to hbf frf and hbf map: hbf track follows peaks and boundaries");
     FrfSettings settings = o.frf.settings(command, chosen);
