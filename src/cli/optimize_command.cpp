@@ -471,7 +471,9 @@ void add_flags(CLI::App& command, OptimizeOptions_& o) {
                             "FILE", "draw the largest peak against the parameter, the optimum marked",
                             "no summary line on standard error"});
     command.footer(columns_footer(
-        R"(Output: the convergence trace, one row per FRF in the order computed. Columns:)",
+        R"(Output: the convergence trace, one row per FRF in the order computed (with --method tracking
+instead the tracked peaks, one row per point: track (down or up from the best scan value), curve,
+mu, w, peak, kind, regime). Columns:)",
         trace_columns("mu", true),
         R"(The objective is the largest max over one period of |y1(t)| (the first output with --config) over
 the whole FRF, every branch and fold included (nondimensional for the preset). Exit code 0 when the
@@ -483,7 +485,8 @@ near the optimum failed; 1 when no value of the range gives a bounded response.)
 Runner add_optimize_command(CLI::App& app) {
     return register_command<OptimizeOptions_>(app, "optimize", "The friction coefficient (or the tuning wa, or both) that minimises the largest peak of the main mass's "
                     "FRF over [wmin, wmax] (paper Section 4): a log-spaced scan on threads, then a golden-section "
-                    "search in log of the parameter, every FRF a full branch with refined peaks.", add_flags, run);
+                    "search in log of the parameter, every FRF a full branch with refined peaks (or, --method "
+                    "tracking, the peaks followed from the best scan value).", add_flags, run);
 }
 
 }  // namespace hbf::cli

@@ -297,21 +297,24 @@ secant predictor; at each value the peak is re-located by Newton on dY/dw = 0 (Y
 period of |o(t)|; derivatives by central differences, to about 1e-11 w with the exact solver), a
 boundary by bisection on the regime (exact solver: to 1e-12 w; from full stick on the closed-form
 permanent-stick load). Exact Coulomb and Jenkins contacts are solved by the event-exact solver
-(--exact), the other laws by harmonic balance. An FRF at END checks that no peak was born inside
-the range. Output: a CSV, one row per point of each curve:)",
+(--exact), the other laws by harmonic balance. Folds (harmonic balance): a pair of the FRF's folds
+re-located on local branches until they merge in a cusp (located by bisection in the parameter).
+An FRF at END checks that no peak was born inside the range. hbf map --overlay draws the CSV over
+a heat map. Output: a CSV, one row per point of each curve:)",
         track_columns("PARAM", "OUTPUT_max"),
         R"(Exit code 3 when a curve leaves [wmin, wmax], exceeds --max-amplitude (an unbounded resonance) or
 runs out of points, when a peak at END is on no curve, or when the starting FRF is incomplete;
 1 when a curve's solves fail; 2 for bad input (a parameter the system lacks, --omega with no feature
-near it: nothing written). A peak that ends inside the range (it merged with a valley) is a note.)"));
+near it: nothing written). A peak that ends inside the range (it merged with a valley) and a cusp
+are notes.)"));
 }
 }  // namespace
 
 Runner add_track_command(CLI::App& app) {
     return register_command<TrackFlags>(app, "track",
-                                        "Follow resonance peaks or stick-slip boundaries through a parameter (fe, mu, wa, ...): "
-                                        "curves in the (parameter, w) plane with their equal-peak points, from one FRF "
-                                        "and a few solves per step.",
+                                        "Follow resonance peaks, stick-slip boundaries or folds through a parameter (fe, mu, "
+                                        "wa, ...): curves in the (parameter, w) plane with their equal-peak points and "
+                                        "cusps, from one FRF and a few solves per step.",
                                         add_flags, run);
 }
 
