@@ -411,6 +411,34 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         ExactOrbit retry = model.orbit(q.point.omega, next.orbit.state);
         if (retry.converged) q.orbit = std::move(retry);
     }
+    // Third: marched in w from an exact neighbour of the branch (before, else after) in 4, 16,
+    // then 64 sub-steps, each started from the last (a long step of the branch across a change
+    // of the stick/slip pattern that no start reaches directly; a fold between them defeats it).
+    const auto march = [&](const ExactOrbit& from, double w_from, double w_to) {
+        for (int steps = 4; steps <= 64; steps *= 4) {
+            ExactOrbit at = from;
+            bool ok = true;
+            for (int m = 1; m <= steps && ok; ++m) {
+                ExactOrbit next_orbit = model.orbit(w_from + (w_to - w_from) * m / steps, at.state);
+                ok = next_orbit.converged;
+                if (ok) at = std::move(next_orbit);
+            }
+            if (ok) return at;
+        }
+        return ExactOrbit{};
+    };
+    for (std::size_t k = 0; k < branch.size(); ++k) {
+        Polished& q = branch[k];
+        if (q.orbit.converged || unbounded(q.metrics)) continue;
+        for (const std::size_t j : {k - 1, k + 1}) {  // k - 1 wraps past 0: out of range
+            if (j >= branch.size() || !branch[j].orbit.converged || branch[j].point.branch != q.point.branch) continue;
+            ExactOrbit marched = march(branch[j].orbit, branch[j].point.omega, q.point.omega);
+            if (marched.converged) {
+                q.orbit = std::move(marched);
+                break;
+            }
+        }
+    }
     for (std::size_t k = 0; k < branch.size(); ++k) {
         Polished& q = branch[k];
         if (keep_hb(q)) continue;

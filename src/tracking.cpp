@@ -270,6 +270,11 @@ Fix locate_peak(ResponseSolver& solver, double p, double w0, const Eigen::Vector
     std::string failure;
     std::vector<std::pair<double, ResponseSolver::Solution>> recent;  // the stencil's solutions
     const auto value = [&](double w, bool& good) {
+        if (!(w > 0.0 && std::isfinite(w))) {  // a Newton step past w = 0: no maximum there
+            good = false;
+            failure = "a step reached w = " + format_number(w);
+            return 0.0;
+        }
         ResponseSolver::Solution s = solver.at(p, w, last.state);
         if (!s.ok) {
             good = false;
@@ -618,12 +623,19 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
     // A located feature at p, or a failure when it lies far from the prediction (another's).
     auto attempt = [&](Live& l, double at_p) {
         const double guess = l.predict(at_p);
+        if (!(guess > 0.0)) {
+            Fix f;
+            f.no_feature = true;
+            f.message = "the prediction w = " + format_number(guess) + " is not a frequency";
+            return f;
+        }
         Fix f = locate(l, at_p, guess, l.state);
-        // It must stay nearer its own last w than any other live curve's.
+        // It must lie nearer its own prediction than any other live curve's at the same p (a
+        // curve marched alone may be at another p: its secant prediction brings it to at_p).
         double others = std::numeric_limits<double>::infinity();
         for (const Live& o : live)
-            if (&o != &l) others = std::min(others, std::abs(o.w1 - l.w1));
-        if (f.ok && (std::abs(f.omega - guess) > 0.02 * f.omega || std::abs(f.omega - l.w1) >= 0.5 * others)) {
+            if (&o != &l) others = std::min(others, std::abs(o.predict(at_p) - guess));
+        if (f.ok && (std::abs(f.omega - guess) > 0.02 * f.omega || std::abs(f.omega - guess) >= 0.25 * others)) {
             f.ok = false;
             f.no_feature = true;
             f.message = "the feature located at w = " + format_number(f.omega) + " is far from the prediction " +
@@ -641,6 +653,18 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
         l.value = f.value;
         l.state = f.state;
     };
+
+    // The first predictor's slope: each feature located again a small step into the range (not
+    // a point of the curve); without it the first step predicts the start's own w, and a feature
+    // that moves fast in p is confused with a neighbour.
+    for (Live& l : live) {
+        const double probe = options.p_start + dir * std::max(options.min_step, 1e-4) * range;
+        const Fix f = locate(l, probe, l.w1, l.state);
+        if (!f.ok || std::abs(f.omega - l.w1) > 0.02 * l.w1) continue;  // the steps find out
+        l.p0 = probe;
+        l.w0 = f.omega;
+        l.two = true;
+    }
 
     while (!live.empty()) {
         if (std::abs(p - options.p_end) <= 1e-14 * std::max(range, std::abs(p))) break;
@@ -674,8 +698,10 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
         for (std::size_t a = 0; a < live.size(); ++a)
             for (std::size_t b = a + 1; b < live.size(); ++b)
                 if (fixes[a].ok && fixes[b].ok && std::abs(fixes[a].omega - fixes[b].omega) <= 1e-6 * fixes[a].omega) {
-                    const std::size_t lost =
-                        std::abs(fixes[a].omega - live[a].w1) > std::abs(fixes[b].omega - live[b].w1) ? a : b;
+                    const std::size_t lost = std::abs(fixes[a].omega - live[a].predict(target)) >
+                                                     std::abs(fixes[b].omega - live[b].predict(target))
+                                                 ? a
+                                                 : b;
                     fixes[lost].ok = false;
                     fixes[lost].no_feature = true;
                     fixes[lost].message = "no maximum of its own near the prediction (the search reached curve " +
@@ -687,8 +713,11 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
             continue;
         }
         if (!all) {
-            // The curves that still fail end between their last p and target: each alone, by
-            // bisection in p down to the smallest step; the others go on to target.
+            // A curve that still fails is marched alone from its last p towards target with its
+            // own step control (a failure halves the step, a success lengthens it and updates the
+            // secant predictor): it rejoins the others at target, or ends where the step falls
+            // below the smallest one (the feature is no longer near any prediction: it ended).
+            // The others go on to target.
             std::vector<Live> kept;
             std::vector<Fix> kept_fixes;
             for (std::size_t k = 0; k < live.size(); ++k) {
@@ -699,21 +728,34 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
                     continue;
                 }
                 TrackCurve& c = result.curves[l.curve];
-                double lo = l.p1, hi = target;
+                double lo = l.p1, h = 0.5 * (target - l.p1);
                 Fix failure = fixes[k];
-                while (std::abs(hi - lo) > smallest && points < options.max_points) {
-                    const double mid = 0.5 * (lo + hi);
-                    Fix f = attempt(l, mid);
+                double failed_at = target;
+                bool arrived = false;
+                while (std::abs(h) > smallest && points < options.max_points) {
+                    const bool last = std::abs(target - lo) <= std::abs(h) * (1.0 + 1e-12);
+                    const double at_p = last ? target : lo + h;
+                    Fix f = attempt(l, at_p);
                     if (!f.ok) {
-                        hi = mid;
+                        h *= 0.5;
+                        failed_at = at_p;
                         failure = std::move(f);
                         continue;
                     }
-                    c.points.push_back(point_of(mid, f, "search"));
+                    if (last) {
+                        kept.push_back(std::move(l));
+                        kept_fixes.push_back(std::move(f));
+                        arrived = true;
+                        break;
+                    }
+                    c.points.push_back(point_of(at_p, f, "search"));
                     ++points;
-                    advance(l, mid, f);
-                    lo = mid;
+                    advance(l, at_p, f);
+                    lo = at_p;
+                    h *= 2.0;
                 }
+                if (arrived) continue;
+                const double hi = failed_at;
                 const std::string where = " between p = " + format_number(lo) + " and " + format_number(hi);
                 if (failure.no_feature) {
                     end_curve(l, TrackStatus::vanished,
@@ -743,15 +785,20 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
                     const double before = live[a].value - live[b].value, after = fixes[a].value - fixes[b].value;
                     if (!(before * after < 0.0)) continue;
                     // Regula falsi (Illinois) in p on the difference of the two peaks.
-                    double pa = live[a].p1, pb = target, fa = before, fb = after;
+                    // (a curve marched alone may have reached a later p than the other: the later)
+                    double pa = dir * live[a].p1 > dir * live[b].p1 ? live[a].p1 : live[b].p1;
+                    double pb = target, fa = before, fb = after;
                     Eigen::VectorXd sa = live[a].state, sb = live[b].state;
                     Fix ea, eb;
                     bool ok = true;
                     for (int it = 0; it < 80 && std::abs(pb - pa) > 1e-10 * std::max(std::abs(pb), range); ++it) {
                         const double pm = pb - fb * (pb - pa) / (fb - fa);
-                        const double s = (pm - live[a].p1) / (target - live[a].p1);
-                        ea = locate_peak(solver, pm, live[a].w1 + s * (fixes[a].omega - live[a].w1), sa, w_lo, w_hi);
-                        eb = locate_peak(solver, pm, live[b].w1 + s * (fixes[b].omega - live[b].w1), sb, w_lo, w_hi);
+                        const auto between = [&](std::size_t i) {
+                            const double s = target == live[i].p1 ? 1.0 : (pm - live[i].p1) / (target - live[i].p1);
+                            return live[i].w1 + s * (fixes[i].omega - live[i].w1);
+                        };
+                        ea = locate_peak(solver, pm, between(a), sa, w_lo, w_hi);
+                        eb = locate_peak(solver, pm, between(b), sb, w_lo, w_hi);
                         if (!ea.ok || !eb.ok) {
                             ok = false;
                             break;

@@ -100,6 +100,50 @@ TEST_CASE("track: the absorber's exact Coulomb peaks over mu equal the refined p
     CHECK(r.curves[0].status == TrackStatus::completed);
 }
 
+TEST_CASE("track: long ranges in mu (0.3:2, 0.3:5, 0.3:10) keep both peak curves: the largest tracked peak equals "
+          "the FRFs' at 20 values and the equal-peak exchange is found each time",
+          "[tracking]") {
+    // Regression: with a longer range the first step was longer, predicted the start's own w and
+    // took the neighbouring peak (the two move in w faster than they are apart near mu = 0.3).
+    const FrfSettings settings = default_frf_settings(coulomb_absorber(0.3), {});
+    std::vector<double> values;
+    for (int k = 1; k <= 20; ++k) values.push_back(0.3 + 1.7 * k / 20.0);  // 0.385 .. 2
+    const std::vector<FrfResult> frfs = compute_frfs(
+        static_cast<int>(values.size()), [&](int k) { return coulomb_absorber(values[static_cast<std::size_t>(k)]); },
+        settings, 2);
+    for (const double end : {2.0, 5.0, 10.0}) {
+        TrackOptions o;
+        o.p_start = 0.3;
+        o.p_end = end;
+        o.at = values;
+        const TrackResult r = track(coulomb_absorber, settings, o);
+        INFO("range 0.3:" << end << ": " << r.summary());
+        REQUIRE(r.curves.size() == 2);
+        CHECK(r.curves[0].status == TrackStatus::completed);
+        double dw = 0.0, dy = 0.0;
+        for (std::size_t k = 0; k < values.size(); ++k) {
+            INFO("mu = " << values[k] << ", FRF: " << frfs[k].summary());
+            REQUIRE(frfs[k].peak.state == PeakState::bounded);
+            double w = 0.0, y = -1.0;
+            for (const TrackCurve& c : r.curves)
+                for (const TrackPoint& q : c.points)
+                    if (std::abs(q.p - values[k]) <= 1e-12 && q.kind != "search" && q.kind != "exchange" && q.value > y) {
+                        y = q.value;
+                        w = q.omega;
+                    }
+            REQUIRE(y > 0.0);
+            dw = std::max(dw, std::abs(w - frfs[k].peak.omega) / w);
+            dy = std::max(dy, std::abs(y - frfs[k].peak.value) / y);
+        }
+        CHECK(dw < 1e-8);
+        CHECK(dy < 1e-8);
+        const auto exchanges = std::count_if(r.events.begin(), r.events.end(), [](const TrackEvent& e) { return e.kind == "exchange"; });
+        CHECK(exchanges == 1);
+        for (const TrackEvent& e : r.events)
+            if (e.kind == "exchange") CHECK(std::abs(e.p - 0.4721231377) < 1e-8);
+    }
+}
+
 TEST_CASE("track: the exact Coulomb stick boundaries follow the paper's limit friction coefficient to 1e-10",
           "[tracking]") {
     // Full stick holds iff mu >= mu_limit(w) = fe r w^2 / |1 - (1 + r) w^2| (analytic.hpp, paper
