@@ -290,12 +290,13 @@ py::list table_columns(const io::Table& table) {
     for (std::size_t j = 0; j < table.columns.size(); ++j) {
         const io::Column& c = table.columns[j];
         py::list values;
-        for (const io::Cell& cell : table.cells[j]) {
-            if (const auto* d = std::get_if<double>(&cell)) values.append(*d);
-            else if (const auto* i = std::get_if<long long>(&cell)) values.append(*i);
-            else if (const auto* t = std::get_if<std::string>(&cell)) values.append(*t);
-            else values.append(py::none());
-        }
+        if (j < table.cells.size())  // a table with no rows may hold no cell lists
+            for (const io::Cell& cell : table.cells[j]) {
+                if (const auto* d = std::get_if<double>(&cell)) values.append(*d);
+                else if (const auto* i = std::get_if<long long>(&cell)) values.append(*i);
+                else if (const auto* t = std::get_if<std::string>(&cell)) values.append(*t);
+                else values.append(py::none());
+            }
         const char* type = c.type == io::ColumnType::text ? "text" : c.type == io::ColumnType::integer ? "integer" : "number";
         out.append(py::make_tuple(c.name, c.meaning, type, values));
     }

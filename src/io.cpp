@@ -63,7 +63,7 @@ Cell cell(const std::optional<double>& value) { return value ? Cell(*value) : Ce
 }  // namespace
 
 Table analytic_table(const std::vector<analytic::Row>& rows) {
-    Table table{analytic_columns(), {}};
+    Table table{analytic_columns()};
     for (const analytic::Row& row : rows)
         table.add_row({row.omega, cell(row.y1_stick), cell(row.y2_stick), cell(row.y1_slip), cell(row.y2_slip),
                        cell(row.mu_limit), cell(row.mu_opt_den_hartog)});
@@ -277,7 +277,7 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
                 const BranchStability* stability, const std::vector<InterfaceContacts>& interfaces) {
     const int contacts = contacts_of(metrics);
     const std::vector<int> normal = normal_contacts_of(metrics);
-    Table table{frf_columns(outputs, contacts, normal, interfaces), {}};
+    Table table{frf_columns(outputs, contacts, normal, interfaces)};
     table.cells.resize(table.columns.size());
     for (std::size_t k = 0; k < points.size(); ++k) {
         const SolutionPoint& p = points[k];
@@ -373,7 +373,7 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
 Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::vector<Output>& outputs) {
     const int contacts = contacts_of(responses);
     const std::vector<int> normal = normal_contacts_of(responses);
-    Table table{timeint_columns(outputs, contacts, normal), {}};
+    Table table{timeint_columns(outputs, contacts, normal)};
     table.cells.resize(table.columns.size());
     for (const PeriodicResponse& r : responses) {
         std::vector<Cell> row = {r.omega};

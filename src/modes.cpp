@@ -1051,7 +1051,7 @@ std::vector<Column> synthesis_columns(const std::vector<Output>& outputs) {
 }
 
 Table synthesis_table(const std::vector<SynthesisPoint>& curve, const std::vector<Output>& outputs) {
-    Table table{synthesis_columns(outputs), {}};
+    Table table{synthesis_columns(outputs)};
     for (const SynthesisPoint& q : curve) {
         std::vector<Cell> row = {q.omega, q.amplitude, q.mode_omega, static_cast<long long>(q.flank)};
         for (double v : q.output_amp1) row.emplace_back(v);
@@ -1062,7 +1062,7 @@ Table synthesis_table(const std::vector<SynthesisPoint>& curve, const std::vecto
 
 Table backbone_table(const Backbone& backbone, const std::vector<ModeMetrics>& metrics,
                      const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics) {
-    Table table{backbone_columns(outputs, normal, harmonics), {}};
+    Table table{backbone_columns(outputs, normal, harmonics)};
     for (std::size_t k = 0; k < backbone.points.size() && k < metrics.size(); ++k) {
         const ModePoint& p = backbone.points[k];
         const ModeMetrics& m = metrics[k];

@@ -117,8 +117,11 @@ using Cell = std::variant<std::monostate, double, long long, std::string>;
 /// A table of results, column by column: cells[j][k] is row k of columns[j]. The one source of
 /// both the CSV files of the commands and the arrays of the Python bindings.
 struct Table {
+    Table() = default;
+    /// A table of these columns and no rows (cells holds one empty list per column).
+    explicit Table(std::vector<Column> columns_) : columns(std::move(columns_)), cells(columns.size()) {}
     std::vector<Column> columns;
-    std::vector<std::vector<Cell>> cells;
+    std::vector<std::vector<Cell>> cells;  ///< one list per column (or none at all: no rows)
     std::size_t rows() const { return cells.empty() ? 0 : cells.front().size(); }
     /// Appends one row (one cell per column, in order).
     void add_row(std::vector<Cell> row);

@@ -70,7 +70,8 @@ class IncompleteResultWarning(UserWarning):
 
 
 class SolveError(RuntimeError):
-    """No solution where one was asked for (solve_at: the branch stopped before the frequency)."""
+    """No solution where one was asked for (solve_at: the branch stopped before the frequency;
+    modes: the backbone's first point did not converge)."""
 
 
 # ---- option classes: keyword construction and a readable repr ---------------------------------
@@ -116,6 +117,22 @@ def _assign(target, name, value, where=None):
         setattr(target, name, value)
     except TypeError:
         raise TypeError("%s = %r: not allowed for this option (%s)" % (label, value, type(current).__name__)) from None
+
+
+def _integer(label, value):
+    """value as an int: a Python or NumPy integer (not a bool, a float or a string)."""
+    if isinstance(value, (bool, _np.bool_)) or not isinstance(value, (int, _np.integer)):
+        raise TypeError("%s = %r: expected an integer (%s)" % (label, value, type(value).__name__))
+    if not -2 ** 31 <= int(value) < 2 ** 31:
+        raise ValueError("%s = %d is out of range of integers" % (label, value))
+    return int(value)
+
+
+def _real(label, value):
+    """value as a float: a Python or NumPy real number (not a bool or a string)."""
+    if isinstance(value, (bool, _np.bool_)) or not isinstance(value, (int, float, _np.integer, _np.floating)):
+        raise TypeError("%s = %r: expected a number (%s)" % (label, value, type(value).__name__))
+    return float(value)
 
 
 def _keyword_init(cls):
@@ -706,8 +723,8 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     zeta, shape of the stuck mode), ``harmonics``, ``formulation`` and ``modes`` used, ``seconds`` and status/errors/warnings: incomplete where the
     backbone stops before amplitude_max or fails the energy balance, or (synthesis=True) where the
     synthesised response is cut at the backbone's last point (its peak lies beyond amplitude_max)
-    or empty (below amplitude_min); failed where its first point
-    does not converge (as hbf modes' exit codes 3 and 1). synthesis=True adds ``synthesis``: a
+    or empty (below amplitude_min) (as hbf modes' exit code 3); raises SolveError where its
+    first point does not converge (no backbone: hbf modes' exit code 1). synthesis=True adds ``synthesis``: a
     Table with hbf modes --synthesis-out's columns, the response to the system's excitation
     synthesised from the mode. exact_check=True checks every point against the event-exact solver
     (exact Coulomb and Jenkins; hbf modes --exact-check): columns exact_w, exact_xi, exact_gap (NaN
@@ -728,11 +745,19 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
                          "formulation='condensed' or 'automatic', or modes=0" % s.harmonic_balance.modes)
     d = _core.mode_defaults()
     o = _outputs(system, outputs) if outputs is not None else (system.outputs or [Output.dof(i) for i in range(system.dofs)])
+    for name, flag in (("synthesis", synthesis), ("exact_check", exact_check)):
+        if not isinstance(flag, (bool, _np.bool_)):
+            raise TypeError("%s = %r: expected True or False" % (name, flag))
     columns, details, verdict = _core.modes(
-        system, s.harmonic_balance, int(d["mode"] if mode is None else mode), float(0.0 if near is None else near),
-        float(amplitude_min), float(amplitude_max), float(d["tolerance"] if tolerance is None else tolerance),
-        float(d["max_step"] if max_step is None else max_step), int(d["max_points"] if max_points is None else max_points), o,
+        system, s.harmonic_balance, _integer("mode", d["mode"] if mode is None else mode),
+        _real("near", 0.0 if near is None else near), _real("amplitude_min", amplitude_min),
+        _real("amplitude_max", amplitude_max), _real("tolerance", d["tolerance"] if tolerance is None else tolerance),
+        _real("max_step", d["max_step"] if max_step is None else max_step),
+        _integer("max_points", d["max_points"] if max_points is None else max_points), o,
         bool(synthesis), bool(exact_check))
+    if verdict["status"] == "failed" and not columns[0][3]:
+        # No point at all (the first one did not converge): nothing to return.
+        raise SolveError("modes: no backbone: " + "; ".join(verdict["errors"] + verdict["warnings"] + [details["message"]]))
     table = Table(columns)
     table.synthesis = Table(details["synthesis"]) if synthesis else None
     linear = dict(details)
@@ -894,10 +919,13 @@ def track(system, p_start, p_end, *, feature="peak", omega=None, at=None, max_st
     sample = system(float(p_start))
     _check_system(sample)
     s = _settings(sample, settings, outputs, None, options)
-    r = TrackResult(_core.track(system, s, str(feature), float(p_start), float(p_end),
-                                float("nan") if omega is None else float(omega),
-                                [] if at is None else [float(v) for v in at], float(max_step), float(min_step),
-                                int(max_points), -1 if contact is None else int(contact)))
+    if not isinstance(feature, str):
+        raise TypeError("feature = %r: expected 'peak', 'boundary' or 'fold'" % (feature,))
+    r = TrackResult(_core.track(system, s, feature, float(p_start), float(p_end),
+                                float("nan") if omega is None else _real("omega", omega),
+                                [] if at is None else [_real("at", v) for v in at], _real("max_step", max_step),
+                                _real("min_step", min_step), _integer("max_points", max_points),
+                                -1 if contact is None else _integer("contact", contact)))
     if r.outcome != "completed":
         _warnings.warn("track is %s: %s" % (r.outcome, "; ".join(r.errors + r.warnings)), IncompleteResultWarning,
                        stacklevel=2)
