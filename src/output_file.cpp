@@ -130,6 +130,18 @@ HeldSignals::~HeldSignals() {
     if (blocked_) ::pthread_sigmask(SIG_SETMASK, &old_mask_, nullptr);
 }
 
+void check_input_file(const std::string& flag, const std::string& path, std::uintmax_t max_bytes) {
+    std::error_code error;
+    const auto status = fs::status(path, error);
+    if (!fs::exists(status)) throw InvalidInput(flag + " = '" + path + "' cannot be read (no such file, or not readable)");
+    if (!fs::is_regular_file(status))
+        throw InvalidInput(flag + " = '" + path + "' is not a regular file (a directory, device or FIFO): allowed a file");
+    const std::uintmax_t bytes = fs::file_size(path, error);
+    if (error || bytes > max_bytes)
+        throw InvalidInput(flag + " = '" + path + "' has " + std::to_string(bytes) + " bytes: allowed at most " +
+                           std::to_string(max_bytes));
+}
+
 void check_outputs(const std::vector<OutputTarget>& targets, const std::vector<InputFile>& inputs) {
     struct Seen {
         std::string flag;

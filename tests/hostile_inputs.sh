@@ -299,6 +299,13 @@ expect 2 "--of-contact" '' track "${FAST[@]}" --param mu --range 0.3:1 --of-cont
 expect 2 "--summary" '' track "${FAST[@]}" --param mu --range 0.3:1 --out keep.csv --summary keep.csv
 expect 2 "--overlay" '' map "${FAST[@]}" --param fe --values 0.1 --overlay nothere.csv --out x.csv
 expect 2 "an input of this run" '' map "${FAST[@]}" --param fe --values 0.1 --overlay keep.csv --out keep.csv
+# An overlay that is not a regular file is refused before it is read (a FIFO blocked forever,
+# /dev/zero read gigabytes, a directory was "empty"); an overlay without a plot is refused.
+expect 2 "is not a regular file" 'mkfifo f' map "${FAST[@]}" --param fe --values 0.1 --overlay f --plot p.png --out x.csv
+expect 2 "is not a regular file" 'mkfifo f' map "${FAST[@]}" --param fe --values 0.1 --overlay f --plot p.png --dry-run
+expect 2 "is not a regular file" '' map "${FAST[@]}" --param fe --values 0.1 --overlay /dev/zero --plot p.png --out x.csv
+expect 2 "is not a regular file" '' map "${FAST[@]}" --param fe --values 0.1 --overlay . --plot p.png --out x.csv
+expect 2 "add --plot" 'printf "curve,fe,w\n1,0.1,1\n" >t.csv' map "${FAST[@]}" --param fe --values 0.1 --overlay t.csv --out x.csv
 
 # ---- paths ----------------------------------------------------------------------------
 expect 2 "--out" '' frf "${FAST[@]}" --out nodir/x.csv

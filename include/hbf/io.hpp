@@ -50,6 +50,11 @@ struct OutputTarget {
 ///    open until its OutputFile writes, so that its reader does not see an end of file.
 void check_outputs(const std::vector<OutputTarget>& targets, const std::vector<InputFile>& inputs = {});
 
+/// The input policy, before anything is read: `path` (given by `flag`) must be an existing
+/// regular file (not a directory, device or FIFO, which could block or never end) of at most
+/// `max_bytes` bytes. Throws InvalidInput naming the flag and what the path is.
+void check_input_file(const std::string& flag, const std::string& path, std::uintmax_t max_bytes);
+
 /// An output destination that never leaves a partial or temporary file behind: the content is
 /// kept in memory and written by commit() only. A regular file is written to a temporary file
 /// beside the target (a symlink's final target), with the mode and (where permitted) the

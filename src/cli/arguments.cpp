@@ -182,10 +182,12 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
             throw UsageError("--law = " + flags.law + " does not fit the contacts of " + config_path + ": " + e.what());
         }
     }
+    std::vector<std::string> laws;  // each law once, in the order of the contacts
     for (const Contact& c : chosen.system.contacts) {
         const std::string name = to_string(c.law);
-        if (chosen.law_name.find(name) == std::string::npos)
-            chosen.law_name += (chosen.law_name.empty() ? "" : ",") + name;
+        if (std::find(laws.begin(), laws.end(), name) != laws.end()) continue;
+        laws.push_back(name);
+        chosen.law_name += (chosen.law_name.empty() ? "" : ",") + name;
     }
     chosen.outputs = chosen.config->outputs;
     apply_excitation_harmonic(command, flags, chosen);

@@ -86,6 +86,7 @@ json record(int index, double value, const FrfResult& r, const std::vector<Outpu
 /// y = the parameter), one per curve. UsageError naming --overlay for a file that cannot be read
 /// or lacks a column.
 std::vector<io::PlotCurve> read_overlay(const std::string& path, const std::string& param) {
+    io::check_input_file("--overlay", path, std::uintmax_t{256} << 20);  // 256 MB: a CSV of hbf track
     std::ifstream in(path);
     if (!in) throw UsageError("--overlay = '" + path + "' cannot be read");
     std::string line;
@@ -138,6 +139,8 @@ int run(const CLI::App& command, const MapOptions& o) {
     if (!o.overlay.empty()) inputs.push_back({"--overlay", o.overlay});
     if (root)
         o.output.check(command, inputs);
+    if (!o.overlay.empty() && o.output.plot.empty())
+        throw UsageError("--overlay = '" + o.overlay + "' draws the tracked curves on the --plot, which is not given: add --plot FILE");
     const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
     parameter.check_flags(command, "the map's values");
     FrfSettings settings = o.frf.settings(command, chosen);
