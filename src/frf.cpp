@@ -375,6 +375,58 @@ SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, Contin
     return r;
 }
 
+namespace {
+/// The largest N_t resolve_time_samples chooses: AFT costs grow as N_t log N_t per evaluation.
+constexpr int max_automatic_time_samples = 16384;
+
+struct Resolution {
+    std::string message;  ///< what was done or what is wrong ("" when N_t was enough)
+    bool doubtful = false;
+};
+
+/// The laws' own time scales (FrictionModel::time_samples_needed): where the branch's motion
+/// needs more time samples than hb has, an automatic N_t (settings: 0) is raised to the power
+/// of two that covers it (at most max_automatic_time_samples) and the branch computed again (the
+/// motion, hence the need, changes a little: at most three times); a chosen N_t is kept, and
+/// the result is doubtful.
+Resolution resolve_time_samples(HarmonicBalance& hb, const FrfSettings& settings, BranchResult& branch) {
+    Resolution out;
+    const int first = hb.time_samples();
+    for (int pass = 0; pass < 3; ++pass) {
+        double needed = 0.0, where = 0.0;
+        for (const SolutionPoint& p : branch.points) {
+            const double n = hb.time_samples_needed(p.x, p.omega);
+            if (n > needed) {
+                needed = n;
+                where = p.omega;
+            }
+        }
+        if (needed <= hb.time_samples()) break;
+        const std::string need = "the motion at w = " + format_number(where) + " needs N_t >= " +
+                                 format_number(std::ceil(needed)) +
+                                 " time samples to resolve its regularised friction law's turn (2 pi max|v| / eps)";
+        if (settings.harmonic_balance.time_samples > 0 || hb.time_samples() >= max_automatic_time_samples) {
+            out.doubtful = true;
+            out.message = need + ", the AFT has " + std::to_string(hb.time_samples()) +
+                          ": the force is under-resolved and the branch may wiggle with spurious peaks (" +
+                          (settings.harmonic_balance.time_samples > 0
+                               ? "allowed: time_samples >= " + format_number(std::ceil(needed)) + ", or 0 (automatic)"
+                               : "at most " + std::to_string(max_automatic_time_samples) +
+                                     " are chosen automatically: a larger regularization, or time_samples") +
+                          ")";
+            return out;
+        }
+        int n = hb.time_samples();
+        while (n < needed && n < max_automatic_time_samples) n *= 2;
+        hb.set_time_samples(n);
+        out.message = need + ": the automatic N_t was raised from " + std::to_string(first) + " to " +
+                      std::to_string(n) + " and the branch computed again";
+        branch = continue_branch(hb, settings.continuation);
+    }
+    return out;
+}
+}  // namespace
+
 FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     const auto started = std::chrono::steady_clock::now();
     check_study_options(settings);
@@ -388,6 +440,8 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     const CorrectorOptions& corrector = settings.continuation.corrector;
     FrfResult r;
     r.branch = continue_branch(hb, settings.continuation);
+    const Resolution resolution = resolve_time_samples(hb, settings, r.branch);
+    r.time_samples = hb.time_samples();
     r.points = r.branch.points;
     if (!settings.at.empty()) {
         const auto samples = sample_branch(hb, r.branch, settings.at, corrector, &r.missed);
@@ -422,6 +476,10 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     r.peak = largest_peak(r, settings);
     r.messages = collector.messages();
     r.verdict = judge_frf(r, settings);
+    if (!resolution.message.empty()) {
+        if (resolution.doubtful) r.verdict.warning(resolution.message);
+        else r.verdict.note(resolution.message);
+    }
     r.seconds = seconds_since(started);
     return r;
 }

@@ -576,6 +576,20 @@ double HarmonicBalance::amplitude_bound(const Eigen::VectorXd& x, double omega) 
     return bound;
 }
 
+void HarmonicBalance::set_time_samples(int time_samples) {
+    Fourier::check(harmonics_, time_samples);
+    time_samples_ = time_samples;
+    fourier_ = std::make_unique<Fourier>(harmonics_, time_samples_);
+}
+
+double HarmonicBalance::time_samples_needed(const Eigen::VectorXd& x, double omega) {
+    const Eigen::VectorXd all = all_harmonics(x);
+    double needed = 0.0;
+    for (std::size_t c = 0; c < models_.size(); ++c)
+        needed = std::max(needed, models_[c]->time_samples_needed(*fourier_, omega, relative_all(all, static_cast<int>(c))));
+    return needed;
+}
+
 Eigen::VectorXd HarmonicBalance::relative(const Eigen::VectorXd& x, int contact) const {
     return relative_all(all_harmonics(x), contact);
 }

@@ -499,7 +499,12 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
     if (start.status() != "completed")
         result.verdict.warning("the FRF at p = " + format_number(options.p_start) + " that gives the starts is " +
                                start.status() + ": " + start.summary());
-    ResponseSolver solver(system, settings, result.exact, output);
+    // The solves along the curves use the start FRF's N_t (raised there where a law needs more
+    // than the automatic one: FrfResult::time_samples).
+    FrfSettings along = settings;
+    if (along.harmonic_balance.time_samples == 0 && start.time_samples > 0)
+        along.harmonic_balance.time_samples = start.time_samples;
+    ResponseSolver solver(system, along, result.exact, output);
     const std::string out_name = output.name();
 
     // The branch point of `start` nearest to w on `branch` (a start state for the solver).

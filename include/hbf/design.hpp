@@ -128,6 +128,8 @@ struct FrfResult {
     std::vector<double> missed;             ///< `at` frequencies without a solution
     std::optional<BranchStability> stability;  ///< with FrfSettings::stability (one per point)
     PeakValue peak;                         ///< the largest peak of outputs[0]
+    int time_samples = 0;                   ///< N_t of the AFT (raised from the automatic one
+                                            ///< where a law needs more: FrictionModel::time_samples_needed)
     double seconds = 0;                     ///< wall time of compute_frf
     /// What Ceres and CVODE reported while this FRF was computed (on its thread).
     LibraryMessages messages;

@@ -73,6 +73,17 @@ public:
     /// direction |T| / (mu N) - 1 where stuck, 0 where slipping, 1 where separated.
     virtual Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,
                                             const Eigen::VectorXd& z) const = 0;
+    /// The number of time samples N_t the law needs at this motion for its AFT to resolve its
+    /// own time scale (0: none beyond the harmonics'): coulomb-reg's tanh turns from -F_c to F_c
+    /// while |v| < eps, a phase of about eps / max|v|, which the samples must not step over
+    /// (under-resolved, the force's coefficients jump whenever a zero of v passes a sample: the
+    /// FRF wiggles with spurious peaks), so 2 pi max|v| / eps.
+    virtual double time_samples_needed(Fourier& fourier, double omega, const Eigen::VectorXd& q) const {
+        (void)fourier;
+        (void)omega;
+        (void)q;
+        return 0.0;
+    }
 };
 
 /// A smooth law's local linearisation at one instant, in time t (not tau): the force

@@ -5,8 +5,10 @@
 // While stuck: the damper F_c / eps (the slope at v = 0).
 // Harmonic balance maps velocity samples to force samples pointwise: f = P f(E D q).
 // Smooth (stick: |f| < stick_force_ratio F_c, i.e. |v| < eps atanh(ratio)); no state in time;
-// default H 20 (the steep tanh of eps = 0.05 wiggles at H = 10: 13 spurious peaks on the
-// default FRF, none at H = 20).
+// default H 20. The AFT must resolve the tanh's turn (a phase of eps / max|v|): with too few
+// time samples the FRF wiggles with spurious peaks at any H (the preset's eps = 0.05 at its
+// resonance needs N_t = 4096); time_samples_needed says how many, and compute_frf raises an
+// automatic N_t to it.
 #include <cmath>
 
 #include "hbf/contact.hpp"
@@ -56,6 +58,12 @@ public:
         Eigen::VectorXd v(fourier.time_samples());
         fourier.to_time(omega * (fourier.derivative() * q), v);
         return ((v.array() / eps_).tanh().abs() / stick_force_ratio - 1.0).matrix();
+    }
+
+    double time_samples_needed(Fourier& fourier, double omega, const Eigen::VectorXd& q) const override {
+        Eigen::VectorXd v(fourier.time_samples());
+        fourier.to_time(omega * (fourier.derivative() * q), v);
+        return 2.0 * M_PI * v.cwiseAbs().maxCoeff() / eps_;
     }
 
 private:
