@@ -757,6 +757,17 @@ PYBIND11_MODULE(_core, m) {
                 return py::cast(to_list(s.reduction->mode_frequencies));
             },
             "a reduced system's kept normal modes' frequencies sqrt(lambda_j) (fixed-interface; macneal: free)")
+        .def_property_readonly(
+            "dropped_mass_fraction", [](const PySystem& s) -> py::object {
+                if (!s.reduction || s.reduction->dropped_mass.size() == 0) return py::none();
+                return py::cast(s.reduction->dropped_mass_fraction);
+            },
+            "massless-boundary: the mass its massless retained coordinates drop, as a fraction of the FE "
+            "model's trace(M) (None otherwise)")
+        .def_property_readonly(
+            "reduction_warnings",
+            [](const PySystem& s) { return s.reduction ? s.reduction->warnings() : std::vector<std::string>(); },
+            "what makes a reduced model doubtful (a massless boundary dropping more than 1 % of the mass)")
         .def(
             "fe_outputs",
             [](const PySystem& s, const std::vector<int>& dofs) {

@@ -427,6 +427,33 @@ Resolution resolve_time_samples(HarmonicBalance& hb, const FrfSettings& settings
 }
 }  // namespace
 
+/// A contact with a normal direction that is open at rest and stays open at every point: the
+/// FRF is the linear structure's without it. Meant where the contact has a gap; without one,
+/// the static load or the preload pulled it off (often a sign): a warning that says so.
+void judge_open_contacts(const HarmonicBalance& hb, FrfResult& r) {
+    const StaticState* rest = hb.rest_state();
+    if (!rest || !rest->ok || r.metrics.empty()) return;
+    const System& system = hb.system();
+    for (std::size_t c = 0; c < system.contacts.size() && c < rest->contacts.size(); ++c) {
+        if (rest->contacts[c].state != "open") continue;
+        bool open = true;
+        for (const PointMetrics& m : r.metrics)
+            open = open && c < m.contacts.size() && m.contacts[c].separated_fraction >= 1.0 - 1e-12;
+        if (!open) continue;
+        const Contact& k = system.contacts[c];
+        const auto gap = k.values.find("gap");
+        const std::string line =
+            "contact " + std::to_string(c + 1) + " is open at rest and stays open at every point: the FRF is the "
+            "linear structure's without it";
+        if (gap != k.values.end() && gap->second > 0.0)
+            r.verdict.note(line + " (its gap " + format_number(gap->second) + " never closes)");
+        else
+            r.verdict.warning(line + "; it has no gap, so the static load or the preload pulls it off (normal force 0 "
+                                     "at rest): check their signs (the normal gap normal_direction^T y grows as the "
+                                     "contact closes)");
+    }
+}
+
 FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     const auto started = std::chrono::steady_clock::now();
     check_study_options(settings);
@@ -480,6 +507,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         if (resolution.doubtful) r.verdict.warning(resolution.message);
         else r.verdict.note(resolution.message);
     }
+    judge_open_contacts(hb, r);
     r.seconds = seconds_since(started);
     return r;
 }

@@ -79,8 +79,21 @@ std::string ReducedModel::summary() const {
     if (mode_frequencies.size() > 0)
         out << ", " << mode_frequencies.size() << (method == ReductionMethod::macneal ? " free" : " fixed")
             << "-interface modes, w " << mode_frequencies(0) << " to " << mode_frequencies(mode_frequencies.size() - 1);
+    if (dropped_mass.size() > 0) out << "; dropped mass " << format_number(100.0 * dropped_mass_fraction) << " % of trace(M)";
     out << ")";
     return out.str();
+}
+
+std::vector<std::string> ReducedModel::warnings() const {
+    if (dropped_mass.size() == 0 || !(dropped_mass_fraction > dropped_mass_warning)) return {};
+    Eigen::Index largest = 0;
+    dropped_mass.maxCoeff(&largest);
+    return {"reduction " + to_string(method) + " drops " + format_number(100.0 * dropped_mass_fraction) +
+            " % of the FE model's mass (trace of M; the retained DOFs' own mass M_bb - M_bi M_ii^-1 M_ib and what the "
+            "truncated modes carried), most at FE DOF " + std::to_string(retained[static_cast<std::size_t>(largest)] + 1) +
+            " (" + format_number(dropped_mass(largest)) +
+            "): its frequencies and amplitudes differ from the FE model's; craig-bampton keeps that mass (massless "
+            "boundaries suit interfaces whose nodes carry little mass)"};
 }
 
 namespace {
@@ -241,6 +254,7 @@ ReducedModel reduce(const SparseMatrix& mass, const SparseMatrix& damping, const
             m_r.bottomLeftCorner(m, nb) = alpha;
             m_r.bottomRightCorner(m, m).setIdentity();
         } else {  // massless boundary: Psi' = Psi - Theta alpha, its mass dropped
+            out.dropped_mass = (m_bb_hat - alpha.transpose() * alpha).diagonal();
             psi -= theta * alpha;
             const Eigen::MatrixXd lambda_alpha = lambda.asDiagonal() * alpha;
             k_r.topLeftCorner(nb, nb) = symmetric(k_bb_hat + alpha.transpose() * lambda_alpha);
@@ -257,6 +271,12 @@ ReducedModel reduce(const SparseMatrix& mass, const SparseMatrix& damping, const
         k_r = Eigen::MatrixXd(block(stiffness, b_position, nb, b_position, nb));
         m_r = options.method == ReductionMethod::craig_bampton ? Eigen::MatrixXd(block(mass, b_position, nb, b_position, nb))
                                                                : Eigen::MatrixXd::Zero(nb, nb);
+        if (options.method == ReductionMethod::massless_boundary)
+            out.dropped_mass = Eigen::MatrixXd(block(mass, b_position, nb, b_position, nb)).diagonal();
+    }
+    if (out.dropped_mass.size() > 0) {
+        const double total = Eigen::VectorXd(mass.diagonal()).sum();
+        out.dropped_mass_fraction = total > 0.0 ? out.dropped_mass.sum() / total : 0.0;
     }
     out.mode_frequencies = lambda.size() > 0 ? Eigen::VectorXd(lambda.cwiseSqrt()) : Eigen::VectorXd();
 

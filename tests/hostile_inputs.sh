@@ -299,6 +299,10 @@ expect 2 "--of-contact" '' track "${FAST[@]}" --param mu --range 0.3:1 --of-cont
 expect 2 "--summary" '' track "${FAST[@]}" --param mu --range 0.3:1 --out keep.csv --summary keep.csv
 expect 2 "--overlay" '' map "${FAST[@]}" --param fe --values 0.1 --overlay nothere.csv --out x.csv
 expect 2 "an input of this run" '' map "${FAST[@]}" --param fe --values 0.1 --overlay keep.csv --out keep.csv
+# A static load that pulls the contact off the wall: open at rest and at every point (exit 3,
+# said); a normal direction that is not a unit vector is refused before any work.
+expect 3 "is open at rest and stays open" 'sed "s/^excitation = .*/&\nstatic_load = [0.0, -3.0, 0.0]/" "$SRC/examples/systems/liftoff3.toml" >pull.toml' frf --config pull.toml --quiet --out /dev/null
+expect 2 "allowed a unit vector" 'sed "s/^normal_direction = .*/normal_direction = [0.0, 2.0, 0.0]/" "$SRC/examples/systems/liftoff3.toml" >n.toml' frf --config n.toml --out x.csv
 # An overlay that is not a regular file is refused before it is read (a FIFO blocked forever,
 # /dev/zero read gigabytes, a directory was "empty"); an overlay without a plot is refused.
 expect 2 "is not a regular file" 'mkfifo f' map "${FAST[@]}" --param fe --values 0.1 --overlay f --plot p.png --out x.csv

@@ -114,3 +114,63 @@ TEST_CASE("Regularised Coulomb (eps = 0.05, mu = 0.3, fe = 1): the automatic N_t
     REQUIRE(t.curves.size() == 1);
     CHECK(t.curves[0].status == TrackStatus::completed);
 }
+
+#include "hbf/reduction.hpp"
+
+TEST_CASE("Massless boundary says how much mass it drops: a lumped chain loses its retained DOFs' masses exactly, "
+          "Craig-Bampton none, and the warning names the heaviest DOF",
+          "[hostile][reduction]") {
+    using namespace hbf;
+    // A lumped chain of 40 DOFs held at one end: masses 1 + k / 40, springs 1 + k / 10.
+    const int n = 40;
+    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n, n), k = Eigen::MatrixXd::Zero(n, n);
+    for (int i = 0; i < n; ++i) {
+        m(i, i) = 1.0 + i / 40.0;
+        const double spring = 1.0 + i / 10.0;  // to the left neighbour (to the ground for i = 0)
+        k(i, i) += spring;
+        if (i > 0) {
+            k(i - 1, i - 1) += spring;
+            k(i, i - 1) -= spring;
+            k(i - 1, i) -= spring;
+        }
+    }
+    const SparseMatrix ms = m.sparseView(), ks = k.sparseView(), none(n, n);
+    const double total = m.trace();
+    ReductionOptions o;
+    o.method = ReductionMethod::massless_boundary;
+    o.interface_dofs = {4, 19, 39};
+    o.modes = n - 3;  // every fixed-interface mode: only the Schur complement M_bb - M_bi M_ii^-1 M_ib = M_bb goes
+    const ReducedModel mb = reduce(ms, none, ks, o);
+    REQUIRE(mb.dropped_mass.size() == 3);
+    CHECK(mb.dropped_mass(0) == Approx(m(4, 4)).epsilon(1e-10));
+    CHECK(mb.dropped_mass(1) == Approx(m(19, 19)).epsilon(1e-10));
+    CHECK(mb.dropped_mass(2) == Approx(m(39, 39)).epsilon(1e-10));
+    CHECK(mb.dropped_mass_fraction == Approx((m(4, 4) + m(19, 19) + m(39, 39)) / total).epsilon(1e-10));
+    REQUIRE(mb.warnings().size() == 1);
+    CHECK_THAT(mb.warnings()[0], Catch::Contains("most at FE DOF 40"));
+    CHECK_THAT(mb.summary(), Catch::Contains("dropped mass"));
+
+    // Every DOF retained (the issue's 40 DOFs to 40 coordinates): the whole mass is dropped.
+    o.interface_dofs.clear();
+    for (int i = 0; i < n; ++i) o.interface_dofs.push_back(i);
+    o.modes = 0;
+    const ReducedModel all = reduce(ms, none, ks, o);
+    CHECK(all.dropped_mass_fraction == Approx(1.0).epsilon(1e-12));
+    CHECK(all.warnings().size() == 1);
+
+    // A boundary without mass of its own (the masses moved off the retained DOFs): nothing is
+    // dropped with every mode kept, and no warning.
+    Eigen::MatrixXd m0 = m;
+    for (int i : {4, 19, 39}) m0(i, i) = 0.0;
+    o.interface_dofs = {4, 19, 39};
+    o.modes = n - 3;
+    const ReducedModel light = reduce(m0.sparseView(), none, ks, o);
+    CHECK(light.dropped_mass.cwiseAbs().maxCoeff() < 1e-12 * total);
+    CHECK(light.warnings().empty());
+
+    // Craig-Bampton keeps it: no dropped mass reported.
+    o.method = ReductionMethod::craig_bampton;
+    const ReducedModel cb = reduce(ms, none, ks, o);
+    CHECK(cb.dropped_mass.size() == 0);
+    CHECK(cb.warnings().empty());
+}

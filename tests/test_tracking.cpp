@@ -317,12 +317,19 @@ TEST_CASE("hbf track: CSV, summary and exit codes, bad input is exit 2 with noth
     r = test::run_hbf("track --law coulomb --param zz --range 0.6:1 --out " + in("x.csv"), dir);
     CHECK_THAT(r.err, Catch::Contains("--param = 'zz' is not known"));
     // hbf map draws the tracked curve over its heat map; the overlay is an input of the run
-    r = test::run_hbf("map --law coulomb --fe 1 --param mu --values 0.6,0.8 --overlay " + in("t.csv") + " --out " +
-                          in("m.csv") + " --quiet",
+    r = test::run_hbf("map --law coulomb --fe 1 --param mu --values 0.6,0.8 --overlay " + in("t.csv") + " --plot " +
+                          in("m.png") + " --out " + in("m.csv") + " --quiet",
                       dir);
     CHECK(r.exit_code == 0);
-    r = test::run_hbf("map --law coulomb --param fe --values 0.6,0.8 --overlay " + in("t.csv") + " --out " +
-                          in("m2.csv") + " --quiet",
+    // the overlay draws on the plot: without --plot it is refused, not silently unused
+    r = test::run_hbf("map --law coulomb --fe 1 --param mu --values 0.6,0.8 --overlay " + in("t.csv") + " --out " +
+                          in("m3.csv") + " --quiet",
+                      dir);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Catch::Contains("add --plot"));
+    CHECK_FALSE(std::filesystem::exists(dir.path / "m3.csv"));
+    r = test::run_hbf("map --law coulomb --param fe --values 0.6,0.8 --overlay " + in("t.csv") + " --plot " +
+                          in("m2.png") + " --out " + in("m2.csv") + " --quiet",
                       dir);
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.err, Catch::Contains("has no column 'fe'"));

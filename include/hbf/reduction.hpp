@@ -25,8 +25,11 @@
 //   -alpha^T Lambda], [-Lambda alpha, Lambda]]. The retained coordinates are massless (what
 //   the rigid contact and the time integrators' static condensation need). Exact statically;
 //   with every fixed-interface mode kept it is the FE model with the retained DOFs' mass
-//   block M_bb replaced by M_bi M_ii^-1 M_ib (the Schur complement's mass removed: zero for a
-//   lumped mass, where the massless boundary is then exact).
+//   block M_bb replaced by M_bi M_ii^-1 M_ib: the Schur complement M_bb - M_bi M_ii^-1 M_ib is
+//   dropped (with fewer modes, what Craig-Bampton keeps on the retained coordinates,
+//   T^T M T's block b minus alpha^T alpha). It is exact only where the retained DOFs carry no
+//   mass of their own; a lumped mass on them is dropped whole. ReducedModel::dropped_mass
+//   measures it, and warnings() says when it is more than 1 % of the FE model's mass.
 // * macneal (MacNeal 1971, with residual flexibility): the `modes` lowest free-interface
 //   modes Phi of the whole structure (K phi = lambda M phi) and the residual flexibility
 //   R = K^-1 - Phi Lambda^-1 Phi^T at the retained DOFs, G = R_bb: M_r = diag(0, I),
@@ -100,8 +103,19 @@ struct ReducedModel {
     int coordinate(int dof) const;
     /// T^T v: a force (or force direction) on the FE DOFs as generalised forces.
     Eigen::VectorXd project(const Eigen::VectorXd& v) const { return recovery.transpose() * v; }
-    /// One paragraph: method, sizes, the modes' frequency range.
+    /// massless_boundary and macneal: the mass the massless retained coordinates drop, per
+    /// retained coordinate (the diagonal of the dropped block; massless_boundary: Craig-Bampton's
+    /// T^T M T on them minus alpha^T alpha; macneal: not measured, empty), and its sum as a
+    /// fraction of the FE model's trace(M).
+    Eigen::VectorXd dropped_mass;
+    double dropped_mass_fraction = 0;
+    /// The fraction of dropped mass above which warnings() speaks (1 %).
+    static constexpr double dropped_mass_warning = 0.01;
+    /// One paragraph: method, sizes, the modes' frequency range, the dropped mass.
     std::string summary() const;
+    /// What makes the reduced model doubtful as a model of the FE one: a massless boundary
+    /// that drops more than dropped_mass_warning of the mass (where, how much, what to use).
+    std::vector<std::string> warnings() const;
 };
 
 /// Reduces (M, C, K) (N x N, symmetric; C may be empty) keeping `interface_dofs` and, after

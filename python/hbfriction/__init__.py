@@ -270,10 +270,15 @@ def reduce(system, modes, *, method="craig-bampton", interface=None, damping_rat
     the DOFs the excitation and static load act on are kept too.
     damping_ratios: modal ratios of the reduced model's modes (the last one repeated), or
     rayleigh=(a, b): C_r = a M_r + b K_r; neither: the FE damping projected (T^T C T).
+    ``dropped_mass_fraction`` (massless-boundary): the mass dropped, as a fraction of trace(M);
+    above 1 % an IncompleteResultWarning says how much and where (``reduction_warnings``).
     """
     if not isinstance(system, System):
         raise TypeError("reduce: system must be an hbfriction.System, got %s" % type(system).__name__)
-    return _core.reduce_system(system, modes, str(method), interface, damping_ratios, rayleigh)
+    reduced = _core.reduce_system(system, modes, str(method), interface, damping_ratios, rayleigh)
+    for w in reduced.reduction_warnings:
+        _warnings.warn(w, IncompleteResultWarning, stacklevel=2)
+    return reduced
 
 
 def _outputs(system, outputs):

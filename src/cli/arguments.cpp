@@ -196,9 +196,12 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
         std::cerr << "hbf " << command.get_name() << ": warning: " << config_path << ": " << w << "\n";
     if (!chosen.config->outputs_note.empty())
         std::cerr << "hbf " << command.get_name() << ": note: " << chosen.config->outputs_note << "\n";
-    if (chosen.config->reduction)
+    if (chosen.config->reduction) {
         std::cerr << "hbf " << command.get_name() << ": note: " << config_path << ": " << chosen.config->reduction->summary()
                   << "\n";
+        for (const std::string& w : chosen.config->reduction->warnings())
+            std::cerr << "hbf " << command.get_name() << ": warning: " << config_path << ": " << w << "\n";
+    }
     return chosen;
 }
 
