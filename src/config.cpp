@@ -151,7 +151,8 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
             const Eigen::VectorXd v = r.vector(*node, where + "." + p.key, dofs);
             // The normal gap normal_direction^T y is a length (the gap, the penalty k_n, the
             // preload read in it): a unit vector, as an interface's normals.
-            if (std::string(p.key) == "normal_direction" && v.allFinite() && std::abs(v.norm() - 1.0) > 1e-6)
+            if (std::string(p.key) == "normal_direction" && v.allFinite() && v.norm() > 0.0 &&
+                std::abs(v.norm() - 1.0) > 1e-6)  // (all zero: refused by the law's validation)
                 fail(r.file, node->source(), where + "." + p.key,
                      "has length " + format_number(v.norm()) + ": allowed a unit vector (to 1e-6)");
             c.lists[p.key].assign(v.data(), v.data() + v.size());

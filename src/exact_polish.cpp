@@ -310,21 +310,34 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     };
     int modes = exact_solver_modes(structure);
     ModalChoice modal;
-    if (modes > 0) {  // the probe: the highest bounded branch point
-        const SolutionPoint* probe = nullptr;
-        double omega_min = std::numeric_limits<double>::infinity();
-        for (std::size_t k = 0; k < points.size(); ++k) {
-            if (points[k].kind == PointKind::transition || points[k].kind == PointKind::sample) continue;
-            omega_min = std::min(omega_min, points[k].omega);
-            if (!unbounded(hb_metrics[k]) && (!probe || points[k].omega > probe->omega)) probe = &points[k];
+    // The probe: the highest bounded branch point (where the contact forces' harmonics reach
+    // the truncated modes first, and the period is shortest).
+    const SolutionPoint* probe = nullptr;
+    double omega_min = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        if (points[k].kind == PointKind::transition || points[k].kind == PointKind::sample) continue;
+        omega_min = std::min(omega_min, points[k].omega);
+        if (!unbounded(hb_metrics[k]) && (!probe || points[k].omega > probe->omega)) probe = &points[k];
+    }
+    if (modes > 0 && probe) {
+        try {
+            modal = choose_modes(hb, *probe, omega_min, options.exact, dof);
+            modes = modal.modes;
+        } catch (const InvalidInput&) {  // the model's own refusal, given below
         }
-        if (probe) {
-            try {
-                modal = choose_modes(hb, *probe, omega_min, options.exact, dof);
-                modes = modal.modes;
-            } catch (const InvalidInput&) {  // the model's own refusal, given below
-            }
-        }
+    }
+    const bool optional = options.decline_seconds > 0.0;
+    if (optional && modes > 0 && !(modal.truncation <= modal_truncation_warning)) {
+        PolishedBranch declined;
+        declined.declined = "the exact solver would run on the modal form (" + std::to_string(modes) +
+                            " modes), whose estimated truncation at w = " + format_number(modal.omega) + " is " +
+                            (std::isfinite(modal.truncation) ? format_number(modal.truncation) : std::string("unknown")) +
+                            ", above " + format_number(modal_truncation_warning) + ": not exact";
+        declined.modes = modes;
+        declined.modal_truncation = modal.truncation;
+        declined.truncation_omega = modal.omega;
+        declined.seconds = watch.lap();
+        return declined;
     }
     std::optional<ExactModel> made;
     try {
@@ -336,6 +349,23 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     const System& system = model.system();  // the structure, or its modal form
     if (!exact_solver_supports(system))
         throw InvalidInput("exact polish: " + exact_solver_refusal(system) + " (use --exact off)");
+    if (optional && probe) {  // the cost: one exact orbit at the probe, times the points
+        detail::Stopwatch orbit_watch;
+        (void)model.orbit(probe->omega, model.start(exact_start_state(hb, *probe)));
+        const double each = orbit_watch.lap();
+        const double estimate = each * static_cast<double>(points.size());
+        if (estimate > options.decline_seconds) {
+            PolishedBranch declined;
+            declined.declined = "one exact orbit at w = " + format_number(probe->omega) + " took " + format_number(each) +
+                                " s: about " + format_number(std::round(estimate)) + " s for the " +
+                                std::to_string(points.size()) + " points, above the budget of " +
+                                format_number(options.decline_seconds) +
+                                " s (max(2 s, 10 times the harmonic-balance branch))";
+            declined.modes = modes;
+            declined.seconds = watch.lap();
+            return declined;
+        }
+    }
 
     // 1. Every branch point and sample at its own frequency, from its HB state, else from the
     //    previous exact point of its branch (where HB is too far off, e.g. near a transition

@@ -131,12 +131,28 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
     if (choices.omega_start) co.omega_start = *choices.omega_start;
     if (choices.omega_end) co.omega_end = *choices.omega_end;
     // the polish's cost per period is set by the lowest frequency (exact_cost_refusal)
-    if (choices.exact)
+    if (choices.exact) {
         s.exact = *choices.exact;
-    else
-        s.exact = exact_polish_refusal(system, co.omega_start > 0.0 && std::isfinite(co.omega_start) ? co.omega_start : 0.0,
+    } else {
+        // The element count first: the refusal's cost estimate builds the exact solver's flows,
+        // itself costly for a thousand sliders.
+        bool exact_laws = !system.contacts.empty();
+        for (const Contact& c : system.contacts) exact_laws = exact_laws && contact_law(c.law).exact_stick();
+        const std::size_t elements = exact_laws ? time_domain_system(system).contacts.size() : 0;
+        s.exact = elements <= static_cast<std::size_t>(max_automatic_exact_elements) &&
+                  exact_polish_refusal(system, co.omega_start > 0.0 && std::isfinite(co.omega_start) ? co.omega_start : 0.0,
                                        0)
                       .empty();
+        if (elements > static_cast<std::size_t>(max_automatic_exact_elements)) {
+            s.exact = false;
+            s.exact_note = "the exact polish is off by default for " + std::to_string(elements) +
+                           " exact elements (an Iwan joint's sliders count one each; more than " +
+                           std::to_string(max_automatic_exact_elements) +
+                           ": its cost grows as their cube): the FRF is harmonic balance's, its error against the exact "
+                           "orbit not measured (exact on polishes anyway)";
+        }
+        s.exact_automatic = s.exact;
+    }
     HarmonicBalanceOptions& hbo = s.harmonic_balance;
     hbo.harmonics = choices.harmonics ? *choices.harmonics : automatic_harmonics(system, s.exact);
     if (choices.time_samples) hbo.time_samples = *choices.time_samples;
@@ -184,7 +200,7 @@ Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
         if (!std::isfinite(p.modal_truncation))
             v.warnings.push_back(what + "not available (no two mode counts converged at w = " +
                                  format_number(p.truncation_omega) + "): the exact values carry an unknown truncation");
-        else if (p.modal_truncation > 1e-6)
+        else if (p.modal_truncation > modal_truncation_warning)
             v.warnings.push_back(what + format_number(p.modal_truncation) + " at w = " +
                                  format_number(p.truncation_omega) + ", above 1e-6 (the largest mode count the exact "
                                  "solver takes)");
@@ -466,6 +482,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     const std::vector<Output> outputs = settings.outputs.empty() ? std::vector<Output>{Output::dof(0)} : settings.outputs;
     const CorrectorOptions& corrector = settings.continuation.corrector;
     FrfResult r;
+    std::string declined;  // why an automatic polish did not run
     r.branch = continue_branch(hb, settings.continuation);
     const Resolution resolution = resolve_time_samples(hb, settings, r.branch);
     r.time_samples = hb.time_samples();
@@ -486,12 +503,21 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         po.peaks = settings.peaks;
         po.peaks_of_every_output = settings.peaks_of_every_output;
         po.progress = settings.polish_progress;
+        if (settings.exact_automatic) po.decline_seconds = std::max(2.0, 10.0 * seconds_since(started));
         r.polish = polish_branch(hb, r.points, r.metrics, po, corrector);
-        r.points = r.polish->points;
-        r.metrics = r.polish->metrics;
-        r.exact = r.polish->exact;
-        r.peaks = r.polish->peaks;
-    } else if (settings.peaks) {
+        if (!r.polish->declined.empty()) {
+            declined = "the exact polish was declined: " + r.polish->declined +
+                       "; the FRF is harmonic balance's (H = " + std::to_string(hb.harmonics()) +
+                       "), its error against the exact orbit not measured (exact on polishes anyway)";
+            r.polish.reset();
+        } else {
+            r.points = r.polish->points;
+            r.metrics = r.polish->metrics;
+            r.exact = r.polish->exact;
+            r.peaks = r.polish->peaks;
+        }
+    }
+    if (!r.polish && settings.peaks) {
         r.peaks = settings.peaks_of_every_output ? find_peaks(hb, r.branch, outputs, corrector)
                                                  : find_peaks(hb, r.branch, {outputs.front()}, corrector);
     }
@@ -508,6 +534,8 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         else r.verdict.note(resolution.message);
     }
     judge_open_contacts(hb, r);
+    if (!declined.empty()) r.verdict.note(declined);
+    if (!settings.exact_note.empty()) r.verdict.note(settings.exact_note);
     r.seconds = seconds_since(started);
     return r;
 }

@@ -456,8 +456,10 @@ TEST_CASE("elastic contact from a system file: examples/systems/liftoff3.toml pa
                            {"contact[1]", "normal_stiffness", "> 0"}, dir);
     ::test::check_bad_config(head + "normal_stiffness = 2.0\nfriction_coefficient = -0.3\nnormal_direction = [0.0, 1.0]\n",
                            {"contact[1]", "friction_coefficient", ">= 0"}, dir);
-    ::test::check_bad_config(head + good + "normal_direction = [1.0, 1.0]\n",
+    ::test::check_bad_config(head + good + "normal_direction = [0.6, 0.8]\n",
                            {"contact[1]", "normal_direction", "not orthogonal"}, dir);
+    ::test::check_bad_config(head + good + "normal_direction = [1.0, 1.0]\n",
+                           {"contact[1].normal_direction", "has length 1.414", "allowed a unit vector"}, dir);
     ::test::check_bad_config(head + good + "normal_direction = [0.0, 0.0]\n",
                            {"contact[1]", "normal_direction", "not all zero"}, dir);
     ::test::check_bad_config(head + good + "normal_direction = [0.0, 1.0, 0.0]\n",

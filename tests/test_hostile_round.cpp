@@ -174,3 +174,93 @@ TEST_CASE("Massless boundary says how much mass it drops: a lumped chain loses i
     CHECK(cb.dropped_mass.size() == 0);
     CHECK(cb.warnings().empty());
 }
+
+namespace {
+/// A chain of n unit masses (K tridiagonal 2, -1, held at DOF 1's end; C = K), forced at DOF 1,
+/// with an exact Coulomb contact between DOFs n and n - 1.
+hbf::System coulomb_chain(int n) {
+    using namespace hbf;
+    std::vector<Eigen::Triplet<double>> k;
+    for (int i = 0; i < n; ++i) {
+        k.emplace_back(i, i, 2.0);
+        if (i > 0) {
+            k.emplace_back(i, i - 1, -1.0);
+            k.emplace_back(i - 1, i, -1.0);
+        }
+    }
+    System s;
+    s.stiffness = SparseMatrix(n, n);
+    s.stiffness.setFromTriplets(k.begin(), k.end());
+    s.damping = s.stiffness;
+    s.mass = SparseMatrix(n, n);
+    s.mass.setIdentity();
+    s.excitation = Eigen::VectorXd::Zero(n);
+    s.excitation(0) = 1.0;
+    Contact c;
+    c.dof = n - 1;
+    c.other_dof = n - 2;
+    c.law = FrictionLaw::coulomb;
+    c.friction_limit = 0.1;
+    s.contacts.push_back(c);
+    return s;
+}
+}  // namespace
+
+TEST_CASE("An automatic exact polish that would not be exact (a 100-DOF chain's modal form) is declined before the "
+          "work: the FRF is harmonic balance's, completed, with a note",
+          "[hostile][exact]") {
+    using namespace hbf;
+    const System chain = coulomb_chain(100);
+    FrfChoices choices;
+    choices.omega_start = 0.05;
+    choices.omega_end = 0.5;
+    choices.harmonics = 10;
+    const FrfSettings automatic = frf_settings(chain, {}, choices);
+    REQUIRE(automatic.exact);
+    REQUIRE(automatic.exact_automatic);
+    const FrfResult r = compute_frf(chain, automatic);
+    INFO(r.summary());
+    CHECK(r.status() == "completed");
+    CHECK_FALSE(r.polish.has_value());
+    bool said = false;
+    for (const std::string& n : r.verdict.notes) said = said || n.find("the exact polish was declined") != std::string::npos;
+    CHECK(said);
+    // The same branch as harmonic balance alone (which also locates its stick-slip transitions:
+    // the planned polish would have located the exact ones instead).
+    choices.exact = false;
+    const FrfResult hb = compute_frf(chain, frf_settings(chain, {}, choices));
+    std::vector<const SolutionPoint*> regular;
+    for (const SolutionPoint& q : hb.points)
+        if (q.kind != PointKind::transition) regular.push_back(&q);
+    REQUIRE(regular.size() == r.points.size());
+    double gap = 0.0;
+    for (std::size_t k = 0; k < regular.size(); ++k) gap = std::max(gap, (regular[k]->x - r.points[k].x).cwiseAbs().maxCoeff());
+    CHECK(gap == 0.0);
+    CHECK(hb.peak.value == r.peak.value);
+    // Asked for, it runs (and says its truncation): the user's choice is kept.
+    choices.exact = true;
+    CHECK_FALSE(frf_settings(chain, {}, choices).exact_automatic);
+}
+
+TEST_CASE("Iwan joints of many sliders are not polished by default (bounded cost), a Jenkins absorber still is",
+          "[hostile][exact]") {
+    using namespace hbf;
+    AbsorberParameters p;
+    const System iwan = friction_absorber(p, parse_friction_law("iwan"));  // the preset's 40 sliders
+    const FrfSettings s = default_frf_settings(iwan, {});
+    CHECK_FALSE(s.exact);
+    CHECK_THAT(s.exact_note, Catch::Contains("exact elements"));
+    const FrfResult r = compute_frf(iwan, s);
+    CHECK(r.status() == "completed");
+    bool said = false;
+    for (const std::string& n : r.verdict.notes) said = said || n.find("off by default") != std::string::npos;
+    CHECK(said);
+    // The same joint polished on request agrees with harmonic balance within its H = 10 error.
+    const System jenkins = friction_absorber(p, FrictionLaw::jenkins);
+    const FrfSettings j = default_frf_settings(jenkins, {});
+    CHECK(j.exact);
+    CHECK(j.exact_automatic);
+    const FrfResult rj = compute_frf(jenkins, j);
+    CHECK(rj.polish.has_value());
+    CHECK(rj.status() == "completed");
+}

@@ -497,8 +497,10 @@ TEST_CASE("unilateral contact from a system file: examples/systems/liftoff3_rigi
     ::test::check_bad_config(head + "friction_coefficient = 0.3\ngap = -1.0\n" + normal, {"contact[1]", "gap", ">= 0"}, dir);
     ::test::check_bad_config(head + "friction_coefficient = 0.3\nstiffness = 2.0\n" + normal,
                              {"contact[1].stiffness", "does not apply to law 'unilateral'"}, dir);
-    ::test::check_bad_config(head + "friction_coefficient = 0.3\nnormal_direction = [0.0, 1.0, 1.0]\n",
+    ::test::check_bad_config(head + "friction_coefficient = 0.3\nnormal_direction = [0.0, 0.6, 0.8]\n",
                              {"contact[1]", "normal_direction", "not orthogonal"}, dir);
+    ::test::check_bad_config(head + "friction_coefficient = 0.3\nnormal_direction = [0.0, 1.0, 1.0]\n",
+                             {"contact[1].normal_direction", "has length 1.414", "allowed a unit vector"}, dir);
     ::test::check_bad_config(head + "friction_coefficient = 0.3\nnormal_direction = [0.0, 0.0, 1.0, 0.0]\n",
                              {"contact[1].normal_direction", "4 entries", "allowed 3"}, dir);
     // a rigid contact on a coordinate with mass: refused (it would impact)

@@ -33,6 +33,15 @@ struct FrfSettings {
     /// Polish by the event-exact solver (exact_polish.hpp; coulomb and jenkins contacts only:
     /// exact_solver_supports).
     bool exact = false;
+    /// exact is the automatic choice (frf_settings), not the user's: the polish is declined
+    /// before its work where it would not be certain (a modal form whose estimated truncation
+    /// exceeds 1e-6) or not affordable (one exact orbit at the highest point, times the points,
+    /// above max(2 s, 10 times the harmonic-balance branch's time)); the FRF is then harmonic
+    /// balance's, and a note says why.
+    bool exact_automatic = false;
+    /// Why the automatic choice left the polish off where the exact solver could have run
+    /// (more exact elements than max_automatic_exact_elements): a note of the FRF.
+    std::string exact_note;
     /// Reported outputs (model.hpp); the peaks and the objective are those of outputs[0].
     /// Empty: DOF 1 alone.
     std::vector<Output> outputs;
@@ -70,6 +79,10 @@ int default_harmonics(FrictionLaw law);
 /// and transitions as H = 20, 3 times faster); otherwise the largest default_harmonics of the
 /// contacts' laws (10 without contacts); either times the excitation harmonic h, at most max_harmonics (100).
 int automatic_harmonics(const System& system, bool exact);
+/// The most exact elements (contacts as the exact solver sees them: an Iwan joint's sliders one
+/// each) for which the polish is on by default: a period's cost grows about as their cube
+/// (measured: 20 sliders 0.03 s an orbit, 50 sliders 0.34 s, 100 sliders 2.6 s).
+constexpr int max_automatic_exact_elements = 32;
 
 /// The choices a user made for an FRF, each unset where not made: a system file's [frequency]
 /// and [solver] (io::SystemConfig::choices), then hbf frf's flags or Python's keyword arguments
@@ -86,7 +99,9 @@ struct FrfChoices {
 /// The settings of an FRF of `system` with the choices made: the one home of hbf frf's and
 /// Python's automatic choices. Where not chosen:
 ///  - exact: the polish where the exact solver covers the system at the lowest frequency
-///    (exact_cost_refusal at omega_start; exact_solver_supports if omega_start is not > 0);
+///    (exact_cost_refusal at omega_start; exact_solver_supports if omega_start is not > 0)
+///    with at most max_automatic_exact_elements elements (else off, exact_note says why),
+///    marked exact_automatic (declined at run time where not certain or not affordable);
 ///  - H: automatic_harmonics(system, exact);
 ///  - locate_transitions: by harmonic balance only without the polish (the exact ones replace
 ///    them);

@@ -37,6 +37,10 @@ struct PolishOptions {
     /// Called before each point is polished with (points done, points in all): a progress
     /// display. May be empty; it must not throw.
     std::function<void(int done, int total)> progress;
+    /// > 0: the polish is optional (FrfSettings::exact_automatic) and declined before its work
+    /// (PolishedBranch::declined) where a modal form's estimated truncation exceeds 1e-6 or
+    /// one exact orbit at the probe point times the points exceeds this many seconds.
+    double decline_seconds = 0;
 };
 
 /// What the polish did to one point.
@@ -76,6 +80,9 @@ struct PolishedBranch {
     std::vector<int> contact_transitions;  ///< transitions per contact
     double max_hb_gap = 0;              ///< largest hb_gap over the polished points
     double seconds = 0;
+    /// Why an optional polish was declined before its work (PolishOptions::decline_seconds;
+    /// nothing else is filled), "" where it ran.
+    std::string declined;
     /// One line: polished, failed, unstable, transitions, largest HB gap, time.
     std::string summary() const;
 };

@@ -97,6 +97,9 @@ int largest_exact_modes(const System& system);
 /// by at most this with the next count (the outputs' maxima relative to the largest, the
 /// friction energy relative to the excitation's work).
 constexpr double modal_truncation_tolerance = 1e-9;
+/// The estimated truncation above which a polish on the modal form is doubtful (a warning of
+/// the FRF; an automatic polish is declined before its work).
+constexpr double modal_truncation_warning = 1e-6;
 
 /// Why the exact polish of `system` cannot run (one sentence), empty when it can: on the
 /// structure or on its modal form (exact_solver_modes with `modes`), down to omega_min when

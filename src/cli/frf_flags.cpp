@@ -115,7 +115,12 @@ void FrfFlags::add_to(CLI::App& command) {
                        "on large models: 2e6 / the flow's state size) "
                        "(2 pi / wmin against the slow modes; modes far above w are flowed in closed form and count by "
                        "their samples while they ring: lightly damped stiff modes at a low wmin exceed it), off "
-                       "otherwise (the exact solver is dense); on where it does not apply is an error naming why]")
+                       "otherwise (the exact solver is dense); larger models on their modal form (up to 62 modes). "
+                       "By default it is also off for more than 32 exact elements (an Iwan joint's sliders count one "
+                       "each), and declined before its work (a note says why) where the modal form's estimated "
+                       "truncation exceeds 1e-6 or one exact orbit times the points would take more than max(2 s, 10 "
+                       "times the harmonic-balance branch); on polishes anyway; on where it does not apply is an error "
+                       "naming why]")
         ->type_name("on|off");
     command.add_option("--stability", stability,
                        "Floquet stability of every point (columns stable, stability_margin; unstable intervals and "
