@@ -21,9 +21,13 @@ std::string to_string(OptimizeStatus status) {
 }
 
 std::string OptimizeResult::summary(const std::string& name) const {
-    std::string s = to_string(status) + ": " + name + " = " + format_number(parameter) + ", largest peak " +
-                    format_number(peak.value) + " at w = " + format_number(peak.omega) + " (" + to_string(peak.state) +
-                    "), " + std::to_string(trace.size()) + " FRFs";
+    // (no optimum found: no value to give)
+    std::string s = to_string(status) + ": " +
+                    (std::isfinite(parameter) ? name + " = " + format_number(parameter) + ", largest peak " +
+                                                    format_number(peak.value) + " at w = " + format_number(peak.omega) +
+                                                    " (" + to_string(peak.state) + "), "
+                                              : std::string("no optimum, ")) +
+                    std::to_string(trace.size()) + " FRFs";
     if (!message.empty()) s += "; " + message;
     return s;
 }

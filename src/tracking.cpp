@@ -540,10 +540,21 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
     }
     for (const Start& s : starts) found += (found.empty() ? "" : ", ") + format_number(s.omega);
     const std::string what = peaks ? "peak of " + out_name : "stick-slip boundary";
+    // Found only by the work (the FRF at p_start): a failed result (exit 1) with what to do, not
+    // bad input.
+    const auto nothing = [&](const std::string& why) {
+        result.verdict.error(why);
+        result.p_reached = options.p_start;
+        result.solves = 0;
+        result.seconds = watch.lap();
+        return result;
+    };
     if (starts.empty())
-        throw InvalidInput("no " + what + " on the FRF over w = " + format_number(w_lo) + ".." + format_number(w_hi) +
-                           " at p = " + format_number(options.p_start) + ": nothing to track" +
-                           (start.status() == "completed" ? std::string() : " (that FRF: " + start.summary() + ")"));
+        return nothing("no " + what + " on the FRF over w = " + format_number(w_lo) + ".." + format_number(w_hi) +
+                       " at p = " + format_number(options.p_start) + ": nothing to track (" +
+                       (start.status() == "completed" ? std::string("start where the FRF has one, or widen wmin..wmax")
+                                                      : "that FRF: " + start.summary()) +
+                       ")");
     if (!std::isnan(options.omega)) {
         const auto near = std::min_element(starts.begin(), starts.end(), [&](const Start& a, const Start& b) {
             return std::abs(a.omega - options.omega) < std::abs(b.omega - options.omega);
@@ -923,9 +934,13 @@ TrackResult track(const std::function<System(double)>& system, const FrfSettings
 }
 
 std::string TrackOptimum::summary(const std::string& name) const {
-    std::string s = to_string(status) + ": " + name + " = " + format_number(parameter) + ", largest peak " +
-                    format_number(value) + " at w = " + format_number(omega) + (kind.empty() ? "" : " (" + kind + ")") +
-                    ", " + std::to_string(solves) + " solves, " + std::to_string(frfs) + " FRFs, " + format_number(seconds) + " s";
+    // (no optimum found: no value to give)
+    std::string s = to_string(status) + ": " +
+                    (std::isfinite(parameter) ? name + " = " + format_number(parameter) + ", largest peak " +
+                                                    format_number(value) + " at w = " + format_number(omega) +
+                                                    (kind.empty() ? "" : " (" + kind + ")") + ", "
+                                              : std::string("no optimum, ")) +
+                    std::to_string(solves) + " solves, " + std::to_string(frfs) + " FRFs, " + format_number(seconds) + " s";
     if (!message.empty()) s += "; " + message;
     return s;
 }
@@ -967,6 +982,14 @@ void search_tracks(TrackOptimum& result, const std::function<System(double)>& sy
         result.tracks.push_back(track_with(system, settings, o, frf_at(start), frf_at(end)));
         result.solves += result.tracks.back().solves;
         result.frfs += result.tracks.back().frfs;
+        if (result.tracks.back().curves.empty()) {  // no peak to follow at the start
+            result.status = OptimizeStatus::failed;
+            result.message = "tracking from p = " + format_number(start) + ": " +
+                             (result.tracks.back().verdict.errors.empty() ? std::string("no curve")
+                                                                          : result.tracks.back().verdict.errors.front()) +
+                             " (use the golden-section method)";
+            return;
+        }
     }
     // The largest peak at each value of p every live curve was solved at (+infinity beyond a
     // curve's amplitude cap), from lower to upper.

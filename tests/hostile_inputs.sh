@@ -299,6 +299,9 @@ expect 2 "--of-contact" '' track "${FAST[@]}" --param mu --range 0.3:1 --of-cont
 expect 2 "--summary" '' track "${FAST[@]}" --param mu --range 0.3:1 --out keep.csv --summary keep.csv
 expect 2 "--overlay" '' map "${FAST[@]}" --param fe --values 0.1 --overlay nothere.csv --out x.csv
 expect 2 "an input of this run" '' map "${FAST[@]}" --param fe --values 0.1 --overlay keep.csv --out keep.csv
+# Valid inputs whose computation finds nothing: exit 1 with what to do (not exit 2, "bad input").
+expect 1 "nothing to track" '' track --param fe --range 1e-9:1e-3 --quiet --out /dev/null
+expect 1 "use the golden-section method" '' optimize --method tracking --config "$SRC/examples/systems/den_hartog.toml" --quiet --out /dev/null
 # A static load that pulls the contact off the wall: open at rest and at every point (exit 3,
 # said); a normal direction that is not a unit vector is refused before any work.
 expect 3 "is open at rest and stays open" 'sed "s/^excitation = .*/&\nstatic_load = [0.0, -3.0, 0.0]/" "$SRC/examples/systems/liftoff3.toml" >pull.toml' frf --config pull.toml --quiet --out /dev/null
