@@ -115,7 +115,7 @@ TEST_CASE("Modal exact form: the truncation error against the structure's exact 
     }
 }
 
-TEST_CASE("Modal exact form: the polish of a model beyond the exact solver's size runs on it (asked for; by default "
+TEST_CASE("Modal exact form: the polish of a model beyond the exact solver's size runs on it (asked for, while by default "
           "its cost declines it)") {
     // A 100-DOF chain: the structure itself is refused by the exact solver (size), its modal
     // form is not. The polish chooses the modes at the branch's highest frequency (10, 20, 40,
