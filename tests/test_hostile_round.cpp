@@ -264,3 +264,28 @@ TEST_CASE("Iwan joints of many sliders are not polished by default (bounded cost
     CHECK(rj.polish.has_value());
     CHECK(rj.status() == "completed");
 }
+
+#include "hbf/config.hpp"
+#include "hbf/modes.hpp"
+
+TEST_CASE("A stiff penalty contact (k_n = 5e12 on liftoff3) does not make the structure's first mode rigid: it tends "
+          "to the mode of the structure with the normal DOF held",
+          "[hostile][modes]") {
+    using namespace hbf;
+    io::SystemConfig config = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml");
+    System& s = config.system;
+    REQUIRE(s.contacts.size() == 1);
+    const double kn = 5e12, kt = s.contacts[0].stiffness;
+    s.contacts[0].values["normal_stiffness"] = kn;
+    const std::vector<LinearMode> modes = stuck_modes(s);
+    REQUIRE_FALSE(modes.empty());
+    // The reference by hand: the stuck contact adds k_t on y1 (tangential) and k_n on y2
+    // (normal); as k_n -> infinity, y2 is held and the structure is (y1, y3).
+    const Eigen::MatrixXd k = Eigen::MatrixXd(s.stiffness), m = Eigen::MatrixXd(s.mass);
+    Eigen::Matrix2d kr, mr;
+    kr << k(0, 0) + kt, k(0, 2), k(2, 0), k(2, 2);
+    mr << m(0, 0), m(0, 2), m(2, 0), m(2, 2);
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> held(kr, mr);
+    CHECK(modes[0].omega > 0.0);
+    CHECK(modes[0].omega == Approx(std::sqrt(held.eigenvalues()(0))).epsilon(1e-6));
+}

@@ -51,7 +51,10 @@ void add_discretisation_flags(CLI::App& command, std::string& harmonics, std::st
         ->capture_default_str()->type_name("INT|odd[:H]");
     command.add_option("--time-samples", time_samples,
                        "AFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "
-                       ">= max(64, 8 (2H + 1))")
+                       ">= max(64, 8 (2H + 1)), raised (up to 16384, a note says so, the branch computed again) "
+                       "where a law needs more at the motion found: coulomb-reg 2 pi max|v| / eps, so that its tanh is "
+                       "resolved (too few samples make the FRF wiggle with spurious peaks); a given N_t below that is a "
+                       "warning")
         ->capture_default_str()->type_name("INT");
 }
 
