@@ -168,6 +168,15 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
                 best = j;
         if (best < 0) throw InvalidInput("the stuck structure has only rigid-body modes (omega = 0)");
         linear_ = modes[static_cast<std::size_t>(best)];
+        // A frequency far from every mode names none of them (it used to follow the nearest).
+        if (std::abs(linear_.omega - options_.near_frequency) > 0.1 * options_.near_frequency) {
+            std::string found;
+            for (const LinearMode& m : modes)
+                if (m.omega > 0.0 && found.size() < 200) found += (found.empty() ? "" : ", ") + format_number(m.omega);
+            throw InvalidInput("near_frequency = " + format_number(options_.near_frequency) +
+                               ": no mode of the stuck structure within 10 % of it (its modes at w = " + found +
+                               (found.size() >= 200 ? ", ..." : "") + ")");
+        }
     } else {
         if (options_.mode > count)
             throw InvalidInput("mode = " + std::to_string(options_.mode) + " is out of range: allowed 1.." +

@@ -302,6 +302,8 @@ expect 2 "an input of this run" '' map "${FAST[@]}" --param fe --values 0.1 --ov
 # Valid inputs whose computation finds nothing: exit 1 with what to do (not exit 2, "bad input").
 expect 1 "nothing to track" '' track --param fe --range 1e-9:1e-3 --quiet --out /dev/null
 expect 1 "use the golden-section method" '' optimize --method tracking --config "$SRC/examples/systems/den_hartog.toml" --quiet --out /dev/null
+# A frequency far from every stuck mode names none of them (it followed the nearest silently).
+expect 2 "no mode of the stuck structure within 10 %" '' modes --near 1e9 --amin 0.01 --amax 1 --out x.csv
 # A static load that pulls the contact off the wall: open at rest and at every point (exit 3,
 # said); a normal direction that is not a unit vector is refused before any work.
 expect 3 "is open at rest and stays open" 'sed "s/^excitation = .*/&\nstatic_load = [0.0, -3.0, 0.0]/" "$SRC/examples/systems/liftoff3.toml" >pull.toml' frf --config pull.toml --quiet --out /dev/null
