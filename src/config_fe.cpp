@@ -2,6 +2,7 @@
 // and [[interface]] (interface.hpp).
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <set>
 
@@ -214,6 +215,18 @@ std::vector<InterfaceContacts> add_interface_contacts(const std::string& path, c
                             int coordinates, const std::function<int(int)>& coordinate,
                             std::vector<std::string>& contact_keys, std::vector<toml::source_region>& contact_lines) {
     std::vector<InterfaceContacts> out;
+    // A DOF in two interfaces would carry two contacts (the forces added twice): refused.
+    std::map<int, std::size_t> owner;  // FE DOF -> the interface that has it
+    for (std::size_t i = 0; i < interfaces.size(); ++i)
+        for (std::size_t k = 0; k < interfaces[i].nodes.size(); ++k)
+            for (int d : interfaces[i].nodes[k]) {
+                const auto [at, added] = owner.emplace(d, i);
+                if (!added && at->second != i)
+                    fail(path, interface_lines[i], "interface[" + std::to_string(i + 1) + "].nodes",
+                         "node " + std::to_string(k + 1) + "'s DOF " + std::to_string(d + 1) + " is also a node DOF of interface[" +
+                             std::to_string(at->second + 1) + "]: allowed each DOF in one interface (two would press "
+                             "and rub it twice)");
+            }
     for (std::size_t i = 0; i < interfaces.size(); ++i) {
         const std::string where = "interface[" + std::to_string(i + 1) + "]";
         out.push_back({interfaces[i].name.empty() ? "interface " + std::to_string(i + 1) : interfaces[i].name,

@@ -302,6 +302,21 @@ expect 2 "an input of this run" '' map "${FAST[@]}" --param fe --values 0.1 --ov
 # Valid inputs whose computation finds nothing: exit 1 with what to do (not exit 2, "bad input").
 expect 1 "nothing to track" '' track --param fe --range 1e-9:1e-3 --quiet --out /dev/null
 expect 1 "use the golden-section method" '' optimize --method tracking --config "$SRC/examples/systems/den_hartog.toml" --quiet --out /dev/null
+# Two interfaces on the same node would carry two contacts there: refused, naming both.
+TWO_IFACES='[structure]
+mass = [1.0, 1.0, 1.0]
+stiffness = [[2.0, 0.0, -1.0], [0.0, 2.0, 0.0], [-1.0, 0.0, 2.0]]
+excitation = [1.0, 0.0, 0.0]
+[[interface]]
+nodes = [[1, 2]]
+normal = [0.0, 1.0]
+law = "elastic"
+friction_coefficient = 0.3
+stiffness = 1.0
+normal_stiffness = 1.0
+preload_pressure = 1.0'
+export TWO_IFACES
+expect 2 "is also a node DOF of interface[1]" 'printf "%s\n%s\n" "$TWO_IFACES" "$(echo "$TWO_IFACES" | sed -n "/\[\[interface/,\$p")" >t.toml' frf --config t.toml --out x.csv
 # A frequency far from every stuck mode names none of them (it followed the nearest silently).
 expect 2 "no mode of the stuck structure within 10 %" '' modes --near 1e9 --amin 0.01 --amax 1 --out x.csv
 # A static load that pulls the contact off the wall: open at rest and at every point (exit 3,
