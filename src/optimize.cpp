@@ -165,6 +165,12 @@ OptimizeResult minimise(const BatchObjective& objective, const OptimizeOptions& 
             result.messages.add(e.messages);
             result.trace.push_back(std::move(e));
         }
+        if (options.progress) {
+            double smallest = std::numeric_limits<double>::infinity();
+            for (const OptimizeEvaluation& e : result.trace) smallest = std::min(smallest, e.peak.objective());
+            options.progress(std::string(phase) + ": " + std::to_string(result.trace.size()) +
+                             " FRFs, smallest peak " + format_number(smallest));
+        }
         return values;
     };
     const double a0 = std::log(options.lower), b0 = std::log(options.upper);
@@ -291,7 +297,13 @@ JointOptimizeResult optimize_two_parameters(const std::function<System(double, d
         [&](const std::vector<double>& q, const char* phase) {
             std::vector<OptimizeEvaluation> out;
             for (double value : q) {  // sequential: each inner search runs its scan on threads
-                OptimizeResult r = optimize_parameter([&](double p) { return system(p, value); }, settings, inner);
+                OptimizeOptions in = inner;
+                if (inner.progress)
+                    in.progress = [&inner, value, n = result.inner.size() + 1](const std::string& text) {
+                        inner.progress("search " + std::to_string(n) + " (second parameter " + format_number(value) +
+                                       "): " + text);
+                    };
+                OptimizeResult r = optimize_parameter([&](double p) { return system(p, value); }, settings, in);
                 OptimizeEvaluation e;
                 e.parameter = value;
                 e.peak = r.peak;

@@ -961,11 +961,27 @@ Verdict TrackOptimum::verdict(const std::string& name) const {
 }
 
 namespace {
+/// The value of curve `c`'s peak at `p` interpolated linearly between its two nearest solved
+/// points on either side (-infinity where p lies outside the p it was solved over).
+double interpolated_value(const TrackCurve& c, double p) {
+    const TrackPoint *below = nullptr, *above = nullptr;
+    for (const TrackPoint& q : c.points) {
+        if (q.kind == "search") continue;
+        if (q.p <= p && (!below || q.p > below->p)) below = &q;
+        if (q.p >= p && (!above || q.p < above->p)) above = &q;
+    }
+    if (!below || !above) return -std::numeric_limits<double>::infinity();
+    if (above->p == below->p) return std::max(above->value, below->value);
+    const double s = (p - below->p) / (above->p - below->p);
+    return below->value + s * (above->value - below->value);
+}
+
 /// One round of optimize_by_tracking: the tracks from `start` to both ends and the minimum of
 /// the largest peak along them (result's fields).
 void search_tracks(TrackOptimum& result, const std::function<System(double)>& system, const FrfSettings& settings,
                    double lower, double upper, double start, double tolerance,
-                   const std::vector<std::pair<double, const FrfResult*>>& known) {
+                   const std::vector<std::pair<double, const FrfResult*>>& known,
+                   const std::function<void(const std::string&)>& progress) {
     const auto frf_at = [&](double p) -> const FrfResult* {
         for (const auto& [x, r] : known)
             if (x == p) return r;
@@ -979,6 +995,7 @@ void search_tracks(TrackOptimum& result, const std::function<System(double)>& sy
         TrackOptions o;
         o.p_start = start;
         o.p_end = end;
+        if (progress) o.progress = [&progress](double p) { progress("tracking: p = " + format_number(p)); };
         result.tracks.push_back(track_with(system, settings, o, frf_at(start), frf_at(end)));
         result.solves += result.tracks.back().solves;
         result.frfs += result.tracks.back().frfs;
@@ -1037,7 +1054,13 @@ void search_tracks(TrackOptimum& result, const std::function<System(double)>& sy
             }
             for (double w : exchanged)
                 if (w != s.omega) s.other_omega = w;
-            if (s.top) samples.push_back(s);
+            // A curve solved at other values of p (an exchange point belongs to two curves
+            // only; a curve marched alone steps on its own) may still be above the largest
+            // point here: the sample is then not on the upper envelope and is left out.
+            bool below = false;
+            for (const TrackCurve& c : r.curves)
+                if (s.top && &c != s.top && interpolated_value(c, p) > s.value * (1.0 + 1e-12)) below = true;
+            if (s.top && !below) samples.push_back(s);
         }
     }
     std::sort(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) { return a.p < b.p; });
@@ -1133,6 +1156,7 @@ TrackOptimum optimize_by_tracking(const std::function<System(double)>& system, c
     const std::vector<FrfResult> scan = compute_frfs(
         n, [&](int k) { return system(grid[static_cast<std::size_t>(k)]); }, frf, options.threads);
     result.frfs += n;
+    if (options.progress) options.progress("scan: " + std::to_string(n) + " FRFs");
     std::size_t best = 0;
     for (std::size_t k = 1; k < scan.size(); ++k)
         if (scan[k].peak.objective() < scan[best].peak.objective()) best = k;
@@ -1169,7 +1193,8 @@ TrackOptimum optimize_by_tracking(const std::function<System(double)>& system, c
     double from = grid[best];
     for (int round = 0; round < 4; ++round) {
         search_tracks(result, system, settings, lower, upper, from, 1e-2 * options.tolerance,
-                      {{grid[best - 1], &scan[best - 1]}, {grid[best], &scan[best]}, {grid[best + 1], &scan[best + 1]}});
+                      {{grid[best - 1], &scan[best - 1]}, {grid[best], &scan[best]}, {grid[best + 1], &scan[best + 1]}},
+                      options.progress);
         if (result.status != OptimizeStatus::converged) break;
         const FrfResult check = compute_frf(system(result.parameter), frf);
         ++result.frfs;

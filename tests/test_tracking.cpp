@@ -384,6 +384,42 @@ TEST_CASE("optimize_by_tracking: the friction coefficient of the smallest larges
     }
 }
 
+TEST_CASE("optimize_by_tracking: exchanges between smaller peaks are not the optimum (the upper envelope decides)",
+          "[tracking][design]") {
+    // chain3_exact.toml (Jenkins + exact Coulomb), F_c of contact 1 in 1.3..1.65: the main peak
+    // (w = 0.69) has an interior minimum near F_c = 1.451 while two smaller peaks (w = 0.22 and
+    // 2.01) exchange at 1.4555 without ever being the largest: that exchange, at which the other
+    // curves have no solved point, must not be taken for the optimum (it was, with a "largest
+    // peak" of 0.96 where the FRF's is 10.5).
+    const io::SystemConfig config =
+        io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/chain3_exact.toml");
+    const auto system = [&](double fc) {
+        System s = config.system;
+        s.contacts[0].friction_limit = fc;
+        return s;
+    };
+    const FrfSettings settings = frf_settings(config.system, config.outputs, config.choices());
+    OptimizeOptions o;
+    o.lower = 1.3;
+    o.upper = 1.65;
+    o.scan_points = 3;
+    o.threads = 2;
+    const TrackOptimum r = optimize_by_tracking(system, settings, o);
+    INFO(r.summary("F_c"));
+    REQUIRE(r.status == OptimizeStatus::converged);
+    CHECK(r.kind == "minimum");
+    CHECK(r.restarts == 0);
+    // the FRF at the optimum has the tracked value as its largest peak, and FRFs 1e-3 away on
+    // either side have larger ones
+    const FrfResult at = compute_frf(system(r.parameter), settings);
+    CHECK(std::abs(at.peak.value - r.value) < 1e-8 * r.value);
+    CHECK(std::abs(at.peak.omega - 0.6912) < 1e-3);
+    for (double f : {1.0 - 1e-3, 1.0 + 1e-3}) {
+        const FrfResult side = compute_frf(system(r.parameter * f), settings);
+        CHECK(side.peak.value > r.value);
+    }
+}
+
 TEST_CASE("hbf optimize --method tracking: the optimum and its cost in the JSON, what it cannot do is refused",
           "[tracking][cli]") {
     test::TempDir dir;

@@ -232,6 +232,9 @@ struct OptimizeOptions {
     double tolerance = 1e-4;
     int max_evaluations = 200;  ///< FRFs in all (scan included), >= scan_points + 1
     int threads = 0;            ///< for the scan (compute_frfs); the search is sequential
+    /// Called after each batch of FRFs (the scan, then each FRF of the search) with a line on
+    /// where the search is (a progress display); may be empty.
+    std::function<void(const std::string& text)> progress;
 };
 
 enum class OptimizeStatus {

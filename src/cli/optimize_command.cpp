@@ -13,6 +13,7 @@
 
 #include "arguments.hpp"
 #include "outputs.hpp"
+#include "progress.hpp"
 #include "commands.hpp"
 #include "frf_flags.hpp"
 #include "hbf/analytic.hpp"
@@ -191,6 +192,8 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     HarmonicBalance::validate(parameter.system(oo.lower), settings.harmonic_balance);
     if (o.output.dry_run) return o.output.dry_run_done("optimize");
 
+    ProgressLine progress(o.output.progress(), "optimize");
+    oo.progress = [&progress](const std::string& text) { progress.update(text); };
     JointOptimizeResult joint_result;
     if (joint)
         joint_result = optimize_two_parameters(
@@ -202,6 +205,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
     const OptimizeResult result = joint      ? joint_result.outer
                                   : tracking ? as_optimize_result(tracked)
                                              : optimize_parameter([&](double v) { return parameter.system(v); }, settings, oo);
+    progress.clear();
     const double best_mu = joint ? joint_result.parameter : result.parameter;
     const std::string summary_line = joint ? joint_result.summary("mu", "wa") : result.summary(parameter.name());
 
@@ -469,7 +473,7 @@ void add_flags(CLI::App& command, OptimizeOptions_& o) {
                             "final bracket, the number of FRFs, and the comparisons with the Den Hartog friction, the "
                             "minimum-displacement rule and the viscous Den Hartog absorber (peak ratios to the optimum)",
                             "FILE", "draw the largest peak against the parameter, the optimum marked",
-                            "no summary line on standard error"});
+                            "no progress line (on a terminal; otherwise one line a minute) or summary line on standard error"});
     command.footer(columns_footer(
         R"(Output: the convergence trace, one row per FRF in the order computed (with --method tracking
 instead the tracked peaks, one row per point: track (down or up from the best scan value), curve,
