@@ -15,6 +15,7 @@
 #include "hbf/contact.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
+#include "hbf/static_state.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
 
@@ -534,6 +535,9 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         else r.verdict.note(resolution.message);
     }
     judge_open_contacts(hb, r);
+    const PenaltyDiagnostics penalties = penalty_diagnostics(hb.system(), hb.rest_state());
+    for (const std::string& line : penalties.stiff) r.verdict.note(line);
+    for (const std::string& line : penalties.relieved) r.verdict.warning(line);
     if (!declined.empty()) r.verdict.note(declined);
     if (!settings.exact_note.empty()) r.verdict.note(settings.exact_note);
     r.seconds = seconds_since(started);

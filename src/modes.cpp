@@ -532,8 +532,12 @@ Backbone NonlinearModes::follow() {
     if (!solve(start)) {
         b.status = ModeStatus::start_failed;
         b.message = "the first point (a = " + format_number(options_.amplitude_min) +
-                    ") did not converge from the linear mode: residual " + format_number(start.residual) + " after " +
-                    std::to_string(start.iterations) + " Newton iterations";
+                    ") did not converge from the linear mode: residual " + format_number(start.residual) +
+                    (start.iterations == 0 ? std::string(" at the linear mode, which no Newton step (halved 12 times) reduced")
+                                           : " after " + std::to_string(start.iterations) + " Newton iterations");
+        const PenaltyDiagnostics penalties = penalty_diagnostics(system_, hb_->rest_state());
+        for (const std::string& line : penalties.relieved) b.message += "; " + line;
+        for (const std::string& line : penalties.stiff) b.message += "; " + line;
         b.evaluations = evaluations_ - evaluations;
         b.seconds = watch.lap();
         return b;
@@ -951,6 +955,11 @@ ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const Mod
     run.table = io::backbone_table(run.backbone, run.metrics, outputs, normal, run.harmonics);
     if (synthesis) run.synthesis = nm.synthesize(run.backbone, run.metrics, system.excitation, outputs);
     run.verdict = judge_backbone(run.backbone, run.metrics, options.tolerance);
+    if (run.backbone.status != ModeStatus::start_failed) {  // a failed start says them in its message
+        const PenaltyDiagnostics penalties = penalty_diagnostics(system, nm.harmonic_balance().rest_state());
+        for (const std::string& line : penalties.relieved) run.verdict.warning(line);
+        for (const std::string& line : penalties.stiff) run.verdict.note(line);
+    }
     if (exact_check) {
         std::vector<io::Column> columns = io::exact_columns();
         std::vector<std::vector<io::Cell>> cells(columns.size());

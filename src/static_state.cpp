@@ -232,6 +232,65 @@ StaticState static_state(const System& system) {
     return out;
 }
 
+PenaltyDiagnostics penalty_diagnostics(const System& system, const StaticState* rest, double penalty_ratio) {
+    std::vector<std::string> stiff, relieved;
+    std::vector<std::size_t> elastic;
+    for (std::size_t c = 0; c < system.contacts.size(); ++c)
+        if (to_string(system.contacts[c].law) == "elastic" && system.contacts[c].values.count("normal_stiffness"))
+            elastic.push_back(c);
+    if (elastic.empty()) return {};
+    Eigen::SparseLU<SparseMatrix> lu;
+    lu.compute(system.stiffness);
+    const bool regular = lu.info() == Eigen::Success;
+    for (std::size_t c : elastic) {
+        const Contact& k = system.contacts[c];
+        const std::string name = "contact " + std::to_string(c + 1);
+        const double k_n = k.values.at("normal_stiffness");
+        if (regular) {
+            const Eigen::MatrixXd w = system.contact_directions(k);
+            const Eigen::MatrixXd u = lu.solve(w);
+            // the structure's static stiffness along direction j: 1 / (w_j^T K^-1 w_j)
+            const auto along = [&](Eigen::Index j) { return 1.0 / w.col(j).dot(u.col(j)); };
+            const double k_normal = along(w.cols() - 1), k_tangent = along(0);
+            std::string what;
+            if (std::isfinite(k_normal) && k_normal > 0.0 && k_n > penalty_ratio * k_normal)
+                what = "k_n = " + format_number(k_n) + " is " + format_number(k_n / k_normal) +
+                       " times the structure's stiffness along its normal (" + format_number(k_normal) + ")";
+            if (std::isfinite(k_tangent) && k_tangent > 0.0 && k.stiffness > penalty_ratio * k_tangent)
+                what += (what.empty() ? "" : ", ") + std::string("k_t = ") + format_number(k.stiffness) + " is " +
+                        format_number(k.stiffness / k_tangent) + " times its stiffness along the tangent (" +
+                        format_number(k_tangent) + ")";
+            if (!what.empty()) stiff.push_back(name + ": " + what);
+        }
+        const auto preload = k.values.find("preload");
+        if (rest && rest->ok && c < rest->contacts.size() && preload != k.values.end() && preload->second > 0.0) {
+            const Eigen::VectorXd& f = rest->contacts[c].force;
+            const double n = f.size() > 0 ? f(f.size() - 1) : 0.0;
+            if (n < 1e-2 * preload->second)
+                relieved.push_back(name + ": its preload N_0 = " + format_number(preload->second) +
+                                   " is relieved at rest to N = " + format_number(n) +
+                                   " (the preload is the normal force at zero displacement; the structure yields to "
+                                   "it, N = N_0 k / (k + k_n) with k the stiffness the normal spring sees and k_n = " +
+                                   format_number(k_n) + "): a force that stays is a static load (structure.static_load)");
+        }
+    }
+    const auto shorten = [](const std::vector<std::string>& lines, const std::string& tail) {
+        std::vector<std::string> out;
+        if (lines.size() <= 8) {
+            for (const std::string& l : lines) out.push_back(l + tail);
+        } else {
+            out.push_back(lines.front() + tail + " (and " + std::to_string(lines.size() - 1) + " more contacts)");
+        }
+        return out;
+    };
+    PenaltyDiagnostics out;
+    out.stiff = shorten(stiff, ": a penalty this stiff makes impacts and stick-slip kinks sharper than harmonic "
+                               "balance's harmonics resolve (it converges slowly in H, or not at all); a rigid contact "
+                               "is law unilateral, and hbf timeint integrates either");
+    out.relieved = shorten(relieved, "");
+    return out;
+}
+
 std::string describe(const StaticState& state) {
     if (!state.ok) return state.message;
     std::ostringstream s;

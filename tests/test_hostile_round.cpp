@@ -289,3 +289,55 @@ TEST_CASE("A stiff penalty contact (k_n = 5e12 on liftoff3) does not make the st
     CHECK(modes[0].omega > 0.0);
     CHECK(modes[0].omega == Approx(std::sqrt(held.eigenvalues()(0))).epsilon(1e-6));
 }
+
+#include "hbf/static_state.hpp"
+
+TEST_CASE("A stiff penalty (k_n = 1e6 on liftoff3) relieves the preload at rest: the static normal force is "
+          "N_0 k / (k + k_n), and the run says so and names the stiffness ratio",
+          "[hostile][static]") {
+    using namespace hbf;
+    io::SystemConfig config = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml");
+    System& s = config.system;
+    REQUIRE(s.contacts.size() == 1);
+    const double n0 = s.contacts[0].values.at("preload"), kt = s.contacts[0].stiffness;
+    // By hand: the stuck contact's tangential spring k_t on y1, the normal along y2: the
+    // stiffness the normal spring sees is 1 / [(K + k_t e1 e1^T)^-1]_22 (a preload acting at
+    // y = 0 is shared between the normal spring and the structure, springs in parallel).
+    Eigen::MatrixXd k = Eigen::MatrixXd(s.stiffness);
+    const double k_structure = 1.0 / Eigen::MatrixXd(k.inverse())(1, 1);  // K alone: the ratio in the note
+    k(0, 0) += kt;
+    const double k_normal = 1.0 / Eigen::MatrixXd(k.inverse())(1, 1);
+    for (double kn : {5.0, 1e6}) {
+        s.contacts[0].values["normal_stiffness"] = kn;
+        const StaticState rest = static_state(s);
+        REQUIRE(rest.ok);
+        const double n = rest.contacts[0].force(rest.contacts[0].force.size() - 1);
+        CHECK(n == Approx(n0 * k_normal / (k_normal + kn)).epsilon(1e-9));
+        const PenaltyDiagnostics d = penalty_diagnostics(s, &rest);
+        if (kn == 5.0) {  // the example: 22 % of N_0 stays, k_n 4 times the structure's: nothing said
+            CHECK(d.relieved.empty());
+            CHECK(d.stiff.empty());
+            continue;
+        }
+        REQUIRE(d.relieved.size() == 1);
+        CHECK_THAT(d.relieved[0], Catch::Contains("is relieved at rest to N = " + format_number(n)));
+        REQUIRE(d.stiff.size() == 1);
+        CHECK_THAT(d.stiff[0], Catch::Contains("k_n = 1000000 is " + format_number(kn / k_structure) + " times"));
+    }
+    // The CLI: the failed start of hbf frf and hbf modes says why (exit 1, the relieved preload named).
+    TempDir dir;
+    const std::string file = (dir.path / "stiff.toml").string();
+    std::string text = hbf::test::slurp(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml");
+    const auto at = text.find("normal_stiffness = 5.0");
+    REQUIRE(at != std::string::npos);
+    text.replace(at, std::string("normal_stiffness = 5.0").size(), "normal_stiffness = 1e6");
+    hbf::test::write_file(file, text);
+    for (const std::string& command : {"frf --config '" + file + "' --quiet --out x.csv",
+                                      "modes --config '" + file + "' --amin 0.01 --amax 1 --quiet --out y.csv"}) {
+        const auto r = run_hbf(command, dir);
+        INFO(command << "\n" << r.err);
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("its preload N_0 = 1 is relieved at rest"));
+        CHECK_THAT(r.err, Catch::Contains("a rigid contact is law unilateral"));
+    }
+}

@@ -76,6 +76,19 @@ StaticState static_state(const System& system);
 /// solved: stuck_directions.
 std::vector<std::vector<StuckElement>> stuck_elements(const System& system);
 
+/// What makes penalty contacts (law elastic) hard or surprising, one line each (empty when
+/// nothing does): a normal or tangential stiffness above `penalty_ratio` times the structure's
+/// own static stiffness along that direction (1 / w^T K^-1 w; not judged where K is singular):
+/// harmonic balance then meets impacts and stick-slip kinks sharper than its harmonics resolve;
+/// and, with `rest` (the static state), a preload N_0 the structure relieves below 1 % at rest
+/// (N = N_0 k / (k + k_n) for one contact: the preload is the normal force at zero
+/// displacement, not a load that stays). Above 8 such contacts the first and a count.
+struct PenaltyDiagnostics {
+    std::vector<std::string> stiff;     ///< stiffnesses far above the structure's (a note)
+    std::vector<std::string> relieved;  ///< preloads relieved at rest (a warning: likely not meant)
+};
+PenaltyDiagnostics penalty_diagnostics(const System& system, const StaticState* rest, double penalty_ratio = 1e3);
+
 /// "contact 1: stuck (N = 1.2, |T| = 0.3), contact 2: open": one line for messages; above 8
 /// contacts "99 contacts: 90 stuck, 9 open (N from 0 to 9.8, |T| up to 0.05)".
 std::string describe(const StaticState& state);
