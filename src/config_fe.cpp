@@ -138,6 +138,11 @@ ContactInterface read_interface(const Reader& r, const toml::table& t, int index
     // preload is given as a pressure).
     std::set<std::string> allowed = {"name", "nodes", "normal", "tangent", "area", "law"};
     const std::vector<LawParameter> parameters = contact_law(iface.prototype.law).parameters();
+    if (std::none_of(parameters.begin(), parameters.end(),
+                     [](const LawParameter& p) { return std::string(p.key) == "normal_direction"; }))
+        fail(r.file, law_node->source(), where + ".law",
+             "'" + law_node->as_string()->get() + "' has no normal direction: allowed elastic or unilateral (an "
+             "interface's nodes press on and lift off the other side; a law along one direction is a [[contact]] table)");
     allowed.insert("preload_pressure");
     for (const LawParameter& p : parameters)
         if (p.kind != LawParameter::Kind::direction && std::string(p.key) != "preload") allowed.insert(p.key);
@@ -238,6 +243,7 @@ std::vector<InterfaceContacts> add_interface_contacts(const std::string& path, c
             fail(path, interface_lines[i], where + ".nodes", e.what());
         }
         for (std::size_t k = 0; k < contacts.size(); ++k) {
+            contacts[k].label = where + " node " + std::to_string(k + 1);
             system.contacts.push_back(std::move(contacts[k]));
             contact_keys.push_back(where + " node " + std::to_string(k + 1));
             contact_lines.push_back(interface_lines[i]);

@@ -44,6 +44,7 @@ void capture_library_messages() {
 void LibraryMessages::add(const LibraryMessages& other) {
     if (count == 0) first = other.first;
     count += other.count;
+    step_failures += other.step_failures;
 }
 
 MessageCollector::MessageCollector() : enclosing_(innermost) { innermost = this; }
@@ -58,6 +59,7 @@ void record_library_message(const std::string& source, const std::string& text) 
     if (innermost == nullptr) return;
     LibraryMessages& m = innermost->messages_;
     if (m.count++ == 0) m.first = source + ": " + text;
+    if (source == "ceres" && text.find("Linear solver failure") != std::string::npos) ++m.step_failures;
 }
 }  // namespace detail
 

@@ -1,6 +1,7 @@
 #include "hbf/harmonic_balance.hpp"
 
 #include <algorithm>
+#include <set>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -128,7 +129,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         const auto first = scales.begin() + signal_first_[static_cast<std::size_t>(c)];
         contact_law(contact.law)
             .complete(contact, std::vector<DirectionScale>(first, first + signal_count_[static_cast<std::size_t>(c)]),
-                      "contact " + std::to_string(c + 1) + ": ");
+                      contact_name(system_.contacts, static_cast<std::size_t>(c)) + ": ");
         models_.push_back(make_friction_model(contact));
         if (models_.back()->signals() != signal_count_[static_cast<std::size_t>(c)])
             throw InvalidInput("contact " + std::to_string(c + 1) + ": law " + to_string(contact.law) + " reads " +
@@ -266,12 +267,21 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     const bool memoryless =
         std::all_of(state_count_.begin(), state_count_.end(), [](int states) { return states == 0; });
     const bool structurable = condensed_ && memoryless && !options.odd_harmonics;
-    if (options.jacobian == JacobianForm::structured && !structurable)
+    if (options.jacobian == JacobianForm::structured && !structurable) {
+        std::string stateful;  // the first contact of each law with internal states
+        std::set<std::string> laws;
+        for (std::size_t c = 0; c < state_count_.size(); ++c) {
+            const std::string law = to_string(system_.contacts[c].law);
+            if (state_count_[c] > 0 && laws.insert(law).second)
+                stateful += (stateful.empty() ? "" : ", ") + contact_name(system_.contacts, c) + ": law " + law;
+        }
         throw InvalidInput(std::string("jacobian = structured needs ") +
                            (!condensed_ ? "the condensed formulation, which this system does not use"
-                            : !memoryless ? "memoryless contact laws (dahl and lugre carry internal states)"
+                            : !memoryless ? "memoryless contact laws; these carry internal states (a Lagrange multiplier "
+                                            "or a bristle state per harmonic): " + stateful
                                           : "every harmonic (odd_harmonics = false)") +
                            ": allowed jacobian = dense or automatic");
+    }
     structured_ = options.jacobian == JacobianForm::structured ||
                   (options.jacobian == JacobianForm::automatic && structurable && all_unknowns_ > structured_threshold);
     if (structured_) {

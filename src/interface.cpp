@@ -162,6 +162,8 @@ std::vector<Contact> interface_contacts(const ContactInterface& iface, int dofs,
         const double area = iface.area(k);
         for (const LawParameter& p : parameters)
             if (p.per_area && (p.field || iface.prototype.values.count(p.key))) p.set(c, p.get(iface.prototype) * area);
+        c.label = (iface.name.empty() ? std::string("interface") : "interface '" + iface.name + "'") + " node " +
+                  std::to_string(k + 1);
         out.push_back(std::move(c));
     }
     return out;

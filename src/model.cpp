@@ -89,6 +89,13 @@ void require_square(const SparseMatrix& matrix, int n, const char* name) {
     for (int j = 0; j < matrix.outerSize(); ++j)
         for (SparseMatrix::InnerIterator it(matrix, j); it; ++it) {
             if (!std::isfinite(it.value())) throw InvalidInput(std::string(name) + " has non-finite entries");
+            // Its products (K y, w^T K w, the dynamic stiffness's squares in the solvers) must
+            // neither overflow nor lose the other entries entirely: well inside 1e-154..1e154.
+            if (std::abs(it.value()) > 1e100)
+                throw InvalidInput(std::string(name) + " entry (" + std::to_string(it.row() + 1) + ", " +
+                                   std::to_string(it.col() + 1) + ") = " + format_number(it.value()) +
+                                   ": allowed |entry| <= 1e100 (its products must be representable: change the "
+                                   "units, or hold a DOF by removing it rather than by a huge stiffness)");
             scale = std::max(scale, std::abs(it.value()));
         }
     const SparseMatrix asymmetry = matrix - SparseMatrix(matrix.transpose());
@@ -119,6 +126,11 @@ bool System::has_positive_definite_mass() const {
     bool ok = false;
     const Eigen::VectorXd d = ldlt_pivots(mass, ok);
     return ok && d.size() > 0 && d.minCoeff() > 1e-13 * largest_diagonal(mass);
+}
+
+std::string contact_name(const std::vector<Contact>& contacts, std::size_t c) {
+    const std::string name = "contact " + std::to_string(c + 1);
+    return c < contacts.size() && !contacts[c].label.empty() ? name + " (" + contacts[c].label + ")" : name;
 }
 
 void System::validate() const {
@@ -155,7 +167,7 @@ void System::validate() const {
                            " (the force F cos(h w t))");
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         const Contact& k = contacts[c];
-        const std::string where = "contact " + std::to_string(c + 1) + ": ";
+        const std::string where = contact_name(contacts, c) + ": ";
         if (k.direction.size() > 0) {
             if (k.direction.size() != n)
                 throw InvalidInput(where + "force_direction has " + std::to_string(k.direction.size()) +

@@ -783,7 +783,9 @@ std::vector<double> NonlinearModes::metrics_of(const ModePoint& point, const std
 
 ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Output>& outputs) {
     ModeMetrics m;
-    m.zeta = point.zeta();
+    // xi is a Newton unknown, accurate to about the corrector's tolerance (1e-10 of w): a
+    // |zeta| below 1e-12 (an undamped stuck structure's rounding, of either sign) is 0.
+    m.zeta = std::abs(point.zeta()) < 1e-12 ? 0.0 : point.zeta();
     const Eigen::MatrixXd y = motion(point);  // condensed: the free structure at the point's xi (for the Analyser too)
     Analyser analyse(*hb_, {}, outputs);
     SolutionPoint sp;
@@ -1022,7 +1024,7 @@ std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const s
               "mode with phi^T M phi = 1"},
         {"w", "frequency omega of the nonlinear mode (the periodic motion's fundamental)"},
         {"xi", "artificial damping xi: the term -xi M y' that makes the free motion periodic (feeds in what is dissipated)"},
-        {"zeta", "modal damping ratio xi / (2 w)"},
+        {"zeta", "modal damping ratio xi / (2 w) (0 where below 1e-12, the corrector's resolution)"},
         {"zeta_energy", "energy damping ratio (friction_energy + viscous_energy) / (2 pi w^2 a^2); equals zeta when the "
                         "motion is a single harmonic (xi's energy balance), differs with higher harmonics"},
         {"energy", "energy dissipated per cycle by the contacts and the viscous damping C"},

@@ -3,9 +3,14 @@
 namespace hbf {
 
 void Verdict::add(const LibraryMessages& messages) {
-    if (messages.count > 0)
-        warning(std::to_string(messages.count) + " warning(s) from the numerical libraries (not printed); the first: " +
-                messages.first);
+    if (messages.count == 0) return;
+    const std::string line = std::to_string(messages.count) +
+                             " warning(s) from the numerical libraries (not printed); the first: " + messages.first;
+    if (messages.count == messages.step_failures)  // retried by the corrector: no accepted point depends on them
+        note(line + " (trial steps whose linear solve failed, retried with more damping: every accepted point "
+                    "meets the tolerance)");
+    else
+        warning(line);
 }
 
 void Verdict::add(const Verdict& other) {

@@ -317,6 +317,14 @@ normal_stiffness = 1.0
 preload_pressure = 1.0'
 export TWO_IFACES
 expect 2 "is also a node DOF of interface[1]" 'printf "%s\n%s\n" "$TWO_IFACES" "$(echo "$TWO_IFACES" | sed -n "/\[\[interface/,\$p")" >t.toml' frf --config t.toml --out x.csv
+# An interface law without a normal direction is named as such (it blamed friction_coefficient);
+# a rigid interface on nodes with mass names the interface node (the file has no "contact 1").
+expect 2 "'jenkins' has no normal direction" 'echo "$TWO_IFACES" | sed "s/\"elastic\"/\"jenkins\"/" >t.toml' frf --config t.toml --out x.csv
+expect 2 "contact 1 (interface[1] node 1): direction carries mass" 'echo "$TWO_IFACES" | sed "s/\"elastic\"/\"unilateral\"/;/^stiffness = 1.0/d;/^normal_stiffness/d" >t.toml' frf --config t.toml --out x.csv
+# A stiffness entry beyond representable products is refused as such (it was "K_ii singular").
+expect 2 "allowed |entry| <= 1e100" 'sed "s/^stiffness = \[\[1.5/stiffness = [[1e300/" "$SRC/examples/systems/liftoff3.toml" >k.toml' frf --config k.toml --out x.csv
+# --jacobian structured on a rigid contact names the law that carries states (it named dahl and lugre).
+expect 2 "contact 1: law unilateral" '' frf --config "$SRC/examples/systems/liftoff3_rigid.toml" --jacobian structured --out x.csv
 # A frequency far from every stuck mode names none of them (it followed the nearest silently).
 expect 2 "no mode of the stuck structure within 10 %" '' modes --near 1e9 --amin 0.01 --amax 1 --out x.csv
 # A static load that pulls the contact off the wall: open at rest and at every point (exit 3,

@@ -544,6 +544,25 @@ TEST_CASE("Optimisation and map results carry the verdict hbf and Python report"
     r.failed = 0;
     CHECK(r.verdict("mu", LibraryMessages{3, "ceres: x"}).warnings.at(0) ==
           "3 warning(s) from the numerical libraries (not printed); the first: ceres: x");
+    // Ceres' failed trial-step solves (retried by Levenberg-Marquardt) are a note; any other
+    // library message among them keeps the warning.
+    {
+        MessageCollector collector;
+        const std::string failure = "Linear solver failure. Failed to compute a step: Eigen failure. Unable to "
+                                    "perform dense Cholesky factorization. (levenberg_marquardt_strategy.cc:115)";
+        detail::record_library_message("ceres", failure);
+        detail::record_library_message("ceres", failure);
+        CHECK(collector.messages().step_failures == 2);
+        Verdict v;
+        v.add(collector.messages());
+        CHECK(v.status() == "completed");
+        REQUIRE(v.notes.size() == 1);
+        CHECK_THAT(v.notes[0], Catch::Contains("every accepted point meets the tolerance"));
+        detail::record_library_message("cvode", "at t = 1, mxstep steps taken before reaching tout");
+        Verdict w;
+        w.add(collector.messages());
+        CHECK(w.status() == "incomplete");
+    }
     for (OptimizeStatus s : {OptimizeStatus::at_bound, OptimizeStatus::budget}) {
         r.status = s;
         CHECK(r.verdict("mu").status() == "incomplete");

@@ -14,6 +14,10 @@ namespace hbf {
 struct LibraryMessages {
     long long count = 0;  ///< warnings and errors reported by Ceres (glog) and CVODE
     std::string first;    ///< the first of them, prefixed by its source ("ceres: ...")
+    /// Of them, Ceres' failed linear solves of a trial step ("Linear solver failure"): the
+    /// Levenberg-Marquardt strategy retries such a step with more damping, so they never make
+    /// an accepted point (whose residual is checked against the tolerance) doubtful.
+    long long step_failures = 0;
     /// Adds `other`'s count; keeps this one's first message, else other's.
     void add(const LibraryMessages& other);
 };

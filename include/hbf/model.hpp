@@ -85,7 +85,13 @@ struct Contact {
     /// a user gives: System::validate allows it on jenkins contacts only, and harmonic balance
     /// refuses it.
     double base_motion = 0;
+    /// Where the contact comes from, for messages ("interface[1] node 3"); empty for one given
+    /// by itself. Messages name a contact "contact c" (1-based, in System::contacts) and this.
+    std::string label;
 };
+
+/// "contact 3" or "contact 3 (interface[1] node 3)": how messages name contacts[c] (0-based c).
+std::string contact_name(const std::vector<Contact>& contacts, std::size_t c);
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 

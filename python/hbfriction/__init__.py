@@ -135,6 +135,14 @@ def _real(label, value):
     return float(value)
 
 
+def _reals(label, values):
+    """A number or a sequence of numbers as a list of floats (a string or a bool is refused)."""
+    if isinstance(values, (str, bytes)):
+        raise TypeError("%s = %r: expected a number or a sequence of numbers (%s)" % (label, values, type(values).__name__))
+    items = list(values) if _np.ndim(values) > 0 else [values]
+    return [_real("%s[%d]" % (label, k) if len(items) > 1 else label, v) for k, v in enumerate(items)]
+
+
 def _keyword_init(cls):
     core_init = cls.__init__
 
@@ -275,7 +283,9 @@ def reduce(system, modes, *, method="craig-bampton", interface=None, damping_rat
     """
     if not isinstance(system, System):
         raise TypeError("reduce: system must be an hbfriction.System, got %s" % type(system).__name__)
-    reduced = _core.reduce_system(system, modes, str(method), interface, damping_ratios, rayleigh)
+    if not isinstance(method, str):
+        raise TypeError("method = %r: expected a string (craig-bampton, massless-boundary or macneal)" % (method,))
+    reduced = _core.reduce_system(system, _integer("modes", modes), method, interface, damping_ratios, rayleigh)
     for w in reduced.reduction_warnings:
         _warnings.warn(w, IncompleteResultWarning, stacklevel=2)
     return reduced
@@ -654,7 +664,9 @@ def solve_at(system, omega, *, omega_from=None, contact=0, harmonics=None, time_
                              "CorrectorOptions" % name)
     _check_frequencies(s)
     start = omega_from if omega_from is not None else system.file_settings.get("omega_start", 0.5)
-    d = _core.solve_at(system, float(omega), float(start), hb, co, contact)
+    omega = _real("omega", omega)
+    start = _real("omega_from", start)
+    d = _core.solve_at(system, omega, start, hb, co, _integer("contact", contact))
     if not d["found"]:
         raise SolveError("no solution at w = %s: the branch from w = %s stopped: %s" %
                          (_core.format_number(omega), _core.format_number(start if omega > start else 0.9 * omega),
@@ -695,7 +707,7 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
         raise ValueError("max_periods = %d is out of range: allowed 1..1000000" % o.max_periods)
     o.outputs = _outputs(system, outputs) if outputs is not None else (
         system.outputs or [Output.dof(i) for i in range(system.dofs)])
-    omegas = [float(v) for v in _np.atleast_1d(_np.asarray(w, dtype=float))]
+    omegas = _reals("w", w)
     columns, details, verdict = _core.timeint(system, omegas, o, method == "exact", exact_tolerance)
     table = Table(columns)
     table.responses = []
@@ -799,7 +811,7 @@ def analytic(system=None, w=None, *, law=None, parameters=None):
         parameters = AbsorberParameters()
     if w is None:
         raise ValueError("analytic: w (the frequencies) is required")
-    omegas = [float(v) for v in _np.atleast_1d(_np.asarray(w, dtype=float))]
+    omegas = _reals("w", w)
     return Table(_core.analytic(parameters, law, omegas))
 
 

@@ -129,3 +129,29 @@ def test_hostile_input_never_crashes_the_interpreter():
     last = r.stdout.strip().splitlines()[-1]
     count = SCRIPT.count("lambda: h.")
     assert last == "raised %d of %d; threads equal: True; survived 5" % (count, count), r.stdout + r.stderr[-2000:]
+
+
+def test_a_wrong_argument_type_names_the_argument_not_a_signature_dump():
+    import hbfriction as h
+    s = h.absorber()
+    cases = {
+        "omega": lambda: h.solve_at(s, "a"),
+        "contact": lambda: h.solve_at(s, 1.0, contact="x"),
+        "omega_from": lambda: h.solve_at(s, 1.0, omega_from="x"),
+        "w": lambda: h.timeint(s, "x"),
+        "w[1]": lambda: h.timeint(s, [1.0, "x"]),
+        "modes": lambda: h.reduce(s, "x"),
+        "method": lambda: h.reduce(s, 2, method=3),
+        "amplitude_min": lambda: h.modes(s, "a", 1.0),
+    }
+    for name, case in cases.items():
+        try:
+            case()
+        except TypeError as e:
+            message = str(e)
+            assert message.startswith(name + " = "), message
+            assert "incompatible function arguments" not in message and len(message) < 200, message
+        else:
+            raise AssertionError("%s: no TypeError" % name)
+    analytic = h.analytic(s, [0.9, 1.1])  # the sequence form still works
+    assert list(analytic.w) == [0.9, 1.1]
