@@ -713,6 +713,18 @@ PYBIND11_MODULE(_core, m) {
                 i.prototype = contact;
                 i.preload_pressure = preload_pressure;
                 const int n = s.system.dofs();
+                // A DOF in two interfaces would carry two contacts (pressed and rubbed twice):
+                // the earlier interfaces' DOFs are those their contacts' directions move.
+                for (const InterfaceContacts& earlier : s.interfaces)
+                    for (int c = earlier.first; c < earlier.first + earlier.count; ++c) {
+                        const Eigen::MatrixXd w = s.system.contact_directions(s.system.contacts[static_cast<std::size_t>(c)]);
+                        for (std::size_t k = 0; k < i.nodes.size(); ++k)
+                            for (int d : i.nodes[k])
+                                if (d >= 0 && d < n && w.row(d).cwiseAbs().maxCoeff() > 0.0)
+                                    bad("nodes: node " + std::to_string(k) + "'s DOF " + std::to_string(d) +
+                                        " is also a node DOF of interface '" + earlier.name +
+                                        "': allowed each DOF in one interface (two would press and rub it twice)");
+                    }
                 std::vector<Contact> added;
                 try {
                     added = interface_contacts(i, n, n, [](int d) { return d; });

@@ -132,6 +132,9 @@ def test_bad_interfaces_and_reductions_name_the_key(block):
         (lambda: fresh().add_interface(nodes, [1, 0, 0], preload_pressure=-1.0, **law), "preload_pressure"),
         (lambda: fresh().add_interface(nodes, [1, 0, 0], law="jenkins", friction_limit=1.0, stiffness=1.0),
          "no normal direction"),
+        (lambda: [t.add_interface(nodes[2:5], [1, 0, 0], **law)
+                  for t in [fresh()] if t.add_interface(nodes[:3], [1, 0, 0], **law)],
+         "node 0's DOF %d is also a node DOF of interface 'interface 1'" % nodes[2][0]),
         (lambda: h.reduce(s, 1000), r"reduction.modes = 1000 is out of range: allowed 0..53"),
         (lambda: h.reduce(s, 10, method="guyan"), "reduction.method"),
         (lambda: h.reduce(s, 10, damping_ratios=[1.5]), "reduction.damping_ratios"),
