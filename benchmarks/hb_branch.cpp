@@ -33,6 +33,7 @@
 #include <sys/resource.h>
 
 #include "hbf/continuation.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/memory.hpp"
 #include "hbf/stability.hpp"
 

@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/design.hpp"

@@ -13,6 +13,7 @@
 #include <cstdio>
 
 #include "hbf/tracking.hpp"
+#include "hbf/absorber.hpp"
 
 namespace {
 using namespace hbf;

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/config.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/design.hpp"

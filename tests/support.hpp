@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 #include "support.hpp"
 

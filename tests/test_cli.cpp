@@ -14,6 +14,7 @@
 #include "cli_support.hpp"
 #include "progress.hpp"  // src/cli
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 
 namespace fs = std::filesystem;
 namespace an = hbf::analytic;

@@ -12,6 +12,7 @@
 
 #include "cli_support.hpp"
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/io.hpp"
 
 using namespace test;

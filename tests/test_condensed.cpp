@@ -14,6 +14,7 @@
 #include "cli_support.hpp"
 #include "support.hpp"
 #include "hbf/config.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"

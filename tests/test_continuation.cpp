@@ -5,9 +5,11 @@
 #include <cmath>
 
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/linear_limits.hpp"
 #include "support.hpp"
-#include "../src/golden_section.hpp"
+#include "../src/numerics/golden_section.hpp"
 
 using namespace hbf;
 

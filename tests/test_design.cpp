@@ -15,6 +15,7 @@
 
 #include "cli_support.hpp"
 #include "hbf/design.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "support.hpp"

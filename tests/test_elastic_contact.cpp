@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "hbf/config.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/config.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"

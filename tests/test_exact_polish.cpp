@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/design.hpp"
 #include "hbf/error.hpp"

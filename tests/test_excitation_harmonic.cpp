@@ -13,6 +13,7 @@
 #include "cli_support.hpp"
 #include "support.hpp"
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"

@@ -5,6 +5,7 @@
 
 #include "hbf/error.hpp"
 #include "support.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/harmonic_balance.hpp"
 
 using namespace hbf;

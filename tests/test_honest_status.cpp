@@ -15,6 +15,7 @@
 #include "arguments.hpp"  // src/cli: Verdict
 #include "hbf/design.hpp"
 #include "cli_support.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/diagnostics.hpp"
 #include "support.hpp"

@@ -13,6 +13,7 @@
 #include "hbf/config.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/linear_limits.hpp"
 #include "hbf/static_state.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/interface.hpp"

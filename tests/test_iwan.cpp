@@ -8,6 +8,7 @@
 #include <string>
 
 #include "hbf/config.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/design.hpp"

@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "hbf/error.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/model.hpp"
 #include "support.hpp"
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "hbf/config.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/modes.hpp"

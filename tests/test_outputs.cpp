@@ -8,6 +8,7 @@
 
 #include "cli_support.hpp"
 #include "hbf/config.hpp"
+#include "hbf/linear_limits.hpp"
 #include "hbf/model.hpp"
 #include "hbf/time_integration.hpp"
 

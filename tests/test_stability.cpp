@@ -9,6 +9,7 @@
 
 #include "cli_support.hpp"
 #include "hbf/config.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/time_integration.hpp"

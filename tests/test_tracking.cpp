@@ -8,6 +8,7 @@
 
 #include "cli_support.hpp"
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/config.hpp"
 #include "hbf/error.hpp"
 #include "hbf/tracking.hpp"

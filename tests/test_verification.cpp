@@ -6,6 +6,7 @@
 #include <string>
 
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/time_integration.hpp"
 #include "support.hpp"

@@ -2,6 +2,7 @@
 // Coulomb friction, by harmonic balance and pseudo-arclength continuation, checked against a
 // closed form. Exit code 0 when the check passes, 1 otherwise.
 #include <hbf/continuation.hpp>
+#include <hbf/absorber.hpp>
 #include <hbf/memory.hpp>
 #include <cmath>
 #include <cstdio>

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "hbf/absorber.hpp"
 #include "hbf/model.hpp"
 
 namespace hbf::analytic {

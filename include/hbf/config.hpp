@@ -88,17 +88,11 @@
 
 #include "hbf/design.hpp"
 #include "hbf/interface.hpp"
+#include "hbf/io.hpp"
 #include "hbf/model.hpp"
 #include "hbf/reduction.hpp"
 
 namespace hbf::io {
-
-/// An input file of a run (the config, a Matrix Market file it names): what names it, for
-/// messages ("--config", "structure.mass"), and its path. No output may be one (io.hpp).
-struct InputFile {
-    std::string what;
-    std::string path;
-};
 
 struct SystemConfig {
     System system;

@@ -28,6 +28,8 @@
 
 namespace hbf {
 
+struct AbsorberParameters;  // absorber.hpp: the paper's preset, which each law maps onto its own parameters
+
 /// One parameter of a law besides friction_limit (which every law has, > 0). `key` is its name
 /// in a system file's contact table (config.hpp), in Python's Contact and in the studies'
 /// `contact.<key>`. The five first laws keep their values in Contact's fields (`field`); a law
@@ -206,7 +208,7 @@ public:
     /// naming it after `where` ("contact 1: "); `scales` are the structure along each of the
     /// contact's directions (System::contact_directions' order). The default does nothing.
     virtual void complete(Contact& contact, const std::vector<DirectionScale>& scales, const std::string& where) const;
-    /// The paper's absorber preset (model.hpp: friction_absorber, PresetParameter): the symbols
+    /// The paper's absorber preset (absorber.hpp: friction_absorber, PresetParameter): the symbols
     /// of the preset parameters the law reads ("wb", "xi", ...), in the order they are checked.
     virtual std::vector<std::string> preset_parameters() const { return {}; }
     /// Sets the law's parameters on the preset's contact from the nondimensional parameters
@@ -244,7 +246,7 @@ std::string contact_law_names(const std::string& separator = ", ");
 /// The names of the laws whose parameters include `key`, joined by ", " (for messages).
 std::string laws_with_parameter(const std::string& key);
 
-/// The names of the laws that read the absorber preset's parameter `symbol` (model.hpp:
+/// The names of the laws that read the absorber preset's parameter `symbol` (absorber.hpp:
 /// PresetParameter), joined by ", "; and whether `law` reads it.
 std::string laws_reading(const std::string& symbol);
 bool law_reads(FrictionLaw law, const std::string& symbol);

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "hbf/harmonic_balance.hpp"
+#include "hbf/linear_limits.hpp"
 
 namespace hbf {
 

@@ -10,8 +10,9 @@
 #include <variant>
 #include <vector>
 
+#include "hbf/absorber.hpp"
 #include "hbf/analytic.hpp"
-#include "hbf/config.hpp"
+#include "hbf/interface.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/stability.hpp"
@@ -19,6 +20,14 @@
 #include "hbf/time_integration.hpp"
 
 namespace hbf::io {
+
+/// An input file of a run (the config, a Matrix Market file it names): what names it, for
+/// messages ("--config", "structure.mass"), and its path. No output may be one
+/// (check_outputs).
+struct InputFile {
+    std::string what;
+    std::string path;
+};
 
 /// An output a command will write: the flag naming it, its path ("-" for standard output;
 /// empty: not written unless `stdout_if_empty`), and whether it is an image (--plot).

@@ -7,6 +7,7 @@
 #include "outputs.hpp"
 #include "commands.hpp"
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 #include "hbf/io.hpp"
 #include "hbf/plot.hpp"

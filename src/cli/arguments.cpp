@@ -8,6 +8,7 @@
 #include <map>
 
 #include "hbf/contact.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::cli {

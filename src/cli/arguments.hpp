@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "hbf/absorber.hpp"
 #include "hbf/config.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/continuation.hpp"

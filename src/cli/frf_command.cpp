@@ -17,6 +17,7 @@
 #include "progress.hpp"
 #include "commands.hpp"
 #include "hbf/config.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/error.hpp"

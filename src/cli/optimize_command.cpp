@@ -17,6 +17,7 @@
 #include "commands.hpp"
 #include "frf_flags.hpp"
 #include "hbf/analytic.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/io.hpp"

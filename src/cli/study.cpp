@@ -5,6 +5,7 @@
 
 #include "hbf/contact.hpp"
 #include "frf_flags.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::cli {

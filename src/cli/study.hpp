@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "arguments.hpp"
+#include "hbf/absorber.hpp"
 
 namespace hbf::cli {
 

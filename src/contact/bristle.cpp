@@ -8,11 +8,11 @@
 // the force f = sigma0 z + sigma1 D z + sigma2 D q, linear in the coefficients. E and P are the
 // synthesis/analysis matrices of Fourier and D = omega D1 the derivative with respect to tau;
 // the Jacobians are exact: the chain rule through E and P.
-#include "bristle.hpp"
+#include "contact/bristle.hpp"
 
 #include <cmath>
 
-#include "../stopwatch.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

@@ -25,8 +25,9 @@
 #include <cmath>
 
 #include "hbf/contact.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
-#include "../stopwatch.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

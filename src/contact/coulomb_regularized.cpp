@@ -12,7 +12,8 @@
 #include <cmath>
 
 #include "hbf/contact.hpp"
-#include "../stopwatch.hpp"
+#include "hbf/absorber.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

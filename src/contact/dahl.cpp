@@ -7,7 +7,8 @@
 // While stuck (pre-sliding): the spring sigma0.
 // Smooth (stick is pre-sliding: |sigma0 z| < stick_force_ratio F_c); its state in time is the
 // bristle deflection; default H 10 (the peak within 6e-5 of H = 40).
-#include "bristle.hpp"
+#include "contact/bristle.hpp"
+#include "hbf/absorber.hpp"
 
 namespace hbf {
 

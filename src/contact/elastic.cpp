@@ -25,7 +25,7 @@
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/normal_contact.hpp"
-#include "../stopwatch.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "hbf/contact.hpp"
+#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf {

@@ -23,7 +23,8 @@
 #include <vector>
 
 #include "hbf/contact.hpp"
-#include "../stopwatch.hpp"
+#include "hbf/absorber.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

@@ -9,7 +9,8 @@
 // While stuck (pre-sliding): the spring sigma0 and the damper sigma1 + sigma2.
 // Smooth (stick is pre-sliding: |sigma0 z| < stick_force_ratio g(v)); its state in time is the
 // bristle deflection; default H 10.
-#include "bristle.hpp"
+#include "contact/bristle.hpp"
+#include "hbf/absorber.hpp"
 
 namespace hbf {
 

@@ -1,6 +1,6 @@
 // hbfriction — folds and stick-slip transitions located between the points of a traced
 // branch (locate.hpp; see continue_branch in continuation.hpp).
-#include "locate.hpp"
+#include "continuation/locate.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -9,8 +9,9 @@
 #include <sstream>
 
 #include "hbf/error.hpp"
-#include "locate.hpp"
-#include "stopwatch.hpp"
+#include "hbf/linear_limits.hpp"
+#include "continuation/locate.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

@@ -1,5 +1,5 @@
 // hbfriction — the flow engine of the event-exact solver (engine.hpp), and exact_flow.
-#include "engine.hpp"
+#include "event_exact/engine.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,10 +7,10 @@
 #include <memory>
 #include <utility>
 
-#include "fast_modes.hpp"
+#include "event_exact/fast_modes.hpp"
 #include "hbf/error.hpp"
-#include "polynomial.hpp"
-#include "validation.hpp"
+#include "event_exact/polynomial.hpp"
+#include "event_exact/validation.hpp"
 
 namespace hbf::detail::exact {
 

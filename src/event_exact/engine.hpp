@@ -16,7 +16,7 @@
 
 #include "hbf/contact.hpp"
 #include "hbf/event_exact.hpp"
-#include "polynomial.hpp"
+#include "event_exact/polynomial.hpp"
 
 namespace hbf::detail::exact {
 

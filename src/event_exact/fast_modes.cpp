@@ -1,5 +1,5 @@
 // hbfriction — the fast modes of a contact pattern (fast_modes.hpp) and the pattern's exponential.
-#include "fast_modes.hpp"
+#include "event_exact/fast_modes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "polynomial.hpp"
+#include "event_exact/polynomial.hpp"
 
 namespace hbf::detail::exact {
 

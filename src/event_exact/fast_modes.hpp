@@ -5,7 +5,7 @@
 
 #include <Eigen/Dense>
 
-#include "engine.hpp"
+#include "event_exact/engine.hpp"
 
 namespace hbf::detail::exact {
 

@@ -1,5 +1,5 @@
 // hbfriction — the metrics of an exact orbit from one recorded period (metrics.hpp).
-#include "metrics.hpp"
+#include "event_exact/metrics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "hbf/error.hpp"
-#include "polynomial.hpp"
+#include "event_exact/polynomial.hpp"
 
 namespace hbf::detail::exact {
 

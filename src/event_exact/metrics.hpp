@@ -5,7 +5,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "engine.hpp"
+#include "event_exact/engine.hpp"
 #include "hbf/event_exact.hpp"
 
 namespace hbf::detail::exact {

@@ -9,13 +9,14 @@
 #include <string>
 #include <utility>
 
-#include "engine.hpp"
+#include "event_exact/engine.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
-#include "metrics.hpp"
-#include "polynomial.hpp"
-#include "validation.hpp"
+#include "hbf/linear_limits.hpp"
+#include "event_exact/metrics.hpp"
+#include "event_exact/polynomial.hpp"
+#include "event_exact/validation.hpp"
 
 namespace hbf::detail::exact {
 

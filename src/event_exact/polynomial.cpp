@@ -1,5 +1,5 @@
 // hbfriction — polynomials in time of the event-exact solver (polynomial.hpp).
-#include "polynomial.hpp"
+#include "event_exact/polynomial.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // hbfriction — what the event-exact solver takes: systems, states, options, and the cost
 // bound of a period (event_exact.hpp).
-#include "validation.hpp"
+#include "event_exact/validation.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine.hpp"
+#include "event_exact/engine.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"

@@ -1,5 +1,5 @@
 // Exact static condensation of massless DOFs (massless.hpp).
-#include "massless.hpp"
+#include "model/massless.hpp"
 
 #include <cmath>
 #include <complex>

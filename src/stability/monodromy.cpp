@@ -1,11 +1,11 @@
 // hbfriction — the monodromy of the variational equation by CVODE (monodromy.hpp).
-#include "monodromy.hpp"
+#include "stability/monodromy.hpp"
 
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <cmath>
 
-#include "cvode/solver.hpp"
+#include "numerics/cvode_solver.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::detail {

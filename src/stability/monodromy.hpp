@@ -5,7 +5,7 @@
 #include <Eigen/Dense>
 #include <string>
 
-#include "variational.hpp"
+#include "stability/variational.hpp"
 
 namespace hbf::detail {
 

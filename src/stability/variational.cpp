@@ -1,5 +1,5 @@
 // hbfriction — the variational equation of an HB solution and Hill's matrix (variational.hpp).
-#include "variational.hpp"
+#include "stability/variational.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

@@ -1,5 +1,5 @@
 // hbfriction — time integration of contacts with a normal direction (elastic_contacts.hpp).
-#include "elastic_contacts.hpp"
+#include "time_integration/elastic_contacts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,9 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "cvode/solver.hpp"
+#include "numerics/cvode_solver.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/linear_limits.hpp"
 #include "hbf/normal_contact.hpp"
 #include "hbf/static_state.hpp"
 

@@ -1,6 +1,6 @@
 // The CVODE integrator of one period: right-hand side, root functions, events (see
 // time_integration.hpp).
-#include "integrator.hpp"
+#include "time_integration/integrator.hpp"
 
 #include <algorithm>
 

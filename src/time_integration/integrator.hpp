@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "cvode/solver.hpp"
+#include "numerics/cvode_solver.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/time_integration.hpp"
 

@@ -1,5 +1,5 @@
 // hbfriction — time integration of models with massless DOFs (massless.hpp).
-#include "massless.hpp"
+#include "time_integration/massless.hpp"
 
 #include "hbf/contact.hpp"
 

@@ -1,6 +1,6 @@
 // hbfriction — time integration of rigid unilateral contacts on massless coordinates
 // (unilateral_contacts.hpp).
-#include "unilateral_contacts.hpp"
+#include "time_integration/unilateral_contacts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "elastic_contacts.hpp"
+#include "time_integration/elastic_contacts.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/normal_contact.hpp"

@@ -1,4 +1,4 @@
-// Fuzz target: the TOML system reader, hbf::io::read_system_config (src/config.cpp).
+// Fuzz target: the TOML system reader, hbf::io::read_system_config (src/input/config.cpp).
 //
 // The input is a system file: it is written to one file in a private temporary directory
 // (the same file every run) beside copies of the shipped .mtx files, so that the relative

@@ -1,4 +1,4 @@
-// Fuzz target: the Matrix Market reader, hbf::io::read_matrix_market (src/config.cpp).
+// Fuzz target: the Matrix Market reader, hbf::io::read_matrix_market (src/input/matrix_market.cpp).
 //
 // The input is a .mtx file, written to one file in a private temporary directory (the same
 // file every run). The only expected failure is hbf::InvalidInput; anything else (another

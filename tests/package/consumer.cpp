@@ -2,6 +2,7 @@
 // omega = 0.5 must be fe / (1 - (1 + r) omega^2) = 0.5 / 0.725 (derived by hand), by the closed
 // form and by time integration (which links SUNDIALS through the installed package).
 #include <hbf/analytic.hpp>
+#include <hbf/absorber.hpp>
 #include <hbf/time_integration.hpp>
 #include <cmath>
 #include <cstdio>

@@ -11,7 +11,7 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/static_state.hpp"
-#include "stopwatch.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

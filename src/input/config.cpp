@@ -15,7 +15,7 @@
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/harmonic_balance.hpp"
-#include "config_reader.hpp"
+#include "input/config_reader.hpp"
 #include "hbf/interface.hpp"
 
 namespace hbf::io {

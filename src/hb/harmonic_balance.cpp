@@ -8,7 +8,7 @@
 
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
-#include "stopwatch.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

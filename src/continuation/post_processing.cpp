@@ -6,8 +6,8 @@
 
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
-#include "golden_section.hpp"
-#include "peak_newton.hpp"
+#include "numerics/golden_section.hpp"
+#include "numerics/peak_newton.hpp"
 
 namespace hbf {
 

@@ -17,9 +17,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "fold_tracking.hpp"
+#include "studies/fold_tracking.hpp"
 #include "hbf/error.hpp"
-#include "stopwatch.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf::detail {
 

@@ -11,6 +11,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::io {

@@ -1,5 +1,5 @@
 // hbfriction — the one CVODE wrapper (solver.hpp).
-#include "solver.hpp"
+#include "numerics/cvode_solver.hpp"
 
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunlinsol/sunlinsol_spgmr.h>

@@ -6,7 +6,7 @@
 #include <memory>
 #include <set>
 
-#include "config_reader.hpp"
+#include "input/config_reader.hpp"
 #include "hbf/contact.hpp"
 #include "hbf/interface.hpp"
 #include "hbf/reduction.hpp"

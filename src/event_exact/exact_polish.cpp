@@ -12,7 +12,7 @@
 #include "hbf/contact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/modal_exact.hpp"
-#include "stopwatch.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

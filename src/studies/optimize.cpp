@@ -5,7 +5,7 @@
 
 #include "hbf/design.hpp"
 #include "hbf/error.hpp"
-#include "stopwatch.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

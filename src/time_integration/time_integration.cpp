@@ -1,6 +1,7 @@
 // Periodic steady state by time integration with CVODE (see time_integration.hpp for the
 // model of each law, the events and the state convention).
 #include "hbf/contact.hpp"
+#include "hbf/linear_limits.hpp"
 #include "hbf/time_integration.hpp"
 
 #include <algorithm>
@@ -12,7 +13,7 @@
 #include <stdexcept>
 
 #include "hbf/error.hpp"
-#include "stopwatch.hpp"
+#include "base/stopwatch.hpp"
 #include "time_integration/elastic_contacts.hpp"
 #include "time_integration/unilateral_contacts.hpp"
 #include "time_integration/integrator.hpp"

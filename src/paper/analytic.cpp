@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::analytic {

@@ -11,10 +11,10 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/exact_polish.hpp"
-#include "fold_tracking.hpp"
-#include "golden_section.hpp"
-#include "peak_newton.hpp"
-#include "stopwatch.hpp"
+#include "studies/fold_tracking.hpp"
+#include "numerics/golden_section.hpp"
+#include "numerics/peak_newton.hpp"
+#include "base/stopwatch.hpp"
 
 namespace hbf {
 

@@ -1,0 +1,157 @@
+// hbfriction — the linear limits (linear_limits.hpp): the stuck steady state and the
+// resonances of the released, stuck and rigid structure.
+#include "hbf/linear_limits.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "hbf/contact.hpp"
+#include "hbf/static_state.hpp"
+
+namespace hbf {
+
+StuckResponse stuck_linear_response(const System& system, double fundamental) {
+    using Complex = std::complex<double>;
+    const double omega = system.excitation_harmonic * fundamental;  // the force's frequency
+    const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
+    Eigen::MatrixXcd a = dynamic_stiffness(Eigen::MatrixXd(system.mass), Eigen::MatrixXd(system.damping),
+                                           Eigen::MatrixXd(system.stiffness), omega);
+    std::vector<int> rigid;
+    std::vector<Complex> element(static_cast<std::size_t>(nc), Complex(0.0, 0.0));
+    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);  // about the static state
+    for (int c = 0; c < nc; ++c) {
+        const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
+        const std::vector<StuckElement>& along = elements[static_cast<std::size_t>(c)];
+        const StuckElement stuck = along.front();
+        if (stuck.rigid) {
+            rigid.push_back(c);
+            continue;
+        }
+        element[static_cast<std::size_t>(c)] = stuck.at(omega);
+        // every direction's spring and damper (one for the laws along one direction)
+        const Eigen::MatrixXd w = system.contact_directions(contact);
+        for (Eigen::Index j = 0; j < w.cols(); ++j)
+            a += along[static_cast<std::size_t>(j)].at(omega) * (w.col(j) * w.col(j).transpose()).cast<Complex>();
+    }
+    const int m = static_cast<int>(rigid.size());
+    Eigen::MatrixXcd kkt = Eigen::MatrixXcd::Zero(n + m, n + m);
+    kkt.topLeftCorner(n, n) = a;
+    // The constraint rows and columns scaled to the size of A's entries (a finite-element K
+    // has entries ~1e10 against w's ~1: unscaled, the LU judged the KKT matrix singular); the
+    // multipliers are scaled back below.
+    const double scale = std::max(a.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+    for (int j = 0; j < m; ++j) {
+        const Eigen::VectorXd w = system.contact_direction(system.contacts[static_cast<std::size_t>(rigid[static_cast<std::size_t>(j)])]);
+        kkt.block(0, n + j, n, 1) = (scale * w).cast<Complex>();
+        kkt.block(n + j, 0, 1, n) = (scale * w.transpose()).cast<Complex>();
+    }
+    Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(n + m);
+    rhs.head(n) = system.excitation.cast<Complex>();
+    // An elastic slider whose spring's far end moves (Contact::base_motion p): its stuck force
+    // k (w^T Y + p) loads the structure by -k p w.
+    for (int c = 0; c < nc; ++c) {
+        const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
+        if (contact.base_motion != 0.0)
+            rhs.head(n) -= element[static_cast<std::size_t>(c)] * contact.base_motion *
+                           system.contact_direction(contact).cast<Complex>();
+    }
+    StuckResponse out;
+    Eigen::FullPivLU<Eigen::MatrixXcd> lu(kkt);
+    if (!lu.isInvertible()) return out;
+    const Eigen::VectorXcd x = lu.solve(rhs);
+    if (!x.allFinite()) return out;
+    out.ok = true;
+    out.amplitude = x.head(n);
+    out.force = Eigen::VectorXcd::Zero(nc);
+    for (int j = 0; j < m; ++j) out.force(rigid[static_cast<std::size_t>(j)]) = scale * x(n + j);
+    for (int c = 0; c < nc; ++c) {
+        const Contact& contact = system.contacts[static_cast<std::size_t>(c)];
+        if (elements[static_cast<std::size_t>(c)].front().rigid) continue;
+        out.force(c) = element[static_cast<std::size_t>(c)] *
+                       (system.contact_direction(contact).cast<Complex>().dot(out.amplitude) + contact.base_motion);
+    }
+    return out;
+}
+
+std::string to_string(LinearResonance::Limit limit) {
+    switch (limit) {
+        case LinearResonance::Limit::released: return "released";
+        case LinearResonance::Limit::stuck: return "stuck";
+        case LinearResonance::Limit::rigid: return "rigid";
+    }
+    return "?";
+}
+
+namespace {
+/// The natural frequencies sqrt(lambda) of K phi = lambda M phi (finite, real, lambda > 0).
+std::vector<double> natural_frequencies(const Eigen::MatrixXd& stiffness, const Eigen::MatrixXd& mass) {
+    std::vector<double> out;
+    if (stiffness.rows() == 0) return out;
+    Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> qz(stiffness, mass, false);
+    if (qz.info() != Eigen::Success) return out;
+    const double scale = std::max(stiffness.cwiseAbs().maxCoeff(), mass.cwiseAbs().maxCoeff());
+    for (Eigen::Index j = 0; j < qz.alphas().size(); ++j) {
+        const std::complex<double> alpha = qz.alphas()(j);
+        const double beta = qz.betas()(j);
+        // Infinite (a massless direction: beta at rounding) or complex (rounding of a symmetric
+        // pencil; a real pair otherwise cannot occur for M >= 0): not a resonance.
+        if (!(std::abs(beta) > 1e-13 * scale) || std::abs(alpha.imag()) > 1e-8 * std::abs(alpha)) continue;
+        const double lambda = alpha.real() / beta;
+        if (lambda > 0.0 && std::isfinite(lambda)) out.push_back(std::sqrt(lambda));
+    }
+    return out;
+}
+}  // namespace
+
+std::vector<LinearResonance> linear_resonances(const System& system, double omega_low, double omega_high) {
+    std::vector<LinearResonance> out;
+    const int n = system.dofs();
+    if (n == 0 || n > linear_resonance_dof_limit) return out;
+    const Eigen::MatrixXd mass(system.mass), stiffness(system.stiffness);
+    const double h = std::max(1, system.excitation_harmonic);
+    auto add = [&](const std::vector<double>& natural, LinearResonance::Limit limit) {
+        for (const double w : natural) {
+            const double fundamental = w / h;
+            if (fundamental >= omega_low && fundamental <= omega_high) out.push_back({fundamental, limit});
+        }
+    };
+    add(natural_frequencies(stiffness, mass), LinearResonance::Limit::released);
+    Eigen::MatrixXd stuck = stiffness;
+    bool springs = false;
+    Eigen::MatrixXd directions(n, 0);  // every direction of every contact
+    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);  // about the static state
+    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+        const Contact& contact = system.contacts[c];
+        const Eigen::MatrixXd w = system.contact_directions(contact);
+        directions.conservativeResize(Eigen::NoChange, directions.cols() + w.cols());
+        directions.rightCols(w.cols()) = w;
+        const std::vector<StuckElement>& along = elements[c];
+        for (Eigen::Index j = 0; j < w.cols(); ++j) {
+            const StuckElement& element = along[static_cast<std::size_t>(j)];
+            if (!element.rigid && element.stiffness != 0.0) {  // a stuck spring (jenkins, dahl, lugre, elastic)
+                stuck += element.stiffness * w.col(j) * w.col(j).transpose();
+                springs = springs || element.stiffness > 0.0;
+            }
+        }
+    }
+    if (springs) add(natural_frequencies(stuck, mass), LinearResonance::Limit::stuck);
+    if (directions.cols() > 0) {
+        // y = B z with B an orthonormal basis of the null space of W^T: the rigid contacts' subspace.
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(directions);
+        const Eigen::Index rank = qr.rank();
+        if (rank < n) {
+            const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
+            const Eigen::MatrixXd basis = q.rightCols(n - rank);
+            add(natural_frequencies(basis.transpose() * stiffness * basis, basis.transpose() * mass * basis),
+                LinearResonance::Limit::rigid);
+        }
+    }
+    std::sort(out.begin(), out.end(), [](const LinearResonance& a, const LinearResonance& b) { return a.omega < b.omega; });
+    return out;
+}
+
+}  // namespace hbf
