@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "chain.hpp"
-#include "hbf/design.hpp"
+#include "hbf/frf.hpp"
 
 using namespace hbf;
 

@@ -35,6 +35,7 @@
 #include "hbf/continuation.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/memory.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/stability.hpp"
 
 using namespace hbf;

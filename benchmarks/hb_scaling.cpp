@@ -25,6 +25,7 @@
 #include "child_process.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/harmonic_balance.hpp"
+#include "hbf/post_processing.hpp"
 
 using namespace hbf;
 

@@ -24,7 +24,7 @@
 // against BDF time integration at the given frequencies only, compares y_max of the first
 // reported DOF there, and reports the ratio of a TI sweep as fine as the HB branch
 // (TI seconds per frequency x branch points) to the HB FRF. It times as well the FRF that
-// `hbf frf --config FILE --at W1,...` computes by default (design.hpp: frf_settings; with the
+// `hbf frf --config FILE --at W1,...` computes by default (frf.hpp: frf_settings; with the
 // exact polish where the exact solver covers the model), compares its samples with the TI and
 // reports the same ratio for it.
 // The last line is one JSON object with all figures. Run by hand: `build/benchmarks/hb_vs_timeint`.
@@ -45,9 +45,10 @@
 #include "hbf/absorber.hpp"
 #include "hbf/config.hpp"
 #include "hbf/continuation.hpp"
-#include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/exact_polish.hpp"
+#include "hbf/frf.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/time_integration.hpp"
 
 using namespace hbf;
@@ -419,7 +420,7 @@ int main(int argc, char** argv) {
     app.add_option("--points", points, "uniform grid of the TI sweep and of the HB samples")
         ->check(CLI::Range(2, 10000))
         ->capture_default_str();
-    app.add_option("--harmonics", harmonics, "H for every law; 0 = hbf frf's automatic H without the polish (design.hpp: automatic_harmonics)")
+    app.add_option("--harmonics", harmonics, "H for every law; 0 = hbf frf's automatic H without the polish (frf.hpp: automatic_harmonics)")
         ->check(CLI::Range(0, 200))
         ->capture_default_str();
     app.add_option("--rtol", rtol,
@@ -502,7 +503,7 @@ int main(int argc, char** argv) {
             for (double fe : excitations) {
                 AbsorberParameters q = p;
                 q.excitation = fe;
-                // hbf frf's automatic H without the polish (design.hpp: the one home of it)
+                // hbf frf's automatic H without the polish (frf.hpp: the one home of it)
                 const int h = harmonics > 0 ? harmonics : automatic_harmonics(friction_absorber(q, law), false);
                 const TimeIntegrationOptions law_tio = time_integration(law);
                 const Case c = run_case(q, law, h, grid, co, law_tio, tight, check_every, repeats);

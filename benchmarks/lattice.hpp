@@ -17,7 +17,7 @@
 #include <cmath>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/interface.hpp"
 #include "hbf/model.hpp"
 

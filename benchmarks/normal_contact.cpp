@@ -1,5 +1,5 @@
 // Benchmark: one AFT evaluation of the elastic contact with a normal load (normal_contact.hpp,
-// issue 31) against the Jenkins law's (contact.hpp: the constant-load element it generalises),
+// issue 31) against the Jenkins law's (contact_law.hpp: the constant-load element it generalises),
 // in one process, with and without the Jacobian. The issue's designs have hundreds of such
 // contacts, so this is the cost per contact and per Newton step of harmonic balance.
 //
@@ -15,9 +15,9 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/fourier.hpp"
-#include "hbf/friction.hpp"
+#include "hbf/contact_force.hpp"
 #include "hbf/normal_contact.hpp"
 
 using namespace hbf;

@@ -1,7 +1,7 @@
 // hbfriction._core — the C++ half of the Python bindings (pybind11).
 //
-// It binds the library's own types and calls (model.hpp, design.hpp, time_integration.hpp,
-// analytic.hpp, io.hpp) with their C++ names; python/hbfriction/__init__.py turns the results
+// It binds the library's own types and calls (model.hpp, frf.hpp, time_integration.hpp,
+// analytic.hpp, table.hpp) with their C++ names; python/hbfriction/__init__.py turns the results
 // into NumPy arrays and the Branch, Solution and Table objects. No NumPy C API is used (only
 // the buffer protocol and calls into the numpy module), so the module works with any NumPy.
 //
@@ -30,17 +30,19 @@
 #include "hbf/analytic.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/config.hpp"
-#include "hbf/contact.hpp"
-#include "hbf/design.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/modal_exact.hpp"
 #include "hbf/interface.hpp"
-#include "hbf/io.hpp"
 #include "hbf/memory.hpp"
 #include "hbf/modes.hpp"
+#include "hbf/optimize.hpp"
+#include "hbf/output_file.hpp"
 #include "hbf/reduction.hpp"
+#include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
 #include "hbf/tracking.hpp"
 
@@ -420,7 +422,7 @@ py::dict optimize_dict(const OptimizeResult& r) {
     d["message"] = r.message;
     d["seconds"] = r.seconds;
     d["summary"] = r.summary();
-    const Verdict v = r.verdict();  // the library's (design.hpp), as hbf optimize's exit code
+    const Verdict v = r.verdict();  // the library's (frf.hpp), as hbf optimize's exit code
     d["outcome"] = v.status();
     d["errors"] = v.errors;
     d["warnings"] = v.warnings;
@@ -555,7 +557,7 @@ PYBIND11_MODULE(_core, m) {
             contact_law_names().c_str())
         .def_readwrite("friction_limit", &Contact::friction_limit, "F_c = mu N (> 0)")
         ;
-    // The laws' parameters, from the registry (contact.hpp): one property a key, documented by
+    // The laws' parameters, from the registry (contact_law.hpp): one property a key, documented by
     // what it is in each law that has it.
     {
         std::vector<std::string> keys;
@@ -959,7 +961,7 @@ PYBIND11_MODULE(_core, m) {
         "method", [](const StabilityOptions& o) { return to_string(o.method); },
         [](StabilityOptions& o, const std::string& v) { o.method = parse_stability_method(v); }, "hill, monodromy or both");
 
-    py::class_<FrfSettings>(m, "FrfSettings", "design.hpp: how one FRF is computed")
+    py::class_<FrfSettings>(m, "FrfSettings", "frf.hpp: how one FRF is computed")
         .def(py::init<>())
         .def_readwrite("harmonic_balance", &FrfSettings::harmonic_balance)
         .def_readwrite("continuation", &FrfSettings::continuation)
@@ -971,7 +973,7 @@ PYBIND11_MODULE(_core, m) {
         .def_readwrite("stability", &FrfSettings::stability)
         .def_readwrite("stability_options", &FrfSettings::stability_options)
         .def("validate", &FrfSettings::validate,
-             "the library's ranges (design.hpp: FrfSettings::validate): ValueError naming the field");
+             "the library's ranges (frf.hpp: FrfSettings::validate): ValueError naming the field");
     m.def(
         "default_frf_settings",
         [](const PySystem& s) {
@@ -984,7 +986,7 @@ PYBIND11_MODULE(_core, m) {
         [](const PySystem& s, const FrfSettings& given, const std::vector<std::string>& names,
            const std::optional<bool>& exact) {
             // the file's choices, the keyword arguments `names` (their values in `given`) over
-            // them, the automatic rest (design.hpp: frf_settings)
+            // them, the automatic rest (frf.hpp: frf_settings)
             FrfChoices c = s.choices();
             for (const std::string& name : names) {
                 if (name == "omega_start") c.omega_start = given.continuation.omega_start;
@@ -1001,7 +1003,7 @@ PYBIND11_MODULE(_core, m) {
         },
         py::arg("system"), py::arg("given"), py::arg("names"), py::arg("exact") = py::none(),
         "hbf frf's settings for the system: its file's [frequency] and [solver], the choices `names` "
-        "(values in `given`) over them, exact if not None, and the library's automatic choices (design.hpp).");
+        "(values in `given`) over them, exact if not None, and the library's automatic choices (frf.hpp).");
     m.attr("max_harmonics") = hbf::max_harmonics;
     m.def(
         "contact_laws",
@@ -1023,7 +1025,7 @@ PYBIND11_MODULE(_core, m) {
             }
             return out;
         },
-        "The registry of contact laws (contact.hpp): name, definition, parameters (Contact keys), "
+        "The registry of contact laws (contact_law.hpp): name, definition, parameters (Contact keys), "
         "preset_parameters (symbols of preset_parameters()), default_harmonics, smooth, exact_stick, preset (the absorber preset can carry it).");
     m.def(
         "preset_parameters",
@@ -1071,7 +1073,7 @@ PYBIND11_MODULE(_core, m) {
     enum_property(tio, "method", &TimeIntegrationOptions::method,
                   {{"adams", IntegrationMethod::adams}, {"bdf", IntegrationMethod::bdf}}, "adams or bdf");
 
-    py::class_<OptimizeOptions>(m, "OptimizeOptions", "design.hpp")
+    py::class_<OptimizeOptions>(m, "OptimizeOptions", "frf.hpp")
         .def(py::init<>())
         .def_readwrite("lower", &OptimizeOptions::lower)
         .def_readwrite("upper", &OptimizeOptions::upper)
@@ -1410,7 +1412,7 @@ PYBIND11_MODULE(_core, m) {
           "glibc keeps freed memory for reuse (memory.hpp), as the hbf command does at start");
     m.def("format_number", &format_number, py::arg("value"), "15 significant digits, as in the CSV files");
     m.def("check_output", [](const std::string& path) { io::check_outputs({{"path", path, true}}); }, py::arg("path"),
-          "the output policy of the hbf commands (io.hpp: check_outputs); ValueError naming the problem");
+          "the output policy of the hbf commands (output_file.hpp: check_outputs); ValueError naming the problem");
     m.def(
         "write_text",
         [](const std::string& path, const std::string& text) {

@@ -17,7 +17,7 @@ usage() { echo "usage: $0 HBF_BINARY OUT_DIR | HBF_A HBF_B OUT_DIR" >&2; exit 2;
 
 run_all() {  # binary directory
     local hbf=$1 out=$2
-    [ -x "$hbf" ] || { echo "$0: $hbf is not an executable" >&2; exit 2; }
+    [ -f "$hbf" ] && [ -x "$hbf" ] || { echo "$0: $hbf is not an executable file" >&2; exit 2; }
     mkdir -p "$out"
     [ -z "$(ls -A "$out")" ] || { echo "$0: $out is not empty" >&2; exit 2; }
     local cases=()
@@ -49,7 +49,7 @@ if [ $# -eq 2 ]; then
     run_all "$1" "$2"
     exit 0
 fi
-run_all "$1" "$3/a"
+if [ -d "$1" ]; then a=$1; else a=$3/a; run_all "$1" "$a"; fi
 run_all "$2" "$3/b"
 same_csv() {  # a b: byte-identical but for the column `seconds`
     python3 - "$1" "$2" <<'PY'

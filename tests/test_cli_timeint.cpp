@@ -13,7 +13,7 @@
 #include "cli_support.hpp"
 #include "hbf/analytic.hpp"
 #include "hbf/absorber.hpp"
-#include "hbf/io.hpp"
+#include "hbf/table.hpp"
 
 using namespace test;
 

@@ -8,6 +8,7 @@
 #include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/linear_limits.hpp"
+#include "hbf/post_processing.hpp"
 #include "support.hpp"
 #include "../src/numerics/golden_section.hpp"
 

@@ -1,4 +1,4 @@
-// Design studies (design.hpp, hbf optimize, hbf map): the optimiser against Den Hartog's
+// Design studies (frf.hpp, hbf optimize, hbf map): the optimiser against Den Hartog's
 // fixed points and against brute-force scans by the same binary, threads and MPI ranks
 // against the sequential run.
 #include <glog/logging.h>
@@ -14,10 +14,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
-#include "hbf/design.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
+#include "hbf/frf.hpp"
+#include "hbf/optimize.hpp"
 #include "support.hpp"
 
 using namespace hbf;

@@ -7,10 +7,11 @@
 
 #include "hbf/config.hpp"
 #include "hbf/absorber.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/stability.hpp"
 #include "hbf/static_state.hpp"
 #include "hbf/harmonic_balance.hpp"

@@ -10,10 +10,11 @@
 #include "hbf/analytic.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
-#include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/exact_polish.hpp"
+#include "hbf/frf.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/time_integration.hpp"
 #include "support.hpp"
 

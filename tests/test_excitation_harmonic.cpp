@@ -18,6 +18,7 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/harmonic_balance.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/time_integration.hpp"
 
 using namespace hbf;

@@ -13,11 +13,12 @@
 #include <nlohmann/json.hpp>
 
 #include "arguments.hpp"  // src/cli: Verdict
-#include "hbf/design.hpp"
 #include "cli_support.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/diagnostics.hpp"
+#include "hbf/frf.hpp"
+#include "hbf/post_processing.hpp"
 #include "support.hpp"
 
 using namespace hbf;

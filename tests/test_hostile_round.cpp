@@ -41,8 +41,8 @@ TEST_CASE("The law names of a system's contacts are listed once each, in order (
     }
 }
 
-#include "hbf/design.hpp"
 #include "hbf/absorber.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/model.hpp"
 #include "hbf/time_integration.hpp"
 #include "hbf/tracking.hpp"

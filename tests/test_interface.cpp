@@ -11,7 +11,7 @@
 
 #include "cli_support.hpp"
 #include "hbf/config.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/linear_limits.hpp"
 #include "hbf/static_state.hpp"

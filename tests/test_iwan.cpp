@@ -9,14 +9,15 @@
 
 #include "hbf/config.hpp"
 #include "hbf/absorber.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/continuation.hpp"
-#include "hbf/design.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/fourier.hpp"
-#include "hbf/friction.hpp"
+#include "hbf/contact_force.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/time_integration.hpp"
 #include "support.hpp"
 

@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "../benchmarks/chain.hpp"
-#include "hbf/design.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/exact_polish.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/modal_exact.hpp"
 #include "hbf/stability.hpp"

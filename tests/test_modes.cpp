@@ -7,8 +7,8 @@
 
 #include "hbf/config.hpp"
 #include "hbf/absorber.hpp"
-#include "hbf/design.hpp"
 #include "hbf/error.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/modes.hpp"
 #include "support.hpp"
 

@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/fourier.hpp"
-#include "hbf/friction.hpp"
+#include "hbf/contact_force.hpp"
 #include "hbf/normal_contact.hpp"
 
 using namespace hbf;
@@ -40,7 +40,7 @@ Eigen::VectorXd signal(int harmonics, double mean, double c1, double s1, double 
 TEST_CASE("Normal contact at a constant normal load is the Jenkins element: forces and Jacobian",
           "[normal_contact]") {
     // v = 0 and n_0 = N_0: N = N_0 and the slider limit mu N_0 is Jenkins' F_c, with the same
-    // tangential stiffness. Against contact.hpp's jenkins law (its own march and Jacobian), in
+    // tangential stiffness. Against contact_law.hpp's jenkins law (its own march and Jacobian), in
     // gross slip and in permanent stick (the centred slider).
     Fourier fourier(6, 128);
     const ElasticContact element{50.0, 2.0, 0.3, 4.0, 1};

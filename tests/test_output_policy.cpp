@@ -1,4 +1,4 @@
-// The output policy (io.hpp: check_outputs, OutputFile) end to end: outputs are checked before
+// The output policy (output_file.hpp: check_outputs, OutputFile) end to end: outputs are checked before
 // any work, regular files (and symlinks to them) are replaced atomically, devices and FIFOs
 // are written in place and never replaced, and two outputs never name the same file.
 #include <sys/stat.h>

@@ -10,9 +10,9 @@
 #include "cli_support.hpp"
 #include "hbf/config.hpp"
 #include "hbf/absorber.hpp"
-#include "hbf/design.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/stability.hpp"
 #include "hbf/time_integration.hpp"
 

@@ -10,11 +10,12 @@
 #include <memory>
 
 #include "hbf/config.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/static_state.hpp"
 #include "hbf/time_integration.hpp"
 #include <nlohmann/json.hpp>

@@ -8,6 +8,7 @@
 #include "hbf/analytic.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/time_integration.hpp"
 #include "support.hpp"
 

@@ -1,9 +1,10 @@
 // Embedding hbfriction: the frequency response of the paper's friction absorber with exact
 // Coulomb friction, by harmonic balance and pseudo-arclength continuation, checked against a
 // closed form. Exit code 0 when the check passes, 1 otherwise.
-#include <hbf/continuation.hpp>
 #include <hbf/absorber.hpp>
+#include <hbf/continuation.hpp>
 #include <hbf/memory.hpp>
+#include <hbf/post_processing.hpp>
 #include <cmath>
 #include <cstdio>
 #include <vector>

@@ -3,7 +3,7 @@
 // System it builds, and its physical units.
 //
 // Below the contact laws (src/README.md): each law maps the preset's parameters onto its own in
-// its file (contact.hpp: ContactLaw::from_preset), so that a law is added in one file.
+// its file (contact_law.hpp: ContactLaw::from_preset), so that a law is added in one file.
 #pragma once
 
 #include <string>
@@ -50,14 +50,14 @@ struct AbsorberParameters {
 };
 
 /// The paper's absorber as a System (see the block comment above): the contact's friction_limit
-/// is mu, its law's own parameters come from the law's preset parameters (contact.hpp:
+/// is mu, its law's own parameters come from the law's preset parameters (contact_law.hpp:
 /// ContactLaw::from_preset).
 System friction_absorber(const AbsorberParameters& parameters, FrictionLaw law);
 
 /// A law-specific parameter of the absorber preset (beyond r, wa, mu, fe, which every law has):
 /// its symbol (in messages), the `hbf` flag, the Python keyword of absorber(), the field of
 /// AbsorberParameters with its C++ name, what it is and its range. Each law lists the symbols it
-/// reads (contact.hpp: ContactLaw::preset_parameters); the front ends' flags, their help and
+/// reads (contact_law.hpp: ContactLaw::preset_parameters); the front ends' flags, their help and
 /// which law each applies to come from this table and those lists.
 struct PresetParameter {
     const char* symbol;      ///< "wb"

@@ -86,10 +86,10 @@
 #include <string>
 #include <vector>
 
-#include "hbf/design.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/interface.hpp"
-#include "hbf/io.hpp"
 #include "hbf/model.hpp"
+#include "hbf/output_file.hpp"
 #include "hbf/reduction.hpp"
 
 namespace hbf::io {
@@ -112,7 +112,7 @@ struct SystemConfig {
     /// The line of each [frequency] and [solver] key given ("solver.time_samples" -> 12), for
     /// front ends whose checks depend on other settings (time_samples > 2H) to name it.
     std::map<std::string, int> lines;
-    /// The [frequency] and [solver] values as the FRF's choices (design.hpp: frf_settings): the
+    /// The [frequency] and [solver] values as the FRF's choices (frf.hpp: frf_settings): the
     /// one mapping of the file's settings onto an FRF's, for hbf and Python.
     FrfChoices choices() const;
     /// [reduction]: the FE model's reduction (system is then the reduced one; outputs are

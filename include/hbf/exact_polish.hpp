@@ -22,6 +22,7 @@
 
 #include "hbf/continuation.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/post_processing.hpp"
 
 namespace hbf {
 

@@ -9,7 +9,7 @@
 //
 // i.e. the Galerkin projection of M y'' + C y' + K y + sum_c w_c f_c - F cos(h omega tau) on
 // 1, cos k theta, sin k theta; f_c are the friction force coefficients of contact c computed
-// from q_c = Y w_c (and z_c) by the AFT (friction.hpp), and each state-law contact adds its
+// from q_c = Y w_c (and z_c) by the AFT (contact_force.hpp), and each state-law contact adds its
 // state residual r_z. Both Jacobians are exact (no finite differences).
 //
 // Two formulations of the same equations (HarmonicBalanceOptions::formulation):
@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "hbf/fourier.hpp"
-#include "hbf/friction.hpp"
+#include "hbf/contact_force.hpp"
 #include "hbf/model.hpp"
 #include "hbf/receptance.hpp"
 #include "hbf/static_state.hpp"
@@ -188,9 +188,9 @@ public:
     Eigen::VectorXd relative(const Eigen::VectorXd& x, int contact) const;
     Eigen::VectorXd state(const Eigen::VectorXd& x, int contact) const;
     /// Friction force samples of contact c on the AFT time grid (several directions: stacked,
-    /// friction.hpp).
+    /// contact_force.hpp).
     Eigen::VectorXd force_samples(const Eigen::VectorXd& x, double omega, int contact);
-    /// Stick indicator of contact c on the AFT time grid (sticks where < 0; friction.hpp).
+    /// Stick indicator of contact c on the AFT time grid (sticks where < 0; contact_force.hpp).
     Eigen::VectorXd stick_indicator(const Eigen::VectorXd& x, double omega, int contact);
 
     /// A starting point at omega: the linear response with each Dahl/LuGre contact replaced by

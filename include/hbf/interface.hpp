@@ -9,7 +9,7 @@
 // each a unit vector over the node's DOFs. In 2D, t1 is n turned by -90 degrees
 // (t1 = (n_y, -n_x)); in 3D it is given, or chosen as the coordinate axis least aligned with n,
 // made orthogonal to n. The law must have a normal direction (elastic, unilateral). Its
-// parameters marked per_area (contact.hpp: law elastic's k_t, k_n and its own preload N_0) are
+// parameters marked per_area (contact_law.hpp: law elastic's k_t, k_n and its own preload N_0) are
 // per unit area: each node gets the interface's value times its area, so that an interface
 // moved as a rigid patch is one contact with the summed stiffnesses. The others (mu, g_0, the
 // penalties) are copied to every node. A preload pressure p presses the nodes into the

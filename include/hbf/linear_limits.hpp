@@ -1,6 +1,6 @@
 // hbfriction — the linear limits of a structure with contacts: the steady state with every
 // contact stuck, and where the structure resonates released, stuck or held rigid. They need
-// each law's stuck element (contact.hpp: ContactLaw::stuck) about the static state
+// each law's stuck element (contact_law.hpp: ContactLaw::stuck) about the static state
 // (static_state.hpp), hence their place above the laws.
 #pragma once
 

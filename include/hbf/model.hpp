@@ -34,7 +34,7 @@
 namespace hbf {
 
 /// Friction laws a contact can carry; each is described, and evaluated, in its own file
-/// src/contact/<law>.cpp, listed in the registry of contact.hpp. Definitions (f = friction force, q = relative
+/// src/contact/<law>.cpp, listed in the registry of contact_law.hpp. Definitions (f = friction force, q = relative
 /// displacement, v = q', F_c = friction_limit, sigma0/sigma1 = contact stiffness/damping):
 ///   coulomb: f = F_c sign(v) in slip, |f| <= F_c in stick (set-valued)     (paper eq. 3)
 ///   dahl:    f = sigma0 z,              z' = v - sigma0 |v| z / F_c         (paper eq. 16)
@@ -45,10 +45,10 @@ namespace hbf {
 ///   jenkins: f = k_t (q - s), a tangential spring k_t (= stiffness) in series with a Coulomb
 ///            slider at s: s' = 0 while |k_t (q - s)| < F_c (stick), else the slider moves
 ///            with q and f = F_c sign(q') (slip); the elastic-contact variant of Coulomb
-///   (a law added in its own file takes the next free number as its id: contact.hpp)
+///   (a law added in its own file takes the next free number as its id: contact_law.hpp)
 enum class FrictionLaw : int { coulomb, dahl, lugre, coulomb_regularized, jenkins };
 
-/// "coulomb", "dahl", "lugre", "coulomb-reg", "jenkins" (the registry's names: contact.hpp).
+/// "coulomb", "dahl", "lugre", "coulomb-reg", "jenkins" (the registry's names: contact_law.hpp).
 std::string to_string(FrictionLaw law);
 /// Inverse of to_string; throws InvalidInput naming the allowed values.
 FrictionLaw parse_friction_law(const std::string& name);
@@ -74,11 +74,11 @@ struct Contact {
     /// velocity; 0 chooses sqrt((w^T K w)(w^T M w)), the contact direction's impedance).
     double lagrangian_penalty = 0;
     /// The parameters of the laws added in their own files, which have no field above, by key
-    /// (contact.hpp: LawParameter reads and writes them, and knows their defaults): numbers in
+    /// (contact_law.hpp: LawParameter reads and writes them, and knows their defaults): numbers in
     /// `values`, lists of numbers (a table of pairs, row by row) in `lists`.
     std::map<std::string, double> values;
     std::map<std::string, std::vector<double>> lists;
-    /// Time-domain elements only (contact.hpp: an elastic slider): the far end of the slider's
+    /// Time-domain elements only (contact_law.hpp: an elastic slider): the far end of the slider's
     /// spring moves by base_motion cos(h omega t) along w, so that its elongation is
     /// w^T y + base_motion cos(h omega t) - s. The static condensation of massless DOFs sets it
     /// (a load on the massless DOFs a contact moves reaches the slider so); 0 for every contact
@@ -127,7 +127,7 @@ struct System {
     /// w_c: the relative displacement of contact c is q_c = w_c^T y.
     Eigen::VectorXd contact_direction(const Contact& contact) const;
     /// Every direction of contact c, N x s: w_c first, then the law's direction parameters the
-    /// contact has (contact.hpp: LawParameter::Kind::direction), in the law's order (the
+    /// contact has (contact_law.hpp: LawParameter::Kind::direction), in the law's order (the
     /// elements with a normal direction: the second tangential one if given, then the normal).
     Eigen::MatrixXd contact_directions(const Contact& contact) const;
     /// Throws InvalidInput when dimensions, symmetry or contact parameters are wrong. M must be
@@ -197,7 +197,7 @@ double energy_imbalance(double input, double viscous, double friction, double re
 struct ContactRegime {
     double stick_fraction = 0;
     std::string regime;
-    /// Contacts with a normal direction (contact.hpp: laws elastic, unilateral): the share
+    /// Contacts with a normal direction (contact_law.hpp: laws elastic, unilateral): the share
     /// of the period separated (N = 0; stick_fraction + separated_fraction <= 1, the rest
     /// slips), the normal force's mean over the period and half its range (max - min) / 2, on
     /// the AFT samples (time integration: its events or steps). NaN for the other laws.

@@ -43,8 +43,8 @@
 
 #include "hbf/continuation.hpp"
 #include "hbf/harmonic_balance.hpp"
-#include "hbf/io.hpp"
 #include "hbf/model.hpp"
+#include "hbf/table.hpp"
 #include "hbf/verdict.hpp"
 
 namespace hbf {

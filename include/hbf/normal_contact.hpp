@@ -11,7 +11,7 @@
 //                                           circular cone in 3D); the slider s moves only
 //                                           where |T| = mu N, in the direction of T;
 //   separated: T = 0, s = u                 (the tangential spring unloads).
-// With v = 0 and n_0 = N_0 the 2D element is the Jenkins element with F_c = mu N_0 (contact.hpp).
+// With v = 0 and n_0 = N_0 the 2D element is the Jenkins element with F_c = mu N_0 (contact_law.hpp).
 //
 // Time discretisation. On the samples (u_j, v_j), j = 0..N_t-1, of one period the slider is
 // marched by the return map: the trial force t = k_t (u_j - s) either stays within mu N_j

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hbf/continuation.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/stability.hpp"
 
 namespace hbf::io {

@@ -9,7 +9,7 @@
 //     M dv' = -K dy - C dv - sum_c w_c (f_v,c w_c^T dv + f_z,c dz_c)
 //     dz_c' = g_v,c w_c^T dv + g_z,c dz_c
 //
-// with the laws' local slopes f_v, f_z, g_v, g_z (friction.hpp: linearize) evaluated along the
+// with the laws' local slopes f_v, f_z, g_v, g_z (contact_force.hpp: linearize) evaluated along the
 // HB solution (v_c = q_c', z_c from its coefficients). M must be positive definite. Its
 // Floquet multipliers mu (eigenvalues of the monodromy Phi(T), Phi' = A Phi, Phi(0) = I)
 // decide: the solution is stable when every |mu| <= 1 + tolerance. Two independent routes:

@@ -4,7 +4,7 @@
 //     K y + sum_c W_c f_c(W_c^T y) = F_s,
 //
 // W_c the contact's directions (System::contact_directions) and f_c its law's static force
-// (contact.hpp: ContactLaw::static_force), the contact loaded monotonically from its unloaded
+// (contact_law.hpp: ContactLaw::static_force), the contact loaded monotonically from its unloaded
 // state (sliders and internal states at 0; a preload N_0 acting at y = 0). This is the
 // holonomic (deformation-theory) solution: it is the incremental one for a load applied
 // proportionally in which no contact unloads, and an approximation where one would (the
@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/model.hpp"
 
 namespace hbf {

@@ -54,7 +54,7 @@
 // massless DOFs' y_max is the largest of the period's samples and their velocity samples a
 // central difference (the massive DOFs keep the exact turning points).
 //
-// Stick and slip follow friction.hpp (stick_force_ratio): coulomb and jenkins by the mode
+// Stick and slip follow contact_force.hpp (stick_force_ratio): coulomb and jenkins by the mode
 // (exact event times), dahl and lugre while |sigma0 z| < ratio g(v), coulomb-reg while
 // |tanh(v / eps)| < ratio; the smooth laws' indicator crossings are root functions too, so
 // every stick fraction is exact to the integration tolerance.
@@ -70,7 +70,9 @@
 #include <string>
 #include <vector>
 
+#include "hbf/event_exact.hpp"
 #include "hbf/model.hpp"
+#include "hbf/verdict.hpp"
 
 namespace hbf {
 
@@ -124,7 +126,7 @@ struct TimeIntegrationOptions {
     /// CVODE internal steps allowed per period before giving up (converged = false).
     long max_steps_per_period = 1000000;
     /// Try the start linear_stuck_state() once: when every contact stayed in stick
-    /// (exact stick for coulomb/jenkins, the stick definition of friction.hpp for the smooth
+    /// (exact stick for coulomb/jenkins, the stick definition of contact_force.hpp for the smooth
     /// laws) during `stick_restart_periods` consecutive periods without Poincare convergence,
     /// or at the first shooting step. It is kept only if its first period changes less than
     /// the current one (else the iteration goes on from where it was). Needed for undamped
@@ -169,7 +171,7 @@ struct TimeIntegrationOptions {
 ///
 /// State vector convention (initial_state and state), size state_size(system) = 2N + 2 n_c
 /// for N DOFs and n_c time-domain elements: the contacts, each counted as its law's
-/// time_elements (contact.hpp; one a contact, except an Iwan joint: one a slider, in order),
+/// time_elements (contact_law.hpp; one a contact, except an Iwan joint: one a slider, in order),
 /// which are also the contacts of the per-contact results below:
 ///   [ y (N), y' (N), internal (n_c), mode (n_c) ]
 /// internal_c = bristle deflection z (dahl, lugre), slider position s (jenkins), 0 otherwise;
@@ -199,7 +201,7 @@ struct PeriodicResponse {
     /// "stick-slip" ("none" without contacts).
     std::string regime;
     std::vector<ContactRegime> contacts;  ///< every contact's, in order (contacts[0]: the two above)
-    /// Stick indicator of contact 1 (friction.hpp), min and max over the period: coulomb
+    /// Stick indicator of contact 1 (contact_force.hpp), min and max over the period: coulomb
     /// |lambda|/F_c - 1 in stick and, at each slip -> stick/reversal instant, the required
     /// |lambda|/F_c - 1; jenkins |f|/F_c - 1; dahl, lugre |sigma0 z| / (ratio g(v)) - 1;
     /// coulomb-reg |tanh(v/eps)| / ratio - 1. Stick iff < 0; max < 0 means full stick.
@@ -289,5 +291,21 @@ std::vector<PeriodicResponse> sweep(const System& system, const std::vector<doub
                                     const Eigen::VectorXd* initial_state = nullptr);
 
 std::string to_string(IntegrationMethod method);
+
+/// The verdict on time-integration steady states (hbf timeint): errors for the points that did
+/// not converge (each one's summary, and their count). A converged time-integration point has
+/// passed its physics checks (energy balance, stick; integrate_steady_state). With `exact`
+/// (exact_steady_state) a warning when converged points of an undamped structure fail the
+/// energy balance (input work = friction energy per period, relative to the work the force
+/// could do on the first harmonic; limit options.physics_tolerance(); the exact solver does
+/// not integrate the viscous energy).
+Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
+                       const TimeIntegrationOptions& options, bool exact);
+
+/// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`) as a
+/// time-integration result (hbf timeint --method exact): when it fails, it is tried again
+/// after min(max_periods, 200) plain periods; `periods` counts the period maps of both.
+PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
+                                    const Eigen::VectorXd& start);
 
 }  // namespace hbf

@@ -42,8 +42,9 @@
 #include <string>
 #include <vector>
 
-#include "hbf/design.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/model.hpp"
+#include "hbf/optimize.hpp"
 #include "hbf/verdict.hpp"
 
 namespace hbf {

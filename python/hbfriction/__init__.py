@@ -182,7 +182,7 @@ def _copy(obj, kind=None):
 # ---- systems ------------------------------------------------------------------------------------
 
 # The paper's symbols (hbf's flags) for the fields of AbsorberParameters, and the laws each applies
-# to: r, wa, mu, fe for every law, the others from the registry of contact laws (contact.hpp,
+# to: r, wa, mu, fe for every law, the others from the registry of contact laws (contact_law.hpp,
 # model.hpp: preset_parameters).
 _ABSORBER_NAMES = {"r": "mass_ratio", "wa": "tuning_ratio", "mu": "friction_coefficient", "fe": "excitation"}
 _ABSORBER_NAMES.update({p["keyword"]: p["field"] for p in _core.preset_parameters()})
@@ -994,7 +994,7 @@ def map(system, values, *, threads=0, settings=None, outputs=None, **options):
 
 
 def check_output(path):
-    """hbf's output policy for a file a script is about to write (io.hpp check_outputs): its
+    """hbf's output policy for a file a script is about to write (output_file.hpp check_outputs): its
     directory exists and is writable, it is not a directory, a socket or a dangling symlink.
     ValueError names the problem."""
     _core.check_output(str(path))

@@ -9,8 +9,9 @@
 #include "hbf/analytic.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
-#include "hbf/io.hpp"
+#include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
+#include "hbf/table.hpp"
 #include "study.hpp"
 
 #include <nlohmann/json.hpp>

@@ -7,7 +7,7 @@
 #include <iostream>
 #include <map>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 

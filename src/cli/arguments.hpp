@@ -10,9 +10,9 @@
 
 #include "hbf/absorber.hpp"
 #include "hbf/config.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/continuation.hpp"
-#include "hbf/design.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
 #include "hbf/verdict.hpp"
@@ -88,7 +88,7 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
 /// exponent's leading zeros ("1e-9", not "1e-09").
 std::string default_text(double value);
 
-/// The FRF's choices (design.hpp: FrfChoices): the --config file's [frequency] and [solver]
+/// The FRF's choices (frf.hpp: FrfChoices): the --config file's [frequency] and [solver]
 /// (io::SystemConfig::choices), with --harmonics (H; 0 = automatic; odd, odd:H) and
 /// --time-samples over them where given (texts as given). Throws UsageError naming the flag.
 FrfChoices frf_choices(const CLI::App& command, const std::string& harmonics, const std::string& time_samples,

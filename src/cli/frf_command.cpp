@@ -22,8 +22,10 @@
 #include "hbf/exact_polish.hpp"
 #include "hbf/error.hpp"
 #include "hbf/analytic.hpp"
-#include "hbf/io.hpp"
+#include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
+#include "hbf/post_processing.hpp"
+#include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf::cli {
@@ -176,7 +178,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     io::write_frf_csv(out.stream(), points, metrics, outputs, frf.exact, stability, interfaces);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     // Everything that makes the result failed (exit 1) or incomplete/doubtful (exit 3): said on
-    // stderr after the files are committed, and in the JSON summary (judge_frf, design.hpp).
+    // stderr after the files are committed, and in the JSON summary (judge_frf, frf.hpp).
     Verdict verdict = frf.verdict;
     verdict.add(overlay_messages.messages());
     std::unique_ptr<io::OutputFile> summary;

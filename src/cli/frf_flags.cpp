@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
@@ -30,7 +30,7 @@ std::vector<double> parse_frequencies(const std::string& flag, const std::string
 }
 
 namespace {
-/// "20 for coulomb, 10 for dahl, ..." from the registry (contact.hpp: default_harmonics).
+/// "20 for coulomb, 10 for dahl, ..." from the registry (contact_law.hpp: default_harmonics).
 std::string law_harmonics() {
     std::string text;
     for (const ContactLaw* law : contact_laws())
@@ -143,7 +143,7 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
     if (!exact.empty() && exact != "on" && exact != "off")
         throw UsageError("--exact = '" + exact + "' is not allowed: allowed on, off");
     // The choices: the --config file's, the flags given over them; the library makes the
-    // automatic ones (design.hpp: frf_settings: the polish on the lowest frequency, H).
+    // automatic ones (frf.hpp: frf_settings: the polish on the lowest frequency, H).
     FrfChoices choices = frf_choices(command, harmonics, time_samples, chosen);
     if (given(command, "--wmin")) choices.omega_start = parse_double("--wmin", wmin);
     if (given(command, "--wmax")) choices.omega_end = parse_double("--wmax", wmax);
@@ -192,7 +192,7 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
         if (!refusal.empty()) throw UsageError("--stability " + stability + ": " + refusal);
         s.stability = true;
     }
-    s.validate();  // the library's ranges (design.hpp); the message names the field, hbf prefixes its flag
+    s.validate();  // the library's ranges (frf.hpp); the message names the field, hbf prefixes its flag
     return s;
 }
 

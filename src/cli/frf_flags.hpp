@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "arguments.hpp"
-#include "hbf/design.hpp"
+#include "hbf/frf.hpp"
 
 namespace hbf::cli {
 

@@ -19,10 +19,11 @@
 #include "outputs.hpp"
 #include "commands.hpp"
 #include "frf_flags.hpp"
-#include "hbf/design.hpp"
 #include "hbf/error.hpp"
-#include "hbf/io.hpp"
+#include "hbf/frf.hpp"
+#include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
+#include "hbf/table.hpp"
 #include "mpi_session.hpp"
 #include "progress.hpp"
 #include "study.hpp"
@@ -212,7 +213,7 @@ int run(const CLI::App& command, const MapOptions& o) {
         for (std::string line; std::getline(lines, line);) out.stream() << prefix << line << '\n';
     }
 
-    MapTally tally;  // each FRF's record, from every rank (design.hpp)
+    MapTally tally;  // each FRF's record, from every rank (frf.hpp)
     for (const json& r : frfs)
         tally.add(r.at("peak_state").get<std::string>(), static_cast<int>(r.at("missed_at").size()),
                   {r.at("library_warnings").get<long long>(), r.at("library_first_warning").get<std::string>()});

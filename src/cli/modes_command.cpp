@@ -12,11 +12,12 @@
 #include "commands.hpp"
 #include "frf_flags.hpp"
 #include "outputs.hpp"
-#include "hbf/design.hpp"
 #include "hbf/error.hpp"
-#include "hbf/io.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/modes.hpp"
+#include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
+#include "hbf/table.hpp"
 
 namespace hbf::cli {
 

@@ -18,10 +18,12 @@
 #include "frf_flags.hpp"
 #include "hbf/analytic.hpp"
 #include "hbf/absorber.hpp"
-#include "hbf/design.hpp"
 #include "hbf/error.hpp"
-#include "hbf/io.hpp"
+#include "hbf/frf.hpp"
+#include "hbf/optimize.hpp"
+#include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
+#include "hbf/table.hpp"
 #include "hbf/tracking.hpp"
 #include "study.hpp"
 
@@ -261,7 +263,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
                         "at its two fixed points"}};
     }
 
-    // the library's verdict of the search (design.hpp), with the comparison FRF's messages
+    // the library's verdict of the search (frf.hpp), with the comparison FRF's messages
     Verdict verdict = joint      ? joint_result.verdict("mu", "wa", comparison_messages)
                       : tracking ? tracked.verdict(parameter.name())
                                  : result.verdict(parameter.name(), comparison_messages);

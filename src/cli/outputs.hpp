@@ -7,8 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "hbf/io.hpp"
 #include "progress.hpp"
+#include "hbf/output_file.hpp"
+#include "hbf/table.hpp"
 
 namespace hbf::cli {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "frf_flags.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
@@ -12,12 +12,12 @@ namespace hbf::cli {
 
 namespace {
 /// The --param names of the absorber preset: the laws' preset parameters wb and xi with the laws
-/// that read them (contact.hpp).
+/// that read them (contact_law.hpp).
 std::string preset_names() {
     return "fe, mu, wa, r, wb (" + laws_reading("wb") + "), xi (" + laws_reading("xi") + ")";
 }
 /// The --param names of a --config system: the contact's keys come from the registry of laws
-/// (contact.hpp), each with the laws it applies to.
+/// (contact_law.hpp), each with the laws it applies to.
 std::string config_names() {
     std::string keys = "contact.friction_limit";
     std::vector<std::string> seen;

@@ -13,9 +13,10 @@
 #include "hbf/analytic.hpp"
 #include "hbf/error.hpp"
 #include "hbf/config.hpp"
-#include "hbf/io.hpp"
+#include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf::cli {
@@ -162,7 +163,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     }
     out.commit();
     // Points that did not converge (errors) and converged points out of energy balance
-    // (warnings): judge_sweep, design.hpp.
+    // (warnings): judge_sweep, frf.hpp.
     Verdict verdict = judge_sweep(system, responses, tio, exact);
     verdict.add(messages.messages());
     return finish("timeint", verdict);

@@ -4,7 +4,7 @@
 
 #include <memory>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 
 namespace hbf::detail {
 
@@ -18,7 +18,7 @@ LocalLinearization bristle_linearization(const Contact& contact, double sigma1, 
 void bristle_guess(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
                    Eigen::Ref<Eigen::VectorXd> z);
 
-/// Time integration of the bristle law (contact.hpp: ContactLaw::time_force, time_margin):
+/// Time integration of the bristle law (contact_law.hpp: ContactLaw::time_force, time_margin):
 /// z' = v - sigma0 |v| z / g(v), f = sigma0 z + sigma1 z' + sigma2 v (Dahl: g = F_c, sigma1 =
 /// sigma2 = 0); the margin |sigma0 z| / (stick_force_ratio g(v)) - 1.
 double bristle_time_force(const Contact& contact, double sigma1, double sigma2, double v, double z, double& rate);

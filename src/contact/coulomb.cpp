@@ -24,7 +24,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 #include "base/stopwatch.hpp"

@@ -11,7 +11,7 @@
 // automatic N_t to it.
 #include <cmath>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/absorber.hpp"
 #include "base/stopwatch.hpp"
 

@@ -38,7 +38,7 @@
 #include <utility>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 

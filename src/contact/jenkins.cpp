@@ -22,7 +22,7 @@
 #include <cmath>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/absorber.hpp"
 #include "base/stopwatch.hpp"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/static_state.hpp"
 
 namespace hbf {

@@ -1,7 +1,7 @@
 // hbfriction — contact law `lugre`: the LuGre bristle model (paper eq. 17).
 //
 // Definition: f = sigma0 z + sigma1 z' + sigma2 v, z' = v - sigma0 |v| z / g(v),
-// g(v) = F_c + (F_s - F_c) exp(-(v / v_s)^2) (contact.hpp: sliding_limit; the paper has
+// g(v) = F_c + (F_s - F_c) exp(-(v / v_s)^2) (contact_law.hpp: sliding_limit; the paper has
 // v_s = 0, F_s = F_c, sigma2 = 0, so g = F_c).
 // Parameters: friction_limit F_c (> 0), stiffness sigma0 (> 0), damping sigma1 (>= 0), viscous
 // sigma2 (>= 0), static_limit F_s (>= 0; 0 means F_s = F_c), stribeck_velocity v_s (>= 0; 0

@@ -1,9 +1,9 @@
-// hbfriction — the registry of contact laws: one line a law (contact.hpp). A new law is its
+// hbfriction — the registry of contact laws: one line a law (contact_law.hpp). A new law is its
 // file in this folder, the accessor it defines declared below, and its line in the table.
 #include <algorithm>
 #include <cmath>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 
 #include <stdexcept>
@@ -260,7 +260,7 @@ TimeDomainView::TimeDomainView(const System& system) : original_(system), split_
     if (split_) lowered_ = time_domain_system(system);
 }
 
-// ---- friction.hpp's entry points ----------------------------------------------------------
+// ---- contact_force.hpp's entry points ----------------------------------------------------------
 
 std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact) {
     return contact_law(contact.law).periodic_model(contact);

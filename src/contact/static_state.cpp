@@ -8,7 +8,7 @@
 #include <map>
 #include <sstream>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/normal_contact.hpp"
 

@@ -48,7 +48,7 @@
 #include <cmath>
 #include <limits>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/normal_contact.hpp"
 #include "base/stopwatch.hpp"

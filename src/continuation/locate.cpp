@@ -1,6 +1,7 @@
 // hbfriction — folds and stick-slip transitions located between the points of a traced
 // branch (locate.hpp; see continue_branch in continuation.hpp).
 #include "continuation/locate.hpp"
+#include "hbf/post_processing.hpp"
 
 #include <algorithm>
 #include <cmath>

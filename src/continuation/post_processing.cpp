@@ -6,6 +6,7 @@
 
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
+#include "hbf/post_processing.hpp"
 #include "numerics/golden_section.hpp"
 #include "numerics/peak_newton.hpp"
 

@@ -388,7 +388,7 @@ ExactFlow exact_flow(const System& given, double omega, const Eigen::VectorXd& s
                      int max_events_per_period) {
     using namespace detail::exact;
     given.validate();
-    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact_law.hpp)
     const System& system = view.system();
     if (validate_system(system, omega))
         throw InvalidInput("the mass matrix is singular (massless DOFs): exact_flow integrates M y'' = ... and needs M "

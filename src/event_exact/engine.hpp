@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/event_exact.hpp"
 #include "event_exact/polynomial.hpp"
 
@@ -98,7 +98,7 @@ public:
     int one_index() const { return nz_ + 2; }
     const Contact& contact(int c) const { return system_.contacts[static_cast<std::size_t>(c)]; }
     const Eigen::VectorXd& direction(int c) const { return directions_[static_cast<std::size_t>(c)]; }
-    /// A rigid slider (exact Coulomb); else an elastic slider (Jenkins): contact.hpp.
+    /// A rigid slider (exact Coulomb); else an elastic slider (Jenkins): contact_law.hpp.
     bool coulomb(int c) const { return rigid_[static_cast<std::size_t>(c)] != 0; }
     const Eigen::VectorXd& excitation() const { return system_.excitation; }
 

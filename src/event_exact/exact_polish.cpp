@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/modal_exact.hpp"
 #include "base/stopwatch.hpp"

@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "event_exact/engine.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/linear_limits.hpp"
@@ -498,7 +498,7 @@ namespace hbf {
 double permanent_stick_load(const System& given, double omega, int contact) {
     using namespace detail::exact;
     given.validate();
-    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact_law.hpp)
     const System& system = view.system();
     validate_system(system, omega);
     if (contact < 0) {
@@ -526,7 +526,7 @@ ExactOrbit exact_periodic_orbit(const System& given, double omega, const Eigen::
                                 const ExactOptions& options) {
     using namespace detail::exact;
     given.validate();
-    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact_law.hpp)
     const System& system = view.system();
     const auto condensation = validate_system(system, omega);
     check_state_size(system, initial_state);

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "event_exact/engine.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 
@@ -136,7 +136,7 @@ namespace {
 std::pair<double, int> steps_and_size(const System& given, double omega) {
     using namespace detail::exact;
     given.validate();
-    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact_law.hpp)
     const System& system = view.system();
     const auto condensation = validate_system(system, omega);
     Engine e(condensation ? condensation->reduced() : system, omega);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <set>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf {

@@ -6,7 +6,7 @@
 #include <set>
 #include <sstream>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/receptance.hpp"
 

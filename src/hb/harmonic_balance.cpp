@@ -6,7 +6,7 @@
 #include <complex>
 #include <limits>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "base/stopwatch.hpp"
 

@@ -1,5 +1,5 @@
 // hbfriction — harmonic balance's first guesses (harmonic_balance.hpp: linear_guess): the
-// linear structure with each contact as its law's linear element (contact.hpp: linearize,
+// linear structure with each contact as its law's linear element (contact_law.hpp: linearize,
 // stuck) or released, solved per harmonic.
 #include "hbf/harmonic_balance.hpp"
 
@@ -8,7 +8,7 @@
 #include <complex>
 #include <limits>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/static_state.hpp"
 #include "base/stopwatch.hpp"

@@ -12,7 +12,7 @@
 #include <set>
 #include <sstream>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "input/config_reader.hpp"
@@ -104,7 +104,7 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
         fail(r.file, law_node->source(), where + ".law", e.what());
     }
     std::set<std::string> allowed = {"dof", "other_dof", "force_direction", "law", "friction_limit"};
-    // the law's parameters (contact.hpp)
+    // the law's parameters (contact_law.hpp)
     const std::vector<LawParameter> parameters = contact_law(c.law).parameters();
     for (const LawParameter& p : parameters) allowed.insert(p.key);
     if (!contact_law(c.law).has_friction_limit()) allowed.erase("friction_limit");  // mu N instead

@@ -7,7 +7,7 @@
 #include <set>
 
 #include "input/config_reader.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/interface.hpp"
 #include "hbf/reduction.hpp"
 

@@ -1,6 +1,5 @@
-// hbfriction — the output policy (io.hpp): every output path checked before any work, and
+// hbfriction — the output policy (output_file.hpp): every output path checked before any work, and
 // OutputFile, which writes atomically or in place and never leaves a partial file.
-#include "hbf/io.hpp"
 
 #include <fcntl.h>
 #include <pthread.h>
@@ -21,6 +20,7 @@
 #include <stdexcept>
 
 #include "hbf/error.hpp"
+#include "hbf/output_file.hpp"
 
 namespace hbf::io {
 

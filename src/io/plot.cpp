@@ -12,7 +12,7 @@
 #include <stdexcept>
 
 #include "hbf/error.hpp"
-#include "hbf/io.hpp"
+#include "hbf/output_file.hpp"
 
 namespace hbf::io {
 

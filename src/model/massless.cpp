@@ -5,7 +5,7 @@
 #include <complex>
 #include <string>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::detail {
@@ -118,7 +118,7 @@ MasslessCondensation::MasslessCondensation(const System& system) : system_(syste
                     throw InvalidInput(why + name + " and contact " + std::to_string(other + 1) +
                                        " are coupled through the massless DOFs: allowed at most one such contact "
                                        "per group of connected massless DOFs");
-            reduced.law = FrictionLaw::jenkins;  // the elastic slider (contact.hpp)
+            reduced.law = FrictionLaw::jenkins;  // the elastic slider (contact_law.hpp)
             reduced.stiffness = rigid_slider(contact) ? 1.0 / g : 1.0 / (1.0 / contact.stiffness + g);
             reduced.lagrangian_penalty = 0.0;
             // The load on the massless DOFs moves the spring's far end: q gains w_S^T K_SS^-1 F_S cos.

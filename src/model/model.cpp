@@ -11,7 +11,7 @@
 #include <string>
 #include <utility>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf {

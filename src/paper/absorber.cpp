@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf {
@@ -63,7 +63,7 @@ void AbsorberParameters::validate(FrictionLaw law) const {
     require_positive(tuning_ratio, "wa", "tuning ratio omega2/omega1");
     require_positive(friction_coefficient, "mu", "friction coefficient");
     require_positive(excitation, "fe", "excitation amplitude F0/N");
-    // the law's own (contact.hpp), in the order it lists them
+    // the law's own (contact_law.hpp), in the order it lists them
     for (const std::string& symbol : contact_law(law).preset_parameters())
         for (const PresetParameter& p : preset_parameters()) {
             if (symbol != p.symbol) continue;

@@ -7,11 +7,11 @@
 #include <chrono>
 #include <cmath>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
-#include "hbf/friction.hpp"
+#include "hbf/contact_force.hpp"
 #include "stability/monodromy.hpp"
 #include "stability/variational.hpp"
 

@@ -7,7 +7,7 @@
 
 #include "hbf/continuation.hpp"
 #include "hbf/fourier.hpp"
-#include "hbf/friction.hpp"
+#include "hbf/contact_force.hpp"
 #include "hbf/harmonic_balance.hpp"
 
 namespace hbf::detail {

@@ -1,8 +1,7 @@
-// hbfriction — one FRF as a study (design.hpp): its settings and their ranges, the automatic
+// hbfriction — one FRF as a study (frf.hpp): its settings and their ranges, the automatic
 // choices, compute_frf (continuation, samples, metrics, exact polish, peaks, stability) and
 // its verdict; FRFs on threads (compute_frfs); one solution (solve_at); time-domain sweeps'
 // verdicts (judge_sweep). The searches over FRFs are in optimize.cpp.
-#include "hbf/design.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -12,9 +11,10 @@
 #include <mutex>
 #include <thread>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/static_state.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
@@ -276,80 +276,6 @@ Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
     return v;
 }
 
-PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
-                                    const Eigen::VectorXd& start) {
-    ExactOrbit orbit = exact_periodic_orbit(system, omega, start, options);
-    int periods = orbit.periods;
-    if (!orbit.converged && max_periods > 1) {
-        options.warmup_periods = std::min(max_periods, 200);
-        orbit = exact_periodic_orbit(system, omega, start, options);
-        periods += orbit.periods;
-    }
-    PeriodicResponse r;
-    r.omega = omega;
-    r.converged = orbit.converged;
-    r.message = orbit.message;
-    r.periods = periods;
-    r.poincare_change = orbit.residual;
-    r.state = orbit.state;
-    r.y_max = orbit.y_max;
-    r.y_amp1 = orbit.y_amp1;
-    r.output_max = orbit.output_max;
-    r.output_amp1 = orbit.output_amp1;
-    r.harmonic1 = orbit.harmonic1;
-    r.stick_fraction = orbit.stick_fraction;
-    r.regime = orbit.regime;
-    r.contacts = orbit.contacts;
-    r.stick_margin_min = orbit.stick_margin_min;
-    r.stick_margin_max = orbit.stick_margin_max;
-    r.switches = orbit.switches;
-    r.energy = orbit.energy;
-    r.input_energy = orbit.input_energy;
-    return r;
-}
-
-Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
-                       const TimeIntegrationOptions& options, bool exact) {
-    Verdict v;
-    int failed = 0;
-    for (const PeriodicResponse& r : responses)
-        if (!r.converged) {
-            ++failed;
-            v.errors.push_back(r.summary());
-        }
-    if (failed > 0)
-        v.errors.push_back(std::to_string(failed) + " of " + std::to_string(responses.size()) +
-                           " points did not converge (converged = false in the output)");
-    // Energy balance of the exact solver's steady states: input work = viscous + friction
-    // energy per period, relative to the work the force could do on the first harmonic (it does
-    // not integrate the viscous energy: checked only without damping). Time integration checks
-    // its own (a converged PeriodicResponse passed it, integrate_steady_state).
-    if (exact && system.damping.nonZeros() == 0) {
-        const double limit = options.physics_tolerance();
-        int unbalanced = 0;
-        double worst = 0.0, worst_w = 0.0;
-        for (const PeriodicResponse& r : responses) {
-            if (!r.converged) continue;
-            double amplitude = 0.0;
-            for (double a : r.y_amp1) amplitude += a * a;
-            const double reach =
-                system.excitation_harmonic == 1 ? M_PI * system.excitation.norm() * std::sqrt(amplitude) : 0.0;
-            const double error = energy_imbalance(r.input_energy, r.viscous_energy, r.energy, reach);
-            if (error > limit) ++unbalanced;
-            if (error > worst) {
-                worst = error;
-                worst_w = r.omega;
-            }
-        }
-        if (unbalanced > 0)
-            v.warnings.push_back(std::to_string(unbalanced) + " converged point(s) fail the energy balance (relative " +
-                                 "error above " + format_number(limit) +
-                                 ", max(1e-6, 100 max(--rtol, --steady-tol)); the largest, " + format_number(worst) +
-                                 ", at w = " + format_number(worst_w) + "): a tighter --steady-tol may help");
-    }
-    return v;
-}
-
 bool centre_permanent_stick(HarmonicBalance& hb, SolutionPoint& point, double tolerance) {
     const System& system = hb.system();
     const int contacts = static_cast<int>(system.contacts.size());
@@ -606,6 +532,31 @@ std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>&
     }
     if (error) std::rethrow_exception(error);
     return results;
+}
+
+void MapTally::add(const std::string& peak_state, int missed, const LibraryMessages& frf_messages) {
+    ++frfs;
+    if (peak_state == "failed") ++failed;
+    else if (peak_state == "incomplete") ++incomplete;
+    else if (peak_state == "unbounded") ++unbounded;
+    missed_at += missed;
+    messages.add(frf_messages);
+}
+
+Verdict MapTally::verdict() const {
+    Verdict v;
+    if (failed > 0)
+        v.warning(std::to_string(failed) + " of " + std::to_string(frfs) + " FRFs failed (a stall, a "
+                  "failed start or a failed exact polish; their rows say frf_status, the JSON says why)");
+    if (incomplete > 0) v.warning(std::to_string(incomplete) + " FRFs are incomplete (left_range or point_budget)");
+    if (unbounded > 0)
+        v.warning(std::to_string(unbounded) + " FRFs have an unbounded resonance (amplitude_cap: capped at "
+                  "--max-amplitude)");
+    if (missed_at > 0)
+        v.warning(std::to_string(missed_at) + " --at frequencies got no row (outside an FRF's branch, or the solve "
+                  "failed; missed_at in the JSON)");
+    v.add(messages);
+    return v;
 }
 
 }  // namespace hbf

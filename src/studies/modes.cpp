@@ -7,7 +7,7 @@
 #include <complex>
 #include <limits>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/static_state.hpp"

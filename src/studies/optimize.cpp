@@ -1,10 +1,11 @@
-// hbfriction — the design searches over FRFs (design.hpp): the largest peak minimised over one
+// hbfriction — the design searches over FRFs (frf.hpp): the largest peak minimised over one
 // parameter (a log scan on threads, then golden section) and over two (nested searches).
 #include <algorithm>
 #include <cmath>
 
-#include "hbf/design.hpp"
 #include "hbf/error.hpp"
+#include "hbf/frf.hpp"
+#include "hbf/optimize.hpp"
 #include "base/stopwatch.hpp"
 
 namespace hbf {
@@ -85,31 +86,6 @@ Verdict JointOptimizeResult::verdict(const std::string& p_name, const std::strin
     LibraryMessages all = outer.messages;
     all.add(also);
     v.add(all);
-    return v;
-}
-
-void MapTally::add(const std::string& peak_state, int missed, const LibraryMessages& frf_messages) {
-    ++frfs;
-    if (peak_state == "failed") ++failed;
-    else if (peak_state == "incomplete") ++incomplete;
-    else if (peak_state == "unbounded") ++unbounded;
-    missed_at += missed;
-    messages.add(frf_messages);
-}
-
-Verdict MapTally::verdict() const {
-    Verdict v;
-    if (failed > 0)
-        v.warning(std::to_string(failed) + " of " + std::to_string(frfs) + " FRFs failed (a stall, a "
-                  "failed start or a failed exact polish; their rows say frf_status, the JSON says why)");
-    if (incomplete > 0) v.warning(std::to_string(incomplete) + " FRFs are incomplete (left_range or point_budget)");
-    if (unbounded > 0)
-        v.warning(std::to_string(unbounded) + " FRFs have an unbounded resonance (amplitude_cap: capped at "
-                  "--max-amplitude)");
-    if (missed_at > 0)
-        v.warning(std::to_string(missed_at) + " --at frequencies got no row (outside an FRF's branch, or the solve "
-                  "failed; missed_at in the JSON)");
-    v.add(messages);
     return v;
 }
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "numerics/cvode_solver.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/linear_limits.hpp"
 #include "hbf/normal_contact.hpp"
@@ -230,7 +230,7 @@ private:
         return l;
     }
 
-    /// Contact c's stick indicator at x (friction.hpp: < 0 while it sticks).
+    /// Contact c's stick indicator at x (contact_force.hpp: < 0 while it sticks).
     double indicator(int c, const double* x) const {
         const int mode = mode_[static_cast<std::size_t>(c)];
         if (mode == separated) return 1.0;

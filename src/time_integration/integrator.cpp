@@ -4,9 +4,9 @@
 
 #include <algorithm>
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
-#include "hbf/friction.hpp"
+#include "hbf/contact_force.hpp"
 
 namespace hbf::detail {
 

@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "numerics/cvode_solver.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf::detail {
 
-/// A time-domain element (contact.hpp: time_elements) in the form the integrator evaluates:
+/// A time-domain element (contact_law.hpp: time_elements) in the form the integrator evaluates:
 /// a rigid slider (exact Coulomb), an elastic slider (Jenkins: a spring in series with a rigid
 /// slider, its position the state) or a smooth law (its own time_force and time_margin).
 struct ContactData {

@@ -1,7 +1,7 @@
 // hbfriction — time integration of models with massless DOFs (massless.hpp).
 #include "time_integration/massless.hpp"
 
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 
 #include <cmath>
 #include <complex>

@@ -1,6 +1,6 @@
 // Periodic steady state by time integration with CVODE (see time_integration.hpp for the
 // model of each law, the events and the state convention).
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/linear_limits.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -291,7 +291,7 @@ Eigen::VectorXd linear_stuck_state(const System& given, double omega) {
     given.validate();
     if (detail::has_elastic_contacts(given)) return detail::elastic_linear_stuck_state(given, omega);
     if (detail::has_unilateral_contacts(given)) return Eigen::VectorXd::Zero(2 * given.dofs());  // at rest
-    const TimeDomainView view(given);  // the state is per time-domain element (contact.hpp)
+    const TimeDomainView view(given);  // the state is per time-domain element (contact_law.hpp)
     const System& system = view.system();
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
@@ -328,7 +328,7 @@ PeriodicResponse integrate_steady_state(const System& given, double omega, const
         r.seconds = clock.lap();
         return r;
     }
-    const TimeDomainView view(given);  // the contacts as time-domain elements (contact.hpp)
+    const TimeDomainView view(given);  // the contacts as time-domain elements (contact_law.hpp)
     const System& system = view.system();
     const int size = state_size(system);
     if (initial_state && (initial_state->size() != size || !initial_state->allFinite()))

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "time_integration/elastic_contacts.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/normal_contact.hpp"
 

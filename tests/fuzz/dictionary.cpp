@@ -1,7 +1,7 @@
 // The words of the fuzz targets' libFuzzer dictionaries that come from the code, not by hand:
 // every command, flag and enumerated flag value of the command line (as the commands register
 // them with CLI11), and every contact law's name and parameter keys (the law registry,
-// hbf/contact.hpp). scripts/fuzz.sh appends this program's output to the hand-written part
+// hbf/contact_law.hpp). scripts/fuzz.sh appends this program's output to the hand-written part
 // (tests/fuzz/<target>.dict: syntax, numbers, files), so that a law or a flag added in its own
 // file reaches the fuzzer without editing a dictionary.
 //
@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "hbf/contact.hpp"
+#include "hbf/contact_law.hpp"
 
 namespace {
 

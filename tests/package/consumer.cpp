@@ -1,9 +1,7 @@
 // Uses the installed library: the Coulomb full-stick amplitude of the paper's absorber at
 // omega = 0.5 must be fe / (1 - (1 + r) omega^2) = 0.5 / 0.725 (derived by hand), by the closed
 // form and by time integration (which links SUNDIALS through the installed package).
-#include <hbf/analytic.hpp>
-#include <hbf/absorber.hpp>
-#include <hbf/time_integration.hpp>
+#include <hbf/hbf.hpp>  // the umbrella: every public header, installed and self-contained
 #include <cmath>
 #include <cstdio>
 

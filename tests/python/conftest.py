@@ -57,7 +57,7 @@ def source():
 
 def exact_solver_covers():
     """'the exact solver covers a, b and c only': the laws whose stick is exact, from the registry
-    of contact laws (contact.hpp), as the exact solver's refusal names them."""
+    of contact laws (contact_law.hpp), as the exact solver's refusal names them."""
     import hbfriction
     names = [law["name"] for law in hbfriction._core.contact_laws() if law["exact_stick"]]
     listed = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]

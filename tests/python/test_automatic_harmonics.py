@@ -1,5 +1,5 @@
-"""The automatic H has one home (design.hpp: automatic_harmonics): hbf frf, Python's frf() and the
-hb_vs_timeint benchmark report the same H for each law of the registry (contact.hpp), with and
+"""The automatic H has one home (frf.hpp: automatic_harmonics): hbf frf, Python's frf() and the
+hb_vs_timeint benchmark report the same H for each law of the registry (contact_law.hpp), with and
 without the exact polish, and with an excitation harmonic h (H times h)."""
 import json
 import os

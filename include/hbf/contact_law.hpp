@@ -5,7 +5,7 @@
 //   * its definition (the equation, the variables, the sign convention: model.hpp's Contact);
 //   * its parameters beyond friction_limit (the Contact field, which is also the config key,
 //     what it means and its allowed range);
-//   * its periodic force by AFT with the exact Jacobian (friction.hpp: FrictionModel);
+//   * its periodic force by AFT with the exact Jacobian (contact_force.hpp: FrictionModel);
 //   * its local linearisation (smooth laws: stability.hpp);
 //   * what it is while it sticks (a rigid constraint, or a spring and a damper);
 //   * whether it is smooth, whether its stick is exact (the event-exact solver covers it),
@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "hbf/friction.hpp"
+#include "hbf/contact_force.hpp"
 #include "hbf/model.hpp"
 
 namespace hbf {
@@ -146,7 +146,7 @@ public:
     virtual const char* definition() const = 0;
     /// Its parameters besides friction_limit.
     virtual std::vector<LawParameter> parameters() const = 0;
-    /// H of harmonic balance without the exact polish, measured (design.hpp: default_harmonics).
+    /// H of harmonic balance without the exact polish, measured (frf.hpp: default_harmonics).
     virtual int default_harmonics() const = 0;
     /// The force is a differentiable function of the state: local linearisation (linearize),
     /// stability by Hill's method and the monodromy of the variational equations.

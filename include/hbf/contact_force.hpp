@@ -2,7 +2,7 @@
 //
 // A contact sees the relative displacement q(theta) (coefficients, see fourier.hpp) and
 // produces the friction force f(theta). Each law (one file per law in src/contact/, listed in
-// contact.hpp's registry) decides how it evaluates the periodic force:
+// contact_law.hpp's registry) decides how it evaluates the periodic force:
 //   * memoryless laws map velocity samples to force samples pointwise: f = P f(E D q)
 //     (coulomb-reg);
 //   * state laws carry an internal state signal z, one more harmonic unknown balanced like the

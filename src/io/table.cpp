@@ -1,6 +1,5 @@
-// hbfriction — the tables (io.hpp): CSV columns with their meaning, the FRF, time-integration
+// hbfriction — the tables (table.hpp): CSV columns with their meaning, the FRF, time-integration
 // and analytic tables, and the JSON summaries.
-#include "hbf/io.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +12,7 @@
 
 #include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
+#include "hbf/table.hpp"
 
 namespace hbf::io {
 

@@ -1,12 +1,11 @@
-// hbfriction — design studies: one FRF reduced to its largest peak, many FRFs on threads, and
-// the one-parameter optimisation of the largest peak (the paper's Section 4: the friction
-// coefficient that makes the absorber most effective).
+// hbfriction — the FRF as one call: continuation of every branch (restarts past an amplitude cap
+// included), the metrics of each point, the exact polish where it applies, stability, and the
+// peaks of the outputs refined by a golden-section search in w, with the verdict; many FRFs on
+// threads (maps); the solution at one frequency.
 //
-// An FRF here is the whole pipeline of `hbf frf`: continuation of every branch (restarts past
-// an amplitude cap included), the metrics of each point, the exact polish where it applies,
-// and the peaks of the first output refined by a golden-section search in w. The objective of
-// a design study is the largest max over one period of |o(t)| of that output along the FRF
-// (PeakValue): it comes from the full branches, so folds and coexisting solutions count.
+// The objective of a design study (optimize.hpp, tracking.hpp) is the largest max over one
+// period of |o(t)| of the first output along the FRF (PeakValue): it comes from the full
+// branches, so folds and coexisting solutions count.
 #pragma once
 
 #include <functional>
@@ -16,6 +15,7 @@
 #include <vector>
 
 #include "hbf/continuation.hpp"
+#include "hbf/post_processing.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/stability.hpp"
@@ -174,22 +174,6 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings);
 /// The same, building the HarmonicBalance from settings.harmonic_balance.
 FrfResult compute_frf(const System& system, const FrfSettings& settings);
 
-/// The verdict on time-integration steady states (hbf timeint): errors for the points that did
-/// not converge (each one's summary, and their count). A converged time-integration point has
-/// passed its physics checks (energy balance, stick; integrate_steady_state). With `exact`
-/// (exact_steady_state) a warning when converged points of an undamped structure fail the
-/// energy balance (input work = friction energy per period, relative to the work the force
-/// could do on the first harmonic; limit options.physics_tolerance(); the exact solver does
-/// not integrate the viscous energy).
-Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
-                       const TimeIntegrationOptions& options, bool exact);
-
-/// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`) as a
-/// time-integration result (hbf timeint --method exact): when it fails, it is tried again
-/// after min(max_periods, 200) plain periods; `periods` counts the period maps of both.
-PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
-                                    const Eigen::VectorXd& start);
-
 /// The harmonic-balance solution at omega reached by following the branch from omega_from
 /// (from 0.9 omega when omega <= omega_from) with `options`' corrector and limits: what
 /// `hbf loop` writes. Where branch 1 stops at an amplitude cap on the way, the point is where
@@ -200,7 +184,7 @@ struct SolutionAt {
     BranchResult branch;
 };
 SolutionAt solve_at(HarmonicBalance& hb, double omega, double omega_from, ContinuationOptions options = {});
-/// Permanent stick on the centred member (the convention of event_exact.hpp and friction.hpp):
+/// Permanent stick on the centred member (the convention of event_exact.hpp and contact_force.hpp):
 /// when every contact is coulomb or jenkins and sticks on every AFT sample of `point`, the
 /// solution is the linear stuck response (HarmonicBalance::linear_guess), whose means vanish;
 /// the continuation's point differs from it by an offset of the stuck family at the corrector's
@@ -218,96 +202,6 @@ bool centre_permanent_stick(HarmonicBalance& hb, SolutionPoint& point, double to
 std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>& systems, const FrfSettings& settings,
                                     int threads, const std::function<void(int, int)>& done = {});
 
-// ---- optimisation -----------------------------------------------------------------------
-
-struct OptimizeOptions {
-    double lower = 0;          ///< search range of the parameter p, 0 < lower < upper
-    double upper = 0;
-    /// Points of the first scan, log-spaced over [lower, upper] (>= 3): it brackets the best
-    /// value before the golden-section search, and finds the right valley when the peak is not
-    /// unimodal in p over the whole range (unbounded at both ends, as for a friction damper).
-    int scan_points = 13;
-    /// The golden-section search in log p stops when the bracket's width is below
-    /// tolerance * p (relative; 1e-12..0.1).
-    double tolerance = 1e-4;
-    int max_evaluations = 200;  ///< FRFs in all (scan included), >= scan_points + 1
-    int threads = 0;            ///< for the scan (compute_frfs); the search is sequential
-    /// Called after each batch of FRFs (the scan, then each FRF of the search) with a line on
-    /// where the search is (a progress display); may be empty.
-    std::function<void(const std::string& text)> progress;
-};
-
-enum class OptimizeStatus {
-    converged,   ///< the bracket shrank to the tolerance around an interior optimum
-    at_bound,    ///< the best value is at lower or upper: widen the range
-    budget,      ///< max_evaluations reached before the tolerance
-    unbounded,   ///< no p in the scan gives a bounded FRF
-    failed       ///< nothing usable (every FRF failed)
-};
-std::string to_string(OptimizeStatus status);
-
-/// One FRF of the search.
-struct OptimizeEvaluation {
-    double parameter = 0;
-    PeakValue peak;
-    std::vector<Peak> peaks;       ///< the refined peaks of outputs[0] (every one, not just the largest)
-    ContinuationStatus status = ContinuationStatus::completed;
-    std::string phase;             ///< "scan" or "golden"
-    double seconds = 0;
-    LibraryMessages messages;      ///< what the numerical libraries reported during its FRF(s)
-};
-
-struct OptimizeResult {
-    OptimizeStatus status = OptimizeStatus::failed;
-    double parameter = 0;          ///< the best p evaluated
-    PeakValue peak;                ///< its largest peak
-    std::vector<Peak> peaks;       ///< its peaks of outputs[0]
-    double bracket_lower = 0, bracket_upper = 0;  ///< final bracket of the search
-    std::vector<OptimizeEvaluation> trace;        ///< in the order evaluated
-    int failed = 0;                ///< evaluations whose FRF failed or stayed incomplete
-    int failed_in_bracket = 0;     ///< of which inside the final bracket (a doubtful optimum)
-    std::string message;
-    double seconds = 0;
-    LibraryMessages messages;      ///< of every evaluation (each FRF counts its own, on its thread)
-    /// One line: status, the parameter (named `name`), peak, evaluations.
-    std::string summary(const std::string& name = "p") const;
-    /// The verdict of the search (hbf optimize's exit code, Python's warning): converged is
-    /// completed; at_bound and budget a warning, unbounded and failed an error (the summary
-    /// line); FRFs that failed or stayed incomplete inside the final bracket a warning (the
-    /// optimum is doubtful), outside it a note; the libraries' messages of the search and of
-    /// `also` (computations beside it, e.g. a comparison FRF) one warning.
-    Verdict verdict(const std::string& name = "p", const LibraryMessages& also = {}) const;
-};
-
-/// Minimises the largest peak of the FRF of system(p) over p in [lower, upper]: a log-spaced
-/// scan (on threads), then a golden-section search in log p over the two scan intervals
-/// around the best scan point. The peak as a function of p is continuous but not smooth (the
-/// largest of several peaks switches); golden section needs only unimodality in the bracket.
-/// Ties (two unbounded trial points) keep the side of the best point found so far. Throws
-/// InvalidInput for bad options.
-OptimizeResult optimize_parameter(const std::function<System(double)>& system, const FrfSettings& settings,
-                                  const OptimizeOptions& options);
-
-/// A joint search in two parameters (p, q), e.g. the friction coefficient and the tuning.
-struct JointOptimizeResult {
-    /// The search in q: each evaluation is a whole search in p at that q (optimize_parameter),
-    /// whose best peak is the objective; outer.parameter is the best q.
-    OptimizeResult outer;
-    std::vector<OptimizeResult> inner;  ///< inner[k]: the search in p at outer.trace[k].parameter
-    std::size_t best = 0;               ///< index of the best q in outer.trace and inner
-    double parameter = 0;               ///< the best p (at the best q)
-    int inner_not_converged = 0;        ///< inner searches whose status is not converged
-    int frfs() const;                   ///< FRFs computed in all
-    /// One line: status, both parameters (named p_name, q_name), peak, searches and FRFs.
-    std::string summary(const std::string& p_name = "p", const std::string& q_name = "q") const;
-    /// As OptimizeResult::verdict for the search in q (its summary line, its searches in p that
-    /// failed inside or outside the final bracket), and the search in p at the best q: a warning
-    /// when it did not converge or has failed FRFs inside its bracket, a note when other
-    /// searches in p did not converge.
-    Verdict verdict(const std::string& p_name = "p", const std::string& q_name = "q",
-                    const LibraryMessages& also = {}) const;
-};
-
 /// The tally of a map of FRFs (hbf map, Python's map()) and its verdict: a warning for the FRFs
 /// that failed, those that are incomplete (left_range, point_budget), those with an unbounded
 /// resonance (amplitude_cap), for the `at` frequencies that got no row, and one for the
@@ -320,16 +214,5 @@ struct MapTally {
     void add(const std::string& peak_state, int missed, const LibraryMessages& frf_messages);
     Verdict verdict() const;
 };
-
-/// Minimises the largest peak of system(p, q) over both: P(q) = min over p of the peak
-/// (optimize_parameter with `inner` options) is minimised over q by the same scan and golden
-/// section (`outer` options; its threads are unused: each inner scan runs on inner.threads).
-/// Nested 1-D searches, not a 2-D simplex: the optimum of a tuned damper lies on a ridge of
-/// equal peaks that is oblique to the axes, where alternating (coordinate) searches stall,
-/// while P(q) stays a function of one variable with a (non-smooth) minimum. Costs about
-/// (outer evaluations) x (inner evaluations) FRFs. Throws InvalidInput for bad options.
-JointOptimizeResult optimize_two_parameters(const std::function<System(double, double)>& system,
-                                            const FrfSettings& settings, const OptimizeOptions& inner,
-                                            const OptimizeOptions& outer);
 
 }  // namespace hbf

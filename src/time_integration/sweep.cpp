@@ -1,0 +1,87 @@
+// hbfriction — steady states over a frequency sweep (hbf timeint): the event-exact orbit as a
+// time-integration result, and the verdict on a sweep's points (time_integration.hpp).
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "hbf/error.hpp"
+#include "hbf/time_integration.hpp"
+
+namespace hbf {
+
+PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
+                                    const Eigen::VectorXd& start) {
+    ExactOrbit orbit = exact_periodic_orbit(system, omega, start, options);
+    int periods = orbit.periods;
+    if (!orbit.converged && max_periods > 1) {
+        options.warmup_periods = std::min(max_periods, 200);
+        orbit = exact_periodic_orbit(system, omega, start, options);
+        periods += orbit.periods;
+    }
+    PeriodicResponse r;
+    r.omega = omega;
+    r.converged = orbit.converged;
+    r.message = orbit.message;
+    r.periods = periods;
+    r.poincare_change = orbit.residual;
+    r.state = orbit.state;
+    r.y_max = orbit.y_max;
+    r.y_amp1 = orbit.y_amp1;
+    r.output_max = orbit.output_max;
+    r.output_amp1 = orbit.output_amp1;
+    r.harmonic1 = orbit.harmonic1;
+    r.stick_fraction = orbit.stick_fraction;
+    r.regime = orbit.regime;
+    r.contacts = orbit.contacts;
+    r.stick_margin_min = orbit.stick_margin_min;
+    r.stick_margin_max = orbit.stick_margin_max;
+    r.switches = orbit.switches;
+    r.energy = orbit.energy;
+    r.input_energy = orbit.input_energy;
+    return r;
+}
+
+Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
+                       const TimeIntegrationOptions& options, bool exact) {
+    Verdict v;
+    int failed = 0;
+    for (const PeriodicResponse& r : responses)
+        if (!r.converged) {
+            ++failed;
+            v.errors.push_back(r.summary());
+        }
+    if (failed > 0)
+        v.errors.push_back(std::to_string(failed) + " of " + std::to_string(responses.size()) +
+                           " points did not converge (converged = false in the output)");
+    // Energy balance of the exact solver's steady states: input work = viscous + friction
+    // energy per period, relative to the work the force could do on the first harmonic (it does
+    // not integrate the viscous energy: checked only without damping). Time integration checks
+    // its own (a converged PeriodicResponse passed it, integrate_steady_state).
+    if (exact && system.damping.nonZeros() == 0) {
+        const double limit = options.physics_tolerance();
+        int unbalanced = 0;
+        double worst = 0.0, worst_w = 0.0;
+        for (const PeriodicResponse& r : responses) {
+            if (!r.converged) continue;
+            double amplitude = 0.0;
+            for (double a : r.y_amp1) amplitude += a * a;
+            const double reach =
+                system.excitation_harmonic == 1 ? M_PI * system.excitation.norm() * std::sqrt(amplitude) : 0.0;
+            const double error = energy_imbalance(r.input_energy, r.viscous_energy, r.energy, reach);
+            if (error > limit) ++unbalanced;
+            if (error > worst) {
+                worst = error;
+                worst_w = r.omega;
+            }
+        }
+        if (unbalanced > 0)
+            v.warnings.push_back(std::to_string(unbalanced) + " converged point(s) fail the energy balance (relative " +
+                                 "error above " + format_number(limit) +
+                                 ", max(1e-6, 100 max(--rtol, --steady-tol)); the largest, " + format_number(worst) +
+                                 ", at w = " + format_number(worst_w) + "): a tighter --steady-tol may help");
+    }
+    return v;
+}
+
+}  // namespace hbf
