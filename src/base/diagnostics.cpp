@@ -1,3 +1,5 @@
+// hbfriction — the libraries' messages (Ceres through glog, CVODE) collected per computation
+// (diagnostics.hpp).
 #include "hbf/diagnostics.hpp"
 
 #include <glog/logging.h>

@@ -1,3 +1,5 @@
+// hbfriction — InvalidInput and the range checks that name a parameter, its value and its
+// allowed range; numbers formatted for messages (error.hpp).
 #include "hbf/error.hpp"
 
 #include <algorithm>

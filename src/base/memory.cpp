@@ -1,3 +1,4 @@
+// hbfriction — the allocator setting for long continuations (memory.hpp).
 #include "hbf/memory.hpp"
 
 #include <cstdlib>  // defines __GLIBC__ on glibc (through features.h)

@@ -1,3 +1,5 @@
+// hbfriction — a result's verdict (verdict.hpp): errors, warnings and notes, the status and
+// summary they give, and the hbf exit code.
 #include "hbf/verdict.hpp"
 
 namespace hbf {

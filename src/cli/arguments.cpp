@@ -1,3 +1,5 @@
+// hbf command line — strict parsing of flag values, the paper's preset flags, the chosen system
+// (preset or --config), and the verdict printed with its exit code (arguments.hpp).
 #include "arguments.hpp"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// hbf command line — the flags of one FRF (frf_flags.hpp), mapped onto the library's FRF
+// choices.
 #include "frf_flags.hpp"
 
 #include <algorithm>

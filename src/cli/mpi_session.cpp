@@ -1,3 +1,5 @@
+// hbf command line — the MPI session of `hbf map` (mpi_session.hpp): ranks, or one process
+// without Open MPI.
 #include "mpi_session.hpp"
 
 #include <cstdlib>

@@ -1,3 +1,5 @@
+// hbf command line — the output flags every command shares (outputs.hpp) and their checks under
+// the output policy before any work.
 #include "outputs.hpp"
 
 #include <unistd.h>

@@ -1,3 +1,5 @@
+// hbf command line — the parameter of a design study (study.hpp): the system value it changes
+// and its grids of values.
 #include "study.hpp"
 
 #include <algorithm>

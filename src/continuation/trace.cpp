@@ -1,6 +1,8 @@
 // hbfriction — continuation of a branch: the start, the predictor-corrector trace with its step
 // control, the restarts past amplitude caps, and samples of a branch at given frequencies
 // (continuation.hpp); folds and transitions are located by locate.cpp.
+// Over 600 lines: one loop (predict, correct, control the step, restart) whose parts share the
+// trace's state; locate.cpp and corrector.cpp already hold what stands apart.
 #include "hbf/continuation.hpp"
 
 #include <algorithm>

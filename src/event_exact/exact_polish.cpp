@@ -1,4 +1,6 @@
 // hbfriction — harmonic-balance branches polished by the event-exact solver (exact_polish.hpp).
+// Over 600 lines: the polish, its cost estimate and its modal-form choice decide together which
+// points are exact; split, each would need the others' internals.
 #include "hbf/exact_polish.hpp"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// hbfriction — the TOML system file (config.hpp): structure, contacts, outputs and the
+// [frequency] and [solver] settings read and checked, naming the key and line of a bad value.
 #include "hbf/config.hpp"
 
 #include <toml++/toml.h>

@@ -1,3 +1,5 @@
+// hbfriction — figures through gnuplot (plot.hpp): curves over one pair of axes, rendered into a
+// temporary file and moved onto the output under the output policy.
 #include "hbf/plot.hpp"
 
 #include <unistd.h>

@@ -1,3 +1,5 @@
+// hbfriction — the harmonic layout and the AFT transforms (fourier.hpp): FFTW plans made once
+// per layout, and the synthesis, analysis and derivative matrices.
 #include "hbf/fourier.hpp"
 
 #include <fftw3.h>

@@ -1,3 +1,5 @@
+// hbfriction — the closed forms of the paper's friction absorber (analytic.hpp): stick and slip
+// responses, limit and optimal friction coefficients, derived again from the equations of motion.
 #include "hbf/analytic.hpp"
 
 #include <algorithm>

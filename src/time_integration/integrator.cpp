@@ -1,5 +1,7 @@
 // The CVODE integrator of one period: right-hand side, root functions, events (see
 // time_integration.hpp).
+// Just over 600 lines: one CVODE problem (right-hand side, roots, events) whose callbacks share
+// the integrator's state.
 #include "time_integration/integrator.hpp"
 
 #include <algorithm>
