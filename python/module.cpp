@@ -491,28 +491,13 @@ py::dict track_dict(const TrackResult& r) {
     return d;
 }
 
-/// Enum fields as their names (the CLI's words), with the library's parsers for errors.
-template <class T>
-T parse_choice(const std::string& value, const std::vector<std::pair<const char*, T>>& choices, const char* name) {
-    std::string allowed;
-    for (const auto& [word, v] : choices) {
-        if (value == word) return v;
-        allowed += (allowed.empty() ? "" : ", ") + std::string(word);
-    }
-    bad(std::string(name) + " = '" + value + "' is not known: allowed " + allowed);
-}
-template <class T>
-std::string choice_name(T value, const std::vector<std::pair<const char*, T>>& choices) {
-    for (const auto& [word, v] : choices)
-        if (v == value) return word;
-    return "?";
-}
+/// An enum field as its name: the library's to_string and parser (one table per enum, in the
+/// library), whose InvalidInput names the allowed values.
 template <class Class, class Struct, class T>
-void enum_property(Class& cls, const char* name, T Struct::*member, std::vector<std::pair<const char*, T>> choices,
-                   const char* doc) {
+void enum_property(Class& cls, const char* name, T Struct::*member, T (*parse)(const std::string&), const char* doc) {
     cls.def_property(
-        name, [member, choices](const Struct& s) { return choice_name(s.*member, choices); },
-        [member, choices, name](Struct& s, const std::string& v) { s.*member = parse_choice(v, choices, name); }, doc);
+        name, [member](const Struct& s) { return to_string(s.*member); },
+        [member, parse](Struct& s, const std::string& v) { s.*member = parse(v); }, doc);
 }
 
 }  // namespace
@@ -913,24 +898,19 @@ PYBIND11_MODULE(_core, m) {
         .def_readwrite("time_samples", &HarmonicBalanceOptions::time_samples, "N_t > 2H; 0: automatic")
         .def_readwrite("modes", &HarmonicBalanceOptions::modes, "condensed: 0 direct, m > 0 modal receptance")
         .def_readwrite("odd_harmonics", &HarmonicBalanceOptions::odd_harmonics, "odd harmonics only");
-    enum_property(hbo, "formulation", &HarmonicBalanceOptions::formulation,
-                  {{"automatic", Formulation::automatic}, {"full", Formulation::full}, {"condensed", Formulation::condensed}},
+    enum_property(hbo, "formulation", &HarmonicBalanceOptions::formulation, parse_formulation,
                   "automatic, full or condensed");
-    enum_property(hbo, "jacobian", &HarmonicBalanceOptions::jacobian,
-                  {{"automatic", JacobianForm::automatic}, {"dense", JacobianForm::dense},
-                   {"structured", JacobianForm::structured}},
+    enum_property(hbo, "jacobian", &HarmonicBalanceOptions::jacobian, parse_jacobian_form,
                   "automatic, dense or structured (dR/dX kept in its structure, GMRES: many contact nodes)");
 
     py::class_<CorrectorOptions> corr(m, "CorrectorOptions", "continuation.hpp");
     corr.def(py::init<>())
         .def_readwrite("max_iterations", &CorrectorOptions::max_iterations)
         .def_readwrite("tolerance", &CorrectorOptions::tolerance, "|R|_inf <= tolerance |F|_inf");
-    enum_property(corr, "trust_region", &CorrectorOptions::trust_region,
-                  {{"levenberg_marquardt", TrustRegion::levenberg_marquardt}, {"dogleg", TrustRegion::dogleg}}, "");
-    enum_property(corr, "dense_solver", &CorrectorOptions::dense_solver,
-                  {{"qr", DenseSolver::qr}, {"normal_cholesky", DenseSolver::normal_cholesky}}, "");
-    enum_property(corr, "dense_library", &CorrectorOptions::dense_library,
-                  {{"eigen", DenseLibrary::eigen}, {"lapack", DenseLibrary::lapack}}, "");
+    enum_property(corr, "trust_region", &CorrectorOptions::trust_region, parse_trust_region,
+                  "levenberg_marquardt or dogleg");
+    enum_property(corr, "dense_solver", &CorrectorOptions::dense_solver, parse_dense_solver, "qr or normal_cholesky");
+    enum_property(corr, "dense_library", &CorrectorOptions::dense_library, parse_dense_library, "eigen or lapack");
 
     py::class_<ContinuationOptions>(m, "ContinuationOptions", "continuation.hpp")
         .def(py::init<>())
@@ -1070,8 +1050,7 @@ PYBIND11_MODULE(_core, m) {
         .def_readwrite("shooting_krylov_max", &TimeIntegrationOptions::shooting_krylov_max)
         .def_readwrite("outputs", &TimeIntegrationOptions::outputs)
         .def("validate", &TimeIntegrationOptions::validate);
-    enum_property(tio, "method", &TimeIntegrationOptions::method,
-                  {{"adams", IntegrationMethod::adams}, {"bdf", IntegrationMethod::bdf}}, "adams or bdf");
+    enum_property(tio, "method", &TimeIntegrationOptions::method, parse_integration_method, "adams or bdf");
 
     py::class_<OptimizeOptions>(m, "OptimizeOptions", "frf.hpp")
         .def(py::init<>())

@@ -89,7 +89,7 @@ def check(root):
     python = os.path.join(root, 'python')
     if os.path.isdir(python):
         for n in sorted(os.listdir(python)):
-            if n.endswith('.cpp'):
+            if n.endswith(('.cpp', '.hpp')):
                 files[f'python/{n}'] = front
 
     graph = {}

@@ -1,8 +1,14 @@
 #include <catch2/catch.hpp>
 
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include "hbf/error.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/model.hpp"
+#include "hbf/hbf.hpp"
 #include "support.hpp"
 
 using namespace hbf;
@@ -141,4 +147,54 @@ TEST_CASE("invalid parameters are rejected with the parameter's name", "[model]"
     s = friction_absorber(AbsorberParameters{}, FrictionLaw::coulomb);
     s.stiffness.coeffRef(0, 1) = 3.0;
     CHECK_THROWS_WITH(s.validate(), Catch::Contains("not symmetric"));
+}
+
+TEST_CASE("Enum names: every value's name parses back to it, and a value or name outside a table names the allowed set") {
+    // The round trip through each parser, over every name its own error message allows.
+    auto allowed = [](const std::function<void()>& bad_parse) {
+        try {
+            bad_parse();
+        } catch (const InvalidInput& e) {
+            const std::string m = e.what();
+            const auto at = m.find("allowed ");
+            REQUIRE(at != std::string::npos);
+            std::vector<std::string> names;
+            std::stringstream list(m.substr(at + 8));
+            for (std::string name; std::getline(list, name, ',');) names.push_back(name.substr(name.find_first_not_of(' ')));
+            return names;
+        }
+        FAIL("no InvalidInput for an unknown name");
+        return std::vector<std::string>{};
+    };
+    const auto formulations = allowed([] { parse_formulation("none"); });
+    CHECK(formulations == std::vector<std::string>{"automatic", "full", "condensed"});
+    for (const std::string& n : formulations) CHECK(to_string(parse_formulation(n)) == n);
+    const auto forms = allowed([] { parse_jacobian_form("sparse"); });
+    CHECK(forms == std::vector<std::string>{"automatic", "dense", "structured"});
+    for (const std::string& n : forms) CHECK(to_string(parse_jacobian_form(n)) == n);
+    const auto methods = allowed([] { parse_reduction_method("guyan"); });
+    CHECK(methods == std::vector<std::string>{"craig-bampton", "massless-boundary", "macneal"});
+    for (const std::string& n : methods) CHECK(to_string(parse_reduction_method(n)) == n);
+    for (const std::string& n : allowed([] { parse_stability_method("floquet"); }))
+        CHECK(to_string(parse_stability_method(n)) == n);
+    for (const std::string& n : allowed([] { parse_integration_method("euler"); }))
+        CHECK(to_string(parse_integration_method(n)) == n);
+    for (const std::string& n : allowed([] { parse_trust_region("line_search"); })) CHECK(to_string(parse_trust_region(n)) == n);
+    for (const std::string& n : allowed([] { parse_dense_solver("lu"); })) CHECK(to_string(parse_dense_solver(n)) == n);
+    for (const std::string& n : allowed([] { parse_dense_library("mkl"); })) CHECK(to_string(parse_dense_library(n)) == n);
+    // Every law has a named id whose name is the registry's.
+    for (FrictionLaw law : {FrictionLaw::coulomb, FrictionLaw::dahl, FrictionLaw::lugre, FrictionLaw::coulomb_regularized,
+                            FrictionLaw::jenkins, FrictionLaw::iwan, FrictionLaw::elastic, FrictionLaw::unilateral})
+        CHECK(parse_friction_law(to_string(law)) == law);
+    CHECK(to_string(FrictionLaw::unilateral) == "unilateral");
+    // A value no table holds (a cast integer) is an error naming the allowed names, never "?".
+    try {
+        (void)to_string(static_cast<PointKind>(99));
+        FAIL("no InvalidInput for a value outside the table");
+    } catch (const InvalidInput& e) {
+        CHECK(std::string(e.what()) ==
+              "point kind = 99 is not a known value: allowed regular, fold, sample, transition, cap, branch-point, "
+              "period-doubling, neimark-sacker");
+    }
+    CHECK_THROWS_AS(to_string(static_cast<ContinuationStatus>(-1)), InvalidInput);
 }

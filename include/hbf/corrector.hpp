@@ -11,6 +11,7 @@
 
 #include <Eigen/Dense>
 #include <memory>
+#include <string>
 
 #include "hbf/harmonic_balance.hpp"
 
@@ -20,6 +21,14 @@ namespace hbf {
 enum class TrustRegion { levenberg_marquardt, dogleg };
 enum class DenseSolver { qr, normal_cholesky };
 enum class DenseLibrary { eigen, lapack };
+/// "levenberg_marquardt", "dogleg"; "qr", "normal_cholesky"; "eigen", "lapack" (Python's option
+/// values). The parsers throw InvalidInput naming the allowed values.
+std::string to_string(TrustRegion region);
+std::string to_string(DenseSolver solver);
+std::string to_string(DenseLibrary library);
+TrustRegion parse_trust_region(const std::string& name);
+DenseSolver parse_dense_solver(const std::string& name);
+DenseLibrary parse_dense_library(const std::string& name);
 
 struct CorrectorOptions {
     int max_iterations = 20;  ///< Ceres iterations per correction

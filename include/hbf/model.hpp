@@ -45,10 +45,13 @@ namespace hbf {
 ///   jenkins: f = k_t (q - s), a tangential spring k_t (= stiffness) in series with a Coulomb
 ///            slider at s: s' = 0 while |k_t (q - s)| < F_c (stick), else the slider moves
 ///            with q and f = F_c sign(q') (slip); the elastic-contact variant of Coulomb
-///   (a law added in its own file takes the next free number as its id: contact_law.hpp)
-enum class FrictionLaw : int { coulomb, dahl, lugre, coulomb_regularized, jenkins };
+///   iwan, elastic, unilateral: the parallel Iwan joint, and the contacts with a normal
+///            direction (elastic penalty, rigid by the dynamic Lagrangian); defined in their files
+///   (a law added in its own file takes the next id here and names it)
+enum class FrictionLaw : int { coulomb, dahl, lugre, coulomb_regularized, jenkins, iwan, elastic, unilateral };
 
-/// "coulomb", "dahl", "lugre", "coulomb-reg", "jenkins" (the registry's names: contact_law.hpp).
+/// "coulomb", "dahl", "lugre", "coulomb-reg", "jenkins", "iwan", "elastic", "unilateral" (the
+/// registry's names: contact_law.hpp).
 std::string to_string(FrictionLaw law);
 /// Inverse of to_string; throws InvalidInput naming the allowed values.
 FrictionLaw parse_friction_law(const std::string& name);

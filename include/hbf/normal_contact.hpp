@@ -46,6 +46,7 @@
 #include <utility>
 #include <vector>
 
+#include "hbf/contact_law.hpp"
 #include "hbf/fourier.hpp"
 #include "hbf/model.hpp"
 
@@ -130,5 +131,11 @@ std::vector<std::pair<std::string, Eigen::VectorXd>> contact_direction_vectors(c
 /// normal_direction, its directions are orthogonal (to 1e-12) and its two tangential ones (3D)
 /// of equal length (the friction cone is circular in the tangential plane).
 void validate_normal_directions(const Contact& contact, const std::string& where, const char* law);
+/// The parameters both laws with a normal direction share, in the order they end their lists:
+/// friction_coefficient and gap first, then second_direction (3D) and normal_direction last.
+struct NormalContactParameters {
+    LawParameter friction_coefficient, gap, second_direction, normal_direction;
+};
+NormalContactParameters normal_contact_parameters();
 
 }  // namespace hbf

@@ -290,7 +290,9 @@ std::vector<PeriodicResponse> sweep(const System& system, const std::vector<doub
                                     const TimeIntegrationOptions& options,
                                     const Eigen::VectorXd* initial_state = nullptr);
 
+/// "adams", "bdf"; the parser throws InvalidInput naming the allowed values.
 std::string to_string(IntegrationMethod method);
+IntegrationMethod parse_integration_method(const std::string& name);
 
 /// The verdict on time-integration steady states (hbf timeint): errors for the points that did
 /// not converge (each one's summary, and their count). A converged time-integration point has

@@ -102,7 +102,7 @@ private:
 
 class Elastic final : public ContactLaw {
 public:
-    FrictionLaw id() const override { return static_cast<FrictionLaw>(6); }  // the next free id
+    FrictionLaw id() const override { return FrictionLaw::elastic; }
     const char* name() const override { return "elastic"; }
     const char* definition() const override {
         return "elastic friction contact with a normal direction: N = max(0, N_0 - k_n g_0 + k_n v), "
@@ -110,18 +110,15 @@ public:
     }
     std::vector<LawParameter> parameters() const override {
         using R = LawParameter::Range;
-        LawParameter normal{normal_key, nullptr, "normal direction n (v = n^T y, positive closing)", R::positive};
-        normal.kind = LawParameter::Kind::direction;
-        LawParameter second{second_key, nullptr, "second tangential direction (3D)", R::positive};
-        second.kind = LawParameter::Kind::direction;
+        const NormalContactParameters shared = normal_contact_parameters();
         std::vector<LawParameter> list = {
             {"stiffness", &Contact::stiffness, "tangential stiffness k_t", R::positive},
             {"normal_stiffness", nullptr, "normal stiffness k_n", R::positive},
-            {"friction_coefficient", nullptr, "friction coefficient mu", R::non_negative},
+            shared.friction_coefficient,
             {"preload", nullptr, "normal preload N_0 (the normal force at v = 0)", R::non_negative},
-            {"gap", nullptr, "initial gap g_0 (open by g_0 at v = 0)", R::non_negative},
-            second,
-            normal};
+            shared.gap,
+            shared.second_direction,
+            shared.normal_direction};
         for (int k : {0, 1, 3}) list[static_cast<std::size_t>(k)].per_area = true;  // k_t, k_n, N_0
         return list;
     }
@@ -204,6 +201,18 @@ public:
 };
 
 }  // namespace
+
+NormalContactParameters normal_contact_parameters() {
+    using R = LawParameter::Range;
+    NormalContactParameters p{
+        {"friction_coefficient", nullptr, "friction coefficient mu", R::non_negative},
+        {"gap", nullptr, "initial gap g_0 (open by g_0 at v = 0)", R::non_negative},
+        {second_key, nullptr, "second tangential direction (3D)", R::positive},
+        {normal_key, nullptr, "normal direction n (v = n^T y, positive closing)", R::positive}};
+    p.second_direction.kind = LawParameter::Kind::direction;
+    p.normal_direction.kind = LawParameter::Kind::direction;
+    return p;
+}
 
 std::vector<std::pair<std::string, Eigen::VectorXd>> contact_direction_vectors(const Contact& contact) {
     const auto normal = contact.lists.find(normal_key);

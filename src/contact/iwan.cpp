@@ -99,7 +99,7 @@ private:
 
 class Iwan final : public ContactLaw {
 public:
-    FrictionLaw id() const override { return static_cast<FrictionLaw>(5); }  // the next free id
+    FrictionLaw id() const override { return FrictionLaw::iwan; }
     const char* name() const override { return "iwan"; }
     const char* definition() const override {
         return "parallel Iwan joint: f = sum_i k_i (q - s_i), N Jenkins sliders (k_i, F_i) on one q; Segalman's "

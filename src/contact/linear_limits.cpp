@@ -11,6 +11,7 @@
 
 #include "hbf/contact_law.hpp"
 #include "hbf/static_state.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
@@ -77,13 +78,12 @@ StuckResponse stuck_linear_response(const System& system, double fundamental) {
     return out;
 }
 
+constexpr detail::EnumName<LinearResonance::Limit> linear_resonance_limit_names[] = {
+    {LinearResonance::Limit::released, "released"}, {LinearResonance::Limit::stuck, "stuck"},
+    {LinearResonance::Limit::rigid, "rigid"}};
+
 std::string to_string(LinearResonance::Limit limit) {
-    switch (limit) {
-        case LinearResonance::Limit::released: return "released";
-        case LinearResonance::Limit::stuck: return "stuck";
-        case LinearResonance::Limit::rigid: return "rigid";
-    }
-    return "?";
+    return detail::enum_name(linear_resonance_limit_names, limit, "limit");
 }
 
 namespace {

@@ -236,7 +236,7 @@ PenaltyDiagnostics penalty_diagnostics(const System& system, const StaticState* 
     std::vector<std::string> stiff, relieved;
     std::vector<std::size_t> elastic;
     for (std::size_t c = 0; c < system.contacts.size(); ++c)
-        if (to_string(system.contacts[c].law) == "elastic" && system.contacts[c].values.count("normal_stiffness"))
+        if (system.contacts[c].law == FrictionLaw::elastic && system.contacts[c].values.count("normal_stiffness"))
             elastic.push_back(c);
     if (elastic.empty()) return {};
     Eigen::SparseLU<SparseMatrix> lu;

@@ -263,7 +263,7 @@ private:
 
 class UnilateralLaw final : public ContactLaw {
 public:
-    FrictionLaw id() const override { return static_cast<FrictionLaw>(7); }  // the next free id
+    FrictionLaw id() const override { return FrictionLaw::unilateral; }
     const char* name() const override { return "unilateral"; }
     const char* definition() const override {
         return "rigid unilateral contact with Coulomb friction on massless coordinates: N >= 0, v <= g_0, "
@@ -271,19 +271,16 @@ public:
     }
     std::vector<LawParameter> parameters() const override {
         using R = LawParameter::Range;
-        LawParameter normal{normal_key, nullptr, "normal direction n (v = n^T y, positive closing)", R::positive};
-        normal.kind = LawParameter::Kind::direction;
-        LawParameter second{second_key, nullptr, "second tangential direction (3D)", R::positive};
-        second.kind = LawParameter::Kind::direction;
-        return {{"friction_coefficient", nullptr, "friction coefficient mu", R::non_negative},
-                {"gap", nullptr, "initial gap g_0 (open by g_0 at v = 0)", R::non_negative},
+        const NormalContactParameters shared = normal_contact_parameters();
+        return {shared.friction_coefficient,
+                shared.gap,
                 {"tangential_penalty", nullptr,
                  "dynamic Lagrangian eps_t, tangential (force per displacement, on du/dtheta; 0 = automatic)",
                  R::non_negative, "automatic: w^T K w, the contact node's own tangential stiffness"},
                 {"normal_penalty", nullptr, "dynamic Lagrangian eps_n, normal (force per displacement; 0 = automatic)",
                  R::non_negative, "automatic: n^T K n, the contact node's own normal stiffness"},
-                second,
-                normal};
+                shared.second_direction,
+                shared.normal_direction};
     }
     int default_harmonics() const override { return 20; }
     bool smooth() const override { return false; }

@@ -8,9 +8,30 @@
 
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
+#include "base/enum_table.hpp"
 #include "base/stopwatch.hpp"
 
 namespace hbf {
+
+constexpr detail::EnumName<TrustRegion> trust_region_names[] = {
+    {TrustRegion::levenberg_marquardt, "levenberg_marquardt"}, {TrustRegion::dogleg, "dogleg"}};
+constexpr detail::EnumName<DenseSolver> dense_solver_names[] = {
+    {DenseSolver::qr, "qr"}, {DenseSolver::normal_cholesky, "normal_cholesky"}};
+constexpr detail::EnumName<DenseLibrary> dense_library_names[] = {
+    {DenseLibrary::eigen, "eigen"}, {DenseLibrary::lapack, "lapack"}};
+
+std::string to_string(TrustRegion region) { return detail::enum_name(trust_region_names, region, "trust region"); }
+std::string to_string(DenseSolver solver) { return detail::enum_name(dense_solver_names, solver, "dense solver"); }
+std::string to_string(DenseLibrary library) { return detail::enum_name(dense_library_names, library, "dense library"); }
+TrustRegion parse_trust_region(const std::string& name) {
+    return detail::parse_enum(trust_region_names, name, "trust_region");
+}
+DenseSolver parse_dense_solver(const std::string& name) {
+    return detail::parse_enum(dense_solver_names, name, "dense_solver");
+}
+DenseLibrary parse_dense_library(const std::string& name) {
+    return detail::parse_enum(dense_library_names, name, "dense_library");
+}
 
 // ---- corrector --------------------------------------------------------------------------
 

@@ -14,45 +14,33 @@
 #include "hbf/linear_limits.hpp"
 #include "continuation/locate.hpp"
 #include "base/stopwatch.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
 using detail::insert_folds;
 using detail::insert_transitions;
 
-std::string to_string(PointKind kind) {
-    switch (kind) {
-        case PointKind::regular: return "regular";
-        case PointKind::fold: return "fold";
-        case PointKind::sample: return "sample";
-        case PointKind::transition: return "transition";
-        case PointKind::cap: return "cap";
-        case PointKind::branch_point: return "branch-point";
-        case PointKind::period_doubling: return "period-doubling";
-        case PointKind::neimark_sacker: return "neimark-sacker";
-    }
-    return "unknown";
-}
+constexpr detail::EnumName<PointKind> point_kind_names[] = {
+    {PointKind::regular, "regular"}, {PointKind::fold, "fold"}, {PointKind::sample, "sample"},
+    {PointKind::transition, "transition"}, {PointKind::cap, "cap"}, {PointKind::branch_point, "branch-point"},
+    {PointKind::period_doubling, "period-doubling"}, {PointKind::neimark_sacker, "neimark-sacker"}};
 
-std::string to_string(Boundary boundary) {
-    switch (boundary) {
-        case Boundary::none: return "";
-        case Boundary::stick_stick_slip: return "stick|stick-slip";
-        case Boundary::stick_slip_slip: return "stick-slip|slip";
-    }
-    return "";
-}
+std::string to_string(PointKind kind) { return detail::enum_name(point_kind_names, kind, "point kind"); }
+
+constexpr detail::EnumName<Boundary> boundary_names[] = {
+    {Boundary::none, ""}, {Boundary::stick_stick_slip, "stick|stick-slip"},
+    {Boundary::stick_slip_slip, "stick-slip|slip"}};
+
+std::string to_string(Boundary boundary) { return detail::enum_name(boundary_names, boundary, "boundary"); }
+
+constexpr detail::EnumName<ContinuationStatus> continuation_status_names[] = {
+    {ContinuationStatus::completed, "completed"}, {ContinuationStatus::amplitude_cap, "amplitude_cap"},
+    {ContinuationStatus::left_range, "left_range"}, {ContinuationStatus::min_step, "min_step"},
+    {ContinuationStatus::point_budget, "point_budget"}, {ContinuationStatus::start_failed, "start_failed"}};
 
 std::string to_string(ContinuationStatus status) {
-    switch (status) {
-        case ContinuationStatus::completed: return "completed";
-        case ContinuationStatus::amplitude_cap: return "amplitude_cap";
-        case ContinuationStatus::left_range: return "left_range";
-        case ContinuationStatus::min_step: return "min_step";
-        case ContinuationStatus::point_budget: return "point_budget";
-        case ContinuationStatus::start_failed: return "start_failed";
-    }
-    return "unknown";
+    return detail::enum_name(continuation_status_names, status, "continuation status");
 }
 
 std::vector<int> transitions_per_contact(const std::vector<SolutionPoint>& points, int contacts) {

@@ -15,6 +15,7 @@
 #include "hbf/error.hpp"
 #include "hbf/modal_exact.hpp"
 #include "base/stopwatch.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
@@ -227,14 +228,10 @@ Boundary boundary_between(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-std::string to_string(PolishStatus status) {
-    switch (status) {
-        case PolishStatus::off: return "off";
-        case PolishStatus::exact: return "yes";
-        case PolishStatus::failed: return "failed";
-    }
-    return "?";
-}
+constexpr detail::EnumName<PolishStatus> polish_status_names[] = {
+    {PolishStatus::off, "off"}, {PolishStatus::exact, "yes"}, {PolishStatus::failed, "failed"}};
+
+std::string to_string(PolishStatus status) { return detail::enum_name(polish_status_names, status, "polish status"); }
 
 std::string PolishedBranch::summary() const {
     std::ostringstream s;

@@ -9,23 +9,20 @@
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/receptance.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
+constexpr detail::EnumName<ReductionMethod> reduction_method_names[] = {
+    {ReductionMethod::craig_bampton, "craig-bampton"}, {ReductionMethod::massless_boundary, "massless-boundary"},
+    {ReductionMethod::macneal, "macneal"}};
+
 std::string to_string(ReductionMethod method) {
-    switch (method) {
-        case ReductionMethod::craig_bampton: return "craig-bampton";
-        case ReductionMethod::massless_boundary: return "massless-boundary";
-        case ReductionMethod::macneal: return "macneal";
-    }
-    return "?";
+    return detail::enum_name(reduction_method_names, method, "reduction method");
 }
 
 ReductionMethod parse_reduction_method(const std::string& name) {
-    for (ReductionMethod m : {ReductionMethod::craig_bampton, ReductionMethod::massless_boundary, ReductionMethod::macneal})
-        if (name == to_string(m)) return m;
-    throw InvalidInput("reduction.method = '" + name +
-                       "' is not a method: allowed craig-bampton, massless-boundary, macneal");
+    return detail::parse_enum(reduction_method_names, name, "reduction.method");
 }
 
 void ReductionOptions::validate(int dofs, int retained) const {

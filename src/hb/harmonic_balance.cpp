@@ -11,6 +11,7 @@
 
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
@@ -20,34 +21,24 @@ EvaluationStatistics operator-(const EvaluationStatistics& later, const Evaluati
             later.structure_seconds - earlier.structure_seconds};
 }
 
+constexpr detail::EnumName<Formulation> formulation_names[] = {
+    {Formulation::automatic, "automatic"}, {Formulation::full, "full"}, {Formulation::condensed, "condensed"}};
+
 std::string to_string(Formulation formulation) {
-    switch (formulation) {
-        case Formulation::automatic: return "automatic";
-        case Formulation::full: return "full";
-        case Formulation::condensed: return "condensed";
-    }
-    return "unknown";
+    return detail::enum_name(formulation_names, formulation, "formulation");
 }
 
-std::string to_string(JacobianForm form) {
-    switch (form) {
-        case JacobianForm::automatic: return "automatic";
-        case JacobianForm::dense: return "dense";
-        case JacobianForm::structured: return "structured";
-    }
-    return "unknown";
-}
+constexpr detail::EnumName<JacobianForm> jacobian_form_names[] = {
+    {JacobianForm::automatic, "automatic"}, {JacobianForm::dense, "dense"}, {JacobianForm::structured, "structured"}};
+
+std::string to_string(JacobianForm form) { return detail::enum_name(jacobian_form_names, form, "jacobian form"); }
 
 JacobianForm parse_jacobian_form(const std::string& name) {
-    for (JacobianForm f : {JacobianForm::automatic, JacobianForm::dense, JacobianForm::structured})
-        if (name == to_string(f)) return f;
-    throw InvalidInput("jacobian = '" + name + "' is not known: allowed automatic, dense, structured");
+    return detail::parse_enum(jacobian_form_names, name, "jacobian");
 }
 
 Formulation parse_formulation(const std::string& name) {
-    for (Formulation f : {Formulation::automatic, Formulation::full, Formulation::condensed})
-        if (name == to_string(f)) return f;
-    throw InvalidInput("formulation = '" + name + "' is not known: allowed automatic, full, condensed");
+    return detail::parse_enum(formulation_names, name, "formulation");
 }
 
 HarmonicBalance::HarmonicBalance(System system, HarmonicBalanceOptions options)

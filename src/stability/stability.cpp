@@ -14,6 +14,7 @@
 #include "hbf/contact_force.hpp"
 #include "stability/monodromy.hpp"
 #include "stability/variational.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
@@ -22,29 +23,21 @@ using detail::eigenvalues;
 using detail::sorted_hill;
 using detail::Variational;
 
-std::string to_string(Stability stability) {
-    switch (stability) {
-        case Stability::not_computed: return "";
-        case Stability::stable: return "true";
-        case Stability::unstable: return "false";
-        case Stability::uncertain: return "uncertain";
-    }
-    return "?";
-}
+constexpr detail::EnumName<Stability> stability_names[] = {
+    {Stability::not_computed, ""}, {Stability::stable, "true"}, {Stability::unstable, "false"},
+    {Stability::uncertain, "uncertain"}};
+
+std::string to_string(Stability stability) { return detail::enum_name(stability_names, stability, "stability"); }
+
+constexpr detail::EnumName<StabilityMethod> stability_method_names[] = {
+    {StabilityMethod::hill, "hill"}, {StabilityMethod::monodromy, "monodromy"}, {StabilityMethod::both, "both"}};
 
 std::string to_string(StabilityMethod method) {
-    switch (method) {
-        case StabilityMethod::hill: return "hill";
-        case StabilityMethod::monodromy: return "monodromy";
-        case StabilityMethod::both: return "both";
-    }
-    return "?";
+    return detail::enum_name(stability_method_names, method, "stability method");
 }
 
 StabilityMethod parse_stability_method(const std::string& name) {
-    for (StabilityMethod m : {StabilityMethod::hill, StabilityMethod::monodromy, StabilityMethod::both})
-        if (to_string(m) == name) return m;
-    throw InvalidInput("stability method = '" + name + "' is not known: allowed hill, monodromy, both");
+    return detail::parse_enum(stability_method_names, name, "stability method");
 }
 
 void StabilityOptions::validate() const {

@@ -18,6 +18,7 @@
 #include "hbf/static_state.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
@@ -75,15 +76,11 @@ PeakValue largest_peak(const FrfResult& r, const FrfSettings& settings) {
 }
 }  // namespace
 
-std::string to_string(PeakState state) {
-    switch (state) {
-        case PeakState::bounded: return "bounded";
-        case PeakState::unbounded: return "unbounded";
-        case PeakState::incomplete: return "incomplete";
-        case PeakState::failed: return "failed";
-    }
-    return "?";
-}
+constexpr detail::EnumName<PeakState> peak_state_names[] = {
+    {PeakState::bounded, "bounded"}, {PeakState::unbounded, "unbounded"}, {PeakState::incomplete, "incomplete"},
+    {PeakState::failed, "failed"}};
+
+std::string to_string(PeakState state) { return detail::enum_name(peak_state_names, state, "peak state"); }
 
 double PeakValue::objective() const {
     return state == PeakState::bounded ? value : std::numeric_limits<double>::infinity();

@@ -9,22 +9,18 @@
 #include "hbf/error.hpp"
 #include "hbf/static_state.hpp"
 #include "base/stopwatch.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
 namespace {
 double infinity_norm(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 }  // namespace
-std::string to_string(ModeStatus status) {
-    switch (status) {
-        case ModeStatus::completed: return "completed";
-        case ModeStatus::left_range: return "left_range";
-        case ModeStatus::min_step: return "min_step";
-        case ModeStatus::point_budget: return "point_budget";
-        case ModeStatus::start_failed: return "start_failed";
-    }
-    return "unknown";
-}
+constexpr detail::EnumName<ModeStatus> mode_status_names[] = {
+    {ModeStatus::completed, "completed"}, {ModeStatus::left_range, "left_range"}, {ModeStatus::min_step, "min_step"},
+    {ModeStatus::point_budget, "point_budget"}, {ModeStatus::start_failed, "start_failed"}};
+
+std::string to_string(ModeStatus status) { return detail::enum_name(mode_status_names, status, "mode status"); }
 
 void ModeOptions::validate() const {
     if (near_frequency != 0.0 && !(near_frequency > 0.0 && std::isfinite(near_frequency)))

@@ -7,18 +7,16 @@
 #include "hbf/frf.hpp"
 #include "hbf/optimize.hpp"
 #include "base/stopwatch.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
+constexpr detail::EnumName<OptimizeStatus> optimize_status_names[] = {
+    {OptimizeStatus::converged, "converged"}, {OptimizeStatus::at_bound, "at_bound"},
+    {OptimizeStatus::budget, "budget"}, {OptimizeStatus::unbounded, "unbounded"}, {OptimizeStatus::failed, "failed"}};
+
 std::string to_string(OptimizeStatus status) {
-    switch (status) {
-        case OptimizeStatus::converged: return "converged";
-        case OptimizeStatus::at_bound: return "at_bound";
-        case OptimizeStatus::budget: return "budget";
-        case OptimizeStatus::unbounded: return "unbounded";
-        case OptimizeStatus::failed: return "failed";
-    }
-    return "?";
+    return detail::enum_name(optimize_status_names, status, "optimize status");
 }
 
 std::string OptimizeResult::summary(const std::string& name) const {

@@ -10,29 +10,21 @@
 #include "studies/fold_tracking.hpp"
 #include "studies/track_locate.hpp"
 #include "base/stopwatch.hpp"
+#include "base/enum_table.hpp"
 
 namespace hbf {
 
-std::string to_string(TrackFeature feature) {
-    switch (feature) {
-        case TrackFeature::peak: return "peak";
-        case TrackFeature::boundary: return "boundary";
-        case TrackFeature::fold: return "fold";
-    }
-    return "?";
-}
+constexpr detail::EnumName<TrackFeature> track_feature_names[] = {
+    {TrackFeature::peak, "peak"}, {TrackFeature::boundary, "boundary"}, {TrackFeature::fold, "fold"}};
 
-std::string to_string(TrackStatus status) {
-    switch (status) {
-        case TrackStatus::completed: return "completed";
-        case TrackStatus::vanished: return "vanished";
-        case TrackStatus::left_range: return "left_range";
-        case TrackStatus::amplitude_cap: return "amplitude_cap";
-        case TrackStatus::point_budget: return "point_budget";
-        case TrackStatus::failed: return "failed";
-    }
-    return "?";
-}
+std::string to_string(TrackFeature feature) { return detail::enum_name(track_feature_names, feature, "track feature"); }
+
+constexpr detail::EnumName<TrackStatus> track_status_names[] = {
+    {TrackStatus::completed, "completed"}, {TrackStatus::vanished, "vanished"},
+    {TrackStatus::left_range, "left_range"}, {TrackStatus::amplitude_cap, "amplitude_cap"},
+    {TrackStatus::point_budget, "point_budget"}, {TrackStatus::failed, "failed"}};
+
+std::string to_string(TrackStatus status) { return detail::enum_name(track_status_names, status, "track status"); }
 
 void TrackOptions::validate() const {
     if (!std::isfinite(p_start)) throw InvalidInput("p_start = " + format_number(p_start) + " is out of range: allowed finite");

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "hbf/error.hpp"
+#include "base/enum_table.hpp"
 #include "base/stopwatch.hpp"
 #include "time_integration/elastic_contacts.hpp"
 #include "time_integration/unilateral_contacts.hpp"
@@ -57,8 +58,15 @@ bool gmres(const std::function<bool(const Eigen::VectorXd&, Eigen::VectorXd&)>& 
 }
 }  // namespace
 
+constexpr detail::EnumName<IntegrationMethod> integration_method_names[] = {
+    {IntegrationMethod::adams, "adams"}, {IntegrationMethod::bdf, "bdf"}};
+
 std::string to_string(IntegrationMethod method) {
-    return method == IntegrationMethod::adams ? "adams" : "bdf";
+    return detail::enum_name(integration_method_names, method, "integration method");
+}
+
+IntegrationMethod parse_integration_method(const std::string& name) {
+    return detail::parse_enum(integration_method_names, name, "method");
 }
 
 void TimeIntegrationOptions::validate() const {
