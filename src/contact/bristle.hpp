@@ -28,4 +28,36 @@ double bristle_time_margin(const Contact& contact, double v, double z);
 /// f = sigma0 z = g (1 - exp(-sigma0 |q| / g)) sign(q), g = `limit` (Dahl: F_c; LuGre: g(0) = F_s).
 void bristle_static_force(const Contact& contact, double limit, double q, StaticForce& out);
 
+/// What the laws dahl and lugre share as contact laws: smooth, the bristle deflection as their
+/// state, default H 10, and the bristle model's AFT force, linearisation, time-domain force and
+/// first guess with their own sigma1 and sigma2 (Dahl: 0 and 0).
+class BristleLaw : public ContactLaw {
+public:
+    int default_harmonics() const override { return 10; }
+    bool smooth() const override { return true; }
+    bool exact_stick() const override { return false; }
+    TimeState time_state() const override { return TimeState::bristle; }
+    std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
+        return bristle_model(contact, sigma1(contact), sigma2(contact));
+    }
+    LocalLinearization linearize(const Contact& contact, double v, double z) const override {
+        return bristle_linearization(contact, sigma1(contact), sigma2(contact), v, z);
+    }
+    double time_force(const Contact& contact, double v, double z, double& rate) const override {
+        return bristle_time_force(contact, sigma1(contact), sigma2(contact), v, z, rate);
+    }
+    double time_margin(const Contact& contact, double v, double z) const override {
+        return bristle_time_margin(contact, v, z);
+    }
+    void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
+                     const Eigen::VectorXcd&, const Eigen::VectorXd&, Eigen::Ref<Eigen::VectorXd> z) const override {
+        bristle_guess(contact, sliding, q, cos_row, z);
+    }
+
+protected:
+    /// The bristle damping sigma1 and the viscous coefficient sigma2 of `contact`.
+    virtual double sigma1(const Contact& contact) const = 0;
+    virtual double sigma2(const Contact& contact) const = 0;
+};
+
 }  // namespace hbf::detail

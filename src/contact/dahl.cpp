@@ -14,7 +14,7 @@ namespace hbf {
 
 namespace {
 
-class Dahl final : public ContactLaw {
+class Dahl final : public detail::BristleLaw {
 public:
     FrictionLaw id() const override { return FrictionLaw::dahl; }
     const char* name() const override { return "dahl"; }
@@ -22,36 +22,20 @@ public:
     std::vector<LawParameter> parameters() const override {
         return {{"stiffness", &Contact::stiffness, "contact (bristle) stiffness sigma0", LawParameter::Range::positive}};
     }
-    int default_harmonics() const override { return 10; }
-    bool smooth() const override { return true; }
-    bool exact_stick() const override { return false; }
-    TimeState time_state() const override { return TimeState::bristle; }
     StuckElement stuck(const Contact& contact) const override { return {false, contact.stiffness, 0.0}; }
     /// sigma0 = r wb^2 (paper eqs. 18-19).
     std::vector<std::string> preset_parameters() const override { return {"wb"}; }
     void from_preset(const AbsorberParameters& p, Contact& contact) const override {
         contact.stiffness = p.contact_stiffness();
     }
-    std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
-        return detail::bristle_model(contact, 0.0, 0.0);
-    }
     bool static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const override {
         detail::bristle_static_force(contact, contact.friction_limit, q(0), out);
         return true;
     }
-    LocalLinearization linearize(const Contact& contact, double v, double z) const override {
-        return detail::bristle_linearization(contact, 0.0, 0.0, v, z);
-    }
-    double time_force(const Contact& contact, double v, double z, double& rate) const override {
-        return detail::bristle_time_force(contact, 0.0, 0.0, v, z, rate);
-    }
-    double time_margin(const Contact& contact, double v, double z) const override {
-        return detail::bristle_time_margin(contact, v, z);
-    }
-    void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
-                     const Eigen::VectorXcd&, const Eigen::VectorXd&, Eigen::Ref<Eigen::VectorXd> z) const override {
-        detail::bristle_guess(contact, sliding, q, cos_row, z);
-    }
+
+private:
+    double sigma1(const Contact&) const override { return 0.0; }
+    double sigma2(const Contact&) const override { return 0.0; }
 };
 
 }  // namespace

@@ -38,8 +38,8 @@
 #include <utility>
 #include <vector>
 
+#include "contact/slider.hpp"
 #include "hbf/contact_law.hpp"
-#include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf {
@@ -97,7 +97,8 @@ private:
     std::vector<std::unique_ptr<FrictionModel>> models_;
 };
 
-class Iwan final : public ContactLaw {
+/// The preset (SliderLaw) sets K_T = r wb^2; chi, beta and N keep their defaults.
+class Iwan final : public detail::SliderLaw {
 public:
     FrictionLaw id() const override { return FrictionLaw::iwan; }
     const char* name() const override { return "iwan"; }
@@ -125,16 +126,6 @@ public:
         table.kind = K::pairs;
         return {{"stiffness", &Contact::stiffness, "initial (tangential) stiffness K_T", R::positive}, chi, beta,
                 count, table};
-    }
-    int default_harmonics() const override { return 10; }
-    bool smooth() const override { return false; }
-    bool exact_stick() const override { return true; }
-    TimeState time_state() const override { return TimeState::slider; }
-    StuckElement stuck(const Contact& contact) const override { return {false, contact.stiffness, 0.0}; }
-    /// K_T = r wb^2, the same tangential stiffness as jenkins; chi, beta and N their defaults.
-    std::vector<std::string> preset_parameters() const override { return {"wb"}; }
-    void from_preset(const AbsorberParameters& p, Contact& contact) const override {
-        contact.stiffness = p.contact_stiffness();
     }
 
     void validate(const Contact& contact, const std::string& where) const override {

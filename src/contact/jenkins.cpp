@@ -22,8 +22,8 @@
 #include <cmath>
 #include <vector>
 
+#include "contact/slider.hpp"
 #include "hbf/contact_law.hpp"
-#include "hbf/absorber.hpp"
 #include "base/stopwatch.hpp"
 
 namespace hbf {
@@ -138,7 +138,7 @@ private:
     double limit_, stiffness_;
 };
 
-class Jenkins final : public ContactLaw {
+class Jenkins final : public detail::SliderLaw {
 public:
     FrictionLaw id() const override { return FrictionLaw::jenkins; }
     const char* name() const override { return "jenkins"; }
@@ -147,16 +147,6 @@ public:
     }
     std::vector<LawParameter> parameters() const override {
         return {{"stiffness", &Contact::stiffness, "tangential stiffness k_t", LawParameter::Range::positive}};
-    }
-    int default_harmonics() const override { return 10; }
-    bool smooth() const override { return false; }
-    bool exact_stick() const override { return true; }
-    TimeState time_state() const override { return TimeState::slider; }
-    StuckElement stuck(const Contact& contact) const override { return {false, contact.stiffness, 0.0}; }
-    /// k_t = r wb^2, the same tangential stiffness as Dahl's sigma0.
-    std::vector<std::string> preset_parameters() const override { return {"wb"}; }
-    void from_preset(const AbsorberParameters& p, Contact& contact) const override {
-        contact.stiffness = p.contact_stiffness();
     }
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         return std::make_unique<MarchedJenkins>(contact);

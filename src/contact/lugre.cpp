@@ -16,7 +16,7 @@ namespace hbf {
 
 namespace {
 
-class LuGre final : public ContactLaw {
+class LuGre final : public detail::BristleLaw {
 public:
     FrictionLaw id() const override { return FrictionLaw::lugre; }
     const char* name() const override { return "lugre"; }
@@ -33,10 +33,6 @@ public:
                 {"stribeck_velocity", &Contact::stribeck_velocity, "Stribeck velocity v_s", R::non_negative,
                  "no Stribeck curve"}};
     }
-    int default_harmonics() const override { return 10; }
-    bool smooth() const override { return true; }
-    bool exact_stick() const override { return false; }
-    TimeState time_state() const override { return TimeState::bristle; }
     StuckElement stuck(const Contact& contact) const override {
         return {false, contact.stiffness, contact.damping + contact.viscous};
     }
@@ -50,9 +46,6 @@ public:
         contact.static_limit = p.static_friction_coefficient;
         contact.stribeck_velocity = p.stribeck_velocity;
     }
-    std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
-        return detail::bristle_model(contact, contact.damping, contact.viscous);
-    }
     /// At a vanishing velocity the bristle's limit is g(0): F_s with a Stribeck curve, else F_c.
     bool static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const override {
         const double g0 = contact.stribeck_velocity > 0.0 && contact.static_limit > 0.0 ? contact.static_limit
@@ -60,19 +53,10 @@ public:
         detail::bristle_static_force(contact, g0, q(0), out);
         return true;
     }
-    LocalLinearization linearize(const Contact& contact, double v, double z) const override {
-        return detail::bristle_linearization(contact, contact.damping, contact.viscous, v, z);
-    }
-    double time_force(const Contact& contact, double v, double z, double& rate) const override {
-        return detail::bristle_time_force(contact, contact.damping, contact.viscous, v, z, rate);
-    }
-    double time_margin(const Contact& contact, double v, double z) const override {
-        return detail::bristle_time_margin(contact, v, z);
-    }
-    void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,
-                     const Eigen::VectorXcd&, const Eigen::VectorXd&, Eigen::Ref<Eigen::VectorXd> z) const override {
-        detail::bristle_guess(contact, sliding, q, cos_row, z);
-    }
+
+private:
+    double sigma1(const Contact& contact) const override { return contact.damping; }
+    double sigma2(const Contact& contact) const override { return contact.viscous; }
 };
 
 }  // namespace
