@@ -122,7 +122,7 @@ struct BranchResult {
                                         ///< segment), or whose location failed: not marked
     int rejected_jumps = 0;             ///< steps whose correction exceeded the step (halved)
     /// corners sharper than a right angle crossed by solves at fixed frequencies where the
-    /// arclength corrector failed at the minimum step (trace.cpp)
+    /// arclength corrector failed at the minimum step (continuation.cpp)
     int crossed_corners = 0;
     int unlocated_transitions = 0;      ///< regime changes between two points whose boundary
                                         ///< could not be located (named in message)

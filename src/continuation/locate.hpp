@@ -1,5 +1,5 @@
 // hbfriction — internal to continuation: the location of folds and stick-slip transitions
-// between the points of a traced branch (locate.cpp); continue_branch (trace.cpp) calls them.
+// between the points of a traced branch (locate.cpp); continue_branch (continuation.cpp) calls them.
 #pragma once
 
 #include <functional>
