@@ -94,6 +94,10 @@ struct FrfChoices {
     std::optional<bool> odd_harmonics;
     std::optional<JacobianForm> jacobian;  ///< harmonic_balance.hpp (automatic when unset)
     std::optional<bool> exact;     ///< unset: automatic
+    /// Which peaks are located and refined: those of outputs[0] (peaks), of every output
+    /// (peaks_of_every_output). Unset: both. The exact polish refines the peaks of outputs[0]
+    /// whatever peaks says (its exact peaks are part of its result).
+    std::optional<bool> peaks, peaks_of_every_output;
 };
 
 /// The settings of an FRF of `system` with the choices made: the one home of hbf frf's and
@@ -105,8 +109,8 @@ struct FrfChoices {
 ///  - H: automatic_harmonics(system, exact);
 ///  - locate_transitions: by harmonic balance only without the polish (the exact ones replace
 ///    them);
-/// and `outputs` with the peaks of every output. Every other option keeps its default; ranges
-/// are FrfSettings::validate's.
+///  - peaks: of every output (and of outputs[0] with the polish, whatever is chosen);
+/// and `outputs`. Every other option keeps its default; ranges are FrfSettings::validate's.
 FrfSettings frf_settings(const System& system, const std::vector<Output>& outputs, const FrfChoices& choices = {});
 /// frf_settings without choices: `hbf frf` without flags.
 FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <map>
 
 #include "hbf/contact_law.hpp"
@@ -239,30 +240,36 @@ FrfChoices frf_choices(const CLI::App& command, const std::string& harmonics, co
         c.harmonics = parsed > 0 ? std::optional<int>(static_cast<int>(parsed)) : std::nullopt;
         c.odd_harmonics = odd;
     }
-    // its range: hbo.validate(), and check_time_samples beyond an int's
-    const long long nt = parse_integer("--time-samples", time_samples);
-    if (command.count("--time-samples") > 0)
-        c.time_samples = static_cast<int>(std::clamp<long long>(nt, -1, HarmonicBalanceOptions::max_time_samples + 1LL));
+    if (command.count("--time-samples") > 0) c.time_samples = parse_int("--time-samples", time_samples);  // range: validate()
     return c;
 }
 
-void check_time_samples(const CLI::App& command, const std::string& time_samples, const ChosenSystem& chosen,
-                        const std::string& config_path, const HarmonicBalanceOptions& hbo) {
-    if (command.count("--time-samples") > 0) {
-        if (parse_integer("--time-samples", time_samples) != hbo.time_samples)  // clamped: beyond an int
-            throw UsageError("--time-samples = " + time_samples + " is out of range: allowed 0 (automatic) or " +
-                             std::to_string(2 * hbo.harmonics + 1) + ".." +
-                             std::to_string(HarmonicBalanceOptions::max_time_samples));
-        return;
+int parse_int(const std::string& flag, const std::string& text) {
+    const long long value = parse_integer(flag, text);
+    if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max())
+        throw UsageError(flag + " = " + text + " is out of range: more than an int holds");
+    return static_cast<int>(value);
+}
+
+void check_naming_source(const std::function<void()>& check, const CLI::App& command, const ChosenSystem& chosen,
+                         const std::string& config_path) {
+    try {
+        check();
+    } catch (const InvalidInput& e) {
+        const std::string what = e.what();
+        const std::size_t equals = what.find(" = ");
+        if (equals == std::string::npos || !chosen.config) throw;
+        const std::string field = what.substr(0, equals);
+        std::string flag = "--" + field;
+        std::replace(flag.begin(), flag.end(), '_', '-');
+        if (command.get_option_no_throw(flag) != nullptr && command.count(flag) > 0) throw;  // the flag's (program.cpp)
+        for (const auto& [key, line] : chosen.config->lines) {
+            const std::size_t dot = key.rfind('.');
+            if (dot == std::string::npos || key.substr(dot + 1) != field) continue;
+            throw UsageError(config_path + ":" + std::to_string(line) + ": key '" + key + "': " + what.substr(equals + 3));
+        }
+        throw;
     }
-    const std::optional<io::SystemConfig>& config = chosen.config;
-    if (!config || !config->time_samples) return;
-    const int nt = *config->time_samples;
-    if (nt == 0 || nt > 2 * hbo.harmonics) return;
-    const auto line = config->lines.find("solver.time_samples");
-    throw UsageError(config_path + (line != config->lines.end() ? ":" + std::to_string(line->second) : "") +
-                     ": key 'solver.time_samples': " + std::to_string(nt) + " is out of range: allowed 0 (automatic) or " +
-                     std::to_string(2 * hbo.harmonics + 1) + ".." + std::to_string(HarmonicBalanceOptions::max_time_samples));
 }
 
 HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const std::string& harmonics,
@@ -271,8 +278,7 @@ HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const s
     FrfChoices choices = frf_choices(command, harmonics, time_samples, chosen);
     choices.exact = exact;
     const HarmonicBalanceOptions hbo = frf_settings(chosen.system, {}, choices).harmonic_balance;
-    check_time_samples(command, time_samples, chosen, config_path, hbo);
-    hbo.validate();  // the library's ranges; hbf names the flag (program.cpp)
+    check_naming_source([&hbo] { hbo.validate(); }, command, chosen, config_path);
     return hbo;
 }
 

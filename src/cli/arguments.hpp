@@ -2,6 +2,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -93,13 +94,17 @@ std::string default_text(double value);
 /// --time-samples over them where given (texts as given). Throws UsageError naming the flag.
 FrfChoices frf_choices(const CLI::App& command, const std::string& harmonics, const std::string& time_samples,
                        const ChosenSystem& chosen);
-/// --time-samples beyond an int (the rest of its range is hbo.validate()'s), else the file's
-/// solver.time_samples where it applies, against the H chosen: 0 or > 2H, else UsageError
-/// naming the file's line.
-void check_time_samples(const CLI::App& command, const std::string& time_samples, const ChosenSystem& chosen,
-                        const std::string& config_path, const HarmonicBalanceOptions& hbo);
+/// An integer flag that fits an int (its range is the library's: validate()); throws UsageError
+/// naming `flag` otherwise.
+int parse_int(const std::string& flag, const std::string& text);
+/// Runs `check`, a library validate() (InvalidInput "<field> = <value> ..."). Where the field
+/// was not given as its flag (--field, '_' as '-') but comes from the --config file (a key
+/// <section>.<field>), the error is a UsageError naming the file, the line and the key, as the
+/// file reader names its own errors; otherwise the InvalidInput goes on (hbf names the flag).
+void check_naming_source(const std::function<void()>& check, const CLI::App& command, const ChosenSystem& chosen,
+                         const std::string& config_path);
 /// Harmonic-balance options of frf_choices with the exact polish as given (frf_settings: the
-/// automatic H), checked (hbo.validate, check_file_time_samples).
+/// automatic H), checked (hbo.validate, the file's values named by check_naming_source).
 HarmonicBalanceOptions harmonic_balance_options(const CLI::App& command, const std::string& harmonics,
                                                 const std::string& time_samples, const ChosenSystem& chosen,
                                                 const std::string& config_path, bool exact);

@@ -122,12 +122,12 @@ int run(const CLI::App& command, const FrfOptions& o) {
     const std::vector<Output>& outputs = chosen.outputs;
     const std::optional<io::SystemConfig>& config = chosen.config;
     const AbsorberParameters& p = chosen.absorber;
-    FrfSettings settings = o.frf.settings(command, chosen);
+    // The peaks: of every output for the summary that reports them (and of the first output
+    // with the exact polish: frf_settings).
+    FrfChoices wanted;
+    wanted.peaks = wanted.peaks_of_every_output = !o.output.summary.empty();
+    FrfSettings settings = o.frf.settings(command, chosen, wanted);
     settings.at = o.at.empty() ? std::vector<double>{} : parse_frequencies("--at", o.at);
-    // The peaks: of the first output for the exact polish (its plot), of every output for the
-    // summary that reports them.
-    settings.peaks = settings.exact || !o.output.summary.empty();
-    settings.peaks_of_every_output = !o.output.summary.empty();
     ContinuationOptions& co = settings.continuation;
     if (o.output.dry_run) {  // the same checks, without building the Fourier matrices
         HarmonicBalance::validate(system, settings.harmonic_balance);

@@ -139,7 +139,7 @@ void FrfFlags::add_to(CLI::App& command) {
         ->capture_default_str()->type_name("off|on|hill|monodromy|both");
 }
 
-FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) const {
+FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen, const FrfChoices& made) const {
     const System& system = chosen.system;
     if (given(command, "--exact") && exact.empty()) throw UsageError("--exact is empty: allowed on, off");
     if (!exact.empty() && exact != "on" && exact != "off")
@@ -147,21 +147,12 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
     // The choices: the --config file's, the flags given over them; the library makes the
     // automatic ones (frf.hpp: frf_settings: the polish on the lowest frequency, H).
     FrfChoices choices = frf_choices(command, harmonics, time_samples, chosen);
+    choices.peaks = made.peaks;  // the command's own (hbf frf: its --summary and --exact)
+    choices.peaks_of_every_output = made.peaks_of_every_output.value_or(false);  // a study's objective: outputs[0]
     if (given(command, "--wmin")) choices.omega_start = parse_double("--wmin", wmin);
     if (given(command, "--wmax")) choices.omega_end = parse_double("--wmax", wmax);
-    const long long m = parse_integer("--modes", modes);  // its range: FrfSettings::validate
-    const int clamped = static_cast<int>(std::clamp<long long>(m, -1, HarmonicBalanceOptions::max_modes + 1LL));
-    if (clamped != m)  // beyond an int
-        throw UsageError("--modes = " + modes + " is out of range: allowed 0 (direct solve) or 1.." +
-                         std::to_string(HarmonicBalanceOptions::max_modes));
-    if (given(command, "--modes")) choices.modes = clamped;
-    if (given(command, "--jacobian")) {
-        try {
-            choices.jacobian = parse_jacobian_form(jacobian);
-        } catch (const InvalidInput&) {
-            throw UsageError("--jacobian = '" + jacobian + "' is not known: allowed automatic, dense, structured");
-        }
-    }
+    if (given(command, "--modes")) choices.modes = parse_int("--modes", modes);  // range: validate()
+    if (given(command, "--jacobian")) choices.jacobian = parse_jacobian_form(jacobian);  // hbf names the flag
     if (!exact.empty()) choices.exact = exact == "on";
     FrfSettings s = frf_settings(system, chosen.outputs, choices);
     if (s.exact && choices.exact) {
@@ -171,14 +162,8 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
         const std::string refusal = exact_polish_refusal(system, lowest > 0.0 ? lowest : 0.0);
         if (!refusal.empty()) throw UsageError("--exact on: " + refusal + " (use --exact off)");
     }
-    s.peaks_of_every_output = false;  // hbf frf's peaks: those of the first output (its --summary)
     HarmonicBalanceOptions& hbo = s.harmonic_balance;
-    check_time_samples(command, time_samples, chosen, config, hbo);
-    try {
-        hbo.formulation = parse_formulation(formulation);
-    } catch (const InvalidInput&) {
-        throw UsageError("--formulation = '" + formulation + "' is not known: allowed automatic, condensed, full");
-    }
+    hbo.formulation = parse_formulation(formulation);  // hbf names the flag
     ContinuationOptions& co = s.continuation;
     co.max_amplitude = parse_double("--max-amplitude", max_amplitude);
     co.max_step = parse_double("--max-step", max_step);
@@ -194,7 +179,9 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen) co
         if (!refusal.empty()) throw UsageError("--stability " + stability + ": " + refusal);
         s.stability = true;
     }
-    s.validate();  // the library's ranges (frf.hpp); the message names the field, hbf prefixes its flag
+    // The library's ranges (frf.hpp); the message names the field: hbf prefixes its flag, or
+    // names the --config file's line.
+    check_naming_source([&s] { s.validate(); }, command, chosen, config);
     return s;
 }
 

@@ -26,8 +26,10 @@ struct FrfFlags {
     void add_to(CLI::App& command);
     /// The settings of one FRF of the chosen system, every flag checked (UsageError names it);
     /// a --config file's range and [solver] apply where the flags are not given. With the exact
-    /// polish, the automatic H is 10 and harmonic balance does not locate transitions.
-    FrfSettings settings(const CLI::App& command, ChosenSystem& chosen) const;
+    /// polish, the automatic H is 10 and harmonic balance does not locate transitions. `made`:
+    /// the command's own choices of the peaks (FrfChoices::peaks, peaks_of_every_output; the
+    /// latter unset: the first output's peaks only, a design study's objective).
+    FrfSettings settings(const CLI::App& command, ChosenSystem& chosen, const FrfChoices& made = {}) const;
 };
 
 /// --harmonics and --time-samples into `harmonics` and `time_samples` (hbf frf's and hbf loop's

@@ -95,17 +95,10 @@ int run(const CLI::App& command, const ModesOptions& o) {
     mo.max_points = static_cast<int>(max_points);
     HarmonicBalanceOptions hbo = harmonic_balance_options(command, o.harmonics, o.time_samples, chosen, o.config, false);
     const HarmonicBalanceOptions forced = hbo;  // the full FRF of --plot-synthesis: as hbf frf would solve it
-    try {
-        hbo.formulation = parse_formulation(o.formulation);
-    } catch (const InvalidInput&) {
-        throw UsageError("--formulation = '" + o.formulation + "' is not known: allowed automatic, condensed, full");
-    }
+    hbo.formulation = parse_formulation(o.formulation);  // hbf names the flag
     if (given(command, "--modes")) {
-        const long long m = parse_integer("--modes", o.modes);
-        if (m < 0 || m > HarmonicBalanceOptions::max_modes)
-            throw UsageError("--modes = " + o.modes + " is out of range: allowed 0 (direct solve) or 1.." +
-                             std::to_string(HarmonicBalanceOptions::max_modes));
-        hbo.modes = static_cast<int>(m);
+        hbo.modes = parse_int("--modes", o.modes);
+        hbo.validate();  // its range; hbf names the flag
     }
     if (hbo.modes > 0 && hbo.formulation == Formulation::full)
         throw UsageError("--modes " + std::to_string(hbo.modes) +

@@ -1,5 +1,6 @@
 // hbf — the command line as a function (main.cpp calls it; the fuzz target too).
 
+#include <algorithm>
 #include <iostream>
 #include <map>
 
@@ -77,15 +78,13 @@ Run 'hbf <command> --help' for a command's flags and output columns.)");
         // a flag, name the flag as well.
         const std::string what = e.what();
         const std::string word = what.substr(0, what.find_first_of(" :("));
-        const std::map<std::string, std::string> flags = {
-            {"wmin", "--wmin"},           {"wmax", "--wmax"},           {"harmonics", "--harmonics"},
-            {"time_samples", "--time-samples"}, {"points", "--points"},   {"max_amplitude", "--max-amplitude"},
-            {"max_step", "--max-step"},   {"tolerance", "--tolerance"}, {"modes", "--modes"}};
-        const auto flag = flags.find(word);
+        std::string flag = "--" + word;  // the field's flag: its name with '-' for '_'
+        std::replace(flag.begin(), flag.end(), '_', '-');
         const CLI::App* sub = app.get_subcommands().empty() ? nullptr : app.get_subcommands().front();
-        const bool named = flag != flags.end() && sub != nullptr &&
-                           sub->get_option_no_throw(flag->second) != nullptr && sub->count(flag->second) > 0;
-        std::cerr << program << " " << name << ": error: " << (named ? flag->second + ": " : "") << what << "\n";
+        const std::string next = what.substr(word.size(), 2);  // "<field> = ", "<field>: ", "<field> (..."
+        const bool named = (next == " =" || next == ": " || next == " (") && sub != nullptr &&
+                           sub->get_option_no_throw(flag) != nullptr && sub->count(flag) > 0;
+        std::cerr << program << " " << name << ": error: " << (named ? flag + ": " : "") << what << "\n";
         return exit_bad_input;
     } catch (const std::exception& e) {
         std::cerr << program << " " << name << ": error: " << e.what() << "\n";

@@ -421,25 +421,31 @@ SystemConfig read_system_config(const std::string& path) {
                 fail(path, v->source(), "solver.jacobian", e.what());
             }
         }
+        // The ranges are the library's (HarmonicBalanceOptions::validate): checked here where the
+        // value alone decides (H, modes), with the line; N_t against H once H is chosen
+        // (FrfSettings::validate).
+        const auto check = [&](const toml::node& v, const std::string& key, const HarmonicBalanceOptions& o) {
+            try {
+                o.validate();
+            } catch (const InvalidInput& e) {
+                const std::string what = e.what();
+                const std::size_t equals = what.find(" = ");
+                fail(path, v.source(), key, equals == std::string::npos ? what : what.substr(equals + 3));
+            }
+        };
         if (const toml::node* v = t->get("modes")) {
             config.modes = r.integer(*v, "solver.modes");
-            if (*config.modes < 0 || *config.modes > HarmonicBalanceOptions::max_modes)
-                fail(path, v->source(), "solver.modes",
-                     std::to_string(*config.modes) + " is out of range: allowed 0 (direct solve) or 1.." +
-                         std::to_string(HarmonicBalanceOptions::max_modes) + " modes");
+            HarmonicBalanceOptions o;
+            o.modes = *config.modes;
+            check(*v, "solver.modes", o);
         }
         if (const toml::node* v = t->get("harmonics")) {
             config.harmonics = r.integer(*v, "solver.harmonics");
-            if (*config.harmonics < 1 || *config.harmonics > max_harmonics)
-                fail(path, v->source(), "solver.harmonics", std::to_string(*config.harmonics) + " is out of range: allowed 1.." +
-                     std::to_string(max_harmonics));
+            HarmonicBalanceOptions o;
+            o.harmonics = *config.harmonics;
+            check(*v, "solver.harmonics", o);
         }
-        if (const toml::node* v = t->get("time_samples")) {
-            config.time_samples = r.integer(*v, "solver.time_samples");
-            if (*config.time_samples < 0 || *config.time_samples > 65536)
-                fail(path, v->source(), "solver.time_samples",
-                     std::to_string(*config.time_samples) + " is out of range: allowed 0 (automatic) or > 2H, up to 65536");
-        }
+        if (const toml::node* v = t->get("time_samples")) config.time_samples = r.integer(*v, "solver.time_samples");
     }
     if (const toml::node* node = root.get("output")) {
         if (const toml::array* list = node->as_array()) {  // [[output]] tables

@@ -163,8 +163,8 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
     // point (the columns and the shares of nodes) but their boundaries are not located.
     constexpr std::size_t max_located_contacts = 8;
     co.locate_transitions = !s.exact && system.contacts.size() <= max_located_contacts;
-    s.peaks = true;
-    s.peaks_of_every_output = true;
+    s.peaks = choices.peaks.value_or(true) || s.exact;
+    s.peaks_of_every_output = choices.peaks_of_every_output.value_or(true);
     return s;
 }
 
