@@ -282,11 +282,11 @@ int run_config(const std::string& path, const std::vector<double>& omegas, doubl
     const io::SystemConfig config = io::read_system_config(path);
     const Output& output = config.outputs.front();
     HarmonicBalanceOptions ho;
-    ho.harmonics = config.harmonics.value_or(20);
-    ho.time_samples = config.time_samples.value_or(0);
+    ho.harmonics = config.choices.harmonics.value_or(20);
+    ho.time_samples = config.choices.time_samples.value_or(0);
     ContinuationOptions co;
-    co.omega_start = config.omega_start.value_or(omegas.front());
-    co.omega_end = config.omega_end.value_or(omegas.back());
+    co.omega_start = config.choices.omega_start.value_or(omegas.front());
+    co.omega_end = config.choices.omega_end.value_or(omegas.back());
     for (double w : omegas)
         if (!(w >= co.omega_start && w <= co.omega_end))
             throw InvalidInput("--at w = " + std::to_string(w) + " is outside the file's range [" +
@@ -307,7 +307,7 @@ int run_config(const std::string& path, const std::vector<double>& omegas, doubl
                 to_string(hb.formulation()).c_str(), co.omega_start, co.omega_end, branch_points, hb_seconds,
                 to_string(branch.status).c_str());
     // The default FRF, as hbf frf --config FILE --at ... computes it.
-    FrfSettings settings = frf_settings(config.system, {output}, config.choices());
+    FrfSettings settings = frf_settings(config.system, {output}, config.choices);
     settings.at = omegas;
     const auto default_start = std::chrono::steady_clock::now();
     const FrfResult frf = compute_frf(config.system, settings);

@@ -293,13 +293,13 @@ void bind_model(py::module_& m) {
         .def_property_readonly("file_settings",
                                [](const PySystem& s) {
                                    py::dict d;
-                                   if (s.omega_start) d["omega_start"] = *s.omega_start;
-                                   if (s.omega_end) d["omega_end"] = *s.omega_end;
-                                   if (s.harmonics) d["harmonics"] = *s.harmonics;
-                                   if (s.time_samples) d["time_samples"] = *s.time_samples;
-                                   if (s.modes) d["modes"] = *s.modes;
-                                   if (s.odd_harmonics) d["odd_harmonics"] = *s.odd_harmonics;
-                                   if (s.jacobian) d["jacobian"] = to_string(*s.jacobian);
+                                   if (s.choices.omega_start) d["omega_start"] = *s.choices.omega_start;
+                                   if (s.choices.omega_end) d["omega_end"] = *s.choices.omega_end;
+                                   if (s.choices.harmonics) d["harmonics"] = *s.choices.harmonics;
+                                   if (s.choices.time_samples) d["time_samples"] = *s.choices.time_samples;
+                                   if (s.choices.modes) d["modes"] = *s.choices.modes;
+                                   if (s.choices.odd_harmonics) d["odd_harmonics"] = *s.choices.odd_harmonics;
+                                   if (s.choices.jacobian) d["jacobian"] = to_string(*s.choices.jacobian);
                                    return d;
                                })
         .def("validate", [](const PySystem& s) {

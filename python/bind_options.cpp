@@ -71,7 +71,7 @@ void bind_options(py::module_& m) {
         "default_frf_settings",
         [](const PySystem& s) {
             // A TOML file's [frequency] and [solver] (hbf frf --config without flags).
-            return frf_settings(s.system, s.reported(), s.choices());
+            return frf_settings(s.system, s.reported(), s.choices);
         },
         py::arg("system"));
     m.def(
@@ -80,7 +80,7 @@ void bind_options(py::module_& m) {
            const std::optional<bool>& exact) {
             // the file's choices, the keyword arguments `names` (their values in `given`) over
             // them, the automatic rest (frf.hpp: frf_settings)
-            FrfChoices c = s.choices();
+            FrfChoices c = s.choices;
             for (const std::string& name : names) {
                 if (name == "omega_start") c.omega_start = given.continuation.omega_start;
                 else if (name == "omega_end") c.omega_end = given.continuation.omega_end;

@@ -399,7 +399,7 @@ TEST_CASE("optimize_by_tracking: exchanges between smaller peaks are not the opt
         s.contacts[0].friction_limit = fc;
         return s;
     };
-    const FrfSettings settings = frf_settings(config.system, config.outputs, config.choices());
+    const FrfSettings settings = frf_settings(config.system, config.outputs, config.choices);
     OptimizeOptions o;
     o.lower = 1.3;
     o.upper = 1.65;
@@ -453,7 +453,7 @@ TEST_CASE("track: the Dahl superharmonic folds followed in the force until they 
         s.excitation *= fe;
         return s;
     };
-    const FrfSettings settings = frf_settings(config.system, {}, config.choices());
+    const FrfSettings settings = frf_settings(config.system, {}, config.choices);
     TrackOptions o;
     o.feature = TrackFeature::fold;
     o.p_start = 1.0;

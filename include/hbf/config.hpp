@@ -96,11 +96,10 @@ namespace hbf::io {
 
 struct SystemConfig {
     System system;
-    std::optional<double> omega_start, omega_end;   ///< [frequency] wmin, wmax
-    std::optional<int> harmonics, time_samples;     ///< [solver]
-    std::optional<int> modes;                       ///< [solver] modal receptance (0: direct)
-    std::optional<bool> odd_harmonics;              ///< [solver] odd harmonics only
-    std::optional<JacobianForm> jacobian;           ///< [solver] dense or structured dR/dX
+    /// [frequency] wmin, wmax (omega_start, omega_end) and [solver] harmonics, time_samples,
+    /// modes, odd_harmonics, jacobian as given, each unset where not: the FRF's choices
+    /// (frf.hpp: frf_settings), for hbf and Python alike.
+    FrfChoices choices;
     /// The reported outputs in file order: [output] report's DOFs, or the [[output]] tables;
     /// default the excited DOFs and those of the contacts, in DOF order (every DOF when there
     /// are none), with outputs_note saying so when that leaves DOFs out.
@@ -112,9 +111,6 @@ struct SystemConfig {
     /// The line of each [frequency] and [solver] key given ("solver.time_samples" -> 12), for
     /// front ends whose checks depend on other settings (time_samples > 2H) to name it.
     std::map<std::string, int> lines;
-    /// The [frequency] and [solver] values as the FRF's choices (frf.hpp: frf_settings): the
-    /// one mapping of the file's settings onto an FRF's, for hbf and Python.
-    FrfChoices choices() const;
     /// [reduction]: the FE model's reduction (system is then the reduced one; outputs are
     /// rows of its recovery matrix); null without [reduction].
     std::shared_ptr<const ReducedModel> reduction;

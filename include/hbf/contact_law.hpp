@@ -1,5 +1,5 @@
 // hbfriction — contact elements: one law per file (src/contact/<law>.cpp), listed in one
-// registry table (src/contact/registry.cpp).
+// registry table (src/contact/contact_law.cpp).
 //
 // A law's file holds everything the solvers and the front ends need to know of it:
 //   * its definition (the equation, the variables, the sign convention: model.hpp's Contact);
@@ -139,11 +139,11 @@ bool elastic_slider(const Contact& element);
 class ContactLaw {
 public:
     virtual ~ContactLaw() = default;
-    virtual FrictionLaw id() const = 0;
+    FrictionLaw id() const { return id_; }
     /// The name in files, flags and outputs ("coulomb", "coulomb-reg").
-    virtual const char* name() const = 0;
+    const char* name() const { return name_; }
     /// The law in one line, for --help and messages ("f = F_c tanh(v / eps)").
-    virtual const char* definition() const = 0;
+    const char* definition() const { return definition_; }
     /// Its parameters besides friction_limit.
     virtual std::vector<LawParameter> parameters() const = 0;
     /// H of harmonic balance without the exact polish, measured (frf.hpp: default_harmonics).
@@ -231,6 +231,15 @@ public:
     /// Smooth laws: the stick margin of time integration (time_integration.hpp), < 0 while the
     /// contact (pre-)sticks; its sign changes are the stick/slip events. The default throws.
     virtual double time_margin(const Contact& contact, double v, double z) const;
+
+protected:
+    ContactLaw(FrictionLaw id, const char* name, const char* definition)
+        : id_(id), name_(name), definition_(definition) {}
+
+private:
+    FrictionLaw id_;
+    const char* name_;
+    const char* definition_;
 };
 
 /// Throws InvalidInput naming the first contact whose law the time-domain solvers do not

@@ -222,7 +222,7 @@ std::string default_text(double value) {
 
 FrfChoices frf_choices(const CLI::App& command, const std::string& harmonics, const std::string& time_samples,
                        const ChosenSystem& chosen) {
-    FrfChoices c = chosen.config ? chosen.config->choices() : FrfChoices{};
+    FrfChoices c = chosen.config ? chosen.config->choices : FrfChoices{};
     // H, or "odd" / "odd:H": the odd harmonics <= H only (H automatic without ":H").
     const bool odd = harmonics == "odd" || harmonics.rfind("odd:", 0) == 0;
     const std::string count = odd ? (harmonics == "odd" ? "0" : harmonics.substr(4)) : harmonics;

@@ -62,7 +62,7 @@ int run(const CLI::App& command, const LoopOptions& o) {
     if (!(w > 0.0)) throw UsageError("--w = " + o.w + " is out of range: allowed > 0");
     double wmin = parse_double("--wmin", o.wmin);
     if (!(wmin > 0.0)) throw UsageError("--wmin = " + o.wmin + " is out of range: allowed > 0");
-    if (chosen.config && chosen.config->omega_start && command.count("--wmin") == 0) wmin = *chosen.config->omega_start;
+    if (chosen.config && chosen.config->choices.omega_start && command.count("--wmin") == 0) wmin = *chosen.config->choices.omega_start;
     const long long contact = parse_integer("--contact", o.contact);
     const auto contacts = static_cast<long long>(chosen.system.contacts.size());
     if (contact < 1 || contact > contacts)

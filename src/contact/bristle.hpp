@@ -33,6 +33,7 @@ void bristle_static_force(const Contact& contact, double limit, double q, Static
 /// first guess with their own sigma1 and sigma2 (Dahl: 0 and 0).
 class BristleLaw : public ContactLaw {
 public:
+    using ContactLaw::ContactLaw;
     int default_harmonics() const override { return 10; }
     bool smooth() const override { return true; }
     bool exact_stick() const override { return false; }

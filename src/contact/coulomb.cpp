@@ -82,33 +82,31 @@ public:
     /// sample). At a solution its H-harmonic series is z, the force the balance sees.
     Eigen::VectorXd force_samples(Fourier& fourier, double omega, const Eigen::VectorXd& q,
                                   const Eigen::VectorXd& z) const override {
-        const int nt = fourier.time_samples();
-        Eigen::VectorXd v(nt), lambda(nt);
-        fourier.to_time(omega * (fourier.derivative() * q), v);
-        fourier.to_time(z, lambda);
-        return (lambda.array() + eps_ * v.array()).max(-limit_).min(limit_).matrix();
+        return trial(fourier, omega, q, z).max(-limit_).min(limit_).matrix();
     }
 
     Eigen::VectorXd stick_indicator(Fourier& fourier, double omega, const Eigen::VectorXd& q,
                                     const Eigen::VectorXd& z) const override {
+        return (trial(fourier, omega, q, z).abs() / limit_ - 1.0).matrix();
+    }
+
+private:
+    /// The trial force lambda + eps v at the time samples.
+    Eigen::ArrayXd trial(Fourier& fourier, double omega, const Eigen::VectorXd& q, const Eigen::VectorXd& z) const {
         const int nt = fourier.time_samples();
         Eigen::VectorXd v(nt), lambda(nt);
         fourier.to_time(omega * (fourier.derivative() * q), v);
         fourier.to_time(z, lambda);
-        return ((lambda.array() + eps_ * v.array()).abs() / limit_ - 1.0).matrix();
+        return lambda.array() + eps_ * v.array();
     }
-
-private:
     double limit_, eps_;
 };
 
 class Coulomb final : public ContactLaw {
 public:
-    FrictionLaw id() const override { return FrictionLaw::coulomb; }
-    const char* name() const override { return "coulomb"; }
-    const char* definition() const override {
-        return "exact Coulomb: f = F_c sign(v) in slip, |f| <= F_c in stick (v = 0)";
-    }
+    Coulomb()
+        : ContactLaw(FrictionLaw::coulomb, "coulomb",
+              "exact Coulomb: f = F_c sign(v) in slip, |f| <= F_c in stick (v = 0)") {}
     std::vector<LawParameter> parameters() const override {
         return {{"lagrangian_penalty", &Contact::lagrangian_penalty, "dynamic Lagrangian epsilon (0 = automatic)",
                  LawParameter::Range::non_negative, "automatic: the contact's impedance sqrt(k m), at most 30 times the structure's static one"}};

@@ -73,9 +73,9 @@ private:
 
 class RegularizedCoulomb final : public ContactLaw {
 public:
-    FrictionLaw id() const override { return FrictionLaw::coulomb_regularized; }
-    const char* name() const override { return "coulomb-reg"; }
-    const char* definition() const override { return "regularised Coulomb: f = F_c tanh(v / eps)"; }
+    RegularizedCoulomb()
+        : ContactLaw(FrictionLaw::coulomb_regularized, "coulomb-reg",
+              "regularised Coulomb: f = F_c tanh(v / eps)") {}
     std::vector<LawParameter> parameters() const override {
         return {{"regularization", &Contact::regularization, "tanh velocity scale eps", LawParameter::Range::positive}};
     }

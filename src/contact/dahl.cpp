@@ -16,9 +16,9 @@ namespace {
 
 class Dahl final : public detail::BristleLaw {
 public:
-    FrictionLaw id() const override { return FrictionLaw::dahl; }
-    const char* name() const override { return "dahl"; }
-    const char* definition() const override { return "Dahl: f = sigma0 z, z' = v - sigma0 |v| z / F_c"; }
+    Dahl()
+        : BristleLaw(FrictionLaw::dahl, "dahl",
+              "Dahl: f = sigma0 z, z' = v - sigma0 |v| z / F_c") {}
     std::vector<LawParameter> parameters() const override {
         return {{"stiffness", &Contact::stiffness, "contact (bristle) stiffness sigma0", LawParameter::Range::positive}};
     }

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <limits>
 
+#include "contact/normal_law.hpp"
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/normal_contact.hpp"
@@ -57,11 +58,7 @@ public:
     Eigen::VectorXd force_samples(Fourier& fourier, double, const Eigen::VectorXd& q,
                                   const Eigen::VectorXd&) const override {
         const NormalContactCycle cycle = cycle_of(fourier, q);
-        const int nt = fourier.time_samples(), d = element_.tangential_directions;
-        Eigen::VectorXd f(nt * (d + 1));
-        for (int j = 0; j < d; ++j) f.segment(j * nt, nt) = cycle.tangential.col(j);
-        f.tail(nt) = cycle.normal;
-        return f;
+        return detail::stack_directions(cycle.tangential.leftCols(element_.tangential_directions), cycle.normal);
     }
 
     Eigen::VectorXd stick_indicator(Fourier& fourier, double, const Eigen::VectorXd& q,
@@ -100,14 +97,12 @@ private:
     mutable NormalContactEvaluation scratch_;
 };
 
-class Elastic final : public ContactLaw {
+class Elastic final : public detail::NormalDirectionLaw {
 public:
-    FrictionLaw id() const override { return FrictionLaw::elastic; }
-    const char* name() const override { return "elastic"; }
-    const char* definition() const override {
-        return "elastic friction contact with a normal direction: N = max(0, N_0 - k_n g_0 + k_n v), "
-               "T = k_t (u - s), |T| <= mu N (2D; 3D with second_direction: a circular cone), separated where N = 0";
-    }
+    Elastic()
+        : NormalDirectionLaw(FrictionLaw::elastic, "elastic",
+              "elastic friction contact with a normal direction: N = max(0, N_0 - k_n g_0 + k_n v), "
+              "T = k_t (u - s), |T| <= mu N (2D; 3D with second_direction: a circular cone), separated where N = 0") {}
     std::vector<LawParameter> parameters() const override {
         using R = LawParameter::Range;
         const NormalContactParameters shared = normal_contact_parameters();
@@ -123,14 +118,7 @@ public:
         return list;
     }
     int default_harmonics() const override { return 10; }
-    bool smooth() const override { return false; }
-    bool exact_stick() const override { return false; }
-    bool has_friction_limit() const override { return false; }
-    bool has_preset() const override { return false; }
-    bool time_domain() const override { return false; }
     TimeIntegrator time_integrator() const override { return TimeIntegrator::elastic_contacts; }
-    TimeState time_state() const override { return TimeState::none; }
-    StuckElement stuck(const Contact& contact) const override { return stuck_directions(contact).front(); }
     std::vector<StuckElement> stuck_directions(const Contact& contact) const override {
         const ElasticContact e = elastic_element(contact);
         const bool closed = e.normal_offset >= 0.0, loaded = e.normal_offset > 0.0 && e.friction_coefficient > 0.0;

@@ -100,12 +100,10 @@ private:
 /// The preset (SliderLaw) sets K_T = r wb^2; chi, beta and N keep their defaults.
 class Iwan final : public detail::SliderLaw {
 public:
-    FrictionLaw id() const override { return FrictionLaw::iwan; }
-    const char* name() const override { return "iwan"; }
-    const char* definition() const override {
-        return "parallel Iwan joint: f = sum_i k_i (q - s_i), N Jenkins sliders (k_i, F_i) on one q; Segalman's "
-               "four parameters F_S = friction_limit, K_T = stiffness, chi, beta, or a slider_table";
-    }
+    Iwan()
+        : SliderLaw(FrictionLaw::iwan, "iwan",
+              "parallel Iwan joint: f = sum_i k_i (q - s_i), N Jenkins sliders (k_i, F_i) on one q; Segalman's "
+              "four parameters F_S = friction_limit, K_T = stiffness, chi, beta, or a slider_table") {}
     std::vector<LawParameter> parameters() const override {
         using R = LawParameter::Range;
         using K = LawParameter::Kind;

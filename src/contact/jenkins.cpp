@@ -140,11 +140,9 @@ private:
 
 class Jenkins final : public detail::SliderLaw {
 public:
-    FrictionLaw id() const override { return FrictionLaw::jenkins; }
-    const char* name() const override { return "jenkins"; }
-    const char* definition() const override {
-        return "spring k_t in series with a Coulomb slider: f = k_t (q - s), |f| <= F_c";
-    }
+    Jenkins()
+        : SliderLaw(FrictionLaw::jenkins, "jenkins",
+              "spring k_t in series with a Coulomb slider: f = k_t (q - s), |f| <= F_c") {}
     std::vector<LawParameter> parameters() const override {
         return {{"stiffness", &Contact::stiffness, "tangential stiffness k_t", LawParameter::Range::positive}};
     }

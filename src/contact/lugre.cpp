@@ -18,12 +18,10 @@ namespace {
 
 class LuGre final : public detail::BristleLaw {
 public:
-    FrictionLaw id() const override { return FrictionLaw::lugre; }
-    const char* name() const override { return "lugre"; }
-    const char* definition() const override {
-        return "LuGre: f = sigma0 z + sigma1 z' + sigma2 v, z' = v - sigma0 |v| z / g(v), "
-               "g(v) = F_c + (F_s - F_c) exp(-(v / v_s)^2)";
-    }
+    LuGre()
+        : BristleLaw(FrictionLaw::lugre, "lugre",
+              "LuGre: f = sigma0 z + sigma1 z' + sigma2 v, z' = v - sigma0 |v| z / g(v), "
+              "g(v) = F_c + (F_s - F_c) exp(-(v / v_s)^2)") {}
     std::vector<LawParameter> parameters() const override {
         using R = LawParameter::Range;
         return {{"stiffness", &Contact::stiffness, "contact (bristle) stiffness sigma0", R::positive},

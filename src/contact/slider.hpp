@@ -14,6 +14,7 @@ namespace hbf::detail {
 
 class SliderLaw : public ContactLaw {
 public:
+    using ContactLaw::ContactLaw;
     int default_harmonics() const override { return 10; }
     bool smooth() const override { return false; }
     bool exact_stick() const override { return true; }

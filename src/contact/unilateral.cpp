@@ -48,6 +48,7 @@
 #include <cmath>
 #include <limits>
 
+#include "contact/normal_law.hpp"
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/normal_contact.hpp"
@@ -197,11 +198,7 @@ public:
     Eigen::VectorXd force_samples(Fourier& fourier, double, const Eigen::VectorXd& q,
                                   const Eigen::VectorXd& z) const override {
         const Samples s = samples(fourier, q, z);
-        const int nt = fourier.time_samples(), d = e_.d;
-        Eigen::VectorXd f(nt * (d + 1));
-        for (int j = 0; j < d; ++j) f.segment(j * nt, nt) = s.force.col(j);
-        f.tail(nt) = s.normal;
-        return f;
+        return detail::stack_directions(s.force.leftCols(e_.d), s.normal);
     }
 
     /// As law elastic: |t| / (mu N) - 1 where stuck (< 0), 0 where slipping, 1 where open.
@@ -261,14 +258,12 @@ private:
     Unilateral e_;
 };
 
-class UnilateralLaw final : public ContactLaw {
+class UnilateralLaw final : public detail::NormalDirectionLaw {
 public:
-    FrictionLaw id() const override { return FrictionLaw::unilateral; }
-    const char* name() const override { return "unilateral"; }
-    const char* definition() const override {
-        return "rigid unilateral contact with Coulomb friction on massless coordinates: N >= 0, v <= g_0, "
-               "N (g_0 - v) = 0; |T| <= mu N, T = mu N u'/|u'| where sliding (2D; 3D with second_direction)";
-    }
+    UnilateralLaw()
+        : NormalDirectionLaw(FrictionLaw::unilateral, "unilateral",
+              "rigid unilateral contact with Coulomb friction on massless coordinates: N >= 0, v <= g_0, "
+              "N (g_0 - v) = 0; |T| <= mu N, T = mu N u'/|u'| where sliding (2D; 3D with second_direction)") {}
     std::vector<LawParameter> parameters() const override {
         using R = LawParameter::Range;
         const NormalContactParameters shared = normal_contact_parameters();
@@ -283,14 +278,7 @@ public:
                 shared.normal_direction};
     }
     int default_harmonics() const override { return 20; }
-    bool smooth() const override { return false; }
-    bool exact_stick() const override { return false; }
-    bool has_friction_limit() const override { return false; }
-    bool has_preset() const override { return false; }
-    bool time_domain() const override { return false; }
     TimeIntegrator time_integrator() const override { return TimeIntegrator::unilateral_contacts; }
-    TimeState time_state() const override { return TimeState::none; }
-    StuckElement stuck(const Contact& contact) const override { return stuck_directions(contact).front(); }
     /// Closed at rest (g_0 = 0): rigid along every direction; open: released (no force).
     std::vector<StuckElement> stuck_directions(const Contact& contact) const override {
         const Unilateral e = unilateral_element(contact);

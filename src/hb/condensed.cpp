@@ -15,6 +15,25 @@
 
 namespace hbf {
 
+namespace {
+/// Scales the residual's rows of signal a and harmonic k by scale(k, a) (rows a n + row, k =
+/// (row + 1) / 2, n = 2H + 1 rows a signal) and its omega-derivative accordingly (d(s r)/dw = s
+/// dr/dw + ds/dw r); `each(i, s)` does the Jacobian's part of row i.
+template <class Each>
+void scale_rows(int ns, int n, const Eigen::MatrixXd& scale, const Eigen::MatrixXd& scale_omega,
+                Eigen::VectorXd& residual, Eigen::VectorXd* jacobian_omega, Each each) {
+    for (int a = 0; a < ns; ++a)
+        for (int row = 0; row < n; ++row) {
+            const int k = (row + 1) / 2;
+            const double s = scale(k, a);
+            const int i = a * n + row;
+            if (jacobian_omega) (*jacobian_omega)(i) = s * (*jacobian_omega)(i) + scale_omega(k, a) * residual(i);
+            residual(i) *= s;
+            each(i, s);
+        }
+}
+}  // namespace
+
 bool HarmonicBalance::prepare_receptance(double omega) {
     if (omega == receptance_omega_) return structure_failure_.empty();
     receptance_omega_ = omega;
@@ -272,15 +291,9 @@ void HarmonicBalance::evaluate_structured(const Eigen::VectorXd& x, double omega
     statistics_.structure_seconds += watch.lap();
     // Rows scaled by S (evaluate_condensed); the scale depends on omega.
     if (jacobian) jacobian->row_scale_.resize(all_unknowns_);
-    for (int a = 0; a < ns; ++a)
-        for (int row = 0; row < n; ++row) {
-            const int k = (row + 1) / 2;
-            const double scale = row_scale_(k, a);
-            const int i = a * n + row;
-            if (jacobian_omega) (*jacobian_omega)(i) = scale * (*jacobian_omega)(i) + row_scale_omega_(k, a) * residual(i);
-            residual(i) *= scale;
-            if (jacobian) jacobian->row_scale_(i) = scale;
-        }
+    scale_rows(ns, n, row_scale_, row_scale_omega_, residual, jacobian_omega, [jacobian](int i, double scale) {
+        if (jacobian) jacobian->row_scale_(i) = scale;
+    });
     if (jacobian) jacobian->receptance_ = harmonic_;
     statistics_.jacobian_seconds += watch.lap();
 }
@@ -357,15 +370,9 @@ void HarmonicBalance::evaluate_condensed(const Eigen::VectorXd& x, double omega,
     }
     // Scale signal a's rows of harmonic k by 1 / |G_k,aa|: a force, and for one contact on one
     // DOF the full formulation's row up to its sign. The scale depends on omega (row_scale_omega_).
-    for (int a = 0; a < ns; ++a)
-        for (int row = 0; row < n; ++row) {
-            const int k = (row + 1) / 2;
-            const double s = row_scale_(k, a);
-            const int i = a * n + row;
-            if (jacobian_omega) (*jacobian_omega)(i) = s * (*jacobian_omega)(i) + row_scale_omega_(k, a) * residual(i);
-            residual(i) *= s;
-            if (jacobian) jacobian->row(i) *= s;
-        }
+    scale_rows(ns, n, row_scale_, row_scale_omega_, residual, jacobian_omega, [jacobian](int i, double scale) {
+        if (jacobian) jacobian->row(i) *= scale;
+    });
     statistics_.jacobian_seconds += watch.lap();
 }
 

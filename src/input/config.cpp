@@ -255,18 +255,6 @@ Output read_output(const Reader& r, const toml::table& t, int index, int dofs, c
     return *output;
 }
 
-FrfChoices SystemConfig::choices() const {
-    FrfChoices c;
-    c.omega_start = omega_start;
-    c.omega_end = omega_end;
-    c.harmonics = harmonics;
-    c.time_samples = time_samples;
-    c.modes = modes;
-    c.odd_harmonics = odd_harmonics;
-    c.jacobian = jacobian;
-    return c;
-}
-
 SystemConfig read_system_config(const std::string& path) {
     SystemConfig config;
     config.inputs.push_back({"--config", path});
@@ -393,14 +381,14 @@ SystemConfig read_system_config(const std::string& path) {
         if (!t) fail(path, node->source(), "frequency", "expected a table [frequency]");
         r.only(*t, {"wmin", "wmax"}, "frequency");
         for (auto&& [key, value] : *t) config.lines["frequency." + std::string(key.str())] = static_cast<int>(value.source().begin.line);
-        if (const toml::node* v = t->get("wmin")) config.omega_start = r.number(*v, "frequency.wmin");
-        if (const toml::node* v = t->get("wmax")) config.omega_end = r.number(*v, "frequency.wmax");
-        if (config.omega_start && !(*config.omega_start > 0.0 && std::isfinite(*config.omega_start)))
-            fail(path, t->get("wmin")->source(), "frequency.wmin", format_number(*config.omega_start) + " is out of range: allowed > 0");
-        if (config.omega_end && !(*config.omega_end > 0.0 && std::isfinite(*config.omega_end)))
-            fail(path, t->get("wmax")->source(), "frequency.wmax", format_number(*config.omega_end) + " is out of range: allowed > 0");
-        if (config.omega_start && config.omega_end && !(*config.omega_end > *config.omega_start))
-            fail(path, t->get("wmax")->source(), "frequency.wmax", "must exceed wmin = " + format_number(*config.omega_start));
+        if (const toml::node* v = t->get("wmin")) config.choices.omega_start = r.number(*v, "frequency.wmin");
+        if (const toml::node* v = t->get("wmax")) config.choices.omega_end = r.number(*v, "frequency.wmax");
+        if (config.choices.omega_start && !(*config.choices.omega_start > 0.0 && std::isfinite(*config.choices.omega_start)))
+            fail(path, t->get("wmin")->source(), "frequency.wmin", format_number(*config.choices.omega_start) + " is out of range: allowed > 0");
+        if (config.choices.omega_end && !(*config.choices.omega_end > 0.0 && std::isfinite(*config.choices.omega_end)))
+            fail(path, t->get("wmax")->source(), "frequency.wmax", format_number(*config.choices.omega_end) + " is out of range: allowed > 0");
+        if (config.choices.omega_start && config.choices.omega_end && !(*config.choices.omega_end > *config.choices.omega_start))
+            fail(path, t->get("wmax")->source(), "frequency.wmax", "must exceed wmin = " + format_number(*config.choices.omega_start));
     }
     if (const toml::node* node = root.get("solver")) {
         const toml::table* t = node->as_table();
@@ -410,13 +398,13 @@ SystemConfig read_system_config(const std::string& path) {
         if (const toml::node* v = t->get("odd_harmonics")) {
             const auto flag = v->as_boolean();
             if (!flag) fail(path, v->source(), "solver.odd_harmonics", "expected true or false");
-            config.odd_harmonics = flag->get();
+            config.choices.odd_harmonics = flag->get();
         }
         if (const toml::node* v = t->get("jacobian")) {
             const auto text = v->as_string();
             if (!text) fail(path, v->source(), "solver.jacobian", "expected a string: automatic, dense or structured");
             try {
-                config.jacobian = parse_jacobian_form(text->get());
+                config.choices.jacobian = parse_jacobian_form(text->get());
             } catch (const InvalidInput& e) {
                 fail(path, v->source(), "solver.jacobian", e.what());
             }
@@ -434,18 +422,18 @@ SystemConfig read_system_config(const std::string& path) {
             }
         };
         if (const toml::node* v = t->get("modes")) {
-            config.modes = r.integer(*v, "solver.modes");
+            config.choices.modes = r.integer(*v, "solver.modes");
             HarmonicBalanceOptions o;
-            o.modes = *config.modes;
+            o.modes = *config.choices.modes;
             check(*v, "solver.modes", o);
         }
         if (const toml::node* v = t->get("harmonics")) {
-            config.harmonics = r.integer(*v, "solver.harmonics");
+            config.choices.harmonics = r.integer(*v, "solver.harmonics");
             HarmonicBalanceOptions o;
-            o.harmonics = *config.harmonics;
+            o.harmonics = *config.choices.harmonics;
             check(*v, "solver.harmonics", o);
         }
-        if (const toml::node* v = t->get("time_samples")) config.time_samples = r.integer(*v, "solver.time_samples");
+        if (const toml::node* v = t->get("time_samples")) config.choices.time_samples = r.integer(*v, "solver.time_samples");
     }
     if (const toml::node* node = root.get("output")) {
         if (const toml::array* list = node->as_array()) {  // [[output]] tables

@@ -151,6 +151,14 @@ void add_regimes(std::vector<Cell>& row, int contacts, double stick_fraction, co
 
 }  // namespace
 
+namespace {
+/// Column w of the FRF and time-integration tables.
+Column frequency_column() {
+    return {"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config in the file's units); "
+                 "with --excitation-harmonic h the fundamental of the response, the force acting at h w"};
+}
+}  // namespace
+
 std::vector<Column> frf_columns(int dofs) { return frf_columns(all_dofs(dofs)); }
 
 std::vector<int> normal_contacts(const System& system) {
@@ -178,9 +186,7 @@ std::vector<int> normal_contacts_of(const Rows& rows) {
 
 std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts, const std::vector<int>& normal,
                                 const std::vector<InterfaceContacts>& interfaces) {
-    std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
-                                         "in the file's units); with --excitation-harmonic h the fundamental "
-                                         "of the response, the force acting at h w"}};
+    std::vector<Column> columns = {frequency_column()};
     const auto mine = output_columns(outputs, "one period", "");
     columns.insert(columns.end(), mine.begin(), mine.end());
     const std::vector<Column> regimes = per_contact(
@@ -336,9 +342,7 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 std::vector<Column> timeint_columns(int dofs) { return timeint_columns(all_dofs(dofs)); }
 
 std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts, const std::vector<int>& normal) {
-    std::vector<Column> columns = {{"w", "excitation frequency omega (nondimensional: Omega / omega1; with --config "
-                                         "in the file's units); with --excitation-harmonic h the fundamental "
-                                         "of the response, the force acting at h w"}};
+    std::vector<Column> columns = {frequency_column()};
     const auto mine = output_columns(outputs, "the final period", " (turning points by root finding)");
     columns.insert(columns.end(), mine.begin(), mine.end());
     const std::vector<Column> regimes = per_contact(

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "numerics/cvode_solver.hpp"
+#include "time_integration/integrator.hpp"
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/linear_limits.hpp"
@@ -70,15 +71,8 @@ public:
         double* tol = N_VGetArrayPointer(absolute_);
         const double a = options.absolute_tolerance * scale;
         const double force = std::max(system.excitation.cwiseAbs().maxCoeff(), 1e-300);
-        for (int i = 0; i < n_; ++i) {
-            tol[i] = a;
-            tol[n_ + i] = a * drive_;
-            tol[quad_ + i] = tol[quad_ + n_ + i] = a * period_;
-        }
-        for (int j = 0; j < sliders_; ++j) tol[2 * n_ + j] = a;
-        for (int k = 0; k < 3; ++k) tol[quad_ + 2 * n_ + k] = a * 2.0 * pi * system.excitation_harmonic * force;
-        for (int i = 0; i < length_; ++i)
-            if (!(tol[i] > 0.0) || !std::isfinite(tol[i])) tol[i] = options.absolute_tolerance;
+        set_absolute_tolerances(tol, n_, sliders_, a, drive_, period_, a * 2.0 * pi * system.excitation_harmonic * force,
+                                options.absolute_tolerance);
         cvode_->check(CVodeSVtolerances(cvode_->memory(), options.relative_tolerance, absolute_), "CVodeSVtolerances");
         if (options.method == IntegrationMethod::adams)
             cvode_->fixed_point();
@@ -377,6 +371,15 @@ private:
 
 }  // namespace
 
+void summarise_contacts(PeriodicResponse& out) {
+    if (out.contacts.empty()) {
+        out.regime = "none";
+        return;
+    }
+    out.stick_fraction = out.contacts.front().stick_fraction;
+    out.regime = out.contacts.front().regime;
+}
+
 double refined_max(const Eigen::VectorXd& y) {
     const Eigen::Index n = y.size();
     Eigen::Index j = 0;
@@ -526,12 +529,7 @@ PeriodicResponse integrate_elastic_contacts(const System& system, double omega, 
             regime.energy = std::numeric_limits<double>::quiet_NaN();
             out.contacts.push_back(regime);
         }
-        if (!out.contacts.empty()) {
-            out.stick_fraction = out.contacts.front().stick_fraction;
-            out.regime = out.contacts.front().regime;
-        } else {
-            out.regime = "none";
-        }
+        summarise_contacts(out);
         out.switches = f.switches;
         out.stick_margin_min = std::isfinite(f.margin_min) ? f.margin_min : 0.0;
         out.stick_margin_max = std::isfinite(f.margin_max) ? f.margin_max : 0.0;

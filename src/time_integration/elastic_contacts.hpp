@@ -49,6 +49,10 @@ Eigen::VectorXd elastic_linear_stuck_state(const System& system, double omega);
 PeriodicResponse integrate_elastic_contacts(const System& system, double omega, const TimeIntegrationOptions& options,
                                             const Eigen::VectorXd* initial_state);
 
+/// The response's contact summary from its per-contact regimes: the first contact's stick share
+/// and regime; regime "none" without contacts.
+void summarise_contacts(PeriodicResponse& out);
+
 /// max |y| of a periodic sampled signal, refined by a parabola through the largest sample (and
 /// its neighbours).
 double refined_max(const Eigen::VectorXd& y);

@@ -52,16 +52,8 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
         const double a = options_.absolute_tolerance * scale_;
         double force = system.excitation.cwiseAbs().maxCoeff();
         for (const ContactData& c : contacts_) force = std::max(force, c.limit);
-        double* tol = N_VGetArrayPointer(absolute_);
-        for (int i = 0; i < n_; ++i) {
-            tol[i] = a;
-            tol[n_ + i] = a * drive_;
-            tol[quad_ + i] = tol[quad_ + n_ + i] = a * period_;
-        }
-        for (int c = 0; c < nc_; ++c) tol[2 * n_ + c] = a;
-        for (int k = 0; k < 3; ++k) tol[quad_ + 2 * n_ + k] = a * 2.0 * pi * system.excitation_harmonic * force;
-        for (int i = 0; i < length_; ++i)
-            if (!(tol[i] > 0.0) || !std::isfinite(tol[i])) tol[i] = options_.absolute_tolerance;  // F = 0, no scale
+        set_absolute_tolerances(N_VGetArrayPointer(absolute_), n_, nc_, a, drive_, period_,
+                                a * 2.0 * pi * system.excitation_harmonic * force, options_.absolute_tolerance);
     }
     cvode_.check(CVodeSVtolerances(cvode_.memory(), options_.relative_tolerance, absolute_), "CVodeSVtolerances");
     if (options_.method == IntegrationMethod::adams) {
@@ -601,6 +593,20 @@ PeriodRecord Integrator::period(const Eigen::VectorXd& start) {
     r.input_energy = q[2 * n_ + 2];
     r.end_state = store();
     return r;
+}
+
+void set_absolute_tolerances(double* tol, int n, int internal, double a, double drive, double period, double energy,
+                             double fallback) {
+    const int quad = 2 * n + internal;
+    for (int i = 0; i < n; ++i) {
+        tol[i] = a;
+        tol[n + i] = a * drive;
+        tol[quad + i] = tol[quad + n + i] = a * period;
+    }
+    for (int j = 0; j < internal; ++j) tol[2 * n + j] = a;
+    for (int k = 0; k < 3; ++k) tol[quad + 2 * n + k] = energy;
+    for (int i = 0; i < quad + 2 * n + 3; ++i)
+        if (!(tol[i] > 0.0) || !std::isfinite(tol[i])) tol[i] = fallback;  // F = 0: no scale
 }
 
 }  // namespace hbf::detail

@@ -19,6 +19,13 @@ namespace hbf::detail {
 /// A time-domain element (contact_law.hpp: time_elements) in the form the integrator evaluates:
 /// a rigid slider (exact Coulomb), an elastic slider (Jenkins: a spring in series with a rigid
 /// slider, its position the state) or a smooth law (its own time_force and time_margin).
+/// The absolute tolerances of a state laid out as [y (n), y' (n), `internal` states, the
+/// first-harmonic quadratures c1, s1 (n each), 3 energies]: a for y and the internal states, a
+/// `drive` (h omega) for y', a `period` for the quadratures, `energy` for the energies;
+/// `fallback` where one is not > 0 (a zero scale).
+void set_absolute_tolerances(double* tol, int n, int internal, double a, double drive, double period, double energy,
+                             double fallback);
+
 struct ContactData {
     enum class Kind { smooth, rigid_slider, elastic_slider };
     Kind kind = Kind::smooth;

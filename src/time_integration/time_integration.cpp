@@ -69,6 +69,15 @@ IntegrationMethod parse_integration_method(const std::string& name) {
     return detail::parse_enum(integration_method_names, name, "method");
 }
 
+namespace {
+/// An integer option's lower bound: InvalidInput naming it otherwise.
+void at_least(const char* name, int value, int lowest) {
+    if (value < lowest)
+        throw InvalidInput(std::string(name) + " = " + std::to_string(value) + " is out of range: allowed >= " +
+                           std::to_string(lowest));
+}
+}  // namespace
+
 void TimeIntegrationOptions::validate() const {
     auto in_range = [](double value, double low, double high, const char* name, const char* meaning) {
         if (!(value >= low && value <= high))
@@ -84,35 +93,18 @@ void TimeIntegrationOptions::validate() const {
     if (!(displacement_scale >= 0.0 && std::isfinite(displacement_scale)))
         throw InvalidInput("displacement_scale (scale of the absolute tolerances) = " + format_number(displacement_scale) +
                            " is out of range: allowed finite >= 0 (0 = automatic)");
-    if (min_periods < 1)
-        throw InvalidInput("min_periods = " + std::to_string(min_periods) + " is out of range: allowed >= 1");
+    at_least("min_periods", min_periods, 1);
     if (max_periods < min_periods || max_periods > largest_max_periods)
         throw InvalidInput("max_periods = " + std::to_string(max_periods) + " is out of range: allowed min_periods = " +
                            std::to_string(min_periods) + ".." + std::to_string(largest_max_periods));
-    if (samples_per_period < 8)
-        throw InvalidInput("samples_per_period = " + std::to_string(samples_per_period) +
-                           " is out of range: allowed >= 8");
-    if (max_events_per_period < 1)
-        throw InvalidInput("max_events_per_period = " + std::to_string(max_events_per_period) +
-                           " is out of range: allowed >= 1");
-    if (max_steps_per_period < 10)
-        throw InvalidInput("max_steps_per_period = " + std::to_string(max_steps_per_period) +
-                           " is out of range: allowed >= 10");
-    if (stick_restart_periods < 1)
-        throw InvalidInput("stick_restart_periods = " + std::to_string(stick_restart_periods) +
-                           " is out of range: allowed >= 1");
-    if (shooting_interval < 1)
-        throw InvalidInput("shooting_interval = " + std::to_string(shooting_interval) +
-                           " is out of range: allowed >= 1");
-    if (dense_newton_max_dofs < 0)
-        throw InvalidInput("dense_newton_max_dofs = " + std::to_string(dense_newton_max_dofs) +
-                           " is out of range: allowed >= 0");
-    if (shooting_dense_max_states < 0)
-        throw InvalidInput("shooting_dense_max_states = " + std::to_string(shooting_dense_max_states) +
-                           " is out of range: allowed >= 0");
-    if (shooting_krylov_max < 1)
-        throw InvalidInput("shooting_krylov_max = " + std::to_string(shooting_krylov_max) +
-                           " is out of range: allowed >= 1");
+    at_least("samples_per_period", samples_per_period, 8);
+    at_least("max_events_per_period", max_events_per_period, 1);
+    at_least("max_steps_per_period", max_steps_per_period, 10);
+    at_least("stick_restart_periods", stick_restart_periods, 1);
+    at_least("shooting_interval", shooting_interval, 1);
+    at_least("dense_newton_max_dofs", dense_newton_max_dofs, 0);
+    at_least("shooting_dense_max_states", shooting_dense_max_states, 0);
+    at_least("shooting_krylov_max", shooting_krylov_max, 1);
 }
 
 double TimeIntegrationOptions::physics_tolerance() const {

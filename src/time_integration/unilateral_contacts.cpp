@@ -386,13 +386,8 @@ PeriodicResponse integrate_unilateral_contacts(const System& system, double omeg
             out.energy += energy[c];
             out.contacts.push_back(regime);
         }
-        if (!out.contacts.empty()) {
-            out.stick_fraction = out.contacts.front().stick_fraction;
-            out.regime = out.contacts.front().regime;
-        } else {
-            out.regime = "none";
-            out.stick_margin_min = out.stick_margin_max = 0.0;
-        }
+        summarise_contacts(out);
+        if (out.contacts.empty()) out.stick_margin_min = out.stick_margin_max = 0.0;
         const double reach = pi * system.excitation_harmonic * system.excitation.norm() * out.harmonic1.norm();
         out.energy_error = energy_imbalance(out.input_energy, out.viscous_energy, out.energy + normal_work, reach);
         // the samples, every (steps / kept)-th step; massless velocities by central differences

@@ -1,4 +1,5 @@
-// hbfriction — the registry of contact laws: one line a law (contact_law.hpp). A new law is its
+// hbfriction — the registry of contact laws (contact_law.hpp): one line a law, the lookups by name,
+// and the dispatchers of contact_force.hpp (make_friction_model, linearize). A new law is its
 // file in this folder, the accessor it defines declared below, and its line in the table.
 #include <algorithm>
 #include <cmath>
