@@ -58,7 +58,7 @@ public:
     Eigen::VectorXd force_samples(Fourier& fourier, double, const Eigen::VectorXd& q,
                                   const Eigen::VectorXd&) const override {
         const NormalContactCycle cycle = cycle_of(fourier, q);
-        return detail::stack_directions(cycle.tangential.leftCols(element_.tangential_directions), cycle.normal);
+        return detail::stack_directions(cycle.tangential, cycle.normal);
     }
 
     Eigen::VectorXd stick_indicator(Fourier& fourier, double, const Eigen::VectorXd& q,

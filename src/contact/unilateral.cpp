@@ -198,7 +198,7 @@ public:
     Eigen::VectorXd force_samples(Fourier& fourier, double, const Eigen::VectorXd& q,
                                   const Eigen::VectorXd& z) const override {
         const Samples s = samples(fourier, q, z);
-        return detail::stack_directions(s.force.leftCols(e_.d), s.normal);
+        return detail::stack_directions(s.force, s.normal);
     }
 
     /// As law elastic: |t| / (mu N) - 1 where stuck (< 0), 0 where slipping, 1 where open.
