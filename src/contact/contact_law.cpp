@@ -1,10 +1,11 @@
-// hbfriction — the registry of contact laws (contact_law.hpp): one line a law, the lookups by name,
-// and the dispatchers of contact_force.hpp (make_friction_model, linearize). A new law is its
+// hbfriction — the registry of contact laws (contact_law.hpp): one line a law, the lookups by
+// name and parameter. A new law is its
 // file in this folder, the accessor it defines declared below, and its line in the table.
+#include "hbf/contact_law.hpp"
+
 #include <algorithm>
 #include <cmath>
 
-#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 
 #include <stdexcept>
@@ -262,13 +263,5 @@ TimeDomainView::TimeDomainView(const System& system) : original_(system), split_
 }
 
 // ---- contact_force.hpp's entry points ----------------------------------------------------------
-
-std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact) {
-    return contact_law(contact.law).periodic_model(contact);
-}
-
-LocalLinearization linearize(const Contact& contact, double v, double z) {
-    return contact_law(contact.law).linearize(contact, v, z);
-}
 
 }  // namespace hbf

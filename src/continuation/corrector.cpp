@@ -1,4 +1,6 @@
-// The Ceres corrector of the continuation and the branch tangent (declared in continuation.hpp).
+// The Ceres corrector of the continuation and the branch tangent (corrector.hpp).
+#include "hbf/corrector.hpp"
+
 #include <ceres/ceres.h>
 
 #include <algorithm>

@@ -1,12 +1,13 @@
 // Post-processing of branch points: metrics (y_max, first harmonics, stick pattern, energy)
 // and refined resonance peaks (declared in continuation.hpp, next to the branch data).
+#include "hbf/post_processing.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
-#include "hbf/post_processing.hpp"
 #include "numerics/golden_section.hpp"
 #include "numerics/peak_newton.hpp"
 

@@ -1,6 +1,8 @@
 // hbfriction — the output policy (output_file.hpp): every output path checked before any work, and
 // OutputFile, which writes atomically or in place and never leaves a partial file.
 
+#include "hbf/output_file.hpp"
+
 #include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
@@ -20,7 +22,6 @@
 #include <stdexcept>
 
 #include "hbf/error.hpp"
-#include "hbf/output_file.hpp"
 
 namespace hbf::io {
 

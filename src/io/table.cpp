@@ -1,6 +1,8 @@
 // hbfriction — the tables (table.hpp): CSV columns with their meaning, the FRF, time-integration
 // and analytic tables (the JSON summaries: summary.cpp).
 
+#include "hbf/table.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,7 +14,6 @@
 
 #include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
-#include "hbf/table.hpp"
 
 namespace hbf::io {
 

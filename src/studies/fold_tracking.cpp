@@ -14,10 +14,11 @@
 // tried first: on the Dahl example its Jacobian (second derivatives of the AFT forces by
 // differences) was not smooth enough, and the null vector turned abruptly (a second small
 // singular value); the local branches use the FRF's proven corrector instead.
+#include "studies/fold_tracking.hpp"
+
 #include <algorithm>
 #include <cmath>
 
-#include "studies/fold_tracking.hpp"
 #include "hbf/error.hpp"
 #include "base/stopwatch.hpp"
 

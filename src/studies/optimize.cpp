@@ -1,11 +1,12 @@
 // hbfriction — the design searches over FRFs (frf.hpp): the largest peak minimised over one
 // parameter (a log scan on threads, then golden section) and over two (nested searches).
+#include "hbf/optimize.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 #include "hbf/error.hpp"
 #include "hbf/frf.hpp"
-#include "hbf/optimize.hpp"
 #include "base/stopwatch.hpp"
 #include "base/enum_table.hpp"
 

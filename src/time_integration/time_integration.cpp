@@ -1,8 +1,9 @@
 // Periodic steady state by time integration with CVODE (see time_integration.hpp for the
 // model of each law, the events and the state convention).
+#include "hbf/time_integration.hpp"
+
 #include "hbf/contact_law.hpp"
 #include "hbf/linear_limits.hpp"
-#include "hbf/time_integration.hpp"
 
 #include <algorithm>
 #include <cmath>
