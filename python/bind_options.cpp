@@ -89,6 +89,7 @@ void bind_options(py::module_& m) {
                 else if (name == "modes") c.modes = given.harmonic_balance.modes;
                 else if (name == "odd_harmonics") c.odd_harmonics = given.harmonic_balance.odd_harmonics;
                 else if (name == "jacobian") c.jacobian = given.harmonic_balance.jacobian;
+                else if (name == "formulation") c.formulation = given.harmonic_balance.formulation;
                 else bad("frf_settings: '" + name + "' is not a choice");
             }
             if (exact) c.exact = *exact;

@@ -207,6 +207,11 @@ expect 2 "--exact" '' frf --law dahl --exact on --out x.csv
 expect 2 "--exact" '' frf --exact maybe --out x.csv
 expect 2 "--exact" '' frf --exact '' --out x.csv
 expect 2 "--formulation" '' frf --formulation weird --out x.csv
+# --force-scale: a factor > 0 on a --config file's excitation; the preset has --fe
+expect 2 "for the paper's absorber set --fe" '' frf --force-scale 2 --out x.csv
+for v in 0 -1 nan inf abc; do
+  expect 2 "--force-scale" '' frf --config "$SRC/examples/systems/chain3.toml" --force-scale "$v" --out x.csv
+done
 expect 2 "--overlay-timeint" '' frf --overlay-timeint 5 --out x.csv
 expect 2 "--overlay-timeint" '' frf --overlay-timeint 1 --plot p.png --out x.csv
 expect 2 "--overlay-out" '' frf --overlay-out o.csv --out x.csv

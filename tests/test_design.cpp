@@ -598,3 +598,75 @@ TEST_CASE("Optimisation and map results carry the verdict hbf and Python report"
     CHECK(map.warnings.size() == 4);  // failed, unbounded, missed at, the libraries
     CHECK_THAT(map.warnings.at(0), Catch::StartsWith("1 of 3 FRFs failed"));
 }
+
+TEST_CASE("The automatic H fits the dense Jacobian's bound and says so, an explicit H too large names the H that fits",
+          "[design][settings]") {
+    // 80 masses in a chain, each with an exact Coulomb contact to the ground: the condensed
+    // formulation's unknowns per Fourier coefficient are 80 relative motions and 80 dynamic
+    // Lagrangian multipliers (a state: no structured Jacobian), 160, so 160 (2H + 1) <= 6000
+    // gives H <= 18 by hand, below Coulomb's automatic H = 20 (the polish is off for 80 elements).
+    const int n = 80;
+    Eigen::MatrixXd m = Eigen::MatrixXd::Identity(n, n), k = Eigen::MatrixXd::Zero(n, n);
+    for (int i = 0; i < n; ++i) {
+        k(i, i) = i + 1 < n ? 2.0 : 1.0;
+        if (i + 1 < n) k(i, i + 1) = k(i + 1, i) = -1.0;
+    }
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
+    f(0) = 1.0;
+    System s = grounded_coulomb(m, k, f, 0, 0.1);
+    s.damping = sparse(0.01 * k);
+    for (int i = 1; i < n; ++i) {
+        Contact c = s.contacts.front();
+        c.dof = i;
+        s.contacts.push_back(c);
+    }
+    const FrfSettings settings = frf_settings(s, {});
+    CHECK_FALSE(settings.exact);
+    CHECK(automatic_harmonics(s, false) == 20);
+    CHECK(settings.harmonic_balance.harmonics == 18);
+    CHECK_THAT(settings.harmonics_note, Catch::Contains("H = 18 instead of the automatic 20"));
+    HarmonicBalanceOptions o = settings.harmonic_balance;
+    CHECK_NOTHROW(HarmonicBalance::validate(s, o));
+    o.harmonics = 19;  // 160 x 39 = 6240 > 6000
+    CHECK_THROWS_WITH(HarmonicBalance::validate(s, o), Catch::Contains("6240 harmonic-balance unknowns") &&
+                                                            Catch::Contains("at most H = 18 fits"));
+    // a chosen H is the user's: not lowered, refused by the FRF's validation
+    FrfChoices chosen;
+    chosen.harmonics = 19;
+    const FrfSettings given = frf_settings(s, {}, chosen);
+    CHECK(given.harmonic_balance.harmonics == 19);
+    CHECK(given.harmonics_note.empty());
+}
+
+TEST_CASE("hbf --force-scale scales a --config file's excitation: the response of homogeneous friction laws scales "
+          "with it", "[design][cli]") {
+    // Jenkins and Dahl are homogeneous of degree 1 in (force, friction limit, displacement): the
+    // file's force times 2 gives exactly twice the response of the file with its friction
+    // limits halved, at every frequency (sampled at the same w with --at).
+    TempDir dir;
+    const std::string base = slurp(fs::path(HBF_SOURCE_DIR) / "examples/systems/chain3.toml");
+    std::string halved = base;
+    halved.replace(halved.find("friction_limit = 0.1\n"), 20, "friction_limit = 0.05");  // the Dahl contact
+    halved.replace(halved.find("friction_limit = 0.3\n"), 20, "friction_limit = 0.15");  // the Jenkins contact
+    fs::copy(fs::path(HBF_SOURCE_DIR) / "examples/systems/chain3_stiffness.mtx", dir.path / "chain3_stiffness.mtx");
+    write_file(dir.path / "base.toml", base);
+    write_file(dir.path / "halved.toml", halved);
+    const auto path = [&dir](const char* name) { return "'" + (dir.path / name).string() + "'"; };
+    const std::string at = " --at 0.5,1.2,2.5 --tolerance 1e-10";
+    const Result scaled = run_hbf("frf --config " + path("base.toml") + " --force-scale 2 --out " + path("scaled.csv") + at, dir);
+    const Result reference = run_hbf("frf --config " + path("halved.toml") + " --out " + path("halved.csv") + at, dir);
+    INFO(scaled.err << reference.err);
+    REQUIRE(scaled.exit_code == 0);
+    REQUIRE(reference.exit_code == 0);
+    const auto a = parse_csv(slurp(dir.path / "scaled.csv")), b = parse_csv(slurp(dir.path / "halved.csv"));
+    for (double w : {0.5, 1.2, 2.5}) {
+        const auto ra = sample_row(a, w), rb = sample_row(b, w);
+        for (const char* name : {"y1_max", "y3_max", "y1_amp1"}) {
+            INFO("w = " << w << ", " << name << ": " << column(a, ra, name) << " against 2 x " << column(b, rb, name));
+            REQUIRE(relative_difference(column(a, ra, name), 2.0 * column(b, rb, name)) < 1e-7);
+        }
+    }
+    // the preset has its own force; a factor <= 0 is refused before any work
+    check_bad_input("frf --force-scale 2", {"--force-scale", "--fe"}, dir);
+    check_bad_input("frf --config " + path("base.toml") + " --force-scale 0", {"--force-scale = 0 is out of range", "> 0"}, dir);
+}

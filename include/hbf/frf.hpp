@@ -42,6 +42,9 @@ struct FrfSettings {
     /// Why the automatic choice left the polish off where the exact solver could have run
     /// (more exact elements than max_automatic_exact_elements): a note of the FRF.
     std::string exact_note;
+    /// Why the automatic H is below automatic_harmonics (frf_settings: the largest H whose
+    /// unknowns fit HarmonicBalance::max_unknowns): a note of the FRF.
+    std::string harmonics_note;
     /// Reported outputs (model.hpp); the peaks and the objective are those of outputs[0].
     /// Empty: DOF 1 alone.
     std::vector<Output> outputs;
@@ -93,6 +96,7 @@ struct FrfChoices {
     std::optional<int> time_samples, modes;
     std::optional<bool> odd_harmonics;
     std::optional<JacobianForm> jacobian;  ///< harmonic_balance.hpp (automatic when unset)
+    std::optional<Formulation> formulation;  ///< harmonic_balance.hpp (automatic when unset)
     std::optional<bool> exact;     ///< unset: automatic
     /// Which peaks are located and refined: those of outputs[0] (peaks), of every output
     /// (peaks_of_every_output). Unset: both. The exact polish refines the peaks of outputs[0]
@@ -106,7 +110,8 @@ struct FrfChoices {
 ///    (exact_cost_refusal at omega_start; exact_solver_supports if omega_start is not > 0)
 ///    with at most max_automatic_exact_elements elements (else off, exact_note says why),
 ///    marked exact_automatic (declined at run time where not certain or not affordable);
-///  - H: automatic_harmonics(system, exact);
+///  - H: automatic_harmonics(system, exact), lowered to the largest H whose unknowns fit the
+///    dense Jacobian's bound where the structured one does not apply (harmonics_note says so);
 ///  - locate_transitions: by harmonic balance only without the polish (the exact ones replace
 ///    them);
 ///  - peaks: of every output (and of outputs[0] with the polish, whatever is chosen);

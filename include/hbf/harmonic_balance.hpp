@@ -127,6 +127,13 @@ public:
     /// Fourier matrices (N_t x (2H + 1) each: 420 MB at H = 200, N_t = 65536): for a dry run.
     /// It factorises the static problem once (the condensed formulation's choice).
     static void validate(System system, HarmonicBalanceOptions options);
+    /// The largest H <= `wanted` whose unknowns fit max_unknowns for `system` with `options`
+    /// (their harmonics ignored): `wanted` itself where the structured Jacobian would carry the
+    /// unknowns (options.jacobian automatic or structured, memoryless laws, every harmonic);
+    /// below the excitation harmonic h where not even H = h fits. Builds the formulation once
+    /// at H = h (the condensed formulation factorises the static problem). Throws what the
+    /// constructor throws for the system.
+    static int fitting_harmonics(const System& system, HarmonicBalanceOptions options, int wanted);
 
     const System& system() const { return system_; }
     /// The formulation in use (never automatic).
@@ -278,6 +285,7 @@ private:
     std::unique_ptr<Fourier> fourier_;
     bool condensed_ = false;
     bool structured_ = false;
+    bool structurable_ = false;  // the structured Jacobian could apply (memoryless, condensed, every harmonic)
     std::unique_ptr<Receptance> receptance_;
     // per k = 0..H at receptance_omega_; shared with the structured Jacobians built from it
     // (copied on write when a new omega finds it shared)

@@ -366,13 +366,13 @@ def _check_frequencies(settings):
     settings.validate()
 
 
-_CHOICES = ("omega_start", "omega_end", "harmonics", "time_samples", "modes", "odd_harmonics", "jacobian")
+_CHOICES = ("omega_start", "omega_end", "harmonics", "time_samples", "modes", "odd_harmonics", "jacobian", "formulation")
 
 
 def _settings(system, settings, outputs, stability, values):
     """FrfSettings for system: `settings` as given, else hbf frf's for it (the library's
     frf_settings: a TOML file's [frequency] and [solver], the keyword arguments among wmin, wmax,
-    harmonics, time_samples, modes, odd_harmonics, jacobian and exact over them, and the automatic
+    harmonics, time_samples, modes, odd_harmonics, jacobian, formulation and exact over them, and the automatic
     choices for the rest: the exact polish on the lowest frequency, H); then the other flat
     options `values` and outputs, stability on top."""
     _check_system(system)

@@ -57,6 +57,11 @@ std::string AbsorberFlags::laws_help() {
 void AbsorberFlags::add_system_flags(CLI::App& command) {
     add_to(command, "", "coulomb", true);
     add_excitation_harmonic(command);
+    command
+        .add_option("--force-scale", force_scale,
+                    "--config: a factor > 0 on the file's excitation vector (structure.excitation; not on its "
+                    "static load or preloads), for the same structure under another force level [default 1]")
+        ->type_name("NUMBER");
 }
 
 void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help_text, const std::string& law_default,
@@ -169,6 +174,8 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
         chosen.system = friction_absorber(chosen.absorber, law);
         chosen.law_name = to_string(law);
         apply_excitation_harmonic(command, flags, chosen);
+        if (command.get_option_no_throw("--force-scale") != nullptr && command.count("--force-scale") > 0)
+            throw UsageError("--force-scale scales a --config file's excitation: for the paper's absorber set --fe");
         return chosen;
     }
     const std::vector<std::string> preset = flags.given(command);
@@ -195,6 +202,12 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
     }
     chosen.outputs = chosen.config->outputs;
     apply_excitation_harmonic(command, flags, chosen);
+    if (command.get_option_no_throw("--force-scale") != nullptr && command.count("--force-scale") > 0) {
+        const double scale = parse_double("--force-scale", flags.force_scale);
+        if (!(scale > 0.0) || !std::isfinite(scale))
+            throw UsageError("--force-scale = " + flags.force_scale + " is out of range: allowed a finite factor > 0");
+        chosen.system.excitation *= scale;
+    }
     // Accepted, but rarely meant: said before the work (the exit code is the result's).
     for (const std::string& w : chosen.system.warnings())
         std::cerr << "hbf " << command.get_name() << ": warning: " << config_path << ": " << w << "\n";

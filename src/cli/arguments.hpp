@@ -46,6 +46,7 @@ struct AbsorberFlags {
     std::map<std::string, std::string> law_values;
     std::string law;
     std::string excitation_harmonic;  ///< --excitation-harmonic (preset and --config alike)
+    std::string force_scale;          ///< --force-scale (--config systems)
 
     /// Adds --excitation-harmonic h (the force F cos(h w t)), which applies to the preset and
     /// to --config systems alike (it overrides the file's structure.excitation_harmonic).
@@ -57,7 +58,8 @@ struct AbsorberFlags {
     void add_to(CLI::App& command, const std::string& laws_help, const std::string& law_default,
                 bool with_smooth_options);
     /// The system flags of the commands that compute (frf, loop, map, optimize, timeint): every
-    /// law of the registry (default coulomb), every preset parameter and --excitation-harmonic.
+    /// law of the registry (default coulomb), every preset parameter, --excitation-harmonic and
+    /// --force-scale (a factor on a --config file's excitation vector).
     void add_system_flags(CLI::App& command);
     /// "friction law: coulomb (...), dahl (...), ... or jenkins (...)", from the registry.
     static std::string laws_help();

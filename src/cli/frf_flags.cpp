@@ -65,7 +65,8 @@ void FrfFlags::add_to(CLI::App& command) {
     command.add_option("--wmax", wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
     add_discretisation_flags(command, harmonics, time_samples,
                              "10 with the exact polish (HB only supplies the branch and the starting guesses); "
-                             "without it the largest of the contacts' laws' own");
+                             "without it the largest of the contacts' laws' own, lowered where the unknowns would "
+                             "exceed the dense Jacobian's bound (a note says so)");
     command.add_option("--modes", modes,
                        "condensed formulation: 0 solves the structure per harmonic and frequency by a sparse LU "
                        "(exact; cost linear in N); m > 0 uses its m lowest modes plus the static residual "
@@ -153,6 +154,7 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen, co
     if (given(command, "--wmax")) choices.omega_end = parse_double("--wmax", wmax);
     if (given(command, "--modes")) choices.modes = parse_int("--modes", modes);  // range: validate()
     if (given(command, "--jacobian")) choices.jacobian = parse_jacobian_form(jacobian);  // hbf names the flag
+    choices.formulation = parse_formulation(formulation);  // hbf names the flag
     if (!exact.empty()) choices.exact = exact == "on";
     FrfSettings s = frf_settings(system, chosen.outputs, choices);
     if (s.exact && choices.exact) {
@@ -162,8 +164,6 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen, co
         const std::string refusal = exact_polish_refusal(system, lowest > 0.0 ? lowest : 0.0);
         if (!refusal.empty()) throw UsageError("--exact on: " + refusal + " (use --exact off)");
     }
-    HarmonicBalanceOptions& hbo = s.harmonic_balance;
-    hbo.formulation = parse_formulation(formulation);  // hbf names the flag
     ContinuationOptions& co = s.continuation;
     co.max_amplitude = parse_double("--max-amplitude", max_amplitude);
     co.max_step = parse_double("--max-step", max_step);

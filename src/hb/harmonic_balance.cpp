@@ -60,6 +60,20 @@ void HarmonicBalance::validate(System system, HarmonicBalanceOptions options) {
     const HarmonicBalance checked(std::move(system), options, false);
 }
 
+int HarmonicBalance::fitting_harmonics(const System& system, HarmonicBalanceOptions options, int wanted) {
+    const int h = std::max(1, system.excitation_harmonic);
+    const JacobianForm asked = options.jacobian;
+    options.harmonics = h;
+    options.time_samples = 0;
+    options.jacobian = JacobianForm::dense;
+    const HarmonicBalance probe(system, options, false);
+    if (asked != JacobianForm::dense && probe.structurable_) return wanted;
+    // all_unknowns_ = (unknowns per coefficient) x (2H + 1), before the odd-harmonic selection
+    const int per_coefficient = probe.all_unknowns_ / (2 * h + 1);
+    const int fits = (max_unknowns / std::max(per_coefficient, 1) - 1) / 2;
+    return std::min(wanted, fits);
+}
+
 HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& options, bool build_fourier)
     : system_(std::move(system)),
       harmonics_(options.harmonics),
@@ -260,6 +274,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     const bool memoryless =
         std::all_of(state_count_.begin(), state_count_.end(), [](int states) { return states == 0; });
     const bool structurable = condensed_ && memoryless && !options.odd_harmonics;
+    structurable_ = structurable;
     if (options.jacobian == JacobianForm::structured && !structurable) {
         std::string stateful;  // the first contact of each law with internal states
         std::set<std::string> laws;
@@ -295,6 +310,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     // memory (6000 unknowns: about 1 GB in all).
     if (!structured_ && all_unknowns_ > max_unknowns) {
         const int signals = all_unknowns_ / n;
+        const int fits = (max_unknowns / signals - 1) / 2;  // the largest H with signals x (2H + 1) <= the bound
         throw InvalidInput(
             "harmonics = " + std::to_string(harmonics_) + " with " + std::to_string(nc) + " contact(s)" +
             (ns > nc ? " (" + std::to_string(ns) + " directions)" : std::string()) +
@@ -303,7 +319,8 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
             " signals x " + std::to_string(n) + " coefficients), whose dense Jacobian would take " +
             format_number(std::round(8.0 * all_unknowns_ * static_cast<double>(all_unknowns_) / 1048576.0)) +
             " MB per copy: allowed at most " + std::to_string(max_unknowns) +
-            " unknowns (fewer harmonics, fewer contacts" + (condensed_ ? std::string() : ", the condensed formulation") +
+            " unknowns (" + (fits >= std::max(1, system_.excitation_harmonic) ? "fewer harmonics: at most H = " + std::to_string(fits) + " fits; " : std::string()) +
+            "fewer contacts" + (condensed_ ? std::string() : ", the condensed formulation") +
             (structurable ? ", jacobian = structured" : "") + ")");
     }
     // The balanced harmonics: all, or the odd ones only (c_k, s_k for odd k).

@@ -3,6 +3,8 @@
 // its verdict; FRFs on threads (compute_frfs); one solution (solve_at); time-domain sweeps'
 // verdicts (judge_sweep). The searches over FRFs are in optimize.cpp.
 
+#include "hbf/frf.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -14,7 +16,6 @@
 #include "hbf/contact_law.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
-#include "hbf/frf.hpp"
 #include "hbf/static_state.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
@@ -157,6 +158,27 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
     if (choices.modes) hbo.modes = *choices.modes;
     if (choices.odd_harmonics) hbo.odd_harmonics = *choices.odd_harmonics;
     if (choices.jacobian) hbo.jacobian = *choices.jacobian;
+    if (choices.formulation) hbo.formulation = *choices.formulation;
+    if (!choices.harmonics) {
+        // The automatic H within the dense Jacobian's bound (HarmonicBalance::max_unknowns),
+        // said in a note; a cheap bound first spares the probe's static solve on small models.
+        const std::size_t per_coefficient_bound = static_cast<std::size_t>(system.dofs()) + 8 * system.contacts.size();
+        if (per_coefficient_bound * static_cast<std::size_t>(2 * hbo.harmonics + 1) >
+            static_cast<std::size_t>(HarmonicBalance::max_unknowns)) {
+            try {
+                const int fits = HarmonicBalance::fitting_harmonics(system, hbo, hbo.harmonics);
+                if (fits < hbo.harmonics && fits >= std::max(1, system.excitation_harmonic)) {
+                    s.harmonics_note = "H = " + std::to_string(fits) + " instead of the automatic " +
+                                       std::to_string(hbo.harmonics) + ": the largest whose unknowns fit the dense "
+                                       "Jacobian's bound of " + std::to_string(HarmonicBalance::max_unknowns) +
+                                       " (a larger H: fewer contacts, or a memoryless law with the structured Jacobian)";
+                    hbo.harmonics = fits;
+                }
+            } catch (const InvalidInput&) {
+                // the system's own error: the FRF's validation reports it
+            }
+        }
+    }
     // Each located stick-slip transition is a bisection of some thirty corrections: an
     // interface of many nodes has hundreds of them (measured: the 25-node block example at H = 3
     // had not finished in 10 minutes). Beyond max_located_contacts the regimes are reported per
@@ -171,7 +193,6 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
 FrfSettings default_frf_settings(const System& system, const std::vector<Output>& outputs) {
     return frf_settings(system, outputs);
 }
-
 
 Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
     Verdict v;
@@ -463,6 +484,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     for (const std::string& line : penalties.relieved) r.verdict.warning(line);
     if (!declined.empty()) r.verdict.note(declined);
     if (!settings.exact_note.empty()) r.verdict.note(settings.exact_note);
+    if (!settings.harmonics_note.empty()) r.verdict.note(settings.harmonics_note);
     r.seconds = seconds_since(started);
     return r;
 }
