@@ -30,6 +30,7 @@
 #include "hbf/post_processing.hpp"
 #include "hbf/receptance.hpp"
 #include "hbf/reduction.hpp"
+#include "hbf/rigid_exact.hpp"
 #include "hbf/stability.hpp"
 #include "hbf/static_state.hpp"
 #include "hbf/structured_jacobian.hpp"

@@ -74,12 +74,46 @@ Eigen::VectorXcd Step::fast_integral(std::complex<double> mu) const {
     return sum;
 }
 
+PatternEngine::PatternEngine(double omega, bool split, int dofs, int contacts, int nz)
+    : omega_(omega), period_(2.0 * pi / omega), split_(split), n_dofs_(dofs), n_contacts_(contacts), nz_(nz),
+      n_(nz + 3) {}
+
+const ModeData& PatternEngine::mode(const Modes& modes) {
+    auto it = cache_.find(modes);
+    if (it != cache_.end()) return it->second;
+    return cache_.emplace(modes, build(modes)).first->second;
+}
+
+void PatternEngine::restore_forcing(Eigen::VectorXd& zhat, double t) const {
+    zhat(cos_index()) = std::cos(omega_ * t);
+    zhat(sin_index()) = std::sin(omega_ * t);
+    zhat(one_index()) = 1.0;
+}
+
+void PatternEngine::finish(ModeData& m) const {
+    // The fast modes split off; the step short against the slow ones (|lambda| h <= 1) and T / 24.
+    double rho = omega_;
+    m.a_slow = m.a;
+    if (split_ && split_fast_modes(m.a, nz_, n_dofs_, omega_, m, rho)) {
+        for (Guard& g : m.guards) g.fast = g.row.cast<std::complex<double>>() * m.fast.right;
+    } else {
+        m.fast = FastModes{};
+        m.a_slow = m.a;
+        if (!split_ && nz_ > 0) {  // the step against the fastest mode
+            Eigen::EigenSolver<Eigen::MatrixXd> eigen(m.a.topLeftCorner(nz_, nz_), false);
+            rho = std::max(omega_, eigen.info() == Eigen::Success
+                                       ? eigen.eigenvalues().cwiseAbs().maxCoeff()
+                                       : m.a.topLeftCorner(nz_, nz_).cwiseAbs().rowwise().sum().maxCoeff());
+        }
+    }
+    m.h = std::min(period_ / 24.0, 1.0 / rho);
+    m.step_exp = m.exponential(m.h);
+}
+
 Engine::Engine(const System& system, double omega, bool split)
-    : system_(system), omega_(omega), period_(2.0 * pi / omega), split_(split) {
-    n_dofs_ = system.dofs();
-    n_contacts_ = static_cast<int>(system.contacts.size());
-    nz_ = 2 * n_dofs_ + n_contacts_;
-    n_ = nz_ + 3;
+    : PatternEngine(omega, split, system.dofs(), static_cast<int>(system.contacts.size()),
+                    2 * system.dofs() + static_cast<int>(system.contacts.size())),
+      system_(system) {
     mass_inverse_ = Eigen::MatrixXd(system.mass).llt().solve(Eigen::MatrixXd::Identity(n_dofs_, n_dofs_));
     for (const Contact& c : system.contacts) {
         directions_.push_back(system.contact_direction(c));
@@ -87,14 +121,8 @@ Engine::Engine(const System& system, double omega, bool split)
     }
 }
 
-const ModeData& Engine::mode(const Modes& modes) {
-    auto it = cache_.find(modes);
-    if (it != cache_.end()) return it->second;
-    return cache_.emplace(modes, build(modes)).first->second;
-}
-
-Modes Engine::settle(const Eigen::VectorXd& zhat, Modes modes, int trigger) {
-    const int c = trigger;
+Modes Engine::settle(const Eigen::VectorXd& zhat, Modes modes, const Guard& trigger) {
+    const int c = trigger.contact;
     if (modes[static_cast<std::size_t>(c)] != 0) {
         modes[static_cast<std::size_t>(c)] = 0;  // slip reached v = 0: try stick
     } else {
@@ -150,7 +178,7 @@ Modes Engine::initial_modes(Eigen::VectorXd& zhat, const Modes& hints) {
     return release_overloaded(zhat, modes);
 }
 
-Engine::Flow Engine::flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy,
+PatternEngine::Flow PatternEngine::flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy,
                           bool record, int max_events) {
     Flow out;
     if (monodromy) out.psi = Eigen::MatrixXd::Identity(n_, n_);
@@ -221,7 +249,7 @@ Engine::Flow Engine::flow(Eigen::VectorXd zhat, Modes modes, double t0, double d
         if (monodromy) out.psi = m.exponential(best * m.h) * out.psi;
         t = std::min(t + best * m.h, t_end);
         if (m.fast.size() > 0) restore_constraints(zhat, modes, t);
-        const Modes next = settle(zhat, modes, trigger->contact);
+        const Modes next = settle(zhat, modes, *trigger);
         if (monodromy) {
             const Eigen::MatrixXd& a_after = mode(next).a;
             const ModeData& before = mode(modes);  // the cache may have grown: look up again
@@ -255,9 +283,7 @@ Engine::Flow Engine::flow(Eigen::VectorXd zhat, Modes modes, double t0, double d
 
 void Engine::restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const {
     const int nd = n_dofs_;
-    zhat(cos_index()) = std::cos(omega_ * t);
-    zhat(sin_index()) = std::sin(omega_ * t);
-    zhat(one_index()) = 1.0;
+    restore_forcing(zhat, t);
     std::vector<int> stuck;
     for (int c = 0; c < n_contacts_; ++c) {
         const int mode = modes[static_cast<std::size_t>(c)];
@@ -340,23 +366,7 @@ ModeData Engine::build(const Modes& modes) const {
             }
         }
     }
-    // The fast modes split off; the step short against the slow ones (|lambda| h <= 1) and T / 24.
-    double rho = omega_;
-    m.a_slow = m.a;
-    if (split_ && split_fast_modes(m.a, nz_, n_dofs_, omega_, m, rho)) {
-        for (Guard& g : m.guards) g.fast = g.row.cast<std::complex<double>>() * m.fast.right;
-    } else {
-        m.fast = FastModes{};
-        m.a_slow = m.a;
-        if (!split_ && nz_ > 0) {  // the step against the fastest mode
-            Eigen::EigenSolver<Eigen::MatrixXd> eigen(m.a.topLeftCorner(nz_, nz_), false);
-            rho = std::max(omega_, eigen.info() == Eigen::Success
-                                       ? eigen.eigenvalues().cwiseAbs().maxCoeff()
-                                       : m.a.topLeftCorner(nz_, nz_).cwiseAbs().rowwise().sum().maxCoeff());
-        }
-    }
-    m.h = std::min(period_ / 24.0, 1.0 / rho);
-    m.step_exp = m.exponential(m.h);
+    finish(m);
     return m;
 }
 

@@ -20,14 +20,17 @@
 
 namespace hbf::detail::exact {
 
-/// The mode of each contact: +1 or -1 slipping in that direction, 0 stuck.
+/// The mode of each contact: 1D friction (Engine) +1 or -1 slipping in that direction, 0
+/// stuck; other engines number their own.
 using Modes = std::vector<int>;
 
-/// A guard: positive while the mode of `contact` holds, a linear function row * zhat.
+/// A guard: positive while the mode of `contact` holds, a linear function row * zhat; `kind`
+/// tells an engine's guards of one contact apart (0 where a contact has one kind).
 struct Guard {
     int contact = 0;
     Eigen::RowVectorXd row;
     Eigen::RowVectorXcd fast;  ///< row * FastModes::right
+    int kind = 0;
 };
 
 /// The fast modes of a pattern: eigenvalues lambda_j of a beyond the slow ones, right and left
@@ -46,6 +49,9 @@ struct ModeData {
     Eigen::MatrixXd a;       ///< zhat' = a zhat
     Eigen::MatrixXd force;   ///< n_c x n: friction force of each contact as row * zhat
     std::vector<Guard> guards;
+    /// Rigid contacts (rigid_engine.hpp): the contact forces lambda, the relative displacements
+    /// q and every DOF's displacement (the massless ones follow the pattern), as rows * zhat.
+    Eigen::MatrixXd lambda, relative, displacement;
     FastModes fast;          ///< none when every mode is slow
     /// The slow flow in coordinates xi = slow_coordinates * zhat_slow, zhat_slow = slow_basis * xi
     /// (a basis of the slow invariant subspace, n x n_s, orthonormal in balanced coordinates):
@@ -80,12 +86,19 @@ struct Step {
     Eigen::VectorXcd fast_integral(std::complex<double> mu) const;
 };
 
-/// The flows, events and mode data of one system at one frequency.
-class Engine {
+/// The flow through the events of a piecewise-linear system zhat' = A_m zhat, zhat = [z (nz),
+/// cos(w t), sin(w t), 1], z = [y (dofs), y' (dofs), internal states], whose pattern m (the
+/// modes of its contacts) changes where a guard of the pattern reaches zero. An engine says
+/// what a pattern's linear system and guards are (build), which pattern follows an event
+/// (settle) and which relations of the pattern a split flow restores (restore_constraints);
+/// this base class caches the patterns, splits their fast modes and flows a state through
+/// the events with its monodromy (the segment exponentials and the saltation matrices).
+class PatternEngine {
 public:
-    /// split: flow the patterns' fast modes in closed form (fast_modes.hpp); false: every mode
-    /// in the Taylor steps, short against the fastest.
-    Engine(const System& system, double omega, bool split = true);
+    PatternEngine(double omega, bool split, int dofs, int contacts, int nz);
+    virtual ~PatternEngine() = default;
+    PatternEngine(const PatternEngine&) = delete;
+    PatternEngine& operator=(const PatternEngine&) = delete;
 
     int dofs() const { return n_dofs_; }
     int contacts() const { return n_contacts_; }
@@ -96,11 +109,6 @@ public:
     int cos_index() const { return nz_; }
     int sin_index() const { return nz_ + 1; }
     int one_index() const { return nz_ + 2; }
-    const Contact& contact(int c) const { return system_.contacts[static_cast<std::size_t>(c)]; }
-    const Eigen::VectorXd& direction(int c) const { return directions_[static_cast<std::size_t>(c)]; }
-    /// A rigid slider (exact Coulomb); else an elastic slider (Jenkins): contact_law.hpp.
-    bool coulomb(int c) const { return rigid_[static_cast<std::size_t>(c)] != 0; }
-    const Eigen::VectorXd& excitation() const { return system_.excitation; }
 
     Eigen::VectorXd augment(const Eigen::VectorXd& z, double t) const {
         Eigen::VectorXd zhat(n_);
@@ -111,26 +119,16 @@ public:
         return zhat;
     }
 
-    double velocity(int c, const Eigen::VectorXd& zhat) const { return direction(c).dot(zhat.segment(n_dofs_, n_dofs_)); }
-    double relative(int c, const Eigen::VectorXd& zhat) const { return direction(c).dot(zhat.head(n_dofs_)); }
-    /// An elastic slider's spring's far end, q + p cos(omega t) (p: Contact::base_motion, 0 but
-    /// for a load on condensed massless DOFs); q for every other contact.
-    double spring_end(int c, const Eigen::VectorXd& zhat) const {
-        return relative(c, zhat) + contact(c).base_motion * zhat(cos_index());
+    /// The linear system of a pattern, built on first use and cached.
+    const ModeData& mode(const Modes& modes);
+    /// The pattern's linear system if it is cached, else null.
+    const ModeData* cached(const Modes& modes) const {
+        const auto it = cache_.find(modes);
+        return it == cache_.end() ? nullptr : &it->second;
     }
 
-    /// The linear system of a stick/slip pattern, built on first use and cached.
-    const ModeData& mode(const Modes& modes);
-
-    /// Modes after an event of contact `trigger` at zhat (see event_exact.hpp).
-    Modes settle(const Eigen::VectorXd& zhat, Modes modes, int trigger);
-
-    /// Releases stuck Coulomb contacts that cannot be held, the most overloaded first.
-    Modes release_overloaded(const Eigen::VectorXd& zhat, Modes modes);
-
-    /// Modes at the start of a flow from the state (hints: the modes carried with it) and a
-    /// consistent state: a Jenkins spring beyond its limit is relaxed to it.
-    Modes initial_modes(Eigen::VectorXd& zhat, const Modes& hints);
+    /// Modes after the event of guard `trigger` (of the pattern `modes`) at zhat.
+    virtual Modes settle(const Eigen::VectorXd& zhat, Modes modes, const Guard& trigger) = 0;
 
     struct Flow {
         bool ok = true;
@@ -148,22 +146,89 @@ public:
     Flow flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
               int max_events);
 
-private:
-    ModeData build(const Modes& modes) const;
+protected:
+    /// The pattern's a and guards (and anything else of the engine's); finish() completes it.
+    virtual ModeData build(const Modes& modes) const = 0;
     /// Puts zhat back on the pattern's invariant relations where a split flow (its fast modes
-    /// in closed form) left it off them by rounding of the eigenvectors: Coulomb sliders at 0,
-    /// stuck Coulomb contacts at rest (w^T v = 0), slipping Jenkins sliders at their limit, and
-    /// the forcing's states at cos(w t), sin(w t), 1.
-    void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const;
+    /// in closed form) left it off them by rounding of the eigenvectors; the forcing's states
+    /// at cos(w t), sin(w t), 1 (restore_forcing).
+    virtual void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const = 0;
+    void restore_forcing(Eigen::VectorXd& zhat, double t) const;
+    /// Splits off the fast modes of m.a (and sets each guard's fast row), chooses the step
+    /// (short against the slow modes and T / 24) and its exponential.
+    void finish(ModeData& m) const;
 
-    const System& system_;
     double omega_, period_;
     bool split_ = true;
     int n_dofs_ = 0, n_contacts_ = 0, nz_ = 0, n_ = 0;
+
+private:
+    std::map<Modes, ModeData> cache_;
+};
+
+/// The flows, events and mode data of one system with 1D friction contacts (exact Coulomb and
+/// Jenkins) at one frequency.
+class Engine : public PatternEngine {
+public:
+    /// split: flow the patterns' fast modes in closed form (fast_modes.hpp); false: every mode
+    /// in the Taylor steps, short against the fastest.
+    Engine(const System& system, double omega, bool split = true);
+
+    const Contact& contact(int c) const { return system_.contacts[static_cast<std::size_t>(c)]; }
+    const Eigen::VectorXd& direction(int c) const { return directions_[static_cast<std::size_t>(c)]; }
+    /// A rigid slider (exact Coulomb); else an elastic slider (Jenkins): contact_law.hpp.
+    bool coulomb(int c) const { return rigid_[static_cast<std::size_t>(c)] != 0; }
+    const Eigen::VectorXd& excitation() const { return system_.excitation; }
+
+    double velocity(int c, const Eigen::VectorXd& zhat) const { return direction(c).dot(zhat.segment(n_dofs_, n_dofs_)); }
+    double relative(int c, const Eigen::VectorXd& zhat) const { return direction(c).dot(zhat.head(n_dofs_)); }
+    /// An elastic slider's spring's far end, q + p cos(omega t) (p: Contact::base_motion, 0 but
+    /// for a load on condensed massless DOFs); q for every other contact.
+    double spring_end(int c, const Eigen::VectorXd& zhat) const {
+        return relative(c, zhat) + contact(c).base_motion * zhat(cos_index());
+    }
+
+    /// Modes after an event (see event_exact.hpp).
+    Modes settle(const Eigen::VectorXd& zhat, Modes modes, const Guard& trigger) override;
+
+    /// Releases stuck Coulomb contacts that cannot be held, the most overloaded first.
+    Modes release_overloaded(const Eigen::VectorXd& zhat, Modes modes);
+
+    /// Modes at the start of a flow from the state (hints: the modes carried with it) and a
+    /// consistent state: a Jenkins spring beyond its limit is relaxed to it.
+    Modes initial_modes(Eigen::VectorXd& zhat, const Modes& hints);
+
+private:
+    ModeData build(const Modes& modes) const override;
+    /// Coulomb sliders at 0, stuck Coulomb contacts at rest (w^T v = 0), slipping Jenkins
+    /// sliders at their limit, and the forcing.
+    void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const override;
+
+    const System& system_;
     Eigen::MatrixXd mass_inverse_;
     std::vector<char> rigid_;  // per contact: a rigid slider (coulomb)
     std::vector<Eigen::VectorXd> directions_;
-    std::map<Modes, ModeData> cache_;
+};
+
+/// Sizes of section states z = [y (N), y' (N), sliders] in units of displacement: velocities
+/// divided by omega, so that a problem in other units gives the same numbers.
+struct SectionNorm {
+    int dofs = 0;
+    double omega = 1.0;
+    double reference = 0.0;  ///< the size of the caller's start: floors the relative change
+    double size(const Eigen::VectorXd& z) const {
+        double m = z.head(dofs).cwiseAbs().maxCoeff();
+        m = std::max(m, z.segment(dofs, dofs).cwiseAbs().maxCoeff() / omega);
+        if (z.size() > 2 * dofs) m = std::max(m, z.tail(z.size() - 2 * dofs).cwiseAbs().maxCoeff());
+        return m;
+    }
+    /// |P(z) - z| / max(reference, |z|): relative, and a state far off is not judged by its
+    /// own size alone.
+    double relative_change(const Eigen::VectorXd& end, const Eigen::VectorXd& start) const {
+        const double scale = std::max(reference, size(start));
+        const double change = size(end - start);
+        return scale > 0.0 ? change / scale : change;
+    }
 };
 
 /// Values of a recorded flow at time t (inside the recorded range).

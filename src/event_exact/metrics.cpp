@@ -38,6 +38,72 @@ Eigen::VectorXd slip_work(Engine& e, const Engine::Flow& flow) {
     return work;
 }
 
+void Maxima::add(const Step& st, const Signal& y, double& best) {
+    best = std::max(best, std::abs(y.value(0.0)));
+    const auto polynomial_max = [&st](const Eigen::RowVectorXd& poly, double& at) {
+        constexpr int samples = 16;
+        Eigen::RowVectorXd d = Eigen::RowVectorXd::Zero(std::max<Eigen::Index>(1, poly.size() - 1));
+        for (Eigen::Index k = 1; k < poly.size(); ++k) d(k - 1) = static_cast<double>(k) * poly(k);
+        double s_prev = 0.0, v_prev = horner(d, 0.0), top = std::abs(horner(poly, 0.0));
+        at = 0.0;
+        const auto consider = [&](double s) {
+            const double value = std::abs(horner(poly, s));
+            if (value > top) {
+                top = value;
+                at = s;
+            }
+        };
+        for (int j = 1; j <= samples; ++j) {
+            const double s = st.s_end * j / samples;
+            const double vs = horner(d, s);
+            consider(s);
+            if ((v_prev <= 0.0 && vs >= 0.0) || (v_prev >= 0.0 && vs <= 0.0)) consider(refine_root(d, s_prev, s));
+            s_prev = s;
+            v_prev = vs;
+        }
+        return top;
+    };
+    double at = 0.0;
+    const double top = polynomial_max(y.poly, at);
+    if (!y.fast()) {
+        best = std::max(best, top);
+        return;
+    }
+    double envelope = 0.0;
+    for (Eigen::Index j = 0; j < y.amp.size(); ++j)
+        envelope += (std::abs(y.amp(j).real()) + std::abs(y.amp(j).imag())) *
+                    std::max(1.0, std::exp(y.rate(j).real() * st.s_end));
+    best = std::max({best, std::abs(y.value(at)), std::abs(y.value(st.s_end))});
+    const double bound = top * (1.0 + 1e-12) + envelope;
+    if (bound > best) deferred_.push_back({y, st.s_end, bound, &best});
+}
+
+void Maxima::finish() {
+    // The deferred steps with fast exponentials: samples resolving every one above rounding of
+    // |y|. An extremum between two samples is refined only where it can exceed the best so far:
+    // within one sample (half a radian of the fastest exponential) it lies within the samples'
+    // values plus their slopes times the spacing.
+    for (const Deferred& d : deferred_) {
+        double& best = *d.best;
+        if (d.bound <= best) continue;
+        const Signal& y = d.y;
+        double size = std::abs(horner(y.poly, 0.0));
+        for (Eigen::Index j = 0; j < y.amp.size(); ++j) size += std::abs(y.amp(j).real()) + std::abs(y.amp(j).imag());
+        double s_prev = 0.0, v_prev = 0.0, y_prev = 0.0;
+        y.sample(d.s_end, 1e-15 * size, [&](double s, double value, double slope) {
+            best = std::max(best, std::abs(value));
+            if (s > 0.0 && ((v_prev <= 0.0 && slope >= 0.0) || (v_prev >= 0.0 && slope <= 0.0)) &&
+                std::max(std::abs(y_prev), std::abs(value)) + (s - s_prev) * std::max(std::abs(v_prev), std::abs(slope)) > best)
+                best = std::max(best, std::abs(y.value(signal_extremum(y, s_prev, s))));
+            s_prev = s;
+            v_prev = slope;
+            y_prev = value;
+            return true;
+        });
+    }
+    deferred_.clear();
+}
+
 void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out,
                   Probes* probes) {
     const int nd = e.dofs(), nc = e.contacts();
@@ -71,12 +137,7 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
         margin(trial, flow.event_states[k]);
     }
     Eigen::VectorXd z_node;
-    struct Deferred {
-        Signal y;
-        double s_end, bound;
-        double* best;
-    };
-    std::vector<Deferred> deferred;
+    Maxima maxima;
     for (const Step& st : flow.steps) {
         const double length = st.s_end * st.h;
         if (length <= 0.0) continue;
@@ -86,61 +147,16 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
                 margin_of(force);
                 return true;
             });
-        // Turning points of every DOF, output and probe: roots of their slope between samples
-        // (16 a step, closer where a fast exponential is present). With fast exponentials the
-        // step is first bounded: the polynomial part's largest |value| (its turning points) plus
-        // the exponentials' largest sizes; the signal's values there raise the best so far, and
-        // the fine sampling is deferred, to be done only if the bound still exceeds the best once
-        // every step has been seen (the maximum is the same; most steps are never sampled finely).
-        auto turning_points = [&st, &deferred](const Signal& y, double& best) {
-            best = std::max(best, std::abs(y.value(0.0)));
-            const auto polynomial_max = [&st](const Eigen::RowVectorXd& poly, double& at) {
-                constexpr int samples = 16;
-                Eigen::RowVectorXd d = Eigen::RowVectorXd::Zero(std::max<Eigen::Index>(1, poly.size() - 1));
-                for (Eigen::Index k = 1; k < poly.size(); ++k) d(k - 1) = static_cast<double>(k) * poly(k);
-                double s_prev = 0.0, v_prev = horner(d, 0.0), top = std::abs(horner(poly, 0.0));
-                at = 0.0;
-                const auto consider = [&](double s) {
-                    const double value = std::abs(horner(poly, s));
-                    if (value > top) {
-                        top = value;
-                        at = s;
-                    }
-                };
-                for (int j = 1; j <= samples; ++j) {
-                    const double s = st.s_end * j / samples;
-                    const double vs = horner(d, s);
-                    consider(s);
-                    if ((v_prev <= 0.0 && vs >= 0.0) || (v_prev >= 0.0 && vs <= 0.0)) consider(refine_root(d, s_prev, s));
-                    s_prev = s;
-                    v_prev = vs;
-                }
-                return top;
-            };
-            double at = 0.0;
-            const double top = polynomial_max(y.poly, at);
-            if (!y.fast()) {
-                best = std::max(best, top);
-                return;
-            }
-            double envelope = 0.0;
-            for (Eigen::Index j = 0; j < y.amp.size(); ++j)
-                envelope += (std::abs(y.amp(j).real()) + std::abs(y.amp(j).imag())) *
-                            std::max(1.0, std::exp(y.rate(j).real() * st.s_end));
-            best = std::max({best, std::abs(y.value(at)), std::abs(y.value(st.s_end))});
-            const double bound = top * (1.0 + 1e-12) + envelope;
-            if (bound > best) deferred.push_back({y, st.s_end, bound, &best});
-        };
         if (!probes && options.dof_maxima)  // the probes include the DOFs
-            for (int i = 0; i < nd; ++i) turning_points(st.signal(i), out.y_max[static_cast<std::size_t>(i)]);
+            for (int i = 0; i < nd; ++i) maxima.add(st, st.signal(i), out.y_max[static_cast<std::size_t>(i)]);
         for (std::size_t o = 0; o < outputs.size(); ++o) {
             Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(e.n());
             for (const auto& [i, c] : outputs[o].terms()) row(i) += c;
-            turning_points(st.signal(row), out.output_max[o]);
+            maxima.add(st, st.signal(row), out.output_max[o]);
         }
         if (n_probes > 0)  // p = L zhat
             for (Eigen::Index p = probes->first_max; p < n_probes; ++p)
-                turning_points(st.signal(Eigen::RowVectorXd(probes->rows.row(p))), probes->max[static_cast<std::size_t>(p)]);
+                maxima.add(st, st.signal(Eigen::RowVectorXd(probes->rows.row(p))), probes->max[static_cast<std::size_t>(p)]);
         // First harmonics by Gauss-Legendre (cos and sin are states of zhat), the fast part's
         // in closed form.
         for (const auto& [node, weight] : rule) {
@@ -157,28 +173,7 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
         for (int c = 0; c < nc; ++c)
             if (st.modes[static_cast<std::size_t>(c)] == 0) stick_time[static_cast<std::size_t>(c)] += length;
     }
-    // The deferred steps with fast exponentials: samples resolving every one above rounding of
-    // |y|. An extremum between two samples is refined only where it can exceed the best so far:
-    // within one sample (half a radian of the fastest exponential) it lies within the samples'
-    // values plus their slopes times the spacing.
-    for (const Deferred& d : deferred) {
-        double& best = *d.best;
-        if (d.bound <= best) continue;
-        const Signal& y = d.y;
-        double size = std::abs(horner(y.poly, 0.0));
-        for (Eigen::Index j = 0; j < y.amp.size(); ++j) size += std::abs(y.amp(j).real()) + std::abs(y.amp(j).imag());
-        double s_prev = 0.0, v_prev = 0.0, y_prev = 0.0;
-        y.sample(d.s_end, 1e-15 * size, [&](double s, double value, double slope) {
-            best = std::max(best, std::abs(value));
-            if (s > 0.0 && ((v_prev <= 0.0 && slope >= 0.0) || (v_prev >= 0.0 && slope <= 0.0)) &&
-                std::max(std::abs(y_prev), std::abs(value)) + (s - s_prev) * std::max(std::abs(v_prev), std::abs(slope)) > best)
-                best = std::max(best, std::abs(y.value(signal_extremum(y, s_prev, s))));
-            s_prev = s;
-            v_prev = slope;
-            y_prev = value;
-            return true;
-        });
-    }
+    maxima.finish();
     out.energy = slip_work(e, flow).sum();
     c1z *= 2.0 / period;
     s1z *= 2.0 / period;

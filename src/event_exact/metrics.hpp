@@ -16,6 +16,28 @@ Eigen::VectorXd mean_forces(Engine& e, const Engine::Flow& flow);
 /// the travel of its slider (an elastic slider's: its spring's far end).
 Eigen::VectorXd slip_work(Engine& e, const Engine::Flow& flow);
 
+/// The largest |y(t)| of signals over recorded steps, each kept in the caller's `best`: the
+/// turning points of each step's polynomial between 16 samples, refined by Newton on the slope.
+/// A step with fast exponentials is first bounded (the polynomial part's largest |value| plus
+/// the exponentials' largest sizes); the signal's values there raise the best so far, and the
+/// fine sampling is deferred to finish(), done only if the bound still exceeds the best once
+/// every step has been seen (the maximum is the same; most steps are never sampled finely).
+class Maxima {
+public:
+    /// Takes y over step st into best (which must outlive finish()).
+    void add(const Step& st, const Signal& y, double& best);
+    /// The deferred steps: samples resolving every exponential above rounding of |y|.
+    void finish();
+
+private:
+    struct Deferred {
+        Signal y;
+        double s_end, bound;
+        double* best;
+    };
+    std::vector<Deferred> deferred_;
+};
+
 /// Linear functions p(t) = L zhat(t) of the flow beyond the DOFs (the massless DOFs of a
 /// condensed system, and outputs on them): rows L over zhat, and what fill_metrics finds.
 struct Probes {

@@ -117,27 +117,6 @@ void fill_stability(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& basis, co
     out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
 }
 
-/// Sizes of section states z = [y (N), y' (N), sliders] in units of displacement: velocities
-/// divided by omega, so that a problem in other units gives the same numbers.
-struct SectionNorm {
-    int dofs = 0;
-    double omega = 1.0;
-    double reference = 0.0;  ///< the size of the caller's start: floors the relative change
-    double size(const Eigen::VectorXd& z) const {
-        double m = z.head(dofs).cwiseAbs().maxCoeff();
-        m = std::max(m, z.segment(dofs, dofs).cwiseAbs().maxCoeff() / omega);
-        if (z.size() > 2 * dofs) m = std::max(m, z.tail(z.size() - 2 * dofs).cwiseAbs().maxCoeff());
-        return m;
-    }
-    /// |P(z) - z| / max(reference, |z|): relative, and a state far off is not judged by its
-    /// own size alone.
-    double relative_change(const Eigen::VectorXd& end, const Eigen::VectorXd& start) const {
-        const double scale = std::max(reference, size(start));
-        const double change = size(end - start);
-        return scale > 0.0 ? change / scale : change;
-    }
-};
-
 /// exact_periodic_orbit on a system with M > 0 (validated); with `probes`, their metrics from
 /// the orbit's period instead of the DOFs' maxima (fill_metrics).
 ExactOrbit orbit_of(const System& system, double omega, const Eigen::VectorXd& initial_state,

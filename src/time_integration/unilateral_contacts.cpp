@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/massless_contacts.hpp"
 #include "time_integration/elastic_contacts.hpp"
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
@@ -37,96 +38,29 @@ class UnilateralIntegrator {
 public:
     UnilateralIntegrator(const System& system, double omega, long steps)
         : drive_(system.excitation_harmonic * omega),
-          dt_(2.0 * pi / omega / static_cast<double>(steps)) {
-        const int n = system.dofs();
-        const MatrixXd M(system.mass), K(system.stiffness);
-        MatrixXd C = MatrixXd(system.damping);
-        if (C.size() == 0) C = MatrixXd::Zero(n, n);
-        for (int i = 0; i < n; ++i) (M.col(i).cwiseAbs().maxCoeff() > 0.0 ? massive_ : massless_).push_back(i);
-        auto pick = [](const MatrixXd& a, const std::vector<int>& rows, const std::vector<int>& cols) {
-            MatrixXd out(rows.size(), cols.size());
-            for (std::size_t i = 0; i < rows.size(); ++i)
-                for (std::size_t j = 0; j < cols.size(); ++j) out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = a(rows[i], cols[j]);
-            return out;
-        };
-        auto part = [](const VectorXd& v, const std::vector<int>& rows) {
-            VectorXd out(rows.size());
-            for (std::size_t i = 0; i < rows.size(); ++i) out(static_cast<Eigen::Index>(i)) = v.size() ? v(rows[i]) : 0.0;
-            return out;
-        };
-        for (std::size_t c = 0; c < system.contacts.size(); ++c) {
-            const Contact& k = system.contacts[c];
-            const std::string where = "contact " + std::to_string(c + 1) + ": ";
-            if (contact_law(k.law).time_integrator() != TimeIntegrator::unilateral_contacts)
-                throw InvalidInput(where + "law = " + to_string(k.law) + " with contacts of law unilateral: time "
-                                   "integration takes law unilateral alone (allowed: every contact unilateral, or none)");
-            const MatrixXd w = system.contact_directions(k);
-            for (int i : massive_)
-                if (w.row(i).cwiseAbs().maxCoeff() > 0.0)
-                    throw InvalidInput(where + "a direction of the contact is on DOF " + std::to_string(i + 1) +
-                                       ", which has mass: time integration of law unilateral needs the contact "
-                                       "directions on massless DOFs (a row and column of M that are zero)");
-            blocks_.push_back(rigid_contact(k, lambdas_));
-            directions_.push_back(w);
-            lambdas_ += static_cast<int>(w.cols());
-        }
-        for (int i : massless_)
-            if (C.row(i).cwiseAbs().maxCoeff() > 0.0 || C.col(i).cwiseAbs().maxCoeff() > 0.0)
-                throw InvalidInput("damping matrix: DOF " + std::to_string(i + 1) +
-                                   " is massless and damped: time integration of law unilateral needs the massless "
-                                   "DOFs undamped (their positions then follow the masses statically)");
-        Mmm_ = pick(M, massive_, massive_);
-        Cmm_ = pick(C, massive_, massive_);
-        Kmm_ = pick(K, massive_, massive_);
-        Kmc_ = pick(K, massive_, massless_);
-        Kcm_ = pick(K, massless_, massive_);
-        const MatrixXd Kcc = pick(K, massless_, massless_);
-        Fm_ = part(system.excitation, massive_);
-        Fc_ = part(system.excitation, massless_);
-        Sm_ = part(system.static_load, massive_);
-        Sc_ = part(system.static_load, massless_);
-        const Eigen::LLT<MatrixXd> mass(Mmm_);
-        if (massive_.empty() || mass.info() != Eigen::Success)
-            throw InvalidInput("mass matrix: its part on the DOFs with mass is not positive definite (or there is "
-                               "none): time integration of law unilateral needs M_mm > 0");
-        minv_ = mass.solve(MatrixXd::Identity(Mmm_.rows(), Mmm_.cols()));
-        velocity_ = (Mmm_ + 0.5 * dt_ * Cmm_).partialPivLu();
-        const Eigen::FullPivLU<MatrixXd> stiffness(Kcc);
-        if (massless_.empty() || !stiffness.isInvertible())
-            throw InvalidInput("stiffness matrix: singular on the massless DOFs (K_cc): time integration of law "
-                               "unilateral solves the massless contact nodes statically, which needs K_cc regular");
-        kcc_inv_ = stiffness.inverse();
-        Wc_ = MatrixXd(massless_.size(), lambdas_);
-        for (std::size_t c = 0; c < blocks_.size(); ++c)
-            for (std::size_t i = 0; i < massless_.size(); ++i)
-                Wc_.block(static_cast<Eigen::Index>(i), blocks_[c].first, 1, directions_[c].cols()) =
-                    directions_[c].row(massless_[i]);
-        B_ = kcc_inv_ * Wc_;
-        G_ = Wc_.transpose() * B_;
-        for (int a = 0; a < lambdas_; ++a)
-            if (!(G_(a, a) > 0.0))
-                throw InvalidInput("stiffness matrix: the massless nodes have no flexibility along contact direction " +
-                                   std::to_string(a + 1) + " (w^T K_cc^-1 w = " + format_number(G_(a, a)) +
-                                   "): allowed a positive definite K_cc");
+          dt_(2.0 * pi / omega / static_cast<double>(steps)),
+          s_(split_massless_contacts(system, "time integration")) {
+        minv_ = s_.Mmm.llt().solve(MatrixXd::Identity(s_.Mmm.rows(), s_.Mmm.cols()));
+        velocity_ = (s_.Mmm + 0.5 * dt_ * s_.Cmm).partialPivLu();
     }
 
-    int massive() const { return static_cast<int>(massive_.size()); }
-    int lambdas() const { return lambdas_; }
+    int massive() const { return static_cast<int>(s_.massive.size()); }
+    int lambdas() const { return s_.lambdas; }
     double dt() const { return dt_; }
 
     /// The contacts at time t for the masses at ym, the tangential displacements of the last
     /// step `previous` (its normal entries unused), lambda warm-started from `out.lambda`
     /// (normal_contact.hpp: solve_rigid_contacts).
     bool contacts(double t, const VectorXd& ym, const VectorXd& previous, Step& out, std::string& failure) const {
-        const VectorXd yc0 = kcc_inv_ * (Fc_ * std::cos(drive_ * t) + Sc_ - Kcm_ * ym);
-        out.free = Wc_.transpose() * yc0;
+        const VectorXd yc0 = s_.Kcc_inverse * (s_.Fc * std::cos(drive_ * t) + s_.Sc - s_.Kcm * ym);
+        out.free = s_.W.transpose() * yc0;
         RigidContactSolution solution;
         solution.lambda = out.lambda;
-        const bool ok = solve_rigid_contacts(blocks_, G_, out.free, previous, solution);
+        const bool ok = solve_rigid_contacts(s_.blocks, s_.G, out.free, previous, solution);
         out.lambda = solution.lambda;
         out.q = solution.q;
         out.state = solution.state;
-        out.yc = yc0 - B_ * out.lambda;
+        out.yc = yc0 - s_.B * out.lambda;
         if (!ok)
             failure = "the contact problem at t = " + format_number(t) + " did not converge (residual " +
                       format_number(solution.residual) + " of the contact forces)";
@@ -135,7 +69,7 @@ public:
 
     /// The force on the masses at time t (the contact forces act on the massless nodes alone).
     VectorXd force(double t, const VectorXd& ym, const VectorXd& yc) const {
-        return Fm_ * std::cos(drive_ * t) + Sm_ - Kmm_ * ym - Kmc_ * yc;
+        return s_.Fm * std::cos(drive_ * t) + s_.Sm - s_.Kmm * ym - s_.Kmc * yc;
     }
 
     /// One Verlet step from t (ym, vm, am, the contacts `step` at t) to t + dt.
@@ -150,9 +84,9 @@ public:
         // (second order in the step, where holding the start would be first order).
         VectorXd history = previous;
         bool closed = false;
-        for (std::size_t c = 0; c < blocks_.size() && before.size() == blocks_.size(); ++c) {
+        for (std::size_t c = 0; c < s_.blocks.size() && before.size() == s_.blocks.size(); ++c) {
             if (before[c] != 0 || step.state[c] == 0) continue;
-            const Block& b = blocks_[c];
+            const Block& b = s_.blocks[c];
             const int normal = b.first + b.d;
             const double reach = step.free(normal) - previous(normal);
             const double fraction = reach > 0.0 ? std::clamp((b.gap - previous(normal)) / reach, 0.0, 1.0) : 1.0;
@@ -161,28 +95,24 @@ public:
         }
         if (closed && !contacts(t + dt_, ym, history, step, failure)) return false;
         const VectorXd f = force(t + dt_, ym, step.yc);
-        vm = velocity_.solve(Mmm_ * vm + 0.5 * dt_ * (Mmm_ * am + f));
+        vm = velocity_.solve(s_.Mmm * vm + 0.5 * dt_ * (s_.Mmm * am + f));
         am = acceleration(f, vm);
         return true;
     }
 
     /// M^-1 (f - C v) on the DOFs with mass.
-    VectorXd acceleration(const VectorXd& f, const VectorXd& vm) const { return minv_ * (f - Cmm_ * vm); }
+    VectorXd acceleration(const VectorXd& f, const VectorXd& vm) const { return minv_ * (f - s_.Cmm * vm); }
 
-    const std::vector<int>& massive_dofs() const { return massive_; }
-    const std::vector<int>& massless_dofs() const { return massless_; }
-    const std::vector<Block>& blocks() const { return blocks_; }
-    const MatrixXd& damping() const { return Cmm_; }
+    const std::vector<int>& massive_dofs() const { return s_.massive; }
+    const std::vector<int>& massless_dofs() const { return s_.massless; }
+    const std::vector<Block>& blocks() const { return s_.blocks; }
+    const MatrixXd& damping() const { return s_.Cmm; }
 
 private:
     double drive_;
     double dt_;
-    std::vector<int> massive_, massless_;
-    std::vector<Block> blocks_;
-    std::vector<MatrixXd> directions_;
-    int lambdas_ = 0;
-    MatrixXd Mmm_, Cmm_, Kmm_, Kmc_, Kcm_, minv_, kcc_inv_, Wc_, B_, G_;
-    VectorXd Fm_, Fc_, Sm_, Sc_;
+    MasslessContacts s_;
+    MatrixXd minv_;
     Eigen::PartialPivLU<MatrixXd> velocity_;
 };
 
@@ -195,12 +125,7 @@ long steps_per_period(const System& system, double omega, int samples) {
     for (int i = 0; i < n; ++i)
         if (M.col(i).cwiseAbs().maxCoeff() > 0.0) massive.push_back(i);
     const auto m = static_cast<Eigen::Index>(massive.size());
-    MatrixXd Mmm(m, m), Kmm(m, m);
-    for (Eigen::Index i = 0; i < m; ++i)
-        for (Eigen::Index j = 0; j < m; ++j) {
-            Mmm(i, j) = M(massive[static_cast<std::size_t>(i)], massive[static_cast<std::size_t>(j)]);
-            Kmm(i, j) = K(massive[static_cast<std::size_t>(i)], massive[static_cast<std::size_t>(j)]);
-        }
+    const MatrixXd Mmm = pick(M, massive, massive), Kmm = pick(K, massive, massive);
     double highest = 0.0;
     if (m > 0) {
         Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> modes(Kmm, Mmm, Eigen::EigenvaluesOnly);

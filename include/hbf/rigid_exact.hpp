@@ -1,0 +1,42 @@
+// hbfriction — exact periodic orbits of structures whose contacts are rigid unilateral contacts
+// with Coulomb friction (law unilateral) on massless nodes: a massless-boundary reduction, or
+// any model whose contact DOFs carry no mass. 2D contacts (one tangential direction).
+//
+// The massless nodes follow the masses statically, so between two contact events (a node's
+// closing or opening, its stick or slip start) the contact forces are linear in the state of
+// the DOFs with mass and the motion is a linear system, flowed in closed form; the events are
+// the roots of the contact conditions (a node's gap, normal force, friction margin, slip
+// velocity). The periodic orbit is the fixed point of the period map, solved by Newton's
+// method with its exact derivative (the monodromy: the segment exponentials and the saltation
+// matrices at the events); its eigenvalues are the Floquet multipliers. Patterns, events and
+// the choice of the pattern after an event: src/event_exact/rigid_engine.hpp.
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+
+#include "hbf/event_exact.hpp"
+#include "hbf/model.hpp"
+
+namespace hbf {
+
+/// Why the rigid-contact exact solver cannot take `system` (one sentence naming the cause),
+/// empty when it can: every contact of law unilateral with one tangential direction, the
+/// contact directions on massless undamped DOFs, K regular on them, M positive definite on
+/// the others, the force at the fundamental, at most exact_solver_max_dofs DOFs with mass.
+std::string rigid_solver_refusal(const System& system);
+
+/// The periodic orbit at omega near `initial_state`: [y (N), y' (N)] of every DOF (the
+/// convention of law unilateral's time integration; the massless DOFs' part of y sets where
+/// stuck contacts are held, their velocities are not used), or empty for a start at rest.
+/// ExactOrbit's fields as in event_exact.hpp, with these differences: state is [y (N), y' (N)]
+/// at t = 0 (the massless DOFs' velocities those of the orbit); the events' modes are
+/// 0 open, 1 stuck, +2 / -2 slipping in the + / - tangential direction; contacts[c] has the
+/// separated share, the normal force's mean and half range and the friction energy, exact;
+/// friction_force holds the tangential contact forces; stick_margin is not computed (0).
+/// Throws InvalidInput where rigid_solver_refusal is not empty, for omega <= 0, bad options
+/// or a state of the wrong size. Non-convergence is a status (converged = false, message).
+ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
+                                const ExactOptions& options = {});
+
+}  // namespace hbf

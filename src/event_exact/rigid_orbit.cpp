@@ -1,0 +1,377 @@
+// hbfriction — exact periodic orbits of rigid unilateral contacts on massless nodes
+// (rigid_exact.hpp): Newton shooting on the period map of RigidEngine, and the orbit's metrics.
+#include "hbf/rigid_exact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "event_exact/metrics.hpp"
+#include "event_exact/rigid_engine.hpp"
+#include "hbf/error.hpp"
+
+namespace hbf {
+
+namespace {
+
+using namespace detail::exact;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+/// The orbit's metrics from one recorded period [t_s, t_s + T].
+void rigid_metrics(RigidEngine& e, const PatternEngine::Flow& flow, double t_s, const ExactOptions& options,
+                   ExactOrbit& out) {
+    const System& system = e.system();
+    const int N = system.dofs(), nc = e.contacts();
+    const double period = e.period();
+    const auto& rule = gauss_legendre();
+    out.y_max.assign(static_cast<std::size_t>(N), options.dof_maxima ? 0.0 : std::numeric_limits<double>::quiet_NaN());
+    out.output_max.assign(options.outputs.size(), 0.0);
+    std::vector<double> stick(static_cast<std::size_t>(nc), 0.0), open(stick), energy(stick), normal_mean(stick),
+        normal_max(stick), normal_range(stick);
+    VectorXd c1 = VectorXd::Zero(N), s1 = VectorXd::Zero(N);
+    Maxima maxima;
+    for (const Step& st : flow.steps) {
+        const double length = st.s_end * st.h;
+        if (length <= 0.0) continue;
+        const ModeData& m = *st.data;
+        if (options.dof_maxima)
+            for (int i = 0; i < N; ++i)
+                maxima.add(st, st.signal(Eigen::RowVectorXd(m.displacement.row(i))), out.y_max[static_cast<std::size_t>(i)]);
+        for (std::size_t o = 0; o < options.outputs.size(); ++o) {
+            Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(e.n());
+            for (const auto& [i, c] : options.outputs[o].terms()) row += c * m.displacement.row(i);
+            maxima.add(st, st.signal(row), out.output_max[o]);
+        }
+        // First harmonics by Gauss-Legendre on the polynomial part, the fast part in closed form.
+        for (const auto& [node, weight] : rule) {
+            const VectorXd z = evaluate(st.u, node * st.s_end);
+            const VectorXd y = m.displacement * z;
+            c1 += (weight * length * z(e.cos_index())) * y;
+            s1 += (weight * length * z(e.sin_index())) * y;
+        }
+        if (st.fast()) {
+            const std::complex<double> phase(st.u(e.cos_index(), 0), st.u(e.sin_index(), 0));
+            const Eigen::VectorXcd turned =
+                m.displacement.cast<std::complex<double>>() * (phase * st.fast_integral(std::complex<double>(0.0, e.omega())));
+            c1 += turned.real();
+            s1 += turned.imag();
+        }
+        // The contacts: times of each pattern, normal force, friction work lambda_T q_T' (on the
+        // full state, the fast part included, at Gauss-Legendre nodes of two halves).
+        for (int c = 0; c < nc; ++c) {
+            const int mode = st.modes[static_cast<std::size_t>(c)];
+            if (mode == rigid_open) {
+                open[static_cast<std::size_t>(c)] += length;
+                continue;
+            }
+            if (mode == rigid_stuck) stick[static_cast<std::size_t>(c)] += length;
+            const Eigen::RowVectorXd normal = m.lambda.row(e.normal(c));
+            maxima.add(st, st.signal(normal), normal_max[static_cast<std::size_t>(c)]);
+            for (int half = 0; half < 2; ++half)
+                for (const auto& [node, weight] : rule) {
+                    const double s = st.s_end * 0.5 * (half + node);
+                    const VectorXd z = st.state(s);
+                    normal_mean[static_cast<std::size_t>(c)] += 0.5 * weight * length * normal.dot(z);
+                    if (mode != rigid_stuck)
+                        energy[static_cast<std::size_t>(c)] += 0.5 * weight * length * m.lambda.row(e.tangential(c)).dot(z) *
+                                                               m.a.row(e.slider(c)).dot(z);
+                }
+        }
+    }
+    maxima.finish();
+    // The normal force's range: max lambda_N - min lambda_N, the minimum as the maximum of
+    // (max - lambda_N) >= 0 over the period (0 where the contact opens).
+    Maxima ranges;
+    for (const Step& st : flow.steps) {
+        if (st.s_end * st.h <= 0.0) continue;
+        for (int c = 0; c < nc; ++c) {
+            Eigen::RowVectorXd row = -st.data->lambda.row(e.normal(c));
+            if (st.modes[static_cast<std::size_t>(c)] == rigid_open) row.setZero();
+            row(e.one_index()) += normal_max[static_cast<std::size_t>(c)];
+            ranges.add(st, st.signal(row), normal_range[static_cast<std::size_t>(c)]);
+        }
+    }
+    ranges.finish();
+    c1 *= 2.0 / period;
+    s1 *= 2.0 / period;
+    out.harmonic1 = c1.cast<std::complex<double>>() - std::complex<double>(0.0, 1.0) * s1.cast<std::complex<double>>();
+    out.y_amp1.resize(static_cast<std::size_t>(N));
+    for (int i = 0; i < N; ++i) out.y_amp1[static_cast<std::size_t>(i)] = std::hypot(c1(i), s1(i));
+    out.output_amp1.clear();
+    for (const Output& o : options.outputs) out.output_amp1.push_back(std::hypot(o.of(c1), o.of(s1)));
+    out.input_energy = system.excitation.size() ? pi * system.excitation.dot(s1) : 0.0;
+    out.contacts.clear();
+    out.energy = 0.0;
+    for (int c = 0; c < nc; ++c) {
+        const auto k = static_cast<std::size_t>(c);
+        ContactRegime r = contact_regime(stick[k], period);
+        r.separated_fraction = open[k] / period;
+        r.normal_mean = normal_mean[k] / period;
+        r.normal_amplitude = 0.5 * normal_range[k];
+        r.energy = energy[k];
+        out.energy += energy[k];
+        out.contacts.push_back(r);
+    }
+    out.stick_fraction = nc > 0 ? out.contacts.front().stick_fraction : 0.0;
+    out.regime = nc > 0 ? out.contacts.front().regime : "none";
+    out.stick_margin_min = out.stick_margin_max = 0.0;
+    out.events.clear();
+    for (ExactEvent ev : flow.events) {
+        ev.time = std::fmod(ev.time, period);
+        if (ev.time < 0) ev.time += period;
+        if (ev.time >= period) ev.time -= period;
+        out.events.push_back(ev);
+    }
+    std::sort(out.events.begin(), out.events.end(),
+              [](const ExactEvent& a, const ExactEvent& b) { return a.time < b.time; });
+    out.switches = static_cast<int>(out.events.size());
+    auto dof_state_at = [&](double t) {
+        const double tt = t < t_s ? t + period : t;
+        const Step& st = step_at(flow.steps, tt);
+        return e.dof_state(st.state(std::min(std::max((tt - st.t0) / st.h, 0.0), st.s_end)), st.modes);
+    };
+    out.state = dof_state_at(t_s > 0.0 ? period : 0.0);
+    if (options.samples > 0) {
+        out.time.resize(options.samples);
+        out.displacement.resize(options.samples, N);
+        out.velocity.resize(options.samples, N);
+        out.friction_force.resize(options.samples, nc);
+        for (int j = 0; j < options.samples; ++j) {
+            const double t = period * j / options.samples;
+            const VectorXd x = dof_state_at(t);
+            out.time(j) = t;
+            out.displacement.row(j) = x.head(N).transpose();
+            out.velocity.row(j) = x.tail(N).transpose();
+            const double tt = t < t_s ? t + period : t;
+            const Step& st = step_at(flow.steps, tt);
+            const VectorXd z = st.state(std::min(std::max((tt - st.t0) / st.h, 0.0), st.s_end));
+            for (int c = 0; c < nc; ++c) out.friction_force(j, c) = st.data->lambda.row(e.tangential(c)).dot(z);
+        }
+    }
+}
+
+/// The middle of the longest event-free stretch of a period's events (0 without events).
+double section_time(const std::vector<ExactEvent>& events, double period) {
+    if (events.empty()) return 0.0;
+    std::vector<double> times;
+    for (const ExactEvent& ev : events) times.push_back(std::fmod(ev.time, period));
+    std::sort(times.begin(), times.end());
+    double best_gap = -1.0, t_s = 0.0;
+    for (std::size_t k = 0; k < times.size(); ++k) {
+        const double next = k + 1 < times.size() ? times[k + 1] : times.front() + period;
+        if (next - times[k] > best_gap) {
+            best_gap = next - times[k];
+            t_s = times[k] + 0.5 * (next - times[k]);
+        }
+    }
+    return std::fmod(t_s, period);
+}
+
+}  // namespace
+
+std::string rigid_solver_refusal(const System& system) {
+    try {
+        system.validate();
+        RigidEngine e(system, 1.0);
+        if (e.dofs() > exact_solver_max_dofs)
+            return "the model has " + std::to_string(e.dofs()) + " DOFs with mass: the exact solver allows at most " +
+                   std::to_string(exact_solver_max_dofs) + " (a reduction first)";
+    } catch (const InvalidInput& error) {
+        return error.what();
+    }
+    return {};
+}
+
+ExactOrbit rigid_periodic_orbit(const System& system, double omega, const VectorXd& initial_state,
+                                const ExactOptions& options) {
+    system.validate();
+    options.validate();
+    if (!(omega > 0.0) || !std::isfinite(omega))
+        throw InvalidInput("omega = " + format_number(omega) + " is out of range: allowed > 0");
+    const int N = system.dofs();
+    if (initial_state.size() != 0 && (initial_state.size() != 2 * N || !initial_state.allFinite()))
+        throw InvalidInput("initial state has " + std::to_string(initial_state.size()) +
+                           " entries or non-finite values: allowed none (a start at rest) or " + std::to_string(2 * N) +
+                           " finite values (y and y' of every DOF)");
+    RigidEngine e(system, omega);
+    if (e.dofs() > exact_solver_max_dofs)
+        throw InvalidInput(rigid_solver_refusal(system));
+    const detail::MasslessContacts& split = e.split();
+    const int nm = e.dofs(), nz = e.nz();
+    const double period = e.period();
+    ExactOrbit out;
+    out.omega = omega;
+
+    VectorXd zhat = e.augment(VectorXd::Zero(nz), 0.0);
+    if (initial_state.size() > 0) {
+        for (int k = 0; k < nm; ++k) {
+            zhat(k) = initial_state(split.massive[static_cast<std::size_t>(k)]);
+            zhat(nm + k) = initial_state(N + split.massive[static_cast<std::size_t>(k)]);
+        }
+        const VectorXd q = split.W.transpose() * detail::pick(VectorXd(initial_state.head(N)), split.massless);
+        for (int c = 0; c < e.contacts(); ++c) zhat(e.slider(c)) = q(e.tangential(c));
+    }
+    SectionNorm norm{nm, omega, 0.0};
+    PatternEngine::Flow f;
+    try {
+        Modes modes = e.initial_modes(zhat);
+        // Plain periods from (zhat, modes) at t = 0; the last one's events kept in f.
+        auto plain_periods = [&](int periods) {
+            for (int p = 0; p < periods; ++p) {
+                zhat(e.cos_index()) = 1.0;
+                zhat(e.sin_index()) = 0.0;
+                f = e.flow(zhat, modes, 0.0, period, false, false, options.max_events_per_period);
+                ++out.periods;
+                if (!f.ok) return false;
+                zhat = f.zhat;
+                modes = f.modes;
+            }
+            return true;
+        };
+        if (!plain_periods(options.warmup_periods)) {
+            out.message = "warm-up: " + f.message;
+            return out;
+        }
+        int restart_periods = 8;
+        for (int attempt = 0;; ++attempt) {
+            // The section: the middle of the longest event-free stretch of the last period.
+            const double t_s = section_time(f.events, period);
+            VectorXd zs = zhat;
+            Modes ms = modes;
+            if (t_s > 0.0) {
+                zs(e.cos_index()) = 1.0;
+                zs(e.sin_index()) = 0.0;
+                const PatternEngine::Flow to_section = e.flow(zs, ms, 0.0, t_s, false, false, options.max_events_per_period);
+                if (!to_section.ok) {
+                    out.message = to_section.message;
+                    return out;
+                }
+                zs = to_section.zhat;
+                ms = to_section.modes;
+            }
+            // The unknowns: y, y' and the sliders of the contacts stuck at the section; the other
+            // sliders are their contacts' tangential displacements (rows of the pattern).
+            std::vector<Eigen::Index> unknowns;
+            for (int k = 0; k < 2 * nm; ++k) unknowns.push_back(k);
+            for (int c = 0; c < e.contacts(); ++c)
+                if (ms[static_cast<std::size_t>(c)] == rigid_stuck) unknowns.push_back(e.slider(c));
+            const auto nu = static_cast<Eigen::Index>(unknowns.size());
+            const ModeData& section = e.mode(ms);
+            MatrixXd lift = MatrixXd::Zero(e.n(), nu);  // d zhat / d x
+            for (Eigen::Index k = 0; k < nu; ++k) lift(unknowns[static_cast<std::size_t>(k)], k) = 1.0;
+            for (int c = 0; c < e.contacts(); ++c)
+                if (ms[static_cast<std::size_t>(c)] != rigid_stuck)
+                    for (Eigen::Index k = 0; k < nu; ++k)
+                        lift(e.slider(c), k) = section.relative(e.tangential(c), unknowns[static_cast<std::size_t>(k)]);
+            auto start = [&](const VectorXd& x) {
+                VectorXd zh = e.augment(VectorXd::Zero(nz), t_s);
+                for (Eigen::Index k = 0; k < nu; ++k) zh(unknowns[static_cast<std::size_t>(k)]) = x(k);
+                e.make_consistent(zh, ms, t_s);
+                return zh;
+            };
+            auto pick = [&](const VectorXd& zh) {
+                VectorXd x(nu);
+                for (Eigen::Index k = 0; k < nu; ++k) x(k) = zh(unknowns[static_cast<std::size_t>(k)]);
+                return x;
+            };
+            VectorXd x = pick(zs);
+            norm.reference = std::max(norm.reference, norm.size(x));
+            auto map = [&](const VectorXd& from, bool record) {
+                ++out.periods;
+                return e.flow(start(from), ms, t_s, period, true, record, options.max_events_per_period);
+            };
+            f = map(x, false);
+            bool stalled = false;
+            for (int iteration = 0;; ++iteration) {
+                if (!f.ok) {
+                    out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
+                    stalled = true;
+                    break;
+                }
+                const VectorXd end = pick(f.zhat);
+                out.residual = norm.relative_change(end, x);
+                if (out.residual <= options.tolerance) {
+                    out.converged = true;
+                    out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "");
+                    break;
+                }
+                if (out.iterations >= options.max_iterations) {
+                    out.message = "Newton reached " + std::to_string(options.max_iterations) + " iterations, residual " +
+                                  format_number(out.residual);
+                    stalled = true;
+                    break;
+                }
+                ++out.iterations;
+                MatrixXd jacobian(nu, nu);
+                for (Eigen::Index k = 0; k < nu; ++k)
+                    jacobian.row(k) = f.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
+                jacobian -= MatrixXd::Identity(nu, nu);
+                const VectorXd dx = jacobian.colPivHouseholderQr().solve(x - end);
+                // Halving steps until the residual falls.
+                bool moved = false;
+                for (double alpha = 1.0; alpha >= 1.0 / 256; alpha *= 0.5) {
+                    const VectorXd trial = x + alpha * dx;
+                    PatternEngine::Flow g = map(trial, false);
+                    if (g.ok && norm.relative_change(pick(g.zhat), trial) < out.residual) {
+                        x = trial;
+                        f = std::move(g);
+                        moved = true;
+                        break;
+                    }
+                }
+                if (!moved) {
+                    out.message = "Newton stalled at residual " + format_number(out.residual);
+                    stalled = true;
+                    break;
+                }
+            }
+            if (out.converged || !stalled || attempt >= options.restarts) {
+                // The recorded period of the last iterate: metrics and multipliers.
+                PatternEngine::Flow last = map(x, true);
+                if (!last.ok) {
+                    out.converged = false;
+                    out.message = last.message;
+                    return out;
+                }
+                rigid_metrics(e, last, t_s, options, out);
+                MatrixXd reduced(nu, nu);
+                for (Eigen::Index k = 0; k < nu; ++k) reduced.row(k) = last.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
+                Eigen::EigenSolver<MatrixXd> eigen(reduced, false);
+                out.multipliers = eigen.eigenvalues();
+                out.max_multiplier = nu > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
+                out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
+                return out;
+            }
+            // A restart: plain periods from the last iterate, then a new section.
+            zhat = start(x);
+            modes = ms;
+            // back to t = 0: flow the rest of the period
+            if (t_s > 0.0) {
+                const PatternEngine::Flow rest = e.flow(zhat, modes, t_s, period - t_s, false, false,
+                                                        options.max_events_per_period);
+                if (!rest.ok) {
+                    out.message = rest.message;
+                    return out;
+                }
+                zhat = rest.zhat;
+                modes = rest.modes;
+            }
+            if (!plain_periods(restart_periods)) {
+                out.message = "restart: " + f.message;
+                return out;
+            }
+            restart_periods *= 4;
+        }
+    } catch (const std::runtime_error& error) {
+        out.converged = false;
+        out.message = error.what();
+    }
+    return out;
+}
+
+}  // namespace hbf
