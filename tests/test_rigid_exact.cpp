@@ -15,6 +15,8 @@
 
 #include "hbf/config.hpp"
 #include "hbf/error.hpp"
+#include "hbf/exact_polish.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/model.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
@@ -276,4 +278,42 @@ TEST_CASE("rigid exact: what it cannot take is refused up front, naming the caus
     CHECK_THROWS_WITH(rigid_periodic_orbit(config.system, 1.0, Eigen::VectorXd::Zero(3)),
                       Catch::Contains("allowed none (a start at rest) or 10"));
     CHECK_THROWS_WITH(rigid_periodic_orbit(config.system, -1.0, Eigen::VectorXd()), Catch::Contains("omega = -1"));
+}
+
+TEST_CASE("rigid exact: the FRF polish makes liftoff3_rigid's points exact and says where it cannot", "[rigid_exact]") {
+    const SystemConfig config = read_system_config(liftoff3);
+    const FrfSettings by_default = frf_settings(config.system, config.outputs, config.choices);
+    CHECK_FALSE(by_default.exact);  // off by default for law unilateral, and said
+    CHECK_THAT(by_default.exact_note, Catch::Contains("exact on polishes each point"));
+    FrfChoices choices = config.choices;  // the file's range, 0.3 to 3
+    choices.exact = true;
+    const FrfSettings settings = frf_settings(config.system, config.outputs, choices);
+    REQUIRE(settings.exact);
+    const FrfResult frf = compute_frf(config.system, settings);
+    REQUIRE(frf.polish);
+    const PolishedBranch& polish = *frf.polish;
+    INFO(polish.summary());
+    CHECK(polish.polished >= 3 * polish.failed);  // the failed ones: where HB's branch folds elsewhere
+    // The exact point nearest w = 1.2 (stick-slip) and nearest 2.5 (lift-off) against the time
+    // integrator converged in the step (independent of the event solver).
+    for (double target : {1.2, 2.5}) {
+        std::size_t best = frf.points.size();
+        for (std::size_t k = 0; k < frf.points.size(); ++k)
+            if (frf.exact[k].status == PolishStatus::exact &&
+                (best == frf.points.size() || std::abs(frf.points[k].omega - target) < std::abs(frf.points[best].omega - target)))
+                best = k;
+        REQUIRE(best < frf.points.size());
+        const double omega = frf.points[best].omega;
+        INFO("w = " << omega);
+        REQUIRE(std::abs(omega - target) < 0.05);
+        const PeriodicResponse reference = integrated(config.system, omega, 1024, config.outputs);
+        REQUIRE(reference.converged);
+        CHECK(relative(frf.metrics[best].output_max[0], reference.output_max[0]) <= 2e-7);
+        CHECK(relative(frf.metrics[best].output_amp1[0], reference.output_amp1[0]) <= 2e-7);
+        CHECK(std::abs(frf.metrics[best].contacts[0].separated_fraction - reference.contacts[0].separated_fraction) <= 2e-3);
+        if (target > 2.0) CHECK(frf.metrics[best].contacts[0].separated_fraction > 0.1);
+    }
+    // a failed point keeps harmonic balance's values and says why
+    for (std::size_t k = 0; k < frf.points.size(); ++k)
+        if (frf.exact[k].status == PolishStatus::failed) CHECK_FALSE(frf.exact[k].message.empty());
 }

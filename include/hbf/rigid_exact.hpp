@@ -20,6 +20,10 @@
 
 namespace hbf {
 
+/// True when the system has contacts and every one is of law unilateral: the systems this
+/// solver is for (the exact polish of an FRF then uses it).
+bool rigid_contacts_only(const System& system);
+
 /// Why the rigid-contact exact solver cannot take `system` (one sentence naming the cause),
 /// empty when it can: every contact of law unilateral with one tangential direction, the
 /// contact directions on massless undamped DOFs, K regular on them, M positive definite on
@@ -34,6 +38,13 @@ std::string rigid_solver_refusal(const System& system);
 /// 0 open, 1 stuck, +2 / -2 slipping in the + / - tangential direction; contacts[c] has the
 /// separated share, the normal force's mean and half range and the friction energy, exact;
 /// friction_force holds the tangential contact forces; stick_margin is not computed (0).
+/// Permanent stick (every contact stuck all period) is degenerate: any held position that
+/// keeps the nodes in their friction cones is periodic. Convention: the nodes held where the
+/// start holds them (its massless DOFs' tangential displacements; the static state's for a
+/// start at rest) when the orbit about them sticks throughout (permanent_stick = true), else
+/// the orbit Newton found.
+/// Newton stops at options.tolerance, or where no step lowers a residual below 1e-9 (the
+/// rounding of the flow over a period: converged, the message and residual say so).
 /// Throws InvalidInput where rigid_solver_refusal is not empty, for omega <= 0, bad options
 /// or a state of the wrong size. Non-convergence is a status (converged = false, message).
 ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,

@@ -14,6 +14,7 @@
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/modal_exact.hpp"
+#include "hbf/rigid_exact.hpp"
 #include "base/stopwatch.hpp"
 #include "base/enum_table.hpp"
 
@@ -47,6 +48,9 @@ PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb, cons
     return m;
 }
 
+/// The HB gap above which a rigid-contact polish's exact orbit is taken for another orbit.
+constexpr double another_orbit_gap = 0.25;
+
 /// hb_gap of DOF `dof`, or of output 0 when the orbit has outputs.
 ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof) {
     ExactPoint e;
@@ -76,9 +80,12 @@ ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof)
 class ExactModel {
 public:
     ExactModel(const System& structure, int modes, const ExactOptions& options, int dof)
-        : structure_(structure), original_(options.outputs) {
+        : structure_(structure), original_(options.outputs), rigid_(rigid_contacts_only(structure)) {
         options_ = options;
-        if (modes > 0) {
+        // Rigid contacts: no restarts by plain periods, which settle on an attractor (another
+        // orbit where the point's is unstable or HB's branch folds elsewhere than the exact one).
+        if (rigid_) options_.restarts = 0;
+        if (modes > 0 && !rigid_) {
             modal_.emplace(structure, modes);
             if (options_.outputs.empty()) {  // the DOF of hb_gap and the peaks, as an output of the model
                 options_.outputs = {Output::dof(dof)};
@@ -103,15 +110,20 @@ public:
     }
     const System& system() const { return modal_ ? modal_->system() : structure_; }
     int modes() const { return modal_ ? modal_->modes() : 0; }
-    /// Entries of a model state before its stick/slip hints: y, y' and the sliders.
+    /// Entries of a model state before its stick/slip hints: y, y' and the sliders (rigid
+    /// contacts: y and y' only, no hints).
     Eigen::Index state_dofs() const {
         const System& s = system();
-        return 2 * s.dofs() + time_domain_elements(s);
+        return 2 * s.dofs() + (rigid_ ? 0 : time_domain_elements(s));
     }
     /// A state of the structure (exact_start_state) as a start of the model.
     Eigen::VectorXd start(const Eigen::VectorXd& state) const { return modal_ ? modal_->reduce_state(state) : state; }
+    bool rigid() const { return rigid_; }
+    /// The solver's own refusal of the model, empty when it takes it.
+    std::string refusal() const { return rigid_ ? rigid_solver_refusal(system()) : exact_solver_refusal(system()); }
     ExactOrbit orbit(double omega, const Eigen::VectorXd& start) const {
-        ExactOrbit o = exact_periodic_orbit(system(), omega, start, options_);
+        ExactOrbit o = rigid_ ? rigid_periodic_orbit(system(), omega, start, options_)
+                              : exact_periodic_orbit(system(), omega, start, options_);
         if (!modal_) {
             if (options_.dof_maxima || o.output_max.size() != options_.outputs.size()) return o;
             for (std::size_t k = 0; k < options_.outputs.size(); ++k)
@@ -144,6 +156,7 @@ private:
     const System& structure_;
     std::vector<Output> original_;  // the outputs as asked (of the structure)
     std::optional<ModalExactModel> modal_;
+    bool rigid_ = false;  // rigid unilateral contacts (rigid_exact.hpp)
     ExactOptions options_;
     int dof_output_ = -1;
     int extra_outputs_ = 0;  // DOFs appended to the outputs for their maxima (structure only)
@@ -249,7 +262,8 @@ std::string PolishedBranch::summary() const {
 
 Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& point) {
     const System& s = hb.system();
-    const int n = s.dofs(), nc = time_domain_elements(s);  // the state is per time-domain element
+    const bool rigid = rigid_contacts_only(s);  // the state: y and y' alone
+    const int n = s.dofs(), nc = rigid ? 0 : time_domain_elements(s);  // the state is per time-domain element
     Eigen::VectorXd state = Eigen::VectorXd::Zero(2 * n + 2 * nc);
     auto at_zero = [&](const Eigen::VectorXd& c, double& value, double& rate) {
         value = c(0);
@@ -261,6 +275,7 @@ Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& poin
     };
     const Eigen::MatrixXd y = hb.dofs(point.x, point.omega);
     for (int i = 0; i < n; ++i) at_zero(y.col(i), state(i), state(n + i));
+    if (rigid) return state;
     // an elastic slider holding the force f at q sits at s = q - f / k_t; it slips when |f| is at
     // its limit and moves with the velocity
     auto slider = [&](int e, const Contact& k, double q, double v, double f) {
@@ -346,8 +361,8 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     }
     ExactModel& model = *made;
     const System& system = model.system();  // the structure, or its modal form
-    if (!exact_solver_supports(system))
-        throw InvalidInput("exact polish: " + exact_solver_refusal(system) + " (use --exact off)");
+    if (const std::string why = model.refusal(); !why.empty())
+        throw InvalidInput("exact polish: " + why + " (use --exact off)");
     if (optional && probe) {  // the cost: one exact orbit at the probe, times the points
         detail::Stopwatch orbit_watch;
         (void)model.orbit(probe->omega, model.start(exact_start_state(hb, *probe)));
@@ -468,14 +483,28 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             }
         }
     }
+    // Rigid contacts: an exact orbit far from the HB point's (its y_max gap above
+    // another_orbit_gap) is another orbit (a branch whose exact fold lies elsewhere than HB's, or
+    // an HB branch without an exact counterpart): the point keeps HB's values, marked failed.
+    const auto another_orbit = [&](ExactOrbit& orbit, const PointMetrics& hb_point) {
+        if (!model.rigid() || !orbit.converged) return;
+        const double gap = exact_point(orbit, hb_point, dof).hb_gap;
+        if (!(gap > another_orbit_gap)) return;
+        orbit.converged = false;
+        orbit.message = "the exact solve from this point's starts reached another orbit (y_max " +
+                        format_number(gap * 100.0) + " % from HB's, above " + format_number(another_orbit_gap * 100.0) +
+                        " %): HB's values kept";
+    };
     for (std::size_t k = 0; k < branch.size(); ++k) {
         Polished& q = branch[k];
         if (keep_hb(q)) continue;
+        another_orbit(q.orbit, branch_hb[k]);
         q.exact = exact_point(q.orbit, branch_hb[k], dof);
         if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, branch_hb[k], structure);
     }
     for (Polished& q : samples) {
         if (keep_hb(q)) continue;
+        another_orbit(q.orbit, q.metrics);
         q.exact = exact_point(q.orbit, q.metrics, dof);
         if (q.orbit.converged) q.metrics = exact_metrics(q.orbit, q.metrics, structure);
     }
@@ -508,7 +537,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             bool ok = true, closed_form = false;
             const bool a_stuck = regime(a.orbit) == "stick";
             const ExactOrbit& stick_end = (a_stuck ? a : b).orbit;
-            if (boundary == Boundary::stick_stick_slip && all_stuck(stick_end)) {
+            if (boundary == Boundary::stick_stick_slip && all_stuck(stick_end) && !model.rigid()) {
                 // From full stick: where the permanent-stick state's load crosses 1 (closed
                 // form), if contact c is the one at its limit there (another contact may break
                 // away first: then c's boundary lies on a stick-slip orbit, found below).

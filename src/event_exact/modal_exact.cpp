@@ -1,5 +1,6 @@
 // hbfriction — the event-exact solver's modal form of a finite-element model (modal_exact.hpp).
 #include "hbf/modal_exact.hpp"
+#include "hbf/rigid_exact.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -179,7 +180,7 @@ Eigen::VectorXd ModalExactModel::reduce_state(const Eigen::VectorXd& state) cons
 }
 
 int exact_solver_modes(const System& system, int modes) {
-    if (exact_solver_supports(system) || !system.has_positive_definite_mass() || system.excitation_harmonic != 1)
+    if (rigid_contacts_only(system) || exact_solver_supports(system) || !system.has_positive_definite_mass() || system.excitation_harmonic != 1)
         return 0;
     for (const Contact& c : system.contacts)
         if (!contact_law(c.law).exact_stick() || c.base_motion != 0.0) return 0;
@@ -191,6 +192,7 @@ int largest_exact_modes(const System& system) {
 }
 
 std::string exact_polish_refusal(const System& system, double omega_min, int modes) {
+    if (rigid_contacts_only(system)) return rigid_solver_refusal(system);
     const int m = exact_solver_modes(system, modes);
     if (m == 0) return omega_min > 0.0 ? exact_cost_refusal(system, omega_min) : exact_solver_refusal(system);
     try {

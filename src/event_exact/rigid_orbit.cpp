@@ -12,7 +12,9 @@
 
 #include "event_exact/metrics.hpp"
 #include "event_exact/rigid_engine.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
+#include "hbf/static_state.hpp"
 
 namespace hbf {
 
@@ -155,6 +157,49 @@ void rigid_metrics(RigidEngine& e, const PatternEngine::Flow& flow, double t_s, 
     }
 }
 
+/// Newton's residual below which a stall (no step lowers it) is the rounding of the flow.
+constexpr double stall_floor = 1e-9;
+
+/// Whether every contact is stuck over the whole recorded period.
+bool permanently_stuck(const PatternEngine::Flow& flow) {
+    if (!flow.events.empty()) return false;
+    for (const Step& st : flow.steps)
+        for (int mode : st.modes)
+            if (mode != rigid_stuck) return false;
+    return true;
+}
+
+/// Permanent stick is degenerate: any held position of the nodes that keeps them within
+/// their friction cones gives a periodic orbit (the same oscillation about another mean).
+/// Convention: the nodes held where the start holds them (`where`: the tangential
+/// displacements of the caller's start, or of the static state for a start at rest), when the
+/// orbit about that position still sticks throughout; x (y, y', the held positions) and the
+/// recorded period `last` are then replaced. Otherwise the orbit stays as found (the warm-up
+/// period and Newton moved the nodes: they slipped on the way).
+template <class Map>
+void hold_where_started(RigidEngine& e, const VectorXd& where, VectorXd& x, PatternEngine::Flow& last, const Map& map,
+                        const ExactOptions& options, ExactOrbit& out) {
+    const int nm = e.dofs();
+    VectorXd held = x;
+    held.tail(e.contacts()) = where;
+    // The stuck structure is linear: Newton on y, y' converges in one step (two for rounding).
+    PatternEngine::Flow f;
+    for (int iteration = 0; iteration < 3; ++iteration) {
+        f = map(held, iteration == 2);
+        if (!f.ok || !permanently_stuck(f)) return;
+        const VectorXd r = f.zhat.head(2 * nm) - held.head(2 * nm);
+        const MatrixXd jacobian = f.psi.topLeftCorner(2 * nm, 2 * nm) - MatrixXd::Identity(2 * nm, 2 * nm);
+        if (iteration < 2) held.head(2 * nm) -= jacobian.partialPivLu().solve(r);
+    }
+    SectionNorm norm{nm, e.omega(), 0.0};
+    if (!(norm.relative_change(f.zhat.head(2 * nm), held.head(2 * nm)) <= std::max(options.tolerance, stall_floor))) return;
+    x = held;
+    last = std::move(f);
+    out.permanent_stick = true;
+    out.message = "permanent stick: the contacts held where the start holds them (convention for the "
+                  "undetermined held position)";
+}
+
 /// The middle of the longest event-free stretch of a period's events (0 without events).
 double section_time(const std::vector<ExactEvent>& events, double period) {
     if (events.empty()) return 0.0;
@@ -173,6 +218,12 @@ double section_time(const std::vector<ExactEvent>& events, double period) {
 }
 
 }  // namespace
+
+bool rigid_contacts_only(const System& system) {
+    return !system.contacts.empty() && std::all_of(system.contacts.begin(), system.contacts.end(), [](const Contact& c) {
+               return contact_law(c.law).time_integrator() == TimeIntegrator::unilateral_contacts;
+           });
+}
 
 std::string rigid_solver_refusal(const System& system) {
     try {
@@ -215,6 +266,16 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
         }
         const VectorXd q = split.W.transpose() * detail::pick(VectorXd(initial_state.head(N)), split.massless);
         for (int c = 0; c < e.contacts(); ++c) zhat(e.slider(c)) = q(e.tangential(c));
+    }
+    // Where the start holds the nodes (permanent stick's convention): its tangential
+    // displacements, or the static state's for a start at rest.
+    VectorXd start_sliders(e.contacts());
+    if (initial_state.size() > 0) {
+        for (int c = 0; c < e.contacts(); ++c) start_sliders(c) = zhat(e.slider(c));
+    } else {
+        const StaticState rest = static_state(system);
+        for (int c = 0; c < e.contacts(); ++c)
+            start_sliders(c) = rest.ok ? rest.contacts[static_cast<std::size_t>(c)].relative(0) : 0.0;
     }
     SectionNorm norm{nm, omega, 0.0};
     PatternEngine::Flow f;
@@ -311,7 +372,12 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
                 for (Eigen::Index k = 0; k < nu; ++k)
                     jacobian.row(k) = f.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
                 jacobian -= MatrixXd::Identity(nu, nu);
-                const VectorXd dx = jacobian.colPivHouseholderQr().solve(x - end);
+                // the minimum-norm step: a contact stuck all period leaves its held position free
+                // (a multiplier at 1, a singular Jacobian), and Newton does not move it
+                Eigen::CompleteOrthogonalDecomposition<MatrixXd> decomposition(jacobian.rows(), jacobian.cols());
+                decomposition.setThreshold(1e-9);  // a multiplier within 1e-9 of 1: its direction is free
+                decomposition.compute(jacobian);
+                const VectorXd dx = decomposition.solve(x - end);
                 // Halving steps until the residual falls.
                 bool moved = false;
                 for (double alpha = 1.0; alpha >= 1.0 / 256; alpha *= 0.5) {
@@ -325,8 +391,16 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
                     }
                 }
                 if (!moved) {
-                    out.message = "Newton stalled at residual " + format_number(out.residual);
-                    stalled = true;
+                    // No step lowers the residual: the rounding of the flow over one period.
+                    // Below stall_floor that is the orbit (converged, the residual says how close).
+                    if (out.residual <= stall_floor) {
+                        out.converged = true;
+                        out.message = "Newton on the period map converged to its rounding (residual " +
+                                      format_number(out.residual) + ")";
+                    } else {
+                        out.message = "Newton stalled at residual " + format_number(out.residual);
+                        stalled = true;
+                    }
                     break;
                 }
             }
@@ -338,6 +412,7 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
                     out.message = last.message;
                     return out;
                 }
+                if (out.converged && permanently_stuck(last)) hold_where_started(e, start_sliders, x, last, map, options, out);
                 rigid_metrics(e, last, t_s, options, out);
                 MatrixXd reduced(nu, nu);
                 for (Eigen::Index k = 0; k < nu; ++k) reduced.row(k) = last.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
