@@ -432,7 +432,9 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                 predicted = previous->orbit.state + (hb_start - previous_start);
             }
             predicted.tail(hints) = hb_start.tail(hints);
-            q.orbit = solve(model, p.omega, predicted, &hb_start);
+            // Rigid contacts: HB's own start first (the secant along the exact branch carries the
+            // polish past an exact fold onto another orbit where HB's branch folds elsewhere).
+            q.orbit = model.rigid() ? solve(model, p.omega, hb_start, &predicted) : solve(model, p.omega, predicted, &hb_start);
         } else {
             q.orbit = solve(model, p.omega, hb_start, previous ? &previous->orbit.state : nullptr);
         }

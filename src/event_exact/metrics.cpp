@@ -104,6 +104,19 @@ void Maxima::finish() {
     deferred_.clear();
 }
 
+void period_events(const std::vector<ExactEvent>& events, double period, ExactOrbit& out) {
+    out.events.clear();
+    for (ExactEvent ev : events) {
+        ev.time = std::fmod(ev.time, period);
+        if (ev.time < 0) ev.time += period;
+        if (ev.time >= period) ev.time -= period;
+        out.events.push_back(ev);
+    }
+    std::sort(out.events.begin(), out.events.end(),
+              [](const ExactEvent& a, const ExactEvent& b) { return a.time < b.time; });
+    out.switches = static_cast<int>(out.events.size());
+}
+
 void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out,
                   Probes* probes) {
     const int nd = e.dofs(), nc = e.contacts();
@@ -195,17 +208,7 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     for (double t : stick_time) out.contacts.push_back(contact_regime(t, period));
     out.stick_fraction = nc > 0 ? out.contacts.front().stick_fraction : 0.0;
     out.regime = nc > 0 ? out.contacts.front().regime : "none";
-    // Events in [0, T), by time.
-    out.events.clear();
-    for (ExactEvent ev : flow.events) {
-        ev.time = std::fmod(ev.time, period);
-        if (ev.time < 0) ev.time += period;
-        if (ev.time >= period) ev.time -= period;
-        out.events.push_back(ev);
-    }
-    std::sort(out.events.begin(), out.events.end(),
-              [](const ExactEvent& a, const ExactEvent& b) { return a.time < b.time; });
-    out.switches = static_cast<int>(out.events.size());
+    period_events(flow.events, period, out);
     // The state at t = 0 (= T).
     const double t_zero = t_s > 0.0 ? period : 0.0;
     const Step& at_zero = step_at(flow.steps, t_zero);

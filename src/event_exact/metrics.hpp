@@ -38,6 +38,10 @@ private:
     std::vector<Deferred> deferred_;
 };
 
+/// The events of one recorded period (absolute times) into out.events: times in [0, T), by
+/// time; out.switches their count.
+void period_events(const std::vector<ExactEvent>& events, double period, ExactOrbit& out);
+
 /// Linear functions p(t) = L zhat(t) of the flow beyond the DOFs (the massless DOFs of a
 /// condensed system, and outputs on them): rows L over zhat, and what fill_metrics finds.
 struct Probes {

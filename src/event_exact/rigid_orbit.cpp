@@ -122,16 +122,7 @@ void rigid_metrics(RigidEngine& e, const PatternEngine::Flow& flow, double t_s, 
     out.stick_fraction = nc > 0 ? out.contacts.front().stick_fraction : 0.0;
     out.regime = nc > 0 ? out.contacts.front().regime : "none";
     out.stick_margin_min = out.stick_margin_max = 0.0;
-    out.events.clear();
-    for (ExactEvent ev : flow.events) {
-        ev.time = std::fmod(ev.time, period);
-        if (ev.time < 0) ev.time += period;
-        if (ev.time >= period) ev.time -= period;
-        out.events.push_back(ev);
-    }
-    std::sort(out.events.begin(), out.events.end(),
-              [](const ExactEvent& a, const ExactEvent& b) { return a.time < b.time; });
-    out.switches = static_cast<int>(out.events.size());
+    period_events(flow.events, period, out);
     auto dof_state_at = [&](double t) {
         const double tt = t < t_s ? t + period : t;
         const Step& st = step_at(flow.steps, tt);

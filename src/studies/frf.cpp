@@ -19,7 +19,6 @@
 #include "hbf/static_state.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
-#include "hbf/rigid_exact.hpp"
 #include "base/enum_table.hpp"
 
 namespace hbf {
@@ -143,12 +142,6 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
                   exact_polish_refusal(system, co.omega_start > 0.0 && std::isfinite(co.omega_start) ? co.omega_start : 0.0,
                                        0)
                       .empty();
-        if (rigid_contacts_only(system) && s.exact) {
-            s.exact = false;
-            s.exact_note = "the exact polish of law unilateral is off by default (exact on polishes each point; where "
-                           "harmonic balance's branch folds elsewhere than the exact one, its points are reported "
-                           "failed): the FRF is harmonic balance's, its error against the exact orbit not measured";
-        }
         if (elements > static_cast<std::size_t>(max_automatic_exact_elements)) {
             s.exact = false;
             s.exact_note = "the exact polish is off by default for " + std::to_string(elements) +

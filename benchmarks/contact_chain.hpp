@@ -1,0 +1,66 @@
+// hbfriction benchmarks and tests: a chain of n masses, each pressing a massless contact node
+// onto a rigid wall (law unilateral): the node of contact c is tied to mass c along the wall
+// (k_t) and to mass c + 1 (cyclically) across it (k_n), with preloads that differ, so that the
+// contacts stick, slip and open at different times. DOFs: y_1..y_n the masses, then per contact
+// its tangential and its normal node. The parameters repeat with period 3 along the chain
+// (masses 1, 0.7, 0.4; k_t 3, 2, 4; k_n 5, 6, 4; preloads 1, 0.6, 0.8; forces 0.3 F, F,
+// -0.5 F), springs 1.5 and 1.0 alternate between neighbours, the ends are grounded by 2 and 0.5;
+// damping 2 % of each mass and a dashpot 0.01 between the first two; mu = 0.3.
+#pragma once
+
+#include <vector>
+
+#include "hbf/contact_law.hpp"
+#include "hbf/model.hpp"
+
+namespace hbf::bench {
+
+inline System contact_chain(int n, double force) {
+    const int size = 3 * n;
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(size, size), K = M, C = M;
+    const double masses[] = {1.0, 0.7, 0.4}, kt[] = {3.0, 2.0, 4.0}, kn[] = {5.0, 6.0, 4.0},
+                 preloads[] = {1.0, 0.6, 0.8}, forces[] = {0.3, 1.0, -0.5}, links[] = {1.5, 1.0};
+    auto spring = [&K](int a, int b, double k) {
+        K(a, a) += k;
+        K(b, b) += k;
+        K(a, b) -= k;
+        K(b, a) -= k;
+    };
+    Eigen::VectorXd F = Eigen::VectorXd::Zero(size), S = Eigen::VectorXd::Zero(size);
+    for (int i = 0; i < n; ++i) {
+        M(i, i) = masses[i % 3];
+        C(i, i) = 0.02 * masses[i % 3];
+        F(i) = forces[i % 3] * force;
+        if (i + 1 < n) spring(i, i + 1, links[i % 2]);
+    }
+    K(0, 0) += 2.0;
+    K(n - 1, n - 1) += 0.5;
+    if (n > 1) {
+        C(0, 0) += 0.01;
+        C(1, 1) += 0.01;
+        C(0, 1) = C(1, 0) = -0.01;
+    }
+    System s;
+    for (int c = 0; c < n; ++c) {
+        const int t = n + 2 * c, v = t + 1, across = (c + 1) % n;
+        spring(c, t, kt[c % 3]);
+        spring(across, v, kn[c % 3]);
+        S(v) += preloads[c % 3];       // the node onto the wall
+        S(across) -= preloads[c % 3];  // and the structure away from it: N = preload at rest
+        Contact k;
+        k.law = parse_friction_law("unilateral");
+        k.dof = t;
+        k.values["friction_coefficient"] = 0.3;
+        k.lists["normal_direction"] = std::vector<double>(static_cast<std::size_t>(size), 0.0);
+        k.lists["normal_direction"][static_cast<std::size_t>(v)] = 1.0;
+        s.contacts.push_back(k);
+    }
+    s.mass = M.sparseView();
+    s.stiffness = K.sparseView();
+    s.damping = C.sparseView();
+    s.excitation = F;
+    s.static_load = S;
+    return s;
+}
+
+}  // namespace hbf::bench
