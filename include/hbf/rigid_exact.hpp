@@ -1,15 +1,22 @@
 // hbfriction — exact periodic orbits of structures whose contacts are rigid unilateral contacts
 // with Coulomb friction (law unilateral) on massless nodes: a massless-boundary reduction, or
-// any model whose contact DOFs carry no mass. 2D contacts (one tangential direction).
+// any model whose contact DOFs carry no mass. 2D contacts (one tangential direction) and 3D
+// ones (two: a friction cone).
 //
 // The massless nodes follow the masses statically, so between two contact events (a node's
-// closing or opening, its stick or slip start) the contact forces are linear in the state of
-// the DOFs with mass and the motion is a linear system, flowed in closed form; the events are
-// the roots of the contact conditions (a node's gap, normal force, friction margin, slip
-// velocity). The periodic orbit is the fixed point of the period map, solved by Newton's
-// method with its exact derivative (the monodromy: the segment exponentials and the saltation
-// matrices at the events); its eigenvalues are the Floquet multipliers. Patterns, events and
-// the choice of the pattern after an event: src/event_exact/rigid_engine.hpp.
+// closing or opening, its stick or slip start) the contact forces follow from the state of the
+// DOFs with mass, and the events are the roots of the contact conditions (a node's gap, normal
+// force, friction margin, slip velocity). With 2D contacts the motion between events is a
+// linear system, flowed in closed form, and the period map's derivative (the monodromy) is
+// exact: the segment exponentials and the saltation matrices at the events. A 3D contact's
+// slip direction is a state of its own (a massless node's slip turns at a finite rate), the
+// motion while it slips is nonlinear and flowed by Taylor series of order 30 with steps whose
+// truncation is below rounding; the period map's derivative is then taken by central
+// differences (steps of 1e-6 of the state's size), so the Floquet multipliers of 3D contacts
+// are accurate to about 1e-7. The periodic orbit is the fixed point of the period map, solved
+// by Newton's method; its derivative's eigenvalues are the Floquet multipliers. Patterns,
+// events and the choice of the pattern after an event: src/event_exact/rigid_engine.hpp (2D)
+// and src/event_exact/cone_engine.hpp (3D).
 #pragma once
 
 #include <Eigen/Dense>
@@ -25,8 +32,8 @@ namespace hbf {
 bool rigid_contacts_only(const System& system);
 
 /// Why the rigid-contact exact solver cannot take `system` (one sentence naming the cause),
-/// empty when it can: every contact of law unilateral with one tangential direction, the
-/// contact directions on massless undamped DOFs, K regular on them, M positive definite on
+/// empty when it can: every contact of law unilateral, the contact directions on massless
+/// undamped DOFs, K regular on them, M positive definite on
 /// the others, the force at the fundamental, at most exact_solver_max_dofs DOFs with mass.
 std::string rigid_solver_refusal(const System& system);
 
@@ -35,9 +42,10 @@ std::string rigid_solver_refusal(const System& system);
 /// stuck contacts are held, their velocities are not used), or empty for a start at rest.
 /// ExactOrbit's fields as in event_exact.hpp, with these differences: state is [y (N), y' (N)]
 /// at t = 0 (the massless DOFs' velocities those of the orbit); the events' modes are
-/// 0 open, 1 stuck, +2 / -2 slipping in the + / - tangential direction; contacts[c] has the
-/// separated share, the normal force's mean and half range and the friction energy, exact;
-/// friction_force holds the tangential contact forces; stick_margin is not computed (0).
+/// 0 open, 1 stuck, +2 / -2 slipping in the + / - tangential direction (3D: 2 slipping);
+/// contacts[c] has the separated share, the normal force's mean and half range and the friction
+/// energy, exact; friction_force holds the tangential contact forces (3D: along the first
+/// tangential direction); stick_margin is not computed (0).
 /// Permanent stick (every contact stuck all period) is degenerate: any held position that
 /// keeps the nodes in their friction cones is periodic. Convention: the nodes held where the
 /// start holds them (its massless DOFs' tangential displacements; the static state's for a

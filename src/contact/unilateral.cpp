@@ -413,7 +413,12 @@ double rigid_residual(const std::vector<RigidContact>& contacts, const Eigen::Ve
 bool solve_rigid_contacts(const std::vector<RigidContact>& contacts, const Eigen::MatrixXd& G, const Eigen::VectorXd& q0,
                           const Eigen::VectorXd& reference, RigidContactSolution& out) {
     const auto m = q0.size();
-    const Eigen::VectorXd eps = G.diagonal().cwiseInverse();
+    // The augmentation per entry, 1 / G_ii; one value for the tangential entries of a contact
+    // (their mean compliance): the fixed point of lambda_T = proj(lambda_T + eps (q_T - s)) has
+    // the slip q_T - s along lambda_T only when eps is the same in both tangential directions.
+    Eigen::VectorXd eps = G.diagonal().cwiseInverse();
+    for (const RigidContact& b : contacts)
+        if (b.d > 1) eps.segment(b.first, b.d).setConstant(1.0 / G.diagonal().segment(b.first, b.d).mean());
     if (out.lambda.size() != m) out.lambda = Eigen::VectorXd::Zero(m);
     Eigen::VectorXd residual(m), trial(m), trial_residual(m);
     Eigen::MatrixXd slope(m, m), trial_slope(m, m);

@@ -31,6 +31,23 @@ Eigen::VectorXd Step::state(double s) const {
     return z;
 }
 
+Eigen::VectorXd Step::rate(double s) const {
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(u.rows());
+    for (Eigen::Index k = u.cols() - 1; k >= 1; --k) {
+        z *= s;
+        z += static_cast<double>(k) * u.col(k);
+    }
+    z /= h;
+    if (!fast()) return z;
+    const FastModes& f = data->fast;
+    for (std::size_t k = 0; k < active.size(); ++k) {
+        const Eigen::Index j = active[k];
+        const std::complex<double> c = d(static_cast<Eigen::Index>(k)) * f.lambda(j) * std::exp(f.lambda(j) * (h * s));
+        z += (f.right.col(j) * c).real();
+    }
+    return z;
+}
+
 namespace {
 /// g with the step's fast exponentials: amplitude weight(j) d_j and rate lambda_j h for each
 /// active fast mode j (weight(j): the signal's row times the mode's right eigenvector).

@@ -78,6 +78,8 @@ struct Step {
     bool fast() const { return !active.empty(); }
     /// zhat at s.
     Eigen::VectorXd state(double s) const;
+    /// d zhat / dt at s.
+    Eigen::VectorXd rate(double s) const;
     /// The signal row * zhat over the step (polynomial.hpp).
     Signal signal(const Eigen::RowVectorXd& row) const;
     Signal signal(Eigen::Index i) const;  ///< of zhat(i)
@@ -143,7 +145,7 @@ public:
     };
 
     /// Flows zhat from t0 over `duration` (modes: the modes at t0, consistent with zhat).
-    Flow flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
+    virtual Flow flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
               int max_events);
 
 protected:

@@ -200,13 +200,4 @@ void RigidEngine::restore_constraints(Eigen::VectorXd& zhat, const Modes& modes,
         if (modes[static_cast<std::size_t>(c)] != rigid_stuck) zhat(slider(c)) = m->relative.row(tangential(c)).dot(zhat);
 }
 
-Eigen::VectorXd RigidEngine::dof_state(const Eigen::VectorXd& zhat, const Modes& modes) {
-    const ModeData& m = mode(modes);
-    const int N = system_.dofs();
-    Eigen::VectorXd out(2 * N);
-    out.head(N) = m.displacement * zhat;
-    out.tail(N) = m.displacement * (m.a * zhat);
-    return out;
-}
-
 }  // namespace hbf::detail::exact

@@ -51,6 +51,8 @@ public:
     int tangential(int c) const { return s_.blocks[static_cast<std::size_t>(c)].first; }
     int normal(int c) const { return s_.blocks[static_cast<std::size_t>(c)].first + 1; }
     int slider(int c) const { return 2 * n_dofs_ + c; }
+    int directions(int) const { return 1; }  ///< tangential directions of a contact
+    int tangential_entries() const { return n_contacts_; }
     const System& system() const { return system_; }
 
     Modes settle(const Eigen::VectorXd& zhat, Modes modes, const Guard& trigger) override;
@@ -70,10 +72,6 @@ public:
         mode(modes);
         restore_constraints(zhat, modes, t);
     }
-
-    /// The state of every DOF at zhat: [y (N), y' (N)] (the massless velocities from the
-    /// pattern's rates).
-    Eigen::VectorXd dof_state(const Eigen::VectorXd& zhat, const Modes& modes);
 
 private:
     ModeData build(const Modes& modes) const override;

@@ -7,10 +7,12 @@
 #include <complex>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "event_exact/metrics.hpp"
+#include "event_exact/cone_engine.hpp"
 #include "event_exact/rigid_engine.hpp"
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
@@ -25,7 +27,8 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 /// The orbit's metrics from one recorded period [t_s, t_s + T].
-void rigid_metrics(RigidEngine& e, const PatternEngine::Flow& flow, double t_s, const ExactOptions& options,
+template <class E>
+void rigid_metrics(E& e, const PatternEngine::Flow& flow, double t_s, const ExactOptions& options,
                    ExactOrbit& out) {
     const System& system = e.system();
     const int N = system.dofs(), nc = e.contacts();
@@ -45,7 +48,7 @@ void rigid_metrics(RigidEngine& e, const PatternEngine::Flow& flow, double t_s, 
             for (int i = 0; i < N; ++i)
                 maxima.add(st, st.signal(Eigen::RowVectorXd(m.displacement.row(i))), out.y_max[static_cast<std::size_t>(i)]);
         for (std::size_t o = 0; o < options.outputs.size(); ++o) {
-            Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(e.n());
+            Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m.displacement.cols());
             for (const auto& [i, c] : options.outputs[o].terms()) row += c * m.displacement.row(i);
             maxima.add(st, st.signal(row), out.output_max[o]);
         }
@@ -79,9 +82,13 @@ void rigid_metrics(RigidEngine& e, const PatternEngine::Flow& flow, double t_s, 
                     const double s = st.s_end * 0.5 * (half + node);
                     const VectorXd z = st.state(s);
                     normal_mean[static_cast<std::size_t>(c)] += 0.5 * weight * length * normal.dot(z);
-                    if (mode != rigid_stuck)
-                        energy[static_cast<std::size_t>(c)] += 0.5 * weight * length * m.lambda.row(e.tangential(c)).dot(z) *
-                                                               m.a.row(e.slider(c)).dot(z);
+                    if (mode != rigid_stuck) {
+                        const VectorXd rate = st.rate(s);
+                        for (int j = 0; j < e.directions(c); ++j)
+                            energy[static_cast<std::size_t>(c)] += 0.5 * weight * length *
+                                                                   m.lambda.row(e.tangential(c) + j).dot(z) *
+                                                                   m.relative.row(e.tangential(c) + j).dot(rate);
+                    }
                 }
         }
     }
@@ -126,7 +133,11 @@ void rigid_metrics(RigidEngine& e, const PatternEngine::Flow& flow, double t_s, 
     auto dof_state_at = [&](double t) {
         const double tt = t < t_s ? t + period : t;
         const Step& st = step_at(flow.steps, tt);
-        return e.dof_state(st.state(std::min(std::max((tt - st.t0) / st.h, 0.0), st.s_end)), st.modes);
+        const double s = std::min(std::max((tt - st.t0) / st.h, 0.0), st.s_end);
+        VectorXd x(2 * N);
+        x.head(N) = st.data->displacement * st.state(s);
+        x.tail(N) = st.data->displacement * st.rate(s);
+        return x;
     };
     out.state = dof_state_at(t_s > 0.0 ? period : 0.0);
     if (options.samples > 0) {
@@ -167,19 +178,20 @@ bool permanently_stuck(const PatternEngine::Flow& flow) {
 /// orbit about that position still sticks throughout; x (y, y', the held positions) and the
 /// recorded period `last` are then replaced. Otherwise the orbit stays as found (the warm-up
 /// period and Newton moved the nodes: they slipped on the way).
-template <class Map>
-void hold_where_started(RigidEngine& e, const VectorXd& where, VectorXd& x, PatternEngine::Flow& last, const Map& map,
-                        const ExactOptions& options, ExactOrbit& out) {
+template <class E, class Map, class Derivative>
+void hold_where_started(E& e, const VectorXd& where, VectorXd& x, PatternEngine::Flow& last, const Map& map,
+                        const Derivative& derivative, const ExactOptions& options, ExactOrbit& out) {
     const int nm = e.dofs();
     VectorXd held = x;
-    held.tail(e.contacts()) = where;
+    held.tail(where.size()) = where;
     // The stuck structure is linear: Newton on y, y' converges in one step (two for rounding).
     PatternEngine::Flow f;
     for (int iteration = 0; iteration < 3; ++iteration) {
         f = map(held, iteration == 2);
         if (!f.ok || !permanently_stuck(f)) return;
         const VectorXd r = f.zhat.head(2 * nm) - held.head(2 * nm);
-        const MatrixXd jacobian = f.psi.topLeftCorner(2 * nm, 2 * nm) - MatrixXd::Identity(2 * nm, 2 * nm);
+        const MatrixXd jacobian =
+            MatrixXd(derivative(held, f).topLeftCorner(2 * nm, 2 * nm)) - MatrixXd::Identity(2 * nm, 2 * nm);
         if (iteration < 2) held.head(2 * nm) -= jacobian.partialPivLu().solve(r);
     }
     SectionNorm norm{nm, e.omega(), 0.0};
@@ -216,12 +228,22 @@ bool rigid_contacts_only(const System& system) {
            });
 }
 
+namespace {
+
+/// Whether a contact has two tangential directions (3D): the cone engine's systems.
+bool cones(const System& system) {
+    return std::any_of(system.contacts.begin(), system.contacts.end(),
+                       [](const Contact& c) { return c.lists.count("second_direction") != 0; });
+}
+
+}  // namespace
+
 std::string rigid_solver_refusal(const System& system) {
     try {
         system.validate();
-        RigidEngine e(system, 1.0);
-        if (e.dofs() > exact_solver_max_dofs)
-            return "the model has " + std::to_string(e.dofs()) + " DOFs with mass: the exact solver allows at most " +
+        const int dofs = cones(system) ? ConeEngine(system, 1.0).dofs() : RigidEngine(system, 1.0).dofs();
+        if (dofs > exact_solver_max_dofs)
+            return "the model has " + std::to_string(dofs) + " DOFs with mass: the exact solver allows at most " +
                    std::to_string(exact_solver_max_dofs) + " (a reduction first)";
     } catch (const InvalidInput& error) {
         return error.what();
@@ -229,20 +251,14 @@ std::string rigid_solver_refusal(const System& system) {
     return {};
 }
 
-ExactOrbit rigid_periodic_orbit(const System& system, double omega, const VectorXd& initial_state,
-                                const ExactOptions& options) {
-    system.validate();
-    options.validate();
-    if (!(omega > 0.0) || !std::isfinite(omega))
-        throw InvalidInput("omega = " + format_number(omega) + " is out of range: allowed > 0");
+namespace {
+
+/// Newton shooting on the period map of engine e (RigidEngine: linear patterns, the exact
+/// monodromy; ConeEngine: Taylor flows, the period map's derivative by central differences).
+template <class E>
+ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initial_state, const ExactOptions& options) {
+    constexpr bool exact_monodromy = std::is_same_v<E, RigidEngine>;
     const int N = system.dofs();
-    if (initial_state.size() != 0 && (initial_state.size() != 2 * N || !initial_state.allFinite()))
-        throw InvalidInput("initial state has " + std::to_string(initial_state.size()) +
-                           " entries or non-finite values: allowed none (a start at rest) or " + std::to_string(2 * N) +
-                           " finite values (y and y' of every DOF)");
-    RigidEngine e(system, omega);
-    if (e.dofs() > exact_solver_max_dofs)
-        throw InvalidInput(rigid_solver_refusal(system));
     const detail::MasslessContacts& split = e.split();
     const int nm = e.dofs(), nz = e.nz();
     const double period = e.period();
@@ -256,22 +272,25 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
             zhat(nm + k) = initial_state(N + split.massive[static_cast<std::size_t>(k)]);
         }
         const VectorXd q = split.W.transpose() * detail::pick(VectorXd(initial_state.head(N)), split.massless);
-        for (int c = 0; c < e.contacts(); ++c) zhat(e.slider(c)) = q(e.tangential(c));
+        for (int c = 0; c < e.contacts(); ++c)
+            for (int j = 0; j < e.directions(c); ++j) zhat(e.slider(c) + j) = q(e.tangential(c) + j);
     }
     // Where the start holds the nodes (permanent stick's convention): its tangential
     // displacements, or the static state's for a start at rest.
-    VectorXd start_sliders(e.contacts());
+    VectorXd start_sliders(e.tangential_entries());
     if (initial_state.size() > 0) {
-        for (int c = 0; c < e.contacts(); ++c) start_sliders(c) = zhat(e.slider(c));
+        start_sliders = zhat.segment(2 * nm, e.tangential_entries());
     } else {
         const StaticState rest = static_state(system);
         for (int c = 0; c < e.contacts(); ++c)
-            start_sliders(c) = rest.ok ? rest.contacts[static_cast<std::size_t>(c)].relative(0) : 0.0;
+            for (int j = 0; j < e.directions(c); ++j)
+                start_sliders(e.slider(c) + j - 2 * nm) = rest.ok ? rest.contacts[static_cast<std::size_t>(c)].relative(j) : 0.0;
     }
     SectionNorm norm{nm, omega, 0.0};
     PatternEngine::Flow f;
     try {
         Modes modes = e.initial_modes(zhat);
+
         // Plain periods from (zhat, modes) at t = 0; the last one's events kept in f.
         auto plain_periods = [&](int periods) {
             for (int p = 0; p < periods; ++p) {
@@ -306,20 +325,28 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
                 zs = to_section.zhat;
                 ms = to_section.modes;
             }
-            // The unknowns: y, y' and the sliders of the contacts stuck at the section; the other
-            // sliders are their contacts' tangential displacements (rows of the pattern).
+            // The unknowns: y, y', the sliders of the contacts stuck at the section and the slip
+            // directions of 3D contacts slipping there; the other sliders are their contacts'
+            // tangential displacements (rows of the pattern, or its contact problem's solution).
             std::vector<Eigen::Index> unknowns;
             for (int k = 0; k < 2 * nm; ++k) unknowns.push_back(k);
-            for (int c = 0; c < e.contacts(); ++c)
-                if (ms[static_cast<std::size_t>(c)] == rigid_stuck) unknowns.push_back(e.slider(c));
+            for (int c = 0; c < e.contacts(); ++c) {
+                const int mode = ms[static_cast<std::size_t>(c)];
+                if (mode == rigid_stuck)
+                    for (int j = 0; j < e.directions(c); ++j) unknowns.push_back(e.slider(c) + j);
+                if constexpr (!exact_monodromy)
+                    if (mode == rigid_slip_positive && e.directions(c) == 2) unknowns.push_back(e.theta(c));
+            }
             const auto nu = static_cast<Eigen::Index>(unknowns.size());
-            const ModeData& section = e.mode(ms);
             MatrixXd lift = MatrixXd::Zero(e.n(), nu);  // d zhat / d x
-            for (Eigen::Index k = 0; k < nu; ++k) lift(unknowns[static_cast<std::size_t>(k)], k) = 1.0;
-            for (int c = 0; c < e.contacts(); ++c)
-                if (ms[static_cast<std::size_t>(c)] != rigid_stuck)
-                    for (Eigen::Index k = 0; k < nu; ++k)
-                        lift(e.slider(c), k) = section.relative(e.tangential(c), unknowns[static_cast<std::size_t>(k)]);
+            if constexpr (exact_monodromy) {
+                const ModeData& section = e.mode(ms);
+                for (Eigen::Index k = 0; k < nu; ++k) lift(unknowns[static_cast<std::size_t>(k)], k) = 1.0;
+                for (int c = 0; c < e.contacts(); ++c)
+                    if (ms[static_cast<std::size_t>(c)] != rigid_stuck)
+                        for (Eigen::Index k = 0; k < nu; ++k)
+                            lift(e.slider(c), k) = section.relative(e.tangential(c), unknowns[static_cast<std::size_t>(k)]);
+            }
             auto start = [&](const VectorXd& x) {
                 VectorXd zh = e.augment(VectorXd::Zero(nz), t_s);
                 for (Eigen::Index k = 0; k < nu; ++k) zh(unknowns[static_cast<std::size_t>(k)]) = x(k);
@@ -336,6 +363,28 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
             auto map = [&](const VectorXd& from, bool record) {
                 ++out.periods;
                 return e.flow(start(from), ms, t_s, period, true, record, options.max_events_per_period);
+            };
+            // d x_end / d x: the monodromy (RigidEngine), or central differences of the map with
+            // steps of 1e-6 of the state's size (velocities over omega, directions in radians).
+            auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
+                MatrixXd d(nu, nu);
+                if constexpr (exact_monodromy) {
+                    for (Eigen::Index k = 0; k < nu; ++k) d.row(k) = fx.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
+                } else {
+                    const double size = std::max({norm.reference, at.head(nm).cwiseAbs().maxCoeff(),
+                                                  at.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
+                    for (Eigen::Index k = 0; k < nu; ++k) {
+                        const Eigen::Index i = unknowns[static_cast<std::size_t>(k)];
+                        const double delta = 1e-6 * (i >= e.theta(0) ? 1.0 : (i >= nm && i < 2 * nm ? omega : 1.0) * size);
+                        VectorXd plus = at, minus = at;
+                        plus(k) += delta;
+                        minus(k) -= delta;
+                        const PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
+                        if (!fp.ok || !fm.ok) throw std::runtime_error("the period map's derivative: " + (fp.ok ? fm : fp).message);
+                        d.col(k) = (pick(fp.zhat) - pick(fm.zhat)) / (2.0 * delta);
+                    }
+                }
+                return d;
             };
             f = map(x, false);
             bool stalled = false;
@@ -359,9 +408,7 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
                     break;
                 }
                 ++out.iterations;
-                MatrixXd jacobian(nu, nu);
-                for (Eigen::Index k = 0; k < nu; ++k)
-                    jacobian.row(k) = f.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
+                MatrixXd jacobian = derivative(x, f);
                 jacobian -= MatrixXd::Identity(nu, nu);
                 // the minimum-norm step: a contact stuck all period leaves its held position free
                 // (a multiplier at 1, a singular Jacobian), and Newton does not move it
@@ -403,10 +450,9 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
                     out.message = last.message;
                     return out;
                 }
-                if (out.converged && permanently_stuck(last)) hold_where_started(e, start_sliders, x, last, map, options, out);
+                if (out.converged && permanently_stuck(last)) hold_where_started(e, start_sliders, x, last, map, derivative, options, out);
                 rigid_metrics(e, last, t_s, options, out);
-                MatrixXd reduced(nu, nu);
-                for (Eigen::Index k = 0; k < nu; ++k) reduced.row(k) = last.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
+                const MatrixXd reduced = derivative(x, last);
                 Eigen::EigenSolver<MatrixXd> eigen(reduced, false);
                 out.multipliers = eigen.eigenvalues();
                 out.max_multiplier = nu > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
@@ -438,6 +484,29 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
         out.message = error.what();
     }
     return out;
+}
+
+}  // namespace
+
+ExactOrbit rigid_periodic_orbit(const System& system, double omega, const VectorXd& initial_state,
+                                const ExactOptions& options) {
+    system.validate();
+    options.validate();
+    if (!(omega > 0.0) || !std::isfinite(omega))
+        throw InvalidInput("omega = " + format_number(omega) + " is out of range: allowed > 0");
+    const int N = system.dofs();
+    if (initial_state.size() != 0 && (initial_state.size() != 2 * N || !initial_state.allFinite()))
+        throw InvalidInput("initial state has " + std::to_string(initial_state.size()) +
+                           " entries or non-finite values: allowed none (a start at rest) or " + std::to_string(2 * N) +
+                           " finite values (y and y' of every DOF)");
+    if (cones(system)) {
+        ConeEngine e(system, omega);
+        if (e.dofs() > exact_solver_max_dofs) throw InvalidInput(rigid_solver_refusal(system));
+        return shoot(e, system, omega, initial_state, options);
+    }
+    RigidEngine e(system, omega);
+    if (e.dofs() > exact_solver_max_dofs) throw InvalidInput(rigid_solver_refusal(system));
+    return shoot(e, system, omega, initial_state, options);
 }
 
 }  // namespace hbf

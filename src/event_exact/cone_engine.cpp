@@ -1,0 +1,609 @@
+// hbfriction — the Taylor-series flow of rigid unilateral contacts with friction cones on
+// massless nodes (cone_engine.hpp).
+#include "event_exact/cone_engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "hbf/error.hpp"
+
+namespace hbf::detail::exact {
+
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::RowVectorXd;
+using Eigen::VectorXd;
+
+/// Order of the Taylor series of a step.
+constexpr int order = 30;
+/// The series' last two terms below this share of each group's largest term.
+constexpr double step_tolerance = 1e-16;
+/// Shortest step of a contact whose direction is held (share of the period).
+constexpr double closing_step = 1e-8;
+/// A slipping 3D contact holds its direction while its normal force is below this share of
+/// the largest contact force.
+constexpr double hold_share = 1e-6;
+
+int massive_dofs(const System& system) {
+    const MatrixXd M(system.mass);
+    int count = 0;
+    for (Eigen::Index i = 0; i < M.cols(); ++i)
+        if (M.col(i).cwiseAbs().maxCoeff() > 0.0) ++count;
+    return count;
+}
+
+int count_tangential(const MasslessContacts& s) {
+    int count = 0;
+    for (const RigidContact& b : s.blocks) count += b.d;
+    return count;
+}
+
+/// The product of two truncated series (as many terms as a).
+RowVectorXd product(const RowVectorXd& a, const RowVectorXd& b) {
+    const Eigen::Index n = a.size();
+    RowVectorXd p = RowVectorXd::Zero(n);
+    for (Eigen::Index k = 0; k < n; ++k)
+        for (Eigen::Index j = 0; j <= k; ++j) p(k) += a(j) * b(k - j);
+    return p;
+}
+
+/// cos and sin of the series theta (the usual recurrences).
+void cos_sin(const RowVectorXd& theta, RowVectorXd& c, RowVectorXd& s) {
+    const Eigen::Index n = theta.size();
+    c = RowVectorXd::Zero(n);
+    s = RowVectorXd::Zero(n);
+    c(0) = std::cos(theta(0));
+    s(0) = std::sin(theta(0));
+    for (Eigen::Index k = 1; k < n; ++k) {
+        for (Eigen::Index j = 1; j <= k; ++j) {
+            c(k) -= static_cast<double>(j) * theta(j) * s(k - j);
+            s(k) += static_cast<double>(j) * theta(j) * c(k - j);
+        }
+        c(k) /= static_cast<double>(k);
+        s(k) /= static_cast<double>(k);
+    }
+}
+
+/// The derivative's coefficients (same length, last 0).
+RowVectorXd derivative(const RowVectorXd& a) {
+    RowVectorXd d = RowVectorXd::Zero(a.size());
+    for (Eigen::Index k = 1; k < a.size(); ++k) d(k - 1) = static_cast<double>(k) * a(k);
+    return d;
+}
+
+double angle_difference(double a, double b) { return std::remainder(a - b, 2.0 * pi); }
+
+}  // namespace
+
+ConeEngine::ConeEngine(const System& system, double omega)
+    : PatternEngine(omega, false, massive_dofs(system), static_cast<int>(system.contacts.size()), 0),
+      system_(system),
+      s_(split_massless_contacts(system, "the exact solver")) {
+    if (system.excitation_harmonic != 1)
+        throw InvalidInput("excitation_harmonic = " + std::to_string(system.excitation_harmonic) +
+                           ": the exact solver of law unilateral takes the force at the fundamental; allowed 1");
+    tangential_entries_ = count_tangential(s_);
+    nz_ = 2 * n_dofs_ + tangential_entries_ + n_contacts_;
+    n_ = nz_ + 3;
+    int first = 0;
+    for (const RigidContact& b : s_.blocks) {
+        slider_first_.push_back(first);
+        first += b.d;
+    }
+    const int nm = n_dofs_;
+    const auto nc = static_cast<Eigen::Index>(s_.massless.size());
+    free_nodes_ = MatrixXd::Zero(nc, n_);
+    free_nodes_.leftCols(nm) = -s_.Kcc_inverse * s_.Kcm;
+    free_nodes_.col(cos_index()) = s_.Kcc_inverse * s_.Fc;
+    free_nodes_.col(one_index()) = s_.Kcc_inverse * s_.Sc;
+    free_ = s_.W.transpose() * free_nodes_;
+    const MatrixXd minv = s_.Mmm.llt().solve(MatrixXd::Identity(nm, nm));
+    MatrixXd forces = MatrixXd::Zero(nm, n_);
+    forces.leftCols(nm) = -s_.Kmm;
+    forces.middleCols(nm, nm) = -s_.Cmm;
+    forces.col(cos_index()) = s_.Fm;
+    forces.col(one_index()) = s_.Sm;
+    forces -= s_.Kmc * free_nodes_;
+    base_ = minv * forces;
+    transmit_ = minv * (s_.Kmc * s_.B);
+}
+
+ModeData ConeEngine::build(const Modes& modes) const {
+    (void)modes;
+    const int n = n_, L = s_.lambdas, r = recorded();
+    ModeData m;
+    m.lambda = MatrixXd::Zero(L, r);
+    m.lambda.rightCols(L).setIdentity();
+    m.relative = MatrixXd::Zero(L, r);
+    m.relative.leftCols(n) = free_;
+    m.relative.rightCols(L) = -s_.G;
+    const int N = system_.dofs();
+    m.displacement = MatrixXd::Zero(N, r);
+    for (int k = 0; k < n_dofs_; ++k) m.displacement(s_.massive[static_cast<std::size_t>(k)], k) = 1.0;
+    for (std::size_t k = 0; k < s_.massless.size(); ++k) {
+        const auto row = static_cast<Eigen::Index>(k);
+        m.displacement.row(s_.massless[k]).head(n) = free_nodes_.row(row);
+        m.displacement.row(s_.massless[k]).tail(L) = -s_.B.row(row);
+    }
+    m.force = MatrixXd(n_contacts_, r);
+    for (int c = 0; c < n_contacts_; ++c) m.force.row(c) = m.lambda.row(tangential(c));
+    return m;
+}
+
+MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, int terms,
+                            const std::vector<char>& frozen) const {
+    (void)t;
+    const int nm = n_dofs_, L = s_.lambdas, n = n_, K = terms;
+    MatrixXd c = MatrixXd::Zero(n + L, K + 1);
+    // the forcing: cos(w (t + tau)) + i sin(...) = exp(i w t) exp(i w tau), its phase from zhat
+    std::complex<double> p(zhat(cos_index()), zhat(sin_index()));
+    for (int k = 0; k <= K; ++k) {
+        c(cos_index(), k) = p.real();
+        c(sin_index(), k) = p.imag();
+        p *= std::complex<double>(0.0, omega_) / static_cast<double>(k + 1);
+    }
+    c(one_index(), 0) = 1.0;
+    c.col(0).head(nz_) = zhat.head(nz_);
+    // the pattern's matrix
+    MatrixXd A = MatrixXd::Zero(L, L);
+    std::vector<int> cones, moving;  // slipping 3D contacts; those whose direction moves
+    for (int k = 0; k < n_contacts_; ++k) {
+        const RigidContact& b = s_.blocks[static_cast<std::size_t>(k)];
+        const int T = tangential(k), N = normal(k), mode = modes[static_cast<std::size_t>(k)];
+        if (mode == open) {
+            A.block(T, T, b.d + 1, b.d + 1).setIdentity();
+            continue;
+        }
+        A.row(N) = s_.G.row(N);
+        if (mode == stuck) {
+            A.middleRows(T, b.d) = s_.G.middleRows(T, b.d);
+        } else if (b.d == 1) {
+            A(T, T) = 1.0;
+            A(T, N) = -(mode > 0 ? 1.0 : -1.0) * b.mu;
+        } else {
+            A(T, T) = A(T + 1, T + 1) = 1.0;
+            A(T, N) = -b.mu * std::cos(zhat(theta(k)));
+            A(T + 1, N) = -b.mu * std::sin(zhat(theta(k)));
+            cones.push_back(k);
+        }
+    }
+    const Eigen::PartialPivLU<MatrixXd> lu(A);
+    const double rcond = lu.rcond();
+    if (!(rcond > 1e-14))
+        throw std::runtime_error("a contact pattern has no unique contact forces (the friction makes the slipping "
+                                 "contacts' normal problem singular)");
+    const auto nk = static_cast<Eigen::Index>(cones.size());
+    MatrixXd Dc = MatrixXd::Zero(nk, K + 1), Ds = MatrixXd::Zero(nk, K + 1);
+    for (Eigen::Index j = 0; j < nk; ++j) {
+        Dc(j, 0) = std::cos(zhat(theta(cones[static_cast<std::size_t>(j)])));
+        Ds(j, 0) = std::sin(zhat(theta(cones[static_cast<std::size_t>(j)])));
+    }
+    auto rhs = [&](int k, VectorXd& r) {
+        const VectorXd zk = c.col(k).head(n);
+        r = free_ * zk;
+        for (int q = 0; q < n_contacts_; ++q) {
+            const RigidContact& b = s_.blocks[static_cast<std::size_t>(q)];
+            const int T = tangential(q), N = normal(q), mode = modes[static_cast<std::size_t>(q)];
+            if (mode == open) {
+                r.segment(T, b.d + 1).setZero();
+                continue;
+            }
+            r(N) -= b.gap * zk(one_index());
+            if (mode == stuck) {
+                r.segment(T, b.d) -= zk.segment(slider(q), b.d);
+            } else {
+                r.segment(T, b.d).setZero();
+            }
+        }
+        for (Eigen::Index j = 0; j < nk; ++j) {
+            const int q = cones[static_cast<std::size_t>(j)];
+            const int T = tangential(q), N = normal(q);
+            const double mu = s_.blocks[static_cast<std::size_t>(q)].mu;
+            for (int i = 0; i < k; ++i) {
+                r(T) += mu * c(n + N, i) * Dc(j, k - i);
+                r(T + 1) += mu * c(n + N, i) * Ds(j, k - i);
+            }
+        }
+    };
+    // the direction equation's matrix P (cone x cone), after lambda_0
+    Eigen::FullPivLU<MatrixXd> direction;
+    VectorXd r;
+    for (int k = 0;; ++k) {
+        rhs(k, r);
+        const VectorXd lambda = lu.solve(r);
+        c.col(k).tail(L) = lambda;
+        const VectorXd relative = free_ * c.col(k).head(n) - s_.G * lambda;
+        for (int q = 0; q < n_contacts_; ++q)
+            if (modes[static_cast<std::size_t>(q)] != stuck)
+                c.col(k).segment(slider(q), directions(q)) = relative.segment(tangential(q), directions(q));
+        if (k == 0) {
+            // contacts pressing too little for their direction equation: held this step
+            const double scale = lambda.cwiseAbs().maxCoeff();
+            for (std::size_t j = 0; j < cones.size(); ++j) {
+                const int q = cones[j];
+                const bool hold = (!frozen.empty() && frozen[static_cast<std::size_t>(q)]) ||
+                                  !(lambda(normal(q)) > 1e-10 * scale);
+                if (!hold) moving.push_back(static_cast<int>(j));
+            }
+            if (!moving.empty()) {
+                const auto nv = static_cast<Eigen::Index>(moving.size());
+                MatrixXd P(nv, nv);
+                for (Eigen::Index b = 0; b < nv; ++b) {
+                    const auto jb = static_cast<Eigen::Index>(moving[static_cast<std::size_t>(b)]);
+                    const int q = cones[static_cast<std::size_t>(jb)];
+                    VectorXd e = VectorXd::Zero(L);
+                    const double weight = s_.blocks[static_cast<std::size_t>(q)].mu * lambda(normal(q));
+                    e(tangential(q)) = -weight * Ds(jb, 0);
+                    e(tangential(q) + 1) = weight * Dc(jb, 0);
+                    const VectorXd moved = s_.G * lu.solve(e);
+                    for (Eigen::Index a = 0; a < nv; ++a) {
+                        const auto ja = static_cast<Eigen::Index>(moving[static_cast<std::size_t>(a)]);
+                        const int qa = cones[static_cast<std::size_t>(ja)];
+                        P(a, b) = -(-Ds(ja, 0) * moved(tangential(qa)) + Dc(ja, 0) * moved(tangential(qa) + 1));
+                    }
+                }
+                direction.compute(P);
+                if (!direction.isInvertible())
+                    throw std::runtime_error("the slip directions' equation is singular");
+            }
+        }
+        if (k == K) break;
+        const VectorXd zk = c.col(k).head(n);
+        const VectorXd acceleration = base_ * zk + transmit_ * lambda;
+        c.col(k + 1).head(nm) = c.col(k).segment(nm, nm) / static_cast<double>(k + 1);
+        c.col(k + 1).segment(nm, nm) = acceleration / static_cast<double>(k + 1);
+        if (nk == 0) continue;
+        // the directions' next terms, first without theta_{k+1}
+        for (Eigen::Index j = 0; j < nk; ++j) {
+            const int q = cones[static_cast<std::size_t>(j)];
+            double cc = 0.0, ss = 0.0;
+            for (int i = 1; i <= k; ++i) {
+                cc -= i * c(theta(q), i) * Ds(j, k + 1 - i);
+                ss += i * c(theta(q), i) * Dc(j, k + 1 - i);
+            }
+            Dc(j, k + 1) = cc / static_cast<double>(k + 1);
+            Ds(j, k + 1) = ss / static_cast<double>(k + 1);
+        }
+        if (moving.empty()) continue;
+        VectorXd r1;
+        rhs(k + 1, r1);
+        const VectorXd relative1 = free_ * c.col(k + 1).head(n) - s_.G * lu.solve(r1);
+        const auto nv = static_cast<Eigen::Index>(moving.size());
+        VectorXd b(nv);
+        for (Eigen::Index a = 0; a < nv; ++a) {
+            const auto ja = static_cast<Eigen::Index>(moving[static_cast<std::size_t>(a)]);
+            const int q = cones[static_cast<std::size_t>(ja)];
+            const int T = tangential(q), S = slider(q);
+            double sum = (k + 1) * (-Ds(ja, 0) * relative1(T) + Dc(ja, 0) * relative1(T + 1));
+            for (int j = 1; j <= k; ++j)
+                sum += (k + 1 - j) * (-Ds(ja, j) * c(S, k + 1 - j) + Dc(ja, j) * c(S + 1, k + 1 - j));
+            b(a) = -sum;
+        }
+        const VectorXd rate = direction.solve(b) / static_cast<double>(k + 1);
+        for (Eigen::Index a = 0; a < nv; ++a) {
+            const auto ja = static_cast<Eigen::Index>(moving[static_cast<std::size_t>(a)]);
+            const int q = cones[static_cast<std::size_t>(ja)];
+            c(theta(q), k + 1) = rate(a);
+            Dc(ja, k + 1) -= rate(a) * Ds(ja, 0);
+            Ds(ja, k + 1) += rate(a) * Dc(ja, 0);
+        }
+    }
+    return c;
+}
+
+std::vector<Guard> ConeEngine::guards(const MatrixXd& u, const Modes& modes, int only) const {
+    const int n = n_, L = s_.lambdas;
+    std::vector<Guard> out;
+    for (int q = 0; q < n_contacts_; ++q) {
+        if (only >= 0 && q != only) continue;
+        const RigidContact& b = s_.blocks[static_cast<std::size_t>(q)];
+        const int T = tangential(q), N = normal(q), mode = modes[static_cast<std::size_t>(q)];
+        if (mode == open) {
+            RowVectorXd gap = -(free_.row(N) * u.topRows(n) - s_.G.row(N) * u.bottomRows(L));
+            gap(0) += b.gap * u(one_index(), 0);
+            out.push_back({q, gap, {}, guard_gap});
+            continue;
+        }
+        const RowVectorXd lambda_n = u.row(n + N);
+        out.push_back({q, lambda_n, {}, guard_normal});
+        if (mode == stuck) {
+            if (b.d == 1) {
+                out.push_back({q, b.mu * lambda_n - u.row(n + T), {}, guard_limit});
+                out.push_back({q, b.mu * lambda_n + u.row(n + T), {}, guard_limit_negative});
+            } else {
+                const RowVectorXd t1 = u.row(n + T), t2 = u.row(n + T + 1);
+                out.push_back({q, b.mu * b.mu * product(lambda_n, lambda_n) - product(t1, t1) - product(t2, t2), {},
+                               guard_limit});
+            }
+            continue;
+        }
+        const int S = slider(q);
+        if (b.d == 1) {
+            out.push_back({q, (mode > 0 ? 1.0 : -1.0) * derivative(u.row(S)), {}, guard_slip});
+        } else {
+            RowVectorXd cs, sn;
+            cos_sin(u.row(theta(q)), cs, sn);
+            out.push_back({q, product(cs, derivative(u.row(S))) + product(sn, derivative(u.row(S + 1))), {}, guard_slip});
+        }
+    }
+    return out;
+}
+
+bool ConeEngine::holds(const VectorXd& zhat, const Modes& modes, int c, double t, bool closing) {
+    constexpr int terms = 6;
+    std::vector<char> frozen(static_cast<std::size_t>(n_contacts_), 0);
+    frozen[static_cast<std::size_t>(c)] = closing ? 1 : 0;  // lambda = 0: its direction as given
+    MatrixXd u = series(zhat, modes, t, terms, frozen);
+    // in units of 1 / omega: the terms of a smooth signal are of one size
+    double scale = 1.0;
+    for (int k = 1; k <= terms; ++k) {
+        scale /= omega_;
+        u.col(k) *= scale;
+    }
+    for (const Guard& g : guards(u, modes, c)) {
+        const double size = g.row.cwiseAbs().maxCoeff();
+        for (Eigen::Index k = 0; k < g.row.size(); ++k) {
+            if (g.row(k) > 1e-9 * size) break;
+            if (g.row(k) < -1e-9 * size) return false;
+        }
+    }
+    return true;
+}
+
+double ConeEngine::closing_direction(const VectorXd& zhat, Modes modes, int c, double t) {
+    // The directions d along which slip can start: q_T' (lambda_N' > 0, lambda_T' = mu lambda_N'
+    // d) parallel to d, that is d_perp . q_T' = 0 with d . q_T' > 0: the roots of the first on
+    // a scan of the circle, refined by bisection; the one nearest the stuck force's rate.
+    std::vector<char> frozen(static_cast<std::size_t>(n_contacts_), 0);
+    frozen[static_cast<std::size_t>(c)] = 1;
+    const int T = tangential(c), S = slider(c), n = n_;
+    modes[static_cast<std::size_t>(c)] = stuck;
+    MatrixXd u = series(zhat, modes, t, 1, frozen);
+    const double stuck_rate = std::atan2(u(n + T + 1, 1), u(n + T, 1));
+    modes[static_cast<std::size_t>(c)] = slip;
+    VectorXd z = zhat;
+    auto rate = [&](double angle) {
+        z(theta(c)) = angle;
+        u = series(z, modes, t, 1, frozen);
+        return std::make_pair(-std::sin(angle) * u(S, 1) + std::cos(angle) * u(S + 1, 1),
+                              std::cos(angle) * u(S, 1) + std::sin(angle) * u(S + 1, 1));
+    };
+    constexpr int samples = 72;
+    double best = stuck_rate, best_distance = std::numeric_limits<double>::infinity();
+    double a0 = stuck_rate, f0 = rate(a0).first;
+    for (int j = 1; j <= samples; ++j) {
+        const double a1 = stuck_rate + 2.0 * pi * j / samples;
+        const double f1 = rate(a1).first;
+        if ((f0 <= 0.0) != (f1 <= 0.0)) {
+            double lo = a0, hi = a1, flo = f0;
+            for (int it = 0; it < 60 && hi - lo > 1e-15; ++it) {
+                const double mid = 0.5 * (lo + hi);
+                const double fm = rate(mid).first;
+                if ((fm <= 0.0) == (flo <= 0.0)) {
+                    lo = mid;
+                    flo = fm;
+                } else {
+                    hi = mid;
+                }
+            }
+            const double root = 0.5 * (lo + hi);
+            const double distance = std::abs(angle_difference(root, stuck_rate));
+            if (rate(root).second > 0.0 && distance < best_distance) {
+                best = root;
+                best_distance = distance;
+            }
+        }
+        a0 = a1;
+        f0 = f1;
+    }
+    return std::remainder(best, 2.0 * pi);
+}
+
+Modes ConeEngine::settle(const VectorXd& zhat, Modes modes, const Guard& trigger) {
+    VectorXd z = zhat;
+    bool closing = false;
+    return settle_state(z, std::move(modes), trigger, closing);
+}
+
+Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const Guard& trigger, bool& closing) {
+    const int c = trigger.contact;
+    const int d = directions(c);
+    closing = false;
+    std::vector<int> candidates;
+    double angle = zhat(theta(c));
+    switch (trigger.kind) {
+        case guard_gap: {
+            candidates = {stuck};
+            Modes held = modes;
+            held[static_cast<std::size_t>(c)] = stuck;
+            if (d == 1) {
+                const MatrixXd u = series(zhat, held, 0.0, 1);
+                const int first = u(n_ + tangential(c), 1) >= 0.0 ? slip : -slip;
+                candidates.push_back(first);
+                candidates.push_back(-first);
+            } else {
+                candidates.push_back(slip);
+                angle = closing_direction(zhat, modes, c, 0.0);
+            }
+            break;
+        }
+        case guard_normal: candidates = {open}; break;
+        case guard_limit: {
+            candidates = {slip};
+            if (d == 2) {  // along the force, which is continuous
+                const MatrixXd f = series(zhat, modes, 0.0, 0);
+                angle = std::atan2(f(n_ + tangential(c) + 1, 0), f(n_ + tangential(c), 0));
+            }
+            break;
+        }
+        case guard_limit_negative: candidates = {-slip}; break;
+        case guard_slip: candidates = {stuck}; break;
+        default: break;
+    }
+    for (int candidate : candidates) {
+        Modes trial = modes;
+        trial[static_cast<std::size_t>(c)] = candidate;
+        VectorXd z = zhat;
+        if (candidate == slip && d == 2) z(theta(c)) = angle;
+        if (holds(z, trial, c, 0.0, trigger.kind == guard_gap)) {
+            zhat = z;
+            closing = candidate == slip && d == 2 && trigger.kind == guard_gap;
+            return trial;
+        }
+    }
+    return modes;
+}
+
+Modes ConeEngine::initial_modes(VectorXd& zhat) {
+    const VectorXd q0 = free_ * zhat;
+    VectorXd reference = VectorXd::Zero(s_.lambdas);
+    for (int c = 0; c < n_contacts_; ++c) reference.segment(tangential(c), directions(c)) = zhat.segment(slider(c), directions(c));
+    RigidContactSolution solution;
+    if (!solve_rigid_contacts(s_.blocks, s_.G, q0, reference, solution))
+        throw std::runtime_error("the contact problem of the start state did not converge (residual " +
+                                 format_number(solution.residual) + ")");
+    Modes modes(static_cast<std::size_t>(n_contacts_), open);
+    for (int c = 0; c < n_contacts_; ++c) {
+        const int state = solution.state[static_cast<std::size_t>(c)];
+        const int T = tangential(c);
+        int mode = state == 0 ? open : state == 1 ? stuck : slip;
+        if (mode == slip && directions(c) == 1) mode = solution.lambda(T) >= 0.0 ? slip : -slip;
+        if (mode == slip && directions(c) == 2) zhat(theta(c)) = std::atan2(solution.lambda(T + 1), solution.lambda(T));
+        modes[static_cast<std::size_t>(c)] = mode;
+        zhat.segment(slider(c), directions(c)) = solution.q.segment(T, directions(c));
+    }
+    return modes;
+}
+
+void ConeEngine::restore_constraints(VectorXd& zhat, const Modes& modes, double t) const {
+    restore_forcing(zhat, t);
+    const MatrixXd u = series(zhat, modes, t, 0);
+    for (int c = 0; c < n_contacts_; ++c)
+        if (modes[static_cast<std::size_t>(c)] != stuck) zhat.segment(slider(c), directions(c)) = u.col(0).segment(slider(c), directions(c));
+}
+
+void ConeEngine::make_consistent(VectorXd& zhat, const Modes& modes, double t) { restore_constraints(zhat, modes, t); }
+
+PatternEngine::Flow ConeEngine::flow(VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
+                                     int max_events) {
+    (void)monodromy;  // not propagated: see cone_engine.hpp
+    Flow out;
+    double t = t0;
+    const double t_end = t0 + duration;
+    int events = 0;
+    const int nm = n_dofs_, L = s_.lambdas, n = n_;
+    // row groups whose terms are compared with their own largest
+    const std::vector<std::pair<int, int>> groups = {{0, nm},
+                                                     {nm, nm},
+                                                     {2 * nm, tangential_entries_},
+                                                     {n, L}};
+    std::vector<char> frozen(static_cast<std::size_t>(n_contacts_), 0);
+    const long max_steps = 200000;
+    long steps = 0;
+    double force_scale = 0.0;
+    while (t < t_end) {
+        if (++steps > max_steps) {
+            out.ok = false;
+            out.message = "more than " + std::to_string(max_steps) + " Taylor steps in one flow at t = " + format_number(t);
+            break;
+        }
+        const ModeData& m = mode(modes);
+        // A slipping 3D contact whose normal force is near zero (just closed, or about to open)
+        // holds its direction: its equation is singular at lambda_N = 0, and the friction force
+        // it steers is below hold_share of the forces.
+        {
+            const MatrixXd f = series(zhat, modes, t, 0, frozen);
+            force_scale = std::max(force_scale, f.col(0).tail(L).cwiseAbs().maxCoeff());
+            for (int q = 0; q < n_contacts_; ++q)
+                if (modes[static_cast<std::size_t>(q)] == slip && directions(q) == 2 &&
+                    !(f(n + normal(q), 0) > hold_share * force_scale))
+                    frozen[static_cast<std::size_t>(q)] = 1;
+        }
+        const MatrixXd c = series(zhat, modes, t, order, frozen);
+        const double remaining = t_end - t;
+        double h = std::min(period_ / 24.0, remaining);
+        for (int q = 0; q < n_contacts_; ++q)  // held until its normal force grows past 2 hold_share
+            if (frozen[static_cast<std::size_t>(q)] && c(n + normal(q), 1) > 0.0)
+                h = std::min(h, std::max(closing_step * period_,
+                                         (2.0 * hold_share * force_scale - c(n + normal(q), 0)) / c(n + normal(q), 1)));
+        for (int iteration = 0; iteration < 100; ++iteration) {
+            double worst = 0.0;
+            for (const auto& [first, count] : groups) {
+                if (count == 0) continue;
+                double size = 0.0, tail = 0.0, power = 1.0;
+                for (int k = 0; k <= order; ++k) {
+                    const double term = c.col(k).segment(first, count).cwiseAbs().maxCoeff() * power;
+                    size = std::max(size, term);
+                    if (k >= order - 1) tail += term;
+                    power *= h;
+                }
+                if (size > 0.0) worst = std::max(worst, tail / (step_tolerance * size));
+            }
+            if (worst <= 1.0) break;
+            h *= std::max(0.1, 0.9 * std::pow(worst, -1.0 / order));
+        }
+        const bool last = h >= remaining * (1.0 - 1e-12);
+        if (last) h = remaining;
+        MatrixXd u = c;
+        double power = 1.0;
+        for (int k = 0; k <= order; ++k) {
+            u.col(k) *= power;
+            power *= h;
+        }
+        double best = std::numeric_limits<double>::infinity();
+        Guard trigger;
+        bool found = false;
+        for (const Guard& g : guards(u, modes)) {
+            const double eta = 1e-12 * g.row.cwiseAbs().sum();
+            const double s = first_root(g.row, 1.0, eta);
+            if (s >= 0.0 && s < best) {
+                best = s;
+                trigger = g;
+                found = true;
+            }
+        }
+        const double s_end = found ? best : 1.0;
+        if (record) {
+            Step st;
+            st.t0 = t;
+            st.h = h;
+            st.s_end = s_end;
+            st.modes = modes;
+            st.u = u;
+            st.data = &m;
+            out.steps.push_back(std::move(st));
+        }
+        zhat = evaluate(u, s_end).head(n);
+        t = (found || !last) ? std::min(t + s_end * h, t_end) : t_end;
+        restore_forcing(zhat, t);
+        std::fill(frozen.begin(), frozen.end(), 0);
+        if (!found) continue;
+        bool closing = false;
+        Modes next = settle_state(zhat, modes, trigger, closing);
+        const int k = trigger.contact;
+        if (closing) frozen[static_cast<std::size_t>(k)] = 1;
+        if (next != modes) {
+            out.events.push_back({t, k, modes[static_cast<std::size_t>(k)], next[static_cast<std::size_t>(k)]});
+            out.event_states.push_back(zhat);
+        }
+        modes = next;
+        if (++events > max_events) {
+            out.ok = false;
+            out.message = "more than " + std::to_string(max_events) + " contact events in one period at t = " +
+                          format_number(t) + " (chattering)";
+            break;
+        }
+    }
+    out.zhat = zhat;
+    out.modes = modes;
+    return out;
+}
+
+}  // namespace hbf::detail::exact

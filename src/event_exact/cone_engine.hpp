@@ -1,0 +1,117 @@
+// hbfriction — internal to event_exact: the flow engine of rigid unilateral contacts with
+// Coulomb friction (law unilateral) on the massless DOFs of a structure, for contacts with two
+// tangential directions (3D: a friction cone) as well as one (2D).
+//
+// As in RigidEngine (rigid_engine.hpp), the massless nodes follow the masses statically and the
+// contact forces lambda solve, per contact, the equations of its pattern:
+//   open:      lambda = 0;
+//   closed:    q_N = g_0                       (q = q0 - G lambda);
+//   stuck:     q_T = s                         (s: the held tangential position, d entries);
+//   slipping:  lambda_T = mu lambda_N d        (d the unit slip direction, q_T' = |q_T'| d).
+// In 2D d = +1 or -1 and every pattern is linear. In 3D d = (cos theta, sin theta) in the
+// contact's tangential directions, and theta is a state: the slip direction of a massless node
+// is not a function of the positions. Its rate follows from keeping the slip velocity along d,
+// d_perp . q_T' = 0, which is linear in theta' (with the coefficient mu lambda_N d_perp^T G_TT
+// d_perp, regular while the contact presses). The flow of a pattern with a slipping 3D contact
+// is thus nonlinear (lambda_T depends on cos theta, sin theta); it is integrated by Taylor
+// series of high order (the coefficients of y, y', lambda and theta order by order, the
+// contact equations solved at each order with the pattern's matrix, theta's from the
+// direction condition), the step chosen so that the series' last terms are below rounding.
+// Every signal of a step is then a polynomial, as in PatternEngine's linear flows, and the
+// events are the first roots of the guards' polynomials:
+//   open, the gap g_0 - q_N; closed, lambda_N; stuck, the friction margin mu^2 lambda_N^2 -
+//   |lambda_T|^2 (2D: mu lambda_N -+ lambda_T); slipping, the slip speed d . q_T'.
+// The recorded vector of a step is [zhat, lambda]: the mode data's rows (lambda, relative,
+// displacement) are linear in it for every pattern.
+//
+// The state is zhat = [y_m, y_m', s (the tangential entries of every contact), theta (one per
+// contact), cos(w t), sin(w t), 1]; s of a contact not stuck equals q_T, theta is used while
+// a 3D contact slips.
+//
+// A 3D contact that closes into slip starts with lambda = 0, where the direction equation is
+// singular: the direction then is the one along which the start of slip is consistent (q_T'
+// along d, solved by fixed-point iteration), held over a first step of 1e-6 of the period
+// (the error this makes in the state is of third order in that length), after which theta
+// follows its equation.
+//
+// The monodromy is not propagated: flow() leaves psi empty, and the periodic-orbit solver
+// differentiates the period map (rigid_orbit.cpp).
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "contact/massless_contacts.hpp"
+#include "event_exact/engine.hpp"
+
+namespace hbf::detail::exact {
+
+class ConeEngine : public PatternEngine {
+public:
+    /// A contact's pattern: 0 open, 1 stuck; slipping: 2 (3D, along theta), +2 / -2 (2D).
+    enum : int { open = 0, stuck = 1, slip = 2 };
+    /// Guards (kinds).
+    enum : int { guard_gap = 0, guard_normal = 1, guard_limit = 2, guard_limit_negative = 3, guard_slip = 4 };
+
+    /// Throws InvalidInput where split_massless_contacts does and for a force at a harmonic
+    /// other than the fundamental.
+    ConeEngine(const System& system, double omega);
+
+    const MasslessContacts& split() const { return s_; }
+    const System& system() const { return system_; }
+    /// Tangential directions of contact c (1 or 2) and its first entries in lambda and zhat.
+    int directions(int c) const { return s_.blocks[static_cast<std::size_t>(c)].d; }
+    int tangential(int c) const { return s_.blocks[static_cast<std::size_t>(c)].first; }
+    int normal(int c) const { return tangential(c) + directions(c); }
+    int slider(int c) const { return 2 * n_dofs_ + slider_first_[static_cast<std::size_t>(c)]; }
+    int theta(int c) const { return 2 * n_dofs_ + tangential_entries_ + c; }
+    int tangential_entries() const { return tangential_entries_; }
+    /// Size of the recorded vector [zhat, lambda].
+    int recorded() const { return n_ + s_.lambdas; }
+
+    Modes settle(const Eigen::VectorXd& zhat, Modes modes, const Guard& trigger) override;
+
+    /// The patterns of a state (its y and the held positions s of stuck contacts) from the static
+    /// contact problem; sets every slider to the tangential displacement and theta of slipping
+    /// 3D contacts to their force's direction.
+    Modes initial_modes(Eigen::VectorXd& zhat);
+
+    /// Puts zhat on the pattern's relations at t: the forcing, the sliders of contacts not stuck
+    /// at their tangential displacement.
+    void make_consistent(Eigen::VectorXd& zhat, const Modes& modes, double t);
+
+    /// Taylor coefficients (in time from t) of the recorded vector [zhat, lambda], orders 0..order.
+    /// frozen: contacts whose direction is held over the step (a closing into slip).
+    Eigen::MatrixXd series(const Eigen::VectorXd& zhat, const Modes& modes, double t, int order,
+                           const std::vector<char>& frozen = {}) const;
+
+    Flow flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
+              int max_events) override;
+
+private:
+    ModeData build(const Modes& modes) const override;
+    void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const override;
+
+    /// The guards of the pattern over coefficients u (in any time unit) of the recorded vector.
+    std::vector<Guard> guards(const Eigen::MatrixXd& u, const Modes& modes, int contact = -1) const;
+    /// Whether contact c's guards in pattern `modes` are positive at zhat, or zero with a
+    /// positive first term of their series beyond rounding. closing: c just closed (lambda = 0),
+    /// its slip direction held.
+    bool holds(const Eigen::VectorXd& zhat, const Modes& modes, int c, double t, bool closing);
+    /// settle, and the slip direction of a 3D contact that starts slipping into zhat; closing:
+    /// it closed into slip (its direction held over the first step).
+    Modes settle_state(Eigen::VectorXd& zhat, Modes modes, const Guard& trigger, bool& closing);
+    /// The consistent slip direction of contact c closing into slip at zhat.
+    double closing_direction(const Eigen::VectorXd& zhat, Modes modes, int c, double t);
+
+    const System& system_;
+    MasslessContacts s_;
+    std::vector<int> slider_first_;
+    int tangential_entries_ = 0;
+    Eigen::MatrixXd free_;        ///< q0 as rows over zhat
+    Eigen::MatrixXd free_nodes_;  ///< y_c without contact forces, rows over zhat
+    Eigen::MatrixXd base_;        ///< M^-1 (forces on the masses without contact forces), rows over zhat
+    Eigen::MatrixXd transmit_;    ///< M^-1 K_mc B
+};
+
+}  // namespace hbf::detail::exact
