@@ -224,12 +224,13 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
             if (modes[static_cast<std::size_t>(q)] != stuck)
                 c.col(k).segment(slider(q), directions(q)) = relative.segment(tangential(q), directions(q));
         if (k == 0) {
-            // contacts pressing too little for their direction equation: held this step
-            const double scale = lambda.cwiseAbs().maxCoeff();
+            // contacts pressing too little for their direction equation (its coefficient
+            // mu lambda_N vanishes as they close or open): held this step
+            const double scale = std::max(lambda.cwiseAbs().maxCoeff(), force_scale_);
             for (std::size_t j = 0; j < cones.size(); ++j) {
                 const int q = cones[j];
                 const bool hold = (!frozen.empty() && frozen[static_cast<std::size_t>(q)]) ||
-                                  !(lambda(normal(q)) > 1e-10 * scale);
+                                  !(lambda(normal(q)) > hold_share * scale);
                 if (!hold) moving.push_back(static_cast<int>(j));
             }
             if (!moving.empty()) {
@@ -347,8 +348,20 @@ bool ConeEngine::holds(const VectorXd& zhat, const Modes& modes, int c, double t
         scale /= omega_;
         u.col(k) *= scale;
     }
+    // The sign of a guard is that of its first term beyond rounding of the quantity it measures
+    // (forces: the largest contact force; displacements and slip rates: the largest relative
+    // displacement), not of the series' largest term: near a contact whose normal force
+    // vanishes the slip directions turn fast and the high terms are large.
+    const int L = s_.lambdas;
+    const double force = std::max(u.col(0).tail(L).cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+    const VectorXd relative = free_ * u.col(0).head(n_) - s_.G * u.col(0).tail(L);
+    const double length = std::max(relative.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+    const double mu = s_.blocks[static_cast<std::size_t>(c)].mu;
     for (const Guard& g : guards(u, modes, c)) {
-        const double size = g.row.cwiseAbs().maxCoeff();
+        const double size = g.kind == guard_normal                            ? force
+                            : g.kind == guard_gap || g.kind == guard_slip       ? length
+                            : directions(c) == 2                                ? mu * mu * force * force
+                                                                                : mu * force;
         for (Eigen::Index k = 0; k < g.row.size(); ++k) {
             if (g.row(k) > 1e-9 * size) break;
             if (g.row(k) < -1e-9 * size) return false;
@@ -458,6 +471,16 @@ Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const Guard& trigger
             return trial;
         }
     }
+    // None holds beyond rounding (a touch of two boundaries at once: the old pattern's guard
+    // turns negative where the new one's first terms vanish): the pattern the event leads to,
+    // since the old one does not go on. A real chatter ends in the flow's event bound.
+    if (candidates.empty()) return modes;
+    const int candidate = candidates.back() == slip && d == 2 ? slip : candidates.front();
+    if (candidate == slip && d == 2) {
+        zhat(theta(c)) = angle;
+        closing = trigger.kind == guard_gap;
+    }
+    modes[static_cast<std::size_t>(c)] = candidate;
     return modes;
 }
 
@@ -493,7 +516,19 @@ void ConeEngine::make_consistent(VectorXd& zhat, const Modes& modes, double t) {
 
 PatternEngine::Flow ConeEngine::flow(VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
                                      int max_events) {
-    (void)monodromy;  // not propagated: see cone_engine.hpp
+    try {
+        return taylor_flow(std::move(zhat), std::move(modes), t0, duration, record, max_events);
+    } catch (const std::runtime_error& error) {  // a singular pattern: a failed flow, not an exception
+        (void)monodromy;  // not propagated: see cone_engine.hpp
+        Flow out;
+        out.ok = false;
+        out.message = error.what();
+        return out;
+    }
+}
+
+PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t0, double duration, bool record,
+                                            int max_events) {
     Flow out;
     double t = t0;
     const double t_end = t0 + duration;
@@ -507,7 +542,6 @@ PatternEngine::Flow ConeEngine::flow(VectorXd zhat, Modes modes, double t0, doub
     std::vector<char> frozen(static_cast<std::size_t>(n_contacts_), 0);
     const long max_steps = 200000;
     long steps = 0;
-    double force_scale = 0.0;
     while (t < t_end) {
         if (++steps > max_steps) {
             out.ok = false;
@@ -520,19 +554,25 @@ PatternEngine::Flow ConeEngine::flow(VectorXd zhat, Modes modes, double t0, doub
         // it steers is below hold_share of the forces.
         {
             const MatrixXd f = series(zhat, modes, t, 0, frozen);
-            force_scale = std::max(force_scale, f.col(0).tail(L).cwiseAbs().maxCoeff());
+            force_scale_ = std::max(force_scale_, f.col(0).tail(L).cwiseAbs().maxCoeff());
+            const double force_scale = force_scale_;
             for (int q = 0; q < n_contacts_; ++q)
                 if (modes[static_cast<std::size_t>(q)] == slip && directions(q) == 2 &&
                     !(f(n + normal(q), 0) > hold_share * force_scale))
                     frozen[static_cast<std::size_t>(q)] = 1;
         }
         const MatrixXd c = series(zhat, modes, t, order, frozen);
+        if (!c.allFinite()) {
+            out.ok = false;
+            out.message = "the Taylor series of a step overflowed at t = " + format_number(t);
+            break;
+        }
         const double remaining = t_end - t;
         double h = std::min(period_ / 24.0, remaining);
         for (int q = 0; q < n_contacts_; ++q)  // held until its normal force grows past 2 hold_share
             if (frozen[static_cast<std::size_t>(q)] && c(n + normal(q), 1) > 0.0)
                 h = std::min(h, std::max(closing_step * period_,
-                                         (2.0 * hold_share * force_scale - c(n + normal(q), 0)) / c(n + normal(q), 1)));
+                                         (2.0 * hold_share * force_scale_ - c(n + normal(q), 0)) / c(n + normal(q), 1)));
         for (int iteration = 0; iteration < 100; ++iteration) {
             double worst = 0.0;
             for (const auto& [first, count] : groups) {

@@ -89,6 +89,7 @@ public:
               int max_events) override;
 
 private:
+    Flow taylor_flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool record, int max_events);
     ModeData build(const Modes& modes) const override;
     void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const override;
 
@@ -112,6 +113,9 @@ private:
     Eigen::MatrixXd free_nodes_;  ///< y_c without contact forces, rows over zhat
     Eigen::MatrixXd base_;        ///< M^-1 (forces on the masses without contact forces), rows over zhat
     Eigen::MatrixXd transmit_;    ///< M^-1 K_mc B
+    /// The largest contact force the flows have met: the scale against which a slipping 3D
+    /// contact's normal force is small enough to hold its direction (hold_share).
+    double force_scale_ = 0.0;
 };
 
 }  // namespace hbf::detail::exact

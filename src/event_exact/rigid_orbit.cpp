@@ -388,6 +388,10 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             };
             f = map(x, false);
             bool stalled = false;
+            // Newton's matrix d(x_end - x)/dx; with differences (3D) computed once and then
+            // updated by Broyden's rank-one formula, again by differences where a step fails.
+            MatrixXd jacobian;
+            bool fresh = false;  // computed at the current x
             for (int iteration = 0;; ++iteration) {
                 if (!f.ok) {
                     out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
@@ -408,8 +412,10 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     break;
                 }
                 ++out.iterations;
-                MatrixXd jacobian = derivative(x, f);
-                jacobian -= MatrixXd::Identity(nu, nu);
+                if (exact_monodromy || jacobian.size() == 0) {
+                    jacobian = derivative(x, f) - MatrixXd::Identity(nu, nu);
+                    fresh = true;
+                }
                 // the minimum-norm step: a contact stuck all period leaves its held position free
                 // (a multiplier at 1, a singular Jacobian), and Newton does not move it
                 Eigen::CompleteOrthogonalDecomposition<MatrixXd> decomposition(jacobian.rows(), jacobian.cols());
@@ -422,11 +428,21 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     const VectorXd trial = x + alpha * dx;
                     PatternEngine::Flow g = map(trial, false);
                     if (g.ok && norm.relative_change(pick(g.zhat), trial) < out.residual) {
+                        if constexpr (!exact_monodromy) {  // Broyden: the secant through the step
+                            const VectorXd step = trial - x, change = (pick(g.zhat) - trial) - (end - x);
+                            jacobian += (change - jacobian * step) * step.transpose() / step.squaredNorm();
+                            fresh = false;
+                        }
                         x = trial;
                         f = std::move(g);
                         moved = true;
                         break;
                     }
+                }
+                if (!moved && !fresh) {  // an updated matrix that failed: differences again
+                    jacobian = derivative(x, f) - MatrixXd::Identity(nu, nu);
+                    fresh = true;
+                    continue;
                 }
                 if (!moved) {
                     // No step lowers the residual: the rounding of the flow over one period.
