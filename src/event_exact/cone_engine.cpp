@@ -408,7 +408,8 @@ double ConeEngine::closing_direction(const VectorXd& zhat, Modes modes, int c, d
             }
             const double root = 0.5 * (lo + hi);
             const double distance = std::abs(angle_difference(root, stuck_rate));
-            if (rate(root).second > 0.0 && distance < best_distance) {
+            const bool pressing = (rate(root), u(n + normal(c), 1) > 0.0);  // lambda_N grows
+            if (rate(root).second > 0.0 && pressing && distance < best_distance) {
                 best = root;
                 best_distance = distance;
             }
@@ -421,67 +422,106 @@ double ConeEngine::closing_direction(const VectorXd& zhat, Modes modes, int c, d
 
 Modes ConeEngine::settle(const VectorXd& zhat, Modes modes, const Guard& trigger) {
     VectorXd z = zhat;
-    bool closing = false;
-    return settle_state(z, std::move(modes), trigger, closing);
+    std::vector<char> closing;
+    return settle_state(z, std::move(modes), {trigger}, closing);
 }
 
-Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const Guard& trigger, bool& closing) {
-    const int c = trigger.contact;
-    const int d = directions(c);
-    closing = false;
-    std::vector<int> candidates;
-    double angle = zhat(theta(c));
-    switch (trigger.kind) {
-        case guard_gap: {
-            candidates = {stuck};
-            Modes held = modes;
-            held[static_cast<std::size_t>(c)] = stuck;
-            if (d == 1) {
-                const MatrixXd u = series(zhat, held, 0.0, 1);
-                const int first = u(n_ + tangential(c), 1) >= 0.0 ? slip : -slip;
-                candidates.push_back(first);
-                candidates.push_back(-first);
-            } else {
-                candidates.push_back(slip);
-                angle = closing_direction(zhat, modes, c, 0.0);
+Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const std::vector<Guard>& triggers,
+                               std::vector<char>& closing) {
+    // Per trigger (one per contact) its successors in order; the direction of a 3D slip from
+    // stick is its force's (continuous), from a closing the consistent one (closing_direction,
+    // with the other triggered contacts in their trial patterns).
+    const std::size_t count = triggers.size();
+    std::vector<std::vector<int>> candidates(count);
+    std::vector<double> angle(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const int c = triggers[i].contact, d = directions(c);
+        angle[i] = zhat(theta(c));
+        switch (triggers[i].kind) {
+            case guard_gap:
+                candidates[i] = {stuck};
+                if (d == 1) {
+                    Modes held = modes;
+                    held[static_cast<std::size_t>(c)] = stuck;
+                    const MatrixXd u = series(zhat, held, 0.0, 1);
+                    const int first = u(n_ + tangential(c), 1) >= 0.0 ? slip : -slip;
+                    candidates[i].push_back(first);
+                    candidates[i].push_back(-first);
+                } else {
+                    candidates[i].push_back(slip);
+                }
+                break;
+            case guard_normal: candidates[i] = {open}; break;
+            case guard_limit:
+                candidates[i] = {slip};
+                if (d == 2) {
+                    const MatrixXd f = series(zhat, modes, 0.0, 0);
+                    angle[i] = std::atan2(f(n_ + tangential(c) + 1, 0), f(n_ + tangential(c), 0));
+                }
+                break;
+            case guard_limit_negative: candidates[i] = {-slip}; break;
+            case guard_slip: candidates[i] = {stuck}; break;
+            default: break;
+        }
+    }
+    // All triggered contacts take their first successor; then each whose successor does not
+    // hold (beyond rounding, with the others as they are) tries its next ones, in rounds.
+    Modes next = modes;
+    VectorXd z = zhat;
+    std::vector<std::size_t> choice(count, 0);
+    std::vector<char> held(count, 0);
+    auto place = [&](std::size_t i, int candidate) {
+        const int c = triggers[i].contact;
+        next[static_cast<std::size_t>(c)] = candidate;
+        if (candidate == slip && directions(c) == 2) {
+            if (triggers[i].kind == guard_gap) angle[i] = closing_direction(z, next, c, 0.0);
+            z(theta(c)) = angle[i];
+        }
+    };
+    for (std::size_t i = 0; i < count; ++i)
+        if (!candidates[i].empty()) place(i, candidates[i].front());
+    for (std::size_t round = 0; round <= count; ++round) {
+        bool changed = false;
+        for (std::size_t i = 0; i < count; ++i) {
+            if (candidates[i].empty()) continue;
+            const int c = triggers[i].contact;
+            held[i] = holds(z, next, c, 0.0, triggers[i].kind == guard_gap) ? 1 : 0;
+            if (held[i]) continue;
+            for (std::size_t j = 0; j < candidates[i].size(); ++j) {
+                if (j == choice[i]) continue;
+                const Modes before = next;
+                const VectorXd z_before = z;
+                place(i, candidates[i][j]);
+                if (holds(z, next, c, 0.0, triggers[i].kind == guard_gap)) {
+                    choice[i] = j;
+                    held[i] = 1;
+                    changed = true;
+                    break;
+                }
+                next = before;
+                z = z_before;
             }
-            break;
         }
-        case guard_normal: candidates = {open}; break;
-        case guard_limit: {
-            candidates = {slip};
-            if (d == 2) {  // along the force, which is continuous
-                const MatrixXd f = series(zhat, modes, 0.0, 0);
-                angle = std::atan2(f(n_ + tangential(c) + 1, 0), f(n_ + tangential(c), 0));
-            }
-            break;
+        if (!changed) break;
+    }
+    // A contact none of whose successors holds beyond rounding (a touch of two boundaries at
+    // once: the old pattern's guard turns negative where the new one's first terms vanish)
+    // takes the one the event leads to (a 3D slip where slip is among them), since the old
+    // pattern does not go on. A real chatter ends in the flow's event bound.
+    closing.assign(static_cast<std::size_t>(n_contacts_), 0);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (candidates[i].empty()) continue;
+        const int c = triggers[i].contact;
+        if (!held[i]) {
+            const bool cone = directions(c) == 2 &&
+                              std::find(candidates[i].begin(), candidates[i].end(), slip) != candidates[i].end();
+            place(i, cone ? slip : candidates[i].front());
         }
-        case guard_limit_negative: candidates = {-slip}; break;
-        case guard_slip: candidates = {stuck}; break;
-        default: break;
+        if (next[static_cast<std::size_t>(c)] == slip && directions(c) == 2 && triggers[i].kind == guard_gap)
+            closing[static_cast<std::size_t>(c)] = 1;
     }
-    for (int candidate : candidates) {
-        Modes trial = modes;
-        trial[static_cast<std::size_t>(c)] = candidate;
-        VectorXd z = zhat;
-        if (candidate == slip && d == 2) z(theta(c)) = angle;
-        if (holds(z, trial, c, 0.0, trigger.kind == guard_gap)) {
-            zhat = z;
-            closing = candidate == slip && d == 2 && trigger.kind == guard_gap;
-            return trial;
-        }
-    }
-    // None holds beyond rounding (a touch of two boundaries at once: the old pattern's guard
-    // turns negative where the new one's first terms vanish): the pattern the event leads to,
-    // since the old one does not go on. A real chatter ends in the flow's event bound.
-    if (candidates.empty()) return modes;
-    const int candidate = candidates.back() == slip && d == 2 ? slip : candidates.front();
-    if (candidate == slip && d == 2) {
-        zhat(theta(c)) = angle;
-        closing = trigger.kind == guard_gap;
-    }
-    modes[static_cast<std::size_t>(c)] = candidate;
-    return modes;
+    zhat = z;
+    return next;
 }
 
 Modes ConeEngine::initial_modes(VectorXd& zhat) {
@@ -564,7 +604,8 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         const MatrixXd c = series(zhat, modes, t, order, frozen);
         if (!c.allFinite()) {
             out.ok = false;
-            out.message = "the Taylor series of a step overflowed at t = " + format_number(t);
+            out.message = "the Taylor series of a step overflowed at t = " + format_number(t) +
+                          " (a slip direction turning too fast: a 3D contact slipping under a small normal force)";
             break;
         }
         const double remaining = t_end - t;
@@ -598,17 +639,22 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             power *= h;
         }
         double best = std::numeric_limits<double>::infinity();
-        Guard trigger;
-        bool found = false;
+        std::vector<std::pair<double, Guard>> roots;
         for (const Guard& g : guards(u, modes)) {
             const double eta = 1e-12 * g.row.cwiseAbs().sum();
             const double s = first_root(g.row, 1.0, eta);
-            if (s >= 0.0 && s < best) {
-                best = s;
-                trigger = g;
-                found = true;
-            }
+            if (s < 0.0) continue;
+            roots.emplace_back(s, g);
+            best = std::min(best, s);
         }
+        // the events at the first root, and those of other contacts within 1e-9 of the step
+        // after it (simultaneous by symmetry): settled together
+        std::vector<Guard> triggers;
+        for (const auto& [s, g] : roots)
+            if (s <= best + 1e-9 &&
+                std::none_of(triggers.begin(), triggers.end(), [&](const Guard& o) { return o.contact == g.contact; }))
+                triggers.push_back(g);
+        const bool found = !triggers.empty();
         const double s_end = found ? best : 1.0;
         if (record) {
             Step st;
@@ -625,13 +671,14 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         restore_forcing(zhat, t);
         std::fill(frozen.begin(), frozen.end(), 0);
         if (!found) continue;
-        bool closing = false;
-        Modes next = settle_state(zhat, modes, trigger, closing);
-        const int k = trigger.contact;
-        if (closing) frozen[static_cast<std::size_t>(k)] = 1;
-        if (next != modes) {
-            out.events.push_back({t, k, modes[static_cast<std::size_t>(k)], next[static_cast<std::size_t>(k)]});
-            out.event_states.push_back(zhat);
+        std::vector<char> closing;
+        const Modes next = settle_state(zhat, modes, triggers, closing);
+        for (int k = 0; k < n_contacts_; ++k) {
+            if (closing[static_cast<std::size_t>(k)]) frozen[static_cast<std::size_t>(k)] = 1;
+            if (next[static_cast<std::size_t>(k)] != modes[static_cast<std::size_t>(k)]) {
+                out.events.push_back({t, k, modes[static_cast<std::size_t>(k)], next[static_cast<std::size_t>(k)]});
+                out.event_states.push_back(zhat);
+            }
         }
         modes = next;
         if (++events > max_events) {

@@ -99,9 +99,11 @@ private:
     /// positive first term of their series beyond rounding. closing: c just closed (lambda = 0),
     /// its slip direction held.
     bool holds(const Eigen::VectorXd& zhat, const Modes& modes, int c, double t, bool closing);
-    /// settle, and the slip direction of a 3D contact that starts slipping into zhat; closing:
-    /// it closed into slip (its direction held over the first step).
-    Modes settle_state(Eigen::VectorXd& zhat, Modes modes, const Guard& trigger, bool& closing);
+    /// settle for the events of `triggers` (one per contact) at once, and the slip direction of
+    /// each 3D contact that starts slipping into zhat; closing (per contact): it closed into
+    /// slip (its direction held over the first step).
+    Modes settle_state(Eigen::VectorXd& zhat, Modes modes, const std::vector<Guard>& triggers,
+                       std::vector<char>& closing);
     /// The consistent slip direction of contact c closing into slip at zhat.
     double closing_direction(const Eigen::VectorXd& zhat, Modes modes, int c, double t);
 
