@@ -367,3 +367,16 @@ TEST_CASE("rigid exact 3D: the force's work is what friction and damping take ou
         CHECK(orbit.energy > 0.3 * orbit.input_energy);
     }
 }
+
+TEST_CASE("rigid exact 3D: the FRF's polish is off by default, with its reason, and on when asked", "[rigid_exact]") {
+    const System spatial = bench::contact_chain_3d(3, 1.0, 0.8);
+    CHECK(rigid_contacts_3d(spatial));
+    CHECK_FALSE(rigid_contacts_3d(bench::contact_chain(3, 1.0)));
+    const FrfSettings automatic = frf_settings(spatial, {Output::dof(0)});
+    CHECK_FALSE(automatic.exact);
+    CHECK_THAT(automatic.exact_note, Catch::Contains("off by default for 3D rigid contacts"));
+    FrfChoices asked;
+    asked.exact = true;
+    CHECK(frf_settings(spatial, {Output::dof(0)}, asked).exact);
+    CHECK(frf_settings(bench::contact_chain(3, 1.0), {Output::dof(0)}).exact);  // 2D: on
+}

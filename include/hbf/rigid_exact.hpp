@@ -31,6 +31,11 @@ namespace hbf {
 /// solver is for (the exact polish of an FRF then uses it).
 bool rigid_contacts_only(const System& system);
 
+/// True when rigid_contacts_only holds and a contact has a second_direction (3D): the FRF's
+/// polish is then off unless asked for (the Taylor flow of a node slipping under a small normal
+/// force can need very short steps, or stop: see the header's comment).
+bool rigid_contacts_3d(const System& system);
+
 /// Why the rigid-contact exact solver cannot take `system` (one sentence naming the cause),
 /// empty when it can: every contact of law unilateral, the contact directions on massless
 /// undamped DOFs, K regular on them, M positive definite on

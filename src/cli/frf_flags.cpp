@@ -115,8 +115,9 @@ void FrfFlags::add_to(CLI::App& command) {
     command.add_option("--exact", exact,
                        "polish every branch point, sample, transition and peak by the event-exact periodic solver "
                        "(exact Coulomb and Jenkins: Newton shooting on closed-form flows between stick/slip events, "
-                       "Floquet stability; law unilateral with one tangential direction on massless DOFs: the same "
-                       "with open, stuck and slipping nodes), on or off [default: on for coulomb and jenkins contacts on models of at most "
+                       "Floquet stability; law unilateral on massless DOFs: the same with open, stuck and slipping "
+                       "nodes, in 3D by Taylor series of the turning slip direction), on or off [default: off for 3D "
+                       "unilateral contacts; on for coulomb, jenkins and 2D unilateral contacts on models of at most "
                        "64 DOFs with mass (massless DOFs are condensed statically: a contact on them becomes a "
                        "Jenkins element), a force at harmonic 1 and a period at wmin of at most 50000 Taylor steps (fewer "
                        "on large models: 2e6 / the flow's state size) "

@@ -228,13 +228,16 @@ bool rigid_contacts_only(const System& system) {
            });
 }
 
+bool rigid_contacts_3d(const System& system) {
+    return rigid_contacts_only(system) &&
+           std::any_of(system.contacts.begin(), system.contacts.end(),
+                       [](const Contact& c) { return c.lists.count("second_direction") != 0; });
+}
+
 namespace {
 
 /// Whether a contact has two tangential directions (3D): the cone engine's systems.
-bool cones(const System& system) {
-    return std::any_of(system.contacts.begin(), system.contacts.end(),
-                       [](const Contact& c) { return c.lists.count("second_direction") != 0; });
-}
+bool cones(const System& system) { return rigid_contacts_3d(system); }
 
 }  // namespace
 

@@ -19,6 +19,7 @@
 #include "hbf/static_state.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
+#include "hbf/rigid_exact.hpp"
 #include "base/enum_table.hpp"
 
 namespace hbf {
@@ -142,6 +143,13 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
                   exact_polish_refusal(system, co.omega_start > 0.0 && std::isfinite(co.omega_start) ? co.omega_start : 0.0,
                                        0)
                       .empty();
+        if (s.exact && rigid_contacts_3d(system)) {
+            s.exact = false;
+            s.exact_note = "the exact polish is off by default for 3D rigid contacts (law unilateral with a "
+                           "second_direction: where a node slips under a small normal force its slip direction turns "
+                           "faster than the solver's steps follow, and the flow can stop): the FRF is harmonic "
+                           "balance's, its error against the exact orbit not measured (exact on polishes anyway)";
+        }
         if (elements > static_cast<std::size_t>(max_automatic_exact_elements)) {
             s.exact = false;
             s.exact_note = "the exact polish is off by default for " + std::to_string(elements) +
