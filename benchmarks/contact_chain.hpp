@@ -15,17 +15,20 @@
 
 namespace hbf::bench {
 
+/// A spring k between DOFs a and b of K.
+inline void add_spring(Eigen::MatrixXd& K, int a, int b, double k) {
+    K(a, a) += k;
+    K(b, b) += k;
+    K(a, b) -= k;
+    K(b, a) -= k;
+}
+
 inline System contact_chain(int n, double force) {
     const int size = 3 * n;
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(size, size), K = M, C = M;
     const double masses[] = {1.0, 0.7, 0.4}, kt[] = {3.0, 2.0, 4.0}, kn[] = {5.0, 6.0, 4.0},
                  preloads[] = {1.0, 0.6, 0.8}, forces[] = {0.3, 1.0, -0.5}, links[] = {1.5, 1.0};
-    auto spring = [&K](int a, int b, double k) {
-        K(a, a) += k;
-        K(b, b) += k;
-        K(a, b) -= k;
-        K(b, a) -= k;
-    };
+    auto spring = [&K](int a, int b, double k) { add_spring(K, a, b, k); };
     Eigen::VectorXd F = Eigen::VectorXd::Zero(size), S = Eigen::VectorXd::Zero(size);
     for (int i = 0; i < n; ++i) {
         M(i, i) = masses[i % 3];
@@ -95,12 +98,7 @@ inline System contact_chain_3d(int n, double force, double second) {
             C(map[static_cast<std::size_t>(a)], map[static_cast<std::size_t>(b)]) = C2(a, b);
         }
     }
-    auto spring = [&K](int a, int b, double k) {
-        K(a, a) += k;
-        K(b, b) += k;
-        K(a, b) -= k;
-        K(b, a) -= k;
-    };
+    auto spring = [&K](int a, int b, double k) { add_spring(K, a, b, k); };
     const double masses[] = {1.0, 0.7, 0.4}, kt2[] = {2.5, 3.5, 1.5}, forces[] = {-0.4, 0.8, 0.6}, links[] = {1.2, 0.8};
     for (int i = 0; i < n; ++i) {
         const int y = n + i;

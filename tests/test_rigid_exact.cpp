@@ -53,6 +53,19 @@ PeriodicResponse integrated(const System& system, double omega, int samples, con
 
 double relative(double a, double b) { return std::abs(a - b) / std::abs(b); }
 
+/// The damping's work over the orbit's period: the integral of v^T C v, trapezoidal on its
+/// samples (periodic, C^1 between the events: second order).
+double viscous_work(const System& system, const ExactOrbit& orbit, double omega) {
+    const Eigen::MatrixXd C(system.damping);
+    double viscous = 0.0;
+    const auto samples = orbit.velocity.rows();
+    for (Eigen::Index j = 0; j < samples; ++j) {
+        const Eigen::VectorXd v = orbit.velocity.row(j).transpose();
+        viscous += v.dot(C * v);
+    }
+    return viscous * (2.0 * M_PI / omega) / static_cast<double>(samples);
+}
+
 /// The exact orbit against the integrator at S and 2S steps a period: its error falls like
 /// dt^2 (the first harmonic by a factor near 4, at least 3; the maximum by at least 2) down
 /// to `closest` relative at 2S, in the first output; the contact shares agree to the integrator's step (first order: the steps
@@ -113,15 +126,7 @@ TEST_CASE("rigid exact: the energy the force puts in is what friction and dampin
         INFO("F = " << force << ", w = " << omega << ": " << orbit.message);
         REQUIRE(orbit.converged);
         REQUIRE(orbit.switches > 6);
-        // viscous: the period's integral of v^T C v, trapezoidal on the samples (periodic, C^1
-        // between the events: second order)
-        const Eigen::MatrixXd C(system.damping);
-        double viscous = 0.0;
-        for (int j = 0; j < options.samples; ++j) {
-            const Eigen::VectorXd v = orbit.velocity.row(j).transpose();
-            viscous += v.dot(C * v);
-        }
-        viscous *= (2.0 * M_PI / omega) / options.samples;
+        const double viscous = viscous_work(system, orbit, omega);
         double friction = 0.0;
         for (const ContactRegime& c : orbit.contacts) friction += c.energy;
         CHECK(std::abs(friction - orbit.energy) <= 1e-15 * orbit.energy);
@@ -356,13 +361,7 @@ TEST_CASE("rigid exact 3D: the force's work is what friction and damping take ou
         const ExactOrbit orbit = rigid_periodic_orbit(system, omega, Eigen::VectorXd(), options);
         INFO("w = " << omega << ": " << orbit.message);
         REQUIRE(orbit.converged);
-        const Eigen::MatrixXd C(system.damping);
-        double viscous = 0.0;
-        for (int j = 0; j < options.samples; ++j) {
-            const Eigen::VectorXd v = orbit.velocity.row(j).transpose();
-            viscous += v.dot(C * v);
-        }
-        viscous *= (2.0 * M_PI / omega) / options.samples;
+        const double viscous = viscous_work(system, orbit, omega);
         CHECK(std::abs(orbit.input_energy - orbit.energy - viscous) <= 1e-7 * orbit.input_energy);
         CHECK(orbit.energy > 0.3 * orbit.input_energy);
     }

@@ -9,6 +9,27 @@
 
 namespace hbf::detail {
 
+MasslessRows massless_rows(const MasslessContacts& s, Eigen::Index n, Eigen::Index cos_index, Eigen::Index one_index) {
+    const auto nm = static_cast<Eigen::Index>(s.massive.size());
+    const auto nc = static_cast<Eigen::Index>(s.massless.size());
+    MasslessRows r;
+    r.free_nodes = Eigen::MatrixXd::Zero(nc, n);
+    r.free_nodes.leftCols(nm) = -s.Kcc_inverse * s.Kcm;
+    r.free_nodes.col(cos_index) = s.Kcc_inverse * s.Fc;
+    r.free_nodes.col(one_index) = s.Kcc_inverse * s.Sc;
+    r.free = s.W.transpose() * r.free_nodes;
+    const Eigen::MatrixXd minv = s.Mmm.llt().solve(Eigen::MatrixXd::Identity(nm, nm));
+    Eigen::MatrixXd forces = Eigen::MatrixXd::Zero(nm, n);
+    forces.leftCols(nm) = -s.Kmm;
+    forces.middleCols(nm, nm) = -s.Cmm;
+    forces.col(cos_index) = s.Fm;
+    forces.col(one_index) = s.Sm;
+    forces -= s.Kmc * r.free_nodes;
+    r.base = minv * forces;
+    r.transmit = minv * (s.Kmc * s.B);
+    return r;
+}
+
 Eigen::MatrixXd pick(const Eigen::MatrixXd& a, const std::vector<int>& rows, const std::vector<int>& cols) {
     Eigen::MatrixXd out(rows.size(), cols.size());
     for (std::size_t i = 0; i < rows.size(); ++i)

@@ -34,6 +34,16 @@ struct MasslessContacts {
     int dofs() const { return static_cast<int>(massive.size() + massless.size()); }
 };
 
+/// The massless nodes' static response and the masses' accelerations as rows over a state
+/// vector of n entries whose first ones are y_m (then anything), with cos(h w t) at `cos_index`
+/// and 1 at `one_index`: without contact forces, the nodes' positions y_c = free_nodes * state,
+/// the contacts' relative displacements q0 = free * state, the masses' accelerations
+/// y_m'' = base * state; transmit (masses x lambdas) adds the contact forces' effect on y_m''.
+struct MasslessRows {
+    Eigen::MatrixXd free_nodes, free, base, transmit;
+};
+MasslessRows massless_rows(const MasslessContacts& s, Eigen::Index n, Eigen::Index cos_index, Eigen::Index one_index);
+
 /// The split of `system` (validated by the caller). Throws InvalidInput, naming the cause and
 /// what is allowed, for: a contact of another law than unilateral, a contact direction on a DOF
 /// with mass, damping on a massless DOF, M_mm not positive definite (or no DOF with mass),

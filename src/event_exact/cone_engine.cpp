@@ -97,22 +97,11 @@ ConeEngine::ConeEngine(const System& system, double omega)
         slider_first_.push_back(first);
         first += b.d;
     }
-    const int nm = n_dofs_;
-    const auto nc = static_cast<Eigen::Index>(s_.massless.size());
-    free_nodes_ = MatrixXd::Zero(nc, n_);
-    free_nodes_.leftCols(nm) = -s_.Kcc_inverse * s_.Kcm;
-    free_nodes_.col(cos_index()) = s_.Kcc_inverse * s_.Fc;
-    free_nodes_.col(one_index()) = s_.Kcc_inverse * s_.Sc;
-    free_ = s_.W.transpose() * free_nodes_;
-    const MatrixXd minv = s_.Mmm.llt().solve(MatrixXd::Identity(nm, nm));
-    MatrixXd forces = MatrixXd::Zero(nm, n_);
-    forces.leftCols(nm) = -s_.Kmm;
-    forces.middleCols(nm, nm) = -s_.Cmm;
-    forces.col(cos_index()) = s_.Fm;
-    forces.col(one_index()) = s_.Sm;
-    forces -= s_.Kmc * free_nodes_;
-    base_ = minv * forces;
-    transmit_ = minv * (s_.Kmc * s_.B);
+    MasslessRows rows = massless_rows(s_, n_, cos_index(), one_index());
+    free_nodes_ = std::move(rows.free_nodes);
+    free_ = std::move(rows.free);
+    base_ = std::move(rows.base);
+    transmit_ = std::move(rows.transmit);
 }
 
 ModeData ConeEngine::build(const Modes& modes) const {
@@ -673,20 +662,11 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         if (!found) continue;
         std::vector<char> closing;
         const Modes next = settle_state(zhat, modes, triggers, closing);
-        for (int k = 0; k < n_contacts_; ++k) {
+        for (int k = 0; k < n_contacts_; ++k)
             if (closing[static_cast<std::size_t>(k)]) frozen[static_cast<std::size_t>(k)] = 1;
-            if (next[static_cast<std::size_t>(k)] != modes[static_cast<std::size_t>(k)]) {
-                out.events.push_back({t, k, modes[static_cast<std::size_t>(k)], next[static_cast<std::size_t>(k)]});
-                out.event_states.push_back(zhat);
-            }
-        }
+        const bool counted = record_events(out, t, modes, next, zhat, events, max_events);
         modes = next;
-        if (++events > max_events) {
-            out.ok = false;
-            out.message = "more than " + std::to_string(max_events) + " contact events in one period at t = " +
-                          format_number(t) + " (chattering)";
-            break;
-        }
+        if (!counted) break;
     }
     out.zhat = zhat;
     out.modes = modes;

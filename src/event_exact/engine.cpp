@@ -107,6 +107,20 @@ void PatternEngine::restore_forcing(Eigen::VectorXd& zhat, double t) const {
     zhat(one_index()) = 1.0;
 }
 
+bool PatternEngine::record_events(Flow& out, double t, const Modes& before, const Modes& after,
+                                  const Eigen::VectorXd& zhat, int& events, int max_events) const {
+    for (int c = 0; c < n_contacts_; ++c)
+        if (after[static_cast<std::size_t>(c)] != before[static_cast<std::size_t>(c)]) {
+            out.events.push_back({t, c, before[static_cast<std::size_t>(c)], after[static_cast<std::size_t>(c)]});
+            out.event_states.push_back(zhat);
+        }
+    if (++events <= max_events) return true;
+    out.ok = false;
+    out.message = "more than " + std::to_string(max_events) + " contact events in one period at t = " + format_number(t) +
+                  " (chattering)";
+    return false;
+}
+
 void PatternEngine::finish(ModeData& m) const {
     // The fast modes split off; the step short against the slow ones (|lambda| h <= 1) and T / 24.
     double rho = omega_;
@@ -280,18 +294,9 @@ PatternEngine::Flow PatternEngine::flow(Eigen::VectorXd zhat, Modes modes, doubl
                 out.grazing = true;
             }
         }
-        for (int c = 0; c < n_contacts_; ++c)
-            if (next[static_cast<std::size_t>(c)] != modes[static_cast<std::size_t>(c)]) {
-                out.events.push_back({t, c, modes[static_cast<std::size_t>(c)], next[static_cast<std::size_t>(c)]});
-                out.event_states.push_back(zhat);
-            }
+        const bool counted = record_events(out, t, modes, next, zhat, events, max_events);
         modes = next;
-        if (++events > max_events) {
-            out.ok = false;
-            out.message = "more than " + std::to_string(max_events) + " contact events in one period at t = " +
-                          format_number(t) + " (chattering)";
-            break;
-        }
+        if (!counted) break;
     }
     out.zhat = zhat;
     out.modes = modes;

@@ -156,6 +156,10 @@ protected:
     /// at cos(w t), sin(w t), 1 (restore_forcing).
     virtual void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const = 0;
     void restore_forcing(Eigen::VectorXd& zhat, double t) const;
+    /// Records in out the contacts whose modes change from `before` to `after` at t (state zhat)
+    /// and counts the event; false (out failed: chattering) past max_events.
+    bool record_events(Flow& out, double t, const Modes& before, const Modes& after, const Eigen::VectorXd& zhat,
+                       int& events, int max_events) const;
     /// Splits off the fast modes of m.a (and sets each guard's fast row), chooses the step
     /// (short against the slow modes and T / 24) and its exponential.
     void finish(ModeData& m) const;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "hbf/error.hpp"
@@ -39,24 +40,11 @@ RigidEngine::RigidEngine(const System& system, double omega, bool split)
     if (system.excitation_harmonic != 1)
         throw InvalidInput("excitation_harmonic = " + std::to_string(system.excitation_harmonic) +
                            ": the exact solver of law unilateral takes the force at the fundamental; allowed 1");
-    const int nm = n_dofs_;
-    const auto nc = static_cast<Eigen::Index>(s_.massless.size());
-    const Eigen::MatrixXd Xy = s_.Kcc_inverse * s_.Kcm;
-    const Eigen::VectorXd xc = s_.Kcc_inverse * s_.Fc, xs = s_.Kcc_inverse * s_.Sc;
-    free_nodes_ = Eigen::MatrixXd::Zero(nc, n_);
-    free_nodes_.leftCols(nm) = -Xy;
-    free_nodes_.col(cos_index()) = xc;
-    free_nodes_.col(one_index()) = xs;
-    free_ = s_.W.transpose() * free_nodes_;
-    const Eigen::MatrixXd minv = s_.Mmm.llt().solve(Eigen::MatrixXd::Identity(nm, nm));
-    Eigen::MatrixXd forces = Eigen::MatrixXd::Zero(nm, n_);
-    forces.leftCols(nm) = -s_.Kmm;
-    forces.middleCols(nm, nm) = -s_.Cmm;
-    forces.col(cos_index()) = s_.Fm;
-    forces.col(one_index()) = s_.Sm;
-    forces -= s_.Kmc * free_nodes_;
-    base_ = minv * forces;
-    transmit_ = minv * (s_.Kmc * s_.B);
+    MasslessRows rows = massless_rows(s_, n_, cos_index(), one_index());
+    free_nodes_ = std::move(rows.free_nodes);
+    free_ = std::move(rows.free);
+    base_ = std::move(rows.base);
+    transmit_ = std::move(rows.transmit);
 }
 
 ModeData RigidEngine::build(const Modes& modes) const {

@@ -67,11 +67,9 @@ CORNERS = [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
            (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)]
 
 
-def element_matrices(corners):
-    """24 x 24 stiffness and consistent mass of a trilinear brick with the given 8 corner
-    coordinates (in the order of CORNERS; DOFs corner by corner, x y z each), by 2 x 2 x 2 Gauss
-    quadrature: the standard isoparametric 8-node element (a rectangular brick, or the
-    trapezoidal bricks of a mitred end)."""
+def add_gauss_point(k, m, n, dn, weight):
+    """Adds one Gauss point's share to the element's k and m: shape functions n and their
+    x, y, z derivatives dn at the point, weight = the Jacobian determinant there."""
     lam = E * NU / ((1 + NU) * (1 - 2 * NU))
     g = E / (2 * (1 + NU))
     d = [[lam + 2 * g, lam, lam, 0, 0, 0],
@@ -80,6 +78,30 @@ def element_matrices(corners):
          [0, 0, 0, g, 0, 0],
          [0, 0, 0, 0, g, 0],
          [0, 0, 0, 0, 0, g]]
+    bm = [[0.0] * 24 for _ in range(6)]  # strains xx, yy, zz, yz, xz, xy
+    for p, (dx, dy, dz) in enumerate(dn):
+        bm[0][3 * p] = dx
+        bm[1][3 * p + 1] = dy
+        bm[2][3 * p + 2] = dz
+        bm[3][3 * p + 1], bm[3][3 * p + 2] = dz, dy
+        bm[4][3 * p], bm[4][3 * p + 2] = dz, dx
+        bm[5][3 * p], bm[5][3 * p + 1] = dy, dx
+    db = [[sum(d[r][s] * bm[s][c] for s in range(6)) for c in range(24)] for r in range(6)]
+    for a in range(24):
+        for b in range(24):
+            k[a][b] += weight * sum(bm[r][a] * db[r][b] for r in range(6))
+    for p in range(8):
+        for q in range(8):
+            v = RHO * weight * n[p] * n[q]
+            for c in range(3):
+                m[3 * p + c][3 * q + c] += v
+
+
+def element_matrices(corners):
+    """24 x 24 stiffness and consistent mass of a trilinear brick with the given 8 corner
+    coordinates (in the order of CORNERS; DOFs corner by corner, x y z each), by 2 x 2 x 2 Gauss
+    quadrature: the standard isoparametric 8-node element (a rectangular brick, or the
+    trapezoidal bricks of a mitred end)."""
     k = [[0.0] * 24 for _ in range(24)]
     m = [[0.0] * 24 for _ in range(24)]
     for (xi, eta, zeta) in gauss_points():
@@ -96,37 +118,13 @@ def element_matrices(corners):
                  - jm[(c + 1) % 3][(r + 2) % 3] * jm[(c + 2) % 3][(r + 1) % 3]) / det for c in range(3)]
                for r in range(3)]  # inv[r][c] = d xi_c / d x_r
         dn = [tuple(sum(inv[r][c] * dref[p][c] for c in range(3)) for r in range(3)) for p in range(8)]
-        bm = [[0.0] * 24 for _ in range(6)]  # strains xx, yy, zz, yz, xz, xy
-        for p, (dx, dy, dz) in enumerate(dn):
-            bm[0][3 * p] = dx
-            bm[1][3 * p + 1] = dy
-            bm[2][3 * p + 2] = dz
-            bm[3][3 * p + 1], bm[3][3 * p + 2] = dz, dy
-            bm[4][3 * p], bm[4][3 * p + 2] = dz, dx
-            bm[5][3 * p], bm[5][3 * p + 1] = dy, dx
-        db = [[sum(d[r][s] * bm[s][c] for s in range(6)) for c in range(24)] for r in range(6)]
-        for a in range(24):
-            for b in range(24):
-                k[a][b] += det * sum(bm[r][a] * db[r][b] for r in range(6))
-        for p in range(8):
-            for q in range(8):
-                v = RHO * det * n[p] * n[q]
-                for c in range(3):
-                    m[3 * p + c][3 * q + c] += v
+        add_gauss_point(k, m, n, dn, det)
     return k, m
 
 
 def box_matrices(hx, hy, hz):
     """element_matrices of a rectangular brick hx x hy x hz, in closed form per Gauss point (the
     square end's files, written before the mitre existed, stay byte for byte what they were)."""
-    lam = E * NU / ((1 + NU) * (1 - 2 * NU))
-    g = E / (2 * (1 + NU))
-    d = [[lam + 2 * g, lam, lam, 0, 0, 0],
-         [lam, lam + 2 * g, lam, 0, 0, 0],
-         [lam, lam, lam + 2 * g, 0, 0, 0],
-         [0, 0, 0, g, 0, 0],
-         [0, 0, 0, 0, g, 0],
-         [0, 0, 0, 0, 0, g]]
     jac = hx * hy * hz / 8.0
     k = [[0.0] * 24 for _ in range(24)]
     m = [[0.0] * 24 for _ in range(24)]
@@ -135,23 +133,7 @@ def box_matrices(hx, hy, hz):
         dn = [(a * (1 + b * eta) * (1 + c * zeta) / 8 * 2 / hx,
                b * (1 + a * xi) * (1 + c * zeta) / 8 * 2 / hy,
                c * (1 + a * xi) * (1 + b * eta) / 8 * 2 / hz) for (a, b, c) in CORNERS]
-        bm = [[0.0] * 24 for _ in range(6)]  # strains xx, yy, zz, yz, xz, xy
-        for p, (dx, dy, dz) in enumerate(dn):
-            bm[0][3 * p] = dx
-            bm[1][3 * p + 1] = dy
-            bm[2][3 * p + 2] = dz
-            bm[3][3 * p + 1], bm[3][3 * p + 2] = dz, dy
-            bm[4][3 * p], bm[4][3 * p + 2] = dz, dx
-            bm[5][3 * p], bm[5][3 * p + 1] = dy, dx
-        db = [[sum(d[r][s] * bm[s][c] for s in range(6)) for c in range(24)] for r in range(6)]
-        for a in range(24):
-            for b in range(24):
-                k[a][b] += jac * sum(bm[r][a] * db[r][b] for r in range(6))
-        for p in range(8):
-            for q in range(8):
-                v = RHO * jac * n[p] * n[q]
-                for c in range(3):
-                    m[3 * p + c][3 * q + c] += v
+        add_gauss_point(k, m, n, dn, jac)
     return k, m
 
 
