@@ -6,7 +6,8 @@
 // massless node onto a wall (contact_chain.hpp), whose contacts stick, slip and open at
 // different times.
 // The chains are taken at the first frequency of a scan where their orbit is stable and has
-// events. Per case: the integrator's seconds to its steady state (from rest, 1024 samples a period,
+// events; the 3D chain (contact_chain_3d: forces along both tangential directions, slip along
+// curved paths; Taylor flows and a differenced period map) at w = 0.6 and 2.0, where it is. Per case: the integrator's seconds to its steady state (from rest, 1024 samples a period,
 // steady tolerance 1e-10), the exact solver's from rest and from the integrator's final state,
 // their ratios, and how far the two answers are apart (relative, first harmonic of output 1).
 // The last line is one JSON object with every case.
@@ -64,6 +65,8 @@ int main(int argc, char** argv) {
             }
         }
     }
+    const System chain_3d = bench::contact_chain_3d(3, 1.0, 0.8);
+    for (double w : {0.6, 2.0}) cases.push_back({"chain3_3d", chain_3d, {Output::dof(0)}, w});
     nlohmann::json all = nlohmann::json::array();
     std::printf("%-16s %6s %8s %10s %10s %10s %10s %10s %10s\n", "model", "w", "events", "TI s", "exact s",
                 "cold s", "TI/exact", "TI/cold", "gap");
