@@ -28,11 +28,18 @@
 // contact), cos(w t), sin(w t), 1]; s of a contact not stuck equals q_T, theta is used while
 // a 3D contact slips.
 //
-// A 3D contact that closes into slip starts with lambda = 0, where the direction equation is
-// singular: the direction then is the one along which the start of slip is consistent (q_T'
-// along d, solved by fixed-point iteration), held over a first step of 1e-6 of the period
-// (the error this makes in the state is of third order in that length), after which theta
-// follows its equation.
+// The direction equation is singular where lambda_N = 0: a 3D contact that closes into slip
+// starts along the direction in which its slip is consistent (q_T' along d with lambda_N
+// growing; a scan of the circle), and a slipping 3D contact whose normal force is below 1e-6 of
+// the largest contact force the engine has met holds its direction (the friction force it
+// steers is below that share), over steps that end where its normal force has doubled past
+// that threshold (at least 1e-8 of the period). Between that and a few per cent of the largest
+// force the direction relaxes fast (at |q_T'| / (G mu lambda_N)) and the steps are short; a
+// series that overflows ends the flow with that reason.
+// Events of several contacts at one instant (symmetric nodes) are settled together: each
+// takes its first successor, then those whose successor does not hold (with the others in
+// their trial patterns) try their next ones; one none of whose successors holds beyond rounding
+// takes the pattern the event leads to.
 //
 // The monodromy is not propagated: flow() leaves psi empty, and the periodic-orbit solver
 // differentiates the period map (rigid_orbit.cpp).
