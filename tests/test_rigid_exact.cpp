@@ -235,6 +235,10 @@ TEST_CASE("rigid exact: what it cannot take is refused up front, naming the caus
     spatial.contacts[0].lists["second_direction"] = {0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
     REQUIRE_NOTHROW(spatial.validate());
     CHECK(rigid_solver_refusal(spatial).empty());  // 3D contacts are taken (the cone engine)
+    // more contacts than the bound: refused before any work, naming the bound
+    const System many = bench::contact_chain(rigid_solver_max_contacts + 1, 0.3);
+    CHECK_THAT(rigid_solver_refusal(many), Catch::Contains("allows at most " + std::to_string(rigid_solver_max_contacts)));
+    CHECK_THROWS_AS(rigid_periodic_orbit(many, 1.0, Eigen::VectorXd()), InvalidInput);
     CHECK_THROWS_WITH(rigid_periodic_orbit(config.system, 1.0, Eigen::VectorXd::Zero(3)),
                       Catch::Contains("allowed none (a start at rest) or 10"));
     CHECK_THROWS_WITH(rigid_periodic_orbit(config.system, -1.0, Eigen::VectorXd()), Catch::Contains("omega = -1"));

@@ -36,10 +36,15 @@ bool rigid_contacts_only(const System& system);
 /// force can need very short steps, or stop: see the header's comment).
 bool rigid_contacts_3d(const System& system);
 
+/// The most contacts the rigid-contact exact solver takes: each step solves the contact
+/// equations (size 2 or 3 per contact) with a dense LU, whose cost grows as their cube.
+constexpr int rigid_solver_max_contacts = 256;
+
 /// Why the rigid-contact exact solver cannot take `system` (one sentence naming the cause),
 /// empty when it can: every contact of law unilateral, the contact directions on massless
 /// undamped DOFs, K regular on them, M positive definite on
-/// the others, the force at the fundamental, at most exact_solver_max_dofs DOFs with mass.
+/// the others, the force at the fundamental, at most exact_solver_max_dofs DOFs with mass and
+/// rigid_solver_max_contacts contacts.
 std::string rigid_solver_refusal(const System& system);
 
 /// The periodic orbit at omega near `initial_state`: [y (N), y' (N)] of every DOF (the

@@ -244,6 +244,11 @@ bool cones(const System& system) { return rigid_contacts_3d(system); }
 std::string rigid_solver_refusal(const System& system) {
     try {
         system.validate();
+        if (system.contacts.size() > static_cast<std::size_t>(rigid_solver_max_contacts))
+            return "the model has " + std::to_string(system.contacts.size()) +
+                   " contacts: the exact solver of law unilateral allows at most " +
+                   std::to_string(rigid_solver_max_contacts) +
+                   " (each step solves their equations with a dense LU, whose cost grows as their cube)";
         const int dofs = cones(system) ? ConeEngine(system, 1.0).dofs() : RigidEngine(system, 1.0).dofs();
         if (dofs > exact_solver_max_dofs)
             return "the model has " + std::to_string(dofs) + " DOFs with mass: the exact solver allows at most " +
@@ -518,6 +523,8 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
         throw InvalidInput("initial state has " + std::to_string(initial_state.size()) +
                            " entries or non-finite values: allowed none (a start at rest) or " + std::to_string(2 * N) +
                            " finite values (y and y' of every DOF)");
+    if (system.contacts.size() > static_cast<std::size_t>(rigid_solver_max_contacts))
+        throw InvalidInput(rigid_solver_refusal(system));
     if (cones(system)) {
         ConeEngine e(system, omega);
         if (e.dofs() > exact_solver_max_dofs) throw InvalidInput(rigid_solver_refusal(system));
