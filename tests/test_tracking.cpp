@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 
 #include "cli_support.hpp"
 #include "hbf/analytic.hpp"
@@ -122,6 +123,7 @@ TEST_CASE("track: long ranges in mu (0.3:2, 0.3:5, 0.3:10) keep both peak curves
         REQUIRE(r.curves.size() == 2);
         CHECK(r.curves[0].status == TrackStatus::completed);
         double dw = 0.0, dy = 0.0;
+        std::string worst;
         for (std::size_t k = 0; k < values.size(); ++k) {
             INFO("mu = " << values[k] << ", FRF: " << frfs[k].summary());
             REQUIRE(frfs[k].peak.state == PeakState::bounded);
@@ -133,9 +135,13 @@ TEST_CASE("track: long ranges in mu (0.3:2, 0.3:5, 0.3:10) keep both peak curves
                         w = q.omega;
                     }
             REQUIRE(y > 0.0);
+            if (std::abs(w - frfs[k].peak.omega) / w > dw)
+                worst = "mu = " + std::to_string(values[k]) + ": tracked w = " + std::to_string(w) + ", FRF: " +
+                        frfs[k].summary();
             dw = std::max(dw, std::abs(w - frfs[k].peak.omega) / w);
             dy = std::max(dy, std::abs(y - frfs[k].peak.value) / y);
         }
+        INFO("worst in w: " << worst);
         CHECK(dw < 1e-8);
         CHECK(dy < 1e-8);
         const auto exchanges = std::count_if(r.events.begin(), r.events.end(), [](const TrackEvent& e) { return e.kind == "exchange"; });

@@ -40,7 +40,8 @@ struct PolishOptions {
     std::function<void(int done, int total)> progress;
     /// > 0: the polish is optional (FrfSettings::exact_automatic) and declined before its work
     /// (PolishedBranch::declined) where a modal form's estimated truncation exceeds 1e-6 or
-    /// one exact orbit at the probe point times the points exceeds this many seconds.
+    /// one exact orbit at the probe point (the thread's CPU time, unaffected by the machine's
+    /// load) times the points exceeds this many seconds.
     double decline_seconds = 0;
 };
 
