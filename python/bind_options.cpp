@@ -65,6 +65,8 @@ void bind_options(py::module_& m) {
         .def_readwrite("peaks_of_every_output", &FrfSettings::peaks_of_every_output)
         .def_readwrite("stability", &FrfSettings::stability)
         .def_readwrite("stability_options", &FrfSettings::stability_options)
+        .def_readwrite("error_points", &FrfSettings::error_points, "harmonic balance's error estimated at this many maxima and spread points (0: none)")
+        .def_readwrite("error_limit", &FrfSettings::error_limit, "an estimated error above this is a warning")
         .def("validate", &FrfSettings::validate,
              "the library's ranges (frf.hpp: FrfSettings::validate): ValueError naming the field");
     m.def(

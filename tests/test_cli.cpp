@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_support.hpp"
 #include "progress.hpp"  // src/cli
 #include "hbf/analytic.hpp"
@@ -209,10 +211,10 @@ TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "
     const std::vector<std::string> header = {"w",      "y1_max", "y2_max",     "y1_amp1",  "y2_amp1",
                                              "stick_fraction", "regime", "energy", "branch", "point",
                                              "iterations", "residual", "step", "exact", "stable", "hb_gap",
-                                             "energy_error", "stability_margin"};
+                                             "hb_error", "energy_error", "stability_margin"};
     CHECK(rows[0] == header);
     CHECK(std::stod(rows[1][0]) == 0.6);
-    int samples = 0;
+    int samples = 0, estimated = 0;
     for (std::size_t k = 1; k < rows.size(); ++k) {
         REQUIRE(rows[k].size() == header.size());
         // max |y1| >= rms(y1) >= amp1 / sqrt(2) (Parseval); not >= amp1: harmonics can flatten a peak.
@@ -225,10 +227,16 @@ TEST_CASE("hbf frf writes the documented columns, samples and a JSON summary", "
         CHECK(rows[k][13] == "off");  // dahl: no exact polish, plain harmonic balance
         CHECK(rows[k][14].empty());
         CHECK(rows[k][15].empty());
+        // Harmonic balance's estimated error: Dahl converges fast (below 1e-3 at H = 5 here).
+        if (!rows[k][16].empty()) {
+            ++estimated;
+            CHECK(std::stod(rows[k][16]) < 1e-2);
+        }
         // Input work = friction energy (no viscous damping) at every converged point.
-        CHECK(std::stod(rows[k][16]) <= 1e-6);
+        CHECK(std::stod(rows[k][17]) <= 1e-6);
     }
     CHECK(samples == 2);
+    CHECK(estimated >= 12);
     const std::string summary = slurp(json);
     for (const char* key : {"\"parameters\"", "\"solver\"", "\"peaks\"", "\"folds\"", "\"status\": \"completed\"",
                             "\"wall_time_seconds\"", "\"harmonics\": 5"})
@@ -402,14 +410,15 @@ TEST_CASE("hbf frf polishes coulomb by default: exact rows, stability, HB gap, a
     REQUIRE(r.exit_code == 0);
     const auto rows = parse_csv(slurp(csv));
     REQUIRE(rows.size() > 10);
-    REQUIRE(rows[0].size() == 18);
+    REQUIRE(rows[0].size() == 19);
     CHECK(rows[0][13] == "exact");
-    CHECK(rows[0][17] == "stability_margin");
+    CHECK(rows[0][18] == "stability_margin");
     double largest_gap = 0;
     for (std::size_t k = 1; k < rows.size(); ++k) {
         CHECK(rows[k][13] == "yes");
         CHECK(rows[k][14] == "true");
-        CHECK(std::stod(rows[k][17]) <= 1.0 + 1e-6);  // the exact orbit's largest |multiplier|
+        CHECK(std::stod(rows[k][18]) <= 1.0 + 1e-6);  // the exact orbit's largest |multiplier|
+        CHECK(rows[k][16].empty());  // no estimate where the error is measured (hb_gap)
         largest_gap = std::max(largest_gap, std::stod(rows[k][15]));
     }
     // HB at H = 10 is visibly off at some points (the 1/H error of exact Coulomb), a few percent.
@@ -420,7 +429,11 @@ TEST_CASE("hbf frf polishes coulomb by default: exact rows, stability, HB gap, a
                             Catch::Contains("\"harmonics\": 10"));
 
     const Result off = run_hbf("frf --quiet --exact off --summary '" + json.string() + "'", dir);
-    REQUIRE(off.exit_code == 0);
+    // Plain HB (H = 20) estimates its own error: exit 3 exactly when the estimate passes 1e-2.
+    const double estimate = nlohmann::json::parse(slurp(json))["hb_error"]["largest"].get<double>();
+    CHECK(estimate > 1e-3);
+    CHECK(estimate < 0.1);
+    REQUIRE(off.exit_code == (estimate > 1e-2 ? 3 : 0));
     const auto plain = parse_csv(off.out);
     for (std::size_t k = 1; k < plain.size(); ++k) CHECK(plain[k][13] == "off");
     CHECK_THAT(slurp(json), Catch::Contains("\"harmonics\": 20") && Catch::Contains("\"enabled\": false"));

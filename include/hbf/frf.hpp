@@ -58,6 +58,16 @@ struct FrfSettings {
     /// when it ran).
     bool stability = false;
     StabilityOptions stability_options;
+    /// Harmonic balance's truncation error estimated where the FRF is not polished: the branch
+    /// points where outputs[0] has its largest local maxima and points spread over the branch
+    /// (error_points of each, at most) are solved again with twice the harmonics (fewer where
+    /// the dense Jacobian's bound stops it), and PointMetrics::hb_error = 2 |y(H) - y(2H)| /
+    /// max y, y = outputs[0]'s max |o(t)| and max y its largest on the FRF (harmonic balance of
+    /// a nonsmooth law converges like 1/H: the change is half the error). 0: no estimate; 0..1000.
+    int error_points = 12;
+    /// An estimate above this (relative) is a warning: the FRF is doubtful (exit code 3).
+    /// > 0; infinity: never.
+    double error_limit = 1e-2;
     /// The exact polish's progress (PolishOptions::progress); the continuation's is
     /// continuation.progress. May be empty.
     std::function<void(int done, int total)> polish_progress;
@@ -154,6 +164,11 @@ struct FrfResult {
     PeakValue peak;                         ///< the largest peak of outputs[0]
     int time_samples = 0;                   ///< N_t of the AFT (raised from the automatic one
                                             ///< where a law needs more: FrictionModel::time_samples_needed)
+    /// Harmonic balance's estimated truncation error (FrfSettings::error_points): the
+    /// larger H it compared with (0: not estimated), the largest estimate and where.
+    int error_harmonics = 0;
+    double hb_error = std::numeric_limits<double>::quiet_NaN();
+    double hb_error_omega = std::numeric_limits<double>::quiet_NaN();
     double seconds = 0;                     ///< wall time of compute_frf
     /// What Ceres and CVODE reported while this FRF was computed (on its thread).
     LibraryMessages messages;

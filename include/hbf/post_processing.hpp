@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <optional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,10 @@ struct PointMetrics {
     /// point it is at the level of the residual tolerance; above energy_balance_tolerance the
     /// point is suspect (flagged by hbf frf).
     double energy_error = 0;
+    /// Harmonic balance's estimated truncation error of outputs[0]'s max |o(t)| at this point,
+    /// relative to its largest value on the FRF (FrfSettings::error_points); NaN where not
+    /// estimated.
+    double hb_error = std::numeric_limits<double>::quiet_NaN();
 };
 /// Largest energy_error of an accepted point (PointMetrics) for a corrector tolerance:
 /// max(1e-6, 100 tolerance). Measured at the default 1e-9: 1e-10..1e-9 on the paper's absorber

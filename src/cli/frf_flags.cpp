@@ -130,6 +130,16 @@ void FrfFlags::add_to(CLI::App& command) {
                        "times the harmonic-balance branch); on polishes anyway; on where it does not apply is an error "
                        "naming why]")
         ->type_name("on|off");
+    command.add_option("--error-points", error_points,
+                       "where the FRF is harmonic balance's (not polished), its truncation error is estimated at "
+                       "the branch's largest maxima and at points spread over it (this many of each): each solved again with twice the "
+                       "harmonics, the estimate 2 |y(H) - y(2H)| / max y of the first output's y = max |o(t)|, max y its largest on the FRF (column hb_error); "
+                       "0..1000, 0: no estimate")
+        ->capture_default_str()->type_name("N");
+    command.add_option("--error-limit", error_limit,
+                       "a larger estimated error (relative) is a warning and exit code 3: the FRF is doubtful; "
+                       "> 0 (1e300: never)")
+        ->capture_default_str()->type_name("NUMBER");
     command.add_option("--stability", stability,
                        "Floquet stability of every point (columns stable, stability_margin; unstable intervals and "
                        "bifurcations in the --summary; unstable parts dashed on the --plot). dahl, lugre, "
@@ -171,6 +181,8 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen, co
     co.max_step = parse_double("--max-step", max_step);
     co.initial_step = std::min(co.initial_step, co.max_step);
     co.corrector.tolerance = parse_double("--tolerance", tolerance);
+    s.error_points = parse_int("--error-points", error_points);  // ranges: validate()
+    s.error_limit = parse_double("--error-limit", error_limit);
     if (stability != "off") {
         try {
             s.stability_options.method = parse_stability_method(stability == "on" ? "both" : stability);

@@ -141,6 +141,17 @@ void write_frf_summary(std::ostream& out, const std::string& law,
                       {"seconds", polish->seconds}};
     } else {
         j["exact"] = {{"enabled", false}};
+        // Harmonic balance's estimated truncation error (PointMetrics::hb_error), where estimated.
+        int estimated = 0;
+        double largest = 0.0, at = 0.0;
+        for (std::size_t k = 0; k < metrics.size() && k < points.size(); ++k)
+            if (std::isfinite(metrics[k].hb_error)) {
+                if (estimated++ == 0 || metrics[k].hb_error > largest) {
+                    largest = metrics[k].hb_error;
+                    at = points[k].omega;
+                }
+            }
+        j["hb_error"] = estimated ? json{{"points", estimated}, {"largest", largest}, {"w", at}} : json{{"points", 0}};
     }
     if (stability) {
         json intervals = json::array(), bifurcations = json::array();

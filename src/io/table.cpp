@@ -252,6 +252,9 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
                    "--stability otherwise (empty without it)", ColumnType::text},
         {"hb_gap", "|y_max by HB - y_max exact| / y_max exact of the first reported output: harmonic balance's own "
                    "error at this point; empty unless exact = yes (and an HB solution exists at this w)"},
+        {"hb_error", "harmonic balance's estimated truncation error of the first reported output's max |o(t)|: "
+                     "2 |y(H) - y(2H)| / max y (max y: its largest on the FRF), the point solved again with twice the harmonics; at the branch's "
+                     "maxima and points spread over it (--error-points), empty elsewhere and where exact = yes"},
         {"energy_error", "energy balance of the harmonic-balance solution: |input work - viscous energy - friction "
                          "energy| per cycle, relative to max(pi h |F| |Y_h|, input work, viscous + |friction|) (pi h "
                          "|F| |Y_h|: the work the force could do on the response's harmonic h); above max(1e-6, 100 "
@@ -324,6 +327,7 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
             row.insert(row.end(), {k < exact.size() ? to_string(exact[k].status) : std::string("off"),
                                    floquet ? Cell(to_string(floquet->stability)) : Cell(), Cell()});
         }
+        row.push_back(std::isfinite(m.hb_error) ? Cell(m.hb_error) : Cell());
         row.emplace_back(m.energy_error);
         if (polished && !floquet) row.emplace_back(exact[k].max_multiplier);
         else if (floquet && std::isfinite(floquet->margin)) row.emplace_back(floquet->margin);

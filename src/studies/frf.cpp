@@ -21,6 +21,7 @@
 #include "hbf/modal_exact.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "base/enum_table.hpp"
+#include "studies/hb_error.hpp"
 
 namespace hbf {
 
@@ -121,6 +122,11 @@ void check_study_options(const FrfSettings& s) {
                                " more than once: allowed distinct frequencies (each is one solved row)");
     }
     if (s.stability) s.stability_options.validate();
+    if (s.error_points < 0 || s.error_points > 1000)
+        throw InvalidInput("error_points = " + std::to_string(s.error_points) +
+                           " is out of range: allowed 0..1000 (0: no estimate of harmonic balance's error)");
+    if (!(s.error_limit > 0.0))
+        throw InvalidInput("error_limit = " + format_number(s.error_limit) + " is out of range: allowed > 0 (a large value: never a warning)");
 }
 }  // namespace
 
@@ -423,6 +429,34 @@ void judge_open_contacts(const HarmonicBalance& hb, FrfResult& r) {
     }
 }
 
+/// What the truncation estimate says of the FRF: a warning above error_limit (or where no
+/// point could be solved with more harmonics), a note otherwise.
+void judge_hb_error(const detail::HbErrorSummary& e, const FrfSettings& settings, int harmonics, const Output& output,
+                    Verdict& verdict) {
+    if (settings.error_points <= 0 || (e.harmonics == 0 && e.why_not.empty())) return;
+    const std::string h = std::to_string(harmonics), h2 = std::to_string(e.harmonics);
+    if (e.harmonics == 0) {
+        verdict.note("harmonic balance's truncation error is not estimated (H = " + h + "): " + e.why_not);
+        return;
+    }
+    const std::string how = " (2 |y(H) - y(2H)| / max y, y = max |" + output.name() + "(t)| and max y its largest on the FRF, H = " + h + " against " + h2 +
+                            ", at " + std::to_string(e.estimated) + " points: the branch's maxima and points spread over it" +
+                            (e.failed > 0 ? "; " + std::to_string(e.failed) + " more did not converge at H = " + h2 : "") +
+                            ")";
+    if (e.estimated == 0) {
+        verdict.warning("harmonic balance's truncation error could not be estimated: no point converged at H = " + h2 +
+                        " (" + std::to_string(e.failed) + " tried): the FRF's accuracy is unknown");
+        return;
+    }
+    const std::string line = "harmonic balance's estimated error is " + format_number(e.largest) + " at w = " +
+                             format_number(e.omega) + how;
+    if (e.largest > settings.error_limit)
+        verdict.warning(line + ": above the error limit " + format_number(settings.error_limit) +
+                        "; raise the harmonics (the column hb_error gives the estimate per point)");
+    else
+        verdict.note(line);
+}
+
 FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     const auto started = std::chrono::steady_clock::now();
     check_study_options(settings);
@@ -474,6 +508,11 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         r.peaks = settings.peaks_of_every_output ? find_peaks(hb, r.branch, outputs, corrector)
                                                  : find_peaks(hb, r.branch, {outputs.front()}, corrector);
     }
+    detail::HbErrorSummary error;
+    if (!r.polish && settings.error_points > 0 && !r.points.empty()) error = detail::estimate_hb_error(hb, settings, outputs, r);
+    r.error_harmonics = error.harmonics;
+    r.hb_error = error.largest;
+    r.hb_error_omega = error.omega;
     if (settings.stability) {
         r.stability = analyse_branch_stability(hb, r.points, settings.stability_options,
                                                r.polish ? &r.exact : nullptr);
@@ -490,6 +529,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     const PenaltyDiagnostics penalties = penalty_diagnostics(hb.system(), hb.rest_state());
     for (const std::string& line : penalties.stiff) r.verdict.note(line);
     for (const std::string& line : penalties.relieved) r.verdict.warning(line);
+    judge_hb_error(error, settings, hb.harmonics(), outputs.front(), r.verdict);
     if (!declined.empty()) r.verdict.note(declined);
     if (!settings.exact_note.empty()) r.verdict.note(settings.exact_note);
     if (!settings.harmonics_note.empty()) r.verdict.note(settings.harmonics_note);

@@ -229,10 +229,12 @@ def test_a_reduced_finite_element_model_from_a_file(tmp_path):
         '[output]\nreport = [99, 199]\n[reduction]\nmodes = 10\n' % (beam, beam, beam, excitation))
     s = hbfriction.load(path)
     assert s.dofs == 12
-    b = hbfriction.frf(s, exact=False)
+    # (error_points=0: H = 5 is far from converged on this beam, about 50 % at its peak, which
+    # the estimate says; the subject here is the reading of the file)
+    b = hbfriction.frf(s, exact=False, error_points=0)
     assert b.status == "completed"
     csv_path = tmp_path / "frf.csv"
-    run_hbf("frf", "--config", str(path), "--exact", "off", "--out", str(csv_path))
+    run_hbf("frf", "--config", str(path), "--exact", "off", "--error-points", "0", "--out", str(csv_path))
     assert "y99_max" in csv_path.read_text().splitlines()[0]
     assert_table_equals_csv(b, csv_path.read_text())
 

@@ -74,7 +74,7 @@ def test_folds_merge_in_a_cusp():
         s.excitation = np.asarray(base.excitation) * fe
         return s
 
-    r = hb.track(scaled, 1.0, 0.5, feature="fold")
+    r = hb.track(scaled, 1.0, 0.5, feature="fold", error_points=0)  # the folds are checked, not the FRF's accuracy
     assert r.outcome == "completed" and r.feature == "fold" and not r.exact
     assert [c.status for c in r.curves] == ["vanished", "vanished"]
     (cusp,) = [e for e in r.events if e["kind"] == "cusp"]
