@@ -137,3 +137,18 @@ def test_a_finite_element_model_is_polished_on_its_modal_form(tmp_path):
     assert set(b.exact) == {"yes"}
     assert_table_equals_csv(b, text)
     assert_same_summary(b.metadata, summary)
+
+
+def test_harmonic_balance_estimates_its_error_from_python():
+    # Exact Coulomb at H = 5 without the polish: the estimate (about 2.4e-2 at the peak, against
+    # the exact solver's 2.9e-2) passes the default limit: the FRF is incomplete and says why.
+    system = hbfriction.absorber(mu=0.5, fe=1.0)
+    b = hbfriction.frf(system, exact=False, harmonics=5)
+    assert b.status == "incomplete"
+    estimated = [e for e in b.hb_error if e == e]
+    assert len(estimated) >= 10
+    assert 1e-2 < max(estimated) < 0.1
+    assert hbfriction.frf(system, exact=False, harmonics=5, error_limit=0.5).status == "completed"
+    assert all(e != e for e in hbfriction.frf(system, exact=False, harmonics=5, error_points=0).hb_error)
+    with pytest.raises(ValueError, match="error_points"):
+        hbfriction.frf(system, exact=False, error_points=-1)
