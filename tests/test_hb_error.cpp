@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
+#include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
 #include "hbf/absorber.hpp"
@@ -114,4 +115,45 @@ TEST_CASE("hbf frf: the estimate's warning is exit 3 and names the limit, --erro
     CHECK(off.exit_code == 0);
     test::check_bad_input(base + " --error-points -1", {"error-points", "0..1000"}, dir);
     test::check_bad_input(base + " --error-limit 0", {"error-limit", "> 0"}, dir);
+}
+
+TEST_CASE("HB error estimate: the saw-tooth maxima of a rigid contact at H = 3 (liftoff3_rigid) are marked within "
+          "the estimated error, and those left unmarked are the exact FRF's peaks",
+          "[hb_error][cli]") {
+    using test::TempDir;
+    TempDir dir;
+    const std::string file = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3_rigid.toml";
+    const auto peaks_of_y1 = [&](const std::string& flags) {
+        const auto json = dir.path / "s.json";
+        const test::Result r =
+            test::run_hbf("frf --config '" + file + "' " + flags + " --out /dev/null --summary '" + json.string() + "'", dir);
+        INFO(flags << ": " << r.err);
+        CHECK((r.exit_code == 0 || r.exit_code == 3));
+        std::vector<std::pair<double, bool>> out;  // (w, within_hb_error)
+        const nlohmann::json summary = nlohmann::json::parse(test::slurp(json));  // kept: the loop refers into it
+        for (const auto& p : summary.at("peaks"))
+            if (p.at("output").get<std::string>() == "y1") out.emplace_back(p.at("w").get<double>(), p.value("within_hb_error", false));
+        return out;
+    };
+    const auto exact = peaks_of_y1("");  // 2D rigid contact: polished by the exact solver by default
+    const auto coarse = peaks_of_y1("--exact off --harmonics 3");
+    REQUIRE(exact.size() >= 3);
+    REQUIRE(coarse.size() >= 3);
+    int within = 0, kept = 0;
+    for (const auto& [w, flagged] : coarse) {
+        INFO("H = 3 peak at w = " << w << (flagged ? " (within the error)" : ""));
+        if (flagged) {
+            ++within;
+            CHECK((w > 2.39 && w < 2.45));  // the saw-tooth at the top of the resonance
+            continue;
+        }
+        ++kept;
+        // An unmarked peak is one of the exact FRF's, within H = 3's shift of it (2 % in w).
+        double nearest = 1e300;
+        for (const auto& e : exact) nearest = std::min(nearest, std::abs(e.first - w) / e.first);
+        CHECK(nearest < 0.02);
+    }
+    CHECK(within >= 6);
+    CHECK(kept >= 2);
+    for (const auto& e : exact) CHECK_FALSE(e.second);  // the polished FRF has no estimate
 }

@@ -116,6 +116,10 @@ struct Peak {
     bool refined = false;    ///< located by the search below (false: the best branch point)
     int output = 0;          ///< which of the outputs asked for (0-based; 0 for a single DOF)
     std::string why;         ///< refined = false: why not (refine_peak)
+    /// The peak stands less above its valleys (its prominence along the branch, relative to
+    /// the FRF's largest value) than harmonic balance's estimated error there
+    /// (FrfSettings::error_points): not resolved at this H, possibly an artefact of it.
+    bool within_error = false;
 };
 
 /// Whether a local maximum y of an output is a peak, not rounding: above `floor` (its weight

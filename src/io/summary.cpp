@@ -107,6 +107,7 @@ void write_frf_summary(std::ostream& out, const std::string& law,
         entry["y_max"] = peak.y_max;
         entry["branch"] = peak.branch;
         entry["refined"] = peak.refined;
+        if (peak.within_error) entry["within_hb_error"] = true;
         if (!peak.refined) entry["why"] = peak.why;
         peak_list.push_back(entry);
     }

@@ -511,6 +511,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     detail::HbErrorSummary error;
     if (!r.polish && settings.error_points > 0 && !r.points.empty()) error = detail::estimate_hb_error(hb, settings, outputs, r);
     r.error_harmonics = error.harmonics;
+    const int within = error.estimated > 0 ? detail::mark_peaks_within_error(r) : 0;
     r.hb_error = error.largest;
     r.hb_error_omega = error.omega;
     if (settings.stability) {
@@ -530,6 +531,22 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     for (const std::string& line : penalties.stiff) r.verdict.note(line);
     for (const std::string& line : penalties.relieved) r.verdict.warning(line);
     judge_hb_error(error, settings, hb.harmonics(), outputs.front(), r.verdict);
+    if (within > 0) {
+        int peaks = 0;
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const Peak& p : r.peaks) {
+            if (p.output != 0) continue;
+            ++peaks;
+            if (!p.within_error) continue;
+            lo = std::min(lo, p.omega);
+            hi = std::max(hi, p.omega);
+        }
+        r.verdict.note(std::to_string(within) + " of the " + std::to_string(peaks) + " peaks of " + outputs.front().name() +
+                       " (w = " + format_number(lo) + " .. " + format_number(hi) +
+                       ") stand less above their valleys than harmonic balance's estimated error there: not resolved "
+                       "at H = " + std::to_string(hb.harmonics()) +
+                       ", possibly its artefacts (raise the harmonics; within_hb_error in the JSON peaks)");
+    }
     if (!declined.empty()) r.verdict.note(declined);
     if (!settings.exact_note.empty()) r.verdict.note(settings.exact_note);
     if (!settings.harmonics_note.empty()) r.verdict.note(settings.harmonics_note);

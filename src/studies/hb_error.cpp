@@ -96,4 +96,52 @@ HbErrorSummary estimate_hb_error(HarmonicBalance& hb, const FrfSettings& setting
     return s;
 }
 
+int mark_peaks_within_error(FrfResult& r) {
+    const std::size_t n = r.points.size();
+    const auto y = [&](std::size_t k) { return r.metrics[k].output_max.at(0); };
+    const auto on_branch = [&](std::size_t k, int branch) {
+        return k < n && r.points[k].kind != PointKind::sample && r.points[k].branch == branch;
+    };
+    double scale = 0.0;
+    for (std::size_t k = 0; k < n; ++k)
+        if (std::isfinite(y(k))) scale = std::max(scale, y(k));
+    if (!(scale > 0.0)) return 0;
+    int marked = 0;
+    for (Peak& p : r.peaks) {
+        if (p.output != 0) continue;
+        std::size_t top = n;
+        double d = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < n; ++k)
+            if (on_branch(k, p.branch) && std::abs(r.points[k].omega - p.omega) < d) {
+                d = std::abs(r.points[k].omega - p.omega);
+                top = k;
+            }
+        if (top == n) continue;
+        const double height = std::max(p.y_max, y(top));
+        // The lowest point on each side before a higher one (or the branch's end).
+        std::size_t left = top, right = top;
+        double low_left = height, low_right = height;
+        while (left > 0 && on_branch(left - 1, p.branch) && y(left - 1) <= height) low_left = std::min(low_left, y(--left));
+        while (on_branch(right + 1, p.branch) && y(right + 1) <= height) low_right = std::min(low_right, y(++right));
+        const double prominence = (height - std::max(low_left, low_right)) / scale;
+        double error = std::numeric_limits<double>::quiet_NaN();
+        for (std::size_t k = left; k <= right; ++k)
+            if (std::isfinite(r.metrics[k].hb_error) && !(r.metrics[k].hb_error <= error)) error = r.metrics[k].hb_error;
+        if (!std::isfinite(error)) {
+            double nearest = std::numeric_limits<double>::infinity();
+            for (std::size_t k = 0; k < n; ++k)
+                if (on_branch(k, p.branch) && std::isfinite(r.metrics[k].hb_error) &&
+                    std::abs(r.points[k].omega - p.omega) < nearest) {
+                    nearest = std::abs(r.points[k].omega - p.omega);
+                    error = r.metrics[k].hb_error;
+                }
+        }
+        if (std::isfinite(error) && prominence < error) {
+            p.within_error = true;
+            ++marked;
+        }
+    }
+    return marked;
+}
+
 }  // namespace hbf::detail

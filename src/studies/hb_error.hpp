@@ -31,4 +31,11 @@ struct HbErrorSummary {
 HbErrorSummary estimate_hb_error(HarmonicBalance& hb, const FrfSettings& settings, const std::vector<Output>& outputs,
                                  FrfResult& r);
 
+/// Marks the peaks of outputs[0] in r.peaks whose prominence along their branch (the height
+/// above the higher of the two lowest points between them and a higher point or the branch's
+/// end), relative to the FRF's largest value, is below the largest hb_error estimated between
+/// those two points (else at the nearest estimated point of the branch): Peak::within_error.
+/// Returns how many.
+int mark_peaks_within_error(FrfResult& r);
+
 }  // namespace hbf::detail
