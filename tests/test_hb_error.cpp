@@ -157,3 +157,26 @@ TEST_CASE("HB error estimate: the saw-tooth maxima of a rigid contact at H = 3 (
     CHECK(kept >= 2);
     for (const auto& e : exact) CHECK_FALSE(e.second);  // the polished FRF has no estimate
 }
+
+TEST_CASE("hbf map: FRFs whose estimated error passes the limit make the map doubtful (exit 3), each FRF's estimate "
+          "in the JSON",
+          "[hb_error][cli][map]") {
+    using test::TempDir;
+    TempDir dir;
+    const auto json = dir.path / "m.json";
+    const std::string base = "map --fe 1 --exact off --harmonics 5 --param mu --values 0.45:0.55:3 --quiet --out '" +
+                             (dir.path / "m.csv").string() + "' --summary '" + json.string() + "'";
+    const test::Result r = test::run_hbf(base, dir);
+    INFO(r.err);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("3 of 3 FRFs have an estimated harmonic-balance error above the error limit 0.01"));
+    const nlohmann::json summary = nlohmann::json::parse(test::slurp(json));
+    REQUIRE(summary.at("frfs").size() == 3);
+    for (const auto& f : summary.at("frfs")) {
+        // H = 5 of exact Coulomb: a few per cent (the FRF test above measures it against the exact solver)
+        CHECK(f.at("hb_error").get<double>() > 1e-2);
+        CHECK(f.at("hb_error").get<double>() < 0.1);
+    }
+    const test::Result lenient = test::run_hbf(base + " --error-limit 0.5", dir);
+    CHECK(lenient.exit_code == 0);
+}

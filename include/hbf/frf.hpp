@@ -233,9 +233,16 @@ std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>&
 struct MapTally {
     int frfs = 0, failed = 0, incomplete = 0, unbounded = 0, missed_at = 0;
     LibraryMessages messages;
+    /// FRFs whose harmonic balance's estimated error (FrfResult::hb_error) exceeds the limit,
+    /// and the largest estimate of all.
+    int doubtful = 0;
+    double error_limit = std::numeric_limits<double>::infinity();
+    double largest_error = 0.0;
     /// Adds one FRF: its peak state ("failed", "incomplete", "unbounded", else complete), its
     /// missed `at` frequencies and its libraries' messages.
     void add(const std::string& peak_state, int missed, const LibraryMessages& frf_messages);
+    /// Adds one FRF's estimated error (NaN: not estimated) against `limit` (FrfSettings::error_limit).
+    void add_error(double hb_error, double limit);
     Verdict verdict() const;
 };
 

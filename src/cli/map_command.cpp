@@ -77,6 +77,7 @@ json record(int index, double value, const FrfResult& r, const std::vector<Outpu
             {"missed_at", r.missed},
             {"library_warnings", r.messages.count},
             {"library_first_warning", r.messages.first},
+            {"hb_error", number_or_null(r.hb_error)},
             {"seconds", r.seconds},
             {"rows", rows},
             {"w", w},
@@ -214,9 +215,11 @@ int run(const CLI::App& command, const MapOptions& o) {
     }
 
     MapTally tally;  // each FRF's record, from every rank (frf.hpp)
-    for (const json& r : frfs)
+    for (const json& r : frfs) {
         tally.add(r.at("peak_state").get<std::string>(), static_cast<int>(r.at("missed_at").size()),
                   {r.at("library_warnings").get<long long>(), r.at("library_first_warning").get<std::string>()});
+        tally.add_error(r.at("hb_error").is_number() ? r.at("hb_error").get<double>() : NAN, settings.error_limit);
+    }
     const Verdict verdict = tally.verdict();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 

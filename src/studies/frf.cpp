@@ -627,8 +627,19 @@ void MapTally::add(const std::string& peak_state, int missed, const LibraryMessa
     messages.add(frf_messages);
 }
 
+void MapTally::add_error(double hb_error, double limit) {
+    error_limit = limit;
+    if (!std::isfinite(hb_error)) return;
+    largest_error = std::max(largest_error, hb_error);
+    if (hb_error > limit) ++doubtful;
+}
+
 Verdict MapTally::verdict() const {
     Verdict v;
+    if (doubtful > 0)
+        v.warning(std::to_string(doubtful) + " of " + std::to_string(frfs) + " FRFs have an estimated harmonic-balance "
+                  "error above the error limit " + format_number(error_limit) + " (largest " + format_number(largest_error) +
+                  "): raise the harmonics (hb_error in the CSV and the JSON)");
     if (failed > 0)
         v.warning(std::to_string(failed) + " of " + std::to_string(frfs) + " FRFs failed (a stall, a "
                   "failed start or a failed exact polish; their rows say frf_status, the JSON says why)");
