@@ -10,6 +10,14 @@
 namespace hbf::detail {
 
 namespace {
+/// The FRF's scale: the largest value of outputs[0] over its points.
+double frf_scale(const FrfResult& r) {
+    double scale = 0.0;
+    for (const PointMetrics& m : r.metrics)
+        if (!m.output_max.empty() && std::isfinite(m.output_max[0])) scale = std::max(scale, m.output_max[0]);
+    return scale;
+}
+
 /// The indices of r.points to estimate at: the branch points where outputs[0]'s max |o(t)| has
 /// a local maximum along its branch (largest first: the peaks, found from the branch alone, so
 /// that the same branch gets the same points whether or not its peaks are refined), then
@@ -49,8 +57,11 @@ HbErrorSummary estimate_hb_error(HarmonicBalance& hb, const FrfSettings& setting
     const int wanted = std::min(2 * h, max_harmonics);
     o.harmonics = wanted;
     // The same sampling density of the period as the FRF's (a law that raised N_t needs it).
-    o.time_samples = std::min(HarmonicBalanceOptions::max_time_samples,
-                              std::max(hb.time_samples() * wanted / h, 2 * wanted + 2));
+    const auto samples_for = [&](int harmonics) {
+        return std::min(HarmonicBalanceOptions::max_time_samples,
+                        std::max(hb.time_samples() * harmonics / h, 2 * harmonics + 2));
+    };
+    o.time_samples = samples_for(wanted);
     if (o.jacobian == JacobianForm::dense) {
         try {
             o.harmonics = HarmonicBalance::fitting_harmonics(hb.system(), o, wanted);
@@ -64,8 +75,7 @@ HbErrorSummary estimate_hb_error(HarmonicBalance& hb, const FrfSettings& setting
                     " unknowns, or H is the largest allowed";
         return s;
     }
-    o.time_samples = std::min(HarmonicBalanceOptions::max_time_samples,
-                              std::max(hb.time_samples() * o.harmonics / h, 2 * o.harmonics + 2));
+    o.time_samples = samples_for(o.harmonics);
     s.harmonics = o.harmonics;
     HarmonicBalance fine(hb.system(), o);
     CorrectorOptions patient = settings.continuation.corrector;
@@ -74,9 +84,7 @@ HbErrorSummary estimate_hb_error(HarmonicBalance& hb, const FrfSettings& setting
     Analyser analyse(fine, {0}, outputs);
     // The FRF's scale: its largest value of outputs[0] (a point-relative error would read an
     // antiresonance's small shift as a large error).
-    double scale = 0.0;
-    for (const PointMetrics& m : r.metrics)
-        if (!m.output_max.empty() && std::isfinite(m.output_max[0])) scale = std::max(scale, m.output_max[0]);
+    const double scale = frf_scale(r);
     for (const std::size_t k : chosen_points(r, settings.error_points)) {
         SolutionPoint q = r.points[k];
         q.x = fine.embed_harmonics(r.points[k].x, h);
@@ -102,9 +110,7 @@ int mark_peaks_within_error(FrfResult& r) {
     const auto on_branch = [&](std::size_t k, int branch) {
         return k < n && r.points[k].kind != PointKind::sample && r.points[k].branch == branch;
     };
-    double scale = 0.0;
-    for (std::size_t k = 0; k < n; ++k)
-        if (std::isfinite(y(k))) scale = std::max(scale, y(k));
+    const double scale = frf_scale(r);
     if (!(scale > 0.0)) return 0;
     int marked = 0;
     for (Peak& p : r.peaks) {
