@@ -766,3 +766,43 @@ TEST_CASE("The modal receptance of a refined mesh is exact: a 1000-element canti
             }
     }
 }
+
+TEST_CASE("Free motion (nonlinear modes): the residual's exact derivative in xi equals central differences, "
+          "direct and modal receptance, exact Coulomb with Dahl and an elastic contact with lift-off",
+          "[condensed][modes]") {
+    // four_dofs: a massless DOF, exact Coulomb (a multiplier signal) and Dahl (states), the
+    // direct solve; liftoff3: an elastic contact (springs shift the receptance), 3 modes.
+    const System liftoff = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml").system;
+    struct Case {
+        const char* name;
+        System system;
+        int modes;
+    };
+    for (const Case& c : {Case{"four_dofs", four_dofs(), 0}, Case{"liftoff3 modal", liftoff, 3},
+                          Case{"liftoff3 direct", liftoff, 0}}) {
+        HarmonicBalanceOptions options{4, 64, Formulation::condensed};
+        options.modes = c.modes;
+        HarmonicBalance hb(c.system, options);
+        const double omega = 0.83, xi = 0.021, d = 1e-6;
+        std::mt19937 rng(3);
+        std::normal_distribution<double> normal(0.0, 1.0);
+        Eigen::VectorXd x = hb.linear_guess(omega);
+        const double size = x.cwiseAbs().maxCoeff();
+        for (int k = 0; k < x.size(); ++k) x(k) += 0.5 * size * normal(rng) / (1 + (k % hb.coefficients()));
+        Eigen::VectorXd plus, minus, exact;
+        hb.set_free_motion(xi + d);
+        hb.evaluate(x, omega, plus);
+        hb.set_free_motion(xi - d);
+        hb.evaluate(x, omega, minus);
+        hb.set_free_motion(xi);
+        REQUIRE(hb.free_motion_xi_derivative(x, omega, exact));
+        const Eigen::VectorXd fd = (plus - minus) / (2 * d);
+        INFO(c.name << ": |fd| = " << fd.norm() << ", |exact - fd| = " << (exact - fd).norm());
+        CHECK(fd.norm() > 1e-3 * plus.norm());  // xi matters here: not 0 = 0
+        CHECK((exact - fd).norm() < 1e-6 * fd.norm());
+        // The free response without the N x signals matrix equals the matrix applied.
+        const Eigen::VectorXcd lambda = hb.shifted_force_harmonic(x, omega, 1);
+        const Eigen::VectorXcd expected = -(hb.contact_response(1, omega) * lambda);
+        CHECK((hb.free_response(1, omega, lambda) - expected).norm() < 1e-11 * expected.norm());
+    }
+}

@@ -381,3 +381,33 @@ TEST_CASE("Receptance: dG/domega is exact to 1e-9 at cond(Z) ~ 1e16 with damping
     CHECK((h.contact_omega - reference.leftCols(2)).cwiseAbs().maxCoeff() <= 1e-9 * scale);
     CHECK((h.contact_load_omega - reference.col(2)).cwiseAbs().maxCoeff() <= 1e-9 * reference.col(2).cwiseAbs().maxCoeff());
 }
+
+TEST_CASE("Receptance derivative in the mass damping xi equals central differences: direct, modal (truncated, "
+          "contact springs and dampers), explicit and factored",
+          "[receptance][modal]") {
+    const Chain s = chain(40);
+    const Eigen::Vector2d kappa(0.7, 0.2), delta(0.05, 0.3);
+    Receptance direct = shifted_direct(s, kappa, delta);
+    Receptance modal(s.m, s.c, s.k, s.w, s.f, s.t);
+    modal.use_modes(12, kappa, delta);
+    const Eigen::Vector2cd z(std::complex<double>(0.3, -1.1), std::complex<double>(-0.8, 0.25));
+    for (Receptance* r : {&direct, &modal})
+        for (const bool explicit_contact : {true, false})
+            for (int k : {0, 1, 3}) {
+                const double omega = 0.37, xi = 0.013, d = 1e-6;
+                r->set_mass_damping(xi + d);
+                const Eigen::VectorXcd plus = r->solve(k, omega, false, true, true).contact * z;
+                r->set_mass_damping(xi - d);
+                const Eigen::VectorXcd minus = r->solve(k, omega, false, true, true).contact * z;
+                r->set_mass_damping(xi);
+                const Receptance::Harmonic h = r->solve(k, omega, false, false, explicit_contact);
+                REQUIRE(h.ok);
+                const Eigen::VectorXcd fd = (plus - minus) / (2 * d), exact = r->apply_mass_damping(h, z);
+                INFO("modal " << (r == &modal) << ", explicit " << explicit_contact << ", k = " << k << ": "
+                              << fd.transpose() << " against " << exact.transpose());
+                REQUIRE(exact.size() == 2);
+                CHECK((exact - fd).norm() <= 1e-7 * std::max(fd.norm(), (plus.norm() + minus.norm()) * 1e-3));
+                if (k > 0) CHECK(fd.norm() > 1e-3 * plus.norm());  // xi matters: the check is not 0 = 0
+                r->set_mass_damping(0.0);
+            }
+}

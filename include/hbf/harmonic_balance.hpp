@@ -235,6 +235,16 @@ public:
     /// set_free_motion) response to unit forces along the contacts at harmonic k >= 1; one solve
     /// with the N-long solution (cost linear in N); empty where Z'_k is singular.
     Eigen::MatrixXcd contact_response(int k, double omega);
+    /// Condensed, after set_free_motion: Y_k = -Z'_k^-1 W Lambda (N, complex), i.e.
+    /// -contact_response(k, omega) Lambda, without forming the N x signals matrix when the
+    /// receptance is modal (O(N (m + signals)) instead of O(N signals^2)). Empty where Z'_k is
+    /// singular.
+    Eigen::VectorXcd free_response(int k, double omega, const Eigen::VectorXcd& lambda);
+    /// Condensed, after set_free_motion: the derivative in xi of evaluate's residual at
+    /// (x, omega), exact: the contacts' rows S_k (dG_k/dxi f_k) (the free motion's rows scale
+    /// does not depend on xi), the internal states' rows 0. False where the receptance cannot
+    /// give dG_k/dxi (Receptance::apply_mass_damping): difference the residual in xi then.
+    bool free_motion_xi_derivative(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& d_xi);
 
     /// Counters accumulated since construction or the last reset_statistics().
     const EvaluationStatistics& statistics() const { return statistics_; }

@@ -118,6 +118,14 @@ public:
     /// k w xi / lambda_{m+1}).
     void set_mass_damping(double xi);
     double mass_damping() const { return mass_damping_; }
+    /// dG_k/dxi z: the derivative of G_k in the mass damping xi (set_mass_damping) applied to
+    /// z (one per contact direction), at h's k and omega (h from solve at the present xi,
+    /// explicit or factored). Modal: G_k = G_B A^-1 (A = I + S G_B) with dG_B/dxi =
+    /// P^T diag(i k w d_j^2) P, so dG_k/dxi z = (I - G_k S) dG_B (z - S G_k z), matrix-vector
+    /// products only. Direct solve of symmetric K, M, C: i k w (Z_k^-1 W)^T M (Z_k^-1 W) z from
+    /// h's solution. Empty where neither applies (non-symmetric matrices, no solution in h, a
+    /// mode a contact sees hit exactly): differences in xi are the caller's fallback.
+    Eigen::VectorXcd apply_mass_damping(const Harmonic& h, const Eigen::VectorXcd& z) const;
     /// Modes in use (0: the direct sparse solve).
     int modes() const { return static_cast<int>(modal_.lambda.size()); }
     /// Natural frequencies sqrt(lambda_j) of the modes in use, ascending.

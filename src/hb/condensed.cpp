@@ -128,6 +128,40 @@ Eigen::MatrixXcd HarmonicBalance::contact_response(int k, double omega) {
     return h.solution.leftCols(signals_);
 }
 
+Eigen::VectorXcd HarmonicBalance::free_response(int k, double omega, const Eigen::VectorXcd& lambda) {
+    if (!free_) throw InvalidInput("free_response: after set_free_motion");
+    if (lambda.size() != signals_) throw InvalidInput("free_response: one force per signal is needed");
+    if (receptance_->modes() > 0) {
+        if (k < 1 || k > harmonics())
+            throw InvalidInput("free_response: harmonic k = " + std::to_string(k) + " is out of range: allowed 1.." +
+                               std::to_string(harmonics()));
+        Eigen::VectorXcd y = receptance_->modal_response(k, omega, lambda, false);
+        if (!y.allFinite()) return {};
+        return y;
+    }
+    const Eigen::MatrixXcd response = contact_response(k, omega);
+    if (response.size() == 0) return {};
+    return -(response * lambda);
+}
+
+bool HarmonicBalance::free_motion_xi_derivative(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& d_xi) {
+    if (!free_) throw InvalidInput("free_motion_xi_derivative: after set_free_motion");
+    if (!prepare_receptance(omega)) return false;
+    const int n = coefficients(), ns = signals_;
+    const Eigen::MatrixXd forces = shifted_forces(x, omega);
+    d_xi.setZero(all_unknowns_);
+    Eigen::Map<Eigen::MatrixXd> rows(d_xi.data(), n, ns);
+    for (int k = 1; k <= harmonics(); ++k) {
+        const Receptance::Harmonic& h = (*harmonic_)[static_cast<std::size_t>(k)];
+        const Eigen::VectorXcd y = receptance_->apply_mass_damping(h, harmonic_amplitudes(forces, k));
+        if (y.size() != ns || !y.allFinite()) return false;
+        add_harmonic_amplitudes(y, k, rows);
+    }
+    for (int a = 0; a < ns; ++a)
+        for (int row = 0; row < n; ++row) rows(row, a) *= row_scale_((row + 1) / 2, a);
+    return true;
+}
+
 Eigen::VectorXcd HarmonicBalance::shifted_force_harmonic(const Eigen::VectorXd& x, double omega, int k,
                                                          Eigen::MatrixXcd* d_x) {
     if (!condensed_ || odd_) throw InvalidInput("shifted_force_harmonic: the condensed formulation's, every harmonic");

@@ -57,6 +57,49 @@ void Receptance::set_mass_damping(double xi) {
         modal_.damping = modal_.damping_given - Eigen::VectorXd::Constant(modal_.damping_given.size(), xi);
 }
 
+Eigen::VectorXcd Receptance::apply_mass_damping(const Harmonic& h, const Eigen::VectorXcd& z) const {
+    const int nc = contacts();
+    if (!h.ok || z.size() != nc) return {};
+    const double kw = h.k * h.omega;
+    if (h.k == 0) return Eigen::VectorXcd::Zero(nc);  // xi enters as i k w xi M
+    const Modal& md = modal_;
+    if (md.lambda.size() == 0) {
+        // dZ_k/dxi = -i k w M: dG_k/dxi = i k w W^T Z_k^-1 M Z_k^-1 W, and W^T Z_k^-1 =
+        // (Z_k^-1 W)^T when Z_k is symmetric.
+        if (!symmetric_ || h.solution.rows() != dofs() || h.solution.cols() < nc) return {};
+        const auto solution = h.solution.leftCols(nc);
+        const Eigen::VectorXcd u = solution * z;
+        Eigen::VectorXcd mu(dofs());
+        mu.real() = mass_ * u.real();
+        mu.imag() = mass_ * u.imag();
+        return Complex(0.0, kw) * (solution.transpose() * mu);
+    }
+    const auto m = md.lambda.size();
+    Eigen::VectorXcd dd(m);  // d(d_j)/dxi = i k w d_j^2 (d_j as modal_terms: 0 for a hidden mode)
+    const double p_size = md.p.size() > 0 ? md.p.cwiseAbs().maxCoeff() : 0.0;
+    for (Eigen::Index j = 0; j < m; ++j) {
+        const Complex d = 1.0 / Complex(md.lambda(j) - kw * kw, kw * md.damping(j));
+        if (std::isfinite(std::abs(d)))
+            dd(j) = Complex(0.0, kw) * d * d;
+        else if (md.p.row(j).cwiseAbs().maxCoeff() <= 1e-8 * p_size)
+            dd(j) = 0.0;
+        else
+            return {};  // solve_modal took a limit there
+    }
+    Eigen::VectorXcd shift(nc);
+    for (int c = 0; c < nc; ++c) shift(c) = Complex(md.kappa(c), kw * md.delta(c));
+    // A^-1 = I - S G_k (S G_k = S G_B A^-1 = (A - I) A^-1).
+    const Eigen::VectorXcd u = z - shift.cwiseProduct(h.apply(z));
+    Eigen::VectorXcd pu(m);
+    pu.real() = md.p * u.real();
+    pu.imag() = md.p * u.imag();
+    pu = dd.cwiseProduct(pu);
+    Eigen::VectorXcd v(nc);
+    v.real() = md.p.transpose() * pu.real();
+    v.imag() = md.p.transpose() * pu.imag();
+    return v - h.apply(shift.cwiseProduct(v));
+}
+
 void Receptance::use_modes(int modes, const Eigen::VectorXd& contact_stiffness, const Eigen::VectorXd& contact_damping) {
     const int n = dofs(), nc = contacts();
     if (modes < 1) throw InvalidInput("modes = " + std::to_string(modes) + " is out of range: allowed >= 1");
@@ -361,9 +404,10 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
     const Eigen::MatrixXcd a_inverse = formed ? Eigen::MatrixXcd(a_lu.inverse()) : Eigen::MatrixXcd();
     if (!a_inverse.allFinite() || !a_lu.matrixLU().allFinite()) return singular();
     if (explicit_contact) {
+        // G = G_B A^-1: G' = (G_B' - G A') A^-1 with A' = S' G_B + S G_B' (two n_c^3 products).
         h.contact = g_b * a_inverse;
-        h.contact_omega = g_b_omega * a_inverse -
-                          g_b * a_inverse * (shift_omega.asDiagonal() * g_b + shift.asDiagonal() * g_b_omega) * a_inverse;
+        h.contact_omega =
+            (g_b_omega - h.contact * (shift_omega.asDiagonal() * g_b + shift.asDiagonal() * g_b_omega)) * a_inverse;
     }
     const Eigen::MatrixXcd t_b_w = real_product(md.t_phi, dp, r_factor, md.t_r_w);
     h.output = outputs() > 0 ? Eigen::MatrixXcd(t_b_w * a_inverse) : Eigen::MatrixXcd(0, nc);

@@ -182,9 +182,17 @@ void NonlinearModes::residual_condensed(const Eigen::VectorXd& x, double omega, 
         Rows out;
         const Eigen::VectorXcd lambda =
             at_omega == omega ? lambda_here : hb_->shifted_force_harmonic(x, at_omega, 1, nullptr);
-        const Eigen::MatrixXcd response = hb_->contact_response(1, at_omega);
-        if (response.size() == 0) return out;
-        const Eigen::VectorXcd y1 = -(response * lambda);
+        // The N x signals response only where the gradients need it (its transpose applied).
+        Eigen::MatrixXcd response;
+        Eigen::VectorXcd y1;
+        if (gradients) {
+            response = hb_->contact_response(1, at_omega);
+            if (response.size() == 0) return out;
+            y1 = -(response * lambda);
+        } else {
+            y1 = hb_->free_response(1, at_omega, lambda);
+            if (y1.size() == 0) return out;
+        }
         Eigen::VectorXcd my(y1.size());
         my.real() = system_.mass * y1.real();
         my.imag() = system_.mass * y1.imag();
@@ -205,22 +213,29 @@ void NonlinearModes::residual_condensed(const Eigen::VectorXd& x, double omega, 
         hb_->evaluate(x, omega, out, jx, jw);
         ++evaluations_;
     };
-    // Central differences in xi first (they move the receptances' damping), then the point.
     const double h_xi = 1e-6 * std::max(linear_.omega, std::abs(xi)), h_omega = 1e-6 * omega;
-    Eigen::VectorXd d_xi;
-    Rows xi_up, xi_down;
-    if (jacobian) {
-        Eigen::VectorXd up, down;
-        structure(xi + h_xi, up, nullptr, nullptr);
-        xi_up = rows(omega, false);
-        structure(xi - h_xi, down, nullptr, nullptr);
-        xi_down = rows(omega, false);
-        d_xi = (up - down) / (2.0 * h_xi);
-    }
     Eigen::VectorXd structure_r, structure_omega;
     Eigen::MatrixXd structure_x;
     structure(xi, structure_r, jacobian ? &structure_x : nullptr, jacobian ? &structure_omega : nullptr);
     const Rows here = rows(omega, jacobian != nullptr);
+    // The structure's rows in xi exactly (the receptances' derivative applied to the forces);
+    // central differences where the receptance cannot give it, and for the two constraint rows
+    // (cheap: one response vector each). Both move the receptances' damping: xi restored after.
+    Eigen::VectorXd d_xi;
+    Rows xi_up, xi_down;
+    if (jacobian) {
+        if (!hb_->free_motion_xi_derivative(x, omega, d_xi)) {
+            Eigen::VectorXd up, down;
+            structure(xi + h_xi, up, nullptr, nullptr);
+            structure(xi - h_xi, down, nullptr, nullptr);
+            d_xi = (up - down) / (2.0 * h_xi);
+        }
+        hb_->set_free_motion(xi + h_xi);
+        xi_up = rows(omega, false);
+        hb_->set_free_motion(xi - h_xi);
+        xi_down = rows(omega, false);
+        hb_->set_free_motion(xi);
+    }
     r.resize(u + 2);
     r.head(u) = structure_r / scale;
     r(u) = (here.norm - amplitude) / amplitude;
