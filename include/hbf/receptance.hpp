@@ -85,8 +85,12 @@ public:
         void materialize();
     };
     /// Models up to this many DOFs are solved by a dense LU, larger ones by a sparse LU (its
-    /// symbolic analysis done once: Z_k has the pattern of K + M + C for every k).
+    /// symbolic analysis done once: Z_k has the pattern of K + M + C for every k), but for
+    /// dense_fill_limit.
     static constexpr int dense_limit = 16;
+    /// Models up to this many DOFs whose Z_k has more than a quarter of its entries nonzero (a
+    /// reduced model's full matrices) are solved by a dense LU too.
+    static constexpr int dense_fill_limit = 4000;
     /// k >= 0, omega > 0 (throws InvalidInput otherwise; omega is not used at k = 0). With `load` false the F terms are
     /// left empty (harmonics the excitation does not drive). Not thread-safe: one Receptance
     /// per thread (it keeps the sparse factorisation's workspace). The N-long `solution` is
@@ -167,6 +171,7 @@ private:
     Eigen::VectorXd c_values_given_;  // C's own values (c_values_ = them - xi M's: set_mass_damping)
     double mass_damping_ = 0;
     bool symmetric_ = false;  // K, M, C all symmetric: W^T Z_k^-1 = (Z_k^-1 W)^T
+    bool dense_ = false;      // a dense LU (dense_limit, dense_fill_limit), else the sparse one
     std::unique_ptr<Eigen::SparseLU<SparseComplex>> lu_;  // analysed once (large models)
     Harmonic solve_modal(int k, double omega, bool load, bool solution, bool explicit_contact = true) const;
     struct Modal {

@@ -208,6 +208,10 @@ Eigen::MatrixXd HarmonicBalance::dofs(const Eigen::VectorXd& unknowns, double om
     };
     if (odd_)
         y.row(0).setZero();  // no mean by the half-wave symmetry
+    else if (modes_ > 0)  // the modal receptance applied to the mean forces (no N x signals matrix)
+        y.row(0) = receptance_->modal_response(0, omega, forces.row(0).transpose().cast<std::complex<double>>(), false)
+                       .real()
+                       .transpose();
     else
         y.row(0) = -(solved(0).solution.leftCols(ns).real() * forces.row(0).transpose()).transpose();
     if (static_deflection_.size() > 0) y.row(0) += static_deflection_.transpose();

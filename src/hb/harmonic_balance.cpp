@@ -15,6 +15,26 @@
 
 namespace hbf {
 
+namespace {
+/// d^T A d from the nonzeros of d: a contact direction has a few, and a product A d costs the
+/// whole matrix per direction (an interface of a thousand directions on a dense reduced model:
+/// billions of operations).
+double quadratic_form(const SparseMatrix& a, const Eigen::VectorXd& d) {
+    std::vector<Eigen::Index> support;
+    for (Eigen::Index i = 0; i < d.size(); ++i)
+        if (d(i) != 0.0) support.push_back(i);
+    const auto size = static_cast<double>(support.size());
+    if (size * size > static_cast<double>(a.nonZeros())) return d.dot(a * d);
+    double sum = 0.0;
+    for (Eigen::Index i : support) {
+        double row = 0.0;
+        for (Eigen::Index j : support) row += a.coeff(i, j) * d(j);
+        sum += d(i) * row;
+    }
+    return sum;
+}
+}  // namespace
+
 EvaluationStatistics operator-(const EvaluationStatistics& later, const EvaluationStatistics& earlier) {
     return {later.residuals - earlier.residuals, later.jacobians - earlier.jacobians,
             later.aft_seconds - earlier.aft_seconds, later.jacobian_seconds - earlier.jacobian_seconds,
@@ -119,14 +139,17 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     Eigen::VectorXd static_stiffness = Eigen::VectorXd::Zero(ns);  // 1 / (w_a^T u_a); 0 where K is singular
     Eigen::VectorXd static_mass = Eigen::VectorXd::Zero(ns);       // phi_a^T M phi_a, phi_a = u_a / (w_a^T u_a)
     std::vector<DirectionScale> scales;
+    // The static deflections and M times them, all signals at once (phi_a = u_a / g_a).
+    const Eigen::MatrixXd deflections = unshifted.ok ? Eigen::MatrixXd(unshifted.solution.leftCols(ns).real()) : Eigen::MatrixXd();
+    const Eigen::MatrixXd mass_deflections = unshifted.ok ? Eigen::MatrixXd(system_.mass * deflections) : Eigen::MatrixXd();
+    const double largest_mass = system_.mass.diagonal().maxCoeff();
     for (int a = 0; a < ns; ++a) {
         const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(a)];
-        DirectionScale scale{d.dot(system_.stiffness * d), d.dot(system_.mass * d), system_.mass.diagonal().maxCoeff()};
+        DirectionScale scale{quadratic_form(system_.stiffness, d), quadratic_form(system_.mass, d), largest_mass};
         const double g = unshifted.ok ? unshifted.contact(a, a).real() : 0.0;
         if (g > 0.0 && std::isfinite(g)) {
-            const Eigen::VectorXd phi = unshifted.solution.col(a).real() / g;
             static_stiffness(a) = scale.static_stiffness = 1.0 / g;
-            static_mass(a) = scale.static_mass = phi.dot(system_.mass * phi);
+            static_mass(a) = scale.static_mass = deflections.col(a).dot(mass_deflections.col(a)) / (g * g);
         }
         scales.push_back(scale);
     }
@@ -170,11 +193,12 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         shift_stiffness_.resize(ns);
         shift_damping_.resize(ns);
         SparseMatrix stiffness = system_.stiffness, damping = system_.damping;
+        std::vector<Eigen::Triplet<double>> stiffness_shift, damping_shift;  // kappa_c w_c w_c^T, delta_c w_c w_c^T
         for (int c = 0; c < ns; ++c) {  // every signal
             const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(c)];
-            const double v = d.dot(system_.damping * d);
-            const double k = static_stiffness(c) > 0.0 ? static_stiffness(c) : std::max(d.dot(system_.stiffness * d), 0.0);
-            const double m = std::max(static_mass(c), d.dot(system_.mass * d));
+            const double v = quadratic_form(system_.damping, d);
+            const double k = static_stiffness(c) > 0.0 ? static_stiffness(c) : std::max(quadratic_form(system_.stiffness, d), 0.0);
+            const double m = std::max(static_mass(c), quadratic_form(system_.mass, d));
             shift_stiffness_(c) = k;
             shift_damping_(c) = k > 0.0 && m > 0.0 ? std::sqrt(k * m) : std::max(v, 0.0);
             // w w^T from the nonzeros of w only (never an N x N dense product)
@@ -205,14 +229,18 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
                 shift_stiffness_(c) = exact_on(stiffness, shift_stiffness_(c));
                 shift_damping_(c) = exact_on(damping, shift_damping_(c));
             }
-            std::vector<Eigen::Triplet<double>> entries;
             for (int i : support)
-                for (int j : support) entries.emplace_back(i, j, d(i) * d(j));
-            SparseMatrix ww(system_.dofs(), system_.dofs());
-            ww.setFromTriplets(entries.begin(), entries.end());
-            stiffness += shift_stiffness_(c) * ww;
-            damping += shift_damping_(c) * ww;
+                for (int j : support) {
+                    stiffness_shift.emplace_back(i, j, shift_stiffness_(c) * (d(i) * d(j)));
+                    damping_shift.emplace_back(i, j, shift_damping_(c) * (d(i) * d(j)));
+                }
         }
+        // Added once (per signal, each addition rewrote the whole matrix).
+        SparseMatrix shift(system_.dofs(), system_.dofs());
+        shift.setFromTriplets(stiffness_shift.begin(), stiffness_shift.end());
+        stiffness += shift;
+        shift.setFromTriplets(damping_shift.begin(), damping_shift.end());
+        damping += shift;
         std::unique_ptr<Receptance> receptance;
         if (options.modes > 0) {
             // The modal basis of the unshifted structure; the contact springs and dampers enter
@@ -225,7 +253,9 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
             receptance = std::make_unique<Receptance>(system_.mass, damping, stiffness, w, system_.excitation,
                                                       Eigen::MatrixXd(0, system_.dofs()));
         }
-        Receptance::Harmonic h0 = receptance->solve(0, 1.0, false);
+        // The N-long solution only where the direct solve gives it anyway (dofs() applies the
+        // modal receptance to the forces instead).
+        Receptance::Harmonic h0 = receptance->solve(0, 1.0, false, options.modes == 0);
         const bool usable = h0.ok && (h0.contact.real().diagonal().array() > 0.0).all();
         if (usable && system_.has_static_load()) {
             // Harmonic 0 of the static load on the shifted structure: one more sparse solve of K'.

@@ -35,15 +35,18 @@ Eigen::MatrixXcd real_product(const Eigen::MatrixXd& a, const Eigen::MatrixXcd& 
 /// stiffness-proportional C).
 Eigen::MatrixXd precise_product(const Eigen::SparseMatrix<double>& a, const Eigen::MatrixXd& x) {
     const Eigen::Index rows = a.rows(), columns = x.cols();
-    std::vector<long double> sum(static_cast<std::size_t>(rows * columns), 0.0L);
-    for (Eigen::Index j = 0; j < a.outerSize(); ++j)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(a, j); it; ++it)
-            for (Eigen::Index c = 0; c < columns; ++c)
-                sum[static_cast<std::size_t>(c * rows + it.row())] +=
-                    static_cast<long double>(it.value()) * static_cast<long double>(x(j, c));
+    // One column of X at a time: the sums of that column stay in cache.
+    std::vector<long double> sum(static_cast<std::size_t>(rows));
     Eigen::MatrixXd out(rows, columns);
-    for (Eigen::Index c = 0; c < columns; ++c)
-        for (Eigen::Index i = 0; i < rows; ++i) out(i, c) = static_cast<double>(sum[static_cast<std::size_t>(c * rows + i)]);
+    for (Eigen::Index c = 0; c < columns; ++c) {
+        std::fill(sum.begin(), sum.end(), 0.0L);
+        for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
+            const long double v = x(j, c);
+            for (Eigen::SparseMatrix<double>::InnerIterator it(a, j); it; ++it)
+                sum[static_cast<std::size_t>(it.row())] += static_cast<long double>(it.value()) * v;
+        }
+        for (Eigen::Index i = 0; i < rows; ++i) out(i, c) = static_cast<double>(sum[static_cast<std::size_t>(i)]);
+    }
     return out;
 }
 
@@ -390,9 +393,11 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
     }
     const Eigen::MatrixXcd pc = md.p.cast<Complex>();
     const Eigen::MatrixXcd dp = d.asDiagonal() * pc;
-    Eigen::MatrixXcd g_b_omega(nc, nc);  // as g_b in modal_terms: two real products
-    g_b_omega.real() = md.p.transpose() * (dd.real().asDiagonal() * md.p) + r_factor_omega.real() * md.w_r_w;
-    g_b_omega.imag() = md.p.transpose() * (dd.imag().asDiagonal() * md.p) + r_factor_omega.imag() * md.w_r_w;
+    Eigen::MatrixXcd g_b_omega = Eigen::MatrixXcd::Zero(nc, nc);  // as g_b in modal_terms: two real products
+    if (k > 0) {
+        g_b_omega.real() = md.p.transpose() * (dd.real().asDiagonal() * md.p) + r_factor_omega.real() * md.w_r_w;
+        g_b_omega.imag() = md.p.transpose() * (dd.imag().asDiagonal() * md.p) + r_factor_omega.imag() * md.w_r_w;
+    }
     Eigen::VectorXcd shift_omega(nc);
     for (int c = 0; c < nc; ++c) shift_omega(c) = Complex(0.0, k * md.delta(c));
     const Eigen::MatrixXcd identity = Eigen::MatrixXcd::Identity(nc, nc);
@@ -407,7 +412,10 @@ Receptance::Harmonic Receptance::solve_modal(int k, double omega, bool load, boo
         // G = G_B A^-1: G' = (G_B' - G A') A^-1 with A' = S' G_B + S G_B' (two n_c^3 products).
         h.contact = g_b * a_inverse;
         h.contact_omega =
-            (g_b_omega - h.contact * (shift_omega.asDiagonal() * g_b + shift.asDiagonal() * g_b_omega)) * a_inverse;
+            k == 0 ? Eigen::MatrixXcd(Eigen::MatrixXcd::Zero(nc, nc))  // omega does not enter at k = 0
+                   : Eigen::MatrixXcd((g_b_omega - h.contact * (shift_omega.asDiagonal() * g_b +
+                                                                shift.asDiagonal() * g_b_omega)) *
+                                      a_inverse);
     }
     const Eigen::MatrixXcd t_b_w = real_product(md.t_phi, dp, r_factor, md.t_r_w);
     h.output = outputs() > 0 ? Eigen::MatrixXcd(t_b_w * a_inverse) : Eigen::MatrixXcd(0, nc);
