@@ -581,4 +581,25 @@ TEST_CASE("Nonlinear modes: bad input is refused naming the parameter", "[modes]
     } catch (const InvalidInput& e) {
         CHECK_THAT(e.what(), Catch::Contains("rigid-body mode"));
     }
+    // 900 free masses joined by 899 Jenkins elements at H = 3: at least 899 x 7 = 6293 unknowns
+    // for a dense Newton system, refused before the structure is analysed (its rigid-body mode
+    // would be found later), with the H that fits.
+    const int chain = 900;
+    System many;
+    many.mass = sparse(Eigen::MatrixXd::Identity(chain, chain));
+    many.stiffness = SparseMatrix(chain, chain);
+    many.damping = SparseMatrix(chain, chain);
+    many.excitation = Eigen::VectorXd::Ones(chain);
+    for (int i = 0; i + 1 < chain; ++i) {
+        j.dof = i;
+        j.other_dof = i + 1;
+        many.contacts.push_back(j);
+    }
+    try {
+        NonlinearModes nm(many, hbo, ModeOptions{});
+        FAIL("6293 unknowns accepted");
+    } catch (const InvalidInput& e) {
+        CHECK_THAT(e.what(), Catch::Contains("harmonics = 3 with 899 contact directions makes at least 6293 unknowns"));
+        CHECK_THAT(e.what(), Catch::Contains("allowed at most 6000 (at most H = 2 fits"));
+    }
 }

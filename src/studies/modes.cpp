@@ -58,6 +58,24 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
     if (hbo.odd_harmonics)
         throw InvalidInput("odd harmonics only is not available for nonlinear modes (the modal motion may have a mean "
                            "and even harmonics): allowed every harmonic");
+    {
+        // Newton on the modes' unknowns is dense (no structured Jacobian here): refused before
+        // the structure is factorised and solved, by the smaller of the two formulations' counts.
+        int signals = 0;
+        for (const Contact& c : system_.contacts) signals += static_cast<int>(system_.contact_directions(c).cols());
+        const long n = 2L * hbo.harmonics + 1;
+        const long smallest = std::min<long>(signals, system_.dofs()) * n;
+        if (smallest > HarmonicBalance::max_unknowns) {
+            const long fits = (HarmonicBalance::max_unknowns / std::min<long>(signals, system_.dofs()) - 1) / 2;
+            throw InvalidInput("harmonics = " + std::to_string(hbo.harmonics) + " with " + std::to_string(signals) +
+                               " contact directions makes at least " + std::to_string(smallest) +
+                               " unknowns for nonlinear modes, whose Newton system is dense (" +
+                               format_number(std::round(8.0 * smallest * static_cast<double>(smallest) / 1048576.0)) +
+                               " MB per copy): allowed at most " + std::to_string(HarmonicBalance::max_unknowns) + " (" +
+                               (fits >= 1 ? "at most H = " + std::to_string(fits) + " fits; " : std::string()) +
+                               "fewer contact nodes)");
+        }
+    }
     const std::vector<LinearMode> modes = stuck_modes(system_);
     const int count = static_cast<int>(modes.size());
     if (count == 0) throw InvalidInput("the stuck structure has no mode with mass");
