@@ -163,6 +163,23 @@ expect 2 "--plot-synthesis" '' modes --amin 0.1 --amax 1 --out x.csv --plot-synt
 expect 2 "an input of this run" 'write_system s.toml' modes --config s.toml --amin 0.1 --amax 1 --out s.toml
 expect 0 "" '' modes --amin 0.01 --amax 10 --quiet --out /dev/null --synthesis-out /dev/null
 for v in -1 x 100001; do expect 2 "--modes" '' modes --modes "$v" --amin 0.1 --amax 1 --out x.csv; done
+# A chain of 900 masses joined by 899 Jenkins elements: at H = 3 more unknowns than the modes'
+# dense Newton system allows, refused before the structure is analysed, naming the H that fits.
+chain_system='python3 -c "
+n = 900
+with open(\"k.mtx\", \"w\") as f:
+    f.write(\"%%MatrixMarket matrix coordinate real general\\n\")
+    f.write(\"%d %d %d\\n\" % (n, n, 3 * n - 2))
+    for i in range(n):
+        f.write(\"%d %d 2\\n\" % (i + 1, i + 1))
+        if i + 1 < n:
+            f.write(\"%d %d -1\\n%d %d -1\\n\" % (i + 1, i + 2, i + 2, i + 1))
+with open(\"chain.toml\", \"w\") as f:
+    f.write(\"[structure]\\nmass = [%s]\\nstiffness = \\\"k.mtx\\\"\\nexcitation = [1.0%s]\\n\" % (\", \".join([\"1.0\"] * n), \", 0.0\" * (n - 1)))
+    for i in range(n - 1):
+        f.write(\"[[contact]]\\ndof = %d\\nother_dof = %d\\nlaw = \\\"jenkins\\\"\\nfriction_limit = 0.1\\nstiffness = 1.0\\n\" % (i + 1, i + 2))
+"'
+expect 2 "makes at least 6293 unknowns for nonlinear modes" "$chain_system" modes --config chain.toml --harmonics 3 --amin 0.01 --amax 1 --out x.csv
 for v in bogus ''; do expect 2 "--formulation" '' modes --formulation "$v" --amin 0.1 --amax 1 --out x.csv; done
 expect 2 "needs the condensed formulation" '' modes --modes 2 --formulation full --amin 0.1 --amax 1 --out x.csv
 expect 0 "" '' modes --formulation condensed --amin 0.01 --amax 10 --quiet --out /dev/null
