@@ -50,9 +50,7 @@ void bind_model(py::module_& m) {
             for (const LawParameter& p : law->parameters()) {
                 if (!parameters.count(p.key)) keys.emplace_back(p.key);
                 parameters.insert_or_assign(p.key, p);
-                const bool simple = p.kind == LawParameter::Kind::number && p.range != LawParameter::Range::interval;
-                const std::string range = simple ? (p.range == LawParameter::Range::positive ? "> 0" : ">= 0")
-                                                 : p.kind == LawParameter::Kind::pairs     ? "a list of pairs (a, b)"
+                const std::string range = p.kind == LawParameter::Kind::pairs     ? "a list of pairs (a, b)"
                                                  : p.kind == LawParameter::Kind::direction ? "N numbers, one per DOF"
                                                                                            : p.allowed();
                 std::string& doc = docs[p.key];

@@ -336,7 +336,7 @@ TEST_CASE("Stability options and refusals", "[stability]") {
     s.contacts.push_back(jenkins);
     CHECK_THAT(stability_refusal(s), Catch::Contains("mix"));
     CHECK(stability_refusal(linear_dahl(0.1)).empty());
-    CHECK_THROWS_AS(linearize(jenkins, 0.1, 0.0), InvalidInput);
+    CHECK_THROWS_AS(linearize(jenkins, 0.0, 0.1, 0.0), InvalidInput);
 }
 
 TEST_CASE("hbf frf --stability: the columns and unstable intervals and bifurcations and bad input", "[stability][cli]") {

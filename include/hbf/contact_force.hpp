@@ -16,6 +16,7 @@
 
 #include <Eigen/Dense>
 #include <memory>
+#include <string>
 
 #include "hbf/fourier.hpp"
 #include "hbf/model.hpp"
@@ -84,24 +85,31 @@ public:
         (void)q;
         return 0.0;
     }
+    /// Why the law needs time_samples_needed samples, for messages ("to resolve its regularised
+    /// friction law's turn (2 pi max|v| / eps)").
+    virtual std::string time_samples_reason() const {
+        return "to resolve its regularised friction law's turn (2 pi max|v| / eps)";
+    }
 };
 
 /// A smooth law's local linearisation at one instant, in time t (not tau): the force
-/// f(v, z) and the state rate z' = g(v, z) (v = q', z the internal state; model.hpp) moved by
-/// small changes of v and z (no smooth law here depends on q itself):
-///   df = f_v dv + f_z dz,   d(z') = g_v dv + g_z dz.
+/// f(q, v, z) and the state rate z' = g(v, z) (v = q', z the internal state; model.hpp) moved by
+/// small changes of q, v and z (the friction laws depend on v and z only, the springs on q):
+///   df = f_q dq + f_v dv + f_z dz,   d(z') = g_v dv + g_z dz.
 ///   dahl, lugre: z' = v - sigma0 |v| z / g(v), f = sigma0 z + sigma1 z' + sigma2 v, so
 ///                g_v = 1 - sigma0 z (sign(v) g - |v| g') / g^2, g_z = -sigma0 |v| / g,
 ///                f_v = sigma1 g_v + sigma2, f_z = sigma0 + sigma1 g_z
 ///                (at v = 0 the one-sided slopes of |v| differ; sign(0) = 0 takes their mean);
-///   coulomb-reg: f = F_c tanh(v / eps): f_v = F_c (1 - tanh^2) / eps, no state.
+///   coulomb-reg: f = F_c tanh(v / eps): f_v = F_c (1 - tanh^2) / eps, no state;
+///   polynomial, gap, damper: f_q = f'(q), or f_v = f'(v) (the gap: k where closed, 0 open,
+///   the one-sided slope's mean at the corner).
 /// The stability analysis (stability.hpp) builds the variational equations from it.
 struct LocalLinearization {
-    double f_v = 0, f_z = 0, g_v = 0, g_z = 0;
+    double f_q = 0, f_v = 0, f_z = 0, g_v = 0, g_z = 0;
 };
-/// The linearisation above at (v, z) for a smooth law's contact (contact_law(law).linearize);
+/// The linearisation above at (q, v, z) for a smooth law's contact (contact_law(law).linearize);
 /// throws InvalidInput for the others (set-valued or hysteretic: not differentiable).
-LocalLinearization linearize(const Contact& contact, double v, double z);
+LocalLinearization linearize(const Contact& contact, double q, double v, double z);
 
 /// The model for a contact's law (contact_law(contact.law).periodic_model). Throws InvalidInput
 /// for invalid parameters (exact Coulomb: lagrangian_penalty must be > 0; HarmonicBalance fills

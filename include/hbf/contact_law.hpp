@@ -36,9 +36,9 @@ struct AbsorberParameters;  // absorber.hpp: the paper's preset, which each law 
 /// added in its own file leaves `field` null and keeps them in Contact::values / Contact::lists
 /// under `key`, so that adding it touches no other file.
 struct LawParameter {
-    /// positive: > 0; non_negative: >= 0; interval: between `low` and `high`, each end open or
-    /// closed as given.
-    enum class Range { positive, non_negative, interval };
+    /// positive: > 0; non_negative: >= 0; finite: any finite number (a coefficient of either
+    /// sign); interval: between `low` and `high`, each end open or closed as given.
+    enum class Range { positive, non_negative, finite, interval };
     /// number: one finite number; integer: one whole number; pairs: a table of rows of two
     /// numbers (stored row by row in Contact::lists), checked by the law's validate();
     /// direction: a vector over the model's coordinates (N entries in Contact::lists, finite,
@@ -191,8 +191,9 @@ public:
     /// default covers the laws made of elastic sliders (jenkins, iwan: each slider's k (q - s)
     /// clamped at its slip force, stuck while every slider is), and is false otherwise.
     virtual bool static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const;
-    /// The local linearisation (smooth laws); the default throws InvalidInput.
-    virtual LocalLinearization linearize(const Contact& contact, double v, double z) const;
+    /// The local linearisation at relative displacement q, velocity v and state z (smooth laws);
+    /// the default throws InvalidInput.
+    virtual LocalLinearization linearize(const Contact& contact, double q, double v, double z) const;
     /// Harmonic balance's first guess of the law's state signals (laws whose periodic_model has
     /// state_signals() > 0: z stacks them, 2H+1 coefficients each), on the load harmonic's rows
     /// cos_row, cos_row + 1 (and row 0) of each, given the relative displacements' coefficients
@@ -224,13 +225,26 @@ public:
     /// direction (a parallel Iwan joint: its sliders). Their internal states and modes are the
     /// entries of the time-domain state (time_integration.hpp: one per element), in this order.
     virtual std::vector<Contact> time_elements(const Contact& contact) const { return {contact}; }
-    /// Smooth laws: the force at relative velocity v with internal state z (time_state(): the
-    /// bristle deflection; 0 without a state), and the state's rate z' in `rate` (0 without a
-    /// state). The default throws: laws with exact stick are integrated by their elements' modes.
-    virtual double time_force(const Contact& contact, double v, double z, double& rate) const;
+    /// Smooth laws: the force at relative displacement q and velocity v with internal state z
+    /// (time_state(): the bristle deflection; 0 without a state), and the state's rate z' in
+    /// `rate` (0 without a state). The default throws: laws with exact stick are integrated by
+    /// their elements' modes.
+    virtual double time_force(const Contact& contact, double q, double v, double z, double& rate) const;
     /// Smooth laws: the stick margin of time integration (time_integration.hpp), < 0 while the
-    /// contact (pre-)sticks; its sign changes are the stick/slip events. The default throws.
-    virtual double time_margin(const Contact& contact, double v, double z) const;
+    /// contact (pre-)sticks; its sign changes are the stick/slip events (the elements without
+    /// friction: where their force has a corner, e.g. a gap's closing). The default throws.
+    virtual double time_margin(const Contact& contact, double q, double v, double z) const;
+
+    // ---- elements without friction (springs, dampers) ----
+    /// Whether the element is friction (stick and slip, a regime per period), or a force element
+    /// without friction (polynomial stiffness, gap spring, damper): regime "none" in every
+    /// result, no stick-slip transition, and its linear part present in every linear limit.
+    virtual bool friction() const { return true; }
+    /// A force element that acts only while closed (law gap): the share of the period it is
+    /// open is reported as the separated fraction, and its force's mean and half range as the
+    /// normal load's (ContactRegime). The linear limits take it closed while stuck, open while
+    /// released.
+    virtual bool unilateral() const { return false; }
 
 protected:
     ContactLaw(FrictionLaw id, const char* name, const char* definition)
@@ -241,6 +255,14 @@ private:
     const char* name_;
     const char* definition_;
 };
+
+/// The regimes of the elements without friction (ContactLaw::friction) set to "none" (stick
+/// fraction 0), and the point's regime and stick fraction taken from the first friction contact
+/// ("none" and 0 without one): `contacts` one per contact of `system`, in order.
+void mark_force_elements(const System& system, std::vector<ContactRegime>& contacts, std::string& regime,
+                         double& stick_fraction);
+/// Whether every contact of the system is a force element without friction (or there is none).
+bool without_friction(const System& system);
 
 /// Throws InvalidInput naming the first contact whose law the time-domain solvers do not
 /// integrate (ContactLaw::time_domain), and `what` ("time integration").

@@ -158,8 +158,9 @@ public:
     /// their layout do not change, so solutions stay valid starts.
     void set_time_samples(int time_samples);
     /// The largest N_t any contact's law needs at the solution x (FrictionModel::
-    /// time_samples_needed; 0 where none needs more than the harmonics').
-    double time_samples_needed(const Eigen::VectorXd& x, double omega);
+    /// time_samples_needed; 0 where none needs more than the harmonics'), and in `reason` (if
+    /// given) which contact needs it and why.
+    double time_samples_needed(const Eigen::VectorXd& x, double omega, std::string* reason = nullptr);
     /// 2H + 1: the coefficients of one signal as relative(), state() and dofs() return them (in
     /// fourier.hpp's layout; with odd harmonics only, the constant and the even ones are zero).
     int coefficients() const { return 2 * harmonics_ + 1; }

@@ -47,8 +47,12 @@ namespace hbf {
 ///            with q and f = F_c sign(q') (slip); the elastic-contact variant of Coulomb
 ///   iwan, elastic, unilateral: the parallel Iwan joint, and the contacts with a normal
 ///            direction (elastic penalty, rigid by the dynamic Lagrangian); defined in their files
+///   polynomial, gap, damper: force elements without friction (a polynomial spring, a
+///            unilateral spring with a gap, a power-law damper); defined in their files
 ///   (a law added in its own file takes the next id here and names it)
-enum class FrictionLaw : int { coulomb, dahl, lugre, coulomb_regularized, jenkins, iwan, elastic, unilateral };
+enum class FrictionLaw : int {
+    coulomb, dahl, lugre, coulomb_regularized, jenkins, iwan, elastic, unilateral, polynomial, gap, damper
+};
 
 /// "coulomb", "dahl", "lugre", "coulomb-reg", "jenkins", "iwan", "elastic", "unilateral" (the
 /// registry's names: contact_law.hpp).

@@ -41,13 +41,13 @@ public:
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         return bristle_model(contact, sigma1(contact), sigma2(contact));
     }
-    LocalLinearization linearize(const Contact& contact, double v, double z) const override {
+    LocalLinearization linearize(const Contact& contact, double, double v, double z) const override {
         return bristle_linearization(contact, sigma1(contact), sigma2(contact), v, z);
     }
-    double time_force(const Contact& contact, double v, double z, double& rate) const override {
+    double time_force(const Contact& contact, double, double v, double z, double& rate) const override {
         return bristle_time_force(contact, sigma1(contact), sigma2(contact), v, z, rate);
     }
-    double time_margin(const Contact& contact, double v, double z) const override {
+    double time_margin(const Contact& contact, double, double v, double z) const override {
         return bristle_time_margin(contact, v, z);
     }
     void guess_state(const Contact& contact, bool sliding, const Eigen::VectorXd& q, int cos_row,

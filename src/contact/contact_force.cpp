@@ -10,8 +10,8 @@ std::unique_ptr<FrictionModel> make_friction_model(const Contact& contact) {
     return contact_law(contact.law).periodic_model(contact);
 }
 
-LocalLinearization linearize(const Contact& contact, double v, double z) {
-    return contact_law(contact.law).linearize(contact, v, z);
+LocalLinearization linearize(const Contact& contact, double q, double v, double z) {
+    return contact_law(contact.law).linearize(contact, q, v, z);
 }
 
 }  // namespace hbf

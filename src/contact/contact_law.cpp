@@ -20,6 +20,9 @@ const ContactLaw& jenkins_law();
 const ContactLaw& iwan_law();
 const ContactLaw& elastic_law();
 const ContactLaw& unilateral_law();
+const ContactLaw& polynomial_law();
+const ContactLaw& gap_law();
+const ContactLaw& damper_law();
 
 const std::vector<const ContactLaw*>& contact_laws() {
     static const std::vector<const ContactLaw*> laws = {
@@ -31,6 +34,9 @@ const std::vector<const ContactLaw*>& contact_laws() {
         &iwan_law(),
         &elastic_law(),
         &unilateral_law(),
+        &polynomial_law(),
+        &gap_law(),
+        &damper_law(),
     };
     static const bool unique = [] {
         for (std::size_t a = 0; a < laws.size(); ++a)
@@ -109,6 +115,7 @@ bool LawParameter::allows(double value) const {
     switch (range) {
         case Range::positive: return value > 0.0;
         case Range::non_negative: return value >= 0.0;
+        case Range::finite: return true;
         case Range::interval:
             return (low_open ? value > low : value >= low) && (high_open ? value < high : value <= high);
     }
@@ -116,6 +123,7 @@ bool LawParameter::allows(double value) const {
 }
 
 std::string LawParameter::allowed() const {
+    if (range == Range::finite) return kind == Kind::integer ? "an integer" : "finite";
     if (range != Range::interval) {
         const std::string bound = range == Range::positive ? "> 0" : ">= 0";
         return kind == Kind::integer ? "an integer " + bound : "finite and " + bound;
@@ -137,7 +145,7 @@ bool elastic_slider(const Contact& element) {
     return elements.size() == 1 && elements.front().law == element.law;
 }
 
-LocalLinearization ContactLaw::linearize(const Contact&, double, double) const {
+LocalLinearization ContactLaw::linearize(const Contact&, double, double, double) const {
     std::string smooth;
     for (const ContactLaw* l : contact_laws())
         if (l->smooth()) smooth += (smooth.empty() ? "" : ", ") + std::string(l->name());
@@ -183,12 +191,12 @@ void ContactLaw::validate(const Contact& contact, const std::string& where) cons
     }
 }
 
-double ContactLaw::time_force(const Contact&, double, double, double&) const {
+double ContactLaw::time_force(const Contact&, double, double, double, double&) const {
     throw InvalidInput("law = " + std::string(name()) + " has no smooth time-domain force (its stick is exact: it "
                        "is integrated by the modes of its elements)");
 }
 
-double ContactLaw::time_margin(const Contact&, double, double) const {
+double ContactLaw::time_margin(const Contact&, double, double, double) const {
     throw InvalidInput("law = " + std::string(name()) + " has no smooth stick margin (its stick is exact)");
 }
 
@@ -239,6 +247,30 @@ System time_domain_system(const System& system) {
             lowered.contacts.push_back(e);
         }
     return lowered;
+}
+
+void mark_force_elements(const System& system, std::vector<ContactRegime>& contacts, std::string& regime,
+                         double& stick_fraction) {
+    bool found = false;
+    for (std::size_t c = 0; c < system.contacts.size() && c < contacts.size(); ++c) {
+        if (!contact_law(system.contacts[c].law).friction()) {
+            contacts[c].regime = "none";
+            contacts[c].stick_fraction = 0.0;
+        } else if (!found) {
+            found = true;
+            regime = contacts[c].regime;
+            stick_fraction = contacts[c].stick_fraction;
+        }
+    }
+    if (!found) {
+        regime = "none";
+        stick_fraction = 0.0;
+    }
+}
+
+bool without_friction(const System& system) {
+    return std::none_of(system.contacts.begin(), system.contacts.end(),
+                        [](const Contact& c) { return contact_law(c.law).friction(); });
 }
 
 void refuse_time_domain(const System& system, const std::string& what) {

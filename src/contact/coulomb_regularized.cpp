@@ -93,11 +93,11 @@ public:
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         return std::make_unique<Tanh>(contact);
     }
-    double time_force(const Contact& contact, double v, double, double& rate) const override {
+    double time_force(const Contact& contact, double, double v, double, double& rate) const override {
         rate = 0.0;
         return contact.friction_limit * std::tanh(v / contact.regularization);
     }
-    double time_margin(const Contact& contact, double v, double) const override {
+    double time_margin(const Contact& contact, double, double v, double) const override {
         return std::abs(std::tanh(v / contact.regularization)) / stick_force_ratio - 1.0;
     }
     /// A velocity law: at rest it carries no force (f = F_c tanh(0) = 0), so statically it slips.
@@ -107,7 +107,7 @@ public:
         out.state = "slipping";
         return true;
     }
-    LocalLinearization linearize(const Contact& contact, double v, double) const override {
+    LocalLinearization linearize(const Contact& contact, double, double v, double) const override {
         LocalLinearization l;
         const double t = std::tanh(v / contact.regularization);
         l.f_v = contact.friction_limit * (1.0 - t * t) / contact.regularization;

@@ -119,13 +119,25 @@ std::vector<LinearResonance> linear_resonances(const System& system, double omeg
             if (fundamental >= omega_low && fundamental <= omega_high) out.push_back({fundamental, limit});
         }
     };
-    add(natural_frequencies(stiffness, mass), LinearResonance::Limit::released);
-    Eigen::MatrixXd stuck = stiffness;
+    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);  // about the static state
+    // The force elements without friction that act in every state (polynomial springs,
+    // dampers: ContactLaw::friction, unilateral) are part of the structure in each limit: their
+    // linear spring in K, their direction free.
+    Eigen::MatrixXd structure = stiffness;
+    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+        const ContactLaw& law = contact_law(system.contacts[c].law);
+        if (law.friction() || law.unilateral()) continue;
+        const Eigen::VectorXd w = system.contact_direction(system.contacts[c]);
+        structure += elements[c].front().stiffness * w * w.transpose();
+    }
+    add(natural_frequencies(structure, mass), LinearResonance::Limit::released);
+    Eigen::MatrixXd stuck = structure;
     bool springs = false;
     Eigen::MatrixXd directions(n, 0);  // every direction of every contact
-    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);  // about the static state
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
         const Contact& contact = system.contacts[c];
+        const ContactLaw& law = contact_law(contact.law);
+        if (!law.friction() && !law.unilateral()) continue;
         const Eigen::MatrixXd w = system.contact_directions(contact);
         directions.conservativeResize(Eigen::NoChange, directions.cols() + w.cols());
         directions.rightCols(w.cols()) = w;
@@ -146,7 +158,7 @@ std::vector<LinearResonance> linear_resonances(const System& system, double omeg
         if (rank < n) {
             const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
             const Eigen::MatrixXd basis = q.rightCols(n - rank);
-            add(natural_frequencies(basis.transpose() * stiffness * basis, basis.transpose() * mass * basis),
+            add(natural_frequencies(basis.transpose() * structure * basis, basis.transpose() * mass * basis),
                 LinearResonance::Limit::rigid);
         }
     }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "hbf/contact_law.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
 #include "numerics/golden_section.hpp"
@@ -148,8 +149,7 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
             m.stick_indicator_max = phi.maxCoeff();
             m.stick_indicator_min = phi.minCoeff();
         }
-        m.stick_fraction = m.contacts.front().stick_fraction;
-        m.regime = m.contacts.front().regime;
+        mark_force_elements(s, m.contacts, m.regime, m.stick_fraction);
         // Dissipated energy: integral over the period 2 pi / omega of f q', on the AFT grid.
         Fourier& aft = hb_.fourier();
         Eigen::VectorXd v(aft.time_samples());
@@ -172,7 +172,8 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
                 (signals > 1 && a == signals - 1 ? normal_work : r.energy) += work;
             }
             m.energy += r.energy;
-            if (q.size() > n) {  // a normal direction: its force is the last signal's
+            if (q.size() > n || contact_law(s.contacts[static_cast<std::size_t>(c)].law).unilateral()) {
+                // a normal direction (its force is the last signal's), or a unilateral spring
                 const Eigen::VectorXd normal = f.tail(nt);
                 r.separated_fraction = static_cast<double>((normal.array() <= 0.0).count()) / nt;
                 r.normal_mean = normal.mean();

@@ -392,11 +392,16 @@ void HarmonicBalance::set_time_samples(int time_samples) {
     fourier_ = std::make_unique<Fourier>(harmonics_, time_samples_);
 }
 
-double HarmonicBalance::time_samples_needed(const Eigen::VectorXd& x, double omega) {
+double HarmonicBalance::time_samples_needed(const Eigen::VectorXd& x, double omega, std::string* reason) {
     const Eigen::VectorXd all = all_harmonics(x);
     double needed = 0.0;
-    for (std::size_t c = 0; c < models_.size(); ++c)
-        needed = std::max(needed, models_[c]->time_samples_needed(*fourier_, omega, relative_all(all, static_cast<int>(c))));
+    for (std::size_t c = 0; c < models_.size(); ++c) {
+        const double n = models_[c]->time_samples_needed(*fourier_, omega, relative_all(all, static_cast<int>(c)));
+        if (n <= needed) continue;
+        needed = n;
+        if (reason) *reason = contact_name(system_.contacts, c) + " (law " + to_string(system_.contacts[c].law) + ") " +
+                              models_[c]->time_samples_reason();
+    }
     return needed;
 }
 

@@ -55,7 +55,7 @@ void Variational::slopes(double theta, std::vector<LocalLinearization>& out) con
         double q, dq, z = 0.0, dz;
         at_phase(q_[c], theta, q, dq);
         if (z_[c].size() > 0) at_phase(z_[c], theta, z, dz);
-        out[c] = linearize(system_.contacts[c], omega_ * dq, z);
+        out[c] = linearize(system_.contacts[c], q, omega_ * dq, z);
     }
 }
 
@@ -68,6 +68,7 @@ void Variational::matrix(double theta, Eigen::MatrixXd& a) const {
 void Variational::add_contact(int c, const LocalLinearization& l, Eigen::MatrixXd& a) const {
     const auto col = static_cast<Eigen::Index>(c);
     a.block(n_, n_, n_, n_).noalias() -= l.f_v * mw_.col(col) * w_.col(col).transpose();
+    if (l.f_q != 0.0) a.block(n_, 0, n_, n_).noalias() -= l.f_q * mw_.col(col) * w_.col(col).transpose();
     const int s = state_index_[static_cast<std::size_t>(c)];
     if (s < 0) return;
     a.block(n_, s, n_, 1) -= l.f_z * mw_.col(col);
@@ -84,19 +85,23 @@ Eigen::MatrixXd Variational::hill(Fourier& fourier) const {
             if (base_(i, j) != 0.0) h.block(i * m, j * m, m, m).diagonal().setConstant(base_(i, j));
     // The contacts' parts: each entry of A is a combination of the slopes' samples.
     const int nc = static_cast<int>(q_.size());
-    std::vector<Eigen::VectorXd> fv(static_cast<std::size_t>(nc), Eigen::VectorXd(nt)),
-        fz = fv, gv = fv, gz = fv;
-    // v_c and z_c on the AFT grid by the FFT (Fourier::to_time), then the slopes pointwise.
-    Eigen::VectorXd v(nt), z(nt);
+    std::vector<Eigen::VectorXd> fq(static_cast<std::size_t>(nc), Eigen::VectorXd(nt)),
+        fv = fq, fz = fq, gv = fq, gz = fq;
+    std::vector<bool> springs(static_cast<std::size_t>(nc), false);
+    // q_c, v_c and z_c on the AFT grid by the FFT (Fourier::to_time), then the slopes pointwise.
+    Eigen::VectorXd q(nt), v(nt), z(nt);
     for (int c = 0; c < nc; ++c) {
         const auto cc = static_cast<std::size_t>(c);
+        fourier.to_time(q_[cc], q);
         fourier.to_time(omega_ * (fourier.derivative() * q_[cc]), v);
         if (z_[cc].size() > 0)
             fourier.to_time(z_[cc], z);
         else
             z.setZero();
         for (int j = 0; j < nt; ++j) {
-            const LocalLinearization l = linearize(system_.contacts[cc], v(j), z(j));
+            const LocalLinearization l = linearize(system_.contacts[cc], q(j), v(j), z(j));
+            fq[cc](j) = l.f_q;
+            springs[cc] = springs[cc] || l.f_q != 0.0;
             fv[cc](j) = l.f_v;
             fz[cc](j) = l.f_z;
             gv[cc](j) = l.g_v;
@@ -112,6 +117,12 @@ Eigen::MatrixXd Variational::hill(Fourier& fourier) const {
         for (int i = 0; i < n_; ++i)
             for (int j = 0; j < n_; ++j)
                 if (outer(i, j) != 0.0) h.block((n_ + i) * m, (n_ + j) * m, m, m) += outer(i, j) * p;
+        if (springs[cc]) {  // the displacement's slope: the velocity rows, the displacement columns
+            fourier.multiplication_matrix(fq[cc], p);
+            for (int i = 0; i < n_; ++i)
+                for (int j = 0; j < n_; ++j)
+                    if (outer(i, j) != 0.0) h.block((n_ + i) * m, j * m, m, m) += outer(i, j) * p;
+        }
         const int s = state_index_[cc];
         if (s < 0) continue;
         fourier.multiplication_matrix(fz[cc], p);

@@ -369,25 +369,27 @@ Resolution resolve_time_samples(HarmonicBalance& hb, const FrfSettings& settings
     const int first = hb.time_samples();
     for (int pass = 0; pass < 3; ++pass) {
         double needed = 0.0, where = 0.0;
+        std::string why;
         for (const SolutionPoint& p : branch.points) {
-            const double n = hb.time_samples_needed(p.x, p.omega);
+            std::string reason;
+            const double n = hb.time_samples_needed(p.x, p.omega, &reason);
             if (n > needed) {
                 needed = n;
                 where = p.omega;
+                why = reason;
             }
         }
         if (needed <= hb.time_samples()) break;
         const std::string need = "the motion at w = " + format_number(where) + " needs N_t >= " +
-                                 format_number(std::ceil(needed)) +
-                                 " time samples to resolve its regularised friction law's turn (2 pi max|v| / eps)";
+                                 format_number(std::ceil(needed)) + " time samples: " + why;
         if (settings.harmonic_balance.time_samples > 0 || hb.time_samples() >= max_automatic_time_samples) {
             out.doubtful = true;
             out.message = need + ", the AFT has " + std::to_string(hb.time_samples()) +
-                          ": the force is under-resolved and the branch may wiggle with spurious peaks (" +
+                          ": the force is under-resolved (aliased) and the branch may be wrong or wiggle with spurious peaks (" +
                           (settings.harmonic_balance.time_samples > 0
                                ? "allowed: time_samples >= " + format_number(std::ceil(needed)) + ", or 0 (automatic)"
                                : "at most " + std::to_string(max_automatic_time_samples) +
-                                     " are chosen automatically: a larger regularization, or time_samples") +
+                                     " are chosen automatically: a smoother law, or time_samples") +
                           ")";
             return out;
         }

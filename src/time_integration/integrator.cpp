@@ -5,6 +5,7 @@
 #include "time_integration/integrator.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
@@ -211,7 +212,9 @@ void Integrator::evaluate(double t, const double* x) {
         double f = 0.0, zd = 0.0;
         const int mode = mode_[static_cast<std::size_t>(c)];
         switch (k.kind) {
-            case ContactData::Kind::smooth: f = k.law->time_force(k.parameters, vc, z[c], zd); break;
+            case ContactData::Kind::smooth:
+                f = k.law->time_force(k.parameters, k.relative(y) + end_(c), vc, z[c], zd);
+                break;
             case ContactData::Kind::elastic_slider:
                 if (mode == 0) {
                     f = k.stiffness * (k.relative(y) + end_(c) - z[c]);
@@ -285,7 +288,7 @@ bool Integrator::in_stick(int c, const double* x) const {
 double Integrator::margin(int c, const double* x) const {
     const ContactData& k = contacts_[static_cast<std::size_t>(c)];
     if (k.event_driven()) return std::abs(f_(c)) / k.limit - 1.0;
-    return k.law->time_margin(k.parameters, velocity_c_(c), k.has_state ? x[2 * n_ + c] : 0.0);
+    return k.law->time_margin(k.parameters, k.relative(x) + end_(c), velocity_c_(c), k.has_state ? x[2 * n_ + c] : 0.0);
 }
 
 void Integrator::roots(double t, const double* x, double* g) {
@@ -293,6 +296,11 @@ void Integrator::roots(double t, const double* x, double* g) {
     for (int c = 0; c < nc_; ++c) {
         const ContactData& k = contacts_[static_cast<std::size_t>(c)];
         g[c] = k.event_driven() ? mode_root(c) : -margin(c, x);  // > 0 in stick
+        // A smooth margin crossing zero slowly (a gap's q - g, whose rounding is constant over
+        // several ulps of t) can be exactly 0 at t and at t + CVODE's small probe step, which
+        // CVODE refuses (CV_ILL_INPUT, "root found at and very near t"): an exact zero counts as
+        // the smallest positive number, which moves no root.
+        if (g[c] == 0.0 && !k.event_driven()) g[c] = std::numeric_limits<double>::min();
     }
     for (int i = 0; i < n_; ++i) g[nc_ + i] = ground_stuck_dof_[static_cast<std::size_t>(i)] ? 1.0 : x[n_ + i];
     // Turning points of the outputs that combine DOFs: c^T y' = 0.

@@ -350,8 +350,7 @@ PeriodicResponse integrate_steady_state(const System& given, double omega, const
     }
     if (!r.contacts.empty()) {
         r.contacts = contact_regimes(given, r.contacts);
-        r.stick_fraction = r.contacts.front().stick_fraction;
-        r.regime = r.contacts.front().regime;
+        mark_force_elements(given, r.contacts, r.regime, r.stick_fraction);
     }
     return r;
 }

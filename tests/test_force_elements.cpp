@@ -1,0 +1,303 @@
+// The force elements without friction (laws polynomial, gap, damper): harmonic balance against
+// closed forms derived here at H = 1, against time integration at higher H, aliasing, the
+// stability of the Duffing oscillator's branches, and bad input.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <complex>
+#include <tuple>
+#include <vector>
+
+#include "hbf/contact_law.hpp"
+#include "hbf/error.hpp"
+#include "hbf/frf.hpp"
+#include "hbf/modes.hpp"
+#include "support.hpp"
+
+using namespace hbf;
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+/// One DOF: m y'' + c y' + k y + f(y) = F cos(w t), f the law of `contact` (DOF 0 to ground).
+System one_dof(double m, double c, double k, double force, Contact contact) {
+    System s;
+    s.mass = sparse(Eigen::MatrixXd::Constant(1, 1, m));
+    s.damping = sparse(Eigen::MatrixXd::Constant(1, 1, c));
+    s.stiffness = sparse(Eigen::MatrixXd::Constant(1, 1, k));
+    s.excitation = Eigen::VectorXd::Constant(1, force);
+    contact.dof = 0;
+    s.contacts.push_back(contact);
+    return s;
+}
+
+Contact cubic_spring(double k3) {
+    Contact c;
+    c.law = FrictionLaw::polynomial;
+    c.values["cubic"] = k3;
+    return c;
+}
+
+/// The first harmonic (a cos + b sin) of DOF 0 at a branch point: a - i b.
+std::complex<double> first_harmonic(HarmonicBalance& hb, const SolutionPoint& p) {
+    const Eigen::MatrixXd y = hb.dofs(p.x, p.omega);
+    return {y(1, 0), -y(2, 0)};
+}
+
+FrfSettings band(double from, double to, int harmonics) {
+    FrfSettings s;
+    s.harmonic_balance.harmonics = harmonics;
+    s.continuation.omega_start = from;
+    s.continuation.omega_end = to;
+    s.continuation.max_step = 0.01;
+    s.error_points = 0;
+    return s;
+}
+
+}  // namespace
+
+// Duffing at H = 1: y = Re(Y e^{i w t}), y^3's first harmonic is (3/4) |Y|^2 Y, so the balance
+// of harmonic 1 is (k - m w^2 + i c w + (3/4) k3 |Y|^2) Y = F: every point of the branch
+// satisfies it (both signs of k3, through both folds), and the largest amplitude is the
+// closed form's peak: d/dw of A^2 (D^2 + c^2 w^2) = F^2 with D = k - m w^2 + (3/4) k3 A^2 and
+// dA/dw = 0 gives D = c^2 / (2 m), hence m w^2 = k + (3/4) k3 A^2 - c^2 / (2 m) and
+// A = F / sqrt(D^2 + c^2 w^2).
+TEST_CASE("Duffing oscillator at H = 1: every point of the FRF on the first-order closed form, the peak on "
+          "the backbone",
+          "[force_elements]") {
+    const double m = 1.0, c = 0.02, k = 1.0, F = 0.02;
+    for (const double k3 : {0.5, -0.05}) {
+        INFO("k3 = " << k3);
+        const System s = one_dof(m, c, k, F, cubic_spring(k3));
+        HarmonicBalance hb(s, HarmonicBalanceOptions{1, 0});
+        const FrfResult r = compute_frf(hb, band(0.7, 1.5, 1));
+        INFO(r.summary());
+        REQUIRE(r.status() == "completed");
+        double worst = 0.0, largest = 0.0;
+        int backwards = 0;
+        for (std::size_t i = 0; i < r.points.size(); ++i) {
+            const SolutionPoint& p = r.points[i];
+            const std::complex<double> Y = first_harmonic(hb, p);
+            const double a2 = std::norm(Y);
+            const std::complex<double> lhs = (k - m * p.omega * p.omega + 0.75 * k3 * a2 + std::complex<double>(0, c * p.omega)) * Y;
+            worst = std::max(worst, std::abs(lhs - F) / F);
+            largest = std::max(largest, std::sqrt(a2));
+            if (i > 0 && p.omega < r.points[i - 1].omega) ++backwards;
+        }
+        CHECK(worst <= 1e-9);
+        CHECK(backwards > 0);  // the branch turned at a fold (both signs: F / c puts it past them)
+        // The peak, by fixed point on (w, A).
+        const double D = c * c / (2.0 * m);
+        double w = 1.0, peak = F / (c * w);
+        for (int it = 0; it < 500; ++it) {
+            w = std::sqrt((k + 0.75 * k3 * peak * peak - D) / m);
+            peak = F / std::hypot(D, c * w);
+        }
+        REQUIRE(!r.peaks.empty());
+        double found = 0.0;
+        for (const Peak& p : r.peaks) found = std::max(found, p.y_max);
+        CHECK(test::relative_difference(found, peak) <= 1e-6);
+        CHECK(largest <= peak * (1.0 + 1e-9));
+    }
+}
+
+TEST_CASE("Duffing backbone at H = 1: w^2 = (k + (3/4) k3 A^2) / m along hbf modes, hardening and softening",
+          "[force_elements]") {
+    const double m = 2.0, k = 3.0;
+    for (const double k3 : {0.8, -0.3}) {
+        INFO("k3 = " << k3);
+        const System s = one_dof(m, 0.0, k, 0.0, cubic_spring(k3));
+        ModeOptions o;
+        o.amplitude_min = 1e-3;
+        o.amplitude_max = k3 > 0 ? 2.0 : 1.0;
+        HarmonicBalanceOptions hbo{1, 0};
+        const ModeRun run = compute_mode(s, hbo, o, {}, false);
+        INFO(run.backbone.message);
+        REQUIRE(run.backbone.status == ModeStatus::completed);
+        REQUIRE(run.backbone.points.size() > 10);
+        double worst = 0.0;
+        for (std::size_t i = 0; i < run.backbone.points.size(); ++i) {
+            const ModePoint& p = run.backbone.points[i];
+            const double A = run.metrics[i].output_amp1[0];
+            const double w = std::sqrt((k + 0.75 * k3 * A * A) / m);
+            worst = std::max(worst, std::abs(p.omega - w) / w);
+            CHECK(std::abs(p.xi) <= 1e-9 * p.omega);  // conservative: no modal damping
+        }
+        CHECK(worst <= 1e-9);
+    }
+}
+
+TEST_CASE("Duffing oscillator at H = 9: harmonic balance equals time integration to 1e-6", "[force_elements]") {
+    const double m = 1.0, c = 0.05, k = 1.0, F = 0.1, k3 = 1.0;
+    const System s = one_dof(m, c, k, F, cubic_spring(k3));
+    for (const double omega : {0.6, 1.0, 2.0}) {  // single-valued there (the fold lies near 1.3)
+        INFO("w = " << omega);
+        const PeriodicResponse ti = integrate_steady_state(s, omega, test::tight_time_integration());
+        INFO(ti.summary());
+        REQUIRE(ti.converged);
+        HarmonicBalance hb(s, HarmonicBalanceOptions{9, 0});
+        const SolutionAt at = solve_at(hb, omega, 0.5);
+        REQUIRE(at.found);
+        const PointMetrics pm = Analyser(hb)(at.point);
+        INFO("HB " << pm.y_max[0] << ", TI " << ti.y_max[0]);
+        CHECK(test::relative_difference(pm.y_max[0], ti.y_max[0]) <= 1e-6);
+        CHECK(test::relative_difference(pm.y_amp1[0], ti.y_amp1[0]) <= 1e-6);
+        CHECK(pm.regime == "none");
+        CHECK(ti.regime == "none");
+    }
+}
+
+// Aliasing: y^3 of an H-harmonic motion has harmonics up to 3H, which N_t samples fold onto
+// N_t - 3H and above: alias-free when N_t > 4H. The automatic N_t (16 H + 8 rounded up to a
+// power of two) is; forced to 4H - 8, the balanced harmonics change and the FRF says so.
+TEST_CASE("Cubic spring at H = 10: the automatic N_t is alias-free to rounding, below (p + 1) H the FRF is doubtful",
+          "[force_elements]") {
+    const System s = one_dof(1.0, 0.05, 1.0, 1.0, cubic_spring(1.0));
+    const double omega = 0.8;  // amplitude about 1: strongly nonlinear, rich in harmonics
+    auto y_at = [&](int time_samples) {
+        HarmonicBalance hb(s, HarmonicBalanceOptions{10, time_samples});
+        const SolutionAt at = solve_at(hb, omega, 0.5);
+        REQUIRE(at.found);
+        return hb.dofs(at.point.x, omega);
+    };
+    // N_t = 24: y^3's harmonics 14..23 fold onto 10..1
+    const Eigen::MatrixXd automatic = y_at(0), fine = y_at(1024), coarse = y_at(24);
+    CHECK((automatic - fine).cwiseAbs().maxCoeff() <= 1e-13 * fine.cwiseAbs().maxCoeff());
+    CHECK((coarse - fine).cwiseAbs().maxCoeff() >= 1e-9 * fine.cwiseAbs().maxCoeff());  // aliasing is real
+
+    FrfSettings settings = band(0.6, 0.9, 10);
+    settings.harmonic_balance.time_samples = 24;
+    const FrfResult r = compute_frf(s, settings);
+    CHECK(r.status() != "completed");
+    INFO(r.verdict.summary());
+    CHECK(r.verdict.summary().find("alias-free when N_t > (p + 1) H") != std::string::npos);
+}
+
+// Quadratic damper c2 |v| v at H = 1: v = -w A sin(w t + phi), and |sin| sin has the first
+// harmonic (8 / (3 pi)) sin, so the damper is the dashpot c_eq = (8 / (3 pi)) c2 w A:
+// A^2 ((k - m w^2)^2 + ((c + c_eq) w)^2) = F^2.
+TEST_CASE("Quadratic damper at H = 1: the equivalent dashpot (8 / 3 pi) c2 w A, to 1e-10 along the FRF",
+          "[force_elements]") {
+    const double m = 1.0, c = 0.01, k = 1.0, F = 0.05, c2 = 0.2;
+    Contact d;
+    d.law = FrictionLaw::damper;
+    d.values["coefficient"] = c2;
+    const System s = one_dof(m, c, k, F, d);
+    HarmonicBalance hb(s, HarmonicBalanceOptions{1, 8192});
+    const FrfResult r = compute_frf(hb, band(0.5, 1.5, 1));
+    REQUIRE(r.status() == "completed");
+    double worst = 0.0;
+    for (const SolutionPoint& p : r.points) {
+        const double A = std::abs(first_harmonic(hb, p));
+        const double ceq = 8.0 / (3.0 * pi) * c2 * p.omega * A;
+        const double lhs = A * std::hypot(k - m * p.omega * p.omega, (c + ceq) * p.omega);
+        worst = std::max(worst, std::abs(lhs - F) / F);
+    }
+    // |sin| sin is not a polynomial: N_t samples alias its harmonics N_t - 1, N_t + 1, ...
+    // (amplitudes ~ k^-3) onto the first: about 2e-12 at N_t = 8192
+    CHECK(worst <= 1e-10);
+}
+
+TEST_CASE("Gap spring, quadratic damper: harmonic balance equals time integration (H = 40 / 15)",
+          "[force_elements]") {
+    Contact gap;
+    gap.law = FrictionLaw::gap;
+    gap.stiffness = 4.0;
+    gap.values["gap"] = 0.2;
+    Contact damper;
+    damper.law = FrictionLaw::damper;
+    damper.values["coefficient"] = 0.1;
+    // the gap closes at each frequency (y_max > 0.2) on a period-1 orbit (at 0.8 and 1.1 the
+    // time integration finds no period-1 steady state: the impacting response is not periodic)
+    using Case = std::tuple<Contact, int, double, std::vector<double>>;
+    for (const auto& [contact, harmonics, tolerance, frequencies] :
+         {Case{gap, 40, 2e-4, {0.9, 1.0, 1.2}}, Case{damper, 15, 1e-6, {0.8, 1.0, 1.25}}}) {
+        const System s = one_dof(1.0, 0.05, 1.0, 0.1, contact);
+        INFO("law " << to_string(contact.law));
+        for (const double omega : frequencies) {
+            INFO("w = " << omega);
+            const PeriodicResponse ti = integrate_steady_state(s, omega, test::tight_time_integration());
+            INFO(ti.summary());
+            REQUIRE(ti.converged);
+            HarmonicBalance hb(s, HarmonicBalanceOptions{harmonics, 0});
+            const SolutionAt at = solve_at(hb, omega, 0.3);
+            REQUIRE(at.found);
+            const PointMetrics pm = Analyser(hb)(at.point);
+            INFO("HB " << pm.y_max[0] << " (separated " << pm.contacts[0].separated_fraction << "), TI " << ti.y_max[0]);
+            CHECK(test::relative_difference(pm.y_max[0], ti.y_max[0]) <= tolerance);
+            CHECK(test::relative_difference(pm.y_amp1[0], ti.y_amp1[0]) <= tolerance);
+            if (contact.law == FrictionLaw::gap) {
+                CHECK(pm.contacts[0].separated_fraction > 0.05);
+                CHECK(pm.contacts[0].separated_fraction < 0.95);
+            } else {
+                CHECK(std::isnan(pm.contacts[0].separated_fraction));
+            }
+        }
+    }
+}
+
+// Between the two folds of the hardening Duffing FRF the branch runs backwards in w and is a
+// saddle (unstable); outside them the branch is stable (light damping: no other instability).
+TEST_CASE("Duffing FRF: the middle branch between the folds is unstable, the rest stable (Hill and monodromy)",
+          "[force_elements]") {
+    const System s = one_dof(1.0, 0.05, 1.0, 0.1, cubic_spring(1.0));
+    FrfSettings settings = band(0.6, 2.0, 9);
+    settings.stability = true;
+    const FrfResult r = compute_frf(s, settings);
+    INFO(r.summary());
+    REQUIRE(r.stability);
+    const std::vector<FloquetResult>& st = r.stability->points;
+    REQUIRE(st.size() >= r.branch.points.size());
+    int checked = 0, wrong = 0;
+    const std::vector<SolutionPoint>& p = r.branch.points;
+    for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+        const bool backwards = p[i + 1].omega < p[i].omega && p[i].omega < p[i - 1].omega;
+        const bool forwards = p[i + 1].omega > p[i].omega && p[i].omega > p[i - 1].omega;
+        if (!backwards && !forwards) continue;  // at a fold
+        ++checked;
+        const Stability expected = backwards ? Stability::unstable : Stability::stable;
+        if (st[i].stability != expected) ++wrong;
+    }
+    CHECK(checked > 20);
+    CHECK(wrong == 0);
+}
+
+TEST_CASE("Force elements' bad input is refused naming the key", "[force_elements]") {
+    auto refused = [](Contact c, const std::string& needle) {
+        const System s = one_dof(1.0, 0.0, 1.0, 1.0, c);
+        try {
+            s.validate();
+        } catch (const InvalidInput& e) {
+            INFO(e.what());
+            CHECK(std::string(e.what()).find(needle) != std::string::npos);
+            return;
+        }
+        FAIL("accepted: expected an error naming " << needle);
+    };
+    Contact p;
+    p.law = FrictionLaw::polynomial;
+    refused(p, "no term");
+    p.lists["terms"] = {2.5, 1.0};
+    refused(p, "terms[1]: exponent 2.5");
+    p.lists["terms"] = {16, 1.0};
+    refused(p, "1..15");
+    p.lists["terms"] = {3, std::nan("")};
+    refused(p, "terms[1]: coefficient");
+    p.lists.erase("terms");
+    p.values["cubic"] = std::numeric_limits<double>::infinity();
+    refused(p, "cubic");
+    Contact g;
+    g.law = FrictionLaw::gap;
+    refused(g, "stiffness");
+    g.stiffness = 1.0;
+    g.values["gap"] = 0.1;
+    g.values["preload"] = 0.2;
+    refused(g, "preload");
+    Contact d;
+    d.law = FrictionLaw::damper;
+    refused(d, "coefficient is missing");
+    d.values["coefficient"] = 1.0;
+    d.values["exponent"] = 0.5;
+    refused(d, "exponent");
+}
