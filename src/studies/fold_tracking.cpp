@@ -131,9 +131,12 @@ TrackResult track_folds(const std::function<System(double)>& system, const FrfSe
     };
     // The starts as the local branch gives them (the same corrector as the later steps).
     double w1 = folds[first]->omega, w2 = folds[first + 1]->omega;
+    // Within the FRF's own range: a wide S (a Duffing oscillator's folds far apart) would put
+    // the window's lower end below 0.
     const auto window = [&](double u1, double u2) {
         const double mid = 0.5 * (u1 + u2), half = std::max(4.0 * std::abs(u1 - u2), 5e-3 * mid);
-        return std::make_pair(mid - half, mid + half);
+        return std::make_pair(std::max(mid - half, frf.continuation.omega_start),
+                              std::min(mid + half, frf.continuation.omega_end));
     };
     // Near a cusp the S-shape shrinks (its height like sqrt(p - p_c), its width like
     // (p - p_c)^(3/2)): the local branch must step finely enough to see both folds.
