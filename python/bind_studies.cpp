@@ -201,10 +201,11 @@ void bind_studies(py::module_& m) {
         "modes",
         [](const PySystem& s, HarmonicBalanceOptions hbo, int mode, double near, double amplitude_min,
            double amplitude_max, double tolerance, double max_step, int max_points, std::vector<Output> outputs,
-           bool synthesis, bool exact_check) {
+           bool synthesis, bool exact_check, double start_frequency) {
             ModeOptions mo;
             mo.mode = mode;
             mo.near_frequency = near;
+            mo.start_frequency = start_frequency;
             mo.amplitude_min = amplitude_min;
             mo.amplitude_max = amplitude_max;
             mo.tolerance = tolerance;
@@ -224,6 +225,9 @@ void bind_studies(py::module_& m) {
             d["omega"] = b.linear.omega;
             d["zeta"] = b.linear.zeta;
             d["shape"] = to_list(b.linear.shape);
+            d["start"] = b.start;
+            d["linear_omega"] = b.linear_omega;
+            d["linear_xi"] = b.linear_xi;
             d["harmonics"] = run.harmonics;
             d["formulation"] = to_string(run.formulation);
             d["modes_used"] = run.modes;
@@ -241,7 +245,7 @@ void bind_studies(py::module_& m) {
         },
         py::arg("system"), py::arg("options"), py::arg("mode"), py::arg("near"), py::arg("amplitude_min"),
         py::arg("amplitude_max"), py::arg("tolerance"), py::arg("max_step"), py::arg("max_points"), py::arg("outputs"),
-        py::arg("synthesis"), py::arg("exact_check"));
+        py::arg("synthesis"), py::arg("exact_check"), py::arg("start_frequency"));
 
     m.def(
         "analytic",

@@ -603,3 +603,104 @@ TEST_CASE("Nonlinear modes: bad input is refused naming the parameter", "[modes]
         CHECK_THAT(e.what(), Catch::Contains("allowed at most 6000 (at most H = 2 fits"));
     }
 }
+
+namespace {
+/// NLvib's 2-DOF example with tanh friction: chain m = [0.02, 1], k = [0, 40, 600] (ground -
+/// m1 - m2 - ground), f = muN tanh(v / eps) on DOF 1 against the ground, eps = 0.05, muN = 5.
+System nlvib_tanh_2dof() {
+    System s;
+    s.mass = sparse(Eigen::Vector2d(0.02, 1.0).asDiagonal().toDenseMatrix());
+    Eigen::Matrix2d k;
+    k << 40.0, -40.0, -40.0, 640.0;
+    s.stiffness = sparse(k);
+    s.damping = SparseMatrix(2, 2);
+    s.excitation = Eigen::Vector2d(0.0, 1.0);
+    Contact c;
+    c.dof = 0;
+    c.law = FrictionLaw::coulomb_regularized;
+    c.friction_limit = 5.0;
+    c.regularization = 0.05;
+    s.contacts.push_back(c);
+    return s;
+}
+}  // namespace
+
+// The linear limit of a damped stuck structure: for one DOF m y'' + c y' + k y = 0 the EPMC's
+// motion is periodic with xi = c / m at w = sqrt(k / m) (C - xi M = 0).
+TEST_CASE("The damped linear mode: xi = c / m and w = sqrt(k / m) for a damper on one DOF; the backbone starts on it",
+          "[modes]") {
+    System s;
+    s.mass = sparse(Eigen::MatrixXd::Constant(1, 1, 2.0));
+    s.stiffness = sparse(Eigen::MatrixXd::Constant(1, 1, 8.0));
+    s.damping = SparseMatrix(1, 1);
+    s.excitation = Eigen::VectorXd::Constant(1, 1.0);
+    Contact c;
+    c.dof = 0;
+    c.law = FrictionLaw::coulomb_regularized;
+    c.friction_limit = 0.3;
+    c.regularization = 0.1;  // the damper F_c / eps = 3 at rest: zeta = 3 / (2 sqrt(8 * 2)) = 0.375
+    s.contacts.push_back(c);
+    const std::vector<LinearMode> modes = stuck_modes(s);
+    const DampedLinearMode d = damped_linear_mode(s, modes.front());
+    REQUIRE(d.ok);
+    CHECK(std::abs(d.omega - 2.0) <= 1e-12 * 2.0);
+    CHECK(std::abs(d.xi - 1.5) <= 1e-12 * 2.0);
+    ModeOptions o;
+    o.amplitude_min = 1e-4;
+    o.amplitude_max = 1e-3;
+    const ModeRun run = compute_mode(s, HarmonicBalanceOptions{10, 0}, o, {}, false);
+    REQUIRE(!run.backbone.points.empty());
+    CHECK(run.backbone.start == "linear");
+    CHECK(std::abs(run.backbone.points.front().omega - 2.0) <= 1e-6);
+    CHECK(std::abs(run.backbone.points.front().xi - 1.5) <= 1e-5);
+}
+
+TEST_CASE("NLvib's 2-DOF tanh friction mode: the whole backbone from its default start, and 100 starts across the "
+          "range each on it or flagged",
+          "[modes]") {
+    const System s = nlvib_tanh_2dof();
+    ModeOptions o;
+    o.amplitude_min = std::pow(10.0, -1.5);
+    o.amplitude_max = 10.0;
+    const HarmonicBalanceOptions hbo{7, 0};
+    const ModeRun whole = compute_mode(s, hbo, o, {}, false);
+    INFO(whole.verdict.summary());
+    REQUIRE(whole.backbone.status == ModeStatus::completed);
+    CHECK(whole.verdict.status() == "completed");
+    CHECK(whole.verdict.warnings.empty());
+    const std::vector<ModePoint>& ref = whole.backbone.points;
+    REQUIRE(ref.size() > 10);
+    // the backbone's frequency and xi at amplitude a, linear in log10 a between its points
+    const auto at = [&](double a, double ModePoint::*field) {
+        const double s = std::log10(a);
+        for (std::size_t k = 1; k < ref.size(); ++k) {
+            const double s0 = std::log10(ref[k - 1].amplitude), s1 = std::log10(ref[k].amplitude);
+            if (s >= s0 && s <= s1) return ref[k - 1].*field + (s - s0) / (s1 - s0) * (ref[k].*field - ref[k - 1].*field);
+        }
+        return ref.back().*field;
+    };
+    int silent_wrong = 0, flagged = 0, completed = 0;
+    for (int k = 0; k < 100; ++k) {
+        ModeOptions one = o;
+        one.amplitude_min = std::pow(10.0, -1.5 + 2.5 * k / 99.0);
+        one.amplitude_max = one.amplitude_min * 1.001;
+        const ModeRun run = compute_mode(s, hbo, one, {}, false);
+        const bool clean = run.verdict.status() == "completed" && run.verdict.warnings.empty();
+        if (!clean) {
+            ++flagged;
+            continue;
+        }
+        ++completed;
+        const ModePoint& p = run.backbone.points.front();
+        const double w = at(p.amplitude, &ModePoint::omega), xi = at(p.amplitude, &ModePoint::xi);
+        const bool same = std::abs(p.omega - w) <= 1e-3 * w && std::abs(p.xi - xi) <= 1e-3 * w;
+        if (!same) {
+            ++silent_wrong;
+            UNSCOPED_INFO("a = " << p.amplitude << ": w = " << p.omega << ", xi = " << p.xi << " against the backbone's "
+                                 << w << ", " << xi);
+        }
+    }
+    CHECK(silent_wrong == 0);
+    CHECK(completed == 100);  // every start completes (started from the undamped mode, 11 of 106 failed)
+    CHECK(flagged == 0);
+}

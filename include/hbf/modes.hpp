@@ -67,6 +67,24 @@ struct LinearMode {
 /// M nor K' is positive definite, or every DOF is constrained.
 std::vector<LinearMode> stuck_modes(const System& system);
 
+/// The linear limit of the nonlinear mode where the stuck structure is damped (C' = C + the
+/// stuck elements' dampers, e.g. regularised Coulomb's F_c / eps): omega, xi and the complex
+/// shape psi with (K' - omega^2 M + i omega (C' - xi M)) psi = 0, the motion y = Re(a psi
+/// e^{i theta}) being the EPMC's solution as a -> 0. psi continues the undamped `mode` (the
+/// oscillating damped mode of largest MAC with it, at least 0.5); M-normalised, phi^T M psi > 0.
+/// Found by the secant method in xi on the state-space eigenvalue's real part. ok = false (and
+/// `why`) with a rigid stuck contact, a singular M, more than damped_linear_mode_dofs DOFs, or
+/// no oscillating damped mode like `mode`.
+struct DampedLinearMode {
+    bool ok = false;
+    std::string why;
+    double omega = 0, xi = 0;
+    double mac = 0;  ///< with the undamped mode
+    Eigen::VectorXcd shape;
+};
+constexpr int damped_linear_mode_dofs = 200;
+DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode);
+
 struct ModeOptions {
     /// The linear mode followed: 1-based index among stuck_modes (near_frequency = 0), or the
     /// one nearest near_frequency (> 0).
@@ -74,6 +92,11 @@ struct ModeOptions {
     double near_frequency = 0;
     /// Range of the modal amplitude a (the first harmonic's M-norm, top of this file), 0 < a_min < a_max.
     double amplitude_min = 1e-4, amplitude_max = 1.0;
+    /// The first point's frequency guess at a_min (> 0), instead of the automatic start (0):
+    /// the linear limit's, and where a_min is beyond the linear regime the backbone followed up
+    /// to a_min from it (NonlinearModes::follow). A given start is the user's: the backbone
+    /// says it was not checked against the linear limit.
+    double start_frequency = 0;
     /// Arclength steps in the scaled coordinates (log10 a counts in decades): the first, the
     /// largest (initial_step..1) and the smallest (below it the continuation stops).
     double initial_step = 0.05;
@@ -120,6 +143,18 @@ struct Backbone {
     int corners = 0;                ///< turns sharper than 0.3 rad crossed at a step <= 1e-4 (stick/slip switches)
     long long evaluations = 0;      ///< residual and Jacobian evaluations
     double seconds = 0;
+    /// How the first point was reached (NonlinearModes::follow): "linear" (a_min is in the
+    /// linear regime: the first point equals the linear limit's continuation), "run-up" (followed
+    /// from the linear regime up to a_min), "given" (ModeOptions::start_frequency), or
+    /// "unchecked" (the linear regime not reached below a_min: the first point may belong to
+    /// another solution; a warning).
+    std::string start;
+    std::string start_note;  ///< what the start found (a solution other than the backbone's, ...)
+    /// The linear limit the backbone starts from: the undamped stuck mode's omega and its xi
+    /// estimate, or the damped linear mode's (damped_linear_mode) where the stuck structure is
+    /// damped.
+    double linear_omega = 0, linear_xi = 0;
+    bool damped_linear = false;  ///< the linear limit is damped_linear_mode's
 };
 
 /// Quantities of one backbone point (ModeMetrics::of).
@@ -210,8 +245,11 @@ public:
     /// + 3), oriented along `previous`.
     Eigen::VectorXd tangent(const ModePoint& point, const Eigen::VectorXd& previous);
     /// The linear mode's motion at amplitude a: y = a phi cos(theta) (with the static state on
-    /// harmonic 0), omega and xi of the linear mode: the first guess.
+    /// harmonic 0), omega and xi of the linear mode: the first guess; where the stuck structure
+    /// is damped, the damped linear mode's y = Re(a psi e^{i theta}), omega and xi.
     ModePoint linear_guess(double amplitude);
+    /// The damped linear mode (ok = false where the undamped mode is the start).
+    const DampedLinearMode& damped_linear() const { return damped_; }
     /// Follows the mode from a_min to a_max.
     Backbone follow();
 
@@ -235,6 +273,12 @@ private:
     /// Newton on G = 0 at fixed amplitude (tangent null), or with log10 a free and the
     /// arclength condition t . (v - predicted) / scale = 0.
     bool correct(ModePoint& point, const Eigen::VectorXd* tangent, const Eigen::VectorXd* predicted);
+    /// The continuation loop of follow() from `start` (pushed first) over log10 a in
+    /// [log10 a_first, log10 a_last].
+    void continue_from(const ModePoint& start, double a_first, double a_last, Backbone& b);
+    /// The first point at a_min (follow(): the linear limit, the run-up or the given start);
+    /// false (with b's status and message) when none converged.
+    bool first_point(ModePoint& start, Backbone& b);
     /// residual() of the condensed formulation.
     void residual_condensed(const Eigen::VectorXd& x, double omega, double xi, double amplitude, Eigen::VectorXd& r,
                             Eigen::MatrixXd* jacobian);
@@ -247,6 +291,8 @@ private:
     std::unique_ptr<HarmonicBalance> hb_;
     Eigen::VectorXd m_phi_;  // M phi
     Eigen::VectorXd guess_shape_;  // the unknowns' harmonic 1 of the linear mode per unit a: phi, or W^T phi (condensed)
+    Eigen::VectorXd guess_sine_;   // its sine part (the damped linear mode: -Im psi; else empty)
+    DampedLinearMode damped_;
     bool condensed_ = false;
     double force_unit_ = 1;  // omega_0^2 |M phi|_inf (times a: the structure rows' scale)
     double phi_max_ = 1;     // |phi|_inf

@@ -728,7 +728,7 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
 
 def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmonics=None, time_samples=None,
           formulation=None, modes=None, outputs=None, tolerance=None, max_step=None, max_points=None, synthesis=False,
-          exact_check=False):
+          exact_check=False, start_frequency=None):
     """A nonlinear mode by the extended periodic motion concept (hbf modes): frequency and modal
     damping ratio against the modal amplitude a (the M-norm of the first harmonic), followed from
     amplitude_min to amplitude_max from the stuck structure's linear mode `mode` (1-based, default
@@ -745,7 +745,11 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     Table with hbf modes --synthesis-out's columns, the response to the system's excitation
     synthesised from the mode. exact_check=True checks every point against the event-exact solver
     (exact Coulomb and Jenkins; hbf modes --exact-check): columns exact_w, exact_xi, exact_gap (NaN
-    where not checked) and ``notes`` with the largest gap."""
+    where not checked) and ``notes`` with the largest gap. The first point starts from the linear
+    limit (the stuck mode, or where the stuck structure is damped its damped mode: ``linear``'s
+    ``linear_omega``, ``linear_xi``), followed up from the linear regime where amplitude_min lies
+    beyond it (``linear["start"]``: "linear", "run-up", "unchecked" (a warning), "given");
+    start_frequency (> 0) gives the first point's frequency guess instead (not checked)."""
     _check_system(system)
     if mode is not None and near is not None:
         raise ValueError("modes: mode and near cannot both be given: the mode by its index or by a frequency")
@@ -771,7 +775,7 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
         _real("amplitude_max", amplitude_max), _real("tolerance", d["tolerance"] if tolerance is None else tolerance),
         _real("max_step", d["max_step"] if max_step is None else max_step),
         _integer("max_points", d["max_points"] if max_points is None else max_points), o,
-        bool(synthesis), bool(exact_check))
+        bool(synthesis), bool(exact_check), _real("start_frequency", 0.0 if start_frequency is None else start_frequency))
     if verdict["status"] == "failed" and not columns[0][3]:
         # No point at all (the first one did not converge): nothing to return.
         raise SolveError("modes: no backbone: " + "; ".join(verdict["errors"] + verdict["warnings"] + [details["message"]]))
@@ -779,7 +783,7 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     table.synthesis = Table(details["synthesis"]) if synthesis else None
     linear = dict(details)
     linear["shape"] = _np.array(details["shape"])
-    table.linear = {k: linear[k] for k in ("mode", "omega", "zeta", "shape")}
+    table.linear = {k: linear[k] for k in ("mode", "omega", "zeta", "shape", "start", "linear_omega", "linear_xi")}
     table.harmonics = details["harmonics"]
     table.formulation = details["formulation"]
     table.modes = details["modes_used"]

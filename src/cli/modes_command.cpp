@@ -25,7 +25,7 @@ namespace {
 
 struct ModesOptions {
     AbsorberFlags absorber;
-    std::string mode = "1", near, amin, amax, harmonics = "0", time_samples = "0",
+    std::string mode = "1", near, start_frequency, amin, amax, harmonics = "0", time_samples = "0",
                 tolerance = default_text(ModeOptions{}.tolerance), max_step = default_text(ModeOptions{}.max_step),
                 max_points = std::to_string(ModeOptions{}.max_points), formulation = "automatic", modes;
     std::string plot_damping, synthesis_out, plot_synthesis;
@@ -71,6 +71,11 @@ int run(const CLI::App& command, const ModesOptions& o) {
         const long long mode = parse_integer("--mode", o.mode);
         if (mode < 1 || mode > 1000000) throw UsageError("--mode = " + o.mode + " is out of range: allowed >= 1");
         mo.mode = static_cast<int>(mode);
+    }
+    if (given(command, "--start-frequency")) {
+        mo.start_frequency = parse_double("--start-frequency", o.start_frequency);
+        if (!(mo.start_frequency > 0.0 && std::isfinite(mo.start_frequency)))
+            throw UsageError("--start-frequency = " + o.start_frequency + " is out of range: allowed > 0");
     }
     if (o.amin.empty() || o.amax.empty())
         throw UsageError(std::string(o.amin.empty() ? "--amin" : "--amax") +
@@ -285,6 +290,12 @@ void add_flags(CLI::App& command, ModesOptions& o) {
                        "contact's stuck spring, exact Coulomb contacts held rigid)")
         ->capture_default_str()->type_name("INT");
     command.add_option("--near", o.near, "instead of --mode: the stuck mode nearest this frequency, > 0")
+        ->type_name("NUMBER");
+    command.add_option("--start-frequency", o.start_frequency,
+                       "the first point's frequency guess at --amin, > 0, instead of the automatic start (the linear "
+                       "limit: the stuck mode, or where the stuck structure is damped its damped mode; where --amin is "
+                       "beyond the linear regime, the backbone followed up to --amin from it); a given start is not "
+                       "checked against the linear limit (a note)")
         ->type_name("NUMBER");
     command.add_option("--amin", o.amin,
                        "smallest modal amplitude a (first point; required), > 0: a = the M-norm of y's first "

@@ -74,15 +74,17 @@ ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Ou
 
 Verdict judge_backbone(const Backbone& backbone, const std::vector<ModeMetrics>& metrics, double tolerance) {
     Verdict verdict;
-    // The stuck mode is the undamped one; where its damping estimate is not small the damped
-    // modes differ from it (an overdamped contact damper, regularised Coulomb's F_c / eps), and
-    // Newton from it may reach another EPMC solution than its continuation.
-    if (backbone.linear.zeta > 0.3 && !backbone.points.empty())
-        verdict.warning("the stuck mode's damping estimate zeta = " + format_number(backbone.linear.zeta) +
-                        " is not small: the stuck structure's damped modes differ from its undamped mode (w0 = " +
-                        format_number(backbone.linear.omega) + "), and the backbone's first point (w = " +
-                        format_number(backbone.points.front().omega) + ", zeta = " +
-                        format_number(backbone.points.front().zeta()) + ") may belong to another of them");
+    // The start (NonlinearModes::follow): checked against the linear limit, or not.
+    if (!backbone.points.empty()) {
+        if (backbone.start == "unchecked")
+            verdict.warning(backbone.start_note);
+        else if (backbone.start == "given")
+            verdict.note("the first point was solved from the given start frequency, not checked against the linear "
+                         "limit (w = " + format_number(backbone.linear_omega) + ", xi = " +
+                         format_number(backbone.linear_xi) + ")");
+        else if (!backbone.start_note.empty())
+            verdict.note(backbone.start_note);
+    }
     if (backbone.status == ModeStatus::start_failed)
         verdict.error(backbone.message);
     else if (backbone.status != ModeStatus::completed)

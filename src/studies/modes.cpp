@@ -27,6 +27,9 @@ void ModeOptions::validate() const {
         throw InvalidInput("near_frequency = " + format_number(near_frequency) +
                            " is out of range: allowed > 0 (or 0: the mode by its index)");
     if (near_frequency == 0.0 && mode < 1) throw InvalidInput("mode = " + std::to_string(mode) + " is out of range: allowed >= 1");
+    if (start_frequency != 0.0 && !(start_frequency > 0.0 && std::isfinite(start_frequency)))
+        throw InvalidInput("start_frequency = " + format_number(start_frequency) +
+                           " is out of range: allowed > 0 (or 0: the automatic start)");
     if (!(amplitude_min > 0.0 && std::isfinite(amplitude_min)))
         throw InvalidInput("amplitude_min = " + format_number(amplitude_min) + " is out of range: allowed > 0");
     if (!(amplitude_max > amplitude_min && std::isfinite(amplitude_max)))
@@ -115,7 +118,15 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
     unforced.excitation_harmonic = 1;
     hb_ = std::make_unique<HarmonicBalance>(unforced, mode_harmonic_balance(hbo, system_));
     condensed_ = hb_->formulation() == Formulation::condensed;
+    // Where the stuck structure is damped (a contact's damper, C), its damped mode is the
+    // linear limit: the undamped mode is not an EPMC solution, and Newton from it can reach
+    // another one.
+    if (linear_.zeta != 0.0) damped_ = damped_linear_mode(system_, linear_);
     guess_shape_ = linear_.shape;
+    if (damped_.ok) {
+        guess_shape_ = damped_.shape.real();
+        guess_sine_ = -damped_.shape.imag();
+    }
     if (condensed_) {
         hb_->set_free_motion(0.0);  // the placeholder load dropped; xi set per evaluation
         std::vector<Eigen::VectorXd> directions;
@@ -123,9 +134,13 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
             const Eigen::MatrixXd w = system_.contact_directions(c);
             for (Eigen::Index j = 0; j < w.cols(); ++j) directions.push_back(w.col(j));
         }
+        const Eigen::VectorXd cosine = guess_shape_, sine = guess_sine_;
         guess_shape_.resize(static_cast<Eigen::Index>(directions.size()));
-        for (std::size_t a = 0; a < directions.size(); ++a)
-            guess_shape_(static_cast<Eigen::Index>(a)) = directions[a].dot(linear_.shape);
+        if (sine.size() > 0) guess_sine_.resize(guess_shape_.size());
+        for (std::size_t a = 0; a < directions.size(); ++a) {
+            guess_shape_(static_cast<Eigen::Index>(a)) = directions[a].dot(cosine);
+            if (sine.size() > 0) guess_sine_(static_cast<Eigen::Index>(a)) = directions[a].dot(sine);
+        }
     }
     m_phi_ = system_.mass * linear_.shape;
     force_unit_ = linear_.omega * linear_.omega * infinity_norm(m_phi_);
@@ -396,13 +411,14 @@ Eigen::VectorXd NonlinearModes::tangent(const ModePoint& point, const Eigen::Vec
 ModePoint NonlinearModes::linear_guess(double amplitude) {
     ModePoint p;
     p.amplitude = amplitude;
-    p.omega = linear_.omega;
-    p.xi = 2.0 * linear_.omega * linear_.zeta;
+    p.omega = damped_.ok ? damped_.omega : linear_.omega;
+    p.xi = damped_.ok ? damped_.xi : 2.0 * linear_.omega * linear_.zeta;
     const int n = hb_->coefficients(), coordinates = static_cast<int>(guess_shape_.size());
     p.x = hb_->linear_guess(linear_.omega);  // harmonic 0: the static state; the rest replaced
     for (int i = 0; i < coordinates; ++i) {  // every DOF, or (condensed) every contact direction
         p.x.segment(i * n + 1, n - 1).setZero();
         p.x(i * n + 1) = amplitude * guess_shape_(i);
+        if (guess_sine_.size() > 0) p.x(i * n + 2) = amplitude * guess_sine_(i);
     }
     // Internal states (Dahl, LuGre) follow q while pre-sliding: z = q on the harmonics >= 1.
     int offset = n * coordinates;
@@ -460,23 +476,101 @@ Backbone NonlinearModes::follow() {
     detail::Stopwatch watch;
     Backbone b;
     b.linear = linear_;
+    b.damped_linear = damped_.ok;
+    b.linear_omega = damped_.ok ? damped_.omega : linear_.omega;
+    b.linear_xi = damped_.ok ? damped_.xi : 2.0 * linear_.omega * linear_.zeta;
     const long long evaluations = evaluations_;
-    const int u = hb_->unknowns();
-    const double first = std::log10(options_.amplitude_min), last = std::log10(options_.amplitude_max);
-    ModePoint start = linear_guess(options_.amplitude_min);
-    if (!solve(start)) {
+    ModePoint start;
+    if (first_point(start, b)) continue_from(start, options_.amplitude_min, options_.amplitude_max, b);
+    b.evaluations = evaluations_ - evaluations;
+    b.seconds = watch.lap();
+    return b;
+}
+
+bool NonlinearModes::first_point(ModePoint& start, Backbone& b) {
+    const double a_min = options_.amplitude_min;
+    const auto fail = [&](const ModePoint& at, const std::string& from) {
         b.status = ModeStatus::start_failed;
-        b.message = "the first point (a = " + format_number(options_.amplitude_min) +
-                    ") did not converge from the linear mode: residual " + format_number(start.residual) +
-                    (start.iterations == 0 ? std::string(" at the linear mode, which no Newton step (halved 12 times) reduced")
-                                           : " after " + std::to_string(start.iterations) + " Newton iterations");
+        b.message = "the first point (a = " + format_number(a_min) + ") did not converge from " + from + ": residual " +
+                    format_number(at.residual) +
+                    (at.iterations == 0 ? std::string(" at the guess, which no Newton step (halved 12 times) reduced")
+                                        : " after " + std::to_string(at.iterations) + " Newton iterations");
         const PenaltyDiagnostics penalties = penalty_diagnostics(system_, hb_->rest_state());
         for (const std::string& line : penalties.relieved) b.message += "; " + line;
         for (const std::string& line : penalties.stiff) b.message += "; " + line;
-        b.evaluations = evaluations_ - evaluations;
-        b.seconds = watch.lap();
-        return b;
+        return false;
+    };
+    start = linear_guess(a_min);
+    if (options_.start_frequency > 0.0) {
+        start.omega = options_.start_frequency;
+        b.start = "given";
+        return solve(start) || fail(start, "the given start frequency " + format_number(options_.start_frequency));
     }
+    const bool direct = solve(start);
+    // Is a_min in the linear regime, and is the point found there the continuation of the linear
+    // limit? Probes far below a_min (where the motion is the linear limit's) answer both: the
+    // first one on the linear limit is followed up to a_min unless a_min's point equals it.
+    const double omega0 = b.linear_omega, xi0 = b.linear_xi;
+    const double xi_slack = damped_.ok || linear_.zeta == 0.0 ? 0.0 : 0.05 * std::abs(xi0);  // a first-order estimate
+    const auto near = [](const ModePoint& u, double omega, double xi, double tolerance, double slack) {
+        return std::abs(u.omega - omega) <= tolerance * omega && std::abs(u.xi - xi) <= tolerance * omega + slack;
+    };
+    std::string probes;
+    for (int decades = 3; decades <= 12; decades += 3) {
+        ModePoint probe = linear_guess(a_min * std::pow(10.0, -decades));
+        if (!solve(probe)) {
+            probes += (probes.empty() ? "" : "; ") + ("a = " + format_number(probe.amplitude) + " did not converge");
+            continue;
+        }
+        if (!near(probe, omega0, xi0, 1e-4, xi_slack)) {
+            probes += (probes.empty() ? "" : "; ") + ("a = " + format_number(probe.amplitude) + ": w = " +
+                                                       format_number(probe.omega) + ", xi = " + format_number(probe.xi));
+            continue;
+        }
+        if (direct && near(start, probe.omega, probe.xi, 1e-6, 0.0)) {
+            b.start = "linear";
+            return true;
+        }
+        Backbone run;
+        const ModeOptions kept = options_;
+        options_.progress = nullptr;
+        continue_from(probe, probe.amplitude, a_min, run);
+        options_ = kept;
+        b.failed_steps += run.failed_steps;
+        const bool reached = run.status == ModeStatus::completed && !run.points.empty() &&
+                             std::abs(run.points.back().amplitude - a_min) <= 1e-12 * a_min;
+        if (reached) {
+            const ModePoint& up = run.points.back();
+            if (direct && !near(start, up.omega, up.xi, 1e-6, 0.0))
+                b.start_note = "the first point solved at a_min from the linear limit converged to another solution "
+                               "(w = " + format_number(start.omega) + ", xi = " + format_number(start.xi) +
+                               ") than the backbone that continues the linear limit (w = " + format_number(up.omega) +
+                               ", xi = " + format_number(up.xi) + " at a_min, followed up from a = " +
+                               format_number(probe.amplitude) + "): the backbone starts from the latter";
+            start = up;
+            b.start = "run-up";
+            return true;
+        }
+        if (!direct) return fail(start, "the linear limit, nor was it reached from the linear regime (" + run.message + ")");
+        b.start = "unchecked";
+        b.start_note = "the backbone could not be followed from the linear regime (a = " + format_number(probe.amplitude) +
+                       ") up to a_min (" + (run.message.empty() ? to_string(run.status) : run.message) +
+                       "): its first point (w = " + format_number(start.omega) + ", xi = " + format_number(start.xi) +
+                       ") may belong to another solution than the linear limit's continuation";
+        return true;
+    }
+    if (!direct) return fail(start, "the linear limit");
+    b.start = "unchecked";
+    b.start_note = "no point down to a = " + format_number(a_min * 1e-12) + " matched the linear limit (w = " +
+                   format_number(omega0) + ", xi = " + format_number(xi0) + "; " + probes +
+                   "): the first point (w = " + format_number(start.omega) + ", xi = " + format_number(start.xi) +
+                   ") may belong to another solution than the linear limit's continuation";
+    return true;
+}
+
+void NonlinearModes::continue_from(const ModePoint& start, double a_first, double a_last, Backbone& b) {
+    const int u = hb_->unknowns();
+    const double first = std::log10(a_first), last = std::log10(a_last);
     b.points.push_back(start);
     if (options_.progress) options_.progress(start.amplitude, 1);
     // Pseudo-arclength in the scaled coordinates (x / (a |phi|), omega / w0, xi / w0, log10 a):
@@ -535,7 +629,7 @@ Backbone NonlinearModes::follow() {
             // Past a_max: the point at a_max itself, from the chord's interpolation.
             const double f = (last - s) / (std::log10(trial.amplitude) - s);
             ModePoint end;
-            end.amplitude = options_.amplitude_max;
+            end.amplitude = a_last;
             end.x = previous.x + f * (trial.x - previous.x);
             end.omega = previous.omega + f * (trial.omega - previous.omega);
             end.xi = previous.xi + f * (trial.xi - previous.xi);
@@ -545,13 +639,13 @@ Backbone NonlinearModes::follow() {
                 h *= 0.5;
                 if (h >= options_.min_step) continue;
                 b.status = ModeStatus::min_step;
-                b.message = "the point at a_max = " + format_number(options_.amplitude_max) + " did not converge";
+                b.message = "the point at a = " + format_number(a_last) + " did not converge";
                 break;
             }
         }
         if (std::log10(trial.amplitude) < first) {
             b.status = ModeStatus::left_range;
-            b.message = "the backbone turned back below a_min = " + format_number(options_.amplitude_min) +
+            b.message = "the backbone turned back below a = " + format_number(a_first) +
                         " at omega = " + format_number(trial.omega);
             break;
         }
@@ -562,8 +656,5 @@ Backbone NonlinearModes::follow() {
         if (options_.progress) options_.progress(trial.amplitude, static_cast<int>(b.points.size()));
         if (trial.iterations <= 4) h = std::min(1.5 * h, options_.max_step);
     }
-    b.evaluations = evaluations_ - evaluations;
-    b.seconds = watch.lap();
-    return b;
 }
 }  // namespace hbf

@@ -5,7 +5,9 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
+#include <string>
 
 #include "hbf/error.hpp"
 #include "hbf/static_state.hpp"
@@ -102,6 +104,109 @@ std::vector<LinearMode> stuck_modes(const System& system) {
         m.zeta = m.omega > 0.0 ? m.shape.dot(damping * m.shape) / (2.0 * m.omega) : 0.0;
     }
     return modes;
+}
+
+DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode) {
+    DampedLinearMode out;
+    const int n = system.dofs();
+    if (n > damped_linear_mode_dofs) {
+        out.why = "more than " + std::to_string(damped_linear_mode_dofs) + " DOFs";
+        return out;
+    }
+    const Eigen::MatrixXd mass = dense_or_zero(system.mass, n);
+    Eigen::MatrixXd stiffness = dense_or_zero(system.stiffness, n), damping = dense_or_zero(system.damping, n);
+    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);
+    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+        const Eigen::MatrixXd directions = system.contact_directions(system.contacts[c]);
+        for (Eigen::Index j = 0; j < directions.cols() && j < static_cast<Eigen::Index>(elements[c].size()); ++j) {
+            const StuckElement& e = elements[c][static_cast<std::size_t>(j)];
+            if (e.rigid) {
+                out.why = "a rigid stuck contact";
+                return out;
+            }
+            stiffness += e.stiffness * directions.col(j) * directions.col(j).transpose();
+            damping += e.damping * directions.col(j) * directions.col(j).transpose();
+        }
+    }
+    const Eigen::LLT<Eigen::MatrixXd> mass_factor(mass);
+    if (mass_factor.info() != Eigen::Success) {
+        out.why = "a singular mass matrix";
+        return out;
+    }
+    const Eigen::MatrixXd minv_k = mass_factor.solve(stiffness);
+    // The eigenvalues s of M s^2 + (C' - xi M) s + K' in state space, [[0, I], [-M^-1 K', -M^-1 C' + xi I]].
+    const auto eigen = [&](double xi, Eigen::VectorXcd& values, Eigen::MatrixXcd& vectors) {
+        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+        a.topRightCorner(n, n).setIdentity();
+        a.bottomLeftCorner(n, n) = -minv_k;
+        a.bottomRightCorner(n, n) = -mass_factor.solve(damping) + xi * Eigen::MatrixXd::Identity(n, n);
+        Eigen::EigenSolver<Eigen::MatrixXd> solver(a, true);
+        if (solver.info() != Eigen::Success) return false;
+        values = solver.eigenvalues();
+        vectors = solver.eigenvectors().topRows(n);
+        return true;
+    };
+    Eigen::VectorXcd values;
+    Eigen::MatrixXcd vectors;
+    if (!eigen(0.0, values, vectors)) {
+        out.why = "the damped eigenproblem did not converge";
+        return out;
+    }
+    // The oscillating eigenvalue whose shape is the undamped mode's (largest MAC in the M-norm).
+    const Eigen::VectorXcd m_phi = (mass * mode.shape).cast<std::complex<double>>();
+    const auto mac = [&](const Eigen::VectorXcd& v) {
+        const double norm = std::real(v.dot(mass.cast<std::complex<double>>() * v));
+        return std::norm(v.dot(m_phi)) / (norm * mode.shape.dot(mass * mode.shape));
+    };
+    Eigen::Index best = -1;
+    double best_mac = 0.0;
+    for (Eigen::Index j = 0; j < values.size(); ++j) {
+        if (!(values(j).imag() > 1e-8 * std::abs(values(j)))) continue;
+        const double m = mac(vectors.col(j));
+        if (m > best_mac) {
+            best_mac = m;
+            best = j;
+        }
+    }
+    if (best < 0 || best_mac < 0.5) {
+        out.why = best < 0 ? "no oscillating damped mode (every one overdamped)"
+                           : "no damped mode resembles it (largest MAC " + format_number(best_mac) + ")";
+        return out;
+    }
+    // xi with Re s(xi) = 0 (the EPMC's linear limit), by the secant method from xi = -2 Re s;
+    // the eigenvalue followed as the one nearest the previous.
+    std::complex<double> s = values(best);
+    Eigen::VectorXcd shape = vectors.col(best);
+    double xi0 = 0.0, r0 = s.real(), xi1 = -2.0 * s.real();
+    for (int it = 0; it < 50 && std::abs(s.real()) > 1e-13 * std::abs(s); ++it) {
+        if (!eigen(xi1, values, vectors)) break;
+        Eigen::Index nearest = 0;
+        for (Eigen::Index j = 1; j < values.size(); ++j)
+            if (std::abs(values(j) - s) < std::abs(values(nearest) - s)) nearest = j;
+        s = values(nearest);
+        shape = vectors.col(nearest);
+        const double r1 = s.real();
+        if (r1 == r0) break;
+        const double next = xi1 - r1 * (xi1 - xi0) / (r1 - r0);
+        xi0 = xi1;
+        r0 = r1;
+        xi1 = next;
+    }
+    if (!(std::abs(s.real()) <= 1e-10 * std::abs(s)) || !(s.imag() > 0.0)) {
+        out.why = "the modal damping of its linear limit was not found";
+        return out;
+    }
+    out.ok = true;
+    out.omega = s.imag();
+    out.xi = xi0;
+    // y = Re(psi e^{i theta}) with the M-norm of (Re psi, Im psi) 1 and phi^T M Im psi = 0
+    // (the EPMC's amplitude and phase conditions: s1 = -Im psi).
+    const std::complex<double> z = shape.dot(m_phi);  // conj(psi)^T M phi
+    shape *= z / std::abs(z);                          // phi^T M psi real and > 0
+    const double norm = std::sqrt(std::real(shape.dot(mass.cast<std::complex<double>>() * shape)));
+    out.shape = shape / norm;
+    out.mac = best_mac;
+    return out;
 }
 
 }  // namespace hbf
