@@ -627,7 +627,7 @@ System nlvib_tanh_2dof() {
 
 // The linear limit of a damped stuck structure: for one DOF m y'' + c y' + k y = 0 the EPMC's
 // motion is periodic with xi = c / m at w = sqrt(k / m) (C - xi M = 0).
-TEST_CASE("The damped linear mode: xi = c / m and w = sqrt(k / m) for a damper on one DOF; the backbone starts on it",
+TEST_CASE("The damped linear mode: xi = c / m and w = sqrt(k / m) for a damper on one DOF, the backbone starts on it",
           "[modes]") {
     System s;
     s.mass = sparse(Eigen::MatrixXd::Constant(1, 1, 2.0));

@@ -6,7 +6,8 @@
 // q < -p / k); f >= 0 pushes the structure back (-w f). Continuous and piecewise linear.
 // Parameters: stiffness k (> 0); gap g (>= 0, default 0) or preload p (>= 0, default 0), not
 // both.
-// While stuck (the linear limits: "stuck" means closed): the spring k; while released: open.
+// At rest (the linear limits' stuck element, the first guess, the modes' linear limit): the
+// spring k carrying the preload where closed (no gap), nothing where a gap opens it.
 //
 // Harmonic balance: f = P f(E q) with the Jacobian P diag(k [closed]) E, exact on each open/
 // closed pattern of the samples (the corner at the closing is smoothed by the sampling only:
@@ -65,7 +66,12 @@ public:
     }
     int default_harmonics() const override { return 20; }
     bool unilateral() const override { return true; }
-    StuckElement stuck(const Contact& contact) const override { return {false, contact.stiffness, 0.0}; }
+    /// At rest: closed (the spring k, carrying the preload) unless a gap opens it.
+    StuckElement stuck(const Contact& contact) const override {
+        const GapParameters p(contact);
+        const bool closed = p.trial(0.0) >= 0.0;
+        return {false, closed ? p.stiffness : 0.0, 0.0, closed ? p.preload : 0.0};
+    }
     double time_margin(const Contact& contact, double q, double, double) const override {
         const GapParameters p(contact);
         return -p.trial(q) / p.stiffness;  // < 0 while closed: a root at each closing and opening

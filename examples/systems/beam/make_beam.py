@@ -23,6 +23,10 @@ response of interest a combination of the coordinates):
     the ground with exact Coulomb friction (limit 3 N), so M and C are zero in its row;
   * outputs: the mid-span displacement, the row T[mid-span] (an [[output]] vector), and the
     tip.
+And beam<N>_jointed.toml, friction and polynomial stiffness in one model: the same Guyan model
+(no shoe) whose tip is held by a friction joint (law dahl: a bristle of 3 kN/m sliding at 10 N)
+and stiffened by a cubic spring f = K3_TIP q^3 (the geometric stiffening of a large tip
+deflection); every element smooth, so the stability analysis covers it.
 Only the Python standard library is used.
 
 Usage: make_beam.py [--elements 100] [--out DIR]
@@ -41,6 +45,9 @@ FORCE = 10.0       # mid-span force amplitude [N]
 FRICTION = 3.0     # tip friction limit [N]
 ZETA = 0.01        # damping ratio at the first two bending modes
 K_SHOE = 1.0e5     # spring between the tip and the massless contact shoe (reduced model) [N/m]
+JOINT_LIMIT = 10.0      # the jointed model's friction joint at the tip: slip force [N]
+JOINT_STIFFNESS = 3.0e3  # and bristle stiffness [N/m] (law dahl)
+K3_TIP = 5.0e8           # its cubic spring at the tip: f = K3_TIP q^3 [N/m^3]
 MASTERS = 5        # master nodes of the reduced model
 
 
@@ -133,8 +140,9 @@ def matrix_text(rows):
     return "[" + ",\n        ".join("[" + ", ".join("%.17g" % v for v in row) + "]" for row in rows) + "]"
 
 
-def write_reduced(out, name, elements, k, m, a, b):
-    """The Guyan-reduced beam with a massless contact shoe (see the module comment)."""
+def guyan(elements, k, m, a, b):
+    """The beam reduced (Guyan) onto the transverse displacements of the master nodes: K_r, M_r,
+    C_r = a M_r + b K_r, and the row of T at mid-span (mid-span is not a master)."""
     n = 2 * elements
     masters = [2 * (elements * j // MASTERS - 1) for j in range(1, MASTERS + 1)]
     slaves = [i for i in range(n) if i not in masters]
@@ -149,6 +157,14 @@ def write_reduced(out, name, elements, k, m, a, b):
         for c in range(MASTERS):
             t[i][c] = -x[r][c]
     k_r, m_r = congruence(kd, t), congruence(md, t)
+    c_r = [[a * m_r[i][j] + b * k_r[i][j] for j in range(MASTERS)] for i in range(MASTERS)]
+    return k_r, m_r, c_r, t[2 * (elements // 2 - 1)]
+
+
+def write_reduced(out, name, elements, k, m, a, b):
+    """The Guyan-reduced beam with a massless contact shoe (see the module comment)."""
+    n = 2 * elements
+    k_r, m_r, c_r, mid_row = guyan(elements, k, m, a, b)
     nr = MASTERS + 1
     stiffness = [[0.0] * nr for _ in range(nr)]
     mass = [[0.0] * nr for _ in range(nr)]
@@ -157,13 +173,12 @@ def write_reduced(out, name, elements, k, m, a, b):
         for j in range(MASTERS):
             stiffness[i][j] = k_r[i][j]
             mass[i][j] = m_r[i][j]
-            damping[i][j] = a * m_r[i][j] + b * k_r[i][j]
+            damping[i][j] = c_r[i][j]
     tip = MASTERS - 1
     stiffness[tip][tip] += K_SHOE
     stiffness[tip][MASTERS] = stiffness[MASTERS][tip] = -K_SHOE
     stiffness[MASTERS][MASTERS] = K_SHOE
-    mid = 2 * (elements // 2 - 1)
-    row = t[mid] + [0.0]
+    row = mid_row + [0.0]
     with open(os.path.join(out, name + "_reduced.toml"), "w") as f:
         f.write("# The %d-DOF beam of %s.toml reduced (Guyan) onto the transverse displacements of %d master nodes\n"
                 "# (coordinates 1-%d, the last one the tip), plus a massless contact shoe (coordinate %d) joined to\n"
@@ -181,6 +196,34 @@ def write_reduced(out, name, elements, k, m, a, b):
         f.write("\n[solver]\nharmonics = 20\n")
         f.write("\n[[output]]   # mid-span displacement: its row of T (mid-span is not a master)\n")
         f.write("name = \"midspan\"\nrow = [%s]\n" % ", ".join("%.17g" % v for v in row))
+        f.write("\n[[output]]   # the tip\nname = \"tip\"\ndof = %d\n" % MASTERS)
+
+
+def write_jointed(out, name, elements, k, m, a, b):
+    """The Guyan-reduced beam (no shoe) whose tip is held by a friction joint (Dahl: a bristle of
+    stiffness JOINT_STIFFNESS sliding at JOINT_LIMIT) and stiffened by a cubic spring K3_TIP:
+    friction and polynomial stiffness in one model, every element smooth."""
+    n = 2 * elements
+    k_r, m_r, c_r, mid_row = guyan(elements, k, m, a, b)
+    with open(os.path.join(out, name + "_jointed.toml"), "w") as f:
+        f.write("# The %d-DOF beam of %s.toml reduced (Guyan) onto the transverse displacements of %d master nodes\n"
+                "# (coordinates 1-%d, the last one the tip), its tip held by a friction joint (law dahl: a bristle of\n"
+                "# stiffness %g N/m sliding at %g N) and stiffened by a cubic spring f = %g q^3 (N, q in m): the\n"
+                "# geometric stiffening of a large tip deflection. Friction and polynomial stiffness in one model.\n"
+                "# Written by make_beam.py (see there). SI units: m, N, kg, w in rad/s.\n"
+                % (n, name, MASTERS, MASTERS, JOINT_STIFFNESS, JOINT_LIMIT, K3_TIP))
+        f.write("[structure]\n")
+        f.write("mass = %s\n" % matrix_text(m_r))
+        f.write("stiffness = %s\n" % matrix_text(k_r))
+        f.write("damping = %s\n" % matrix_text(c_r))
+        f.write("excitation = [%s]   # T^T F: 10 N at mid-span\n" % ", ".join("%.17g" % (FORCE * v) for v in mid_row))
+        f.write("\n[[contact]]   # the friction joint at the tip\n")
+        f.write("dof = %d\nlaw = \"dahl\"\nfriction_limit = %g\nstiffness = %g\n" % (MASTERS, JOINT_LIMIT, JOINT_STIFFNESS))
+        f.write("\n[[contact]]   # the cubic spring at the tip\n")
+        f.write("dof = %d\nlaw = \"polynomial\"\ncubic = %g\n" % (MASTERS, K3_TIP))
+        f.write("\n[frequency]\nwmin = 30.0\nwmax = 160.0\n")
+        f.write("\n[[output]]   # mid-span displacement: its row of T (mid-span is not a master)\n")
+        f.write("name = \"midspan\"\nrow = [%s]\n" % ", ".join("%.17g" % v for v in mid_row))
         f.write("\n[[output]]   # the tip\nname = \"tip\"\ndof = %d\n" % MASTERS)
 
 
@@ -227,6 +270,7 @@ def main():
         f.write("report = [%d, %d]\n" % (2 * (mid_node - 1) + 1, tip + 1))
     if args.elements % MASTERS == 0:
         write_reduced(args.out, name, args.elements, k, m, a, b)
+        write_jointed(args.out, name, args.elements, k, m, a, b)
 
 
 if __name__ == "__main__":
