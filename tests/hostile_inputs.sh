@@ -183,6 +183,20 @@ expect 2 "makes at least 6293 unknowns for nonlinear modes" "$chain_system" mode
 for v in bogus ''; do expect 2 "--formulation" '' modes --formulation "$v" --amin 0.1 --amax 1 --out x.csv; done
 expect 2 "needs the condensed formulation" '' modes --modes 2 --formulation full --amin 0.1 --amax 1 --out x.csv
 expect 0 "" '' modes --formulation condensed --amin 0.01 --amax 10 --quiet --out /dev/null
+# Force elements without friction: exponents, degrees and coefficients out of range, a key of
+# another law, both a gap and a preload.
+FORCE_ELEMENT='[[contact]]
+dof = 2'
+for case in 'law = "polynomial"|terms = [[2.5, 1.0]]|exponent 2.5' 'law = "polynomial"|terms = [[16, 1.0]]|1..15' \
+            'law = "polynomial"|cubic = inf|cubic' 'law = "polynomial"|cubic = 1.0\nfriction_limit = 0.1|friction_limit' \
+            'law = "polynomial"|quadratic = 0.0|no term' 'law = "gap"|stiffness = 1.0\ngap = 0.1\npreload = 1.0|preload' \
+            'law = "damper"|coefficient = 1.0\nexponent = 0.5|exponent' 'law = "damper"|exponent = 2.0|coefficient' \
+            'law = "gap"|stiffness = 1.0\ncubic = 1.0|cubic'; do
+  IFS='|' read -r law keys needle <<<"$case"
+  extra=$(printf '%s\n%s\n%b' "$FORCE_ELEMENT" "$law" "$keys")
+  expect 2 "$needle" "write_system s.toml '$extra'" frf --config s.toml --harmonics 3 --out x.csv
+done
+expect 2 "--start-frequency" '' modes --start-frequency -1 --amin 0.1 --amax 1 --out x.csv
 expect 2 "--xi" '' frf --xi 0.1 --out x.csv
 expect 2 "--wb" '' frf --law coulomb --wb 0.4 --out x.csv
 expect 2 "--eps" '' frf --law dahl --eps 0.1 --out x.csv
