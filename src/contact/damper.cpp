@@ -11,7 +11,7 @@
 // odd integer a the force is a polynomial of v, alias-free when N_t > (a + 1) H
 // (time_samples_needed); otherwise (|v| v) it has every harmonic and no N_t is alias-free: the
 // automatic N_t (16 H + 8 or more) keeps the error at the truncation's size. Smooth: time
-// integration, stability (f_v = c a |v|^(a - 1)); no stick (regime "none"). Default H 9.
+// integration, stability (f_v = c a |v|^(a - 1)); no stick (regime "none"). Default H 10.
 #include <cmath>
 #include <string>
 
@@ -71,7 +71,7 @@ public:
         exponent.default_value = 2.0;
         return {{"coefficient", nullptr, "damper coefficient c", R::positive}, exponent};
     }
-    int default_harmonics() const override { return 9; }
+    int default_harmonics() const override { return 10; }
     StuckElement stuck(const Contact& contact) const override {
         return {false, 0.0, exponent_of(contact) == 1.0 ? contact.values.at("coefficient") : 0.0};
     }
