@@ -161,6 +161,15 @@ def guyan(elements, k, m, a, b):
     return k_r, m_r, c_r, t[2 * (elements // 2 - 1)]
 
 
+def write_structure(f, mass, stiffness, damping, mid_row):
+    """A reduced model's [structure] table: its matrices and T^T F (the force at mid-span)."""
+    f.write("[structure]\n")
+    f.write("mass = %s\n" % matrix_text(mass))
+    f.write("stiffness = %s\n" % matrix_text(stiffness))
+    f.write("damping = %s\n" % matrix_text(damping))
+    f.write("excitation = [%s]   # T^T F: 10 N at mid-span\n" % ", ".join("%.17g" % (FORCE * v) for v in mid_row))
+
+
 def write_reduced(out, name, elements, k, m, a, b):
     """The Guyan-reduced beam with a massless contact shoe (see the module comment)."""
     n = 2 * elements
@@ -185,11 +194,7 @@ def write_reduced(out, name, elements, k, m, a, b):
                 "# the tip by a spring of %g N/m and sliding on the ground with exact Coulomb friction.\n"
                 "# Written by make_beam.py (see there). SI units: m, N, kg, w in rad/s.\n"
                 % (n, name, MASTERS, MASTERS, nr, K_SHOE))
-        f.write("[structure]\n")
-        f.write("mass = %s\n" % matrix_text(mass))
-        f.write("stiffness = %s\n" % matrix_text(stiffness))
-        f.write("damping = %s\n" % matrix_text(damping))
-        f.write("excitation = [%s]   # T^T F: 10 N at mid-span\n" % ", ".join("%.17g" % (FORCE * v) for v in row))
+        write_structure(f, mass, stiffness, damping, row)
         f.write("\n[[contact]]   # the massless shoe against the ground\n")
         f.write("dof = %d\nlaw = \"coulomb\"\nfriction_limit = %g\n" % (nr, FRICTION))
         f.write("\n[frequency]\nwmin = 30.0\nwmax = 80.0\n")
@@ -212,11 +217,7 @@ def write_jointed(out, name, elements, k, m, a, b):
                 "# geometric stiffening of a large tip deflection. Friction and polynomial stiffness in one model.\n"
                 "# Written by make_beam.py (see there). SI units: m, N, kg, w in rad/s.\n"
                 % (n, name, MASTERS, MASTERS, JOINT_STIFFNESS, JOINT_LIMIT, K3_TIP))
-        f.write("[structure]\n")
-        f.write("mass = %s\n" % matrix_text(m_r))
-        f.write("stiffness = %s\n" % matrix_text(k_r))
-        f.write("damping = %s\n" % matrix_text(c_r))
-        f.write("excitation = [%s]   # T^T F: 10 N at mid-span\n" % ", ".join("%.17g" % (FORCE * v) for v in mid_row))
+        write_structure(f, m_r, k_r, c_r, mid_row)
         f.write("\n[[contact]]   # the friction joint at the tip\n")
         f.write("dof = %d\nlaw = \"dahl\"\nfriction_limit = %g\nstiffness = %g\n" % (MASTERS, JOINT_LIMIT, JOINT_STIFFNESS))
         f.write("\n[[contact]]   # the cubic spring at the tip\n")
