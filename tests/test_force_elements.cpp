@@ -233,6 +233,10 @@ TEST_CASE("Gap spring, quadratic damper: harmonic balance equals time integratio
             if (contact.law == FrictionLaw::gap) {
                 CHECK(pm.contacts[0].separated_fraction > 0.05);
                 CHECK(pm.contacts[0].separated_fraction < 0.95);
+                // the open share: HB's samples (N_t = 1024 at H = 40) against the integrator's closing
+                // and opening events, within one sample (measured 2e-4 to 4e-4)
+                INFO("separated: HB " << pm.contacts[0].separated_fraction << ", TI " << ti.contacts[0].separated_fraction);
+                CHECK(std::abs(pm.contacts[0].separated_fraction - ti.contacts[0].separated_fraction) <= 1.0 / 1024);
             } else {
                 CHECK(std::isnan(pm.contacts[0].separated_fraction));
             }

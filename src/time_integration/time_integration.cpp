@@ -350,6 +350,11 @@ PeriodicResponse integrate_steady_state(const System& given, double omega, const
     }
     if (!r.contacts.empty()) {
         r.contacts = contact_regimes(given, r.contacts);
+        // A unilateral force element's margin is negative while closed (ContactLaw::time_margin):
+        // its "stick" time is the closed time.
+        for (std::size_t c = 0; c < given.contacts.size() && c < r.contacts.size(); ++c)
+            if (contact_law(given.contacts[c].law).unilateral())
+                r.contacts[c].separated_fraction = 1.0 - r.contacts[c].stick_fraction;
         mark_force_elements(given, r.contacts, r.regime, r.stick_fraction);
     }
     return r;
