@@ -733,7 +733,7 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     damping ratio against the modal amplitude a (the M-norm of the first harmonic), followed from
     amplitude_min to amplitude_max from the stuck structure's linear mode `mode` (1-based, default
     1) or the one nearest the frequency `near`. harmonics, time_samples: as frf (automatic H from
-    the laws). formulation: "full", "condensed" or "automatic" (default: full up to 1000 unknowns
+    the laws). formulation: "full", "condensed" or "automatic" (default: full up to 256 unknowns
     N (2H + 1) without modes, else condensed), modes: the condensed formulation's modal receptance
     (0: the direct solve), as hbf modes --formulation, --modes. Returns a Table with hbf modes' columns (a, w, xi, zeta, zeta_energy, energies, the
     outputs' amplitudes, per-contact shares, harmonic content), plus ``linear`` (dict: mode, omega,
