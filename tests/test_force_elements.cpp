@@ -480,3 +480,163 @@ TEST_CASE("NLvib's three-mass chain with Jenkins, cubic and gap springs: harmoni
         CHECK(error <= 2e-5);
     }
 }
+
+// NLvib's cantilever with a cubic spring at its tip (examples/systems/nlvib/make_cantilever.py).
+// Backbone (NLvib's computation: the undamped beam, modal amplitude a from 1e-5 to 1e-3): near a
+// = 0 the single-mode first-order closed form, with y = phi a cos(theta) (phi the first linear
+// mode, M-normalised, phi_t its tip entry) the cubic spring's first harmonic on the mode is
+// (3/4) k3 phi_t^4 a^3, so w^2 = w1^2 + (3/4) k3 phi_t^4 a^2 (phi and w1 from Eigen's
+// generalised eigensolver, independently of hbf's stuck modes). Forced response (the file's
+// damping and tip force): time integration at three frequencies where it is single-valued or
+// on the lower branch, the upper branch's state integrated from harmonic balance's orbit stays
+// there (stable), and the monodromy's verdict on the three branches at one frequency.
+TEST_CASE("NLvib's cantilever with a cubic tip spring: backbone against the closed form's limit, FRF against time "
+          "integration, the branches' stability",
+          "[force_elements][examples]") {
+    const io::SystemConfig config =
+        io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/nlvib/cantilever_cubic.toml");
+    const System& forced = config.system;
+    const int n = static_cast<int>(forced.mass.rows());
+    REQUIRE(n == 38);
+    const int tip = n - 2;
+    const double k3 = forced.contacts.front().values.at("cubic");
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(forced.stiffness),
+                                                                        Eigen::MatrixXd(forced.mass));
+    const double w1 = std::sqrt(eig.eigenvalues()(0));
+    const double phi_t = eig.eigenvectors()(tip, 0);  // M-normalised by the solver
+    SECTION("backbone of the undamped beam: the closed form's limit, the 5:1 internal resonance") {
+        System undamped = forced;
+        undamped.damping = SparseMatrix(n, n);
+        ModeOptions mo;
+        mo.amplitude_min = 1e-5;
+        mo.amplitude_max = 1e-3;
+        const ModeRun run = compute_mode(undamped, HarmonicBalanceOptions{}, mo, {}, false);
+        INFO(run.verdict.summary());
+        REQUIRE(run.backbone.points.size() > 10);
+        const ModePoint& first = run.backbone.points.front();
+        const double a = first.amplitude;
+        const double shift = 0.75 * k3 * std::pow(phi_t, 4) * a * a;  // w^2 - w1^2 of the closed form
+        INFO("a = " << a << ": w = " << first.omega << ", w1 = " << w1 << ", closed form's shift " << shift
+                    << ", harmonic balance's " << first.omega * first.omega - w1 * w1);
+        CHECK(first.omega * first.omega - w1 * w1 == Approx(shift).epsilon(2e-3));
+        CHECK(std::abs(first.xi) <= 1e-9 * w1);  // undamped: no artificial damping
+        // Undamped, the hardening backbone meets the second mode's fifth subharmonic (5 w = w2,
+        // both hardened): it turns back in a there, onto that mode's branch (the classical
+        // internal-resonance tongue, which damping breaks: the file's backbone below crosses it).
+        const double w2 = std::sqrt(eig.eigenvalues()(1));
+        std::size_t turn = 0;
+        while (turn + 1 < run.backbone.points.size() &&
+               run.backbone.points[turn + 1].amplitude > run.backbone.points[turn].amplitude)
+            ++turn;
+        const ModePoint& top = run.backbone.points[turn];
+        INFO("the backbone turns back at a = " << top.amplitude << ", w = " << top.omega << " (w2 / 5 = " << w2 / 5.0
+                                               << ")");
+        REQUIRE(turn + 1 < run.backbone.points.size());
+        CHECK(top.omega > w2 / 5.0);
+        CHECK(top.omega < 1.03 * w2 / 5.0);  // measured 189.07 against 186.34
+    }
+    SECTION("backbone of the damped beam: complete, converged in H (NLvib's H = 5 against 10)") {
+        ModeOptions mo;
+        mo.amplitude_min = 1e-5;
+        mo.amplitude_max = 1e-3;
+        double omega_end[2] = {0.0, 0.0};
+        for (const int harmonics : {5, 10}) {
+            const ModeRun run = compute_mode(forced, HarmonicBalanceOptions{harmonics, 0}, mo, {}, false);
+            INFO("H = " << harmonics << ": " << run.verdict.summary());
+            REQUIRE(run.verdict.status() == "completed");
+            CHECK(run.backbone.points.back().amplitude == Approx(1e-3).epsilon(1e-12));
+            omega_end[harmonics == 5 ? 0 : 1] = run.backbone.points.back().omega;
+        }
+        INFO("w at a = 1e-3: " << omega_end[0] << " (H = 5), " << omega_end[1] << " (H = 10)");
+        CHECK(omega_end[1] > 1.7 * w1);  // measured 265.53 = 1.79 w1
+        CHECK(test::relative_difference(omega_end[0], omega_end[1]) <= 1e-6);  // measured 9e-8
+    }
+    SECTION("forced response against time integration, stability") {
+        TimeIntegrationOptions o;
+        o.method = IntegrationMethod::bdf;  // the FE beam's stiff high modes
+        o.relative_tolerance = 1e-11;
+        o.absolute_tolerance = 1e-12;
+        o.steady_tolerance = 1e-9;
+        HarmonicBalance hb(forced, HarmonicBalanceOptions{});
+        FrfSettings settings = frf_settings(forced, config.outputs, config.choices);
+        settings.error_points = 0;
+        const std::vector<double> frequencies{140.0, 180.0, 250.0};  // 180: three solutions
+        settings.at = frequencies;
+        const FrfResult r = compute_frf(forced, settings);
+        REQUIRE(r.status() == "completed");
+        for (const double omega : frequencies) {
+            INFO("w = " << omega);
+            std::vector<std::pair<double, SolutionPoint>> samples;  // by the tip's amplitude
+            for (const SolutionPoint& q : r.points)
+                if (q.kind == PointKind::sample && q.omega == omega) samples.emplace_back(Analyser(hb)(q).y_max[tip], q);
+            REQUIRE(samples.size() == (omega == 180.0 ? 3u : 1u));
+            std::sort(samples.begin(), samples.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+            // from rest, time integration reaches the lowest solution
+            const PeriodicResponse ti = integrate_steady_state(forced, omega, o);
+            INFO(ti.summary());
+            REQUIRE(ti.converged);
+            INFO("HB " << samples.front().first << ", TI " << ti.y_max[tip]);
+            CHECK(test::relative_difference(samples.front().first, ti.y_max[tip]) <= 1e-5);  // measured <= 1.3e-8
+            if (omega != 180.0) continue;
+            // lower (stable), middle between the folds (unstable), upper (stable) by the monodromy
+            StabilityOptions so;
+            so.method = StabilityMethod::monodromy;
+            StabilityAnalyser stability(hb, so);
+            const std::vector<Stability> expected{Stability::stable, Stability::unstable, Stability::stable};
+            for (std::size_t k = 0; k < 3; ++k) {
+                const FloquetResult f = stability(samples[k].second);
+                INFO("solution " << k + 1 << ": " << f.message << ", margin " << f.margin);
+                CHECK(f.stability == expected[k]);
+            }
+            // the upper solution's orbit, integrated in time, stays on it
+            const Eigen::VectorXd start = stability.start_state(samples[2].second);
+            const PeriodicResponse upper = integrate_steady_state(forced, omega, o, &start);
+            INFO(upper.summary());
+            REQUIRE(upper.converged);
+            CHECK(test::relative_difference(samples[2].first, upper.y_max[tip]) <= 1e-5);
+        }
+    }
+}
+
+// Where the chain's branch from below stops (w_end = 1.6577 at the file's H = 7): the upper
+// branch's orbit has contact 1 about to stick throughout. Time integration from harmonic
+// balance's end state sticks there for the whole period (a stuck Jenkins slider keeps the offset
+// its history left: the stuck orbits are a family, which the branch cannot follow as a curve),
+// and a little above w_end the same start falls to the lower branch (y3_max a sixth): the upper
+// branch ends in a fold at w_end, and the branch from above (2.0 down) is the rest of the FRF.
+TEST_CASE("NLvib's three-mass chain: the branch from below ends where the upper branch folds with contact 1 "
+          "stuck, time integration confirms it",
+          "[force_elements][examples]") {
+    const io::SystemConfig config =
+        io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/nlvib/chain3.toml");
+    FrfSettings settings = frf_settings(config.system, config.outputs, config.choices);
+    settings.error_points = 0;
+    const FrfResult r = compute_frf(config.system, settings);
+    INFO(r.summary());
+    REQUIRE(!r.branch.points.empty());
+    const SolutionPoint& end = r.branch.points.back();
+    HarmonicBalance hb(config.system, settings.harmonic_balance);
+    const PointMetrics at_end = Analyser(hb)(end);
+    INFO("branch ends at w = " << end.omega << ", contact 1 stuck " << at_end.contacts[0].stick_fraction
+                               << " of the period, y3_max " << at_end.y_max[2]);
+    CHECK(end.omega == Approx(1.6577).margin(0.01));
+    CHECK(at_end.contacts[0].stick_fraction >= 0.95);
+    TimeIntegrationOptions o;
+    o.relative_tolerance = 1e-10;
+    o.absolute_tolerance = 1e-12;
+    o.steady_tolerance = 1e-9;
+    const Eigen::VectorXd start = StabilityAnalyser(hb).start_state(end);
+    const PeriodicResponse upper = integrate_steady_state(config.system, end.omega, o, &start);
+    INFO(upper.summary());
+    REQUIRE(upper.converged);
+    CHECK(upper.contacts[0].stick_fraction == 1.0);
+    // H = 7 against the integrated orbit: measured 2.5e-4 in y3_max
+    CHECK(test::relative_difference(at_end.y_max[2], upper.y_max[2]) <= 3e-3);
+    const double above = end.omega + 0.005;
+    const PeriodicResponse fallen = integrate_steady_state(config.system, above, o, &start);
+    INFO(fallen.summary());
+    REQUIRE(fallen.converged);
+    INFO("w = " << above << ": time integration y3_max " << fallen.y_max[2] << ", the upper orbit's at w_end "
+                << upper.y_max[2]);
+    CHECK(fallen.y_max[2] < 0.5 * upper.y_max[2]);  // measured 0.18 against 1.07
+}
