@@ -135,6 +135,18 @@ enum class TimeIntegrator { general, elastic_contacts, unilateral_contacts };
 bool rigid_slider(const Contact& element);
 bool elastic_slider(const Contact& element);
 
+/// A smooth law bound to one contact's parameters (ContactLaw::bind), for the solvers that
+/// evaluate it at every instant: time integration's right-hand side and roots, the variational
+/// equation of the stability analysis. Its functions are ContactLaw::time_force, time_margin and
+/// linearize at the bound contact.
+class BoundLaw {
+public:
+    virtual ~BoundLaw() = default;
+    virtual double force(double q, double v, double z, double& rate) const = 0;
+    virtual double margin(double q, double v, double z) const = 0;
+    virtual LocalLinearization linearize(double q, double v, double z) const = 0;
+};
+
 /// A contact law: a stateless descriptor, one per law (see the top of this file).
 class ContactLaw {
 public:
@@ -234,6 +246,11 @@ public:
     /// contact (pre-)sticks; its sign changes are the stick/slip events (the elements without
     /// friction: where their force has a corner, e.g. a gap's closing). The default throws.
     virtual double time_margin(const Contact& contact, double q, double v, double z) const;
+
+    /// The law bound to `contact` (a copy of it is kept). The default forwards to time_force,
+    /// time_margin and linearize; a law whose parameters take work to read (the force elements'
+    /// polynomial terms) reads them once here.
+    virtual std::unique_ptr<BoundLaw> bind(const Contact& contact) const;
 
     // ---- elements without friction (springs, dampers) ----
     /// Whether the element is friction (stick and slip, a regime per period), or a force element

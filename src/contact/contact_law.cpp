@@ -191,6 +191,31 @@ void ContactLaw::validate(const Contact& contact, const std::string& where) cons
     }
 }
 
+namespace {
+
+/// ContactLaw::bind's default: the law's own functions at a copy of the contact.
+class ForwardingLaw final : public BoundLaw {
+public:
+    ForwardingLaw(const ContactLaw& law, const Contact& contact) : law_(law), contact_(contact) {}
+    double force(double q, double v, double z, double& rate) const override {
+        return law_.time_force(contact_, q, v, z, rate);
+    }
+    double margin(double q, double v, double z) const override { return law_.time_margin(contact_, q, v, z); }
+    LocalLinearization linearize(double q, double v, double z) const override {
+        return law_.linearize(contact_, q, v, z);
+    }
+
+private:
+    const ContactLaw& law_;
+    Contact contact_;
+};
+
+}  // namespace
+
+std::unique_ptr<BoundLaw> ContactLaw::bind(const Contact& contact) const {
+    return std::make_unique<ForwardingLaw>(*this, contact);
+}
+
 double ContactLaw::time_force(const Contact&, double, double, double, double&) const {
     throw InvalidInput("law = " + std::string(name()) + " has no smooth time-domain force (its stick is exact: it "
                        "is integrated by the modes of its elements)");

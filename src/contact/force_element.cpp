@@ -76,7 +76,32 @@ private:
     std::shared_ptr<const PointwiseForce> force_;
 };
 
+/// A force element bound to its contact: the pointwise force, built once.
+class BoundForceElement final : public BoundLaw {
+public:
+    explicit BoundForceElement(std::shared_ptr<const PointwiseForce> force) : force_(std::move(force)) {}
+    double force(double q, double v, double, double& rate) const override {
+        rate = 0.0;
+        return force_->at(q, v).force;
+    }
+    double margin(double q, double, double) const override { return force_->margin(q); }
+    LocalLinearization linearize(double q, double v, double) const override {
+        const PointForce p = force_->at(q, v);
+        LocalLinearization l;
+        l.f_q = p.slope_q;
+        l.f_v = p.slope_v;
+        return l;
+    }
+
+private:
+    std::shared_ptr<const PointwiseForce> force_;
+};
+
 }  // namespace
+
+std::unique_ptr<BoundLaw> ForceElementLaw::bind(const Contact& contact) const {
+    return std::make_unique<BoundForceElement>(force(contact));
+}
 
 std::unique_ptr<FrictionModel> pointwise_model(std::shared_ptr<const PointwiseForce> force) {
     return std::make_unique<PointwiseModel>(std::move(force));

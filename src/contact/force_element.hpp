@@ -32,6 +32,9 @@ public:
     /// N_t the AFT needs (FrictionModel::time_samples_needed) at H harmonics, and why.
     virtual double samples_needed(int harmonics) const = 0;
     virtual std::string samples_reason() const = 0;
+    /// Time integration's margin (ContactLaw::time_margin): a positive constant (no event), or
+    /// where the force has a corner a function whose sign changes there (the gap's closing).
+    virtual double margin(double) const { return 1.0; }
 };
 
 /// The AFT model of a pointwise force (the equations at the top of this file).
@@ -51,19 +54,18 @@ public:
     std::unique_ptr<FrictionModel> periodic_model(const Contact& contact) const override {
         return pointwise_model(force(contact));
     }
-    LocalLinearization linearize(const Contact& contact, double q, double v, double) const override {
-        const PointForce p = force(contact)->at(q, v);
-        LocalLinearization l;
-        l.f_q = p.slope_q;
-        l.f_v = p.slope_v;
-        return l;
+    LocalLinearization linearize(const Contact& contact, double q, double v, double z) const override {
+        return bind(contact)->linearize(q, v, z);
     }
-    double time_force(const Contact& contact, double q, double v, double, double& rate) const override {
-        rate = 0.0;
-        return force(contact)->at(q, v).force;
+    double time_force(const Contact& contact, double q, double v, double z, double& rate) const override {
+        return bind(contact)->force(q, v, z, rate);
     }
     /// No stick: a positive constant (no event), unless the law has a corner (gap).
-    double time_margin(const Contact&, double, double, double) const override { return 1.0; }
+    double time_margin(const Contact& contact, double q, double v, double z) const override {
+        return bind(contact)->margin(q, v, z);
+    }
+    /// The pointwise force built once (its parameters read from the contact's tables).
+    std::unique_ptr<BoundLaw> bind(const Contact& contact) const override;
     bool static_force(const Contact& contact, const Eigen::VectorXd& q, StaticForce& out) const override;
     /// The pointwise force of the contact's parameters.
     virtual std::shared_ptr<const PointwiseForce> force(const Contact& contact) const = 0;

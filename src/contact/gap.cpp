@@ -49,6 +49,8 @@ public:
     bool uses_velocity() const override { return false; }
     double samples_needed(int) const override { return 0.0; }
     std::string samples_reason() const override { return ""; }
+    /// < 0 while closed: a root at each closing and opening.
+    double margin(double q) const override { return -p_.trial(q) / p_.stiffness; }
 
 private:
     GapParameters p_;
@@ -71,10 +73,6 @@ public:
         const GapParameters p(contact);
         const bool closed = p.trial(0.0) >= 0.0;
         return {false, closed ? p.stiffness : 0.0, 0.0, closed ? p.preload : 0.0};
-    }
-    double time_margin(const Contact& contact, double q, double, double) const override {
-        const GapParameters p(contact);
-        return -p.trial(q) / p.stiffness;  // < 0 while closed: a root at each closing and opening
     }
     void validate(const Contact& contact, const std::string& where) const override {
         ContactLaw::validate(contact, where);

@@ -34,6 +34,8 @@ Variational::Variational(HarmonicBalance& hb, const Eigen::MatrixXd& minv, const
     for (int c = 0; c < nc; ++c) {
         q_.push_back(hb.relative(p.x, c));
         z_.push_back(hb.state(p.x, c));
+        const Contact& contact = system_.contacts[static_cast<std::size_t>(c)];
+        laws_.push_back(contact_law(contact.law).bind(contact));
         if (z_.back().size() > 0) state_index_[static_cast<std::size_t>(c)] = 2 * n_ + s++;
     }
     d_ = 2 * n_ + s;
@@ -55,7 +57,7 @@ void Variational::slopes(double theta, std::vector<LocalLinearization>& out) con
         double q, dq, z = 0.0, dz;
         at_phase(q_[c], theta, q, dq);
         if (z_[c].size() > 0) at_phase(z_[c], theta, z, dz);
-        out[c] = linearize(system_.contacts[c], q, omega_ * dq, z);
+        out[c] = laws_[c]->linearize(q, omega_ * dq, z);
     }
 }
 
@@ -99,7 +101,7 @@ Eigen::MatrixXd Variational::hill(Fourier& fourier) const {
         else
             z.setZero();
         for (int j = 0; j < nt; ++j) {
-            const LocalLinearization l = linearize(system_.contacts[cc], q(j), v(j), z(j));
+            const LocalLinearization l = laws_[cc]->linearize(q(j), v(j), z(j));
             fq[cc](j) = l.f_q;
             springs[cc] = springs[cc] || l.f_q != 0.0;
             fv[cc](j) = l.f_v;

@@ -3,11 +3,13 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <memory>
 #include <vector>
 
 #include "hbf/continuation.hpp"
 #include "hbf/fourier.hpp"
 #include "hbf/contact_force.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/harmonic_balance.hpp"
 
 namespace hbf::detail {
@@ -38,6 +40,7 @@ private:
     double omega_;
     int n_, d_ = 0;
     std::vector<Eigen::VectorXd> q_, z_;
+    std::vector<std::unique_ptr<BoundLaw>> laws_;  // each contact's law bound to it
     std::vector<int> state_index_;
     Eigen::MatrixXd base_, w_, mw_;
     mutable std::vector<LocalLinearization> scratch_;

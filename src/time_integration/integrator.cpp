@@ -213,7 +213,7 @@ void Integrator::evaluate(double t, const double* x) {
         const int mode = mode_[static_cast<std::size_t>(c)];
         switch (k.kind) {
             case ContactData::Kind::smooth:
-                f = k.law->time_force(k.parameters, k.relative(y) + end_(c), vc, z[c], zd);
+                f = k.bound->force(k.relative(y) + end_(c), vc, z[c], zd);
                 break;
             case ContactData::Kind::elastic_slider:
                 if (mode == 0) {
@@ -288,7 +288,7 @@ bool Integrator::in_stick(int c, const double* x) const {
 double Integrator::margin(int c, const double* x) const {
     const ContactData& k = contacts_[static_cast<std::size_t>(c)];
     if (k.event_driven()) return std::abs(f_(c)) / k.limit - 1.0;
-    return k.law->time_margin(k.parameters, k.relative(x) + end_(c), velocity_c_(c), k.has_state ? x[2 * n_ + c] : 0.0);
+    return k.bound->margin(k.relative(x) + end_(c), velocity_c_(c), k.has_state ? x[2 * n_ + c] : 0.0);
 }
 
 void Integrator::roots(double t, const double* x, double* g) {

@@ -7,6 +7,7 @@
 #include <Eigen/SparseLU>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,12 +38,14 @@ struct ContactData {
     double base = 0;         // its spring's far end moves by base cos(h omega t) (Contact::base_motion)
     Eigen::VectorXd w;       // a general force direction (empty: the DOF pair a, b)
     Contact parameters;      // the law and its parameters (its direction left empty: w)
+    std::shared_ptr<const BoundLaw> bound;  // smooth laws: the law bound to `parameters`
 
     explicit ContactData(const Contact& c)
         : kind(rigid_slider(c) ? Kind::rigid_slider : elastic_slider(c) ? Kind::elastic_slider : Kind::smooth),
           law(&contact_law(c.law)), has_state(law->time_state() != TimeState::none), a(c.dof), b(c.other_dof),
           limit(c.friction_limit), stiffness(c.stiffness), base(c.base_motion), w(c.direction), parameters(c) {
         parameters.direction.resize(0);
+        if (kind == Kind::smooth) bound = law->bind(parameters);
     }
     bool rigid() const { return kind == Kind::rigid_slider; }
     bool elastic() const { return kind == Kind::elastic_slider; }
