@@ -251,10 +251,21 @@ TEST_CASE("Duffing FRF: the middle branch between the folds is unstable, the res
     const System s = one_dof(1.0, 0.05, 1.0, 0.1, cubic_spring(1.0));
     FrfSettings settings = band(0.6, 2.0, 9);
     settings.stability = true;
+    int calls = 0, last_done = 0, last_total = 0;  // the progress: once per point, in order
+    bool ordered = true;
+    settings.stability_options.progress = [&](int done, int total) {
+        ordered = ordered && done == last_done + 1;
+        ++calls;
+        last_done = done;
+        last_total = total;
+    };
     const FrfResult r = compute_frf(s, settings);
     INFO(r.summary());
     REQUIRE(r.stability);
     const std::vector<FloquetResult>& st = r.stability->points;
+    CHECK(ordered);
+    CHECK(calls == static_cast<int>(st.size()));
+    CHECK(last_total == static_cast<int>(st.size()));
     REQUIRE(st.size() >= r.branch.points.size());
     int checked = 0, wrong = 0;
     const std::vector<SolutionPoint>& p = r.branch.points;

@@ -178,7 +178,9 @@ TEST_CASE("Dahl superharmonic folds: every verdict confirmed by a perturbed time
     // The located folds: the upper one is smooth, dR/dX is singular there to rounding and Hill
     // has a multiplier 1; the lower one is a corner of the HB branch (a sample's |v| changes
     // sign there): w is extremal against its neighbours on the branch.
-    StabilityAnalyser hill(hb, {StabilityMethod::hill});
+    StabilityOptions hill_only;
+    hill_only.method = StabilityMethod::hill;
+    StabilityAnalyser hill(hb, hill_only);
     int smooth = 0;
     for (std::size_t k = 1; k + 1 < frf.points.size(); ++k) {
         const SolutionPoint& p = frf.points[k];

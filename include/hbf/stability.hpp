@@ -34,6 +34,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -72,6 +73,9 @@ struct StabilityOptions {
     /// orbit for which the exact multipliers are taken as the HB point's (HB's own error at
     /// H = 10 reaches ~10 % near a Jenkins resonance; a different orbit differs by far more). > 0.
     double exact_gap = 0.25;
+    /// analyse_branch_stability's progress: called after each point with the points done and
+    /// their total; must not throw. May be empty.
+    std::function<void(int done, int total)> progress;
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;
 };

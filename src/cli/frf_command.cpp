@@ -152,6 +152,11 @@ int run(const CLI::App& command, const FrfOptions& o) {
         std::snprintf(text, sizeof text, "exact polish %6d of %d points", done, total);
         progress.update(text);
     };
+    settings.stability_options.progress = [&progress](int done, int total) {
+        char text[64];
+        std::snprintf(text, sizeof text, "stability %6d of %d points", done, total);
+        progress.update(text);
+    };
     FrfResult frf = compute_frf(hb, settings);
     progress.clear();
     const BranchResult& branch = frf.branch;

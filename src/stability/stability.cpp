@@ -378,6 +378,7 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
             ++b.both_confident;
             if ((r.hill_margin > 1.0) != (r.monodromy_margin > 1.0)) ++b.sorting_disagreements;
         }
+        if (options.progress) options.progress(static_cast<int>(k) + 1, static_cast<int>(points.size()));
     }
     find_bifurcations(points, options.tolerance, b);
     b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
