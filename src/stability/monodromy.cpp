@@ -21,8 +21,7 @@ namespace {
 class MonodromyIntegrator {
 public:
     MonodromyIntegrator(const Variational& v, double tolerance)
-        : v_(v), d_(v.size()), columns_(v.size()), length_(d_ * columns_),
-          cvode_(length_, CV_BDF, rhs, this, CvodeSolver::Warnings::drop) {
+        : v_(v), d_(v.size()), cvode_(d_ * d_, CV_BDF, rhs, this, CvodeSolver::Warnings::drop) {
         cvode_.check(CVodeSStolerances(cvode_.memory(), tolerance, tolerance * 1e-2), "CVodeSStolerances");
         if (d_ <= dense_limit)
             cvode_.dense_newton(jacobian);
@@ -37,22 +36,17 @@ public:
     bool run(Eigen::MatrixXd& phi, std::string& failure) {
         const double period = 2.0 * M_PI / v_.omega();
         N_Vector x = cvode_.state();
-        phi.resize(d_, d_);
-        for (int first = 0; first < d_; first += columns_) {
-            N_VConst(0.0, x);
-            Eigen::Map<Eigen::MatrixXd> start(N_VGetArrayPointer(x), d_, columns_);
-            for (int j = 0; j < columns_; ++j) start(first + j, j) = 1.0;
-            cvode_.check(CVodeReInit(cvode_.memory(), 0.0, x), "CVodeReInit");
-            cvode_.check(CVodeSetStopTime(cvode_.memory(), period), "CVodeSetStopTime");
-            sunrealtype t = 0.0;
-            const int flag = CVode(cvode_.memory(), period, x, &t, CV_NORMAL);
-            if (flag < 0) {
-                failure = "CVODE failed on the variational equation (flag " + std::to_string(flag) + ") at t = " +
-                          format_number(t) + " of T = " + format_number(period);
-                return false;
-            }
-            phi.middleCols(first, columns_) = Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x), d_, columns_);
+        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(x), d_, d_).setIdentity();  // Phi(0) = I
+        cvode_.check(CVodeReInit(cvode_.memory(), 0.0, x), "CVodeReInit");
+        cvode_.check(CVodeSetStopTime(cvode_.memory(), period), "CVodeSetStopTime");
+        sunrealtype t = 0.0;
+        const int flag = CVode(cvode_.memory(), period, x, &t, CV_NORMAL);
+        if (flag < 0) {
+            failure = "CVODE failed on the variational equation (flag " + std::to_string(flag) + ") at t = " +
+                      format_number(t) + " of T = " + format_number(period);
+            return false;
         }
+        phi = Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x), d_, d_);
         return true;
     }
 
@@ -62,8 +56,8 @@ private:
     static int rhs(sunrealtype t, N_Vector x, N_Vector dx, void* data) {
         auto* self = static_cast<MonodromyIntegrator*>(data);
         self->v_.matrix(self->v_.omega() * t, self->a_);
-        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(dx), self->d_, self->columns_).noalias() =
-            self->a_ * Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x), self->d_, self->columns_);
+        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(dx), self->d_, self->d_).noalias() =
+            self->a_ * Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(x), self->d_, self->d_);
         return 0;
     }
     static int jacobian(sunrealtype t, N_Vector, N_Vector, SUNMatrix j, void* data, N_Vector, N_Vector, N_Vector) {
@@ -71,7 +65,7 @@ private:
         self->v_.matrix(self->v_.omega() * t, self->a_);
         SUNMatZero(j);
         const int d = self->d_;
-        for (int b = 0; b < self->columns_; ++b)  // I (x) A: one block of A per column of Phi
+        for (int b = 0; b < self->d_; ++b)  // I (x) A: one block of A per column of Phi
             for (int c = 0; c < d; ++c)
                 Eigen::Map<Eigen::VectorXd>(SUNDenseMatrix_Column(j, b * d + c) + b * d, d) = self->a_.col(c);
         return 0;
@@ -88,21 +82,21 @@ private:
     static int preconditioner_solve(sunrealtype, N_Vector, N_Vector, N_Vector r, N_Vector z, sunrealtype,
                                     sunrealtype, int, void* data) {
         auto* self = static_cast<MonodromyIntegrator*>(data);
-        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(z), self->d_, self->columns_) =
-            self->lu_.solve(Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(r), self->d_, self->columns_));
+        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(z), self->d_, self->d_) =
+            self->lu_.solve(Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(r), self->d_, self->d_));
         return 0;
     }
     /// J v = (I (x) A(t)) v: A times v's columns.
     static int jacobian_times(N_Vector v, N_Vector jv, sunrealtype t, N_Vector, N_Vector, void* data, N_Vector) {
         auto* self = static_cast<MonodromyIntegrator*>(data);
         self->v_.matrix(self->v_.omega() * t, self->a_times_);
-        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(jv), self->d_, self->columns_).noalias() =
-            self->a_times_ * Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(v), self->d_, self->columns_);
+        Eigen::Map<Eigen::MatrixXd>(N_VGetArrayPointer(jv), self->d_, self->d_).noalias() =
+            self->a_times_ * Eigen::Map<const Eigen::MatrixXd>(N_VGetArrayPointer(v), self->d_, self->d_);
         return 0;
     }
 
     const Variational& v_;
-    int d_, columns_, length_;
+    int d_;
     Eigen::MatrixXd a_, a_precondition_, a_times_;
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
     CvodeSolver cvode_;
