@@ -50,9 +50,11 @@ void bind_model(py::module_& m) {
             for (const LawParameter& p : law->parameters()) {
                 if (!parameters.count(p.key)) keys.emplace_back(p.key);
                 parameters.insert_or_assign(p.key, p);
-                const std::string range = p.kind == LawParameter::Kind::pairs     ? "a list of pairs (a, b)"
-                                                 : p.kind == LawParameter::Kind::direction ? "N numbers, one per DOF"
-                                                                                           : p.allowed();
+                const std::string range = p.kind == LawParameter::Kind::pairs       ? "a list of pairs (a, b)"
+                                          : p.kind == LawParameter::Kind::direction      ? "N numbers, one per DOF"
+                                          : p.kind == LawParameter::Kind::direction_rows ? "rows of N numbers"
+                                          : p.kind == LawParameter::Kind::rows           ? "rows of equal length"
+                                                                                         : p.allowed();
                 std::string& doc = docs[p.key];
                 doc += (doc.empty() ? "" : "; ") + std::string(p.meaning) + " (" + law->name() + ", " + range +
                        (p.zero_means ? std::string("; 0: ") + p.zero_means : std::string()) + ")";
@@ -78,6 +80,40 @@ void bind_model(py::module_& m) {
                             list.insert(list.end(), pair.begin(), pair.end());
                         }
                         if (list.empty()) c.lists.erase(key); else c.lists[key] = list;
+                    },
+                    docs[key].c_str());
+                continue;
+            }
+            if (p.kind == LawParameter::Kind::rows || p.kind == LawParameter::Kind::direction_rows) {
+                contact.def_property(  // a table: rows of equal length (a list of lists); empty: not given
+                    key.c_str(),
+                    [key](const Contact& c) {
+                        py::list rows;
+                        if (const auto at = c.tables.find(key); at != c.tables.end())
+                            for (Eigen::Index i = 0; i < at->second.rows(); ++i) {
+                                std::vector<double> row(static_cast<std::size_t>(at->second.cols()));
+                                for (Eigen::Index j = 0; j < at->second.cols(); ++j) row[static_cast<std::size_t>(j)] = at->second(i, j);
+                                rows.append(py::cast(row));
+                            }
+                        return rows;
+                    },
+                    [key](Contact& c, const py::object& value) {
+                        std::vector<std::vector<double>> rows;
+                        if (!value.is_none())
+                            for (const py::handle row : value) rows.push_back(row.cast<std::vector<double>>());
+                        if (rows.empty()) {
+                            c.tables.erase(key);
+                            return;
+                        }
+                        Eigen::MatrixXd table(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(rows[0].size()));
+                        for (std::size_t i = 0; i < rows.size(); ++i) {
+                            if (rows[i].size() != rows[0].size())
+                                bad(key + ": row " + std::to_string(i + 1) + " has " + std::to_string(rows[i].size()) +
+                                    " entries: allowed " + std::to_string(rows[0].size()) + " as row 1");
+                            for (std::size_t j = 0; j < rows[i].size(); ++j)
+                                table(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = rows[i][j];
+                        }
+                        c.tables[key] = table;
                     },
                     docs[key].c_str());
                 continue;

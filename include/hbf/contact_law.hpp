@@ -44,7 +44,15 @@ struct LawParameter {
     /// direction: a vector over the model's coordinates (N entries in Contact::lists, finite,
     /// not all zero: System::validate), one more relative displacement the contact sees
     /// (System::contact_directions); optional unless the law's validate() requires it.
-    enum class Kind { number, integer, pairs, direction };
+    /// rows: a table of numbers with rows of equal width (Contact::tables), its width and
+    /// values checked by the law's validate(); direction_rows: a table of directions, one row of
+    /// N entries each (Contact::tables, finite, no row all zero: System::validate), the further
+    /// relative displacements the contact sees, after its own direction and the `direction`
+    /// parameters.
+    enum class Kind { number, integer, pairs, direction, rows, direction_rows };
+    /// Whether the parameter is a single number (Kind number or integer): the studies' and
+    /// maps' `contact.<key>`, the defaults' checks.
+    bool scalar() const { return kind == Kind::number || kind == Kind::integer; }
     const char* key;
     double Contact::*field;
     const char* meaning;  ///< what it is, with its symbol ("contact stiffness sigma0")
@@ -145,6 +153,16 @@ public:
     virtual double force(double q, double v, double z, double& rate) const = 0;
     virtual double margin(double q, double v, double z) const = 0;
     virtual LocalLinearization linearize(double q, double v, double z) const = 0;
+    /// The number of relative displacements the force depends on: 1, or m for an element over
+    /// several coordinates without internal state (a polynomial of several coordinates), whose
+    /// solvers call `forces` instead of force and linearize.
+    virtual int directions() const { return 1; }
+    /// An element over several coordinates: the forces f (m) along its directions at the
+    /// relative displacements q and velocities v (m each), and where asked their slopes
+    /// f_q(i, j) = d f_i / d q_j and f_v(i, j) = d f_i / d v_j. The default (one direction)
+    /// forwards to force and linearize.
+    virtual void forces(const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& f,
+                        Eigen::MatrixXd* f_q, Eigen::MatrixXd* f_v) const;
 };
 
 /// A contact law: a stateless descriptor, one per law (see the top of this file).

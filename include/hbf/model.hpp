@@ -85,6 +85,9 @@ struct Contact {
     /// `values`, lists of numbers (a table of pairs, row by row) in `lists`.
     std::map<std::string, double> values;
     std::map<std::string, std::vector<double>> lists;
+    /// Tables of rows of equal width (LawParameter::Kind::rows and direction_rows: a polynomial's
+    /// exponents and coefficients, its further coordinates), by key.
+    std::map<std::string, Eigen::MatrixXd> tables;
     /// Time-domain elements only (contact_law.hpp: an elastic slider): the far end of the slider's
     /// spring moves by base_motion cos(h omega t) along w, so that its elongation is
     /// w^T y + base_motion cos(h omega t) - s. The static condensation of massless DOFs sets it

@@ -10,7 +10,10 @@
 //     dz_c' = g_v,c w_c^T dv + g_z,c dz_c
 //
 // with the laws' local slopes f_v, f_z, g_v, g_z (contact_force.hpp: linearize) evaluated along the
-// HB solution (v_c = q_c', z_c from its coefficients). M must be positive definite. Its
+// HB solution (v_c = q_c', z_c from its coefficients); the springs (polynomial, gap) add
+// -w_c f_q,c w_c^T dy, and an element over several coordinates (a polynomial of several: its
+// directions W_c) -W_c (F_q,c W_c^T dy + F_v,c W_c^T dv) with its m x m slopes
+// (BoundLaw::forces). M must be positive definite. Its
 // Floquet multipliers mu (eigenvalues of the monodromy Phi(T), Phi' = A Phi, Phi(0) = I)
 // decide: the solution is stable when every |mu| <= 1 + tolerance. Two independent routes:
 //
@@ -23,8 +26,8 @@
 //   selection keeps the d eigenvalues with the smallest |Im lambda| and mu = exp(lambda T).
 //   This sorting is what fails for friction ("fragmented" spectra).
 // * monodromy (sorting-free): Phi(T) by integrating the variational equation over one period
-//   with CVODE (BDF, dense, the exact Jacobian A(t)), column by column, A(t) evaluated at any
-//   t from the HB coefficients.
+//   with CVODE (BDF, the exact Jacobian A(t)), all d columns as one system, A(t) evaluated at
+//   any t from the HB coefficients.
 // Where both run and their verdicts differ, the point is `uncertain`, never guessed.
 //
 // Exact Coulomb and Jenkins contacts are not differentiable: their verdict comes from the
@@ -123,7 +126,7 @@ private:
     std::string refusal_;
     bool smooth_ = false;
     Eigen::MatrixXd minv_;  // M^-1
-    Eigen::MatrixXd w_;     // N x n_c contact directions
+    Eigen::MatrixXd w_;     // every contact's directions (System::contact_directions), in order
 };
 
 /// The stability of every point of a branch (the samples too), and the bifurcations between

@@ -75,8 +75,8 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
 std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts = 1,
                                 const std::vector<int>& normal = {},
                                 const std::vector<InterfaceContacts>& interfaces = {});
-/// The contacts of `system` with a normal direction (System::contact_directions has more than
-/// one column), 0-based: frf_columns' `normal`.
+/// The contacts of `system` with a normal direction (friction contacts whose
+/// System::contact_directions has more than one column), 0-based: frf_columns' `normal`.
 std::vector<int> normal_contacts(const System& system);
 std::vector<Column> frf_columns(int dofs);
 

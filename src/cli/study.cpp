@@ -48,7 +48,7 @@ ContactKey find_contact_key(const std::string& name) {
     if (key == "friction_limit") return {key, true};
     for (const ContactLaw* law : contact_laws())
         for (const LawParameter& p : law->parameters())
-            if (key == p.key && p.kind != LawParameter::Kind::pairs && p.kind != LawParameter::Kind::direction)
+            if (key == p.key && p.scalar())
                 return {key, true, p};
     return {};
 }

@@ -178,12 +178,22 @@ bool ContactLaw::static_force(const Contact& contact, const Eigen::VectorXd& q, 
     return true;
 }
 
+void BoundLaw::forces(const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& f, Eigen::MatrixXd* f_q,
+                      Eigen::MatrixXd* f_v) const {
+    double rate = 0.0;
+    f.resize(1);
+    f(0) = force(q(0), v(0), 0.0, rate);
+    if (!f_q && !f_v) return;
+    const LocalLinearization l = linearize(q(0), v(0), 0.0);
+    if (f_q) *f_q = Eigen::MatrixXd::Constant(1, 1, l.f_q);
+    if (f_v) *f_v = Eigen::MatrixXd::Constant(1, 1, l.f_v);
+}
+
 void ContactLaw::complete(Contact&, const std::vector<DirectionScale>&, const std::string&) const {}
 
 void ContactLaw::validate(const Contact& contact, const std::string& where) const {
     for (const LawParameter& p : parameters()) {
-        if (p.kind == LawParameter::Kind::pairs || p.kind == LawParameter::Kind::direction)
-            continue;  // the law's own validate (directions: also System::validate)
+        if (!p.scalar()) continue;  // the law's own validate (directions: also System::validate)
         const double value = p.get(contact);
         if (!p.allows(value))
             throw InvalidInput(where + p.key + " (" + p.meaning + ") = " + format_number(value) +

@@ -127,8 +127,9 @@ std::vector<LinearResonance> linear_resonances(const System& system, double omeg
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
         const ContactLaw& law = contact_law(system.contacts[c].law);
         if (law.friction() || law.unilateral()) continue;
-        const Eigen::VectorXd w = system.contact_direction(system.contacts[c]);
-        structure += elements[c].front().stiffness * w * w.transpose();
+        const Eigen::MatrixXd w = system.contact_directions(system.contacts[c]);
+        for (Eigen::Index j = 0; j < w.cols() && j < static_cast<Eigen::Index>(elements[c].size()); ++j)
+            structure += elements[c][static_cast<std::size_t>(j)].stiffness * w.col(j) * w.col(j).transpose();
     }
     add(natural_frequencies(structure, mass), LinearResonance::Limit::released);
     Eigen::MatrixXd stuck = structure;

@@ -27,14 +27,15 @@ std::vector<std::vector<StuckElement>> stuck_elements(const System& system) {
     bool normal = false;
     for (const Contact& c : system.contacts) {
         out.push_back(contact_law(c.law).stuck_directions(c));
-        normal = normal || system.contact_directions(c).cols() > 1;
+        normal = normal || (contact_law(c.law).friction() && system.contact_directions(c).cols() > 1);
     }
     if (!normal || !system.has_static_load()) return out;
     const StaticState rest = static_state(system);
     if (!rest.ok) return out;
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
         const Eigen::VectorXd& force = rest.contacts[c].force;
-        if (system.contact_directions(system.contacts[c]).cols() > 1 && force.size() > 0)
+        if (contact_law(system.contacts[c].law).friction() && system.contact_directions(system.contacts[c]).cols() > 1 &&
+            force.size() > 0)
             out[c] = contact_law(system.contacts[c].law).stuck_directions_at(system.contacts[c], force(force.size() - 1));
     }
     return out;

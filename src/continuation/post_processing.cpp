@@ -166,13 +166,16 @@ PointMetrics Analyser::operator()(const SolutionPoint& point) {
             ContactRegime& r = m.contacts[static_cast<std::size_t>(c)];
             r.energy = 0.0;
             const Eigen::Index signals = q.size() / n;
+            const ContactLaw& law = contact_law(s.contacts[static_cast<std::size_t>(c)].law);
+            // (an element over several coordinates without friction: the work of all of them)
+            const bool normal_direction = signals > 1 && law.friction();
             for (Eigen::Index a = 0; a < signals; ++a) {
                 aft.to_time(omega * (aft.derivative() * q.segment(a * n, n)), v);
                 const double work = 2.0 * M_PI / omega * f.segment(a * nt, nt).dot(v) / nt;
-                (signals > 1 && a == signals - 1 ? normal_work : r.energy) += work;
+                (normal_direction && a == signals - 1 ? normal_work : r.energy) += work;
             }
             m.energy += r.energy;
-            if (q.size() > n || contact_law(s.contacts[static_cast<std::size_t>(c)].law).unilateral()) {
+            if (normal_direction || law.unilateral()) {
                 // a normal direction (its force is the last signal's), or a unilateral spring
                 const Eigen::VectorXd normal = f.tail(nt);
                 r.separated_fraction = static_cast<double>((normal.array() <= 0.0).count()) / nt;

@@ -375,6 +375,17 @@ ReducedSystem reduce(const System& fe, const ReductionOptions& options) {
                     const Eigen::VectorXd w = carry(Eigen::Map<const Eigen::VectorXd>(at->second.data(), n), c);
                     at->second.assign(w.data(), w.data() + w.size());
                 }
+        for (const LawParameter& p : contact_law(contact.law).parameters())
+            if (p.kind == LawParameter::Kind::direction_rows)
+                if (auto at = contact.tables.find(p.key); at != contact.tables.end()) {
+                    if (static_cast<int>(at->second.cols()) != n)
+                        throw InvalidInput("contact " + std::to_string(c + 1) + ": " + p.key + " has rows of " +
+                                           std::to_string(at->second.cols()) + " entries: allowed " + std::to_string(n));
+                    Eigen::MatrixXd carried(at->second.rows(), model.reduced());
+                    for (Eigen::Index r = 0; r < carried.rows(); ++r)
+                        carried.row(r) = carry(at->second.row(r).transpose(), c).transpose();
+                    at->second = carried;
+                }
         s.contacts.push_back(std::move(contact));
     }
     return out;

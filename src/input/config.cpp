@@ -160,6 +160,17 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
             c.lists[p.key].assign(v.data(), v.data() + v.size());
             continue;
         }
+        if (p.kind == LawParameter::Kind::rows || p.kind == LawParameter::Kind::direction_rows) {
+            Eigen::MatrixXd table = r.rows(*node, where + "." + p.key);
+            if (table.size() == 0)
+                fail(r.file, node->source(), where + "." + p.key, std::string("expected a non-empty table (") + p.meaning + ")");
+            if (p.kind == LawParameter::Kind::direction_rows && table.cols() != dofs)
+                fail(r.file, node->source(), where + "." + p.key,
+                     "rows of " + std::to_string(table.cols()) + " entries: allowed " + std::to_string(dofs) +
+                         " (one per DOF: each row a direction)");
+            c.tables[p.key] = std::move(table);
+            continue;
+        }
         if (p.kind != LawParameter::Kind::pairs) {
             p.set(c, r.number(*node, where + "." + p.key));
             continue;
@@ -470,9 +481,11 @@ SystemConfig read_system_config(const std::string& path) {
         for (Eigen::Index i = 0; i < n; ++i)
             if (s.excitation(i) != 0.0) dofs.insert(static_cast<int>(i));
         for (const Contact& c : s.contacts) {
-            const Eigen::VectorXd w = s.contact_direction(c);
+            // (the force elements over several coordinates: each of them)
+            const Eigen::MatrixXd w = contact_law(c.law).friction() ? Eigen::MatrixXd(s.contact_direction(c))
+                                                                    : s.contact_directions(c);
             for (Eigen::Index i = 0; i < n; ++i)
-                if (w(i) != 0.0) dofs.insert(static_cast<int>(i));
+                if (w.row(i).cwiseAbs().maxCoeff() != 0.0) dofs.insert(static_cast<int>(i));
         }
         if (dofs.empty())
             for (int i = 0; i < n; ++i) dofs.insert(i);

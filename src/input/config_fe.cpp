@@ -145,32 +145,13 @@ ContactInterface read_interface(const Reader& r, const toml::table& t, int index
              "interface's nodes press on and lift off the other side; a law along one direction is a [[contact]] table)");
     allowed.insert("preload_pressure");
     for (const LawParameter& p : parameters)
-        if (p.kind != LawParameter::Kind::direction && std::string(p.key) != "preload") allowed.insert(p.key);
+        if (p.scalar() && std::string(p.key) != "preload") allowed.insert(p.key);
     r.only(t, allowed, where);
     if (const toml::node* v = t.get("name")) {
         if (!v->is_string()) fail(r.file, v->source(), where + ".name", "expected a string");
         iface.name = v->as_string()->get();
     }
-    // A list of rows (numbers), or a Matrix Market file of `columns` columns (-1: any).
-    auto rows = [&](const toml::node& v, const std::string& key) {
-        Eigen::MatrixXd m;
-        if (v.is_string()) {
-            m = Eigen::MatrixXd(r.matrix(v, key));
-        } else if (const toml::array* a = v.as_array(); a && !a->empty() && a->front().is_array()) {
-            for (std::size_t i = 0; i < a->size(); ++i) {
-                const std::vector<double> row = r.list(*a->get(i), key);
-                if (i == 0) m.resize(static_cast<Eigen::Index>(a->size()), static_cast<Eigen::Index>(row.size()));
-                if (static_cast<Eigen::Index>(row.size()) != m.cols())
-                    fail(r.file, a->get(i)->source(), key, "row " + std::to_string(i + 1) + " has " + std::to_string(row.size()) +
-                                                              " entries: allowed " + std::to_string(m.cols()) + " as row 1");
-                for (std::size_t j = 0; j < row.size(); ++j) m(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = row[j];
-            }
-        } else {
-            const std::vector<double> row = r.list(v, key);
-            m = Eigen::Map<const Eigen::MatrixXd>(row.data(), 1, static_cast<Eigen::Index>(row.size()));
-        }
-        return m;
-    };
+    auto rows = [&](const toml::node& v, const std::string& key) { return r.rows(v, key); };
     const toml::node* nodes = t.get("nodes");
     if (!nodes) fail(r.file, t.source(), where + ".nodes", "missing: each node's FE DOFs (1-based), [[x, y, z], ...] or an n x 3 (2D: n x 2) .mtx");
     const Eigen::MatrixXd node_dofs = rows(*nodes, where + ".nodes");
@@ -197,7 +178,7 @@ ContactInterface read_interface(const Reader& r, const toml::table& t, int index
         }
     }
     for (const LawParameter& p : parameters)
-        if (p.kind != LawParameter::Kind::direction)
+        if (p.scalar())
             if (const toml::node* v = t.get(p.key)) p.set(iface.prototype, r.number(*v, where + "." + p.key));
     if (const toml::node* v = t.get("preload_pressure")) iface.preload_pressure = r.number(*v, where + ".preload_pressure");
     try {

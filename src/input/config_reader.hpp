@@ -105,6 +105,28 @@ struct Reader {
         return v;
     }
 
+    /// A table of rows: rows [[...], [...]] of equal width, one row [...], or a Matrix Market
+    /// file (dense or coordinate).
+    Eigen::MatrixXd rows(const toml::node& v, const std::string& key) const {
+        Eigen::MatrixXd m;
+        if (v.is_string()) {
+            m = Eigen::MatrixXd(matrix(v, key));
+        } else if (const toml::array* a = v.as_array(); a && !a->empty() && a->front().is_array()) {
+            for (std::size_t i = 0; i < a->size(); ++i) {
+                const std::vector<double> row = list(*a->get(i), key);
+                if (i == 0) m.resize(static_cast<Eigen::Index>(a->size()), static_cast<Eigen::Index>(row.size()));
+                if (static_cast<Eigen::Index>(row.size()) != m.cols())
+                    fail(file, a->get(i)->source(), key, "row " + std::to_string(i + 1) + " has " + std::to_string(row.size()) +
+                                                            " entries: allowed " + std::to_string(m.cols()) + " as row 1");
+                for (std::size_t j = 0; j < row.size(); ++j) m(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = row[j];
+            }
+        } else {
+            const std::vector<double> row = list(v, key);
+            m = Eigen::Map<const Eigen::MatrixXd>(row.data(), 1, static_cast<Eigen::Index>(row.size()));
+        }
+        return m;
+    }
+
     /// Rejects keys of `table` outside `allowed`, naming the table.
     void only(const toml::table& table, const std::set<std::string>& allowed, const std::string& where) const {
         for (auto&& [key, node] : table) {

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "hbf/absorber.hpp"
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::io {
@@ -165,7 +166,8 @@ std::vector<Column> frf_columns(int dofs) { return frf_columns(all_dofs(dofs)); 
 std::vector<int> normal_contacts(const System& system) {
     std::vector<int> out;
     for (std::size_t c = 0; c < system.contacts.size(); ++c)
-        if (system.contact_directions(system.contacts[c]).cols() > 1) out.push_back(static_cast<int>(c));
+        if (contact_law(system.contacts[c].law).friction() && system.contact_directions(system.contacts[c]).cols() > 1)
+            out.push_back(static_cast<int>(c));
     return out;
 }
 

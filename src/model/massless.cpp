@@ -130,6 +130,23 @@ MasslessCondensation::MasslessCondensation(const System& system) : system_(syste
             converted_[static_cast<std::size_t>(c)] = true;
         }
         reduced.direction = w_r;
+        // An element's further coordinates (a polynomial of several): on massive DOFs only.
+        for (const LawParameter& p : contact_law(contact.law).parameters()) {
+            if (p.kind != LawParameter::Kind::direction_rows || reduced.tables.count(p.key) == 0) continue;
+            const std::string key = p.key;
+            Eigen::MatrixXd& table = reduced.tables[key];
+            Eigen::MatrixXd rows(table.rows(), static_cast<Eigen::Index>(massive_.size()));
+            for (Eigen::Index r = 0; r < table.rows(); ++r)
+                for (int i = 0; i < n; ++i) {
+                    if (!is_massless[static_cast<std::size_t>(i)]) {
+                        rows(r, position_[static_cast<std::size_t>(i)]) = table(r, i);
+                    } else if (table(r, i) != 0.0) {
+                        throw InvalidInput(why + name + ": its " + key + " move massless DOFs: allowed there "
+                                           "coulomb and jenkins; give the DOF a mass");
+                    }
+                }
+            table = rows;
+        }
         reduced_.contacts.push_back(reduced);
     }
     reduced_.validate();

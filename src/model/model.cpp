@@ -34,13 +34,29 @@ Eigen::MatrixXd System::contact_directions(const Contact& contact) const {
     for (const LawParameter& p : contact_law(contact.law).parameters())
         if (p.kind == LawParameter::Kind::direction)
             if (const auto at = contact.lists.find(p.key); at != contact.lists.end()) extra.push_back(&at->second);
-    Eigen::MatrixXd w(dofs(), static_cast<Eigen::Index>(extra.size()) + 1);
+    std::vector<const Eigen::MatrixXd*> rows;
+    Eigen::Index more = 0;
+    for (const LawParameter& p : contact_law(contact.law).parameters())
+        if (p.kind == LawParameter::Kind::direction_rows)
+            if (const auto at = contact.tables.find(p.key); at != contact.tables.end()) {
+                rows.push_back(&at->second);
+                more += at->second.rows();
+            }
+    Eigen::MatrixXd w(dofs(), static_cast<Eigen::Index>(extra.size()) + 1 + more);
     w.col(0) = contact_direction(contact);
     for (std::size_t j = 0; j < extra.size(); ++j) {
         if (static_cast<int>(extra[j]->size()) != dofs())
             throw InvalidInput("contact_directions: a direction has " + std::to_string(extra[j]->size()) +
                                " entries: allowed " + std::to_string(dofs()) + " (the number of DOFs)");
         w.col(static_cast<Eigen::Index>(j) + 1) = Eigen::Map<const Eigen::VectorXd>(extra[j]->data(), dofs());
+    }
+    Eigen::Index at = static_cast<Eigen::Index>(extra.size()) + 1;
+    for (const Eigen::MatrixXd* table : rows) {
+        if (table->cols() != dofs())
+            throw InvalidInput("contact_directions: a row of directions has " + std::to_string(table->cols()) +
+                               " entries: allowed " + std::to_string(dofs()) + " (the number of DOFs)");
+        w.middleCols(at, table->rows()) = table->transpose();
+        at += table->rows();
     }
     return w;
 }
@@ -209,6 +225,22 @@ void System::validate() const {
             if (!d.allFinite() || !(largest >= 1e-100 && largest <= 1e100))
                 throw InvalidInput(where + p.key + " (" + p.meaning + ") must be finite and not all zero: allowed "
                                    "entries up to 1e100 with the largest at least 1e-100");
+        }
+        for (const LawParameter& p : law.parameters()) {
+            if (p.kind != LawParameter::Kind::direction_rows) continue;
+            const auto at = k.tables.find(p.key);
+            if (at == k.tables.end()) continue;
+            const Eigen::MatrixXd& d = at->second;
+            if (d.cols() != n)
+                throw InvalidInput(where + p.key + " has rows of " + std::to_string(d.cols()) + " entries: allowed " +
+                                   std::to_string(n) + " (the number of DOFs)");
+            for (Eigen::Index r = 0; r < d.rows(); ++r) {
+                const double largest = d.row(r).cwiseAbs().maxCoeff();
+                if (!d.row(r).allFinite() || !(largest >= 1e-100 && largest <= 1e100))
+                    throw InvalidInput(where + p.key + "[" + std::to_string(r + 1) + "] (" + p.meaning +
+                                       ") must be finite and not all zero: allowed entries up to 1e100 with the "
+                                       "largest at least 1e-100");
+            }
         }
         if (k.base_motion != 0.0 && (!std::isfinite(k.base_motion) || !elastic_slider(k)))
             throw InvalidInput(where + "base_motion = " + format_number(k.base_motion) +

@@ -107,9 +107,12 @@ StabilityAnalyser::StabilityAnalyser(HarmonicBalance& hb, StabilityOptions optio
     if (!refusal_.empty() || !smooth_) return;
     const Eigen::MatrixXd m = Eigen::MatrixXd(s.mass);
     minv_ = m.llt().solve(Eigen::MatrixXd::Identity(m.rows(), m.cols()));
-    w_.resize(s.dofs(), static_cast<Eigen::Index>(s.contacts.size()));
-    for (std::size_t c = 0; c < s.contacts.size(); ++c)
-        w_.col(static_cast<Eigen::Index>(c)) = s.contact_direction(s.contacts[c]);
+    w_.resize(s.dofs(), 0);  // every contact's directions, in order (Variational)
+    for (const Contact& c : s.contacts) {
+        const Eigen::MatrixXd w = s.contact_directions(c);
+        w_.conservativeResize(Eigen::NoChange, w_.cols() + w.cols());
+        w_.rightCols(w.cols()) = w;
+    }
 }
 
 Eigen::VectorXd StabilityAnalyser::start_state(const SolutionPoint& point) {

@@ -26,12 +26,8 @@ public:
     Variational(HarmonicBalance& hb, const Eigen::MatrixXd& minv, const Eigen::MatrixXd& w, const SolutionPoint& p);
     int size() const { return d_; }
     double omega() const { return omega_; }
-    /// Slopes of every contact at phase theta.
-    void slopes(double theta, std::vector<LocalLinearization>& out) const;
     /// A(t) at phase theta = omega t.
     void matrix(double theta, Eigen::MatrixXd& a) const;
-    /// Adds contact c's part of A for the given slopes (entries of one instant).
-    void add_contact(int c, const LocalLinearization& l, Eigen::MatrixXd& a) const;
     /// Hill's matrix on the samples of `fourier` (all harmonics 0..H).
     Eigen::MatrixXd hill(Fourier& fourier) const;
 
@@ -42,8 +38,16 @@ private:
     std::vector<Eigen::VectorXd> q_, z_;
     std::vector<std::unique_ptr<BoundLaw>> laws_;  // each contact's law bound to it
     std::vector<int> state_index_;
+    // Contact c's directions are the columns first_[c] .. + count_[c] - 1 of w_ (one, or m for
+    // an element over several coordinates: BoundLaw::directions).
+    std::vector<int> first_, count_;
     Eigen::MatrixXd base_, w_, mw_;
-    mutable std::vector<LocalLinearization> scratch_;
+    mutable Eigen::VectorXd q_at_, v_at_, f_at_;
+    mutable Eigen::MatrixXd fq_at_, fv_at_;
+    /// Adds contact c's part of A at phase theta.
+    void add_contact(int c, double theta, Eigen::MatrixXd& a) const;
+    /// Contact c's relative displacements and velocities (count_[c] each) at phase theta.
+    void motion(int c, double theta, Eigen::VectorXd& q, Eigen::VectorXd& v) const;
 };
 
 /// Hill's classical sorted selection: mu = exp(lambda T) of the d exponents with the smallest

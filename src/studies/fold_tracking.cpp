@@ -48,7 +48,16 @@ LocalFolds local_folds(const std::function<System(double)>& system, const FrfSet
         c.max_step = std::min(c.max_step, max_step);
         c.progress = nullptr;
         c.fold_progress = nullptr;
-        const BranchResult b = continue_branch(hb, c);
+        BranchResult b = continue_branch(hb, c);
+        // Near a cusp the window's start lies where the response is far from the linear guess
+        // (Newton's start may fail there): started lower, where it is closer to linear, down to
+        // the FRF's own start. The folds below the window the wider branch may find are
+        // discarded by the caller (the pair nearest the prediction).
+        const double lowest = std::min(settings.continuation.omega_start, settings.continuation.omega_end);
+        for (double widen = 4.0; b.status == ContinuationStatus::start_failed && c.omega_start > lowest; widen *= 4.0) {
+            c.omega_start = std::max(lowest, wa - widen * (wb - wa));
+            b = continue_branch(hb, c);
+        }
         if (b.status != ContinuationStatus::completed) {
             out.message = "the local branch over w = " + format_number(wa) + ".." + format_number(wb) + " at p = " +
                           format_number(p) + " did not complete: " + b.summary();
@@ -232,6 +241,7 @@ TrackResult track_folds(const std::function<System(double)>& system, const FrfSe
         double lo = p, hi = target;
         double wa_lo = a.points.back().omega, wb_lo = b.points.back().omega;
         bool failed = false;
+        std::string why;
         while (std::abs(hi - lo) > smallest) {
             const double mid = 0.5 * (lo + hi);
             LocalFolds m;
@@ -249,13 +259,14 @@ TrackResult track_folds(const std::function<System(double)>& system, const FrfSe
                 lo = mid;  // an odd count: a fold the local branch did not resolve, the S still there
             } else {
                 failed = true;
+                why = m.message;
                 break;
             }
         }
         if (failed) {
             a.status = b.status = TrackStatus::failed;
             a.message = b.message = "a local branch failed while locating the cusp between p = " + format_number(lo) +
-                                    " and " + format_number(hi);
+                                    " and " + format_number(hi) + (why.empty() ? "" : ": " + why);
             break;
         }
         const double pc = 0.5 * (lo + hi), wc = 0.5 * (wa_lo + wb_lo);

@@ -7,6 +7,7 @@
 #include <complex>
 #include <limits>
 
+#include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 
@@ -61,7 +62,8 @@ ModeMetrics NonlinearModes::metrics(const ModePoint& point, const std::vector<Ou
     Eigen::VectorXd v(nt);
     for (int c = 0; c < static_cast<int>(system_.contacts.size()); ++c) {
         const Eigen::VectorXd q = hb_->relative(point.x, c);
-        if (q.size() <= n) continue;  // no normal direction
+        if (q.size() <= n || !contact_law(system_.contacts[static_cast<std::size_t>(c)].law).friction())
+            continue;  // no normal direction (a force element over several coordinates: its work is friction_energy's)
         const Eigen::VectorXd f = hb_->force_samples(point.x, point.omega, c);
         aft.to_time(point.omega * (aft.derivative() * q.tail(n)), v);
         normal_work += 2.0 * M_PI / point.omega * f.tail(nt).dot(v) / nt;

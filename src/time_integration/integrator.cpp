@@ -25,7 +25,11 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
       nc_(static_cast<int>(system.contacts.size())), length_(4 * n_ + nc_ + 3), quad_(2 * n_ + nc_),
       cvode_(length_, options.method == IntegrationMethod::adams ? CV_ADAMS : CV_BDF, rhs_callback, this,
              CvodeSolver::Warnings::record) {
-    for (const Contact& c : system.contacts) contacts_.emplace_back(c);
+    for (const Contact& c : system.contacts) {
+        contacts_.emplace_back(c);
+        ContactData& k = contacts_.back();
+        if (k.bound && k.bound->directions() > 1) k.directions = system.contact_directions(c);
+    }
     sparse_ = n_ > options_.dense_newton_max_dofs;
     if (sparse_) {
         mass_factor_.compute(system.mass);
@@ -39,6 +43,7 @@ Integrator::Integrator(const System& system, double omega, const TimeIntegration
     f_ = Eigen::VectorXd::Zero(nc_);
     zdot_ = Eigen::VectorXd::Zero(nc_);
     velocity_c_ = Eigen::VectorXd::Zero(nc_);
+    power_ = Eigen::VectorXd::Zero(nc_);
     end_ = end_rate_ = end_acc_ = Eigen::VectorXd::Zero(nc_);
     acc_ = Eigen::VectorXd::Zero(n_);
     load_ = Eigen::VectorXd::Zero(n_);
@@ -207,6 +212,17 @@ void Integrator::evaluate(double t, const double* x) {
             end_rate_(c) = -k.base * drive_ * drive_sin;
             end_acc_(c) = -k.base * drive_ * drive_ * drive_cos;
         }
+        if (k.directions.cols() > 0) {  // an element over several coordinates: -W f on the structure
+            several_q_.noalias() = k.directions.transpose() * ym;
+            several_v_.noalias() = k.directions.transpose() * vm;
+            k.bound->forces(several_q_, several_v_, several_f_, nullptr, nullptr);
+            load_.noalias() -= k.directions * several_f_;
+            f_(c) = several_f_(0);  // along its first direction (the recorded force)
+            velocity_c_(c) = several_v_(0);
+            power_(c) = several_f_.dot(several_v_);
+            zdot_(c) = 0.0;
+            continue;
+        }
         const double vc = k.relative(v) + end_rate_(c);  // the moving end's velocity
         velocity_c_(c) = vc;
         double f = 0.0, zd = 0.0;
@@ -226,6 +242,7 @@ void Integrator::evaluate(double t, const double* x) {
             case ContactData::Kind::rigid_slider: f = mode * k.limit; break;  // stuck: lambda below
         }
         f_(c) = f;
+        power_(c) = f * vc;
         zdot_(c) = zd;
         if (k.rigid() && mode == 0) continue;
         if (k.w.size() > 0) {  // a force direction: -w f on the structure
@@ -239,7 +256,10 @@ void Integrator::evaluate(double t, const double* x) {
     if (!stuck_.empty()) {
         lambda_.noalias() = g_ * (ws_.transpose() * acc_);
         acc_.noalias() -= minv_ws_ * lambda_;
-        for (std::size_t k = 0; k < stuck_.size(); ++k) f_(stuck_[k]) = lambda_(static_cast<Eigen::Index>(k));
+        for (std::size_t k = 0; k < stuck_.size(); ++k) {
+            f_(stuck_[k]) = lambda_(static_cast<Eigen::Index>(k));
+            power_(stuck_[k]) = f_(stuck_[k]) * velocity_c_(stuck_[k]);
+        }
     }
 }
 
@@ -263,7 +283,7 @@ void Integrator::derivative(double t, const double* x, double* dx) {
     // The sliders' base motion is the work of a load on condensed massless DOFs: input.
     double base_input = 0.0;
     for (int c = 0; c < nc_; ++c) {
-        friction += f_(c) * velocity_c_(c);
+        friction += power_(c);
         base_input += f_(c) * end_rate_(c);
     }
     Eigen::Map<const Eigen::VectorXd> vm(v, n_);

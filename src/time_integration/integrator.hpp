@@ -39,6 +39,9 @@ struct ContactData {
     Eigen::VectorXd w;       // a general force direction (empty: the DOF pair a, b)
     Contact parameters;      // the law and its parameters (its direction left empty: w)
     std::shared_ptr<const BoundLaw> bound;  // smooth laws: the law bound to `parameters`
+    // An element over several coordinates (BoundLaw::directions() > 1): its directions, N x m
+    // (System::contact_directions); empty otherwise.
+    Eigen::MatrixXd directions;
 
     explicit ContactData(const Contact& c)
         : kind(rigid_slider(c) ? Kind::rigid_slider : elastic_slider(c) ? Kind::elastic_slider : Kind::smooth),
@@ -160,6 +163,8 @@ private:
     std::vector<const Output*> combined_outputs_;  // options_.outputs that combine DOFs (own roots)
     // scratch of evaluate()
     Eigen::VectorXd f_, zdot_, acc_, load_, lambda_, velocity_c_;
+    Eigen::VectorXd power_;  // each contact's force times its velocity (every direction's)
+    mutable Eigen::VectorXd several_q_, several_v_, several_f_;  // an element over several coordinates
     // Per contact, at the last evaluate(): the base motion of an elastic slider's spring end
     // (displacement, velocity, acceleration); velocity_c_ includes its velocity.
     Eigen::VectorXd end_, end_rate_, end_acc_;
