@@ -77,3 +77,32 @@ def test_bad_force_elements_are_refused_naming_the_key(tmp_path, table, needle):
     code, _, err = run_hbf("frf", "--config", str(path), "--dry-run", check=False)
     assert code == 2
     assert needle in err
+
+
+def test_polynomial_of_several_coordinates_equals_its_springs():
+    # The chain ground - 1 - 2 with cubic springs k3 = 0.5 (ground - 1) and 1 (1 - 2), once as two
+    # contacts and once as one polynomial of (y1, y2): (y1 - y2)^3 expanded by hand.
+    structure = dict(mass=[[1.0, 0.0], [0.0, 2.0]], stiffness=[[2.0, -1.0], [-1.0, 2.0]], excitation=[1.0, 0.0],
+                     damping=[[0.03, -0.01], [-0.01, 0.03]])
+    springs = hbfriction.System(structure["mass"], structure["stiffness"], structure["excitation"],
+                                damping=structure["damping"],
+                                contacts=[hbfriction.Contact(dof=0, law="polynomial", cubic=0.5),
+                                          hbfriction.Contact(dof=1, other_dof=0, law="polynomial", cubic=1.0)])
+    together = hbfriction.Contact(dof=0, law="polynomial", directions=[[0.0, 1.0]],
+                                  exponents=[[3, 0], [2, 1], [1, 2], [0, 3]],
+                                  coefficients=[[1.5, -1.0], [-3.0, 3.0], [3.0, -3.0], [-1.0, 1.0]])
+    assert together.exponents[1] == [2.0, 1.0]
+    assert together.directions == [[0.0, 1.0]]
+    system = hbfriction.System(structure["mass"], structure["stiffness"], structure["excitation"],
+                               damping=structure["damping"], contacts=[together])
+    got = hbfriction.frf(system, harmonics=10, wmin=0.42, wmax=0.55)
+    want = hbfriction.frf(springs, harmonics=10, wmin=0.42, wmax=0.55)
+    assert got.status == "completed" and want.status == "completed"
+    # the branch's ends (the same frequencies): the same response, to the corrector's tolerance (1e-9 of the
+    # force, amplified near resonance)
+    for index in (0, -1):
+        assert got["w"][index] == want["w"][index]
+        assert abs(got["y1_max"][index] - want["y1_max"][index]) <= 1e-7 * want["y1_max"][index]
+        assert abs(got["y2_max"][index] - want["y2_max"][index]) <= 1e-7 * want["y2_max"][index]
+    with pytest.raises(Exception, match="coefficients"):
+        together.coefficients = [[1.0, 2.0], [3.0]]
