@@ -148,7 +148,7 @@ TEST_CASE("Polynomial over several coordinates: the harmonic-balance Jacobian eq
 }
 
 TEST_CASE("Polynomial over several coordinates equals its springs given one by one: FRF, folds and stability "
-          "(full and condensed), time integration, backbone, fold tracking; in physical and modal coordinates",
+          "(full and condensed), time integration, backbone, in physical and modal coordinates",
           "[force_elements][several]") {
     using namespace several_coordinates;
     const System reference = one_by_one();
@@ -349,7 +349,7 @@ TEST_CASE("Polynomial over several coordinates: N_t from the largest row sum, an
     CHECK(f.jacobian(1, 1) == Approx(-2.0 * 0.25 * 3.0 + 0.3));
 }
 
-TEST_CASE("Polynomial over several coordinates in a system file: tables and Matrix Market files, the same FRF; "
+TEST_CASE("Polynomial over several coordinates in a system file: tables and Matrix Market files, the same FRF, "
           "bad tables refused naming the key",
           "[force_elements][several][config]") {
     using namespace several_coordinates;
