@@ -422,3 +422,66 @@ coefficients = [[1.5, -1.0], [-3.0, 3.0], [3.0, -3.0], [-1.0, 1.0]]
     test::check_refused_config(bad, structure + "[[contact]]\ndof = 1\nlaw = \"jenkins\"\nfriction_limit = 1.0\nstiffness = 1.0\n" + tables,
                                {"does not apply to law 'jenkins'"});
 }
+
+// NLvib's sixth example (examples/systems/nlvib/two_springs.toml): the quadratic and cubic
+// geometric stiffness of a mass on two orthogonal springs, one polynomial of both modal
+// coordinates.
+TEST_CASE("NLvib's mass on two springs with geometric stiffness: harmonic balance equals time integration at "
+          "three frequencies, the backbone leaves w1 softening and passes through the FRF's peak",
+          "[force_elements][several]") {
+    const io::SystemConfig config =
+        io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/nlvib/two_springs.toml");
+    const System& s = config.system;
+    REQUIRE(s.contact_directions(s.contacts.front()).cols() == 2);
+    FrfSettings f;
+    f.harmonic_balance.harmonics = 7;
+    f.continuation.omega_start = 1.0;
+    f.continuation.omega_end = 1.2;
+    f.error_points = 0;
+    f.at = {1.0, 1.1, 1.2};  // single-valued there (the folds lie near 1.1273 and 1.1285)
+    const FrfResult r = compute_frf(s, f);
+    INFO(r.summary());
+    REQUIRE(r.status() == "completed");
+    HarmonicBalance hb(s, HarmonicBalanceOptions{7, 0});
+    Analyser analyse(hb);
+    int compared = 0;
+    for (std::size_t i = 0; i < r.points.size(); ++i) {
+        if (r.points[i].kind != PointKind::sample) continue;
+        const double w = r.points[i].omega;
+        const PeriodicResponse ti = integrate_steady_state(s, w, test::tight_time_integration());
+        INFO("w = " << w << ": " << ti.summary());
+        REQUIRE(ti.converged);
+        for (int k = 0; k < 2; ++k)
+            CHECK(test::relative_difference(r.metrics[i].y_max[static_cast<std::size_t>(k)],
+                                            ti.y_max[static_cast<std::size_t>(k)]) <= 1e-5);
+        ++compared;
+    }
+    CHECK(compared == 3);
+    // The backbone: from w1 = 1.13 at small amplitude, softening; at the FRF's peak amplitude
+    // its frequency is the peak's (damping 0.1 %: the peak lies on the backbone to O(zeta)).
+    ModeOptions mo;
+    mo.amplitude_min = 1e-3;
+    mo.amplitude_max = 0.3;
+    const ModeRun mode = compute_mode(s, HarmonicBalanceOptions{7, 0}, mo, {Output::dof(0)}, false);
+    INFO(mode.backbone.message);
+    REQUIRE(mode.backbone.status == ModeStatus::completed);
+    CHECK(std::abs(mode.backbone.points.front().omega - 1.13) <= 1e-4 * 1.13);
+    CHECK(mode.backbone.points.back().omega < 1.12);
+    REQUIRE(!r.peaks.empty());
+    const double peak_w = r.peak.omega, peak_amplitude = [&] {
+        double best = 0.0;
+        for (const PointMetrics& m : r.metrics) best = std::max(best, m.y_amp1[0]);
+        return best;
+    }();
+    double backbone_w = std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t i = 1; i < mode.metrics.size(); ++i) {
+        const double a0 = mode.metrics[i - 1].output_amp1[0], a1 = mode.metrics[i].output_amp1[0];
+        if ((a0 - peak_amplitude) * (a1 - peak_amplitude) <= 0.0 && a1 != a0) {
+            const double t = (peak_amplitude - a0) / (a1 - a0);
+            backbone_w = mode.backbone.points[i - 1].omega + t * (mode.backbone.points[i].omega - mode.backbone.points[i - 1].omega);
+            break;
+        }
+    }
+    INFO("peak at w = " << peak_w << ", amplitude " << peak_amplitude << "; backbone there " << backbone_w);
+    CHECK(std::abs(backbone_w - peak_w) <= 1e-3 * peak_w);
+}

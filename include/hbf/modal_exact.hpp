@@ -1,4 +1,4 @@
-// hbfriction — the event-exact solver on finite-element models: their modal form (issue 30).
+// hbfriction — the event-exact solver on finite-element models: their modal form.
 //
 // The exact solver's flows are dense in the DOFs with mass (event_exact.hpp): up to
 // exact_solver_max_dofs. A larger structure M y'' + C y' + K y + W f = F cos(w t) (M and K

@@ -1,5 +1,5 @@
-// hbfriction — friction contacts whose normal load follows the motion and which separate
-// (issue 31): the elastic element in 2D (one tangential direction) and 3D (two), on the
+// hbfriction — friction contacts whose normal load follows the motion and which separate:
+// the elastic element in 2D (one tangential direction) and 3D (two), on the
 // samples of one period, with the exact Jacobian of its AFT force.
 //
 // Definition. Relative displacements u (tangential, d = 1 or 2 components) and v (normal,

@@ -1,5 +1,5 @@
-// hbfriction — the linear structure per harmonic, condensed onto the contacts (issue 12, first
-// step: the unit under harmonic_balance that a condensed residual will use).
+// hbfriction — the linear structure per harmonic, condensed onto the contacts: the
+// receptance of harmonic balance's condensed formulation.
 //
 // For harmonic k of the excitation frequency omega the linear part of
 //     M y'' + C y' + K y + W f = F cos(omega t)

@@ -1,4 +1,4 @@
-// hbfriction — the static contact problem (issue 31): the structure under its static load
+// hbfriction — the static contact problem: the structure under its static load
 // alone, before the vibration,
 //
 //     K y + sum_c W_c f_c(W_c^T y) = F_s,

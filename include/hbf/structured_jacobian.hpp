@@ -1,5 +1,5 @@
 // hbfriction — the condensed Jacobian kept in its structure, for interfaces of many contact
-// nodes (issue 32).
+// nodes.
 //
 // The condensed residual (harmonic_balance.hpp) of signal a, harmonic k, is
 //     R = S (q - q0 + Gr f(q)),

@@ -246,7 +246,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
     };
     out.points.push_back(make_point(omega, x, iterations, residual, 0.0));
     // A start (or, below, an end) on an unbounded linear resonance the contacts do not see: the
-    // condensed unknowns are regular there, the recovered DOFs are not (issue 28).
+    // condensed unknowns are regular there, the recovered DOFs are not.
     auto capped = [&](double w) {
         if (!(hb.amplitude_bound(out.points.back().x, w) > o.max_amplitude)) return false;
         out.status = ContinuationStatus::amplitude_cap;
