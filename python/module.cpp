@@ -12,12 +12,13 @@
 //  - The GIL is released during every computation (FRFs, solves, time integration, searches);
 //    Python callables (optimize's system of p) are called with the GIL re-acquired.
 #include "bindings.hpp"
+#include "hbf/version.hpp"
 
 using namespace hbf::python;
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "hbfriction's C++ core (use the hbfriction package, not this module)";
-    m.attr("__version__") = HBF_VERSION;
+    m.attr("__version__") = hbf::version();
     hbf::capture_library_messages();  // Ceres' glog output is counted (the verdicts' warnings), not printed
     bind_model(m);
     bind_options(m);

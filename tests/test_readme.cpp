@@ -1,6 +1,6 @@
 // The README's quickstart runs as written: its system file (the TOML block after
 // "# my_system.toml") through hbf frf, hbf modes and hbf timeint, and the FRF's peak against
-// time integration at the peak's frequency.
+// time integration at the peak's frequency; and the release's one version number everywhere.
 #include <catch2/catch.hpp>
 
 #include <fstream>
@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli_support.hpp"
+#include "hbf/version.hpp"
 #include "support.hpp"
 
 namespace readme_quickstart {
@@ -62,4 +63,41 @@ TEST_CASE("The README's quickstart system runs as written: hbf frf, modes and ti
     const Result modes = run_hbf("modes" + config + " --quiet --amin 1e-3 --amax 1", dir);
     INFO(modes.err);
     CHECK(modes.exit_code == 0);
+}
+
+namespace readme_quickstart {
+
+std::string slurp_file(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace readme_quickstart
+
+TEST_CASE("One version everywhere: the header, the library, hbf --version, the CMake package, CITATION.cff and "
+          "the changelog's latest release",
+          "[cli][readme]") {
+    using namespace hbf::test;
+    const std::string v = hbf::version();
+    CHECK(v == HBF_VERSION_STRING);
+    CHECK(v == std::to_string(HBF_VERSION_MAJOR) + "." + std::to_string(HBF_VERSION_MINOR) + "." +
+                   std::to_string(HBF_VERSION_PATCH));
+    CHECK(v != "0.0.0");
+    TempDir dir;
+    const Result r = run_hbf("--version", dir);
+    CHECK(r.exit_code == 0);
+    CHECK(r.out == "hbf " + v + "\n");
+    const std::string package = readme_quickstart::slurp_file(std::string(HBF_BINARY_DIR) + "/hbfrictionConfigVersion.cmake");
+    CHECK_THAT(package, Catch::Contains("set(PACKAGE_VERSION \"" + v + "\")"));
+    const std::string citation = readme_quickstart::slurp_file(std::string(HBF_SOURCE_DIR) + "/CITATION.cff");
+    CHECK_THAT(citation, Catch::Contains("\nversion: " + v + "\n"));
+    // the first release heading of the changelog (after [Unreleased]) is this version
+    const std::string changelog = readme_quickstart::slurp_file(std::string(HBF_SOURCE_DIR) + "/CHANGELOG.md");
+    const std::size_t unreleased = changelog.find("## [Unreleased]");
+    REQUIRE(unreleased != std::string::npos);
+    const std::size_t next = changelog.find("## [", unreleased + 1);
+    REQUIRE(next != std::string::npos);
+    CHECK(changelog.substr(next, 4 + v.size() + 1) == "## [" + v + "]");
 }

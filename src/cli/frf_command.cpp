@@ -290,8 +290,9 @@ is complete.)"));
 }  // namespace
 
 Runner add_frf_command(CLI::App& app) {
-    return register_command<FrfOptions>(app, "frf", "Frequency response of the paper's friction absorber by multi-harmonic balance (AFT) and "
-               "pseudo-arclength continuation in w (nondimensional).", add_flags, run);
+    return register_command<FrfOptions>(app, "frf", "Frequency response of a structure with friction and contact (--config FILE, or the paper's "
+               "friction absorber by default) by multi-harmonic balance and continuation in w: branches, folds, "
+               "stick-slip transitions, peaks, exact polish and stability.", add_flags, run);
 }
 
 }  // namespace hbf::cli

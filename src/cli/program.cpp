@@ -3,19 +3,21 @@
 #include <algorithm>
 #include <iostream>
 #include <map>
+#include <string>
 
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
+#include "hbf/version.hpp"
 
 namespace hbf::cli {
 
 int run_program(int argc, char** argv) {
-    CLI::App app("hbf: frequency responses of structures with friction contacts "
-                 "(multi-harmonic balance, closed forms of the friction absorber).",
+    CLI::App app("hbf: periodic responses of vibrating structures with friction and contact (harmonic "
+                 "balance, an event-exact solver, stability, nonlinear modes, parameter studies, time integration).",
                  "hbf");
-    app.set_version_flag("--version", "hbf 0.1.0");
+    app.set_version_flag("--version", std::string("hbf ") + hbf::version());
     app.require_subcommand(1);
     app.footer(R"(Exit codes: 0 success; 2 bad input (an invalid flag or value, or an output path that cannot be used,
 found before any work: the message names it, no output file is written); 1 failure (a solver that

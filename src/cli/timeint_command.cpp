@@ -234,8 +234,9 @@ written).)"));
 }  // namespace
 
 Runner add_timeint_command(CLI::App& app) {
-    return register_command<TimeintOptions>(app, "timeint", "Periodic steady states of the paper's friction absorber by time integration (SUNDIALS CVODE; law unilateral: velocity Verlet with a complementarity solve per step): "
-                   "the reference for harmonic balance. One frequency (--w) or a sweep (--wmin --wmax --points).", add_flags, run);
+    return register_command<TimeintOptions>(app, "timeint", "Periodic steady states of a structure with friction and contact (--config FILE, or the paper's "
+                   "friction absorber) by time integration (SUNDIALS CVODE; law unilateral: velocity Verlet with a "
+                   "complementarity solve per step): the reference for harmonic balance. One frequency (--w) or a sweep (--wmin --wmax --points).", add_flags, run);
 }
 
 }  // namespace hbf::cli

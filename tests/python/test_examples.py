@@ -7,6 +7,8 @@ import sys
 
 import pytest
 
+import hbfriction
+
 from conftest import SOURCE, run_hbf
 
 EXAMPLES = os.path.join(SOURCE, "examples", "python")
@@ -74,3 +76,8 @@ def test_readme_python_quickstart_runs_and_matches_the_cli(tmp_path):
             "--summary", str(summary))
     cli_peak = max(p["y_max"] for p in json.load(open(summary))["peaks"] if p.get("output") == "y1")
     assert abs(python_peak - cli_peak) <= 1e-9 * cli_peak
+
+
+def test_the_package_version_is_hbf_s():
+    _, out, _ = run_hbf("--version")
+    assert out.strip() == "hbf " + hbfriction.__version__
