@@ -4,6 +4,7 @@
 #include <hbf/hbf.hpp>  // the umbrella: every public header, installed and self-contained
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 int main() {
     const hbf::AbsorberParameters p;  // r = 0.1, fe = 0.5
@@ -13,5 +14,9 @@ int main() {
     const Eigen::VectorXd start = hbf::linear_stuck_state(system, 0.5);
     const hbf::PeriodicResponse r = hbf::integrate_steady_state(system, 0.5, hbf::TimeIntegrationOptions{}, &start);
     std::printf("consumer: |Y1| = %.15g, time integration %.15g, expected %.15g\n", y, r.y_max[0], expected);
-    return std::abs(y - expected) < 1e-14 && r.converged && std::abs(r.y_max[0] - expected) < 1e-8 ? 0 : 1;
+    // the installed headers and library are one version
+    const bool same_version = std::string(hbf::version()) == HBF_VERSION_STRING;
+    std::printf("consumer: hbfriction %s (headers %s)\n", hbf::version(), HBF_VERSION_STRING);
+    return std::abs(y - expected) < 1e-14 && r.converged && std::abs(r.y_max[0] - expected) < 1e-8 && same_version ? 0
+                                                                                                                    : 1;
 }
