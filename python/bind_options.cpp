@@ -19,7 +19,7 @@ void bind_options(py::module_& m) {
     py::class_<CorrectorOptions> corr(m, "CorrectorOptions", "continuation.hpp");
     corr.def(py::init<>())
         .def_readwrite("max_iterations", &CorrectorOptions::max_iterations)
-        .def_readwrite("tolerance", &CorrectorOptions::tolerance, "|R|_inf <= tolerance |F|_inf");
+        .def_readwrite("tolerance", &CorrectorOptions::tolerance, "accept a correction where max abs(R) <= tolerance * max abs(F) (F the excitation)");
     enum_property(corr, "trust_region", &CorrectorOptions::trust_region, parse_trust_region,
                   "levenberg_marquardt or dogleg");
     enum_property(corr, "dense_solver", &CorrectorOptions::dense_solver, parse_dense_solver, "qr or normal_cholesky");

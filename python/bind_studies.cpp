@@ -214,6 +214,20 @@ void bind_studies(py::module_& m) {
             mo.min_step = std::min(mo.min_step, mo.initial_step);
             mo.max_points = max_points;
             if (outputs.empty()) outputs = s.reported();
+            // No range given (both 0): a tenth to a hundred times the stuck mode's slip onset.
+            SlipOnset onset;
+            if (amplitude_min == 0.0 && amplitude_max == 0.0) {
+                ModeOptions probe_options = mo;
+                probe_options.amplitude_min = 1e-4;
+                probe_options.amplitude_max = 1.0;
+                const NonlinearModes probe(s.system, hbo, probe_options);
+                onset = slip_onset(s.system, probe.linear());
+                if (!onset.found)
+                    bad("amplitude_min and amplitude_max are required here: no default range of the modal amplitude (" +
+                        onset.why + ")");
+                mo.amplitude_min = onset.amplitude_min;
+                mo.amplitude_max = onset.amplitude_max;
+            }
             ModeRun run;
             without_gil([&] {
                 run = compute_mode(s.system, hbo, mo, outputs, synthesis, exact_check);
@@ -234,6 +248,10 @@ void bind_studies(py::module_& m) {
             d["message"] = b.message;
             d["seconds"] = b.seconds;
             d["evaluations"] = b.evaluations;
+            d["amplitude_min"] = mo.amplitude_min;
+            d["amplitude_max"] = mo.amplitude_max;
+            d["slip_onset"] = onset.found ? py::object(py::float_(onset.amplitude)) : py::object(py::none());
+            d["slip_contact"] = onset.found ? py::object(py::int_(onset.contact)) : py::object(py::none());
             py::dict v;
             v["status"] = run.verdict.status();
             v["errors"] = run.verdict.errors;

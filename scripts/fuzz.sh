@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# libFuzzer targets of hbfriction (issue 13; tests/fuzz/README.md).
+# libFuzzer targets of hbfriction (tests/fuzz/README.md).
 #
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   fuzz each target (default 60 s, all three)
 #   scripts/fuzz.sh --replay [TARGET...]               run each target once on its kept crashes

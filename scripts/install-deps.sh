@@ -16,6 +16,8 @@ packages=(
   python3  # examples/systems/beam/make_beam.py (standard library only), checked by the tests
   python3-dev pybind11-dev python3-numpy  # the Python bindings (python/: import hbfriction)
   python3-pytest python3-scipy python3-matplotlib  # their tests (tests/python) and examples (examples/python)
+  python3-sphinx python3-myst-parser python3-breathe doxygen python3-sphinx-rtd-theme
+  python3-sphinx-gallery  # the documentation site (scripts/build-docs.sh, built by the tests)
   "$@"
 )
 

@@ -148,7 +148,7 @@ for v in 0 -1 'a,b' '1,,2' ''; do expect 2 "--at" '' frf --at "$v" --out x.csv; 
 # hbf modes (issue 33): the amplitude range, the mode, the steps, the outputs
 for v in nan inf -1 0 abc 1e-999 ''; do expect 2 "--amin" '' modes --amin "$v" --amax 1 --out x.csv; done
 for v in 0.05 nan 1e400 ''; do expect 2 "--amax" '' modes --amin 0.1 --amax "$v" --out x.csv; done
-expect 2 "--amin is required" '' modes --amax 1 --out x.csv
+expect 2 "--amin is missing: give --amin and --amax together" '' modes --amax 1 --out x.csv
 expect 2 "decades: allowed up to 12" '' modes --amin 1e-20 --amax 1 --out x.csv
 expect 2 "decades: allowed up to 12" '' modes --amin 1e-300 --amax 1e300 --out x.csv
 for v in 0 -1 1.5 abc; do expect 2 "--mode" '' modes --mode "$v" --amin 0.1 --amax 1 --out x.csv; done

@@ -16,6 +16,9 @@
 #include "cli_support.hpp"
 #include "progress.hpp"  // src/cli
 #include "hbf/analytic.hpp"
+#include "hbf/config.hpp"
+#include "hbf/contact_law.hpp"
+#include "hbf/version.hpp"
 #include "hbf/absorber.hpp"
 
 namespace fs = std::filesystem;
@@ -83,6 +86,102 @@ TEST_CASE("hbf --help documents the commands and exit codes, analytic --help eve
                              "--points", "--out", "y1_stick", "y2_stick", "y1_slip", "y2_slip", "mu_limit",
                              "mu_opt_den_hartog", "x_s = N / k1"})
         CHECK_THAT(sub.out, Catch::Contains(word));
+}
+
+TEST_CASE("hbf <command> --columns lists the output columns, and hbf reference every command, law and key",
+          "[cli]") {
+    TempDir dir;
+    const Result columns = run_hbf("frf --columns", dir);
+    CHECK(columns.exit_code == 0);
+    CHECK(columns.err.empty());
+    // The same columns as --help lists (a line "name: meaning" each), in its order.
+    const Result help = run_hbf("frf --help", dir);
+    std::istringstream lines(columns.out);
+    std::string line;
+    std::size_t count = 0, last = 0;
+    while (std::getline(lines, line)) {
+        ++count;
+        const std::size_t at = help.out.find("  " + line + "\n");
+        INFO(line);
+        CHECK(at != std::string::npos);
+        CHECK(at >= last);
+        if (at != std::string::npos) last = at;
+    }
+    CHECK(count >= 20);
+    CHECK_THAT(columns.out, Catch::StartsWith("w: "));
+
+    const Result reference = run_hbf("reference", dir);
+    REQUIRE(reference.exit_code == 0);
+    const nlohmann::json j = nlohmann::json::parse(reference.out);
+    CHECK(j["version"] == hbf::version());
+    std::vector<std::string> commands;
+    for (const auto& c : j["commands"]) commands.push_back(c["name"]);
+    CHECK(commands == std::vector<std::string>{"analytic", "frf", "loop", "map", "modes", "optimize", "timeint", "track"});
+    for (const auto& c : j["commands"]) {
+        // Every flag --help prints, with its description.
+        const Result h = run_hbf(c["name"].get<std::string>() + " --help", dir);
+        for (const auto& f : c["flags"]) {
+            const std::string name = f["name"];
+            INFO(c["name"] << " " << name);
+            CHECK_THAT(h.out, Catch::Contains(name.substr(name.rfind(',') + 1)));
+            // --help: one line each, short; the details are in the reference.
+            const std::string summary = f["summary"];
+            CHECK_FALSE(summary.empty());
+            CHECK(summary.size() <= 160);
+            CHECK(summary.find('\n') == std::string::npos);
+            if (!f["details"].get<std::string>().empty()) CHECK_THAT(h.out, !Catch::Contains(f["details"].get<std::string>()));
+        }
+        CHECK(c["output"]["columns"].size() >= 3);
+    }
+    // Every command's flags read in a minute: their summaries at most 14 words on average (with
+    // every detail inline, hbf frf's were 1,900 words for 38 flags).
+    for (const auto& c : j["commands"]) {
+        std::size_t words = 0;
+        for (const auto& f : c["flags"]) {
+            std::istringstream in(f["summary"].get<std::string>());
+            for (std::string word; in >> word;) ++words;
+        }
+        INFO(c["name"]);
+        CHECK(words <= 14 * c["flags"].size());
+    }
+    CHECK(j["laws"].size() == hbf::contact_laws().size());
+    for (std::size_t k = 0; k < hbf::contact_laws().size(); ++k) {
+        CHECK(j["laws"][k]["name"] == hbf::contact_laws()[k]->name());
+        CHECK(j["laws"][k]["parameters"].size() == hbf::contact_laws()[k]->parameters().size());
+    }
+    CHECK(j["config"].size() == hbf::io::config_keys().size());
+}
+
+TEST_CASE("hbf modes without an amplitude range chooses it around the slip onset and says so", "[cli][modes]") {
+    TempDir dir;
+    const fs::path out = dir.path / "modes.csv";
+    const Result r = run_hbf("modes --law jenkins --quiet --out '" + out.string() + "'", dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const std::string said = "reaches its friction limit at a = ";
+    const auto at = r.err.find(said);
+    REQUIRE(at != std::string::npos);
+    CHECK_THAT(r.err, Catch::Contains("hbf modes: note: the range a = "));
+    const double onset = std::stod(r.err.substr(at + said.size()));
+    const auto rows = parse_csv(slurp(out));
+    REQUIRE(rows.size() > 10);
+    const double first = column(rows, rows[1], "a"), last = column(rows, rows.back(), "a");
+    CHECK(std::abs(first / (onset / 10.0) - 1.0) <= 1e-6);
+    CHECK(std::abs(last / (onset * 100.0) - 1.0) <= 1e-6);
+    // The backbone itself sticks below the onset and slips soon above it.
+    double first_slip = 0.0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        const double a = column(rows, rows[k], "a"), stick = column(rows, rows[k], "stick_fraction_c1");
+        if (a < onset * (1.0 - 1e-9)) CHECK(stick == 1.0);
+        if (stick < 1.0 && first_slip == 0.0) first_slip = a;
+    }
+    CHECK(first_slip >= onset * (1.0 - 1e-9));
+    CHECK(first_slip <= 1.6 * onset);
+    // A given range is used as given; half of one is refused.
+    const Result given = run_hbf("modes --law jenkins --quiet --amin 0.1 --amax 1 --out '" + out.string() + "'", dir);
+    CHECK(given.exit_code == 0);
+    CHECK_THAT(given.err, !Catch::Contains("the range a = "));
+    check_bad_input("modes --law jenkins --amin 0.1", {"--amax is missing"}, dir);
 }
 
 TEST_CASE("hbf analytic rejects bad input with exit code 2, a named parameter and no file", "[cli]") {

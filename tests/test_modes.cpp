@@ -704,3 +704,67 @@ TEST_CASE("NLvib's 2-DOF tanh friction mode: the whole backbone from its default
     CHECK(completed == 100);  // every start completes (started from the undamped mode, 11 of 106 failed)
     CHECK(flagged == 0);
 }
+
+TEST_CASE("Nonlinear modes: the slip onset of a stuck mode, by hand, and the backbone slips there", "[modes]") {
+    // Jenkins to the ground on one DOF: the stuck mode phi = 1 / sqrt(m) (M-normalised), the
+    // spring's force k_t phi a reaches F_c at a* = F_c sqrt(m) / k_t.
+    const double m = 2.0, c = 0.01, k = 1.0, kt = 0.5, limit = 0.1;
+    const System s = jenkins_oscillator(m, c, k, kt, limit);
+    const std::vector<LinearMode> modes = stuck_modes(s);
+    const SlipOnset onset = slip_onset(s, modes.at(0));
+    REQUIRE(onset.found);
+    const double expected = limit * std::sqrt(m) / kt;
+    CHECK(std::abs(onset.amplitude / expected - 1.0) <= 1e-13);
+    CHECK(onset.contact == 0);
+    CHECK(std::abs(onset.amplitude_min / (expected / 10.0) - 1.0) <= 1e-13);
+    CHECK(std::abs(onset.amplitude_max / (expected * 100.0) - 1.0) <= 1e-13);
+    // The backbone over that range (H = 1: the describing function above) is linear, xi = c / m,
+    // up to a*, and damped by slip beyond it.
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 1;
+    hbo.time_samples = 1024;
+    ModeOptions o;
+    o.amplitude_min = onset.amplitude_min;
+    o.amplitude_max = onset.amplitude_max;
+    const Backbone b = NonlinearModes(s, hbo, o).follow();
+    REQUIRE(b.status == ModeStatus::completed);
+    bool slipped = false;
+    for (const ModePoint& p : b.points) {
+        if (p.amplitude < expected * (1.0 - 1e-9)) CHECK(std::abs(p.xi - c / m) <= 1e-12);
+        if (p.amplitude > 1.5 * expected && p.xi > 1.01 * c / m) slipped = true;
+    }
+    CHECK(slipped);
+
+    // Exact Coulomb on DOF 2 to the ground, k1 from DOF 1 to the ground, k2 between them: stuck,
+    // DOF 2 is held and the mode is DOF 1 alone, phi = (1 / sqrt(m1), 0), omega^2 = (k1 + k2) / m1;
+    // the constraint holds DOF 2 against k2 phi_1 a, so a* = F_c sqrt(m1) / k2.
+    const double m1 = 3.0, m2 = 0.5, k1 = 2.0, k2 = 0.7, fc = 0.3;
+    System two;
+    Eigen::MatrixXd mass(2, 2), stiffness(2, 2);
+    mass << m1, 0.0, 0.0, m2;
+    stiffness << k1 + k2, -k2, -k2, k2;
+    two.mass = sparse(mass);
+    two.stiffness = sparse(stiffness);
+    two.damping = sparse(Eigen::MatrixXd::Zero(2, 2));
+    two.excitation = Eigen::Vector2d(1.0, 0.0);
+    Contact coulomb;
+    coulomb.law = FrictionLaw::coulomb;
+    coulomb.dof = 1;
+    coulomb.friction_limit = fc;
+    two.contacts.push_back(coulomb);
+    const std::vector<LinearMode> stuck = stuck_modes(two);
+    REQUIRE(stuck.size() >= 1);
+    CHECK(std::abs(stuck[0].omega - std::sqrt((k1 + k2) / m1)) <= 1e-12);
+    const SlipOnset rigid = slip_onset(two, stuck[0]);
+    REQUIRE(rigid.found);
+    CHECK(std::abs(rigid.amplitude / (fc * std::sqrt(m1) / k2) - 1.0) <= 1e-12);
+
+    // Force elements alone have no onset: said why.
+    System cubic = jenkins_oscillator(1.0, 0.0, 1.0, 0.5, 0.1);
+    cubic.contacts[0] = Contact{};
+    cubic.contacts[0].law = FrictionLaw::polynomial;
+    cubic.contacts[0].values["cubic"] = 1.0;
+    const SlipOnset none = slip_onset(cubic, stuck_modes(cubic).at(0));
+    CHECK_FALSE(none.found);
+    CHECK_THAT(none.why, Catch::Contains("no contact has a friction limit"));
+}

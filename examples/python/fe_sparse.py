@@ -1,5 +1,8 @@
 #!/usr/bin/env python3
-"""A finite-element model from SciPy sparse matrices: an axial bar with a friction contact.
+"""A finite-element bar from SciPy sparse matrices
+===============================================
+
+A finite-element model from SciPy sparse matrices: an axial bar with a friction contact.
 
 The bar (length 1, EA = 1, mass per length 1) is clamped at x = 0 and split into N linear
 elements (consistent mass); Rayleigh damping C = a M + b K. A Dahl contact holds the node at

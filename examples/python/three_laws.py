@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
-"""The paper's friction absorber under its three friction laws: exact Coulomb (event-exact
+"""The friction absorber under three friction laws
+===============================================
+
+The paper's friction absorber under its three friction laws: exact Coulomb (event-exact
 polish), Dahl and LuGre, at the same friction coefficient, plotted with matplotlib.
 
 Usage: three_laws.py [PLOT.png] [MU]   (defaults: three_laws.png in the current directory, 0.2)
-Prints each law's largest peak of y1 (max over one period of |y1(t)|, nondimensional x1 / x_s).
+Prints each law's largest peak of y1 (``y1_max``, the largest ``|y1(t)|`` over one period;
+nondimensional x1 / x_s).
 """
 import sys
 

@@ -34,7 +34,7 @@
 namespace hbf {
 
 /// Friction laws a contact can carry; each is described, and evaluated, in its own file
-/// src/contact/<law>.cpp, listed in the registry of contact_law.hpp. Definitions (f = friction force, q = relative
+/// src/contact/`<law>.cpp`, listed in the registry of contact_law.hpp. Definitions (f = friction force, q = relative
 /// displacement, v = q', F_c = friction_limit, sigma0/sigma1 = contact stiffness/damping):
 ///   coulomb: f = F_c sign(v) in slip, |f| <= F_c in stick (set-valued)     (paper eq. 3)
 ///   dahl:    f = sigma0 z,              z' = v - sigma0 |v| z / F_c         (paper eq. 16)
@@ -153,8 +153,8 @@ struct System {
 
 /// A reported response o(t) = c^T y(t): one DOF (c = e_i, named "y<i+1>") or any linear
 /// combination of DOFs (a tip displacement T q of a reduced model, a relative displacement, a
-/// strain), named by the user. Columns and peaks are written for o as for a DOF: <name>_max =
-/// max over one period of |o(t)|, <name>_amp1 = its first-harmonic amplitude.
+/// strain), named by the user. Columns and peaks are written for o as for a DOF: `<name>`_max =
+/// max over one period of |o(t)|, `<name>`_amp1 = its first-harmonic amplitude.
 class Output {
 public:
     using Term = std::pair<int, double>;  ///< (0-based DOF, coefficient)

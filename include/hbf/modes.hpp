@@ -85,6 +85,26 @@ struct DampedLinearMode {
 constexpr int damped_linear_mode_dofs = 200;
 DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode);
 
+/// Where a stuck mode starts to slip: the modal amplitude a at which the first contact's force
+/// in the linear mode y = a phi cos(theta) reaches its friction limit (a slip onset), and the
+/// range of a a backbone without a given range follows, from a tenth of it (the contacts well
+/// inside stick) to a hundred times it (slipping over most of the period). The forces are the
+/// stuck elements' (static_state.hpp: stuck_elements): a spring's k_c w^T phi (with its damper,
+/// |k_c + i omega d_c| |w^T phi|), a rigid contact's the constraint force that holds it,
+/// lambda = -(W^T W)^-1 W^T (K' - omega^2 M) phi over the rigid directions W (damping left
+/// out). The limit is friction_limit, or for a contact with a normal direction mu times its
+/// static normal force (static_state.hpp), against the norm of its tangential forces. found =
+/// false, and `why`, where no contact with a friction limit is moved by the mode (force
+/// elements alone, a mode that leaves every contact at rest, contacts open at rest).
+struct SlipOnset {
+    bool found = false;
+    std::string why;
+    double amplitude = 0;  ///< a at the onset
+    int contact = -1;      ///< 0-based: the contact that slips first
+    double amplitude_min = 0, amplitude_max = 0;  ///< amplitude / 10, 100 amplitude
+};
+SlipOnset slip_onset(const System& system, const LinearMode& mode);
+
 struct ModeOptions {
     /// The linear mode followed: 1-based index among stuck_modes (near_frequency = 0), or the
     /// one nearest near_frequency (> 0).
@@ -339,7 +359,7 @@ namespace io {
 /// The backbone's columns for `outputs`, `contacts` contacts (`normal`: which have a normal
 /// direction: a separated_fraction column) and H harmonics, in order (the CSV header, --help and
 /// Python): a, w, xi, zeta, zeta_energy, energy, friction_energy, viscous_energy, energy_error,
-/// per output <name>_max and <name>_amp1, per contact stick_fraction_c<k>, regime_c<k>
+/// per output `<name>_max` and `<name>_amp1`, per contact `stick_fraction_c<k>`, `regime_c<k>`
 /// [separated_fraction_c<k>], h0..hH (harmonic content), iterations, residual.
 std::vector<Column> backbone_columns(const std::vector<Output>& outputs, const std::vector<bool>& normal, int harmonics);
 /// The event-exact check's columns (compute_mode with exact_check): exact_w, exact_xi, exact_gap.

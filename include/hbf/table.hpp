@@ -63,15 +63,15 @@ Table analytic_table(const std::vector<analytic::Row>& rows);
 /// Writes the header row and one row per frequency.
 void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows);
 
-/// Columns of `hbf frf` reporting `outputs` (model.hpp; in this order: <name>_max for each,
-/// then <name>_amp1 for each; a DOF i is the output y<i+1>), or all `dofs` DOFs. With several
-/// `contacts`, stick_fraction_c<i> and regime_c<i> for each contact i replace stick_fraction
+/// Columns of `hbf frf` reporting `outputs` (model.hpp; in this order: `<name>_max` for each,
+/// then `<name>_amp1` for each; a DOF i is the output `y<i+1>`), or all `dofs` DOFs. With several
+/// `contacts`, `stick_fraction_c<i>` and `regime_c<i>` for each contact i replace stick_fraction
 /// and regime (the tables count the contacts of their rows). For each contact i (0-based) in
 /// `normal` (those with a normal direction: laws elastic, unilateral), separated_fraction, normal_force_mean
-/// and normal_force_amp (suffixed _c<i+1> with several contacts) follow the regimes, and with
-/// several contacts energy_c<i+1> of every contact follows energy. For each meshed interface k
-/// (1-based, `interfaces`: its nodes' contacts), stuck_share_i<k>, slip_share_i<k> and
-/// open_share_i<k> (its nodes' period shares, averaged over the nodes) come before energy.
+/// and normal_force_amp (suffixed `_c<i+1>` with several contacts) follow the regimes, and with
+/// several contacts `energy_c<i+1>` of every contact follows energy. For each meshed interface k
+/// (1-based, `interfaces`: its nodes' contacts), `stuck_share_i<k>`, `slip_share_i<k>` and
+/// `open_share_i<k>` (its nodes' period shares, averaged over the nodes) come before energy.
 std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts = 1,
                                 const std::vector<int>& normal = {},
                                 const std::vector<InterfaceContacts>& interfaces = {});
@@ -80,7 +80,7 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
 std::vector<int> normal_contacts(const System& system);
 std::vector<Column> frf_columns(int dofs);
 
-/// An interface's node-averaged period shares at one point (frf_table's *_share_i<k> columns,
+/// An interface's node-averaged period shares at one point (frf_table's `*_share_i<k>` columns,
 /// hbf frf --plot-contacts): stuck (mean stick_fraction), open (mean separated_fraction, 0 for
 /// laws without a normal direction) and slipping = 1 - stuck - open. Empty when a contact's
 /// stick fraction is unknown (NaN) or the group has no contacts.
@@ -104,7 +104,7 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
                    const std::vector<InterfaceContacts>& interfaces = {});
 
 /// Columns of `hbf timeint` for a system with `dofs` DOFs: the `hbf frf` columns that apply
-/// (w, y<i>_max, y<i>_amp1, stick_fraction, regime, energy), then periods, converged and the
+/// (w, `y<i>_max`, `y<i>_amp1`, stick_fraction, regime, energy), then periods, converged and the
 /// diagnostics stick_margin_min, stick_margin_max, switches.
 std::vector<Column> timeint_columns(int dofs);
 /// The same for `outputs` (in this order; as frf_columns(outputs)).
@@ -133,7 +133,7 @@ std::vector<std::pair<std::string, double>> frf_parameters(const System& system,
 /// written as integers), the number of branch points and samples, solver statistics, the
 /// peaks (of the outputs `outputs`, Peak::output indexing them: each with w, output (its
 /// name), dof (1-based, for an output that is one DOF), y_max (= max over one period of
-/// |o(t)|), branch, refined), the folds (w, <name>_max of every output, branch), the
+/// |o(t)|), branch, refined), the folds (w, `<name>_max` of every output, branch), the
 /// stick-slip transitions (the same, and between: the regimes on either side), status,
 /// message and wall time.
 /// `metrics[k]` belongs to `branch.points[k]`; `samples` counts the --at rows. With `polish`

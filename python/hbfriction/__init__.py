@@ -1,6 +1,6 @@
 """hbfriction: frequency responses of structures with friction contacts by multi-harmonic balance.
 
-The Python face of the C++ library (include/hbf/*.hpp): the same computations as the ``hbf``
+The Python face of the C++ library (``include/hbf/*.hpp``): the same computations as the ``hbf``
 command, with NumPy arrays in and out.
 
     >>> import hbfriction
@@ -59,7 +59,7 @@ from ._core import (AbsorberParameters, Contact, ContinuationOptions, CorrectorO
 __version__ = _core.__version__
 # hbfriction.map is left out of __all__: a star import would hide the built-in map.
 __all__ = ["absorber", "load", "reduce", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "modes", "analytic",
-           "optimize", "track", "TrackResult", "TrackCurve", "options", "Branch", "Solution", "Table", "OptimizeResult", "MapResult",
+           "optimize", "track", "TrackResult", "TrackCurve", "options", "Branch", "Solution", "Table", "ModeResult", "OptimizeResult", "MapResult",
            "IncompleteResultWarning", "SolveError", "AbsorberParameters", "FrfSettings",
            "HarmonicBalanceOptions", "ContinuationOptions", "CorrectorOptions", "StabilityOptions",
            "TimeIntegrationOptions", "OptimizeOptions"]
@@ -135,6 +135,14 @@ def _real(label, value):
     return float(value)
 
 
+def _positive(label, value):
+    """value as a float > 0 (finite)."""
+    v = _real(label, value)
+    if not (v > 0.0 and _math.isfinite(v)):
+        raise ValueError("%s = %r is out of range: allowed > 0" % (label, value))
+    return v
+
+
 def _reals(label, values):
     """A number or a sequence of numbers as a list of floats (a string or a bool is refused)."""
     if isinstance(values, (str, bytes)):
@@ -156,7 +164,7 @@ def _keyword_init(cls):
     def __repr__(self):
         return "%s(%s)" % (cls.__name__, ", ".join("%s=%r" % (n, getattr(self, n)) for n in _fields(self)))
 
-    __init__.__doc__ = "%s(**fields): the C++ struct's fields by name, the C++ defaults otherwise" % cls.__name__
+    __init__.__doc__ = "``%s(**fields)``: the C++ struct's fields by name, the C++ defaults otherwise" % cls.__name__
     cls.__init__ = __init__
     cls.__repr__ = __repr__
 
@@ -227,7 +235,7 @@ def absorber(law="coulomb", parameters=None, excitation_harmonic=1, **values):
 
 
 def load(path):
-    """A System from a TOML file (include/hbf/config.hpp, examples/systems/): its structure,
+    """A System from a TOML file (the system-file reference; examples/systems/): its structure,
     contacts and outputs, and its [frequency] and [solver] settings, which frf() applies unless
     given as options (as hbf frf --config)."""
     try:
@@ -464,6 +472,26 @@ class Table:
     def __dir__(self):
         return list(super().__dir__()) + list(self.columns)
 
+    def __repr__(self):
+        shown = ", ".join(self.columns[:6]) + (", ..." if len(self.columns) > 6 else "")
+        status = getattr(self, "status", None)
+        return "<hbfriction.%s: %d rows%s, %d columns (%s)>" % (
+            type(self).__name__, len(self), ", " + status if isinstance(status, str) else "", len(self.columns), shown)
+
+
+class ModeResult(Table):
+    """A nonlinear mode (modes()): one row per backbone point with hbf modes' columns (``a``,
+    ``w``, ``xi``, ``zeta``, ...), and ``linear`` (the stuck mode followed: ``mode_index``
+    0-based, ``omega``, ``zeta``, ``shape``, the slip onset), ``amplitude_min`` and
+    ``amplitude_max`` (the range followed), ``harmonics``, ``formulation``, ``status``,
+    ``errors``, ``warnings``, ``notes``, ``seconds`` and, with synthesis=True, ``synthesis``."""
+
+    def __repr__(self):
+        a = self["a"] if "a" in self else []
+        span = (", a %.3g..%.3g" % (a[0], a[-1])) if len(a) else ""
+        return "<hbfriction.ModeResult: mode_index %d, %d points%s, %s>" % (
+            self.linear["mode_index"], len(self), span, self.status)
+
 
 def _judge(status, messages, what):
     if status != "completed":
@@ -533,7 +561,7 @@ class Branch(Table):
         separated_fraction (share of the period open; 0 for laws without a normal direction),
         slip_fraction (the rest), normal_force_mean, normal_force_amp and energy (where the law has
         them), and the node-averaged shares stuck_share, slip_share, open_share (rows; the CSV's
-        *_share_i<k> columns)."""
+        ``*_share_i<k>`` columns)."""
         found = [f for k, f in enumerate(self.interfaces) if interface in (k, f["name"])]
         if not found:
             raise KeyError("interface %r: the FRF's system has %s" % (
@@ -601,7 +629,7 @@ def frf(system, settings=None, *, outputs=None, stability=None, **options):
 
 class Solution:
     """One harmonic-balance solution (hbf loop): omega, the metrics (y_max, y_amp1 per DOF, y_max
-    NaN for a DOF outside the system's outputs: not computed, each max |y_i(t)| costs a fine grid;
+    NaN for a DOF outside the system's outputs: not computed, each output's maximum over a period costs a fine grid;
     output_max, output_amp1 per output, stick_fraction and regime of contact 1, stick_fractions and
     regimes of every contact (lists, in order), energy, energy_error), the
     coefficients (2H + 1 rows: c0, c1, s1, ..., one column per DOF), and one period of signals of
@@ -726,13 +754,17 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
     return table
 
 
-def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmonics=None, time_samples=None,
-          formulation=None, modes=None, outputs=None, tolerance=None, max_step=None, max_points=None, synthesis=False,
-          exact_check=False, start_frequency=None):
+def modes(system, amplitude_min=None, amplitude_max=None, *, mode_index=None, near=None, harmonics=None,
+          time_samples=None, formulation=None, modes=None, outputs=None, tolerance=None, max_step=None, max_points=None,
+          synthesis=False, exact_check=False, start_frequency=None, mode=None):
     """A nonlinear mode by the extended periodic motion concept (hbf modes): frequency and modal
     damping ratio against the modal amplitude a (the M-norm of the first harmonic), followed from
-    amplitude_min to amplitude_max from the stuck structure's linear mode `mode` (1-based, default
-    1) or the one nearest the frequency `near`. harmonics, time_samples: as frf (automatic H from
+    amplitude_min to amplitude_max from the stuck structure's linear mode `mode_index` (0-based by
+    ascending frequency, default 0) or the one nearest the frequency `near`. Without
+    amplitude_min and amplitude_max the range is a tenth to a hundred times the slip onset (the
+    amplitude where the stuck mode's first contact reaches its friction limit; ``linear``'s
+    ``slip_onset``, ``slip_contact``), as hbf modes chooses it. `mode` (1-based) is the former
+    name of the index: deprecated, it still works with a DeprecationWarning. harmonics, time_samples: as frf (automatic H from
     the laws). formulation: "full", "condensed" or "automatic" (default: full up to 256 unknowns
     N (2H + 1) without modes, else condensed), modes: the condensed formulation's modal receptance
     (0: the direct solve), as hbf modes --formulation, --modes. Returns a Table with hbf modes' columns (a, w, xi, zeta, zeta_energy, energies, the
@@ -751,8 +783,27 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
     beyond it (``linear["start"]``: "linear", "run-up", "unchecked" (a warning), "given");
     start_frequency (> 0) gives the first point's frequency guess instead (not checked)."""
     _check_system(system)
-    if mode is not None and near is not None:
-        raise ValueError("modes: mode and near cannot both be given: the mode by its index or by a frequency")
+    if mode is not None:
+        if mode_index is not None:
+            raise ValueError("modes: give mode_index (0-based) alone: mode (1-based) is its deprecated former name")
+        _warnings.warn("modes: mode= (1-based) is deprecated: use mode_index= (0-based, as every index in "
+                       "hbfriction): mode=%r is mode_index=%r" % (mode, mode - 1 if isinstance(mode, int) else mode),
+                       DeprecationWarning, stacklevel=2)
+        index = _integer("mode", mode)
+        if index < 1:
+            raise ValueError("mode = %d is out of range: allowed >= 1 (1-based; deprecated: use mode_index, 0-based)" % index)
+    elif mode_index is not None:
+        index = _integer("mode_index", mode_index)
+        if index < 0:
+            raise ValueError("mode_index = %d is out of range: allowed >= 0 (0-based, by ascending frequency)" % index)
+        index += 1
+    else:
+        index = None
+    if index is not None and near is not None:
+        raise ValueError("modes: mode_index and near cannot both be given: the mode by its index or by a frequency")
+    if (amplitude_min is None) != (amplitude_max is None):
+        raise ValueError("modes: give amplitude_min and amplitude_max together, or neither (the range is then chosen "
+                         "from the contacts' slip onset)")
     given, names = FrfSettings(), []
     for name, value in (("harmonics", harmonics), ("time_samples", time_samples), ("modes", modes)):
         if value is not None:
@@ -770,20 +821,25 @@ def modes(system, amplitude_min, amplitude_max, *, mode=None, near=None, harmoni
         if not isinstance(flag, (bool, _np.bool_)):
             raise TypeError("%s = %r: expected True or False" % (name, flag))
     columns, details, verdict = _core.modes(
-        system, s.harmonic_balance, _integer("mode", d["mode"] if mode is None else mode),
-        _real("near", 0.0 if near is None else near), _real("amplitude_min", amplitude_min),
-        _real("amplitude_max", amplitude_max), _real("tolerance", d["tolerance"] if tolerance is None else tolerance),
+        system, s.harmonic_balance, d["mode"] if index is None else index,
+        _real("near", 0.0 if near is None else near),
+        0.0 if amplitude_min is None else _positive("amplitude_min", amplitude_min),
+        0.0 if amplitude_max is None else _positive("amplitude_max", amplitude_max), _real("tolerance", d["tolerance"] if tolerance is None else tolerance),
         _real("max_step", d["max_step"] if max_step is None else max_step),
         _integer("max_points", d["max_points"] if max_points is None else max_points), o,
         bool(synthesis), bool(exact_check), _real("start_frequency", 0.0 if start_frequency is None else start_frequency))
     if verdict["status"] == "failed" and not columns[0][3]:
         # No point at all (the first one did not converge): nothing to return.
         raise SolveError("modes: no backbone: " + "; ".join(verdict["errors"] + verdict["warnings"] + [details["message"]]))
-    table = Table(columns)
+    table = ModeResult(columns)
     table.synthesis = Table(details["synthesis"]) if synthesis else None
     linear = dict(details)
     linear["shape"] = _np.array(details["shape"])
-    table.linear = {k: linear[k] for k in ("mode", "omega", "zeta", "shape", "start", "linear_omega", "linear_xi")}
+    linear["mode_index"] = details["mode"] - 1
+    table.linear = {k: linear[k] for k in ("mode_index", "mode", "omega", "zeta", "shape", "start", "linear_omega",
+                                           "linear_xi", "slip_onset", "slip_contact")}
+    table.amplitude_min = details["amplitude_min"]
+    table.amplitude_max = details["amplitude_max"]
     table.harmonics = details["harmonics"]
     table.formulation = details["formulation"]
     table.modes = details["modes_used"]
@@ -929,7 +985,7 @@ def track(system, p_start, p_end, *, feature="peak", omega=None, at=None, max_st
 
     system: a callable p -> System. omega: follow only the feature nearest to it at p_start
     (within 10 %). at: values of p where every curve gets a point. max_step, min_step: steps in p
-    relative to |p_end - p_start|. contact: boundary only, 0-based (None: every contact's).
+    relative to the range, abs(p_end - p_start). contact: boundary only, 0-based (None: every contact's).
     options: the FRF's, as frf() (wmin, wmax, harmonics, ...). Returns a TrackResult; warns
     (IncompleteResultWarning) when it is not completed."""
     if not callable(system):

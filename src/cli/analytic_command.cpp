@@ -82,8 +82,8 @@ json summary_json(const AbsorberParameters& p, FrictionLaw law, double wmin, dou
     return j;
 }
 
-std::string columns_help() {
-    return columns_footer(
+OutputHelp output_help_of_analytic() {
+    return {
         R"(Output: CSV with a header row, one row per frequency of the uniform grid wmin..wmax (both ends
 included). All quantities are nondimensional (paper eq. 2): y = x / x_s with x_s = N / k1,
 w = Omega / omega1, omega1 = sqrt(k1/m1). An empty field means no finite value exists there (no slipping
@@ -91,7 +91,7 @@ solution, or an exact undamped resonance).
 Columns:)",
         io::analytic_columns(),
         R"(For dahl and lugre, y*_stick is the pre-sliding (linear contact) response and y*_slip is the same
-equivalent-viscous solution as coulomb's (the laws coincide in full slip).)");
+equivalent-viscous solution as coulomb's (the laws coincide in full slip).)"};
 }
 
 int run(const CLI::App& command, const AnalyticOptions& o) {
@@ -151,19 +151,19 @@ void add_flags(CLI::App& command, AnalyticOptions& o) {
     command.add_option("--points", o.points, "number of frequencies, 2..1000000")
         ->capture_default_str()->type_name("INT");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output",
-                                      "write a JSON summary to FILE: mu_limit_max = the largest mu_limit over wmin..wmax (w "
+                                      "write a JSON summary (the band's largest mu_limit, the parameters) to FILE\nwrite a JSON summary to FILE: mu_limit_max = the largest mu_limit over wmin..wmax (w "
                                       "and value, refined beyond the grid, null if infinite: mu >= value sticks at every "
                                       "frequency of the band) and the stuck system's undamped resonances",
                                       "FILE.json", "draw y1_stick and y1_slip against w through gnuplot (.png or .svg)", ""});
     command.add_option("--sweep", o.sweep,
-                        "with --values: the band's largest mu_limit for each value of this parameter (fe, mu, wa, r; "
+                        "with --values: the band's largest mu_limit for each value of this parameter\nwith --values: the band's largest mu_limit for each value of this parameter (fe, mu, wa, r; "
                         "wb for dahl and lugre; xi for lugre) instead of the frequency table; the CSV is then "
                         "NAME,w_at_max,mu_limit_max (as mu_limit_max of --summary; empty = infinite)")
         ->type_name("NAME");
     command.add_option("--values", o.values,
                         "the values of --sweep: V1,V2,..., START:STOP:N or log:START:STOP:N (as hbf map)")
         ->type_name("LIST");
-    command.footer(columns_help());
+    describe_output(command, output_help_of_analytic());
 }
 }  // namespace
 

@@ -44,14 +44,17 @@ long long parse_integer(const std::string& flag, const std::string& text) {
 }
 
 std::string AbsorberFlags::laws_help() {
-    std::string help = "friction law:";
+    std::string help = "friction law of the paper's absorber:";
     std::vector<const ContactLaw*> laws;  // those the absorber can carry (the others: --config)
     for (const ContactLaw* law : contact_laws())
         if (law->has_preset()) laws.push_back(law);
     for (std::size_t i = 0; i < laws.size(); ++i)
         help += std::string(i == 0 ? " " : i + 1 == laws.size() ? " or " : ", ") + laws[i]->name() + " (" +
                 laws[i]->definition() + ")";
-    return help;
+    std::string names;
+    for (std::size_t i = 0; i < laws.size(); ++i)
+        names += std::string(i == 0 ? " " : i + 1 == laws.size() ? " or " : ", ") + laws[i]->name();
+    return "friction law of the paper's absorber:" + names + "\n" + help;
 }
 
 void AbsorberFlags::add_system_flags(CLI::App& command) {
@@ -59,7 +62,7 @@ void AbsorberFlags::add_system_flags(CLI::App& command) {
     add_excitation_harmonic(command);
     command
         .add_option("--force-scale", force_scale,
-                    "--config: a factor > 0 on the file's excitation vector (structure.excitation; not on its "
+                    "--config: a factor > 0 on the file's excitation vector [default 1]\n--config: a factor > 0 on the file's excitation vector (structure.excitation; not on its "
                     "static load or preloads), for the same structure under another force level [default 1]")
         ->type_name("NUMBER");
 }
@@ -81,8 +84,12 @@ void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help_text,
     // the laws' own parameters (model.hpp: preset_parameters), each with the laws that read it
     for (const PresetParameter& p : preset_parameters()) {
         if (p.harmonic_balance_only && !with_smooth_options) continue;
-        command.add_option(p.flag, law_values[p.flag],
-                           std::string(p.help) + " (" + laws_reading(p.symbol) + ")" + def(d.*(p.field)));
+        const std::string full = std::string(p.help) + " (" + laws_reading(p.symbol) + ")" + def(d.*(p.field));
+        // --help shows a summary line where the definition is long (the reference has it all).
+        const std::string summary = std::string(p.meaning) +
+                                    (p.zero_only_by_default ? ", 0 = automatic" : p.zero_allowed ? ", >= 0" : ", > 0") + " (" +
+                                    laws_reading(p.symbol) + ")" + def(d.*(p.field));
+        command.add_option(p.flag, law_values[p.flag], full.size() > 120 ? summary + "\n" + full : full);
     }
     for (CLI::Option* option : command.get_options())
         if (option->get_name() != "--law" && option->get_name() != "--help" && option->get_name() != "--dry-run")
@@ -92,7 +99,7 @@ void AbsorberFlags::add_to(CLI::App& command, const std::string& laws_help_text,
 void AbsorberFlags::add_excitation_harmonic(CLI::App& command) {
     command
         .add_option("--excitation-harmonic", excitation_harmonic,
-                    "excitation harmonic h, 1.." + std::to_string(System::max_excitation_harmonic) +
+                    "excitation harmonic h, 1..100: the force acts at h w (h = 2: subharmonic responses) [default 1]\nexcitation harmonic h, 1.." + std::to_string(System::max_excitation_harmonic) +
                         ": the force is F cos(h w t) and w the fundamental of the periodic response sought (h = 2: "
                         "the subharmonic response of order 1/2 to a force at 2 w; all columns are per w, *_amp1 at w); "
                         "harmonic balance needs H >= h; overrides structure.excitation_harmonic of --config [default 1]")

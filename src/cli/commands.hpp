@@ -30,6 +30,9 @@ Runner add_modes_command(CLI::App& app);
 Runner add_optimize_command(CLI::App& app);
 Runner add_timeint_command(CLI::App& app);
 Runner add_track_command(CLI::App& app);
+/// `hbf reference`: the whole command line (every command added before it), the laws and the
+/// system-file keys as JSON.
+Runner add_reference_command(CLI::App& app);
 
 /// The whole command line: parses argv, runs the chosen command, returns the exit code
 /// (hbf/verdict.hpp: ExitCode). main() calls it after setting up the process.

@@ -243,26 +243,26 @@ void add_flags(CLI::App& command, FrfOptions& o) {
     o.absorber.add_system_flags(command);
     o.frf.add_to(command);
     command.add_option("--at", o.at,
-                        "comma-separated frequencies W1,W2,...: every solution of the branch there is solved "
+                        "comma-separated frequencies at which every solution of the branch is written as extra rows\ncomma-separated frequencies W1,W2,...: every solution of the branch there is solved "
                         "exactly and written as extra rows with point = sample")
         ->type_name("LIST");
     o.output.add_to(
         command, {"write the CSV to FILE instead of standard output",
-                   "write a JSON summary (parameters, solver statistics, peaks, folds, per-contact ranges, the "
+                   "write a JSON summary (parameters, peaks, folds, transitions, status) to FILE\nwrite a JSON summary (parameters, solver statistics, peaks, folds, per-contact ranges, the "
                    "static contact state under static_load and preloads, status, wall time) to FILE",
                    "FILE",
-                   "draw max over one period of |o(t)| of the first reported output o against w through gnuplot: the "
+                   "draw the first output's FRF through gnuplot (.png or .svg)\ndraw max over one period of |o(t)| of the first reported output o against w through gnuplot: the "
                    "branch in order, folds, transitions and samples marked; with --stability unstable parts dashed and "
                    "uncertain points marked (.png or .svg)",
-                   "no progress (w reached, points, elapsed time: on a terminal redrawn 4 times a second, "
+                   "no progress or summary line on standard error\nno progress (w reached, points, elapsed time: on a terminal redrawn 4 times a second, "
                    "otherwise, e.g. into a log file, one line a minute) or summary line on standard error"});
     command.add_option("--overlay-timeint", o.overlay,
-                        "also integrate K frequencies of a uniform grid over [wmin, wmax] in time (an up-sweep, "
+                        "also integrate K frequencies in time and draw them on the --plot\nalso integrate K frequencies of a uniform grid over [wmin, wmax] in time (an up-sweep, "
                         "hbf timeint's defaults) and draw them as markers on the --plot; their rows go to "
                         "--overlay-out")
         ->option_text("K");
     command.add_option("--plot-contacts", o.plot_contacts,
-                       "draw the contacts' states against w through gnuplot: the shares of the period stuck, "
+                       "draw the shares of the period the contacts stick, slip and are open against w (.png or .svg)\ndraw the contacts' states against w through gnuplot: the shares of the period stuck, "
                        "slipping and open (N = 0), averaged over each [[interface]]'s nodes (columns "
                        "stuck_share_i<k>, slip_share_i<k>, open_share_i<k>), or over every contact of a system "
                        "without interfaces (.png or .svg)")
@@ -271,7 +271,7 @@ void add_flags(CLI::App& command, FrfOptions& o) {
                         "CSV of the --overlay-timeint points (hbf timeint's columns) [default: the plot's name "
                         "with -timeint.csv]")
         ->option_text("FILE");
-    command.footer(columns_footer(
+    describe_output(command, {
         R"(Output: CSV with a header row, one row per continuation point in branch order, then the --at
 samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1 (with
 --config: the file's units).
@@ -285,7 +285,7 @@ amplitude cap (an unbounded resonance), a branch that left the range or used up 
 unlocated transition, a point that fails the energy balance, or a warning of Ceres (each reason one
 line on standard error). With --stability, uncertain verdicts (column stable = uncertain: the two
 routes disagree, typically at a fold) are a note on standard error, not an exit code: the FRF itself
-is complete.)"));
+is complete.)"});
 }
 }  // namespace
 

@@ -44,7 +44,7 @@ std::string law_harmonics() {
 void add_discretisation_flags(CLI::App& command, std::string& harmonics, std::string& time_samples,
                               const std::string& automatic) {
     command.add_option("--harmonics", harmonics,
-                       "number of harmonics H, 1.." + std::to_string(max_harmonics) + "; 0 = automatic: " + automatic +
+                       "number of harmonics H, 1..100; 0 = automatic (the laws' own)\nnumber of harmonics H, 1..100, or odd[:H] for the odd harmonics only; 0 = automatic\nnumber of harmonics H, 1.." + std::to_string(max_harmonics) + "; 0 = automatic: " + automatic +
                            ": " + law_harmonics() +
                            "; times h with --excitation-harmonic h. odd or odd:H balances the odd harmonics 1, 3, 5, ... <= H only "
                        "(automatic H with odd): the half-wave symmetric solutions y(t + T/2) = -y(t), which every "
@@ -52,7 +52,7 @@ void add_discretisation_flags(CLI::App& command, std::string& harmonics, std::st
                        "breaks the symmetry is not found")
         ->capture_default_str()->type_name("INT|odd[:H]");
     command.add_option("--time-samples", time_samples,
-                       "AFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "
+                       "AFT time samples per period N_t > 2H; 0 = automatic\nAFT time samples per period N_t > 2H; 0 = automatic: the smallest power of two "
                        ">= max(64, 8 (2H + 1)), raised (up to 16384, a note says so, the branch computed again) "
                        "where a law needs more at the motion found: coulomb-reg 2 pi max|v| / eps, so that its tanh is "
                        "resolved (too few samples make the FRF wiggle with spurious peaks); a given N_t below that is a "
@@ -68,7 +68,7 @@ void FrfFlags::add_to(CLI::App& command) {
                              "without it the largest of the contacts' laws' own, lowered where the unknowns would "
                              "exceed the dense Jacobian's bound (a note says so)");
     command.add_option("--modes", modes,
-                       "condensed formulation: 0 solves the structure per harmonic and frequency by a sparse LU "
+                       "condensed formulation: 0 solves the structure directly, m > 0 by its m lowest modes\ncondensed formulation: 0 solves the structure per harmonic and frequency by a sparse LU "
                        "(exact; cost linear in N); m > 0 uses its m lowest modes plus the static residual "
                        "flexibility (cost independent of N; truncation error ~ (k w / w_{m+1})^2 of the dynamic "
                        "part; needs M > 0, K > 0 and C diagonal in the modes, e.g. Rayleigh); m at least the model's DOFs "
@@ -77,25 +77,25 @@ void FrfFlags::add_to(CLI::App& command) {
                        "[solver] modes applies unless given")
         ->capture_default_str()->type_name("INT");
     command.add_option("--jacobian", jacobian,
-                       "how the corrector holds dR/dX: dense (formed; Ceres' dense solvers; at most 6000 unknowns), "
+                       "the corrector's Jacobian: dense, structured (GMRES, many contact nodes) or automatic\nhow the corrector holds dR/dX: dense (formed; Ceres' dense solvers; at most 6000 unknowns), "
                        "structured (condensed formulation with memoryless laws and every harmonic: I + G Df kept in "
                        "its block structure, Newton steps by GMRES preconditioned with the contacts' mean tangents; "
                        "interfaces of many nodes), automatic (structured above 1500 unknowns where allowed). A "
                        "--config file's [solver] jacobian applies unless given")
         ->type_name("FORM");
     command.add_option("--formulation", formulation,
-                       "how the linear structure enters harmonic balance: condensed (the unknowns are the contacts' "
+                       "how the structure enters harmonic balance: condensed, full or automatic\nhow the linear structure enters harmonic balance: condensed (the unknowns are the contacts' "
                        "relative displacements, the structure solved exactly per harmonic by a sparse LU: any model "
                        "size), full (every DOF's coefficients: a dense Jacobian, small models), automatic (condensed "
                        "for damped or larger than 16-DOF models with an invertible K, else full)")
         ->capture_default_str()->type_name("automatic|condensed|full");
     command.add_option("--max-amplitude", max_amplitude,
-                       "amplitude cap, in the system's displacement units (nondimensional for the preset): the "
+                       "amplitude cap (the system's displacement units): the branch stops beyond it\namplitude cap, in the system's displacement units (nondimensional for the preset): the "
                        "branch stops when a bound of max |y_i| exceeds it (unbounded resonance), then restarts "
                        "from wmax as branch 2")
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--max-step", max_step,
-                       "largest arclength step, in the continuation's dimensionless coordinates (w / wmax and the "
+                       "largest arclength step (dimensionless), 1e-05..10: smaller gives denser points\nlargest arclength step, in the continuation's dimensionless coordinates (w / wmax and the "
                        "coefficients relative to the current amplitude: the same for any units); smaller values "
                        "give denser points, e.g. smoother plots of linear stretches, " +
                            format_number(ContinuationOptions::smallest_max_step) + ".." +
@@ -107,13 +107,13 @@ void FrfFlags::add_to(CLI::App& command) {
                            format_number(CorrectorOptions::largest_tolerance))
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--config", config,
-                       "read the structure (any N DOFs: M, C, K, excitation, friction contacts), frequency range, "
+                       "read the structure, contacts, frequency range and settings from a TOML system file\nread the structure (any N DOFs: M, C, K, excitation, friction contacts), frequency range, "
                        "solver settings and reported outputs (DOFs or combinations of DOFs) from a TOML file (format: "
                        "include/hbf/config.hpp, examples/systems/); --wmin, --wmax, --harmonics, --time-samples and "
                        "--law override the file; the preset's parameter flags (--r, --mu, ...) are then rejected")
         ->option_text("FILE.toml");
     command.add_option("--exact", exact,
-                       "polish every branch point, sample, transition and peak by the event-exact periodic solver "
+                       "polish every point by the event-exact solver (exact Coulomb, Jenkins, rigid contacts): on or off\npolish every branch point, sample, transition and peak by the event-exact periodic solver "
                        "(exact Coulomb and Jenkins: Newton shooting on closed-form flows between stick/slip events, "
                        "Floquet stability; law unilateral on massless DOFs: the same with open, stuck and slipping "
                        "nodes, in 3D by Taylor series of the turning slip direction), on or off [default: off for 3D "
@@ -131,7 +131,7 @@ void FrfFlags::add_to(CLI::App& command) {
                        "naming why]")
         ->type_name("on|off");
     command.add_option("--error-points", error_points,
-                       "where the FRF is harmonic balance's (not polished), its truncation error is estimated at "
+                       "points at which harmonic balance's truncation error is estimated (with 2H), 0..1000; 0: none\nwhere the FRF is harmonic balance's (not polished), its truncation error is estimated at "
                        "the branch's largest maxima and at points spread over it (this many of each): each solved again with twice the "
                        "harmonics, the estimate 2 |y(H) - y(2H)| / max y of the first output's y = max |o(t)|, max y its largest on the FRF (column hb_error); "
                        "0..1000, 0: no estimate")
@@ -141,7 +141,7 @@ void FrfFlags::add_to(CLI::App& command) {
                        "> 0 (1e300: never)")
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--stability", stability,
-                       "Floquet stability of every point (columns stable, stability_margin; unstable intervals and "
+                       "Floquet stability of every point: off, on, hill, monodromy or both\nFloquet stability of every point (columns stable, stability_margin; unstable intervals and "
                        "bifurcations in the --summary; unstable parts dashed on the --plot). dahl, lugre, "
                        "coulomb-reg: hill (Hill's matrix of the variational equation on the HB harmonics, the d "
                        "exponents with the smallest |Im| kept: the classical sorted selection), monodromy (the "

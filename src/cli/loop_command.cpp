@@ -143,12 +143,12 @@ void add_flags(CLI::App& command, LoopOptions& o) {
         ->option_text("FILE.toml");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output", "", "FILE",
                                       "draw f against v through gnuplot (.png or .svg)", ""});
-    command.footer(columns_footer(
+    describe_output(command, {
         R"(Output: CSV with a header row, one row per time sample of one period (the AFT grid). Nondimensional
 for the preset (t in 1/omega1, y in x_s = N/k1, f in N).
 Columns:)",
         loop_columns(2, 3),
-        R"((y1, y2: one column per DOF of the system; q2, f2 for a 3D contact of laws elastic and unilateral, qn, fn, open for every such contact.) Exit code 1 when the branch does not reach w.)"));
+        R"((y1, y2: one column per DOF of the system; q2, f2 for a 3D contact of laws elastic and unilateral, qn, fn, open for every such contact.) Exit code 1 when the branch does not reach w.)"});
 }
 }  // namespace
 

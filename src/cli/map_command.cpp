@@ -304,7 +304,7 @@ void add_flags(CLI::App& command, MapOptions& o) {
     o.absorber.add_system_flags(command);
     o.frf.add_to(command);
     command.add_option("--param", o.param,
-                        "the parameter of the map: for the paper's absorber fe, mu, wa, r, wb (dahl, lugre, jenkins) "
+                        "the parameter varied: fe, mu, wa, r, wb, xi (preset) or a --config parameter\nthe parameter of the map: for the paper's absorber fe, mu, wa, r, wb (dahl, lugre, jenkins) "
                         "or xi (lugre); for a --config system mu (the friction limit F_c of the contact --contact, "
                         "in the file's force units), fe (a factor on the file's excitation vector), structure.damping "
                         "(a factor on its damping matrix) or a scalar key of the contact --contact as in the file "
@@ -313,34 +313,34 @@ void add_flags(CLI::App& command, MapOptions& o) {
                         "contact.lagrangian_penalty; the keys of its law only)")
         ->type_name("NAME");
     command.add_option("--values", o.values,
-                        "the parameter's values: V1,V2,..., START:STOP:N (N evenly spaced) or log:START:STOP:N "
+                        "the parameter's values: V1,V2,..., START:STOP:N or log:START:STOP:N\nthe parameter's values: V1,V2,..., START:STOP:N (N evenly spaced) or log:START:STOP:N "
                         "(evenly spaced in log); 1..100000 values")
         ->type_name("LIST|GRID");
     command.add_option("--at", o.at,
-                        "comma-separated frequencies W1,W2,...: on every FRF, every solution there is solved exactly "
+                        "comma-separated frequencies at which every FRF's solutions are written as extra rows\ncomma-separated frequencies W1,W2,...: on every FRF, every solution there is solved exactly "
                         "and written as extra rows with point = sample (as hbf frf --at)")
         ->type_name("LIST");
     command.add_option("--contact", o.contact, "--config: the contact whose friction limit (--param mu) or key (--param contact.KEY) the map sets (1-based)")
         ->capture_default_str()->type_name("INT");
     command.add_option("--threads", o.threads,
-                        "FRFs computed at once, 0..4096; 0 = every core. Under mpirun: per rank [default 1]. The CSV "
+                        "FRFs computed at once, 0..4096; 0 = every core\nFRFs computed at once, 0..4096; 0 = every core. Under mpirun: per rank [default 1]. The CSV "
                         "is the same for any number of threads and ranks")
         ->capture_default_str()->type_name("INT");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output",
                                       "write a JSON summary to FILE: per value the FRF's status, coverage, largest "
                                       "peak (peak, peak_w, peak_state) and time",
                                       "FILE",
-                                      "draw the first output's max over one period against w: one curve per value, or "
+                                      "draw the map: curves, or a heat map over (w, parameter)\ndraw the first output's max over one period against w: one curve per value, or "
                                       "a heat map over (w, parameter) with the colour on a log scale (.png or .svg)",
                                       "no progress bar (on a terminal; otherwise one line a minute) or summary line on standard error"});
     command.add_option("--overlay", o.overlay,
-                        "draw the curves of an hbf track CSV of the same --param (its columns curve, PARAM, w) over the "
+                        "draw the curves of an hbf track CSV over the heat map\ndraw the curves of an hbf track CSV of the same --param (its columns curve, PARAM, w) over the "
                         "heat map: the tracked peaks, boundaries or folds in the (w, parameter) plane")
         ->type_name("FILE.csv");
     command.add_option("--plot-style", o.style,
                         "curves, heatmap, or auto (curves for up to 8 values, else a heat map)")
         ->capture_default_str()->type_name("auto|curves|heatmap");
-    command.footer(columns_footer(
+    describe_output(command, {
         R"(Output: a tidy CSV, one row per FRF point: the parameter's value (column named after it), frf_status
 (the FRF's continuation status: completed, amplitude_cap, left_range, point_budget, min_step,
 start_failed), then the columns of hbf frf:)",
@@ -348,7 +348,7 @@ start_failed), then the columns of hbf frf:)",
         R"(An FRF that fails is one row with its status and empty fields, and the map goes on. Exit code 3 when
 any FRF failed, is incomplete or has an unbounded resonance (counted on standard error).
 MPI: mpirun -n K hbf map ... splits the values over K ranks (value k on rank k mod K); rank 0
-gathers and writes.)"));
+gathers and writes.)"});
 }
 }  // namespace
 

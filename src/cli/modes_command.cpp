@@ -77,18 +77,21 @@ int run(const CLI::App& command, const ModesOptions& o) {
         if (!(mo.start_frequency > 0.0 && std::isfinite(mo.start_frequency)))
             throw UsageError("--start-frequency = " + o.start_frequency + " is out of range: allowed > 0");
     }
-    if (o.amin.empty() || o.amax.empty())
-        throw UsageError(std::string(o.amin.empty() ? "--amin" : "--amax") +
-                         " is required: the range of the modal amplitude a (hbf modes --help: a)");
-    mo.amplitude_min = parse_double("--amin", o.amin);
-    if (!(mo.amplitude_min > 0.0)) throw UsageError("--amin = " + o.amin + " is out of range: allowed > 0");
-    mo.amplitude_max = parse_double("--amax", o.amax);
-    if (!(mo.amplitude_max > mo.amplitude_min))
-        throw UsageError("--amax = " + o.amax + " is out of range: allowed > --amin = " + format_number(mo.amplitude_min));
-    const double decades = std::log10(mo.amplitude_max) - std::log10(mo.amplitude_min);  // no overflow
-    if (decades > 12.0)
-        throw UsageError("--amax / --amin spans " + format_number(std::round(decades * 100.0) / 100.0) +
-                         " decades: allowed up to 12 (--amax <= 1e12 --amin)");
+    const bool range_given = !o.amin.empty() || !o.amax.empty();
+    if (range_given && (o.amin.empty() || o.amax.empty()))
+        throw UsageError(std::string(o.amin.empty() ? "--amin" : "--amax") + " is missing: give --amin and --amax "
+                         "together, or neither (the range is then chosen from the contacts' slip onset)");
+    if (range_given) {
+        mo.amplitude_min = parse_double("--amin", o.amin);
+        if (!(mo.amplitude_min > 0.0)) throw UsageError("--amin = " + o.amin + " is out of range: allowed > 0");
+        mo.amplitude_max = parse_double("--amax", o.amax);
+        if (!(mo.amplitude_max > mo.amplitude_min))
+            throw UsageError("--amax = " + o.amax + " is out of range: allowed > --amin = " + format_number(mo.amplitude_min));
+        const double decades = std::log10(mo.amplitude_max) - std::log10(mo.amplitude_min);  // no overflow
+        if (decades > 12.0)
+            throw UsageError("--amax / --amin spans " + format_number(std::round(decades * 100.0) / 100.0) +
+                             " decades: allowed up to 12 (--amax <= 1e12 --amin)");
+    }
     mo.tolerance = number_in("--tolerance", o.tolerance, CorrectorOptions::smallest_tolerance,
                              CorrectorOptions::largest_tolerance, false);
     mo.max_step = number_in("--max-step", o.max_step, 0.0, 1.0, true);
@@ -115,6 +118,19 @@ int run(const CLI::App& command, const ModesOptions& o) {
     mo.progress = [&progress](double a, int points) {
         progress.update("a = " + format_number(a) + ", " + std::to_string(points) + " points");
     };
+    if (!range_given) {  // from the slip onset of the stuck mode followed
+        const NonlinearModes probe(chosen.system, hbo, mo);
+        const SlipOnset onset = slip_onset(chosen.system, probe.linear());
+        if (!onset.found)
+            throw UsageError("--amin and --amax are required here: no default range of the modal amplitude (" + onset.why +
+                             ")");
+        mo.amplitude_min = onset.amplitude_min;
+        mo.amplitude_max = onset.amplitude_max;
+        std::cerr << "hbf modes: note: the range a = " << format_number(mo.amplitude_min) << " .. "
+                  << format_number(mo.amplitude_max) << " (a tenth to a hundred times the slip onset: contact "
+                  << onset.contact + 1 << " reaches its friction limit at a = " << format_number(onset.amplitude)
+                  << " in stuck mode " << probe.linear().index << "); --amin and --amax choose another\n";
+    }
     // Every check of the run (a mode out of range, a rigid-body mode: InvalidInput) before any output.
     const NonlinearModes checked(chosen.system, hbo, mo);
     if (o.output.dry_run) return o.output.dry_run_done("modes");
@@ -286,39 +302,41 @@ void add_flags(CLI::App& command, ModesOptions& o) {
     // A nonlinear mode is a free motion: the excitation enters only --synthesis-out (harmonic 1).
     command.remove_option(command.get_option("--excitation-harmonic"));
     command.add_option("--mode", o.mode,
-                       "the linear mode of the stuck structure followed, 1-based by ascending frequency (stuck: every "
+                       "the stuck structure's mode followed, 1-based by ascending frequency\nthe linear mode of the stuck structure followed, 1-based by ascending frequency (stuck: every "
                        "contact's stuck spring, exact Coulomb contacts held rigid)")
         ->capture_default_str()->type_name("INT");
     command.add_option("--near", o.near, "instead of --mode: the stuck mode nearest this frequency, > 0")
         ->type_name("NUMBER");
     command.add_option("--start-frequency", o.start_frequency,
-                       "the first point's frequency guess at --amin, > 0, instead of the automatic start (the linear "
+                       "the first point's frequency guess, > 0, instead of the automatic start\nthe first point's frequency guess at --amin, > 0, instead of the automatic start (the linear "
                        "limit: the stuck mode, or where the stuck structure is damped its damped mode; where --amin is "
                        "beyond the linear regime, the backbone followed up to --amin from it); a given start is not "
                        "checked against the linear limit (a note)")
         ->type_name("NUMBER");
     command.add_option("--amin", o.amin,
-                       "smallest modal amplitude a (first point; required), > 0: a = the M-norm of y's first "
-                       "harmonic (c1 cos + s1 sin), sqrt(c1^T M c1 + s1^T M s1); the modal coordinate's amplitude in "
-                       "the linear limit")
+                       "smallest modal amplitude a, > 0 (default: a tenth of the slip onset)\nsmallest modal amplitude a (first point), > 0: a = the M-norm of y's first harmonic "
+                       "(c1 cos + s1 sin), sqrt(c1^T M c1 + s1^T M s1); the modal coordinate's amplitude in the linear "
+                       "limit. Without --amin and --amax the range is a tenth to a hundred times the slip onset (the "
+                       "amplitude where the stuck mode's first contact reaches its friction limit), said on standard "
+                       "error")
         ->type_name("NUMBER");
-    command.add_option("--amax", o.amax, "largest modal amplitude a (required), > amin, at most 1e12 amin")
+    command.add_option("--amax", o.amax, "largest modal amplitude a, > amin, at most 1e12 amin (given with --amin)")
         ->type_name("NUMBER");
     add_discretisation_flags(command, o.harmonics, o.time_samples, "the largest of the contacts' laws' own");
     command.add_option("--formulation", o.formulation,
-                       "how the structure enters: full (every DOF's harmonics are unknowns: a dense Jacobian of N (2H + 1) "
+                       "how the structure enters: full, condensed or automatic\nhow the structure enters: full (every DOF's harmonics are unknowns: a dense Jacobian of N (2H + 1) "
                        "rows), condensed (the contacts' relative displacements only, the structure with C - xi M "
                        "solved per harmonic: the direct sparse LU, or --modes), automatic (full up to " +
                            std::to_string(mode_full_limit) +
                            " unknowns N (2H + 1), and with --modes 0, else condensed where K is invertible)")
         ->capture_default_str()->type_name("automatic|condensed|full");
     command.add_option("--modes", o.modes,
-                       "condensed formulation: 0 (default, or a --config file's [solver] modes) solves the structure "
+                       "condensed formulation: 0 solves the structure directly, m > 0 by its m lowest modes\ncondensed formulation: 0 (default, or a --config file's [solver] modes) solves the structure "
                        "directly; m > 0 by its m lowest modes plus the static residual flexibility (as hbf frf "
                        "--modes: cost independent of N; needs M > 0, K > 0 and C diagonal in the modes)")
         ->type_name("INT");
     command.add_option("--tolerance", o.tolerance,
-                       "Newton's acceptance: max |residual|, the structure's rows relative to the mode's inertial force "
+                       "Newton's acceptance on the scaled residual\nNewton's acceptance: max |residual|, the structure's rows relative to the mode's inertial force "
                        "a w0^2 |M phi|_inf, the amplitude and phase rows relative to a; " +
                            default_text(CorrectorOptions::smallest_tolerance) + ".." +
                            default_text(CorrectorOptions::largest_tolerance))
@@ -331,33 +349,33 @@ void add_flags(CLI::App& command, ModesOptions& o) {
                                              "excitation and frequency range are not used)")
         ->option_text("FILE.toml");
     command.add_option("--synthesis-out", o.synthesis_out,
-                       "write the forced response to the system's excitation F cos(w t) (the preset: --fe) "
+                       "write the forced response synthesised from the mode to FILE (CSV)\nwrite the forced response to the system's excitation F cos(w t) (the preset: --fe) "
                        "synthesised from the mode (single-nonlinear-mode synthesis, Krack et al. 2014: "
                        "(w_mode^2 - w^2 + i w xi) a = psi^H F at each backbone point, psi its first harmonic per "
                        "unit a) as CSV: w, a, w_mode, flank and the outputs' _amp1; valid near the resonance of a "
                        "mode well separated from the others")
         ->type_name("FILE.csv");
     command.add_option("--plot-synthesis", o.plot_synthesis,
-                       "draw the synthesised response (as --synthesis-out) over the full harmonic-balance FRF of the same "
+                       "draw the synthesised response over the harmonic-balance FRF (.png or .svg)\ndraw the synthesised response (as --synthesis-out) over the full harmonic-balance FRF of the same "
                        "system and force (hbf frf over the synthesised band), the first output's first harmonic, "
                        "with both peaks and their difference in the title (and a note on standard error) "
                        "through gnuplot (.png or .svg)")
         ->type_name("FILE.png|FILE.svg");
     command.add_flag("--exact-check", o.exact_check,
-                     "check every point against the event-exact solver (exact Coulomb and Jenkins contacts along one "
+                     "check every point against the event-exact solver (exact Coulomb and Jenkins)\ncheck every point against the event-exact solver (exact Coulomb and Jenkins contacts along one "
                      "direction, M > 0, at most 64 DOFs): the free orbit with C - xi M by shooting with exact "
                      "events, compared at the same modal displacement and velocity at a section where every contact "
                      "slips; adds the columns exact_w, exact_xi, exact_gap (empty where not checked: permanent stick "
                      "is the linear mode) and a note with the largest gap");
     command.add_option("--plot-damping", o.plot_damping,
-                       "draw zeta and zeta_energy against a (log-log; values below 100 x --tolerance, rounding, left out) "
+                       "draw the modal damping ratios against the amplitude (.png or .svg)\ndraw zeta and zeta_energy against a (log-log; values below 100 x --tolerance, rounding, left out) "
                        "through gnuplot (.png or .svg)")
         ->type_name("FILE.png|FILE.svg");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output",
                               "write a JSON summary (mode, linear limit, status, points, seconds, largest energy error)",
                               "FILE", "draw the backbone, a (log) against w, through gnuplot (.png or .svg)",
                               "no progress on standard error"});
-    command.footer(columns_footer(
+    describe_output(command, {
         R"(The extended periodic motion concept (Krack 2015): the periodic free motions of
 M y'' + (C - xi M) y' + K y + f_contacts = F_s, xi the artificial damping that makes them
 periodic, by harmonic balance (--formulation) with the amplitude and phase of the first
@@ -373,7 +391,7 @@ contacts with a normal direction; h0..hH for the H harmonics.) Exit code 0 when 
 [amin, amax]; 3 when it stops early (Newton fails at the smallest step, the point budget) or a point
 fails the energy balance, or the synthesised response (--synthesis-out, --plot-synthesis) is cut at
 the backbone's last point (its peak lies beyond --amax) or empty, with every point computed written; 1 when the first point fails; 2 for
-bad input (a mode out of range, a rigid-body mode, an empty amplitude range).)"));
+bad input (a mode out of range, a rigid-body mode, an empty amplitude range).)"});
 }
 
 }  // namespace

@@ -436,12 +436,12 @@ void add_flags(CLI::App& command, OptimizeOptions_& o) {
     o.absorber.add_system_flags(command);
     o.frf.add_to(command);
     command.add_option("--param", o.param,
-                        "what is optimised: mu (the friction coefficient; with --config the friction limit F_c of the "
+                        "what is optimised: mu, wa or both\nwhat is optimised: mu (the friction coefficient; with --config the friction limit F_c of the "
                         "contact --contact), wa (the preset's tuning ratio, at the --mu given) or mu,wa (both: for each "
                         "wa of a search over --wa-range, a whole search in mu; about --wa-scan + 20 times more FRFs)")
         ->capture_default_str()->type_name("mu|wa|mu,wa");
     command.add_option("--range", o.range,
-                        "the search range LOWER:UPPER (0 < LOWER < UPPER) [default: mu from 0.01 to 10 times the "
+                        "the search range LOWER:UPPER, 0 < LOWER < UPPER\nthe search range LOWER:UPPER (0 < LOWER < UPPER) [default: mu from 0.01 to 10 times the "
                         "largest force amplitude |F|_inf (fe for the preset); wa from 0.5 to 2]")
         ->type_name("LOWER:UPPER");
     command.add_option("--wa-range", o.wa_range,
@@ -451,7 +451,7 @@ void add_flags(CLI::App& command, OptimizeOptions_& o) {
                         "--param mu,wa: values of wa of the first, log-spaced scan, 3..1000 (each a search in mu)")
         ->capture_default_str()->type_name("INT");
     command.add_option("--method", o.method,
-                        "golden: the scan, then a golden-section search in log of the parameter on whole FRFs (to "
+                        "golden (a scan, then a golden-section search) or tracking (the peaks followed)\ngolden: the scan, then a golden-section search in log of the parameter on whole FRFs (to "
                         "--param-tolerance); tracking: the scan, then the peaks followed from the best scan value to its "
                         "neighbours (hbf track): the optimum is where two peaks are equal (located to 1e-10) or a "
                         "peak's minimum (Brent on located peaks, to 1e-2 --param-tolerance), checked by an FRF there; "
@@ -460,7 +460,7 @@ void add_flags(CLI::App& command, OptimizeOptions_& o) {
     command.add_option("--contact", o.contact, "--config: the contact whose friction limit is optimised (1-based)")
         ->capture_default_str()->type_name("INT");
     command.add_option("--scan", o.scan,
-                        "FRFs of the first, log-spaced scan over the range, 3..1000: it brackets the optimum (the "
+                        "FRFs of the first, log-spaced scan, 3..1000\nFRFs of the first, log-spaced scan over the range, 3..1000: it brackets the optimum (the "
                         "peak is unbounded at both ends for a friction damper without viscous damping)")
         ->capture_default_str()->type_name("INT");
     command.add_option("--param-tolerance", o.param_tolerance,
@@ -472,12 +472,12 @@ void add_flags(CLI::App& command, OptimizeOptions_& o) {
         ->capture_default_str()->type_name("INT");
     o.output.add_to(command,
                            {"write the convergence trace (CSV, one row per FRF) to FILE instead of standard output",
-                            "write a JSON summary to FILE: the optimum (value, largest peak and its w, every peak), the "
+                            "write a JSON summary (the optimum, the bracket, the trace) to FILE\nwrite a JSON summary to FILE: the optimum (value, largest peak and its w, every peak), the "
                             "final bracket, the number of FRFs, and the comparisons with the Den Hartog friction, the "
                             "minimum-displacement rule and the viscous Den Hartog absorber (peak ratios to the optimum)",
                             "FILE", "draw the largest peak against the parameter, the optimum marked",
                             "no progress line (on a terminal; otherwise one line a minute) or summary line on standard error"});
-    command.footer(columns_footer(
+    describe_output(command, {
         R"(Output: the convergence trace, one row per FRF in the order computed (with --method tracking
 instead the tracked peaks, one row per point: track (down or up from the best scan value), curve,
 mu, w, peak, kind, regime). Columns:)",
@@ -485,7 +485,7 @@ mu, w, peak, kind, regime). Columns:)",
         R"(The objective is the largest max over one period of |y1(t)| (the first output with --config) over
 the whole FRF, every branch and fold included (nondimensional for the preset). Exit code 0 when the
 search converged; 3 when the optimum lies at an end of the range, the FRF budget ran out, or an FRF
-near the optimum failed; 1 when no value of the range gives a bounded response.)"));
+near the optimum failed; 1 when no value of the range gives a bounded response.)"});
 }
 }  // namespace
 

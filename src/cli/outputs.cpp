@@ -12,7 +12,7 @@ namespace hbf::cli {
 
 void OutputFlags::add_to(CLI::App& command, const Help& help) {
     command.add_flag("--dry-run", dry_run,
-                     "check every flag, input file and output path as for a run, then stop before the computation: "
+                     "check every flag, input and output, then stop before computing: exit 0 when the run would start\ncheck every flag, input file and output path as for a run, then stop before the computation: "
                      "exit 0 and nothing written when the run would start (2 and the reason otherwise)")
         ->disable_flag_override();  // --dry-run=0 must not turn it off (found by the fuzz harness)
     command.add_option("--out", out, help.out)->option_text("FILE");
@@ -43,11 +43,31 @@ ProgressLine::Mode OutputFlags::progress() const {
     return isatty(STDERR_FILENO) ? ProgressLine::Mode::terminal : ProgressLine::Mode::log;
 }
 
-std::string columns_footer(const std::string& intro, const std::vector<io::Column>& columns, const std::string& outro) {
-    std::string text = intro + "\n";
-    for (const auto& c : columns) text += "  " + c.name + ": " + c.meaning + "\n";
-    return text + outro;
+namespace {
+std::map<std::string, OutputHelp>& described() {
+    static std::map<std::string, OutputHelp> help;
+    return help;
 }
+}  // namespace
+
+void describe_output(CLI::App& command, const OutputHelp& help) {
+    std::string text = help.intro + "\n";
+    for (const auto& c : help.columns) text += "  " + c.name + ": " + c.meaning + "\n";
+    command.footer(text + help.outro);
+    described()[command.get_name()] = help;
+    const std::vector<io::Column> columns = help.columns;
+    command
+        .add_flag_callback(
+            "--columns",
+            [columns]() {
+                for (const auto& c : columns) std::cout << c.name << ": " << c.meaning << "\n";
+                throw CLI::Success();
+            },
+            "list the output columns with their meaning, then exit")
+        ->trigger_on_parse();
+}
+
+const std::map<std::string, OutputHelp>& output_help() { return described(); }
 
 int OutputFlags::dry_run_done(const std::string& command) const {
     std::cerr << "hbf " << command << ": dry run: every input and output is valid; nothing computed, nothing written\n";

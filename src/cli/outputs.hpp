@@ -4,6 +4,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,8 +46,18 @@ struct OutputFlags {
     int dry_run_done(const std::string& command) const;
 };
 
-/// A command's --help footer: `intro` (ending with what introduces the columns), one line per
-/// column ("  name: meaning"), then `outro` (the exit codes, what a failure leaves).
-std::string columns_footer(const std::string& intro, const std::vector<io::Column>& columns, const std::string& outro);
+/// What a command writes: `intro` (ending with what introduces the columns), its columns, then
+/// `outro` (the exit codes, what a failure leaves).
+struct OutputHelp {
+    std::string intro;
+    std::vector<io::Column> columns;
+    std::string outro;
+};
+/// Describes `command`'s output: its --help footer (intro, one line per column "  name:
+/// meaning", outro), the flag --columns (prints the columns and exits 0) and the entry of
+/// output_help() under the command's name, from which `hbf reference` documents it.
+void describe_output(CLI::App& command, const OutputHelp& help);
+/// Every described command's output, by command name.
+const std::map<std::string, OutputHelp>& output_help();
 
 }  // namespace hbf::cli

@@ -13,11 +13,26 @@
 
 namespace hbf::cli {
 
+namespace {
+
+/// --help shows each flag's summary: its description's first line. The lines after it are the
+/// details, which the command-line reference gives (hbf reference).
+class BriefFormatter : public CLI::Formatter {
+public:
+    std::string make_option_desc(const CLI::Option* option) const override {
+        const std::string& text = option->get_description();
+        return text.substr(0, text.find('\n'));
+    }
+};
+
+}  // namespace
+
 int run_program(int argc, char** argv) {
     CLI::App app("hbf: periodic responses of vibrating structures with friction and contact (harmonic "
                  "balance, an event-exact solver, stability, nonlinear modes, parameter studies, time integration).",
                  "hbf");
     app.set_version_flag("--version", std::string("hbf ") + hbf::version());
+    app.formatter(std::make_shared<BriefFormatter>());
     app.require_subcommand(1);
     app.footer(R"(Exit codes: 0 success; 2 bad input (an invalid flag or value, or an output path that cannot be used,
 found before any work: the message names it, no output file is written); 1 failure (a solver that
@@ -30,7 +45,8 @@ is.
 Outputs: '-' is standard output; a regular file (or a symlink to one, which stays a symlink) is
 replaced atomically when the command succeeds; a character device or FIFO (e.g. /dev/null) is
 written in place, never replaced; no two outputs may name the same file.
-Run 'hbf <command> --help' for a command's flags and output columns.)");
+Run 'hbf <command> --help' for a command's flags and output columns; the details of every flag are
+in the documentation's command-line reference (docs/reference/cli.md; 'hbf reference' as JSON).)");
 
     std::map<std::string, Runner> runners;
     runners["analytic"] = add_analytic_command(app);
@@ -41,6 +57,7 @@ Run 'hbf <command> --help' for a command's flags and output columns.)");
     runners["optimize"] = add_optimize_command(app);
     runners["timeint"] = add_timeint_command(app);
     runners["track"] = add_track_command(app);
+    runners["reference"] = add_reference_command(app);
 
     const std::string program = "hbf";
     if (argc > 1 && argv[1][0] != '-' && runners.count(argv[1]) == 0) {
@@ -58,6 +75,8 @@ Run 'hbf <command> --help' for a command's flags and output columns.)");
         return app.exit(e);
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
+    } catch (const CLI::Success&) {  // --columns: printed
+        return 0;
     } catch (const CLI::ParseError& e) {
         std::string what = e.what();
         if (what.find("disallowed flag override") != std::string::npos)  // --dry-run=0: a flag takes no value

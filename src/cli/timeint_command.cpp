@@ -186,12 +186,12 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
                            range_text(Tio::smallest_relative_tolerance, Tio::largest_relative_tolerance))
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--atol", o.atol,
-                        "CVODE absolute tolerance relative to the response's scale s (displacements atol s, velocities "
+                        "CVODE absolute tolerance relative to the response's scale\nCVODE absolute tolerance relative to the response's scale s (displacements atol s, velocities "
                         "atol h w s; s = min(|K^-1 F|, |M^-1 F| / (h w)^2): the same in any units and at any w), " +
                             range_text(Tio::smallest_absolute_tolerance, Tio::largest_absolute_tolerance))
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--steady-tol", o.steady_tol,
-                        "Poincare convergence: the state at the start of consecutive periods changes by <= "
+                        "Poincare convergence: the relative change of the state over one period\nPoincare convergence: the state at the start of consecutive periods changes by <= "
                         "steady-tol relative to the displacement scale max(|y|_inf, |y'|_inf / w) (velocities divided by w: "
                         "the same in any units), " +
                             range_text(Tio::smallest_steady_tolerance, Tio::largest_steady_tolerance))
@@ -202,7 +202,7 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
     command.add_option("--min-periods", o.min_periods, "periods per frequency at least, 1..max-periods")
         ->capture_default_str()->type_name("INT");
     command.add_option("--method", o.method,
-                        "CVODE method: adams (fixed-point iteration; fastest here) or bdf (Newton, dense "
+                        "CVODE method: adams or bdf\nCVODE method: adams (fixed-point iteration; fastest here) or bdf (Newton, dense "
                         "difference-quotient Jacobian; for stiff contacts); or exact (coulomb and jenkins only): the "
                         "event-exact solver, closed-form flows between stick/slip events and Newton shooting on the "
                         "period map (steady state to --steady-tol, default 1e-12 with it; --rtol and --atol do not "
@@ -213,10 +213,10 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
                                       "(.png or .svg)",
                                       "no progress on standard error"});
     command.add_option("--config", o.config,
-                        "integrate the structure of a TOML system file (as hbf frf --config; its frequency range "
+                        "integrate the structure of a TOML system file (as hbf frf --config)\nintegrate the structure of a TOML system file (as hbf frf --config; its frequency range "
                         "and solver settings are not used: give --w or --wmin/--wmax/--points)")
         ->option_text("FILE.toml");
-    command.footer(columns_footer(
+    describe_output(command, {
         R"(Each frequency is integrated period by period until the Poincare map converges (with Newton shooting
 steps when it contracts slowly). The first frequency starts from the linear steady state with the
 contact stuck, the next ones from the previous steady state (a sweep follows one branch: hysteresis
@@ -229,7 +229,7 @@ Columns:)",
 and permanent stick on the centred linear stuck state (as --method exact), each to max(1e-6, 100
 max(rtol, steady-tol)). A point that did not converge is written with converged = false and reported
 on standard error, and the exit code is 1 (like a stalled hbf frf branch: what was computed is
-written).)"));
+written).)"});
 }
 }  // namespace
 

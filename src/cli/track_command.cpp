@@ -245,13 +245,13 @@ void add_flags(CLI::App& command, TrackFlags& o) {
     o.absorber.add_system_flags(command);
     o.frf.add_to(command);
     command.add_option("--feature", o.feature,
-                        "what is followed: peak (every resonance peak of the first output over [wmin, wmax] at the "
+                        "what is followed: peak, boundary (stick-slip) or fold\nwhat is followed: peak (every resonance peak of the first output over [wmin, wmax] at the "
                         "first value, or the one nearest --omega), boundary (the stick-slip boundaries of the contacts: "
                         "where a stick phase appears or vanishes) or fold (the folds of the harmonic-balance FRF, "
                         "through the cusps where two of them merge)")
         ->capture_default_str()->type_name("peak|boundary|fold");
     command.add_option("--param", o.param,
-                        "the parameter followed, as hbf map's --param: for the paper's absorber fe, mu, wa, r, wb, xi; "
+                        "the parameter followed: fe, mu, wa, r, wb, xi (preset) or a --config parameter\nthe parameter followed, as hbf map's --param: for the paper's absorber fe, mu, wa, r, wb, xi; "
                         "for a --config system mu, fe, structure.damping or contact.KEY of --contact")
         ->type_name("NAME");
     command.add_option("--range", o.range, "the parameter's first and last values (either order): the features are found "
@@ -260,7 +260,7 @@ void add_flags(CLI::App& command, TrackFlags& o) {
     command.add_option("--omega", o.omega, "follow only the feature nearest to this frequency at START (within 10 %; "
                                            "otherwise an error listing the features found)")
         ->type_name("W");
-    command.add_option("--at", o.at, "values of the parameter where every curve gets a point (kind at): V1,V2,..., "
+    command.add_option("--at", o.at, "values of the parameter where every curve gets a point\nvalues of the parameter where every curve gets a point (kind at): V1,V2,..., "
                                      "START:STOP:N or log:START:STOP:N, inside --range")
         ->type_name("LIST|GRID");
     command.add_option("--contact", o.contact, "--config: the contact whose friction limit (--param mu) or key (--param "
@@ -271,27 +271,27 @@ void add_flags(CLI::App& command, TrackFlags& o) {
         ->type_name("INT");
     command.add_option("--max-step-p", o.max_step, "largest step in the parameter, relative to the range, 1e-6..0.5")
         ->capture_default_str()->type_name("NUMBER");
-    command.add_option("--min-step-p", o.min_step, "smallest step, relative to the range: a curve that cannot go on "
+    command.add_option("--min-step-p", o.min_step, "smallest step in the parameter, relative to the range\nsmallest step, relative to the range: a curve that cannot go on "
                                                    "below it ends there (the peak or boundary vanished, or the solves "
                                                    "failed), 1e-12..--max-step-p")
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--max-points", o.max_points, "accepted points over all curves, 10..1000000")
         ->capture_default_str()->type_name("INT");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output",
-                              "write a JSON summary to FILE: the curves (label, status, why they ended), the events "
+                              "write a JSON summary (the curves, the events) to FILE\nwrite a JSON summary to FILE: the curves (label, status, why they ended), the events "
                               "(exchanges: equal peaks; vanished peaks; peaks born inside the range), the largest peak "
                               "at each --at value, solves and time",
                               "FILE",
-                              "draw the curves in the (parameter, w) plane (or (parameter, value) with --plot-of value), "
+                              "draw the curves in the (parameter, w) plane (.png or .svg)\ndraw the curves in the (parameter, w) plane (or (parameter, value) with --plot-of value), "
                               "the exchanges marked (.png or .svg)",
                               "no progress line or summary line on standard error"});
-    command.add_option("--output", o.output_name, "the output whose peaks are followed (and whose value the CSV "
+    command.add_option("--output", o.output_name, "the output whose peaks are followed (a name of the system's outputs)\nthe output whose peaks are followed (and whose value the CSV "
                                                   "reports): a name of the system's outputs (the preset: y1, y2; "
                                                   "--config: its [[output]] names) [default: the first]")
         ->type_name("NAME");
     command.add_option("--plot-of", o.plot_of, "what --plot draws against the parameter: w or value")
         ->capture_default_str()->type_name("w|value");
-    command.footer(columns_footer(
+    describe_output(command, {
         R"(How: an FRF at START (hbf frf's, with the same flags) gives the features: its refined peaks of
 the first output, or its located stick-slip transitions. Each is followed in the parameter with a
 secant predictor; at each value the peak is re-located by Newton on dY/dw = 0 (Y = max over one
@@ -307,7 +307,7 @@ a heat map. Output: a CSV, one row per point of each curve:)",
 runs out of points, when a peak at END is on no curve, or when the starting FRF is incomplete;
 1 when a curve's solves fail; 2 for bad input (a parameter the system lacks, --omega with no feature
 near it: nothing written). A peak that ends inside the range (it merged with a valley) and a cusp
-are notes.)"));
+are notes.)"});
 }
 }  // namespace
 

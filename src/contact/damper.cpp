@@ -65,7 +65,7 @@ public:
     DamperLaw() : ForceElementLaw(FrictionLaw::damper, "damper", "power-law damper: f = c |v|^a sign(v)") {}
     std::vector<LawParameter> parameters() const override {
         using R = LawParameter::Range;
-        LawParameter exponent{"exponent", nullptr, "damper exponent a (a = 2: quadratic damper c |v| v)", R::interval};
+        LawParameter exponent{"exponent", nullptr, "damper exponent a (a = 2: the quadratic damper c v^2 sign v)", R::interval};
         exponent.low = 1.0;
         exponent.high = 10.0;
         exponent.default_value = 2.0;

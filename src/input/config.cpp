@@ -105,7 +105,7 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
     } catch (const InvalidInput& e) {
         fail(r.file, law_node->source(), where + ".law", e.what());
     }
-    std::set<std::string> allowed = {"dof", "other_dof", "force_direction", "law", "friction_limit"};
+    std::set<std::string> allowed = config_keys_of("contact");
     // the law's parameters (contact_law.hpp)
     const std::vector<LawParameter> parameters = contact_law(c.law).parameters();
     for (const LawParameter& p : parameters) allowed.insert(p.key);
@@ -197,7 +197,7 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
 /// earlier outputs and the column names they would make.
 Output read_output(const Reader& r, const toml::table& t, int index, int dofs, const std::vector<Output>& earlier) {
     const std::string where = "output[" + std::to_string(index + 1) + "]";
-    r.only(t, {"name", "dof", "row"}, where);
+    r.only(t, config_keys_of("output[]"), where);
     const toml::node* dof = t.get("dof");
     const toml::node* row = t.get("row");
     const toml::node* name = t.get("name");
@@ -301,12 +301,12 @@ SystemConfig read_system_config(const std::string& path) {
     } catch (const toml::parse_error& e) {
         fail(path, e.source(), "", "syntax error: " + std::string(e.description()));
     }
-    r.only(root, {"structure", "contact", "interface", "frequency", "solver", "output", "reduction"}, "");
+    r.only(root, config_keys_of(""), "");
 
     System& s = config.system;
     const toml::table* structure = root["structure"].as_table();
     if (!structure) fail(path, root.source(), "structure", "missing table [structure] (mass, stiffness, excitation)");
-    r.only(*structure, {"mass", "damping", "stiffness", "excitation", "excitation_harmonic", "static_load"}, "structure");
+    r.only(*structure, config_keys_of("structure"), "structure");
     for (const char* key : {"mass", "stiffness", "excitation"})
         if (!structure->get(key)) fail(path, structure->source(), std::string("structure.") + key, "missing");
     s.mass = r.matrix(*structure->get("mass"), "structure.mass");
@@ -390,7 +390,7 @@ SystemConfig read_system_config(const std::string& path) {
     if (const toml::node* node = root.get("frequency")) {
         const toml::table* t = node->as_table();
         if (!t) fail(path, node->source(), "frequency", "expected a table [frequency]");
-        r.only(*t, {"wmin", "wmax"}, "frequency");
+        r.only(*t, config_keys_of("frequency"), "frequency");
         for (auto&& [key, value] : *t) config.lines["frequency." + std::string(key.str())] = static_cast<int>(value.source().begin.line);
         if (const toml::node* v = t->get("wmin")) config.choices.omega_start = r.number(*v, "frequency.wmin");
         if (const toml::node* v = t->get("wmax")) config.choices.omega_end = r.number(*v, "frequency.wmax");
@@ -404,7 +404,7 @@ SystemConfig read_system_config(const std::string& path) {
     if (const toml::node* node = root.get("solver")) {
         const toml::table* t = node->as_table();
         if (!t) fail(path, node->source(), "solver", "expected a table [solver]");
-        r.only(*t, {"harmonics", "time_samples", "modes", "odd_harmonics", "jacobian"}, "solver");
+        r.only(*t, config_keys_of("solver"), "solver");
         for (auto&& [key, value] : *t) config.lines["solver." + std::string(key.str())] = static_cast<int>(value.source().begin.line);
         if (const toml::node* v = t->get("odd_harmonics")) {
             const auto flag = v->as_boolean();
@@ -457,7 +457,7 @@ SystemConfig read_system_config(const std::string& path) {
         } else {
             const toml::table* t = node->as_table();
             if (!t) fail(path, node->source(), "output", "expected a table [output] or tables [[output]]");
-            r.only(*t, {"report"}, "output");
+            r.only(*t, config_keys_of("output"), "output");
             if (const toml::node* v = t->get("report")) {
                 const toml::array* a = v->as_array();
                 if (!a || a->empty()) fail(path, v->source(), "output.report", "expected a non-empty list of DOFs (1-based)");

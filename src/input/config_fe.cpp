@@ -22,7 +22,7 @@ void read_reduction(const Reader& r, const toml::node& node, SystemConfig& confi
     const std::string& path = r.file;
     const toml::table* t = node.as_table();
     if (!t) fail(path, node.source(), "reduction", "expected a table [reduction]");
-    r.only(*t, {"interface", "modes", "method", "damping_ratios", "rayleigh"}, "reduction");
+    r.only(*t, config_keys_of("reduction"), "reduction");
     const System& fe = config.system;
     const int n = fe.dofs();
     ReductionOptions o;
@@ -136,14 +136,13 @@ ContactInterface read_interface(const Reader& r, const toml::table& t, int index
     }
     // Keys: the interface's own, and the law's numbers (directions come from the frames; the
     // preload is given as a pressure).
-    std::set<std::string> allowed = {"name", "nodes", "normal", "tangent", "area", "law"};
+    std::set<std::string> allowed = config_keys_of("interface");
     const std::vector<LawParameter> parameters = contact_law(iface.prototype.law).parameters();
     if (std::none_of(parameters.begin(), parameters.end(),
                      [](const LawParameter& p) { return std::string(p.key) == "normal_direction"; }))
         fail(r.file, law_node->source(), where + ".law",
              "'" + law_node->as_string()->get() + "' has no normal direction: allowed elastic or unilateral (an "
              "interface's nodes press on and lift off the other side; a law along one direction is a [[contact]] table)");
-    allowed.insert("preload_pressure");
     for (const LawParameter& p : parameters)
         if (p.scalar() && std::string(p.key) != "preload") allowed.insert(p.key);
     r.only(t, allowed, where);

@@ -114,7 +114,7 @@ def test_absorber_backbone_spans_stick_to_slip():
     (("--mode", "3", "--amin", "0.1", "--amax", "1"), "mode = 3 is out of range: allowed 1..1"),
     (("--amin", "1", "--amax", "0.5"), "--amax = 0.5 is out of range: allowed > --amin = 1"),
     (("--amin", "-1", "--amax", "1"), "--amin = -1 is out of range: allowed > 0"),
-    (("--amax", "1"), "--amin is required"),
+    (("--amax", "1"), "--amin is missing"),
     (("--mode", "1", "--near", "1", "--amin", "0.1", "--amax", "1"), "--near cannot be combined with --mode"),
 ])
 def test_command_refuses_bad_input(args, message):
@@ -190,3 +190,50 @@ def test_exact_check_columns(tmp_path):
     assert code == 0, err
     rows = list(csv.DictReader(io.StringIO(out.read_text())))
     assert [r["exact_gap"] == "" for r in rows] == list(stuck)
+
+
+def test_default_range_from_the_slip_onset(tmp_path):
+    # One DOF, m = 1: the stuck spring k_t = 0.5 carries F_c = 0.1 at the modal amplitude
+    # a* = F_c sqrt(m) / k_t = 0.2; the range is a* / 10 .. 100 a*, linear (xi = c / m) below a*.
+    path = tmp_path / "jenkins.toml"
+    path.write_text(JENKINS)
+    t = hbfriction.modes(hbfriction.load(str(path)), harmonics=1, time_samples=1024)
+    assert t.status == "completed"
+    assert abs(t.linear["slip_onset"] - 0.2) < 1e-13 and t.linear["slip_contact"] == 0
+    assert abs(t.amplitude_min - 0.02) < 1e-14 and abs(t.amplitude_max - 20.0) < 1e-12
+    assert abs(t.a[0] - 0.02) < 1e-12 and abs(t.a[-1] - 20.0) < 1e-9
+    stuck = t.a < 0.2 * (1 - 1e-9)
+    assert stuck.sum() >= 3 and np.all(np.abs(t.xi[stuck] - 0.01) < 1e-12)
+    for a, w, xi in zip(t.a, t.w, t.xi):  # slipping beyond a*: the describing function (N_t error ~5e-6)
+        w_df, xi_df = describing_function(a)
+        assert abs(w - w_df) < 1e-4 * w_df and abs(xi - xi_df) < 1e-4 * xi_df
+    assert t.xi.max() > 2 * 0.01
+    with pytest.raises(ValueError, match="together"):
+        hbfriction.modes(hbfriction.load(str(path)), 0.05)
+    with pytest.raises(ValueError, match="amplitude_min = 0.0 is out of range"):
+        hbfriction.modes(hbfriction.load(str(path)), 0.0, 1.0)
+
+
+def test_mode_index_is_zero_based_and_mode_deprecated():
+    system = hbfriction.absorber("jenkins")
+    second = hbfriction.modes(system, 0.01, 0.1, mode_index=1, harmonics=3)
+    assert second.linear["mode_index"] == 1 and second.linear["mode"] == 2
+    with pytest.warns(DeprecationWarning, match="mode_index"):
+        old = hbfriction.modes(system, 0.01, 0.1, mode=2, harmonics=3)
+    assert np.array_equal(second.w, old.w) and np.array_equal(second.a, old.a)
+    first = hbfriction.modes(system, 0.01, 0.1, harmonics=3)
+    assert first.linear["mode_index"] == 0 and first.w[0] < second.w[0]
+    with pytest.raises(ValueError, match="mode_index = -1 is out of range"):
+        hbfriction.modes(system, 0.01, 0.1, mode_index=-1)
+    with pytest.raises(ValueError, match="give mode_index"):
+        hbfriction.modes(system, 0.01, 0.1, mode_index=0, mode=1)
+
+
+def test_results_print_their_status_and_size():
+    system = hbfriction.absorber("jenkins")
+    t = hbfriction.modes(system, 0.01, 0.1, harmonics=3)
+    assert repr(t) == "<hbfriction.ModeResult: mode_index 0, %d points, a 0.01..0.1, completed>" % len(t)
+    ti = hbfriction.timeint(system, [0.9, 1.0])
+    assert repr(ti).startswith("<hbfriction.Table: 2 rows, completed, %d columns (w, " % len(ti.columns))
+    b = hbfriction.frf(system)
+    assert repr(b).startswith("<hbfriction.Branch: %d points, completed" % len(b))

@@ -2,7 +2,7 @@
 """Writes a 3D finite-element bar of brick elements whose free end is pressed against a rigid
 wall over a meshed contact patch, for hbf frf --config.
 
-A steel bar (0.2 m long, 20 mm x 20 mm section, SI units) of NX x NY x NZ trilinear 8-node
+A steel bar (0.2 m long, 20 mm wide, 20 mm high (--height), SI units) of NX x NY x NZ trilinear 8-node
 brick elements (2 x 2 x 2 Gauss points, consistent mass), clamped at x = 0. Its end face x = L
 is pressed against a rigid wall by a preload pressure: each of its (NY + 1) (NZ + 1) nodes is a
 contact node (law elastic: penalty stiffnesses per unit area, Coulomb friction, lift-off),
@@ -152,6 +152,8 @@ def main():
     parser.add_argument("--nx", type=int, default=10)
     parser.add_argument("--ny", type=int, default=4)
     parser.add_argument("--nz", type=int, default=4)
+    parser.add_argument("--height", type=float, default=HEIGHT,
+                        help="the section's height along z [m] (default 0.02: square, its two bending modes equal)")
     parser.add_argument("--mitre", type=float, default=0.0,
                         help="angle of the end face to the section, degrees (0: square end; in (-60, 60))")
     parser.add_argument("--law", choices=["elastic", "unilateral"], default="elastic")
@@ -168,9 +170,9 @@ def main():
         parser.error("--nx, --ny, --nz must be >= 1, and --ny, --nz even (a centre node for the force)")
     if not -60.0 < args.mitre < 60.0:
         parser.error("--mitre must be in (-60, 60) degrees")
-    if args.modes < 0 or args.mu < 0 or not 0 < args.wmin < args.wmax:
-        parser.error("--modes and --mu must be >= 0, and 0 < --wmin < --wmax")
-    hx, hy, hz = LENGTH / nx, WIDTH / ny, HEIGHT / nz
+    if args.modes < 0 or args.mu < 0 or not 0 < args.wmin < args.wmax or not args.height > 0:
+        parser.error("--modes and --mu must be >= 0, --height > 0, and 0 < --wmin < --wmax")
+    hx, hy, hz = LENGTH / nx, WIDTH / ny, args.height / nz
     slope = math.tan(math.radians(args.mitre))
 
     def position(i, j, k):  # the end face is the plane x = L + slope (y - W / 2)
