@@ -45,6 +45,7 @@ PYTHONPATH=$BUILD/python${PYTHONPATH:+:$PYTHONPATH} MPLBACKEND=Agg \
 mkdir -p "$OUT/site/docs/_generated/tutorial"
 cp "$OUT"/tutorial/bar/*.png "$OUT/site/docs/_generated/tutorial/"
 
+export HBF_SOURCE_DIR=$ROOT
 export HBF_EXECUTABLE=$BUILD/hbf
 export HBF_DOXYGEN_XML=$OUT/doxygen/xml
 export PYTHONPATH=$BUILD/python${PYTHONPATH:+:$PYTHONPATH}

@@ -155,6 +155,33 @@ class ConfigDirective(Directive):
         return [_table("hbf-config-" + (table.replace("[]", "-tables")), ["key", "meaning"], [[k["key"], k["meaning"]] for k in keys], [22, 78])]
 
 
+class SystemsDirective(Directive):
+    """Every system file under examples/systems (of $HBF_SOURCE_DIR), with its leading comment:
+    a new example is listed without anyone writing it here."""
+
+    def run(self):
+        root = os.environ.get("HBF_SOURCE_DIR")
+        if not root:
+            raise self.error("hbf-systems: HBF_SOURCE_DIR is not set (the repository's root)")
+        base = os.path.join(root, "examples", "systems")
+        rows = []
+        for folder, _, files in sorted(os.walk(base)):
+            for name in sorted(files):
+                if not name.endswith(".toml"):
+                    continue
+                path = os.path.join(folder, name)
+                comment = []
+                with open(path, encoding="utf-8") as f:
+                    for line in f:
+                        if not line.startswith("#"):
+                            break
+                        comment.append(line[1:].strip())
+                if not comment:
+                    raise self.error("hbf-systems: %s has no leading comment saying what it is" % path)
+                rows.append([os.path.relpath(path, root), " ".join(comment)])
+        return [_table("hbf-systems", ["file", "what it is"], rows, [30, 70])]
+
+
 def _merge(app, env, docnames, other):
     if hasattr(other, "hbf_rendered"):
         if not hasattr(env, "hbf_rendered"):
@@ -182,6 +209,7 @@ def setup(app):
     app.add_directive("hbf-command", CommandDirective)
     app.add_directive("hbf-law", LawDirective)
     app.add_directive("hbf-config", ConfigDirective)
+    app.add_directive("hbf-systems", SystemsDirective)
     app.connect("env-merge-info", _merge)
     app.connect("env-purge-doc", _purge)
     app.connect("env-updated", _check_complete)
