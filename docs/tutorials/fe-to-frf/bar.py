@@ -7,20 +7,16 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import hbfriction  # noqa: E402
 
-# [load]
+# [steps]
 system = hbfriction.load("bar/bar.toml")      # reduced on loading, as hbf frf --config does
 print(system.dofs, "coordinates,", len(system.contacts), "contacts")
-# [/load]
-# [frf]
 branch = hbfriction.frf(system)               # the file's frequency range and harmonics
 print(branch)                                 # status and size
 print("peak of mid:", branch.peak)            # the refined largest peak of the first output
 face = branch.interface_states("end face")    # node-averaged shares stuck / slipping / open
-# [/frf]
-# [modes]
 mode = hbfriction.modes(system, 4e-8, 6e-7)  # the first stuck mode (mode_index=0)
 print(mode)
-# [/modes]
+# [/steps]
 # [plot]
 fig, (top, middle, bottom) = plt.subplots(3, 1, figsize=(7, 8))
 top.plot(branch.w, branch.mid_max, label="FRF (harmonic balance)")

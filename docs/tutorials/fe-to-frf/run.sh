@@ -24,4 +24,8 @@ build/hbf frf --config bar/bar.toml --out bar/frf.csv --summary bar/frf.json \
 build/hbf modes --config bar/bar.toml --amin 4e-8 --amax 6e-7 --out bar/mode.csv \
     --plot bar/mode.png --plot-damping bar/damping.png
 # [/modes]
+# [track]
+build/hbf track --config bar/bar.toml --param fe --range 0.3:0.9 --harmonics 3 \
+    --out bar/track.csv --plot bar/track.png
+# [/track]
 "$python" "$here/bar.py"
