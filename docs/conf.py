@@ -40,9 +40,12 @@ myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 suppress_warnings = []
 
+smartquotes = False  # "--config" stays two hyphens, quotes stay straight: flags are typed
+
 html_theme = "sphinx_rtd_theme"
 html_title = "hbfriction %s" % release
-html_static_path = []
+html_static_path = ["_static"]
+html_css_files = ["hbf.css"]
 html_show_sourcelink = False
 
 breathe_projects = {"hbfriction": os.environ["HBF_DOXYGEN_XML"]}

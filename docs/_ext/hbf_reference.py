@@ -47,7 +47,7 @@ def reference():
 def _table(ident, headers, rows, widths):
     """A docutils table of plain-text cells (no markup is parsed: descriptions keep their |, * and
     _), its first column literal; `ident` is its HTML id, by which tests/check_reference.py finds it."""
-    table = nodes.table(classes=["hbf-reference"], ids=[ident])
+    table = nodes.table(classes=["hbf-reference", "colwidths-given"], ids=[ident])
     group = nodes.tgroup(cols=len(headers))
     table += group
     for w in widths:
