@@ -217,11 +217,7 @@ void bind_studies(py::module_& m) {
             // No range given (both 0): a tenth to a hundred times the stuck mode's slip onset.
             SlipOnset onset;
             if (amplitude_min == 0.0 && amplitude_max == 0.0) {
-                ModeOptions probe_options = mo;
-                probe_options.amplitude_min = 1e-4;
-                probe_options.amplitude_max = 1.0;
-                const NonlinearModes probe(s.system, hbo, probe_options);
-                onset = slip_onset(s.system, probe.linear());
+                onset = slip_onset(s.system, hbo, mo);
                 if (!onset.found)
                     bad("amplitude_min and amplitude_max are required here: no default range of the modal amplitude (" +
                         onset.why + ")");

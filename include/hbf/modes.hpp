@@ -101,6 +101,7 @@ struct SlipOnset {
     std::string why;
     double amplitude = 0;  ///< a at the onset
     int contact = -1;      ///< 0-based: the contact that slips first
+    int mode = 0;          ///< the stuck mode's index (LinearMode::index, 1-based)
     double amplitude_min = 0, amplitude_max = 0;  ///< amplitude / 10, 100 amplitude
 };
 SlipOnset slip_onset(const System& system, const LinearMode& mode);
@@ -134,6 +135,12 @@ struct ModeOptions {
     /// Throws InvalidInput naming the first field out of range.
     void validate() const;
 };
+/// The slip onset of the stuck mode `options` chooses (ModeOptions::mode or near_frequency; its
+/// amplitude range is not used), for harmonic balance `hbo`: the range a backbone follows when
+/// none is given (hbf modes, Python's modes()). Throws InvalidInput as NonlinearModes does for a
+/// mode out of range.
+SlipOnset slip_onset(const System& system, const HarmonicBalanceOptions& hbo, const ModeOptions& options);
+
 
 /// One point of the backbone: the harmonics x (HarmonicBalance's full layout), omega and xi at
 /// modal amplitude a.

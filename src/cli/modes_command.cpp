@@ -119,8 +119,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
         progress.update("a = " + format_number(a) + ", " + std::to_string(points) + " points");
     };
     if (!range_given) {  // from the slip onset of the stuck mode followed
-        const NonlinearModes probe(chosen.system, hbo, mo);
-        const SlipOnset onset = slip_onset(chosen.system, probe.linear());
+        const SlipOnset onset = slip_onset(chosen.system, hbo, mo);
         if (!onset.found)
             throw UsageError("--amin and --amax are required here: no default range of the modal amplitude (" + onset.why +
                              ")");
@@ -129,7 +128,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
         std::cerr << "hbf modes: note: the range a = " << format_number(mo.amplitude_min) << " .. "
                   << format_number(mo.amplitude_max) << " (a tenth to a hundred times the slip onset: contact "
                   << onset.contact + 1 << " reaches its friction limit at a = " << format_number(onset.amplitude)
-                  << " in stuck mode " << probe.linear().index << "); --amin and --amax choose another\n";
+                  << " in stuck mode " << onset.mode << "); --amin and --amax choose another\n";
     }
     // Every check of the run (a mode out of range, a rigid-body mode: InvalidInput) before any output.
     const NonlinearModes checked(chosen.system, hbo, mo);

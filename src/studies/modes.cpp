@@ -657,4 +657,12 @@ void NonlinearModes::continue_from(const ModePoint& start, double a_first, doubl
         if (trial.iterations <= 4) h = std::min(1.5 * h, options_.max_step);
     }
 }
+SlipOnset slip_onset(const System& system, const HarmonicBalanceOptions& hbo, const ModeOptions& options) {
+    ModeOptions chosen = options;  // the mode as chosen; any valid range (not followed)
+    chosen.amplitude_min = 1e-4;
+    chosen.amplitude_max = 1.0;
+    const NonlinearModes probe(system, hbo, chosen);
+    return slip_onset(system, probe.linear());
+}
+
 }  // namespace hbf

@@ -214,6 +214,7 @@ DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode
 SlipOnset slip_onset(const System& system, const LinearMode& mode) {
     system.validate();
     SlipOnset out;
+    out.mode = mode.index;
     const int n = system.dofs();
     const Eigen::MatrixXd mass = dense_or_zero(system.mass, n);
     Eigen::MatrixXd stiffness = dense_or_zero(system.stiffness, n);
