@@ -209,6 +209,21 @@ void bind_model(py::module_& m) {
                 s.interfaces.clear();  // the nodes' contacts are gone
             })
         .def_property_readonly(
+            "cyclic",
+            [](const PySystem& s) -> py::object {
+                if (!s.system.cyclic.active()) return py::none();
+                py::dict d;
+                d["sectors"] = s.system.cyclic.sectors;
+                d["engine_order"] = s.system.cyclic.engine_order;
+                py::list pairs;
+                for (const auto& [dependent, master] : s.system.cyclic.neighbours)
+                    pairs.append(py::make_tuple(dependent, master));
+                d["neighbours"] = pairs;
+                return std::move(d);
+            },
+            "a sector model's cyclic symmetry (a system file's [cyclic]): dict sectors, engine_order and "
+            "neighbours, the pairs (DOF, the next sector's DOF it is), 0-based; None for a whole structure")
+        .def_property_readonly(
             "interfaces",
             [](const PySystem& s) {
                 py::list out;

@@ -272,6 +272,14 @@ void bind_studies(py::module_& m) {
             return table_columns(io::analytic_table(analytic::table(p, l, omegas)));
         },
         py::arg("parameters"), py::arg("law"), py::arg("omegas"));
+    m.def(
+        "nodal_diameters",
+        [](const PySystem& s, int harmonics) {
+            if (harmonics < 1 || harmonics > 100)
+                bad("harmonics = " + std::to_string(harmonics) + " is out of range: allowed 1..100");
+            return table_columns(io::nodal_diameter_table(s.system, harmonics));
+        },
+        py::arg("system"), py::arg("harmonics"));
     m.def("den_hartog_tuning", &analytic::den_hartog_tuning, py::arg("mass_ratio"));
     m.def("den_hartog_friction", &analytic::den_hartog_friction, py::arg("parameters"), py::arg("omega"));
 

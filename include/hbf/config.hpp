@@ -36,6 +36,8 @@ struct SystemConfig {
     /// are none), with outputs_note saying so when that leaves DOFs out.
     std::vector<Output> outputs;
     std::string outputs_note;
+    /// [cyclic] engine_order outside 0..N-1: which engine order it was taken as (a note).
+    std::string cyclic_note;
     /// The files read: the config itself ("--config"), then every Matrix Market file it names
     /// (by its key, e.g. "structure.stiffness").
     std::vector<InputFile> inputs;

@@ -12,6 +12,10 @@
 // from q_c = Y w_c (and z_c) by the AFT (contact_force.hpp), and each state-law contact adds its
 // state residual r_z. Both Jacobians are exact (no finite differences).
 //
+// A sector of a cyclically symmetric wheel (System::cyclic, cyclic.hpp) is balanced in the full
+// formulation on its independent DOFs: X = P U, P turning each dependent DOF's harmonic k by
+// k phi from its master's, and R_U = P^T R_X (the wheel's rows of the independent DOFs).
+//
 // Two formulations of the same equations (HarmonicBalanceOptions::formulation):
 // * full: the unknowns are the coefficients of every DOF (above); the Jacobian is dense in
 //   N (2H+1), so it serves small systems and tests;
@@ -146,6 +150,11 @@ public:
     bool structured() const { return structured_; }
     /// True when only the odd harmonics are balanced (HarmonicBalanceOptions::odd_harmonics).
     bool odd_harmonics() const { return odd_; }
+    /// True for a sector model (System::cyclic, cyclic.hpp): the unknowns are the harmonics of
+    /// the independent DOFs (and the laws' states); every DOF's, the dependent ones turned by
+    /// k phi per harmonic, are all_harmonics' (dofs(), relative(), ...), and the residual is the
+    /// independent DOFs' rows of the wheel (the dependent rows folded onto their masters).
+    bool cyclic() const { return cyclic_; }
     /// Modes of the modal receptance in use (0: the direct solve).
     int modes() const { return modes_; }
     /// The contacts' static state under the system's static load and preloads (static_state.hpp),
@@ -322,6 +331,10 @@ private:
     int unknowns_ = 0;      // the corrector's unknowns: signals x balanced_coefficients()
     int all_unknowns_ = 0;  // signals x (2H + 1): the layout of every harmonic
     bool odd_ = false;
+    bool cyclic_ = false;
+    // cyclic_: all_unknowns_ x unknowns_, the unknowns to every DOF's harmonics (identity rows
+    // for the independent DOFs and the states, turns by k phi for the dependent DOFs)
+    Eigen::SparseMatrix<double> cyclic_map_;
     bool free_ = false;  // set_free_motion
     std::vector<int> balanced_;        // per signal: the balanced positions among 0..2H
     std::vector<int> balanced_index_;  // over all unknowns: the position in the all-harmonic layout

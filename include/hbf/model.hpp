@@ -100,6 +100,20 @@ struct Contact {
     std::string label;
 };
 
+/// The cyclic symmetry of a sector model (cyclic.hpp: the model is sector 0 of a wheel of N
+/// identical sectors under an engine-order excitation). `sectors` = 0: the model is not a sector.
+struct CyclicSymmetry {
+    int sectors = 0;       ///< N >= 2 (0: the model is not a sector)
+    int engine_order = 0;  ///< EO, 0..N-1 (a system file's larger EO is taken as EO mod N)
+    /// (dependent, master), 0-based DOFs of the model: `dependent` is DOF `master` of the next
+    /// sector. A master is never itself dependent; each dependent DOF appears once.
+    std::vector<std::pair<int, int>> neighbours;
+
+    bool active() const { return sectors > 0; }
+    /// phi = 2 pi EO / N, the phase lag from one sector to the next at the fundamental.
+    double phase() const;
+};
+
 /// "contact 3" or "contact 3 (interface[1] node 3)": how messages name contacts[c] (0-based c).
 std::string contact_name(const std::vector<Contact>& contacts, std::size_t c);
 
@@ -130,6 +144,8 @@ struct System {
     /// under it alone is static_state.hpp's.
     Eigen::VectorXd static_load;
     std::vector<Contact> contacts;
+    /// One sector of a cyclically symmetric wheel (cyclic.hpp), or none (sectors = 0).
+    CyclicSymmetry cyclic;
 
     int dofs() const { return static_cast<int>(mass.rows()); }
     /// Whether static_load is given with a non-zero entry.

@@ -63,6 +63,12 @@ Table analytic_table(const std::vector<analytic::Row>& rows);
 /// Writes the header row and one row per frequency.
 void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& rows);
 
+/// Columns of `hbf nodal-diameters` (cyclic.hpp: the wheel's nodal-diameter families).
+const std::vector<Column>& nodal_diameter_columns();
+/// The nodal-diameter families of a sector model, released and stuck, one row per nodal
+/// diameter and mode, with the harmonics 1..`harmonics` of an engine-order response that meet
+/// each nodal diameter. Throws InvalidInput for a model that is not a sector (cyclic.hpp).
+Table nodal_diameter_table(const System& system, int harmonics);
 /// Columns of `hbf frf` reporting `outputs` (model.hpp; in this order: `<name>_max` for each,
 /// then `<name>_amp1` for each; a DOF i is the output `y<i+1>`), or all `dofs` DOFs. With several
 /// `contacts`, `stick_fraction_c<i>` and `regime_c<i>` for each contact i replace stick_fraction

@@ -875,6 +875,17 @@ def analytic(system=None, w=None, *, law=None, parameters=None):
     return Table(_core.analytic(parameters, law, omegas))
 
 
+def nodal_diameters(system, harmonics=10):
+    """The linear nodal-diameter families of the wheel whose sector `system` is (a system file
+    with a [cyclic] table; hbf nodal-diameters): a Table with one row per nodal diameter and mode,
+    the natural frequencies released and stuck, and the harmonics up to `harmonics` of an
+    engine-order response that meet each nodal diameter (excited_by)."""
+    _check_system(system)
+    if system.cyclic is None:
+        raise ValueError("nodal_diameters: the system is not a sector (no [cyclic] table)")
+    return Table(_core.nodal_diameters(system, _integer("harmonics", harmonics)))
+
+
 class OptimizeResult:
     """The result of optimize(): status (converged, at_bound, budget, unbounded, failed),
     parameter (the best p), peak (dict value, w, state), peaks, bracket, trace (a dict of arrays:

@@ -220,6 +220,8 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
         std::cerr << "hbf " << command.get_name() << ": warning: " << config_path << ": " << w << "\n";
     if (!chosen.config->outputs_note.empty())
         std::cerr << "hbf " << command.get_name() << ": note: " << chosen.config->outputs_note << "\n";
+    if (!chosen.config->cyclic_note.empty())
+        std::cerr << "hbf " << command.get_name() << ": note: " << chosen.config->cyclic_note << "\n";
     if (chosen.config->reduction) {
         std::cerr << "hbf " << command.get_name() << ": note: " << config_path << ": " << chosen.config->reduction->summary()
                   << "\n";

@@ -27,6 +27,7 @@ Runner add_frf_command(CLI::App& app);
 Runner add_loop_command(CLI::App& app);
 Runner add_map_command(CLI::App& app);
 Runner add_modes_command(CLI::App& app);
+Runner add_nodal_diameters_command(CLI::App& app);
 Runner add_optimize_command(CLI::App& app);
 Runner add_timeint_command(CLI::App& app);
 Runner add_track_command(CLI::App& app);

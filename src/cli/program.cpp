@@ -54,6 +54,7 @@ in the documentation's command-line reference (docs/reference/cli.md; 'hbf refer
     runners["loop"] = add_loop_command(app);
     runners["map"] = add_map_command(app);
     runners["modes"] = add_modes_command(app);
+    runners["nodal-diameters"] = add_nodal_diameters_command(app);
     runners["optimize"] = add_optimize_command(app);
     runners["timeint"] = add_timeint_command(app);
     runners["track"] = add_track_command(app);

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "hbf/error.hpp"
+#include "hbf/cyclic.hpp"
 
 #include <stdexcept>
 
@@ -309,6 +310,7 @@ bool without_friction(const System& system) {
 }
 
 void refuse_time_domain(const System& system, const std::string& what) {
+    refuse_cyclic(system, what);
     for (std::size_t c = 0; c < system.contacts.size(); ++c) {
         const ContactLaw& law = contact_law(system.contacts[c].law);
         if (law.time_domain()) continue;

@@ -1,6 +1,7 @@
 // hbfriction — the linear limits (linear_limits.hpp): the stuck steady state and the
 // resonances of the released, stuck and rigid structure.
 #include "hbf/linear_limits.hpp"
+#include "hbf/cyclic.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -105,6 +106,18 @@ std::vector<double> natural_frequencies(const Eigen::MatrixXd& stiffness, const 
     }
     return out;
 }
+/// sqrt(lambda) of the Hermitian pencil (K, M), M positive definite; none where M is not (a
+/// sector with massless DOFs: no resonance is guarded there).
+std::vector<double> hermitian_frequencies(const Eigen::MatrixXcd& k, const Eigen::MatrixXcd& m) {
+    const Eigen::MatrixXcd ks = (k + k.adjoint()) / 2.0, ms = (m + m.adjoint()) / 2.0;
+    if (ms.rows() == 0 || Eigen::LLT<Eigen::MatrixXcd>(ms).info() != Eigen::Success) return {};
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXcd> solver(ks, ms);
+    std::vector<double> out;
+    if (solver.info() != Eigen::Success) return out;
+    for (Eigen::Index j = 0; j < solver.eigenvalues().size(); ++j)
+        if (solver.eigenvalues()(j) > 0.0) out.push_back(std::sqrt(solver.eigenvalues()(j)));
+    return out;
+}
 }  // namespace
 
 std::vector<LinearResonance> linear_resonances(const System& system, double omega_low, double omega_high) {
@@ -131,7 +144,16 @@ std::vector<LinearResonance> linear_resonances(const System& system, double omeg
         for (Eigen::Index j = 0; j < w.cols() && j < static_cast<Eigen::Index>(elements[c].size()); ++j)
             structure += elements[c][static_cast<std::size_t>(j)].stiffness * w.col(j) * w.col(j).transpose();
     }
-    add(natural_frequencies(structure, mass), LinearResonance::Limit::released);
+    // A sector (cyclic.hpp): each limit on the independent DOFs at the excitation's harmonic
+    // index (T^H A T, Hermitian; the rigid subspace of the turned directions T^T w).
+    const bool sector = system.cyclic.active();
+    const Eigen::MatrixXcd t = sector ? cyclic_transform(system, system.cyclic.phase()) : Eigen::MatrixXcd();
+    auto frequencies = [&](const Eigen::MatrixXd& k, const Eigen::MatrixXd& m) -> std::vector<double> {
+        if (!sector) return natural_frequencies(k, m);
+        return hermitian_frequencies(t.adjoint() * k.cast<std::complex<double>>() * t,
+                                     t.adjoint() * m.cast<std::complex<double>>() * t);
+    };
+    add(frequencies(structure, mass), LinearResonance::Limit::released);
     Eigen::MatrixXd stuck = structure;
     bool springs = false;
     Eigen::MatrixXd directions(n, 0);  // every direction of every contact
@@ -151,8 +173,18 @@ std::vector<LinearResonance> linear_resonances(const System& system, double omeg
             }
         }
     }
-    if (springs) add(natural_frequencies(stuck, mass), LinearResonance::Limit::stuck);
-    if (directions.cols() > 0) {
+    if (springs) add(frequencies(stuck, mass), LinearResonance::Limit::stuck);
+    if (sector && directions.cols() > 0) {
+        const Eigen::MatrixXcd rows = (t.transpose() * directions.cast<std::complex<double>>()).transpose();
+        Eigen::FullPivLU<Eigen::MatrixXcd> lu(rows);
+        if (lu.rank() < t.cols()) {
+            const Eigen::MatrixXcd basis = lu.kernel();
+            const Eigen::MatrixXcd tb = t * basis;
+            add(hermitian_frequencies(tb.adjoint() * structure.cast<std::complex<double>>() * tb,
+                                      tb.adjoint() * mass.cast<std::complex<double>>() * tb),
+                LinearResonance::Limit::rigid);
+        }
+    } else if (directions.cols() > 0) {
         // y = B z with B an orthonormal basis of the null space of W^T: the rigid contacts' subspace.
         Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(directions);
         const Eigen::Index rank = qr.rank();

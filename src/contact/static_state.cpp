@@ -113,6 +113,10 @@ StaticState rigid_static_state(const System& system, const Eigen::VectorXd& load
 StaticState static_state(const System& system) {
     system.validate();
     StaticState out;
+    if (system.cyclic.active()) {
+        out.message = "the static state of a sector model (cyclic symmetry) is not solved";
+        return out;
+    }
     const int n = system.dofs(), nc = static_cast<int>(system.contacts.size());
     const Eigen::VectorXd load = system.static_load.size() > 0 ? system.static_load : Eigen::VectorXd::Zero(n);
     std::vector<Eigen::MatrixXd> directions;

@@ -192,6 +192,8 @@ int largest_exact_modes(const System& system) {
 }
 
 std::string exact_polish_refusal(const System& system, double omega_min, int modes) {
+    if (system.cyclic.active())
+        return "the exact polish is not available for a sector model (cyclic symmetry): the FRF is harmonic balance's";
     if (rigid_contacts_only(system)) return rigid_solver_refusal(system);
     const int m = exact_solver_modes(system, modes);
     if (m == 0) return omega_min > 0.0 ? exact_cost_refusal(system, omega_min) : exact_solver_refusal(system);

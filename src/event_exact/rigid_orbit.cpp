@@ -16,6 +16,7 @@
 #include "event_exact/rigid_engine.hpp"
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/static_state.hpp"
 
 namespace hbf {
@@ -244,6 +245,7 @@ bool cones(const System& system) { return rigid_contacts_3d(system); }
 std::string rigid_solver_refusal(const System& system) {
     try {
         system.validate();
+        refuse_cyclic(system, "the exact solver of law unilateral");
         if (system.contacts.size() > static_cast<std::size_t>(rigid_solver_max_contacts))
             return "the model has " + std::to_string(system.contacts.size()) +
                    " contacts: the exact solver of law unilateral allows at most " +
@@ -515,6 +517,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
 ExactOrbit rigid_periodic_orbit(const System& system, double omega, const VectorXd& initial_state,
                                 const ExactOptions& options) {
     system.validate();
+    refuse_cyclic(system, "the exact solver of law unilateral");
     options.validate();
     if (!(omega > 0.0) || !std::isfinite(omega))
         throw InvalidInput("omega = " + format_number(omega) + " is out of range: allowed > 0");

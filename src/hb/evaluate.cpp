@@ -61,6 +61,18 @@ void HarmonicBalance::evaluate(const Eigen::VectorXd& x, double omega, Eigen::Ve
                                Eigen::MatrixXd* jacobian, Eigen::VectorXd* jacobian_omega) {
     ++statistics_.residuals;
     if (jacobian) ++statistics_.jacobians;
+    if (cyclic_) {
+        // A sector: every DOF's balance at X = P U, folded onto the independent DOFs by P^T.
+        evaluate_all(all_harmonics(x), omega, all_residual_, jacobian ? &all_jacobian_ : nullptr,
+                     jacobian_omega ? &all_jacobian_omega_ : nullptr);
+        residual = cyclic_map_.transpose() * all_residual_;
+        if (jacobian_omega) *jacobian_omega = cyclic_map_.transpose() * all_jacobian_omega_;
+        if (jacobian) {
+            const Eigen::MatrixXd jp = all_jacobian_ * cyclic_map_;
+            *jacobian = cyclic_map_.transpose() * jp;
+        }
+        return;
+    }
     if (!odd_) {
         evaluate_all(x, omega, residual, jacobian, jacobian_omega);
         return;

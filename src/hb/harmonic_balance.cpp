@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "hbf/contact_law.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/error.hpp"
 #include "base/enum_table.hpp"
 
@@ -111,6 +112,21 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         throw InvalidInput("harmonics = " + std::to_string(options.harmonics) + " does not reach the excitation harmonic h = " +
                            std::to_string(system_.excitation_harmonic) + ": allowed harmonics >= h");
     const int n = coefficients(), nc = static_cast<int>(system_.contacts.size());
+    cyclic_ = system_.cyclic.active();
+    if (cyclic_) {
+        // A sector (cyclic.hpp): the full formulation on its independent DOFs.
+        if (options.formulation == Formulation::condensed)
+            throw InvalidInput("formulation = condensed: a sector model (cyclic symmetry) is balanced in the full "
+                               "formulation; allowed: full or automatic");
+        if (options.odd_harmonics)
+            throw InvalidInput("odd harmonics only: not with cyclic symmetry (allowed: every harmonic)");
+        if (options.jacobian == JacobianForm::structured)
+            throw InvalidInput("jacobian = structured: the condensed formulation's, not a sector model's (allowed: "
+                               "dense or automatic)");
+        if (system_.has_static_load())
+            throw InvalidInput("static_load: a sector model (cyclic symmetry) takes no static load; allowed: none "
+                               "(preloads of the contacts' laws are allowed)");
+    }
     force_scale_ = system_.excitation.cwiseAbs().maxCoeff();
     if (!(force_scale_ > 0.0)) throw InvalidInput("excitation vector is zero: allowed a non-zero force amplitude");
     for (std::size_t index = 0; index < system_.contacts.size(); ++index) {
@@ -129,23 +145,34 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     // The static deflections u_a = K^-1 w_a of every signal a (one factorisation; not ok where
     // K is singular): the static flexibility w_a^T u_a and the structure's mass along u_a, which
     // set the automatic law parameters and the condensed formulation's shift below.
-    Eigen::MatrixXd w(system_.dofs(), ns);
-    for (int a = 0; a < ns; ++a) w.col(a) = directions_[static_cast<std::size_t>(a)];
+    // A sector: on the sector with every dependent DOF merged into its master (harmonic 0's
+    // structure, phase 0: cyclic.hpp), M0 = T0^T M T0 and w0 = T0^T w.
+    const SparseMatrix t0 = cyclic_ ? cyclic_merge(system_) : SparseMatrix();
+    auto merged = [&](const SparseMatrix& a) -> SparseMatrix {
+        return cyclic_ ? SparseMatrix(t0.transpose() * a * t0) : a;
+    };
+    const SparseMatrix static_m = merged(system_.mass), static_c = merged(system_.damping),
+                       static_k = merged(system_.stiffness);
+    auto direction = [&](int a) -> Eigen::VectorXd {
+        const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(a)];
+        return cyclic_ ? Eigen::VectorXd(t0.transpose() * d) : d;
+    };
+    Eigen::MatrixXd w(static_k.rows(), ns);
+    for (int a = 0; a < ns; ++a) w.col(a) = direction(a);
+    const Eigen::VectorXd static_f = cyclic_ ? Eigen::VectorXd(t0.transpose() * system_.excitation) : system_.excitation;
     const Receptance::Harmonic unshifted =
-        nc > 0 ? Receptance(system_.mass, system_.damping, system_.stiffness, w, system_.excitation,
-                            Eigen::MatrixXd(0, system_.dofs()))
-                     .solve(0, 1.0, false)
+        nc > 0 ? Receptance(static_m, static_c, static_k, w, static_f, Eigen::MatrixXd(0, static_k.rows())).solve(0, 1.0, false)
                : Receptance::Harmonic{};
     Eigen::VectorXd static_stiffness = Eigen::VectorXd::Zero(ns);  // 1 / (w_a^T u_a); 0 where K is singular
     Eigen::VectorXd static_mass = Eigen::VectorXd::Zero(ns);       // phi_a^T M phi_a, phi_a = u_a / (w_a^T u_a)
     std::vector<DirectionScale> scales;
     // The static deflections and M times them, all signals at once (phi_a = u_a / g_a).
     const Eigen::MatrixXd deflections = unshifted.ok ? Eigen::MatrixXd(unshifted.solution.leftCols(ns).real()) : Eigen::MatrixXd();
-    const Eigen::MatrixXd mass_deflections = unshifted.ok ? Eigen::MatrixXd(system_.mass * deflections) : Eigen::MatrixXd();
-    const double largest_mass = system_.mass.diagonal().maxCoeff();
+    const Eigen::MatrixXd mass_deflections = unshifted.ok ? Eigen::MatrixXd(static_m * deflections) : Eigen::MatrixXd();
+    const double largest_mass = static_m.diagonal().maxCoeff();
     for (int a = 0; a < ns; ++a) {
-        const Eigen::VectorXd& d = directions_[static_cast<std::size_t>(a)];
-        DirectionScale scale{quadratic_form(system_.stiffness, d), quadratic_form(system_.mass, d), largest_mass};
+        const Eigen::VectorXd d = direction(a);
+        DirectionScale scale{quadratic_form(static_k, d), quadratic_form(static_m, d), largest_mass};
         const double g = unshifted.ok ? unshifted.contact(a, a).real() : 0.0;
         if (g > 0.0 && std::isfinite(g)) {
             static_stiffness(a) = scale.static_stiffness = 1.0 / g;
@@ -189,7 +216,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     // minutes). phi^T M phi converges with refinement, so delta_c does too. w^T M w stays where
     // it is the larger (a relative direction between lumped masses: 1.1 against 0.1 on the
     // paper's absorber, where 0.1 failed an FRF of the coarse joint optimisation in mu and wa).
-    if (options.formulation != Formulation::full && nc > 0) {
+    if (options.formulation != Formulation::full && nc > 0 && !cyclic_) {
         shift_stiffness_.resize(ns);
         shift_damping_.resize(ns);
         SparseMatrix stiffness = system_.stiffness, damping = system_.damping;
@@ -363,18 +390,45 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
                            " is even, so the solution is not half-wave symmetric (allowed: an odd h, or every harmonic)");
     for (int row = 0; row < n; ++row)
         if (!odd_ || (row > 0 && ((row + 1) / 2) % 2 == 1)) balanced_.push_back(row);
-    for (int signal = 0; signal < all_unknowns_ / n; ++signal)
+    std::vector<bool> dependent(static_cast<std::size_t>(all_unknowns_ / n), false);
+    for (const auto& pair : system_.cyclic.neighbours) dependent[static_cast<std::size_t>(pair.first)] = true;
+    std::vector<int> first_unknown(dependent.size(), -1);  // of each independent signal
+    for (int signal = 0; signal < all_unknowns_ / n; ++signal) {
+        if (dependent[static_cast<std::size_t>(signal)]) continue;
+        first_unknown[static_cast<std::size_t>(signal)] = static_cast<int>(balanced_index_.size());
         for (int row : balanced_) balanced_index_.push_back(signal * n + row);
+    }
     unknowns_ = static_cast<int>(balanced_index_.size());
+    if (cyclic_) {
+        // X = P U: the independent signals copied, each dependent DOF's harmonic k its master's
+        // turned by k phi (a delay of phi / omega: cyclic.hpp).
+        std::vector<Eigen::Triplet<double>> entries;
+        for (int i = 0; i < unknowns_; ++i) entries.emplace_back(balanced_index_[static_cast<std::size_t>(i)], i, 1.0);
+        const double phi = system_.cyclic.phase();
+        for (const auto& [d, m] : system_.cyclic.neighbours) {
+            const int u = first_unknown[static_cast<std::size_t>(m)];
+            entries.emplace_back(d * n, u, 1.0);
+            for (int k = 1; k <= harmonics_; ++k) {
+                const double c = std::cos(k * phi), sn = std::sin(k * phi);
+                entries.emplace_back(d * n + 2 * k - 1, u + 2 * k - 1, c);
+                entries.emplace_back(d * n + 2 * k - 1, u + 2 * k, -sn);
+                entries.emplace_back(d * n + 2 * k, u + 2 * k - 1, sn);
+                entries.emplace_back(d * n + 2 * k, u + 2 * k, c);
+            }
+        }
+        cyclic_map_.resize(all_unknowns_, unknowns_);
+        cyclic_map_.setFromTriplets(entries.begin(), entries.end());
+    }
     if (build_fourier) fourier_ = std::make_unique<Fourier>(harmonics_, time_samples_);
     if (build_fourier && has_static_problem(system_)) rest_ = static_state(system_);
 }
 
 Eigen::VectorXd HarmonicBalance::all_harmonics(const Eigen::VectorXd& x) const {
-    if (!odd_) return x;
+    if (!odd_ && !cyclic_) return x;
     if (x.size() != unknowns_)
         throw InvalidInput("harmonic balance: " + std::to_string(x.size()) + " unknowns given, allowed " +
                            std::to_string(unknowns_));
+    if (cyclic_) return cyclic_map_ * x;
     Eigen::VectorXd all = Eigen::VectorXd::Zero(all_unknowns_);
     for (int i = 0; i < unknowns_; ++i) all(balanced_index_[static_cast<std::size_t>(i)]) = x(i);
     return all;

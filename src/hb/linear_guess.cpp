@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "hbf/contact_law.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/error.hpp"
 #include "hbf/static_state.hpp"
 #include "base/stopwatch.hpp"
@@ -84,18 +85,25 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
             else
                 z += e.at(frequency) * (w * w.transpose()).cast<Complex>();
         }
+        // A sector (cyclic.hpp): Y = T_k U on its independent DOFs, T_k^H z T_k U = T_k^H rhs, the
+        // rigid rows w^T T_k U = 0.
+        const Eigen::MatrixXcd t = cyclic_ ? cyclic_transform(system_, k * system_.cyclic.phase())
+                                           : Eigen::MatrixXcd();
+        const auto free = cyclic_ ? t.cols() : static_cast<Eigen::Index>(dofs);
         const auto m = static_cast<Eigen::Index>(stuck.size());
-        Eigen::MatrixXcd a = Eigen::MatrixXcd::Zero(dofs + m, dofs + m);
-        a.topLeftCorner(dofs, dofs) = z;
+        Eigen::MatrixXcd a = Eigen::MatrixXcd::Zero(free + m, free + m);
+        a.topLeftCorner(free, free) = cyclic_ ? Eigen::MatrixXcd(t.adjoint() * z * t) : z;
         for (Eigen::Index j = 0; j < m; ++j) {
             const Eigen::VectorXd& w = directions_[static_cast<std::size_t>(stuck[static_cast<std::size_t>(j)])];
-            a.block(0, dofs + j, dofs, 1) = w.cast<Complex>();
-            a.block(dofs + j, 0, 1, dofs) = w.cast<Complex>().transpose();
+            const Eigen::VectorXcd row = cyclic_ ? Eigen::VectorXcd(t.transpose() * w.cast<Complex>())
+                                                 : Eigen::VectorXcd(w.cast<Complex>());
+            a.block(0, free + j, free, 1) = row.conjugate();
+            a.block(free + j, 0, 1, free) = row.transpose();
         }
-        Eigen::VectorXcd full = Eigen::VectorXcd::Zero(dofs + m);
-        full.head(dofs) = rhs;
+        Eigen::VectorXcd full = Eigen::VectorXcd::Zero(free + m);
+        full.head(free) = cyclic_ ? Eigen::VectorXcd(t.adjoint() * rhs) : rhs;
         const Eigen::VectorXcd solution = a.fullPivLu().solve(full);
-        amplitude = solution.head(dofs);
+        amplitude = cyclic_ ? Eigen::VectorXcd(t * solution.head(free)) : Eigen::VectorXcd(solution.head(dofs));
         for (Eigen::Index j = 0; j < m; ++j) forces(stuck[static_cast<std::size_t>(j)]) = solution(dofs + j);
         return true;
     };
@@ -134,8 +142,8 @@ Eigen::VectorXd HarmonicBalance::linear_guess(double omega, bool sliding) const 
         contact_law(k.law).guess_state(k, sliding, q, cos_row, force.segment(first, count), mean,
                                        x.segment(state_offset_[c], state_count_[c] * n));
     }
-    if (!odd_) return x;
-    Eigen::VectorXd balanced(unknowns_);
+    if (!odd_ && !cyclic_) return x;
+    Eigen::VectorXd balanced(unknowns_);  // the balanced (odd) or independent (sector) entries
     for (int i = 0; i < unknowns_; ++i) balanced(i) = x(balanced_index_[static_cast<std::size_t>(i)]);
     return balanced;
 }

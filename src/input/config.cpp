@@ -93,7 +93,10 @@ void check_nesting(const std::string& path, const std::string& text) {
 }
 
 
-Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs) {
+/// One [[contact]] table. `neighbour` (0-based, else -1): the next sector's DOF that
+/// neighbour_dof names (a sector model's contact across the cut; the caller places it).
+Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs, bool sector, int& neighbour) {
+    neighbour = -1;
     const std::string where = "contact[" + std::to_string(index + 1) + "]";
     Contact c;
     const toml::node* law_node = t.get("law");
@@ -127,7 +130,7 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
         return value - 1;
     };
     if (const toml::node* direction = t.get("force_direction")) {
-        if (t.get("dof") || t.get("other_dof"))
+        if (t.get("dof") || t.get("other_dof") || t.get("neighbour_dof"))
             fail(r.file, direction->source(), where + ".force_direction",
                  "given together with dof / other_dof: a contact is either a DOF pair (or a DOF and the ground) or a "
                  "force direction");
@@ -135,6 +138,15 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
     } else {
         if (!t.get("dof")) fail(r.file, t.source(), where + ".dof", "missing: the contact's DOF (1-based), or force_direction");
         c.dof = dof("dof");
+        if (const toml::node* node = t.get("neighbour_dof")) {
+            if (!sector)
+                fail(r.file, node->source(), where + ".neighbour_dof",
+                     "a DOF of the next sector needs a sector model: allowed with a [cyclic] table only");
+            if (t.get("other_dof"))
+                fail(r.file, node->source(), where + ".neighbour_dof",
+                     "given together with other_dof: a contact joins dof to other_dof or to the next sector's neighbour_dof");
+            neighbour = dof("neighbour_dof");
+        }
         if (t.get("other_dof")) {
             c.other_dof = dof("other_dof");
             if (c.other_dof == c.dof)
@@ -188,6 +200,100 @@ Contact read_contact(const Reader& r, const toml::table& t, int index, int dofs)
         }
     }
     return c;
+}
+
+}  // namespace
+
+namespace {
+
+/// [cyclic]: sectors N >= 2, engine_order (an order outside 0..N-1 is taken as its alias EO mod
+/// N, with a note), left and right (the cut faces: matched 1-based lists of equal length,
+/// disjoint). right[i] is the next sector's DOF left[i].
+void read_cyclic(const Reader& r, const toml::table& t, int dofs, SystemConfig& config) {
+    r.only(t, config_keys_of("cyclic"), "cyclic");
+    for (const char* key : {"sectors", "engine_order"})
+        if (!t.get(key)) fail(r.file, t.source(), std::string("cyclic.") + key, "missing");
+    CyclicSymmetry& c = config.system.cyclic;
+    c.sectors = r.integer(*t.get("sectors"), "cyclic.sectors");
+    if (c.sectors < 2)
+        fail(r.file, t.get("sectors")->source(), "cyclic.sectors",
+             std::to_string(c.sectors) + " is out of range: allowed >= 2 (the number of sectors of the wheel)");
+    const int order = r.integer(*t.get("engine_order"), "cyclic.engine_order");
+    c.engine_order = ((order % c.sectors) + c.sectors) % c.sectors;
+    if (c.engine_order != order)
+        config.cyclic_note = r.file + ": cyclic.engine_order = " + std::to_string(order) + " is engine order " +
+                             std::to_string(c.engine_order) + " on " + std::to_string(c.sectors) +
+                             " sectors (its alias: the same travelling wave)";
+    auto faces = [&](const char* key) {
+        std::vector<int> out;
+        const toml::node* node = t.get(key);
+        if (!node) return out;
+        const toml::array* a = node->as_array();
+        if (!a) fail(r.file, node->source(), std::string("cyclic.") + key, "expected a list of DOFs (1-based)");
+        for (const toml::node& item : *a) {
+            const int d = r.integer(item, std::string("cyclic.") + key);
+            if (d < 1 || d > dofs)
+                fail(r.file, item.source(), std::string("cyclic.") + key,
+                     std::to_string(d) + " is out of range: allowed 1.." + std::to_string(dofs) + " (1-based DOF)");
+            if (std::find(out.begin(), out.end(), d - 1) != out.end())
+                fail(r.file, item.source(), std::string("cyclic.") + key, "DOF " + std::to_string(d) + " is listed twice");
+            out.push_back(d - 1);
+        }
+        return out;
+    };
+    const std::vector<int> left = faces("left"), right = faces("right");
+    if (left.size() != right.size())
+        fail(r.file, (t.get("right") ? t.get("right") : t.get("left") ? t.get("left") : &t)->source(), "cyclic.right",
+             std::to_string(right.size()) + " DOFs against " + std::to_string(left.size()) +
+                 " in cyclic.left: allowed matched lists of equal length (right[i] is the next sector's left[i])");
+    for (int d : right)
+        if (std::find(left.begin(), left.end(), d) != left.end())
+            fail(r.file, t.get("right")->source(), "cyclic.right",
+                 "DOF " + std::to_string(d + 1) + " is in both cut faces: allowed disjoint left and right lists");
+    for (std::size_t i = 0; i < left.size(); ++i) c.neighbours.emplace_back(right[i], left[i]);
+}
+
+/// The contacts across the cut (read_contact's neighbour): a neighbour DOF on the left cut face
+/// is the matching right-face DOF of the model; any other is added as a DOF of its own (no
+/// mass, stiffness or load: the next sector's copy, moved by the phase shift), after the
+/// model's DOFs.
+void place_neighbours(const std::vector<int>& neighbours, System& s) {
+    const int n = s.dofs();
+    std::vector<std::pair<int, int>> added;  // (new DOF, the next sector's DOF)
+    for (std::size_t c = 0; c < neighbours.size(); ++c) {
+        const int m = neighbours[c];
+        if (m < 0) continue;
+        int target = -1;
+        for (const auto& [dependent, master] : s.cyclic.neighbours)
+            if (master == m && dependent < n) target = dependent;
+        for (const auto& [dependent, master] : added)
+            if (master == m) target = dependent;
+        if (target < 0) {
+            target = n + static_cast<int>(added.size());
+            added.emplace_back(target, m);
+        }
+        s.contacts[c].other_dof = target;
+    }
+    if (added.empty()) return;
+    const auto grown = static_cast<Eigen::Index>(n + added.size());
+    auto grow = [&](SparseMatrix& a) {
+        SparseMatrix b(grown, grown);
+        std::vector<Eigen::Triplet<double>> entries;
+        for (int k = 0; k < a.outerSize(); ++k)
+            for (SparseMatrix::InnerIterator it(a, k); it; ++it) entries.emplace_back(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
+        b.setFromTriplets(entries.begin(), entries.end());
+        a = b;
+    };
+    grow(s.mass);
+    grow(s.stiffness);
+    grow(s.damping);
+    s.excitation.conservativeResize(grown);
+    s.excitation.tail(grown - n).setZero();
+    if (s.static_load.size() == n) {
+        s.static_load.conservativeResize(grown);
+        s.static_load.tail(grown - n).setZero();
+    }
+    for (const auto& pair : added) s.cyclic.neighbours.push_back(pair);
 }
 
 }  // namespace
@@ -325,16 +431,29 @@ SystemConfig read_system_config(const std::string& path) {
                  std::to_string(m->rows()) + " x " + std::to_string(m->cols()) + ": allowed " + std::to_string(n) + " x " +
                      std::to_string(n) + " (the size of the mass matrix)");
 
+    const toml::table* cyclic = nullptr;
+    if (const toml::node* node = root.get("cyclic")) {
+        cyclic = node->as_table();
+        if (!cyclic) fail(path, node->source(), "cyclic", "expected a table [cyclic]");
+        read_cyclic(r, *cyclic, static_cast<int>(n), config);
+        if (root.get("reduction"))
+            fail(path, node->source(), "cyclic",
+                 "a sector model is given by its own matrices: not together with [reduction] (allowed: one of them)");
+    }
     std::vector<toml::source_region> contact_lines;
+    std::vector<int> neighbours;  // per contact: the next sector's DOF it joins, or -1
     if (const toml::node* contacts = root.get("contact")) {
         const toml::array* list = contacts->as_array();
         if (!list || !list->is_array_of_tables()) fail(path, contacts->source(), "contact", "expected [[contact]] tables");
         int index = 0;
         for (const toml::node& node : *list) {
-            s.contacts.push_back(read_contact(r, *node.as_table(), index++, static_cast<int>(n)));
+            int neighbour = -1;
+            s.contacts.push_back(read_contact(r, *node.as_table(), index++, static_cast<int>(n), cyclic != nullptr, neighbour));
+            neighbours.push_back(neighbour);
             contact_lines.push_back(node.source());
         }
     }
+    if (cyclic) place_neighbours(neighbours, s);
     // [[interface]]: one contact per node, after the [[contact]] tables (on the reduced
     // coordinates when there is a [reduction]: config_fe.cpp).
     std::vector<ContactInterface> interfaces;
@@ -368,7 +487,10 @@ SystemConfig read_system_config(const std::string& path) {
         const std::string what = e.what();
         std::string key = "structure";
         toml::source_region where = structure->source();
-        if (what.rfind("contact ", 0) == 0) {
+        if (what.rfind("cyclic symmetry", 0) == 0 && cyclic) {
+            key = "cyclic";
+            where = cyclic->source();
+        } else if (what.rfind("contact ", 0) == 0) {
             const std::size_t c = std::stoul(what.substr(8)) - 1;
             key = c < contact_keys.size() ? contact_keys[c] : "contact[" + std::to_string(c + 1) + "]";
             if (c < contact_lines.size()) where = contact_lines[c];
@@ -481,10 +603,11 @@ SystemConfig read_system_config(const std::string& path) {
         for (Eigen::Index i = 0; i < n; ++i)
             if (s.excitation(i) != 0.0) dofs.insert(static_cast<int>(i));
         for (const Contact& c : s.contacts) {
-            // (the force elements over several coordinates: each of them)
+            // (the force elements over several coordinates: each of them; of a sector, its own
+            // DOFs, not the next sector's added for a contact across the cut)
             const Eigen::MatrixXd w = contact_law(c.law).friction() ? Eigen::MatrixXd(s.contact_direction(c))
                                                                     : s.contact_directions(c);
-            for (Eigen::Index i = 0; i < n; ++i)
+            for (Eigen::Index i = 0; i < n && i < w.rows(); ++i)
                 if (w.row(i).cwiseAbs().maxCoeff() != 0.0) dofs.insert(static_cast<int>(i));
         }
         if (dofs.empty())

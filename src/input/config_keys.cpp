@@ -16,6 +16,7 @@ const std::vector<ConfigKey>& config_keys() {
         {"", "solver", "table [solver]: harmonic-balance settings"},
         {"", "output", "table [output] (DOFs to report) or tables [[output]] (linear combinations of DOFs)"},
         {"", "reduction", "table [reduction]: reduce the finite-element model of [structure] onto its interface"},
+        {"", "cyclic", "table [cyclic]: the model is one sector of a cyclically symmetric wheel under an engine-order excitation"},
 
         {"structure", "mass", "mass matrix M, N x N: rows, a flat list (diagonal) or a Matrix Market file; may be singular (massless DOFs), must be positive semi-definite (required)"},
         {"structure", "stiffness", "stiffness matrix K, N x N, as mass (required)"},
@@ -24,9 +25,15 @@ const std::vector<ConfigKey>& config_keys() {
         {"structure", "excitation_harmonic", "h, the harmonic of the response's fundamental w at which the force acts, 1..100 (default 1)"},
         {"structure", "static_load", "constant load F_s: N numbers or an N x 1 Matrix Market file (default: none)"},
 
+        {"cyclic", "sectors", "N, the number of identical sectors of the wheel, >= 2 (required)"},
+        {"cyclic", "engine_order", "EO: sector j is forced by F cos(w t - 2 pi EO j / N); 0..N-1, a larger one taken as EO mod N (required)"},
+        {"cyclic", "left", "the left cut face: DOFs of this sector (1-based list), matched with right (default: none)"},
+        {"cyclic", "right", "the right cut face: right[i] is the next sector's left[i] (1-based list of the same length, disjoint from left)"},
+
         {"contact", "law", "the contact law or force element (see the contact laws' reference; required)"},
         {"contact", "dof", "DOF a of the relative displacement q = y_a - y_b (1-based)"},
         {"contact", "other_dof", "DOF b (1-based); omitted: against the ground"},
+        {"contact", "neighbour_dof", "instead of other_dof, in a sector model: the next sector's DOF (1-based, in this sector's numbering) the contact joins to dof across the cut"},
         {"contact", "force_direction", "instead of dof and other_dof: any direction w, q = w^T y (N numbers or an N x 1 Matrix Market file)"},
         {"contact", "friction_limit", "slip force F_c = mu N of the friction laws, > 0"},
 

@@ -9,6 +9,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "hbf/cyclic.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 #include "hbf/table.hpp"
@@ -33,6 +34,11 @@ std::vector<std::pair<std::string, double>> frf_parameters(const System& system,
                       {"viscous", p.viscous_coefficient}};
     } else {
         parameters = {{"dofs", system.dofs()}, {"contacts", static_cast<double>(system.contacts.size())}};
+    }
+    if (system.cyclic.active()) {  // a sector (cyclic.hpp): the wheel and the nodal diameter excited
+        parameters.emplace_back("sectors", system.cyclic.sectors);
+        parameters.emplace_back("engine_order", system.cyclic.engine_order);
+        parameters.emplace_back("nodal_diameter", nodal_diameter(system.cyclic, 1));
     }
     const std::vector<std::pair<std::string, double>> solver = {
         {"wmin", co.omega_start},

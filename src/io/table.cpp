@@ -2,6 +2,7 @@
 // and analytic tables (the JSON summaries: summary.cpp).
 
 #include "hbf/table.hpp"
+#include "hbf/cyclic.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -64,6 +65,39 @@ void write_csv(std::ostream& out, const Table& table) {
 namespace {
 Cell cell(const std::optional<double>& value) { return value ? Cell(*value) : Cell(); }
 }  // namespace
+
+const std::vector<Column>& nodal_diameter_columns() {
+    static const std::vector<Column> columns = {
+        {"nodal_diameter", "nodal diameter d, 0..floor(N / 2): the wheel's modes of harmonic index d and N - d",
+         ColumnType::integer},
+        {"mode", "the mode's rank in its nodal diameter, 1-based (ascending frequency)", ColumnType::integer},
+        {"released", "natural frequency with the contacts removed (slipping freely)"},
+        {"stuck", "natural frequency with every contact stuck (its spring; a rigid contact as a constraint); empty "
+                  "where the constraints leave fewer modes"},
+        {"excited_by", "the harmonics k of an engine-order response that meet this nodal diameter (k EO mod N is d "
+                       "or N - d), space separated; empty: none",
+         ColumnType::text}};
+    return columns;
+}
+
+Table nodal_diameter_table(const System& system, int harmonics) {
+    const NodalDiameterFamily released = nodal_diameter_family(system, false);
+    const NodalDiameterFamily stuck = nodal_diameter_family(system, true);
+    const Eigen::Index diameters = released.frequencies.rows(), modes = released.frequencies.cols();
+    std::vector<std::string> excited(static_cast<std::size_t>(diameters));
+    for (int k = 1; k <= harmonics; ++k) {
+        std::string& list = excited[static_cast<std::size_t>(nodal_diameter(system.cyclic, k))];
+        list += (list.empty() ? "" : " ") + std::to_string(k);
+    }
+    Table table(nodal_diameter_columns());
+    for (Eigen::Index d = 0; d < diameters; ++d)
+        for (Eigen::Index j = 0; j < modes; ++j) {
+            const double s = stuck.frequencies(d, j);
+            table.add_row({static_cast<long long>(d), static_cast<long long>(j + 1), released.frequencies(d, j),
+                           std::isfinite(s) ? Cell(s) : Cell(), excited[static_cast<std::size_t>(d)]});
+        }
+    return table;
+}
 
 Table analytic_table(const std::vector<analytic::Row>& rows) {
     Table table{analytic_columns()};

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "hbf/contact_law.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf {
@@ -182,6 +183,7 @@ void System::validate() const {
         throw InvalidInput("excitation harmonic h = " + std::to_string(excitation_harmonic) +
                            " is out of range: allowed 1.." + std::to_string(max_excitation_harmonic) +
                            " (the force F cos(h w t))");
+    validate_cyclic(*this);
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         const Contact& k = contacts[c];
         const std::string where = contact_name(contacts, c) + ": ";

@@ -73,6 +73,7 @@ Stability verdict(double margin, double tolerance) {
 }  // namespace
 
 std::string stability_refusal(const System& system) {
+    if (system.cyclic.active()) return "the stability analysis is not available for a sector model (cyclic symmetry)";
     if (system.contacts.empty()) {
         if (!system.has_positive_definite_mass())
             return "the mass matrix is singular (massless DOFs): the stability analysis needs M positive definite";

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "hbf/error.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/static_state.hpp"
 #include "base/stopwatch.hpp"
 #include "base/enum_table.hpp"
@@ -56,6 +57,7 @@ void ModeOptions::validate() const {
 
 NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo, const ModeOptions& options)
     : system_(std::move(system)), options_(options) {
+    refuse_cyclic(system_, "nonlinear modes");
     options_.validate();
     hbo.validate();
     if (hbo.odd_harmonics)

@@ -12,6 +12,7 @@
 
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/static_state.hpp"
 
 namespace hbf {
@@ -27,6 +28,7 @@ Eigen::MatrixXd dense_or_zero(const SparseMatrix& matrix, int n) {
 
 std::vector<LinearMode> stuck_modes(const System& system) {
     system.validate();
+    refuse_cyclic(system, "the stuck structure's modes");
     const int n = system.dofs();
     const Eigen::MatrixXd mass = dense_or_zero(system.mass, n);
     Eigen::MatrixXd stiffness = dense_or_zero(system.stiffness, n), damping = dense_or_zero(system.damping, n);

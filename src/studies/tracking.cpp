@@ -504,12 +504,32 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
     if (peaks) {
         const FrfResult end = known_end ? *known_end : compute_frf(system(options.p_end), frf);
         result.frfs += known_end ? 0 : 1;
+        // A curve reaches a peak of the FRF when its last point is on the same hump: within 1e-4
+        // w, or no branch point of the FRF between the two dips below both by more than the
+        // resolution of harmonic balance there (the FRF's estimated error, at least 1e-3 of the
+        // larger: a flat or kinked peak at few harmonics is a saw-tooth of tiny maxima, located a
+        // little differently by the FRF's search and by the tracking's Newton on dY/dw = 0); a
+        // peak born inside the range is another hump, behind a real valley.
+        const double resolution = std::max(1e-3, std::isfinite(end.hb_error) ? end.hb_error : 0.0);
+        auto same_hump = [&](double w1, double v1, double w2, double v2) {
+            if (std::abs(w1 - w2) <= 1e-4 * std::max(w1, w2)) return true;
+            const double lo = std::min(w1, w2), hi = std::max(w1, w2);
+            const double floor = std::min(v1, v2) - resolution * std::max(v1, v2);
+            bool between = false;
+            for (std::size_t i = 0; i < end.points.size() && i < end.metrics.size(); ++i) {
+                const double w = end.points[i].omega;
+                if (w <= lo || w >= hi || end.points[i].branch != 1 || end.metrics[i].output_max.empty()) continue;
+                between = true;
+                if (end.metrics[i].output_max[0] < floor) return false;
+            }
+            return between || std::abs(w1 - w2) <= 1e-2 * std::max(w1, w2);
+        };
         for (const Peak& k : end.peaks) {
             if (k.output != 0) continue;
             bool reached = false;
             for (const TrackCurve& c : result.curves)
                 reached = reached || (c.status == TrackStatus::completed && !c.points.empty() &&
-                                      std::abs(c.points.back().omega - k.omega) <= 1e-4 * k.omega);
+                                      same_hump(c.points.back().omega, c.points.back().value, k.omega, k.y_max));
             if (reached || (!std::isnan(options.omega) && starts.size() == 1)) continue;
             result.events.push_back({"born", options.p_end, k.omega, k.y_max, 0, 0, 0});
             result.verdict.warning("the FRF at p = " + format_number(options.p_end) + " has a peak of " + out_name +

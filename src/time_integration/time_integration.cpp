@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "hbf/error.hpp"
+#include "hbf/cyclic.hpp"
 #include "base/enum_table.hpp"
 #include "base/stopwatch.hpp"
 #include "time_integration/elastic_contacts.hpp"
@@ -313,6 +314,7 @@ Eigen::VectorXd linear_stuck_state(const System& given, double omega) {
 PeriodicResponse integrate_steady_state(const System& given, double omega, const TimeIntegrationOptions& options,
                                         const Eigen::VectorXd* initial_state) {
     given.validate();
+    refuse_cyclic(given, "time integration");
     require_positive(omega, "w", "excitation frequency");
     require_finite(omega, "w", "excitation frequency");
     options.validate();
