@@ -17,6 +17,8 @@ rm -rf "$OUT/site" "$OUT/html" "$OUT/doctrees" "$OUT/doxygen" "$OUT/tutorial"
 mkdir -p "$OUT/site/examples" "$OUT/doxygen"
 cp -r "$ROOT/docs" "$OUT/site/docs"
 cp -r "$ROOT/examples/python" "$OUT/site/examples/python"
+mkdir -p "$OUT/site/examples/systems"  # the system files the pages include (small text files)
+cp -r "$ROOT/examples/systems/bladed_disk" "$OUT/site/examples/systems/"
 cp "$ROOT/README.md" "$ROOT/CHANGELOG.md" "$OUT/site/"
 
 # The C++ API: Doxygen's XML of the public headers, for Breathe.

@@ -359,6 +359,19 @@ expect 2 "'jenkins' has no normal direction" 'echo "$TWO_IFACES" | sed "s/\"elas
 expect 2 "contact 1 (interface[1] node 1): direction carries mass" 'echo "$TWO_IFACES" | sed "s/\"elastic\"/\"unilateral\"/;/^stiffness = 1.0/d;/^normal_stiffness/d" >t.toml' frf --config t.toml --out x.csv
 # A stiffness entry beyond representable products is refused as such (it was "K_ii singular").
 expect 2 "allowed |entry| <= 1e100" 'sed "s/^stiffness = \[\[1.5/stiffness = [[1e300/" "$SRC/examples/systems/liftoff3.toml" >k.toml' frf --config k.toml --out x.csv
+# Cyclic symmetry: hbf nodal-diameters and sector files
+WHEEL="$SRC/examples/systems/bladed_disk/wheel24.toml"
+expect 2 "--config is required" '' nodal-diameters --out x.csv
+expect 2 "not a sector" '' nodal-diameters --config "$SRC/examples/systems/chain3.toml" --out x.csv
+for v in 0 101 -1 abc; do expect 2 "--harmonics" '' nodal-diameters --config "$WHEEL" --harmonics "$v" --out x.csv; done
+expect 2 "--out" 'cp "$WHEEL" w.toml' nodal-diameters --config w.toml --out w.toml
+expect 2 "cyclic.sectors" 'sed "s/^sectors = 24/sectors = 1/" "$WHEEL" >w.toml' frf --config w.toml --out x.csv
+expect 2 "cyclic.right" 'sed "s/^right = \[5\]/right = [5, 4]/" "$WHEEL" >w.toml' frf --config w.toml --out x.csv
+expect 2 "contact[1].neighbour_dof" 'sed "s/^neighbour_dof = 2/neighbour_dof = 9/" "$WHEEL" >w.toml' frf --config w.toml --out x.csv
+expect 2 "not available for a sector model" '' timeint --config "$WHEEL" --w 4.5 --out x.csv
+expect 2 "not available for a sector model" '' modes --config "$WHEEL" --amin 1e-3 --amax 1e-1 --out x.csv
+expect 2 "stability" '' frf --config "$WHEEL" --stability on --out x.csv
+expect 2 "formulation = condensed" '' frf --config "$WHEEL" --formulation condensed --out x.csv
 # --jacobian structured on a rigid contact names the law that carries states (it named dahl and lugre).
 expect 2 "contact 1: law unilateral" '' frf --config "$SRC/examples/systems/liftoff3_rigid.toml" --jacobian structured --out x.csv
 # A frequency far from every stuck mode names none of them (it followed the nearest silently).

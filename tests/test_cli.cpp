@@ -116,7 +116,8 @@ TEST_CASE("hbf <command> --columns lists the output columns, and hbf reference e
     CHECK(j["version"] == hbf::version());
     std::vector<std::string> commands;
     for (const auto& c : j["commands"]) commands.push_back(c["name"]);
-    CHECK(commands == std::vector<std::string>{"analytic", "frf", "loop", "map", "modes", "optimize", "timeint", "track"});
+    CHECK(commands == std::vector<std::string>{"analytic", "frf", "loop", "map", "modes", "nodal-diameters", "optimize",
+                                               "timeint", "track"});
     for (const auto& c : j["commands"]) {
         // Every flag --help prints, with its description.
         const Result h = run_hbf(c["name"].get<std::string>() + " --help", dir);

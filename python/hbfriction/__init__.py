@@ -59,6 +59,7 @@ from ._core import (AbsorberParameters, Contact, ContinuationOptions, CorrectorO
 __version__ = _core.__version__
 # hbfriction.map is left out of __all__: a star import would hide the built-in map.
 __all__ = ["absorber", "load", "reduce", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "modes", "analytic",
+           "nodal_diameters",
            "optimize", "track", "TrackResult", "TrackCurve", "options", "Branch", "Solution", "Table", "ModeResult", "OptimizeResult", "MapResult",
            "IncompleteResultWarning", "SolveError", "AbsorberParameters", "FrfSettings",
            "HarmonicBalanceOptions", "ContinuationOptions", "CorrectorOptions", "StabilityOptions",
