@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
                     c(2 * k - 1) = cs * y(2 * k - 1, i) - sn * y(2 * k, i);
                     c(2 * k) = sn * y(2 * k - 1, i) + cs * y(2 * k, i);
                 }
-                x.segment(bench::wheel_dof(n, j, i) * coefficients, coefficients) = c;
+                x.segment(bench::wheel_dof(s, j, i) * coefficients, coefficients) = c;
             }
         const double sector_step = newton_step(sector_hb, frf.points[p].x, omega);
         const double wheel_step = newton_step(wheel_hb, x, omega);

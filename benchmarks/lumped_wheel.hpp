@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "hbf/contact_law.hpp"
 #include "hbf/model.hpp"
 
 namespace hbf::bench {
@@ -54,34 +55,99 @@ inline System lumped_sector(int sectors, int engine_order, double f_c) {
     return s;
 }
 
-/// Wheel DOF of sector j's DOF i (the dependent DOFs are the next sector's).
-inline int wheel_dof(int sectors, int j, int i) {
-    if (i < sector_own) return sector_own * j + i;
-    return sector_own * ((j + 1) % sectors) + (i == 3 ? 0 : 1);
+/// The same sector with lift-off: the platform also moves normally (DOF 3, mass 0.1, a spring
+/// 6 to the ground) and the contact is law elastic between the platform and the next sector's
+/// (tangential DOFs 1 and 5, normal DOFs 3 and 6: q = y_1 - y_5, v = y_3 - y_6 positive closing;
+/// k_t 2, k_n 3, mu 0.3, preload 0.1); DOF 4 is the next sector's disk. The force acts on the
+/// tip and, normally, on the platform (`normal_force`): a fluctuating normal load opens the
+/// contact once k_n |v| passes the preload.
+inline System lumped_sector_elastic(int sectors, int engine_order, double normal_force) {
+    System s = lumped_sector(sectors, engine_order, 1.0);
+    const Eigen::MatrixXd k5(s.stiffness), m5(s.mass);
+    // 7 DOFs: 0 disk, 1 platform, 2 tip, 3 platform normal, 4 next disk, 5 next platform, 6 next normal
+    const int map[5] = {0, 1, 2, 4, 5};
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(7, 7), m = k;
+    for (int a = 0; a < 5; ++a)
+        for (int b = 0; b < 5; ++b) {
+            k(map[a], map[b]) = k5(a, b);
+            m(map[a], map[b]) = m5(a, b);
+        }
+    k(3, 3) += 6.0;
+    m(3, 3) = 0.1;
+    s.mass = sparse(m);
+    s.stiffness = sparse(k);
+    s.damping = sparse(0.004 * k);
+    s.excitation = Eigen::VectorXd::Zero(7);
+    s.excitation(2) = 0.05;
+    s.excitation(3) = normal_force;
+    Contact c;
+    c.dof = 1;
+    c.other_dof = 5;
+    c.law = FrictionLaw::elastic;
+    c.stiffness = 2.0;
+    c.values["normal_stiffness"] = 3.0;
+    c.values["friction_coefficient"] = 0.3;
+    c.values["preload"] = 0.1;
+    Eigen::VectorXd normal = Eigen::VectorXd::Zero(7);
+    normal(3) = 1.0;
+    normal(6) = -1.0;
+    c.lists["normal_direction"].assign(normal.data(), normal.data() + 7);
+    s.contacts = {c};
+    s.cyclic.neighbours = {{4, 0}, {5, 1}, {6, 3}};
+    return s;
 }
 
-/// The wheel assembled by hand: every sector's matrices and contact placed on the ring. Its
-/// excitation is the travelling force's cosine part F cos(j phi) (the sine part F sin(j phi)
-/// is added to the residual by the caller: a System carries a cosine force only).
+/// The sector's own DOFs: its first ones, every DOF no neighbour pair names as dependent.
+inline int own_dofs(const System& s) { return s.dofs() - static_cast<int>(s.cyclic.neighbours.size()); }
+
+/// Wheel DOF of sector j's DOF i: an own DOF in sector j, a dependent DOF its master in sector
+/// j + 1 (sector N is sector 0).
+inline int wheel_dof(const System& s, int j, int i) {
+    const int own = own_dofs(s), n = s.cyclic.sectors;
+    if (i < own) return own * j + i;
+    for (const auto& [d, m] : s.cyclic.neighbours)
+        if (d == i) return own * ((j + 1) % n) + m;
+    return -1;
+}
+
+/// The wheel assembled by hand: every sector's matrices and contacts placed on the ring (a
+/// contact's DOFs and direction vectors mapped to the wheel's DOFs). Its excitation is the
+/// travelling force's cosine part F cos(j phi) (the sine part F sin(j phi) is added to the
+/// residual by the caller: a System carries a cosine force only).
 inline System lumped_wheel(const System& s) {
-    const int n = s.cyclic.sectors, dofs = sector_own * n;
+    const int n = s.cyclic.sectors, own = own_dofs(s), dofs = own * n;
     const double phi = s.cyclic.phase();
     Eigen::MatrixXd m = Eigen::MatrixXd::Zero(dofs, dofs), k = m, c = m;
     const Eigen::MatrixXd ms(s.mass), ks(s.stiffness), cs(s.damping);
     System w;
     w.excitation = Eigen::VectorXd::Zero(dofs);
+    auto placed = [&](const Eigen::VectorXd& v, int j) {  // a vector over the sector's DOFs on the wheel
+        Eigen::VectorXd out = Eigen::VectorXd::Zero(dofs);
+        for (int i = 0; i < s.dofs(); ++i) out(wheel_dof(s, j, i)) += v(i);
+        return out;
+    };
     for (int j = 0; j < n; ++j) {
         for (int a = 0; a < s.dofs(); ++a)
             for (int b = 0; b < s.dofs(); ++b) {
-                m(wheel_dof(n, j, a), wheel_dof(n, j, b)) += ms(a, b);
-                k(wheel_dof(n, j, a), wheel_dof(n, j, b)) += ks(a, b);
-                c(wheel_dof(n, j, a), wheel_dof(n, j, b)) += cs(a, b);
+                m(wheel_dof(s, j, a), wheel_dof(s, j, b)) += ms(a, b);
+                k(wheel_dof(s, j, a), wheel_dof(s, j, b)) += ks(a, b);
+                c(wheel_dof(s, j, a), wheel_dof(s, j, b)) += cs(a, b);
             }
-        for (int a = 0; a < sector_own; ++a) w.excitation(wheel_dof(n, j, a)) = s.excitation(a) * std::cos(j * phi);
-        Contact contact = s.contacts[0];
-        contact.dof = wheel_dof(n, j, s.contacts[0].dof);
-        contact.other_dof = wheel_dof(n, j, s.contacts[0].other_dof);
-        w.contacts.push_back(contact);
+        for (int a = 0; a < own; ++a) w.excitation(wheel_dof(s, j, a)) = s.excitation(a) * std::cos(j * phi);
+        for (const Contact& sector_contact : s.contacts) {
+            Contact contact = sector_contact;
+            if (contact.direction.size() > 0) contact.direction = placed(contact.direction, j);
+            contact.dof = wheel_dof(s, j, sector_contact.dof);
+            if (sector_contact.other_dof != Contact::ground) contact.other_dof = wheel_dof(s, j, sector_contact.other_dof);
+            for (const LawParameter& p : contact_law(contact.law).parameters()) {
+                const auto list = contact.lists.find(p.key);
+                if (p.kind != LawParameter::Kind::direction || list == contact.lists.end()) continue;
+                const Eigen::VectorXd v =
+                    placed(Eigen::Map<const Eigen::VectorXd>(list->second.data(), s.dofs()), j);
+                list->second.assign(v.data(), v.data() + v.size());
+            }
+            w.contacts.push_back(contact);
+        }
     }
     w.mass = sparse(m);
     w.stiffness = sparse(k);
