@@ -323,6 +323,7 @@ void refuse_time_domain(const System& system, const std::string& what) {
 }
 
 TimeDomainView::TimeDomainView(const System& system) : original_(system), split_(false) {
+    refuse_cyclic(system, "time integration and the exact solver");
     refuse_time_domain(system, "the event-exact solver and the time-domain elements of the general integrator");
     if (system.has_static_load())
         throw InvalidInput("static load: the event-exact solver and the general time integrator do not carry one "
