@@ -83,19 +83,8 @@ int main(int argc, char** argv) {
         HarmonicBalance sector_hb(s, o);
         const System w = bench::lumped_wheel(s);
         HarmonicBalance wheel_hb(w, o);
-        const int coefficients = 2 * harmonics + 1;
         const Eigen::MatrixXd y = sector_hb.dofs(frf.points[p].x, omega);
-        Eigen::VectorXd x(bench::sector_own * n * coefficients);
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < bench::sector_own; ++i) {
-                Eigen::VectorXd c = y.col(i);
-                for (int k = 1; k <= harmonics; ++k) {
-                    const double a = k * j * s.cyclic.phase(), cs = std::cos(a), sn = std::sin(a);
-                    c(2 * k - 1) = cs * y(2 * k - 1, i) - sn * y(2 * k, i);
-                    c(2 * k) = sn * y(2 * k - 1, i) + cs * y(2 * k, i);
-                }
-                x.segment(bench::wheel_dof(s, j, i) * coefficients, coefficients) = c;
-            }
+        const Eigen::VectorXd x = bench::placed_on_wheel(s, y);
         const double sector_step = newton_step(sector_hb, frf.points[p].x, omega);
         const double wheel_step = newton_step(wheel_hb, x, omega);
         std::printf("%8d %4d/%5d %14.3e %14.3e %10.1f %12.3f\n", n, sector_hb.unknowns(), wheel_hb.unknowns(),

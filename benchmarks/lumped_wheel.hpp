@@ -155,4 +155,23 @@ inline System lumped_wheel(const System& s) {
     return w;
 }
 
+/// A sector's harmonic-balance state on the whole wheel: `y` holds every sector DOF's 2H + 1
+/// coefficients (HarmonicBalance::dofs), sector j is sector 0 delayed by j phi / omega (harmonic
+/// k turned by k j phi); the wheel's unknowns in lumped_wheel's DOF order.
+inline Eigen::VectorXd placed_on_wheel(const System& s, const Eigen::MatrixXd& y) {
+    const int n = s.cyclic.sectors, own = own_dofs(s), coefficients = static_cast<int>(y.rows());
+    Eigen::VectorXd x(own * n * coefficients);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < own; ++i) {
+            Eigen::VectorXd c = y.col(i);
+            for (int k = 1; 2 * k < coefficients; ++k) {
+                const double a = k * j * s.cyclic.phase(), cs = std::cos(a), sn = std::sin(a);
+                c(2 * k - 1) = cs * y(2 * k - 1, i) - sn * y(2 * k, i);
+                c(2 * k) = sn * y(2 * k - 1, i) + cs * y(2 * k, i);
+            }
+            x.segment(wheel_dof(s, j, i) * coefficients, coefficients) = c;
+        }
+    return x;
+}
+
 }  // namespace hbf::bench

@@ -277,7 +277,8 @@ void bind_studies(py::module_& m) {
         [](const PySystem& s, int harmonics) {
             if (harmonics < 1 || harmonics > 100)
                 bad("harmonics = " + std::to_string(harmonics) + " is out of range: allowed 1..100");
-            return table_columns(io::nodal_diameter_table(s.system, harmonics));
+            return table_columns(io::nodal_diameter_table(s.system.cyclic, nodal_diameter_family(s.system, false),
+                                                          nodal_diameter_family(s.system, true), harmonics));
         },
         py::arg("system"), py::arg("harmonics"));
     m.def("den_hartog_tuning", &analytic::den_hartog_tuning, py::arg("mass_ratio"));

@@ -54,17 +54,6 @@ std::vector<double> family_spectrum(const NodalDiameterFamily& family) {
     return out;
 }
 
-/// Harmonic k of one signal (fourier.hpp layout: c0, c1, s1, ...) delayed by the phase k a.
-Eigen::VectorXd delayed(const Eigen::VectorXd& y, double a) {
-    Eigen::VectorXd out = y;
-    for (Eigen::Index k = 1; 2 * k < y.size(); ++k) {
-        const double c = std::cos(k * a), s = std::sin(k * a);
-        out(2 * k - 1) = c * y(2 * k - 1) - s * y(2 * k);
-        out(2 * k) = s * y(2 * k - 1) + c * y(2 * k);
-    }
-    return out;
-}
-
 }  // namespace
 
 TEST_CASE("Cyclic symmetry: the nodal-diameter families of a sector are the eigenvalues of the whole wheel",
@@ -133,10 +122,7 @@ WheelCheck against_the_wheel(const System& s, int harmonics) {
     for (std::size_t p = 0; p < out.frf.points.size(); p += 3) {
         const double omega = out.frf.points[p].omega;
         const Eigen::MatrixXd y = sector_hb.dofs(out.frf.points[p].x, omega);  // every sector DOF's harmonics
-        Eigen::VectorXd x(own * n * coefficients);
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < own; ++i)
-                x.segment(wheel_dof(s, j, i) * coefficients, coefficients) = delayed(y.col(i), j * phi);
+        const Eigen::VectorXd x = bench::placed_on_wheel(s, y);
         // The residual with the travelling force's sine part: -F sin(j phi) on each sin 1 row.
         auto residual = [&](const Eigen::VectorXd& at, Eigen::MatrixXd* jacobian) {
             Eigen::VectorXd r;

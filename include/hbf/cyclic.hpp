@@ -53,13 +53,6 @@ Eigen::MatrixXcd cyclic_transform(const System& system, double angle);
 /// with each dependent DOF merged into its master, A0 = T0^T A T0 (its static structure).
 SparseMatrix cyclic_merge(const System& system);
 
-/// The sector's linear structure for harmonic index p (the phase 2 pi p / N): T^H M T, T^H C T,
-/// T^H K T on the independent DOFs, Hermitian.
-struct CyclicMatrices {
-    Eigen::MatrixXcd mass, damping, stiffness;
-};
-CyclicMatrices cyclic_matrices(const System& system, int harmonic_index);
-
 /// The wheel's linear natural frequencies by nodal diameter: for each nodal diameter
 /// d = 0..floor(N / 2), the sector's eigenfrequencies sqrt(lambda) of (T^H K T, T^H M T) at
 /// harmonic index d (the wheel's mode pairs of indices d and N - d share them). `stuck`: every

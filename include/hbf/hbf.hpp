@@ -10,6 +10,7 @@
 #include "hbf/contact_law.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/corrector.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"

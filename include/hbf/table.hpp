@@ -13,6 +13,7 @@
 #include "hbf/analytic.hpp"
 #include "hbf/interface.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/exact_polish.hpp"
 #include "hbf/post_processing.hpp"
 #include "hbf/stability.hpp"
@@ -65,10 +66,11 @@ void write_analytic_csv(std::ostream& out, const std::vector<analytic::Row>& row
 
 /// Columns of `hbf nodal-diameters` (cyclic.hpp: the wheel's nodal-diameter families).
 const std::vector<Column>& nodal_diameter_columns();
-/// The nodal-diameter families of a sector model, released and stuck, one row per nodal
-/// diameter and mode, with the harmonics 1..`harmonics` of an engine-order response that meet
-/// each nodal diameter. Throws InvalidInput for a model that is not a sector (cyclic.hpp).
-Table nodal_diameter_table(const System& system, int harmonics);
+/// The nodal-diameter families of a sector (cyclic.hpp: nodal_diameter_family), released and
+/// stuck, one row per nodal diameter and mode, with the harmonics 1..`harmonics` of a response to
+/// `cyclic`'s engine order that meet each nodal diameter.
+Table nodal_diameter_table(const CyclicSymmetry& cyclic, const NodalDiameterFamily& released,
+                           const NodalDiameterFamily& stuck, int harmonics);
 /// Columns of `hbf frf` reporting `outputs` (model.hpp; in this order: `<name>_max` for each,
 /// then `<name>_amp1` for each; a DOF i is the output `y<i+1>`), or all `dofs` DOFs. With several
 /// `contacts`, `stick_fraction_c<i>` and `regime_c<i>` for each contact i replace stick_fraction

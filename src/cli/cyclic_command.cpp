@@ -40,9 +40,9 @@ int run(const CLI::App& command, const NodalDiameterOptions& o) {
     if (!system.cyclic.active())
         throw UsageError("--config " + o.config + ": the model is not a sector (no [cyclic] table)");
     if (o.output.dry_run) return o.output.dry_run_done("nodal-diameters");
-    const io::Table table = io::nodal_diameter_table(system, static_cast<int>(harmonics));
     const NodalDiameterFamily released = nodal_diameter_family(system, false);
     const NodalDiameterFamily stuck = nodal_diameter_family(system, true);
+    const io::Table table = io::nodal_diameter_table(system.cyclic, released, stuck, static_cast<int>(harmonics));
     const Eigen::Index diameters = released.frequencies.rows(), modes = released.frequencies.cols();
     io::OutputFile out(o.output.out);
     io::write_csv(out.stream(), table);

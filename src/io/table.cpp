@@ -80,13 +80,12 @@ const std::vector<Column>& nodal_diameter_columns() {
     return columns;
 }
 
-Table nodal_diameter_table(const System& system, int harmonics) {
-    const NodalDiameterFamily released = nodal_diameter_family(system, false);
-    const NodalDiameterFamily stuck = nodal_diameter_family(system, true);
+Table nodal_diameter_table(const CyclicSymmetry& cyclic, const NodalDiameterFamily& released,
+                           const NodalDiameterFamily& stuck, int harmonics) {
     const Eigen::Index diameters = released.frequencies.rows(), modes = released.frequencies.cols();
     std::vector<std::string> excited(static_cast<std::size_t>(diameters));
     for (int k = 1; k <= harmonics; ++k) {
-        std::string& list = excited[static_cast<std::size_t>(nodal_diameter(system.cyclic, k))];
+        std::string& list = excited[static_cast<std::size_t>(nodal_diameter(cyclic, k))];
         list += (list.empty() ? "" : " ") + std::to_string(k);
     }
     Table table(nodal_diameter_columns());

@@ -1,5 +1,5 @@
-// hbfriction — cyclic symmetry (cyclic.hpp): the sector's checks, the phase transform T and the
-// sector's linear structure per harmonic index, the wheel's nodal-diameter families.
+// hbfriction — cyclic symmetry (cyclic.hpp): the sector's checks, the phase transform T, the
+// merged sector and the wheel's nodal-diameter families.
 #include "hbf/cyclic.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -106,16 +106,6 @@ SparseMatrix cyclic_merge(const System& system) {
     SparseMatrix t(system.dofs(), static_cast<Eigen::Index>(independent.size()));
     t.setFromTriplets(entries.begin(), entries.end());
     return t;
-}
-
-CyclicMatrices cyclic_matrices(const System& system, int harmonic_index) {
-    const int sectors = std::max(system.cyclic.sectors, 1);
-    const Eigen::MatrixXcd t = cyclic_transform(system, two_pi * harmonic_index / sectors);
-    auto project = [&](const SparseMatrix& a) -> Eigen::MatrixXcd {
-        const Eigen::MatrixXcd full = Eigen::MatrixXd(a).cast<std::complex<double>>();
-        return t.adjoint() * full * t;
-    };
-    return {project(system.mass), project(system.damping), project(system.stiffness)};
 }
 
 int nodal_diameter(const CyclicSymmetry& cyclic, int harmonic) {
