@@ -212,6 +212,21 @@ TEST_CASE("Cyclic symmetry: bad sectors are refused naming the field, and the co
     s.excitation(4) = 1.0;
     refused(s, "the excitation loads DOF 5, a DOF of the next sector");
 
+    // a sector too large for the dense families is refused before the work
+    System large = lumped_sector(12, 3, 0.1);
+    const int big = nodal_diameter_dof_limit + 3;
+    Eigen::VectorXd diagonal = Eigen::VectorXd::Ones(big);
+    diagonal(big - 2) = 0.0;  // the next sector's copies carry no mass
+    diagonal(big - 1) = 0.0;
+    large.mass = sparse(Eigen::MatrixXd(diagonal.asDiagonal()));
+    large.stiffness = large.mass;
+    large.damping = SparseMatrix(big, big);
+    large.excitation = Eigen::VectorXd::Zero(big);
+    large.excitation(0) = 1.0;
+    large.contacts.clear();
+    large.cyclic.neighbours = {{big - 2, 0}, {big - 1, 1}};
+    CHECK_THROWS_WITH(nodal_diameter_family(large, false), Catch::Contains("allowed up to 2000"));
+
     const System ok = lumped_sector(12, 3, 0.1);
     HarmonicBalanceOptions o;
     o.harmonics = 3;

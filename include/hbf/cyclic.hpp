@@ -65,7 +65,10 @@ struct NodalDiameterFamily {
     /// where rigid contacts constrain the sector: the rest NaN).
     Eigen::MatrixXd frequencies;
 };
-/// M must be positive definite on the independent DOFs (throws InvalidInput naming the reason).
+/// Largest sector (DOFs of its own) nodal_diameter_family takes: it solves dense eigenproblems.
+constexpr int nodal_diameter_dof_limit = 2000;
+/// M must be positive definite on the independent DOFs, at most nodal_diameter_dof_limit of them
+/// (throws InvalidInput naming the reason).
 NodalDiameterFamily nodal_diameter_family(const System& system, bool stuck);
 
 /// The nodal diameter the response's harmonic k meets: min(p, N - p), p = k EO mod N.

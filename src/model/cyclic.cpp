@@ -121,6 +121,10 @@ NodalDiameterFamily nodal_diameter_family(const System& system, bool stuck) {
     using Complex = std::complex<double>;
     const int sectors = system.cyclic.sectors, diameters = sectors / 2 + 1;
     const int m = static_cast<int>(independent_dofs(system).size());
+    if (m > nodal_diameter_dof_limit)
+        throw InvalidInput("nodal-diameter family: the sector has " + std::to_string(m) +
+                           " DOFs of its own: allowed up to " + std::to_string(nodal_diameter_dof_limit) +
+                           " (dense eigenproblems, one per nodal diameter; reduce the sector first)");
     NodalDiameterFamily family;
     family.sectors = sectors;
     family.stuck = stuck;
