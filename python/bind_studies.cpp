@@ -235,6 +235,7 @@ void bind_studies(py::module_& m) {
             d["omega"] = b.linear.omega;
             d["zeta"] = b.linear.zeta;
             d["shape"] = to_list(b.linear.shape);
+            if (b.linear.shape_imag.size()) d["shape_imag"] = to_list(b.linear.shape_imag);
             d["start"] = b.start;
             d["linear_omega"] = b.linear_omega;
             d["linear_xi"] = b.linear_xi;

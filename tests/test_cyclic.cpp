@@ -5,6 +5,8 @@
 // families, and its harmonic-balance residual and Newton's method for the forced response.
 #include <catch2/catch.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -290,6 +292,25 @@ TEST_CASE("Cyclic symmetry in a system file: [cyclic], neighbour_dof, hbf frf an
     CHECK(w_peak > released.frequencies(3, 0));
     CHECK(w_peak < stuck.frequencies(3, 0));
 
+    // The nonlinear mode of nodal diameter 3 (the engine order's family): from its stuck
+    // frequency down towards the released one, energy balanced, the plot titled with it.
+    const std::string modes = (dir.path / "modes.csv").string(), modes_summary = (dir.path / "modes.json").string();
+    r = test::run_hbf("modes --config '" + example + "' --out '" + modes + "' --summary '" + modes_summary +
+                          "' --plot '" + (dir.path / "modes.svg").string() + "'",
+                      dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const nlohmann::json m = nlohmann::json::parse(test::slurp(modes_summary));
+    CHECK(m["status"] == "completed");
+    CHECK(m["nodal_diameter"] == 3);
+    CHECK(m["sectors"] == 24);
+    CHECK(m["linear"]["omega"].get<double>() == Approx(stuck.frequencies(3, 0)).epsilon(1e-12));
+    CHECK(m["largest_energy_error"].get<double>() <= 1e-8);
+    const double w_last = m["last"]["w"].get<double>();  // slipping: just above the released frequency
+    CHECK(w_last > released.frequencies(3, 0));
+    CHECK(w_last < 1.001 * released.frequencies(3, 0));
+    CHECK(test::slurp((dir.path / "modes.svg").string()).find("(nodal diameter 3) of 24 sectors") != std::string::npos);
+
     // Bad tables: exit 2 naming the key, nothing written.
     auto refused = [&](const std::string& cyclic, const std::string& contact, const std::string& key,
                        const std::string& text) {
@@ -386,4 +407,91 @@ TEST_CASE("Cyclic symmetry: the damper's optimal slip force on the 24-sector exa
     double curve_min = 1e300;
     for (const TrackPoint& p : c.points) curve_min = std::min(curve_min, p.value);
     CHECK(std::abs(curve_min - opt.peak.value) <= 2e-3 * opt.peak.value);
+}
+
+TEST_CASE("Cyclic symmetry: a nonlinear mode of the nodal-diameter-3 family is the whole wheel's free periodic "
+          "motion through stick, stick-slip and slip, and its synthesised response meets the forced FRF",
+          "[cyclic]") {
+    const System s = lumped_sector(12, 3, 0.05);
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 5;
+    hbo.formulation = Formulation::full;
+    ModeOptions mo;
+    const SlipOnset onset = slip_onset(s, hbo, mo);
+    REQUIRE(onset.found);
+    mo.amplitude_min = onset.amplitude_min;
+    mo.amplitude_max = onset.amplitude_max;
+    mo.tolerance = 1e-12;
+    NonlinearModes nm(s, hbo, mo);
+    // The linear limit: the first stuck mode of nodal diameter 3, a travelling wave (complex).
+    const NodalDiameterFamily stuck = nodal_diameter_family(s, true);
+    CHECK(std::abs(nm.linear().omega - stuck.frequencies(3, 0)) <= 1e-10 * stuck.frequencies(3, 0));
+    REQUIRE(nm.linear().shape_imag.size() == s.dofs());
+    CHECK(nm.linear().shape_imag.cwiseAbs().maxCoeff() > 0.1 * nm.linear().shape.cwiseAbs().maxCoeff());
+    const Backbone b = nm.follow();
+    INFO(b.message);
+    REQUIRE(b.status == ModeStatus::completed);
+    std::vector<ModeMetrics> metrics;
+    std::set<std::string> regimes;
+    double worst_energy = 0.0;
+    for (const ModePoint& p : b.points) {
+        metrics.push_back(nm.metrics(p, {Output::dof(2)}));
+        regimes.insert(metrics.back().contacts[0].regime);
+        worst_energy = std::max(worst_energy, metrics.back().energy_error);
+    }
+    CHECK(regimes == std::set<std::string>{"stick", "stick-slip", "slip"});
+    INFO("largest energy-balance error " << worst_energy);
+    CHECK(worst_energy <= 1e-8);
+    // Friction softens and damps the mode: the slipping end is the released family's frequency.
+    const NodalDiameterFamily released = nodal_diameter_family(s, false);
+    CHECK(b.points.back().omega < b.points.front().omega);
+    CHECK(std::abs(b.points.back().omega - released.frequencies(3, 0)) <= 0.02 * released.frequencies(3, 0));
+
+    // Every third point on the whole wheel (sector j delayed by j phi / omega): the wheel's free
+    // motion with the artificial damping -xi M y', R(X) - xi omega (D1 Y) M = 0.
+    const System w = lumped_wheel(s);
+    HarmonicBalanceOptions o = hbo;
+    HarmonicBalance wheel_hb(w, o);
+    const int coefficients = 2 * hbo.harmonics + 1, dofs = w.dofs();
+    const Eigen::MatrixXd mass(w.mass);
+    double largest = 0.0;
+    for (std::size_t k = 0; k < b.points.size(); k += 3) {
+        const ModePoint& p = b.points[k];
+        const Eigen::VectorXd x = bench::placed_on_wheel(s, nm.motion(p));
+        Eigen::VectorXd r;
+        wheel_hb.evaluate(x, p.omega, r);
+        for (int i = 0; i < dofs; ++i) r(i * coefficients + 1) += w.excitation(i);  // unforced
+        const Eigen::Map<const Eigen::MatrixXd> y(x.data(), coefficients, dofs);
+        const Eigen::MatrixXd d1y = wheel_hb.fourier().derivative() * y;
+        const Eigen::MatrixXd damping = p.xi * p.omega * d1y * mass;
+        const Eigen::MatrixXd inertia = p.omega * p.omega * (wheel_hb.fourier().derivative() * d1y) * mass;
+        const Eigen::VectorXd rest = r - Eigen::Map<const Eigen::VectorXd>(damping.data(), damping.size());
+        largest = std::max(largest, rest.cwiseAbs().maxCoeff() / inertia.cwiseAbs().maxCoeff());
+    }
+    INFO("largest wheel residual relative to the inertial force " << largest);
+    CHECK(largest <= 1e-11);
+
+    // The synthesised response to the travelling force against the sector's forced FRF: the peak.
+    const std::vector<SynthesisPoint> curve = nm.synthesize(b, metrics, s.excitation, {Output::dof(2)});
+    REQUIRE(!curve.empty());
+    const auto top = std::max_element(curve.begin(), curve.end(), [](const SynthesisPoint& a, const SynthesisPoint& c) {
+        return a.output_amp1[0] < c.output_amp1[0];
+    });
+    FrfChoices choices;
+    choices.omega_start = 0.8 * released.frequencies(3, 0);
+    choices.omega_end = 1.2 * stuck.frequencies(3, 0);
+    choices.harmonics = hbo.harmonics;
+    FrfSettings settings = frf_settings(s, {Output::dof(2)}, choices);
+    settings.error_points = 0;
+    const FrfResult frf = compute_frf(s, settings);
+    REQUIRE(frf.status() == "completed");
+    std::size_t peak = 0;  // the forced FRF's largest first-harmonic amplitude (its points)
+    for (std::size_t k = 0; k < frf.metrics.size(); ++k)
+        if (frf.metrics[k].output_amp1[0] > frf.metrics[peak].output_amp1[0]) peak = k;
+    const double forced = frf.metrics[peak].output_amp1[0], forced_w = frf.points[peak].omega;
+    INFO("synthesised peak " << top->output_amp1[0] << " at w = " << top->omega << "; forced FRF's " << forced
+                             << " at w = " << forced_w << " (max |y| " << frf.peak.value << " at " << frf.peak.omega << ")");
+    // single-mode synthesis near an isolated mode: the peak within 2 %, its frequency within 1 %
+    CHECK(std::abs(top->output_amp1[0] - forced) <= 0.02 * forced);
+    CHECK(std::abs(top->omega - forced_w) <= 0.01 * forced_w);
 }

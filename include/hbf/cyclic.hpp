@@ -71,7 +71,27 @@ constexpr int nodal_diameter_dof_limit = 2000;
 /// (throws InvalidInput naming the reason).
 NodalDiameterFamily nodal_diameter_family(const System& system, bool stuck);
 
+/// The linear modes of a sector at the phase `angle` (harmonic index p: angle = 2 pi p / N;
+/// the engine order's travelling waves: CyclicSymmetry::phase()), by ascending frequency: the
+/// eigenpairs of (T^H K' T, T^H M T) on the sector's own DOFs, K' with every contact's stuck
+/// element (`stuck`; a rigid one as a constraint) or without the contacts. The wheel moves in
+/// sector j as y_j(t) = Re(phi e^{i (omega t - j angle)}), phi = T u on every DOF of the sector
+/// (`shape`), u^H T^H M T u = 1 (the first entry of largest modulus real and positive). zeta =
+/// u^H T^H C' T u / (2 omega), C' with the stuck elements' dampers (exact where C' is diagonal
+/// in these modes, a first-order estimate otherwise). Throws as nodal_diameter_family.
+struct SectorMode {
+    int index = 0;  ///< 1-based, by ascending frequency
+    double omega = 0;
+    double zeta = 0;
+    Eigen::VectorXcd own;    ///< u: the sector's own DOFs (independent_dofs' order)
+    Eigen::VectorXcd shape;  ///< T u: every DOF of the sector
+};
+std::vector<SectorMode> sector_modes(const System& system, double angle, bool stuck);
+
 /// The nodal diameter the response's harmonic k meets: min(p, N - p), p = k EO mod N.
 int nodal_diameter(const CyclicSymmetry& cyclic, int harmonic);
+
+/// ", engine order EO (nodal diameter d) of N sectors" for a sector, "" otherwise: plot titles.
+std::string cyclic_label(const CyclicSymmetry& cyclic);
 
 }  // namespace hbf

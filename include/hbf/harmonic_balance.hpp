@@ -155,6 +155,9 @@ public:
     /// k phi per harmonic, are all_harmonics' (dofs(), relative(), ...), and the residual is the
     /// independent DOFs' rows of the wheel (the dependent rows folded onto their masters).
     bool cyclic() const { return cyclic_; }
+    /// A sector: P, every signal's coefficients (the layout of all DOFs and states) from the
+    /// unknowns, X = P U (the residual is P^T R_X, its Jacobian P^T J_X P); empty otherwise.
+    const Eigen::SparseMatrix<double>& cyclic_map() const { return cyclic_map_; }
     /// Modes of the modal receptance in use (0: the direct solve).
     int modes() const { return modes_; }
     /// The contacts' static state under the system's static load and preloads (static_state.hpp),

@@ -60,6 +60,10 @@ struct LinearMode {
     /// estimate otherwise.
     double zeta = 0;
     Eigen::VectorXd shape;  ///< phi, M-normalised (phi^T M phi = 1), N entries
+    /// A sector model's mode (cyclic.hpp: sector_modes at the engine order's phase) is a
+    /// travelling wave, complex: phi = shape + i shape_imag on every DOF of the sector, phi^H M
+    /// phi = 1. Empty for a structure that is not a sector.
+    Eigen::VectorXd shape_imag;
 };
 
 /// The stuck structure's modes by ascending frequency; rigid-body modes (omega below 1e-6 of
@@ -316,7 +320,8 @@ private:
     ModeOptions options_;
     LinearMode linear_;
     std::unique_ptr<HarmonicBalance> hb_;
-    Eigen::VectorXd m_phi_;  // M phi
+    Eigen::VectorXd m_phi_;  // M phi (a sector: M Re phi)
+    Eigen::VectorXd m_phi_imag_;  // a sector: M Im phi (the phase row Im(phi^H M Y_1) = 0); else empty
     Eigen::VectorXd guess_shape_;  // the unknowns' harmonic 1 of the linear mode per unit a: phi, or W^T phi (condensed)
     Eigen::VectorXd guess_sine_;   // its sine part (the damped linear mode: -Im psi; else empty)
     DampedLinearMode damped_;

@@ -770,7 +770,8 @@ def modes(system, amplitude_min=None, amplitude_max=None, *, mode_index=None, ne
     N (2H + 1) without modes, else condensed), modes: the condensed formulation's modal receptance
     (0: the direct solve), as hbf modes --formulation, --modes. Returns a Table with hbf modes' columns (a, w, xi, zeta, zeta_energy, energies, the
     outputs' amplitudes, per-contact shares, harmonic content), plus ``linear`` (dict: mode, omega,
-    zeta, shape of the stuck mode), ``harmonics``, ``formulation`` and ``modes`` used, ``seconds`` and status/errors/warnings: incomplete where the
+    zeta, shape of the stuck mode; a sector model's mode is the travelling wave of its engine order,
+    its ``shape`` complex on every DOF of the sector), ``harmonics``, ``formulation`` and ``modes`` used, ``seconds`` and status/errors/warnings: incomplete where the
     backbone stops before amplitude_max or fails the energy balance, or (synthesis=True) where the
     synthesised response is cut at the backbone's last point (its peak lies beyond amplitude_max)
     or empty (below amplitude_min) (as hbf modes' exit code 3); raises SolveError where its
@@ -836,6 +837,8 @@ def modes(system, amplitude_min=None, amplitude_max=None, *, mode_index=None, ne
     table.synthesis = Table(details["synthesis"]) if synthesis else None
     linear = dict(details)
     linear["shape"] = _np.array(details["shape"])
+    if "shape_imag" in details:  # a sector's travelling wave
+        linear["shape"] = linear["shape"] + 1j * _np.array(details["shape_imag"])
     linear["mode_index"] = details["mode"] - 1
     table.linear = {k: linear[k] for k in ("mode_index", "mode", "omega", "zeta", "shape", "start", "linear_omega",
                                            "linear_xi", "slip_onset", "slip_contact")}

@@ -207,11 +207,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
                                              (hb.load_harmonic() == 1
                                                   ? std::string()
                                                   : ", force at " + std::to_string(hb.load_harmonic()) + " w") +
-                                             (hb.cyclic() ? ", engine order " + std::to_string(hb.system().cyclic.engine_order) +
-                                                                " (nodal diameter " +
-                                                                std::to_string(nodal_diameter(hb.system().cyclic, 1)) +
-                                                                ") of " + std::to_string(hb.system().cyclic.sectors) + " sectors"
-                                                          : std::string()) +
+                                             cyclic_label(hb.system().cyclic) +
                                              (config ? " (" + o.frf.config + ")" : ""));
         if (!overlay.empty()) {
             io::PlotCurve check{"time integration (converged)", {}, {}, io::PlotCurve::Style::markers, 4};

@@ -14,6 +14,7 @@
 #include "outputs.hpp"
 #include "hbf/error.hpp"
 #include "hbf/frf.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/modes.hpp"
 #include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
@@ -144,7 +145,8 @@ int run(const CLI::App& command, const ModesOptions& o) {
     const int harmonics = run.harmonics;
     io::write_csv(out.stream(), run.table);
     const std::string title = "hbf modes: " + (o.config.empty() ? chosen.law_name : o.config) + ", mode " +
-                              std::to_string(b.linear.index) + ", H = " + std::to_string(harmonics);
+                              std::to_string(b.linear.index) + cyclic_label(chosen.system.cyclic) + ", H = " +
+                              std::to_string(harmonics);
     if (!o.output.plot.empty()) {
         io::PlotSpec spec;
         spec.title = title + " (backbone)";
@@ -192,6 +194,11 @@ int run(const CLI::App& command, const ModesOptions& o) {
         j["command"] = "modes";
         j["system"] = o.config.empty() ? chosen.law_name : o.config;
         j["mode"] = b.linear.index;
+        if (chosen.system.cyclic.active()) {
+            j["sectors"] = chosen.system.cyclic.sectors;
+            j["engine_order"] = chosen.system.cyclic.engine_order;
+            j["nodal_diameter"] = nodal_diameter(chosen.system.cyclic, 1);
+        }
         j["linear"] = {{"omega", b.linear.omega}, {"zeta", b.linear.zeta}};
         j["harmonics"] = harmonics;
         j["time_samples"] = run.time_samples;
@@ -302,7 +309,8 @@ void add_flags(CLI::App& command, ModesOptions& o) {
     command.remove_option(command.get_option("--excitation-harmonic"));
     command.add_option("--mode", o.mode,
                        "the stuck structure's mode followed, 1-based by ascending frequency\nthe linear mode of the stuck structure followed, 1-based by ascending frequency (stuck: every "
-                       "contact's stuck spring, exact Coulomb contacts held rigid)")
+                       "contact's stuck spring, exact Coulomb contacts held rigid; a sector model: the modes of the nodal "
+                       "diameter its engine order excites)")
         ->capture_default_str()->type_name("INT");
     command.add_option("--near", o.near, "instead of --mode: the stuck mode nearest this frequency, > 0")
         ->type_name("NUMBER");

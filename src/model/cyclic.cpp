@@ -114,69 +114,115 @@ int nodal_diameter(const CyclicSymmetry& cyclic, int harmonic) {
     return std::min(p, cyclic.sectors - p);
 }
 
-NodalDiameterFamily nodal_diameter_family(const System& system, bool stuck) {
+std::string cyclic_label(const CyclicSymmetry& cyclic) {
+    if (!cyclic.active()) return {};
+    return ", engine order " + std::to_string(cyclic.engine_order) + " (nodal diameter " +
+           std::to_string(nodal_diameter(cyclic, 1)) + ") of " + std::to_string(cyclic.sectors) + " sectors";
+}
+
+namespace {
+
+void require_sector(const System& system, const std::string& what) {
     system.validate();
     if (!system.cyclic.active())
-        throw InvalidInput("nodal-diameter family: the model is not a sector (allowed: a model with cyclic symmetry)");
-    using Complex = std::complex<double>;
-    const int sectors = system.cyclic.sectors, diameters = sectors / 2 + 1;
+        throw InvalidInput(what + ": the model is not a sector (allowed: a model with cyclic symmetry)");
     const int m = static_cast<int>(independent_dofs(system).size());
     if (m > nodal_diameter_dof_limit)
-        throw InvalidInput("nodal-diameter family: the sector has " + std::to_string(m) +
-                           " DOFs of its own: allowed up to " + std::to_string(nodal_diameter_dof_limit) +
+        throw InvalidInput(what + ": the sector has " + std::to_string(m) + " DOFs of its own: allowed up to " +
+                           std::to_string(nodal_diameter_dof_limit) +
                            " (dense eigenproblems, one per nodal diameter; reduce the sector first)");
-    NodalDiameterFamily family;
-    family.sectors = sectors;
-    family.stuck = stuck;
-    family.frequencies = Eigen::MatrixXd::Constant(diameters, m, std::numeric_limits<double>::quiet_NaN());
-    // The stuck elements along every contact direction: springs added to K, rigid ones as
-    // constraints d^T y = 0 (d = T^T w: a direction across the cut turns with the phase).
-    std::vector<std::pair<Eigen::VectorXd, StuckElement>> elements;
+}
+
+// The sector's modes at one phase (sector_modes); `vectors` false: the frequencies alone (the
+// shapes and damping ratios left empty). `where` names the phase in messages.
+std::vector<SectorMode> solve_sector(const System& system, double angle, bool stuck, bool vectors,
+                                     const std::string& where) {
+    using Complex = std::complex<double>;
+    const Eigen::MatrixXcd t = cyclic_transform(system, angle);
+    const auto m = t.cols();
+    Eigen::MatrixXcd k = t.adjoint() * Eigen::MatrixXd(system.stiffness).cast<Complex>() * t;
+    const Eigen::MatrixXcd mass = t.adjoint() * Eigen::MatrixXd(system.mass).cast<Complex>() * t;
+    Eigen::MatrixXcd damping;
+    if (vectors)
+        damping = system.damping.rows() == system.dofs() ? Eigen::MatrixXcd(t.adjoint() * Eigen::MatrixXd(system.damping).cast<Complex>() * t)
+                                                         : Eigen::MatrixXcd::Zero(m, m);
+    // The stuck elements along every contact direction: springs (and dampers) added, rigid ones
+    // as constraints d^T u = 0 (d = T^T w: a direction across the cut turns with the phase).
+    std::vector<Eigen::VectorXcd> rigid;
     if (stuck)
         for (const Contact& contact : system.contacts) {
             const Eigen::MatrixXd directions = system.contact_directions(contact);
             const std::vector<StuckElement> along = contact_law(contact.law).stuck_directions(contact);
-            for (Eigen::Index j = 0; j < directions.cols() && j < static_cast<Eigen::Index>(along.size()); ++j)
-                elements.emplace_back(directions.col(j), along[static_cast<std::size_t>(j)]);
-        }
-    for (int d = 0; d < diameters; ++d) {
-        const double angle = two_pi * d / sectors;
-        const Eigen::MatrixXcd t = cyclic_transform(system, angle);
-        Eigen::MatrixXcd k = t.adjoint() * Eigen::MatrixXd(system.stiffness).cast<Complex>() * t;
-        Eigen::MatrixXcd mass = t.adjoint() * Eigen::MatrixXd(system.mass).cast<Complex>() * t;
-        std::vector<Eigen::VectorXcd> rigid;
-        for (const auto& [w, e] : elements) {
-            const Eigen::VectorXcd dir = t.transpose() * w.cast<Complex>();  // q = dir^T u
-            if (e.rigid)
-                rigid.push_back(dir);
-            else
+            for (Eigen::Index j = 0; j < directions.cols() && j < static_cast<Eigen::Index>(along.size()); ++j) {
+                const StuckElement& e = along[static_cast<std::size_t>(j)];
+                const Eigen::VectorXcd dir = t.transpose() * directions.col(j).cast<Complex>();  // q = dir^T u
+                if (e.rigid) {
+                    rigid.push_back(dir);
+                    continue;
+                }
                 k += e.stiffness * dir.conjugate() * dir.transpose();
+                if (vectors) damping += e.damping * dir.conjugate() * dir.transpose();
+            }
         }
-        // Rigid constraints: the eigenproblem on the null space B of the constraints' rows.
-        Eigen::MatrixXcd basis = Eigen::MatrixXcd::Identity(m, m);
-        if (!rigid.empty()) {
-            Eigen::MatrixXcd rows(static_cast<Eigen::Index>(rigid.size()), m);
-            for (std::size_t r = 0; r < rigid.size(); ++r) rows.row(static_cast<Eigen::Index>(r)) = rigid[r].transpose();
-            Eigen::FullPivLU<Eigen::MatrixXcd> lu(rows);
-            if (lu.rank() == m)
-                basis.resize(m, 0);  // every DOF held: no mode of this nodal diameter
-            else
-                basis = lu.kernel();
+    // Rigid constraints: the eigenproblem on the null space B of the constraints' rows.
+    Eigen::MatrixXcd basis = Eigen::MatrixXcd::Identity(m, m);
+    if (!rigid.empty()) {
+        Eigen::MatrixXcd rows(static_cast<Eigen::Index>(rigid.size()), m);
+        for (std::size_t r = 0; r < rigid.size(); ++r) rows.row(static_cast<Eigen::Index>(r)) = rigid[r].transpose();
+        Eigen::FullPivLU<Eigen::MatrixXcd> lu(rows);
+        if (lu.rank() == m) return {};  // every DOF held: no mode at this phase
+        basis = lu.kernel();
+    }
+    const Eigen::MatrixXcd kr = basis.adjoint() * k * basis, mr = basis.adjoint() * mass * basis;
+    Eigen::LLT<Eigen::MatrixXcd> llt((mr + mr.adjoint()) / 2.0);
+    if (llt.info() != Eigen::Success)
+        throw InvalidInput("the sector's mass matrix is not positive definite on its own DOFs at " + where +
+                           " (massless DOFs: condense them first; allowed M > 0)");
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXcd> solver(
+        (kr + kr.adjoint()) / 2.0, (mr + mr.adjoint()) / 2.0, vectors ? Eigen::ComputeEigenvectors : Eigen::EigenvaluesOnly);
+    if (solver.info() != Eigen::Success) throw InvalidInput("the sector's eigensolver failed at " + where);
+    std::vector<SectorMode> modes;
+    const Eigen::VectorXd lambda = solver.eigenvalues();
+    for (Eigen::Index j = 0; j < lambda.size(); ++j) {
+        SectorMode mode;
+        mode.index = static_cast<int>(j) + 1;
+        mode.omega = std::sqrt(std::max(lambda(j), 0.0));
+        if (vectors) {
+            mode.own = basis * solver.eigenvectors().col(j);
+            mode.own /= std::sqrt(std::real(mode.own.dot(mass * mode.own)));
+            // Reproducible phase: the first entry of largest modulus real and positive.
+            Eigen::Index largest = 0;
+            const double top = mode.own.cwiseAbs().maxCoeff();
+            while (std::abs(mode.own(largest)) < (1.0 - 1e-9) * top) ++largest;
+            mode.own *= std::abs(mode.own(largest)) / mode.own(largest);
+            mode.shape = t * mode.own;
+            mode.zeta = mode.omega > 0.0 ? std::real(mode.own.dot(damping * mode.own)) / (2.0 * mode.omega) : 0.0;
         }
-        if (basis.cols() == 0) continue;
-        const Eigen::MatrixXcd kr = basis.adjoint() * k * basis, mr = basis.adjoint() * mass * basis;
-        Eigen::LLT<Eigen::MatrixXcd> llt((mr + mr.adjoint()) / 2.0);
-        if (llt.info() != Eigen::Success)
-            throw InvalidInput("nodal-diameter family: the sector's mass matrix is not positive definite on its own "
-                               "DOFs at nodal diameter " + std::to_string(d) +
-                               " (massless DOFs: condense them first; allowed M > 0)");
-        Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXcd> solver((kr + kr.adjoint()) / 2.0,
-                                                                         (mr + mr.adjoint()) / 2.0);
-        if (solver.info() != Eigen::Success)
-            throw InvalidInput("nodal-diameter family: the eigensolver failed at nodal diameter " + std::to_string(d));
-        const Eigen::VectorXd lambda = solver.eigenvalues();
-        for (Eigen::Index j = 0; j < lambda.size(); ++j)
-            family.frequencies(d, j) = std::sqrt(std::max(lambda(j), 0.0));
+        modes.push_back(std::move(mode));
+    }
+    return modes;
+}
+
+}  // namespace
+
+std::vector<SectorMode> sector_modes(const System& system, double angle, bool stuck) {
+    require_sector(system, "the sector's modes");
+    if (!std::isfinite(angle)) throw InvalidInput("the sector's modes: the phase is not finite");
+    return solve_sector(system, angle, stuck, true, "the phase " + format_number(angle));
+}
+
+NodalDiameterFamily nodal_diameter_family(const System& system, bool stuck) {
+    require_sector(system, "nodal-diameter family");
+    const int sectors = system.cyclic.sectors, diameters = sectors / 2 + 1;
+    const auto m = static_cast<Eigen::Index>(independent_dofs(system).size());
+    NodalDiameterFamily family;
+    family.sectors = sectors;
+    family.stuck = stuck;
+    family.frequencies = Eigen::MatrixXd::Constant(diameters, m, std::numeric_limits<double>::quiet_NaN());
+    for (int d = 0; d < diameters; ++d) {
+        const std::vector<SectorMode> modes =
+            solve_sector(system, two_pi * d / sectors, stuck, false, "nodal diameter " + std::to_string(d));
+        for (std::size_t j = 0; j < modes.size(); ++j) family.frequencies(d, static_cast<Eigen::Index>(j)) = modes[j].omega;
     }
     return family;
 }

@@ -13,6 +13,10 @@ namespace hbf {
 
 ExactModeCheck NonlinearModes::exact_check(const ModePoint& point) {
     ExactModeCheck out;
+    if (system_.cyclic.active()) {
+        out.message = "the event-exact solver is not available for a sector model (cyclic symmetry)";
+        return out;
+    }
     const int dofs = system_.dofs(), contacts = static_cast<int>(system_.contacts.size());
     for (const Contact& c : system_.contacts)
         if ((c.law != FrictionLaw::coulomb && c.law != FrictionLaw::jenkins) || system_.contact_directions(c).cols() != 1) {

@@ -16,6 +16,26 @@ namespace hbf {
 
 namespace {
 double infinity_norm(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+// A sector's stuck modes at the engine order's phase (cyclic.hpp: sector_modes) as linear
+// modes: the travelling wave phi = shape + i shape_imag on every DOF of the sector; omega = 0
+// for a rigid-body mode (lambda at the eigensolver's rounding of the largest, as stuck_modes).
+std::vector<LinearMode> travelling_modes(const System& system) {
+    const std::vector<SectorMode> sector = sector_modes(system, system.cyclic.phase(), true);
+    double largest = 0.0;
+    for (const SectorMode& m : sector) largest = std::max(largest, m.omega * m.omega);
+    std::vector<LinearMode> modes;
+    for (const SectorMode& m : sector) {
+        LinearMode mode;
+        mode.index = m.index;
+        mode.omega = m.omega * m.omega > 64.0 * std::numeric_limits<double>::epsilon() * largest ? m.omega : 0.0;
+        mode.zeta = mode.omega > 0.0 ? m.zeta : 0.0;
+        mode.shape = m.shape.real();
+        mode.shape_imag = m.shape.imag();
+        modes.push_back(std::move(mode));
+    }
+    return modes;
+}
 }  // namespace
 constexpr detail::EnumName<ModeStatus> mode_status_names[] = {
     {ModeStatus::completed, "completed"}, {ModeStatus::left_range, "left_range"}, {ModeStatus::min_step, "min_step"},
@@ -57,7 +77,6 @@ void ModeOptions::validate() const {
 
 NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo, const ModeOptions& options)
     : system_(std::move(system)), options_(options) {
-    refuse_cyclic(system_, "nonlinear modes");
     options_.validate();
     hbo.validate();
     if (hbo.odd_harmonics)
@@ -81,7 +100,9 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
                                "fewer contact nodes)");
         }
     }
-    const std::vector<LinearMode> modes = stuck_modes(system_);
+    // A sector's modes are the travelling waves of the engine order's harmonic index (cyclic.hpp).
+    const bool sector = system_.cyclic.active();
+    const std::vector<LinearMode> modes = sector ? travelling_modes(system_) : stuck_modes(system_);
     const int count = static_cast<int>(modes.size());
     if (count == 0) throw InvalidInput("the stuck structure has no mode with mass");
     if (options_.near_frequency > 0.0) {
@@ -105,7 +126,10 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
     } else {
         if (options_.mode > count)
             throw InvalidInput("mode = " + std::to_string(options_.mode) + " is out of range: allowed 1.." +
-                               std::to_string(count) + " (the stuck structure's modes)");
+                               std::to_string(count) +
+                               (sector ? " (the stuck sector's modes of nodal diameter " +
+                                             std::to_string(nodal_diameter(system_.cyclic, 1)) + ")"
+                                       : std::string(" (the stuck structure's modes)")));
         linear_ = modes[static_cast<std::size_t>(options_.mode - 1)];
     }
     if (!(linear_.omega > 0.0))
@@ -116,7 +140,7 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
     // only keeps HarmonicBalance's checks of a forced problem satisfied.
     System unforced = system_;
     unforced.excitation = Eigen::VectorXd::Zero(system_.dofs());
-    unforced.excitation(0) = 1.0;
+    unforced.excitation(independent_dofs(system_).front()) = 1.0;  // the first unknowns' DOF (a sector's first own DOF)
     unforced.excitation_harmonic = 1;
     hb_ = std::make_unique<HarmonicBalance>(unforced, mode_harmonic_balance(hbo, system_));
     condensed_ = hb_->formulation() == Formulation::condensed;
@@ -125,6 +149,16 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
     // another one.
     if (linear_.zeta != 0.0) damped_ = damped_linear_mode(system_, linear_);
     guess_shape_ = linear_.shape;
+    if (sector) {
+        // The unknowns are the own DOFs': phi's entries there (Y_1 = a phi: c1 = a Re phi, s1 = -a Im phi).
+        const std::vector<int> own = independent_dofs(system_);
+        guess_shape_.resize(static_cast<Eigen::Index>(own.size()));
+        guess_sine_.resize(guess_shape_.size());
+        for (std::size_t j = 0; j < own.size(); ++j) {
+            guess_shape_(static_cast<Eigen::Index>(j)) = linear_.shape(own[j]);
+            guess_sine_(static_cast<Eigen::Index>(j)) = -linear_.shape_imag(own[j]);
+        }
+    }
     if (damped_.ok) {
         guess_shape_ = damped_.shape.real();
         guess_sine_ = -damped_.shape.imag();
@@ -145,8 +179,12 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
         }
     }
     m_phi_ = system_.mass * linear_.shape;
-    force_unit_ = linear_.omega * linear_.omega * infinity_norm(m_phi_);
-    phi_max_ = infinity_norm(linear_.shape);
+    if (linear_.shape_imag.size()) m_phi_imag_ = system_.mass * linear_.shape_imag;
+    const auto modulus = [](const Eigen::VectorXd& re, const Eigen::VectorXd& im) {
+        return im.size() ? Eigen::VectorXd(re.cwiseAbs2() + im.cwiseAbs2()).cwiseSqrt().maxCoeff() : infinity_norm(re);
+    };
+    force_unit_ = linear_.omega * linear_.omega * modulus(m_phi_, m_phi_imag_);
+    phi_max_ = modulus(linear_.shape, linear_.shape_imag);
     static_force_ = system_.static_load.size() ? infinity_norm(system_.static_load) : 0.0;
     for (const std::vector<StuckElement>& along : stuck_elements(system_))
         for (const StuckElement& e : along) static_force_ = std::max(static_force_, std::abs(e.offset));
@@ -160,41 +198,70 @@ void NonlinearModes::residual(const Eigen::VectorXd& x, double omega, double xi,
     Eigen::MatrixXd structure_x;
     hb_->evaluate(x, omega, structure, jacobian ? &structure_x : nullptr, jacobian ? &structure_omega : nullptr);
     ++evaluations_;
+    // A sector: the terms below on every DOF's harmonics X = P U (its own DOFs' unknowns U, the
+    // dependent DOFs turned), the rows folded by P^T (harmonic_balance.hpp); else P = I.
+    const bool sector = system_.cyclic.active();
+    const SparseMatrix& p = hb_->cyclic_map();
+    const Eigen::VectorXd all = sector ? Eigen::VectorXd(p * x) : Eigen::VectorXd();
+    const Eigen::VectorXd& xa = sector ? all : x;
+    const auto fold = [&](const Eigen::VectorXd& v) { return sector ? Eigen::VectorXd(p.transpose() * v) : v; };
     structure(1) += 1.0;  // the placeholder force on DOF 1's cos 1 row (constructor), removed
-    const Eigen::Map<const Eigen::MatrixXd> y(x.data(), n, dofs);
+    const Eigen::Map<const Eigen::MatrixXd> y(xa.data(), n, dofs);
     const Eigen::MatrixXd& d1 = hb_->fourier().derivative();
     const Eigen::MatrixXd d1ym = (d1 * y) * system_.mass;  // (D1 Y) M
-    Eigen::Map<Eigen::MatrixXd>(structure.data(), n, dofs) -= xi * omega * d1ym;
+    Eigen::VectorXd flat = Eigen::VectorXd::Zero(xa.size());
+    flat.head(n * dofs) = Eigen::Map<const Eigen::VectorXd>(d1ym.data(), d1ym.size());
+    const Eigen::VectorXd folded = fold(flat);
+    structure -= xi * omega * folded;
     // Rows of the structure relative to the mode's inertial force (floored by the static loads'
     // rounding), the constraints relative to the amplitude.
     const double scale = std::max(amplitude * force_unit_, 1e-5 * static_force_);
     r.resize(u + 2);
     r.head(u) = structure / scale;
     // Amplitude: the M-norm of the first harmonic, sqrt(c1^T M c1 + s1^T M s1) = a; phase: the
-    // modal coordinate's sine coefficient phi^T M s1 = 0.
+    // modal coordinate's Im(phi^H M Y_1) = 0, Y_1 = c1 - i s1: phi^T M s1 for a real phi,
+    // (Re phi)^T M s1 + (Im phi)^T M c1 for a sector's travelling wave.
+    const bool complex_phi = m_phi_imag_.size() > 0;
     const Eigen::VectorXd m_cos1 = system_.mass * y.row(1).transpose(), m_sin1 = system_.mass * y.row(2).transpose();
-    const double norm1 = std::sqrt(y.row(1).dot(m_cos1) + y.row(2).dot(m_sin1)), sin1 = y.row(2).dot(m_phi_);
+    const double norm1 = std::sqrt(y.row(1).dot(m_cos1) + y.row(2).dot(m_sin1));
+    const double sin1 = y.row(2).dot(m_phi_) + (complex_phi ? y.row(1).dot(m_phi_imag_) : 0.0);
     r(u) = (norm1 - amplitude) / amplitude;
     r(u + 1) = sin1 / amplitude;
     if (!jacobian) return;
     Eigen::MatrixXd& j = *jacobian;
     j.setZero(u + 2, u + 2);
     j.topLeftCorner(u, u) = structure_x;
-    for (int k = 0; k < system_.mass.outerSize(); ++k)
-        for (SparseMatrix::InnerIterator it(system_.mass, k); it; ++it)
-            j.block(it.row() * n, it.col() * n, n, n) -= xi * omega * it.value() * d1;
-    Eigen::VectorXd flat = Eigen::Map<const Eigen::VectorXd>(d1ym.data(), d1ym.size());
-    j.col(u).head(u) = structure_omega;
-    j.col(u).head(n * dofs) -= xi * flat;
-    j.col(u + 1).head(n * dofs) = -omega * flat;
+    if (sector) {
+        std::vector<Eigen::Triplet<double>> entries;
+        for (int k = 0; k < system_.mass.outerSize(); ++k)
+            for (SparseMatrix::InnerIterator it(system_.mass, k); it; ++it)
+                for (int a = 0; a < n; ++a)
+                    for (int b = 0; b < n; ++b)
+                        if (d1(a, b) != 0.0)
+                            entries.emplace_back(static_cast<int>(it.row()) * n + a, static_cast<int>(it.col()) * n + b,
+                                                 it.value() * d1(a, b));
+        SparseMatrix m_d1(xa.size(), xa.size());
+        m_d1.setFromTriplets(entries.begin(), entries.end());
+        j.topLeftCorner(u, u) -= xi * omega * Eigen::MatrixXd(p.transpose() * m_d1 * p);
+    } else {
+        for (int k = 0; k < system_.mass.outerSize(); ++k)
+            for (SparseMatrix::InnerIterator it(system_.mass, k); it; ++it)
+                j.block(it.row() * n, it.col() * n, n, n) -= xi * omega * it.value() * d1;
+    }
+    j.col(u).head(u) = structure_omega - xi * folded;
+    j.col(u + 1).head(u) = -omega * folded;
     j.topRows(u) /= scale;
+    Eigen::VectorXd norm_row = Eigen::VectorXd::Zero(xa.size()), phase_row = Eigen::VectorXd::Zero(xa.size());
     for (int i = 0; i < dofs; ++i) {
         if (norm1 > 0.0) {
-            j(u, i * n + 1) = m_cos1(i) / (norm1 * amplitude);
-            j(u, i * n + 2) = m_sin1(i) / (norm1 * amplitude);
+            norm_row(i * n + 1) = m_cos1(i) / (norm1 * amplitude);
+            norm_row(i * n + 2) = m_sin1(i) / (norm1 * amplitude);
         }
-        j(u + 1, i * n + 2) = m_phi_(i) / amplitude;
+        phase_row(i * n + 2) = m_phi_(i) / amplitude;
+        if (complex_phi) phase_row(i * n + 1) = m_phi_imag_(i) / amplitude;
     }
+    j.row(u).head(u) = fold(norm_row).transpose();
+    j.row(u + 1).head(u) = fold(phase_row).transpose();
 }
 
 void NonlinearModes::residual_condensed(const Eigen::VectorXd& x, double omega, double xi, double amplitude,

@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
@@ -110,44 +111,42 @@ std::vector<LinearMode> stuck_modes(const System& system) {
     return modes;
 }
 
-DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode) {
+namespace {
+
+// The damped linear mode (damped_linear_mode) of M, K', C' (real, or a sector's Hermitian
+// matrices on its own DOFs) continuing the undamped shape phi.
+template <class Scalar>
+DampedLinearMode damped_mode(const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>& mass,
+                             const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>& stiffness,
+                             const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>& damping,
+                             const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>& phi) {
+    using Complex = std::complex<double>;
+    using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
     DampedLinearMode out;
-    const int n = system.dofs();
-    if (n > damped_linear_mode_dofs) {
-        out.why = "more than " + std::to_string(damped_linear_mode_dofs) + " DOFs";
-        return out;
-    }
-    const Eigen::MatrixXd mass = dense_or_zero(system.mass, n);
-    Eigen::MatrixXd stiffness = dense_or_zero(system.stiffness, n), damping = dense_or_zero(system.damping, n);
-    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);
-    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
-        const Eigen::MatrixXd directions = system.contact_directions(system.contacts[c]);
-        for (Eigen::Index j = 0; j < directions.cols() && j < static_cast<Eigen::Index>(elements[c].size()); ++j) {
-            const StuckElement& e = elements[c][static_cast<std::size_t>(j)];
-            if (e.rigid) {
-                out.why = "a rigid stuck contact";
-                return out;
-            }
-            stiffness += e.stiffness * directions.col(j) * directions.col(j).transpose();
-            damping += e.damping * directions.col(j) * directions.col(j).transpose();
-        }
-    }
-    const Eigen::LLT<Eigen::MatrixXd> mass_factor(mass);
+    const auto n = mass.rows();
+    const Eigen::LLT<Matrix> mass_factor(mass);
     if (mass_factor.info() != Eigen::Success) {
         out.why = "a singular mass matrix";
         return out;
     }
-    const Eigen::MatrixXd minv_k = mass_factor.solve(stiffness);
+    const Matrix minv_k = mass_factor.solve(stiffness), minv_c = mass_factor.solve(damping);
     // The eigenvalues s of M s^2 + (C' - xi M) s + K' in state space, [[0, I], [-M^-1 K', -M^-1 C' + xi I]].
     const auto eigen = [&](double xi, Eigen::VectorXcd& values, Eigen::MatrixXcd& vectors) {
-        Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+        Matrix a = Matrix::Zero(2 * n, 2 * n);
         a.topRightCorner(n, n).setIdentity();
         a.bottomLeftCorner(n, n) = -minv_k;
-        a.bottomRightCorner(n, n) = -mass_factor.solve(damping) + xi * Eigen::MatrixXd::Identity(n, n);
-        Eigen::EigenSolver<Eigen::MatrixXd> solver(a, true);
-        if (solver.info() != Eigen::Success) return false;
-        values = solver.eigenvalues();
-        vectors = solver.eigenvectors().topRows(n);
+        a.bottomRightCorner(n, n) = -minv_c + xi * Matrix::Identity(n, n);
+        if constexpr (std::is_same_v<Scalar, double>) {
+            Eigen::EigenSolver<Matrix> solver(a, true);
+            if (solver.info() != Eigen::Success) return false;
+            values = solver.eigenvalues();
+            vectors = solver.eigenvectors().topRows(n);
+        } else {
+            Eigen::ComplexEigenSolver<Matrix> solver(a, true);
+            if (solver.info() != Eigen::Success) return false;
+            values = solver.eigenvalues();
+            vectors = solver.eigenvectors().topRows(n);
+        }
         return true;
     };
     Eigen::VectorXcd values;
@@ -157,10 +156,12 @@ DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode
         return out;
     }
     // The oscillating eigenvalue whose shape is the undamped mode's (largest MAC in the M-norm).
-    const Eigen::VectorXcd m_phi = (mass * mode.shape).cast<std::complex<double>>();
+    const Eigen::MatrixXcd mass_c = mass.template cast<Complex>();
+    const Eigen::VectorXcd m_phi = mass_c * phi.template cast<Complex>();
+    const double phi_norm = std::real(phi.template cast<Complex>().dot(m_phi));
     const auto mac = [&](const Eigen::VectorXcd& v) {
-        const double norm = std::real(v.dot(mass.cast<std::complex<double>>() * v));
-        return std::norm(v.dot(m_phi)) / (norm * mode.shape.dot(mass * mode.shape));
+        const double norm = std::real(v.dot(mass_c * v));
+        return std::norm(v.dot(m_phi)) / (norm * phi_norm);
     };
     Eigen::Index best = -1;
     double best_mac = 0.0;
@@ -179,7 +180,7 @@ DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode
     }
     // xi with Re s(xi) = 0 (the EPMC's linear limit), by the secant method from xi = -2 Re s;
     // the eigenvalue followed as the one nearest the previous.
-    std::complex<double> s = values(best);
+    Complex s = values(best);
     Eigen::VectorXcd shape = vectors.col(best);
     double xi0 = 0.0, r0 = s.real(), xi1 = -2.0 * s.real();
     for (int it = 0; it < 50 && std::abs(s.real()) > 1e-13 * std::abs(s); ++it) {
@@ -203,14 +204,67 @@ DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode
     out.ok = true;
     out.omega = s.imag();
     out.xi = xi0;
-    // y = Re(psi e^{i theta}) with the M-norm of (Re psi, Im psi) 1 and phi^T M Im psi = 0
+    // y = Re(psi e^{i theta}) with the M-norm of (Re psi, Im psi) 1 and phi^H M psi real
     // (the EPMC's amplitude and phase conditions: s1 = -Im psi).
-    const std::complex<double> z = shape.dot(m_phi);  // conj(psi)^T M phi
-    shape *= z / std::abs(z);                          // phi^T M psi real and > 0
-    const double norm = std::sqrt(std::real(shape.dot(mass.cast<std::complex<double>>() * shape)));
+    const Complex z = shape.dot(m_phi);  // psi^H M phi
+    shape *= z / std::abs(z);            // phi^H M psi real and > 0
+    const double norm = std::sqrt(std::real(shape.dot(mass_c * shape)));
     out.shape = shape / norm;
     out.mac = best_mac;
     return out;
+}
+
+}  // namespace
+
+DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode) {
+    DampedLinearMode out;
+    const int n = system.dofs();
+    const bool sector = system.cyclic.active();
+    const auto own = sector ? static_cast<int>(independent_dofs(system).size()) : n;
+    if (own > damped_linear_mode_dofs) {
+        out.why = "more than " + std::to_string(damped_linear_mode_dofs) + " DOFs";
+        return out;
+    }
+    const Eigen::MatrixXd mass = dense_or_zero(system.mass, n);
+    Eigen::MatrixXd stiffness = dense_or_zero(system.stiffness, n), damping = dense_or_zero(system.damping, n);
+    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);
+    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
+        const Eigen::MatrixXd directions = system.contact_directions(system.contacts[c]);
+        for (Eigen::Index j = 0; j < directions.cols() && j < static_cast<Eigen::Index>(elements[c].size()); ++j) {
+            const StuckElement& e = elements[c][static_cast<std::size_t>(j)];
+            if (e.rigid) {
+                out.why = "a rigid stuck contact";
+                return out;
+            }
+            if (sector) continue;  // a contact across the cut turns with the phase: below
+            stiffness += e.stiffness * directions.col(j) * directions.col(j).transpose();
+            damping += e.damping * directions.col(j) * directions.col(j).transpose();
+        }
+    }
+    if (!sector) return damped_mode<double>(mass, stiffness, damping, mode.shape);
+    // A sector: the travelling wave's Hermitian matrices on its own DOFs (cyclic.hpp), the
+    // stuck elements along each direction turned, d = T^T w; the shape on the own DOFs.
+    using Complex = std::complex<double>;
+    const Eigen::MatrixXcd t = cyclic_transform(system, system.cyclic.phase());
+    Eigen::MatrixXcd k = t.adjoint() * stiffness.cast<Complex>() * t, c = t.adjoint() * damping.cast<Complex>() * t;
+    for (std::size_t i = 0; i < system.contacts.size(); ++i) {
+        const Eigen::MatrixXd directions = system.contact_directions(system.contacts[i]);
+        for (Eigen::Index j = 0; j < directions.cols() && j < static_cast<Eigen::Index>(elements[i].size()); ++j) {
+            const StuckElement& e = elements[i][static_cast<std::size_t>(j)];
+            const Eigen::VectorXcd d = t.transpose() * directions.col(j).cast<Complex>();
+            k += e.stiffness * d.conjugate() * d.transpose();
+            c += e.damping * d.conjugate() * d.transpose();
+        }
+    }
+    const Eigen::MatrixXcd m = t.adjoint() * mass.cast<Complex>() * t;
+    // phi on the own DOFs: the independent DOFs' entries of shape + i shape_imag.
+    const std::vector<int> independent = independent_dofs(system);
+    Eigen::VectorXcd phi(static_cast<Eigen::Index>(independent.size()));
+    for (std::size_t j = 0; j < independent.size(); ++j)
+        phi(static_cast<Eigen::Index>(j)) =
+            Complex(mode.shape(independent[j]), mode.shape_imag.size() ? mode.shape_imag(independent[j]) : 0.0);
+    return damped_mode<Complex>(Eigen::MatrixXcd((m + m.adjoint()) / 2.0), Eigen::MatrixXcd((k + k.adjoint()) / 2.0),
+                                Eigen::MatrixXcd((c + c.adjoint()) / 2.0), phi);
 }
 
 SlipOnset slip_onset(const System& system, const LinearMode& mode) {
@@ -223,6 +277,10 @@ SlipOnset slip_onset(const System& system, const LinearMode& mode) {
     const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);
     const double omega = mode.omega;
     const Eigen::VectorXd& phi = mode.shape;
+    // A sector's travelling wave: phi complex (LinearMode::shape_imag), |w^T phi| its modulus.
+    using Complex = std::complex<double>;
+    Eigen::VectorXcd phi_c = phi.cast<Complex>();
+    if (mode.shape_imag.size() == n) phi_c.imag() = mode.shape_imag;
     // Each contact direction's force amplitude at a = 1: springs directly, rigid ones after.
     std::vector<Eigen::VectorXd> force(system.contacts.size());
     std::vector<std::pair<std::size_t, Eigen::Index>> rigid;  // (contact, direction)
@@ -237,17 +295,28 @@ SlipOnset slip_onset(const System& system, const LinearMode& mode) {
                 rigid_directions.push_back(directions.col(j));
             } else {
                 stiffness += e.stiffness * directions.col(j) * directions.col(j).transpose();
-                force[c](j) = std::abs(std::complex<double>(e.stiffness, omega * e.damping)) * std::abs(directions.col(j).dot(phi));
+                force[c](j) = std::abs(Complex(e.stiffness, omega * e.damping)) *
+                              std::abs(directions.col(j).cast<Complex>().dot(phi_c));
             }
         }
     }
     if (!rigid.empty()) {
         Eigen::MatrixXd w(n, static_cast<Eigen::Index>(rigid.size()));
         for (std::size_t j = 0; j < rigid.size(); ++j) w.col(static_cast<Eigen::Index>(j)) = rigid_directions[j];
-        const Eigen::VectorXd r = (stiffness - omega * omega * mass) * phi;
-        const Eigen::VectorXd lambda = -w.completeOrthogonalDecomposition().solve(r);
-        for (std::size_t j = 0; j < rigid.size(); ++j)
-            force[rigid[j].first](rigid[j].second) = std::abs(lambda(static_cast<Eigen::Index>(j)));
+        if (system.cyclic.active()) {
+            // A sector: the wheel's equations of its own DOFs, T^H (K' - omega^2 M) phi + T^H W lambda = 0.
+            const Eigen::MatrixXcd t = cyclic_transform(system, system.cyclic.phase());
+            const Eigen::VectorXcd r = t.adjoint() * ((stiffness - omega * omega * mass).cast<Complex>() * phi_c);
+            const Eigen::MatrixXcd tw = t.adjoint() * w.cast<Complex>();
+            const Eigen::VectorXcd lambda = -tw.completeOrthogonalDecomposition().solve(r);
+            for (std::size_t j = 0; j < rigid.size(); ++j)
+                force[rigid[j].first](rigid[j].second) = std::abs(lambda(static_cast<Eigen::Index>(j)));
+        } else {
+            const Eigen::VectorXd r = (stiffness - omega * omega * mass) * phi;
+            const Eigen::VectorXd lambda = -w.completeOrthogonalDecomposition().solve(r);
+            for (std::size_t j = 0; j < rigid.size(); ++j)
+                force[rigid[j].first](rigid[j].second) = std::abs(lambda(static_cast<Eigen::Index>(j)));
+        }
     }
     std::unique_ptr<StaticState> rest;  // the static normal forces, solved once where needed
     std::string skipped;

@@ -1,5 +1,5 @@
 """A sector of a cyclically symmetric wheel from Python (hbfriction.load of a [cyclic] file,
-nodal_diameters, frf): the same numbers as hbf nodal-diameters and hbf frf on the same file, the
+nodal_diameters, frf, modes): the same numbers as hbf nodal-diameters and hbf frf on the same file, the
 nodal-diameter-0 family against the sector with its cut faces merged by hand, and the refusals."""
 import csv
 import io
@@ -59,9 +59,40 @@ def test_what_a_sector_does_not_take_is_refused():
     sector = hbfriction.load(WHEEL)
     with pytest.raises(ValueError, match="not available for a sector model"):
         hbfriction.timeint(sector, 4.5)
-    with pytest.raises(ValueError, match="not available for a sector model"):
-        hbfriction.modes(sector, 1e-3, 1e-1)
     with pytest.raises(ValueError, match="not a sector"):
         hbfriction.nodal_diameters(hbfriction.absorber())
     with pytest.raises(ValueError, match="harmonics = 0 is out of range"):
         hbfriction.nodal_diameters(sector, harmonics=0)
+
+
+def test_a_nonlinear_mode_of_the_engine_orders_family():
+    """The mode of nodal diameter 3 that engine order 3 excites: a travelling wave whose linear
+    limit solves the sector's folded eigenproblem (built here by hand in NumPy)."""
+    sector = hbfriction.load(WHEEL)
+    backbone = hbfriction.modes(sector)
+    assert backbone.status == "completed"
+    linear = backbone.linear
+    families = hbfriction.nodal_diameters(sector)
+    first = (families.nodal_diameter == 3) & (families.mode == 1)
+    assert linear["omega"] == pytest.approx(families.stuck[first][0], rel=1e-12)
+    phi = linear["shape"]
+    assert phi.dtype == complex
+    # The next sector's disk (DOF 5) and platform (DOF 6) are DOFs 1 and 2 delayed by 2 pi 3 / 24.
+    turn = np.exp(-2j * np.pi * 3 / 24)
+    assert phi[4] == pytest.approx(turn * phi[0], abs=1e-12)
+    assert phi[5] == pytest.approx(turn * phi[1], abs=1e-12)
+    # T^H (K' - w^2 M) phi = 0 with K' = K + k_t d d^T (the stuck damper, platform to the next
+    # platform), T the identity on the own DOFs and the turn from DOFs 5, 6 to 1, 2.
+    m = sector.mass.toarray()
+    k = sector.stiffness.toarray()
+    d = np.zeros(6)
+    d[1], d[5] = 1.0, -1.0
+    k = k + 15.0 * np.outer(d, d)
+    t = np.zeros((6, 4), dtype=complex)
+    t[:4, :4] = np.eye(4)
+    t[4, 0] = t[5, 1] = turn
+    r = t.conj().T @ (k - linear["omega"] ** 2 * m) @ phi
+    assert np.abs(r).max() <= 1e-10 * np.abs(k @ phi).max()
+    assert np.vdot(phi, m @ phi).real == pytest.approx(1.0, rel=1e-12)
+    # friction softens it towards the released frequency
+    assert families.released[first][0] < backbone.w[-1] < backbone.w[0]
