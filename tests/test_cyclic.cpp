@@ -348,6 +348,57 @@ TEST_CASE("Cyclic symmetry in a system file: [cyclic], neighbour_dof, hbf frf an
     CHECK(io::read_system_config(file).system.cyclic.engine_order == 1);
 }
 
+TEST_CASE("Cyclic symmetry: several engine orders in one hbf map run, each the FRF of its own engine order",
+          "[cyclic]") {
+    const std::string example = std::string(HBF_SOURCE_DIR) + "/examples/systems/bladed_disk/wheel24.toml";
+    test::TempDir dir;
+    const std::string map = (dir.path / "map.csv").string();
+    test::Result r = test::run_hbf("map --config '" + example + "' --param cyclic.engine_order --values 1,3,5 --threads 2 "
+                                   "--error-points 0 --out '" + map + "'",
+                                   dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto rows = test::parse_csv(test::slurp(map));
+    REQUIRE(rows.size() > 3);
+    // each engine order's rows against hbf frf on the file with that engine order
+    std::string text = test::slurp(example);
+    for (int eo : {1, 3, 5}) {
+        const std::string file = (dir.path / ("eo" + std::to_string(eo) + ".toml")).string();
+        std::string changed = text;
+        const std::size_t at = changed.find("engine_order = 3");
+        REQUIRE(at != std::string::npos);
+        changed.replace(at, 16, "engine_order = " + std::to_string(eo));
+        test::write_file(file, changed);
+        const std::string frf = (dir.path / ("eo" + std::to_string(eo) + ".csv")).string();
+        r = test::run_hbf("frf --config '" + file + "' --error-points 0 --out '" + frf + "'", dir);
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+        const auto single = test::parse_csv(test::slurp(frf));
+        std::vector<std::vector<std::string>> mine;
+        for (std::size_t k = 1; k < rows.size(); ++k)
+            if (rows[k][0] == std::to_string(eo)) mine.push_back(rows[k]);
+        INFO("engine order " << eo);
+        REQUIRE(mine.size() == single.size() - 1);
+        for (std::size_t k = 0; k < mine.size(); ++k) {
+            CHECK(std::stod(mine[k][2]) == std::stod(single[k + 1][0]));  // w
+            CHECK(std::stod(mine[k][3]) == Approx(std::stod(single[k + 1][1])).epsilon(1e-12));  // y4_max
+        }
+    }
+    // integer values only, on a sector only; hbf track and hbf optimize refuse it
+    for (const std::string& bad :
+         {"map --config '" + example + "' --param cyclic.engine_order --values 2.5",
+          "map --config '" + example + "' --param cyclic.engine_order --values 24",
+          "map --config '" + std::string(HBF_SOURCE_DIR) + "/examples/systems/chain3.toml' --param cyclic.engine_order --values 1",
+          "track --config '" + example + "' --param cyclic.engine_order --range 1:3",
+          "optimize --config '" + example + "' --param cyclic.engine_order --range 1:3"}) {
+        const test::Result b = test::run_hbf(bad + " --out '" + (dir.path / "x.csv").string() + "'", dir);
+        INFO(bad << "\n" << b.err);
+        CHECK(b.exit_code == 2);
+        CHECK(b.err.find("cyclic.engine_order") != std::string::npos);
+        CHECK_FALSE(std::filesystem::exists(dir.path / "x.csv"));
+    }
+}
+
 TEST_CASE("Cyclic symmetry: the damper's optimal slip force on the 24-sector example, by tracking the peak, "
           "checked by FRFs at 10 values and by the optimiser",
           "[cyclic]") {

@@ -19,6 +19,7 @@
 #include "outputs.hpp"
 #include "commands.hpp"
 #include "frf_flags.hpp"
+#include "hbf/cyclic.hpp"
 #include "hbf/error.hpp"
 #include "hbf/frf.hpp"
 #include "hbf/output_file.hpp"
@@ -279,7 +280,11 @@ int run(const CLI::App& command, const MapOptions& o) {
             spec.ylabel = y_name + " (max over one period)";
             for (std::size_t k = 0; k < values.size(); ++k) {
                 const json& r = frfs[k];
-                io::PlotCurve c{o.param + " = " + format_number(values[k]) +
+                const std::string diameter =
+                    parameter.integer() ? " (nodal diameter " +
+                                              std::to_string(nodal_diameter(parameter.system(values[k]).cyclic, 1)) + ")"
+                                        : std::string();
+                io::PlotCurve c{o.param + " = " + format_number(values[k]) + diameter +
                                     (r.at("peak_state") == "unbounded" ? " (unbounded: capped)"
                                      : r.at("peak_state") == "bounded" ? ""
                                                                        : " (" + r.at("status").get<std::string>() + ")"),
@@ -307,7 +312,8 @@ void add_flags(CLI::App& command, MapOptions& o) {
                         "the parameter varied: fe, mu, wa, r, wb, xi (preset) or a --config parameter\nthe parameter of the map: for the paper's absorber fe, mu, wa, r, wb (dahl, lugre, jenkins) "
                         "or xi (lugre); for a --config system mu (the friction limit F_c of the contact --contact, "
                         "in the file's force units), fe (a factor on the file's excitation vector), structure.damping "
-                        "(a factor on its damping matrix) or a scalar key of the contact --contact as in the file "
+                        "(a factor on its damping matrix), cyclic.engine_order (a sector's engine order: integer values, "
+                        "one FRF per engine order) or a scalar key of the contact --contact as in the file "
                         "(contact.friction_limit, contact.stiffness, contact.damping, contact.viscous, "
                         "contact.static_limit, contact.stribeck_velocity, contact.regularization, "
                         "contact.lagrangian_penalty; the keys of its law only)")

@@ -148,6 +148,9 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         if (!joint && given(command, flag))
             throw UsageError(std::string(flag) + " belongs to --param mu,wa: drop it, or search both parameters");
     const StudyParameter parameter("--param", joint ? "mu" : o.param, chosen, "--contact", o.contact);
+    if (parameter.integer())
+        throw UsageError("--param " + parameter.name() + " takes integer values: hbf optimize searches a continuous parameter; allowed: hbf map --param " +
+                         parameter.name() + " --values V1,V2,...");
     if (given(command, "--contact") && parameter.preset())
         throw UsageError("--contact chooses a contact of a --config system: the preset has one");
     for (const std::string name : {"mu", "wa"})

@@ -30,7 +30,8 @@ std::string config_names() {
             keys += ", contact." + std::string(p.key) + " (" + laws_with_parameter(p.key) + ")";
         }
     return "mu (the friction limit F_c of the contact --contact), fe (a factor on the file's excitation vector), "
-           "structure.damping (a factor on the file's damping matrix C), or a key of the contact --contact: " +
+           "structure.damping (a factor on the file's damping matrix C), cyclic.engine_order (a sector's engine "
+           "order, integers: hbf map), or a key of the contact --contact: " +
            keys;
 }
 
@@ -71,6 +72,13 @@ StudyParameter::StudyParameter(const std::string& flag, const std::string& name,
     : name_(name), chosen_(chosen) {
     if (name.empty()) throw UsageError(flag + " is empty: allowed " + preset_names());
     if (chosen.config) {
+        if (name == "cyclic.engine_order") {
+            if (!chosen.system.cyclic.active())
+                throw UsageError(flag + " = cyclic.engine_order: the system is not a sector (allowed with a [cyclic] table)");
+            current_ = chosen.system.cyclic.engine_order;
+            integer_ = true;
+            return;
+        }
         const ContactKey key = find_contact_key(name);
         if (!key.found && name != "fe" && name != "structure.damping")
             throw UsageError(flag + " = '" + name + "' is not a parameter of a --config system: allowed " +
@@ -140,6 +148,10 @@ std::string StudyParameter::meaning() const {
         if (name_ == "mu") return "friction limit F_c" + contact + " (the file's force units)";
         if (name_ == "fe") return "factor on the file's excitation vector (1: as in the file)";
         if (name_ == "structure.damping") return "factor on the file's damping matrix C (1: as in the file)";
+        if (name_ == "cyclic.engine_order")
+            return "engine order of the travelling-wave excitation (an integer 0.." +
+                   std::to_string(chosen_.system.cyclic.sectors - 1) + " on " +
+                   std::to_string(chosen_.system.cyclic.sectors) + " sectors)";
         return "the key " + name_.substr(8) + contact + " (the file's units)";
     }
     if (name_ == "fe") return "excitation amplitude F0/N (nondimensional)";
@@ -158,6 +170,12 @@ System StudyParameter::system(double value) const {
                 throw InvalidInput(name_ + " (" + meaning() + ") = " + format_number(value) +
                                    " is out of range: allowed " + bound(key.parameter));
             key.parameter.set(s.contacts[static_cast<std::size_t>(contact_)], value);
+        } else if (name_ == "cyclic.engine_order") {
+            const double n = s.cyclic.sectors, rounded = std::round(value);
+            if (!(std::abs(value - rounded) <= 1e-9 * std::max(1.0, n) && rounded >= 0.0 && rounded <= n - 1.0))
+                throw InvalidInput("cyclic.engine_order = " + format_number(value) + " is out of range: allowed an integer 0.." +
+                                   std::to_string(s.cyclic.sectors - 1));
+            s.cyclic.engine_order = static_cast<int>(rounded);
         } else if (name_ == "fe") {
             if (!(std::isfinite(value) && value > 0.0))
                 throw InvalidInput("fe (factor on the excitation) = " + format_number(value) + " is out of range: allowed > 0");

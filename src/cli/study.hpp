@@ -31,6 +31,9 @@ public:
     bool preset() const { return !chosen_.config.has_value(); }
     /// Whether the parameter belongs to the contact --contact (mu, contact.KEY of --config).
     bool uses_contact() const { return uses_contact_; }
+    /// Whether it takes integer values only (cyclic.engine_order): a grid's (hbf map), not a
+    /// continuous study's (hbf track, hbf optimize).
+    bool integer() const { return integer_; }
     /// The same parameter on the preset with its tuning ratio set to wa (the joint search of
     /// hbf optimize --param mu,wa). Preset only.
     StudyParameter with_tuning(double wa) const;
@@ -46,6 +49,7 @@ private:
     FrictionLaw law_ = FrictionLaw::coulomb;
     int contact_ = 0;
     bool uses_contact_ = false;
+    bool integer_ = false;
     double current_ = 0;
 };
 

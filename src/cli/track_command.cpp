@@ -74,6 +74,9 @@ int run(const CLI::App& command, const TrackFlags& o) {
     ChosenSystem chosen = choose_system(command, o.absorber, o.frf.config);
     o.output.check(command, chosen.inputs());
     const StudyParameter parameter("--param", o.param, chosen, "--contact", o.contact);
+    if (parameter.integer())
+        throw UsageError("--param " + parameter.name() + " takes integer values: hbf track follows a continuous parameter; allowed: hbf map --param " +
+                         parameter.name() + " --values V1,V2,...");
     parameter.check_flags(command, "the tracked range");
     if (given(command, "--stability") && o.frf.stability != "off")
         throw UsageError("--stability applies to hbf frf and hbf map: hbf track follows peaks and boundaries");
