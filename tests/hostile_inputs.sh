@@ -369,7 +369,11 @@ expect 2 "cyclic.sectors" 'sed "s/^sectors = 24/sectors = 1/" "$WHEEL" >w.toml' 
 expect 2 "cyclic.right" 'sed "s/^right = \[5\]/right = [5, 4]/" "$WHEEL" >w.toml' frf --config w.toml --out x.csv
 expect 2 "contact[1].neighbour_dof" 'sed "s/^neighbour_dof = 2/neighbour_dof = 9/" "$WHEEL" >w.toml' frf --config w.toml --out x.csv
 expect 2 "not available for a sector model" '' timeint --config "$WHEEL" --w 4.5 --out x.csv
-expect 2 "not available for a sector model" '' modes --config "$WHEEL" --amin 1e-3 --amax 1e-1 --out x.csv
+expect 2 "allowed an integer 0..23" '' map --config "$WHEEL" --param cyclic.engine_order --values 1.5 --out x.csv
+expect 2 "takes integer values" '' track --config "$WHEEL" --param cyclic.engine_order --range 1:3 --out x.csv
+expect 2 "modes of nodal diameter 3" '' modes --config "$WHEEL" --mode 9 --out x.csv
+expect 2 "not for a sector model" 'sed "s/craig-bampton/macneal/; s#\"sector_#\"$SRC/examples/systems/bladed_disk/sector_#" "$SRC/examples/systems/bladed_disk/sector.toml" >s.toml' frf --config s.toml --out x.csv
+expect 2 "not a sector" '' map --config "$SRC/examples/systems/chain3.toml" --param cyclic.engine_order --values 1 --out x.csv
 expect 2 "stability" '' frf --config "$WHEEL" --stability on --out x.csv
 expect 2 "formulation = condensed" '' frf --config "$WHEEL" --formulation condensed --out x.csv
 # --jacobian structured on a rigid contact names the law that carries states (it named dahl and lugre).

@@ -22,6 +22,7 @@
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/modes.hpp"
 #include "hbf/optimize.hpp"
+#include "hbf/reduction.hpp"
 #include "hbf/tracking.hpp"
 #include "hbf/stability.hpp"
 #include "hbf/time_integration.hpp"
@@ -397,6 +398,119 @@ TEST_CASE("Cyclic symmetry: several engine orders in one hbf map run, each the F
         CHECK(b.err.find("cyclic.engine_order") != std::string::npos);
         CHECK_FALSE(std::filesystem::exists(dir.path / "x.csv"));
     }
+}
+
+TEST_CASE("Cyclic symmetry: a finite-element sector reduced inside hbf (Craig-Bampton, the cut faces kept) is "
+          "the sector itself with every fixed-interface mode, and converges with fewer",
+          "[cyclic]") {
+    // examples/systems/bladed_disk/sector.toml: 76 FE DOFs (plane stress) and the next sector's
+    // lip DOF for the damper across the cut; the file's [reduction] keeps 12 modes.
+    const std::string dir = std::string(HBF_SOURCE_DIR) + "/examples/systems/bladed_disk/";
+    const io::SystemConfig file = io::read_system_config(dir + "sector.toml");
+    REQUIRE(file.reduction);
+    test::TempDir tmp;
+    std::string text = test::slurp(dir + "sector.toml");
+    for (std::size_t at = text.find("\"sector_"); at != std::string::npos; at = text.find("\"sector_", at + dir.size() + 2))
+        text.insert(at + 1, dir);
+    const std::size_t from = text.find("[reduction]"), to = text.find("[frequency]");
+    REQUIRE(from != std::string::npos);
+    REQUIRE(to != std::string::npos);
+    test::write_file((tmp.path / "fe.toml").string(), text.substr(0, from) + text.substr(to));
+    const io::SystemConfig fe_file = io::read_system_config((tmp.path / "fe.toml").string());
+    System fe = fe_file.system;
+    REQUIRE(fe.dofs() == 77);
+    REQUIRE(fe.cyclic.active());
+    fe.damping = 4e-7 * fe.stiffness;  // the file's Rayleigh damping, on the FE model
+    ReductionOptions o;
+    o.method = ReductionMethod::craig_bampton;
+    o.interface_dofs = {73, 69, 76};  // the damper's DOFs (u_t of both lips' tips, the next sector's copy)
+    auto reduced = [&](int modes) {
+        ReductionOptions with = o;
+        with.modes = modes;
+        return reduce(fe, with);
+    };
+    const ReducedSystem all = reduced(65);  // 77 - 12 retained (the cut faces added by the reduction)
+    CHECK(all.model.retained.size() == 12);
+    CHECK(all.system.cyclic.neighbours.size() == fe.cyclic.neighbours.size());
+    for (const auto& [d, m] : all.system.cyclic.neighbours) {  // retained coordinates of the same FE pairs
+        REQUIRE(d < static_cast<int>(all.model.retained.size()));
+        REQUIRE(m < static_cast<int>(all.model.retained.size()));
+        const std::pair<int, int> pair{all.model.retained[static_cast<std::size_t>(d)],
+                                       all.model.retained[static_cast<std::size_t>(m)]};
+        CHECK(std::find(fe.cyclic.neighbours.begin(), fe.cyclic.neighbours.end(), pair) != fe.cyclic.neighbours.end());
+    }
+    // the nodal-diameter families: every fixed-interface mode kept, the FE sector's to 1e-10
+    for (bool stuck : {false, true}) {
+        const NodalDiameterFamily exact = nodal_diameter_family(fe, stuck), r = nodal_diameter_family(all.system, stuck);
+        for (Eigen::Index d = 0; d < exact.frequencies.rows(); ++d)
+            for (Eigen::Index j = 0; j < 3; ++j)
+                CHECK(std::abs(r.frequencies(d, j) - exact.frequencies(d, j)) <= 1e-10 * exact.frequencies(d, j));
+    }
+    // A sector of 12 (the file's) or 24 modes: its FRF points, recovered on the FE sector
+    // (y = T q), corrected by Newton's method on the FE sector's harmonic balance: the change of
+    // the tip's amplitude is the truncation's error (the modes left out).
+    const std::vector<Output> tip = {Output::dof(65)};
+    HarmonicBalanceOptions ho;
+    ho.harmonics = *fe_file.choices.harmonics;
+    ho.formulation = Formulation::full;
+    HarmonicBalance fe_hb(fe, ho);
+    const int coefficients = 2 * ho.harmonics + 1;
+    const std::vector<int> own = independent_dofs(fe);
+    REQUIRE(fe_hb.unknowns() == coefficients * static_cast<int>(own.size()));
+    const auto tip_at = std::find(own.begin(), own.end(), 65) - own.begin();
+    auto truncation = [&](const ReducedSystem& sector) {
+        FrfSettings settings = frf_settings(sector.system, reduced_outputs(tip, sector.model), fe_file.choices);
+        settings.error_points = 0;
+        const FrfResult frf = compute_frf(sector.system, settings);
+        REQUIRE(frf.status() == "completed");
+        HarmonicBalance reduced_hb(sector.system, ho);
+        double change = 0.0;
+        for (std::size_t p = 0; p < frf.points.size(); p += 6) {
+            const double omega = frf.points[p].omega;
+            const Eigen::MatrixXd y = reduced_hb.dofs(frf.points[p].x, omega) * sector.model.recovery.transpose();
+            Eigen::VectorXd x(fe_hb.unknowns()), r;
+            for (std::size_t i = 0; i < own.size(); ++i)
+                x.segment(static_cast<Eigen::Index>(i) * coefficients, coefficients) = y.col(own[i]);
+            Eigen::VectorXd z = x;
+            for (int it = 0; it < 5; ++it) {
+                Eigen::MatrixXd jacobian;
+                fe_hb.evaluate(z, omega, r, &jacobian);
+                z -= jacobian.partialPivLu().solve(r);
+            }
+            fe_hb.evaluate(z, omega, r);
+            REQUIRE(r.cwiseAbs().maxCoeff() <= 1e-9 * fe.excitation.cwiseAbs().maxCoeff());  // Newton converged
+            const auto amplitude = [&](const Eigen::VectorXd& v) {
+                return std::hypot(v(tip_at * coefficients + 1), v(tip_at * coefficients + 2));
+            };
+            change = std::max(change, std::abs(amplitude(z) - amplitude(x)) / amplitude(z));
+        }
+        return change;
+    };
+    const ReducedSystem twelve = reduced(12);
+    const double error12 = truncation(twelve), error24 = truncation(reduced(24));
+    INFO("the tip's amplitude corrected on the FE sector by " << error12 << " (12 modes), " << error24 << " (24 modes)");
+    CHECK(error12 <= 3e-3);
+    CHECK(error24 <= 0.3 * error12);
+    // The example as a user runs it: the damper near its optimum holds the peak between the
+    // released and the stuck nodal-diameter-3 resonances, far below either.
+    const std::string summary = (tmp.path / "sector.json").string();
+    const test::Result r = test::run_hbf("frf --config '" + dir + "sector.toml' --out '" + (tmp.path / "sector.csv").string() +
+                                             "' --summary '" + summary + "' --error-points 0",
+                                         tmp);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const nlohmann::json j = nlohmann::json::parse(test::slurp(summary));
+    const double w_peak = j["peaks"][0]["w"].get<double>();
+    const NodalDiameterFamily released = nodal_diameter_family(file.system, false), stuck = nodal_diameter_family(file.system, true);
+    CHECK(w_peak > 1.01 * released.frequencies(3, 0));
+    CHECK(w_peak < 0.99 * stuck.frequencies(3, 0));
+    // the file's own reduction is the 12-mode one
+    CHECK(file.system.dofs() == twelve.system.dofs());
+    // macneal keeps no cut face physical: refused for a sector
+    ReductionOptions macneal = o;
+    macneal.method = ReductionMethod::macneal;
+    macneal.modes = 5;
+    CHECK_THROWS_WITH(reduce(fe, macneal), Catch::Contains("not for a sector model"));
 }
 
 TEST_CASE("Cyclic symmetry: the damper's optimal slip force on the 24-sector example, by tracking the peak, "

@@ -131,6 +131,10 @@ ReducedModel reduce(const SparseMatrix& mass, const SparseMatrix& damping, const
 /// act on retained, the loads projected (T^T F), and every contact's directions (which must act
 /// on retained DOFs only) carried to the reduced coordinates. Outputs map with
 /// reduced_outputs. Throws InvalidInput naming "contact <c>" for a direction on an interior DOF.
+/// A sector model (System::cyclic, cyclic.hpp): the DOFs it shares with the next sector and
+/// their masters are added to the interface where missing (kept physical: the wheel of reduced
+/// sectors is the reduced wheel), the neighbour pairs carried to the reduced coordinates;
+/// macneal is refused (its free-interface modes do not keep the cut faces).
 struct ReducedSystem {
     System system;
     ReducedModel model;

@@ -336,8 +336,22 @@ ReducedSystem reduce(const System& fe, const ReductionOptions& options) {
     std::vector<int> loaded;
     for (int i = 0; i < n; ++i)
         if (fe.excitation(i) != 0.0 || (fe.static_load.size() == n && fe.static_load(i) != 0.0)) loaded.push_back(i);
+    // A sector (cyclic.hpp): the DOFs shared with the next sector (its cut faces, a contact's
+    // neighbour DOFs) and their masters stay physical, after the interface: each sector a
+    // component of the wheel, joined to the next at retained DOFs (the reduced wheel is the
+    // wheel of reduced sectors).
+    ReductionOptions chosen = options;
+    if (fe.cyclic.active()) {
+        if (options.method == ReductionMethod::macneal)
+            throw InvalidInput("reduction.method = macneal: not for a sector model (its free-interface modes "
+                               "would not keep the cut faces physical): allowed craig-bampton or massless-boundary");
+        std::set<int> kept(chosen.interface_dofs.begin(), chosen.interface_dofs.end());
+        for (const auto& [d, m] : fe.cyclic.neighbours)
+            for (int dof : {m, d})
+                if (dof >= 0 && dof < n && kept.insert(dof).second) chosen.interface_dofs.push_back(dof);
+    }
     ReducedSystem out;
-    out.model = reduce(fe.mass, fe.damping, fe.stiffness, options, loaded);
+    out.model = reduce(fe.mass, fe.damping, fe.stiffness, chosen, loaded);
     const ReducedModel& model = out.model;
     System& s = out.system;
     s.mass = model.mass;
@@ -387,6 +401,13 @@ ReducedSystem reduce(const System& fe, const ReductionOptions& options) {
                     at->second = carried;
                 }
         s.contacts.push_back(std::move(contact));
+    }
+    if (fe.cyclic.active()) {
+        s.cyclic = fe.cyclic;
+        for (auto& [d, m] : s.cyclic.neighbours) {
+            d = model.coordinate(d);
+            m = model.coordinate(m);
+        }
     }
     return out;
 }

@@ -436,9 +436,6 @@ SystemConfig read_system_config(const std::string& path) {
         cyclic = node->as_table();
         if (!cyclic) fail(path, node->source(), "cyclic", "expected a table [cyclic]");
         read_cyclic(r, *cyclic, static_cast<int>(n), config);
-        if (root.get("reduction"))
-            fail(path, node->source(), "cyclic",
-                 "a sector model is given by its own matrices: not together with [reduction] (allowed: one of them)");
     }
     std::vector<toml::source_region> contact_lines;
     std::vector<int> neighbours;  // per contact: the next sector's DOF it joins, or -1

@@ -16,7 +16,7 @@ const std::vector<ConfigKey>& config_keys() {
         {"", "solver", "table [solver]: harmonic-balance settings"},
         {"", "output", "table [output] (DOFs to report) or tables [[output]] (linear combinations of DOFs)"},
         {"", "reduction", "table [reduction]: reduce the finite-element model of [structure] onto its interface"},
-        {"", "cyclic", "table [cyclic]: the model is one sector of a cyclically symmetric wheel under an engine-order excitation"},
+        {"", "cyclic", "table [cyclic]: the model is one sector of a cyclically symmetric wheel under an engine-order excitation (with [reduction]: the cut faces and the contacts' neighbour DOFs kept physical)"},
 
         {"structure", "mass", "mass matrix M, N x N: rows, a flat list (diagonal) or a Matrix Market file; may be singular (massless DOFs), must be positive semi-definite (required)"},
         {"structure", "stiffness", "stiffness matrix K, N x N, as mass (required)"},
