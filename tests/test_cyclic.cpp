@@ -420,7 +420,7 @@ TEST_CASE("Cyclic symmetry: a finite-element sector reduced inside hbf (Craig-Ba
     System fe = fe_file.system;
     REQUIRE(fe.dofs() == 77);
     REQUIRE(fe.cyclic.active());
-    fe.damping = 4e-7 * fe.stiffness;  // the file's Rayleigh damping, on the FE model
+    fe.damping = 2e-6 * fe.stiffness;  // the file's Rayleigh damping, on the FE model
     ReductionOptions o;
     o.method = ReductionMethod::craig_bampton;
     o.interface_dofs = {73, 69, 76};  // the damper's DOFs (u_t of both lips' tips, the next sector's copy)
@@ -489,7 +489,7 @@ TEST_CASE("Cyclic symmetry: a finite-element sector reduced inside hbf (Craig-Ba
     const ReducedSystem twelve = reduced(12);
     const double error12 = truncation(twelve), error24 = truncation(reduced(24));
     INFO("the tip's amplitude corrected on the FE sector by " << error12 << " (12 modes), " << error24 << " (24 modes)");
-    CHECK(error12 <= 3e-3);
+    CHECK(error12 <= 1e-3);
     CHECK(error24 <= 0.3 * error12);
     // The example as a user runs it: the damper near its optimum holds the peak between the
     // released and the stuck nodal-diameter-3 resonances, far below either.
@@ -503,7 +503,7 @@ TEST_CASE("Cyclic symmetry: a finite-element sector reduced inside hbf (Craig-Ba
     const double w_peak = j["peaks"][0]["w"].get<double>();
     const NodalDiameterFamily released = nodal_diameter_family(file.system, false), stuck = nodal_diameter_family(file.system, true);
     CHECK(w_peak > 1.01 * released.frequencies(3, 0));
-    CHECK(w_peak < 0.99 * stuck.frequencies(3, 0));
+    CHECK(w_peak < stuck.frequencies(3, 0));
     // the file's own reduction is the 12-mode one
     CHECK(file.system.dofs() == twelve.system.dofs());
     // macneal keeps no cut face physical: refused for a sector
