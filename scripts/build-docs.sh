@@ -13,7 +13,7 @@ BUILD=$(cd "$1" && pwd)
 [[ -x $BUILD/hbf && -d $BUILD/python/hbfriction ]] ||
   { echo "build-docs.sh: $BUILD has no hbf or no Python package (build with -DHBF_PYTHON=ON)" >&2; exit 2; }
 OUT=$BUILD/docs
-rm -rf "$OUT/site" "$OUT/html" "$OUT/doctrees" "$OUT/doxygen" "$OUT/tutorial"
+rm -rf "$OUT/site" "$OUT/html" "$OUT/doctrees" "$OUT/doxygen" "$OUT/tutorial" "$OUT/tutorial-wheel"
 mkdir -p "$OUT/site/examples" "$OUT/doxygen"
 cp -r "$ROOT/docs" "$OUT/site/docs"
 cp -r "$ROOT/examples/python" "$OUT/site/examples/python"
@@ -46,6 +46,11 @@ PYTHONPATH=$BUILD/python${PYTHONPATH:+:$PYTHONPATH} MPLBACKEND=Agg \
   { cat "$OUT/tutorial.log" >&2; echo "build-docs.sh: the tutorial failed" >&2; exit 1; }
 mkdir -p "$OUT/site/docs/_generated/tutorial"
 cp "$OUT"/tutorial/bar/*.png "$OUT/site/docs/_generated/tutorial/"
+PYTHONPATH=$BUILD/python${PYTHONPATH:+:$PYTHONPATH} MPLBACKEND=Agg \
+  bash "$ROOT/docs/tutorials/bladed-disk/run.sh" "$OUT/tutorial-wheel" "$BUILD/hbf" "$ROOT" "$PY" > "$OUT/tutorial-wheel.log" 2>&1 ||
+  { cat "$OUT/tutorial-wheel.log" >&2; echo "build-docs.sh: the bladed-disk tutorial failed" >&2; exit 1; }
+mkdir -p "$OUT/site/docs/_generated/tutorial-wheel"
+cp "$OUT"/tutorial-wheel/wheel/*.png "$OUT/site/docs/_generated/tutorial-wheel/"
 
 export HBF_SOURCE_DIR=$ROOT
 export HBF_EXECUTABLE=$BUILD/hbf

@@ -279,6 +279,15 @@ TEST_CASE("Cyclic symmetry in a system file: [cyclic], neighbour_dof, hbf frf an
         if (d == 0) CHECK(excited == "8");
         if (d == 1 || d == 2) CHECK(excited.empty());
     }
+    // --modes: the lowest families only, the same numbers; beyond the sector's own DOFs refused
+    r = test::run_hbf("nodal-diameters --config '" + example + "' --modes 2 --out '" + out + "'", dir);
+    REQUIRE(r.exit_code == 0);
+    const auto two = test::parse_csv(test::slurp(out));
+    REQUIRE(two.size() == 1 + 13 * 2);
+    for (std::size_t k = 1; k < two.size(); ++k) CHECK(two[k] == rows[1 + 4 * ((k - 1) / 2) + (k - 1) % 2]);
+    r = test::run_hbf("nodal-diameters --config '" + example + "' --modes 5 --out '" + (dir.path / "x.csv").string() + "'", dir);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("--modes = 5 is out of range: allowed 1..4") != std::string::npos);
     // The forced response of engine order 3: a completed FRF whose peak lies between the
     // released and the stuck resonance of nodal diameter 3.
     const std::string frf = (dir.path / "frf.csv").string(), summary = (dir.path / "frf.json").string();

@@ -10,6 +10,7 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "frf_flags.hpp"
 #include "outputs.hpp"
 #include "hbf/config.hpp"
 #include "hbf/cyclic.hpp"
@@ -22,7 +23,7 @@ namespace hbf::cli {
 
 namespace {
 struct NodalDiameterOptions {
-    std::string config, harmonics = "10";
+    std::string config, harmonics = "10", modes;
     OutputFlags output;
 };
 
@@ -39,9 +40,19 @@ int run(const CLI::App& command, const NodalDiameterOptions& o) {
     const System& system = config.system;
     if (!system.cyclic.active())
         throw UsageError("--config " + o.config + ": the model is not a sector (no [cyclic] table)");
+    const auto own = static_cast<long long>(independent_dofs(system).size());
+    long long kept = own;
+    if (given(command, "--modes")) {
+        kept = parse_integer("--modes", o.modes);
+        if (kept < 1 || kept > own)
+            throw UsageError("--modes = " + o.modes + " is out of range: allowed 1.." + std::to_string(own) +
+                             " (the sector's own DOFs)");
+    }
     if (o.output.dry_run) return o.output.dry_run_done("nodal-diameters");
-    const NodalDiameterFamily released = nodal_diameter_family(system, false);
-    const NodalDiameterFamily stuck = nodal_diameter_family(system, true);
+    NodalDiameterFamily released = nodal_diameter_family(system, false);
+    NodalDiameterFamily stuck = nodal_diameter_family(system, true);
+    released.frequencies = released.frequencies.leftCols(kept).eval();
+    stuck.frequencies = stuck.frequencies.leftCols(kept).eval();
     const io::Table table = io::nodal_diameter_table(system.cyclic, released, stuck, static_cast<int>(harmonics));
     const Eigen::Index diameters = released.frequencies.rows(), modes = released.frequencies.cols();
     io::OutputFile out(o.output.out);
@@ -94,6 +105,9 @@ void add_flags(CLI::App& command, NodalDiameterOptions& o) {
     command.add_option("--harmonics", o.harmonics,
                        "the response's harmonics k whose nodal diameters the column excited_by lists, 1..100")
         ->capture_default_str()->type_name("INT");
+    command.add_option("--modes", o.modes,
+                       "the lowest modes of each nodal diameter written and drawn, 1..the sector's own DOFs (default: every one)")
+        ->type_name("INT");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output", "",
                               "FILE", "draw the families against the nodal diameter through gnuplot (.png or .svg)",
                               "no summary line on standard error"});
