@@ -375,7 +375,7 @@ expect 2 "modes of nodal diameter 3" '' modes --config "$WHEEL" --mode 9 --out x
 expect 2 "not for a sector model" 'sed "s/craig-bampton/macneal/; s#\"sector_#\"$SRC/examples/systems/bladed_disk/sector_#" "$SRC/examples/systems/bladed_disk/sector.toml" >s.toml' frf --config s.toml --out x.csv
 expect 2 "not a sector" '' map --config "$SRC/examples/systems/chain3.toml" --param cyclic.engine_order --values 1 --out x.csv
 expect 2 "stability" '' frf --config "$WHEEL" --stability on --out x.csv
-expect 2 "formulation = condensed" '' frf --config "$WHEEL" --formulation condensed --out x.csv
+expect 2 "does not take a sector model" '' frf --config "$WHEEL" --formulation condensed --modes 3 --out x.csv
 # --jacobian structured on a rigid contact names the law that carries states (it named dahl and lugre).
 expect 2 "contact 1: law unilateral" '' frf --config "$SRC/examples/systems/liftoff3_rigid.toml" --jacobian structured --out x.csv
 # A frequency far from every stuck mode names none of them (it followed the nearest silently).

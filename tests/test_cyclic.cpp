@@ -101,7 +101,7 @@ struct WheelCheck {
     FrfResult frf;
     double residual = 0, change = 0;  ///< largest, relative to the force and to the state
 };
-WheelCheck against_the_wheel(const System& s, int harmonics) {
+WheelCheck against_the_wheel(const System& s, int harmonics, Formulation formulation = Formulation::full) {
     const int n = s.cyclic.sectors, own = bench::own_dofs(s), d = nodal_diameter(s.cyclic, 1);
     const NodalDiameterFamily released = nodal_diameter_family(s, false), stuck = nodal_diameter_family(s, true);
     FrfChoices choices;
@@ -111,13 +111,16 @@ WheelCheck against_the_wheel(const System& s, int harmonics) {
     FrfSettings settings = frf_settings(s, {Output::dof(2)}, choices);
     settings.continuation.corrector.tolerance = 1e-12;
     settings.error_points = 0;
+    settings.harmonic_balance.formulation = formulation;
     CHECK_FALSE(settings.exact);  // the polish does not take a sector: harmonic balance's FRF
     WheelCheck out;
     out.frf = compute_frf(s, settings);
     HarmonicBalanceOptions o;
     o.harmonics = harmonics;
-    o.formulation = Formulation::full;
+    o.formulation = formulation;
     HarmonicBalance sector_hb(s, o);
+    REQUIRE(sector_hb.formulation() == formulation);
+    o.formulation = Formulation::full;
     const System w = lumped_wheel(s);
     HarmonicBalance wheel_hb(w, o);
     const int coefficients = 2 * harmonics + 1;
@@ -153,9 +156,11 @@ WheelCheck against_the_wheel(const System& s, int harmonics) {
 }  // namespace
 
 TEST_CASE("Cyclic symmetry: the sector's harmonic balance is the whole wheel's, at every point of an FRF "
-          "through stick, stick-slip and slip",
+          "through stick, stick-slip and slip, in the full and the condensed formulation",
           "[cyclic]") {
-    const WheelCheck c = against_the_wheel(lumped_sector(12, 3, 0.05), 5);
+    const Formulation formulation = GENERATE(Formulation::full, Formulation::condensed);
+    INFO("formulation " << to_string(formulation));
+    const WheelCheck c = against_the_wheel(lumped_sector(12, 3, 0.05), 5, formulation);
     INFO(c.frf.summary());
     REQUIRE(c.frf.status() == "completed");
     REQUIRE(c.frf.points.size() >= 20);
@@ -168,9 +173,11 @@ TEST_CASE("Cyclic symmetry: the sector's harmonic balance is the whole wheel's, 
 }
 
 TEST_CASE("Cyclic symmetry: with law elastic across the cut, the sector's harmonic balance is the whole "
-          "wheel's through stick, slip and lift-off",
+          "wheel's through stick, slip and lift-off, in the full and the condensed formulation",
           "[cyclic]") {
-    const WheelCheck c = against_the_wheel(bench::lumped_sector_elastic(12, 3, 0.3), 5);
+    const Formulation formulation = GENERATE(Formulation::full, Formulation::condensed);
+    INFO("formulation " << to_string(formulation));
+    const WheelCheck c = against_the_wheel(bench::lumped_sector_elastic(12, 3, 0.3), 5, formulation);
     INFO(c.frf.summary());
     REQUIRE(c.frf.status() == "completed");
     // The normal force on the platforms opens the contact over part of the period at every
@@ -234,7 +241,12 @@ TEST_CASE("Cyclic symmetry: bad sectors are refused naming the field, and the co
     HarmonicBalanceOptions o;
     o.harmonics = 3;
     o.formulation = Formulation::condensed;
-    CHECK_THROWS_WITH(HarmonicBalance(ok, o), Catch::Contains("formulation = condensed: a sector model"));
+    o.modes = 2;  // the condensed formulation takes a sector with the direct solve only
+    CHECK_THROWS_WITH(HarmonicBalance(ok, o), Catch::Contains("the modal receptance does not take a sector model"));
+    o.modes = 0;
+    CHECK(HarmonicBalance(ok, o).formulation() == Formulation::condensed);
+    o.formulation = Formulation::automatic;  // automatic: the full formulation for a sector
+    CHECK(HarmonicBalance(ok, o).formulation() == Formulation::full);
     CHECK_THROWS_WITH(integrate_steady_state(ok, 2.0, TimeIntegrationOptions{}),
                       Catch::Contains("not available for a sector model"));
     CHECK_FALSE(stability_refusal(ok).empty());

@@ -150,10 +150,13 @@ public:
     bool structured() const { return structured_; }
     /// True when only the odd harmonics are balanced (HarmonicBalanceOptions::odd_harmonics).
     bool odd_harmonics() const { return odd_; }
-    /// True for a sector model (System::cyclic, cyclic.hpp): the unknowns are the harmonics of
-    /// the independent DOFs (and the laws' states); every DOF's, the dependent ones turned by
-    /// k phi per harmonic, are all_harmonics' (dofs(), relative(), ...), and the residual is the
-    /// independent DOFs' rows of the wheel (the dependent rows folded onto their masters).
+    /// True for a sector model (System::cyclic, cyclic.hpp) in the full formulation: the unknowns
+    /// are the harmonics of the independent DOFs (and the laws' states); every DOF's, the
+    /// dependent ones turned by k phi per harmonic, are all_harmonics' (dofs(), relative(), ...),
+    /// and the residual is the independent DOFs' rows of the wheel (the dependent rows folded onto
+    /// their masters). A sector in the condensed formulation (asked for: automatic chooses full)
+    /// has its contacts' signals as unknowns like any model, its receptance solving the own DOFs'
+    /// equations per harmonic (Receptance::set_cyclic); cyclic() is false then.
     bool cyclic() const { return cyclic_; }
     /// A sector: P, every signal's coefficients (the layout of all DOFs and states) from the
     /// unknowns, X = P U (the residual is P^T R_X, its Jacobian P^T J_X P); empty otherwise.

@@ -38,6 +38,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace hbf {
 
@@ -130,6 +131,13 @@ public:
     /// h's solution. Empty where neither applies (non-symmetric matrices, no solution in h, a
     /// mode a contact sees hit exactly): differences in xi are the caller's fallback.
     Eigen::VectorXcd apply_mass_damping(const Harmonic& h, const Eigen::VectorXcd& z) const;
+    /// A sector model (cyclic.hpp): each pair (dependent DOF, master) moves as its master turned
+    /// by k phi at harmonic k, Y_d = e^{-i k phi} Y_m, and the equations solved are the sector's
+    /// own DOFs' (the dependent rows folded onto their masters): Z_k becomes T_k^H Z_k T_k on the
+    /// own DOFs (factorised at each solve), and every quantity of Harmonic keeps its meaning on all
+    /// DOFs: G_k = W^T T_k (T_k^H Z_k T_k)^-1 T_k^H W, the solution T_k (...)^-1 T_k^H [W, F].
+    /// The direct solve only (use_modes refuses a sector); apply_mass_damping gives nothing.
+    void set_cyclic(std::vector<std::pair<int, int>> neighbours, double phase);
     /// Modes in use (0: the direct sparse solve).
     int modes() const { return static_cast<int>(modal_.lambda.size()); }
     /// Natural frequencies sqrt(lambda_j) of the modes in use, ascending.
@@ -173,6 +181,10 @@ private:
     bool symmetric_ = false;  // K, M, C all symmetric: W^T Z_k^-1 = (Z_k^-1 W)^T
     bool dense_ = false;      // a dense LU (dense_limit, dense_fill_limit), else the sparse one
     std::unique_ptr<Eigen::SparseLU<SparseComplex>> lu_;  // analysed once (large models)
+    std::vector<std::pair<int, int>> cyclic_;  // set_cyclic's pairs (dependent, master); empty: not a sector
+    double cyclic_phase_ = 0;
+    /// T_k (N x own DOFs) of set_cyclic at harmonic k.
+    SparseComplex cyclic_basis(int k) const;
     Harmonic solve_modal(int k, double omega, bool load, bool solution, bool explicit_contact = true) const;
     struct Modal {
         Eigen::VectorXd lambda, damping;         // lambda_j, c_j (minus xi: set_mass_damping)

@@ -112,12 +112,14 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         throw InvalidInput("harmonics = " + std::to_string(options.harmonics) + " does not reach the excitation harmonic h = " +
                            std::to_string(system_.excitation_harmonic) + ": allowed harmonics >= h");
     const int n = coefficients(), nc = static_cast<int>(system_.contacts.size());
-    cyclic_ = system_.cyclic.active();
-    if (cyclic_) {
-        // A sector (cyclic.hpp): the full formulation on its independent DOFs.
-        if (options.formulation == Formulation::condensed)
-            throw InvalidInput("formulation = condensed: a sector model (cyclic symmetry) is balanced in the full "
-                               "formulation; allowed: full or automatic");
+    const bool sector = system_.cyclic.active();
+    cyclic_ = sector;  // until the formulation is chosen (below): the full formulation's map
+    if (sector) {
+        // A sector (cyclic.hpp): the full formulation on its independent DOFs (automatic), or
+        // the condensed one with the receptance on them (the direct solve).
+        if (options.formulation == Formulation::condensed && options.modes > 0)
+            throw InvalidInput("modes = " + std::to_string(options.modes) + ": the modal receptance does not take a "
+                               "sector model (cyclic symmetry); allowed: modes = 0 (the direct solve)");
         if (options.odd_harmonics)
             throw InvalidInput("odd harmonics only: not with cyclic symmetry (allowed: every harmonic)");
         if (options.jacobian == JacobianForm::structured)
@@ -216,7 +218,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     // minutes). phi^T M phi converges with refinement, so delta_c does too. w^T M w stays where
     // it is the larger (a relative direction between lumped masses: 1.1 against 0.1 on the
     // paper's absorber, where 0.1 failed an FRF of the coarse joint optimisation in mu and wa).
-    if (options.formulation != Formulation::full && nc > 0 && !cyclic_) {
+    if (options.formulation != Formulation::full && nc > 0 && (!sector || options.formulation == Formulation::condensed)) {
         shift_stiffness_.resize(ns);
         shift_damping_.resize(ns);
         SparseMatrix stiffness = system_.stiffness, damping = system_.damping;
@@ -268,25 +270,41 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         stiffness += shift;
         shift.setFromTriplets(damping_shift.begin(), damping_shift.end());
         damping += shift;
+        // The receptance's directions on every DOF (w above is a sector's merged one).
+        Eigen::MatrixXd w_all = w;
+        if (sector) {
+            w_all.resize(system_.dofs(), ns);
+            for (int a = 0; a < ns; ++a) w_all.col(a) = directions_[static_cast<std::size_t>(a)];
+        }
         std::unique_ptr<Receptance> receptance;
         if (options.modes > 0) {
             // The modal basis of the unshifted structure; the contact springs and dampers enter
             // exactly through the contacts' small system (receptance.hpp).
-            receptance = std::make_unique<Receptance>(system_.mass, system_.damping, system_.stiffness, w,
+            receptance = std::make_unique<Receptance>(system_.mass, system_.damping, system_.stiffness, w_all,
                                                       system_.excitation, Eigen::MatrixXd(0, system_.dofs()));
             receptance->use_modes(options.modes, shift_stiffness_, shift_damping_);
             modes_ = receptance->modes();
         } else {
-            receptance = std::make_unique<Receptance>(system_.mass, damping, stiffness, w, system_.excitation,
+            receptance = std::make_unique<Receptance>(system_.mass, damping, stiffness, w_all, system_.excitation,
                                                       Eigen::MatrixXd(0, system_.dofs()));
+            if (sector) receptance->set_cyclic(system_.cyclic.neighbours, system_.cyclic.phase());
         }
         // The N-long solution only where the direct solve gives it anyway (dofs() applies the
         // modal receptance to the forces instead).
         Receptance::Harmonic h0 = receptance->solve(0, 1.0, false, options.modes == 0);
-        const bool usable = h0.ok && (h0.contact.real().diagonal().array() > 0.0).all();
+        // Each signal's static flexibility G_0,cc (its rows' scale). A sector's contact between a
+        // DOF and its own image in the next sector does not move at harmonic 0 (nor where k EO =
+        // 0 mod N: G_0,cc = 0, its rows Q = 0): its scale is then 1 / (w^T K' w) of the sector.
+        Eigen::VectorXd flexibility = h0.ok ? Eigen::VectorXd(h0.contact.real().diagonal()) : Eigen::VectorXd();
+        if (h0.ok && sector)
+            for (int a = 0; a < ns; ++a) {
+                const double k = quadratic_form(stiffness, directions_[static_cast<std::size_t>(a)]);
+                if (!(flexibility(a) > 1e-12 * (k > 0.0 ? 1.0 / k : 0.0)) && k > 0.0) flexibility(a) = 1.0 / k;
+            }
+        const bool usable = h0.ok && (flexibility.array() > 0.0).all();
         if (usable && system_.has_static_load()) {
             // Harmonic 0 of the static load on the shifted structure: one more sparse solve of K'.
-            Receptance loaded(system_.mass, damping, stiffness, w, system_.static_load, Eigen::MatrixXd(0, system_.dofs()));
+            Receptance loaded(system_.mass, damping, stiffness, w_all, system_.static_load, Eigen::MatrixXd(0, system_.dofs()));
             const Receptance::Harmonic s0 = loaded.solve(0, 1.0, true, true);
             if (s0.ok) {
                 static_contact_ = s0.contact_load.real();
@@ -299,7 +317,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         if (usable && (!system_.has_static_load() || static_contact_.size() > 0)) {
             condensed_ = true;
             receptance_ = std::move(receptance);
-            static_flexibility_ = h0.contact.real().diagonal();
+            static_flexibility_ = flexibility;
             harmonic_ = std::make_shared<std::vector<Receptance::Harmonic>>(static_cast<std::size_t>(harmonics() + 1));
             (*harmonic_)[0] = std::move(h0);
         } else if (options.formulation == Formulation::condensed) {
@@ -311,6 +329,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     } else if (options.formulation == Formulation::condensed && nc == 0) {
         throw InvalidInput("formulation = condensed needs at least one contact: allowed full for a linear system");
     }
+    cyclic_ = sector && !condensed_;  // a condensed sector's unknowns are its contacts' signals, as any model's
     if (options.modes > 0 && !condensed_)
         throw InvalidInput("modes = " + std::to_string(options.modes) +
                            ": the modal receptance belongs to the condensed formulation, which this system does not "
@@ -391,7 +410,8 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     for (int row = 0; row < n; ++row)
         if (!odd_ || (row > 0 && ((row + 1) / 2) % 2 == 1)) balanced_.push_back(row);
     std::vector<bool> dependent(static_cast<std::size_t>(all_unknowns_ / n), false);
-    for (const auto& pair : system_.cyclic.neighbours) dependent[static_cast<std::size_t>(pair.first)] = true;
+    if (cyclic_)
+        for (const auto& pair : system_.cyclic.neighbours) dependent[static_cast<std::size_t>(pair.first)] = true;
     std::vector<int> first_unknown(dependent.size(), -1);  // of each independent signal
     for (int signal = 0; signal < all_unknowns_ / n; ++signal) {
         if (dependent[static_cast<std::size_t>(signal)]) continue;

@@ -267,6 +267,28 @@ bool Receptance::direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, 
             w_dx = directions_.transpose().cast<Complex>() * dx;
         }
     };
+    if (!cyclic_.empty()) {
+        // A sector: the own DOFs' equations T^H Z T u = T^H b, x = T u; refined by the same
+        // residual b - Z x, whose folded part T^H (b - Z x) is what the next solve sees.
+        const SparseComplex t = cyclic_basis(k), th = t.adjoint();
+        const SparseComplex own = th * z * t;
+        if (dense_) {
+            const Eigen::PartialPivLU<Eigen::MatrixXcd> lu{Eigen::MatrixXcd(own)};
+            solve_all([&](const Eigen::MatrixXcd& r) { return Eigen::MatrixXcd(t * Eigen::MatrixXcd(lu.solve(th * r))); });
+        } else {
+            Eigen::SparseLU<SparseComplex> lu;
+            lu.analyzePattern(own);
+            lu.factorize(own);
+            if (lu.info() != Eigen::Success) return false;
+            solve_all([&](const Eigen::MatrixXcd& r) {
+                return Eigen::MatrixXcd(t * Eigen::MatrixXcd(lu.solve(Eigen::MatrixXcd(th * r))));
+            });
+        }
+        if (!x.allFinite() || !w_dx.allFinite()) return false;
+        const double z_size = Eigen::Map<const Eigen::VectorXcd>(z.valuePtr(), z.nonZeros()).cwiseAbs().maxCoeff();
+        const double scale = z_size * x.cwiseAbs().maxCoeff() + rhs.cwiseAbs().maxCoeff();
+        return (th * (z * x - rhs)).cwiseAbs().maxCoeff() <= 1e-8 * scale;
+    }
     if (dense_) {
         const Eigen::PartialPivLU<Eigen::MatrixXcd> lu{Eigen::MatrixXcd(z)};
         solve_all([&](const Eigen::MatrixXcd& r) { return Eigen::MatrixXcd(lu.solve(r)); });
@@ -282,6 +304,32 @@ bool Receptance::direct_solve(int k, double omega, const Eigen::MatrixXcd& rhs, 
     const double z_size = Eigen::Map<const Eigen::VectorXcd>(z.valuePtr(), z.nonZeros()).cwiseAbs().maxCoeff();
     const double scale = z_size * x.cwiseAbs().maxCoeff() + rhs.cwiseAbs().maxCoeff();
     return (z * x - rhs).cwiseAbs().maxCoeff() <= 1e-8 * scale;
+}
+
+void Receptance::set_cyclic(std::vector<std::pair<int, int>> neighbours, double phase) {
+    if (modes() > 0) throw InvalidInput("the modal receptance does not take a sector model (cyclic symmetry): allowed modes = 0");
+    for (const auto& [d, m] : neighbours)
+        if (d < 0 || d >= dofs() || m < 0 || m >= dofs() || d == m)
+            throw InvalidInput("cyclic symmetry: the pair (" + std::to_string(d + 1) + ", " + std::to_string(m + 1) +
+                               ") names a DOF outside the structure: allowed 1.." + std::to_string(dofs()));
+    cyclic_ = std::move(neighbours);
+    cyclic_phase_ = phase;
+    symmetric_ = cyclic_.empty() && symmetric_;  // T_k^H Z_k T_k is Hermitian-structured, not symmetric
+}
+
+Receptance::SparseComplex Receptance::cyclic_basis(int k) const {
+    std::vector<int> column(static_cast<std::size_t>(dofs()), 0);
+    for (const auto& pair : cyclic_) column[static_cast<std::size_t>(pair.first)] = -1;
+    int own = 0;
+    for (int& c : column) c = c < 0 ? -1 : own++;
+    std::vector<Eigen::Triplet<Complex>> entries;
+    for (int i = 0; i < dofs(); ++i)
+        if (column[static_cast<std::size_t>(i)] >= 0) entries.emplace_back(i, column[static_cast<std::size_t>(i)], 1.0);
+    const Complex turn = std::polar(1.0, -k * cyclic_phase_);
+    for (const auto& [d, m] : cyclic_) entries.emplace_back(d, column[static_cast<std::size_t>(m)], turn);
+    SparseComplex t(dofs(), own);
+    t.setFromTriplets(entries.begin(), entries.end());
+    return t;
 }
 
 Eigen::VectorXcd Receptance::Harmonic::apply(const Eigen::VectorXcd& z) const {

@@ -106,6 +106,9 @@ Eigen::VectorXcd Receptance::apply_mass_damping(const Harmonic& h, const Eigen::
 void Receptance::use_modes(int modes, const Eigen::VectorXd& contact_stiffness, const Eigen::VectorXd& contact_damping) {
     const int n = dofs(), nc = contacts();
     if (modes < 1) throw InvalidInput("modes = " + std::to_string(modes) + " is out of range: allowed >= 1");
+    if (!cyclic_.empty())
+        throw InvalidInput("modes = " + std::to_string(modes) + ": the modal receptance does not take a sector model "
+                           "(cyclic symmetry): allowed modes = 0");
     if (contact_stiffness.size() != nc || contact_damping.size() != nc)
         throw InvalidInput("modal receptance: one contact spring and damper per contact direction are needed");
     const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mass_ldlt(mass_);

@@ -108,8 +108,8 @@ Verdict judge_backbone(const Backbone& backbone, const std::vector<ModeMetrics>&
 
 HarmonicBalanceOptions mode_harmonic_balance(HarmonicBalanceOptions hbo, const System& system) {
     if (hbo.formulation == Formulation::automatic && hbo.modes == 0 &&
-        static_cast<long long>(system.dofs()) * (2LL * hbo.harmonics + 1) <= mode_full_limit)
-        hbo.formulation = Formulation::full;
+        (system.cyclic.active() || static_cast<long long>(system.dofs()) * (2LL * hbo.harmonics + 1) <= mode_full_limit))
+        hbo.formulation = Formulation::full;  // a sector's mode: the full formulation (its complex phase row)
     if (hbo.formulation == Formulation::full) hbo.modes = 0;
     hbo.jacobian = JacobianForm::dense;
     return hbo;

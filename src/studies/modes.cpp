@@ -144,6 +144,9 @@ NonlinearModes::NonlinearModes(System system, const HarmonicBalanceOptions& hbo,
     unforced.excitation_harmonic = 1;
     hb_ = std::make_unique<HarmonicBalance>(unforced, mode_harmonic_balance(hbo, system_));
     condensed_ = hb_->formulation() == Formulation::condensed;
+    if (sector && condensed_)
+        throw InvalidInput("formulation = condensed: a sector model's nonlinear modes are solved in the full "
+                           "formulation (allowed: full or automatic)");
     // Where the stuck structure is damped (a contact's damper, C), its damped mode is the
     // linear limit: the undamped mode is not an EPMC solution, and Newton from it can reach
     // another one.
