@@ -4,14 +4,7 @@
 # by the documentation build in a scratch directory laid out as the repository's root: build/hbf
 # and examples/ are links there. The figures the page shows are the ones written here.
 # Usage: run.sh WORK_DIR HBF REPOSITORY PYTHON
-set -euo pipefail
-[[ $# -eq 4 ]] || { echo "usage: run.sh WORK_DIR HBF REPOSITORY PYTHON" >&2; exit 2; }
-work=$1 python=$4
-here=$(cd "$(dirname "$0")" && pwd)
-mkdir -p "$work/build"
-ln -sfn "$2" "$work/build/hbf"
-ln -sfn "$3/examples" "$work/examples"
-cd "$work"
+source "$(dirname "$0")/../scratch.sh" "$@"
 # [mesh]
 python3 examples/systems/bladed_disk/make_sector.py --out wheel
 # [/mesh]
