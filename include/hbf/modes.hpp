@@ -322,6 +322,7 @@ private:
     std::unique_ptr<HarmonicBalance> hb_;
     Eigen::VectorXd m_phi_;  // M phi (a sector: M Re phi)
     Eigen::VectorXd m_phi_imag_;  // a sector: M Im phi (the phase row Im(phi^H M Y_1) = 0); else empty
+    Eigen::MatrixXd sector_mass_d1_;  // a sector: P^T (M (x) D1) P, the -xi omega term's Jacobian per xi omega
     Eigen::VectorXd guess_shape_;  // the unknowns' harmonic 1 of the linear mode per unit a: phi, or W^T phi (condensed)
     Eigen::VectorXd guess_sine_;   // its sine part (the damped linear mode: -Im psi; else empty)
     DampedLinearMode damped_;

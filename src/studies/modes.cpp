@@ -235,17 +235,20 @@ void NonlinearModes::residual(const Eigen::VectorXd& x, double omega, double xi,
     j.setZero(u + 2, u + 2);
     j.topLeftCorner(u, u) = structure_x;
     if (sector) {
-        std::vector<Eigen::Triplet<double>> entries;
-        for (int k = 0; k < system_.mass.outerSize(); ++k)
-            for (SparseMatrix::InnerIterator it(system_.mass, k); it; ++it)
-                for (int a = 0; a < n; ++a)
-                    for (int b = 0; b < n; ++b)
-                        if (d1(a, b) != 0.0)
-                            entries.emplace_back(static_cast<int>(it.row()) * n + a, static_cast<int>(it.col()) * n + b,
-                                                 it.value() * d1(a, b));
-        SparseMatrix m_d1(xa.size(), xa.size());
-        m_d1.setFromTriplets(entries.begin(), entries.end());
-        j.topLeftCorner(u, u) -= xi * omega * Eigen::MatrixXd(p.transpose() * m_d1 * p);
+        if (sector_mass_d1_.rows() != u) {  // P^T (M (x) D1) P: constant, formed at the first Jacobian
+            std::vector<Eigen::Triplet<double>> entries;
+            for (int k = 0; k < system_.mass.outerSize(); ++k)
+                for (SparseMatrix::InnerIterator it(system_.mass, k); it; ++it)
+                    for (int a = 0; a < n; ++a)
+                        for (int b = 0; b < n; ++b)
+                            if (d1(a, b) != 0.0)
+                                entries.emplace_back(static_cast<int>(it.row()) * n + a,
+                                                     static_cast<int>(it.col()) * n + b, it.value() * d1(a, b));
+            SparseMatrix m_d1(xa.size(), xa.size());
+            m_d1.setFromTriplets(entries.begin(), entries.end());
+            sector_mass_d1_ = Eigen::MatrixXd(p.transpose() * m_d1 * p);
+        }
+        j.topLeftCorner(u, u) -= xi * omega * sector_mass_d1_;
     } else {
         for (int k = 0; k < system_.mass.outerSize(); ++k)
             for (SparseMatrix::InnerIterator it(system_.mass, k); it; ++it)
