@@ -2,6 +2,8 @@
 // tracking, modes, closed forms (bindings.hpp).
 #include "bindings.hpp"
 
+#include <chrono>
+
 namespace hbf::python {
 
 void bind_studies(py::module_& m) {
@@ -29,10 +31,26 @@ void bind_studies(py::module_& m) {
 
     m.def(
         "compute_frf",
-        [](const PySystem& s, const FrfSettings& settings) {
+        [](const PySystem& s, FrfSettings settings, double time_limit) {
+            // A stop asked at every continuation step: the time limit, or an interrupt (Ctrl-C,
+            // seen by Python's signal handler): the points so far are the result (status stopped).
+            if (!(time_limit >= 0.0 && time_limit <= 1e9))
+                throw InvalidInput("time_limit = " + format_number(time_limit) + " is out of range: allowed 0 (none) .. 1e9 seconds");
+            const auto start = std::chrono::steady_clock::now();
+            settings.continuation.stop = [start, time_limit]() -> std::string {
+                if (time_limit > 0.0 &&
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= time_limit)
+                    return "the time limit of " + format_number(time_limit) + " s (time_limit) is reached";
+                py::gil_scoped_acquire gil;
+                if (PyErr_CheckSignals() != 0) {
+                    PyErr_Clear();
+                    return "interrupted (KeyboardInterrupt)";
+                }
+                return "";
+            };
             return without_gil([&] { return run_frf(s, settings); });
         },
-        py::arg("system"), py::arg("settings"));
+        py::arg("system"), py::arg("settings"), py::arg("time_limit") = 0.0);
     m.def(
         "compute_frfs",
         [](const std::vector<PySystem>& systems, const FrfSettings& settings, int threads) {

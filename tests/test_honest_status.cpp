@@ -501,3 +501,105 @@ TEST_CASE("A refined peak above the amplitude cap, or a sample above every peak,
     CHECK_THAT(missed.warnings.front(), Catch::Contains("--at sample at w = 0.99 ") &&
                                             Catch::Contains("above every branch point and peak"));
 }
+
+TEST_CASE("A stop (interrupt, time limit) ends the branch with status stopped and keeps its points", "[status]") {
+    AbsorberParameters p;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::dahl), HarmonicBalanceOptions{6, 0});
+    ContinuationOptions whole;
+    const BranchResult full = continue_branch(hb, whole);
+    REQUIRE(full.status == ContinuationStatus::completed);
+    REQUIRE(full.points.size() > 40);
+    // Asked at every step: stop at the 20th.
+    ContinuationOptions o;
+    int asked = 0;
+    o.stop = [&asked] { return ++asked >= 20 ? std::string("test stop") : std::string(); };
+    const BranchResult b = continue_branch(hb, o);
+    CHECK(b.status == ContinuationStatus::stopped);
+    CHECK_THAT(b.message, Catch::Contains("test stop"));
+    REQUIRE(b.points.size() >= 10);
+    REQUIRE(b.points.size() < full.points.size());
+    // The points kept are the full branch's (same steps), and the coverage measures them.
+    for (std::size_t k = 0; k < b.points.size(); ++k) {
+        CHECK(b.points[k].omega == Approx(full.points[k].omega).epsilon(1e-12));
+        CHECK((b.points[k].x - full.points[k].x).cwiseAbs().maxCoeff() <= 1e-12 * full.points[k].x.cwiseAbs().maxCoeff());
+    }
+    CHECK(b.coverage == Approx((b.points.back().omega - o.omega_start) / (o.omega_end - o.omega_start)).epsilon(1e-12));
+}
+
+TEST_CASE("compute_frf after a stop: the phases after the branch are skipped and named, the peak incomplete",
+          "[status]") {
+    AbsorberParameters p;
+    const System system = friction_absorber(p, FrictionLaw::dahl);
+    FrfSettings settings = default_frf_settings(system, {Output::dof(0)});
+    settings.harmonic_balance.harmonics = 6;
+    // Count the questions of a whole run, then stop at the last one: the branch is complete and
+    // only the last phase (the error estimate) is skipped.
+    int asked = 0;
+    settings.continuation.stop = [&asked] {
+        ++asked;
+        return std::string();
+    };
+    const FrfResult whole = compute_frf(system, settings);
+    REQUIRE(whole.branch.status == ContinuationStatus::completed);
+    REQUIRE(whole.error_harmonics > 0);
+    const int total = asked;
+    asked = 0;
+    settings.continuation.stop = [&asked, total] { return ++asked >= total ? std::string("late stop") : std::string(); };
+    const FrfResult late = compute_frf(system, settings);
+    CHECK(late.branch.status == ContinuationStatus::stopped);
+    CHECK(late.peak.state == PeakState::incomplete);
+    CHECK(late.error_harmonics == 0);
+    CHECK(late.points.size() == whole.points.size());
+    bool named = false;
+    for (const std::string& n : late.verdict.notes) named = named || n.find("not done after the stop: the estimate") == 0;
+    CHECK(named);
+    CHECK_FALSE(late.verdict.warnings.empty());
+    // A stop early in the branch: the peaks and the estimate are skipped, the rows are the branch's.
+    asked = 0;
+    settings.continuation.stop = [&asked] { return ++asked >= 10 ? std::string("early stop") : std::string(); };
+    const FrfResult early = compute_frf(system, settings);
+    CHECK(early.branch.status == ContinuationStatus::stopped);
+    CHECK(early.peaks.empty());
+    CHECK(early.points.size() < whole.points.size());
+    CHECK(early.metrics.size() == early.points.size());
+    for (std::size_t k = 0; k < early.points.size(); ++k)
+        CHECK(early.metrics[k].output_max.front() ==
+              Approx(whole.metrics[k].output_max.front()).epsilon(1e-10));
+}
+
+TEST_CASE("hbf frf --time-limit and SIGTERM: the points so far are written, status stopped, exit 3",
+          "[status][cli]") {
+    ::test::TempDir dir;
+    const auto csv = dir.path / "f.csv", json = dir.path / "s.json";
+    // 5000 points at --max-step 1e-5 and H = 60 take about 10 s (3 s with --time-limit 2).
+    const std::string run = "frf --law dahl --harmonics 60 --max-step 1e-5 --out '" + csv.string() + "' --summary '" +
+                            json.string() + "'";
+    ::test::Result r = ::test::run_hbf(run + " --time-limit 2", dir);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("time limit of 2 s (--time-limit) is reached"));
+    nlohmann::json s = nlohmann::json::parse(::test::slurp(json));
+    CHECK(s["status"] == "stopped");
+    CHECK(s["outcome"] == "incomplete");
+    auto rows = ::test::parse_csv(::test::slurp(csv));
+    CHECK(rows.size() > 10);
+    CHECK(rows.size() < 5000);
+    CHECK(std::stod(rows[1][0]) == Approx(0.5));
+    std::filesystem::remove(csv);
+    std::filesystem::remove(json);
+    // A SIGTERM after 2 s (a shell's background job ignores SIGINT; SIGTERM takes the same path).
+    const auto script = dir.path / "run.sh";
+    ::test::write_file(script, "'" + std::string(HBF_EXECUTABLE) + "' " + run + " 2>'" + (dir.path / "err").string() +
+                                   "' &\npid=$!\nsleep 2\nkill -TERM $pid\nwait $pid\necho $? > '" +
+                                   (dir.path / "code").string() + "'\n");
+    REQUIRE(std::system(("bash '" + script.string() + "'").c_str()) == 0);
+    CHECK(std::stoi(::test::slurp(dir.path / "code")) == 3);
+    CHECK_THAT(::test::slurp(dir.path / "err"), Catch::Contains("interrupted (SIGTERM)"));
+    s = nlohmann::json::parse(::test::slurp(json));
+    CHECK(s["status"] == "stopped");
+    rows = ::test::parse_csv(::test::slurp(csv));
+    CHECK(rows.size() > 10);
+    // Bad values are refused before any work.
+    r = ::test::run_hbf("frf --time-limit -1 --out '" + csv.string() + "'", dir);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Catch::Contains("--time-limit = -1 is out of range"));
+}

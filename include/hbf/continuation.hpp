@@ -64,6 +64,11 @@ struct ContinuationOptions {
     /// their number: locating them can take longer than the branch (a 99-node interface's many
     /// folds at corners). May be empty; it must not throw.
     std::function<void(int done, int total)> fold_progress;
+    /// Asked before each step, each restart and each fold or transition to locate: a non-empty
+    /// answer (why: an interrupt, a time limit) stops the continuation with status stopped, the
+    /// points computed so far kept (folds and transitions not yet located stay unmarked). May be
+    /// empty; it must not throw.
+    std::function<std::string()> stop;
 };
 
 /// cap: the last point of a trace stopped by the amplitude cap (an unbounded resonance; a
@@ -99,13 +104,14 @@ struct SolutionPoint {
 /// How a continuation ended. completed: the branch spans [wmin, wmax]; every other status is
 /// an incomplete result: amplitude_cap (the response exceeds max_amplitude: an unbounded
 /// resonance, capped), left_range (the branch turned back out of the range before spanning
-/// it), point_budget (max_points reached), min_step (the corrector stalled), start_failed.
+/// it), point_budget (max_points reached), stopped (ContinuationOptions::stop asked it: an
+/// interrupt or a time limit), min_step (the corrector stalled), start_failed.
 /// With several branches (restarts past a cap) the status is the worst of them, in the order
-/// completed < amplitude_cap < left_range < point_budget < min_step < start_failed.
+/// completed < amplitude_cap < left_range < point_budget < stopped < min_step < start_failed.
 /// Throws InvalidInput naming the first option out of range (continue_branch calls it).
 void validate(const ContinuationOptions& options);
 
-enum class ContinuationStatus { completed, amplitude_cap, left_range, point_budget, min_step, start_failed };
+enum class ContinuationStatus { completed, amplitude_cap, left_range, point_budget, stopped, min_step, start_failed };
 std::string to_string(ContinuationStatus status);
 
 struct BranchResult {

@@ -607,7 +607,7 @@ class Branch(Table):
         return "<hbfriction.Branch: %d points, %s, %d peak(s)>" % (len(self), self.status, len(self.peaks))
 
 
-def frf(system, settings=None, *, outputs=None, stability=None, **options):
+def frf(system, settings=None, *, outputs=None, stability=None, time_limit=0, **options):
     """The frequency response of `system` (hbf frf): pseudo-arclength continuation of the
     harmonic-balance solutions over [omega_start, omega_end], the exact polish where it applies,
     the peaks refined. Returns a Branch.
@@ -620,9 +620,11 @@ def frf(system, settings=None, *, outputs=None, stability=None, **options):
     options: any field of FrfSettings, HarmonicBalanceOptions, ContinuationOptions or
     CorrectorOptions by its C++ name, e.g. harmonics=20, omega_start=0.8 (or wmin=0.8),
     omega_end=1.3, exact=False, at=[1.0, 1.1], tolerance=1e-10, max_amplitude=100 (see options()).
+    time_limit: seconds (0: none) after which the continuation stops; the points so far are the
+    result, its status stopped (an IncompleteResultWarning). An interrupt (Ctrl-C) does the same.
     """
     s = _settings(system, settings, outputs, stability, options)
-    branch = Branch(_core.compute_frf(system, s), s)
+    branch = Branch(_core.compute_frf(system, s, _real("time_limit", time_limit)), s)
     branch.interfaces = system.interfaces
     _judge(branch.status, branch.errors + branch.warnings, "the FRF")
     return branch

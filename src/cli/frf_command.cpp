@@ -15,6 +15,7 @@
 #include "outputs.hpp"
 #include "frf_flags.hpp"
 #include "progress.hpp"
+#include "stop_request.hpp"
 #include "commands.hpp"
 #include "hbf/config.hpp"
 #include "hbf/absorber.hpp"
@@ -36,7 +37,7 @@ struct FrfOptions {
     AbsorberFlags absorber;
     FrfFlags frf;
     OutputFlags output;
-    std::string at, overlay, overlay_out, plot_contacts;
+    std::string at, overlay, overlay_out, plot_contacts, time_limit = "0";
 };
 
 /// The contact groups of --plot-contacts and the CSV's *_share_i<k> columns: a file's meshed
@@ -99,6 +100,9 @@ int run(const CLI::App& command, const FrfOptions& o) {
         throw UsageError("--at is empty: allowed a comma-separated list of frequencies > 0");
     if (given(command, "--overlay-timeint") && o.overlay.empty())
         throw UsageError("--overlay-timeint is empty: allowed 2..10000 points");
+    const double time_limit = parse_double("--time-limit", o.time_limit);
+    if (!(time_limit >= 0.0 && time_limit <= 1e9))
+        throw UsageError("--time-limit = " + o.time_limit + " is out of range: allowed 0 (none) .. 1e9 seconds");
     if (!o.overlay.empty()) {
         overlay_points = parse_integer("--overlay-timeint", o.overlay);
         if (overlay_points < 2 || overlay_points > 10000)
@@ -134,11 +138,16 @@ int run(const CLI::App& command, const FrfOptions& o) {
         HarmonicBalance::validate(system, settings.harmonic_balance);
         return o.output.dry_run_done("frf");
     }
+    // An interrupt or the time limit stops the run; what it has computed is written (exit 3).
+    StopRequest stop("frf", time_limit);
+    stop.watch_crawl(co.omega_end - co.omega_start);
+    co.stop = stop.function();
     HarmonicBalance hb(system, settings.harmonic_balance);
     // The contacts' state under the static load and preloads alone (static_state.hpp).
     const StaticState* rest = hb.rest_state();
     ProgressLine progress(o.output.progress(), "frf");
-    co.progress = [&progress](double omega, int points) {
+    co.progress = [&progress, &stop](double omega, int points) {
+        stop.reached(omega);
         char text[64];
         std::snprintf(text, sizeof text, "w = %-12.6g %6d points", omega, points);
         progress.update(text);
@@ -187,6 +196,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // stderr after the files are committed, and in the JSON summary (judge_frf, frf.hpp).
     Verdict verdict = frf.verdict;
     verdict.add(overlay_messages.messages());
+    for (const std::string& line : stop.crawls()) verdict.note(line);
     std::unique_ptr<io::OutputFile> summary;
     if (!o.output.summary.empty()) {
         const auto parameters = io::frf_parameters(system, config ? nullptr : &p, hb, co);
@@ -258,6 +268,13 @@ void add_flags(CLI::App& command, FrfOptions& o) {
                    "uncertain points marked (.png or .svg)",
                    "no progress or summary line on standard error\nno progress (w reached, points, elapsed time: on a terminal redrawn 4 times a second, "
                    "otherwise, e.g. into a log file, one line a minute) or summary line on standard error"});
+    command.add_option("--time-limit", o.time_limit,
+                       "stop after SECONDS and write the points computed so far (exit 3, status stopped); 0: none\n"
+                       "stop the run after SECONDS of wall time (0: no limit) and write what it has computed: the "
+                       "branch's points so far (status stopped, exit code 3; the phases after the branch, such as "
+                       "the exact polish or the error estimate, are skipped and a note names them). An interrupt "
+                       "(Ctrl-C, SIGTERM, SIGHUP) does the same; a second one ends the process without output")
+        ->option_text("SECONDS");
     command.add_option("--overlay-timeint", o.overlay,
                         "also integrate K frequencies in time and draw them on the --plot\nalso integrate K frequencies of a uniform grid over [wmin, wmax] in time (an up-sweep, "
                         "hbf timeint's defaults) and draw them as markers on the --plot; their rows go to "
@@ -283,7 +300,8 @@ Columns:)",
 failed at some point (those rows keep their HB values, exact = failed), or when an --at frequency
 got no row (outside the branch, or its solve failed; named on standard error); the points computed
 so far are still written. Exit code 3 when the result is written but incomplete or doubtful: an
-amplitude cap (an unbounded resonance), a branch that left the range or used up its points, an
+amplitude cap (an unbounded resonance), a branch that left the range or used up its points or its
+--time-limit, an interrupt (the first Ctrl-C stops the run and writes what it has), an
 unlocated transition, a point that fails the energy balance, or a warning of Ceres (each reason one
 line on standard error). With --stability, uncertain verdicts (column stable = uncertain: the two
 routes disagree, typically at a fold) are a note on standard error, not an exit code: the FRF itself

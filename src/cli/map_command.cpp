@@ -348,7 +348,7 @@ void add_flags(CLI::App& command, MapOptions& o) {
         ->capture_default_str()->type_name("auto|curves|heatmap");
     describe_output(command, {
         R"(Output: a tidy CSV, one row per FRF point: the parameter's value (column named after it), frf_status
-(the FRF's continuation status: completed, amplitude_cap, left_range, point_budget, min_step,
+(the FRF's continuation status: completed, amplitude_cap, left_range, point_budget, stopped, min_step,
 start_failed), then the columns of hbf frf:)",
         io::frf_columns(2),
         R"(An FRF that fails is one row with its status and empty fields, and the map goes on. Exit code 3 when

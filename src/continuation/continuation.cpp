@@ -37,7 +37,8 @@ std::string to_string(Boundary boundary) { return detail::enum_name(boundary_nam
 constexpr detail::EnumName<ContinuationStatus> continuation_status_names[] = {
     {ContinuationStatus::completed, "completed"}, {ContinuationStatus::amplitude_cap, "amplitude_cap"},
     {ContinuationStatus::left_range, "left_range"}, {ContinuationStatus::min_step, "min_step"},
-    {ContinuationStatus::point_budget, "point_budget"}, {ContinuationStatus::start_failed, "start_failed"}};
+    {ContinuationStatus::point_budget, "point_budget"}, {ContinuationStatus::stopped, "stopped"},
+    {ContinuationStatus::start_failed, "start_failed"}};
 
 std::string to_string(ContinuationStatus status) {
     return detail::enum_name(continuation_status_names, status, "continuation status");
@@ -291,6 +292,11 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         return false;
     };
     while (true) {
+        if (const std::string why = o.stop ? o.stop() : std::string(); !why.empty()) {
+            out.status = ContinuationStatus::stopped;
+            out.message = "stopped at w = " + format_number(omega) + ": " + why;
+            return out;
+        }
         if (static_cast<int>(out.points.size()) >= o.max_points) {
             out.status = ContinuationStatus::point_budget;
             out.message = "point budget of " + std::to_string(o.max_points) + " reached at w = " + format_number(omega);
@@ -474,6 +480,15 @@ double branch_coverage(const std::vector<SolutionPoint>& points, double low, dou
     return covered / (high - low);
 }
 
+/// Whether o.stop asks to stop before a restart: then the result's status is stopped (unless worse).
+bool stop_now(const ContinuationOptions& o, BranchResult& result) {
+    const std::string why = o.stop ? o.stop() : std::string();
+    if (why.empty()) return false;
+    result.status = worse(result.status, ContinuationStatus::stopped);
+    result.message += (result.message.empty() ? "" : "; ") + std::string("stopped before the restart: ") + why;
+    return true;
+}
+
 /// Branch 1 from omega_start and, after an amplitude cap, branch 2 from omega_end.
 void follow_branches(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, BranchResult& result) {
     Eigen::VectorXd x;
@@ -490,7 +505,7 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     result.points = std::move(first.points);
     result.status = first.status;
     result.message = first.message;
-    if (first.status != ContinuationStatus::amplitude_cap || !o.restart_past_cap) return;
+    if (first.status != ContinuationStatus::amplitude_cap || !o.restart_past_cap || stop_now(o, result)) return;
 
     // Restart from the other end, walking down in frequency towards the capped peak.
     const double capped_at = result.points.back().omega;
@@ -509,7 +524,8 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
                       (second.message.empty() ? to_string(second.status) : second.message);
     result.status = worse(result.status, second.status);
     // (Caps less than 2% apart are the two flanks of one resonance: no gap between them.)
-    if (second.status != ContinuationStatus::amplitude_cap || !(capped_above > 1.02 * capped_at)) return;
+    if (second.status != ContinuationStatus::amplitude_cap || !(capped_above > 1.02 * capped_at) || stop_now(o, result))
+        return;
 
     // Two unbounded resonances: the part between them is a separate (bounded) branch. Start
     // in the middle of the gap and follow it both ways, down to the first cap and up to the
@@ -572,8 +588,8 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     BranchResult result;
     if (o.resolve_resonances) result.resonances = linear_resonances(hb.system(), o.omega_start, o.omega_end);
     follow_branches(hb, corrector, o, result);
-    if (o.locate_folds) insert_folds(hb, corrector, o.corrector, frequency_scale(o), result, o.fold_progress);
-    if (o.locate_transitions) insert_transitions(hb, corrector, o.corrector, frequency_scale(o), result);
+    if (o.locate_folds) insert_folds(hb, corrector, o.corrector, frequency_scale(o), result, o.fold_progress, o.stop);
+    if (o.locate_transitions) insert_transitions(hb, corrector, o.corrector, frequency_scale(o), result, o.stop);
     result.coverage = branch_coverage(result.points, o.omega_start, o.omega_end);
     result.corrector = corrector.statistics();
     result.evaluation = hb.statistics() - before;

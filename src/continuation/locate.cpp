@@ -193,8 +193,20 @@ bool locate_fold(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, 
 
 }  // namespace
 
+bool stop_location(const std::function<std::string()>& stop, std::string& why, BranchResult& result,
+                   const std::string& left) {
+    if (!why.empty()) return true;
+    if (!stop) return false;
+    why = stop();
+    if (why.empty()) return false;
+    const bool already = result.status == ContinuationStatus::stopped;  // the trace said why
+    if (result.status < ContinuationStatus::stopped) result.status = ContinuationStatus::stopped;
+    result.message += (result.message.empty() ? "" : "; ") + left + (already ? std::string() : " (stopped: " + why + ")");
+    return true;
+}
+
 void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options,
-                        double omega_scale, BranchResult& result) {
+                        double omega_scale, BranchResult& result, const std::function<std::string()>& stop) {
     if (hb.system().contacts.empty() || result.points.size() < 2) return;
     CorrectorOptions patient_options = options;
     patient_options.max_iterations = std::max(100, 5 * patient_options.max_iterations);
@@ -205,11 +217,11 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
     points.push_back(result.points.front());
     const bool several = previous.size() > 1;
     int lost = 0;
-    std::string where;
+    std::string where, stopped;
     for (std::size_t k = 1; k < result.points.size(); ++k) {
         const SolutionPoint &a = result.points[k - 1], &b = result.points[k];
         const std::vector<std::string> current = regimes_at(hb, b);
-        if (a.branch == b.branch) {
+        if (a.branch == b.branch && !stop_location(stop, stopped, result, "stick-slip transitions not located")) {
             std::vector<SolutionPoint> found;
             for (int c = 0; c < static_cast<int>(current.size()); ++c) {
                 const auto i = static_cast<std::size_t>(c);
@@ -246,7 +258,8 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
 }
 
 void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options, double omega_scale,
-                  BranchResult& result, const std::function<void(int done, int total)>& progress) {
+                  BranchResult& result, const std::function<void(int done, int total)>& progress,
+                  const std::function<std::string()>& stop) {
     CorrectorOptions patient_options = options;
     patient_options.max_iterations = std::max(100, 5 * patient_options.max_iterations);
     Corrector patient(hb, patient_options);
@@ -255,11 +268,17 @@ void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOpti
     const int marked = static_cast<int>(std::count_if(result.points.begin(), result.points.end(),
                                                       [](const SolutionPoint& p) { return p.kind == PointKind::fold; }));
     int done = 0;
+    std::string stopped;
     for (std::size_t k = 0; k < result.points.size(); ++k) {
         SolutionPoint b = result.points[k];
         // The last point of a capped trace keeps its mark (the cap stopped it there).
         const bool last = k + 1 == result.points.size() || result.points[k + 1].branch != b.branch;
         if (b.kind == PointKind::fold && !last && k > 0 && result.points[k - 1].branch == b.branch) {
+            if (stop_location(stop, stopped, result, std::to_string(marked - done) + " fold(s) not located")) {
+                b.kind = PointKind::regular;  // a mark, not a located fold
+                points.push_back(std::move(b));
+                continue;
+            }
             SolutionPoint fold;
             if (progress) progress(done++, marked);
             b.kind = PointKind::regular;

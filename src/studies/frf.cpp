@@ -65,7 +65,8 @@ PeakValue largest_peak(const FrfResult& r, const FrfSettings& settings) {
         case ContinuationStatus::completed: p.state = PeakState::bounded; break;
         case ContinuationStatus::amplitude_cap: p.state = PeakState::unbounded; break;
         case ContinuationStatus::left_range:
-        case ContinuationStatus::point_budget: p.state = PeakState::incomplete; break;
+        case ContinuationStatus::point_budget:
+        case ContinuationStatus::stopped: p.state = PeakState::incomplete; break;
         case ContinuationStatus::min_step:
         case ContinuationStatus::start_failed: p.state = PeakState::failed; break;
     }
@@ -473,10 +474,22 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     FrfResult r;
     std::string declined;  // why an automatic polish did not run
     r.branch = continue_branch(hb, settings.continuation);
-    const Resolution resolution = resolve_time_samples(hb, settings, r.branch);
+    // A stop (an interrupt, a time limit: ContinuationOptions::stop) skips the phases after it;
+    // the points computed so far are the result, its status stopped.
+    std::string stopped;
+    std::vector<std::string> skipped;
+    auto stop_before = [&](const char* phase) {
+        if (stopped.empty() && r.branch.status == ContinuationStatus::stopped) stopped = r.branch.message;
+        if (stopped.empty() && settings.continuation.stop) stopped = settings.continuation.stop();
+        if (stopped.empty()) return false;
+        skipped.emplace_back(phase);
+        return true;
+    };
+    const Resolution resolution =
+        stop_before("the check of the AFT's time samples") ? Resolution{} : resolve_time_samples(hb, settings, r.branch);
     r.time_samples = hb.time_samples();
     r.points = r.branch.points;
-    if (!settings.at.empty()) {
+    if (!settings.at.empty() && !stop_before("the --at samples")) {
         const auto samples = sample_branch(hb, r.branch, settings.at, corrector, &r.missed);
         r.points.insert(r.points.end(), samples.begin(), samples.end());
     }
@@ -485,7 +498,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     Analyser analyse(hb, {0}, outputs);
     r.metrics.reserve(r.points.size());
     for (const SolutionPoint& point : r.points) r.metrics.push_back(analyse(point));
-    if (settings.exact) {
+    if (settings.exact && !stop_before("the exact polish")) {
         PolishOptions po;
         po.dof = std::max(0, outputs.front().single_dof());
         po.exact.outputs = outputs;
@@ -506,20 +519,27 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
             r.peaks = r.polish->peaks;
         }
     }
-    if (!r.polish && settings.peaks) {
+    if (!r.polish && settings.peaks && !stop_before("the peaks' refinement")) {
         r.peaks = settings.peaks_of_every_output ? find_peaks(hb, r.branch, outputs, corrector)
                                                  : find_peaks(hb, r.branch, {outputs.front()}, corrector);
     }
     detail::HbErrorSummary error;
-    if (!r.polish && settings.error_points > 0 && !r.points.empty()) error = detail::estimate_hb_error(hb, settings, outputs, r);
+    if (!r.polish && settings.error_points > 0 && !r.points.empty() &&
+        !stop_before("the estimate of harmonic balance's error"))
+        error = detail::estimate_hb_error(hb, settings, outputs, r);
     r.error_harmonics = error.harmonics;
     const int within = error.estimated > 0 ? detail::mark_peaks_within_error(r) : 0;
     r.hb_error = error.largest;
     r.hb_error_omega = error.omega;
-    if (settings.stability) {
+    if (settings.stability && !stop_before("the stability analysis")) {
         r.stability = analyse_branch_stability(hb, r.points, settings.stability_options,
                                                r.polish ? &r.exact : nullptr);
         mark_bifurcations(*r.stability, r.points);
+    }
+    if (!skipped.empty() && r.branch.status < ContinuationStatus::stopped) {
+        // the branch was complete (or capped); what followed it was not
+        r.branch.status = ContinuationStatus::stopped;
+        r.branch.message += (r.branch.message.empty() ? "" : "; ") + std::string("stopped after the branch: ") + stopped;
     }
     r.peak = largest_peak(r, settings);
     r.messages = collector.messages();
@@ -548,6 +568,12 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
                        ") stand less above their valleys than harmonic balance's estimated error there: not resolved "
                        "at H = " + std::to_string(hb.harmonics()) +
                        ", possibly its artefacts (raise the harmonics; within_hb_error in the JSON peaks)");
+    }
+    if (!skipped.empty()) {
+        std::string list;
+        for (std::size_t k = 0; k < skipped.size(); ++k)
+            list += (k == 0 ? "" : k + 1 == skipped.size() ? " and " : ", ") + skipped[k];
+        r.verdict.note("not done after the stop: " + list);
     }
     if (!declined.empty()) r.verdict.note(declined);
     if (!settings.exact_note.empty()) r.verdict.note(settings.exact_note);

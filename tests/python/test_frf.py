@@ -110,6 +110,24 @@ def test_an_incomplete_frf_warns_and_says_why():
     assert b.peak["state"] == "unbounded" and math.isinf(b.peak["value"])
 
 
+def test_a_time_limit_stops_the_frf_and_keeps_its_points():
+    # 5000 points at max_step 1e-5 and H = 60 take about 10 s; stopped after 1 s, the branch so far
+    # is the result (status stopped: incomplete, a warning), its points those of a whole run's start.
+    system = hbfriction.absorber("dahl")
+    with pytest.warns(hbfriction.IncompleteResultWarning, match="time limit of 1 s"):
+        b = hbfriction.frf(system, harmonics=60, max_step=1e-5, time_limit=1)
+    assert b.status == "incomplete"
+    assert b.metadata["status"] == "stopped"
+    assert 10 < len(b.w) < 5000
+    assert any("not done after the stop" in n for n in b.notes)
+    with pytest.warns(hbfriction.IncompleteResultWarning, match="point_budget"):
+        whole = hbfriction.frf(system, harmonics=60, max_step=1e-5, max_points=len(b.w), error_points=0, peaks=False,
+                               locate_transitions=False, locate_folds=False)
+    assert np.allclose(b.y1_max, whole.y1_max[:len(b.w)], rtol=1e-12, atol=0)
+    with pytest.raises(ValueError, match="time_limit = -1 is out of range"):
+        hbfriction.frf(system, time_limit=-1)
+
+
 def test_write_csv_follows_the_output_policy(tmp_path):
     b = hbfriction.frf(hbfriction.absorber("lugre"), wmin=1.0, wmax=1.1)
     target = tmp_path / "real.csv"
