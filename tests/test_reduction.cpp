@@ -233,6 +233,56 @@ TEST_CASE("Massless-boundary Craig-Bampton with every mode: the FE model less th
     }
 }
 
+TEST_CASE("retain_loads = false: a load on an interior DOF is projected onto the modes, exact with every mode",
+          "[reduction]") {
+    const Beam beam = cantilever(12);
+    const int n = 24, tip = 22, mid = 10;
+    System fe;
+    fe.mass = sparse(beam.mass);
+    fe.stiffness = sparse(beam.stiffness);
+    fe.damping = SparseMatrix(n, n);
+    fe.excitation = Eigen::VectorXd::Zero(n);
+    fe.excitation(mid) = 1.0;
+    ReductionOptions o;
+    o.interface_dofs = {tip};
+    o.retain_loads = false;
+    const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(n, n);
+    // The load's static part is carried by the modes alone: the error falls as they are added,
+    // and with every interior mode the reduction is exact again.
+    double previous = std::numeric_limits<double>::infinity();
+    for (int modes : {2, 6, 12, 23}) {
+        o.modes = modes;
+        const ReducedSystem r = reduce(fe, o);
+        CHECK(r.model.retained == std::vector<int>{tip});
+        CHECK(r.model.projected_load_dofs == 1);
+        CHECK_THAT(r.model.summary(), Catch::Contains("loads on 1 interior DOFs projected onto the modes"));
+        for (double omega : {0.5, 3.5}) {
+            const double e = frf_error(beam.mass, zero, beam.stiffness, fe.excitation, r.model, omega);
+            INFO("modes " << modes << ", w = " << omega << ": " << e);
+            if (modes == 23) CHECK(e < 1e-9);
+            else CHECK(e > 1e-8);  // not statically exact: the load's DOF is not kept
+            if (omega == 0.5) {
+                CHECK(e < previous);
+                previous = e;
+            }
+        }
+    }
+    // Kept (the default), the loaded DOF is statically exact at any mode count; with a massless
+    // boundary it is massless too, and the mass it drops is the difference.
+    o.modes = 6;
+    ReductionOptions keep = o;
+    keep.retain_loads = true;
+    const ReducedSystem kept = reduce(fe, keep);
+    CHECK(kept.model.retained == std::vector<int>{tip, mid});
+    CHECK(kept.model.projected_load_dofs == 0);
+    CHECK(frf_error(beam.mass, zero, beam.stiffness, fe.excitation, kept.model, 0.0) < 1e-9);
+    o.method = keep.method = ReductionMethod::massless_boundary;
+    const ReducedSystem light = reduce(fe, o), heavy = reduce(fe, keep);
+    CHECK(light.model.dropped_mass.size() == 1);
+    CHECK(heavy.model.dropped_mass.size() == 2);
+    CHECK(light.model.dropped_mass_fraction < heavy.model.dropped_mass_fraction);
+}
+
 TEST_CASE("MacNeal: the retained DOFs' receptance is the kept modes plus the static residual flexibility",
           "[reduction]") {
     const Beam beam = cantilever(15);
@@ -405,6 +455,7 @@ TEST_CASE("[reduction] in a system file: bad keys and impossible reductions name
         {"[reduction]\nmodes = 4\nrayleigh = [0.1, 0.0]\n", {"reduction", "damping matrix", "rayleigh"}},
         {"[reduction]\nmodes = 4\ninterface = [5]\n", {"contact[1]", "FE DOF 199", "reduction.interface"}},
         {"[reduction]\nmodes = 4\nshape = 1\n", {"reduction", "shape"}},
+        {"[reduction]\nmodes = 4\nretain_loads = 1\n", {"reduction.retain_loads", "expected true or false"}},
     };
     for (const Case& c : cases) hbf::test::check_refused_config(file, beam_file(c.table), c.expected);
     // Through hbf: exit 2, the key named, no output (an unconstrained structure: the beam's

@@ -76,6 +76,12 @@ struct ReductionOptions {
     Damping damping = Damping::projected;
     double rayleigh_mass = 0, rayleigh_stiffness = 0;  ///< a, b >= 0
     std::vector<double> modal_ratios;                  ///< zeta_1, zeta_2, ... in [0, 1)
+    /// reduce(System): keep the DOFs the excitation and the static load act on as coordinates
+    /// (the reduced model then is statically exact for them). false: only the interface DOFs
+    /// are kept and a load on interior DOFs is projected, T^T F, onto the constraint and normal
+    /// modes (with a massless boundary a retained loaded DOF is massless: keeping it drops that
+    /// node's mass and changes which fixed-interface modes are kept).
+    bool retain_loads = true;
 
     /// Largest reduced model (n_r = retained + modes: its matrices are dense) and largest
     /// recovery matrix T (N x n_r entries, 8 bytes each) the reduction builds.
@@ -109,6 +115,9 @@ struct ReducedModel {
     /// fraction of the FE model's trace(M).
     Eigen::VectorXd dropped_mass;
     double dropped_mass_fraction = 0;
+    /// reduce(System) with retain_loads false: the interior FE DOFs the excitation or the static
+    /// load act on (their loads projected onto the modes, not statically exact).
+    int projected_load_dofs = 0;
     /// The fraction of dropped mass above which warnings() speaks (1 %).
     static constexpr double dropped_mass_warning = 0.01;
     /// One paragraph: method, sizes, the modes' frequency range, the dropped mass.

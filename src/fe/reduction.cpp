@@ -77,6 +77,8 @@ std::string ReducedModel::summary() const {
         out << ", " << mode_frequencies.size() << (method == ReductionMethod::macneal ? " free" : " fixed")
             << "-interface modes, w " << mode_frequencies(0) << " to " << mode_frequencies(mode_frequencies.size() - 1);
     if (dropped_mass.size() > 0) out << "; dropped mass " << format_number(100.0 * dropped_mass_fraction) << " % of trace(M)";
+    if (projected_load_dofs > 0)
+        out << "; loads on " << projected_load_dofs << " interior DOFs projected onto the modes (retain_loads = false)";
     out << ")";
     return out.str();
 }
@@ -336,6 +338,8 @@ ReducedSystem reduce(const System& fe, const ReductionOptions& options) {
     std::vector<int> loaded;
     for (int i = 0; i < n; ++i)
         if (fe.excitation(i) != 0.0 || (fe.static_load.size() == n && fe.static_load(i) != 0.0)) loaded.push_back(i);
+    std::vector<int> projected;  // loaded DOFs left interior (retain_loads false)
+    if (!options.retain_loads) projected.swap(loaded);
     // A sector (cyclic.hpp): the DOFs shared with the next sector (its cut faces, a contact's
     // neighbour DOFs) and their masters stay physical, after the interface: each sector a
     // component of the wheel, joined to the next at retained DOFs (the reduced wheel is the
@@ -352,6 +356,8 @@ ReducedSystem reduce(const System& fe, const ReductionOptions& options) {
     }
     ReducedSystem out;
     out.model = reduce(fe.mass, fe.damping, fe.stiffness, chosen, loaded);
+    out.model.projected_load_dofs = static_cast<int>(
+        std::count_if(projected.begin(), projected.end(), [&](int d) { return out.model.coordinate(d) < 0; }));
     const ReducedModel& model = out.model;
     System& s = out.system;
     s.mass = model.mass;

@@ -69,6 +69,11 @@ void read_reduction(const Reader& r, const toml::node& node, SystemConfig& confi
                 for (int d : node)
                     if (dofs.insert(d).second) o.interface_dofs.push_back(d);
     }
+    if (const toml::node* v = t->get("retain_loads")) {
+        const auto flag = v->as_boolean();
+        if (!flag) fail(path, v->source(), "reduction.retain_loads", "expected true or false");
+        o.retain_loads = flag->get();
+    }
     const toml::node* ratios = t->get("damping_ratios");
     const toml::node* rayleigh = t->get("rayleigh");
     if (ratios && rayleigh) fail(path, rayleigh->source(), "reduction.rayleigh", "given with reduction.damping_ratios: allowed one of them");

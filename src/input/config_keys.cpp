@@ -65,6 +65,7 @@ const std::vector<ConfigKey>& config_keys() {
         {"reduction", "interface", "FE DOFs kept as coordinates (1-based list or N x 1 Matrix Market file); default: the DOFs the contacts act on"},
         {"reduction", "damping_ratios", "modal damping ratios of the reduced model's modes (the last repeated)"},
         {"reduction", "rayleigh", "[a, b]: C = a M_r + b K_r on the reduced model"},
+        {"reduction", "retain_loads", "true (default): the DOFs the excitation and static load act on are kept as coordinates (statically exact; with massless-boundary they lose their mass); false: only the interface is kept and those loads are projected onto the modes"},
     };
     return keys;
 }
