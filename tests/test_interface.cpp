@@ -305,6 +305,59 @@ TEST_CASE("hbf frf: the interface's node-averaged shares stuck, slipping and ope
     }
 }
 
+TEST_CASE("hbf timeint: the interface's shares stuck, slipping and open, as hbf frf's", "[interface][cli]") {
+    // The two-node pad above, integrated in time (law elastic: exact event times): each row's
+    // shares are the means of the per-node columns and add up to 1, the undriven node sticks,
+    // and near the resonance they agree with harmonic balance's (H = 40: at H = 15 it misses node 1's
+    // short stick at w = 1.4) to its sampling.
+    TempDir dir;
+    const fs::path file = dir.path / "s.toml";
+    write_file(file, "[structure]\nmass = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]\nstiffness = [2.0, 2.0, 2.0, 2.0, 2.0, 2.0]\n"
+                     "excitation = [0.5, 0.0, 0.0, 0.0, 0.0, 0.0]\ndamping = [0.05, 0.05, 0.05, 0.05, 0.05, 0.05]\n"
+                     "[[interface]]\nname = \"pad\"\nnodes = [[1, 2, 3], [4, 5, 6]]\nnormal = [0.0, 0.0, 1.0]\n"
+                     "area = [0.5, 1.5]\nlaw = \"elastic\"\nstiffness = 2.0\nnormal_stiffness = 4.0\n"
+                     "friction_coefficient = 0.2\npreload_pressure = 3.0\n[frequency]\nwmin = 0.5\nwmax = 3.0\n"
+                     "[solver]\nharmonics = 40\n");
+    const auto ti = hbf::test::run_hbf("timeint --quiet --config '" + file.string() + "' --wmin 1.2 --wmax 1.6 --points 3", dir);
+    INFO(ti.err);
+    REQUIRE(ti.exit_code == 0);
+    const auto rows = hbf::test::parse_csv(ti.out);
+    REQUIRE(rows.size() == 4);
+    auto column = [&](const std::vector<std::vector<std::string>>& table, const std::string& name) {
+        const auto at = std::find(table[0].begin(), table[0].end(), name);
+        REQUIRE(at != table[0].end());
+        return static_cast<std::size_t>(at - table[0].begin());
+    };
+    const std::size_t stuck = column(rows, "stuck_share_i1"), slip = column(rows, "slip_share_i1"),
+                      open = column(rows, "open_share_i1"), s1 = column(rows, "stick_fraction_c1"),
+                      s2 = column(rows, "stick_fraction_c2"), o1 = column(rows, "separated_fraction_c1"),
+                      o2 = column(rows, "separated_fraction_c2");
+    const auto hb = hbf::test::run_hbf("frf --quiet --config '" + file.string() + "' --at 1.2,1.4,1.6 --error-points 0", dir);
+    INFO(hb.err);
+    REQUIRE(hb.exit_code == 0);
+    const auto hb_rows = hbf::test::parse_csv(hb.out);
+    const std::size_t hb_stuck = column(hb_rows, "stuck_share_i1"), hb_point = column(hb_rows, "point");
+    double least = 1.0;
+    for (std::size_t k = 1; k < rows.size(); ++k) {
+        const auto& row = rows[k];
+        auto v = [&](std::size_t i) { return std::stod(row[i]); };
+        CHECK(v(stuck) == Approx((v(s1) + v(s2)) / 2).epsilon(1e-13));
+        CHECK(v(open) == Approx((v(o1) + v(o2)) / 2).margin(1e-14));
+        CHECK(v(stuck) + v(slip) + v(open) == Approx(1.0).epsilon(1e-13));
+        CHECK(v(s2) == 1.0);
+        least = std::min(least, v(stuck));
+        for (const auto& h : hb_rows)
+            if (h[hb_point] == "sample" && std::abs(std::stod(h[0]) - v(0)) < 1e-9) {
+                INFO("w = " << v(0));
+                CHECK(std::abs(std::stod(h[hb_stuck]) - v(stuck)) < 0.005);  // HB counts its N_t samples
+            }
+    }
+    CHECK(least < 0.9);
+    // The columns' help lists them.
+    const auto help = hbf::test::run_hbf("timeint --columns", dir);
+    CHECK_THAT(help.out, Catch::Contains("stuck_share_i1") && Catch::Contains("open_share_i1"));
+}
+
 TEST_CASE("The static state of a meshed interface is described by counts and force ranges", "[interface]") {
     // Above 8 contacts one line per node would bury the message: counts per state and the
     // smallest and largest normal force and the largest tangential one, from the given forces.

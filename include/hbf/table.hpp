@@ -96,6 +96,8 @@ struct InterfaceShares {
     double stuck = 0.0, slipping = 0.0, open = 0.0;
 };
 std::optional<InterfaceShares> interface_shares(const PointMetrics& metrics, const InterfaceContacts& group);
+/// The same from every contact's regime (PointMetrics::contacts, PeriodicResponse::contacts).
+std::optional<InterfaceShares> interface_shares(const std::vector<ContactRegime>& contacts, const InterfaceContacts& group);
 
 /// The table of `hbf frf` (frf_columns(outputs)), one row per point (metrics[k] and exact[k]
 /// belong to points[k]; as write_frf_csv below).
@@ -112,22 +114,25 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
                    const std::vector<InterfaceContacts>& interfaces = {});
 
 /// Columns of `hbf timeint` for a system with `dofs` DOFs: the `hbf frf` columns that apply
-/// (w, `y<i>_max`, `y<i>_amp1`, stick_fraction, regime, energy), then periods, converged and the
-/// diagnostics stick_margin_min, stick_margin_max, switches.
+/// (w, `y<i>_max`, `y<i>_amp1`, stick_fraction, regime, the interfaces' shares, energy), then
+/// periods, converged and the diagnostics stick_margin_min, stick_margin_max, switches.
 std::vector<Column> timeint_columns(int dofs);
 /// The same for `outputs` (in this order; as frf_columns(outputs)).
 std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts = 1,
-                                    const std::vector<int>& normal = {});
+                                    const std::vector<int>& normal = {},
+                                    const std::vector<InterfaceContacts>& interfaces = {});
 
 /// The table of `hbf timeint` (timeint_columns(outputs)), one row per response; a response
 /// without a single integrated period has empty numbers and regime failed.
-Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::vector<Output>& outputs);
+Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::vector<Output>& outputs,
+                    const std::vector<InterfaceContacts>& interfaces = {});
 
 /// Writes the header row and one row per response (time-integration steady states), with the
 /// columns of `outputs` (r.output_max[j] and r.output_amp1[j] belong to outputs[j]: the
-/// integration ran with TimeIntegrationOptions::outputs = outputs).
+/// integration ran with TimeIntegrationOptions::outputs = outputs) and the shares of each
+/// interface (stuck_share_i<k>, slip_share_i<k>, open_share_i<k>, as hbf frf's).
 void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses,
-                       const std::vector<Output>& outputs);
+                       const std::vector<Output>& outputs, const std::vector<InterfaceContacts>& interfaces = {});
 
 /// The "parameters" of an FRF's JSON summary: the preset's (r, wa, mu, fe, wb, xi, eps,
 /// mu_static, stribeck_velocity, viscous) with `preset`, else the model's size (dofs,

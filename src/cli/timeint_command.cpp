@@ -142,7 +142,8 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         state = responses.back().state;
     }
     if (progress) std::cerr << "\n";
-    io::write_timeint_csv(out.stream(), responses, chosen.outputs);
+    io::write_timeint_csv(out.stream(), responses, chosen.outputs,
+                          chosen.config ? chosen.config->interfaces : std::vector<InterfaceContacts>());
     if (!o.output.plot.empty()) {
         io::PlotSpec spec;
         spec.title = title;
@@ -223,7 +224,7 @@ contact stuck, the next ones from the previous steady state (a sweep follows one
 between up and down sweeps). Output: CSV with a header row, one row per frequency in sweep order.
 Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.
 Columns:)",
-        io::timeint_columns({Output::dof(0), Output::dof(1)}, 1, {0}),  // with law elastic's column
+        io::timeint_columns({Output::dof(0), Output::dof(1)}, 1, {0}, {InterfaceContacts{}}),  // with law elastic's and an interface's columns
         R"(converged = true needs the Poincare map converged and the final period's physics: energy balance
 (input work = dissipated energy per period), contacts stuck for the whole period moving together,
 and permanent stick on the centred linear stuck state (as --method exact), each to max(1e-6, 100

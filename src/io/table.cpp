@@ -218,6 +218,38 @@ std::vector<int> normal_contacts_of(const Rows& rows) {
     std::sort(out.begin(), out.end());
     return out;
 }
+
+/// The columns stuck_share_i<k>, slip_share_i<k>, open_share_i<k> of each interface (a group
+/// without nodes: the --help's description of every interface k); `period`: "the period" or
+/// "the final period".
+void add_share_columns(std::vector<Column>& columns, const std::vector<InterfaceContacts>& interfaces,
+                       const std::string& period) {
+    for (std::size_t k = 0; k < interfaces.size(); ++k) {
+        const InterfaceContacts& f = interfaces[k];
+        const std::string suffix = "_i" + std::to_string(k + 1),
+                          of = f.count == 0 ? " of [[interface]] k (columns _i<k>, one set per interface), averaged over its nodes"
+                                            : " of interface " + std::to_string(k + 1) + " ('" + f.name + "', " +
+                                                  std::to_string(f.count) + " nodes: contacts " + std::to_string(f.first + 1) +
+                                                  ".." + std::to_string(f.first + f.count) + "), averaged over its nodes";
+        columns.push_back({"stuck_share" + suffix, "share of " + period + " in stick" + of + " (mean of stick_fraction_c<i>)"});
+        columns.push_back({"slip_share" + suffix, "share of " + period + " slipping" + of +
+                                                      " (1 - stuck_share - open_share)"});
+        columns.push_back({"open_share" + suffix, "share of " + period + " open, N = 0" + of +
+                                                      " (mean of separated_fraction_c<i>; 0 for laws without a normal direction)"});
+    }
+}
+
+/// The cells of add_share_columns for one row (empty where a share is unknown).
+void add_share_cells(std::vector<Cell>& row, const std::vector<ContactRegime>& contacts,
+                     const std::vector<InterfaceContacts>& interfaces) {
+    for (const InterfaceContacts& f : interfaces) {
+        const std::optional<InterfaceShares> shares = interface_shares(contacts, f);
+        if (shares)
+            row.insert(row.end(), {shares->stuck, shares->slipping, shares->open});
+        else
+            row.insert(row.end(), {Cell(), Cell(), Cell()});
+    }
+}
 }  // namespace
 
 std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts, const std::vector<int>& normal,
@@ -246,20 +278,7 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
         columns.push_back({"normal_force_amp" + suffix, "laws elastic, unilateral only: half the range of the normal force over "
                                                         "the period, (max N - min N) / 2" + of});
     }
-    for (std::size_t k = 0; k < interfaces.size(); ++k) {
-        const InterfaceContacts& f = interfaces[k];
-        // (a group without nodes: the --help's description of every interface k)
-        const std::string suffix = "_i" + std::to_string(k + 1),
-                          of = f.count == 0 ? " of [[interface]] k (columns _i<k>, one set per interface), averaged over its nodes"
-                                            : " of interface " + std::to_string(k + 1) + " ('" + f.name + "', " +
-                                                  std::to_string(f.count) + " nodes: contacts " + std::to_string(f.first + 1) +
-                                                  ".." + std::to_string(f.first + f.count) + "), averaged over its nodes";
-        columns.push_back({"stuck_share" + suffix, "share of the period in stick" + of + " (mean of stick_fraction_c<i>)"});
-        columns.push_back({"slip_share" + suffix, "share of the period slipping" + of +
-                                                      " (1 - stuck_share - open_share)"});
-        columns.push_back({"open_share" + suffix, "share of the period open, N = 0" + of +
-                                                      " (mean of separated_fraction_c<i>; 0 for laws without a normal direction)"});
-    }
+    add_share_columns(columns, interfaces, "the period");
     columns.push_back({"energy", "friction energy dissipated per cycle (= input work per cycle at a solution)"});
     if (contacts > 1 && !normal.empty())
         for (int c = 1; c <= contacts; ++c)
@@ -302,14 +321,17 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
 }
 
 std::optional<InterfaceShares> interface_shares(const PointMetrics& metrics, const InterfaceContacts& group) {
+    return interface_shares(metrics.contacts, group);
+}
+
+std::optional<InterfaceShares> interface_shares(const std::vector<ContactRegime>& contacts, const InterfaceContacts& group) {
     if (group.count <= 0) return std::nullopt;
     double stuck = 0.0, open = 0.0;
     for (int c = group.first; c < group.first + group.count; ++c) {
         const auto i = static_cast<std::size_t>(c);
-        if (c < 0 || i >= metrics.contacts.size() || !std::isfinite(metrics.contacts[i].stick_fraction))
-            return std::nullopt;
-        stuck += metrics.contacts[i].stick_fraction;
-        if (std::isfinite(metrics.contacts[i].separated_fraction)) open += metrics.contacts[i].separated_fraction;
+        if (c < 0 || i >= contacts.size() || !std::isfinite(contacts[i].stick_fraction)) return std::nullopt;
+        stuck += contacts[i].stick_fraction;
+        if (std::isfinite(contacts[i].separated_fraction)) open += contacts[i].separated_fraction;
     }
     InterfaceShares s;
     s.stuck = stuck / group.count;
@@ -339,13 +361,7 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
         for (int c : normal)
             row.insert(row.end(), {of(c, &ContactRegime::separated_fraction), of(c, &ContactRegime::normal_mean),
                                    of(c, &ContactRegime::normal_amplitude)});
-        for (const InterfaceContacts& f : interfaces) {
-            const std::optional<InterfaceShares> shares = interface_shares(m, f);
-            if (shares)
-                row.insert(row.end(), {shares->stuck, shares->slipping, shares->open});
-            else
-                row.insert(row.end(), {Cell(), Cell(), Cell()});
-        }
+        add_share_cells(row, m.contacts, interfaces);
         row.emplace_back(m.energy);
         if (contacts > 1 && !normal.empty())
             for (int c = 0; c < contacts; ++c) row.push_back(of(c, &ContactRegime::energy));
@@ -381,7 +397,8 @@ void write_frf_csv(std::ostream& out, const std::vector<SolutionPoint>& points,
 
 std::vector<Column> timeint_columns(int dofs) { return timeint_columns(all_dofs(dofs)); }
 
-std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts, const std::vector<int>& normal) {
+std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int contacts, const std::vector<int>& normal,
+                                    const std::vector<InterfaceContacts>& interfaces) {
     std::vector<Column> columns = {frequency_column()};
     const auto mine = output_columns(outputs, "the final period", " (turning points by root finding)");
     columns.insert(columns.end(), mine.begin(), mine.end());
@@ -398,6 +415,7 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
         columns.push_back({"separated_fraction" + (contacts > 1 ? "_c" + std::to_string(c + 1) : std::string()),
                            "laws elastic, unilateral only: share of the final period the contact is open (N = 0; elastic: "
                            "exact event times; unilateral: its steps)" + (contacts > 1 ? " (contact " + std::to_string(c + 1) + ")" : std::string())});
+    add_share_columns(columns, interfaces, "the final period");
     const std::vector<Column> rest = {
         {"energy", "friction energy dissipated per cycle, integral of f q' over the final period (laws elastic, "
                    "unilateral: along the tangential directions)"},
@@ -415,10 +433,11 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
     return columns;
 }
 
-Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::vector<Output>& outputs) {
+Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::vector<Output>& outputs,
+                    const std::vector<InterfaceContacts>& interfaces) {
     const int contacts = contacts_of(responses);
     const std::vector<int> normal = normal_contacts_of(responses);
-    Table table{timeint_columns(outputs, contacts, normal)};
+    Table table{timeint_columns(outputs, contacts, normal, interfaces)};
     table.cells.resize(table.columns.size());
     for (const PeriodicResponse& r : responses) {
         std::vector<Cell> row = {r.omega};
@@ -427,7 +446,7 @@ Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::v
         if (r.output_max.size() < outputs.size()) {
             row.resize(1 + 2 * outputs.size());
             for (int c = 0; c < contacts; ++c) row.insert(row.end(), {Cell(), std::string("failed")});
-            for (std::size_t c = 0; c < normal.size(); ++c) row.emplace_back();
+            for (std::size_t c = 0; c < normal.size() + 3 * interfaces.size(); ++c) row.emplace_back();
             row.insert(row.end(), {Cell(), static_cast<long long>(r.periods), std::string("false"), Cell(), Cell(), Cell()});
             table.add_row(std::move(row));
             continue;
@@ -441,6 +460,7 @@ Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::v
                               ? Cell(r.contacts[i].separated_fraction)
                               : Cell());
         }
+        add_share_cells(row, r.contacts, interfaces);
         row.insert(row.end(), {r.energy, static_cast<long long>(r.periods), std::string(r.converged ? "true" : "false"),
                                r.stick_margin_min, r.stick_margin_max, static_cast<long long>(r.switches)});
         table.add_row(std::move(row));
@@ -449,8 +469,8 @@ Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::v
 }
 
 void write_timeint_csv(std::ostream& out, const std::vector<PeriodicResponse>& responses,
-                       const std::vector<Output>& outputs) {
-    write_csv(out, timeint_table(responses, outputs));
+                       const std::vector<Output>& outputs, const std::vector<InterfaceContacts>& interfaces) {
+    write_csv(out, timeint_table(responses, outputs, interfaces));
 }
 
 }  // namespace hbf::io
