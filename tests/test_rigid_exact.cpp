@@ -357,6 +357,32 @@ TEST_CASE("rigid exact 3D: nodes slipping along curved paths are the time integr
     }
 }
 
+TEST_CASE("rigid exact 3D: implicit collocation steps give the Taylor series' orbit", "[rigid_exact]") {
+    // The same orbits by two integrations of the slip directions: Taylor series of order 30
+    // (steps below rounding) and Radau IIA collocation (steps at a local error of 1e-12).
+    const System system = bench::contact_chain_3d(3, 1.0, 0.8);
+    for (double omega : {0.6, 2.0}) {
+        const ExactOrbit taylor = rigid_periodic_orbit(system, omega, Eigen::VectorXd(), {}, ConeStepping::taylor);
+        const ExactOrbit implicit = rigid_periodic_orbit(system, omega, Eigen::VectorXd(), {}, ConeStepping::collocation);
+        INFO("w = " << omega << ": " << taylor.message << " / " << implicit.message);
+        REQUIRE(taylor.converged);
+        REQUIRE(implicit.converged);
+        CHECK(implicit.switches == taylor.switches);
+        for (std::size_t i = 0; i < taylor.y_amp1.size(); ++i) {
+            INFO("DOF " << i + 1);
+            CHECK(std::abs(implicit.y_amp1[i] - taylor.y_amp1[i]) <= 1e-9 * taylor.y_amp1[0]);
+            CHECK(std::abs(implicit.y_max[i] - taylor.y_max[i]) <= 1e-9 * taylor.y_max[0]);
+        }
+        for (std::size_t c = 0; c < 3; ++c) {
+            INFO("contact " << c + 1);
+            CHECK(std::abs(implicit.contacts[c].stick_fraction - taylor.contacts[c].stick_fraction) <= 1e-8);
+            CHECK(std::abs(implicit.contacts[c].separated_fraction - taylor.contacts[c].separated_fraction) <= 1e-8);
+        }
+        CHECK(std::abs(implicit.energy - taylor.energy) <= 1e-8 * taylor.energy);
+        CHECK(std::abs(implicit.max_multiplier - taylor.max_multiplier) <= 1e-5);
+    }
+}
+
 TEST_CASE("rigid exact 3D: the force's work is what friction and damping take out", "[rigid_exact]") {
     const System system = bench::contact_chain_3d(3, 1.0, 0.8);
     for (double omega : {0.6, 2.0}) {

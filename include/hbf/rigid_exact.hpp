@@ -11,7 +11,8 @@
 // exact: the segment exponentials and the saltation matrices at the events. A 3D contact's
 // slip direction is a state of its own (a massless node's slip turns at a finite rate), the
 // motion while it slips is nonlinear and flowed by Taylor series of order 30 with steps whose
-// truncation is below rounding; the period map's derivative is then taken by central
+// truncation is below rounding, or where the directions are stiff (their relaxation far faster
+// than the period) by implicit collocation steps (ConeStepping); the period map's derivative is then taken by central
 // differences (steps of 1e-6 of the state's size), so the Floquet multipliers of 3D contacts
 // are accurate to about 1e-7. The periodic orbit is the fixed point of the period map, solved
 // by Newton's method; its derivative's eigenvalues are the Floquet multipliers. Patterns,
@@ -32,8 +33,8 @@ namespace hbf {
 bool rigid_contacts_only(const System& system);
 
 /// True when rigid_contacts_only holds and a contact has a second_direction (3D): the FRF's
-/// polish is then off unless asked for (the Taylor flow of a node slipping under a small normal
-/// force can need very short steps, or stop: see the header's comment).
+/// polish is then off unless asked for (where the slip directions are stiff the flow takes
+/// implicit steps and the period map's derivative is differenced: costly on meshed interfaces).
 bool rigid_contacts_3d(const System& system);
 
 /// The most contacts the rigid-contact exact solver takes: each step solves the contact
@@ -67,5 +68,16 @@ std::string rigid_solver_refusal(const System& system);
 /// or a state of the wrong size. Non-convergence is a status (converged = false, message).
 ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
                                 const ExactOptions& options = {});
+
+/// How the flow of 3D contacts steps between events: automatic (Taylor series of order 30
+/// where their steps are longer than a thousandth of the period, else implicit Radau IIA
+/// collocation with a local error of 1e-12 of the state's size: a slipping node's direction
+/// relaxes at |q_T'| / (G mu lambda_N), on a meshed interface thousands of times a period),
+/// Taylor series only, or collocation only. 2D contacts are flowed in closed form either way.
+enum class ConeStepping { automatic, taylor, collocation };
+
+/// rigid_periodic_orbit with a chosen stepping (tests, benchmarks).
+ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
+                                const ExactOptions& options, ConeStepping stepping);
 
 }  // namespace hbf

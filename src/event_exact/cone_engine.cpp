@@ -30,6 +30,10 @@ constexpr double closing_step = 1e-8;
 /// A slipping 3D contact holds its direction while its normal force is below this share of
 /// the largest contact force.
 constexpr double hold_share = 1e-6;
+/// A Taylor step shorter than period / stiff_steps is stiff: an implicit step instead.
+constexpr double stiff_steps = 1000.0;
+/// The order of the collocation's local error estimate (its stages + 1: cone_collocation.cpp).
+constexpr int collocation_order = 7;
 
 int massive_dofs(const System& system) {
     const MatrixXd M(system.mass);
@@ -127,7 +131,7 @@ ModeData ConeEngine::build(const Modes& modes) const {
 }
 
 MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, int terms,
-                            const std::vector<char>& frozen) const {
+                            const std::vector<char>& frozen, bool decide_hold) const {
     (void)t;
     const int nm = n_dofs_, L = s_.lambdas, n = n_, K = terms;
     MatrixXd c = MatrixXd::Zero(n + L, K + 1);
@@ -219,7 +223,7 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
             for (std::size_t j = 0; j < cones.size(); ++j) {
                 const int q = cones[j];
                 const bool hold = (!frozen.empty() && frozen[static_cast<std::size_t>(q)]) ||
-                                  !(lambda(normal(q)) > hold_share * scale);
+                                  (decide_hold && !(lambda(normal(q)) > hold_share * scale));
                 if (!hold) moving.push_back(static_cast<int>(j));
             }
             if (!moving.empty()) {
@@ -493,6 +497,29 @@ Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const std::vector<Gu
         }
         if (!changed) break;
     }
+    // Several contacts at one instant (a slip spreading over the interface at once) whose
+    // successors do not all hold by the rounds above: their patterns from the contact problem a
+    // short time later (lookahead), which settles them together.
+    const bool unsettled = std::any_of(held.begin(), held.end(), [](char h) { return h == 0; });
+    if (count >= 2 && unsettled) {
+        Modes ahead;
+        std::vector<double> directions_ahead;
+        if (lookahead(zhat, modes, ahead, directions_ahead)) {
+            for (std::size_t i = 0; i < count; ++i) {
+                if (candidates[i].empty()) continue;
+                const int c = triggers[i].contact;
+                const int mode = ahead[static_cast<std::size_t>(c)];
+                if (std::find(candidates[i].begin(), candidates[i].end(), mode) == candidates[i].end() &&
+                    mode != modes[static_cast<std::size_t>(c)])
+                    continue;  // not a successor of its event: left to the rule below
+                next[static_cast<std::size_t>(c)] = mode;
+                if (mode == slip && directions(c) == 2)
+                    z(theta(c)) = triggers[i].kind == guard_gap ? closing_direction(z, next, c, 0.0)
+                                                                : directions_ahead[static_cast<std::size_t>(c)];
+                held[i] = 1;
+            }
+        }
+    }
     // A contact none of whose successors holds beyond rounding (a touch of two boundaries at
     // once: the old pattern's guard turns negative where the new one's first terms vanish)
     // takes the one the event leads to (a 3D slip where slip is among them), since the old
@@ -511,6 +538,32 @@ Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const std::vector<Gu
     }
     zhat = z;
     return next;
+}
+
+bool ConeEngine::lookahead(const VectorXd& zhat, const Modes& modes, Modes& ahead, std::vector<double>& angles) const {
+    // q0 a thousandth of a millionth of the period later (q0 depends on y and the forcing, whose
+    // rates do not depend on the pattern), from the positions the contacts hold now.
+    const MatrixXd c = series(zhat, modes, 0.0, 1);
+    const double delta = 1e-9 * period_;
+    const VectorXd later = c.col(0).head(n_) + delta * c.col(1).head(n_);
+    const VectorXd q0 = free_ * later;
+    VectorXd reference = VectorXd::Zero(s_.lambdas);
+    for (int k = 0; k < n_contacts_; ++k)
+        reference.segment(tangential(k), directions(k)) = c.col(0).segment(slider(k), directions(k));
+    RigidContactSolution solution;
+    solution.lambda = c.col(0).tail(s_.lambdas);
+    if (!solve_rigid_contacts(s_.blocks, s_.G, q0, reference, solution)) return false;
+    ahead.assign(static_cast<std::size_t>(n_contacts_), open);
+    angles.assign(static_cast<std::size_t>(n_contacts_), 0.0);
+    for (int k = 0; k < n_contacts_; ++k) {
+        const int state = solution.state[static_cast<std::size_t>(k)];
+        const int T = tangential(k);
+        int mode = state == 0 ? open : state == 1 ? stuck : slip;
+        if (mode == slip && directions(k) == 1) mode = solution.lambda(T) >= 0.0 ? slip : -slip;
+        if (mode == slip && directions(k) == 2) angles[static_cast<std::size_t>(k)] = std::atan2(solution.lambda(T + 1), solution.lambda(T));
+        ahead[static_cast<std::size_t>(k)] = mode;
+    }
+    return true;
 }
 
 Modes ConeEngine::initial_modes(VectorXd& zhat) {
@@ -571,18 +624,20 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
     std::vector<char> frozen(static_cast<std::size_t>(n_contacts_), 0);
     const long max_steps = 200000;
     long steps = 0;
+    taylor_steps_ = collocation_steps_ = 0;
+    double implicit_h = 0.0;  // the collocation's next step
     while (t < t_end) {
         if (++steps > max_steps) {
             out.ok = false;
-            out.message = "more than " + std::to_string(max_steps) + " Taylor steps in one flow at t = " + format_number(t);
+            out.message = "more than " + std::to_string(max_steps) + " steps in one flow at t = " + format_number(t);
             break;
         }
         const ModeData& m = mode(modes);
         // A slipping 3D contact whose normal force is near zero (just closed, or about to open)
         // holds its direction: its equation is singular at lambda_N = 0, and the friction force
         // it steers is below hold_share of the forces.
+        const MatrixXd f = series(zhat, modes, t, 1, frozen);
         {
-            const MatrixXd f = series(zhat, modes, t, 0, frozen);
             force_scale_ = std::max(force_scale_, f.col(0).tail(L).cwiseAbs().maxCoeff());
             const double force_scale = force_scale_;
             for (int q = 0; q < n_contacts_; ++q)
@@ -590,51 +645,134 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
                     !(f(n + normal(q), 0) > hold_share * force_scale))
                     frozen[static_cast<std::size_t>(q)] = 1;
         }
-        const MatrixXd c = series(zhat, modes, t, order, frozen);
-        if (!c.allFinite()) {
-            out.ok = false;
-            out.message = "the Taylor series of a step overflowed at t = " + format_number(t) +
-                          " (a slip direction turning too fast: a 3D contact slipping under a small normal force)";
-            break;
-        }
         const double remaining = t_end - t;
-        double h = std::min(period_ / 24.0, remaining);
+        double cap = std::min(period_ / 24.0, remaining);
         for (int q = 0; q < n_contacts_; ++q)  // held until its normal force grows past 2 hold_share
-            if (frozen[static_cast<std::size_t>(q)] && c(n + normal(q), 1) > 0.0)
-                h = std::min(h, std::max(closing_step * period_,
-                                         (2.0 * hold_share * force_scale_ - c(n + normal(q), 0)) / c(n + normal(q), 1)));
-        for (int iteration = 0; iteration < 100; ++iteration) {
-            double worst = 0.0;
-            for (const auto& [first, count] : groups) {
-                if (count == 0) continue;
-                double size = 0.0, tail = 0.0, power = 1.0;
-                for (int k = 0; k <= order; ++k) {
-                    const double term = c.col(k).segment(first, count).cwiseAbs().maxCoeff() * power;
-                    size = std::max(size, term);
-                    if (k >= order - 1) tail += term;
-                    power *= h;
+            if (frozen[static_cast<std::size_t>(q)] && f(n + normal(q), 1) > 0.0)
+                cap = std::min(cap, std::max(closing_step * period_,
+                                             (2.0 * hold_share * force_scale_ - f(n + normal(q), 0)) / f(n + normal(q), 1)));
+        bool implicit = stepping_ == Stepping::collocation;
+        double h = cap;
+        MatrixXd u;
+        if (!implicit) {
+            const MatrixXd c = series(zhat, modes, t, order, frozen);
+            if (!c.allFinite()) {
+                if (stepping_ == Stepping::taylor) {
+                    out.ok = false;
+                    out.message = "the Taylor series of a step overflowed at t = " + format_number(t) +
+                                  " (a slip direction turning too fast: a 3D contact slipping under a small normal force)";
+                    break;
                 }
-                if (size > 0.0) worst = std::max(worst, tail / (step_tolerance * size));
+                implicit = true;
+            } else {
+                for (int iteration = 0; iteration < 100; ++iteration) {
+                    double worst = 0.0;
+                    for (const auto& [first, count] : groups) {
+                        if (count == 0) continue;
+                        double size = 0.0, tail = 0.0, power = 1.0;
+                        for (int k = 0; k <= order; ++k) {
+                            const double term = c.col(k).segment(first, count).cwiseAbs().maxCoeff() * power;
+                            size = std::max(size, term);
+                            if (k >= order - 1) tail += term;
+                            power *= h;
+                        }
+                        if (size > 0.0) worst = std::max(worst, tail / (step_tolerance * size));
+                    }
+                    if (worst <= 1.0) break;
+                    h *= std::max(0.1, 0.9 * std::pow(worst, -1.0 / order));
+                }
+                if (stepping_ == Stepping::automatic && h < cap && h < period_ / stiff_steps) {
+                    implicit = true;  // stiff: an implicit step goes further
+                } else {
+                    if (h >= remaining * (1.0 - 1e-12)) h = remaining;
+                    u = c;
+                    double power = 1.0;
+                    for (int k = 0; k <= order; ++k) {
+                        u.col(k) *= power;
+                        power *= h;
+                    }
+                    ++taylor_steps_;
+                }
             }
-            if (worst <= 1.0) break;
-            h *= std::max(0.1, 0.9 * std::pow(worst, -1.0 / order));
         }
-        const bool last = h >= remaining * (1.0 - 1e-12);
-        if (last) h = remaining;
-        MatrixXd u = c;
-        double power = 1.0;
-        for (int k = 0; k <= order; ++k) {
-            u.col(k) *= power;
-            power *= h;
+        double error = 0.0;
+        if (implicit) {
+            state_size(zhat);
+            h = implicit_h > 0.0 ? std::min(cap, implicit_h) : cap;
+            for (;;) {
+                const bool ok = collocation_step(zhat, modes, h, frozen, u, error);
+                if (ok && error <= 1.0) break;
+                h *= ok ? std::clamp(0.9 * std::pow(error, -1.0 / collocation_order), 0.1, 0.9) : 0.25;
+                if (!(h > 1e-13 * period_)) {
+                    out.ok = false;
+                    out.message = "the implicit step did not converge at t = " + format_number(t);
+                    out.zhat = zhat;
+                    out.modes = modes;
+                    return out;
+                }
+            }
+            implicit_h = h * std::min(4.0, 0.9 * std::pow(std::max(error, 1e-12), -1.0 / collocation_order));
+            ++collocation_steps_;
         }
+        const bool last = h >= remaining;
         double best = std::numeric_limits<double>::infinity();
         std::vector<std::pair<double, Guard>> roots;
-        for (const Guard& g : guards(u, modes)) {
-            const double eta = 1e-12 * g.row.cwiseAbs().sum();
-            const double s = first_root(g.row, 1.0, eta);
-            if (s < 0.0) continue;
-            roots.emplace_back(s, g);
-            best = std::min(best, s);
+        auto find_roots = [&] {
+            best = std::numeric_limits<double>::infinity();
+            roots.clear();
+            for (const Guard& g : guards(u, modes)) {
+                const double eta = 1e-12 * g.row.cwiseAbs().sum();
+                const double s = first_root(g.row, 1.0, eta);
+                if (s < 0.0) continue;
+                roots.emplace_back(s, g);
+                best = std::min(best, s);
+            }
+        };
+        find_roots();
+        // An implicit step ends where a slipping 3D contact's normal force falls to the share at
+        // which its direction is held (the next step holds it): its stages keep the start's
+        // choice, so the rates stay smooth within the step.
+        if (implicit) {
+            double hold_at = std::numeric_limits<double>::infinity();
+            for (int q = 0; q < n_contacts_; ++q) {
+                if (modes[static_cast<std::size_t>(q)] != slip || directions(q) != 2 || frozen[static_cast<std::size_t>(q)])
+                    continue;
+                Eigen::RowVectorXd row = u.row(n + normal(q));
+                row(0) -= 0.999 * hold_share * force_scale_;
+                const double s = first_root(row, 1.0, 1e-12 * row.cwiseAbs().sum());
+                if (s >= 0.0) hold_at = std::min(hold_at, s);
+            }
+            MatrixXd v;
+            double e = 0.0;
+            if (hold_at < best && hold_at > 0.0 && hold_at < 1.0 - 1e-9 &&
+                collocation_step(zhat, modes, hold_at * h, frozen, v, e)) {
+                h *= hold_at;
+                u = std::move(v);
+                roots.clear();
+                best = std::numeric_limits<double>::infinity();
+            }
+        }
+        // An implicit step's polynomial is of order s + 1 inside, 2s - 1 at its end: a step with
+        // an event inside is repeated ending at the event (twice at most).
+        for (int redo = 0; implicit && redo < 3 && std::isfinite(best) && best < 1.0 - 1e-9; ++redo) {
+            const double shorter = best * h;
+            MatrixXd v;
+            double e = 0.0;
+            if (!(shorter > 0.0) || !collocation_step(zhat, modes, shorter, frozen, v, e)) break;
+            const MatrixXd kept = u;
+            const double kept_h = h;
+            const auto kept_roots = roots;
+            const double kept_best = best;
+            h = shorter;
+            u = std::move(v);
+            find_roots();
+            if (!std::isfinite(best)) {  // the root moved just past the shorter step's end: keep the longer
+                u = kept;
+                h = kept_h;
+                roots = kept_roots;
+                best = kept_best;
+                break;
+            }
         }
         // the events at the first root, and those of other contacts within 1e-9 of the step
         // after it (simultaneous by symmetry): settled together
@@ -644,7 +782,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
                 std::none_of(triggers.begin(), triggers.end(), [&](const Guard& o) { return o.contact == g.contact; }))
                 triggers.push_back(g);
         const bool found = !triggers.empty();
-        const double s_end = found ? best : 1.0;
+        const double s_end = found ? std::min(best, 1.0) : 1.0;
         if (record) {
             Step st;
             st.t0 = t;

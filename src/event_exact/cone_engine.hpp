@@ -41,6 +41,18 @@
 // their trial patterns) try their next ones; one none of whose successors holds beyond rounding
 // takes the pattern the event leads to.
 //
+// Stiff stretches: a slipping node's direction relaxes at |q_T'| / (G mu lambda_N), on a
+// meshed interface thousands of times a period, and an explicit series must step below that
+// time. Where the Taylor step would be shorter than period / stiff_steps (or its series
+// overflows), the step is implicit instead: Radau IIA collocation (radau.hpp, collocation_stages
+// stages) on y, y' and the moving directions theta, Newton's matrix from the rates' differences,
+// the step's length controlled by the collocation polynomial's defect at the midpoints between
+// its nodes, filtered by (I - h J)^-1 (so that a stiff direction on its slow manifold does not
+// shorten the step), to collocation_tolerance of the state's size; its recorded vector is the
+// polynomial through the nodes' values (order s + 1 inside the step, 2s - 1 at its end), and a
+// step in which a guard has its root is repeated ending there, so that the event's state is the
+// step's end.
+//
 // The monodromy is not propagated: flow() leaves psi empty, and the periodic-orbit solver
 // differentiates the period map (rigid_orbit.cpp).
 #pragma once
@@ -57,6 +69,13 @@ class ConeEngine : public PatternEngine {
 public:
     /// A contact's pattern: 0 open, 1 stuck; slipping: 2 (3D, along theta), +2 / -2 (2D).
     enum : int { open = 0, stuck = 1, slip = 2 };
+    /// How steps are taken: Taylor series where they are long enough, else collocation
+    /// (automatic); Taylor series only; collocation only (tests).
+    enum class Stepping { automatic, taylor, collocation };
+    void set_stepping(Stepping stepping) { stepping_ = stepping; }
+    /// Steps of the last flow by kind.
+    long taylor_steps() const { return taylor_steps_; }
+    long collocation_steps() const { return collocation_steps_; }
     /// Guards (kinds).
     enum : int { guard_gap = 0, guard_normal = 1, guard_limit = 2, guard_limit_negative = 3, guard_slip = 4 };
 
@@ -88,15 +107,24 @@ public:
     void make_consistent(Eigen::VectorXd& zhat, const Modes& modes, double t);
 
     /// Taylor coefficients (in time from t) of the recorded vector [zhat, lambda], orders 0..order.
-    /// frozen: contacts whose direction is held over the step (a closing into slip).
+    /// frozen: contacts whose direction is held over the step (a closing into slip). Also held
+    /// (with decide_hold): slipping 3D contacts pressing with less than hold_share of the forces;
+    /// without it (an implicit step's stages) `frozen` alone decides, as at the step's start.
     Eigen::MatrixXd series(const Eigen::VectorXd& zhat, const Modes& modes, double t, int order,
-                           const std::vector<char>& frozen = {}) const;
+                           const std::vector<char>& frozen = {}, bool decide_hold = true) const;
 
     Flow flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
               int max_events) override;
 
 private:
     Flow taylor_flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool record, int max_events);
+    /// One collocation step of `modes` from zhat over h (cone_collocation.cpp): u, the recorded
+    /// vector's coefficients in s in [0, 1] (as series' scaled by h^k); error, the estimated
+    /// local error over collocation_tolerance (accept <= 1). False where Newton does not converge.
+    bool collocation_step(const Eigen::VectorXd& zhat, const Modes& modes, double h, const std::vector<char>& frozen,
+                          Eigen::MatrixXd& u, double& error) const;
+    /// The state's size for the collocation's error (y, y' / omega; at least its running largest).
+    double state_size(const Eigen::VectorXd& zhat);
     ModeData build(const Modes& modes) const override;
     void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const override;
 
@@ -111,6 +139,10 @@ private:
     /// slip (its direction held over the first step).
     Modes settle_state(Eigen::VectorXd& zhat, Modes modes, const std::vector<Guard>& triggers,
                        std::vector<char>& closing);
+    /// The patterns of the contact problem a short time after zhat (lookahead: positions held
+    /// now, q0 moved on by its rates), and each 3D slip's direction (its force's). False where
+    /// the problem does not converge.
+    bool lookahead(const Eigen::VectorXd& zhat, const Modes& modes, Modes& ahead, std::vector<double>& angles) const;
     /// The consistent slip direction of contact c closing into slip at zhat.
     double closing_direction(const Eigen::VectorXd& zhat, Modes modes, int c, double t);
 
@@ -125,6 +157,9 @@ private:
     /// The largest contact force the flows have met: the scale against which a slipping 3D
     /// contact's normal force is small enough to hold its direction (hold_share).
     double force_scale_ = 0.0;
+    double size_scale_ = 0.0;  ///< the largest state_size met
+    Stepping stepping_ = Stepping::automatic;
+    long taylor_steps_ = 0, collocation_steps_ = 0;
 };
 
 }  // namespace hbf::detail::exact

@@ -109,11 +109,25 @@ void PatternEngine::restore_forcing(Eigen::VectorXd& zhat, double t) const {
 
 bool PatternEngine::record_events(Flow& out, double t, const Modes& before, const Modes& after,
                                   const Eigen::VectorXd& zhat, int& events, int max_events) const {
-    for (int c = 0; c < n_contacts_; ++c)
-        if (after[static_cast<std::size_t>(c)] != before[static_cast<std::size_t>(c)]) {
-            out.events.push_back({t, c, before[static_cast<std::size_t>(c)], after[static_cast<std::size_t>(c)]});
-            out.event_states.push_back(zhat);
+    for (int c = 0; c < n_contacts_; ++c) {
+        const int from = before[static_cast<std::size_t>(c)], to = after[static_cast<std::size_t>(c)];
+        if (to == from) continue;
+        // A phase of no length (the contact's event at this instant led here): one event.
+        std::size_t k = out.events.size();
+        while (k > 0 && std::abs(out.events[k - 1].time - t) <= 1e-12 * period_ && out.events[k - 1].contact != c) --k;
+        if (k > 0 && std::abs(out.events[k - 1].time - t) <= 1e-12 * period_ && out.events[k - 1].mode_after == from) {
+            ExactEvent& e = out.events[k - 1];
+            e.mode_after = to;
+            out.event_states[k - 1] = zhat;
+            if (e.mode_before == to) {  // back where it was
+                out.events.erase(out.events.begin() + static_cast<std::ptrdiff_t>(k - 1));
+                out.event_states.erase(out.event_states.begin() + static_cast<std::ptrdiff_t>(k - 1));
+            }
+            continue;
         }
+        out.events.push_back({t, c, from, to});
+        out.event_states.push_back(zhat);
+    }
     if (++events <= max_events) return true;
     out.ok = false;
     out.message = "more than " + std::to_string(max_events) + " contact events in one period at t = " + format_number(t) +

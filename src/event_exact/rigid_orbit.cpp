@@ -516,6 +516,11 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
 
 ExactOrbit rigid_periodic_orbit(const System& system, double omega, const VectorXd& initial_state,
                                 const ExactOptions& options) {
+    return rigid_periodic_orbit(system, omega, initial_state, options, ConeStepping::automatic);
+}
+
+ExactOrbit rigid_periodic_orbit(const System& system, double omega, const VectorXd& initial_state,
+                                const ExactOptions& options, ConeStepping stepping) {
     system.validate();
     refuse_cyclic(system, "the exact solver of law unilateral");
     options.validate();
@@ -530,6 +535,9 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
         throw InvalidInput(rigid_solver_refusal(system));
     if (cones(system)) {
         ConeEngine e(system, omega);
+        e.set_stepping(stepping == ConeStepping::taylor        ? ConeEngine::Stepping::taylor
+                       : stepping == ConeStepping::collocation ? ConeEngine::Stepping::collocation
+                                                               : ConeEngine::Stepping::automatic);
         if (e.dofs() > exact_solver_max_dofs) throw InvalidInput(rigid_solver_refusal(system));
         return shoot(e, system, omega, initial_state, options);
     }
