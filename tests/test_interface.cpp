@@ -249,6 +249,19 @@ TEST_CASE("A node pressed only by the preload pressure sticks in the linear limi
     }
 }
 
+namespace {
+/// Two uncoupled nodes of an interface "pad" (normal z, law elastic): node 1 driven along x,
+/// node 2 not driven; harmonic balance with H harmonics.
+std::string pad_file(int harmonics) {
+    return "[structure]\nmass = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]\nstiffness = [2.0, 2.0, 2.0, 2.0, 2.0, 2.0]\n"
+           "excitation = [0.5, 0.0, 0.0, 0.0, 0.0, 0.0]\ndamping = [0.05, 0.05, 0.05, 0.05, 0.05, 0.05]\n"
+           "[[interface]]\nname = \"pad\"\nnodes = [[1, 2, 3], [4, 5, 6]]\nnormal = [0.0, 0.0, 1.0]\n"
+           "area = [0.5, 1.5]\nlaw = \"elastic\"\nstiffness = 2.0\nnormal_stiffness = 4.0\n"
+           "friction_coefficient = 0.2\npreload_pressure = 3.0\n[frequency]\nwmin = 0.5\nwmax = 3.0\n"
+           "[solver]\nharmonics = " + std::to_string(harmonics) + "\n";
+}
+}  // namespace
+
 TEST_CASE("hbf frf: the interface's node-averaged shares stuck, slipping and open, and --plot-contacts",
           "[interface][cli]") {
     // Two uncoupled nodes of interface "pad" (normal z): node 1 driven along x (it slips near its
@@ -256,12 +269,7 @@ TEST_CASE("hbf frf: the interface's node-averaged shares stuck, slipping and ope
     // per-node columns, and the three must add up to 1.
     TempDir dir;
     const fs::path file = dir.path / "s.toml";
-    write_file(file, "[structure]\nmass = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]\nstiffness = [2.0, 2.0, 2.0, 2.0, 2.0, 2.0]\n"
-                     "excitation = [0.5, 0.0, 0.0, 0.0, 0.0, 0.0]\ndamping = [0.05, 0.05, 0.05, 0.05, 0.05, 0.05]\n"
-                     "[[interface]]\nname = \"pad\"\nnodes = [[1, 2, 3], [4, 5, 6]]\nnormal = [0.0, 0.0, 1.0]\n"
-                     "area = [0.5, 1.5]\nlaw = \"elastic\"\nstiffness = 2.0\nnormal_stiffness = 4.0\n"
-                     "friction_coefficient = 0.2\npreload_pressure = 3.0\n[frequency]\nwmin = 0.5\nwmax = 3.0\n"
-                     "[solver]\nharmonics = 5\n");
+    write_file(file, pad_file(5));
     const hbf::io::SystemConfig config = hbf::io::read_system_config(file.string());
     REQUIRE(config.interfaces.size() == 1);
     CHECK(config.interfaces[0].name == "pad");
@@ -312,12 +320,7 @@ TEST_CASE("hbf timeint: the interface's shares stuck, slipping and open, as hbf 
     // short stick at w = 1.4) to its sampling.
     TempDir dir;
     const fs::path file = dir.path / "s.toml";
-    write_file(file, "[structure]\nmass = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]\nstiffness = [2.0, 2.0, 2.0, 2.0, 2.0, 2.0]\n"
-                     "excitation = [0.5, 0.0, 0.0, 0.0, 0.0, 0.0]\ndamping = [0.05, 0.05, 0.05, 0.05, 0.05, 0.05]\n"
-                     "[[interface]]\nname = \"pad\"\nnodes = [[1, 2, 3], [4, 5, 6]]\nnormal = [0.0, 0.0, 1.0]\n"
-                     "area = [0.5, 1.5]\nlaw = \"elastic\"\nstiffness = 2.0\nnormal_stiffness = 4.0\n"
-                     "friction_coefficient = 0.2\npreload_pressure = 3.0\n[frequency]\nwmin = 0.5\nwmax = 3.0\n"
-                     "[solver]\nharmonics = 40\n");
+    write_file(file, pad_file(40));
     const auto ti = hbf::test::run_hbf("timeint --quiet --config '" + file.string() + "' --wmin 1.2 --wmax 1.6 --points 3", dir);
     INFO(ti.err);
     REQUIRE(ti.exit_code == 0);
