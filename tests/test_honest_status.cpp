@@ -5,7 +5,10 @@
 #include <glog/logging.h>
 
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cmath>
+#include <csignal>
+#include <thread>
 #include <algorithm>
 #include <complex>
 #include <cstdlib>
@@ -13,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "arguments.hpp"  // src/cli: Verdict
+#include "stop_request.hpp"  // src/cli
 #include "cli_support.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
@@ -602,4 +606,33 @@ TEST_CASE("hbf frf --time-limit and SIGTERM: the points so far are written, stat
     r = ::test::run_hbf("frf --time-limit -1 --out '" + csv.string() + "'", dir);
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.err, Catch::Contains("--time-limit = -1 is out of range"));
+}
+
+TEST_CASE("StopRequest: the time limit, a caught signal and the crawl watch", "[status][cli]") {
+    {
+        hbf::cli::StopRequest stop("test", 0.05);
+        CHECK(stop.why().empty());
+        std::this_thread::sleep_for(std::chrono::milliseconds(80));
+        CHECK_THAT(stop.why(), Catch::Contains("time limit of 0.05 s"));
+    }
+    {
+        hbf::cli::StopRequest stop("test", 0.0);
+        const auto ask = stop.function();
+        stop.watch_crawl(1.0, 1e-3, 0.05);
+        stop.reached(0.5);
+        std::this_thread::sleep_for(std::chrono::milliseconds(80));
+        CHECK(ask().empty());  // no time limit, no signal
+        REQUIRE(stop.crawls().size() == 1);  // w moved by 0 < 1e-3 of the band in 50 ms
+        CHECK_THAT(stop.crawls()[0], Catch::Contains("crawled near w = 0.5"));
+        stop.reached(0.6);  // moved on: no second report
+        std::this_thread::sleep_for(std::chrono::milliseconds(80));
+        ask();
+        CHECK(stop.crawls().size() == 1);
+        // A signal the process receives is caught once and said.
+        std::raise(SIGTERM);
+        CHECK(stop.why() == "interrupted (SIGTERM)");
+    }
+    // Destroyed: the previous handler is back (the test runner's); a new request starts clean.
+    hbf::cli::StopRequest again("test", 0.0);
+    CHECK(again.why().empty());
 }
