@@ -260,6 +260,25 @@ std::string pad_file(int harmonics) {
            "friction_coefficient = 0.2\npreload_pressure = 3.0\n[frequency]\nwmin = 0.5\nwmax = 3.0\n"
            "[solver]\nharmonics = " + std::to_string(harmonics) + "\n";
 }
+
+/// Column `name` of a CSV table's header.
+std::size_t column_of(const std::vector<std::vector<std::string>>& table, const std::string& name) {
+    const auto at = std::find(table[0].begin(), table[0].end(), name);
+    REQUIRE(at != table[0].end());
+    return static_cast<std::size_t>(at - table[0].begin());
+}
+
+/// Row k of the pad's CSV (hbf frf or hbf timeint): the interface's shares are the means of the
+/// per-node columns and add up to 1, the undriven node sticks; returns the stuck share.
+double check_pad_row(const std::vector<std::vector<std::string>>& table, std::size_t k) {
+    auto v = [&](const std::string& name) { return std::stod(table[k][column_of(table, name)]); };
+    const double stuck = v("stuck_share_i1");
+    CHECK(stuck == Approx((v("stick_fraction_c1") + v("stick_fraction_c2")) / 2).epsilon(1e-13));
+    CHECK(v("open_share_i1") == Approx((v("separated_fraction_c1") + v("separated_fraction_c2")) / 2).margin(1e-14));
+    CHECK(stuck + v("slip_share_i1") + v("open_share_i1") == Approx(1.0).epsilon(1e-13));
+    CHECK(v("stick_fraction_c2") == 1.0);  // the undriven node sticks
+    return stuck;
+}
 }  // namespace
 
 TEST_CASE("hbf frf: the interface's node-averaged shares stuck, slipping and open, and --plot-contacts",
@@ -280,24 +299,8 @@ TEST_CASE("hbf frf: the interface's node-averaged shares stuck, slipping and ope
     REQUIRE(r.exit_code == 0);
     const auto rows = hbf::test::parse_csv(r.out);
     REQUIRE(rows.size() > 10);
-    auto column = [&](const std::string& name) {
-        const auto at = std::find(rows[0].begin(), rows[0].end(), name);
-        REQUIRE(at != rows[0].end());
-        return static_cast<std::size_t>(at - rows[0].begin());
-    };
-    const std::size_t stuck = column("stuck_share_i1"), slip = column("slip_share_i1"), open = column("open_share_i1"),
-                      s1 = column("stick_fraction_c1"), s2 = column("stick_fraction_c2"),
-                      o1 = column("separated_fraction_c1"), o2 = column("separated_fraction_c2");
     double least = 1.0;
-    for (std::size_t k = 1; k < rows.size(); ++k) {
-        const auto& row = rows[k];
-        auto v = [&](std::size_t i) { return std::stod(row[i]); };
-        CHECK(v(stuck) == Approx((v(s1) + v(s2)) / 2).epsilon(1e-13));
-        CHECK(v(open) == Approx((v(o1) + v(o2)) / 2).margin(1e-14));
-        CHECK(v(stuck) + v(slip) + v(open) == Approx(1.0).epsilon(1e-13));
-        CHECK(v(s2) == 1.0);  // the undriven node sticks
-        least = std::min(least, v(stuck));
-    }
+    for (std::size_t k = 1; k < rows.size(); ++k) least = std::min(least, check_pad_row(rows, k));
     CHECK(least < 0.9);  // node 1 slips near its resonance
     CHECK(fs::file_size(plot) > 1000);
     CHECK(hbf::test::slurp(plot).find("slipping") != std::string::npos);
@@ -326,33 +329,19 @@ TEST_CASE("hbf timeint: the interface's shares stuck, slipping and open, as hbf 
     REQUIRE(ti.exit_code == 0);
     const auto rows = hbf::test::parse_csv(ti.out);
     REQUIRE(rows.size() == 4);
-    auto column = [&](const std::vector<std::vector<std::string>>& table, const std::string& name) {
-        const auto at = std::find(table[0].begin(), table[0].end(), name);
-        REQUIRE(at != table[0].end());
-        return static_cast<std::size_t>(at - table[0].begin());
-    };
-    const std::size_t stuck = column(rows, "stuck_share_i1"), slip = column(rows, "slip_share_i1"),
-                      open = column(rows, "open_share_i1"), s1 = column(rows, "stick_fraction_c1"),
-                      s2 = column(rows, "stick_fraction_c2"), o1 = column(rows, "separated_fraction_c1"),
-                      o2 = column(rows, "separated_fraction_c2");
     const auto hb = hbf::test::run_hbf("frf --quiet --config '" + file.string() + "' --at 1.2,1.4,1.6 --error-points 0", dir);
     INFO(hb.err);
     REQUIRE(hb.exit_code == 0);
     const auto hb_rows = hbf::test::parse_csv(hb.out);
-    const std::size_t hb_stuck = column(hb_rows, "stuck_share_i1"), hb_point = column(hb_rows, "point");
+    const std::size_t hb_stuck = column_of(hb_rows, "stuck_share_i1"), hb_point = column_of(hb_rows, "point");
     double least = 1.0;
     for (std::size_t k = 1; k < rows.size(); ++k) {
-        const auto& row = rows[k];
-        auto v = [&](std::size_t i) { return std::stod(row[i]); };
-        CHECK(v(stuck) == Approx((v(s1) + v(s2)) / 2).epsilon(1e-13));
-        CHECK(v(open) == Approx((v(o1) + v(o2)) / 2).margin(1e-14));
-        CHECK(v(stuck) + v(slip) + v(open) == Approx(1.0).epsilon(1e-13));
-        CHECK(v(s2) == 1.0);
-        least = std::min(least, v(stuck));
+        const double stuck = check_pad_row(rows, k), w = std::stod(rows[k][0]);
+        least = std::min(least, stuck);
         for (const auto& h : hb_rows)
-            if (h[hb_point] == "sample" && std::abs(std::stod(h[0]) - v(0)) < 1e-9) {
-                INFO("w = " << v(0));
-                CHECK(std::abs(std::stod(h[hb_stuck]) - v(stuck)) < 0.005);  // HB counts its N_t samples
+            if (h[hb_point] == "sample" && std::abs(std::stod(h[0]) - w) < 1e-9) {
+                INFO("w = " << w);
+                CHECK(std::abs(std::stod(h[hb_stuck]) - stuck) < 0.005);  // HB counts its N_t samples
             }
     }
     CHECK(least < 0.9);
