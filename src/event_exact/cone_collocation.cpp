@@ -17,8 +17,6 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-/// Stages of the collocation (order 2s - 1 at the step's end, s + 1 inside).
-constexpr int collocation_stages = 6;
 /// The local error allowed per step, relative to the state's size (directions: radians).
 constexpr double collocation_tolerance = 1e-12;
 /// Newton's update below this share of the tolerance ends the stage iteration.

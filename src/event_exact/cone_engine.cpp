@@ -32,8 +32,8 @@ constexpr double closing_step = 1e-8;
 constexpr double hold_share = 1e-6;
 /// A Taylor step shorter than period / stiff_steps is stiff: an implicit step instead.
 constexpr double stiff_steps = 1000.0;
-/// The order of the collocation's local error estimate (its stages + 1: cone_collocation.cpp).
-constexpr int collocation_order = 7;
+/// The order of the collocation's local error estimate (cone_engine.hpp).
+constexpr int collocation_order = ConeEngine::collocation_stages + 1;
 
 int massive_dofs(const System& system) {
     const MatrixXd M(system.mass);

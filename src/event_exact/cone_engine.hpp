@@ -73,6 +73,9 @@ public:
     /// (automatic); Taylor series only; collocation only (tests).
     enum class Stepping { automatic, taylor, collocation };
     void set_stepping(Stepping stepping) { stepping_ = stepping; }
+    /// Stages of the collocation (order 2s - 1 at a step's end, s + 1 inside: the order of its
+    /// local error estimate, which the step control uses).
+    static constexpr int collocation_stages = 6;
     /// Steps of the last flow by kind.
     long taylor_steps() const { return taylor_steps_; }
     long collocation_steps() const { return collocation_steps_; }
