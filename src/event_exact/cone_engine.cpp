@@ -427,6 +427,18 @@ Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const std::vector<Gu
     const std::size_t count = triggers.size();
     std::vector<std::vector<int>> candidates(count);
     std::vector<double> angle(count);
+    // A contact that starts from zero force: it closed, or it reached its friction limit while
+    // its normal force is below the share at which a slip direction is held (it closed an
+    // instant ago and another contact's event changed its forces' rates). Its force's direction
+    // is rounding: a slip takes the consistent direction (closing_direction), held a step.
+    std::vector<char> from_rest(count, 0);
+    const MatrixXd forces = series(zhat, modes, 0.0, 0);
+    for (std::size_t i = 0; i < count; ++i) {
+        const int c = triggers[i].contact;
+        from_rest[i] = triggers[i].kind == guard_gap ||
+                       (triggers[i].kind == guard_limit && directions(c) == 2 &&
+                        !(forces(n_ + normal(c), 0) > hold_share * force_scale_));
+    }
     for (std::size_t i = 0; i < count; ++i) {
         const int c = triggers[i].contact, d = directions(c);
         angle[i] = zhat(theta(c));
@@ -447,10 +459,7 @@ Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const std::vector<Gu
             case guard_normal: candidates[i] = {open}; break;
             case guard_limit:
                 candidates[i] = {slip};
-                if (d == 2) {
-                    const MatrixXd f = series(zhat, modes, 0.0, 0);
-                    angle[i] = std::atan2(f(n_ + tangential(c) + 1, 0), f(n_ + tangential(c), 0));
-                }
+                if (d == 2) angle[i] = std::atan2(forces(n_ + tangential(c) + 1, 0), forces(n_ + tangential(c), 0));
                 break;
             case guard_limit_negative: candidates[i] = {-slip}; break;
             case guard_slip: candidates[i] = {stuck}; break;
@@ -467,7 +476,7 @@ Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const std::vector<Gu
         const int c = triggers[i].contact;
         next[static_cast<std::size_t>(c)] = candidate;
         if (candidate == slip && directions(c) == 2) {
-            if (triggers[i].kind == guard_gap) angle[i] = closing_direction(z, next, c, 0.0);
+            if (from_rest[i]) angle[i] = closing_direction(z, next, c, 0.0);
             z(theta(c)) = angle[i];
         }
     };
@@ -478,14 +487,14 @@ Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const std::vector<Gu
         for (std::size_t i = 0; i < count; ++i) {
             if (candidates[i].empty()) continue;
             const int c = triggers[i].contact;
-            held[i] = holds(z, next, c, 0.0, triggers[i].kind == guard_gap) ? 1 : 0;
+            held[i] = holds(z, next, c, 0.0, from_rest[i] != 0) ? 1 : 0;
             if (held[i]) continue;
             for (std::size_t j = 0; j < candidates[i].size(); ++j) {
                 if (j == choice[i]) continue;
                 const Modes before = next;
                 const VectorXd z_before = z;
                 place(i, candidates[i][j]);
-                if (holds(z, next, c, 0.0, triggers[i].kind == guard_gap)) {
+                if (holds(z, next, c, 0.0, from_rest[i] != 0)) {
                     choice[i] = j;
                     held[i] = 1;
                     changed = true;
@@ -514,7 +523,7 @@ Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const std::vector<Gu
                     continue;  // not a successor of its event: left to the rule below
                 next[static_cast<std::size_t>(c)] = mode;
                 if (mode == slip && directions(c) == 2)
-                    z(theta(c)) = triggers[i].kind == guard_gap ? closing_direction(z, next, c, 0.0)
+                    z(theta(c)) = from_rest[i] ? closing_direction(z, next, c, 0.0)
                                                                 : directions_ahead[static_cast<std::size_t>(c)];
                 held[i] = 1;
             }
@@ -533,7 +542,7 @@ Modes ConeEngine::settle_state(VectorXd& zhat, Modes modes, const std::vector<Gu
                               std::find(candidates[i].begin(), candidates[i].end(), slip) != candidates[i].end();
             place(i, cone ? slip : candidates[i].front());
         }
-        if (next[static_cast<std::size_t>(c)] == slip && directions(c) == 2 && triggers[i].kind == guard_gap)
+        if (next[static_cast<std::size_t>(c)] == slip && directions(c) == 2 && from_rest[i])
             closing[static_cast<std::size_t>(c)] = 1;
     }
     zhat = z;

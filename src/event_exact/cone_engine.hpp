@@ -30,7 +30,10 @@
 //
 // The direction equation is singular where lambda_N = 0: a 3D contact that closes into slip
 // starts along the direction in which its slip is consistent (q_T' along d with lambda_N
-// growing; a scan of the circle), and a slipping 3D contact whose normal force is below 1e-6 of
+// growing; a scan of the circle), as does one that reaches its friction limit while its normal
+// force is still below the hold share (it closed into stick an instant before, and another
+// contact's event at that instant changed its forces' rates: the force's own direction is then
+// rounding), and a slipping 3D contact whose normal force is below 1e-6 of
 // the largest contact force the engine has met holds its direction (the friction force it
 // steers is below that share), over steps that end where its normal force has doubled past
 // that threshold (at least 1e-8 of the period). Between that and a few per cent of the largest
