@@ -34,7 +34,7 @@ double ConeEngine::state_size(const VectorXd& zhat) {
 }
 
 bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, double h, const std::vector<char>& frozen,
-                                  MatrixXd& u, double& error) const {
+                                  StartJacobian& start, const PreviousStep& last, MatrixXd& u, double& error) const {
     const RadauTable& R = radau_table(collocation_stages);
     const int s = R.stages, nm = n_dofs_, n = n_, L = s_.lambdas;
     // The integrated components: y, y' and the directions of the slipping 3D contacts not held.
@@ -72,26 +72,49 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
     };
     VectorXd v0(m);
     for (int k = 0; k < m; ++k) v0(k) = zhat(dyn[static_cast<std::size_t>(k)]);
-    const VectorXd f0 = rate(zhat);
-    // Newton's matrix from forward differences of the rates at the step's start.
-    MatrixXd J(m, m);
-    for (int k = 0; k < m; ++k) {
-        const double delta = 1e-7 * std::max(std::abs(v0(k)), scale(k));
-        VectorXd v = v0;
-        v(k) += delta;
-        J.col(k) = (rate(full(v, 0.0)) - f0) / delta;
+    // Newton's matrix from forward differences of the rates at the step's start, unless one of
+    // an earlier start of the pattern is kept.
+    if (start.rate.size() != m) start.rate = rate(zhat);
+    if (start.J.rows() != m) {
+        start.fresh = true;
+        start.J.resize(m, m);
+        for (int k = 0; k < m; ++k) {
+            const double delta = 1e-7 * std::max(std::abs(v0(k)), scale(k));
+            VectorXd v = v0;
+            v(k) += delta;
+            start.J.col(k) = (rate(full(v, 0.0)) - start.rate) / delta;
+        }
     }
+    const VectorXd& f0 = start.rate;
+    const MatrixXd& J = start.J;
     MatrixXd M = MatrixXd::Identity(s * m, s * m);
     for (int i = 0; i < s; ++i)
         for (int j = 0; j < s; ++j) M.block(i * m, j * m, m, m) -= (h * R.a(i, j)) * J;
     const Eigen::PartialPivLU<MatrixXd> lu(M);
     // The stage increments Z_i = V_i - v_0 are the unknowns (their rounding relative to
     // themselves, not to v_0: the polynomial's slope stays accurate on short steps).
+    // First guess: the previous step's polynomial extrapolated to the stages (it ends where this
+    // step starts), else the start's rates.
     MatrixXd Z(m, s), F(m, s);
-    for (int i = 0; i < s; ++i) Z.col(i) = (R.c(i) * h) * f0;
+    if (last.valid() && last.u.rows() == n + L) {
+        const double ratio = h / last.h;
+        auto at = [&](double sigma) {
+            VectorXd value = VectorXd::Zero(m);
+            for (Eigen::Index k = last.u.cols() - 1; k >= 0; --k)
+                for (int j = 0; j < m; ++j) value(j) = value(j) * sigma + last.u(dyn[static_cast<std::size_t>(j)], k);
+            return value;
+        };
+        const VectorXd end = at(1.0);
+        for (int i = 0; i < s; ++i) Z.col(i) = at(1.0 + R.c(i) * ratio) - end;
+        if (!Z.allFinite())
+            for (int i = 0; i < s; ++i) Z.col(i) = (R.c(i) * h) * f0;
+    } else {
+        for (int i = 0; i < s; ++i) Z.col(i) = (R.c(i) * h) * f0;
+    }
     double previous = std::numeric_limits<double>::infinity();
     bool converged = false;
     for (int it = 0; it < newton_iterations; ++it) {
+        start.iterations = it + 1;
         for (int i = 0; i < s; ++i) F.col(i) = rate(full(v0 + Z.col(i), R.c(i)));
         if (!F.allFinite()) return false;
         const MatrixXd G = Z - h * F * R.a.transpose();

@@ -34,6 +34,9 @@ constexpr double hold_share = 1e-6;
 constexpr double stiff_steps = 1000.0;
 /// The order of the collocation's local error estimate (cone_engine.hpp).
 constexpr int collocation_order = ConeEngine::collocation_stages + 1;
+/// A Jacobian is kept for the next implicit step of a pattern while Newton needed at most this
+/// many iterations with it.
+constexpr int kept_jacobian_iterations = 4;
 
 int massive_dofs(const System& system) {
     const MatrixXd M(system.mass);
@@ -635,6 +638,12 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
     long steps = 0;
     taylor_steps_ = collocation_steps_ = 0;
     double implicit_h = 0.0;  // the collocation's next step
+    // The last implicit step, its pattern and held directions: the next one's first guess.
+    PreviousStep previous;
+    const PreviousStep none;
+    StartJacobian start;
+    Modes previous_modes;
+    std::vector<char> previous_frozen;
     while (t < t_end) {
         if (++steps > max_steps) {
             out.ok = false;
@@ -705,12 +714,22 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             }
         }
         double error = 0.0;
+        const bool continues = previous.valid() && previous_modes == modes && previous_frozen == frozen;
+        const PreviousStep& guess = continues ? previous : none;
+        // the Jacobian of the last implicit step kept where the pattern goes on and Newton was fast
+        if (!continues || start.iterations > kept_jacobian_iterations) start.J.resize(0, 0);
+        start.rate.resize(0);
+        start.fresh = false;
         if (implicit) {
             state_size(zhat);
             h = implicit_h > 0.0 ? std::min(cap, implicit_h) : cap;
             for (;;) {
-                const bool ok = collocation_step(zhat, modes, h, frozen, u, error);
+                const bool ok = collocation_step(zhat, modes, h, frozen, start, guess, u, error);
                 if (ok && error <= 1.0) break;
+                if (!ok && !start.fresh) {  // a kept Jacobian that failed: a fresh one, same step
+                    start.J.resize(0, 0);
+                    continue;
+                }
                 h *= ok ? std::clamp(0.9 * std::pow(error, -1.0 / collocation_order), 0.1, 0.9) : 0.25;
                 if (!(h > 1e-13 * period_)) {
                     out.ok = false;
@@ -754,7 +773,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             MatrixXd v;
             double e = 0.0;
             if (hold_at < best && hold_at > 0.0 && hold_at < 1.0 - 1e-9 &&
-                collocation_step(zhat, modes, hold_at * h, frozen, v, e)) {
+                collocation_step(zhat, modes, hold_at * h, frozen, start, guess, v, e)) {
                 h *= hold_at;
                 u = std::move(v);
                 roots.clear();
@@ -767,7 +786,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             const double shorter = best * h;
             MatrixXd v;
             double e = 0.0;
-            if (!(shorter > 0.0) || !collocation_step(zhat, modes, shorter, frozen, v, e)) break;
+            if (!(shorter > 0.0) || !collocation_step(zhat, modes, shorter, frozen, start, guess, v, e)) break;
             const MatrixXd kept = u;
             const double kept_h = h;
             const auto kept_roots = roots;
@@ -805,6 +824,14 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         zhat = evaluate(u, s_end).head(n);
         t = (found || !last) ? std::min(t + s_end * h, t_end) : t_end;
         restore_forcing(zhat, t);
+        if (implicit && !found) {
+            previous.u = u;
+            previous.h = h;
+            previous_modes = modes;
+            previous_frozen = frozen;
+        } else {
+            previous.h = 0.0;
+        }
         std::fill(frozen.begin(), frozen.end(), 0);
         if (!found) continue;
         std::vector<char> closing;

@@ -124,11 +124,28 @@ public:
 
 private:
     Flow taylor_flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool record, int max_events);
+    /// Newton's Jacobian of the rates and the rates at a step's start. The rates are computed
+    /// by a step's first try and shared by its shorter tries; the Jacobian is computed where
+    /// there is none (empty: a new pattern, or its refresh) and kept over the following steps of
+    /// the pattern while Newton converges fast with it (fresh: computed at this start).
+    struct StartJacobian {
+        Eigen::MatrixXd J;
+        Eigen::VectorXd rate;
+        bool fresh = false;
+        int iterations = 0;  ///< Newton's iterations in the last try
+    };
+    /// The previous implicit step's polynomial (u, over h) when the step from its end continues it
+    /// (no event, same pattern and held directions): Newton's first guess extrapolates it.
+    struct PreviousStep {
+        Eigen::MatrixXd u;
+        double h = 0.0;
+        bool valid() const { return h > 0.0; }
+    };
     /// One collocation step of `modes` from zhat over h (cone_collocation.cpp): u, the recorded
     /// vector's coefficients in s in [0, 1] (as series' scaled by h^k); error, the estimated
     /// local error over collocation_tolerance (accept <= 1). False where Newton does not converge.
     bool collocation_step(const Eigen::VectorXd& zhat, const Modes& modes, double h, const std::vector<char>& frozen,
-                          Eigen::MatrixXd& u, double& error) const;
+                          StartJacobian& start, const PreviousStep& previous, Eigen::MatrixXd& u, double& error) const;
     /// The state's size for the collocation's error (y, y' / omega; at least its running largest).
     double state_size(const Eigen::VectorXd& zhat);
     ModeData build(const Modes& modes) const override;
