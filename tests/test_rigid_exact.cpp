@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,6 +22,8 @@
 #include "hbf/model.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
+
+#include "event_exact/cone_engine.hpp"
 
 #include "../benchmarks/contact_chain.hpp"
 #include "support.hpp"
@@ -408,4 +411,164 @@ TEST_CASE("rigid exact 3D: the FRF's polish is off by default, with its reason, 
     asked.exact = true;
     CHECK(frf_settings(spatial, {Output::dof(0)}, asked).exact);
     CHECK(frf_settings(bench::contact_chain(3, 1.0), {Output::dof(0)}).exact);  // 2D: on
+}
+
+namespace {
+
+/// The closed-form Jacobian of an implicit step's rates (ConeEngine::rates_jacobian) against
+/// central differences of the rates, at the ends of `pieces` stretches of the flow from rest
+/// with at least one slip direction moving: with respect to y, y', the moving directions, the
+/// held positions of stuck contacts and (a second time, with the first moving direction held)
+/// a held direction. Differences carry truncation (delta^2) and rounding (1 / delta): the best
+/// of five steps is taken, per column relative to its largest entry. Returns the number of
+/// states checked.
+int check_rates_jacobian(const System& system, double omega, int pieces, double stretch) {
+    using namespace detail::exact;
+    ConeEngine e(system, omega);
+    Eigen::VectorXd zhat = e.augment(Eigen::VectorXd::Zero(e.nz()), 0.0);
+    Modes modes = e.initial_modes(zhat);
+    const int nm = e.dofs();
+    double t = 0.0;
+    int checked = 0;
+    for (int piece = 0; piece < pieces; ++piece) {
+        const PatternEngine::Flow f = e.flow(zhat, modes, t, stretch * e.period(), false, false, 5000);
+        REQUIRE(f.ok);
+        zhat = f.zhat;
+        modes = f.modes;
+        t += stretch * e.period();
+        std::vector<int> moving, held;
+        for (int q = 0; q < e.contacts(); ++q) {
+            if (modes[static_cast<std::size_t>(q)] == ConeEngine::slip && e.directions(q) == 2) moving.push_back(q);
+            if (modes[static_cast<std::size_t>(q)] == ConeEngine::stuck)
+                for (int j = 0; j < e.directions(q); ++j) held.push_back(e.slider(q) + j);
+        }
+        if (moving.empty()) continue;
+        const double size = std::max(zhat.head(nm).cwiseAbs().maxCoeff(), zhat.segment(nm, nm).cwiseAbs().maxCoeff() / omega);
+        for (int variant = 0; variant < (moving.size() >= 2 ? 2 : 1); ++variant) {
+            std::vector<char> frozen(static_cast<std::size_t>(e.contacts()), 0);
+            if (variant == 1) frozen[static_cast<std::size_t>(moving.front())] = 1;
+            std::vector<int> dyn;
+            for (int k = 0; k < 2 * nm; ++k) dyn.push_back(k);
+            for (int q : moving)
+                if (!frozen[static_cast<std::size_t>(q)]) dyn.push_back(e.theta(q));
+            std::vector<int> wrt = dyn;
+            wrt.insert(wrt.end(), held.begin(), held.end());
+            if (variant == 1) wrt.push_back(e.theta(moving.front()));
+            const auto m = static_cast<Eigen::Index>(dyn.size());
+            Eigen::MatrixXd J;
+            Eigen::VectorXd rate;
+            e.rates_jacobian(zhat, modes, frozen, dyn, wrt, J, rate);
+            auto rates = [&](const Eigen::VectorXd& z) {
+                const Eigen::MatrixXd c = e.series(z, modes, 0.0, 1, frozen, false, true);
+                Eigen::VectorXd out(m);
+                for (Eigen::Index k = 0; k < m; ++k) out(k) = c(dyn[static_cast<std::size_t>(k)], 1);
+                return out;
+            };
+            CHECK((rate - rates(zhat)).cwiseAbs().maxCoeff() <= 1e-14 * rate.cwiseAbs().maxCoeff());
+            for (std::size_t k = 0; k < wrt.size(); ++k) {
+                const int i = wrt[k];
+                // y in the state's size, y' in it times omega, held positions in the size,
+                // directions in radians
+                const double unit = i < nm ? size : i < 2 * nm ? size * omega : i < e.theta(0) ? size : 1.0;
+                double best = std::numeric_limits<double>::infinity();
+                for (double share : {1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {
+                    Eigen::VectorXd plus = zhat, minus = zhat;
+                    plus(i) += share * unit;
+                    minus(i) -= share * unit;
+                    const Eigen::VectorXd column = (rates(plus) - rates(minus)) / (2.0 * share * unit);
+                    const double scale = column.cwiseAbs().maxCoeff();
+                    best = std::min(best, scale > 0.0 ? (J.col(static_cast<Eigen::Index>(k)) - column).cwiseAbs().maxCoeff() / scale
+                                                      : J.col(static_cast<Eigen::Index>(k)).cwiseAbs().maxCoeff());
+                }
+                INFO("t / T = " << t / e.period() << ", variant " << variant << ", column " << k << " of " << wrt.size()
+                                << " (zhat entry " << i << ")");
+                CHECK(best <= 1e-6);
+            }
+            ++checked;
+        }
+    }
+    return checked;
+}
+
+}  // namespace
+
+TEST_CASE("rigid exact 3D: the implicit steps' Jacobian in closed form is the rates' derivative", "[rigid_exact]") {
+    // the chain (nodes coupled through the masses) and the mitre at 100 N (27 nodes coupled
+    // through the interface's flexibility, up to 20 slip directions moving at once)
+    CHECK(check_rates_jacobian(bench::contact_chain_3d(3, 1.0, 0.8), 0.6, 12, 1.0 / 12.0) >= 4);
+    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    mitre.system.excitation *= 10.0;
+    CHECK(check_rates_jacobian(mitre.system, 16000.0, 8, 1.0 / 12.0) >= 4);
+}
+
+namespace {
+
+/// The flow's derivative with respect to its start's independent entries (ConeEngine::flow with
+/// monodromy: Radau IIA on the variational equation along the steps) against central
+/// differences of the flow itself, over stretches of `stretch` periods without events (up to
+/// `wanted` of them, each with a slip direction moving). Returns the number checked.
+int check_flow_derivative(const System& system, double omega, int pieces, double stretch, int wanted) {
+    using namespace detail::exact;
+    ConeEngine e(system, omega);
+    Eigen::VectorXd zhat = e.augment(Eigen::VectorXd::Zero(e.nz()), 0.0);
+    Modes modes = e.initial_modes(zhat);
+    const int nm = e.dofs();
+    const double duration = stretch * e.period();
+    double t = 0.0;
+    int checked = 0;
+    for (int piece = 0; piece < pieces && checked < wanted; ++piece, t += duration) {
+        const PatternEngine::Flow f = e.flow(zhat, modes, t, duration, true, false, 5000);
+        REQUIRE(f.ok);
+        const Eigen::VectorXd from = zhat;
+        const Modes pattern = modes;
+        zhat = f.zhat;
+        modes = f.modes;
+        const bool moving = std::any_of(pattern.begin(), pattern.end(), [](int m) { return m == ConeEngine::slip; });
+        if (!f.events.empty() || !moving) {
+            CHECK(f.psi.size() == (f.events.empty() ? f.psi.size() : 0));  // none through events
+            continue;
+        }
+        REQUIRE(f.psi.rows() == e.n());
+        const std::vector<int> x = e.independent(pattern);
+        const double size = std::max(from.head(nm).cwiseAbs().maxCoeff(), from.segment(nm, nm).cwiseAbs().maxCoeff() / omega);
+        double worst = 0.0;
+        for (int j : x) {
+            const double unit = j < nm ? size : j < 2 * nm ? size * omega : j < e.theta(0) ? size : 1.0;
+            double best = std::numeric_limits<double>::infinity();
+            for (double share : {1e-4, 1e-5, 1e-6}) {
+                Eigen::VectorXd plus = from, minus = from;
+                plus(j) += share * unit;
+                minus(j) -= share * unit;
+                e.make_consistent(plus, pattern, t);
+                e.make_consistent(minus, pattern, t);
+                const PatternEngine::Flow fp = e.flow(plus, pattern, t, duration, false, false, 5000);
+                const PatternEngine::Flow fm = e.flow(minus, pattern, t, duration, false, false, 5000);
+                REQUIRE(fp.ok);
+                REQUIRE(fm.ok);
+                if (!fp.events.empty() || !fm.events.empty()) continue;
+                // per row of x, relative to the row's unit
+                double error = 0.0;
+                for (int i : x) {
+                    const double row_unit = i < nm ? size : i < 2 * nm ? size * omega : i < e.theta(0) ? size : 1.0;
+                    const double difference = (fp.zhat(i) - fm.zhat(i)) / (2.0 * share * unit);
+                    error = std::max(error, std::abs(f.psi(i, j) - difference) * unit / row_unit);
+                }
+                best = std::min(best, error);
+            }
+            worst = std::max(worst, best);
+        }
+        INFO("t / T = " << t / e.period() << ": " << x.size() << " independent entries, worst " << worst);
+        CHECK(worst <= 1e-6);
+        ++checked;
+    }
+    return checked;
+}
+
+}  // namespace
+
+TEST_CASE("rigid exact 3D: a flow's derivative without events is its central differences", "[rigid_exact]") {
+    CHECK(check_flow_derivative(bench::contact_chain_3d(3, 1.0, 0.8), 0.6, 48, 1.0 / 48.0, 3) >= 2);
+    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    mitre.system.excitation *= 10.0;
+    CHECK(check_flow_derivative(mitre.system, 16000.0, 96, 1.0 / 192.0, 2) >= 1);
 }

@@ -33,6 +33,203 @@ double ConeEngine::state_size(const VectorXd& zhat) {
     return size_scale_ > 0.0 ? size_scale_ : 1.0;
 }
 
+void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const std::vector<char>& frozen,
+                                const std::vector<int>& dyn, MatrixXd& J, VectorXd& rate) const {
+    rates_jacobian(zhat, modes, frozen, dyn, dyn, J, rate);
+}
+
+void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const std::vector<char>& frozen,
+                                const std::vector<int>& dyn, const std::vector<int>& wrt, MatrixXd& J,
+                                VectorXd& rate) const {
+    // Notation: lambda = A(theta)^-1 r, r = diag(kept) free_ zhat - (held positions s of stuck
+    // contacts, gaps); y'' = base_ zhat + transmit_ lambda; the moving directions' rates solve
+    // P theta' = b with b_a = -d_perp_a . q1_{T_a}, q1 = free_ z1 - G A^-1 diag(kept) free_ z1
+    // (z1: zhat's rate without theta'), P(a, b) = -d_perp_a . (G A^-1 e_b)_{T_a},
+    // e_b = mu_b lambda_{N_b} d_perp_b on contact b's tangential rows. For any slipping 3D
+    // contact c, d A^-1 / d theta_c x = A^-1 (mu_c (A^-1 x)_{N_c} d_perp_c on T_c).
+    const int nm = n_dofs_, n = n_, L = s_.lambdas, y2 = 2 * nm;
+    const auto m = static_cast<Eigen::Index>(dyn.size()), nw = static_cast<Eigen::Index>(wrt.size());
+    const MatrixXd c = series(zhat, modes, 0.0, 1, frozen, false);
+    rate.resize(m);
+    for (Eigen::Index k = 0; k < m; ++k) rate(k) = c(dyn[static_cast<std::size_t>(k)], 1);
+    std::vector<int> moving;  // the moving directions' contacts, in dyn's order
+    for (Eigen::Index k = y2; k < m; ++k) moving.push_back(dyn[static_cast<std::size_t>(k)] - theta(0));
+    const auto nv = static_cast<Eigen::Index>(moving.size());
+    const Eigen::PartialPivLU<MatrixXd> lu = pattern_lu(zhat, modes);
+    const VectorXd kept = kept_rows(modes);
+    const VectorXd lambda = c.col(0).tail(L);
+    // Per column of wrt: its contact if it is a direction (-1 otherwise), its position in moving.
+    std::vector<int> turning(static_cast<std::size_t>(nw), -1), in_moving(static_cast<std::size_t>(nw), -1);
+    MatrixXd right = MatrixXd::Zero(L, nw);  // d r / d wrt
+    MatrixXd dz = MatrixXd::Zero(y2, nw);    // d (y, y') / d wrt
+    for (Eigen::Index k = 0; k < nw; ++k) {
+        const int i = wrt[static_cast<std::size_t>(k)];
+        if (i < y2) {
+            right.col(k) = kept.cwiseProduct(free_.col(i));
+            dz(i, k) = 1.0;
+        } else if (i >= theta(0)) {
+            const int q = i - theta(0);
+            if (modes[static_cast<std::size_t>(q)] == slip && directions(q) == 2) turning[static_cast<std::size_t>(k)] = q;
+            const auto it = std::find(moving.begin(), moving.end(), q);
+            if (it != moving.end()) in_moving[static_cast<std::size_t>(k)] = static_cast<int>(it - moving.begin());
+        } else {  // a held position: only a stuck contact's enters
+            for (int q = 0; q < n_contacts_; ++q)
+                if (i >= slider(q) && i < slider(q) + directions(q) && modes[static_cast<std::size_t>(q)] == stuck)
+                    right(tangential(q) + (i - slider(q)), k) = -1.0;
+        }
+    }
+    // x's turn with the directions of wrt's columns
+    auto turned = [&](const VectorXd& x) {
+        MatrixXd out = MatrixXd::Zero(L, nw);
+        for (Eigen::Index k = 0; k < nw; ++k) {
+            const int q = turning[static_cast<std::size_t>(k)];
+            if (q < 0) continue;
+            const double angle = zhat(theta(q)), weight = s_.blocks[static_cast<std::size_t>(q)].mu * x(normal(q));
+            out(tangential(q), k) = -weight * std::sin(angle);
+            out(tangential(q) + 1, k) = weight * std::cos(angle);
+        }
+        return out;
+    };
+    // d lambda / d wrt, d y'' / d wrt
+    const MatrixXd dlambda = lu.solve(right + turned(lambda));
+    MatrixXd dacc = transmit_ * dlambda;
+    for (Eigen::Index k = 0; k < nw; ++k)
+        if (wrt[static_cast<std::size_t>(k)] < y2) dacc.col(k) += base_.col(wrt[static_cast<std::size_t>(k)]);
+    J = MatrixXd::Zero(m, nw);
+    J.topRows(nm) = dz.bottomRows(nm);
+    J.middleRows(nm, nm) = dacc;
+    if (nv == 0) return;
+    // z1 and its derivative (its rows y, y' move)
+    VectorXd z1 = VectorXd::Zero(n);
+    z1.head(y2) = c.col(1).head(y2);
+    z1(cos_index()) = c(cos_index(), 1);
+    z1(sin_index()) = c(sin_index(), 1);
+    MatrixXd dz1(y2, nw);
+    dz1.topRows(nm) = dz.bottomRows(nm);
+    dz1.bottomRows(nm) = dacc;
+    const MatrixXd free_y = kept.asDiagonal() * free_.leftCols(y2);
+    const VectorXd x1 = lu.solve(kept.cwiseProduct(free_ * z1));
+    const VectorXd q1 = free_ * z1 - s_.G * x1;
+    const MatrixXd dq1 = free_.leftCols(y2) * dz1 - s_.G * lu.solve(free_y * dz1 + turned(x1));
+    // P, and the derivative of P theta' with theta' held
+    VectorXd thetadot(nv);
+    MatrixXd E = MatrixXd::Zero(L, nv);
+    for (Eigen::Index b = 0; b < nv; ++b) {
+        const int q = moving[static_cast<std::size_t>(b)], T = tangential(q);
+        thetadot(b) = c(theta(q), 1);
+        const double angle = zhat(theta(q)), weight = s_.blocks[static_cast<std::size_t>(q)].mu * lambda(normal(q));
+        E(T, b) = -weight * std::sin(angle);
+        E(T + 1, b) = weight * std::cos(angle);
+    }
+    const MatrixXd GAE = s_.G * lu.solve(E);
+    const VectorXd what = lu.solve(E * thetadot);
+    const VectorXd Gw = s_.G * what;
+    right = turned(what);
+    for (Eigen::Index b = 0; b < nv; ++b) {
+        const int q = moving[static_cast<std::size_t>(b)], T = tangential(q);
+        const double angle = zhat(theta(q)), mu = s_.blocks[static_cast<std::size_t>(q)].mu;
+        const Eigen::Vector2d perp(-std::sin(angle), std::cos(angle)), along(std::cos(angle), std::sin(angle));
+        for (int i = 0; i < 2; ++i) right.row(T + i) += (mu * perp(i) * thetadot(b)) * dlambda.row(normal(q));
+        for (Eigen::Index k = 0; k < nw; ++k)
+            if (in_moving[static_cast<std::size_t>(k)] == b)
+                for (int i = 0; i < 2; ++i) right(T + i, k) -= mu * lambda(normal(q)) * along(i) * thetadot(b);
+    }
+    const MatrixXd dGw = s_.G * lu.solve(right);
+    MatrixXd P(nv, nv), D(nv, nw);
+    for (Eigen::Index a = 0; a < nv; ++a) {
+        const int T = tangential(moving[static_cast<std::size_t>(a)]);
+        const double angle = zhat(theta(moving[static_cast<std::size_t>(a)]));
+        const double sa = std::sin(angle), ca = std::cos(angle);
+        P.row(a) = -(-sa * GAE.row(T) + ca * GAE.row(T + 1));
+        // d b_a - d (P theta')_a
+        D.row(a) = -(-sa * dq1.row(T) + ca * dq1.row(T + 1)) + (-sa * dGw.row(T) + ca * dGw.row(T + 1));
+        for (Eigen::Index k = 0; k < nw; ++k)
+            if (in_moving[static_cast<std::size_t>(k)] == a)
+                D(a, k) += (ca * q1(T) + sa * q1(T + 1)) - (ca * Gw(T) + sa * Gw(T + 1));
+    }
+    J.bottomRows(nv) = P.fullPivLu().solve(D);
+}
+
+std::vector<int> ConeEngine::independent(const Modes& modes) const {
+    std::vector<int> x;
+    for (int k = 0; k < 2 * n_dofs_; ++k) x.push_back(k);
+    for (int q = 0; q < n_contacts_; ++q)
+        if (modes[static_cast<std::size_t>(q)] == stuck)
+            for (int j = 0; j < directions(q); ++j) x.push_back(slider(q) + j);
+    for (int q = 0; q < n_contacts_; ++q)
+        if (modes[static_cast<std::size_t>(q)] == slip && directions(q) == 2) x.push_back(theta(q));
+    return x;
+}
+
+void ConeEngine::step_sensitivity(const MatrixXd& u, double h, double s_end, bool implicit, const Modes& modes,
+                                  const std::vector<char>& frozen, MatrixXd& phi) const {
+    // The variational equation d(dv)/dt = J_v dv + J_c dc along the step's polynomial (dv: y, y'
+    // and the moving directions; dc: the held positions and held directions, constant over the
+    // step), by Radau IIA with collocation_stages stages: on an implicit step over the step
+    // itself (the trajectory's own method and step), on a Taylor step over substeps of at most
+    // half a period of the structure's fastest mode over pi (its order-11 error then below
+    // rounding).
+    const RadauTable& R = radau_table(collocation_stages);
+    const int s = R.stages, nm = n_dofs_, n = n_;
+    const std::vector<int> x = independent(modes);
+    const auto nx = static_cast<Eigen::Index>(x.size());
+    std::vector<int> dyn;
+    for (int k = 0; k < 2 * nm; ++k) dyn.push_back(k);
+    for (int q = 0; q < n_contacts_; ++q)
+        if (modes[static_cast<std::size_t>(q)] == slip && directions(q) == 2 &&
+            !(!frozen.empty() && frozen[static_cast<std::size_t>(q)]))
+            dyn.push_back(theta(q));
+    const auto m = static_cast<Eigen::Index>(dyn.size());
+    // the rows of x that move (dyn), and those that stay
+    std::vector<Eigen::Index> moves, stays;
+    for (Eigen::Index k = 0; k < nx; ++k)
+        (std::find(dyn.begin(), dyn.end(), x[static_cast<std::size_t>(k)]) != dyn.end() ? moves : stays).push_back(k);
+    auto stage_jacobian = [&](double sigma) {
+        VectorXd z = evaluate(u, sigma).head(n);
+        MatrixXd J;
+        VectorXd rate;
+        rates_jacobian(z, modes, frozen, dyn, x, J, rate);
+        return J;  // m x nx, columns in x's order
+    };
+    int substeps = 1;
+    if (!implicit) {
+        const MatrixXd J0 = stage_jacobian(0.0);
+        const double fastest = std::sqrt(J0.block(nm, 0, nm, nm).cwiseAbs().rowwise().sum().maxCoeff());
+        substeps = std::clamp(static_cast<int>(std::ceil(s_end * h * fastest / 0.5)), 1, 256);
+    }
+    for (int sub = 0; sub < substeps; ++sub) {
+        const double a0 = s_end * sub / substeps, width = s_end / substeps, length = width * h;
+        std::vector<MatrixXd> Jv(static_cast<std::size_t>(s)), Jc(static_cast<std::size_t>(s));
+        for (int i = 0; i < s; ++i) {
+            const MatrixXd J = stage_jacobian(a0 + R.c(i) * width);
+            Jv[static_cast<std::size_t>(i)].resize(m, m);
+            Jc[static_cast<std::size_t>(i)].resize(m, static_cast<Eigen::Index>(stays.size()));
+            for (Eigen::Index k = 0; k < m; ++k) {
+                // column of dyn entry k in x
+                const auto at = std::find(x.begin(), x.end(), dyn[static_cast<std::size_t>(k)]) - x.begin();
+                Jv[static_cast<std::size_t>(i)].col(k) = J.col(at);
+            }
+            for (std::size_t k = 0; k < stays.size(); ++k)
+                Jc[static_cast<std::size_t>(i)].col(static_cast<Eigen::Index>(k)) = J.col(stays[k]);
+        }
+        // (I - length (A x I) blockdiag(Jv)) dV = 1 x dv_a + length (A x I) [Jc_j dc]
+        MatrixXd M = MatrixXd::Identity(s * m, s * m);
+        MatrixXd dva(m, phi.cols()), dc(static_cast<Eigen::Index>(stays.size()), phi.cols());
+        for (Eigen::Index k = 0; k < m; ++k) dva.row(k) = phi.row(moves[static_cast<std::size_t>(k)]);
+        for (std::size_t k = 0; k < stays.size(); ++k) dc.row(static_cast<Eigen::Index>(k)) = phi.row(stays[k]);
+        MatrixXd rhs(s * m, phi.cols());
+        for (int i = 0; i < s; ++i) {
+            rhs.middleRows(i * m, m) = dva;
+            for (int j = 0; j < s; ++j) {
+                M.block(i * m, j * m, m, m) -= (length * R.a(i, j)) * Jv[static_cast<std::size_t>(j)];
+                if (!stays.empty()) rhs.middleRows(i * m, m) += (length * R.a(i, j)) * (Jc[static_cast<std::size_t>(j)] * dc);
+            }
+        }
+        const MatrixXd dV = M.partialPivLu().solve(rhs);
+        for (Eigen::Index k = 0; k < m; ++k) phi.row(moves[static_cast<std::size_t>(k)]) = dV.row((s - 1) * m + k);
+    }
+}
+
 bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, double h, const std::vector<char>& frozen,
                                   StartJacobian& start, const PreviousStep& last, MatrixXd& u, double& error) const {
     const RadauTable& R = radau_table(collocation_stages);
@@ -63,7 +260,7 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
     auto rate = [&](const VectorXd& z) {
         VectorXd f(m);
         try {
-            const MatrixXd c = series(z, modes, 0.0, 1, frozen, false);
+            const MatrixXd c = series(z, modes, 0.0, 1, frozen, false, true);
             for (int k = 0; k < m; ++k) f(k) = c(dyn[static_cast<std::size_t>(k)], 1);
         } catch (const std::runtime_error&) {  // a singular pattern at a trial state: a shorter step
             f.setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -72,19 +269,17 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
     };
     VectorXd v0(m);
     for (int k = 0; k < m; ++k) v0(k) = zhat(dyn[static_cast<std::size_t>(k)]);
-    // Newton's matrix from forward differences of the rates at the step's start, unless one of
-    // an earlier start of the pattern is kept.
-    if (start.rate.size() != m) start.rate = rate(zhat);
+    // Newton's matrix: the rates' Jacobian at the step's start, unless one of an earlier start
+    // of the pattern is kept.
     if (start.J.rows() != m) {
-        start.fresh = true;
-        start.J.resize(m, m);
-        for (int k = 0; k < m; ++k) {
-            const double delta = 1e-7 * std::max(std::abs(v0(k)), scale(k));
-            VectorXd v = v0;
-            v(k) += delta;
-            start.J.col(k) = (rate(full(v, 0.0)) - start.rate) / delta;
+        try {
+            rates_jacobian(zhat, modes, frozen, dyn, start.J, start.rate);
+        } catch (const std::runtime_error&) {
+            return false;
         }
+        start.fresh = true;
     }
+    if (start.rate.size() != m) start.rate = rate(zhat);
     const VectorXd& f0 = start.rate;
     const MatrixXd& J = start.J;
     MatrixXd M = MatrixXd::Identity(s * m, s * m);

@@ -133,23 +133,9 @@ ModeData ConeEngine::build(const Modes& modes) const {
     return m;
 }
 
-MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, int terms,
-                            const std::vector<char>& frozen, bool decide_hold) const {
-    (void)t;
-    const int nm = n_dofs_, L = s_.lambdas, n = n_, K = terms;
-    MatrixXd c = MatrixXd::Zero(n + L, K + 1);
-    // the forcing: cos(w (t + tau)) + i sin(...) = exp(i w t) exp(i w tau), its phase from zhat
-    std::complex<double> p(zhat(cos_index()), zhat(sin_index()));
-    for (int k = 0; k <= K; ++k) {
-        c(cos_index(), k) = p.real();
-        c(sin_index(), k) = p.imag();
-        p *= std::complex<double>(0.0, omega_) / static_cast<double>(k + 1);
-    }
-    c(one_index(), 0) = 1.0;
-    c.col(0).head(nz_) = zhat.head(nz_);
-    // the pattern's matrix
+Eigen::PartialPivLU<MatrixXd> ConeEngine::pattern_lu(const VectorXd& zhat, const Modes& modes) const {
+    const int L = s_.lambdas;
     MatrixXd A = MatrixXd::Zero(L, L);
-    std::vector<int> cones, moving;  // slipping 3D contacts; those whose direction moves
     for (int k = 0; k < n_contacts_; ++k) {
         const RigidContact& b = s_.blocks[static_cast<std::size_t>(k)];
         const int T = tangential(k), N = normal(k), mode = modes[static_cast<std::size_t>(k)];
@@ -167,14 +153,44 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
             A(T, T) = A(T + 1, T + 1) = 1.0;
             A(T, N) = -b.mu * std::cos(zhat(theta(k)));
             A(T + 1, N) = -b.mu * std::sin(zhat(theta(k)));
-            cones.push_back(k);
         }
     }
-    const Eigen::PartialPivLU<MatrixXd> lu(A);
-    const double rcond = lu.rcond();
-    if (!(rcond > 1e-14))
+    Eigen::PartialPivLU<MatrixXd> lu(A);
+    if (!(lu.rcond() > 1e-14))
         throw std::runtime_error("a contact pattern has no unique contact forces (the friction makes the slipping "
                                  "contacts' normal problem singular)");
+    return lu;
+}
+
+VectorXd ConeEngine::kept_rows(const Modes& modes) const {
+    VectorXd mask = VectorXd::Ones(s_.lambdas);
+    for (int q = 0; q < n_contacts_; ++q) {
+        const int mode = modes[static_cast<std::size_t>(q)], d = directions(q);
+        if (mode == open) mask.segment(tangential(q), d + 1).setZero();
+        else if (mode != stuck) mask.segment(tangential(q), d).setZero();
+    }
+    return mask;
+}
+
+MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, int terms,
+                            const std::vector<char>& frozen, bool decide_hold, bool rates_only) const {
+    (void)t;
+    const int nm = n_dofs_, L = s_.lambdas, n = n_, K = terms;
+    MatrixXd c = MatrixXd::Zero(n + L, K + 1);
+    // the forcing: cos(w (t + tau)) + i sin(...) = exp(i w t) exp(i w tau), its phase from zhat
+    std::complex<double> p(zhat(cos_index()), zhat(sin_index()));
+    for (int k = 0; k <= K; ++k) {
+        c(cos_index(), k) = p.real();
+        c(sin_index(), k) = p.imag();
+        p *= std::complex<double>(0.0, omega_) / static_cast<double>(k + 1);
+    }
+    c(one_index(), 0) = 1.0;
+    c.col(0).head(nz_) = zhat.head(nz_);
+    // the pattern's matrix
+    std::vector<int> cones, moving;  // slipping 3D contacts; those whose direction moves
+    for (int k = 0; k < n_contacts_; ++k)
+        if (modes[static_cast<std::size_t>(k)] == slip && directions(k) == 2) cones.push_back(k);
+    const Eigen::PartialPivLU<MatrixXd> lu = pattern_lu(zhat, modes);
     const auto nk = static_cast<Eigen::Index>(cones.size());
     MatrixXd Dc = MatrixXd::Zero(nk, K + 1), Ds = MatrixXd::Zero(nk, K + 1);
     for (Eigen::Index j = 0; j < nk; ++j) {
@@ -212,6 +228,7 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
     Eigen::FullPivLU<MatrixXd> direction;
     VectorXd r;
     for (int k = 0;; ++k) {
+        if (rates_only && k == K && k > 0) break;  // y, y' and theta of order K are set
         rhs(k, r);
         const VectorXd lambda = lu.solve(r);
         c.col(k).tail(L) = lambda;
@@ -229,22 +246,25 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
                                   (decide_hold && !(lambda(normal(q)) > hold_share * scale));
                 if (!hold) moving.push_back(static_cast<int>(j));
             }
-            if (!moving.empty()) {
+            if (!moving.empty() && K > 0) {
+                // P(a, b) = -d_perp_a . (G A^-1 e_b) at contact a's tangential rows, e_b the
+                // change of the pattern's right side as theta_b turns: all columns at once,
+                // and only the moving contacts' rows of G
                 const auto nv = static_cast<Eigen::Index>(moving.size());
-                MatrixXd P(nv, nv);
+                MatrixXd E = MatrixXd::Zero(L, nv), rows(2 * nv, L);
                 for (Eigen::Index b = 0; b < nv; ++b) {
                     const auto jb = static_cast<Eigen::Index>(moving[static_cast<std::size_t>(b)]);
                     const int q = cones[static_cast<std::size_t>(jb)];
-                    VectorXd e = VectorXd::Zero(L);
                     const double weight = s_.blocks[static_cast<std::size_t>(q)].mu * lambda(normal(q));
-                    e(tangential(q)) = -weight * Ds(jb, 0);
-                    e(tangential(q) + 1) = weight * Dc(jb, 0);
-                    const VectorXd moved = s_.G * lu.solve(e);
-                    for (Eigen::Index a = 0; a < nv; ++a) {
-                        const auto ja = static_cast<Eigen::Index>(moving[static_cast<std::size_t>(a)]);
-                        const int qa = cones[static_cast<std::size_t>(ja)];
-                        P(a, b) = -(-Ds(ja, 0) * moved(tangential(qa)) + Dc(ja, 0) * moved(tangential(qa) + 1));
-                    }
+                    E(tangential(q), b) = -weight * Ds(jb, 0);
+                    E(tangential(q) + 1, b) = weight * Dc(jb, 0);
+                    rows.middleRows(2 * b, 2) = s_.G.middleRows(tangential(q), 2);
+                }
+                const MatrixXd moved = rows * lu.solve(E);
+                MatrixXd P(nv, nv);
+                for (Eigen::Index a = 0; a < nv; ++a) {
+                    const auto ja = static_cast<Eigen::Index>(moving[static_cast<std::size_t>(a)]);
+                    P.row(a) = -(-Ds(ja, 0) * moved.row(2 * a) + Dc(ja, 0) * moved.row(2 * a + 1));
                 }
                 direction.compute(P);
                 if (!direction.isInvertible())
@@ -611,9 +631,8 @@ void ConeEngine::make_consistent(VectorXd& zhat, const Modes& modes, double t) {
 PatternEngine::Flow ConeEngine::flow(VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
                                      int max_events) {
     try {
-        return taylor_flow(std::move(zhat), std::move(modes), t0, duration, record, max_events);
+        return taylor_flow(std::move(zhat), std::move(modes), t0, duration, monodromy, record, max_events);
     } catch (const std::runtime_error& error) {  // a singular pattern: a failed flow, not an exception
-        (void)monodromy;  // not propagated: see cone_engine.hpp
         Flow out;
         out.ok = false;
         out.message = error.what();
@@ -621,9 +640,14 @@ PatternEngine::Flow ConeEngine::flow(VectorXd zhat, Modes modes, double t0, doub
     }
 }
 
-PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t0, double duration, bool record,
-                                            int max_events) {
+PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t0, double duration, bool monodromy,
+                                            bool record, int max_events) {
     Flow out;
+    // The derivative of the state with respect to the start's independent entries, while no event
+    // has happened (through events: not yet, psi is left empty).
+    MatrixXd phi;
+    if (monodromy) phi = MatrixXd::Identity(static_cast<Eigen::Index>(independent(modes).size()),
+                                            static_cast<Eigen::Index>(independent(modes).size()));
     double t = t0;
     const double t_end = t0 + duration;
     int events = 0;
@@ -821,6 +845,10 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             st.data = &m;
             out.steps.push_back(std::move(st));
         }
+        if (phi.size() > 0) {
+            step_sensitivity(u, h, s_end, implicit, modes, frozen, phi);
+            if (found) phi.resize(0, 0);
+        }
         zhat = evaluate(u, s_end).head(n);
         t = (found || !last) ? std::min(t + s_end * h, t_end) : t_end;
         restore_forcing(zhat, t);
@@ -844,6 +872,13 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
     }
     out.zhat = zhat;
     out.modes = modes;
+    if (phi.size() > 0 && out.ok) {
+        const std::vector<int> x = independent(modes);
+        out.psi = MatrixXd::Zero(n, n);
+        for (std::size_t i = 0; i < x.size(); ++i)
+            for (std::size_t j = 0; j < x.size(); ++j)
+                out.psi(x[i], x[j]) = phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+    }
     return out;
 }
 

@@ -56,8 +56,13 @@
 // step in which a guard has its root is repeated ending there, so that the event's state is the
 // step's end.
 //
-// The monodromy is not propagated: flow() leaves psi empty, and the periodic-orbit solver
-// differentiates the period map (rigid_orbit.cpp).
+// The derivative of a flow with respect to its start (flow(..., monodromy = true)): over the
+// independent entries of zhat (independent(): y, y', the held positions of stuck contacts, the
+// directions of slipping 3D contacts), by Radau IIA on the variational equation along each
+// step's polynomial with the rates' Jacobian in closed form (rates_jacobian), for flows without
+// events; through events (the saltation and the patterns' resets) it is not propagated yet:
+// psi is left empty, and the periodic-orbit solver differentiates the period map
+// (rigid_orbit.cpp).
 #pragma once
 
 #include <Eigen/Dense>
@@ -116,14 +121,17 @@ public:
     /// frozen: contacts whose direction is held over the step (a closing into slip). Also held
     /// (with decide_hold): slipping 3D contacts pressing with less than hold_share of the forces;
     /// without it (an implicit step's stages) `frozen` alone decides, as at the step's start.
+    /// rates_only: the last order's terms of y, y' and theta only (its contact forces and sliders
+    /// are left zero): the rates of an implicit step at order 1.
     Eigen::MatrixXd series(const Eigen::VectorXd& zhat, const Modes& modes, double t, int order,
-                           const std::vector<char>& frozen = {}, bool decide_hold = true) const;
+                           const std::vector<char>& frozen = {}, bool decide_hold = true, bool rates_only = false) const;
 
     Flow flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
               int max_events) override;
 
 private:
-    Flow taylor_flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool record, int max_events);
+    Flow taylor_flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
+                     int max_events);
     /// Newton's Jacobian of the rates and the rates at a step's start. The rates are computed
     /// by a step's first try and shared by its shorter tries; the Jacobian is computed where
     /// there is none (empty: a new pattern, or its refresh) and kept over the following steps of
@@ -146,8 +154,36 @@ private:
     /// local error over collocation_tolerance (accept <= 1). False where Newton does not converge.
     bool collocation_step(const Eigen::VectorXd& zhat, const Modes& modes, double h, const std::vector<char>& frozen,
                           StartJacobian& start, const PreviousStep& previous, Eigen::MatrixXd& u, double& error) const;
+public:
+    /// The rates of an implicit step's components `dyn` (y, y' and the moving directions theta,
+    /// in that order, as collocation_step integrates them) at zhat and their Jacobian, in closed
+    /// form: the derivatives of the contact forces' equations and of the directions' equation.
+    void rates_jacobian(const Eigen::VectorXd& zhat, const Modes& modes, const std::vector<char>& frozen,
+                        const std::vector<int>& dyn, Eigen::MatrixXd& J, Eigen::VectorXd& rate) const;
+    /// The same rates' derivatives with respect to the entries `wrt` of zhat: y, y', the held
+    /// positions of stuck contacts and the directions of slipping 3D contacts (moving or held);
+    /// J is dyn x wrt.
+    void rates_jacobian(const Eigen::VectorXd& zhat, const Modes& modes, const std::vector<char>& frozen,
+                        const std::vector<int>& dyn, const std::vector<int>& wrt, Eigen::MatrixXd& J,
+                        Eigen::VectorXd& rate) const;
+
+    /// The independent entries of zhat in a pattern: y, y', the held positions of stuck contacts
+    /// and the directions of slipping 3D contacts (the other sliders follow from them).
+    std::vector<int> independent(const Modes& modes) const;
+    /// Multiplies phi (rows: the independent entries of the pattern, in independent()'s order;
+    /// any number of columns) by the derivative of a step's end (at s_end) with respect to its
+    /// start, along the step's recorded polynomial u over h (implicit: a collocation step).
+    void step_sensitivity(const Eigen::MatrixXd& u, double h, double s_end, bool implicit, const Modes& modes,
+                          const std::vector<char>& frozen, Eigen::MatrixXd& phi) const;
+
+private:
     /// The state's size for the collocation's error (y, y' / omega; at least its running largest).
     double state_size(const Eigen::VectorXd& zhat);
+    /// The LU of the pattern's matrix: the contact forces' equations (throws where singular).
+    Eigen::PartialPivLU<Eigen::MatrixXd> pattern_lu(const Eigen::VectorXd& zhat, const Modes& modes) const;
+    /// 1 on the rows of those equations whose right side is free_ * zhat (closed contacts' normal
+    /// rows, stuck contacts' tangential rows), 0 on the others.
+    Eigen::VectorXd kept_rows(const Modes& modes) const;
     ModeData build(const Modes& modes) const override;
     void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const override;
 

@@ -372,7 +372,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             norm.reference = std::max(norm.reference, norm.size(x));
             auto map = [&](const VectorXd& from, bool record) {
                 ++out.periods;
-                return e.flow(start(from), ms, t_s, period, true, record, options.max_events_per_period);
+                return e.flow(start(from), ms, t_s, period, exact_monodromy, record, options.max_events_per_period);
             };
             // d x_end / d x: the monodromy (RigidEngine), or central differences of the map with
             // steps of 1e-6 of the state's size (velocities over omega, directions in radians).
