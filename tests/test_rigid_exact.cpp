@@ -504,10 +504,13 @@ TEST_CASE("rigid exact 3D: the implicit steps' Jacobian in closed form is the ra
 namespace {
 
 /// The flow's derivative with respect to its start's independent entries (ConeEngine::flow with
-/// monodromy: Radau IIA on the variational equation along the steps) against central
-/// differences of the flow itself, over stretches of `stretch` periods without events (up to
-/// `wanted` of them, each with a slip direction moving). Returns the number checked.
-int check_flow_derivative(const System& system, double omega, int pieces, double stretch, int wanted) {
+/// monodromy: Radau IIA on the variational equation along the steps, the saltation at events)
+/// against central differences of the flow itself, over stretches of `stretch` periods, up to
+/// `wanted` of them: without events and with a slip direction moving, or (through_events) with
+/// events, the differences taken where both perturbed flows meet the same events and end in the
+/// same pattern. Returns the number checked and adds the event kinds met to `kinds`.
+int check_flow_derivative(const System& system, double omega, int pieces, double stretch, int wanted, bool through_events,
+                          std::vector<std::pair<int, int>>* kinds = nullptr) {
     using namespace detail::exact;
     ConeEngine e(system, omega);
     Eigen::VectorXd zhat = e.augment(Eigen::VectorXd::Zero(e.nz()), 0.0);
@@ -524,41 +527,43 @@ int check_flow_derivative(const System& system, double omega, int pieces, double
         zhat = f.zhat;
         modes = f.modes;
         const bool moving = std::any_of(pattern.begin(), pattern.end(), [](int m) { return m == ConeEngine::slip; });
-        if (!f.events.empty() || !moving) {
-            CHECK(f.psi.size() == (f.events.empty() ? f.psi.size() : 0));  // none through events
-            continue;
-        }
+        if (through_events ? f.events.empty() : (!f.events.empty() || !moving)) continue;
         REQUIRE(f.psi.rows() == e.n());
-        const std::vector<int> x = e.independent(pattern);
+        const std::vector<int> start = e.independent(pattern), end = e.independent(f.modes);
         const double size = std::max(from.head(nm).cwiseAbs().maxCoeff(), from.segment(nm, nm).cwiseAbs().maxCoeff() / omega);
+        auto unit_of = [&](int i) { return i < nm ? size : i < 2 * nm ? size * omega : i < e.theta(0) ? size : 1.0; };
         double worst = 0.0;
-        for (int j : x) {
-            const double unit = j < nm ? size : j < 2 * nm ? size * omega : j < e.theta(0) ? size : 1.0;
+        int compared = 0;
+        for (int j : start) {
             double best = std::numeric_limits<double>::infinity();
-            for (double share : {1e-4, 1e-5, 1e-6}) {
+            for (double share : {1e-5, 1e-6, 1e-7}) {
                 Eigen::VectorXd plus = from, minus = from;
-                plus(j) += share * unit;
-                minus(j) -= share * unit;
+                plus(j) += share * unit_of(j);
+                minus(j) -= share * unit_of(j);
                 e.make_consistent(plus, pattern, t);
                 e.make_consistent(minus, pattern, t);
                 const PatternEngine::Flow fp = e.flow(plus, pattern, t, duration, false, false, 5000);
                 const PatternEngine::Flow fm = e.flow(minus, pattern, t, duration, false, false, 5000);
-                REQUIRE(fp.ok);
-                REQUIRE(fm.ok);
-                if (!fp.events.empty() || !fm.events.empty()) continue;
-                // per row of x, relative to the row's unit
-                double error = 0.0;
-                for (int i : x) {
-                    const double row_unit = i < nm ? size : i < 2 * nm ? size * omega : i < e.theta(0) ? size : 1.0;
-                    const double difference = (fp.zhat(i) - fm.zhat(i)) / (2.0 * share * unit);
-                    error = std::max(error, std::abs(f.psi(i, j) - difference) * unit / row_unit);
+                if (!fp.ok || !fm.ok || fp.modes != f.modes || fm.modes != f.modes || fp.events.size() != f.events.size() ||
+                    fm.events.size() != f.events.size())
+                    continue;
+                double error = 0.0;  // per row of the end, relative to the row's unit
+                for (int i : end) {
+                    const double difference = (fp.zhat(i) - fm.zhat(i)) / (2.0 * share * unit_of(j));
+                    error = std::max(error, std::abs(f.psi(i, j) - difference) * unit_of(j) / unit_of(i));
                 }
                 best = std::min(best, error);
             }
+            if (!std::isfinite(best)) continue;
             worst = std::max(worst, best);
+            ++compared;
         }
-        INFO("t / T = " << t / e.period() << ": " << x.size() << " independent entries, worst " << worst);
+        if (compared < static_cast<int>(start.size()) / 2) continue;  // the perturbed flows met other events
+        INFO("t / T = " << t / e.period() << ": " << f.events.size() << " events, " << compared << " of " << start.size()
+                        << " columns compared, worst " << worst);
         CHECK(worst <= 1e-6);
+        if (kinds)
+            for (const ExactEvent& ev : f.events) kinds->emplace_back(ev.mode_before, ev.mode_after);
         ++checked;
     }
     return checked;
@@ -567,8 +572,19 @@ int check_flow_derivative(const System& system, double omega, int pieces, double
 }  // namespace
 
 TEST_CASE("rigid exact 3D: a flow's derivative without events is its central differences", "[rigid_exact]") {
-    CHECK(check_flow_derivative(bench::contact_chain_3d(3, 1.0, 0.8), 0.6, 48, 1.0 / 48.0, 3) >= 2);
+    CHECK(check_flow_derivative(bench::contact_chain_3d(3, 1.0, 0.8), 0.6, 48, 1.0 / 48.0, 3, false) >= 2);
     SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
     mitre.system.excitation *= 10.0;
-    CHECK(check_flow_derivative(mitre.system, 16000.0, 96, 1.0 / 192.0, 2) >= 1);
+    CHECK(check_flow_derivative(mitre.system, 16000.0, 96, 1.0 / 192.0, 2, false) >= 1);
+}
+
+TEST_CASE("rigid exact 3D: a flow's derivative through events is its central differences", "[rigid_exact]") {
+    // slip onsets from stick (1 -> 2), stops (2 -> 1), openings (2 -> 0) and closings into slip
+    // along the consistent direction (0 -> 2) on the 3D chain
+    std::vector<std::pair<int, int>> kinds;
+    const System chain = bench::contact_chain_3d(3, 1.0, 0.8);
+    CHECK(check_flow_derivative(chain, 0.6, 24, 1.0 / 24.0, 8, true, &kinds) >= 5);
+    CHECK(check_flow_derivative(chain, 2.0, 24, 1.0 / 24.0, 6, true, &kinds) >= 4);
+    for (const std::pair<int, int>& kind : {std::pair<int, int>{1, 2}, {2, 1}, {2, 0}, {0, 2}})
+        CHECK(std::count(kinds.begin(), kinds.end(), kind) >= 1);
 }

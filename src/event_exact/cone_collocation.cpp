@@ -40,7 +40,7 @@ void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const 
 
 void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const std::vector<char>& frozen,
                                 const std::vector<int>& dyn, const std::vector<int>& wrt, MatrixXd& J,
-                                VectorXd& rate) const {
+                                VectorXd& rate, ContactDerivatives* more) const {
     // Notation: lambda = A(theta)^-1 r, r = diag(kept) free_ zhat - (held positions s of stuck
     // contacts, gaps); y'' = base_ zhat + transmit_ lambda; the moving directions' rates solve
     // P theta' = b with b_a = -d_perp_a . q1_{T_a}, q1 = free_ z1 - G A^-1 diag(kept) free_ z1
@@ -98,7 +98,16 @@ void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const 
     J = MatrixXd::Zero(m, nw);
     J.topRows(nm) = dz.bottomRows(nm);
     J.middleRows(nm, nm) = dacc;
-    if (nv == 0) return;
+    if (more) {
+        MatrixXd on_free = MatrixXd::Zero(L, nw);  // free_'s columns of wrt (q0 moves with y only)
+        for (Eigen::Index k = 0; k < nw; ++k)
+            if (wrt[static_cast<std::size_t>(k)] < y2) on_free.col(k) = free_.col(wrt[static_cast<std::size_t>(k)]);
+        more->lambda = lambda;
+        more->dlambda = dlambda;
+        more->relative = free_ * c.col(0).head(n) - s_.G * lambda;
+        more->drelative = on_free - s_.G * dlambda;
+    }
+    if (nv == 0 && !more) return;
     // z1 and its derivative (its rows y, y' move)
     VectorXd z1 = VectorXd::Zero(n);
     z1.head(y2) = c.col(1).head(y2);
@@ -135,6 +144,11 @@ void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const 
                 for (int i = 0; i < 2; ++i) right(T + i, k) -= mu * lambda(normal(q)) * along(i) * thetadot(b);
     }
     const MatrixXd dGw = s_.G * lu.solve(right);
+    if (nv == 0) {
+        more->relative_rate = q1;
+        more->drelative_rate = dq1;
+        return;
+    }
     MatrixXd P(nv, nv), D(nv, nw);
     for (Eigen::Index a = 0; a < nv; ++a) {
         const int T = tangential(moving[static_cast<std::size_t>(a)]);
@@ -148,6 +162,10 @@ void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const 
                 D(a, k) += (ca * q1(T) + sa * q1(T + 1)) - (ca * Gw(T) + sa * Gw(T + 1));
     }
     J.bottomRows(nv) = P.fullPivLu().solve(D);
+    if (more) {
+        more->relative_rate = q1 - Gw;
+        more->drelative_rate = dq1 - dGw - GAE * J.bottomRows(nv);
+    }
 }
 
 std::vector<int> ConeEngine::independent(const Modes& modes) const {
@@ -173,23 +191,26 @@ void ConeEngine::step_sensitivity(const MatrixXd& u, double h, double s_end, boo
     const int s = R.stages, nm = n_dofs_, n = n_;
     const std::vector<int> x = independent(modes);
     const auto nx = static_cast<Eigen::Index>(x.size());
-    std::vector<int> dyn;
-    for (int k = 0; k < 2 * nm; ++k) dyn.push_back(k);
-    for (int q = 0; q < n_contacts_; ++q)
-        if (modes[static_cast<std::size_t>(q)] == slip && directions(q) == 2 &&
-            !(!frozen.empty() && frozen[static_cast<std::size_t>(q)]))
-            dyn.push_back(theta(q));
+    const std::vector<int> dyn = moving_entries(modes, frozen);
     const auto m = static_cast<Eigen::Index>(dyn.size());
     // the rows of x that move (dyn), and those that stay
     std::vector<Eigen::Index> moves, stays;
     for (Eigen::Index k = 0; k < nx; ++k)
         (std::find(dyn.begin(), dyn.end(), x[static_cast<std::size_t>(k)]) != dyn.end() ? moves : stays).push_back(k);
+    // At a step's end where a slipping contact opens, its direction equation is singular (its
+    // normal force is zero there): the Jacobian just before the end instead.
     auto stage_jacobian = [&](double sigma) {
-        VectorXd z = evaluate(u, sigma).head(n);
         MatrixXd J;
         VectorXd rate;
-        rates_jacobian(z, modes, frozen, dyn, x, J, rate);
-        return J;  // m x nx, columns in x's order
+        for (double back : {0.0, 1e-9, 1e-7, 1e-5}) {
+            try {
+                rates_jacobian(evaluate(u, sigma * (1.0 - back)).head(n), modes, frozen, dyn, x, J, rate);
+                return J;  // m x nx, columns in x's order
+            } catch (const std::runtime_error&) {
+                if (back == 1e-5) throw;
+            }
+        }
+        return J;
     };
     int substeps = 1;
     if (!implicit) {
@@ -230,17 +251,167 @@ void ConeEngine::step_sensitivity(const MatrixXd& u, double h, double s_end, boo
     }
 }
 
+std::vector<int> ConeEngine::moving_entries(const Modes& modes, const std::vector<char>& frozen) const {
+    std::vector<int> dyn;
+    for (int k = 0; k < 2 * n_dofs_; ++k) dyn.push_back(k);
+    for (int q = 0; q < n_contacts_; ++q)
+        if (modes[static_cast<std::size_t>(q)] == slip && directions(q) == 2 &&
+            !(!frozen.empty() && frozen[static_cast<std::size_t>(q)]))
+            dyn.push_back(theta(q));
+    return dyn;
+}
+
+MatrixXd ConeEngine::event_sensitivity(const MatrixXd& u, double h, double s_end, const Modes& before,
+                                       const std::vector<char>& frozen, const std::vector<Guard>& triggers,
+                                       const Modes& after, const VectorXd& zhat_after,
+                                       const std::vector<char>& closing, const MatrixXd& phi) const {
+    // A perturbed flow meets the event dtau later, dtau = -(grad g . dx) / g' (g the first
+    // trigger's guard); just after it, each independent entry of the new pattern is a function
+    // R of the state before (carried, the held position of a contact that sticks: its q_T, the
+    // direction of one that slips: its force's, or the consistent one where it starts from zero
+    // force), and dx+ = DR (dx- + f- dtau) - f+ dtau (f-, f+: the rates before and after).
+    const int nm = n_dofs_, n = n_, L = s_.lambdas;
+    const std::vector<int> xb = independent(before), xa = independent(after);
+    const VectorXd zb = evaluate(u, s_end).head(n);
+    // the recorded vector's rate (per time) before the event
+    VectorXd rate_before = VectorXd::Zero(n + L);
+    {
+        double power = 1.0;
+        for (Eigen::Index k = 1; k < u.cols(); ++k) {
+            rate_before += (static_cast<double>(k) * power) * u.col(k);
+            power *= s_end;
+        }
+        rate_before /= h;
+    }
+    MatrixXd J;
+    VectorXd rate;
+    ContactDerivatives D;
+    // where a slipping contact opens its direction equation is singular at the event: the
+    // derivatives just before it instead
+    for (double back : {0.0, 1e-9, 1e-7, 1e-5}) {
+        try {
+            rates_jacobian(back == 0.0 ? zb : VectorXd(evaluate(u, s_end * (1.0 - back)).head(n)), before, frozen,
+                           moving_entries(before, frozen), xb, J, rate, &D);
+            break;
+        } catch (const std::runtime_error&) {
+            if (back == 1e-5) throw;
+        }
+    }
+    auto row_of = [](const std::vector<int>& x, int entry) {
+        return static_cast<Eigen::Index>(std::find(x.begin(), x.end(), entry) - x.begin());
+    };
+    // each trigger's time change: its guard's gradient over xb and its rate along the flow
+    auto timing = [&](const Guard& g) -> Eigen::RowVectorXd {
+        const int c = g.contact, T = tangential(c), N = normal(c);
+        const double mu = s_.blocks[static_cast<std::size_t>(c)].mu;
+        Eigen::RowVectorXd grad;
+        switch (g.kind) {
+            case guard_gap: grad = -D.drelative.row(N); break;
+            case guard_normal: grad = D.dlambda.row(N); break;
+            case guard_limit:
+            case guard_limit_negative:
+                if (directions(c) == 2)
+                    grad = 2.0 * mu * mu * D.lambda(N) * D.dlambda.row(N) - 2.0 * D.lambda(T) * D.dlambda.row(T) -
+                           2.0 * D.lambda(T + 1) * D.dlambda.row(T + 1);
+                else
+                    grad = mu * D.dlambda.row(N) + (g.kind == guard_limit ? -1.0 : 1.0) * D.dlambda.row(T);
+                break;
+            default: {  // the slip speed
+                if (directions(c) == 2) {
+                    const double angle = zb(theta(c)), ca = std::cos(angle), sa = std::sin(angle);
+                    grad = ca * D.drelative_rate.row(T) + sa * D.drelative_rate.row(T + 1);
+                    grad(row_of(xb, theta(c))) += -sa * D.relative_rate(T) + ca * D.relative_rate(T + 1);
+                } else {
+                    grad = (before[static_cast<std::size_t>(c)] > 0 ? 1.0 : -1.0) * D.drelative_rate.row(T);
+                }
+            }
+        }
+        double slope = 0.0, power = 1.0;
+        for (Eigen::Index k = 1; k < g.row.size(); ++k) {
+            slope += static_cast<double>(k) * power * g.row(k);
+            power *= s_end;
+        }
+        return -(grad * phi) / (slope / h);
+    };
+    // Simultaneous events (symmetric contacts): each contact's new entries move with its own
+    // event's time; the carried entries with the first's. (Where such events couple, the map is
+    // only piecewise differentiable: the order of the perturbed events matters.)
+    std::vector<Eigen::RowVectorXd> dtau_of(static_cast<std::size_t>(n_contacts_));
+    for (const Guard& t : triggers) dtau_of[static_cast<std::size_t>(t.contact)] = timing(t);
+    const Eigen::RowVectorXd dtau = dtau_of[static_cast<std::size_t>(triggers.front().contact)];
+    // the rates after
+    const MatrixXd next = series(zhat_after, after, 0.0, 1, closing, false);
+    MatrixXd out(static_cast<Eigen::Index>(xa.size()), phi.cols());
+    std::vector<char> triggered(static_cast<std::size_t>(n_contacts_), 0);
+    for (const Guard& t : triggers) triggered[static_cast<std::size_t>(t.contact)] = 1;
+    for (std::size_t r = 0; r < xa.size(); ++r) {
+        const int i = xa[r];
+        const auto row = static_cast<Eigen::Index>(r);
+        if (i < 2 * nm) {
+            out.row(row) = phi.row(row_of(xb, i));  // y'' is continuous
+            continue;
+        }
+        if (i < theta(0)) {  // a held position
+            int q = 0;
+            while (!(i >= slider(q) && i < slider(q) + directions(q))) ++q;
+            if (before[static_cast<std::size_t>(q)] == stuck) {
+                out.row(row) = phi.row(row_of(xb, i));
+            } else {  // it sticks here: its q_T
+                const int e = tangential(q) + (i - slider(q));
+                const Eigen::RowVectorXd& own = dtau_of[static_cast<std::size_t>(q)].size() ? dtau_of[static_cast<std::size_t>(q)] : dtau;
+                out.row(row) = D.drelative.row(e) * phi + rate_before(i) * own;
+            }
+            continue;
+        }
+        const int q = i - theta(0);
+        if (!triggered[static_cast<std::size_t>(q)] && before[static_cast<std::size_t>(q)] == slip) {
+            out.row(row) = phi.row(row_of(xb, i)) + (rate_before(i) - next(i, 1)) * dtau;
+            continue;
+        }
+        const int Tq = tangential(q);
+        const Eigen::RowVectorXd& own = dtau_of[static_cast<std::size_t>(q)].size() ? dtau_of[static_cast<std::size_t>(q)] : dtau;
+        if (before[static_cast<std::size_t>(q)] == stuck && !closing[static_cast<std::size_t>(q)]) {
+            // from stick: its force's direction
+            const double l1 = D.lambda(Tq), l2 = D.lambda(Tq + 1), norm2 = l1 * l1 + l2 * l2;
+            const Eigen::RowVectorXd dtheta = (l1 * D.dlambda.row(Tq + 1) - l2 * D.dlambda.row(Tq)) / norm2;
+            const double turning = (l1 * rate_before(n + Tq + 1) - l2 * rate_before(n + Tq)) / norm2;
+            out.row(row) = dtheta * phi + (turning - next(i, 1)) * own;
+            continue;
+        }
+        // from zero force: the consistent direction, phi_q(theta, z) = d_perp . q_T' = 0 in the new
+        // pattern with the direction held; its derivatives over xb and theta_q, and its change
+        // along the flow before (differences in time of the state before)
+        std::vector<int> wrt = xb;
+        wrt.push_back(i);
+        MatrixXd Ja;
+        VectorXd ra;
+        ContactDerivatives Da;
+        rates_jacobian(zhat_after, after, closing, moving_entries(after, closing), wrt, Ja, ra, &Da);
+        const double angle = zhat_after(i), ca = std::cos(angle), sa = std::sin(angle);
+        const Eigen::RowVectorXd dphi = -sa * Da.drelative_rate.row(Tq) + ca * Da.drelative_rate.row(Tq + 1);
+        const double along = dphi(dphi.size() - 1) - (ca * Da.relative_rate(Tq) + sa * Da.relative_rate(Tq + 1));
+        const Eigen::RowVectorXd dtheta = -dphi.head(dphi.size() - 1) / along;
+        // the explicit time dependence (the forcing's phase) by the state before at s_end +- delta
+        auto consistency = [&](double sigma) {
+            VectorXd z = evaluate(u, sigma).head(n);
+            z(i) = angle;
+            z.segment(slider(q), directions(q)) = zhat_after.segment(slider(q), directions(q));
+            const MatrixXd cz = series(z, after, 0.0, 1, closing, false);
+            return -sa * cz(slider(q), 1) + ca * cz(slider(q) + 1, 1);
+        };
+        const double delta = 1e-6;
+        const double moving_phi = (consistency(s_end + delta) - consistency(s_end - delta)) / (2.0 * delta * h);
+        out.row(row) = dtheta * phi + (-moving_phi / along) * own;
+    }
+    return out;
+}
+
 bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, double h, const std::vector<char>& frozen,
                                   StartJacobian& start, const PreviousStep& last, MatrixXd& u, double& error) const {
     const RadauTable& R = radau_table(collocation_stages);
     const int s = R.stages, nm = n_dofs_, n = n_, L = s_.lambdas;
     // The integrated components: y, y' and the directions of the slipping 3D contacts not held.
-    std::vector<int> dyn;
-    for (int k = 0; k < 2 * nm; ++k) dyn.push_back(k);
-    for (int q = 0; q < n_contacts_; ++q)
-        if (modes[static_cast<std::size_t>(q)] == slip && directions(q) == 2 &&
-            !(!frozen.empty() && frozen[static_cast<std::size_t>(q)]))
-            dyn.push_back(theta(q));
+    const std::vector<int> dyn = moving_entries(modes, frozen);
     const int m = static_cast<int>(dyn.size());
     const double size = size_scale_ > 0.0 ? size_scale_ : 1.0;
     VectorXd scale(m);

@@ -643,9 +643,11 @@ PatternEngine::Flow ConeEngine::flow(VectorXd zhat, Modes modes, double t0, doub
 PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t0, double duration, bool monodromy,
                                             bool record, int max_events) {
     Flow out;
-    // The derivative of the state with respect to the start's independent entries, while no event
-    // has happened (through events: not yet, psi is left empty).
+    // The derivative of the state's independent entries with respect to the start's, through the
+    // steps (step_sensitivity) and the events (event_sensitivity): rows independent(modes),
+    // columns the start's.
     MatrixXd phi;
+    const std::vector<int> start_entries = independent(modes);
     if (monodromy) phi = MatrixXd::Identity(static_cast<Eigen::Index>(independent(modes).size()),
                                             static_cast<Eigen::Index>(independent(modes).size()));
     double t = t0;
@@ -846,9 +848,13 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             out.steps.push_back(std::move(st));
         }
         if (phi.size() > 0) {
-            step_sensitivity(u, h, s_end, implicit, modes, frozen, phi);
-            if (found) phi.resize(0, 0);
+            try {
+                step_sensitivity(u, h, s_end, implicit, modes, frozen, phi);
+            } catch (const std::runtime_error&) {  // a singular direction equation inside the step
+                phi.resize(0, 0);
+            }
         }
+        const std::vector<char> step_frozen = frozen;
         zhat = evaluate(u, s_end).head(n);
         t = (found || !last) ? std::min(t + s_end * h, t_end) : t_end;
         restore_forcing(zhat, t);
@@ -864,6 +870,13 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         if (!found) continue;
         std::vector<char> closing;
         const Modes next = settle_state(zhat, modes, triggers, closing);
+        if (phi.size() > 0) {
+            try {
+                phi = event_sensitivity(u, h, s_end, modes, step_frozen, triggers, next, zhat, closing, phi);
+            } catch (const std::runtime_error&) {  // a singular pattern at the event
+                phi.resize(0, 0);
+            }
+        }
         for (int k = 0; k < n_contacts_; ++k)
             if (closing[static_cast<std::size_t>(k)]) frozen[static_cast<std::size_t>(k)] = 1;
         const bool counted = record_events(out, t, modes, next, zhat, events, max_events);
@@ -876,8 +889,8 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         const std::vector<int> x = independent(modes);
         out.psi = MatrixXd::Zero(n, n);
         for (std::size_t i = 0; i < x.size(); ++i)
-            for (std::size_t j = 0; j < x.size(); ++j)
-                out.psi(x[i], x[j]) = phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+            for (std::size_t j = 0; j < start_entries.size(); ++j)
+                out.psi(x[i], start_entries[j]) = phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
     }
     return out;
 }

@@ -59,10 +59,14 @@
 // The derivative of a flow with respect to its start (flow(..., monodromy = true)): over the
 // independent entries of zhat (independent(): y, y', the held positions of stuck contacts, the
 // directions of slipping 3D contacts), by Radau IIA on the variational equation along each
-// step's polynomial with the rates' Jacobian in closed form (rates_jacobian), for flows without
-// events; through events (the saltation and the patterns' resets) it is not propagated yet:
-// psi is left empty, and the periodic-orbit solver differentiates the period map
-// (rigid_orbit.cpp).
+// step's polynomial with the rates' Jacobian in closed form (rates_jacobian), and at each event
+// the saltation (event_sensitivity: the event's time moved by the perturbation, the new
+// pattern's held positions and directions as functions of the state before). Events of several
+// contacts at one instant (symmetric nodes) move each contact's entries with its own event's
+// time; where such contacts are coupled the flow is only piecewise differentiable (the order of
+// the perturbed events matters) and psi is one of its one-sided derivatives at best. psi is left
+// empty where a pattern's equations are singular on the way. The periodic-orbit solver does not
+// use it yet: it differentiates the period map (rigid_orbit.cpp).
 #pragma once
 
 #include <Eigen/Dense>
@@ -163,9 +167,15 @@ public:
     /// The same rates' derivatives with respect to the entries `wrt` of zhat: y, y', the held
     /// positions of stuck contacts and the directions of slipping 3D contacts (moving or held);
     /// J is dyn x wrt.
+    /// The contact forces lambda, the relative displacements q and their rates q' at a state, and
+    /// their derivatives with respect to the entries wrt (L x wrt).
+    struct ContactDerivatives {
+        Eigen::VectorXd lambda, relative, relative_rate;
+        Eigen::MatrixXd dlambda, drelative, drelative_rate;
+    };
     void rates_jacobian(const Eigen::VectorXd& zhat, const Modes& modes, const std::vector<char>& frozen,
                         const std::vector<int>& dyn, const std::vector<int>& wrt, Eigen::MatrixXd& J,
-                        Eigen::VectorXd& rate) const;
+                        Eigen::VectorXd& rate, ContactDerivatives* more = nullptr) const;
 
     /// The independent entries of zhat in a pattern: y, y', the held positions of stuck contacts
     /// and the directions of slipping 3D contacts (the other sliders follow from them).
@@ -175,6 +185,16 @@ public:
     /// start, along the step's recorded polynomial u over h (implicit: a collocation step).
     void step_sensitivity(const Eigen::MatrixXd& u, double h, double s_end, bool implicit, const Modes& modes,
                           const std::vector<char>& frozen, Eigen::MatrixXd& phi) const;
+
+    /// y, y' and the moving directions: the entries an implicit step integrates.
+    std::vector<int> moving_entries(const Modes& modes, const std::vector<char>& frozen) const;
+    /// phi (rows: independent(before)) carried through an event at the end (s_end) of a step of
+    /// polynomial u over h: the first trigger's time moved by the perturbation, the new
+    /// pattern's independent entries as functions of the state before (rows: independent(after)).
+    Eigen::MatrixXd event_sensitivity(const Eigen::MatrixXd& u, double h, double s_end, const Modes& before,
+                                      const std::vector<char>& frozen, const std::vector<Guard>& triggers,
+                                      const Modes& after, const Eigen::VectorXd& zhat_after,
+                                      const std::vector<char>& closing, const Eigen::MatrixXd& phi) const;
 
 private:
     /// The state's size for the collocation's error (y, y' / omega; at least its running largest).
