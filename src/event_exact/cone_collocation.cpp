@@ -120,6 +120,11 @@ void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const 
     const VectorXd x1 = lu.solve(kept.cwiseProduct(free_ * z1));
     const VectorXd q1 = free_ * z1 - s_.G * x1;
     const MatrixXd dq1 = free_.leftCols(y2) * dz1 - s_.G * lu.solve(free_y * dz1 + turned(x1));
+    if (nv == 0) {
+        more->relative_rate = q1;
+        more->drelative_rate = dq1;
+        return;
+    }
     // P, and the derivative of P theta' with theta' held
     VectorXd thetadot(nv);
     MatrixXd E = MatrixXd::Zero(L, nv);
@@ -144,11 +149,6 @@ void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const 
                 for (int i = 0; i < 2; ++i) right(T + i, k) -= mu * lambda(normal(q)) * along(i) * thetadot(b);
     }
     const MatrixXd dGw = s_.G * lu.solve(right);
-    if (nv == 0) {
-        more->relative_rate = q1;
-        more->drelative_rate = dq1;
-        return;
-    }
     MatrixXd P(nv, nv), D(nv, nw);
     for (Eigen::Index a = 0; a < nv; ++a) {
         const int T = tangential(moving[static_cast<std::size_t>(a)]);

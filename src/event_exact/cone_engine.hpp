@@ -64,9 +64,10 @@
 // pattern's held positions and directions as functions of the state before). Events of several
 // contacts at one instant (symmetric nodes) move each contact's entries with its own event's
 // time; where such contacts are coupled the flow is only piecewise differentiable (the order of
-// the perturbed events matters) and psi is one of its one-sided derivatives at best. psi is left
-// empty where a pattern's equations are singular on the way. The periodic-orbit solver does not
-// use it yet: it differentiates the period map (rigid_orbit.cpp).
+// the perturbed events matters) and psi is one of its one-sided derivatives at best. psi is
+// left empty where a pattern's equations are singular on the way. The periodic-orbit solver
+// (rigid_orbit.cpp) takes it for Newton's matrix (central differences of the period map where
+// it is missing or a step with it fails) and keeps central differences for the multipliers.
 #pragma once
 
 #include <Eigen/Dense>
