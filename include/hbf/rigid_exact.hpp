@@ -12,9 +12,11 @@
 // slip direction is a state of its own (a massless node's slip turns at a finite rate), the
 // motion while it slips is nonlinear and flowed by Taylor series of order 30 with steps whose
 // truncation is below rounding, or where the directions are stiff (their relaxation far faster
-// than the period) by implicit collocation steps (ConeStepping); the period map's derivative is then taken by central
-// differences (steps of 1e-6 of the state's size), so the Floquet multipliers of 3D contacts
-// are accurate to about 1e-7. The periodic orbit is the fixed point of the period map, solved
+// than the period) by implicit collocation steps (ConeStepping). Newton's matrix for 3D
+// contacts is the flow's own derivative over a period (the variational equation along the
+// steps and the saltation at the events), or central differences of the period map where that
+// is not available or a step with it fails; the Floquet multipliers of 3D contacts are taken by
+// central differences (steps of 1e-6 of the state's size) and are accurate to about 1e-7. The periodic orbit is the fixed point of the period map, solved
 // by Newton's method; its derivative's eigenvalues are the Floquet multipliers. Patterns,
 // events and the choice of the pattern after an event: src/event_exact/rigid_engine.hpp (2D)
 // and src/event_exact/cone_engine.hpp (3D).
@@ -34,7 +36,7 @@ bool rigid_contacts_only(const System& system);
 
 /// True when rigid_contacts_only holds and a contact has a second_direction (3D): the FRF's
 /// polish is then off unless asked for (where the slip directions are stiff the flow takes
-/// implicit steps and the period map's derivative is differenced: costly on meshed interfaces).
+/// implicit steps and the multipliers difference the period map: costly on meshed interfaces).
 bool rigid_contacts_3d(const System& system);
 
 /// The most contacts the rigid-contact exact solver takes: each step solves the contact
