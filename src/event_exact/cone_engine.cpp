@@ -648,8 +648,8 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
     // columns the start's.
     MatrixXd phi;
     const std::vector<int> start_entries = independent(modes);
-    if (monodromy) phi = MatrixXd::Identity(static_cast<Eigen::Index>(independent(modes).size()),
-                                            static_cast<Eigen::Index>(independent(modes).size()));
+    const auto count = static_cast<Eigen::Index>(start_entries.size());
+    if (monodromy) phi = MatrixXd::Identity(count, count);
     double t = t0;
     const double t_end = t0 + duration;
     int events = 0;
