@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
     int samples = 1024;
     std::string stepping = "automatic", file = std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml";
     double force_scale = 1.0, steady = 1e-8;
-    int max_events = 2000;
+    int max_events = 2000, warmup = 2;
+    bool no_integrator = false;
     app.add_option("--w", omegas, "frequencies [rad/s]")->delimiter(',');
     app.add_option("--samples", samples, "the integrator's coarse samples a period (fine: twice)");
     app.add_option("--stepping", stepping, "automatic, taylor or collocation");
@@ -46,6 +47,10 @@ int main(int argc, char** argv) {
     app.add_option("--force-scale", force_scale, "a factor on the file's excitation");
     app.add_option("--steady-tol", steady, "the integrator's steady-state tolerance");
     app.add_option("--max-events", max_events, "the exact solver's events a period at most");
+    app.add_flag("--no-integrator", no_integrator,
+                 "the exact orbit alone, from rest after --warmup exact periods (where the integrator fails)");
+    app.add_option("--warmup", warmup, "with --no-integrator: exact periods from rest before Newton")
+        ->check(CLI::Range(0, 1000));
     CLI11_PARSE(app, argc, argv);
     const io::SystemConfig config = io::read_system_config(file);
     System system = config.system;
@@ -60,7 +65,7 @@ int main(int argc, char** argv) {
         row["w"] = omega;
         PeriodicResponse ti[2];
         double ti_seconds[2];
-        for (int k = 0; k < 2; ++k) {
+        for (int k = 0; k < 2 && !no_integrator; ++k) {
             TimeIntegrationOptions o;
             o.samples_per_period = samples << k;
             o.steady_tolerance = steady;
@@ -70,15 +75,33 @@ int main(int argc, char** argv) {
             ti[k] = k == 1 && !ti[0].converged ? ti[0] : integrate_steady_state(system, omega, o, k == 1 ? &ti[0].state : nullptr);
             ti_seconds[k] = seconds_since(start);
         }
-        for (int k = 0; k < 2; ++k)
+        for (int k = 0; k < 2 && !no_integrator; ++k)
             if (!ti[k].converged) std::printf("  integrator %d samples: %s\n", samples << k, ti[k].message.c_str());
         ExactOptions eo;
         eo.max_events_per_period = max_events;
         eo.outputs = outputs;
         eo.dof_maxima = false;
+        if (no_integrator) eo.warmup_periods = warmup;
         const auto start = clock_type::now();
-        const ExactOrbit exact = rigid_periodic_orbit(system, omega, ti[1].state, eo, choice);
+        const ExactOrbit exact =
+            rigid_periodic_orbit(system, omega, no_integrator ? Eigen::VectorXd() : ti[1].state, eo, choice);
         const double exact_seconds = seconds_since(start);
+        if (no_integrator) {
+            std::printf("w = %g: exact %s (%s) in %.1f s, %d events, %d Newton iterations, %d periods, residual %.3e\n",
+                        omega, exact.converged ? "converged" : "NOT converged", exact.message.c_str(), exact_seconds,
+                        exact.switches, exact.iterations, exact.periods, exact.residual);
+            for (std::size_t j = 0; j < outputs.size() && exact.converged; ++j)
+                std::printf("  %s: max %.12g amp1 %.12g\n", outputs[j].name().c_str(), exact.output_max[j],
+                            exact.output_amp1[j]);
+            if (exact.converged)
+                std::printf("  stuck share %.6f, open share %.6f, max multiplier %.6f\n", mean_share(exact.contacts, false),
+                            mean_share(exact.contacts, true), exact.max_multiplier);
+            row["exact_converged"] = exact.converged;
+            row["exact_seconds"] = exact_seconds;
+            std::fflush(stdout);
+            all.push_back(row);
+            continue;
+        }
         std::printf("w = %g: integrator %d/%d samples %s/%s in %.1f/%.1f s; exact %s (%s) in %.1f s, %d events\n", omega,
                     samples, 2 * samples, ti[0].converged ? "converged" : "NOT converged",
                     ti[1].converged ? "converged" : "NOT converged", ti_seconds[0], ti_seconds[1],

@@ -588,3 +588,95 @@ TEST_CASE("rigid exact 3D: a flow's derivative through events is its central dif
     for (const std::pair<int, int>& kind : {std::pair<int, int>{1, 2}, {2, 1}, {2, 0}, {0, 2}})
         CHECK(std::count(kinds.begin(), kinds.end(), kind) >= 1);
 }
+
+TEST_CASE("rigid exact 3D: a period's derivative at the orbit is its central differences from any section",
+          "[rigid_exact]") {
+    // The derivative of the period map at the chain's orbit (w = 0.6, collocation steps), from
+    // t = 0 and from the middle of the longest event-free stretch (the Newton solver's section).
+    // The second period meets a contact that closes into slip and stops at the same instant (a
+    // cascade of two events): the second event's time is the first's, not its own guard's root.
+    using namespace detail::exact;
+    const System system = bench::contact_chain_3d(3, 1.0, 0.8);
+    const double omega = 0.6;
+    const ExactOrbit orbit = rigid_periodic_orbit(system, omega, Eigen::VectorXd(), {}, ConeStepping::collocation);
+    REQUIRE(orbit.converged);
+    REQUIRE(orbit.events.size() >= 2);
+    // the middle of the longest stretch between events
+    double section = 0.0, gap = -1.0;
+    for (std::size_t k = 0; k < orbit.events.size(); ++k) {
+        const double from = orbit.events[k].time;
+        const double to = k + 1 < orbit.events.size() ? orbit.events[k + 1].time : orbit.events.front().time + 2.0 * M_PI / omega;
+        if (to - from > gap) {
+            gap = to - from;
+            section = from + 0.5 * gap;
+        }
+    }
+    for (double t0 : {0.0, section}) {
+        ConeEngine e(system, omega);
+        e.set_stepping(ConeEngine::Stepping::collocation);
+        const int N = system.dofs(), nm = e.dofs();
+        const detail::MasslessContacts& split = e.split();
+        Eigen::VectorXd zhat = e.augment(Eigen::VectorXd::Zero(e.nz()), 0.0);
+        for (int k = 0; k < nm; ++k) {
+            zhat(k) = orbit.state(split.massive[static_cast<std::size_t>(k)]);
+            zhat(nm + k) = orbit.state(N + split.massive[static_cast<std::size_t>(k)]);
+        }
+        const Eigen::VectorXd q = split.W.transpose() * detail::pick(Eigen::VectorXd(orbit.state.head(N)), split.massless);
+        for (int c = 0; c < e.contacts(); ++c)
+            for (int j = 0; j < e.directions(c); ++j) zhat(e.slider(c) + j) = q(e.tangential(c) + j);
+        Modes modes = e.initial_modes(zhat);
+        if (t0 > 0.0) {
+            const PatternEngine::Flow to = e.flow(zhat, modes, 0.0, t0, false, false, 5000);
+            REQUIRE(to.ok);
+            zhat = to.zhat;
+            modes = to.modes;
+        }
+        const PatternEngine::Flow f = e.flow(zhat, modes, t0, e.period(), true, false, 5000);
+        REQUIRE(f.ok);
+        REQUIRE(f.modes == modes);
+        REQUIRE(f.psi.rows() == e.n());
+        const std::vector<int> x = e.independent(modes);
+        const auto nx = static_cast<Eigen::Index>(x.size());
+        const double size = std::max(zhat.head(nm).cwiseAbs().maxCoeff(), zhat.segment(nm, nm).cwiseAbs().maxCoeff() / omega);
+        auto unit_of = [&](int i) { return i < nm ? size : i < 2 * nm ? size * omega : i < e.theta(0) ? size : 1.0; };
+        Eigen::MatrixXd psi(nx, nx), differences(nx, nx);
+        double worst = 0.0;
+        for (Eigen::Index b = 0; b < nx; ++b) {
+            const int j = x[static_cast<std::size_t>(b)];
+            for (Eigen::Index a = 0; a < nx; ++a) psi(a, b) = f.psi(x[static_cast<std::size_t>(a)], j);
+            double best = std::numeric_limits<double>::infinity();
+            for (double share : {1e-5, 1e-6, 1e-7}) {  // the differences' truncation against rounding
+                const double delta = share * unit_of(j);
+                Eigen::VectorXd plus = zhat, minus = zhat;
+                plus(j) += delta;
+                minus(j) -= delta;
+                e.make_consistent(plus, modes, t0);
+                e.make_consistent(minus, modes, t0);
+                const PatternEngine::Flow fp = e.flow(plus, modes, t0, e.period(), false, false, 5000);
+                const PatternEngine::Flow fm = e.flow(minus, modes, t0, e.period(), false, false, 5000);
+                REQUIRE(fp.ok);
+                REQUIRE(fm.ok);
+                if (fp.events.size() != f.events.size() || fm.events.size() != f.events.size()) continue;
+                Eigen::VectorXd column(nx);
+                double error = 0.0;
+                for (Eigen::Index a = 0; a < nx; ++a) {
+                    const int i = x[static_cast<std::size_t>(a)];
+                    column(a) = (fp.zhat(i) - fm.zhat(i)) / (2.0 * delta);
+                    error = std::max(error, std::abs(psi(a, b) - column(a)) * unit_of(j) / unit_of(i));
+                }
+                if (error < best) {
+                    best = error;
+                    differences.col(b) = column;
+                }
+            }
+            REQUIRE(std::isfinite(best));
+            worst = std::max(worst, best);
+        }
+        INFO("section t / T = " << t0 / e.period() << ": " << f.events.size() << " events");
+        // the differences of adaptive flows (local error 1e-12 of the state) are good to a few 1e-6
+        CHECK(worst <= 1e-5);
+        const double largest = Eigen::EigenSolver<Eigen::MatrixXd>(psi, false).eigenvalues().cwiseAbs().maxCoeff();
+        const double reference = Eigen::EigenSolver<Eigen::MatrixXd>(differences, false).eigenvalues().cwiseAbs().maxCoeff();
+        CHECK(std::abs(largest - reference) <= 1e-6);
+    }
+}

@@ -12,12 +12,15 @@
 // slip direction is a state of its own (a massless node's slip turns at a finite rate), the
 // motion while it slips is nonlinear and flowed by Taylor series of order 30 with steps whose
 // truncation is below rounding, or where the directions are stiff (their relaxation far faster
-// than the period) by implicit collocation steps (ConeStepping). Newton's matrix for 3D
-// contacts is the flow's own derivative over a period (the variational equation along the
-// steps and the saltation at the events), or central differences of the period map where that
-// is not available or a step with it fails; the Floquet multipliers of 3D contacts are taken by
-// central differences (steps of 1e-6 of the state's size) and are accurate to about 1e-7. The periodic orbit is the fixed point of the period map, solved
-// by Newton's method; its derivative's eigenvalues are the Floquet multipliers. Patterns,
+// than the period) by implicit collocation steps (ConeStepping). For 3D contacts, Newton's
+// matrix and the Floquet multipliers come from the flow's own derivative over a period (the
+// variational equation along the steps and the saltation at the events), or from central
+// differences of the period map (steps of 1e-6 of the state's size) where that is not
+// available or a Newton step with it failed. The periodic orbit is the fixed point of the
+// period map, solved by Newton's method; its derivative's eigenvalues are the Floquet
+// multipliers. Where contacts of a symmetric interface change pattern at one instant and are
+// coupled, the period map is only piecewise differentiable and the multipliers are those of
+// one of its pieces. Patterns,
 // events and the choice of the pattern after an event: src/event_exact/rigid_engine.hpp (2D)
 // and src/event_exact/cone_engine.hpp (3D).
 #pragma once

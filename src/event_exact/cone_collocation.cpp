@@ -264,7 +264,8 @@ std::vector<int> ConeEngine::moving_entries(const Modes& modes, const std::vecto
 MatrixXd ConeEngine::event_sensitivity(const MatrixXd& u, double h, double s_end, const Modes& before,
                                        const std::vector<char>& frozen, const std::vector<Guard>& triggers,
                                        const Modes& after, const VectorXd& zhat_after,
-                                       const std::vector<char>& closing, const MatrixXd& phi) const {
+                                       const std::vector<char>& closing, const MatrixXd& phi,
+                                       EventTimes& times) const {
     // A perturbed flow meets the event dtau later, dtau = -(grad g . dx) / g' (g the first
     // trigger's guard); just after it, each independent entry of the new pattern is a function
     // R of the state before (carried, the held position of a contact that sticks: its q_T, the
@@ -336,9 +337,20 @@ MatrixXd ConeEngine::event_sensitivity(const MatrixXd& u, double h, double s_end
     // Simultaneous events (symmetric contacts): each contact's new entries move with its own
     // event's time; the carried entries with the first's. (Where such events couple, the map is
     // only piecewise differentiable: the order of the perturbed events matters.)
+    // A cascade (events at the instant of the last ones, after a step of zero length): their
+    // times are the last events' (the perturbed flow meets the cascade where it meets those).
+    const bool cascade = !(s_end > 0.0) && times.first.size() == phi.cols();
     std::vector<Eigen::RowVectorXd> dtau_of(static_cast<std::size_t>(n_contacts_));
-    for (const Guard& t : triggers) dtau_of[static_cast<std::size_t>(t.contact)] = timing(t);
-    const Eigen::RowVectorXd dtau = dtau_of[static_cast<std::size_t>(triggers.front().contact)];
+    if (cascade) times.of.resize(static_cast<std::size_t>(n_contacts_));
+    for (const Guard& t : triggers) {
+        const auto c = static_cast<std::size_t>(t.contact);
+        dtau_of[c] = !cascade ? timing(t) : times.of[c].size() ? times.of[c] : times.first;
+    }
+    const Eigen::RowVectorXd dtau =
+        cascade ? times.first : dtau_of[static_cast<std::size_t>(triggers.front().contact)];
+    if (!cascade) times.of.assign(static_cast<std::size_t>(n_contacts_), Eigen::RowVectorXd());
+    for (const Guard& t : triggers) times.of[static_cast<std::size_t>(t.contact)] = dtau_of[static_cast<std::size_t>(t.contact)];
+    times.first = dtau;
     // the rates after
     const MatrixXd next = series(zhat_after, after, 0.0, 1, closing, false);
     MatrixXd out(static_cast<Eigen::Index>(xa.size()), phi.cols());

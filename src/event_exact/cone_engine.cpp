@@ -668,6 +668,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
     PreviousStep previous;
     const PreviousStep none;
     StartJacobian start;
+    EventTimes event_times;  // the last events' time changes (a cascade at their instant moves with them)
     Modes previous_modes;
     std::vector<char> previous_frozen;
     while (t < t_end) {
@@ -850,6 +851,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         if (phi.size() > 0) {
             try {
                 step_sensitivity(u, h, s_end, implicit, modes, frozen, phi);
+                if (s_end > 0.0) event_times.clear();  // not a cascade of the last events
             } catch (const std::runtime_error&) {  // a singular direction equation inside the step
                 phi.resize(0, 0);
             }
@@ -872,7 +874,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         const Modes next = settle_state(zhat, modes, triggers, closing);
         if (phi.size() > 0) {
             try {
-                phi = event_sensitivity(u, h, s_end, modes, step_frozen, triggers, next, zhat, closing, phi);
+                phi = event_sensitivity(u, h, s_end, modes, step_frozen, triggers, next, zhat, closing, phi, event_times);
             } catch (const std::runtime_error&) {  // a singular pattern at the event
                 phi.resize(0, 0);
             }

@@ -64,10 +64,12 @@
 // pattern's held positions and directions as functions of the state before). Events of several
 // contacts at one instant (symmetric nodes) move each contact's entries with its own event's
 // time; where such contacts are coupled the flow is only piecewise differentiable (the order of
-// the perturbed events matters) and psi is one of its one-sided derivatives at best. psi is
-// left empty where a pattern's equations are singular on the way. The periodic-orbit solver
-// (rigid_orbit.cpp) takes it for Newton's matrix (central differences of the period map where
-// it is missing or a step with it fails) and keeps central differences for the multipliers.
+// the perturbed events matters) and psi is one of its one-sided derivatives at best. Events
+// met at the instant of others, after a step of zero length (a cascade: a contact closing into
+// slip that stops at once), move with those (EventTimes). psi is left empty where a pattern's
+// equations are singular on the way. The periodic-orbit solver (rigid_orbit.cpp) takes it for
+// Newton's matrix and the multipliers (central differences of the period map where it is
+// missing or a Newton step with it fails).
 #pragma once
 
 #include <Eigen/Dense>
@@ -189,13 +191,28 @@ public:
 
     /// y, y' and the moving directions: the entries an implicit step integrates.
     std::vector<int> moving_entries(const Modes& modes, const std::vector<char>& frozen) const;
+    /// The events' time changes (rows over the flow's start): per contact, and the first
+    /// trigger's. Events met at the same instant after others (a step of zero length: a cascade,
+    /// such as a contact closing into slip that stops at once) move with those, not with their
+    /// own guards (which are zero there by the cascade, not by the perturbation).
+    struct EventTimes {
+        std::vector<Eigen::RowVectorXd> of;
+        Eigen::RowVectorXd first;
+        void clear() {
+            of.clear();
+            first.resize(0);
+        }
+    };
     /// phi (rows: independent(before)) carried through an event at the end (s_end) of a step of
     /// polynomial u over h: the first trigger's time moved by the perturbation, the new
     /// pattern's independent entries as functions of the state before (rows: independent(after)).
+    /// times: the last events' time changes, taken where s_end = 0 and times is not empty (a
+    /// cascade), and set to this event's.
     Eigen::MatrixXd event_sensitivity(const Eigen::MatrixXd& u, double h, double s_end, const Modes& before,
                                       const std::vector<char>& frozen, const std::vector<Guard>& triggers,
                                       const Modes& after, const Eigen::VectorXd& zhat_after,
-                                      const std::vector<char>& closing, const Eigen::MatrixXd& phi) const;
+                                      const std::vector<char>& closing, const Eigen::MatrixXd& phi,
+                                      EventTimes& times) const;
 
 private:
     /// The state's size for the collocation's error (y, y' / omega; at least its running largest).

@@ -376,22 +376,20 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             };
             // d x_end / d x: the monodromy (RigidEngine), or central differences of the map with
             // steps of 1e-6 of the state's size (velocities over omega, directions in radians).
-            // ConeEngine: Newton's matrix from the flow's own derivative (a period with the
-            // variational equation and the saltations) where the period ends in the section's
-            // pattern, central differences where it does not or where a step with it failed; the
-            // multipliers (differences) from central differences, the check of the former.
+            // ConeEngine: Newton's matrix and the multipliers from the flow's own derivative (a
+            // period with the variational equation and the saltations) where the period ends in
+            // the section's pattern; central differences where it does not, and from the first
+            // Newton step with it that failed on.
             bool differences_only = false;
-            auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx, bool differences = false) {
+            auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
                 MatrixXd d(nu, nu);
                 if constexpr (exact_monodromy) {
-                    (void)differences;
                     for (Eigen::Index k = 0; k < nu; ++k) d.row(k) = fx.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
                 } else {
-                    const PatternEngine::Flow fv = differences || differences_only
-                                                       ? PatternEngine::Flow{}
-                                                       : e.flow(start(at), ms, t_s, period, true, false,
-                                                                options.max_events_per_period);
-                    if (!(differences || differences_only)) ++out.periods;
+                    const PatternEngine::Flow fv = differences_only ? PatternEngine::Flow{}
+                                                                    : e.flow(start(at), ms, t_s, period, true, false,
+                                                                             options.max_events_per_period);
+                    if (!differences_only) ++out.periods;
                     if (fv.ok && fv.psi.size() > 0 && fv.modes == ms) {
                         for (Eigen::Index k = 0; k < nu; ++k)
                             for (Eigen::Index l = 0; l < nu; ++l)
@@ -501,7 +499,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 }
                 if (out.converged && permanently_stuck(last)) hold_where_started(e, start_sliders, x, last, map, derivative, options, out);
                 rigid_metrics(e, last, t_s, options, out);
-                const MatrixXd reduced = derivative(x, last, true);  // the multipliers: differences
+                const MatrixXd reduced = derivative(x, last);  // the multipliers
                 Eigen::EigenSolver<MatrixXd> eigen(reduced, false);
                 out.multipliers = eigen.eigenvalues();
                 out.max_multiplier = nu > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
