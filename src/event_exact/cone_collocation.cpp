@@ -327,10 +327,15 @@ MatrixXd ConeEngine::event_sensitivity(const MatrixXd& u, double h, double s_end
                 }
             }
         }
-        double slope = 0.0, power = 1.0;
+        double slope = 0.0, terms = 0.0, power = 1.0;
         for (Eigen::Index k = 1; k < g.row.size(); ++k) {
             slope += static_cast<double>(k) * power * g.row(k);
+            terms += static_cast<double>(k) * power * std::abs(g.row(k));
             power *= s_end;
+        }
+        if (!(std::abs(slope) > 1e-10 * terms)) {  // grazing: no time change (as the 2D engine)
+            times.grazing = true;
+            return Eigen::RowVectorXd::Zero(phi.cols());
         }
         return -(grad * phi) / (slope / h);
     };

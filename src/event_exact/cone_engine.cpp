@@ -852,6 +852,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             try {
                 step_sensitivity(u, h, s_end, implicit, modes, frozen, phi);
                 if (s_end > 0.0) event_times.clear();  // not a cascade of the last events
+                if (!phi.allFinite()) phi.resize(0, 0);
             } catch (const std::runtime_error&) {  // a singular direction equation inside the step
                 phi.resize(0, 0);
             }
@@ -875,6 +876,8 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         if (phi.size() > 0) {
             try {
                 phi = event_sensitivity(u, h, s_end, modes, step_frozen, triggers, next, zhat, closing, phi, event_times);
+                if (event_times.grazing) out.grazing = true;
+                if (!phi.allFinite()) phi.resize(0, 0);
             } catch (const std::runtime_error&) {  // a singular pattern at the event
                 phi.resize(0, 0);
             }

@@ -66,8 +66,9 @@
 // time; where such contacts are coupled the flow is only piecewise differentiable (the order of
 // the perturbed events matters) and psi is one of its one-sided derivatives at best. Events
 // met at the instant of others, after a step of zero length (a cascade: a contact closing into
-// slip that stops at once), move with those (EventTimes). psi is left empty where a pattern's
-// equations are singular on the way. The periodic-orbit solver (rigid_orbit.cpp) takes it for
+// slip that stops at once), move with those (EventTimes); a trigger that meets its guard with
+// no slope (grazing) moves no time (Flow::grazing says so). psi is left empty where a
+// pattern's equations are singular on the way or it is not finite. The periodic-orbit solver (rigid_orbit.cpp) takes it for
 // Newton's matrix and the multipliers (central differences of the period map where it is
 // missing or a Newton step with it fails).
 #pragma once
@@ -198,6 +199,9 @@ public:
     struct EventTimes {
         std::vector<Eigen::RowVectorXd> of;
         Eigen::RowVectorXd first;
+        /// A trigger met its guard with no slope (within 1e-10 of its terms: grazing); its time
+        /// change is left out (the flow is not differentiable there).
+        bool grazing = false;
         void clear() {
             of.clear();
             first.resize(0);
@@ -222,7 +226,10 @@ private:
     /// 1 on the rows of those equations whose right side is free_ * zhat (closed contacts' normal
     /// rows, stuck contacts' tangential rows), 0 on the others.
     Eigen::VectorXd kept_rows(const Modes& modes) const;
+    /// The recorded vector's rows (lambda, relative, displacement) are the same in every
+    /// pattern: one entry serves them all.
     ModeData build(const Modes& modes) const override;
+    Modes cache_key(const Modes&) const override { return {}; }
     void restore_constraints(Eigen::VectorXd& zhat, const Modes& modes, double t) const override;
 
     /// The guards of the pattern over coefficients u (in any time unit) of the recorded vector.

@@ -96,9 +96,10 @@ PatternEngine::PatternEngine(double omega, bool split, int dofs, int contacts, i
       n_(nz + 3) {}
 
 const ModeData& PatternEngine::mode(const Modes& modes) {
-    auto it = cache_.find(modes);
+    const Modes key = cache_key(modes);
+    auto it = cache_.find(key);
     if (it != cache_.end()) return it->second;
-    return cache_.emplace(modes, build(modes)).first->second;
+    return cache_.emplace(key, build(modes)).first->second;
 }
 
 void PatternEngine::restore_forcing(Eigen::VectorXd& zhat, double t) const {

@@ -125,7 +125,7 @@ public:
     const ModeData& mode(const Modes& modes);
     /// The pattern's linear system if it is cached, else null.
     const ModeData* cached(const Modes& modes) const {
-        const auto it = cache_.find(modes);
+        const auto it = cache_.find(cache_key(modes));
         return it == cache_.end() ? nullptr : &it->second;
     }
 
@@ -151,6 +151,9 @@ public:
 protected:
     /// The pattern's a and guards (and anything else of the engine's); finish() completes it.
     virtual ModeData build(const Modes& modes) const = 0;
+    /// The cache's key of a pattern: the pattern, or one key for all where build does not
+    /// depend on it (the cache then holds one entry however many patterns a flow meets).
+    virtual Modes cache_key(const Modes& modes) const { return modes; }
     /// Puts zhat back on the pattern's invariant relations where a split flow (its fast modes
     /// in closed form) left it off them by rounding of the eigenvectors; the forcing's states
     /// at cos(w t), sin(w t), 1 (restore_forcing).
@@ -222,18 +225,32 @@ struct SectionNorm {
     int dofs = 0;
     double omega = 1.0;
     double reference = 0.0;  ///< the size of the caller's start: floors the relative change
+    /// The vectors' last `angles` entries are angles (a 3D contact's slip direction, radians):
+    /// left out of the size, compared modulo 2 pi and absolutely.
+    int angles = 0;
+    /// The largest displacement-like entry: y, y' / omega, the rest but the angles.
     double size(const Eigen::VectorXd& z) const {
         double m = z.head(dofs).cwiseAbs().maxCoeff();
         m = std::max(m, z.segment(dofs, dofs).cwiseAbs().maxCoeff() / omega);
-        if (z.size() > 2 * dofs) m = std::max(m, z.tail(z.size() - 2 * dofs).cwiseAbs().maxCoeff());
+        const Eigen::Index rest = z.size() - 2 * dofs - angles;
+        if (rest > 0) m = std::max(m, z.segment(2 * dofs, rest).cwiseAbs().maxCoeff());
         return m;
     }
+    /// end - start, the angles' differences wrapped into [-pi, pi].
+    Eigen::VectorXd difference(const Eigen::VectorXd& end, const Eigen::VectorXd& start) const {
+        Eigen::VectorXd d = end - start;
+        for (Eigen::Index k = d.size() - angles; k < d.size(); ++k) d(k) = std::remainder(d(k), 2.0 * pi);
+        return d;
+    }
     /// |P(z) - z| / max(reference, |z|): relative, and a state far off is not judged by its
-    /// own size alone.
+    /// own size alone; the angles' change (radians) where larger.
     double relative_change(const Eigen::VectorXd& end, const Eigen::VectorXd& start) const {
         const double scale = std::max(reference, size(start));
-        const double change = size(end - start);
-        return scale > 0.0 ? change / scale : change;
+        const Eigen::VectorXd d = difference(end, start);
+        const double change = size(d);
+        double turned = 0.0;
+        if (angles > 0) turned = d.tail(angles).cwiseAbs().maxCoeff();
+        return std::max(scale > 0.0 ? change / scale : change, turned);
     }
 };
 

@@ -204,6 +204,46 @@ void hold_where_started(E& e, const VectorXd& where, VectorXd& x, PatternEngine:
                   "undetermined held position)";
 }
 
+/// d(the unknowns' entries at a flow's end)/d(the unknowns at its start) from the flow's
+/// derivative psi (its rows: the end pattern's independent entries). Where the end's pattern
+/// is not the start's (far from the orbit), an unknown that is not independent at the end is a
+/// function of the end state: the held position of a contact no longer stuck is its tangential
+/// displacement (its derivative by the chain rule through the contact forces); the direction
+/// of a contact no longer slipping is the one it kept when it stopped, taken as constant (its
+/// row zero: Newton's matrix is then approximate until the patterns agree).
+MatrixXd end_derivative(ConeEngine& e, const PatternEngine::Flow& f, const std::vector<Eigen::Index>& unknowns) {
+    const auto nu = static_cast<Eigen::Index>(unknowns.size());
+    const std::vector<int> ends = e.independent(f.modes);
+    MatrixXd d(nu, nu);
+    MatrixXd relative;  // d q / d x at the end
+    for (Eigen::Index k = 0; k < nu; ++k) {
+        const auto i = static_cast<int>(unknowns[static_cast<std::size_t>(k)]);
+        if (std::find(ends.begin(), ends.end(), i) != ends.end()) {
+            for (Eigen::Index l = 0; l < nu; ++l) d(k, l) = f.psi(i, unknowns[static_cast<std::size_t>(l)]);
+            continue;
+        }
+        if (i >= e.theta(0)) {
+            d.row(k).setZero();
+            continue;
+        }
+        if (relative.size() == 0) {
+            MatrixXd J, from(static_cast<Eigen::Index>(ends.size()), nu);
+            VectorXd rate;
+            ConeEngine::ContactDerivatives D;
+            e.rates_jacobian(f.zhat, f.modes, {}, e.moving_entries(f.modes, {}), ends, J, rate, &D);
+            for (std::size_t r = 0; r < ends.size(); ++r)
+                for (Eigen::Index l = 0; l < nu; ++l)
+                    from(static_cast<Eigen::Index>(r), l) = f.psi(ends[r], unknowns[static_cast<std::size_t>(l)]);
+            relative = D.drelative * from;
+        }
+        int q = 0;
+        while (!(i >= e.slider(q) && i < e.slider(q) + e.directions(q))) ++q;
+        d.row(k) = relative.row(e.tangential(q) + (i - e.slider(q)));
+    }
+    if (!d.allFinite()) throw std::runtime_error("the flow's derivative is not finite");
+    return d;
+}
+
 /// The middle of the longest event-free stretch of a period's events (0 without events).
 double section_time(const std::vector<ExactEvent>& events, double period) {
     if (events.empty()) return 0.0;
@@ -338,15 +378,19 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             // The unknowns: y, y', the sliders of the contacts stuck at the section and the slip
             // directions of 3D contacts slipping there; the other sliders are their contacts'
             // tangential displacements (rows of the pattern, or its contact problem's solution).
+            // The directions (angles) last: the norm compares them modulo 2 pi.
             std::vector<Eigen::Index> unknowns;
             for (int k = 0; k < 2 * nm; ++k) unknowns.push_back(k);
-            for (int c = 0; c < e.contacts(); ++c) {
-                const int mode = ms[static_cast<std::size_t>(c)];
-                if (mode == rigid_stuck)
+            for (int c = 0; c < e.contacts(); ++c)
+                if (ms[static_cast<std::size_t>(c)] == rigid_stuck)
                     for (int j = 0; j < e.directions(c); ++j) unknowns.push_back(e.slider(c) + j);
-                if constexpr (!exact_monodromy)
-                    if (mode == rigid_slip_positive && e.directions(c) == 2) unknowns.push_back(e.theta(c));
-            }
+            norm.angles = 0;
+            if constexpr (!exact_monodromy)
+                for (int c = 0; c < e.contacts(); ++c)
+                    if (ms[static_cast<std::size_t>(c)] == rigid_slip_positive && e.directions(c) == 2) {
+                        unknowns.push_back(e.theta(c));
+                        ++norm.angles;
+                    }
             const auto nu = static_cast<Eigen::Index>(unknowns.size());
             MatrixXd lift = MatrixXd::Zero(e.n(), nu);  // d zhat / d x
             if constexpr (exact_monodromy) {
@@ -377,9 +421,10 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             // d x_end / d x: the monodromy (RigidEngine), or central differences of the map with
             // steps of 1e-6 of the state's size (velocities over omega, directions in radians).
             // ConeEngine: Newton's matrix and the multipliers from the flow's own derivative (a
-            // period with the variational equation and the saltations) where the period ends in
-            // the section's pattern; central differences where it does not, and from the first
-            // Newton step with it that failed on.
+            // period with the variational equation and the saltations; end_derivative where the
+            // period ends in another pattern); central differences where it is missing (a
+            // pattern's equations singular on the way), and from the first Newton step with it
+            // that failed on.
             bool differences_only = false;
             auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
                 MatrixXd d(nu, nu);
@@ -390,11 +435,11 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                                     : e.flow(start(at), ms, t_s, period, true, false,
                                                                              options.max_events_per_period);
                     if (!differences_only) ++out.periods;
-                    if (fv.ok && fv.psi.size() > 0 && fv.modes == ms) {
-                        for (Eigen::Index k = 0; k < nu; ++k)
-                            for (Eigen::Index l = 0; l < nu; ++l)
-                                d(k, l) = fv.psi(unknowns[static_cast<std::size_t>(k)], unknowns[static_cast<std::size_t>(l)]);
-                        return d;
+                    if (fv.ok && fv.psi.size() > 0) {
+                        try {
+                            return end_derivative(e, fv, unknowns);
+                        } catch (const std::runtime_error&) {  // a singular pattern at the end: differences
+                        }
                     }
                     const double size = std::max({norm.reference, at.head(nm).cwiseAbs().maxCoeff(),
                                                   at.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
@@ -410,6 +455,17 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     }
                 }
                 return d;
+            };
+            // Newton works on the unknowns in their units (the state's size, velocities times
+            // omega, angles in radians): its matrix and steps in those units, so that the rank
+            // threshold below and Broyden's update do not mix metres, metres per second and radians.
+            VectorXd unit(nu);
+            auto newton_matrix = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
+                const double size = std::max(norm.reference, norm.size(at));
+                for (Eigen::Index k = 0; k < nu; ++k)
+                    unit(k) = k >= nu - norm.angles ? 1.0 : (k >= nm && k < 2 * nm ? omega : 1.0) * size;
+                return MatrixXd(unit.cwiseInverse().asDiagonal() * (derivative(at, fx) - MatrixXd::Identity(nu, nu)) *
+                                unit.asDiagonal());
             };
             f = map(x, false);
             bool stalled = false;
@@ -438,7 +494,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 }
                 ++out.iterations;
                 if (exact_monodromy || jacobian.size() == 0) {
-                    jacobian = derivative(x, f) - MatrixXd::Identity(nu, nu);
+                    jacobian = newton_matrix(x, f);
                     fresh = true;
                 }
                 // the minimum-norm step: a contact stuck all period leaves its held position free
@@ -446,7 +502,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 Eigen::CompleteOrthogonalDecomposition<MatrixXd> decomposition(jacobian.rows(), jacobian.cols());
                 decomposition.setThreshold(1e-9);  // a multiplier within 1e-9 of 1: its direction is free
                 decomposition.compute(jacobian);
-                const VectorXd dx = decomposition.solve(x - end);
+                const VectorXd dx = unit.cwiseProduct(decomposition.solve(norm.difference(x, end).cwiseQuotient(unit)));
                 // Halving steps until the residual falls.
                 bool moved = false;
                 for (double alpha = 1.0; alpha >= 1.0 / 256; alpha *= 0.5) {
@@ -454,7 +510,9 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     PatternEngine::Flow g = map(trial, false);
                     if (g.ok && norm.relative_change(pick(g.zhat), trial) < out.residual) {
                         if constexpr (!exact_monodromy) {  // Broyden: the secant through the step
-                            const VectorXd step = trial - x, change = (pick(g.zhat) - trial) - (end - x);
+                            const VectorXd step = (trial - x).cwiseQuotient(unit),
+                                           change = (norm.difference(pick(g.zhat), trial) - norm.difference(end, x))
+                                                        .cwiseQuotient(unit);
                             jacobian += (change - jacobian * step) * step.transpose() / step.squaredNorm();
                             fresh = false;
                         }
@@ -465,13 +523,13 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     }
                 }
                 if (!moved && !fresh) {  // an updated matrix that failed: differences again
-                    jacobian = derivative(x, f) - MatrixXd::Identity(nu, nu);
+                    jacobian = newton_matrix(x, f);
                     fresh = true;
                     continue;
                 }
                 if (!moved && !exact_monodromy && !differences_only && out.residual > stall_floor) {
                     differences_only = true;  // the flow's derivative failed: differences from here on
-                    jacobian = derivative(x, f) - MatrixXd::Identity(nu, nu);
+                    jacobian = newton_matrix(x, f);
                     fresh = true;
                     continue;
                 }
