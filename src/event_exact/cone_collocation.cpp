@@ -395,25 +395,32 @@ MatrixXd ConeEngine::event_sensitivity(const MatrixXd& u, double h, double s_end
             out.row(row) = dtheta * phi + (turning - next(i, 1)) * own;
             continue;
         }
-        // from zero force: the consistent direction, phi_q(theta, z) = d_perp . q_T' = 0 in the new
-        // pattern with the direction held; its derivatives over xb and theta_q, and its change
-        // along the flow before (differences in time of the state before)
+        // from zero force (a closing) or from a stop (a slip that restarts at once): the consistent
+        // direction, phi_q(theta, z) = d_perp . q_T' = 0 in the new pattern with the direction
+        // held; its derivatives over xb and theta_q, and its change along the flow before
+        // (differences in time of the state before)
         std::vector<int> wrt = xb;
         wrt.push_back(i);
         MatrixXd Ja;
         VectorXd ra;
         ContactDerivatives Da;
-        rates_jacobian(zhat_after, after, closing, moving_entries(after, closing), wrt, Ja, ra, &Da);
+        // with q's direction held (a moving direction keeps d_perp . q_T' = 0 by its own rate:
+        // a restart after a stop would give 0 / 0)
+        std::vector<char> held = closing;
+        held[static_cast<std::size_t>(q)] = 1;
+        rates_jacobian(zhat_after, after, held, moving_entries(after, held), wrt, Ja, ra, &Da);
         const double angle = zhat_after(i), ca = std::cos(angle), sa = std::sin(angle);
         const Eigen::RowVectorXd dphi = -sa * Da.drelative_rate.row(Tq) + ca * Da.drelative_rate.row(Tq + 1);
         const double along = dphi(dphi.size() - 1) - (ca * Da.relative_rate(Tq) + sa * Da.relative_rate(Tq + 1));
-        const Eigen::RowVectorXd dtheta = -dphi.head(dphi.size() - 1) / along;
+        Eigen::RowVectorXd dtheta = -dphi.head(dphi.size() - 1) / along;
+        // a slip that restarts after a stop: its direction before does not enter (replaced)
+        if (const Eigen::Index old = row_of(xb, i); old < static_cast<Eigen::Index>(xb.size())) dtheta(old) = 0.0;
         // the explicit time dependence (the forcing's phase) by the state before at s_end +- delta
         auto consistency = [&](double sigma) {
             VectorXd z = evaluate(u, sigma).head(n);
             z(i) = angle;
             z.segment(slider(q), directions(q)) = zhat_after.segment(slider(q), directions(q));
-            const MatrixXd cz = series(z, after, 0.0, 1, closing, false);
+            const MatrixXd cz = series(z, after, 0.0, 1, held, false);
             return -sa * cz(slider(q), 1) + ca * cz(slider(q) + 1, 1);
         };
         const double delta = 1e-6;
