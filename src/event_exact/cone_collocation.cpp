@@ -369,8 +369,7 @@ MatrixXd ConeEngine::event_sensitivity(const MatrixXd& u, double h, double s_end
             continue;
         }
         if (i < theta(0)) {  // a held position
-            int q = 0;
-            while (!(i >= slider(q) && i < slider(q) + directions(q))) ++q;
+            const int q = slider_contact(i);
             if (before[static_cast<std::size_t>(q)] == stuck) {
                 out.row(row) = phi.row(row_of(xb, i));
             } else {  // it sticks here: its q_T

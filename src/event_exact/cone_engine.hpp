@@ -68,9 +68,9 @@
 // met at the instant of others, after a step of zero length (a cascade: a contact closing into
 // slip that stops at once), move with those (EventTimes); a trigger that meets its guard with
 // no slope (grazing) moves no time (Flow::grazing says so). psi is left empty where a
-// pattern's equations are singular on the way or it is not finite. The periodic-orbit solver (rigid_orbit.cpp) takes it for
-// Newton's matrix and the multipliers (central differences of the period map where it is
-// missing or a Newton step with it fails).
+// pattern's equations are singular on the way or it is not finite. The periodic-orbit solver
+// (rigid_orbit.cpp) takes it for Newton's matrix and the multipliers (central differences of
+// the period map where it is missing or a Newton step with it fails).
 #pragma once
 
 #include <Eigen/Dense>
@@ -109,6 +109,12 @@ public:
     int tangential(int c) const { return s_.blocks[static_cast<std::size_t>(c)].first; }
     int normal(int c) const { return tangential(c) + directions(c); }
     int slider(int c) const { return 2 * n_dofs_ + slider_first_[static_cast<std::size_t>(c)]; }
+    /// The contact whose held position has the zhat entry i (slider(c) <= i < slider(c) + d).
+    int slider_contact(int i) const {
+        int c = 0;
+        while (!(i >= slider(c) && i < slider(c) + directions(c))) ++c;
+        return c;
+    }
     int theta(int c) const { return 2 * n_dofs_ + tangential_entries_ + c; }
     int tangential_entries() const { return tangential_entries_; }
     /// Size of the recorded vector [zhat, lambda].

@@ -236,8 +236,7 @@ MatrixXd end_derivative(ConeEngine& e, const PatternEngine::Flow& f, const std::
                     from(static_cast<Eigen::Index>(r), l) = f.psi(ends[r], unknowns[static_cast<std::size_t>(l)]);
             relative = D.drelative * from;
         }
-        int q = 0;
-        while (!(i >= e.slider(q) && i < e.slider(q) + e.directions(q))) ++q;
+        const int q = e.slider_contact(i);
         d.row(k) = relative.row(e.tangential(q) + (i - e.slider(q)));
     }
     if (!d.allFinite()) throw std::runtime_error("the flow's derivative is not finite");
