@@ -719,3 +719,65 @@ TEST_CASE("rigid exact: the section's norm compares slip directions modulo a tur
     CHECK(norm.relative_change(end, start) == Approx(1e-3));
     CHECK(norm.difference(end, start)(6) == Approx(1e-3));
 }
+
+namespace {
+
+/// One mass (DOF 0) pressing a massless 3D contact node (DOFs 1, 2 along the wall, 3 across)
+/// through a tangential spring k_t and a normal spring k_n, preload p. After a lift-off the
+/// node closes with no force, and its stuck force then grows along the ray
+/// lambda_T / lambda_N = k_t / k_n: with k_t = mu k_n exactly on the friction cone's edge, where
+/// stick and a slip of no speed are the same motion and each pattern's limit is met by rounding.
+System cone_edge_node(double mu, double k_t, double k_n) {
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(4, 4), K = M, C = M;
+    M(0, 0) = 1.0;
+    C(0, 0) = 0.05;
+    K(0, 0) = 1.0;
+    bench::add_spring(K, 0, 1, k_t);
+    bench::add_spring(K, 0, 3, k_n);
+    K(2, 2) = 1.0;  // the second tangential node rests
+    Eigen::VectorXd F = Eigen::VectorXd::Zero(4), S = F;
+    F(0) = 1.0;
+    S(3) = 0.2;  // the node onto the wall
+    S(0) = -0.2;
+    Contact k;
+    k.law = parse_friction_law("unilateral");
+    k.dof = 1;
+    k.values["friction_coefficient"] = mu;
+    k.lists["second_direction"] = {0.0, 0.0, 1.0, 0.0};
+    k.lists["normal_direction"] = {0.0, 0.0, 0.0, 1.0};
+    System s;
+    s.contacts.push_back(k);
+    s.mass = M.sparseView();
+    s.stiffness = K.sparseView();
+    s.damping = C.sparseView();
+    s.excitation = F;
+    s.static_load = S;
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("rigid exact 3D: a node closing onto its friction cone's edge neither chatters nor slips", "[rigid_exact]") {
+    // Reference: the same node with twice the friction coefficient, whose stuck force stays
+    // strictly inside the cone after each closing; the orbits are the same motion (the lift-off
+    // every period erases the start's different history).
+    const double omega = 1.3, k_n = 1.7;
+    for (double mu : {0.3, 0.36, 0.7}) {
+        ExactOptions options;
+        options.outputs = {Output::dof(0)};
+        const ExactOrbit edge = rigid_periodic_orbit(cone_edge_node(mu, mu * k_n, k_n), omega, Eigen::VectorXd(), options);
+        const ExactOrbit inside =
+            rigid_periodic_orbit(cone_edge_node(2.0 * mu, mu * k_n, k_n), omega, Eigen::VectorXd(), options);
+        INFO("mu = " << mu << ": edge: " << edge.message << ", " << edge.switches << " events; inside: " << inside.message
+                     << ", " << inside.switches << " events");
+        REQUIRE(inside.converged);
+        REQUIRE(edge.converged);
+        REQUIRE(inside.contacts.size() == 1);
+        CHECK(inside.contacts[0].separated_fraction > 0.1);  // it lifts off every period
+        CHECK(inside.contacts[0].stick_fraction > 0.1);
+        CHECK(std::abs(edge.output_max[0] - inside.output_max[0]) <= 1e-9 * inside.output_max[0]);
+        CHECK(std::abs(edge.output_amp1[0] - inside.output_amp1[0]) <= 1e-9 * inside.output_amp1[0]);
+        CHECK(std::abs(edge.contacts[0].separated_fraction - inside.contacts[0].separated_fraction) <= 1e-9);
+        CHECK(edge.switches <= 4);
+    }
+}

@@ -353,6 +353,14 @@ std::vector<Guard> ConeEngine::guards(const MatrixXd& u, const Modes& modes, int
     return out;
 }
 
+double ConeEngine::guard_size(const Guard& g, double force, double length) const {
+    const double mu = s_.blocks[static_cast<std::size_t>(g.contact)].mu;
+    return g.kind == guard_normal                        ? force
+           : g.kind == guard_gap || g.kind == guard_slip ? length
+           : directions(g.contact) == 2                  ? mu * mu * force * force
+                                                         : mu * force;
+}
+
 bool ConeEngine::holds(const VectorXd& zhat, const Modes& modes, int c, double t, bool closing) {
     constexpr int terms = 6;
     std::vector<char> frozen(static_cast<std::size_t>(n_contacts_), 0);
@@ -372,15 +380,13 @@ bool ConeEngine::holds(const VectorXd& zhat, const Modes& modes, int c, double t
     const double force = std::max(u.col(0).tail(L).cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
     const VectorXd relative = free_ * u.col(0).head(n_) - s_.G * u.col(0).tail(L);
     const double length = std::max(relative.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
-    const double mu = s_.blocks[static_cast<std::size_t>(c)].mu;
     for (const Guard& g : guards(u, modes, c)) {
-        const double size = g.kind == guard_normal                            ? force
-                            : g.kind == guard_gap || g.kind == guard_slip       ? length
-                            : directions(c) == 2                                ? mu * mu * force * force
-                                                                                : mu * force;
+        const double size = guard_size(g, force, length);
         for (Eigen::Index k = 0; k < g.row.size(); ++k) {
-            if (g.row(k) > 1e-9 * size) break;
-            if (g.row(k) < -1e-9 * size) return false;
+            // a slip from rest: its first speed is zero to the precision of a held direction
+            const double rounding = (closing && g.kind == guard_slip && k == 0 ? hold_share : 1e-9) * size;
+            if (g.row(k) > rounding) break;
+            if (g.row(k) < -rounding) return false;
         }
     }
     return true;
@@ -660,6 +666,8 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
                                                      {2 * nm, tangential_entries_},
                                                      {n, L}};
     std::vector<char> frozen(static_cast<std::size_t>(n_contacts_), 0);
+    std::vector<char> started(static_cast<std::size_t>(n_contacts_), 0);  // slipping from rest since this instant
+    int instant_events = 0;  // events at the instant of the last step's end
     const long max_steps = 200000;
     long steps = 0;
     taylor_steps_ = collocation_steps_ = 0;
@@ -772,11 +780,23 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         const bool last = h >= remaining;
         double best = std::numeric_limits<double>::infinity();
         std::vector<std::pair<double, Guard>> roots;
+        // A 3D slip that starts from rest at a closing starts with no speed: its speed's first
+        // value is the consistent direction's rounding, zero below hold_share of the relative
+        // velocities (the precision of a held direction), so that it does not stop at once.
+        // A guard below rounding is not a root: rounding of the guard's own terms, and of its
+        // quantity's size (a guard that is zero all along, such as the friction limit of a node
+        // whose stuck force runs along its cone's edge, is rounding throughout).
+        const VectorXd relative = free_ * u.col(0).head(n) - s_.G * u.col(0).tail(L);
+        const double length = relative.cwiseAbs().maxCoeff();
+        const double still = hold_share * omega_ * h * length;
         auto find_roots = [&] {
             best = std::numeric_limits<double>::infinity();
             roots.clear();
-            for (const Guard& g : guards(u, modes)) {
-                const double eta = 1e-12 * g.row.cwiseAbs().sum();
+            for (Guard g : guards(u, modes)) {
+                if (g.kind == guard_slip && started[static_cast<std::size_t>(g.contact)] && g.row(0) < 0.0 &&
+                    g.row(0) > -still)
+                    g.row(0) = 0.0;
+                const double eta = 1e-12 * std::max(g.row.cwiseAbs().sum(), guard_size(g, force_scale_, length));
                 const double s = first_root(g.row, 1.0, eta);
                 if (s < 0.0) continue;
                 roots.emplace_back(s, g);
@@ -858,6 +878,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             }
         }
         const std::vector<char> step_frozen = frozen;
+        if (s_end > 0.0) std::fill(started.begin(), started.end(), 0);
         zhat = evaluate(u, s_end).head(n);
         t = (found || !last) ? std::min(t + s_end * h, t_end) : t_end;
         restore_forcing(zhat, t);
@@ -883,7 +904,24 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             }
         }
         for (int k = 0; k < n_contacts_; ++k)
-            if (closing[static_cast<std::size_t>(k)]) frozen[static_cast<std::size_t>(k)] = 1;
+            if (closing[static_cast<std::size_t>(k)]) frozen[static_cast<std::size_t>(k)] = started[static_cast<std::size_t>(k)] = 1;
+        // Events that repeat at one instant (a pattern whose successors each end at once):
+        // not a chatter in time, a contact none of whose patterns goes on. Said so, with which.
+        instant_events = s_end > 0.0 ? 1 : instant_events + 1;
+        if (instant_events > 4 * n_contacts_ + 16) {
+            static const char* const names[] = {"open", "stuck", "slipping"};
+            std::string which;
+            for (const Guard& g : triggers) {
+                const int from = std::abs(modes[static_cast<std::size_t>(g.contact)]);
+                const int to = std::abs(next[static_cast<std::size_t>(g.contact)]);
+                which += (which.empty() ? "" : ", ") + std::string("contact ") + std::to_string(g.contact + 1) + " " +
+                         names[from] + " -> " + names[to];
+            }
+            out.ok = false;
+            out.message = "contact events repeat without time passing at t = " + format_number(t) + " (" + which +
+                          "): no pattern of the contacts goes on from there";
+            break;
+        }
         const bool counted = record_events(out, t, modes, next, zhat, events, max_events);
         modes = next;
         if (!counted) break;

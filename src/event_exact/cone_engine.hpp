@@ -240,6 +240,11 @@ private:
 
     /// The guards of the pattern over coefficients u (in any time unit) of the recorded vector.
     std::vector<Guard> guards(const Eigen::MatrixXd& u, const Modes& modes, int contact = -1) const;
+    /// The size of a guard's quantity, against which its rounding is judged: the largest contact
+    /// force (normal force), the largest relative displacement (gap, slip speed times a time
+    /// unit), the friction limit's mu^2 force^2 (3D) or mu force (2D).
+    double guard_size(const Guard& g, double force, double length) const;
+
     /// Whether contact c's guards in pattern `modes` are positive at zhat, or zero with a
     /// positive first term of their series beyond rounding. closing: c just closed (lambda = 0),
     /// its slip direction held.

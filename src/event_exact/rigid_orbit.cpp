@@ -243,21 +243,25 @@ MatrixXd end_derivative(ConeEngine& e, const PatternEngine::Flow& f, const std::
     return d;
 }
 
-/// The middle of the longest event-free stretch of a period's events (0 without events).
-double section_time(const std::vector<ExactEvent>& events, double period) {
-    if (events.empty()) return 0.0;
+/// Candidate sections: the middles of the event-free stretches of a period at least a quarter
+/// as long as the longest, as (length, time) in time order.
+std::vector<std::pair<double, double>> section_times(const std::vector<ExactEvent>& events, double period) {
+    if (events.empty()) return {{period, 0.0}};
     std::vector<double> times;
     for (const ExactEvent& ev : events) times.push_back(std::fmod(ev.time, period));
     std::sort(times.begin(), times.end());
-    double best_gap = -1.0, t_s = 0.0;
+    std::vector<std::pair<double, double>> stretches;  // (length, middle)
+    double longest = 0.0;
     for (std::size_t k = 0; k < times.size(); ++k) {
         const double next = k + 1 < times.size() ? times[k + 1] : times.front() + period;
-        if (next - times[k] > best_gap) {
-            best_gap = next - times[k];
-            t_s = times[k] + 0.5 * (next - times[k]);
-        }
+        stretches.emplace_back(next - times[k], std::fmod(times[k] + 0.5 * (next - times[k]), period));
+        longest = std::max(longest, next - times[k]);
     }
-    return std::fmod(t_s, period);
+    std::vector<std::pair<double, double>> out;
+    for (const auto& stretch : stretches)
+        if (stretch.first >= 0.25 * longest) out.push_back(stretch);
+    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+    return out;
 }
 
 }  // namespace
@@ -359,21 +363,60 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
         }
         int restart_periods = 8;
         for (int attempt = 0;; ++attempt) {
-            // The section: the middle of the longest event-free stretch of the last period.
-            const double t_s = section_time(f.events, period);
-            VectorXd zs = zhat;
-            Modes ms = modes;
-            if (t_s > 0.0) {
-                zs(e.cos_index()) = 1.0;
-                zs(e.sin_index()) = 0.0;
-                const PatternEngine::Flow to_section = e.flow(zs, ms, 0.0, t_s, false, false, options.max_events_per_period);
-                if (!to_section.ok) {
-                    out.message = to_section.message;
-                    return out;
+            // The section: the middle of a long event-free stretch of the last period, where the
+            // fewest 3D contacts slip (their directions are unknowns, and a slow slip's direction
+            // turns fast), and where a period from it ends in the pattern it started in: in a
+            // transient (or near an orbit with a phase that touches a limit) a short phase can
+            // come and go at a stretch's middle, and a section there changes its unknowns from one
+            // period to the next.
+            struct Section {
+                double t = 0.0, length = 0.0;
+                VectorXd z;
+                Modes modes;
+                int angles = 0;
+            };
+            std::vector<Section> sections;
+            {
+                VectorXd z = zhat;
+                Modes m = modes;
+                z(e.cos_index()) = 1.0;
+                z(e.sin_index()) = 0.0;
+                double t = 0.0;
+                for (const auto& [length, t_k] : section_times(f.events, period)) {
+                    if (t_k > t) {
+                        const PatternEngine::Flow to = e.flow(z, m, t, t_k - t, false, false, options.max_events_per_period);
+                        if (!to.ok) {
+                            out.message = to.message;
+                            return out;
+                        }
+                        z = to.zhat;
+                        m = to.modes;
+                        t = t_k;
+                    }
+                    Section section{t_k, length, z, m, 0};
+                    if constexpr (!exact_monodromy)
+                        for (int c = 0; c < e.contacts(); ++c)
+                            section.angles += m[static_cast<std::size_t>(c)] == rigid_slip_positive && e.directions(c) == 2;
+                    sections.push_back(std::move(section));
                 }
-                zs = to_section.zhat;
-                ms = to_section.modes;
             }
+            std::stable_sort(sections.begin(), sections.end(), [](const Section& a, const Section& b) {
+                return a.angles != b.angles ? a.angles < b.angles : a.length > b.length;
+            });
+            std::size_t chosen = 0;
+            constexpr std::size_t tried_sections = 4;
+            for (std::size_t k = 0; sections.size() > 1 && k < std::min(sections.size(), tried_sections); ++k) {
+                const PatternEngine::Flow once = e.flow(sections[k].z, sections[k].modes, sections[k].t, period, false, false,
+                                                        options.max_events_per_period);
+                ++out.periods;
+                if (once.ok && once.modes == sections[k].modes) {
+                    chosen = k;
+                    break;
+                }
+            }
+            const double t_s = sections[chosen].t;
+            const VectorXd zs = sections[chosen].z;
+            const Modes ms = sections[chosen].modes;
             // The unknowns: y, y', the sliders of the contacts stuck at the section and the slip
             // directions of 3D contacts slipping there; the other sliders are their contacts'
             // tangential displacements (rows of the pattern, or its contact problem's solution).
@@ -384,10 +427,12 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 if (ms[static_cast<std::size_t>(c)] == rigid_stuck)
                     for (int j = 0; j < e.directions(c); ++j) unknowns.push_back(e.slider(c) + j);
             norm.angles = 0;
+            std::vector<int> angle_contacts;  // the contact of each angle unknown
             if constexpr (!exact_monodromy)
                 for (int c = 0; c < e.contacts(); ++c)
                     if (ms[static_cast<std::size_t>(c)] == rigid_slip_positive && e.directions(c) == 2) {
                         unknowns.push_back(e.theta(c));
+                        angle_contacts.push_back(c);
                         ++norm.angles;
                     }
             const auto nu = static_cast<Eigen::Index>(unknowns.size());
@@ -410,6 +455,18 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 VectorXd x(nu);
                 for (Eigen::Index k = 0; k < nu; ++k) x(k) = zh(unknowns[static_cast<std::size_t>(k)]);
                 return x;
+            };
+            // The unknowns at a flow's end. A contact that slipped at the section but does not
+            // slip at the end (far from the orbit: the patterns differ) has no direction there
+            // (the one it stopped with is stale): its angle is not compared, and Newton does
+            // not move it by that stale value (end_derivative's row for it is zero).
+            auto pick_end = [&](const PatternEngine::Flow& g, const VectorXd& from) {
+                VectorXd x_end = pick(g.zhat);
+                for (std::size_t a = 0; a < angle_contacts.size(); ++a) {
+                    const auto k = nu - norm.angles + static_cast<Eigen::Index>(a);
+                    if (g.modes[static_cast<std::size_t>(angle_contacts[a])] != rigid_slip_positive) x_end(k) = from(k);
+                }
+                return x_end;
             };
             VectorXd x = pick(zs);
             norm.reference = std::max(norm.reference, norm.size(x));
@@ -450,7 +507,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                         minus(k) -= delta;
                         const PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
                         if (!fp.ok || !fm.ok) throw std::runtime_error("the period map's derivative: " + (fp.ok ? fm : fp).message);
-                        d.col(k) = (pick(fp.zhat) - pick(fm.zhat)) / (2.0 * delta);
+                        d.col(k) = (pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta);
                     }
                 }
                 return d;
@@ -478,11 +535,12 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     stalled = true;
                     break;
                 }
-                const VectorXd end = pick(f.zhat);
+                const VectorXd end = pick_end(f, x);
                 out.residual = norm.relative_change(end, x);
                 if (out.residual <= options.tolerance) {
                     out.converged = true;
-                    out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "");
+                    out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "") +
+                                  (f.modes == ms ? "" : " (a contact's event at the section)");
                     break;
                 }
                 if (out.iterations >= options.max_iterations) {
@@ -507,10 +565,10 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 for (double alpha = 1.0; alpha >= 1.0 / 256; alpha *= 0.5) {
                     const VectorXd trial = x + alpha * dx;
                     PatternEngine::Flow g = map(trial, false);
-                    if (g.ok && norm.relative_change(pick(g.zhat), trial) < out.residual) {
+                    if (g.ok && norm.relative_change(pick_end(g, trial), trial) < out.residual) {
                         if constexpr (!exact_monodromy) {  // Broyden: the secant through the step
                             const VectorXd step = (trial - x).cwiseQuotient(unit),
-                                           change = (norm.difference(pick(g.zhat), trial) - norm.difference(end, x))
+                                           change = (norm.difference(pick_end(g, trial), trial) - norm.difference(end, x))
                                                         .cwiseQuotient(unit);
                             jacobian += (change - jacobian * step) * step.transpose() / step.squaredNorm();
                             fresh = false;
