@@ -8,6 +8,7 @@
 // damping 2 % of each mass and a dashpot 0.01 between the first two; mu = 0.3.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "hbf/contact_law.hpp"
@@ -21,6 +22,19 @@ inline void add_spring(Eigen::MatrixXd& K, int a, int b, double k) {
     K(b, b) += k;
     K(a, b) -= k;
     K(b, a) -= k;
+}
+
+/// A system of dense M, C, K, excitation F, static load S and contacts.
+inline System assemble_system(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K, const Eigen::MatrixXd& C,
+                              const Eigen::VectorXd& F, const Eigen::VectorXd& S, std::vector<Contact> contacts) {
+    System s;
+    s.contacts = std::move(contacts);
+    s.mass = M.sparseView();
+    s.stiffness = K.sparseView();
+    s.damping = C.sparseView();
+    s.excitation = F;
+    s.static_load = S;
+    return s;
 }
 
 inline System contact_chain(int n, double force) {
@@ -43,7 +57,7 @@ inline System contact_chain(int n, double force) {
         C(1, 1) += 0.01;
         C(0, 1) = C(1, 0) = -0.01;
     }
-    System s;
+    std::vector<Contact> contacts;
     for (int c = 0; c < n; ++c) {
         const int t = n + 2 * c, v = t + 1, across = (c + 1) % n;
         spring(c, t, kt[c % 3]);
@@ -56,14 +70,9 @@ inline System contact_chain(int n, double force) {
         k.values["friction_coefficient"] = 0.3;
         k.lists["normal_direction"] = std::vector<double>(static_cast<std::size_t>(size), 0.0);
         k.lists["normal_direction"][static_cast<std::size_t>(v)] = 1.0;
-        s.contacts.push_back(k);
+        contacts.push_back(k);
     }
-    s.mass = M.sparseView();
-    s.stiffness = K.sparseView();
-    s.damping = C.sparseView();
-    s.excitation = F;
-    s.static_load = S;
-    return s;
+    return assemble_system(M, K, C, F, S, std::move(contacts));
 }
 
 }  // namespace hbf::bench
@@ -110,7 +119,7 @@ inline System contact_chain_3d(int n, double force, double second) {
     }
     K(n, n) += 1.0;
     K(2 * n - 1, 2 * n - 1) += 1.5;
-    System s;
+    std::vector<Contact> contacts;
     for (int c = 0; c < n; ++c) {
         Contact k = planar.contacts[static_cast<std::size_t>(c)];
         k.dof = 2 * n + 3 * c;
@@ -118,14 +127,9 @@ inline System contact_chain_3d(int n, double force, double second) {
         k.lists["second_direction"][static_cast<std::size_t>(2 * n + 3 * c + 1)] = 1.0;
         k.lists["normal_direction"] = std::vector<double>(static_cast<std::size_t>(size), 0.0);
         k.lists["normal_direction"][static_cast<std::size_t>(2 * n + 3 * c + 2)] = 1.0;
-        s.contacts.push_back(k);
+        contacts.push_back(k);
     }
-    s.mass = M.sparseView();
-    s.stiffness = K.sparseView();
-    s.damping = C.sparseView();
-    s.excitation = F;
-    s.static_load = S;
-    return s;
+    return assemble_system(M, K, C, F, S, std::move(contacts));
 }
 
 }  // namespace hbf::bench

@@ -745,14 +745,7 @@ System cone_edge_node(double mu, double k_t, double k_n) {
     k.values["friction_coefficient"] = mu;
     k.lists["second_direction"] = {0.0, 0.0, 1.0, 0.0};
     k.lists["normal_direction"] = {0.0, 0.0, 0.0, 1.0};
-    System s;
-    s.contacts.push_back(k);
-    s.mass = M.sparseView();
-    s.stiffness = K.sparseView();
-    s.damping = C.sparseView();
-    s.excitation = F;
-    s.static_load = S;
-    return s;
+    return bench::assemble_system(M, K, C, F, S, {k});
 }
 
 }  // namespace
