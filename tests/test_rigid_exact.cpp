@@ -589,10 +589,10 @@ TEST_CASE("rigid exact 3D: a flow's derivative through events is its central dif
         CHECK(std::count(kinds.begin(), kinds.end(), kind) >= 1);
 }
 
-TEST_CASE("rigid exact 3D: a period's derivative at the orbit from the solver's section is its central differences",
+TEST_CASE("rigid exact 3D: a period's derivative at the orbit from its longest event-free stretch is its central differences",
           "[rigid_exact]") {
     // The derivative of the period map at the chain's orbit (w = 0.6, collocation steps) from
-    // the Newton solver's section (the middle of the longest event-free stretch), against
+    // the middle of the longest event-free stretch (a section the Newton solver takes), against
     // central differences of the Taylor flow. That period meets a contact that closes into slip
     // and stops at the same instant (a cascade of two events): the second event's time is the
     // first's, not its own guard's root (its own gave an error of 1e4).
@@ -773,4 +773,95 @@ TEST_CASE("rigid exact 3D: a node closing onto its friction cone's edge neither 
         CHECK(std::abs(edge.contacts[0].separated_fraction - inside.contacts[0].separated_fraction) <= 1e-9);
         CHECK(edge.switches <= 4);
     }
+}
+
+TEST_CASE("rigid exact 3D: Newton's matrix over a period that ends in another pattern is its central differences",
+          "[rigid_exact]") {
+    // Far from the orbit a period ends in another pattern: the held position of a contact no
+    // longer stuck is then its tangential displacement (end_derivative: the chain rule through
+    // the contact forces), against central differences of the Taylor flow. The direction of a
+    // contact no longer slipping is held by convention (its row zero) and not compared.
+    using namespace detail::exact;
+    const System system = bench::contact_chain_3d(3, 1.0, 0.8);
+    const double omega = 0.6;
+    ConeEngine e(system, omega);
+    e.set_stepping(ConeEngine::Stepping::taylor);
+    const int nm = e.dofs();
+    // a transient from rest: the first period whose end pattern differs from its start's
+    Eigen::VectorXd zhat = e.augment(Eigen::VectorXd::Zero(e.nz()), 0.0);
+    Modes modes = e.initial_modes(zhat);
+    PatternEngine::Flow f;
+    bool found = false;
+    for (int p = 0; p < 6 && !found; ++p) {
+        zhat(e.cos_index()) = 1.0;
+        zhat(e.sin_index()) = 0.0;
+        f = e.flow(zhat, modes, 0.0, e.period(), true, false, 5000);
+        REQUIRE(f.ok);
+        if (f.modes != modes && f.psi.size() > 0) {
+            found = true;
+            break;
+        }
+        zhat = f.zhat;
+        modes = f.modes;
+    }
+    REQUIRE(found);
+    std::vector<Eigen::Index> unknowns;
+    for (int k = 0; k < 2 * nm; ++k) unknowns.push_back(k);
+    for (int c = 0; c < e.contacts(); ++c)
+        if (modes[static_cast<std::size_t>(c)] == ConeEngine::stuck)
+            for (int j = 0; j < e.directions(c); ++j) unknowns.push_back(e.slider(c) + j);
+    for (int c = 0; c < e.contacts(); ++c)
+        if (modes[static_cast<std::size_t>(c)] == ConeEngine::slip) unknowns.push_back(e.theta(c));
+    const Eigen::MatrixXd d = end_derivative(e, f, unknowns);
+    const auto nu = static_cast<Eigen::Index>(unknowns.size());
+    // the rows compared: all but the directions of contacts no longer slipping
+    std::vector<char> compared(static_cast<std::size_t>(nu), 1);
+    int released = 0;  // held positions of contacts no longer stuck
+    for (Eigen::Index k = 0; k < nu; ++k) {
+        const auto i = unknowns[static_cast<std::size_t>(k)];
+        for (int c = 0; c < e.contacts(); ++c) {
+            if (i == e.theta(c) && f.modes[static_cast<std::size_t>(c)] != ConeEngine::slip) compared[static_cast<std::size_t>(k)] = 0;
+            if (i >= e.slider(c) && i < e.slider(c) + e.directions(c) && f.modes[static_cast<std::size_t>(c)] != ConeEngine::stuck)
+                ++released;
+        }
+    }
+    // the state's size over the period (a start at rest has none)
+    const double size = std::max({zhat.head(nm).cwiseAbs().maxCoeff(), zhat.segment(nm, nm).cwiseAbs().maxCoeff() / omega,
+                                  f.zhat.head(nm).cwiseAbs().maxCoeff(), f.zhat.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
+    REQUIRE(size > 0.0);
+    auto unit_of = [&](Eigen::Index i) { return i < nm ? size : i < 2 * nm ? size * omega : i < e.theta(0) ? size : 1.0; };
+    double worst = 0.0;
+    for (Eigen::Index b = 0; b < nu; ++b) {
+        const auto j = unknowns[static_cast<std::size_t>(b)];
+        double best = std::numeric_limits<double>::infinity();
+        for (double share : {1e-5, 1e-6, 1e-7}) {
+            const double delta = share * unit_of(j);
+            Eigen::VectorXd plus = zhat, minus = zhat;
+            plus(j) += delta;
+            minus(j) -= delta;
+            e.make_consistent(plus, modes, 0.0);
+            e.make_consistent(minus, modes, 0.0);
+            const PatternEngine::Flow fp = e.flow(plus, modes, 0.0, e.period(), false, false, 5000);
+            const PatternEngine::Flow fm = e.flow(minus, modes, 0.0, e.period(), false, false, 5000);
+            REQUIRE(fp.ok);
+            REQUIRE(fm.ok);
+            if (fp.events.size() != f.events.size() || fm.events.size() != f.events.size() || fp.modes != f.modes ||
+                fm.modes != f.modes)
+                continue;
+            double error = 0.0;
+            for (Eigen::Index a = 0; a < nu; ++a) {
+                if (!compared[static_cast<std::size_t>(a)]) continue;
+                const auto i = unknowns[static_cast<std::size_t>(a)];
+                const double column = (fp.zhat(i) - fm.zhat(i)) / (2.0 * delta);
+                REQUIRE(std::isfinite(column));
+                error = std::max(error, std::abs(d(a, b) - column) * unit_of(j) / unit_of(i));
+            }
+            best = std::min(best, error);
+        }
+        REQUIRE(std::isfinite(best));
+        worst = std::max(worst, best);
+    }
+    INFO(f.events.size() << " events, " << released << " held positions of contacts no longer stuck");
+    CHECK(released > 0);
+    CHECK(worst <= 1e-6);
 }

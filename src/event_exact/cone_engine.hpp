@@ -277,4 +277,14 @@ private:
     long taylor_steps_ = 0, collocation_steps_ = 0;
 };
 
+/// d(the unknowns' entries at a flow's end)/d(the unknowns at its start) from the flow's
+/// derivative psi (its rows: the end pattern's independent entries). Where the end's pattern
+/// is not the start's (far from the orbit), an unknown that is not independent at the end is a
+/// function of the end state: the held position of a contact no longer stuck is its tangential
+/// displacement (its derivative by the chain rule through the contact forces); the direction
+/// of a contact no longer slipping is the one it kept when it stopped, taken as constant (its
+/// row zero: Newton's matrix is then approximate until the patterns agree).
+/// `unknowns`: entries of zhat (the section's), in Newton's order.
+Eigen::MatrixXd end_derivative(ConeEngine& e, const PatternEngine::Flow& f, const std::vector<Eigen::Index>& unknowns);
+
 }  // namespace hbf::detail::exact

@@ -204,14 +204,9 @@ void hold_where_started(E& e, const VectorXd& where, VectorXd& x, PatternEngine:
                   "undetermined held position)";
 }
 
-/// d(the unknowns' entries at a flow's end)/d(the unknowns at its start) from the flow's
-/// derivative psi (its rows: the end pattern's independent entries). Where the end's pattern
-/// is not the start's (far from the orbit), an unknown that is not independent at the end is a
-/// function of the end state: the held position of a contact no longer stuck is its tangential
-/// displacement (its derivative by the chain rule through the contact forces); the direction
-/// of a contact no longer slipping is the one it kept when it stopped, taken as constant (its
-/// row zero: Newton's matrix is then approximate until the patterns agree).
-MatrixXd end_derivative(ConeEngine& e, const PatternEngine::Flow& f, const std::vector<Eigen::Index>& unknowns) {
+}  // namespace
+
+MatrixXd detail::exact::end_derivative(ConeEngine& e, const PatternEngine::Flow& f, const std::vector<Eigen::Index>& unknowns) {
     const auto nu = static_cast<Eigen::Index>(unknowns.size());
     const std::vector<int> ends = e.independent(f.modes);
     MatrixXd d(nu, nu);
@@ -242,6 +237,8 @@ MatrixXd end_derivative(ConeEngine& e, const PatternEngine::Flow& f, const std::
     if (!d.allFinite()) throw std::runtime_error("the flow's derivative is not finite");
     return d;
 }
+
+namespace {
 
 /// Candidate sections: the middles of the event-free stretches of a period at least a quarter
 /// as long as the longest, as (length, time) in time order.
