@@ -217,3 +217,31 @@ TEST_CASE("hbf timeint far above the resonances: the stuck closed form and the e
         }
     }
 }
+
+TEST_CASE("hbf timeint --time-limit: the frequencies done are written, exit 3; a bad limit is refused",
+          "[cli][timeint][status]") {
+    // 400 frequencies of the Dahl absorber take several seconds; a limit of 1 s writes the first
+    // ones, each the same row as that frequency computed alone (the first one: from the same
+    // start, the linear stuck state at 0.5).
+    TempDir dir;
+    const fs::path file = dir.path / "ti.csv";
+    const Result r = run_hbf("timeint --law dahl --wmin 0.5 --wmax 2 --points 400 --time-limit 1 --out '" + file.string() + "'", dir);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("time limit of 1 s (--time-limit) is reached") &&
+                          Catch::Contains("of 400 frequencies written"));
+    const auto rows = parse_csv(slurp(file));
+    REQUIRE(rows.size() >= 2);
+    CHECK(rows.size() < 401);
+    for (std::size_t k = 1; k < rows.size(); ++k) CHECK(rows[k][9] == "true");
+    const Result alone = run_hbf("timeint --law dahl --w 0.5", dir);
+    REQUIRE(alone.exit_code == 0);
+    const auto single = parse_csv(alone.out);
+    REQUIRE(single.size() == 2);
+    CHECK(single[1] == rows[1]);
+    // Out of range: refused before any work, no file.
+    const fs::path other = dir.path / "none.csv";
+    const Result bad = run_hbf("timeint --law dahl --w 0.5 --time-limit -1 --out '" + other.string() + "'", dir);
+    CHECK(bad.exit_code == 2);
+    CHECK_THAT(bad.err, Catch::Contains("--time-limit = -1 is out of range"));
+    CHECK_FALSE(fs::exists(other));
+}

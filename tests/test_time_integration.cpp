@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "hbf/analytic.hpp"
+#include "hbf/config.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
@@ -644,4 +645,45 @@ TEST_CASE("TimeIntegrationOptions::validate holds the ranges hbf timeint shows, 
     o = T{};
     o.steady_tolerance = T::largest_steady_tolerance * 2;
     CHECK_THROWS_WITH(o.validate(), Catch::Contains("allowed 1e-14..0.01"));
+}
+
+TEST_CASE("A stop request ends the integration after the period it answers in (CVODE, law unilateral, law elastic), "
+          "and a sweep computes no further frequency",
+          "[timeint][status]") {
+    // Each integration is asked after every period; the fourth answer is a reason. At least 10
+    // periods are required for convergence, so none converges first: the response is stopped
+    // after exactly 4 periods (counted independently by the calls), not converged, and says why.
+    const std::string dir = std::string(HBF_SOURCE_DIR) + "/examples/systems/";
+    const std::vector<std::pair<std::string, System>> systems = {
+        {"CVODE (dahl)", test::dahl_oscillator(20.0, 0.5, 1.0, 0.05)},
+        {"law unilateral", io::read_system_config(dir + "liftoff3_rigid.toml").system},
+        {"law elastic", io::read_system_config(dir + "liftoff3.toml").system}};
+    for (const auto& [name, system] : systems) {
+        INFO(name);
+        TimeIntegrationOptions options;
+        options.min_periods = 10;
+        int calls = 0;
+        options.stop = [&calls] { return ++calls >= 4 ? std::string("asked to stop") : std::string(); };
+        const PeriodicResponse r = integrate_steady_state(system, 1.2, options);
+        CHECK(r.stopped);
+        CHECK_FALSE(r.converged);
+        CHECK(calls == 4);
+        CHECK(r.periods == 4);
+        CHECK_THAT(r.message, Catch::Contains("stopped after 4 periods") && Catch::Contains("asked to stop"));
+        // Without the request the same integration goes on (and is not stopped).
+        options.stop = nullptr;
+        options.max_periods = 12;
+        const PeriodicResponse free = integrate_steady_state(system, 1.2, options);
+        CHECK_FALSE(free.stopped);
+        CHECK(free.periods >= 10);
+    }
+    // A sweep: the first frequency is stopped, the others are not computed.
+    TimeIntegrationOptions options;
+    options.min_periods = 10;
+    int calls = 0;
+    options.stop = [&calls] { return ++calls >= 4 ? std::string("asked to stop") : std::string(); };
+    const std::vector<PeriodicResponse> swept = sweep(test::dahl_oscillator(20.0, 0.5, 1.0, 0.05), {1.0, 1.1, 1.2}, options);
+    REQUIRE(swept.size() == 1);
+    CHECK(swept[0].stopped);
+    CHECK(calls == 4);
 }

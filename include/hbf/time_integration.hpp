@@ -67,6 +67,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -156,9 +157,15 @@ struct TimeIntegrationOptions {
     /// Outputs o(t) = c^T y(t) (model.hpp) whose output_max (turning points by root finding
     /// on c^T y' = 0, as y_max) and output_amp1 are computed.
     std::vector<Output> outputs;
+    /// Asked after every period: a non-empty answer (why: an interrupt, a time limit) ends the
+    /// integration there, with converged = false and stopped = true (PeriodicResponse). Empty:
+    /// never asked. sweep() computes no further frequency after a stopped one.
+    std::function<std::string()> stop;
 
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;
+    /// stop's answer, "" without one.
+    std::string stop_reason() const { return stop ? stop() : std::string(); }
     /// Largest relative error the physics checks of a converged steady state allow (energy
     /// balance, stick kinematics, the permanent-stick convention):
     /// max(1e-6, 100 max(relative_tolerance, steady_tolerance)). Measured at the defaults
@@ -232,6 +239,12 @@ struct PeriodicResponse {
     long steps = 0;                  ///< CVODE steps, all periods
     long rhs_evaluations = 0;
     double seconds = 0;
+
+    /// Ended by TimeIntegrationOptions::stop before it converged (then converged = false, the
+    /// metrics are those of the last full period if any, and the message says why).
+    bool stopped = false;
+    /// Marks this response stopped after `periods` periods for `why` (the message says so).
+    void stop_after(int periods, const std::string& why);
 
     /// One line: frequency, converged or why not, periods, y_max, regime.
     std::string summary() const;

@@ -100,9 +100,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         throw UsageError("--at is empty: allowed a comma-separated list of frequencies > 0");
     if (given(command, "--overlay-timeint") && o.overlay.empty())
         throw UsageError("--overlay-timeint is empty: allowed 2..10000 points");
-    const double time_limit = parse_double("--time-limit", o.time_limit);
-    if (!(time_limit >= 0.0 && time_limit <= 1e9))
-        throw UsageError("--time-limit = " + o.time_limit + " is out of range: allowed 0 (none) .. 1e9 seconds");
+    const double time_limit = parse_time_limit(o.time_limit);
     if (!o.overlay.empty()) {
         overlay_points = parse_integer("--overlay-timeint", o.overlay);
         if (overlay_points < 2 || overlay_points > 10000)

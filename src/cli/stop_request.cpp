@@ -11,6 +11,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "arguments.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf::cli {
@@ -44,6 +45,13 @@ const char* signal_name(int signal) {
     }
 }
 }  // namespace
+
+double parse_time_limit(const std::string& text) {
+    const double seconds = parse_double("--time-limit", text);
+    if (!(seconds >= 0.0 && seconds <= 1e9))
+        throw UsageError("--time-limit = " + text + " is out of range: allowed 0 (none) .. 1e9 seconds");
+    return seconds;
+}
 
 StopRequest::StopRequest(std::string command, double time_limit)
     : command_(std::move(command)), time_limit_(time_limit), start_(std::chrono::steady_clock::now()), mark_(start_) {

@@ -10,6 +10,9 @@
 
 namespace hbf::cli {
 
+/// --time-limit's value in seconds: 0 (none) .. 1e9; UsageError naming the flag and the range.
+double parse_time_limit(const std::string& text);
+
 /// While it lives, the first SIGINT, SIGTERM or SIGHUP is caught (a line on standard error says
 /// the run stops and writes what it has); the second is the signal's default action (the
 /// process ends, nothing written). A signal the process ignores (nohup's SIGHUP) stays ignored.

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "arguments.hpp"
+#include "stop_request.hpp"
 #include "outputs.hpp"
 #include "commands.hpp"
 #include "hbf/analytic.hpp"
@@ -34,7 +35,7 @@ struct TimeintOptions {
                 max_periods = std::to_string(TimeIntegrationOptions{}.max_periods),
                 min_periods = std::to_string(TimeIntegrationOptions{}.min_periods);
     OutputFlags output;
-    std::string config;
+    std::string config, time_limit = "0";
 };
 
 bool given(const CLI::App& command, const char* flag) { return command.count(flag) > 0; }
@@ -126,19 +127,34 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     eo.outputs = chosen.outputs;
     eo.tolerance = given(command, "--steady-tol") ? tio.steady_tolerance : 1e-12;
 
+    const double time_limit = parse_time_limit(o.time_limit);
     if (o.output.dry_run) return o.output.dry_run_done("timeint");
     io::OutputFile out(o.output.out);  // opened before the work: an unwritable path fails fast
     const bool progress = o.output.verbose();
     MessageCollector messages;  // what CVODE reports during the sweep
+    // An interrupt or the time limit ends the sweep: the frequencies done are written (exit 3);
+    // the integration under way stops after its current period and is not written.
+    StopRequest stop("timeint", time_limit);
+    tio.stop = [&stop] { return stop.why(); };
+    std::string stopped;
     std::vector<PeriodicResponse> responses;
     responses.reserve(omegas.size());
     Eigen::VectorXd state = linear_stuck_state(system, omegas.front());
     for (std::size_t k = 0; k < omegas.size(); ++k) {
+        if (const std::string why = stop.why(); !why.empty()) {
+            stopped = "stopped before w = " + format_number(omegas[k]) + ": " + why;
+            break;
+        }
         if (progress)
             std::cerr << "\rhbf timeint: point " << k + 1 << "/" << omegas.size() << ", w = " << format_number(omegas[k])
                       << "        " << std::flush;
-        responses.push_back(exact ? exact_steady_state(system, omegas[k], eo, tio.max_periods, state)
-                                  : integrate_steady_state(system, omegas[k], tio, &state));
+        PeriodicResponse r = exact ? exact_steady_state(system, omegas[k], eo, tio.max_periods, state)
+                                   : integrate_steady_state(system, omegas[k], tio, &state);
+        if (r.stopped) {
+            stopped = r.message + "; that frequency is not written";
+            break;
+        }
+        responses.push_back(std::move(r));
         state = responses.back().state;
     }
     if (progress) std::cerr << "\n";
@@ -167,6 +183,9 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     // (warnings): judge_sweep, frf.hpp.
     Verdict verdict = judge_sweep(system, responses, tio, exact);
     verdict.add(messages.messages());
+    if (!stopped.empty())
+        verdict.warning(stopped + " (" + std::to_string(responses.size()) + " of " + std::to_string(omegas.size()) +
+                        " frequencies written)");
     return finish("timeint", verdict);
 }
 /// The flags of hbf timeint.
@@ -213,6 +232,13 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
                                       "draw y1_max against w (sweep order, non-converged points marked) through gnuplot "
                                       "(.png or .svg)",
                                       "no progress on standard error"});
+    command.add_option("--time-limit", o.time_limit,
+                       "stop after SECONDS and write the frequencies done so far (exit 3); 0: none\n"
+                       "stop the sweep after SECONDS of wall time (0: no limit) and write the frequencies whose "
+                       "steady state was done (exit code 3); the integration under way stops after its current "
+                       "period and is not written. An interrupt (Ctrl-C, SIGTERM, SIGHUP) does the same; a second "
+                       "one ends the process without output")
+        ->option_text("SECONDS");
     command.add_option("--config", o.config,
                         "integrate the structure of a TOML system file (as hbf frf --config)\nintegrate the structure of a TOML system file (as hbf frf --config; its frequency range "
                         "and solver settings are not used: give --w or --wmin/--wmax/--points)")
@@ -230,7 +256,8 @@ Columns:)",
 and permanent stick on the centred linear stuck state (as --method exact), each to max(1e-6, 100
 max(rtol, steady-tol)). A point that did not converge is written with converged = false and reported
 on standard error, and the exit code is 1 (like a stalled hbf frf branch: what was computed is
-written).)"});
+written). --time-limit or an interrupt ends the sweep early: the frequencies done are written and
+the exit code is 3.)"});
 }
 }  // namespace
 

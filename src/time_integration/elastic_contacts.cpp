@@ -481,6 +481,11 @@ PeriodicResponse integrate_elastic_contacts(const System& system, double omega, 
     const int n = system.dofs();
     const int samples = std::max(16 * options.samples_per_period, 4096);
     for (int k = 1; k <= options.max_periods; ++k) {
+        if (const std::string why = k > 1 ? options.stop_reason() : std::string(); !why.empty()) {
+            out.stop_after(k - 1, why);
+            out.state = x;
+            return out;
+        }
         ElasticIntegrator::Record r = integrator.period(x, 0);
         out.periods = k;
         if (!r.ok) {

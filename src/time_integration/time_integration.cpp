@@ -123,6 +123,13 @@ std::string PeriodicResponse::summary() const {
     return s.str();
 }
 
+void PeriodicResponse::stop_after(int periods_done, const std::string& why) {
+    converged = false;
+    stopped = true;
+    periods = periods_done;
+    message = "stopped after " + std::to_string(periods_done) + " periods (w = " + format_number(omega) + "): " + why;
+}
+
 int state_size(const System& system) {
     if (detail::has_elastic_contacts(system)) return detail::elastic_state_size(system);
     if (detail::has_unilateral_contacts(system)) return 2 * system.dofs();
@@ -392,6 +399,11 @@ PeriodicResponse integrate_with_mass(const System& system, double omega, const T
     double saved_change = 0, previous_change = std::numeric_limits<double>::infinity();
     int k = 0;
     while (k < options.max_periods) {
+        if (const std::string why = k > 0 ? options.stop_reason() : std::string(); !why.empty()) {
+            out.stop_after(k, why);
+            if (!have_metrics) out.state = x;
+            break;
+        }
         PeriodRecord record = integrator.period(x);
         ++k;
         out.periods = k;
@@ -546,6 +558,7 @@ std::vector<PeriodicResponse> sweep(const System& system, const std::vector<doub
     for (double omega : omegas) {
         responses.push_back(integrate_steady_state(system, omega, options, state.size() ? &state : nullptr));
         state = responses.back().state;
+        if (responses.back().stopped) break;
     }
     return responses;
 }

@@ -204,6 +204,11 @@ PeriodicResponse integrate_unilateral_contacts(const System& system, double omeg
     };
     for (int k = 1; k <= options.max_periods + 1; ++k) {
         const bool final = out.converged;
+        if (const std::string why = k > 1 && !final ? options.stop_reason() : std::string(); !why.empty()) {
+            out.stop_after(k - 1, why);
+            out.state = VectorXd::Zero(2 * n);  // as a point that did not converge
+            return out;
+        }
         const VectorXd start = state_of(ym, vm, step);
         // the final period's records
         MatrixXd Y, V, L;
