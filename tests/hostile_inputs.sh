@@ -510,7 +510,8 @@ manual() {
   : >"$WORK/err"
 }
 leftovers() { find "$M" -name '*.tmp*' | head -3; }
-# SIGTERM and SIGINT during the computation: nothing is written, no temporary file is left.
+# SIGTERM, SIGINT and SIGHUP during the computation: the frequencies done are written with a
+# warning naming the signal (exit 3), and no temporary file is left.
 for sig in TERM INT HUP; do
   manual "SIG$sig during hbf timeint"
   (cd "$M" && exec "$HBF" timeint --wmin 0.5 --wmax 1.6 --points 400 --out o.csv 2>"$WORK/err") &
@@ -518,8 +519,11 @@ for sig in TERM INT HUP; do
   sleep 1
   kill -s "$sig" "$pid" 2>/dev/null
   { wait "$pid"; } 2>/dev/null
+  got=$?
   [[ -z $(leftovers) ]] || fail "SIG$sig left $(leftovers)"
-  [[ ! -e $M/o.csv ]] || fail "SIG$sig: o.csv written by an interrupted run"
+  [[ $got -eq 3 ]] || fail "SIG$sig: exit $got, expected 3"
+  [[ -s $M/o.csv ]] || fail "SIG$sig: the frequencies done were not written"
+  grep -qF "interrupted (SIG$sig)" "$WORK/err" || fail "SIG$sig: no warning naming the signal"
 done
 # A file-size limit (SIGXFSZ): the write fails (exit 1), the old file and no temporary remain.
 manual "ulimit -f"

@@ -218,7 +218,7 @@ TEST_CASE("hbf timeint far above the resonances: the stuck closed form and the e
     }
 }
 
-TEST_CASE("hbf timeint --time-limit: the frequencies done are written, exit 3; a bad limit is refused",
+TEST_CASE("hbf timeint --time-limit: the frequencies done are written (exit 3) and a bad limit is refused",
           "[cli][timeint][status]") {
     // 400 frequencies of the Dahl absorber take several seconds; a limit of 1 s writes the first
     // ones, each the same row as that frequency computed alone (the first one: from the same

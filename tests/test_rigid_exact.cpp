@@ -289,6 +289,68 @@ TEST_CASE("rigid exact: the FRF polish makes liftoff3_rigid's points exact and s
     }
 }
 
+TEST_CASE("rigid exact: a stop request ends the solve after the period it answers in, and the FRF polish there",
+          "[rigid_exact]") {
+    // The solve asks after every period it flows and stops at the first answer: the third.
+    const System system = three_contacts(1.0);
+    const ExactOrbit whole = rigid_periodic_orbit(system, 1.0, Eigen::VectorXd());
+    REQUIRE(whole.converged);
+    REQUIRE(whole.periods > 3);
+    int asked = 0;
+    ExactOptions options;
+    options.stop = [&asked] { return ++asked >= 3 ? std::string("the time limit") : std::string(); };
+    const ExactOrbit stopped = rigid_periodic_orbit(system, 1.0, Eigen::VectorXd(), options);
+    CHECK_FALSE(stopped.converged);
+    CHECK(stopped.stopped == "the time limit");
+    CHECK(stopped.message.find("the time limit") != std::string::npos);
+    CHECK(asked == 3);
+
+    // The FRF's polish stopped after 8 orbits: those points are the whole run's exact ones, the
+    // later ones harmonic balance's (the FRF without polish), status off; the branch is stopped.
+    const SystemConfig config = read_system_config(liftoff3);
+    FrfSettings settings = frf_settings(config.system, config.outputs, config.choices);
+    REQUIRE(settings.exact);
+    const FrfResult exact = compute_frf(config.system, settings);
+    FrfSettings plain_settings = settings;
+    plain_settings.exact = false;
+    const FrfResult plain = compute_frf(config.system, plain_settings);
+    bool stop = false;
+    settings.polish_progress = [&stop](int done, int) { stop = stop || done >= 8; };
+    settings.continuation.stop = [&stop] { return stop ? std::string("interrupted") : std::string(); };
+    const FrfResult partial = compute_frf(config.system, settings);
+    REQUIRE(partial.polish);
+    INFO(partial.polish->summary());
+    CHECK(partial.polish->stopped == "interrupted");
+    CHECK(partial.branch.status == ContinuationStatus::stopped);
+    CHECK(partial.polish->polished >= 6);
+    CHECK(partial.polish->polished <= 8);
+    const auto at = [](const FrfResult& r, const SolutionPoint& p) {
+        for (std::size_t k = 0; k < r.points.size(); ++k)
+            if (r.points[k].omega == p.omega && r.points[k].kind == p.kind) return k;
+        return r.points.size();
+    };
+    int off = 0;
+    for (std::size_t k = 0; k < partial.points.size(); ++k) {
+        const SolutionPoint& p = partial.points[k];
+        INFO("w = " << p.omega << ": " << partial.exact[k].message);
+        if (partial.exact[k].status == PolishStatus::exact) {
+            CHECK(off == 0);  // no exact point after the stop
+            const std::size_t j = at(exact, p);
+            REQUIRE(j < exact.points.size());
+            CHECK(partial.metrics[k].output_max[0] == exact.metrics[j].output_max[0]);
+        } else {
+            CHECK(partial.exact[k].status == PolishStatus::off);
+            ++off;
+            const std::size_t j = at(plain, p);
+            REQUIRE(j < plain.points.size());
+            CHECK(partial.metrics[k].output_max[0] == plain.metrics[j].output_max[0]);
+        }
+    }
+    CHECK(off >= 10);
+    CHECK(std::count(partial.verdict.notes.begin(), partial.verdict.notes.end(),
+                     "not done after the stop: the exact polish's remaining points") == 1);
+}
+
 // 3D contacts (a second tangential direction): the slip direction is a state, flowed by Taylor
 // series (src/event_exact/cone_engine.hpp), the period map differentiated numerically.
 

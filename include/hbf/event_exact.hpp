@@ -59,6 +59,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -93,9 +94,16 @@ struct ExactOptions {
     /// outputs' maxima only (a modal model's coordinates, whose maxima mean nothing; the DOFs a
     /// caller does not report).
     bool dof_maxima = true;
+    /// Asked after every period the rigid-contact solver (rigid_exact.hpp) flows, and by an
+    /// FRF's polish (exact_polish.hpp) before every orbit it solves: a non-empty answer (why:
+    /// an interrupt, a time limit) ends the solve there, not converged, with
+    /// ExactOrbit::stopped = that answer. Empty: never asked.
+    std::function<std::string()> stop;
 
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;
+    /// stop's answer, "" without one.
+    std::string stop_reason() const { return stop ? stop() : std::string(); }
 };
 
 /// One contact event of the periodic orbit.
@@ -110,6 +118,8 @@ struct ExactOrbit {
     double omega = 0;
     bool converged = false;
     std::string message;     ///< why it (did not) converge
+    /// Why a stop request (ExactOptions::stop) ended the solve, "" where none did.
+    std::string stopped;
     int iterations = 0;      ///< Newton iterations
     int periods = 0;         ///< period maps evaluated (warm-up, Newton, line search, final)
     double residual = 0;     ///< |P(z) - z| / max(|z|, |z_0|) at the end (tolerance above)

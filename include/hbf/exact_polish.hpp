@@ -85,7 +85,11 @@ struct PolishedBranch {
     /// Why an optional polish was declined before its work (PolishOptions::decline_seconds;
     /// nothing else is filled), "" where it ran.
     std::string declined;
-    /// One line: polished, failed, unstable, transitions, largest HB gap, time.
+    /// Why a stop request (exact.stop of PolishOptions) ended the polish, "" where none did:
+    /// the point it came during and those after it keep harmonic balance's values (status
+    /// off), and no transition or peak is located after it.
+    std::string stopped;
+    /// One line: polished, failed, unstable, transitions, largest HB gap, time (and the stop).
     std::string summary() const;
 };
 

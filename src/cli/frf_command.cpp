@@ -270,7 +270,8 @@ void add_flags(CLI::App& command, FrfOptions& o) {
                        "stop after SECONDS and write the points computed so far (exit 3, status stopped); 0: none\n"
                        "stop the run after SECONDS of wall time (0: no limit) and write what it has computed: the "
                        "branch's points so far (status stopped, exit code 3; the phases after the branch, such as "
-                       "the exact polish or the error estimate, are skipped and a note names them). An interrupt "
+                       "the exact polish or the error estimate, are skipped and a note names them; a stop during "
+                       "the polish keeps the points polished so far, the others harmonic balance's). An interrupt "
                        "(Ctrl-C, SIGTERM, SIGHUP) does the same; a second one ends the process without output")
         ->option_text("SECONDS");
     command.add_option("--overlay-timeint", o.overlay,

@@ -55,6 +55,10 @@ constexpr double another_orbit_gap = 0.25;
 ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof) {
     ExactPoint e;
     e.message = orbit.message;
+    if (!orbit.stopped.empty()) {  // a stop request before or during its solve: not polished
+        e.hb_gap = std::numeric_limits<double>::quiet_NaN();
+        return e;
+    }
     if (!orbit.converged) {
         e.status = PolishStatus::failed;
         e.hb_gap = std::numeric_limits<double>::quiet_NaN();
@@ -219,7 +223,7 @@ ModalChoice choose_modes(HarmonicBalance& hb, const SolutionPoint& probe, double
 /// An exact solve from one or two starts (the second tried when the first fails).
 ExactOrbit solve(const ExactModel& model, double omega, const Eigen::VectorXd& first, const Eigen::VectorXd* second) {
     ExactOrbit orbit = model.orbit(omega, first);
-    if (!orbit.converged && second) {
+    if (!orbit.converged && orbit.stopped.empty() && second) {
         ExactOrbit other = model.orbit(omega, *second);
         if (other.converged) return other;
     }
@@ -257,6 +261,7 @@ std::string PolishedBranch::summary() const {
       << " unstable, " << transitions << " transitions" << per_contact_counts(contact_transitions)
       << ", largest HB gap " << format_number(max_hb_gap) << ", "
       << format_number(seconds) << " s";
+    if (!stopped.empty()) s << "; stopped (" << stopped << "): the points after it are harmonic balance's";
     return s.str();
 }
 
@@ -313,6 +318,13 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     detail::Stopwatch watch;
     const System& structure = hb.system();
     options.exact.validate();
+    // A stop request (ExactOptions::stop): asked before every orbit; once answered, the points
+    // after it keep harmonic balance's values (status off) and nothing more is solved.
+    std::string stopped;
+    const auto stop_now = [&] {
+        if (stopped.empty()) stopped = options.exact.stop_reason();
+        return !stopped.empty();
+    };
     if (options.dof < 0 || options.dof >= structure.dofs())
         throw InvalidInput("polish dof = " + std::to_string(options.dof) + " is out of range: allowed 0.." +
                            std::to_string(structure.dofs() - 1));
@@ -412,7 +424,11 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         const SolutionPoint& p = points[k];
         if (p.kind == PointKind::transition) continue;
         Polished q{p, hb_metrics[k], {}, {}};
-        if (unbounded(q.metrics)) {
+        if (unbounded(q.metrics) || stop_now()) {
+            if (!stopped.empty()) {
+                q.orbit.stopped = stopped;
+                q.orbit.message = "not polished: the polish stopped before this point (" + stopped + ")";
+            }
             (p.kind == PointKind::sample ? samples : branch).push_back(std::move(q));
             if (p.kind != PointKind::sample) branch_hb.push_back(hb_metrics[k]);
             continue;
@@ -447,6 +463,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         } else {
             q.orbit = solve(model, p.omega, hb_start, previous ? &previous->orbit.state : nullptr);
         }
+        if (stopped.empty()) stopped = q.orbit.stopped;
         if (p.kind != PointKind::sample) {
             before_previous = previous ? previous_start : Eigen::VectorXd();
             before_previous_exact = previous ? previous->orbit.state : Eigen::VectorXd();
@@ -459,7 +476,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             branch_hb.push_back(hb_metrics[k]);
         }
     }
-    for (std::size_t k = branch.size(); k-- > 1;) {
+    for (std::size_t k = branch.size(); k-- > 1 && !stop_now();) {
         Polished &q = branch[k - 1], &next = branch[k];
         if (q.orbit.converged || !next.orbit.converged || q.point.branch != next.point.branch || unbounded(q.metrics))
             continue;
@@ -474,6 +491,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             ExactOrbit at = from;
             bool ok = true;
             for (int m = 1; m <= steps && ok; ++m) {
+                if (stop_now()) return ExactOrbit{};
                 ExactOrbit next_orbit = model.orbit(w_from + (w_to - w_from) * m / steps, at.state);
                 ok = next_orbit.converged;
                 if (ok) at = std::move(next_orbit);
@@ -534,7 +552,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     };
     for (std::size_t k = 0; k < branch.size(); ++k) {
         with_transitions.push_back(branch[k]);
-        if (!options.transitions || k + 1 >= branch.size()) continue;
+        if (!options.transitions || k + 1 >= branch.size() || stop_now()) continue;
         const Polished &a = branch[k], &b = branch[k + 1];
         if (a.point.branch != b.point.branch || !a.orbit.converged || !b.orbit.converged) continue;
         if (a.point.omega == b.point.omega) continue;
@@ -629,7 +647,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     // 3. Exact peaks of `dof` (or of each output) among the branch points (transitions included).
     const std::size_t quantities =
         options.exact.outputs.empty() || !options.peaks_of_every_output ? 1 : options.exact.outputs.size();
-    for (std::size_t o = 0; options.peaks && o < quantities; ++o) {
+    for (std::size_t o = 0; options.peaks && o < quantities && !stop_now(); ++o) {
         const bool of_dof = options.exact.outputs.empty();
         auto value_of = [&](const std::vector<double>& y_max, const std::vector<double>& output_max) {
             return of_dof ? y_max[static_cast<std::size_t>(dof)] : output_max[o];
@@ -663,6 +681,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             out.peaks.push_back(peak);
         }
     }
+    out.stopped = stopped;
     out.seconds = watch.lap();
     return out;
 }

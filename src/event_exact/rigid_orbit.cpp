@@ -338,6 +338,16 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
     }
     SectionNorm norm{nm, omega, 0.0};
     PatternEngine::Flow f;
+    // Every flow, then the stop request (ExactOptions::stop): a period of a meshed 3D interface
+    // can take seconds, a solve hundreds of periods.
+    struct StopRequested {
+        std::string why;
+    };
+    auto flow = [&](const VectorXd& z, const Modes& m, double t0, double span, bool derivative, bool record, int events) {
+        PatternEngine::Flow g = e.flow(z, m, t0, span, derivative, record, events);
+        if (std::string why = options.stop_reason(); !why.empty()) throw StopRequested{std::move(why)};
+        return g;
+    };
     try {
         Modes modes = e.initial_modes(zhat);
 
@@ -346,7 +356,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             for (int p = 0; p < periods; ++p) {
                 zhat(e.cos_index()) = 1.0;
                 zhat(e.sin_index()) = 0.0;
-                f = e.flow(zhat, modes, 0.0, period, false, false, options.max_events_per_period);
+                f = flow(zhat, modes, 0.0, period, false, false, options.max_events_per_period);
                 ++out.periods;
                 if (!f.ok) return false;
                 zhat = f.zhat;
@@ -381,7 +391,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 double t = 0.0;
                 for (const auto& [length, t_k] : section_times(f.events, period)) {
                     if (t_k > t) {
-                        const PatternEngine::Flow to = e.flow(z, m, t, t_k - t, false, false, options.max_events_per_period);
+                        const PatternEngine::Flow to = flow(z, m, t, t_k - t, false, false, options.max_events_per_period);
                         if (!to.ok) {
                             out.message = to.message;
                             return out;
@@ -403,7 +413,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             std::size_t chosen = 0;
             constexpr std::size_t tried_sections = 4;
             for (std::size_t k = 0; sections.size() > 1 && k < std::min(sections.size(), tried_sections); ++k) {
-                const PatternEngine::Flow once = e.flow(sections[k].z, sections[k].modes, sections[k].t, period, false, false,
+                const PatternEngine::Flow once = flow(sections[k].z, sections[k].modes, sections[k].t, period, false, false,
                                                         options.max_events_per_period);
                 ++out.periods;
                 if (once.ok && once.modes == sections[k].modes) {
@@ -469,7 +479,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             norm.reference = std::max(norm.reference, norm.size(x));
             auto map = [&](const VectorXd& from, bool record) {
                 ++out.periods;
-                return e.flow(start(from), ms, t_s, period, exact_monodromy, record, options.max_events_per_period);
+                return flow(start(from), ms, t_s, period, exact_monodromy, record, options.max_events_per_period);
             };
             // d x_end / d x: the monodromy (RigidEngine), or central differences of the map with
             // steps of 1e-6 of the state's size (velocities over omega, directions in radians).
@@ -485,7 +495,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     for (Eigen::Index k = 0; k < nu; ++k) d.row(k) = fx.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
                 } else {
                     const PatternEngine::Flow fv = differences_only ? PatternEngine::Flow{}
-                                                                    : e.flow(start(at), ms, t_s, period, true, false,
+                                                                    : flow(start(at), ms, t_s, period, true, false,
                                                                              options.max_events_per_period);
                     if (!differences_only) ++out.periods;
                     if (fv.ok && fv.psi.size() > 0) {
@@ -623,7 +633,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             modes = ms;
             // back to t = 0: flow the rest of the period
             if (t_s > 0.0) {
-                const PatternEngine::Flow rest = e.flow(zhat, modes, t_s, period - t_s, false, false,
+                const PatternEngine::Flow rest = flow(zhat, modes, t_s, period - t_s, false, false,
                                                         options.max_events_per_period);
                 if (!rest.ok) {
                     out.message = rest.message;
@@ -638,6 +648,10 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             }
             restart_periods *= 4;
         }
+    } catch (const StopRequested& stop) {
+        out.converged = false;
+        out.stopped = stop.why;
+        out.message = "stopped after " + std::to_string(out.periods) + " periods: " + stop.why;
     } catch (const std::runtime_error& error) {
         out.converged = false;
         out.message = error.what();

@@ -505,6 +505,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         po.peaks = settings.peaks;
         po.peaks_of_every_output = settings.peaks_of_every_output;
         po.progress = settings.polish_progress;
+        po.exact.stop = settings.continuation.stop;
         if (settings.exact_automatic) po.decline_seconds = std::max(2.0, 10.0 * seconds_since(started));
         r.polish = polish_branch(hb, r.points, r.metrics, po, corrector);
         if (!r.polish->declined.empty()) {
@@ -517,6 +518,10 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
             r.metrics = r.polish->metrics;
             r.exact = r.polish->exact;
             r.peaks = r.polish->peaks;
+            if (!r.polish->stopped.empty() && stopped.empty()) {  // its points from there on stay HB's
+                stopped = r.polish->stopped;
+                skipped.emplace_back("the exact polish's remaining points");
+            }
         }
     }
     if (!r.polish && settings.peaks && !stop_before("the peaks' refinement")) {
