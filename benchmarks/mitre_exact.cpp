@@ -6,11 +6,17 @@
 // fine state (rigid_exact.hpp, --stepping automatic: Taylor series where the slip directions
 // are not stiff, implicit collocation where they are), each output's max |o(t)| and first
 // harmonic by the three, the interface's stuck and open shares, and the seconds of each. The
-// last line is one JSON object with every frequency.
+// last line is one JSON object with every frequency. Where the integrator does not reach a
+// steady state (an unstable orbit, or its contact problem failing at 100 N), --no-integrator
+// computes the exact orbit alone (from rest after --warmup exact periods, or from --start), and
+// --check-samples N integrates two periods from the exact orbit's state at N, 2N and 4N samples
+// (the second one's metrics): their differences from the exact orbit, and the change of the state
+// over the first, fall with the step where the orbit is a solution.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -30,6 +36,22 @@ double mean_share(const std::vector<ContactRegime>& contacts, bool open) {
     for (const ContactRegime& c : contacts) sum += open ? c.separated_fraction : c.stick_fraction;
     return contacts.empty() ? 0.0 : sum / static_cast<double>(contacts.size());
 }
+
+/// A state as text, one number a line.
+Eigen::VectorXd read_state(const std::string& file) {
+    std::ifstream in(file);
+    std::vector<double> values;
+    for (double v; in >> v;) values.push_back(v);
+    if (values.empty()) throw std::runtime_error("--start " + file + ": no numbers read");
+    return Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+void write_state(const std::string& file, const Eigen::VectorXd& state) {
+    std::FILE* out = std::fopen(file.c_str(), "w");
+    if (!out) throw std::runtime_error("--save-orbit " + file + ": cannot be written");
+    for (double v : state) std::fprintf(out, "%.17g\n", v);
+    std::fclose(out);
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -38,8 +60,9 @@ int main(int argc, char** argv) {
     int samples = 1024;
     std::string stepping = "automatic", file = std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml";
     double force_scale = 1.0, steady = 1e-8;
-    int max_events = 2000, warmup = 2;
+    int max_events = 2000, warmup = 2, check_samples = 0;
     bool no_integrator = false;
+    std::string start_file, save_file;
     app.add_option("--w", omegas, "frequencies [rad/s]")->delimiter(',');
     app.add_option("--samples", samples, "the integrator's coarse samples a period (fine: twice)");
     app.add_option("--stepping", stepping, "automatic, taylor or collocation");
@@ -51,7 +74,13 @@ int main(int argc, char** argv) {
                  "the exact orbit alone, from rest after --warmup exact periods (where the integrator fails)");
     app.add_option("--warmup", warmup, "with --no-integrator: exact periods from rest before Newton")
         ->check(CLI::Range(0, 1000));
+    app.add_option("--start", start_file, "with --no-integrator: the exact orbit's start, [y, y'] of every DOF, one a line");
+    app.add_option("--save-orbit", save_file, "the last converged exact orbit's state, one number a line");
+    app.add_option("--check-samples", check_samples,
+                   "with --no-integrator: two periods of the integrator from the exact state at N, 2N, 4N samples")
+        ->check(CLI::Range(0, 1 << 20));
     CLI11_PARSE(app, argc, argv);
+    const Eigen::VectorXd given_start = start_file.empty() ? Eigen::VectorXd() : read_state(start_file);
     const io::SystemConfig config = io::read_system_config(file);
     System system = config.system;
     system.excitation *= force_scale;
@@ -81,11 +110,12 @@ int main(int argc, char** argv) {
         eo.max_events_per_period = max_events;
         eo.outputs = outputs;
         eo.dof_maxima = false;
-        if (no_integrator) eo.warmup_periods = warmup;
+        if (no_integrator) eo.warmup_periods = std::max(1, warmup);
         const auto start = clock_type::now();
         const ExactOrbit exact =
-            rigid_periodic_orbit(system, omega, no_integrator ? Eigen::VectorXd() : ti[1].state, eo, choice);
+            rigid_periodic_orbit(system, omega, no_integrator ? given_start : ti[1].state, eo, choice);
         const double exact_seconds = seconds_since(start);
+        if (exact.converged && !save_file.empty()) write_state(save_file, exact.state);
         if (no_integrator) {
             std::printf("w = %g: exact %s (%s) in %.1f s, %d events, %d Newton iterations, %d periods, residual %.3e\n",
                         omega, exact.converged ? "converged" : "NOT converged", exact.message.c_str(), exact_seconds,
@@ -96,6 +126,34 @@ int main(int argc, char** argv) {
             if (exact.converged)
                 std::printf("  stuck share %.6f, open share %.6f, max multiplier %.6f\n", mean_share(exact.contacts, false),
                             mean_share(exact.contacts, true), exact.max_multiplier);
+            for (int k = 0; k < 3 && exact.converged && check_samples > 0; ++k) {
+                TimeIntegrationOptions o;  // two periods from the exact state: the second's metrics
+                o.samples_per_period = check_samples << k;
+                o.min_periods = 1;
+                o.max_periods = 1;
+                o.steady_tolerance = 1e-2;  // the first period "converges": the second is recorded
+                o.shooting = false;
+                o.stick_restart = false;
+                o.max_events_per_period = 1000000;
+                o.outputs = outputs;
+                const auto t0 = clock_type::now();
+                const PeriodicResponse one = integrate_steady_state(system, omega, o, &exact.state);
+                if (!one.converged) {
+                    std::printf("  the integrator at %d samples from the exact state: %s\n", check_samples << k,
+                                one.message.c_str());
+                    continue;
+                }
+                std::printf("  the integrator at %d samples from the exact state (%.1f s): its change over a period %.3e; "
+                            "its second period relative to exact:",
+                            check_samples << k, seconds_since(t0), one.poincare_change);
+                for (std::size_t j = 0; j < outputs.size(); ++j) {
+                    const double m = exact.output_max[j], a = exact.output_amp1[j];
+                    std::printf(" %s max %.3e amp1 %.3e;", outputs[j].name().c_str(), (one.output_max[j] - m) / m,
+                                a > 1e-9 * m ? (one.output_amp1[j] - a) / a : one.output_amp1[j] / m);
+                }
+                std::printf(" stuck %.6f open %.6f\n", mean_share(one.contacts, false), mean_share(one.contacts, true));
+                std::fflush(stdout);
+            }
             row["exact_converged"] = exact.converged;
             row["exact_seconds"] = exact_seconds;
             std::fflush(stdout);
