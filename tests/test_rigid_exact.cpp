@@ -743,6 +743,80 @@ TEST_CASE("rigid exact 3D: a period's derivative at the orbit from its longest e
     }
 }
 
+namespace {
+
+/// Two masses, mirror images of each other (x_a = x_b, z_a = -z_b), each pressing a massless 3D
+/// contact node onto a wall: x along the wall (excited equally), z across it (coupled to x by
+/// +/-0.5, so the nodes slip along curved paths), the normal node of each tied to the other
+/// mass's x. `asymmetry` scales the second node's tangential spring by 1 + asymmetry.
+System mirror_pair(double asymmetry) {
+    const int size = 10;  // x_a z_a x_b z_b (mass), then t1 t2 n of node a, of node b
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(size, size), K = M, C = M;
+    Eigen::VectorXd F = Eigen::VectorXd::Zero(size), S = F;
+    for (int i = 0; i < 4; ++i) {
+        M(i, i) = 1.0;
+        C(i, i) = 0.02;
+    }
+    bench::add_spring(K, 0, 4, 3.0);
+    bench::add_spring(K, 2, 7, 3.0 * (1.0 + asymmetry));
+    bench::add_spring(K, 1, 5, 2.5);
+    bench::add_spring(K, 3, 8, 2.5);
+    bench::add_spring(K, 0, 2, 1.0);
+    bench::add_spring(K, 1, 3, 0.8);
+    bench::add_spring(K, 2, 6, 5.0);
+    bench::add_spring(K, 0, 9, 5.0);
+    K(0, 0) += 2.0;
+    K(2, 2) += 2.0;
+    K(1, 1) += 1.0;
+    K(3, 3) += 1.0;
+    K(0, 1) = K(1, 0) = 0.5;
+    K(2, 3) = K(3, 2) = -0.5;
+    S(6) = S(9) = 1.0;  // the preloads, and the structure pushed back
+    S(2) = S(0) = -1.0;
+    F(0) = F(2) = 1.0;
+    std::vector<Contact> contacts;
+    for (int a = 0; a < 2; ++a) {
+        Contact k;
+        k.law = parse_friction_law("unilateral");
+        k.dof = 4 + 3 * a;
+        k.values["friction_coefficient"] = 0.3;
+        k.lists["second_direction"] = std::vector<double>(size, 0.0);
+        k.lists["second_direction"][static_cast<std::size_t>(5 + 3 * a)] = 1.0;
+        k.lists["normal_direction"] = std::vector<double>(size, 0.0);
+        k.lists["normal_direction"][static_cast<std::size_t>(6 + 3 * a)] = 1.0;
+        contacts.push_back(k);
+    }
+    return bench::assemble_system(M, K, C, F, S, std::move(contacts));
+}
+
+}  // namespace
+
+TEST_CASE("rigid exact 3D: where mirror-image nodes change pattern at one instant the multipliers are the period map's",
+          "[rigid_exact]") {
+    // At w = 0.7 the mirror images' events coincide; with an asymmetry of 1e-9 rounding orders
+    // them and the flow's derivative through them is far off (its largest multiplier was 4.8).
+    // The check against a central difference sends the multipliers to differences there: they
+    // equal the symmetric pair's (from the flow's derivative) and the others' to 1e-7.
+    const ExactOrbit symmetric = rigid_periodic_orbit(mirror_pair(0.0), 0.7, Eigen::VectorXd());
+    REQUIRE(symmetric.converged);
+    REQUIRE(symmetric.switches >= 8);
+    CHECK(symmetric.message.find("central differences") == std::string::npos);
+    CHECK(std::abs(symmetric.y_amp1[0] - symmetric.y_amp1[2]) <= 1e-12 * symmetric.y_amp1[0]);
+    CHECK(std::abs(symmetric.y_amp1[1] - symmetric.y_amp1[3]) <= 1e-12 * symmetric.y_amp1[0]);
+    bool differenced = false;
+    for (double asymmetry : {1e-10, 1e-9, 1e-8}) {
+        const ExactOrbit orbit = rigid_periodic_orbit(mirror_pair(asymmetry), 0.7, Eigen::VectorXd());
+        INFO("asymmetry " << asymmetry << ": " << orbit.message);
+        REQUIRE(orbit.converged);
+        differenced = differenced || orbit.message.find("central differences") != std::string::npos;
+        CHECK(std::abs(orbit.y_amp1[0] - symmetric.y_amp1[0]) <= 1e-7 * symmetric.y_amp1[0]);
+        CHECK(std::abs(orbit.max_multiplier - symmetric.max_multiplier) <= 1e-7);
+        CHECK(orbit.stable == symmetric.stable);
+    }
+    CHECK(differenced);  // the check was met where the flow's derivative is off
+    CHECK(symmetric.max_multiplier < 0.5);
+}
+
 TEST_CASE("rigid exact 3D: one copy of the contact rows serves every pattern", "[rigid_exact]") {
     // The recorded vector's rows do not depend on the pattern: the engine's memory must not grow
     // with the patterns a flow meets (thousands a period on a meshed interface).

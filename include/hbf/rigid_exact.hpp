@@ -19,10 +19,11 @@
 // available or a Newton step with it failed. The periodic orbit is the fixed point of the
 // period map, solved by Newton's method; its derivative's eigenvalues are the Floquet
 // multipliers. Where contacts of a symmetric interface change pattern at one instant and are
-// coupled, the period map is only piecewise differentiable, the flow's derivative through that
-// instant follows the order in which rounding puts the events, and the multipliers can be wrong
-// (on the mitre of examples/systems at 100 N the largest is 1.035 or 1.009 depending on the
-// section, while perturbations of the orbit decay by about 0.87 a period). Patterns,
+// coupled, the period map is only piecewise differentiable and the flow's derivative through
+// that instant follows the order in which rounding puts the events: it can be far off. So the
+// derivative at the orbit is checked along one direction against a central difference of the
+// period map (two periods), and where they differ by more than 1e-3 the multipliers are
+// central differences' (two periods per unknown; the message says so). Patterns,
 // events and the choice of the pattern after an event: src/event_exact/rigid_engine.hpp (2D)
 // and src/event_exact/cone_engine.hpp (3D).
 #pragma once

@@ -303,6 +303,10 @@ std::string rigid_solver_refusal(const System& system) {
 
 namespace {
 
+/// The flow's derivative (3D) is checked against a central difference of the period map along
+/// one direction: a mismatch above this share means the events it passed were not smooth.
+constexpr double derivative_check_tolerance = 1e-3;
+
 /// Newton shooting on the period map of engine e (RigidEngine: linear patterns, the exact
 /// monodromy; ConeEngine: Taylor flows, the period map's derivative by central differences).
 template <class E>
@@ -519,6 +523,32 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 }
                 return d;
             };
+            // The largest difference, in the unknowns' units, between d x_end / d x along a fixed
+            // direction and a central difference of the period map along it (steps of 1e-6 of the
+            // unknowns' units), relative to the larger of the two and the direction.
+            auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d) -> double {
+                if constexpr (exact_monodromy) {
+                    return 0.0;  // the monodromy is exact
+                } else {
+                const double size = std::max({norm.reference, at.head(nm).cwiseAbs().maxCoeff(),
+                                              at.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
+                VectorXd scale(nu), direction(nu);
+                for (Eigen::Index k = 0; k < nu; ++k) {
+                    const Eigen::Index i = unknowns[static_cast<std::size_t>(k)];
+                    scale(k) = i >= e.theta(0) ? 1.0 : (i >= nm && i < 2 * nm ? omega : 1.0) * size;
+                    direction(k) = scale(k) * std::sin(1.0 + 2.0 * static_cast<double>(k));  // no symmetry
+                }
+                constexpr double delta = 1e-6;
+                const VectorXd plus = at + delta * direction, minus = at - delta * direction;
+                const PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
+                if (!fp.ok || !fm.ok) return std::numeric_limits<double>::infinity();
+                const VectorXd differences = ((pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta)).cwiseQuotient(scale);
+                const VectorXd predicted = (d * direction).cwiseQuotient(scale);
+                const double size_of = std::max({differences.cwiseAbs().maxCoeff(), predicted.cwiseAbs().maxCoeff(),
+                                                 direction.cwiseQuotient(scale).cwiseAbs().maxCoeff()});
+                return (differences - predicted).cwiseAbs().maxCoeff() / size_of;
+                }
+            };
             // Newton works on the unknowns in their units (the state's size, velocities times
             // omega, angles in radians): its matrix and steps in those units, so that the rank
             // threshold below and Broyden's update do not mix metres, metres per second and radians.
@@ -621,7 +651,22 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 }
                 if (out.converged && permanently_stuck(last)) hold_where_started(e, start_sliders, x, last, map, derivative, options, out);
                 rigid_metrics(e, last, t_s, options, out);
-                const MatrixXd reduced = derivative(x, last);  // the multipliers
+                MatrixXd reduced = derivative(x, last);  // the multipliers
+                if constexpr (!exact_monodromy) {
+                    // The flow's derivative checked along one direction against a central
+                    // difference of the period map: where coupled contacts change pattern at one
+                    // instant (mirror-image nodes of a symmetric interface) it follows the order
+                    // rounding puts their events in and can be far off; the multipliers are then
+                    // the differences' (two periods per unknown).
+                    const double mismatch = differences_only ? 0.0 : derivative_mismatch(x, reduced);
+                    if (mismatch > derivative_check_tolerance) {
+                        differences_only = true;
+                        reduced = derivative(x, last);
+                        out.message += "; the multipliers by central differences of the period map (the flow's "
+                                       "derivative differs from them by " + format_number(mismatch) +
+                                       " along a test direction)";
+                    }
+                }
                 Eigen::EigenSolver<MatrixXd> eigen(reduced, false);
                 out.multipliers = eigen.eigenvalues();
                 out.max_multiplier = nu > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
