@@ -153,9 +153,24 @@ int main(int argc, char** argv) {
                 }
                 std::printf(" stuck %.6f open %.6f\n", mean_share(one.contacts, false), mean_share(one.contacts, true));
                 std::fflush(stdout);
+                nlohmann::json check;
+                check["samples"] = check_samples << k;
+                check["change"] = one.poincare_change;
+                for (std::size_t j = 0; j < outputs.size(); ++j) {
+                    check[outputs[j].name() + "_max"] = one.output_max[j];
+                    check[outputs[j].name() + "_amp1"] = one.output_amp1[j];
+                }
+                check["stuck_share"] = mean_share(one.contacts, false);
+                check["open_share"] = mean_share(one.contacts, true);
+                row["check"].push_back(check);
             }
             row["exact_converged"] = exact.converged;
             row["exact_seconds"] = exact_seconds;
+            for (std::size_t j = 0; j < outputs.size() && exact.converged; ++j) {
+                row[outputs[j].name() + "_max"] = exact.output_max[j];
+                row[outputs[j].name() + "_amp1"] = exact.output_amp1[j];
+            }
+            if (exact.converged) row["max_multiplier"] = exact.max_multiplier;
             std::fflush(stdout);
             all.push_back(row);
             continue;
