@@ -493,6 +493,19 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             // pattern's equations singular on the way), and from the first Newton step with it
             // that failed on.
             bool differences_only = false;
+            // The unknowns' units at `size` (the state's): displacements and held positions in
+            // it, velocities in it times omega, directions (last) in radians.
+            auto units = [&](double size) {
+                VectorXd u(nu);
+                for (Eigen::Index k = 0; k < nu; ++k)
+                    u(k) = k >= nu - norm.angles ? 1.0 : (k >= nm && k < 2 * nm ? omega : 1.0) * size;
+                return u;
+            };
+            // The size the differences' steps are measured in at `at`.
+            auto difference_size = [&](const VectorXd& at) {
+                return std::max({norm.reference, at.head(nm).cwiseAbs().maxCoeff(),
+                                 at.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
+            };
             auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
                 MatrixXd d(nu, nu);
                 if constexpr (exact_monodromy) {
@@ -508,11 +521,9 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                         } catch (const std::runtime_error&) {  // a singular pattern at the end: differences
                         }
                     }
-                    const double size = std::max({norm.reference, at.head(nm).cwiseAbs().maxCoeff(),
-                                                  at.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
+                    const VectorXd scale = units(difference_size(at));
                     for (Eigen::Index k = 0; k < nu; ++k) {
-                        const Eigen::Index i = unknowns[static_cast<std::size_t>(k)];
-                        const double delta = 1e-6 * (i >= e.theta(0) ? 1.0 : (i >= nm && i < 2 * nm ? omega : 1.0) * size);
+                        const double delta = 1e-6 * scale(k);
                         VectorXd plus = at, minus = at;
                         plus(k) += delta;
                         minus(k) -= delta;
@@ -526,18 +537,11 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             // The largest difference, in the unknowns' units, between d x_end / d x along a fixed
             // direction and a central difference of the period map along it (steps of 1e-6 of the
             // unknowns' units), relative to the larger of the two and the direction.
-            auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d) -> double {
-                if constexpr (exact_monodromy) {
-                    return 0.0;  // the monodromy is exact
-                } else {
-                const double size = std::max({norm.reference, at.head(nm).cwiseAbs().maxCoeff(),
-                                              at.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
-                VectorXd scale(nu), direction(nu);
-                for (Eigen::Index k = 0; k < nu; ++k) {
-                    const Eigen::Index i = unknowns[static_cast<std::size_t>(k)];
-                    scale(k) = i >= e.theta(0) ? 1.0 : (i >= nm && i < 2 * nm ? omega : 1.0) * size;
-                    direction(k) = scale(k) * std::sin(1.0 + 2.0 * static_cast<double>(k));  // no symmetry
-                }
+            auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d) {
+                const VectorXd scale = units(difference_size(at));
+                VectorXd pattern(nu);  // entries of one size and no symmetry
+                for (Eigen::Index k = 0; k < nu; ++k) pattern(k) = std::sin(1.0 + 2.0 * static_cast<double>(k));
+                const VectorXd direction = scale.cwiseProduct(pattern);
                 constexpr double delta = 1e-6;
                 const VectorXd plus = at + delta * direction, minus = at - delta * direction;
                 const PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
@@ -545,18 +549,15 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 const VectorXd differences = ((pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta)).cwiseQuotient(scale);
                 const VectorXd predicted = (d * direction).cwiseQuotient(scale);
                 const double size_of = std::max({differences.cwiseAbs().maxCoeff(), predicted.cwiseAbs().maxCoeff(),
-                                                 direction.cwiseQuotient(scale).cwiseAbs().maxCoeff()});
+                                                 pattern.cwiseAbs().maxCoeff()});
                 return (differences - predicted).cwiseAbs().maxCoeff() / size_of;
-                }
             };
             // Newton works on the unknowns in their units (the state's size, velocities times
             // omega, angles in radians): its matrix and steps in those units, so that the rank
             // threshold below and Broyden's update do not mix metres, metres per second and radians.
             VectorXd unit(nu);
             auto newton_matrix = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
-                const double size = std::max(norm.reference, norm.size(at));
-                for (Eigen::Index k = 0; k < nu; ++k)
-                    unit(k) = k >= nu - norm.angles ? 1.0 : (k >= nm && k < 2 * nm ? omega : 1.0) * size;
+                unit = units(std::max(norm.reference, norm.size(at)));
                 return MatrixXd(unit.cwiseInverse().asDiagonal() * (derivative(at, fx) - MatrixXd::Identity(nu, nu)) *
                                 unit.asDiagonal());
             };
