@@ -385,6 +385,38 @@ std::string beam_file(const std::string& reduction, double friction_limit = 1e9)
            "[[contact]]\ndof = 199\nlaw = \"coulomb\"\nfriction_limit = " + std::to_string(friction_limit) + "\n" +
            "[output]\nreport = [99, 199, 150]\n" + reduction;
 }
+/// Checks `outputs`' first harmonics (their coefficients `y`, columns DOFs of the model solved),
+/// outputs of the FE DOFs `dofs` (0-based), against the FE model `fe`'s linear response at w with the DOFs `held` (0-based) held: their
+/// rows and columns removed, solved in long double as in test_condensed; to 1e-8 of the largest
+/// amplitude (the corrector's 1e-10 amplified by the response).
+void check_held_response(const std::vector<Output>& outputs, const Eigen::MatrixXd& y, const hbf::io::SystemConfig& fe,
+                         const std::vector<int>& dofs, const std::vector<int>& held, double w) {
+    using Long = std::complex<long double>;
+    using LongMatrix = Eigen::Matrix<Long, Eigen::Dynamic, Eigen::Dynamic>;
+    const System& s = fe.system;
+    const long double w2 = static_cast<long double>(w) * w;
+    LongMatrix z = Eigen::MatrixXd(s.stiffness).cast<long double>().cast<Long>() -
+                   (w2 * Eigen::MatrixXd(s.mass).cast<long double>()).cast<Long>() +
+                   Long(0.0L, static_cast<long double>(w)) * Eigen::MatrixXd(s.damping).cast<long double>().cast<Long>();
+    Eigen::Matrix<Long, Eigen::Dynamic, 1> f = s.excitation.cast<long double>().cast<Long>();
+    for (int d : held) {
+        z.row(d).setZero();
+        z.col(d).setZero();
+        z(d, d) = 1.0L;
+        f(d) = 0.0L;
+    }
+    const Eigen::Matrix<Long, Eigen::Dynamic, 1> solved = z.partialPivLu().solve(f);
+    const double scale = std::abs(solved.cast<std::complex<long double>>().cwiseAbs().maxCoeff());
+    for (std::size_t o = 0; o < outputs.size(); ++o) {
+        const Eigen::VectorXd c = outputs[o].combine(y);
+        const int dof = dofs[o];
+        const std::complex<double> expected(static_cast<double>(solved(dof).real()), static_cast<double>(solved(dof).imag()));
+        INFO("w = " << w << ", " << outputs[o].name());
+        // y = Re(Y e^{i w t}) = c1 cos + s1 sin: c1 = Re Y, s1 = -Im Y
+        CHECK(std::abs(c(1) - expected.real()) < 1e-8 * scale);
+        CHECK(std::abs(c(2) + expected.imag()) < 1e-8 * scale);
+    }
+}
 }  // namespace
 
 TEST_CASE("[reduction] in a system file: the stuck nonlinear FRF of the reduced beam is the tied FE model's linear FRF",
@@ -408,34 +440,122 @@ TEST_CASE("[reduction] in a system file: the stuck nonlinear FRF of the reduced 
     }();
     const std::vector<double> omegas = {35.0, 70.0};
     const auto y = hbf::test::sampled_dofs(config.system, {3, 0, Formulation::condensed}, omegas, 30.0, 80.0, 1e-10);
-    for (std::size_t k = 0; k < omegas.size(); ++k) {
-        const double w = omegas[k];
-        using Long = std::complex<long double>;
-        using LongMatrix = Eigen::Matrix<Long, Eigen::Dynamic, Eigen::Dynamic>;
-        const System& s = fe.system;
-        const long double w2 = static_cast<long double>(w) * w;
-        LongMatrix z = Eigen::MatrixXd(s.stiffness).cast<long double>().cast<Long>() -
-                       (w2 * Eigen::MatrixXd(s.mass).cast<long double>()).cast<Long>() +
-                       Long(0.0L, static_cast<long double>(w)) * Eigen::MatrixXd(s.damping).cast<long double>().cast<Long>();
-        Eigen::Matrix<Long, Eigen::Dynamic, 1> f = s.excitation.cast<long double>().cast<Long>();
-        const int tip = 198;
-        z.row(tip).setZero();
-        z.col(tip).setZero();
-        z(tip, tip) = 1.0L;
-        f(tip) = 0.0L;
-        const Eigen::Matrix<Long, Eigen::Dynamic, 1> solved = z.partialPivLu().solve(f);
-        for (std::size_t o = 0; o < config.outputs.size(); ++o) {
-            const Eigen::VectorXd c = config.outputs[o].combine(y[k]);
-            const int dof = fe.outputs[o].single_dof();
-            const std::complex<double> expected(static_cast<double>(solved(dof).real()), static_cast<double>(solved(dof).imag()));
-            INFO("w = " << w << ", " << config.outputs[o].name());
-            // y = Re(Y e^{i w t}) = c1 cos + s1 sin: c1 = Re Y, s1 = -Im Y; compared to 1e-8 of the
-            // largest amplitude (the corrector's 1e-10 amplified by the response).
-            const double scale = std::abs(solved.cast<std::complex<long double>>().cwiseAbs().maxCoeff());
-            CHECK(std::abs(c(1) - expected.real()) < 1e-8 * scale);
-            CHECK(std::abs(c(2) + expected.imag()) < 1e-8 * scale);
+    for (std::size_t k = 0; k < omegas.size(); ++k)
+        check_held_response(config.outputs, y[k], fe, {98, 198, 149}, {198}, omegas[k]);
+}
+
+TEST_CASE("Clamped DOFs (structure.fixed): the beam clamped at its tip by the file, with and without a reduction, against the "
+          "FE model's response with the tip held",
+          "[reduction][config]") {
+    TempDir dir;
+    const fs::path file = dir.path / "beam.toml";
+    const hbf::io::SystemConfig fe = [&] {
+        write_file(file, beam_file(""));
+        return hbf::io::read_system_config(file.string());
+    }();
+    // beam_file's text with its contact replaced and its outputs off the clamped DOFs.
+    const auto text = [](const std::string& contact, const std::string& rest) {
+        std::string t = beam_file(rest);
+        const std::size_t from = t.find("[[contact]]"), to = t.find("[output]");
+        t.replace(from, to - from, contact);
+        const std::size_t report = t.find("report = [99, 199, 150]");
+        t.replace(report, 23, "report = [99, 150]");
+        return t;
+    };
+    struct Case {
+        std::string name, contact, fixed, reduction;
+        std::vector<int> held;  // the FE DOFs (0-based) held in the reference
+    };
+    const std::string stuck = "law = \"coulomb\"\nfriction_limit = 1e9\n";
+    const std::vector<Case> cases = {
+        // the transverse tip DOF clamped, no contact: 199 DOFs, directly and reduced (every mode)
+        {"tip clamped", "", "fixed = [199]\n", "", {198}},
+        {"tip clamped, reduced", "", "fixed = [199]\n", "[reduction]\nmodes = 198\n", {198}},
+        // the tip's rotation clamped: a contact between the tip and it is one against the
+        // ground (stuck: the tip held too), in either order of its DOFs
+        {"contact onto a clamped DOF", "[[contact]]\ndof = 199\nother_dof = 200\n" + stuck, "fixed = [200]\n", "", {198, 199}},
+        {"contact from a clamped DOF", "[[contact]]\ndof = 200\nother_dof = 199\n" + stuck, "fixed = [200]\n", "", {198, 199}},
+        {"contact onto a clamped DOF, reduced", "[[contact]]\ndof = 199\nother_dof = 200\n" + stuck, "fixed = [200]\n",
+         "[reduction]\nmodes = 197\n", {198, 199}},
+    };
+    const std::vector<double> omegas = {35.0, 70.0};
+    for (const Case& c : cases) {
+        INFO(c.name);
+        std::string t = text(c.contact, c.reduction);
+        t.replace(t.find("excitation = "), 0, c.fixed);
+        write_file(file, t);
+        const hbf::io::SystemConfig config = hbf::io::read_system_config(file.string());
+        REQUIRE(config.outputs.size() == 2);
+        CHECK(config.outputs[0].name() == "y99");  // the file's numbering
+        CHECK(config.outputs[1].name() == "y150");
+        if (config.reduction) {
+            // the reduced model in the file's numbering: the clamped DOFs' rows of T are zero
+            CHECK(config.reduction->dofs() == 200);
+            CHECK(config.reduction->clamped_dofs == 1);
+            CHECK(config.reduction->recovery.row(c.held.back()).cwiseAbs().maxCoeff() == 0.0);
+            CHECK(config.reduction->coordinate(98) >= 0);  // the loaded DOF
+            CHECK(config.reduction->summary().find("199 FE DOFs (1 more clamped)") != std::string::npos);
+        } else {
+            CHECK(config.system.dofs() == 199);
         }
+        // Without contacts the model is linear: its response solved directly (rows 1, 2 the
+        // cosine and sine coefficients, as harmonic balance's).
+        const auto y = config.system.contacts.empty() ? [&] {
+            std::vector<Eigen::MatrixXd> linear;
+            const System& m = config.system;
+            for (double w : omegas) {
+                const Eigen::VectorXcd z = linear_response(Eigen::MatrixXd(m.mass), Eigen::MatrixXd(m.damping),
+                                                           Eigen::MatrixXd(m.stiffness), m.excitation, w);
+                Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(3, m.dofs());
+                rows.row(1) = z.real().transpose();
+                rows.row(2) = -z.imag().transpose();
+                linear.push_back(rows);
+            }
+            return linear;
+        }() : hbf::test::sampled_dofs(config.system, {3, 0, Formulation::condensed}, omegas, 30.0, 80.0, 1e-10);
+        for (std::size_t k = 0; k < omegas.size(); ++k)
+            check_held_response(config.outputs, y[k], fe, {98, 149}, c.held, omegas[k]);
     }
+}
+
+TEST_CASE("Clamped DOFs (structure.fixed): bad lists and what a clamped DOF cannot carry are refused, naming the key",
+          "[reduction][config]") {
+    TempDir dir;
+    const fs::path file = dir.path / "beam.toml";
+    const auto with = [](const std::string& fixed, const std::string& rest = "") {
+        std::string t = beam_file(rest);
+        t.replace(t.find("excitation = "), 0, fixed);
+        return t;
+    };
+    struct Case {
+        std::string text;
+        std::vector<std::string> expected;
+    };
+    const std::vector<Case> cases = {
+        {with("fixed = [201]\n"), {"structure.fixed", "DOF 201", "allowed 1..200"}},
+        {with("fixed = [0]\n"), {"structure.fixed", "DOF 0", "allowed 1..200"}},
+        {with("fixed = [3, 3]\n"), {"structure.fixed", "DOF 3 is listed twice"}},
+        {with("fixed = [2.5]\n"), {"structure.fixed", "not a DOF"}},
+        {with("fixed = []\n"), {"structure.fixed", "empty"}},
+        {with("fixed = [99]\n"), {"structure.fixed", "DOF 99 carries the excitation", "support"}},
+        {with("fixed = [199]\n"), {"contact[1]", "clamped DOFs only"}},
+        {with("fixed = [150]\n"), {"output", "y150", "clamped"}},
+        {with("fixed = [5]\n", "[reduction]\nmodes = 4\ninterface = [199, 5]\n"), {"reduction.interface", "DOF 5 is clamped"}},
+    };
+    for (const Case& c : cases) hbf::test::check_refused_config(file, c.text, c.expected);
+    // every DOF clamped
+    std::string all = "fixed = [";
+    for (int i = 1; i <= 200; ++i) all += std::to_string(i) + (i < 200 ? ", " : "]\n");
+    hbf::test::check_refused_config(file, with(all), {"structure.fixed", "every DOF"});
+    // an interface node on a clamped DOF; a sector model
+    const std::string two_dofs = "[structure]\nmass = [1.0, 0.0]\nstiffness = [[2.0, -1.0], [-1.0, 1.0]]\n"
+                                 "excitation = [1.0, 0.0]\nfixed = [2]\n";
+    hbf::test::check_refused_config(file, two_dofs + "[[interface]]\nnodes = [[1, 2]]\nnormal = [0.0, 1.0]\nlaw = \"unilateral\"\n"
+                                               "friction_coefficient = 0.3\n",
+                                    {"interface[1].nodes", "node 1's DOF 2 is clamped"});
+    hbf::test::check_refused_config(file, two_dofs + "[cyclic]\nsectors = 4\nengine_order = 1\n", {"structure.fixed", "sector"});
+    // Through hbf: exit 2, the key named, no output.
+    ::test::check_bad_config(with("fixed = [99]\n"), {"structure.fixed", "DOF 99 carries the excitation"}, dir);
 }
 
 TEST_CASE("[reduction] in a system file: bad keys and impossible reductions name the key", "[reduction][config]") {

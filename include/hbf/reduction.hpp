@@ -118,6 +118,8 @@ struct ReducedModel {
     /// reduce(System) with retain_loads false: the interior FE DOFs the excitation or the static
     /// load act on (their loads projected onto the modes, not statically exact).
     int projected_load_dofs = 0;
+    /// FE DOFs clamped before the reduction (unclamped(): their rows of `recovery` are zero).
+    int clamped_dofs = 0;
     /// The fraction of dropped mass above which warnings() speaks (1 %).
     static constexpr double dropped_mass_warning = 0.01;
     /// One paragraph: method, sizes, the modes' frequency range, the dropped mass.
@@ -153,5 +155,30 @@ ReducedSystem reduce(const System& fe, const ReductionOptions& options);
 /// FE outputs (terms on FE DOFs) as outputs of the reduced coordinates (rows of T combined),
 /// keeping their names.
 std::vector<Output> reduced_outputs(const std::vector<Output>& fe_outputs, const ReducedModel& model);
+
+/// DOFs clamped (a system file's `[structure] fixed`): their displacement is zero, so their rows
+/// and columns of M, C and K go, and their loads go to the support. `system` has the other DOFs
+/// in ascending order: `kept[i]` is the original (0-based) DOF of its DOF i, and `index[d]` the
+/// new index of original DOF d (-1 where clamped). A contact keeps its form where its DOFs stay
+/// (one against a clamped DOF is against the ground); every direction is carried with the
+/// clamped DOFs' entries dropped.
+struct ClampedSystem {
+    System system;
+    std::vector<int> kept;
+    std::vector<int> index;
+};
+/// Clamps `fixed` (0-based DOFs of `s`, distinct, at least one DOF left) in `s`. Throws
+/// InvalidInput naming "structure.fixed" for a DOF out of range, repeated, one that carries the
+/// excitation or a static load (a force on a support), or when none would be left, for a sector
+/// model (System::cyclic), and "contact <c>" for a contact that acts on clamped DOFs only.
+ClampedSystem clamp(const System& s, const std::vector<int>& fixed);
+/// `outputs` of the unclamped model as outputs of `clamped.system`, names kept, the clamped
+/// DOFs' terms dropped (they do not move). Throws InvalidInput naming the output when it has
+/// clamped DOFs only.
+std::vector<Output> clamped_outputs(const std::vector<Output>& outputs, const ClampedSystem& clamped);
+/// A model reduced from a clamped FE model as one of the unclamped model: the recovery matrix
+/// gets (zero) rows for the clamped DOFs and `retained` the original DOF numbers, so that
+/// coordinate(), reduced_outputs() and the messages use the numbering of the FE model given.
+ReducedModel unclamped(ReducedModel model, const ClampedSystem& clamped);
 
 }  // namespace hbf

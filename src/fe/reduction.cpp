@@ -71,8 +71,9 @@ int ReducedModel::coordinate(int dof) const {
 
 std::string ReducedModel::summary() const {
     std::ostringstream out;
-    out << "reduction " << to_string(method) << ": " << dofs() << " FE DOFs to " << reduced() << " coordinates ("
-        << retained.size() << " retained DOFs";
+    out << "reduction " << to_string(method) << ": " << dofs() - clamped_dofs << " FE DOFs";
+    if (clamped_dofs > 0) out << " (" << clamped_dofs << " more clamped)";
+    out << " to " << reduced() << " coordinates (" << retained.size() << " retained DOFs";
     if (mode_frequencies.size() > 0)
         out << ", " << mode_frequencies.size() << (method == ReductionMethod::macneal ? " free" : " fixed")
             << "-interface modes, w " << mode_frequencies(0) << " to " << mode_frequencies(mode_frequencies.size() - 1);

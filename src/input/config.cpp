@@ -431,6 +431,11 @@ SystemConfig read_system_config(const std::string& path) {
                  std::to_string(m->rows()) + " x " + std::to_string(m->cols()) + ": allowed " + std::to_string(n) + " x " +
                      std::to_string(n) + " (the size of the mass matrix)");
 
+    // [structure] fixed: clamped DOFs (taken out below, after the contacts and interfaces,
+    // which like every other key use the file's numbering).
+    std::vector<int> fixed;
+    const toml::node* fixed_node = structure->get("fixed");
+    if (fixed_node) fixed = r.dof_list(*fixed_node, "structure.fixed", static_cast<int>(n));
     const toml::table* cyclic = nullptr;
     if (const toml::node* node = root.get("cyclic")) {
         cyclic = node->as_table();
@@ -469,13 +474,38 @@ SystemConfig read_system_config(const std::string& path) {
             if (s.static_load.size() != n) s.static_load = Eigen::VectorXd::Zero(n);
             s.static_load += interface_load(iface, static_cast<int>(n));
         }
+    std::optional<ClampedSystem> clamped;
+    if (fixed_node) {
+        const std::set<int> clamped_dofs(fixed.begin(), fixed.end());
+        for (std::size_t i = 0; i < interfaces.size(); ++i)
+            for (std::size_t k = 0; k < interfaces[i].nodes.size(); ++k)
+                for (int d : interfaces[i].nodes[k])
+                    if (clamped_dofs.count(d))
+                        fail(path, interface_lines[i], "interface[" + std::to_string(i + 1) + "].nodes",
+                             "node " + std::to_string(k + 1) + "'s DOF " + std::to_string(d + 1) +
+                                 " is clamped (structure.fixed): allowed free DOFs (a contact node must move)");
+        try {
+            clamped = clamp(s, fixed);
+        } catch (const InvalidInput& e) {
+            const std::string what = e.what();
+            if (what.rfind("contact ", 0) == 0) {
+                const std::size_t c = std::stoul(what.substr(8)) - 1;
+                fail(path, c < contact_lines.size() ? contact_lines[c] : fixed_node->source(), "contact[" + std::to_string(c + 1) + "]", what);
+            }
+            const std::string prefix = "structure.fixed: ";
+            fail(path, fixed_node->source(), "structure.fixed", what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+        }
+        s = clamped->system;
+    }
+    // The file's DOF d is the model's index(d) (-1: clamped), the model's DOF i the file's user(i).
+    const auto index = [&clamped](int d) { return clamped ? clamped->index[static_cast<std::size_t>(d)] : d; };
+    const auto user = [&clamped](int i) { return clamped ? clamped->kept[static_cast<std::size_t>(i)] : i; };
     const bool reduced = root.get("reduction") != nullptr;
     std::vector<std::string> contact_keys;
     for (std::size_t c = 0; c < s.contacts.size(); ++c) contact_keys.push_back("contact[" + std::to_string(c + 1) + "]");
     if (!reduced)
         config.interfaces = detail::add_interface_contacts(path, interfaces, interface_lines, s, static_cast<int>(n),
-                                                           static_cast<int>(n), [](int dof) { return dof; },
-                                                           contact_keys, contact_lines);
+                                                           s.dofs(), index, contact_keys, contact_lines);
     // Matrix properties and contact parameter ranges: System::validate names the item; the
     // file and line are added here.
     try {
@@ -596,29 +626,42 @@ SystemConfig read_system_config(const std::string& path) {
     if (config.outputs.empty()) {
         // The excited DOFs and those of the contacts: every DOF of a large model would make
         // the run as slow as its output count (each is synthesised in time at every point).
+        // (In the file's numbering: the model's DOF i is the file's user(i).)
+        const Eigen::Index m = s.dofs();
         std::set<int> dofs;
-        for (Eigen::Index i = 0; i < n; ++i)
-            if (s.excitation(i) != 0.0) dofs.insert(static_cast<int>(i));
+        for (Eigen::Index i = 0; i < m; ++i)
+            if (s.excitation(i) != 0.0) dofs.insert(user(static_cast<int>(i)));
         for (const Contact& c : s.contacts) {
             // (the force elements over several coordinates: each of them; of a sector, its own
             // DOFs, not the next sector's added for a contact across the cut)
             const Eigen::MatrixXd w = contact_law(c.law).friction() ? Eigen::MatrixXd(s.contact_direction(c))
                                                                     : s.contact_directions(c);
-            for (Eigen::Index i = 0; i < n && i < w.rows(); ++i)
-                if (w.row(i).cwiseAbs().maxCoeff() != 0.0) dofs.insert(static_cast<int>(i));
+            for (Eigen::Index i = 0; i < m && i < w.rows(); ++i)
+                if (w.row(i).cwiseAbs().maxCoeff() != 0.0) dofs.insert(user(static_cast<int>(i)));
         }
         if (dofs.empty())
-            for (int i = 0; i < n; ++i) dofs.insert(i);
+            for (int i = 0; i < m; ++i) dofs.insert(user(i));
         for (int i : dofs) config.outputs.push_back(Output::dof(i));
-        if (static_cast<Eigen::Index>(dofs.size()) < n) {
+        if (static_cast<Eigen::Index>(dofs.size()) < m) {
             std::string list;
             for (int i : dofs) list += (list.empty() ? "" : ", ") + std::to_string(i + 1);
             config.outputs_note = path + ": no [output]: reporting the excited and contact DOFs " + list + " of " +
                                   std::to_string(n) + " ([output] report = [...] or [[output]] rows choose others)";
         }
     }
+    // The outputs (in the file's numbering) on the clamped model; with a reduction they stay in
+    // the file's numbering, the reduced model being given in it.
+    if (clamped) {
+        try {
+            std::vector<Output> outputs = clamped_outputs(config.outputs, *clamped);
+            if (!reduced) config.outputs = std::move(outputs);
+        } catch (const InvalidInput& e) {
+            const toml::node* node = root.get("output");
+            fail(path, node ? node->source() : fixed_node->source(), node ? "output" : "structure.fixed", e.what());
+        }
+    }
     if (const toml::node* node = root.get("reduction"))
-        detail::read_reduction(r, *node, config, contact_lines, interfaces, interface_lines);
+        detail::read_reduction(r, *node, config, contact_lines, interfaces, interface_lines, clamped ? &*clamped : nullptr);
     return config;
 }
 

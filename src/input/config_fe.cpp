@@ -18,13 +18,15 @@ namespace hbf::io::detail {
 void read_reduction(const Reader& r, const toml::node& node, SystemConfig& config,
                     const std::vector<toml::source_region>& contact_lines,
                     const std::vector<ContactInterface>& interfaces,
-                    const std::vector<toml::source_region>& interface_lines) {
+                    const std::vector<toml::source_region>& interface_lines, const ClampedSystem* clamped) {
     const std::string& path = r.file;
     const toml::table* t = node.as_table();
     if (!t) fail(path, node.source(), "reduction", "expected a table [reduction]");
     r.only(*t, config_keys_of("reduction"), "reduction");
     const System& fe = config.system;
-    const int n = fe.dofs();
+    // n: the file's DOFs; a clamped model's DOF d is its index (the same without clamping).
+    const int n = clamped ? static_cast<int>(clamped->index.size()) : fe.dofs();
+    const auto index = [clamped](int d) { return clamped ? clamped->index[static_cast<std::size_t>(d)] : d; };
     ReductionOptions o;
     if (const toml::node* v = t->get("method")) {
         const auto name = v->as_string();
@@ -40,34 +42,25 @@ void read_reduction(const Reader& r, const toml::node& node, SystemConfig& confi
     o.modes = r.integer(*modes, "reduction.modes");
     if (const toml::node* v = t->get("interface")) {
         // 1-based FE DOFs: a list, or a Matrix Market index vector (one column).
-        Eigen::VectorXd list;
-        if (v->is_array()) {
-            const std::vector<double> values = r.list(*v, "reduction.interface");
-            list = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
-        } else {
-            list = r.vector(*v, "reduction.interface", -1);
-        }
-        for (Eigen::Index k = 0; k < list.size(); ++k) {
-            const double d = list(k);
-            if (!(d == std::floor(d)) || std::abs(d) > 1e9)
+        for (int d : r.dof_list(*v, "reduction.interface", n)) {
+            if (index(d) < 0)
                 fail(path, v->source(), "reduction.interface",
-                     "entry " + std::to_string(k + 1) + " = " + format_number(d) + " is not a DOF: allowed integers 1.." + std::to_string(n));
-            o.interface_dofs.push_back(static_cast<int>(d) - 1);
+                     "DOF " + std::to_string(d + 1) + " is clamped (structure.fixed): allowed free DOFs");
+            o.interface_dofs.push_back(index(d));
         }
-        if (o.interface_dofs.empty()) fail(path, v->source(), "reduction.interface", "empty: allowed a list of 1-based FE DOFs");
     } else {
         // Default: the DOFs the contacts act on, ascending, then the interfaces' nodes in order.
         std::set<int> dofs;
         for (const Contact& c : fe.contacts) {
             const Eigen::MatrixXd w = fe.contact_directions(c);
-            for (Eigen::Index i = 0; i < n; ++i)
+            for (Eigen::Index i = 0; i < w.rows(); ++i)
                 if (w.row(i).cwiseAbs().maxCoeff() > 0.0) dofs.insert(static_cast<int>(i));
         }
         o.interface_dofs.assign(dofs.begin(), dofs.end());
         for (const ContactInterface& iface : interfaces)
             for (const std::vector<int>& node : iface.nodes)
                 for (int d : node)
-                    if (dofs.insert(d).second) o.interface_dofs.push_back(d);
+                    if (index(d) >= 0 && dofs.insert(index(d)).second) o.interface_dofs.push_back(index(d));
     }
     if (const toml::node* v = t->get("retain_loads")) {
         const auto flag = v->as_boolean();
@@ -91,6 +84,7 @@ void read_reduction(const Reader& r, const toml::node& node, SystemConfig& confi
     ReducedSystem reduced;
     try {
         reduced = reduce(fe, o);
+        if (clamped) reduced.model = unclamped(std::move(reduced.model), *clamped);
         config.outputs = reduced_outputs(config.outputs, reduced.model);
     } catch (const InvalidInput& e) {
         const std::string what = e.what();

@@ -24,6 +24,7 @@ const std::vector<ConfigKey>& config_keys() {
         {"structure", "excitation", "force amplitude vector F of F cos(h w t): N numbers or an N x 1 Matrix Market file (required)"},
         {"structure", "excitation_harmonic", "h, the harmonic of the response's fundamental w at which the force acts, 1..100 (default 1)"},
         {"structure", "static_load", "constant load F_s: N numbers or an N x 1 Matrix Market file (default: none)"},
+        {"structure", "fixed", "clamped DOFs (1-based list or N x 1 Matrix Market file): zero displacement, their rows and columns of M, C, K removed; every other key keeps the file's numbering (default: none)"},
 
         {"cyclic", "sectors", "N, the number of identical sectors of the wheel, >= 2 (required)"},
         {"cyclic", "engine_order", "EO: sector j is forced by F cos(w t - 2 pi EO j / N); 0..N-1, a larger one taken as EO mod N (required)"},

@@ -5,6 +5,7 @@
 #include <toml++/toml.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <functional>
 #include <set>
 #include <string>
@@ -14,6 +15,7 @@
 #include "hbf/error.hpp"
 #include "hbf/interface.hpp"
 #include "hbf/model.hpp"
+#include "hbf/reduction.hpp"
 
 namespace hbf::io::detail {
 
@@ -105,6 +107,28 @@ struct Reader {
         return v;
     }
 
+    /// A list of 1-based DOFs (a list of integers or a Matrix Market file of one column), as
+    /// 0-based DOFs: each an integer in 1..n, none twice, at least one.
+    std::vector<int> dof_list(const toml::node& node, const std::string& key, int n) const {
+        const Eigen::VectorXd list = vector(node, key, -1);
+        if (list.size() == 0) fail(file, node.source(), key, "empty: allowed a list of 1-based DOFs");
+        std::vector<int> dofs;
+        std::set<int> seen;
+        for (Eigen::Index k = 0; k < list.size(); ++k) {
+            const double d = list(k);
+            if (!(d == std::floor(d)) || std::abs(d) > 1e9)
+                fail(file, node.source(), key,
+                     "entry " + std::to_string(k + 1) + " = " + format_number(d) + " is not a DOF: allowed integers 1.." + std::to_string(n));
+            if (d < 1 || d > n)
+                fail(file, node.source(), key,
+                     "DOF " + format_number(d) + " (entry " + std::to_string(k + 1) + ") is out of range: allowed 1.." + std::to_string(n));
+            if (!seen.insert(static_cast<int>(d)).second)
+                fail(file, node.source(), key, "DOF " + std::to_string(static_cast<int>(d)) + " is listed twice");
+            dofs.push_back(static_cast<int>(d) - 1);
+        }
+        return dofs;
+    }
+
     /// A table of rows: rows [[...], [...]] of equal width, one row [...], or a Matrix Market
     /// file (dense or coordinate).
     Eigen::MatrixXd rows(const toml::node& v, const std::string& key) const {
@@ -142,11 +166,13 @@ struct Reader {
 
 /// [reduction] (config_fe.cpp): reduces config.system (the FE model with its [[contact]]s),
 /// adds the interfaces' contacts on the reduced coordinates (their nodes' DOFs are retained by
-/// default) and carries the outputs; the lines locate each table for messages.
+/// default) and carries the outputs; the lines locate each table for messages. With `clamped`
+/// (structure.fixed), config.system is the clamped model, while the interfaces, the outputs and
+/// reduction.interface use the file's numbering: the reduced model is given in it (unclamped).
 void read_reduction(const Reader& r, const toml::node& node, SystemConfig& config,
                     const std::vector<toml::source_region>& contact_lines,
                     const std::vector<ContactInterface>& interfaces,
-                    const std::vector<toml::source_region>& interface_lines);
+                    const std::vector<toml::source_region>& interface_lines, const ClampedSystem* clamped);
 
 /// One [[interface]] table (config_fe.cpp; interface.hpp), validated against `dofs` FE DOFs.
 ContactInterface read_interface(const Reader& r, const toml::table& t, int index, int dofs);
