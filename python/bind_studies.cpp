@@ -6,6 +6,26 @@
 
 namespace hbf::python {
 
+namespace {
+/// A stop asked at every continuation step: the time limit (seconds, 0: none), or an interrupt
+/// (Ctrl-C, seen by Python's signal handler): the points so far are the result (status stopped).
+std::function<std::string()> python_stop(double time_limit) {
+    if (!(time_limit >= 0.0 && time_limit <= 1e9))
+        throw InvalidInput("time_limit = " + format_number(time_limit) + " is out of range: allowed 0 (none) .. 1e9 seconds");
+    const auto start = std::chrono::steady_clock::now();
+    return [start, time_limit]() -> std::string {
+        if (time_limit > 0.0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= time_limit)
+            return "the time limit of " + format_number(time_limit) + " s (time_limit) is reached";
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) {
+            PyErr_Clear();
+            return "interrupted (KeyboardInterrupt)";
+        }
+        return "";
+    };
+}
+}  // namespace
+
 void bind_studies(py::module_& m) {
     // ---- computations -------------------------------------------------------------------------
     py::class_<FrfRun, std::shared_ptr<FrfRun>>(m, "FrfRun", "A computed FRF (hbfriction.Branch wraps it)")
@@ -32,22 +52,7 @@ void bind_studies(py::module_& m) {
     m.def(
         "compute_frf",
         [](const PySystem& s, FrfSettings settings, double time_limit) {
-            // A stop asked at every continuation step: the time limit, or an interrupt (Ctrl-C,
-            // seen by Python's signal handler): the points so far are the result (status stopped).
-            if (!(time_limit >= 0.0 && time_limit <= 1e9))
-                throw InvalidInput("time_limit = " + format_number(time_limit) + " is out of range: allowed 0 (none) .. 1e9 seconds");
-            const auto start = std::chrono::steady_clock::now();
-            settings.continuation.stop = [start, time_limit]() -> std::string {
-                if (time_limit > 0.0 &&
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= time_limit)
-                    return "the time limit of " + format_number(time_limit) + " s (time_limit) is reached";
-                py::gil_scoped_acquire gil;
-                if (PyErr_CheckSignals() != 0) {
-                    PyErr_Clear();
-                    return "interrupted (KeyboardInterrupt)";
-                }
-                return "";
-            };
+            settings.continuation.stop = python_stop(time_limit);
             return without_gil([&] { return run_frf(s, settings); });
         },
         py::arg("system"), py::arg("settings"), py::arg("time_limit") = 0.0);
@@ -219,7 +224,7 @@ void bind_studies(py::module_& m) {
         "modes",
         [](const PySystem& s, HarmonicBalanceOptions hbo, int mode, double near, double amplitude_min,
            double amplitude_max, double tolerance, double max_step, int max_points, std::vector<Output> outputs,
-           bool synthesis, bool exact_check, double start_frequency) {
+           bool synthesis, bool exact_check, double start_frequency, double time_limit) {
             ModeOptions mo;
             mo.mode = mode;
             mo.near_frequency = near;
@@ -242,6 +247,7 @@ void bind_studies(py::module_& m) {
                 mo.amplitude_min = onset.amplitude_min;
                 mo.amplitude_max = onset.amplitude_max;
             }
+            mo.stop = python_stop(time_limit);
             ModeRun run;
             without_gil([&] {
                 run = compute_mode(s.system, hbo, mo, outputs, synthesis, exact_check);
@@ -278,7 +284,7 @@ void bind_studies(py::module_& m) {
         },
         py::arg("system"), py::arg("options"), py::arg("mode"), py::arg("near"), py::arg("amplitude_min"),
         py::arg("amplitude_max"), py::arg("tolerance"), py::arg("max_step"), py::arg("max_points"), py::arg("outputs"),
-        py::arg("synthesis"), py::arg("exact_check"), py::arg("start_frequency"));
+        py::arg("synthesis"), py::arg("exact_check"), py::arg("start_frequency"), py::arg("time_limit") = 0.0);
 
     m.def(
         "analytic",

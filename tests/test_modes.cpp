@@ -238,6 +238,41 @@ TEST_CASE("Nonlinear modes: the Jenkins backbone at H = 7 conserves energy and s
     CHECK(std::abs(last.zeta() * last.amplitude / (2.0 * limit / (M_PI * k)) - 1.0) <= 0.02);
 }
 
+TEST_CASE("Nonlinear modes: a stop request ends the backbone before the step it answers at, the points so far the "
+          "whole run's",
+          "[modes]") {
+    const System s = jenkins_oscillator(1.0, 0.0, 1.0, 0.5, 0.1);
+    ModeOptions o;
+    o.amplitude_min = 0.05;
+    o.amplitude_max = 100.0;
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 7;
+    const Backbone whole = NonlinearModes(s, hbo, o).follow();
+    REQUIRE(whole.status == ModeStatus::completed);
+    REQUIRE(whole.points.size() > 12);
+    int asked = 0;
+    o.stop = [&asked]() { return ++asked == 10 ? std::string("enough") : std::string(); };
+    const Backbone early = NonlinearModes(s, hbo, o).follow();
+    CHECK(early.status == ModeStatus::stopped);
+    CHECK(asked == 10);
+    // asked before each step from the first point: 9 steps taken, 10 points
+    REQUIRE(early.points.size() == 10);
+    CHECK_THAT(early.message, Catch::Contains("stopped at a = ") && Catch::Contains("after 10 points: enough"));
+    for (std::size_t k = 0; k < early.points.size(); ++k) {
+        CHECK(early.points[k].amplitude == Approx(whole.points[k].amplitude).epsilon(1e-12));
+        CHECK(early.points[k].omega == Approx(whole.points[k].omega).epsilon(1e-12));
+    }
+    // A stop in the run-up from the linear regime to a_min (a_min past the slip onset): no point.
+    o.amplitude_min = 5.0;
+    asked = 0;
+    o.stop = [&asked]() { return ++asked == 2 ? std::string("enough") : std::string(); };
+    const Backbone none = NonlinearModes(s, hbo, o).follow();
+    CHECK(none.status == ModeStatus::stopped);
+    CHECK(none.points.empty());
+    CHECK_THAT(none.message, Catch::Contains("run-up") && Catch::Contains("enough"));
+    CHECK_FALSE(judge_backbone(none, {}, o.tolerance).warnings.empty());
+}
+
 TEST_CASE("Single-nonlinear-mode synthesis: at its phase resonance it is the forced response", "[modes]") {
     // One DOF with a Jenkins element at H = 1: the forced balance is
     //   (k - m W^2) x + f_c(x) + i (c W x - f_s(x)) = F,

@@ -136,6 +136,10 @@ struct ModeOptions {
     double tolerance = 1e-10;
     /// Called after each accepted point with its amplitude and the number of points; must not throw.
     std::function<void(double amplitude, int points)> progress;
+    /// Asked before every step (and in the run-up from the linear regime to a_min): a non-empty
+    /// answer (why: an interrupt, a time limit) ends the backbone there with status stopped and
+    /// the answer in its message; the points so far are kept. Empty: never.
+    std::function<std::string()> stop;
     /// Throws InvalidInput naming the first field out of range.
     void validate() const;
 };
@@ -161,8 +165,8 @@ struct ModePoint {
 
 /// completed: a_min to a_max; left_range: the backbone turned back below a_min; min_step: a
 /// step failed at the smallest length; point_budget; start_failed: the first point (a_min) did
-/// not converge.
-enum class ModeStatus { completed, left_range, min_step, point_budget, start_failed };
+/// not converge; stopped: ModeOptions::stop asked it to end.
+enum class ModeStatus { completed, left_range, min_step, point_budget, start_failed, stopped };
 std::string to_string(ModeStatus status);
 
 struct Backbone {

@@ -759,7 +759,7 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
 
 def modes(system, amplitude_min=None, amplitude_max=None, *, mode_index=None, near=None, harmonics=None,
           time_samples=None, formulation=None, modes=None, outputs=None, tolerance=None, max_step=None, max_points=None,
-          synthesis=False, exact_check=False, start_frequency=None, mode=None):
+          synthesis=False, exact_check=False, start_frequency=None, mode=None, time_limit=0):
     """A nonlinear mode by the extended periodic motion concept (hbf modes): frequency and modal
     damping ratio against the modal amplitude a (the M-norm of the first harmonic), followed from
     amplitude_min to amplitude_max from the stuck structure's linear mode `mode_index` (0-based by
@@ -785,7 +785,9 @@ def modes(system, amplitude_min=None, amplitude_max=None, *, mode_index=None, ne
     limit (the stuck mode, or where the stuck structure is damped its damped mode: ``linear``'s
     ``linear_omega``, ``linear_xi``), followed up from the linear regime where amplitude_min lies
     beyond it (``linear["start"]``: "linear", "run-up", "unchecked" (a warning), "given");
-    start_frequency (> 0) gives the first point's frequency guess instead (not checked)."""
+    start_frequency (> 0) gives the first point's frequency guess instead (not checked).
+    time_limit: seconds (0: none) after which the backbone stops; the points so far are the
+    result, its status stopped (an IncompleteResultWarning). An interrupt (Ctrl-C) does the same."""
     _check_system(system)
     if mode is not None:
         if mode_index is not None:
@@ -831,7 +833,8 @@ def modes(system, amplitude_min=None, amplitude_max=None, *, mode_index=None, ne
         0.0 if amplitude_max is None else _positive("amplitude_max", amplitude_max), _real("tolerance", d["tolerance"] if tolerance is None else tolerance),
         _real("max_step", d["max_step"] if max_step is None else max_step),
         _integer("max_points", d["max_points"] if max_points is None else max_points), o,
-        bool(synthesis), bool(exact_check), _real("start_frequency", 0.0 if start_frequency is None else start_frequency))
+        bool(synthesis), bool(exact_check), _real("start_frequency", 0.0 if start_frequency is None else start_frequency),
+        _real("time_limit", time_limit))
     if verdict["status"] == "failed" and not columns[0][3]:
         # No point at all (the first one did not converge): nothing to return.
         raise SolveError("modes: no backbone: " + "; ".join(verdict["errors"] + verdict["warnings"] + [details["message"]]))

@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "frf_flags.hpp"
 #include "outputs.hpp"
+#include "stop_request.hpp"
 #include "hbf/error.hpp"
 #include "hbf/frf.hpp"
 #include "hbf/cyclic.hpp"
@@ -29,7 +30,7 @@ struct ModesOptions {
     std::string mode = "1", near, start_frequency, amin, amax, harmonics = "0", time_samples = "0",
                 tolerance = default_text(ModeOptions{}.tolerance), max_step = default_text(ModeOptions{}.max_step),
                 max_points = std::to_string(ModeOptions{}.max_points), formulation = "automatic", modes;
-    std::string plot_damping, synthesis_out, plot_synthesis;
+    std::string plot_damping, synthesis_out, plot_synthesis, time_limit = "0";
     bool exact_check = false;
     OutputFlags output;
     std::string config;
@@ -115,6 +116,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
                          "automatic, or --modes 0");
     if (hbo.odd_harmonics) throw UsageError("--harmonics odd: hbf modes balances every harmonic (a mode may have a mean)");
 
+    const double time_limit = parse_time_limit(o.time_limit);
     ProgressLine progress(o.output.progress(), "modes");
     mo.progress = [&progress](double a, int points) {
         progress.update("a = " + format_number(a) + ", " + std::to_string(points) + " points");
@@ -137,6 +139,9 @@ int run(const CLI::App& command, const ModesOptions& o) {
     io::OutputFile out(o.output.out);
     std::unique_ptr<io::OutputFile> synthesis;
     if (!o.synthesis_out.empty()) synthesis = std::make_unique<io::OutputFile>(o.synthesis_out);
+    // An interrupt or the time limit stops the run; the points computed are written (exit 3).
+    StopRequest stop("modes", time_limit);
+    mo.stop = stop.function();
     const ModeRun run = compute_mode(chosen.system, hbo, mo, chosen.outputs, synthesise, o.exact_check);
     progress.clear();
     const Backbone& b = run.backbone;
@@ -262,6 +267,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
             fs.continuation.omega_end = w_high;
             fs.outputs = {chosen.outputs.front()};
             fs.peaks = false;
+            fs.continuation.stop = stop.function();
             const FrfResult frf = compute_frf(chosen.system, fs);
             double f_peak = 0.0, f_w = 0.0;
             for (std::size_t k = 0; k < frf.points.size(); ++k) {
@@ -352,6 +358,13 @@ void add_flags(CLI::App& command, ModesOptions& o) {
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--max-points", o.max_points, "point budget, 2..100000 (exit 3 when reached)")
         ->capture_default_str()->type_name("INT");
+    command.add_option("--time-limit", o.time_limit,
+                       "stop after SECONDS and write the points computed so far (exit 3, status stopped); 0: none\n"
+                       "stop the run after SECONDS of wall time (0: no limit) and write what it has computed: the "
+                       "backbone's points so far (status stopped, exit code 3; --exact-check leaves the points after "
+                       "the stop unchecked, and --plot-synthesis's FRF stops too). An interrupt (Ctrl-C, SIGTERM, "
+                       "SIGHUP) does the same; a second one ends the process without output")
+        ->option_text("SECONDS");
     command.add_option("--config", o.config, "the structure from a TOML system file (as hbf frf --config; its "
                                              "excitation and frequency range are not used)")
         ->option_text("FILE.toml");
@@ -395,7 +408,8 @@ Columns:)",
         io::backbone_columns({Output::dof(0), Output::dof(1)}, {false}, 1),
         R"((y1, y2: the system's outputs; one stick_fraction/regime pair per contact, separated_fraction for
 contacts with a normal direction; h0..hH for the H harmonics.) Exit code 0 when the backbone spans
-[amin, amax]; 3 when it stops early (Newton fails at the smallest step, the point budget) or a point
+[amin, amax]; 3 when it stops early (Newton fails at the smallest step, the point budget, --time-limit
+or an interrupt) or a point
 fails the energy balance, or the synthesised response (--synthesis-out, --plot-synthesis) is cut at
 the backbone's last point (its peak lies beyond --amax) or empty, with every point computed written; 1 when the first point fails; 2 for
 bad input (a mode out of range, a rigid-body mode, an empty amplitude range).)"});

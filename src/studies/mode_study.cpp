@@ -148,8 +148,12 @@ ModeRun compute_mode(const System& system, HarmonicBalanceOptions hbo, const Mod
         double largest = 0.0;
         std::size_t checked = 0, where = 0;
         std::string reason;
+        std::string stopped;  // the exact checks stop with the run (the rest unchecked)
         for (std::size_t k = 0; k < run.backbone.points.size(); ++k) {
-            const ExactModeCheck c = nm.exact_check(run.backbone.points[k]);
+            if (stopped.empty() && options.stop) stopped = options.stop();
+            ExactModeCheck c;
+            if (stopped.empty()) c = nm.exact_check(run.backbone.points[k]);
+            else c.message = "not checked: " + stopped;
             run.exact.push_back(c);
             cells[0].push_back(c.checked ? io::Cell(c.omega) : io::Cell());
             cells[1].push_back(c.checked ? io::Cell(c.xi) : io::Cell());

@@ -39,7 +39,8 @@ std::vector<LinearMode> travelling_modes(const System& system) {
 }  // namespace
 constexpr detail::EnumName<ModeStatus> mode_status_names[] = {
     {ModeStatus::completed, "completed"}, {ModeStatus::left_range, "left_range"}, {ModeStatus::min_step, "min_step"},
-    {ModeStatus::point_budget, "point_budget"}, {ModeStatus::start_failed, "start_failed"}};
+    {ModeStatus::point_budget, "point_budget"}, {ModeStatus::start_failed, "start_failed"},
+    {ModeStatus::stopped, "stopped"}};
 
 std::string to_string(ModeStatus status) { return detail::enum_name(mode_status_names, status, "mode status"); }
 
@@ -612,6 +613,12 @@ bool NonlinearModes::first_point(ModePoint& start, Backbone& b) {
         continue_from(probe, probe.amplitude, a_min, run);
         options_ = kept;
         b.failed_steps += run.failed_steps;
+        if (run.status == ModeStatus::stopped) {
+            b.status = ModeStatus::stopped;
+            b.message = "stopped before the first point, in the run-up from the linear regime (a = " +
+                        format_number(probe.amplitude) + ") to a_min: " + run.message;
+            return false;
+        }
         const bool reached = run.status == ModeStatus::completed && !run.points.empty() &&
                              std::abs(run.points.back().amplitude - a_min) <= 1e-12 * a_min;
         if (reached) {
@@ -664,6 +671,15 @@ void NonlinearModes::continue_from(const ModePoint& start, double a_first, doubl
             b.message = "point budget " + std::to_string(options_.max_points) + " reached at a = " +
                         format_number(previous.amplitude);
             break;
+        }
+        if (options_.stop) {
+            const std::string why = options_.stop();
+            if (!why.empty()) {
+                b.status = ModeStatus::stopped;
+                b.message = "stopped at a = " + format_number(previous.amplitude) + " after " +
+                            std::to_string(b.points.size()) + " points: " + why;
+                break;
+            }
         }
         const Eigen::VectorXd scale = column_scale(previous);
         Eigen::VectorXd v(u + 3);

@@ -237,3 +237,21 @@ def test_results_print_their_status_and_size():
     assert repr(ti).startswith("<hbfriction.Table: 2 rows, completed, %d columns (w, " % len(ti.columns))
     b = hbfriction.frf(system)
     assert repr(b).startswith("<hbfriction.Branch: %d points, completed" % len(b))
+
+
+def test_a_time_limit_stops_the_backbone_and_keeps_its_points():
+    # The Dahl absorber's backbone at H = 60 over 9 decades in steps of at most 1e-4 takes minutes;
+    # stopped after 1 s, the backbone so far is the result (status stopped: incomplete, a
+    # warning), its points those of a whole run's start.
+    system = hbfriction.absorber("dahl")
+    options = dict(harmonics=60, max_step=1e-4, max_points=100000)
+    with pytest.warns(hbfriction.IncompleteResultWarning, match="time limit of 1 s"):
+        t = hbfriction.modes(system, 1e-6, 1e3, time_limit=1, **options)
+    assert t.status == "incomplete"
+    assert 3 < len(t) < 100000
+    options["max_points"] = len(t)
+    with pytest.warns(hbfriction.IncompleteResultWarning, match="point_budget"):
+        whole = hbfriction.modes(system, 1e-6, 1e3, **options)
+    assert np.allclose(t.w, whole.w, rtol=1e-12, atol=0)
+    with pytest.raises(ValueError, match="time_limit = -1 is out of range"):
+        hbfriction.modes(system, 1e-6, 1e3, time_limit=-1)
