@@ -320,9 +320,9 @@ void bind_studies(py::module_& m) {
 
     m.def(
         "track",
-        [](const py::function& system, const FrfSettings& settings, const std::string& feature, double p_start,
+        [](const py::function& system, FrfSettings settings, const std::string& feature, double p_start,
            double p_end, double omega, const std::vector<double>& at, double max_step, double min_step, int max_points,
-           int contact) {
+           int contact, double time_limit) {
             if (feature != "peak" && feature != "boundary" && feature != "fold")
                 bad("feature = '" + feature + "' is not known: allowed peak, boundary or fold");
             TrackOptions o;
@@ -337,12 +337,15 @@ void bind_studies(py::module_& m) {
             o.min_step = min_step;
             o.max_points = max_points;
             o.contact = contact;
+            o.stop = python_stop(time_limit);
+            settings.continuation.stop = o.stop;
             const auto of = system_of(system);
             const TrackResult r = without_gil([&] { return track(of, settings, o); });
             return track_dict(r);
         },
         py::arg("system"), py::arg("settings"), py::arg("feature"), py::arg("p_start"), py::arg("p_end"), py::arg("omega"),
-        py::arg("at"), py::arg("max_step"), py::arg("min_step"), py::arg("max_points"), py::arg("contact"));
+        py::arg("at"), py::arg("max_step"), py::arg("min_step"), py::arg("max_points"), py::arg("contact"),
+        py::arg("time_limit") = 0.0);
     m.def(
         "optimize_tracking",
         [](const py::function& system, const FrfSettings& settings, const OptimizeOptions& options) {

@@ -647,6 +647,25 @@ TEST_CASE("hbf modes --time-limit and SIGTERM: the backbone's points so far are 
     CHECK_THAT(r.err, Catch::Contains("--time-limit = 1e10 is out of range"));
 }
 
+TEST_CASE("hbf track --time-limit: the curves so far are written, each stopped, exit 3", "[status][cli]") {
+    ::test::TempDir dir;
+    const auto csv = dir.path / "t.csv", json = dir.path / "s.json";
+    // The Dahl absorber's two peaks over fe in steps of at most 1e-4 of the range (2000 steps of
+    // several solves each): far more than 2 s.
+    const ::test::Result r = ::test::run_hbf("track --law dahl --mu 0.5 --param fe --range 0.8:1 --max-step-p 1e-4 --out '" +
+                                                 csv.string() + "' --summary '" + json.string() + "' --time-limit 2",
+                                             dir);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("time limit of 2 s (--time-limit) is reached") &&
+                          Catch::Contains("not done after the stop: the check FRF"));
+    const nlohmann::json s = nlohmann::json::parse(::test::slurp(json));
+    CHECK(s["outcome"] == "incomplete");
+    REQUIRE(s["curves"].size() == 2);
+    for (const auto& c : s["curves"]) CHECK(c["status"] == "stopped");
+    const auto rows = ::test::parse_csv(::test::slurp(csv));
+    CHECK(rows.size() > 4);
+}
+
 TEST_CASE("StopRequest: the time limit, a caught signal and the crawl watch", "[status][cli]") {
     {
         hbf::cli::StopRequest stop("test", 0.05);

@@ -259,6 +259,56 @@ TEST_CASE("track: harmonic-balance peaks of a smooth law (Dahl) follow the FRFs'
     }
 }
 
+TEST_CASE("track: a stop request ends every curve before the step it answers at, the points so far the whole run's",
+          "[tracking]") {
+    // The exact Coulomb absorber's peaks over mu from 0.3 to 0.5 (as the first case), stopped at
+    // the 4th step; then the superharmonic folds, stopped at the 3rd.
+    const auto system = [](double mu) { return coulomb_absorber(mu); };
+    const FrfSettings settings = default_frf_settings(system(0.3), {});
+    TrackOptions o;
+    o.p_start = 0.3;
+    o.p_end = 0.5;
+    const TrackResult whole = track(system, settings, o);
+    REQUIRE(whole.status() == "completed");
+    int asked = 0;
+    o.stop = [&asked]() { return ++asked == 4 ? std::string("enough") : std::string(); };
+    const TrackResult early = track(system, settings, o);
+    INFO(early.summary());
+    CHECK(asked == 4);
+    CHECK(early.status() == "incomplete");
+    CHECK(early.frfs == 1);  // the check FRF at p_end is not computed
+    REQUIRE(early.curves.size() == whole.curves.size());
+    for (std::size_t c = 0; c < early.curves.size(); ++c) {
+        const TrackCurve &e = early.curves[c], &w = whole.curves[c];
+        CHECK(e.status == TrackStatus::stopped);
+        CHECK_THAT(e.message, Catch::Contains("stopped at p = ") && Catch::Contains("enough"));
+        REQUIRE(e.points.size() == 4);  // the start and three steps
+        for (std::size_t k = 0; k < e.points.size(); ++k) {
+            CHECK(e.points[k].p == Approx(w.points[k].p).epsilon(1e-14));
+            CHECK(e.points[k].omega == Approx(w.points[k].omega).epsilon(1e-12));
+        }
+    }
+    const io::SystemConfig config = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/dahl_superharmonic_fold.toml");
+    const auto forced = [&](double fe) {
+        System s = config.system;
+        s.excitation *= fe;
+        return s;
+    };
+    FrfSettings fold_settings = frf_settings(config.system, {}, config.choices);
+    fold_settings.error_points = 0;
+    TrackOptions f;
+    f.feature = TrackFeature::fold;
+    f.p_start = 1.0;
+    f.p_end = 0.5;
+    asked = 0;
+    f.stop = [&asked]() { return ++asked == 3 ? std::string("enough") : std::string(); };
+    const TrackResult folds = track(forced, fold_settings, f);
+    REQUIRE(folds.curves.size() == 2);
+    CHECK(folds.curves[0].status == TrackStatus::stopped);
+    CHECK(folds.curves[0].points.size() == 3);
+    CHECK(folds.status() == "incomplete");
+}
+
 TEST_CASE("track: a curve that leaves the range or the amplitude cap is a warning, bad options name themselves",
           "[tracking]") {
     FrfSettings settings = default_frf_settings(coulomb_absorber(0.6), {});

@@ -71,6 +71,11 @@ struct TrackOptions {
     int contact = -1;
     /// Called after each accepted step with the p reached (a progress display); may be empty.
     std::function<void(double p)> progress;
+    /// Asked before every step in p: a non-empty answer (why: an interrupt, a time limit) ends
+    /// every live curve there with status stopped and the answer in its message (the points so
+    /// far kept; the check FRF at p_end is not computed). The FRF at p_start stops by
+    /// settings.continuation.stop. Empty: never.
+    std::function<std::string()> stop;
 
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;
@@ -82,9 +87,10 @@ enum class TrackStatus {
     left_range,     ///< w left [wmin, wmax]
     amplitude_cap,  ///< the value exceeded max_amplitude (an unbounded resonance)
     point_budget,   ///< max_points reached
-    failed          ///< the solves failed down to the smallest step
+    failed,         ///< the solves failed down to the smallest step
+    stopped         ///< TrackOptions::stop asked it to end
 };
-/// "completed", "vanished", "left_range", "amplitude_cap", "point_budget", "failed".
+/// "completed", "vanished", "left_range", "amplitude_cap", "point_budget", "failed", "stopped".
 std::string to_string(TrackStatus status);
 
 struct TrackPoint {

@@ -960,7 +960,7 @@ def optimize(system, lower, upper, *, settings=None, search=None, outputs=None, 
 
 class TrackCurve:
     """One followed feature of track(): id, label, status (completed, vanished, left_range,
-    amplitude_cap, point_budget, failed), message (why it ended), contact and boundary (boundary
+    amplitude_cap, point_budget, failed, stopped), message (why it ended), contact and boundary (boundary
     curves), and its points as arrays: p, w, value (the output's max over one period), kind
     (start, step, at, exchange, search, end), regime, curvature (Y'' w^2 / Y at a peak), corner."""
 
@@ -995,7 +995,7 @@ class TrackResult:
 
 
 def track(system, p_start, p_end, *, feature="peak", omega=None, at=None, max_step=0.05, min_step=1e-7,
-          max_points=5000, contact=None, settings=None, outputs=None, **options):
+          max_points=5000, contact=None, settings=None, outputs=None, time_limit=0, **options):
     """Follows the resonance peaks of the first output (feature="peak"), the stick-slip
     boundaries of the contacts (feature="boundary") or the folds of the harmonic-balance FRF
     through their cusps (feature="fold") of system(p) from p_start to p_end (hbf
@@ -1006,8 +1006,9 @@ def track(system, p_start, p_end, *, feature="peak", omega=None, at=None, max_st
     system: a callable p -> System. omega: follow only the feature nearest to it at p_start
     (within 10 %). at: values of p where every curve gets a point. max_step, min_step: steps in p
     relative to the range, abs(p_end - p_start). contact: boundary only, 0-based (None: every contact's).
-    options: the FRF's, as frf() (wmin, wmax, harmonics, ...). Returns a TrackResult; warns
-    (IncompleteResultWarning) when it is not completed."""
+    options: the FRF's, as frf() (wmin, wmax, harmonics, ...). time_limit: seconds (0: none)
+    after which the curves stop where they are (status stopped); an interrupt (Ctrl-C) does the
+    same. Returns a TrackResult; warns (IncompleteResultWarning) when it is not completed."""
     if not callable(system):
         raise TypeError("system: a callable p -> System is required")
     for name, v in (("p_start", p_start), ("p_end", p_end)):
@@ -1022,7 +1023,7 @@ def track(system, p_start, p_end, *, feature="peak", omega=None, at=None, max_st
                                 float("nan") if omega is None else _real("omega", omega),
                                 [] if at is None else [_real("at", v) for v in at], _real("max_step", max_step),
                                 _real("min_step", min_step), _integer("max_points", max_points),
-                                -1 if contact is None else _integer("contact", contact)))
+                                -1 if contact is None else _integer("contact", contact), _real("time_limit", time_limit)))
     if r.outcome != "completed":
         _warnings.warn("track is %s: %s" % (r.outcome, "; ".join(r.errors + r.warnings)), IncompleteResultWarning,
                        stacklevel=2)

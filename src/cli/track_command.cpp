@@ -17,6 +17,7 @@
 #include "hbf/tracking.hpp"
 #include "outputs.hpp"
 #include "progress.hpp"
+#include "stop_request.hpp"
 #include "study.hpp"
 
 namespace hbf::cli {
@@ -26,7 +27,7 @@ struct TrackFlags {
     AbsorberFlags absorber;
     FrfFlags frf;
     std::string feature = "peak", param, range, omega, at, contact = "1", of_contact, max_step = "0.05",
-                min_step = "1e-7", max_points = "5000", plot_of = "w", output_name;
+                min_step = "1e-7", max_points = "5000", plot_of = "w", output_name, time_limit = "0";
     OutputFlags output;
 };
 
@@ -135,7 +136,12 @@ int run(const CLI::App& command, const TrackFlags& o) {
     if (t.feature == TrackFeature::boundary && chosen.system.contacts.empty())
         throw UsageError("--feature boundary: the system has no contact");
     HarmonicBalance::validate(parameter.system(t.p_start), settings.harmonic_balance);
+    const double time_limit = parse_time_limit(o.time_limit);
     if (o.output.dry_run) return o.output.dry_run_done("track");
+    // An interrupt or the time limit stops the curves where they are; they are written (exit 3).
+    StopRequest stop("track", time_limit);
+    t.stop = stop.function();
+    settings.continuation.stop = t.stop;
 
     ProgressLine progress(o.output.progress(), "track");
     t.progress = [&](double p) { progress.update(o.param + " = " + format_number(p), false); };
@@ -280,6 +286,13 @@ void add_flags(CLI::App& command, TrackFlags& o) {
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--max-points", o.max_points, "accepted points over all curves, 10..1000000")
         ->capture_default_str()->type_name("INT");
+    command.add_option("--time-limit", o.time_limit,
+                       "stop after SECONDS and write the curves so far (exit 3, status stopped); 0: none\n"
+                       "stop the run after SECONDS of wall time (0: no limit) and write what it has computed: every "
+                       "curve up to the parameter it reached (status stopped, exit code 3; the check FRF at END is "
+                       "not computed, a note says so; a stop in the starting FRF starts from its points so far). An "
+                       "interrupt (Ctrl-C, SIGTERM, SIGHUP) does the same; a second one ends the process without output")
+        ->option_text("SECONDS");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output",
                               "write a JSON summary (the curves, the events) to FILE\nwrite a JSON summary to FILE: the curves (label, status, why they ended), the events "
                               "(exchanges: equal peaks; vanished peaks; peaks born inside the range), the largest peak "
@@ -307,7 +320,8 @@ An FRF at END checks that no peak was born inside the range. hbf map --overlay d
 a heat map. Output: a CSV, one row per point of each curve:)",
         track_columns("PARAM", "OUTPUT_max"),
         R"(Exit code 3 when a curve leaves [wmin, wmax], exceeds --max-amplitude (an unbounded resonance) or
-runs out of points, when a peak at END is on no curve, or when the starting FRF is incomplete;
+runs out of points or time (--time-limit, an interrupt), when a peak at END is on no curve, or when
+the starting FRF is incomplete;
 1 when a curve's solves fail; 2 for bad input (a parameter the system lacks, --omega with no feature
 near it: nothing written). A peak that ends inside the range (it merged with a valley) and a cusp
 are notes.)"});

@@ -201,6 +201,14 @@ TrackResult track_folds(const std::function<System(double)>& system, const FrfSe
             a.message = b.message = "max_points = " + std::to_string(options.max_points) + " reached at p = " + format_number(p);
             break;
         }
+        if (options.stop) {
+            const std::string why = options.stop();
+            if (!why.empty()) {
+                a.status = b.status = TrackStatus::stopped;
+                a.message = b.message = "stopped at p = " + format_number(p) + ": " + why;
+                break;
+            }
+        }
         double target = p + dir * step;
         if (dir * (options.p_end - target) <= 0.0) target = options.p_end;
         const double a1 = a.points.back().omega, b1 = b.points.back().omega;

@@ -22,7 +22,7 @@ std::string to_string(TrackFeature feature) { return detail::enum_name(track_fea
 constexpr detail::EnumName<TrackStatus> track_status_names[] = {
     {TrackStatus::completed, "completed"}, {TrackStatus::vanished, "vanished"},
     {TrackStatus::left_range, "left_range"}, {TrackStatus::amplitude_cap, "amplitude_cap"},
-    {TrackStatus::point_budget, "point_budget"}, {TrackStatus::failed, "failed"}};
+    {TrackStatus::point_budget, "point_budget"}, {TrackStatus::failed, "failed"}, {TrackStatus::stopped, "stopped"}};
 
 std::string to_string(TrackStatus status) { return detail::enum_name(track_status_names, status, "track status"); }
 
@@ -233,6 +233,7 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
     const double smallest = options.min_step * range;
     int points = static_cast<int>(live.size());
     const double cap = settings.continuation.max_amplitude;
+    std::string stopped;  // why options.stop ended the curves ("" while they go on)
 
     auto end_curve = [&](Live& l, TrackStatus status, const std::string& message) {
         TrackCurve& c = result.curves[l.curve];
@@ -301,6 +302,14 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
                           "max_points = " + std::to_string(options.max_points) + " reached at p = " + format_number(p));
             live.clear();
             break;
+        }
+        if (options.stop) {
+            stopped = options.stop();
+            if (!stopped.empty()) {
+                for (Live& l : live) end_curve(l, TrackStatus::stopped, "stopped at p = " + format_number(p) + ": " + stopped);
+                live.clear();
+                break;
+            }
         }
         double target = p + dir * step;
         std::string kind = "step";
@@ -501,7 +510,10 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
 
     // 3. The check at the end (peaks): an FRF at p_end, whose peaks every completed curve
     //    should reach; one that none reaches was born inside the range.
-    if (peaks) {
+    if (peaks && !stopped.empty())
+        result.verdict.note("not done after the stop: the check FRF at p = " + format_number(options.p_end) +
+                            " (peaks born inside the range)");
+    if (peaks && stopped.empty()) {
         const FrfResult end = known_end ? *known_end : compute_frf(system(options.p_end), frf);
         result.frfs += known_end ? 0 : 1;
         // A curve reaches a peak of the FRF when its last point is on the same hump: within 1e-4

@@ -82,3 +82,12 @@ def test_folds_merge_in_a_cusp():
     # the folds at the start are the FRF's
     folds = hb.frf(base).folds
     assert abs(r.curves[0].w[0] - folds[0]["w"]) < 1e-6 * folds[0]["w"]
+
+
+def test_a_time_limit_stops_the_curves_where_they_are():
+    # The Dahl absorber's peaks over fe in steps of at most 1e-4 of the range take far more than
+    # 1 s: stopped, every curve ends with status stopped (incomplete, a warning).
+    with pytest.warns(hb.IncompleteResultWarning, match="time limit of 1 s"):
+        r = hb.track(lambda fe: hb.absorber("dahl", fe=fe, mu=0.5), 0.8, 1.0, max_step=1e-4, time_limit=1)
+    assert r.outcome == "incomplete"
+    assert r.curves and all(c.status == "stopped" for c in r.curves)
