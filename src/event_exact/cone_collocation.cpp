@@ -55,7 +55,7 @@ void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const 
     std::vector<int> moving;  // the moving directions' contacts, in dyn's order
     for (Eigen::Index k = y2; k < m; ++k) moving.push_back(dyn[static_cast<std::size_t>(k)] - theta(0));
     const auto nv = static_cast<Eigen::Index>(moving.size());
-    const Eigen::PartialPivLU<MatrixXd> lu = pattern_lu(zhat, modes);
+    const PatternSolve lu = pattern_lu(zhat, modes);
     const VectorXd kept = kept_rows(modes);
     const VectorXd lambda = c.col(0).tail(L);
     // Per column of wrt: its contact if it is a direction (-1 otherwise), its position in moving.

@@ -133,8 +133,40 @@ ModeData ConeEngine::build(const Modes& modes) const {
     return m;
 }
 
-Eigen::PartialPivLU<MatrixXd> ConeEngine::pattern_lu(const VectorXd& zhat, const Modes& modes) const {
+void ConeEngine::PatternSolve::correct(Eigen::Ref<Eigen::MatrixXd> x) const {
+    MatrixXd at_normals(w_.cols(), x.cols());
+    for (Eigen::Index j = 0; j < w_.cols(); ++j) at_normals.row(j) = x.row(base_->normal_rows[static_cast<std::size_t>(j)]);
+    x.noalias() -= w_ * capacitance_.solve(at_normals);
+}
+
+ConeEngine::PatternSolve ConeEngine::pattern_lu(const VectorXd& zhat, const Modes& modes) const {
     const int L = s_.lambdas;
+    std::vector<int> cones;
+    for (int k = 0; k < n_contacts_; ++k)
+        if (modes[static_cast<std::size_t>(k)] == slip && directions(k) == 2) cones.push_back(k);
+    const auto nk = static_cast<Eigen::Index>(cones.size());
+    // From the kept factorisation: A(theta) = A0 + U V^T, U's column j the change of cone j's
+    // entries (T, N), (T + 1, N) (-mu cos, -mu sin), V's column j e_N.
+    if (pattern_base_ && pattern_base_->modes == modes) {
+        const PatternSolve::Base& b = *pattern_base_;
+        VectorXd dc(nk), ds(nk);
+        double turn = 0.0;
+        for (Eigen::Index j = 0; j < nk; ++j) {
+            const int q = cones[static_cast<std::size_t>(j)];
+            const double angle = zhat(theta(q)), mu = s_.blocks[static_cast<std::size_t>(q)].mu;
+            turn = std::max(turn, std::abs(angle - b.theta(j)));
+            dc(j) = -mu * (std::cos(angle) - std::cos(b.theta(j)));
+            ds(j) = -mu * (std::sin(angle) - std::sin(b.theta(j)));
+        }
+        if (turn == 0.0) return PatternSolve(pattern_base_, MatrixXd(), {});
+        if (turn <= PatternSolve::max_turn) {
+            const MatrixXd w = b.on_cos * dc.asDiagonal() + b.on_sin * ds.asDiagonal();
+            MatrixXd capacitance = MatrixXd::Identity(nk, nk);
+            for (Eigen::Index j = 0; j < nk; ++j) capacitance.row(j) += w.row(b.normal_rows[static_cast<std::size_t>(j)]);
+            Eigen::PartialPivLU<MatrixXd> lu(capacitance);
+            if (lu.rcond() > PatternSolve::min_rcond) return PatternSolve(pattern_base_, w, std::move(lu));
+        }
+    }
     MatrixXd A = MatrixXd::Zero(L, L);
     for (int k = 0; k < n_contacts_; ++k) {
         const RigidContact& b = s_.blocks[static_cast<std::size_t>(k)];
@@ -155,11 +187,27 @@ Eigen::PartialPivLU<MatrixXd> ConeEngine::pattern_lu(const VectorXd& zhat, const
             A(T + 1, N) = -b.mu * std::sin(zhat(theta(k)));
         }
     }
-    Eigen::PartialPivLU<MatrixXd> lu(A);
-    if (!(lu.rcond() > 1e-14))
+    auto base = std::make_shared<PatternSolve::Base>();
+    base->lu.compute(A);
+    if (!(base->lu.rcond() > 1e-14))
         throw std::runtime_error("a contact pattern has no unique contact forces (the friction makes the slipping "
                                  "contacts' normal problem singular)");
-    return lu;
+    base->modes = modes;
+    base->cones = cones;
+    base->theta.resize(nk);
+    MatrixXd columns = MatrixXd::Zero(L, 2 * nk);
+    for (Eigen::Index j = 0; j < nk; ++j) {
+        const int q = cones[static_cast<std::size_t>(j)];
+        base->theta(j) = zhat(theta(q));
+        base->normal_rows.push_back(normal(q));
+        columns(tangential(q), j) = 1.0;
+        columns(tangential(q) + 1, nk + j) = 1.0;
+    }
+    const MatrixXd solved = base->lu.solve(columns);
+    base->on_cos = solved.leftCols(nk);
+    base->on_sin = solved.rightCols(nk);
+    pattern_base_ = std::move(base);
+    return PatternSolve(pattern_base_, MatrixXd(), {});
 }
 
 VectorXd ConeEngine::kept_rows(const Modes& modes) const {
@@ -190,7 +238,7 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
     std::vector<int> cones, moving;  // slipping 3D contacts; those whose direction moves
     for (int k = 0; k < n_contacts_; ++k)
         if (modes[static_cast<std::size_t>(k)] == slip && directions(k) == 2) cones.push_back(k);
-    const Eigen::PartialPivLU<MatrixXd> lu = pattern_lu(zhat, modes);
+    const PatternSolve lu = pattern_lu(zhat, modes);
     const auto nk = static_cast<Eigen::Index>(cones.size());
     MatrixXd Dc = MatrixXd::Zero(nk, K + 1), Ds = MatrixXd::Zero(nk, K + 1);
     for (Eigen::Index j = 0; j < nk; ++j) {

@@ -74,6 +74,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <memory>
 #include <vector>
 
 #include "contact/massless_contacts.hpp"
@@ -227,8 +228,47 @@ public:
 private:
     /// The state's size for the collocation's error (y, y' / omega; at least its running largest).
     double state_size(const Eigen::VectorXd& zhat);
-    /// The LU of the pattern's matrix: the contact forces' equations (throws where singular).
-    Eigen::PartialPivLU<Eigen::MatrixXd> pattern_lu(const Eigen::VectorXd& zhat, const Modes& modes) const;
+    /// The pattern's matrix A(theta), the contact forces' equations, factorised (throws where
+    /// singular). Within a pattern A depends on the slipping 3D contacts' directions only through
+    /// their entries (T, N) and (T + 1, N): A(theta) = A(theta_0) + U V^T of rank k (the number
+    /// of those contacts), so it is solved from a kept factorisation at theta_0 by the
+    /// Sherman-Morrison-Woodbury formula (k + 1 small solves instead of an L x L LU per call),
+    /// refactorised where the pattern changes, a direction has turned by more than
+    /// PatternSolve::max_turn since theta_0, or the k x k capacitance matrix is ill-conditioned.
+    class PatternSolve {
+    public:
+        /// Base: A(theta_0)'s LU for one pattern and A(theta_0)^-1 of its direction columns.
+        struct Base {
+            Modes modes;
+            std::vector<int> cones;           ///< the slipping 3D contacts
+            Eigen::VectorXd theta;            ///< theta_0, per cone
+            Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+            Eigen::MatrixXd on_cos, on_sin;   ///< A0^-1 e_T, A0^-1 e_{T+1} per cone (L x k)
+            std::vector<int> normal_rows;     ///< N per cone
+        };
+        static constexpr double max_turn = 0.3;     ///< radians
+        static constexpr double min_rcond = 1e-8;  ///< of the capacitance matrix
+        PatternSolve() = default;
+        PatternSolve(std::shared_ptr<const Base> base, Eigen::MatrixXd w, Eigen::PartialPivLU<Eigen::MatrixXd> capacitance)
+            : base_(std::move(base)), w_(std::move(w)), capacitance_(std::move(capacitance)) {}
+        /// A(theta)^-1 r (r: L rows, any columns).
+        template <class Derived>
+        Eigen::Matrix<double, Eigen::Dynamic, Derived::ColsAtCompileTime> solve(const Eigen::MatrixBase<Derived>& r) const {
+            Eigen::Matrix<double, Eigen::Dynamic, Derived::ColsAtCompileTime> x = base_->lu.solve(r);
+            if (w_.cols() > 0) correct(x);
+            return x;
+        }
+
+    private:
+        /// x = A0^-1 r becomes A^-1 r: x - W S^-1 (V^T x).
+        void correct(Eigen::Ref<Eigen::MatrixXd> x) const;
+        std::shared_ptr<const Base> base_;
+        Eigen::MatrixXd w_;  ///< A0^-1 U (L x k); empty: theta = theta_0
+        Eigen::PartialPivLU<Eigen::MatrixXd> capacitance_;  ///< I + V^T A0^-1 U
+    };
+    PatternSolve pattern_lu(const Eigen::VectorXd& zhat, const Modes& modes) const;
+    /// The factorisation pattern_lu keeps (one pattern's).
+    mutable std::shared_ptr<const PatternSolve::Base> pattern_base_;
     /// 1 on the rows of those equations whose right side is free_ * zhat (closed contacts' normal
     /// rows, stuck contacts' tangential rows), 0 on the others.
     Eigen::VectorXd kept_rows(const Modes& modes) const;
