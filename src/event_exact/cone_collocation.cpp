@@ -135,8 +135,8 @@ void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const 
         E(T, b) = -weight * std::sin(angle);
         E(T + 1, b) = weight * std::cos(angle);
     }
-    const MatrixXd GAE = s_.G * lu.solve(E);
-    const VectorXd what = lu.solve(E * thetadot);
+    const MatrixXd GAE = s_.G * lu.solve_on_cones(E);
+    const VectorXd what = lu.solve_on_cones(E * thetadot).col(0);
     const VectorXd Gw = s_.G * what;
     right = turned(what);
     for (Eigen::Index b = 0; b < nv; ++b) {
@@ -148,7 +148,7 @@ void ConeEngine::rates_jacobian(const VectorXd& zhat, const Modes& modes, const 
             if (in_moving[static_cast<std::size_t>(k)] == b)
                 for (int i = 0; i < 2; ++i) right(T + i, k) -= mu * lambda(normal(q)) * along(i) * thetadot(b);
     }
-    const MatrixXd dGw = s_.G * lu.solve(right);
+    const MatrixXd dGw = s_.G * lu.solve_on_cones(right);
     MatrixXd P(nv, nv), D(nv, nw);
     for (Eigen::Index a = 0; a < nv; ++a) {
         const int T = tangential(moving[static_cast<std::size_t>(a)]);

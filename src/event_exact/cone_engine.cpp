@@ -139,6 +139,24 @@ void ConeEngine::PatternSolve::correct(Eigen::Ref<Eigen::MatrixXd> x) const {
     x.noalias() -= w_ * capacitance_.solve(at_normals);
 }
 
+Eigen::MatrixXd ConeEngine::PatternSolve::solve_on_cones(const Eigen::MatrixXd& e) const {
+    const Base& b = *base_;
+    const auto k = static_cast<Eigen::Index>(b.tangential_rows.size());
+    MatrixXd c(2 * k, e.cols());
+    MatrixXd rest = e;
+    for (Eigen::Index j = 0; j < k; ++j) {
+        const int T = b.tangential_rows[static_cast<std::size_t>(j)];
+        c.row(j) = e.row(T);
+        c.row(k + j) = e.row(T + 1);
+        rest.row(T).setZero();
+        rest.row(T + 1).setZero();
+    }
+    if (rest.cwiseAbs().maxCoeff() > 0.0) return solve(e);
+    MatrixXd x = b.on_cos * c.topRows(k) + b.on_sin * c.bottomRows(k);
+    if (w_.cols() > 0) correct(x);
+    return x;
+}
+
 ConeEngine::PatternSolve ConeEngine::pattern_lu(const VectorXd& zhat, const Modes& modes) const {
     const int L = s_.lambdas;
     std::vector<int> cones;
@@ -200,6 +218,7 @@ ConeEngine::PatternSolve ConeEngine::pattern_lu(const VectorXd& zhat, const Mode
         const int q = cones[static_cast<std::size_t>(j)];
         base->theta(j) = zhat(theta(q));
         base->normal_rows.push_back(normal(q));
+        base->tangential_rows.push_back(tangential(q));
         columns(tangential(q), j) = 1.0;
         columns(tangential(q) + 1, nk + j) = 1.0;
     }
@@ -308,7 +327,7 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
                     E(tangential(q) + 1, b) = weight * Dc(jb, 0);
                     rows.middleRows(2 * b, 2) = s_.G.middleRows(tangential(q), 2);
                 }
-                const MatrixXd moved = rows * lu.solve(E);
+                const MatrixXd moved = rows * lu.solve_on_cones(E);
                 MatrixXd P(nv, nv);
                 for (Eigen::Index a = 0; a < nv; ++a) {
                     const auto ja = static_cast<Eigen::Index>(moving[static_cast<std::size_t>(a)]);

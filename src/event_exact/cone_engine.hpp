@@ -245,6 +245,7 @@ private:
             Eigen::PartialPivLU<Eigen::MatrixXd> lu;
             Eigen::MatrixXd on_cos, on_sin;   ///< A0^-1 e_T, A0^-1 e_{T+1} per cone (L x k)
             std::vector<int> normal_rows;     ///< N per cone
+            std::vector<int> tangential_rows; ///< T per cone
         };
         static constexpr double max_turn = 0.3;     ///< radians
         static constexpr double min_rcond = 1e-8;  ///< of the capacitance matrix
@@ -258,6 +259,11 @@ private:
             if (w_.cols() > 0) correct(x);
             return x;
         }
+
+        /// The same for an E whose rows other than the slipping 3D contacts' tangential ones are
+        /// zero (a direction's turn): from the kept A0^-1 e_T, A0^-1 e_{T+1}, without a
+        /// triangular solve (an E with other rows is solved as any).
+        Eigen::MatrixXd solve_on_cones(const Eigen::MatrixXd& e) const;
 
     private:
         /// x = A0^-1 r becomes A^-1 r: x - W S^-1 (V^T x).
