@@ -109,6 +109,8 @@ ConeEngine::ConeEngine(const System& system, double omega)
     free_ = std::move(rows.free);
     base_ = std::move(rows.base);
     transmit_ = std::move(rows.transmit);
+    free_sparse_ = free_.sparseView();
+    base_sparse_ = base_.sparseView();
 }
 
 ModeData ConeEngine::build(const Modes& modes) const {
@@ -266,7 +268,7 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
     }
     auto rhs = [&](int k, VectorXd& r) {
         const VectorXd zk = c.col(k).head(n);
-        r = free_ * zk;
+        r = free_sparse_ * zk;
         for (int q = 0; q < n_contacts_; ++q) {
             const RigidContact& b = s_.blocks[static_cast<std::size_t>(q)];
             const int T = tangential(q), N = normal(q), mode = modes[static_cast<std::size_t>(q)];
@@ -299,7 +301,7 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
         rhs(k, r);
         const VectorXd lambda = lu.solve(r);
         c.col(k).tail(L) = lambda;
-        const VectorXd relative = free_ * c.col(k).head(n) - s_.G * lambda;
+        const VectorXd relative = free_sparse_ * c.col(k).head(n) - s_.G * lambda;
         for (int q = 0; q < n_contacts_; ++q)
             if (modes[static_cast<std::size_t>(q)] != stuck)
                 c.col(k).segment(slider(q), directions(q)) = relative.segment(tangential(q), directions(q));
@@ -340,7 +342,7 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
         }
         if (k == K) break;
         const VectorXd zk = c.col(k).head(n);
-        const VectorXd acceleration = base_ * zk + transmit_ * lambda;
+        const VectorXd acceleration = base_sparse_ * zk + transmit_ * lambda;
         c.col(k + 1).head(nm) = c.col(k).segment(nm, nm) / static_cast<double>(k + 1);
         c.col(k + 1).segment(nm, nm) = acceleration / static_cast<double>(k + 1);
         if (nk == 0) continue;
@@ -358,7 +360,7 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
         if (moving.empty()) continue;
         VectorXd r1;
         rhs(k + 1, r1);
-        const VectorXd relative1 = free_ * c.col(k + 1).head(n) - s_.G * lu.solve(r1);
+        const VectorXd relative1 = free_sparse_ * c.col(k + 1).head(n) - s_.G * lu.solve(r1);
         const auto nv = static_cast<Eigen::Index>(moving.size());
         VectorXd b(nv);
         for (Eigen::Index a = 0; a < nv; ++a) {

@@ -74,6 +74,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 #include <memory>
 #include <vector>
 
@@ -315,6 +316,9 @@ private:
     Eigen::MatrixXd free_nodes_;  ///< y_c without contact forces, rows over zhat
     Eigen::MatrixXd base_;        ///< M^-1 (forces on the masses without contact forces), rows over zhat
     Eigen::MatrixXd transmit_;    ///< M^-1 K_mc B
+    /// free_ and base_ as sparse rows (most of their entries are zero: a node's rows see its own
+    /// held position, the modes and the load), for the series' products order by order.
+    Eigen::SparseMatrix<double, Eigen::RowMajor> free_sparse_, base_sparse_;
     /// The largest contact force the flows have met: the scale against which a slipping 3D
     /// contact's normal force is small enough to hold its direction (hold_share).
     double force_scale_ = 0.0;
