@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "hbf/config.hpp"
+#include "hbf/output_file.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -80,6 +81,15 @@ int main(int argc, char** argv) {
                    "with --no-integrator: two periods of the integrator from the exact state at N, 2N, 4N samples")
         ->check(CLI::Range(0, 1 << 20));
     CLI11_PARSE(app, argc, argv);
+    // --save-orbit may not replace an input of the run (the start, the system file): checked first.
+    try {
+        if (!save_file.empty())
+            io::check_outputs({{"--save-orbit", save_file, true, false, false}},
+                              {{"--start", start_file}, {"--config", file}});
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "mitre_exact: %s\n", e.what());
+        return 2;
+    }
     const Eigen::VectorXd given_start = start_file.empty() ? Eigen::VectorXd() : read_state(start_file);
     const io::SystemConfig config = io::read_system_config(file);
     System system = config.system;
