@@ -1,8 +1,9 @@
 // Design studies (frf.hpp, hbf optimize, hbf map): the optimiser against Den Hartog's
 // fixed points and against brute-force scans by the same binary, threads and MPI ranks
 // against the sequential run.
-#include <glog/logging.h>
+#include "glog_catch.hpp"
 
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <functional>
 #include <thread>
@@ -161,6 +162,38 @@ TEST_CASE("optimize_parameter: an optimum at the end of the range is at_bound, n
     CHECK_THROWS_AS(optimize_parameter([&](double c) { return viscous_absorber(r, wa, c, fe); }, capped,
                                        OptimizeOptions{}),  // lower = upper = 0
                     InvalidInput);
+}
+
+TEST_CASE("compute_frfs: a stop request leaves the FRFs not started uncomputed, those done equal to the whole run's",
+          "[design][map]") {
+    auto system = [](int k) {
+        AbsorberParameters p;
+        p.excitation = 0.2 + 0.1 * k;
+        return friction_absorber(p, FrictionLaw::dahl);
+    };
+    FrfSettings s;
+    s.harmonic_balance.harmonics = 5;
+    const auto whole = compute_frfs(4, system, s, 1);
+    // One thread: the request is asked before each FRF and at every step of each; it answers
+    // once the first FRF is done (its steps' asks counted on a run alone).
+    std::atomic<int> asked{0};
+    s.continuation.stop = [&asked] { return ++asked > 1000000 ? std::string("enough") : std::string(); };
+    compute_frf(system(0), s);
+    const int first = asked.load() + 1;  // the first FRF's asks, and the ask before it
+    asked = 0;
+    s.continuation.stop = [&asked, first] { return ++asked > first ? std::string("enough") : std::string(); };
+    const auto early = compute_frfs(4, system, s, 1);
+    REQUIRE(early.size() == 4u);
+    REQUIRE(early[0].points.size() == whole[0].points.size());
+    for (std::size_t i = 0; i < early[0].points.size(); ++i) CHECK(early[0].points[i].omega == whole[0].points[i].omega);
+    CHECK(early[0].branch.status == ContinuationStatus::completed);
+    for (std::size_t k = 1; k < 4; ++k) {
+        CHECK(early[k].points.empty());
+        CHECK(early[k].branch.status == ContinuationStatus::stopped);
+        CHECK_THAT(early[k].branch.message, Catch::Contains("not computed: enough"));
+        CHECK(early[k].peak.state == PeakState::incomplete);
+        CHECK(early[k].verdict.status() != "completed");
+    }
 }
 
 TEST_CASE("compute_frfs: FRFs on threads equal the sequential ones, a bad system is a failed result",

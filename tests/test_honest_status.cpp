@@ -2,13 +2,7 @@
 // exit code 3, never "completed"; the energy balance of every point is checked; the library
 // messages are counted, not printed; inputs that are indeterminate or out of the measured range
 // are refused.
-#include <glog/logging.h>
-
-#include <catch2/catch.hpp>
-// glog's CHECK (an abort) replaces Catch's where Catch comes first (the precompiled header):
-// Catch's again, as Catch defines it, so that a failed check is reported and the case goes on.
-#undef CHECK
-#define CHECK(...) INTERNAL_CATCH_TEST("CHECK", Catch::ResultDisposition::ContinueOnFailure, __VA_ARGS__)
+#include "glog_catch.hpp"
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -664,6 +658,29 @@ TEST_CASE("hbf track --time-limit: the curves so far are written, each stopped, 
     for (const auto& c : s["curves"]) CHECK(c["status"] == "stopped");
     const auto rows = ::test::parse_csv(::test::slurp(csv));
     CHECK(rows.size() > 4);
+}
+
+TEST_CASE("hbf map --time-limit: the FRFs done and the one running are written, the others not computed, exit 3",
+          "[status][cli]") {
+    ::test::TempDir dir;
+    const auto csv = dir.path / "m.csv", json = dir.path / "s.json";
+    // 40 Dahl FRFs at H = 60 in steps of at most 1e-4 on one thread: minutes; stopped after 2 s.
+    const ::test::Result r = ::test::run_hbf("map --law dahl --param mu --values 0.1:2:40 --harmonics 60 --max-step 1e-4 "
+                                                 "--threads 1 --out '" + csv.string() + "' --summary '" + json.string() +
+                                                 "' --time-limit 2",
+                                             dir);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("FRFs are incomplete"));
+    const nlohmann::json s = nlohmann::json::parse(::test::slurp(json));
+    REQUIRE(s["frfs"].size() == 40);
+    int stopped = 0, empty = 0;
+    for (const auto& f : s["frfs"]) {
+        if (f["status"] == "stopped") ++stopped;
+        if (f["status"] == "stopped" && f["message"].get<std::string>().find("not computed") != std::string::npos) ++empty;
+    }
+    CHECK(stopped >= 39);  // the first FRF may finish within the 2 s
+    CHECK(empty >= 38);
+    CHECK(::test::parse_csv(::test::slurp(csv)).size() > 2);
 }
 
 TEST_CASE("StopRequest: the time limit, a caught signal and the crawl watch", "[status][cli]") {

@@ -220,7 +220,9 @@ bool centre_permanent_stick(HarmonicBalance& hb, SolutionPoint& point, double to
 
 /// FRFs of many systems, `threads` at a time (0: the hardware's concurrency), one FRF per
 /// task; result k belongs to systems(k) and equals what compute_frf gives alone (every task
-/// has its own solver state). `done(finished, total)` is called after each FRF (from the
+/// has its own solver state; settings.continuation.stop, asked from every thread, stops the FRFs
+/// running and leaves those not started uncomputed: no point, status stopped, "not computed: ..."
+/// in the branch's message). `done(finished, total)` is called after each FRF (from the
 /// calling thread's lock, never concurrently); may be empty. A task that throws InvalidInput
 /// stops nothing: its result has an empty branch, status start_failed and the message.
 std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>& systems, const FrfSettings& settings,

@@ -27,6 +27,7 @@
 #include "hbf/table.hpp"
 #include "mpi_session.hpp"
 #include "progress.hpp"
+#include "stop_request.hpp"
 #include "study.hpp"
 
 namespace hbf::cli {
@@ -35,7 +36,7 @@ namespace {
 struct MapOptions {
     AbsorberFlags absorber;
     FrfFlags frf;
-    std::string param, values, threads = "0", contact = "1", at, style = "auto", overlay;
+    std::string param, values, threads = "0", contact = "1", at, style = "auto", overlay, time_limit = "0";
     OutputFlags output;
 };
 
@@ -160,6 +161,7 @@ int run(const CLI::App& command, const MapOptions& o) {
         }
     }
     const int threads = parse_count("--threads", o.threads, 0, 4096);
+    const double time_limit = parse_time_limit(o.time_limit);
     HarmonicBalance::validate(parameter.system(values.front()), settings.harmonic_balance);
     if (o.output.dry_run) return root ? o.output.dry_run_done("map") : exit_success;
 
@@ -174,6 +176,11 @@ int run(const CLI::App& command, const MapOptions& o) {
                             "/" + std::to_string(total) + " FRFs" + (mpi.size() > 1 ? " on rank 0" : ""),
                         finished == total);
     };
+    // An interrupt or the time limit stops the FRFs running (their points so far are kept) and
+    // leaves the others uncomputed; everything is written (exit 3). Asked from every thread: the
+    // request's state alone (no crawl watch).
+    StopRequest stop("map", time_limit);
+    settings.continuation.stop = [&stop] { return stop.why(); };
     // Under MPI one thread per rank unless --threads says otherwise (the ranks fill the cores).
     const int workers = mpi.size() > 1 && !given(command, "--threads") ? 1 : threads;
     const std::vector<FrfResult> results = compute_frfs(
@@ -332,6 +339,13 @@ void add_flags(CLI::App& command, MapOptions& o) {
                         "FRFs computed at once, 0..4096; 0 = every core\nFRFs computed at once, 0..4096; 0 = every core. Under mpirun: per rank [default 1]. The CSV "
                         "is the same for any number of threads and ranks")
         ->capture_default_str()->type_name("INT");
+    command.add_option("--time-limit", o.time_limit,
+                       "stop after SECONDS and write the FRFs computed so far (exit 3, status stopped); 0: none\n"
+                       "stop the run after SECONDS of wall time (0: no limit; under mpirun: on every rank) and write what "
+                       "it has computed: the FRFs done, those running up to where they stopped (frf_status stopped), "
+                       "those not started without points (stopped, \"not computed\" in the JSON); exit code 3. An "
+                       "interrupt (Ctrl-C, SIGTERM, SIGHUP) does the same; a second one ends the process without output")
+        ->option_text("SECONDS");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output",
                                       "write a JSON summary to FILE: per value the FRF's status, coverage, largest "
                                       "peak (peak, peak_w, peak_state) and time",
@@ -352,7 +366,8 @@ void add_flags(CLI::App& command, MapOptions& o) {
 start_failed), then the columns of hbf frf:)",
         io::frf_columns(2),
         R"(An FRF that fails is one row with its status and empty fields, and the map goes on. Exit code 3 when
-any FRF failed, is incomplete or has an unbounded resonance (counted on standard error).
+any FRF failed, is incomplete (also stopped by --time-limit or an interrupt) or has an unbounded
+resonance (counted on standard error).
 MPI: mpirun -n K hbf map ... splits the values over K ranks (value k on rank k mod K); rank 0
 gathers and writes.)"});
 }

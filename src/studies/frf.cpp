@@ -615,6 +615,20 @@ std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>&
     auto work = [&]() {
         for (int k = next++; k < count; k = next++) {
             FrfResult r;
+            // After a stop request (settings.continuation.stop: the FRF running stops by itself),
+            // an FRF not started is not computed: no point, status stopped.
+            const std::string stopped = settings.continuation.stop ? settings.continuation.stop() : std::string();
+            if (!stopped.empty()) {
+                r.branch.status = ContinuationStatus::stopped;
+                r.branch.message = "not computed: " + stopped;
+                r.peak.state = PeakState::incomplete;
+                r.verdict = judge_frf(r, settings);
+                const std::lock_guard<std::mutex> guard(lock);
+                results[static_cast<std::size_t>(k)] = std::move(r);
+                ++finished;
+                if (done) done(finished, count);
+                continue;
+            }
             try {
                 System system;
                 {
@@ -676,7 +690,9 @@ Verdict MapTally::verdict() const {
     if (failed > 0)
         v.warning(std::to_string(failed) + " of " + std::to_string(frfs) + " FRFs failed (a stall, a "
                   "failed start or a failed exact polish; their rows say frf_status, the JSON says why)");
-    if (incomplete > 0) v.warning(std::to_string(incomplete) + " FRFs are incomplete (left_range or point_budget)");
+    if (incomplete > 0)
+        v.warning(std::to_string(incomplete) + " FRFs are incomplete (left_range, point_budget, or stopped by --time-limit "
+                  "or an interrupt)");
     if (unbounded > 0)
         v.warning(std::to_string(unbounded) + " FRFs have an unbounded resonance (amplitude_cap: capped at "
                   "--max-amplitude)");
