@@ -143,6 +143,7 @@ void ConeEngine::PatternSolve::correct(Eigen::Ref<Eigen::MatrixXd> x) const {
 
 Eigen::MatrixXd ConeEngine::PatternSolve::solve_on_cones(const Eigen::MatrixXd& e) const {
     const Base& b = *base_;
+    if (e.cols() == 0) return MatrixXd::Zero(e.rows(), 0);
     const auto k = static_cast<Eigen::Index>(b.tangential_rows.size());
     MatrixXd c(2 * k, e.cols());
     MatrixXd rest = e;
@@ -224,9 +225,13 @@ ConeEngine::PatternSolve ConeEngine::pattern_lu(const VectorXd& zhat, const Mode
         columns(tangential(q), j) = 1.0;
         columns(tangential(q) + 1, nk + j) = 1.0;
     }
-    const MatrixXd solved = base->lu.solve(columns);
-    base->on_cos = solved.leftCols(nk);
-    base->on_sin = solved.rightCols(nk);
+    if (nk > 0) {  // (Eigen's solve of an empty right side touches its first entry)
+        const MatrixXd solved = base->lu.solve(columns);
+        base->on_cos = solved.leftCols(nk);
+        base->on_sin = solved.rightCols(nk);
+    } else {
+        base->on_cos = base->on_sin = MatrixXd::Zero(L, 0);
+    }
     pattern_base_ = std::move(base);
     return PatternSolve(pattern_base_, MatrixXd(), {});
 }
