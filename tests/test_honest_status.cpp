@@ -569,6 +569,19 @@ TEST_CASE("compute_frf after a stop: the phases after the branch are skipped and
               Approx(whole.metrics[k].output_max.front()).epsilon(1e-10));
 }
 
+namespace {
+/// `hbf <run>` sent SIGTERM after `seconds` (a shell's background job ignores SIGINT; SIGTERM
+/// takes the same path): its exit code and standard error.
+std::pair<int, std::string> terminated(const ::test::TempDir& dir, const std::string& run, int seconds) {
+    const auto script = dir.path / "run.sh";
+    ::test::write_file(script, "'" + std::string(HBF_EXECUTABLE) + "' " + run + " 2>'" + (dir.path / "err").string() +
+                                   "' &\npid=$!\nsleep " + std::to_string(seconds) + "\nkill -TERM $pid\nwait $pid\necho $? > '" +
+                                   (dir.path / "code").string() + "'\n");
+    REQUIRE(std::system(("bash '" + script.string() + "'").c_str()) == 0);
+    return {std::stoi(::test::slurp(dir.path / "code")), ::test::slurp(dir.path / "err")};
+}
+}  // namespace
+
 TEST_CASE("hbf frf --time-limit and SIGTERM: the points so far are written, status stopped, exit 3",
           "[status][cli]") {
     ::test::TempDir dir;
@@ -588,14 +601,9 @@ TEST_CASE("hbf frf --time-limit and SIGTERM: the points so far are written, stat
     CHECK(std::stod(rows[1][0]) == Approx(0.5));
     std::filesystem::remove(csv);
     std::filesystem::remove(json);
-    // A SIGTERM after 2 s (a shell's background job ignores SIGINT; SIGTERM takes the same path).
-    const auto script = dir.path / "run.sh";
-    ::test::write_file(script, "'" + std::string(HBF_EXECUTABLE) + "' " + run + " 2>'" + (dir.path / "err").string() +
-                                   "' &\npid=$!\nsleep 2\nkill -TERM $pid\nwait $pid\necho $? > '" +
-                                   (dir.path / "code").string() + "'\n");
-    REQUIRE(std::system(("bash '" + script.string() + "'").c_str()) == 0);
-    CHECK(std::stoi(::test::slurp(dir.path / "code")) == 3);
-    CHECK_THAT(::test::slurp(dir.path / "err"), Catch::Contains("interrupted (SIGTERM)"));
+    const auto [code, err] = terminated(dir, run, 2);
+    CHECK(code == 3);
+    CHECK_THAT(err, Catch::Contains("interrupted (SIGTERM)"));
     s = nlohmann::json::parse(::test::slurp(json));
     CHECK(s["status"] == "stopped");
     rows = ::test::parse_csv(::test::slurp(csv));
@@ -625,13 +633,9 @@ TEST_CASE("hbf modes --time-limit and SIGTERM: the backbone's points so far are 
     CHECK(std::stod(rows[1][0]) == Approx(1e-6));
     std::filesystem::remove(csv);
     std::filesystem::remove(json);
-    const auto script = dir.path / "run.sh";
-    ::test::write_file(script, "'" + std::string(HBF_EXECUTABLE) + "' " + run + " 2>'" + (dir.path / "err").string() +
-                                   "' &\npid=$!\nsleep 2\nkill -TERM $pid\nwait $pid\necho $? > '" +
-                                   (dir.path / "code").string() + "'\n");
-    REQUIRE(std::system(("bash '" + script.string() + "'").c_str()) == 0);
-    CHECK(std::stoi(::test::slurp(dir.path / "code")) == 3);
-    CHECK_THAT(::test::slurp(dir.path / "err"), Catch::Contains("interrupted (SIGTERM)"));
+    const auto [code, err] = terminated(dir, run, 2);
+    CHECK(code == 3);
+    CHECK_THAT(err, Catch::Contains("interrupted (SIGTERM)"));
     s = nlohmann::json::parse(::test::slurp(json));
     CHECK(s["status"] == "stopped");
     rows = ::test::parse_csv(::test::slurp(csv));
