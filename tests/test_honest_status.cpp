@@ -580,6 +580,19 @@ std::pair<int, std::string> terminated(const ::test::TempDir& dir, const std::st
     REQUIRE(std::system(("bash '" + script.string() + "'").c_str()) == 0);
     return {std::stoi(::test::slurp(dir.path / "code")), ::test::slurp(dir.path / "err")};
 }
+
+/// The same for a run writing `csv` and the JSON summary `json` (removed first): exit 3, the
+/// signal named, status stopped, more than `rows` rows written.
+void check_terminated(const ::test::TempDir& dir, const std::string& run, const std::filesystem::path& csv,
+                      const std::filesystem::path& json, std::size_t rows) {
+    std::filesystem::remove(csv);
+    std::filesystem::remove(json);
+    const auto [code, err] = terminated(dir, run, 2);
+    CHECK(code == 3);
+    CHECK_THAT(err, Catch::Contains("interrupted (SIGTERM)"));
+    CHECK(nlohmann::json::parse(::test::slurp(json))["status"] == "stopped");
+    CHECK(::test::parse_csv(::test::slurp(csv)).size() > rows);
+}
 }  // namespace
 
 TEST_CASE("hbf frf --time-limit and SIGTERM: the points so far are written, status stopped, exit 3",
@@ -599,15 +612,7 @@ TEST_CASE("hbf frf --time-limit and SIGTERM: the points so far are written, stat
     CHECK(rows.size() > 10);
     CHECK(rows.size() < 5000);
     CHECK(std::stod(rows[1][0]) == Approx(0.5));
-    std::filesystem::remove(csv);
-    std::filesystem::remove(json);
-    const auto [code, err] = terminated(dir, run, 2);
-    CHECK(code == 3);
-    CHECK_THAT(err, Catch::Contains("interrupted (SIGTERM)"));
-    s = nlohmann::json::parse(::test::slurp(json));
-    CHECK(s["status"] == "stopped");
-    rows = ::test::parse_csv(::test::slurp(csv));
-    CHECK(rows.size() > 10);
+    check_terminated(dir, run, csv, json, 10);
     // Bad values are refused before any work.
     r = ::test::run_hbf("frf --time-limit -1 --out '" + csv.string() + "'", dir);
     CHECK(r.exit_code == 2);
@@ -631,15 +636,7 @@ TEST_CASE("hbf modes --time-limit and SIGTERM: the backbone's points so far are 
     REQUIRE(rows.size() > 3);
     CHECK(static_cast<int>(rows.size()) == s["points"].get<int>() + 1);
     CHECK(std::stod(rows[1][0]) == Approx(1e-6));
-    std::filesystem::remove(csv);
-    std::filesystem::remove(json);
-    const auto [code, err] = terminated(dir, run, 2);
-    CHECK(code == 3);
-    CHECK_THAT(err, Catch::Contains("interrupted (SIGTERM)"));
-    s = nlohmann::json::parse(::test::slurp(json));
-    CHECK(s["status"] == "stopped");
-    rows = ::test::parse_csv(::test::slurp(csv));
-    CHECK(rows.size() > 3);
+    check_terminated(dir, run, csv, json, 3);
     r = ::test::run_hbf("modes --time-limit 1e10 --out '" + csv.string() + "'", dir);
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.err, Catch::Contains("--time-limit = 1e10 is out of range"));
