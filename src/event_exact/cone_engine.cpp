@@ -306,10 +306,13 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
         rhs(k, r);
         const VectorXd lambda = lu.solve(r);
         c.col(k).tail(L) = lambda;
-        const VectorXd relative = free_sparse_ * c.col(k).head(n) - s_.G * lambda;
+        // the relative motion q = free_ z - G lambda of the contacts not stuck: their rows only
         for (int q = 0; q < n_contacts_; ++q)
-            if (modes[static_cast<std::size_t>(q)] != stuck)
-                c.col(k).segment(slider(q), directions(q)) = relative.segment(tangential(q), directions(q));
+            if (modes[static_cast<std::size_t>(q)] != stuck) {
+                const int T = tangential(q), d = directions(q);
+                const VectorXd relative = free_sparse_.middleRows(T, d) * c.col(k).head(n) - s_.G.middleRows(T, d) * lambda;
+                c.col(k).segment(slider(q), d) = relative;
+            }
         if (k == 0) {
             // contacts pressing too little for their direction equation (its coefficient
             // mu lambda_N vanishes as they close or open): held this step
@@ -365,14 +368,16 @@ MatrixXd ConeEngine::series(const VectorXd& zhat, const Modes& modes, double t, 
         if (moving.empty()) continue;
         VectorXd r1;
         rhs(k + 1, r1);
-        const VectorXd relative1 = free_sparse_ * c.col(k + 1).head(n) - s_.G * lu.solve(r1);
+        const VectorXd lambda1 = lu.solve(r1);
         const auto nv = static_cast<Eigen::Index>(moving.size());
         VectorXd b(nv);
         for (Eigen::Index a = 0; a < nv; ++a) {
             const auto ja = static_cast<Eigen::Index>(moving[static_cast<std::size_t>(a)]);
             const int q = cones[static_cast<std::size_t>(ja)];
             const int T = tangential(q), S = slider(q);
-            double sum = (k + 1) * (-Ds(ja, 0) * relative1(T) + Dc(ja, 0) * relative1(T + 1));
+            // the next order's relative motion on the moving contact's two rows
+            const Eigen::Vector2d relative1 = free_sparse_.middleRows(T, 2) * c.col(k + 1).head(n) - s_.G.middleRows(T, 2) * lambda1;
+            double sum = (k + 1) * (-Ds(ja, 0) * relative1(0) + Dc(ja, 0) * relative1(1));
             for (int j = 1; j <= k; ++j)
                 sum += (k + 1 - j) * (-Ds(ja, j) * c(S, k + 1 - j) + Dc(ja, j) * c(S + 1, k + 1 - j));
             b(a) = -sum;
