@@ -214,7 +214,6 @@ ConeEngine::PatternSolve ConeEngine::pattern_lu(const VectorXd& zhat, const Mode
         throw std::runtime_error("a contact pattern has no unique contact forces (the friction makes the slipping "
                                  "contacts' normal problem singular)");
     base->modes = modes;
-    base->cones = cones;
     base->theta.resize(nk);
     MatrixXd columns = MatrixXd::Zero(L, 2 * nk);
     for (Eigen::Index j = 0; j < nk; ++j) {

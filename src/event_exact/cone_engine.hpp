@@ -241,8 +241,7 @@ private:
         /// Base: A(theta_0)'s LU for one pattern and A(theta_0)^-1 of its direction columns.
         struct Base {
             Modes modes;
-            std::vector<int> cones;           ///< the slipping 3D contacts
-            Eigen::VectorXd theta;            ///< theta_0, per cone
+            Eigen::VectorXd theta;            ///< theta_0, per slipping 3D contact (in contact order)
             Eigen::PartialPivLU<Eigen::MatrixXd> lu;
             Eigen::MatrixXd on_cos, on_sin;   ///< A0^-1 e_T, A0^-1 e_{T+1} per cone (L x k)
             std::vector<int> normal_rows;     ///< N per cone

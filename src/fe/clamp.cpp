@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <string>
 
-#include "hbf/contact_law.hpp"
+#include "fe/carry_directions.hpp"
 #include "hbf/error.hpp"
 #include "hbf/reduction.hpp"
 
@@ -93,20 +93,7 @@ ClampedSystem clamp(const System& s, const std::vector<int>& fixed) {
             contact.dof = 0;
             contact.other_dof = Contact::ground;
         }
-        for (const LawParameter& p : contact_law(contact.law).parameters()) {
-            if (p.kind == LawParameter::Kind::direction)
-                if (auto at = contact.lists.find(p.key); at != contact.lists.end() && static_cast<int>(at->second.size()) == n) {
-                    const Eigen::VectorXd w = carry(Eigen::Map<const Eigen::VectorXd>(at->second.data(), n), p.key);
-                    at->second.assign(w.data(), w.data() + w.size());
-                }
-            if (p.kind == LawParameter::Kind::direction_rows)
-                if (auto at = contact.tables.find(p.key); at != contact.tables.end() && static_cast<int>(at->second.cols()) == n) {
-                    Eigen::MatrixXd carried(at->second.rows(), m);
-                    for (Eigen::Index r = 0; r < carried.rows(); ++r)
-                        carried.row(r) = carry(at->second.row(r).transpose(), p.key).transpose();
-                    at->second = carried;
-                }
-        }
+        detail::carry_law_directions(contact, k, n, m, carry);
         c.contacts.push_back(std::move(contact));
     }
     return out;

@@ -6,7 +6,7 @@
 #include <set>
 #include <sstream>
 
-#include "hbf/contact_law.hpp"
+#include "fe/carry_directions.hpp"
 #include "hbf/error.hpp"
 #include "hbf/receptance.hpp"
 #include "base/enum_table.hpp"
@@ -387,26 +387,8 @@ ReducedSystem reduce(const System& fe, const ReductionOptions& options) {
         contact.direction = carry(fe.contact_direction(contact), c);
         contact.dof = 0;
         contact.other_dof = Contact::ground;
-        for (const LawParameter& p : contact_law(contact.law).parameters())
-            if (p.kind == LawParameter::Kind::direction)
-                if (auto at = contact.lists.find(p.key); at != contact.lists.end()) {
-                    if (static_cast<int>(at->second.size()) != n)
-                        throw InvalidInput("contact " + std::to_string(c + 1) + ": " + p.key + " has " +
-                                           std::to_string(at->second.size()) + " entries: allowed " + std::to_string(n));
-                    const Eigen::VectorXd w = carry(Eigen::Map<const Eigen::VectorXd>(at->second.data(), n), c);
-                    at->second.assign(w.data(), w.data() + w.size());
-                }
-        for (const LawParameter& p : contact_law(contact.law).parameters())
-            if (p.kind == LawParameter::Kind::direction_rows)
-                if (auto at = contact.tables.find(p.key); at != contact.tables.end()) {
-                    if (static_cast<int>(at->second.cols()) != n)
-                        throw InvalidInput("contact " + std::to_string(c + 1) + ": " + p.key + " has rows of " +
-                                           std::to_string(at->second.cols()) + " entries: allowed " + std::to_string(n));
-                    Eigen::MatrixXd carried(at->second.rows(), model.reduced());
-                    for (Eigen::Index r = 0; r < carried.rows(); ++r)
-                        carried.row(r) = carry(at->second.row(r).transpose(), c).transpose();
-                    at->second = carried;
-                }
+        detail::carry_law_directions(contact, c, n, model.reduced(),
+                                     [&](const Eigen::VectorXd& w, const std::string&) { return carry(w, c); });
         s.contacts.push_back(std::move(contact));
     }
     if (fe.cyclic.active()) {
