@@ -6,7 +6,9 @@
 // solve per step).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <memory>
 
 #include "hbf/config.hpp"
@@ -21,6 +23,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "contact/massless_contacts.hpp"
+#include "hbf/normal_contact.hpp"
 #include "support.hpp"
 
 using namespace hbf;
@@ -576,4 +580,57 @@ TEST_CASE("unilateral contact: the static state under static loads equals law el
     CHECK(mean <= 1e-4);  // the static load's mean deflection (measured 2.4e-5)
     CHECK(m.energy_error <= 1e-8);
     CHECK(tu.regime == m.regime);
+}
+
+TEST_CASE("unilateral contact: the contact problem converges from a warm start on which Newton's halving test stalls, "
+          "to forces that meet Signorini's and Coulomb's conditions",
+          "[unilateral_contact]") {
+    // The mitred bar's 27 nodes at one step of the time integrator at 100 N (tests/data: q0, the
+    // tangential reference, the warm start), G from the model itself. The solution is checked
+    // against the conditions it must meet, independently of the solver: per node no penetration
+    // (q_N <= gap), lambda_N >= 0 and lambda_N (gap - q_N) = 0; |lambda_T| <= mu lambda_N; stuck
+    // (inside the cone) where the node stays at its reference, else slipping along its force.
+    const io::SystemConfig config =
+        io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    const detail::MasslessContacts split = detail::split_massless_contacts(config.system, "the test");
+    std::ifstream in(std::string(HBF_SOURCE_DIR) + "/tests/data/mitre_contact_step.txt");
+    std::string comment;
+    std::getline(in, comment);
+    const Eigen::Index m = split.G.rows();
+    Eigen::VectorXd q0(m), reference(m), warm(m);
+    for (Eigen::Index i = 0; i < m; ++i) REQUIRE(static_cast<bool>(in >> q0(i) >> reference(i) >> warm(i)));
+    for (const bool cold : {false, true}) {
+        INFO((cold ? "from zero" : "from the warm start"));
+        RigidContactSolution solution;
+        if (!cold) solution.lambda = warm;
+        REQUIRE(solve_rigid_contacts(split.blocks, split.G, q0, reference, solution));
+        const Eigen::VectorXd q = q0 - split.G * solution.lambda;
+        const double force = solution.lambda.cwiseAbs().maxCoeff(), length = q0.cwiseAbs().maxCoeff();
+        int stuck = 0, slipping = 0, open = 0;
+        for (const RigidContact& b : split.blocks) {
+            const int n = b.first + b.d;
+            const double normal = solution.lambda(n), gap = b.gap - q(n);
+            CHECK(normal >= -1e-10 * force);
+            CHECK(gap >= -1e-10 * length);
+            CHECK(std::abs(normal * gap) <= 1e-10 * force * length);
+            const Eigen::VectorXd tangential = solution.lambda.segment(b.first, b.d);
+            const Eigen::VectorXd moved = q.segment(b.first, b.d) - reference.segment(b.first, b.d);
+            CHECK(tangential.norm() <= b.mu * normal + 1e-10 * force);
+            if (normal <= 1e-10 * force) {
+                ++open;
+            } else if (tangential.norm() < b.mu * normal * (1.0 - 1e-9)) {
+                ++stuck;
+                CHECK(moved.norm() <= 1e-10 * length);
+            } else {
+                ++slipping;  // moved = s lambda_T with s >= 0: parallel and along the force
+                CHECK(std::abs(moved.norm() * tangential.norm() - moved.dot(tangential)) <=
+                      1e-8 * moved.norm() * tangential.norm() + 1e-10 * length * force);
+            }
+        }
+        // the state the solver reports is the one the conditions give
+        CHECK(stuck == static_cast<int>(std::count(solution.state.begin(), solution.state.end(), 1)));
+        CHECK(open == static_cast<int>(std::count(solution.state.begin(), solution.state.end(), 0)));
+        CHECK(slipping > 0);
+        CHECK(stuck > 0);
+    }
 }

@@ -105,7 +105,9 @@ ElasticContact elastic_element(const Contact& contact);
 /// e = 1 / diag(G): Signorini on the displacement, Coulomb on the increment (stick holds the
 /// reference; a slip moves along the force). Solved by the semi-smooth Newton method with the
 /// exact generalised Jacobian and halving steps, from out.lambda (a warm start; zero when its
-/// size differs), to 1e-12 of the forces' size, at most 100 steps.
+/// size differs), to 1e-12 of the forces' size, at most 100 steps; where that stalls, again with
+/// the steps' test on the residual's 2-norm instead of its largest entry, and both from zero
+/// (out.iterations counts them all).
 struct RigidContact {
     int first = 0;  ///< its first entry in lambda
     int d = 1;      ///< tangential directions
