@@ -13,6 +13,7 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/frf.hpp"
+#include "hbf/rigid_exact.hpp"
 #include "hbf/stability.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -285,6 +286,157 @@ TEST_CASE("Jenkins: the exact route's verdicts confirmed by a perturbed time int
     }
     CHECK(unstable >= 5);
     CHECK(stable >= 10);
+}
+
+namespace {
+
+/// Law unilateral's time integrator (velocity Verlet with the contacts' complementarity problem
+/// every step) over `periods` periods of `samples` steps from `state` ([y, y'] of every DOF):
+/// the state after them.
+Eigen::VectorXd rigid_flow(const System& s, double omega, const Eigen::VectorXd& state, int periods, int samples) {
+    // The integrator's state after `periods` periods is the start of the one it records, which
+    // it integrates once their Poincare change is within the (here loose) steady tolerance.
+    TimeIntegrationOptions o;
+    o.samples_per_period = samples;
+    o.min_periods = o.max_periods = periods;
+    o.steady_tolerance = TimeIntegrationOptions::largest_steady_tolerance;
+    const PeriodicResponse r = integrate_steady_state(s, omega, o, &state);
+    REQUIRE(r.periods == periods + 1);
+    return r.state.head(2 * s.dofs());
+}
+
+/// The rate per period at which a perturbation of the orbit from `start` grows or decays under
+/// the time integrator: two integrations, from start and from start + delta r (r a fixed
+/// pseudo-random direction on the DOFs with mass, delta 1e-8 of the state's size), their
+/// difference d_k after k periods on the DOFs with mass (velocities / omega: the massless nodes'
+/// velocities in the integrator's state are differences over one step); after `settle` periods,
+/// over the `periods` that follow: (|d_settle+periods| / |d_settle|)^(1 / periods).
+double integrator_rate(const System& s, double omega, const Eigen::VectorXd& start, int settle, int periods,
+                       int samples) {
+    const int n = s.dofs();
+    const Eigen::VectorXd mass = Eigen::MatrixXd(s.mass).diagonal();
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(2 * n);
+    for (int i = 0; i < n; ++i) {
+        if (mass(i) == 0.0) continue;
+        r(i) = std::sin(1.0 + 2.3 * i);
+        r(n + i) = omega * std::cos(0.7 + 1.9 * i);
+    }
+    const double delta = 1e-8 * std::max(1.0, start.head(n).cwiseAbs().maxCoeff());
+    Eigen::VectorXd a = start, b = start + delta * r.normalized();
+    auto gap = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {  // on the DOFs with mass
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i)
+            if (mass(i) != 0.0) sum += std::pow(x(i) - y(i), 2) + std::pow((x(n + i) - y(n + i)) / omega, 2);
+        return std::sqrt(sum);
+    };
+    a = rigid_flow(s, omega, a, settle, samples);
+    b = rigid_flow(s, omega, b, settle, samples);
+    const double first = gap(a, b);
+    a = rigid_flow(s, omega, a, periods, samples);
+    b = rigid_flow(s, omega, b, periods, samples);
+    return std::pow(gap(a, b) / first, 1.0 / periods);
+}
+
+}  // namespace
+
+TEST_CASE("law unilateral: the exact route's verdicts confirmed by a perturbed time integration", "[stability][exact]") {
+    // liftoff3_rigid.toml between w = 2.1 and 2.7: stick-slip with lift-off, stable and unstable
+    // orbits (harmonic balance at H = 10, its points polished by the rigid-contact exact solver,
+    // whose exact monodromy gives the verdicts). Each verdict's largest multiplier against the
+    // rate at which the time integrator (1024 steps a period, independent of the event solver)
+    // amplifies a perturbation of the same orbit, at every twelfth point.
+    const io::SystemConfig config = io::read_system_config(source + "/examples/systems/liftoff3_rigid.toml");
+    FrfSettings settings;
+    settings.harmonic_balance = {10, 0};
+    settings.continuation.omega_start = 2.1;
+    settings.continuation.omega_end = 2.7;
+    settings.exact = true;
+    settings.stability = true;
+    HarmonicBalance hb(config.system, settings.harmonic_balance);
+    const FrfResult frf = compute_frf(hb, settings);
+    REQUIRE(frf.polish);
+    REQUIRE(frf.stability);
+    INFO(frf.stability->summary());
+    CHECK(frf.stability->uncertain == 0);
+    CHECK(frf.stability->not_computed == 0);
+    CHECK(frf.stability->unstable_points >= 10);
+    CHECK(frf.stability->stable >= 10);
+    StabilityAnalyser analyse(hb);
+    int unstable = 0, stable = 0;
+    for (std::size_t k = 0; k < frf.points.size(); k += 12) {
+        const SolutionPoint& p = frf.points[k];
+        const FloquetResult& r = frf.stability->points[k];
+        REQUIRE(r.route == "exact");
+        const ExactOrbit orbit = rigid_periodic_orbit(config.system, p.omega, analyse.start_state(p));
+        REQUIRE(orbit.converged);
+        CHECK(std::abs(orbit.max_multiplier - r.margin) <= 1e-6 * r.margin);
+        // long enough for the largest multiplier to dominate and to move the gap a hundredfold
+        const int periods = std::clamp(static_cast<int>(std::ceil(std::log(100.0) / std::abs(std::log(r.margin)))), 4, 80);
+        const double rate = integrator_rate(config.system, p.omega, orbit.state, 8, periods, 1024);
+        INFO("w = " << p.omega << ", verdict " << to_string(r.stability) << ", largest |mu| " << r.margin
+                    << ", the integrator's rate " << rate << " over " << periods << " periods");
+        CHECK(std::abs(rate - r.margin) <= 0.025 * r.margin);
+        CHECK((rate > 1.0) == (r.stability == Stability::unstable));
+        ++(r.stability == Stability::unstable ? unstable : stable);
+    }
+    CHECK(unstable >= 3);
+    CHECK(stable >= 3);
+}
+
+TEST_CASE("law unilateral without the polish: each point's exact orbit from its HB state, and a stop request ends "
+          "the analysis at the point it answers before",
+          "[stability][exact]") {
+    const io::SystemConfig config = io::read_system_config(source + "/examples/systems/liftoff3_rigid.toml");
+    FrfSettings settings;
+    settings.harmonic_balance = {10, 0};
+    settings.continuation.omega_start = 2.1;
+    settings.continuation.omega_end = 2.7;
+    settings.exact = true;
+    settings.stability = true;
+    HarmonicBalance hb(config.system, settings.harmonic_balance);
+    const FrfResult polished = compute_frf(hb, settings);
+    REQUIRE(polished.stability);
+    // The HB branch alone (no polish): the analyser solves each point's exact orbit from the HB
+    // state; at H = 10 those are the polished points' orbits, with their verdicts.
+    settings.exact = false;
+    const FrfResult plain = compute_frf(hb, settings);
+    REQUIRE(plain.stability);
+    REQUIRE(plain.points.size() == polished.points.size());
+    int same = 0;
+    for (std::size_t k = 0; k < plain.points.size(); ++k) {
+        const FloquetResult& a = plain.stability->points[k];
+        const FloquetResult& b = polished.stability->points[k];
+        CHECK(a.route == "exact");
+        if (a.stability == Stability::uncertain) continue;  // HB 25 % off the exact orbit there
+        CHECK(a.stability == b.stability);
+        CHECK(std::abs(a.margin - b.margin) <= 1e-6 * b.margin);
+        ++same;
+    }
+    CHECK(same >= static_cast<int>(plain.points.size()) - 3);
+    // A stop answering from its 40th question on (asked before every point and after every
+    // period the exact solver flows): the points before the one it answered in are the whole
+    // run's, that one and the rest not computed, with the reason.
+    int asked = 0;
+    StabilityOptions options;
+    options.stop = [&asked]() { return ++asked >= 40 ? std::string("the test's stop") : std::string(); };
+    const BranchStability stopped = analyse_branch_stability(hb, plain.points, options);
+    CHECK(stopped.stopped == "the test's stop");
+    REQUIRE(stopped.points.size() == plain.points.size());
+    std::size_t first = 0;
+    while (first < stopped.points.size() && stopped.points[first].stability != Stability::not_computed) ++first;
+    CHECK(first >= 1);
+    CHECK(first < 20);
+    for (std::size_t k = 0; k < stopped.points.size(); ++k) {
+        INFO("point " << k);
+        if (k < first) {
+            CHECK(stopped.points[k].stability == plain.stability->points[k].stability);
+            CHECK(stopped.points[k].margin == plain.stability->points[k].margin);
+        } else {
+            CHECK(stopped.points[k].stability == Stability::not_computed);
+            CHECK(stopped.points[k].message == "stopped: the test's stop");
+        }
+    }
+    CHECK(stopped.not_computed == static_cast<int>(plain.points.size() - first));
 }
 
 TEST_CASE("Hill's sorted selection agrees with the monodromy on the shipped smooth cases", "[stability]") {

@@ -513,7 +513,31 @@ TEST_CASE("unilateral contact from a system file: examples/systems/liftoff3_rigi
                                 "excitation = [1.0, 0.0]\n[[contact]]\ndof = 1\nlaw = \"unilateral\"\n"
                                 "friction_coefficient = 0.3\nnormal_direction = [0.0, 1.0]\n";
     ::test::check_bad_config(massive, {"contact 1", "carries mass", "massless contact coordinates"}, dir);
-    ::test::check_bad_input("frf --config '" + example + "' --stability on", {"law unilateral", "no stability analysis"}, dir);
+    // --stability: the exact orbits' verdicts (tests/test_stability.cpp checks them against the
+    // integrator): between w = 2.2 and 2.7 unstable intervals, written and summarised
+    const ::test::fs::path table = dir.path / "stability.csv", stability = dir.path / "stability.json";
+    const ::test::Result st = ::test::run_hbf("frf --config '" + example + "' --stability on --wmin 2.2 --wmax 2.7 --out '" +
+                                                  table.string() + "' --summary '" + stability.string() + "'",
+                                              dir);
+    INFO(st.err);
+    REQUIRE(st.exit_code == 0);
+    const nlohmann::json verdicts = nlohmann::json::parse(::test::slurp(stability)).at("stability");
+    CHECK(verdicts.at("unstable").get<int>() > 10);
+    CHECK(verdicts.at("stable").get<int>() > 10);
+    CHECK(verdicts.at("uncertain").get<int>() == 0);
+    CHECK(verdicts.at("unstable_intervals").size() >= 1);
+    const auto stability_rows = ::test::parse_csv(::test::slurp(table));
+    const auto column = std::find(stability_rows[0].begin(), stability_rows[0].end(), "stable") - stability_rows[0].begin();
+    int unstable_rows = 0;
+    for (std::size_t k = 1; k < stability_rows.size(); ++k) unstable_rows += stability_rows[k][static_cast<std::size_t>(column)] == "false";
+    CHECK(unstable_rows == verdicts.at("unstable").get<int>());
+    // stability comes from the exact solver: refused where that solver refuses the model
+    std::string second = ::test::slurp(example);
+    second.replace(second.find("excitation ="), 0, "excitation_harmonic = 2\n");
+    const ::test::fs::path harmonic = dir.path / "harmonic2.toml";
+    ::test::write_file(harmonic, second);
+    ::test::check_bad_input("frf --config '" + harmonic.string() + "' --stability on",
+                            {"stability of law unilateral", "excitation_harmonic = 2", "allowed 1"}, dir);
     ::test::check_bad_input("frf --law unilateral", {"law = unilateral has no preset"}, dir);
     // time integration: a damped massless node is refused, naming it
     const std::string damped = head + "friction_coefficient = 0.3\n" + normal +

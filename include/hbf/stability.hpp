@@ -33,7 +33,10 @@
 // Exact Coulomb and Jenkins contacts are not differentiable: their verdict comes from the
 // event-exact solver (event_exact.hpp: exact monodromy with saltation matrices), started from
 // the HB solution's state at t = 0; it is `uncertain` when that exact orbit is not the HB one
-// (Newton failed, or y_max differs by more than exact_gap).
+// (Newton failed, or y_max differs by more than exact_gap). Rigid unilateral contacts (law
+// unilateral on massless nodes) likewise from the rigid-contact exact solver (rigid_exact.hpp:
+// in 2D the exact monodromy, in 3D the flow's derivative or the period map's central
+// differences where that derivative fails its check). Law elastic has no verdict.
 #pragma once
 
 #include <Eigen/Dense>
@@ -79,6 +82,11 @@ struct StabilityOptions {
     /// analyse_branch_stability's progress: called after each point with the points done and
     /// their total; must not throw. May be empty.
     std::function<void(int done, int total)> progress;
+    /// Asked by analyse_branch_stability before every point (and by the exact routes' solvers
+    /// after every period): a non-empty answer (why: an interrupt, a time limit) leaves that point
+    /// and the rest not_computed with that answer as message (BranchStability::stopped). Empty:
+    /// never asked.
+    std::function<std::string()> stop;
     /// Throws InvalidInput naming the first option out of range.
     void validate() const;
 };
@@ -98,10 +106,11 @@ struct FloquetResult {
 };
 
 /// Why the stability of this system cannot be analysed (one sentence), empty when it can:
-/// every contact smooth (dahl, lugre, coulomb-reg) with M positive definite, or every contact
+/// every contact smooth (dahl, lugre, coulomb-reg) with M positive definite, every contact
 /// exact coulomb/jenkins where the exact polish can run (exact_polish_refusal: on the structure,
 /// or on its modal form beyond exact_solver_max_dofs, whose verdicts then come from the polish
-/// only: a point it did not polish has none).
+/// only: a point it did not polish has none), or every contact of law unilateral where the
+/// rigid-contact exact solver can run (rigid_solver_refusal).
 std::string stability_refusal(const System& system);
 
 /// Analyses points of one HarmonicBalance (its system and harmonics).
@@ -157,6 +166,9 @@ struct BranchStability {
     int sorting_disagreements = 0;
     int both_confident = 0;           ///< points where both routes ran and were confident
     double seconds = 0;
+    /// Why StabilityOptions::stop ended the analysis ("" where it did not): the points from
+    /// there on are not_computed.
+    std::string stopped;
     /// One line: counts, disagreements, unstable intervals, time.
     std::string summary() const;
 };
@@ -173,7 +185,8 @@ void find_bifurcations(const std::vector<SolutionPoint>& points, double toleranc
 void mark_bifurcations(const BranchStability& b, std::vector<SolutionPoint>& points);
 
 /// Analyses `points` (a branch in order, then samples of kind sample). With `polish` (the
-/// exact polish of these very points, same order), coulomb/jenkins verdicts are read from it.
+/// exact polish of these very points, same order), the verdicts of the points it polished
+/// (coulomb, jenkins, unilateral) are read from it.
 BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<SolutionPoint>& points,
                                          const StabilityOptions& options,
                                          const std::vector<ExactPoint>* polish = nullptr);

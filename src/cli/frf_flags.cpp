@@ -146,9 +146,11 @@ void FrfFlags::add_to(CLI::App& command) {
                        "coulomb-reg: hill (Hill's matrix of the variational equation on the HB harmonics, the d "
                        "exponents with the smallest |Im| kept: the classical sorted selection), monodromy (the "
                        "variational equation integrated over one period by CVODE: no sorting), both or on (both; "
-                       "uncertain where they disagree); coulomb, jenkins: any value but off takes the event-exact "
-                       "orbit's multipliers (the polish's, when it runs). Needs M positive definite. Off by default: on costs "
-                       "about 10 times the FRF for the smooth laws (README, Stability)")
+                       "uncertain where they disagree); coulomb, jenkins, unilateral: any value but off takes the event-exact "
+                       "orbit's multipliers (the polish's, when it runs; else the exact orbit solved from each HB point, "
+                       "uncertain where it is not that point's orbit); elastic: refused. Needs M positive definite "
+                       "(unilateral: on the DOFs with mass). Off by default: on costs about 10 times the FRF for the "
+                       "smooth laws (docs: Stability)")
         ->capture_default_str()->type_name("off|on|hill|monodromy|both");
 }
 

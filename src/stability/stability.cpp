@@ -11,6 +11,7 @@
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
+#include "hbf/rigid_exact.hpp"
 #include "hbf/contact_force.hpp"
 #include "stability/monodromy.hpp"
 #include "stability/variational.hpp"
@@ -78,6 +79,10 @@ std::string stability_refusal(const System& system) {
         if (!system.has_positive_definite_mass())
             return "the mass matrix is singular (massless DOFs): the stability analysis needs M positive definite";
         return "";
+    }
+    if (rigid_contacts_only(system)) {
+        const std::string why = rigid_solver_refusal(system);
+        return why.empty() ? "" : "the stability of law unilateral comes from the rigid-contact exact solver, which refuses: " + why;
     }
     for (const Contact& c : system.contacts)
         if (!contact_law(c.law).time_domain())
@@ -154,16 +159,27 @@ FloquetResult StabilityAnalyser::operator()(const SolutionPoint& point) {
     if (!smooth_) {
         // Coulomb / Jenkins: the event-exact orbit from the HB state at t = 0. A model beyond the
         // exact solver's size has its verdicts from the polish on its modal form
-        // (analyse_branch_stability's `polish`); without it, none.
-        if (!exact_solver_supports(hb_.system())) {
+        // (analyse_branch_stability's `polish`); without it, none. Law unilateral: the
+        // rigid-contact exact orbit from the same state (y and y' alone).
+        const bool rigid = rigid_contacts_only(hb_.system());
+        if (!rigid && !exact_solver_supports(hb_.system())) {
             r.message = "the stability of coulomb/jenkins contacts on this model comes from the exact polish on its "
                         "modal form (modal_exact.hpp), which did not run here (exact off)";
             return r;
         }
-        const ExactOrbit orbit = exact_periodic_orbit(hb_.system(), point.omega, start_state(point));
+        ExactOptions exact;
+        exact.stop = options_.stop;
+        const ExactOrbit orbit = rigid ? rigid_periodic_orbit(hb_.system(), point.omega, start_state(point), exact)
+                                       : exact_periodic_orbit(hb_.system(), point.omega, start_state(point), exact);
         r.route = "exact";
         r.multipliers = orbit.multipliers;
         r.margin = orbit.max_multiplier;
+        if (!orbit.stopped.empty()) {
+            r.multipliers.resize(0);
+            r.margin = std::numeric_limits<double>::quiet_NaN();
+            r.message = "stopped: " + orbit.stopped;
+            return r;
+        }
         if (!orbit.converged) {
             r.stability = Stability::uncertain;
             r.message = "the exact solver did not converge from the HB state: " + orbit.message;
@@ -356,9 +372,15 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
                 r.message = "the exact polish failed here: " + e.message;
             }
             b.points.push_back(r);
+        } else if (!(b.stopped.empty() && (b.stopped = options.stop ? options.stop() : std::string()).empty())) {
+            FloquetResult r;  // this point and the rest: not computed
+            r.message = "stopped: " + b.stopped;
+            b.points.push_back(r);
         } else {
             b.points.push_back(analyse(points[k]));
             FloquetResult& r = b.points.back();
+            if (r.stability == Stability::not_computed && r.message.rfind("stopped: ", 0) == 0)
+                b.stopped = r.message.substr(9);  // the exact solver's stop, within the point
             // At a located fold a multiplier of the smooth problem is 1 by definition: the
             // verdict changes there, and the harmonic-balance branch may meet it at a corner (a
             // time sample's |v| changing sign) whose one-sided monodromy says 1.1 where time

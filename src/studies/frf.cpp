@@ -537,9 +537,14 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     r.hb_error = error.largest;
     r.hb_error_omega = error.omega;
     if (settings.stability && !stop_before("the stability analysis")) {
-        r.stability = analyse_branch_stability(hb, r.points, settings.stability_options,
-                                               r.polish ? &r.exact : nullptr);
+        StabilityOptions so = settings.stability_options;
+        if (!so.stop) so.stop = settings.continuation.stop;
+        r.stability = analyse_branch_stability(hb, r.points, so, r.polish ? &r.exact : nullptr);
         mark_bifurcations(*r.stability, r.points);
+        if (!r.stability->stopped.empty() && stopped.empty()) {
+            stopped = r.stability->stopped;
+            skipped.emplace_back("the stability analysis of the remaining points");
+        }
     }
     if (!skipped.empty() && r.branch.status < ContinuationStatus::stopped) {
         // the branch was complete (or capped); what followed it was not
