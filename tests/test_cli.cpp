@@ -552,6 +552,50 @@ TEST_CASE("hbf frf --at: a frequency within rounding of wmin is sampled, one out
     CHECK(samples == 2);
 }
 
+TEST_CASE("hbf frf with wmax = wmin: one point from a cold start, the branch's solution at that w", "[cli]") {
+    // The paper's absorber (dahl, H = 5): the point at w = 0.8 alone, from the start-point search,
+    // against the --at sample of the whole branch at 0.8 (the response is unique there); and the
+    // system file liftoff3_rigid.toml with [frequency] wmin = wmax. A band below zero width is refused.
+    TempDir dir;
+    const fs::path one = dir.path / "one.csv", json = dir.path / "one.json", band = dir.path / "band.csv";
+    const Result r = run_hbf("frf --law dahl --harmonics 5 --wmin 0.8 --wmax 0.8 --quiet --out '" + one.string() +
+                                 "' --summary '" + json.string() + "'",
+                             dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const Result whole = run_hbf("frf --law dahl --harmonics 5 --at 0.8 --quiet --out '" + band.string() + "'", dir);
+    REQUIRE(whole.exit_code == 0);
+    const auto rows = parse_csv(slurp(one));
+    REQUIRE(rows.size() == 2);
+    CHECK(std::stod(rows[1][0]) == 0.8);
+    CHECK(rows[1][9] == "regular");
+    std::vector<std::string> sample;
+    for (const auto& row : parse_csv(slurp(band)))
+        if (row.size() > 9 && row[9] == "sample") sample = row;
+    REQUIRE(!sample.empty());
+    for (int column : {1, 2, 3, 4, 7}) {  // y1_max, y2_max, y1_amp1, y2_amp1, energy
+        INFO("column " << rows[0][static_cast<std::size_t>(column)]);
+        CHECK(std::stod(rows[1][static_cast<std::size_t>(column)]) ==
+              Approx(std::stod(sample[static_cast<std::size_t>(column)])).epsilon(1e-8));
+    }
+    const nlohmann::json summary = nlohmann::json::parse(slurp(json));
+    CHECK(summary.at("status") == "completed");
+    CHECK_THAT(summary.at("message").get<std::string>(), Catch::Contains("one point") && Catch::Contains("cold start"));
+    // a system file whose band is one frequency
+    const fs::path file = dir.path / "one.toml";
+    std::string text = slurp(fs::path(HBF_SOURCE_DIR) / "examples/systems/liftoff3_rigid.toml");
+    const std::string::size_type at = text.find("wmin = 0.3\nwmax = 3.0");
+    REQUIRE(at != std::string::npos);
+    text.replace(at, std::string("wmin = 0.3\nwmax = 3.0").size(), "wmin = 1.1\nwmax = 1.1");
+    write_file(file, text);
+    const Result config = run_hbf("frf --config '" + file.string() + "' --quiet --dry-run", dir);
+    INFO(config.err);
+    CHECK(config.exit_code == 0);
+    const Result below = run_hbf("frf --law dahl --wmin 0.8 --wmax 0.7", dir);
+    CHECK(below.exit_code == 2);
+    CHECK_THAT(below.err, Catch::Contains("wmax") && Catch::Contains("wmax = wmin: one point"));
+}
+
 TEST_CASE("Progress: a redrawn line on a terminal, one kept line per interval into a log, nothing when off",
           "[cli]") {
     // hbf frf on a 10,000-DOF beam runs for 20 minutes: into a log file (standard error not a

@@ -25,7 +25,10 @@ namespace hbf {
 
 struct ContinuationOptions {
     double omega_start = 0.5;     ///< first frequency (the branch starts here)
-    double omega_end = 1.6;       ///< last frequency (the branch stops here)
+    /// Last frequency (the branch stops here), >= omega_start; equal to it: one point, solved
+    /// from a cold start by the start-point search (the linear guesses, from H = 12 on the
+    /// solution with half the harmonics, then a ramp of the force), no continuation.
+    double omega_end = 1.6;
     /// Frequency scale of the arclength: distances are measured in (X / x_ref, omega /
     /// omega_scale), both dimensionless, so the same physical problem in other units gives
     /// the same branch. 0: omega_end. >= 0.

@@ -62,7 +62,9 @@ void add_discretisation_flags(CLI::App& command, std::string& harmonics, std::st
 
 void FrfFlags::add_to(CLI::App& command) {
     command.add_option("--wmin", wmin, "first frequency w of the branch, > 0")->capture_default_str()->type_name("NUMBER");
-    command.add_option("--wmax", wmax, "last frequency w of the branch, > wmin")->capture_default_str()->type_name("NUMBER");
+    command.add_option("--wmax", wmax, "last frequency w of the branch, > wmin (= wmin: one point, from a cold start)\nlast frequency w of the branch, > wmin; "
+                       "= wmin: one point at that w, solved from a cold start (the linear guesses, from H = 12 on the "
+                       "solution with half the harmonics, then a ramp of the force from 1e-3 of it), no continuation")->capture_default_str()->type_name("NUMBER");
     add_discretisation_flags(command, harmonics, time_samples,
                              "10 with the exact polish (HB only supplies the branch and the starting guesses); "
                              "without it the largest of the contacts' laws' own, lowered where the unknowns would "

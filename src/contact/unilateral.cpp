@@ -42,7 +42,8 @@
 //       tied to its structure by a spring;
 //   3D: mean lambda_T = 0 (rotation-equivariant; law elastic takes the largest-margin centre
 //       instead, which equals it for a centrally symmetric cycle).
-// Not smooth (no stability verdict), no exact-stick solver; the time-domain reference is its own
+// Not smooth (its stability verdicts come from the rigid-contact exact solver, rigid_exact.hpp), no
+// exact-stick solver; the time-domain reference is its own
 // integrator with a complementarity solve per step (time_integration/unilateral_contacts.hpp).
 #include <algorithm>
 #include <cmath>

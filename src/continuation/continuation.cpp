@@ -489,7 +489,8 @@ bool stop_now(const ContinuationOptions& o, BranchResult& result) {
     return true;
 }
 
-/// Branch 1 from omega_start and, after an amplitude cap, branch 2 from omega_end.
+/// Branch 1 from omega_start and, after an amplitude cap, branch 2 from omega_end; where they
+/// are equal, the start alone (one point).
 void follow_branches(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, BranchResult& result) {
     Eigen::VectorXd x;
     double x_scale = 1.0, res = 0.0;
@@ -498,6 +499,19 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
         result.status = ContinuationStatus::start_failed;
         result.message = "no converged starting point at w = " + format_number(o.omega_start) + " (residual " +
                          format_number(res) + ")";
+        return;
+    }
+    if (o.omega_end == o.omega_start) {
+        SolutionPoint p;
+        p.omega = o.omega_start;
+        p.x = x;
+        p.iterations = it;
+        p.residual = res;
+        result.points.push_back(p);
+        result.status = ContinuationStatus::completed;
+        result.message = "one point at w = " + format_number(o.omega_start) +
+                         ", solved from a cold start (no continuation: the folds and other solutions at this w are not "
+                         "searched)";
         return;
     }
     Trace first = trace(hb, corrector, o, x, o.omega_start, it, res, +1, o.omega_start, o.omega_end, x_scale, 1,
@@ -555,9 +569,10 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
 void validate(const ContinuationOptions& o) {
     require_positive(o.omega_start, "wmin", "lowest frequency");
     require_positive(o.omega_end, "wmax", "highest frequency");
-    if (!(o.omega_end > o.omega_start))
+    if (!(o.omega_end >= o.omega_start))
         throw InvalidInput("wmax (highest frequency) = " + format_number(o.omega_end) +
-                           " is out of range: allowed wmax > wmin = " + format_number(o.omega_start));
+                           " is out of range: allowed wmax > wmin = " + format_number(o.omega_start) +
+                           " (or wmax = wmin: one point, solved from a cold start)");
     if (!(o.max_step >= o.smallest_max_step && o.max_step <= o.largest_max_step))
         throw InvalidInput("max_step = " + format_number(o.max_step) + " is out of range: allowed " +
                            format_number(o.smallest_max_step) + ".." + format_number(o.largest_max_step));
@@ -590,7 +605,8 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     follow_branches(hb, corrector, o, result);
     if (o.locate_folds) insert_folds(hb, corrector, o.corrector, frequency_scale(o), result, o.fold_progress, o.stop);
     if (o.locate_transitions) insert_transitions(hb, corrector, o.corrector, frequency_scale(o), result, o.stop);
-    result.coverage = branch_coverage(result.points, o.omega_start, o.omega_end);
+    result.coverage = o.omega_end == o.omega_start ? (result.points.empty() ? 0.0 : 1.0)
+                                                   : branch_coverage(result.points, o.omega_start, o.omega_end);
     result.corrector = corrector.statistics();
     result.evaluation = hb.statistics() - before;
     result.seconds = watch.lap();

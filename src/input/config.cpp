@@ -547,8 +547,9 @@ SystemConfig read_system_config(const std::string& path) {
             fail(path, t->get("wmin")->source(), "frequency.wmin", format_number(*config.choices.omega_start) + " is out of range: allowed > 0");
         if (config.choices.omega_end && !(*config.choices.omega_end > 0.0 && std::isfinite(*config.choices.omega_end)))
             fail(path, t->get("wmax")->source(), "frequency.wmax", format_number(*config.choices.omega_end) + " is out of range: allowed > 0");
-        if (config.choices.omega_start && config.choices.omega_end && !(*config.choices.omega_end > *config.choices.omega_start))
-            fail(path, t->get("wmax")->source(), "frequency.wmax", "must exceed wmin = " + format_number(*config.choices.omega_start));
+        if (config.choices.omega_start && config.choices.omega_end && !(*config.choices.omega_end >= *config.choices.omega_start))
+            fail(path, t->get("wmax")->source(), "frequency.wmax",
+                 "must exceed wmin = " + format_number(*config.choices.omega_start) + " (or equal it: one point)");
     }
     if (const toml::node* node = root.get("solver")) {
         const toml::table* t = node->as_table();

@@ -47,7 +47,7 @@ const std::vector<ConfigKey>& config_keys() {
         {"interface", "preload_pressure", "normal pressure at zero displacement; each node's preload is it times the node's area"},
 
         {"frequency", "wmin", "first frequency of the branch, > 0"},
-        {"frequency", "wmax", "last frequency of the branch, > wmin"},
+        {"frequency", "wmax", "last frequency of the branch, > wmin (= wmin: one point, solved from a cold start)"},
 
         {"solver", "harmonics", "number of harmonics H, 1..100 (default: the laws' own)"},
         {"solver", "time_samples", "AFT time samples per period N_t > 2H (0: automatic)"},
