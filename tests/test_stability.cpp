@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
@@ -46,6 +47,27 @@ SolutionPoint solve(HarmonicBalance& hb, double omega) {
     p.x = hb.linear_guess(omega);
     REQUIRE(corrector.solve_at(p.x, omega, hb.unknown_scale(p.x), p.iterations, p.residual));
     return p;
+}
+
+/// An FRF with --stability of a shipped system file at H harmonics over [wmin, wmax], its
+/// HarmonicBalance kept for the checks that follow.
+struct StabilityRun {
+    io::SystemConfig config;
+    std::unique_ptr<HarmonicBalance> hb;
+    FrfResult frf;
+};
+StabilityRun stability_run(const std::string& file, int harmonics, double wmin, double wmax, bool exact) {
+    StabilityRun run;
+    run.config = io::read_system_config(source + "/examples/systems/" + file);
+    FrfSettings settings;
+    settings.harmonic_balance = {harmonics, 0};
+    settings.continuation.omega_start = wmin;
+    settings.continuation.omega_end = wmax;
+    settings.exact = exact;
+    settings.stability = true;
+    run.hb = std::make_unique<HarmonicBalance>(run.config.system, settings.harmonic_balance);
+    run.frf = compute_frf(*run.hb, settings);
+    return run;
 }
 
 /// |mu| of every expected multiplier has a partner in `mu` within `tolerance`.
@@ -136,14 +158,9 @@ TEST_CASE("Floquet multipliers of a linear Dahl oscillator: Hill and the monodro
 TEST_CASE("Dahl superharmonic folds: every verdict confirmed by a perturbed time integration", "[stability]") {
     // examples/systems/dahl_superharmonic_fold.toml: the branch folds twice near w = 0.198; the
     // part between the folds is unstable.
-    const io::SystemConfig config = io::read_system_config(source + "/examples/systems/dahl_superharmonic_fold.toml");
-    FrfSettings settings;
-    settings.harmonic_balance = {20, 0};
-    settings.continuation.omega_start = 0.17;
-    settings.continuation.omega_end = 0.23;
-    settings.stability = true;
-    HarmonicBalance hb(config.system, settings.harmonic_balance);
-    const FrfResult frf = compute_frf(hb, settings);
+    const StabilityRun run = stability_run("dahl_superharmonic_fold.toml", 20, 0.17, 0.23, false);
+    HarmonicBalance& hb = *run.hb;
+    const FrfResult& frf = run.frf;
     REQUIRE(frf.branch.status == ContinuationStatus::completed);
     REQUIRE(frf.stability);
     const BranchStability& b = *frf.stability;
@@ -345,15 +362,10 @@ TEST_CASE("law unilateral: the exact route's verdicts confirmed by a perturbed t
     // whose exact monodromy gives the verdicts). Each verdict's largest multiplier against the
     // rate at which the time integrator (1024 steps a period, independent of the event solver)
     // amplifies a perturbation of the same orbit, at every twelfth point.
-    const io::SystemConfig config = io::read_system_config(source + "/examples/systems/liftoff3_rigid.toml");
-    FrfSettings settings;
-    settings.harmonic_balance = {10, 0};
-    settings.continuation.omega_start = 2.1;
-    settings.continuation.omega_end = 2.7;
-    settings.exact = true;
-    settings.stability = true;
-    HarmonicBalance hb(config.system, settings.harmonic_balance);
-    const FrfResult frf = compute_frf(hb, settings);
+    const StabilityRun run = stability_run("liftoff3_rigid.toml", 10, 2.1, 2.7, true);
+    const io::SystemConfig& config = run.config;
+    HarmonicBalance& hb = *run.hb;
+    const FrfResult& frf = run.frf;
     REQUIRE(frf.polish);
     REQUIRE(frf.stability);
     INFO(frf.stability->summary());
@@ -386,20 +398,14 @@ TEST_CASE("law unilateral: the exact route's verdicts confirmed by a perturbed t
 TEST_CASE("law unilateral without the polish: each point's exact orbit from its HB state, and a stop request ends "
           "the analysis at the point it answers before",
           "[stability][exact]") {
-    const io::SystemConfig config = io::read_system_config(source + "/examples/systems/liftoff3_rigid.toml");
-    FrfSettings settings;
-    settings.harmonic_balance = {10, 0};
-    settings.continuation.omega_start = 2.1;
-    settings.continuation.omega_end = 2.7;
-    settings.exact = true;
-    settings.stability = true;
-    HarmonicBalance hb(config.system, settings.harmonic_balance);
-    const FrfResult polished = compute_frf(hb, settings);
+    const StabilityRun exact = stability_run("liftoff3_rigid.toml", 10, 2.1, 2.7, true);
+    const FrfResult& polished = exact.frf;
     REQUIRE(polished.stability);
     // The HB branch alone (no polish): the analyser solves each point's exact orbit from the HB
     // state; at H = 10 those are the polished points' orbits, with their verdicts.
-    settings.exact = false;
-    const FrfResult plain = compute_frf(hb, settings);
+    const StabilityRun run = stability_run("liftoff3_rigid.toml", 10, 2.1, 2.7, false);
+    HarmonicBalance& hb = *run.hb;
+    const FrfResult& plain = run.frf;
     REQUIRE(plain.stability);
     REQUIRE(plain.points.size() == polished.points.size());
     int same = 0;
