@@ -528,6 +528,25 @@ TEST_CASE("A stop (interrupt, time limit) ends the branch with status stopped an
     CHECK(b.coverage == Approx((b.points.back().omega - o.omega_start) / (o.omega_end - o.omega_start)).epsilon(1e-12));
 }
 
+TEST_CASE("A stop during the search for the starting point (one point from a cold start) ends it with status stopped",
+          "[status]") {
+    AbsorberParameters p;
+    HarmonicBalance hb(friction_absorber(p, FrictionLaw::dahl), HarmonicBalanceOptions{6, 0});
+    ContinuationOptions o;
+    o.omega_start = o.omega_end = 1.0;
+    const BranchResult one = continue_branch(hb, o);
+    REQUIRE(one.status == ContinuationStatus::completed);
+    REQUIRE(one.points.size() == 1);
+    int asked = 0;
+    o.stop = [&asked] { return ++asked >= 1 ? std::string("test stop") : std::string(); };
+    const BranchResult b = continue_branch(hb, o);
+    CHECK(asked == 1);
+    CHECK(b.status == ContinuationStatus::stopped);
+    CHECK_THAT(b.message, Catch::Contains("searching the starting point") && Catch::Contains("test stop"));
+    CHECK(b.points.empty());
+    CHECK(b.coverage == 0.0);
+}
+
 TEST_CASE("compute_frf after a stop: the phases after the branch are skipped and named, the peak incomplete",
           "[status]") {
     AbsorberParameters p;

@@ -67,7 +67,8 @@ struct ContinuationOptions {
     /// their number: locating them can take longer than the branch (a 99-node interface's many
     /// folds at corners). May be empty; it must not throw.
     std::function<void(int done, int total)> fold_progress;
-    /// Asked before each step, each restart and each fold or transition to locate: a non-empty
+    /// Asked before each step, each restart, each solve of the search for a starting point (the
+    /// force ramp of a cold start among them) and each fold or transition to locate: a non-empty
     /// answer (why: an interrupt, a time limit) stops the continuation with status stopped, the
     /// points computed so far kept (folds and transitions not yet located stay unmarked). May be
     /// empty; it must not throw.

@@ -6,6 +6,7 @@
 #include "hbf/continuation.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -80,9 +81,14 @@ namespace {
 /// pre-sliding guess is accurate: solves at lambda F for increasing lambda, each time from the
 /// previous solution scaled by the load ratio (exact while the response is linear), and halves
 /// the increment of log(lambda) after a failure.
-bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options, double omega,
-                Eigen::VectorXd& x, double& x_scale, int& iterations, double& residual, BranchResult& result) {
+/// `stop` (ContinuationOptions::stop) is asked before every solve: a non-empty answer ends the
+/// search, not found, with `stopped` = that answer.
+bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options,
+                const std::function<std::string()>& stop, double omega, Eigen::VectorXd& x, double& x_scale,
+                int& iterations, double& residual, BranchResult& result, std::string& stopped) {
     auto attempt = [&](HarmonicBalance& h, Corrector& c, Eigen::VectorXd& guess) {
+        if (stopped.empty() && stop) stopped = stop();
+        if (!stopped.empty()) return false;
         x_scale = h.unknown_scale(guess);
         ++result.corrections;
         if (c.solve_at(guess, omega, x_scale, iterations, residual)) return true;
@@ -116,8 +122,8 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
         double low_scale = 0, low_residual = 0;
         int low_iterations = 0;
         BranchResult low_result;
-        const bool found =
-            find_start(low, low_corrector, options, omega, low_x, low_scale, low_iterations, low_residual, low_result);
+        const bool found = find_start(low, low_corrector, options, stop, omega, low_x, low_scale, low_iterations,
+                                      low_residual, low_result, stopped);
         result.corrections += low_result.corrections;
         result.failed_corrections += low_result.failed_corrections;
         if (found) {
@@ -134,13 +140,13 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
     // Lowest level: the pre-sliding guess must converge there.
     double log_lambda = -3.0;
     Eigen::VectorXd solution;
-    for (; log_lambda >= -9.0; log_lambda -= 3.0) {
+    for (; log_lambda >= -9.0 && stopped.empty(); log_lambda -= 3.0) {
         HarmonicBalance low = scaled(std::pow(10.0, log_lambda));
         Corrector c(low, options);
         solution = low.linear_guess(omega);
         if (attempt(low, c, solution)) break;
     }
-    if (log_lambda < -9.0) {
+    if (log_lambda < -9.0 || !stopped.empty()) {
         residual = first_residual;
         return false;
     }
@@ -160,7 +166,7 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
             solution = guess;
             log_lambda = next;
             increment = std::min(1.0, 1.5 * increment);
-        } else if ((increment *= 0.5) < 1e-4) {
+        } else if (!stopped.empty() || (increment *= 0.5) < 1e-4) {
             residual = first_residual;
             return false;
         }
@@ -495,10 +501,13 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     Eigen::VectorXd x;
     double x_scale = 1.0, res = 0.0;
     int it = 0;
-    if (!find_start(hb, corrector, o.corrector, o.omega_start, x, x_scale, it, res, result)) {
-        result.status = ContinuationStatus::start_failed;
-        result.message = "no converged starting point at w = " + format_number(o.omega_start) + " (residual " +
-                         format_number(res) + ")";
+    std::string stopped;
+    if (!find_start(hb, corrector, o.corrector, o.stop, o.omega_start, x, x_scale, it, res, result, stopped)) {
+        result.status = stopped.empty() ? ContinuationStatus::start_failed : ContinuationStatus::stopped;
+        result.message = stopped.empty() ? "no converged starting point at w = " + format_number(o.omega_start) +
+                                               " (residual " + format_number(res) + ")"
+                                         : "stopped while searching the starting point at w = " +
+                                               format_number(o.omega_start) + ": " + stopped;
         return;
     }
     if (o.omega_end == o.omega_start) {
@@ -525,8 +534,9 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     const double capped_at = result.points.back().omega;
     Eigen::VectorXd x2;
     double scale2 = 1.0;
-    if (!find_start(hb, corrector, o.corrector, o.omega_end, x2, scale2, it, res, result)) {
-        result.message += "; restart at w = " + format_number(o.omega_end) + " failed";
+    if (!find_start(hb, corrector, o.corrector, o.stop, o.omega_end, x2, scale2, it, res, result, stopped)) {
+        if (!stopped.empty()) result.status = worse(result.status, ContinuationStatus::stopped);
+        result.message += "; restart at w = " + format_number(o.omega_end) + (stopped.empty() ? " failed" : " stopped: " + stopped);
         return;
     }
     Trace second = trace(hb, corrector, o, x2, o.omega_end, it, res, -1, capped_at, o.omega_end, scale2, 2,
@@ -547,8 +557,10 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     const double middle = 0.5 * (capped_at + capped_above);
     Eigen::VectorXd x3;
     double scale3 = 1.0;
-    if (!find_start(hb, corrector, o.corrector, middle, x3, scale3, it, res, result)) {
-        result.message += "; no start inside the gap at w = " + format_number(middle);
+    if (!find_start(hb, corrector, o.corrector, o.stop, middle, x3, scale3, it, res, result, stopped)) {
+        if (!stopped.empty()) result.status = worse(result.status, ContinuationStatus::stopped);
+        result.message += "; no start inside the gap at w = " + format_number(middle) +
+                          (stopped.empty() ? std::string() : " (stopped: " + stopped + ")");
         return;
     }
     Trace down = trace(hb, corrector, o, x3, middle, it, res, -1, capped_at, middle, scale3, 3, result);
