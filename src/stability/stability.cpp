@@ -357,6 +357,11 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
     const auto started = std::chrono::steady_clock::now();
     BranchStability b;
     StabilityAnalyser analyse(hb, options);
+    // Asked until it answers (its answer is kept): whether the analysis has stopped.
+    auto stop_asked = [&] {
+        if (b.stopped.empty() && options.stop) b.stopped = options.stop();
+        return !b.stopped.empty();
+    };
     b.points.reserve(points.size());
     for (std::size_t k = 0; k < points.size(); ++k) {
         if (polish && k < polish->size() && (*polish)[k].status != PolishStatus::off) {
@@ -372,15 +377,14 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
                 r.message = "the exact polish failed here: " + e.message;
             }
             b.points.push_back(r);
-        } else if (!(b.stopped.empty() && (b.stopped = options.stop ? options.stop() : std::string()).empty())) {
+        } else if (stop_asked()) {
             FloquetResult r;  // this point and the rest: not computed
             r.message = "stopped: " + b.stopped;
             b.points.push_back(r);
         } else {
             b.points.push_back(analyse(points[k]));
             FloquetResult& r = b.points.back();
-            if (r.stability == Stability::not_computed && r.message.rfind("stopped: ", 0) == 0)
-                b.stopped = r.message.substr(9);  // the exact solver's stop, within the point
+            if (r.stability == Stability::not_computed) stop_asked();  // the exact solver stopped within the point
             // At a located fold a multiplier of the smooth problem is 1 by definition: the
             // verdict changes there, and the harmonic-balance branch may meet it at a corner (a
             // time sample's |v| changing sign) whose one-sided monodromy says 1.1 where time
