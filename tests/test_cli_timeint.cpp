@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -244,4 +245,51 @@ TEST_CASE("hbf timeint --time-limit: the frequencies done are written (exit 3) a
     CHECK(bad.exit_code == 2);
     CHECK_THAT(bad.err, Catch::Contains("--time-limit = -1 is out of range"));
     CHECK_FALSE(fs::exists(other));
+}
+
+TEST_CASE("hbf timeint --method exact with law unilateral: the integrator's limit, and the unstable orbit it cannot reach",
+          "[cli][timeint][exact]") {
+    // liftoff3_rigid (three rigid contacts on massless nodes: stick, slip, lift-off): the exact
+    // sweep against law unilateral's own integrator (Verlet with a complementarity solve per
+    // step, second order) at the same frequencies. Where the integrator settles (2.1, 2.5, 2.7)
+    // they agree to its step's error: maxima to 2e-6, the open share to 1e-3 (it counts whole
+    // steps), the friction energy to 1e-3, the stick indicator to 3e-3 (both sample it: the
+    // integrator on its steps, where the tangential force's passage through zero puts the
+    // minimum at -1 between two of them). At 2.3 the orbit is
+    // unstable (a period doubling at 2.315): the integrator does not settle there (exit 1) and the
+    // exact sweep says so in a note (exit 0: the orbit is exact).
+    TempDir dir;
+    const std::string file = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3_rigid.toml";
+    const std::string sweep = "timeint --config '" + file + "' --wmin 2.1 --wmax 2.7 --points 4 ";
+    const Result exact = run_hbf(sweep + "--method exact", dir);
+    const Result verlet = run_hbf(sweep, dir);
+    REQUIRE(exact.exit_code == 0);
+    CHECK(verlet.exit_code == 1);
+    CHECK_THAT(exact.err, Catch::Contains("1 of 4 exact orbits are unstable") && Catch::Contains("w = 2.3"));
+    const auto a = parse_csv(exact.out), b = parse_csv(verlet.out);
+    REQUIRE(a.size() == 5);
+    REQUIRE(b.size() == 5);
+    REQUIRE(a[0] == b[0]);
+    auto column = [&](const std::string& name) {
+        const auto at = std::find(a[0].begin(), a[0].end(), name);
+        REQUIRE(at != a[0].end());
+        return static_cast<std::size_t>(at - a[0].begin());
+    };
+    auto relative = [](const std::string& x, const std::string& y) { return std::abs(std::stod(x) / std::stod(y) - 1.0); };
+    for (std::size_t k = 1; k < a.size(); ++k) {
+        INFO("w = " << a[k][0]);
+        CHECK(a[k][column("converged")] == "true");
+        if (a[k][0] == "2.3") {
+            CHECK(b[k][column("converged")] == "false");
+            continue;
+        }
+        REQUIRE(b[k][column("converged")] == "true");
+        for (const char* name : {"y1_max", "y2_max", "y1_amp1", "y2_amp1"})
+            CHECK(relative(a[k][column(name)], b[k][column(name)]) <= 2e-6);
+        CHECK(std::abs(std::stod(a[k][column("separated_fraction")]) - std::stod(b[k][column("separated_fraction")])) <= 1e-3);
+        CHECK(relative(a[k][column("energy")], b[k][column("energy")]) <= 1e-3);
+        for (const char* name : {"stick_margin_min", "stick_margin_max"})
+            CHECK(std::abs(std::stod(a[k][column(name)]) - std::stod(b[k][column(name)])) <= 3e-3);
+        CHECK(std::stoi(a[k][column("periods")]) < std::stoi(b[k][column("periods")]));
+    }
 }

@@ -1001,3 +1001,74 @@ TEST_CASE("rigid exact 3D: Newton's matrix over a period that ends in another pa
     CHECK(released > 0);
     CHECK(worst <= 1e-6);
 }
+
+TEST_CASE("rigid exact 3D: a node that grazes its cone's edge keeps the orbit's own multipliers: the stuck structure's",
+          "[rigid_exact]") {
+    // The mitre at 10 N: every node sticks all period at 15,000 and 15,100 rad/s. Solved from the
+    // orbit at 15,000, the nodes stay held where that orbit's shakedown left them, some with the
+    // friction force touching the cone's edge at an instant: a perturbation of 1e-6 makes them
+    // slip, so the period map has a kink at the orbit and central differences straddle it. The
+    // multipliers must be those of the stuck structure (every contact DOF held, DOF 365 massless
+    // and condensed): exp(lambda T) for its eigenvalues lambda, computed here from M, C, K alone,
+    // plus 1 for each held position (a family of orbits); and without differences (two periods
+    // per unknown: 148 here) the solve takes a few periods.
+    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    const System& system = mitre.system;
+    ExactOptions options;
+    options.outputs = mitre.outputs;
+    options.dof_maxima = false;
+    const ExactOrbit first = rigid_periodic_orbit(system, 15000.0, Eigen::VectorXd(), options);
+    REQUIRE(first.converged);
+    const double omega = 15100.0;
+    const ExactOrbit orbit = rigid_periodic_orbit(system, omega, first.state, options);
+    INFO(orbit.message);
+    REQUIRE(orbit.converged);
+    CHECK(orbit.switches == 0);
+    CHECK(orbit.message.find("grazes") != std::string::npos);
+    CHECK(orbit.message.find("central differences") == std::string::npos);
+    CHECK(orbit.periods <= 30);
+    // the stuck structure: the DOFs no contact direction touches
+    const int N = system.dofs();
+    std::vector<char> held(static_cast<std::size_t>(N), 0);
+    for (const Contact& c : system.contacts) {
+        const Eigen::MatrixXd w = system.contact_directions(c);
+        for (int i = 0; i < N; ++i)
+            if (w.row(i).cwiseAbs().maxCoeff() > 0.0) held[static_cast<std::size_t>(i)] = 1;
+    }
+    const Eigen::MatrixXd M(system.mass), K(system.stiffness), C(system.damping);
+    std::vector<int> mass_dofs, massless;
+    for (int i = 0; i < N; ++i)
+        if (!held[static_cast<std::size_t>(i)]) (M.row(i).cwiseAbs().maxCoeff() > 0.0 ? mass_dofs : massless).push_back(i);
+    REQUIRE(mass_dofs.size() == 10);
+    REQUIRE(massless.size() == 1);
+    auto block = [](const Eigen::MatrixXd& A, const std::vector<int>& rows, const std::vector<int>& cols) {
+        Eigen::MatrixXd out(rows.size(), cols.size());
+        for (std::size_t r = 0; r < rows.size(); ++r)
+            for (std::size_t c = 0; c < cols.size(); ++c) out(r, c) = A(rows[r], cols[c]);
+        return out;
+    };
+    const Eigen::MatrixXd Kbb = block(K, massless, massless);
+    const Eigen::MatrixXd Keff = block(K, mass_dofs, mass_dofs) - block(K, mass_dofs, massless) * Kbb.inverse() * block(K, massless, mass_dofs);
+    REQUIRE(block(C, massless, massless).cwiseAbs().maxCoeff() == 0.0);
+    REQUIRE(block(C, mass_dofs, massless).cwiseAbs().maxCoeff() == 0.0);
+    const Eigen::MatrixXd Mm = block(M, mass_dofs, mass_dofs), Cm = block(C, mass_dofs, mass_dofs);
+    const int m = static_cast<int>(mass_dofs.size());
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * m, 2 * m);
+    A.topRightCorner(m, m).setIdentity();
+    A.bottomLeftCorner(m, m) = -Mm.inverse() * Keff;
+    A.bottomRightCorner(m, m) = -Mm.inverse() * Cm;
+    const Eigen::VectorXcd lambda = Eigen::EigenSolver<Eigen::MatrixXd>(A, false).eigenvalues();
+    const double period = 2.0 * M_PI / omega;
+    std::vector<double> expected, found, neutral;
+    for (Eigen::Index k = 0; k < lambda.size(); ++k) expected.push_back(std::exp(lambda(k).real() * period));
+    for (Eigen::Index k = 0; k < orbit.multipliers.size(); ++k) {
+        const double modulus = std::abs(orbit.multipliers(k));
+        (std::abs(modulus - 1.0) <= 1e-6 ? neutral : found).push_back(modulus);
+    }
+    std::sort(expected.begin(), expected.end());
+    std::sort(found.begin(), found.end());
+    REQUIRE(found.size() == expected.size());
+    for (std::size_t k = 0; k < found.size(); ++k) CHECK(std::abs(found[k] - expected[k]) <= 1e-7);
+    CHECK(neutral.size() == static_cast<std::size_t>(orbit.multipliers.size()) - expected.size());
+    CHECK(orbit.stable);
+}

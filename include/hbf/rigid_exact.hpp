@@ -64,7 +64,8 @@ std::string rigid_solver_refusal(const System& system);
 /// 0 open, 1 stuck, +2 / -2 slipping in the + / - tangential direction (3D: 2 slipping);
 /// contacts[c] has the separated share, the normal force's mean and half range and the friction
 /// energy, exact; friction_force holds the tangential contact forces (3D: along the first
-/// tangential direction); stick_margin is not computed (0).
+/// tangential direction); stick_margin_min/max are contact 1's stick indicator as law unilateral's time
+/// integrator has it (|lambda_T| / (mu lambda_N) - 1 stuck, 0 slipping, 1 open) on 64 points a step.
 /// Permanent stick (every contact stuck all period) is degenerate: any held position that
 /// keeps the nodes in their friction cones is periodic. Convention: the nodes held where the
 /// start holds them (its massless DOFs' tangential displacements; the static state's for a

@@ -68,6 +68,7 @@
 
 #include <Eigen/Dense>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -243,6 +244,9 @@ struct PeriodicResponse {
     /// Ended by TimeIntegrationOptions::stop before it converged (then converged = false, the
     /// metrics are those of the last full period if any, and the message says why).
     bool stopped = false;
+    /// exact_steady_state only: the orbit's largest |Floquet multiplier| (above 1: unstable, a
+    /// time integration leaves it); NaN where not computed.
+    double max_multiplier = std::numeric_limits<double>::quiet_NaN();
     /// Marks this response stopped after `periods` periods for `why` (the message says so).
     void stop_after(int periods, const std::string& why);
 
@@ -313,13 +317,16 @@ IntegrationMethod parse_integration_method(const std::string& name);
 /// (exact_steady_state) a warning when converged points of an undamped structure fail the
 /// energy balance (input work = friction energy per period, relative to the work the force
 /// could do on the first harmonic; limit options.physics_tolerance(); the exact solver does
-/// not integrate the viscous energy).
+/// not integrate the viscous energy), and a note counting the unstable exact orbits
+/// (max_multiplier above 1 + ExactOptions::stability_tolerance).
 Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
                        const TimeIntegrationOptions& options, bool exact);
 
-/// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`) as a
+/// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`; for law
+/// unilateral rigid_periodic_orbit, rigid_exact.hpp, from rest where `start` is zero) as a
 /// time-integration result (hbf timeint --method exact): when it fails, it is tried again
-/// after min(max_periods, 200) plain periods; `periods` counts the period maps of both.
+/// after min(max_periods, 200) plain periods; `periods` counts the period maps of both;
+/// options.stop's answer ends it (stopped). max_multiplier is the orbit's.
 PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
                                     const Eigen::VectorXd& start);
 

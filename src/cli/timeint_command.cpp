@@ -17,6 +17,7 @@
 #include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/rigid_exact.hpp"
 #include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -119,7 +120,9 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     tio.method = o.method == "bdf" ? IntegrationMethod::bdf : IntegrationMethod::adams;
     const bool exact = o.method == "exact";
     if (exact) {  // at the lowest w, a period costs the most Taylor steps (exact_cost_refusal)
-        const std::string refusal = exact_cost_refusal(system, *std::min_element(omegas.begin(), omegas.end()));
+        const std::string refusal = rigid_contacts_only(system)
+                                        ? rigid_solver_refusal(system)
+                                        : exact_cost_refusal(system, *std::min_element(omegas.begin(), omegas.end()));
         if (!refusal.empty()) throw UsageError("--method exact: " + refusal + " (use adams or bdf)");
     }
     tio.outputs = chosen.outputs;
@@ -136,6 +139,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     // the integration under way stops after its current period and is not written.
     StopRequest stop("timeint", time_limit);
     tio.stop = [&stop] { return stop.why(); };
+    eo.stop = tio.stop;
     std::string stopped;
     std::vector<PeriodicResponse> responses;
     responses.reserve(omegas.size());
@@ -223,10 +227,13 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
         ->capture_default_str()->type_name("INT");
     command.add_option("--method", o.method,
                         "CVODE method: adams or bdf\nCVODE method: adams (fixed-point iteration; fastest here) or bdf (Newton, dense "
-                        "difference-quotient Jacobian; for stiff contacts); or exact (coulomb and jenkins only): the "
-                        "event-exact solver, closed-form flows between stick/slip events and Newton shooting on the "
-                        "period map (steady state to --steady-tol, default 1e-12 with it; --rtol and --atol do not "
-                        "apply; periods counts the period maps evaluated)")
+                        "difference-quotient Jacobian; for stiff contacts); or exact (coulomb, jenkins, and law unilateral on "
+                        "massless contact nodes): the event-exact solver, flows between stick/slip/lift-off events "
+                        "and Newton shooting on the period map, each point from the previous point's orbit (steady "
+                        "state to --steady-tol, default 1e-12 with it; --rtol and --atol do not apply; periods counts "
+                        "the period maps evaluated). With law unilateral, orbits on which some nodes stick all period "
+                        "form a family (any held position inside the friction cones): the sweep keeps the member its "
+                        "history leads to, as a slow sweep of the structure would")
         ->capture_default_str()->type_name("adams|bdf|exact");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output", "", "FILE",
                                       "draw y1_max against w (sweep order, non-converged points marked) through gnuplot "

@@ -129,7 +129,37 @@ void rigid_metrics(E& e, const PatternEngine::Flow& flow, double t_s, const Exac
     }
     out.stick_fraction = nc > 0 ? out.contacts.front().stick_fraction : 0.0;
     out.regime = nc > 0 ? out.contacts.front().regime : "none";
+    // Contact 1's stick indicator (time_integration.hpp's): |lambda_T| / (mu lambda_N) - 1 while
+    // stuck, 0 slipping, 1 open; on 64 points a step and at its ends.
     out.stick_margin_min = out.stick_margin_max = 0.0;
+    if (nc > 0) {
+        const double mu = system.contacts.front().values.at("friction_coefficient");
+        double low = std::numeric_limits<double>::infinity(), high = -low;
+        for (const Step& st : flow.steps) {
+            if (st.s_end * st.h <= 0.0) continue;
+            const int mode = st.modes.front();
+            if (mode != rigid_stuck) {
+                const double margin = mode == rigid_open ? 1.0 : 0.0;
+                low = std::min(low, margin);
+                high = std::max(high, margin);
+                continue;
+            }
+            const ModeData& m = *st.data;
+            for (int k = 0; k <= 64; ++k) {
+                const VectorXd z = st.state(st.s_end * k / 64.0);
+                const double normal = m.lambda.row(e.normal(0)).dot(z);
+                double tangential = 0.0;
+                for (int j = 0; j < e.directions(0); ++j) tangential += std::pow(m.lambda.row(e.tangential(0) + j).dot(z), 2);
+                const double margin = mu * normal > 0.0 ? std::sqrt(tangential) / (mu * normal) - 1.0 : -1.0;
+                low = std::min(low, margin);
+                high = std::max(high, margin);
+            }
+        }
+        if (std::isfinite(low)) {
+            out.stick_margin_min = low;
+            out.stick_margin_max = high;
+        }
+    }
     period_events(flow.events, period, out);
     auto dof_state_at = [&](double t) {
         const double tt = t < t_s ? t + period : t;
@@ -536,8 +566,14 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             };
             // The largest difference, in the unknowns' units, between d x_end / d x along a fixed
             // direction and a central difference of the period map along it (steps of 1e-6 of the
-            // unknowns' units), relative to the larger of the two and the direction.
-            auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d) {
+            // unknowns' units), relative to the larger of the two and the direction; and whether
+            // a perturbed period has events at a contact that has none in `orbit` (the orbit's
+            // events): a contact that touches an edge of its cone or gap without crossing it.
+            struct Mismatch {
+                double share = 0.0;
+                bool kink = false;
+            };
+            auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d, const std::vector<ExactEvent>& orbit) {
                 const VectorXd scale = units(difference_size(at));
                 VectorXd pattern(nu);  // entries of one size and no symmetry
                 for (Eigen::Index k = 0; k < nu; ++k) pattern(k) = std::sin(1.0 + 2.0 * static_cast<double>(k));
@@ -545,12 +581,17 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 constexpr double delta = 1e-6;
                 const VectorXd plus = at + delta * direction, minus = at - delta * direction;
                 const PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
-                if (!fp.ok || !fm.ok) return std::numeric_limits<double>::infinity();
+                if (!fp.ok || !fm.ok) return Mismatch{std::numeric_limits<double>::infinity(), false};
                 const VectorXd differences = ((pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta)).cwiseQuotient(scale);
                 const VectorXd predicted = (d * direction).cwiseQuotient(scale);
                 const double size_of = std::max({differences.cwiseAbs().maxCoeff(), predicted.cwiseAbs().maxCoeff(),
                                                  pattern.cwiseAbs().maxCoeff()});
-                return (differences - predicted).cwiseAbs().maxCoeff() / size_of;
+                std::vector<char> switching(static_cast<std::size_t>(e.contacts()), 0);
+                for (const ExactEvent& event : orbit) switching[static_cast<std::size_t>(event.contact)] = 1;
+                bool kink = false;
+                for (const PatternEngine::Flow* g : {&fp, &fm})
+                    for (const ExactEvent& event : g->events) kink = kink || !switching[static_cast<std::size_t>(event.contact)];
+                return Mismatch{(differences - predicted).cwiseAbs().maxCoeff() / size_of, kink};
             };
             // Newton works on the unknowns in their units (the state's size, velocities times
             // omega, angles in radians): its matrix and steps in those units, so that the rank
@@ -659,12 +700,22 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     // instant (mirror-image nodes of a symmetric interface) it follows the order
                     // rounding puts their events in and can be far off; the multipliers are then
                     // the differences' (two periods per unknown).
-                    const double mismatch = differences_only ? 0.0 : derivative_mismatch(x, reduced);
-                    if (mismatch > derivative_check_tolerance) {
+                    // Where a perturbed period has events at a contact that has none on the orbit
+                    // (it touches the edge of its cone or its gap without crossing it: a node stuck
+                    // all period after a shakedown, whose friction force reaches the limit at an
+                    // instant), the period map has a kink at the orbit: the differences straddle
+                    // it and are not its derivative either. The multipliers are then the orbit's
+                    // own sequence of events' (the side the orbit is on), and the message says so.
+                    const Mismatch mismatch = differences_only ? Mismatch{} : derivative_mismatch(x, reduced, last.events);
+                    if (mismatch.share > derivative_check_tolerance && mismatch.kink) {
+                        out.message += "; a contact without events grazes the edge of its friction cone or its gap (a "
+                                       "perturbation of 1e-6 makes it slip or open): the multipliers are those of the orbit's "
+                                       "own events";
+                    } else if (mismatch.share > derivative_check_tolerance) {
                         differences_only = true;
                         reduced = derivative(x, last);
                         out.message += "; the multipliers by central differences of the period map (the flow's "
-                                       "derivative differs from them by " + format_number(mismatch) +
+                                       "derivative differs from them by " + format_number(mismatch.share) +
                                        " along a test direction)";
                     }
                 }

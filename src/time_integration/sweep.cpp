@@ -6,17 +6,25 @@
 #include <vector>
 
 #include "hbf/error.hpp"
+#include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf {
 
 PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
                                     const Eigen::VectorXd& start) {
-    ExactOrbit orbit = exact_periodic_orbit(system, omega, start, options);
+    // law unilateral: the rigid-contact solver, from rest where the start is rest (zeros: the
+    // static state under the preloads holds the nodes, not y = 0)
+    const bool rigid = rigid_contacts_only(system);
+    const Eigen::VectorXd from = rigid && start.size() > 0 && start.isZero(0.0) ? Eigen::VectorXd() : start;
+    auto solve = [&] {
+        return rigid ? rigid_periodic_orbit(system, omega, from, options) : exact_periodic_orbit(system, omega, from, options);
+    };
+    ExactOrbit orbit = solve();
     int periods = orbit.periods;
-    if (!orbit.converged && max_periods > 1) {
+    if (!orbit.converged && orbit.stopped.empty() && max_periods > 1) {
         options.warmup_periods = std::min(max_periods, 200);
-        orbit = exact_periodic_orbit(system, omega, start, options);
+        orbit = solve();
         periods += orbit.periods;
     }
     PeriodicResponse r;
@@ -39,6 +47,8 @@ PeriodicResponse exact_steady_state(const System& system, double omega, ExactOpt
     r.switches = orbit.switches;
     r.energy = orbit.energy;
     r.input_energy = orbit.input_energy;
+    if (orbit.converged) r.max_multiplier = orbit.max_multiplier;
+    if (!orbit.stopped.empty()) r.stop_after(periods, orbit.stopped);
     return r;
 }
 
@@ -54,6 +64,25 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
     if (failed > 0)
         v.errors.push_back(std::to_string(failed) + " of " + std::to_string(responses.size()) +
                            " points did not converge (converged = false in the output)");
+    // An exact orbit that is unstable is a periodic solution the structure would leave: said, by
+    // count and the largest multiplier (a time integration there goes elsewhere).
+    if (exact) {
+        int unstable = 0;
+        double largest = 0.0, largest_w = 0.0;
+        for (const PeriodicResponse& r : responses)
+            if (r.converged && r.max_multiplier > 1.0 + ExactOptions{}.stability_tolerance) {
+                ++unstable;
+                if (r.max_multiplier > largest) {
+                    largest = r.max_multiplier;
+                    largest_w = r.omega;
+                }
+            }
+        if (unstable > 0)
+            v.note(std::to_string(unstable) + " of " + std::to_string(responses.size()) +
+                   " exact orbits are unstable (a Floquet multiplier above 1; the largest, " + format_number(largest) +
+                   ", at w = " + format_number(largest_w) +
+                   "): periodic solutions the structure leaves, where a time integration goes to another response");
+    }
     // Energy balance of the exact solver's steady states: input work = viscous + friction
     // energy per period, relative to the work the force could do on the first harmonic (it does
     // not integrate the viscous energy: checked only without damping). Time integration checks
