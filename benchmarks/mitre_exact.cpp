@@ -12,6 +12,12 @@
 // --check-samples N integrates two periods from the exact orbit's state at N, 2N and 4N samples
 // (the second one's metrics): their differences from the exact orbit, and the change of the state
 // over the first, fall with the step where the orbit is a solution.
+// --sweep A,B,K first sweeps K equally spaced frequencies from A to B with exact orbits, each
+// from the previous one (exact_steady_state: hbf timeint --method exact), and prints each point
+// and the seconds per point; the integrator's runs at --w then give the ratio of its seconds per
+// frequency (from rest, both step sizes) to the sweep's per point, and the sweep's point at each
+// --w against the exact orbit from the integrator's state (the two may be different members of
+// a family of orbits where nodes stick all period).
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
@@ -19,6 +25,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hbf/config.hpp"
@@ -77,6 +84,10 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 1000));
     app.add_option("--start", start_file, "with --no-integrator: the exact orbit's start, [y, y'] of every DOF, one a line");
     app.add_option("--save-orbit", save_file, "the last converged exact orbit's state, one number a line");
+    std::vector<double> sweep;
+    app.add_option("--sweep", sweep, "A,B,K: first an exact sweep of K frequencies from A to B, each from the previous orbit")
+        ->delimiter(',')
+        ->expected(3);
     app.add_option("--check-samples", check_samples,
                    "with --no-integrator: two periods of the integrator from the exact state at N, 2N, 4N samples")
         ->check(CLI::Range(0, 1 << 20));
@@ -99,6 +110,45 @@ int main(int argc, char** argv) {
                                 : stepping == "collocation" ? ConeStepping::collocation
                                                             : ConeStepping::automatic;
     nlohmann::json all = nlohmann::json::array();
+    // The exact sweep: seconds per point, and its orbits by frequency.
+    std::vector<std::pair<double, PeriodicResponse>> swept;
+    double sweep_seconds = 0.0;
+    if (!sweep.empty()) {
+        const int points = static_cast<int>(sweep[2]);
+        if (points < 2 || !(sweep[1] > sweep[0]) || !(sweep[0] > 0.0)) {
+            std::fprintf(stderr, "mitre_exact: --sweep A,B,K needs 0 < A < B and K >= 2\n");
+            return 2;
+        }
+        ExactOptions eo;
+        eo.max_events_per_period = max_events;
+        eo.outputs = outputs;
+        eo.dof_maxima = false;
+        const auto start = clock_type::now();
+        int failed = 0;
+        for (int k = 0; k < points; ++k) {
+            const double omega = sweep[0] + (sweep[1] - sweep[0]) * k / (points - 1);
+            const auto t0 = clock_type::now();
+            std::vector<PeriodicResponse> done;
+            for (const auto& point : swept) done.push_back(point.second);
+            PeriodicResponse r = exact_steady_state(system, omega, eo, 200, exact_sweep_start(system, omega, done));
+            const double seconds = seconds_since(t0);
+            if (r.converged) {
+                std::printf("sweep w = %g: y365 max %.12g amp1 %.12g, stuck %.6f open %.6f, %d periods, %.2f s, |mu| %.6f\n", omega,
+                            r.output_max[0], r.output_amp1[0], mean_share(r.contacts, false), mean_share(r.contacts, true),
+                            r.periods, seconds, r.max_multiplier);
+            } else {
+                ++failed;
+                std::printf("sweep w = %g: NOT converged (%s), %.2f s\n", omega, r.message.c_str(), seconds);
+            }
+            std::fflush(stdout);
+            swept.emplace_back(omega, std::move(r));
+        }
+        sweep_seconds = seconds_since(start);
+        std::printf("sweep: %d points (%d not converged) in %.1f s, %.3f s a point\n", points, failed, sweep_seconds,
+                    sweep_seconds / points);
+    }
+    double ti_total = 0.0;
+    int ti_runs = 0;
     for (double omega : omegas) {
         nlohmann::json row;
         row["w"] = omega;
@@ -116,6 +166,10 @@ int main(int argc, char** argv) {
         }
         for (int k = 0; k < 2 && !no_integrator; ++k)
             if (!ti[k].converged) std::printf("  integrator %d samples: %s\n", samples << k, ti[k].message.c_str());
+        if (!no_integrator) {
+            ti_total += ti_seconds[0] + ti_seconds[1];
+            ++ti_runs;
+        }
         ExactOptions eo;
         eo.max_events_per_period = max_events;
         eo.outputs = outputs;
@@ -207,9 +261,25 @@ int main(int argc, char** argv) {
         if (exact.converged)
             std::printf("  stuck share %.6f (TI %.6f), open share %.6f (TI %.6f)\n", mean_share(exact.contacts, false),
                         mean_share(ti[1].contacts, false), mean_share(exact.contacts, true), mean_share(ti[1].contacts, true));
+        for (const auto& [w, r] : swept)
+            if (std::abs(w - omega) <= 1e-9 * omega && r.converged && exact.converged) {
+                std::printf("  the sweep's orbit here against the one from the integrator's state: y365 max %.3e, amp1 %.3e, "
+                            "stuck share %.2e, open share %.2e\n",
+                            (r.output_max[0] - exact.output_max[0]) / exact.output_max[0],
+                            (r.output_amp1[0] - exact.output_amp1[0]) / exact.output_amp1[0],
+                            mean_share(r.contacts, false) - mean_share(exact.contacts, false),
+                            mean_share(r.contacts, true) - mean_share(exact.contacts, true));
+                row["sweep_y365_max"] = r.output_max[0];
+                row["sweep_y365_amp1"] = r.output_amp1[0];
+            }
         std::fflush(stdout);
         all.push_back(row);
     }
+    if (!swept.empty() && ti_runs > 0)
+        std::printf("the integrator from rest: %.1f s a frequency (both step sizes, %d frequencies); the exact sweep: %.3f s a "
+                    "point; ratio %.0f\n",
+                    ti_total / ti_runs, ti_runs, sweep_seconds / static_cast<double>(swept.size()),
+                    (ti_total / ti_runs) / (sweep_seconds / static_cast<double>(swept.size())));
     std::printf("%s\n", all.dump().c_str());
     return 0;
 }

@@ -322,6 +322,12 @@ IntegrationMethod parse_integration_method(const std::string& name);
 Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
                        const TimeIntegrationOptions& options, bool exact);
 
+/// The start of a sweep's next exact orbit at omega (hbf timeint --method exact) from the
+/// points done (in sweep order): with law unilateral (states [y, y'], smooth in omega) the
+/// secant through the last two, where both converged and omega is beyond the last; otherwise
+/// the last point's state (empty where none is done).
+Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done);
+
 /// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`; for law
 /// unilateral rigid_periodic_orbit, rigid_exact.hpp, from rest where `start` is zero) as a
 /// time-integration result (hbf timeint --method exact): when it fails, it is tried again

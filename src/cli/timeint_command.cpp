@@ -152,7 +152,8 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         if (progress)
             std::cerr << "\rhbf timeint: point " << k + 1 << "/" << omegas.size() << ", w = " << format_number(omegas[k])
                       << "        " << std::flush;
-        PeriodicResponse r = exact ? exact_steady_state(system, omegas[k], eo, tio.max_periods, state)
+        PeriodicResponse r = exact ? exact_steady_state(system, omegas[k], eo, tio.max_periods,
+                                                        k == 0 ? state : exact_sweep_start(system, omegas[k], responses))
                                    : integrate_steady_state(system, omegas[k], tio, &state);
         if (r.stopped) {
             stopped = r.message + "; that frequency is not written";

@@ -52,6 +52,18 @@ PeriodicResponse exact_steady_state(const System& system, double omega, ExactOpt
     return r;
 }
 
+Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done) {
+    if (done.empty()) return {};
+    const PeriodicResponse& last = done.back();
+    if (done.size() < 2 || !rigid_contacts_only(system)) return last.state;
+    const PeriodicResponse& before = done[done.size() - 2];
+    const double step = last.omega - before.omega;
+    if (!last.converged || !before.converged || last.state.size() != before.state.size() || step == 0.0 ||
+        (omega - last.omega) / step <= 0.0)
+        return last.state;
+    return last.state + (last.state - before.state) * ((omega - last.omega) / step);
+}
+
 Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
                        const TimeIntegrationOptions& options, bool exact) {
     Verdict v;
