@@ -24,10 +24,10 @@
 // derivative at the orbit is checked along one direction against a central difference of the
 // period map (two periods), and where they differ by more than 1e-3 the multipliers are
 // central differences' (two periods per unknown; the message says so); except where the
-// perturbed periods have events at a contact that has none on the orbit and no two contacts'
-// events coincide (within 1e-9 of the period): a contact grazing the edge of its friction cone
-// or its gap (a node stuck all period whose force touches the cone's edge at an instant, as a
-// shakedown leaves it), where the period map has a kink that the differences straddle; the
+// perturbed periods have another number of events at some contact than the orbit and no two
+// contacts' events coincide (within 1e-9 of the period): a contact grazing an edge of its
+// friction cone or its gap (a node stuck all period whose force touches the cone's edge at an
+// instant, as a shakedown leaves it), where the period map has a kink that the differences straddle; the
 // multipliers are then the flow's own, of the orbit's side of the kink (the message says so). Patterns,
 // events and the choice of the pattern after an event: src/event_exact/rigid_engine.hpp (2D)
 // and src/event_exact/cone_engine.hpp (3D).

@@ -567,8 +567,8 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             // The largest difference, in the unknowns' units, between d x_end / d x along a fixed
             // direction and a central difference of the period map along it (steps of 1e-6 of the
             // unknowns' units), relative to the larger of the two and the direction; and whether
-            // a perturbed period has events at a contact that has none in `orbit` (the orbit's
-            // events): a contact that touches an edge of its cone or gap without crossing it.
+            // a perturbed period has another number of events at some contact than `orbit` (the
+            // orbit's events): a contact that touches an edge of its cone or gap without crossing it.
             struct Mismatch {
                 double share = 0.0;
                 bool kink = false;
@@ -586,11 +586,13 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 const VectorXd predicted = (d * direction).cwiseQuotient(scale);
                 const double size_of = std::max({differences.cwiseAbs().maxCoeff(), predicted.cwiseAbs().maxCoeff(),
                                                  pattern.cwiseAbs().maxCoeff()});
-                std::vector<char> switching(static_cast<std::size_t>(e.contacts()), 0);
-                for (const ExactEvent& event : orbit) switching[static_cast<std::size_t>(event.contact)] = 1;
-                bool kink = false;
-                for (const PatternEngine::Flow* g : {&fp, &fm})
-                    for (const ExactEvent& event : g->events) kink = kink || !switching[static_cast<std::size_t>(event.contact)];
+                auto counts = [&](const std::vector<ExactEvent>& events) {
+                    std::vector<int> n(static_cast<std::size_t>(e.contacts()), 0);
+                    for (const ExactEvent& event : events) ++n[static_cast<std::size_t>(event.contact)];
+                    return n;
+                };
+                const std::vector<int> own = counts(orbit);
+                const bool kink = counts(fp.events) != own || counts(fm.events) != own;
                 return Mismatch{(differences - predicted).cwiseAbs().maxCoeff() / size_of, kink};
             };
             // Newton works on the unknowns in their units (the state's size, velocities times
@@ -700,10 +702,10 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     // instant (mirror-image nodes of a symmetric interface) it follows the order
                     // rounding puts their events in and can be far off; the multipliers are then
                     // the differences' (two periods per unknown).
-                    // Where a perturbed period has events at a contact that has none on the orbit
-                    // (it touches the edge of its cone or its gap without crossing it: a node stuck
-                    // all period after a shakedown, whose friction force reaches the limit at an
-                    // instant), the period map has a kink at the orbit: the differences straddle
+                    // Where a perturbed period has another number of events at a contact than the
+                    // orbit (it touches an edge of its cone or its gap without crossing it: a node
+                    // stuck all period after a shakedown, whose friction force reaches the limit at
+                    // an instant, or a slipping node that touches lift-off), the period map has a kink at the orbit: the differences straddle
                     // it and are not its derivative either. The multipliers are then the orbit's
                     // own sequence of events' (the side the orbit is on), and the message says so.
                     // Not where events of two contacts coincide (within 1e-9 of the period): the
@@ -715,9 +717,8 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                         std::abs(last.events[a].time - last.events[b].time) <= 1e-9 * period);
                     const Mismatch mismatch = differences_only ? Mismatch{} : derivative_mismatch(x, reduced, last.events);
                     if (mismatch.share > derivative_check_tolerance && mismatch.kink && !coincident) {
-                        out.message += "; a contact without events grazes the edge of its friction cone or its gap (a "
-                                       "perturbation of 1e-6 makes it slip or open): the multipliers are those of the orbit's "
-                                       "own events";
+                        out.message += "; a contact grazes an edge of its friction cone or its gap (a perturbation of 1e-6 "
+                                       "adds events there): the multipliers are those of the orbit's own events";
                     } else if (mismatch.share > derivative_check_tolerance) {
                         differences_only = true;
                         reduced = derivative(x, last);
