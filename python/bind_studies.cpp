@@ -165,7 +165,7 @@ void bind_studies(py::module_& m) {
             eo.outputs = options.outputs;
             eo.tolerance = exact_tolerance;
             if (exact) {
-                const std::string refusal = exact_cost_refusal(s.system, *std::min_element(omegas.begin(), omegas.end()));
+                const std::string refusal = exact_sweep_refusal(s.system, *std::min_element(omegas.begin(), omegas.end()));
                 if (!refusal.empty()) bad("method = 'exact': " + refusal + " (use adams or bdf)");
                 eo.validate();
             }
@@ -178,7 +178,9 @@ void bind_studies(py::module_& m) {
                 MessageCollector messages;  // what CVODE reports during the sweep
                 Eigen::VectorXd state = linear_stuck_state(s.system, omegas.front());
                 for (double w : omegas) {
-                    responses.push_back(exact ? exact_steady_state(s.system, w, eo, options.max_periods, state)
+                    responses.push_back(exact ? exact_steady_state(s.system, w, eo, options.max_periods,
+                                                                   responses.empty() ? state
+                                                                                     : exact_sweep_start(s.system, w, responses))
                                               : integrate_steady_state(s.system, w, options, &state));
                     state = responses.back().state;
                 }

@@ -322,6 +322,11 @@ IntegrationMethod parse_integration_method(const std::string& name);
 Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
                        const TimeIntegrationOptions& options, bool exact);
 
+/// Why the event-exact solver cannot sweep `system` from omega_min up (hbf timeint --method
+/// exact; one sentence), empty when it can: law unilateral's rigid_solver_refusal
+/// (rigid_exact.hpp), else exact_cost_refusal (event_exact.hpp).
+std::string exact_sweep_refusal(const System& system, double omega_min);
+
 /// The start of a sweep's next exact orbit at omega (hbf timeint --method exact) from the
 /// points done (in sweep order): with law unilateral (states [y, y'], smooth in omega) the
 /// secant through the last two, where both converged and omega is beyond the last; otherwise

@@ -713,8 +713,10 @@ def solve_at(system, omega, *, omega_from=None, contact=0, harmonics=None, time_
 def timeint(system, w, *, outputs=None, options=None, method=None, **values):
     """Periodic steady states by time integration (hbf timeint): at each frequency of w (a number
     or a sequence, swept in the order given, each from the previous final state, the first from
-    the stuck linear state). method: adams (default) or bdf (CVODE), or exact (coulomb and
-    jenkins: the event-exact solver, steady state to steady_tolerance if given, else 1e-12).
+    the stuck linear state). method: adams (default) or bdf (CVODE), or exact (coulomb, jenkins
+    and law unilateral on massless contact nodes: the event-exact solver, steady state to
+    steady_tolerance if given, else 1e-12; law unilateral's first orbit from rest, each next one
+    from the secant through the previous two).
     options/values: TimeIntegrationOptions (C++ names, e.g. relative_tolerance=1e-9,
     max_periods=500). Returns a Table with hbf timeint's columns, plus ``responses`` (per
     frequency a dict with converged, message, state, t, y, velocity, friction_force: one period

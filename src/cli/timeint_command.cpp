@@ -17,7 +17,6 @@
 #include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
 #include "hbf/event_exact.hpp"
-#include "hbf/rigid_exact.hpp"
 #include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -120,9 +119,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     tio.method = o.method == "bdf" ? IntegrationMethod::bdf : IntegrationMethod::adams;
     const bool exact = o.method == "exact";
     if (exact) {  // at the lowest w, a period costs the most Taylor steps (exact_cost_refusal)
-        const std::string refusal = rigid_contacts_only(system)
-                                        ? rigid_solver_refusal(system)
-                                        : exact_cost_refusal(system, *std::min_element(omegas.begin(), omegas.end()));
+        const std::string refusal = exact_sweep_refusal(system, *std::min_element(omegas.begin(), omegas.end()));
         if (!refusal.empty()) throw UsageError("--method exact: " + refusal + " (use adams or bdf)");
     }
     tio.outputs = chosen.outputs;

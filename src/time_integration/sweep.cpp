@@ -52,6 +52,10 @@ PeriodicResponse exact_steady_state(const System& system, double omega, ExactOpt
     return r;
 }
 
+std::string exact_sweep_refusal(const System& system, double omega_min) {
+    return rigid_contacts_only(system) ? rigid_solver_refusal(system) : exact_cost_refusal(system, omega_min);
+}
+
 Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done) {
     if (done.empty()) return {};
     const PeriodicResponse& last = done.back();

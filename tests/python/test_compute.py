@@ -1,11 +1,12 @@
 """solve_at, timeint, analytic, optimize and map: each equals its hbf command for the same case."""
 import json
+import os
 
 import numpy as np
 import pytest
 
 import hbfriction
-from conftest import assert_table_equals_csv, format_number, read_csv, run_hbf
+from conftest import SOURCE, assert_table_equals_csv, format_number, read_csv, run_hbf
 
 
 def test_solve_at_equals_hbf_loop():
@@ -101,6 +102,28 @@ def test_timeint_exact_equals_hbf_timeint_method_exact():
     assert t.status == "completed"
     with pytest.raises(ValueError, match="method = 'exact': contact 1 has law dahl"):
         hbfriction.timeint(hbfriction.absorber("dahl"), 1.0, method="exact")
+
+
+def test_timeint_exact_with_rigid_contacts_equals_hbf_timeint():
+    # law unilateral (liftoff3_rigid.toml): the exact sweep from Python, each orbit from the secant
+    # through the previous two as in hbf timeint --method exact: the same table; at w = 2.3 the
+    # orbit is unstable (a note, the status stays completed).
+    path = os.path.join(SOURCE, "examples", "systems", "liftoff3_rigid.toml")
+    _, text, err = run_hbf("timeint", "--config", path, "--wmin", "2.1", "--wmax", "2.7", "--points", "4",
+                           "--method", "exact")
+    t = hbfriction.timeint(hbfriction.load(path), [2.1, 2.3, 2.5, 2.7], method="exact")
+    # the numbers to 1e-12 (Newton's last step on the unstable orbit at 2.3 leaves a rounding
+    # that the module's and the executable's builds need not share), the words exactly
+    fields, header = read_csv(text)
+    assert t.columns == header
+    for name in header:
+        for value, cli in zip(t[name], fields[name]):
+            if t[name].dtype.kind == "U":
+                assert value == cli, name
+            else:
+                assert value == pytest.approx(float(cli), rel=1e-12, abs=1e-15), name
+    assert t.status == "completed"
+    assert "exact orbits are unstable" in err
 
 
 def test_timeint_that_does_not_converge_is_failed_with_the_reason():
