@@ -25,7 +25,6 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "hbf/config.hpp"
@@ -111,7 +110,7 @@ int main(int argc, char** argv) {
                                                             : ConeStepping::automatic;
     nlohmann::json all = nlohmann::json::array();
     // The exact sweep: seconds per point, and its orbits by frequency.
-    std::vector<std::pair<double, PeriodicResponse>> swept;
+    std::vector<PeriodicResponse> swept;
     double sweep_seconds = 0.0;
     if (!sweep.empty()) {
         const int points = static_cast<int>(sweep[2]);
@@ -128,9 +127,7 @@ int main(int argc, char** argv) {
         for (int k = 0; k < points; ++k) {
             const double omega = sweep[0] + (sweep[1] - sweep[0]) * k / (points - 1);
             const auto t0 = clock_type::now();
-            std::vector<PeriodicResponse> done;
-            for (const auto& point : swept) done.push_back(point.second);
-            PeriodicResponse r = exact_steady_state(system, omega, eo, 200, exact_sweep_start(system, omega, done));
+            PeriodicResponse r = exact_steady_state(system, omega, eo, 200, exact_sweep_start(system, omega, swept, {}));
             const double seconds = seconds_since(t0);
             if (r.converged) {
                 std::printf("sweep w = %g: y365 max %.12g amp1 %.12g, stuck %.6f open %.6f, %d periods, %.2f s, |mu| %.6f\n", omega,
@@ -141,7 +138,7 @@ int main(int argc, char** argv) {
                 std::printf("sweep w = %g: NOT converged (%s), %.2f s\n", omega, r.message.c_str(), seconds);
             }
             std::fflush(stdout);
-            swept.emplace_back(omega, std::move(r));
+            swept.push_back(std::move(r));
         }
         sweep_seconds = seconds_since(start);
         std::printf("sweep: %d points (%d not converged) in %.1f s, %.3f s a point\n", points, failed, sweep_seconds,
@@ -261,8 +258,8 @@ int main(int argc, char** argv) {
         if (exact.converged)
             std::printf("  stuck share %.6f (TI %.6f), open share %.6f (TI %.6f)\n", mean_share(exact.contacts, false),
                         mean_share(ti[1].contacts, false), mean_share(exact.contacts, true), mean_share(ti[1].contacts, true));
-        for (const auto& [w, r] : swept)
-            if (std::abs(w - omega) <= 1e-9 * omega && r.converged && exact.converged) {
+        for (const PeriodicResponse& r : swept)
+            if (std::abs(r.omega - omega) <= 1e-9 * omega && r.converged && exact.converged) {
                 std::printf("  the sweep's orbit here against the one from the integrator's state: y365 max %.3e, amp1 %.3e, "
                             "stuck share %.2e, open share %.2e\n",
                             (r.output_max[0] - exact.output_max[0]) / exact.output_max[0],

@@ -179,8 +179,7 @@ void bind_studies(py::module_& m) {
                 Eigen::VectorXd state = linear_stuck_state(s.system, omegas.front());
                 for (double w : omegas) {
                     responses.push_back(exact ? exact_steady_state(s.system, w, eo, options.max_periods,
-                                                                   responses.empty() ? state
-                                                                                     : exact_sweep_start(s.system, w, responses))
+                                                                   exact_sweep_start(s.system, w, responses, state))
                                               : integrate_steady_state(s.system, w, options, &state));
                     state = responses.back().state;
                 }

@@ -27,10 +27,10 @@
 // perturbed periods have another number of events at some contact than the orbit and no two
 // contacts' events coincide (within 1e-9 of the period): a contact grazing an edge of its
 // friction cone or its gap (a node stuck all period whose force touches the cone's edge at an
-// instant, as a shakedown leaves it), where the period map has a kink that the differences straddle; the
-// multipliers are then the flow's own, of the orbit's side of the kink (the message says so). Patterns,
-// events and the choice of the pattern after an event: src/event_exact/rigid_engine.hpp (2D)
-// and src/event_exact/cone_engine.hpp (3D).
+// instant, as a shakedown leaves it), where the period map has a kink that the differences
+// straddle; the multipliers are then the flow's own, of the orbit's side of the kink (the
+// message says so). Patterns, events and the choice of the pattern after an event:
+// src/event_exact/rigid_engine.hpp (2D) and src/event_exact/cone_engine.hpp (3D).
 #pragma once
 
 #include <Eigen/Dense>
@@ -69,8 +69,9 @@ std::string rigid_solver_refusal(const System& system);
 /// 0 open, 1 stuck, +2 / -2 slipping in the + / - tangential direction (3D: 2 slipping);
 /// contacts[c] has the separated share, the normal force's mean and half range and the friction
 /// energy, exact; friction_force holds the tangential contact forces (3D: along the first
-/// tangential direction); stick_margin_min/max are contact 1's stick indicator as law unilateral's time
-/// integrator has it (|lambda_T| / (mu lambda_N) - 1 stuck, 0 slipping, 1 open) on 64 points a step.
+/// tangential direction); stick_margin_min/max are contact 1's stick indicator as law
+/// unilateral's time integrator has it (|lambda_T| / (mu lambda_N) - 1 stuck, 0 slipping,
+/// 1 open) on 64 points a step.
 /// Permanent stick (every contact stuck all period) is degenerate: any held position that
 /// keeps the nodes in their friction cones is periodic. Convention: the nodes held where the
 /// start holds them (its massless DOFs' tangential displacements; the static state's for a

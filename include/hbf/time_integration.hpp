@@ -330,8 +330,9 @@ std::string exact_sweep_refusal(const System& system, double omega_min);
 /// The start of a sweep's next exact orbit at omega (hbf timeint --method exact) from the
 /// points done (in sweep order): with law unilateral (states [y, y'], smooth in omega) the
 /// secant through the last two, where both converged and omega is beyond the last; otherwise
-/// the last point's state (empty where none is done).
-Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done);
+/// the last point's state, or `first` where none is done.
+Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done,
+                                  const Eigen::VectorXd& first);
 
 /// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`; for law
 /// unilateral rigid_periodic_orbit, rigid_exact.hpp, from rest where `start` is zero) as a

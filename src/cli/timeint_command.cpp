@@ -150,7 +150,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
             std::cerr << "\rhbf timeint: point " << k + 1 << "/" << omegas.size() << ", w = " << format_number(omegas[k])
                       << "        " << std::flush;
         PeriodicResponse r = exact ? exact_steady_state(system, omegas[k], eo, tio.max_periods,
-                                                        k == 0 ? state : exact_sweep_start(system, omegas[k], responses))
+                                                        exact_sweep_start(system, omegas[k], responses, state))
                                    : integrate_steady_state(system, omegas[k], tio, &state);
         if (r.stopped) {
             stopped = r.message + "; that frequency is not written";

@@ -705,9 +705,10 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     // Where a perturbed period has another number of events at a contact than the
                     // orbit (it touches an edge of its cone or its gap without crossing it: a node
                     // stuck all period after a shakedown, whose friction force reaches the limit at
-                    // an instant, or a slipping node that touches lift-off), the period map has a kink at the orbit: the differences straddle
-                    // it and are not its derivative either. The multipliers are then the orbit's
-                    // own sequence of events' (the side the orbit is on), and the message says so.
+                    // an instant, or a slipping node that touches lift-off), the period map has a
+                    // kink at the orbit: the differences straddle it and are not its derivative
+                    // either. The multipliers are then the orbit's own sequence of events' (the
+                    // side the orbit is on), and the message says so.
                     // Not where events of two contacts coincide (within 1e-9 of the period): the
                     // flow's derivative may then follow rounding's order, and the check decides.
                     bool coincident = false;

@@ -56,8 +56,9 @@ std::string exact_sweep_refusal(const System& system, double omega_min) {
     return rigid_contacts_only(system) ? rigid_solver_refusal(system) : exact_cost_refusal(system, omega_min);
 }
 
-Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done) {
-    if (done.empty()) return {};
+Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done,
+                                  const Eigen::VectorXd& first) {
+    if (done.empty()) return first;
     const PeriodicResponse& last = done.back();
     if (done.size() < 2 || !rigid_contacts_only(system)) return last.state;
     const PeriodicResponse& before = done[done.size() - 2];
