@@ -29,6 +29,8 @@ void bind_options(py::module_& m) {
         .def(py::init<>())
         .def_readwrite("omega_start", &ContinuationOptions::omega_start)
         .def_readwrite("omega_end", &ContinuationOptions::omega_end)
+        .def_readwrite("start_harmonics", &ContinuationOptions::start_harmonics,
+                       "H of a first solve at each branch start, padded as the start at H (0: automatic)")
         .def_readwrite("omega_scale", &ContinuationOptions::omega_scale)
         .def_readwrite("initial_step", &ContinuationOptions::initial_step)
         .def_readwrite("min_step", &ContinuationOptions::min_step)

@@ -596,6 +596,50 @@ TEST_CASE("hbf frf with wmax = wmin: one point from a cold start, the branch's s
     CHECK_THAT(below.err, Catch::Contains("wmax") && Catch::Contains("wmax = wmin: one point"));
 }
 
+TEST_CASE("hbf frf --start-harmonics: the start at H from the H0 solution is the cold start's point, and H0 out "
+          "of range is refused before any output",
+          "[cli]") {
+    // liftoff3_rigid.toml (law unilateral) at w = 1.1, H = 10: one point from the usual cold start
+    // (the linear guesses at H = 10) and one from the H = 3 solution padded with zero harmonics:
+    // the same harmonic-balance solution (unique there), every column to 1e-8.
+    TempDir dir;
+    const std::string config = "frf --config '" + (fs::path(HBF_SOURCE_DIR) / "examples/systems/liftoff3_rigid.toml").string() +
+                               "' --wmin 1.1 --wmax 1.1 --harmonics 10 --exact off --error-points 0 --quiet";
+    const fs::path cold = dir.path / "cold.csv", low = dir.path / "low.csv", json = dir.path / "low.json";
+    const Result a = run_hbf(config + " --out '" + cold.string() + "'", dir);
+    INFO(a.err);
+    REQUIRE(a.exit_code == 0);
+    const Result b = run_hbf(config + " --start-harmonics 3 --out '" + low.string() + "' --summary '" + json.string() + "'", dir);
+    INFO(b.err);
+    REQUIRE(b.exit_code == 0);
+    const auto ra = parse_csv(slurp(cold)), rb = parse_csv(slurp(low));
+    REQUIRE(ra.size() == 2);
+    REQUIRE(rb.size() == 2);
+    REQUIRE(ra[0] == rb[0]);
+    int compared = 0;
+    for (std::size_t k = 0; k < ra[1].size(); ++k) {
+        char* end = nullptr;
+        const double x = std::strtod(ra[1][k].c_str(), &end);
+        if (end == ra[1][k].c_str() || *end != '\0') continue;  // words: regimes, kinds
+        const std::string& name = ra[0][k];
+        if (name == "iterations" || name == "residual" || name == "energy_error") continue;  // Newton's own path
+        INFO(name);
+        CHECK(std::stod(rb[1][k]) == Approx(x).epsilon(1e-8).margin(1e-12));
+        ++compared;
+    }
+    CHECK(compared >= 10);
+    const nlohmann::json summary = nlohmann::json::parse(slurp(json));
+    CHECK(summary.at("status") == "completed");
+    for (const char* h0 : {"10", "12", "-1"}) {
+        const fs::path out = dir.path / (std::string("bad") + h0 + ".csv");
+        const Result bad = run_hbf(config + " --start-harmonics " + h0 + " --out '" + out.string() + "'", dir);
+        INFO("--start-harmonics " << h0 << ": " << bad.err);
+        CHECK(bad.exit_code == 2);
+        CHECK_THAT(bad.err, Catch::Contains("--start-harmonics") && Catch::Contains("allowed 0..H - 1"));
+        CHECK(!fs::exists(out));
+    }
+}
+
 TEST_CASE("Progress: a redrawn line on a terminal, one kept line per interval into a log, nothing when off",
           "[cli]") {
     // hbf frf on a 10,000-DOF beam runs for 20 minutes: into a log file (standard error not a

@@ -29,6 +29,15 @@ struct ContinuationOptions {
     /// from a cold start by the start-point search (the linear guesses, from H = 12 on the
     /// solution with half the harmonics, then a ramp of the force), no continuation.
     double omega_end = 1.6;
+    /// The harmonics of a first solve at each branch start (a cold start: omega_start, and
+    /// omega_end or the middle of a gap after an amplitude cap): the start is searched with
+    /// this many harmonics (the search below, automatic at its own H), and that solution,
+    /// padded with zero harmonics, is Newton's start at the branch's H; where it does not
+    /// converge there the search below runs at H (BranchResult::message says so). 0:
+    /// automatic (from H = 12 on, half the harmonics after the linear guesses). Allowed 0 or
+    /// the excitation's harmonic .. H - 1 (continue_branch checks it against H); at most
+    /// max_harmonics.
+    int start_harmonics = 0;
     /// Frequency scale of the arclength: distances are measured in (X / x_ref, omega /
     /// omega_scale), both dimensionless, so the same physical problem in other units gives
     /// the same branch. 0: omega_end. >= 0.

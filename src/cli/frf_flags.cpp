@@ -91,6 +91,15 @@ void FrfFlags::add_to(CLI::App& command) {
                        "size), full (every DOF's coefficients: a dense Jacobian, small models), automatic (condensed "
                        "for damped or larger than 16-DOF models with an invertible K, else full)")
         ->capture_default_str()->type_name("automatic|condensed|full");
+    command.add_option("--start-harmonics", start_harmonics,
+                       "harmonics of a first solve at each branch start, its solution the start at H; 0 = automatic\n"
+                       "harmonics H0 of a first solve at each branch start (wmin; wmax or a gap's middle after an "
+                       "amplitude cap): the start is searched with H0 harmonics, and that solution, padded with zero "
+                       "harmonics, is Newton's start at H (where a cold start at H fails or crawls: a meshed "
+                       "interface at H = 10 or 20 from its H = 5 solution); where it does not converge at H, the "
+                       "usual search runs at H and the summary's message says so. The excitation's harmonic..H - 1; "
+                       "0: automatic (from H = 12 on, H / 2 after the linear guesses fail)")
+        ->capture_default_str()->type_name("H0");
     command.add_option("--max-amplitude", max_amplitude,
                        "amplitude cap (the system's displacement units): the branch stops beyond it\namplitude cap, in the system's displacement units (nondimensional for the preset): the "
                        "branch stops when a bound of max |y_i| exceeds it (unbounded resonance), then restarts "
@@ -185,6 +194,7 @@ FrfSettings FrfFlags::settings(const CLI::App& command, ChosenSystem& chosen, co
     co.max_step = parse_double("--max-step", max_step);
     co.initial_step = std::min(co.initial_step, co.max_step);
     co.corrector.tolerance = parse_double("--tolerance", tolerance);
+    co.start_harmonics = parse_int("--start-harmonics", start_harmonics);  // range: validate()
     s.error_points = parse_int("--error-points", error_points);  // ranges: validate()
     s.error_limit = parse_double("--error-limit", error_limit);
     if (stability != "off") {

@@ -18,12 +18,14 @@ struct FrfFlags {
                 harmonics = "0", time_samples = "0", max_amplitude = default_text(ContinuationOptions{}.max_amplitude),
                 max_step = default_text(ContinuationOptions{}.max_step),
                 tolerance = default_text(CorrectorOptions{}.tolerance), formulation = "automatic", modes = "0",
-                error_points = std::to_string(FrfSettings{}.error_points), error_limit = default_text(FrfSettings{}.error_limit);
+                error_points = std::to_string(FrfSettings{}.error_points), error_limit = default_text(FrfSettings{}.error_limit),
+                start_harmonics = "0";
     std::string jacobian;  ///< --jacobian (empty: the --config file's, else automatic)
     std::string exact, config, stability = "off";
 
     /// Adds --wmin --wmax --harmonics --modes --formulation --time-samples --max-amplitude
-    /// --max-step --tolerance --config --exact --stability --error-points --error-limit.
+    /// --max-step --tolerance --config --exact --stability --error-points --error-limit
+    /// --start-harmonics.
     void add_to(CLI::App& command);
     /// The settings of one FRF of the chosen system, every flag checked (UsageError names it);
     /// a --config file's range and [solver] apply where the flags are not given. With the exact

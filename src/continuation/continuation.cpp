@@ -82,10 +82,13 @@ namespace {
 /// previous solution scaled by the load ratio (exact while the response is linear), and halves
 /// the increment of log(lambda) after a failure.
 /// `stop` (ContinuationOptions::stop) is asked before every solve: a non-empty answer ends the
-/// search, not found, with `stopped` = that answer.
+/// search, not found, with `stopped` = that answer. start_harmonics > 0 (ContinuationOptions::
+/// start_harmonics): the search at that H first, its solution the start at hb's H; where that
+/// fails, `note` says so and the search runs at hb's H.
 bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options,
                 const std::function<std::string()>& stop, double omega, Eigen::VectorXd& x, double& x_scale,
-                int& iterations, double& residual, BranchResult& result, std::string& stopped) {
+                int& iterations, double& residual, BranchResult& result, std::string& stopped,
+                int start_harmonics = 0, std::string* note = nullptr) {
     auto attempt = [&](HarmonicBalance& h, Corrector& c, Eigen::VectorXd& guess) {
         if (stopped.empty() && stop) stopped = stop();
         if (!stopped.empty()) return false;
@@ -95,26 +98,16 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
         ++result.failed_corrections;
         return false;
     };
-    for (const bool sliding : {false, true}) {
-        x = hb.linear_guess(omega, sliding);
-        if (attempt(hb, corrector, x)) return true;
-    }
-    // The start is one point: before ramping, let the corrector work longer from the guesses
-    // (exact Coulomb with many harmonics may need 30-60 iterations from a linear guess).
+    // The start is one point: let the corrector work longer than on the branch (exact Coulomb
+    // with many harmonics may need 30-60 iterations from a linear guess).
     CorrectorOptions patient_options = options;
     patient_options.max_iterations = std::max(options.max_iterations, 100);
     Corrector patient(hb, patient_options);
-    for (const bool sliding : {false, true}) {
-        x = hb.linear_guess(omega, sliding);
-        if (attempt(hb, patient, x)) return true;
-    }
-    const double first_residual = residual;
-    // Fewer harmonics first: exact Coulomb with many harmonics can fail from a linear guess
-    // where half as many converge (measured: the 200-DOF beam at H = 20; its H = 10 start
-    // converges). The H/2 solution, padded with zero harmonics, is the guess.
-    if (hb.harmonics() >= 12 && hb.harmonics() / 2 >= hb.load_harmonic()) {
+    // The start searched with `low_harmonics` (automatic there), padded with zero harmonics:
+    // Newton's guess at hb's H.
+    auto from_fewer_harmonics = [&](int low_harmonics) {
         HarmonicBalanceOptions low_options = hb.options();
-        low_options.harmonics = hb.harmonics() / 2;
+        low_options.harmonics = low_harmonics;
         low_options.time_samples = 0;
         HarmonicBalance low(hb.system(), low_options);
         Corrector low_corrector(low, options);
@@ -126,10 +119,36 @@ bool find_start(HarmonicBalance& hb, Corrector& corrector, const CorrectorOption
                                       low_residual, low_result, stopped);
         result.corrections += low_result.corrections;
         result.failed_corrections += low_result.failed_corrections;
-        if (found) {
-            x = hb.embed_harmonics(low_x, low.harmonics());
-            if (attempt(hb, patient, x)) return true;
+        if (!found) {
+            residual = low_residual;
+            return false;
         }
+        x = hb.embed_harmonics(low_x, low.harmonics());
+        return attempt(hb, patient, x);
+    };
+    if (start_harmonics > 0) {
+        if (from_fewer_harmonics(start_harmonics)) return true;
+        if (!stopped.empty()) return false;
+        if (note)
+            *note += std::string(note->empty() ? "" : "; ") + "the start at w = " + format_number(omega) + " from H = " +
+                     std::to_string(start_harmonics) + " did not converge at H = " + std::to_string(hb.harmonics()) +
+                     " (residual " + format_number(residual) + "): searched at H = " + std::to_string(hb.harmonics());
+    }
+    for (const bool sliding : {false, true}) {
+        x = hb.linear_guess(omega, sliding);
+        if (attempt(hb, corrector, x)) return true;
+    }
+    for (const bool sliding : {false, true}) {
+        x = hb.linear_guess(omega, sliding);
+        if (attempt(hb, patient, x)) return true;
+    }
+    const double first_residual = residual;
+    // Fewer harmonics first: exact Coulomb with many harmonics can fail from a linear guess
+    // where half as many converge (measured: the 200-DOF beam at H = 20; its H = 10 start
+    // converges). The H/2 solution, padded with zero harmonics, is the guess.
+    if (start_harmonics == 0 && hb.harmonics() >= 12 && hb.harmonics() / 2 >= hb.load_harmonic()) {
+        if (from_fewer_harmonics(hb.harmonics() / 2)) return true;
+        residual = first_residual;
     }
     const HarmonicBalanceOptions layout = hb.options();
     auto scaled = [&](double lambda) {
@@ -497,12 +516,15 @@ bool stop_now(const ContinuationOptions& o, BranchResult& result) {
 
 /// Branch 1 from omega_start and, after an amplitude cap, branch 2 from omega_end; where they
 /// are equal, the start alone (one point).
-void follow_branches(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, BranchResult& result) {
+/// `start_note`: where a start from ContinuationOptions::start_harmonics failed.
+void follow_branches(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, BranchResult& result,
+                     std::string& start_note) {
     Eigen::VectorXd x;
     double x_scale = 1.0, res = 0.0;
     int it = 0;
     std::string stopped;
-    if (!find_start(hb, corrector, o.corrector, o.stop, o.omega_start, x, x_scale, it, res, result, stopped)) {
+    if (!find_start(hb, corrector, o.corrector, o.stop, o.omega_start, x, x_scale, it, res, result, stopped,
+                    o.start_harmonics, &start_note)) {
         result.status = stopped.empty() ? ContinuationStatus::start_failed : ContinuationStatus::stopped;
         result.message = stopped.empty() ? "no converged starting point at w = " + format_number(o.omega_start) +
                                                " (residual " + format_number(res) + ")"
@@ -534,7 +556,8 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     const double capped_at = result.points.back().omega;
     Eigen::VectorXd x2;
     double scale2 = 1.0;
-    if (!find_start(hb, corrector, o.corrector, o.stop, o.omega_end, x2, scale2, it, res, result, stopped)) {
+    if (!find_start(hb, corrector, o.corrector, o.stop, o.omega_end, x2, scale2, it, res, result, stopped,
+                    o.start_harmonics, &start_note)) {
         if (!stopped.empty()) result.status = worse(result.status, ContinuationStatus::stopped);
         result.message += "; restart at w = " + format_number(o.omega_end) + (stopped.empty() ? " failed" : " stopped: " + stopped);
         return;
@@ -557,7 +580,8 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
     const double middle = 0.5 * (capped_at + capped_above);
     Eigen::VectorXd x3;
     double scale3 = 1.0;
-    if (!find_start(hb, corrector, o.corrector, o.stop, middle, x3, scale3, it, res, result, stopped)) {
+    if (!find_start(hb, corrector, o.corrector, o.stop, middle, x3, scale3, it, res, result, stopped,
+                    o.start_harmonics, &start_note)) {
         if (!stopped.empty()) result.status = worse(result.status, ContinuationStatus::stopped);
         result.message += "; no start inside the gap at w = " + format_number(middle) +
                           (stopped.empty() ? std::string() : " (stopped: " + stopped + ")");
@@ -602,6 +626,9 @@ void validate(const ContinuationOptions& o) {
     if (o.corrector.max_iterations < 1)
         throw InvalidInput("max_iterations = " + std::to_string(o.corrector.max_iterations) +
                            " is out of range: allowed >= 1 (corrector iterations per correction)");
+    if (o.start_harmonics < 0 || o.start_harmonics > max_harmonics)
+        throw InvalidInput("start_harmonics = " + std::to_string(o.start_harmonics) + " is out of range: allowed 0..H - 1 "
+                           "(0: automatic; at most " + std::to_string(max_harmonics) + ")");
     if (!(o.max_turn > 0.0 && o.max_turn <= M_PI))
         throw InvalidInput("max_turn = " + format_number(o.max_turn) + " is out of range: allowed 0 < max_turn <= pi");
 
@@ -613,8 +640,15 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     const EvaluationStatistics before = hb.statistics();
     Corrector corrector(hb, o.corrector);
     BranchResult result;
+    if (o.start_harmonics > 0 && !(o.start_harmonics >= hb.load_harmonic() && o.start_harmonics < hb.harmonics()))
+        throw InvalidInput("start_harmonics = " + std::to_string(o.start_harmonics) + " is out of range: allowed " +
+                           std::to_string(hb.load_harmonic()) + ".." + std::to_string(hb.harmonics() - 1) +
+                           " (from the excitation's harmonic to H - 1 = " + std::to_string(hb.harmonics() - 1) +
+                           "), or 0: automatic");
     if (o.resolve_resonances) result.resonances = linear_resonances(hb.system(), o.omega_start, o.omega_end);
-    follow_branches(hb, corrector, o, result);
+    std::string start_note;
+    follow_branches(hb, corrector, o, result, start_note);
+    if (!start_note.empty()) result.message += (result.message.empty() ? "" : "; ") + start_note;
     if (o.locate_folds) insert_folds(hb, corrector, o.corrector, frequency_scale(o), result, o.fold_progress, o.stop);
     if (o.locate_transitions) insert_transitions(hb, corrector, o.corrector, frequency_scale(o), result, o.stop);
     result.coverage = o.omega_end == o.omega_start ? (result.points.empty() ? 0.0 : 1.0)

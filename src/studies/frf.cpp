@@ -108,6 +108,10 @@ void check_study_options(const FrfSettings& s);
 void FrfSettings::validate() const {
     harmonic_balance.validate();
     check_study_options(*this);
+    const int h = harmonic_balance.harmonics, low = continuation.start_harmonics;
+    if (h > 0 && low >= h)  // the excitation's harmonic as the lowest: continue_branch
+        throw InvalidInput("start_harmonics = " + std::to_string(low) + " is out of range: allowed 0..H - 1 = " +
+                           std::to_string(h - 1) + " (0: automatic)");
 }
 
 namespace {

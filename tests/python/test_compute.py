@@ -126,6 +126,36 @@ def test_timeint_exact_with_rigid_contacts_equals_hbf_timeint():
     assert "exact orbits are unstable" in err
 
 
+def test_frf_start_harmonics_equals_hbf_frf_and_the_cold_start():
+    # liftoff3_rigid.toml at w = 1.1, H = 10: the start from the H = 3 solution is the cold start's
+    # point (unique there), and Python's start_harmonics is hbf frf --start-harmonics; a value at
+    # or above H raises, naming the option.
+    path = os.path.join(SOURCE, "examples", "systems", "liftoff3_rigid.toml")
+    system = hbfriction.load(path)
+    options = dict(wmin=1.1, wmax=1.1, harmonics=10, exact=False, error_points=0)
+    cold = hbfriction.frf(system, **options)
+    low = hbfriction.frf(system, start_harmonics=3, **options)
+    _, text, _ = run_hbf("frf", "--config", path, "--wmin", "1.1", "--wmax", "1.1", "--harmonics", "10", "--exact",
+                         "off", "--error-points", "0", "--start-harmonics", "3")
+    fields, header = read_csv(text)
+    compared = 0
+    for name in header:
+        if low[name].dtype.kind == "U":
+            assert list(low[name]) == fields[name], name
+            continue
+        if fields[name][0] == "":  # not computed at this point: NaN in all three
+            assert np.isnan(low[name][0]) and np.isnan(cold[name][0]), name
+            continue
+        assert low[name][0] == pytest.approx(float(fields[name][0]), rel=1e-12, abs=1e-15), name
+        if name in ("iterations", "residual", "energy_error"):  # Newton's own path from each start
+            continue
+        assert low[name][0] == pytest.approx(cold[name][0], rel=1e-8, abs=1e-12), name
+        compared += 1
+    assert compared >= 10
+    with pytest.raises(ValueError, match="start_harmonics = 10 is out of range"):
+        hbfriction.frf(system, start_harmonics=10, **options)
+
+
 def test_timeint_that_does_not_converge_is_failed_with_the_reason():
     # Two periods cannot settle the undamped stuck absorber's free vibration: hbf timeint exits 1.
     code, text, err = run_hbf("timeint", "--quiet", "--law", "dahl", "--w", "1.0", "--max-periods", "2",
