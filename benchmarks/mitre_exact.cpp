@@ -18,11 +18,20 @@
 // frequency (from rest, both step sizes) to the sweep's per point, and the sweep's point at each
 // --w against the exact orbit from the integrator's state (the two may be different members of
 // a family of orbits where nodes stick all period).
+// --fd-multipliers N checks each exact orbit's Floquet multipliers against the eigenvalues of the
+// integrator's period map differentiated at that orbit by central differences (N samples a
+// period, steps of 1e-6 of the state's size in each displacement of every DOF and velocity of
+// each DOF with mass; two periods a direction): the multipliers off the unit circle (those at 1
+// are the held positions of stuck nodes, the projected ones 0), largest first, side by side.
+// With --no-integrator and neither --start nor --warmup, the exact orbit is the one hbf timeint
+// --method exact finds from rest (exact_steady_state), its multipliers from its own state.
 #include <CLI/CLI.hpp>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <complex>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -31,8 +40,11 @@
 #include "hbf/output_file.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
+#include "state_file.hpp"
 
 using namespace hbf;
+using bench::read_state;
+using bench::write_state;
 
 namespace {
 using clock_type = std::chrono::steady_clock;
@@ -44,21 +56,66 @@ double mean_share(const std::vector<ContactRegime>& contacts, bool open) {
     return contacts.empty() ? 0.0 : sum / static_cast<double>(contacts.size());
 }
 
-/// A state as text, one number a line.
-Eigen::VectorXd read_state(const std::string& file) {
-    std::ifstream in(file);
-    std::vector<double> values;
-    for (double v; in >> v;) values.push_back(v);
-    if (values.empty()) throw std::runtime_error("--start " + file + ": no numbers read");
-    return Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+/// `samples`-step periods of law unilateral's integrator from `state` ([y, y'] of every DOF): the
+/// state after `periods` of them.
+Eigen::VectorXd integrator_flow(const System& system, double omega, const Eigen::VectorXd& state, int periods,
+                                int samples) {
+    TimeIntegrationOptions o;
+    o.samples_per_period = samples;
+    o.min_periods = o.max_periods = periods;  // the state after them starts the recorded period
+    o.steady_tolerance = TimeIntegrationOptions::largest_steady_tolerance;
+    o.shooting = false;
+    o.stick_restart = false;
+    const PeriodicResponse r = integrate_steady_state(system, omega, o, &state);
+    if (r.periods != periods + 1) throw std::runtime_error("the integrator's flow stopped: " + r.message);
+    return r.state.head(2 * system.dofs());
 }
 
-void write_state(const std::string& file, const Eigen::VectorXd& state) {
-    std::FILE* out = std::fopen(file.c_str(), "w");
-    if (!out) throw std::runtime_error("--save-orbit " + file + ": cannot be written");
-    for (double v : state) std::fprintf(out, "%.17g\n", v);
-    std::fclose(out);
+/// The eigenvalues of the integrator's period map differentiated at `state` by central
+/// differences: in y of every DOF and y' of each DOF with mass (the massless DOFs' velocities
+/// are not states of the flow), steps of 1e-6 of max |y| (velocities: times omega).
+Eigen::VectorXcd integrator_multipliers(const System& system, double omega, const Eigen::VectorXd& state, int samples) {
+    const int n = system.dofs();
+    const Eigen::VectorXd mass = Eigen::MatrixXd(system.mass).diagonal();
+    std::vector<int> coordinates;
+    for (int i = 0; i < n; ++i) coordinates.push_back(i);
+    for (int i = 0; i < n; ++i)
+        if (mass(i) != 0.0) coordinates.push_back(n + i);
+    const auto m = static_cast<Eigen::Index>(coordinates.size());
+    const double size = std::max(state.head(n).cwiseAbs().maxCoeff(), 1e-300);
+    Eigen::MatrixXd jacobian(m, m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+        const int c = coordinates[static_cast<std::size_t>(j)];
+        const double h = 1e-6 * size * (c >= n ? omega : 1.0);
+        Eigen::VectorXd plus = state, minus = state;
+        plus(c) += h;
+        minus(c) -= h;
+        const Eigen::VectorXd a = integrator_flow(system, omega, plus, 1, samples);
+        const Eigen::VectorXd b = integrator_flow(system, omega, minus, 1, samples);
+        for (Eigen::Index k = 0; k < m; ++k) {
+            const int r = coordinates[static_cast<std::size_t>(k)];
+            jacobian(k, j) = (a(r) - b(r)) / (2.0 * h);
+        }
+    }
+    return Eigen::EigenSolver<Eigen::MatrixXd>(jacobian, false).eigenvalues();
 }
+
+/// The multipliers off the unit circle (| |mu| - 1 | > 1e-3) and above 1e-3, largest |mu| first
+/// (a complex pair once, Im >= 0); `unit` counts those on it.
+std::vector<std::complex<double>> off_unit(const Eigen::VectorXcd& multipliers, int& unit) {
+    std::vector<std::complex<double>> kept;
+    unit = 0;
+    for (const std::complex<double>& mu : multipliers) {
+        if (std::abs(std::abs(mu) - 1.0) <= 1e-3) {
+            ++unit;
+        } else if (std::abs(mu) > 1e-3 && mu.imag() >= -1e-12 * std::abs(mu)) {
+            kept.push_back(mu);
+        }
+    }
+    std::sort(kept.begin(), kept.end(), [](auto a, auto b) { return std::abs(a) > std::abs(b); });
+    return kept;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -67,7 +124,7 @@ int main(int argc, char** argv) {
     int samples = 1024;
     std::string stepping = "automatic", file = std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml";
     double force_scale = 1.0, steady = 1e-8;
-    int max_events = 2000, warmup = 2, check_samples = 0;
+    int max_events = 2000, warmup = 2, check_samples = 0, fd_samples = 0;
     bool no_integrator = false;
     std::string start_file, save_file;
     app.add_option("--w", omegas, "frequencies [rad/s]")->delimiter(',');
@@ -87,6 +144,8 @@ int main(int argc, char** argv) {
     app.add_option("--sweep", sweep, "A,B,K: first an exact sweep of K frequencies from A to B, each from the previous orbit")
         ->delimiter(',')
         ->expected(3);
+    app.add_option("--fd-multipliers", fd_samples,
+                   "the exact multipliers against the integrator's period map's, by central differences at N samples");
     app.add_option("--check-samples", check_samples,
                    "with --no-integrator: two periods of the integrator from the exact state at N, 2N, 4N samples")
         ->check(CLI::Range(0, 1 << 20));
@@ -100,7 +159,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "mitre_exact: %s\n", e.what());
         return 2;
     }
-    const Eigen::VectorXd given_start = start_file.empty() ? Eigen::VectorXd() : read_state(start_file);
+    const Eigen::VectorXd given_start = start_file.empty() ? Eigen::VectorXd() : read_state("--start", start_file);
     const io::SystemConfig config = io::read_system_config(file);
     System system = config.system;
     system.excitation *= force_scale;
@@ -171,12 +230,43 @@ int main(int argc, char** argv) {
         eo.max_events_per_period = max_events;
         eo.outputs = outputs;
         eo.dof_maxima = false;
-        if (no_integrator) eo.warmup_periods = std::max(1, warmup);
         const auto start = clock_type::now();
-        const ExactOrbit exact =
-            rigid_periodic_orbit(system, omega, no_integrator ? given_start : ti[1].state, eo, choice);
+        Eigen::VectorXd exact_start = no_integrator ? given_start : ti[1].state;
+        if (no_integrator && given_start.size() == 0 && app.count("--warmup") == 0) {
+            // hbf timeint --method exact's orbit from rest (its options); the multipliers from its state
+            const PeriodicResponse from_rest = exact_steady_state(system, omega, eo, 200, {});
+            if (from_rest.converged) exact_start = from_rest.state;
+        } else if (no_integrator) {
+            eo.warmup_periods = std::max(1, warmup);
+        }
+        const ExactOrbit exact = rigid_periodic_orbit(system, omega, exact_start, eo, choice);
         const double exact_seconds = seconds_since(start);
-        if (exact.converged && !save_file.empty()) write_state(save_file, exact.state);
+        if (exact.converged && fd_samples > 0) {
+            const auto t0 = clock_type::now();
+            const Eigen::VectorXcd fd = integrator_multipliers(system, omega, exact.state, fd_samples);
+            int unit_exact = 0, unit_fd = 0;
+            const auto a = off_unit(exact.multipliers, unit_exact), b = off_unit(fd, unit_fd);
+            std::printf("  multipliers (|mu|, arg) off the unit circle, exact against the integrator's period map at %d "
+                        "samples (%.1f s; on it: %d exact, %d integrator; largest |mu| %.9f):\n",
+                        fd_samples, seconds_since(t0), unit_exact, unit_fd, exact.max_multiplier);
+            double worst = 0.0;
+            for (std::size_t k = 0; k < std::min<std::size_t>(a.size(), 10) && !b.empty(); ++k) {
+                // the integrator's nearest
+                const auto near = *std::min_element(b.begin(), b.end(), [&](auto x, auto y) {
+                    return std::abs(x - a[k]) < std::abs(y - a[k]);
+                });
+                std::printf("    %.7f %+.5f   %.7f %+.5f   |d mu| %.1e\n", std::abs(a[k]), std::arg(a[k]), std::abs(near),
+                            std::arg(near), std::abs(a[k] - near));
+                worst = std::max(worst, std::abs(a[k] - near));
+            }
+            if (!b.empty() && (a.empty() || std::abs(b[0]) > std::abs(a[0]) + 1e-3))
+                std::printf("    the integrator's largest off the unit circle, %.7f, exceeds the exact one's\n", std::abs(b[0]));
+            row["fd_samples"] = fd_samples;
+            row["fd_largest_difference"] = worst;
+            row["fd_off_unit"] = {a.size(), b.size()};
+            if (!a.empty() && !b.empty()) row["fd_largest_off_unit"] = {std::abs(a[0]), std::abs(b[0])};
+        }
+        if (exact.converged && !save_file.empty()) write_state("--save-orbit", save_file, exact.state);
         if (no_integrator) {
             std::printf("w = %g: exact %s (%s) in %.1f s, %d events, %d Newton iterations, %d periods, residual %.3e\n",
                         omega, exact.converged ? "converged" : "NOT converged", exact.message.c_str(), exact_seconds,
