@@ -96,7 +96,7 @@ void FrfFlags::add_to(CLI::App& command) {
                        "harmonics H0 of a first solve at each branch start (wmin; wmax or a gap's middle after an "
                        "amplitude cap): the start is searched with H0 harmonics, and that solution, padded with zero "
                        "harmonics, is Newton's start at H (where a cold start at H fails or crawls: a meshed "
-                       "interface at H = 10 or 20 from its H = 5 solution); where it does not converge at H, the "
+                       "interface at H = 10 and above from its H = 5 solution); where it does not converge at H, the "
                        "usual search runs at H and the summary's message says so. The excitation's harmonic..H - 1; "
                        "0: automatic (from H = 12 on, H / 2 after the linear guesses fail)")
         ->capture_default_str()->type_name("H0");
