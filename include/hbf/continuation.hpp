@@ -123,6 +123,10 @@ struct SolutionPoint {
 /// completed < amplitude_cap < left_range < point_budget < stopped < min_step < start_failed.
 /// Throws InvalidInput naming the first option out of range (continue_branch calls it).
 void validate(const ContinuationOptions& options);
+/// The range of ContinuationOptions::start_harmonics against a balance of `harmonics` harmonics
+/// whose force is at harmonic `load_harmonic`: 0, or load_harmonic..harmonics - 1 (harmonics
+/// 0, not yet chosen: 0..max_harmonics). Throws InvalidInput naming start_harmonics.
+void check_start_harmonics(int start_harmonics, int harmonics, int load_harmonic = 1);
 
 enum class ContinuationStatus { completed, amplitude_cap, left_range, point_budget, stopped, min_step, start_failed };
 std::string to_string(ContinuationStatus status);

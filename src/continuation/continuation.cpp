@@ -626,12 +626,18 @@ void validate(const ContinuationOptions& o) {
     if (o.corrector.max_iterations < 1)
         throw InvalidInput("max_iterations = " + std::to_string(o.corrector.max_iterations) +
                            " is out of range: allowed >= 1 (corrector iterations per correction)");
-    if (o.start_harmonics < 0 || o.start_harmonics > max_harmonics)
-        throw InvalidInput("start_harmonics = " + std::to_string(o.start_harmonics) + " is out of range: allowed 0..H - 1 "
-                           "(0: automatic; at most " + std::to_string(max_harmonics) + ")");
+    check_start_harmonics(o.start_harmonics, 0);
     if (!(o.max_turn > 0.0 && o.max_turn <= M_PI))
         throw InvalidInput("max_turn = " + format_number(o.max_turn) + " is out of range: allowed 0 < max_turn <= pi");
 
+}
+
+void check_start_harmonics(int start_harmonics, int harmonics, int load_harmonic) {
+    const int top = harmonics > 0 ? harmonics - 1 : max_harmonics;
+    if (start_harmonics == 0 || (start_harmonics >= load_harmonic && start_harmonics <= top)) return;
+    throw InvalidInput("start_harmonics = " + std::to_string(start_harmonics) + " is out of range: allowed 0..H - 1" +
+                       (harmonics > 0 ? " = " + std::to_string(top) : " (at most " + std::to_string(max_harmonics) + ")") +
+                       ", from the excitation's harmonic " + std::to_string(load_harmonic) + " (0: automatic)");
 }
 
 BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) {
@@ -640,11 +646,7 @@ BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) 
     const EvaluationStatistics before = hb.statistics();
     Corrector corrector(hb, o.corrector);
     BranchResult result;
-    if (o.start_harmonics > 0 && !(o.start_harmonics >= hb.load_harmonic() && o.start_harmonics < hb.harmonics()))
-        throw InvalidInput("start_harmonics = " + std::to_string(o.start_harmonics) + " is out of range: allowed " +
-                           std::to_string(hb.load_harmonic()) + ".." + std::to_string(hb.harmonics() - 1) +
-                           " (from the excitation's harmonic to H - 1 = " + std::to_string(hb.harmonics() - 1) +
-                           "), or 0: automatic");
+    check_start_harmonics(o.start_harmonics, hb.harmonics(), hb.load_harmonic());
     if (o.resolve_resonances) result.resonances = linear_resonances(hb.system(), o.omega_start, o.omega_end);
     std::string start_note;
     follow_branches(hb, corrector, o, result, start_note);

@@ -108,10 +108,7 @@ void check_study_options(const FrfSettings& s);
 void FrfSettings::validate() const {
     harmonic_balance.validate();
     check_study_options(*this);
-    const int h = harmonic_balance.harmonics, low = continuation.start_harmonics;
-    if (h > 0 && low >= h)  // the excitation's harmonic as the lowest: continue_branch
-        throw InvalidInput("start_harmonics = " + std::to_string(low) + " is out of range: allowed 0..H - 1 = " +
-                           std::to_string(h - 1) + " (0: automatic)");
+    check_start_harmonics(continuation.start_harmonics, harmonic_balance.harmonics);  // the force's harmonic: continue_branch
 }
 
 namespace {
