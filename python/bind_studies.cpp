@@ -274,6 +274,9 @@ void bind_studies(py::module_& m) {
             d["amplitude_max"] = mo.amplitude_max;
             d["slip_onset"] = onset.found ? py::object(py::float_(onset.amplitude)) : py::object(py::none());
             d["slip_contact"] = onset.found ? py::object(py::int_(onset.contact)) : py::object(py::none());
+            d["slip_opens"] = onset.found ? py::object(py::bool_(onset.opens)) : py::object(py::none());
+            d["slip_onset_static"] = onset.found ? py::object(py::float_(onset.static_amplitude)) : py::object(py::none());
+            d["slip_contact_static"] = onset.found ? py::object(py::int_(onset.static_contact)) : py::object(py::none());
             py::dict v;
             v["status"] = run.verdict.status();
             v["errors"] = run.verdict.errors;

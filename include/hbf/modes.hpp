@@ -89,24 +89,40 @@ struct DampedLinearMode {
 constexpr int damped_linear_mode_dofs = 200;
 DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode);
 
-/// Where a stuck mode starts to slip: the modal amplitude a at which the first contact's force
-/// in the linear mode y = a phi cos(theta) reaches its friction limit (a slip onset), and the
-/// range of a a backbone without a given range follows, from a tenth of it (the contacts well
-/// inside stick) to a hundred times it (slipping over most of the period). The forces are the
-/// stuck elements' (static_state.hpp: stuck_elements): a spring's k_c w^T phi (with its damper,
-/// |k_c + i omega d_c| |w^T phi|), a rigid contact's the constraint force that holds it,
-/// lambda = -(W^T W)^-1 W^T (K' - omega^2 M) phi over the rigid directions W (damping left
-/// out). The limit is friction_limit, or for a contact with a normal direction mu times its
-/// static normal force (static_state.hpp), against the norm of its tangential forces. found =
-/// false, and `why`, where no contact with a friction limit is moved by the mode (force
-/// elements alone, a mode that leaves every contact at rest, contacts open at rest).
+/// Where a stuck mode starts to slip: the largest modal amplitude a* at which a stuck periodic
+/// motion y = y_m + a Re(phi e^{i theta}) exists, and the range of a a backbone without a given
+/// range follows, from a tenth of a* (the contacts well inside stick) to a hundred times it
+/// (slipping over most of the period). The mode's forces are the stuck elements' (static_state.hpp:
+/// stuck_elements): a spring's (k_c + i omega d_c) w^T phi, a rigid contact's the constraint
+/// force that holds it, lambda = -(W^T W)^-1 W^T (K' - omega^2 M) phi over the rigid directions
+/// W (damping left out). A stuck motion leaves each contact's slider anywhere, and the sliders'
+/// places set the mean state y_m: every contact's mean forces (T_m, and for a contact with a
+/// normal direction N_m) are the static state's (static_state.hpp) plus S s, s the slider places
+/// and S the stuck structure's static response to them (a tangential mean force moves the normal
+/// ones through the structure). A contact stays stuck while |T_m + a Re(f_T e^{i theta})| <=
+/// friction_limit, or <= mu (N_m + a Re(f_N e^{i theta})) for one with a normal direction, at
+/// every phase theta (two phases, 0 and pi, where every force is in phase, as for an undamped
+/// real mode: the condition is convex in cos theta; else 64). a* is the largest a for which
+/// some s keeps every contact stuck: a second-order cone programme in (s, a), solved by a barrier
+/// method to about 1e-10 relative; the contact whose condition binds there slips, or opens where
+/// its normal force reaches 0 first (`opens`). Above a* every periodic motion slips somewhere;
+/// below it a motion whose sliders sit elsewhere may already slip: with the sliders where the
+/// static load leaves them (s = 0) the first contact reaches its limit at static_amplitude <= a*
+/// (harmonic balance's 3D rigid contacts, whose stuck mean tangential force is 0, touch there when
+/// the static tangential forces are small). Without a contact with a normal direction, each
+/// friction-limit contact's mean is free and a* = min friction_limit / |f|. found = false, and
+/// `why`, where no contact with a friction limit is moved by the mode (force elements alone, a
+/// mode that leaves every contact at rest, contacts open at rest, a static state not solved).
 struct SlipOnset {
     bool found = false;
     std::string why;
-    double amplitude = 0;  ///< a at the onset
-    int contact = -1;      ///< 0-based: the contact that slips first
-    int mode = 0;          ///< the stuck mode's index (LinearMode::index, 1-based)
-    double amplitude_min = 0, amplitude_max = 0;  ///< amplitude / 10, 100 amplitude
+    double amplitude = 0;  ///< a*: no stuck periodic motion above it
+    int contact = -1;      ///< 0-based: the contact that slips (or opens) at a*
+    bool opens = false;    ///< that contact opens at a* (its normal force reaches 0)
+    double static_amplitude = 0;  ///< the first contact's limit with the sliders at their static places
+    int static_contact = -1;      ///< 0-based: that contact
+    int mode = 0;                 ///< the stuck mode's index (LinearMode::index, 1-based)
+    double amplitude_min = 0, amplitude_max = 0;  ///< a* / 10, 100 a*
 };
 SlipOnset slip_onset(const System& system, const LinearMode& mode);
 

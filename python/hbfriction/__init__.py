@@ -767,8 +767,10 @@ def modes(system, amplitude_min=None, amplitude_max=None, *, mode_index=None, ne
     amplitude_min to amplitude_max from the stuck structure's linear mode `mode_index` (0-based by
     ascending frequency, default 0) or the one nearest the frequency `near`. Without
     amplitude_min and amplitude_max the range is a tenth to a hundred times the slip onset (the
-    amplitude where the stuck mode's first contact reaches its friction limit; ``linear``'s
-    ``slip_onset``, ``slip_contact``), as hbf modes chooses it. `mode` (1-based) is the former
+    largest amplitude at which a stuck motion exists, ``linear``'s ``slip_onset``; the contact
+    that slips or opens there, ``slip_contact`` and ``slip_opens``; with the sliders where the
+    static load leaves them, the first contact's limit ``slip_onset_static`` of contact
+    ``slip_contact_static``), as hbf modes chooses it. `mode` (1-based) is the former
     name of the index: deprecated, it still works with a DeprecationWarning. harmonics, time_samples: as frf (automatic H from
     the laws). formulation: "full", "condensed" or "automatic" (default: full up to 256 unknowns
     N (2H + 1) without modes, else condensed), modes: the condensed formulation's modal receptance
@@ -848,7 +850,8 @@ def modes(system, amplitude_min=None, amplitude_max=None, *, mode_index=None, ne
         linear["shape"] = linear["shape"] + 1j * _np.array(details["shape_imag"])
     linear["mode_index"] = details["mode"] - 1
     table.linear = {k: linear[k] for k in ("mode_index", "mode", "omega", "zeta", "shape", "start", "linear_omega",
-                                           "linear_xi", "slip_onset", "slip_contact")}
+                                           "linear_xi", "slip_onset", "slip_contact", "slip_opens",
+                                           "slip_onset_static", "slip_contact_static")}
     table.amplitude_min = details["amplitude_min"]
     table.amplitude_max = details["amplitude_max"]
     table.harmonics = details["harmonics"]

@@ -129,9 +129,14 @@ int run(const CLI::App& command, const ModesOptions& o) {
         mo.amplitude_min = onset.amplitude_min;
         mo.amplitude_max = onset.amplitude_max;
         std::cerr << "hbf modes: note: the range a = " << format_number(mo.amplitude_min) << " .. "
-                  << format_number(mo.amplitude_max) << " (a tenth to a hundred times the slip onset: contact "
-                  << onset.contact + 1 << " reaches its friction limit at a = " << format_number(onset.amplitude)
-                  << " in stuck mode " << onset.mode << "); --amin and --amax choose another\n";
+                  << format_number(mo.amplitude_max) << " (a tenth to a hundred times the slip onset of stuck mode "
+                  << onset.mode << ", a* = " << format_number(onset.amplitude)
+                  << ": no stuck motion above it, contact " << onset.contact + 1
+                  << (onset.opens ? " opens there" : " slips there");
+        if (onset.static_amplitude < onset.amplitude * (1.0 - 1e-9))
+            std::cerr << "; with the sliders where the static load leaves them contact " << onset.static_contact + 1
+                      << " reaches its limit at a = " << format_number(onset.static_amplitude);
+        std::cerr << "); --amin and --amax choose another\n";
     }
     // Every check of the run (a mode out of range, a rigid-body mode: InvalidInput) before any output.
     const NonlinearModes checked(chosen.system, hbo, mo);
@@ -330,7 +335,7 @@ void add_flags(CLI::App& command, ModesOptions& o) {
                        "smallest modal amplitude a, > 0 (default: a tenth of the slip onset)\nsmallest modal amplitude a (first point), > 0: a = the M-norm of y's first harmonic "
                        "(c1 cos + s1 sin), sqrt(c1^T M c1 + s1^T M s1); the modal coordinate's amplitude in the linear "
                        "limit. Without --amin and --amax the range is a tenth to a hundred times the slip onset (the "
-                       "amplitude where the stuck mode's first contact reaches its friction limit), said on standard "
+                       "amplitude where the stuck mode's first contact reaches its friction limit or opens), said on standard "
                        "error")
         ->type_name("NUMBER");
     command.add_option("--amax", o.amax, "largest modal amplitude a, > amin, at most 1e12 amin (given with --amin)")

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <complex>
 #include <limits>
-#include <memory>
 #include <string>
 #include <type_traits>
 
@@ -265,98 +264,6 @@ DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode
             Complex(mode.shape(independent[j]), mode.shape_imag.size() ? mode.shape_imag(independent[j]) : 0.0);
     return damped_mode<Complex>(Eigen::MatrixXcd((m + m.adjoint()) / 2.0), Eigen::MatrixXcd((k + k.adjoint()) / 2.0),
                                 Eigen::MatrixXcd((c + c.adjoint()) / 2.0), phi);
-}
-
-SlipOnset slip_onset(const System& system, const LinearMode& mode) {
-    system.validate();
-    SlipOnset out;
-    out.mode = mode.index;
-    const int n = system.dofs();
-    const Eigen::MatrixXd mass = dense_or_zero(system.mass, n);
-    Eigen::MatrixXd stiffness = dense_or_zero(system.stiffness, n);
-    const std::vector<std::vector<StuckElement>> elements = stuck_elements(system);
-    const double omega = mode.omega;
-    const Eigen::VectorXd& phi = mode.shape;
-    // A sector's travelling wave: phi complex (LinearMode::shape_imag), |w^T phi| its modulus.
-    using Complex = std::complex<double>;
-    Eigen::VectorXcd phi_c = phi.cast<Complex>();
-    if (mode.shape_imag.size() == n) phi_c.imag() = mode.shape_imag;
-    // Each contact direction's force amplitude at a = 1: springs directly, rigid ones after.
-    std::vector<Eigen::VectorXd> force(system.contacts.size());
-    std::vector<std::pair<std::size_t, Eigen::Index>> rigid;  // (contact, direction)
-    std::vector<Eigen::VectorXd> rigid_directions;
-    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
-        const Eigen::MatrixXd directions = system.contact_directions(system.contacts[c]);
-        force[c] = Eigen::VectorXd::Zero(directions.cols());
-        for (Eigen::Index j = 0; j < directions.cols() && j < static_cast<Eigen::Index>(elements[c].size()); ++j) {
-            const StuckElement& e = elements[c][static_cast<std::size_t>(j)];
-            if (e.rigid) {
-                rigid.emplace_back(c, j);
-                rigid_directions.push_back(directions.col(j));
-            } else {
-                stiffness += e.stiffness * directions.col(j) * directions.col(j).transpose();
-                force[c](j) = std::abs(Complex(e.stiffness, omega * e.damping)) *
-                              std::abs(directions.col(j).cast<Complex>().dot(phi_c));
-            }
-        }
-    }
-    if (!rigid.empty()) {
-        Eigen::MatrixXd w(n, static_cast<Eigen::Index>(rigid.size()));
-        for (std::size_t j = 0; j < rigid.size(); ++j) w.col(static_cast<Eigen::Index>(j)) = rigid_directions[j];
-        if (system.cyclic.active()) {
-            // A sector: the wheel's equations of its own DOFs, T^H (K' - omega^2 M) phi + T^H W lambda = 0.
-            const Eigen::MatrixXcd t = cyclic_transform(system, system.cyclic.phase());
-            const Eigen::VectorXcd r = t.adjoint() * ((stiffness - omega * omega * mass).cast<Complex>() * phi_c);
-            const Eigen::MatrixXcd tw = t.adjoint() * w.cast<Complex>();
-            const Eigen::VectorXcd lambda = -tw.completeOrthogonalDecomposition().solve(r);
-            for (std::size_t j = 0; j < rigid.size(); ++j)
-                force[rigid[j].first](rigid[j].second) = std::abs(lambda(static_cast<Eigen::Index>(j)));
-        } else {
-            const Eigen::VectorXd r = (stiffness - omega * omega * mass) * phi;
-            const Eigen::VectorXd lambda = -w.completeOrthogonalDecomposition().solve(r);
-            for (std::size_t j = 0; j < rigid.size(); ++j)
-                force[rigid[j].first](rigid[j].second) = std::abs(lambda(static_cast<Eigen::Index>(j)));
-        }
-    }
-    std::unique_ptr<StaticState> rest;  // the static normal forces, solved once where needed
-    std::string skipped;
-    for (std::size_t c = 0; c < system.contacts.size(); ++c) {
-        const Contact& contact = system.contacts[c];
-        const ContactLaw& law = contact_law(contact.law);
-        double limit = 0, along = 0;
-        if (law.has_friction_limit()) {
-            limit = contact.friction_limit;
-            along = force[c](0);
-        } else if (contact.values.count("friction_coefficient") && force[c].size() > 1) {
-            if (!rest) rest = std::make_unique<StaticState>(static_state(system));
-            const double normal = rest->ok ? rest->contacts[c].force(rest->contacts[c].force.size() - 1) : 0.0;
-            limit = contact.values.at("friction_coefficient") * normal;
-            along = force[c].head(force[c].size() - 1).norm();
-            if (!(limit > 0.0)) {
-                skipped = "contact " + std::to_string(c + 1) + " carries no normal force at rest";
-                continue;
-            }
-        } else {
-            continue;  // a force element without friction
-        }
-        if (!(along > 1e-12 * limit)) {
-            skipped = "mode " + std::to_string(mode.index) + " leaves contact " + std::to_string(c + 1) + " at rest";
-            continue;
-        }
-        const double a = limit / along;
-        if (!out.found || a < out.amplitude) {
-            out.found = true;
-            out.amplitude = a;
-            out.contact = static_cast<int>(c);
-        }
-    }
-    if (out.found) {
-        out.amplitude_min = out.amplitude / 10.0;
-        out.amplitude_max = out.amplitude * 100.0;
-    } else {
-        out.why = skipped.empty() ? "no contact has a friction limit (force elements alone)" : skipped;
-    }
-    return out;
 }
 
 }  // namespace hbf

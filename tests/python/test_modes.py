@@ -255,3 +255,19 @@ def test_a_time_limit_stops_the_backbone_and_keeps_its_points():
     assert np.allclose(t.w, whole.w, rtol=1e-12, atol=0)
     with pytest.raises(ValueError, match="time_limit = -1 is out of range"):
         hbfriction.modes(system, 1e-6, 1e3, time_limit=-1)
+
+
+def test_slip_onset_of_an_opening_contact_equals_the_cli_note():
+    # liftoff3_rigid.toml's third stuck mode presses its normal node hard: the contact opens
+    # (its normal force reaches 0) before it slips; Python's linear dict says so with the same
+    # onset hbf modes prints (the onset itself against a hand computation: tests/test_modes.cpp).
+    path = os.path.join(SOURCE, "examples", "systems", "liftoff3_rigid.toml")
+    t = hbfriction.modes(hbfriction.load(path), mode_index=2, harmonics=3)
+    code, _, err = run_hbf("modes", "--config", path, "--mode", "3", "--dry-run")
+    assert code == 0, err
+    note = [line for line in err.splitlines() if "slip onset" in line][0]
+    assert "no stuck motion above it, contact 1 opens there" in note
+    printed = float(note.split("a* = ")[1].split(":")[0])
+    assert t.linear["slip_opens"] is True and t.linear["slip_contact"] == 0
+    assert abs(t.linear["slip_onset"] / printed - 1) < 1e-12
+    assert abs(t.amplitude_min / t.linear["slip_onset"] - 0.1) < 1e-14
