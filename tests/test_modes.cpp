@@ -899,6 +899,7 @@ TEST_CASE("Nonlinear modes: a contact with a normal direction slips or opens whe
         o.max_step = 0.001;
         o.initial_step = 0.001;
         const Backbone b = NonlinearModes(s, hbo, o).follow();
+        INFO("mode " << k << ": " << b.message);
         REQUIRE(b.status == ModeStatus::completed);
         const double xi0 = b.points.front().xi;
         double departure = 0.0;

@@ -17,6 +17,7 @@
 #include "hbf/error.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/model.hpp"
+#include "hbf/modes.hpp"
 #include "hbf/post_processing.hpp"
 #include "hbf/static_state.hpp"
 #include "hbf/time_integration.hpp"
@@ -269,7 +270,6 @@ TEST_CASE("unilateral contact: the exact Jacobians of both formulations against 
         const System s = nodes_model(base);
         for (Formulation formulation : {Formulation::condensed, Formulation::full}) {
             for (bool permanent : {false, true}) {
-                if (permanent && directions == 2) continue;  // 3D: the mean row is linear
                 HarmonicBalance hb(s, HarmonicBalanceOptions{4, 64, formulation});
                 const int n = hb.coefficients();
                 Eigen::VectorXd x = Eigen::VectorXd::Zero(hb.unknowns());
@@ -657,4 +657,57 @@ TEST_CASE("unilateral contact: the contact problem converges from a warm start o
         CHECK(slipping > 0);
         CHECK(stuck > 0);
     }
+}
+
+TEST_CASE("unilateral contact 3D: in permanent stick the forces keep the largest margin to the cone, so the backbone "
+          "of one node leaves stick at the largest amplitude any mean allows (slip_onset)",
+          "[unilateral_contact]") {
+    // Three masses (y1, y2 tangential, y3 normal) coupled by K, pressed by a preload through law
+    // elastic's springs on massless nodes: the preload loads the node tangentially too (T_0 =
+    // 31 % of mu N_0), and the stuck mode moves both tangential directions and the normal force.
+    System base;
+    base.mass = sparse(Eigen::MatrixXd(Eigen::Vector3d(1.0, 0.8, 0.6).asDiagonal()));
+    Eigen::Matrix3d k;
+    k << 3.0, 0.4, 0.8, 0.4, 2.5, 0.3, 0.8, 0.3, 2.0;
+    base.stiffness = sparse(Eigen::MatrixXd(k));
+    base.damping = sparse(Eigen::MatrixXd(0.002 * k));
+    base.excitation = Eigen::Vector3d(0.5, 0.3, 0.1);
+    Contact c;
+    c.law = parse_friction_law("elastic");
+    c.dof = 0;
+    c.stiffness = 2.0;
+    c.values["normal_stiffness"] = 4.0;
+    c.values["friction_coefficient"] = 0.4;
+    c.values["preload"] = 0.3;
+    c.lists["second_direction"] = {0.0, 1.0, 0.0};
+    c.lists["normal_direction"] = {0.0, 0.0, 1.0};
+    base.contacts.push_back(c);
+    const System s = nodes_model(base);
+    HarmonicBalanceOptions hbo;
+    hbo.harmonics = 5;
+    ModeOptions o;
+    const SlipOnset onset = slip_onset(s, hbo, o);
+    REQUIRE(onset.found);
+    INFO("a* = " << onset.amplitude << ", with the static slider " << onset.static_amplitude);
+    CHECK_FALSE(onset.opens);
+    // The static slider (and harmonic balance's former rule, a mean tangential force of 0)
+    // touches the cone well before a*: the test tells the rules apart.
+    CHECK(onset.static_amplitude < 0.9 * onset.amplitude);
+    o.amplitude_min = 0.9 * onset.amplitude;
+    o.amplitude_max = 1.05 * onset.amplitude;
+    o.max_step = 0.001;
+    o.initial_step = 0.001;
+    const Backbone b = NonlinearModes(s, hbo, o).follow();
+    INFO(b.message);
+    REQUIRE(b.status == ModeStatus::completed);
+    const double xi0 = b.points.front().xi;
+    double departure = 0.0;
+    for (const ModePoint& p : b.points)
+        if (std::abs(p.xi / xi0 - 1.0) > 1e-9) {
+            departure = p.amplitude;
+            break;
+        }
+    INFO("the backbone departs at " << departure);
+    CHECK(departure > onset.amplitude * (1.0 - 3e-3));
+    CHECK(departure < onset.amplitude * (1.0 + 3e-3));
 }

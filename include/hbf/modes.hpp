@@ -108,8 +108,8 @@ DampedLinearMode damped_linear_mode(const System& system, const LinearMode& mode
 /// its normal force reaches 0 first (`opens`). Above a* every periodic motion slips somewhere;
 /// below it a motion whose sliders sit elsewhere may already slip: with the sliders where the
 /// static load leaves them (s = 0) the first contact reaches its limit at static_amplitude <= a*
-/// (harmonic balance's 3D rigid contacts, whose stuck mean tangential force is 0, touch there when
-/// the static tangential forces are small). Without a contact with a normal direction, each
+/// (harmonic balance centres each stuck contact's mean force on its own, so a backbone with
+/// several contacts departs between the two). Without a contact with a normal direction, each
 /// friction-limit contact's mean is free and a* = min friction_limit / |f|. found = false, and
 /// `why`, where no contact with a friction limit is moved by the mode (force elements alone, a
 /// mode that leaves every contact at rest, contacts open at rest, a static state not solved).

@@ -2,12 +2,12 @@
 #include "hbf/normal_contact.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
+#include "contact/enclosing_circle.hpp"
 #include "hbf/error.hpp"
 
 namespace hbf {
@@ -269,166 +269,21 @@ private:
             }
             return;
         }
-        const Basis best = smallest_enclosing();
-        s = best.s;
-        if (derivative && E_) *derivative = basis_derivative(best).rightCols(m_);
-    }
-
-    struct Basis {
-        Eigen::Vector2d s = Eigen::Vector2d::Zero();
-        double value = 0;  ///< max_j (|s - u_j| - r_j)
-        std::array<int, 3> member = {-1, -1, -1};
-        int size = 0;
-    };
-    Eigen::Vector2d point(int j) const { return u_.row(j).transpose(); }
-    double excess(int j, const Basis& b) const { return (b.s - point(j)).norm() - radius_(j) - b.value; }
-    Basis one(int a) const {
-        Basis b;
-        b.s = point(a);
-        b.value = -radius_(a);
-        b.member[0] = a;
-        b.size = 1;
-        return b;
-    }
-    /// The optimum of constraints a and b, both tight when possible.
-    Basis two(int a, int b) const {
-        const Eigen::Vector2d gap = point(b) - point(a);
-        const double distance = gap.norm(), t = 0.5 * (distance + radius_(a) - radius_(b));
-        if (t <= 0.0) return one(a);
-        if (t >= distance) return one(b);
-        Basis out;
-        out.s = point(a) + t * gap / distance;
-        out.value = t - radius_(a);
-        out.member = {a, b, -1};
-        out.size = 2;
-        return out;
-    }
-    /// The point with |s - u_i| - r_i equal for i = a, b, c (the circle tangent to three),
-    /// with the smallest common value; the best pair where that fails.
-    Basis three(int a, int b, int c) const {
-        // 2 s.(u_i - u_a) + 2 R (r_i - r_a) = |u_i|^2 - |u_a|^2 - r_i^2 + r_a^2 (i = b, c),
-        // then |s - u_a| = R + r_a, a quadratic in R.
-        const Eigen::Vector2d ua = point(a);
-        Eigen::Matrix2d A;
-        Eigen::Vector2d rhs, coupling;
-        int row = 0;
-        for (int i : {b, c}) {
-            const Eigen::Vector2d ui = point(i);
-            A.row(row) = 2.0 * (ui - ua).transpose();
-            coupling(row) = 2.0 * (radius_(i) - radius_(a));
-            rhs(row) = ui.squaredNorm() - ua.squaredNorm() - radius_(i) * radius_(i) + radius_(a) * radius_(a);
-            ++row;
-        }
-        Basis out;
-        const Eigen::FullPivLU<Eigen::Matrix2d> lu(A);
-        if (lu.isInvertible()) {
-            const Eigen::Vector2d s0 = lu.solve(rhs), s1 = -lu.solve(coupling);
-            const Eigen::Vector2d w = s0 - ua;
-            const double qa = s1.squaredNorm() - 1.0, qb = 2.0 * (w.dot(s1) - radius_(a)),
-                         qc = w.squaredNorm() - radius_(a) * radius_(a);
-            double roots[2];
-            int count = 0;
-            if (std::abs(qa) < 1e-14) {
-                if (qb != 0.0) roots[count++] = -qc / qb;
-            } else {
-                const double disc = qb * qb - 4.0 * qa * qc;
-                if (disc >= 0.0) {
-                    const double root = std::sqrt(disc);
-                    roots[count++] = (-qb - root) / (2.0 * qa);
-                    roots[count++] = (-qb + root) / (2.0 * qa);
+        const detail::EnclosingCircle best = detail::smallest_enclosing_circle(u_, radius_, scale_);
+        s = best.centre;
+        if (derivative && E_) {
+            Matrix full = Matrix::Zero(2, d_ + m_);
+            const detail::EnclosingDerivative dd = detail::enclosing_circle_derivative(u_, radius_, best);
+            for (int k = 0; k < best.size; ++k) {
+                const int i = best.member[static_cast<std::size_t>(k)];
+                for (int row = 0; row < 2; ++row) {
+                    for (int c = 0; c < 2; ++c)
+                        full.block(row, d_ + c * n_, 1, n_) += dd.du[static_cast<std::size_t>(k)](row, c) * E_->row(i);
+                    add_dr(i, full, row, dd.dr[static_cast<std::size_t>(k)](row));
                 }
             }
-            const double floor = -std::min({radius_(a), radius_(b), radius_(c)});
-            double best = std::numeric_limits<double>::infinity();
-            for (int k = 0; k < count; ++k)
-                if (roots[k] >= floor && roots[k] < best) best = roots[k];
-            if (std::isfinite(best)) {
-                out.s = s0 + best * s1;
-                out.value = best;
-                out.member = {a, b, c};
-                out.size = 3;
-                if (std::max({std::abs(excess(a, out)), std::abs(excess(b, out)), std::abs(excess(c, out))}) <=
-                    1e-9 * scale_)
-                    return out;
-            }
+            *derivative = full.rightCols(m_);
         }
-        // Degenerate (collinear centres, no tangent circle): the best pair that covers the third.
-        Basis fallback;
-        fallback.value = std::numeric_limits<double>::infinity();
-        const std::array<std::array<int, 3>, 3> pairs = {{{a, b, c}, {a, c, b}, {b, c, a}}};
-        for (const auto& p : pairs) {
-            const Basis candidate = two(p[0], p[1]);
-            if (excess(p[2], candidate) <= 1e-12 * scale_ && candidate.value < fallback.value) fallback = candidate;
-        }
-        if (std::isfinite(fallback.value)) return fallback;
-        throw std::runtime_error("normal contact: no permanent-stick centre for samples " + std::to_string(a) + ", " +
-                                 std::to_string(b) + ", " + std::to_string(c));
-    }
-
-    /// Welzl's algorithm (iterative, on a fixed pseudo-random order: reproducible).
-    Basis smallest_enclosing() const {
-        std::vector<int> order(static_cast<std::size_t>(nt_));
-        for (int j = 0; j < nt_; ++j) order[static_cast<std::size_t>(j)] = j;
-        unsigned long long state = 0x9E3779B97F4A7C15ull;
-        for (int j = nt_ - 1; j > 0; --j) {
-            state = state * 6364136223846793005ull + 1442695040888963407ull;
-            std::swap(order[static_cast<std::size_t>(j)], order[static_cast<std::size_t>((state >> 33) % (j + 1))]);
-        }
-        const double tolerance = 1e-12 * scale_;
-        Basis b = one(order[0]);
-        for (int i = 1; i < nt_; ++i) {
-            const int pi = order[static_cast<std::size_t>(i)];
-            if (excess(pi, b) <= tolerance) continue;
-            b = one(pi);
-            for (int j = 0; j < i; ++j) {
-                const int pj = order[static_cast<std::size_t>(j)];
-                if (excess(pj, b) <= tolerance) continue;
-                b = two(pi, pj);
-                for (int k = 0; k < j; ++k) {
-                    const int pk = order[static_cast<std::size_t>(k)];
-                    if (excess(pk, b) <= tolerance) continue;
-                    b = three(pi, pj, pk);
-                }
-            }
-        }
-        return b;
-    }
-
-    /// d s / d(s_0, q) (2 x (2 + m)) of a basis: its tight constraints |s - u_i| - r_i = R.
-    Matrix basis_derivative(const Basis& b) const {
-        Matrix out = Matrix::Zero(2, d_ + m_);
-        if (b.size == 1) {
-            add_du(b.member[0], out, 1.0);
-            return out;
-        }
-        if (b.size == 2) {  // s = u_a + t e, t = (|u_b - u_a| + r_a - r_b) / 2
-            const int a = b.member[0], c = b.member[1];
-            const Eigen::Vector2d gap = point(c) - point(a);
-            const double distance = gap.norm(), t = 0.5 * (distance + radius_(a) - radius_(c));
-            const Eigen::Vector2d e = gap / distance;
-            Matrix dgap = Matrix::Zero(2, d_ + m_);
-            add_du(c, dgap, 1.0);
-            add_du(a, dgap, -1.0);
-            Matrix dt = 0.5 * (e.transpose() * dgap);
-            add_dr(a, dt, 0, 0.5);
-            add_dr(c, dt, 0, -0.5);
-            add_du(a, out, 1.0);
-            out += e * dt + (t / distance) * (dgap - e * (e.transpose() * dgap));
-            return out;
-        }
-        // [n_i^T, -1] d(s, R) = n_i^T d u_i + d r_i, i over the three tight constraints.
-        Eigen::Matrix3d A;
-        Matrix rhs = Matrix::Zero(3, d_ + m_);
-        for (int k = 0; k < 3; ++k) {
-            const int i = b.member[static_cast<std::size_t>(k)];
-            const Eigen::Vector2d normal = (b.s - point(i)).normalized();
-            A.row(k) << normal.transpose(), -1.0;
-            Matrix du = Matrix::Zero(2, d_ + m_);
-            add_du(i, du, 1.0);
-            rhs.row(k) = normal.transpose() * du;
-            add_dr(i, rhs, k, 1.0);
-        }
-        return A.fullPivLu().solve(rhs).topRows(2);
     }
 
     const ElasticContact& e_;

@@ -36,12 +36,22 @@
 // iteration then stalls). Balanced like the
 // equations of motion: r = Lambda - P proj(E ...), with the force f = lambda. The Jacobian is
 // exact on each open/stick/slip pattern of the samples (semi-smooth). In permanent stick (every
-// sample stuck) the mean tangential force is not determined; its c0 row is replaced by
+// sample closed, and a constant shift of the tangential forces puts every sample strictly inside
+// the cone: a stuck motion exists, whether or not the current iterate's forces touch the cone)
+// every sample is taken as stuck (its force t, unprojected) and the mean tangential force, which
+// the stuck equations leave free, is fixed by replacing its c0 row with
 //   2D: max_j (lambda_T,j - mu N_j) + min_j (lambda_T,j + mu N_j) = 0, the force centred between
 //       the cone's limits: law elastic's centred slider (normal_contact.hpp) when the node is
 //       tied to its structure by a spring;
-//   3D: mean lambda_T = 0 (rotation-equivariant; law elastic takes the largest-margin centre
-//       instead, which equals it for a centrally symmetric cycle).
+//   3D: the largest-margin force, lambda_T shifted by argmin_c max_j (|lambda_T,j + c| - mu N_j)
+//       (enclosing_circle.hpp; rotation-equivariant; law elastic's centred slider likewise).
+// A node then leaves permanent stick where its cone can no longer hold the motion with any mean,
+// continuously (the centred forces touch the cone there). Deciding permanent stick by the
+// iterate's own samples instead (all strictly inside) leaves other roots: a mean at the edge of
+// the admissible set with one sample on the cone, or a little beyond it with a slip spread over
+// the harmonics, a one-parameter family along which a continuation wanders (measured on the
+// mitre example: a backbone stalled at the first touch, 9.86e-8; liftoff3_rigid: steps of 1e-6
+// jumping back 5 % in amplitude).
 // Not smooth (its stability verdicts come from the rigid-contact exact solver, rigid_exact.hpp), no
 // exact-stick solver; the time-domain reference is its own
 // integrator with a complementarity solve per step (time_integration/unilateral_contacts.hpp).
@@ -49,6 +59,7 @@
 #include <cmath>
 #include <limits>
 
+#include "contact/enclosing_circle.hpp"
 #include "contact/normal_law.hpp"
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
@@ -102,8 +113,43 @@ public:
     void evaluate(Fourier& fourier, double, const Eigen::VectorXd& q, const Eigen::VectorXd& z,
                   FrictionEvaluation& out, bool jacobian) const override {
         const int n = fourier.size(), d = e_.d, m = (d + 1) * n;
-        const Samples s = samples(fourier, q, z);
+        Samples s = samples(fourier, q, z);
         const int nt = fourier.time_samples();
+        // Permanent stick: every sample closed and some constant shift of the tangential forces
+        // puts them strictly inside the cone at every sample (a stuck motion exists), whether or
+        // not the current forces touch it. Every sample is then stuck (its force t, unprojected),
+        // and the mean is the largest-margin one.
+        const bool closed = std::all_of(s.state.begin(), s.state.end(),
+                                        [](ContactState c) { return c != ContactState::separated; });
+        Eigen::Index high = 0, low = 0;
+        detail::EnclosingCircle circle;
+        Eigen::MatrixXd points;
+        Eigen::VectorXd radii;
+        bool permanent_stick = false;
+        double centring[2] = {0.0, 0.0};  // the c0 rows' residuals in permanent stick
+        if (closed) {
+            if (d == 1) {
+                const Eigen::VectorXd lt = s.lambda.col(0);
+                const double upper = (lt - e_.mu * s.normal).maxCoeff(&high);
+                const double lower = (lt + e_.mu * s.normal).minCoeff(&low);
+                permanent_stick = upper < lower;
+                centring[0] = 0.5 * (upper + lower);
+            } else {
+                // The shift c of the mean that centres the forces, argmin_c max_k (|lambda_T,k + c|
+                // - mu N_k): the residual is -c (0 at the largest-margin force).
+                points = -s.lambda;
+                radii = e_.mu * s.normal;
+                const double scale = std::max(
+                    {s.lambda.cwiseAbs().maxCoeff(), radii.maxCoeff(), std::numeric_limits<double>::min()});
+                circle = detail::smallest_enclosing_circle(points, radii, scale);
+                permanent_stick = circle.value < 0.0;
+                for (int j = 0; j < d; ++j) centring[j] = -circle.centre(j);
+            }
+        }
+        if (permanent_stick) {
+            s.force = s.t;
+            s.state.assign(s.state.size(), ContactState::stuck);
+        }
         Eigen::VectorXd projected(n);
         out.state_residual = z;
         for (int j = 0; j < d; ++j) {
@@ -113,20 +159,8 @@ public:
         fourier.to_coefficients(s.normal, projected);
         out.state_residual.segment(d * n, n) -= projected;
         out.force = z;
-        const bool permanent_stick =
-            std::all_of(s.state.begin(), s.state.end(), [](ContactState c) { return c == ContactState::stuck; });
-        Eigen::Index high = 0, low = 0;
-        if (permanent_stick) {
-            // The mean tangential force is free in permanent stick (see the top of this file).
-            if (d == 1) {
-                const Eigen::VectorXd lt = s.lambda.col(0);
-                (lt - e_.mu * s.normal).maxCoeff(&high);
-                (lt + e_.mu * s.normal).minCoeff(&low);
-                out.state_residual(0) = 0.5 * (lt(high) - e_.mu * s.normal(high) + lt(low) + e_.mu * s.normal(low));
-            } else {
-                for (int j = 0; j < d; ++j) out.state_residual(j * n) = z(j * n);
-            }
-        }
+        if (permanent_stick)  // the mean tangential force is free (see the top of this file)
+            for (int j = 0; j < d; ++j) out.state_residual(j * n) = centring[j];
         out.jacobian_seconds = 0.0;
         if (!jacobian) return;
         detail::Stopwatch watch;
@@ -181,10 +215,23 @@ public:
                 out.state_z.block(0, n, 1, n) = 0.5 * e_.mu * (E.row(low) - E.row(high));
                 out.state_q.block(0, n, 1, n) = 0.5 * e_.mu * e_.eps_n * (E.row(low) - E.row(high));
             } else {
+                // d(-c) = -sum over the basis of (dc/du_i du_i + dc/dr_i dr_i), u_i = -lambda_T,i,
+                // r_i = mu N_i, N_i = lambda_N,i + eps_n (v_i - g_0) (closed throughout).
+                const Eigen::MatrixXd& E = fourier.synthesis();
+                const detail::EnclosingDerivative dd = detail::enclosing_circle_derivative(points, radii, circle);
                 for (int j = 0; j < d; ++j) {
                     out.state_z.row(j * n).setZero();
                     out.state_q.row(j * n).setZero();
-                    out.state_z(j * n, j * n) = 1.0;
+                }
+                for (int k = 0; k < circle.size; ++k) {
+                    const int i = circle.member[static_cast<std::size_t>(k)];
+                    const Eigen::Matrix2d& du = dd.du[static_cast<std::size_t>(k)];
+                    const Eigen::Vector2d& dr = dd.dr[static_cast<std::size_t>(k)];
+                    for (int j = 0; j < d; ++j) {
+                        for (int c = 0; c < d; ++c) out.state_z.block(j * n, c * n, 1, n) += du(j, c) * E.row(i);
+                        out.state_z.block(j * n, d * n, 1, n) -= dr(j) * e_.mu * E.row(i);
+                        out.state_q.block(j * n, d * n, 1, n) -= dr(j) * e_.mu * e_.eps_n * E.row(i);
+                    }
                 }
             }
         }

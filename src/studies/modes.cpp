@@ -610,6 +610,11 @@ bool NonlinearModes::first_point(ModePoint& start, Backbone& b) {
         Backbone run;
         const ModeOptions kept = options_;
         options_.progress = nullptr;
+        // The run-up only has to reach a_min: at least the default steps, whatever the
+        // backbone's own (a short max_step resolves the backbone, not the way to it).
+        const ModeOptions defaults;
+        options_.max_step = std::max(options_.max_step, defaults.max_step);
+        options_.initial_step = std::max(options_.initial_step, defaults.initial_step);
         continue_from(probe, probe.amplitude, a_min, run);
         options_ = kept;
         b.failed_steps += run.failed_steps;
@@ -695,6 +700,17 @@ void NonlinearModes::continue_from(const ModePoint& start, double a_first, doubl
         trial.amplitude = std::pow(10.0, predicted(u + 2));
         bool ok = trial.omega > 0.0 && correct(trial, &t, &predicted) &&
                   std::abs(trial.omega - previous.omega) <= options_.max_omega_change * previous.omega;
+        if (ok && h > 2.0 * options_.min_step) {
+            // The corrector moves on the hyperplane through the predicted point; a correction
+            // longer than twice the step landed elsewhere on the solution set: a jump, retried
+            // with a shorter step, as the FRF's continuation does.
+            Eigen::VectorXd landed(u + 3);
+            landed.head(u) = trial.x;
+            landed(u) = trial.omega;
+            landed(u + 1) = trial.xi;
+            landed(u + 2) = std::log10(trial.amplitude);
+            ok = (landed - predicted).cwiseQuotient(scale).norm() <= 2.0 * h;
+        }
         Eigen::VectorXd next;
         bool corner = false;
         if (ok) {
