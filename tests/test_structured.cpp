@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <string>
 
@@ -19,6 +20,7 @@
 
 using namespace hbf;
 using ::test::TempDir;
+namespace fs = std::filesystem;
 
 namespace {
 
