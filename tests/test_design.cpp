@@ -632,12 +632,14 @@ TEST_CASE("Optimisation and map results carry the verdict hbf and Python report"
     CHECK_THAT(map.warnings.at(0), Catch::StartsWith("1 of 3 FRFs failed"));
 }
 
-TEST_CASE("The automatic H fits the dense Jacobian's bound and says so, an explicit H too large names the H that fits",
+TEST_CASE("The automatic H fits the dense Jacobian's bound and says so, or keeps the law's H with the structured one; "
+          "an explicit H too large names the H that fits",
           "[design][settings]") {
     // 80 masses in a chain, each with an exact Coulomb contact to the ground: the condensed
     // formulation's unknowns per Fourier coefficient are 80 relative motions and 80 dynamic
-    // Lagrangian multipliers (a state: no structured Jacobian), 160, so 160 (2H + 1) <= 6000
-    // gives H <= 18 by hand, below Coulomb's automatic H = 20 (the polish is off for 80 elements).
+    // Lagrangian multipliers (a state), 160, so with the dense Jacobian 160 (2H + 1) <= 6000
+    // gives H <= 18 by hand, below Coulomb's automatic H = 20 (the polish is off for 80 elements);
+    // the automatic Jacobian keeps H = 20 and holds it in its structure.
     const int n = 80;
     Eigen::MatrixXd m = Eigen::MatrixXd::Identity(n, n), k = Eigen::MatrixXd::Zero(n, n);
     for (int i = 0; i < n; ++i) {
@@ -653,9 +655,15 @@ TEST_CASE("The automatic H fits the dense Jacobian's bound and says so, an expli
         c.dof = i;
         s.contacts.push_back(c);
     }
-    const FrfSettings settings = frf_settings(s, {});
-    CHECK_FALSE(settings.exact);
+    const FrfSettings automatic = frf_settings(s, {});
+    CHECK_FALSE(automatic.exact);
     CHECK(automatic_harmonics(s, false) == 20);
+    CHECK(automatic.harmonic_balance.harmonics == 20);
+    CHECK(automatic.harmonics_note.empty());
+    CHECK(HarmonicBalance(s, automatic.harmonic_balance).structured());
+    FrfChoices dense;
+    dense.jacobian = JacobianForm::dense;
+    const FrfSettings settings = frf_settings(s, {}, dense);
     CHECK(settings.harmonic_balance.harmonics == 18);
     CHECK_THAT(settings.harmonics_note, Catch::Contains("H = 18 instead of the automatic 20"));
     HarmonicBalanceOptions o = settings.harmonic_balance;
@@ -664,7 +672,7 @@ TEST_CASE("The automatic H fits the dense Jacobian's bound and says so, an expli
     CHECK_THROWS_WITH(HarmonicBalance::validate(s, o), Catch::Contains("6240 harmonic-balance unknowns") &&
                                                             Catch::Contains("at most H = 18 fits"));
     // a chosen H is the user's: not lowered, refused by the FRF's validation
-    FrfChoices chosen;
+    FrfChoices chosen = dense;
     chosen.harmonics = 19;
     const FrfSettings given = frf_settings(s, {}, chosen);
     CHECK(given.harmonic_balance.harmonics == 19);

@@ -13,6 +13,7 @@
 
 #include "../benchmarks/lattice.hpp"
 #include "cli_support.hpp"
+#include "nodes_model.hpp"
 #include "hbf/continuation.hpp"
 #include "hbf/error.hpp"
 #include "hbf/harmonic_balance.hpp"
@@ -43,6 +44,25 @@ HarmonicBalanceOptions options(int harmonics, JacobianForm form, int modes = 0) 
 }
 
 double max_abs(const Eigen::MatrixXd& m) { return m.cwiseAbs().maxCoeff(); }
+
+/// small_block's contacts as law unilateral's massless nodes on the elastic element's springs
+/// (6 rigid 3D contacts: 18 signals and 18 multiplier signals).
+System rigid_block(double force = 0.002) { return test::nodes_model(small_block(force)); }
+
+/// small_block with a Dahl contact (a bristle state) and an exact Coulomb contact (its
+/// multiplier) added on two of its DOFs.
+System stateful_block() {
+    System s = small_block();
+    for (const char* law : {"dahl", "coulomb"}) {
+        Contact c;
+        c.dof = law[0] == 'd' ? 0 : 4;
+        c.law = parse_friction_law(law);
+        c.friction_limit = 0.01;
+        c.stiffness = 1.0;
+        s.contacts.push_back(c);
+    }
+    return s;
+}
 
 /// The solution at omega: the first point of hbf frf's start there (from the static state).
 Eigen::VectorXd solution_at(HarmonicBalance& hb, double omega) {
@@ -85,46 +105,92 @@ TEST_CASE("Structured Jacobian: S (I + Gr Df) equals the dense condensed Jacobia
     }
 }
 
+TEST_CASE("Structured Jacobian with internal states: equal to the dense condensed Jacobian, law unilateral, "
+          "a bristle and exact Coulomb",
+          "[structured]") {
+    for (int which : {0, 1}) {
+        for (int modes : {0, 12}) {  // the modal receptance needs mass at every DOF: not the nodes
+            if (which == 0 && modes > 0) continue;
+            CAPTURE(which, modes);
+            HarmonicBalance hb(which == 0 ? rigid_block() : stateful_block(), options(3, JacobianForm::structured, modes));
+            REQUIRE(hb.structured());
+            const double omega = 0.8;
+            std::mt19937 rng(11);
+            std::uniform_real_distribution<double> u(-1.0, 1.0);
+            for (double scale : {0.01, 30.0, 300.0}) {
+                CAPTURE(scale);
+                // The linear guess enlarged, every unknown (multipliers and states too) perturbed:
+                // samples stuck, slipping and open.
+                Eigen::VectorXd x = scale * hb.linear_guess(omega);
+                const double size = max_abs(x);
+                for (Eigen::Index i = 0; i < x.size(); ++i) x(i) += 0.2 * size * u(rng);
+                Eigen::VectorXd r_dense, r_structured, w_dense, w_structured;
+                Eigen::MatrixXd j_dense;
+                hb.evaluate(x, omega, r_dense, &j_dense, &w_dense);
+                StructuredJacobian j;
+                hb.evaluate(x, omega, r_structured, j, &w_structured);
+                REQUIRE(j.states() * j.coefficients() == hb.unknowns() - j.signals() * j.coefficients());
+                REQUIRE(j.states() > 0);
+                REQUIRE(max_abs(r_structured - r_dense) <= 1e-13 * max_abs(r_dense));
+                REQUIRE(max_abs(w_structured - w_dense) <= 1e-12 * max_abs(w_dense));
+                REQUIRE(max_abs(j.dense() - j_dense) <= 1e-12 * max_abs(j_dense));
+                const Eigen::VectorXd sums = j_dense.cwiseAbs().rowwise().sum(), bound = j.abs_row_sums();
+                REQUIRE((bound.array() >= sums.array() * (1.0 - 1e-12)).all());
+            }
+        }
+    }
+}
+
 TEST_CASE("Structured Jacobian: the bordered GMRES solve equals a dense LU, in three iterations at most where all stick",
           "[structured]") {
-    HarmonicBalance hb(small_block(), options(4, JacobianForm::structured));
-    const double omega = 0.8;
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    for (bool stuck : {true, false}) {  // the stuck linear response, small; the solution near resonance
-        CAPTURE(stuck);
-        const Eigen::VectorXd x = stuck ? Eigen::VectorXd(1e-3 * hb.linear_guess(omega)) : solution_at(hb, 0.92);
-        Eigen::VectorXd r, w;
-        StructuredJacobian j;
-        hb.evaluate(x, omega, r, j, &w);
-        const int n = j.size();
-        Eigen::VectorXd c(n), b(n), rhs(n), sol;
-        for (int i = 0; i < n; ++i) {
-            c(i) = u(rng);
-            b(i) = u(rng);
-            rhs(i) = u(rng);
+    for (int which : {0, 1}) {  // law elastic's block; its contacts as law unilateral's nodes
+        CAPTURE(which);
+        const double omega = 0.8;
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        for (bool stuck : {true, false}) {
+            CAPTURE(stuck);
+            // Stuck: law elastic's linear response, small; law unilateral's solution at a small
+            // force (its linear guess has no multipliers: it slips). Else the solution near
+            // resonance.
+            HarmonicBalance hb(which == 0 ? small_block() : rigid_block(stuck ? 1e-5 : 0.002),
+                               options(4, JacobianForm::structured));
+            const Eigen::VectorXd x = !stuck       ? solution_at(hb, 0.92)
+                                      : which == 0 ? Eigen::VectorXd(1e-3 * hb.linear_guess(omega))
+                                                   : solution_at(hb, omega);
+            Eigen::VectorXd r, w;
+            StructuredJacobian j;
+            hb.evaluate(x, omega, r, j, &w);
+            const int n = j.size();
+            Eigen::VectorXd c(n), b(n), rhs(n), sol;
+            for (int i = 0; i < n; ++i) {
+                c(i) = u(rng);
+                b(i) = u(rng);
+                rhs(i) = u(rng);
+            }
+            const double d = 0.7, rho = -0.3;
+            const BlockPreconditioner p(j);
+            double mu = 0;
+            const KrylovReport report = solve_bordered(j, p, c, b, d, rhs, rho, sol, mu, 1e-12);
+            REQUIRE(report.converged);
+            Eigen::MatrixXd a(n + 1, n + 1);
+            a.topLeftCorner(n, n) = j.row_scale().cwiseInverse().asDiagonal() * j.dense();  // A = S^-1 dR/dX
+            a.topRightCorner(n, 1) = c;
+            a.bottomLeftCorner(1, n) = b.transpose();
+            a(n, n) = d;
+            Eigen::VectorXd full(n + 1);
+            full << rhs, rho;
+            const Eigen::VectorXd reference = a.partialPivLu().solve(full);
+            REQUIRE(max_abs(sol - reference.head(n)) <= 1e-9 * max_abs(reference));
+            REQUIRE(std::abs(mu - reference(n)) <= 1e-9 * max_abs(reference));
+            // Stuck everywhere, each contact's tangent is constant over the period: the
+            // preconditioner is A itself up to the mean force's coupling of harmonic 0 (the elastic
+            // law's stuck offset, law unilateral's centring rows), and GMRES needs three
+            // iterations at most.
+            INFO("GMRES iterations " << report.iterations);
+            if (stuck) REQUIRE(report.iterations <= 3);
+            if (!stuck) REQUIRE(report.iterations > 6);  // the slipping nodes are not (the test's premise)
         }
-        const double d = 0.7, rho = -0.3;
-        const BlockPreconditioner p(j);
-        double mu = 0;
-        const KrylovReport report = solve_bordered(j, p, c, b, d, rhs, rho, sol, mu, 1e-12);
-        REQUIRE(report.converged);
-        Eigen::MatrixXd a(n + 1, n + 1);
-        a.topLeftCorner(n, n) = j.row_scale().cwiseInverse().asDiagonal() * j.dense();  // A = S^-1 dR/dX
-        a.topRightCorner(n, 1) = c;
-        a.bottomLeftCorner(1, n) = b.transpose();
-        a(n, n) = d;
-        Eigen::VectorXd full(n + 1);
-        full << rhs, rho;
-        const Eigen::VectorXd reference = a.partialPivLu().solve(full);
-        REQUIRE(max_abs(sol - reference.head(n)) <= 1e-9 * max_abs(reference));
-        REQUIRE(std::abs(mu - reference(n)) <= 1e-9 * max_abs(reference));
-        // Stuck everywhere, each contact's tangent is constant over the period: the
-        // preconditioner is A itself up to the mean force's coupling of harmonic 0 (the elastic
-        // law's stuck offset), and GMRES needs three iterations at most.
-        INFO("GMRES iterations " << report.iterations);
-        if (stuck) REQUIRE(report.iterations <= 3);
-        if (!stuck) REQUIRE(report.iterations > 6);  // the slipping nodes are not (the test's premise)
     }
 }
 
@@ -175,7 +241,48 @@ TEST_CASE("Structured Jacobian: Newton with GMRES lands on the dense corrector's
     REQUIRE(std::abs(peak(structured, a) - peak(dense, b)) <= 0.02 * peak(dense, b));
 }
 
-TEST_CASE("Structured Jacobian: chosen automatically above the threshold, refused where it does not apply",
+TEST_CASE("Structured Jacobian with law unilateral: Newton with GMRES lands on the dense corrector's solutions "
+          "through stick, slip and lift-off, and the FRF peak equals the dense one",
+          "[structured]") {
+    const System s = rigid_block(0.004);
+    HarmonicBalance structured(s, options(5, JacobianForm::structured));
+    HarmonicBalance dense(s, options(5, JacobianForm::dense));
+    CorrectorOptions co;
+    co.tolerance = 1e-11;
+    Corrector newton(structured, co);
+    for (double omega : {0.6, 0.85, 0.9, 0.95, 1.2}) {
+        CAPTURE(omega);
+        const Eigen::VectorXd xd = solution_at(dense, omega);
+        const double scale = dense.unknown_scale(xd);
+        // Newton from 2 % off the dense solution (a predictor's distance: the dynamic
+        // Lagrangian's residual is nonsmooth, Newton converges locally).
+        Eigen::VectorXd xs = 0.98 * xd;
+        int iterations = 0;
+        double residual = 0;
+        const bool solved = newton.solve_at(xs, omega, scale, iterations, residual);
+        INFO("newton " << iterations << " iterations, residual " << residual << ", GMRES "
+                       << newton.statistics().krylov_iterations);
+        REQUIRE(solved);
+        REQUIRE(max_abs(xs - xd) <= 1e-8 * max_abs(xd));
+    }
+    REQUIRE(newton.statistics().krylov_iterations > 0);
+    ContinuationOptions o;
+    o.omega_start = 0.6;
+    o.omega_end = 1.2;
+    o.locate_transitions = false;
+    const BranchResult a = continue_branch(structured, o), b = continue_branch(dense, o);
+    REQUIRE(a.status == ContinuationStatus::completed);
+    REQUIRE(b.status == ContinuationStatus::completed);
+    auto peak = [](HarmonicBalance& hb, const BranchResult& r) {
+        double best = 0;
+        for (const SolutionPoint& p : r.points) best = std::max(best, hb.amplitude_bound(p.x, p.omega));
+        return best;
+    };
+    REQUIRE(std::abs(peak(structured, a) - peak(dense, b)) <= 0.02 * peak(dense, b));
+}
+
+TEST_CASE("Structured Jacobian: chosen automatically above the threshold (laws with internal states: above the dense "
+          "bound), refused where it does not apply",
           "[structured]") {
     // 100 nodes in 3D at H = 15: 9300 unknowns, beyond the dense bound, allowed structured.
     bench::LatticeOptions big;
@@ -190,21 +297,19 @@ TEST_CASE("Structured Jacobian: chosen automatically above the threshold, refuse
     }
     HarmonicBalance small(small_block(), options(3, JacobianForm::automatic));
     REQUIRE_FALSE(small.structured());  // 270 unknowns: the dense form
-    // odd harmonics only, a law with internal states: named refusals.
+    // odd harmonics only: a named refusal.
     HarmonicBalanceOptions odd = options(3, JacobianForm::structured);
     odd.odd_harmonics = true;
     System symmetric = small_block();
     REQUIRE_THROWS_WITH(HarmonicBalance(symmetric, odd), Catch::Contains("jacobian = structured") &&
                                                              Catch::Contains("odd_harmonics"));
-    System dahl = small_block();
-    Contact c;
-    c.dof = 0;
-    c.law = parse_friction_law("dahl");
-    c.friction_limit = 0.01;
-    c.stiffness = 1.0;
-    dahl.contacts.push_back(c);
-    REQUIRE_THROWS_WITH(HarmonicBalance(dahl, options(3, JacobianForm::structured)),
-                        Catch::Contains("jacobian = structured") && Catch::Contains("memoryless"));
+    // Laws with internal states: structured when asked; automatically only beyond the dense
+    // bound (36 unknowns a coefficient: 2196 at H = 30, 6516 at H = 90).
+    REQUIRE(HarmonicBalance(stateful_block(), options(3, JacobianForm::structured)).structured());
+    REQUIRE_FALSE(HarmonicBalance(rigid_block(), options(30, JacobianForm::automatic)).structured());
+    REQUIRE(HarmonicBalance(rigid_block(), options(90, JacobianForm::automatic)).structured());
+    REQUIRE(HarmonicBalance::fitting_harmonics(rigid_block(), options(3, JacobianForm::automatic), 90) == 90);
+    REQUIRE(HarmonicBalance::fitting_harmonics(rigid_block(), options(3, JacobianForm::dense), 90) == 82);
     REQUIRE_THROWS_WITH(parse_jacobian_form("sparse"), Catch::Contains("allowed automatic, dense, structured"));
 }
 
@@ -244,34 +349,39 @@ TEST_CASE("Factored modal receptance: G_B (I + S G_B)^-1 applied equals the form
     }
 }
 
-TEST_CASE("hbf frf --jacobian structured: the lift-off example's FRF and peak equal the dense corrector's, "
-          "bad forms refused",
+TEST_CASE("hbf frf --jacobian structured: the lift-off examples' FRFs and peaks equal the dense corrector's, "
+          "law elastic and law unilateral, bad forms refused",
           "[structured]") {
     TempDir dir;
-    const std::string example = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml";
-    nlohmann::json summary[2];
-    int k = 0;
-    for (const std::string form : {"structured", "dense"}) {
-        const fs::path out = dir.path / (form + ".csv"), json = dir.path / (form + ".json");
-        const auto r = ::test::run_hbf("frf --config '" + example + "' --jacobian " + form + " --out '" + out.string() +
-                                           "' --summary '" + json.string() + "'",
-                                       dir);
-        INFO(r.err);
-        REQUIRE(r.exit_code == 0);
-        summary[k++] = nlohmann::json::parse(::test::slurp(json));
+    for (const std::string name : {"liftoff3", "liftoff3_rigid"}) {
+        CAPTURE(name);
+        const std::string example = std::string(HBF_SOURCE_DIR) + "/examples/systems/" + name + ".toml";
+        nlohmann::json summary[2];
+        int k = 0;
+        for (const std::string form : {"structured", "dense"}) {
+            const fs::path out = dir.path / (form + ".csv"), json = dir.path / (form + ".json");
+            const auto r = ::test::run_hbf("frf --config '" + example + "' --jacobian " + form + " --out '" + out.string() +
+                                               "' --summary '" + json.string() + "'",
+                                           dir);
+            INFO(r.err);
+            REQUIRE(r.exit_code == 0);
+            summary[k++] = nlohmann::json::parse(::test::slurp(json));
+        }
+        CHECK(summary[0]["parameters"]["structured_jacobian"] == 1);
+        CHECK(summary[1]["parameters"]["structured_jacobian"] == 0);
+        CHECK(summary[0]["solver"]["krylov_iterations"].get<long long>() > 0);
+        // The located peak (a stick-slip corner or a smooth maximum, polished): the same solution.
+        const auto& a = summary[0]["peaks"][0];
+        const auto& b = summary[1]["peaks"][0];
+        INFO(a.dump() << "\n" << b.dump());
+        CHECK(std::abs(a["w"].get<double>() - b["w"].get<double>()) <= 1e-7 * b["w"].get<double>());
+        CHECK(std::abs(a["y_max"].get<double>() - b["y_max"].get<double>()) <= 1e-7 * b["y_max"].get<double>());
     }
-    CHECK(summary[0]["parameters"]["structured_jacobian"] == 1);
-    CHECK(summary[1]["parameters"]["structured_jacobian"] == 0);
-    CHECK(summary[0]["solver"]["krylov_iterations"].get<long long>() > 0);
-    // The located peak (a stick-slip corner or a smooth maximum, polished): the same solution.
-    const auto& a = summary[0]["peaks"][0];
-    const auto& b = summary[1]["peaks"][0];
-    INFO(a.dump() << "\n" << b.dump());
-    CHECK(std::abs(a["w"].get<double>() - b["w"].get<double>()) <= 1e-7 * b["w"].get<double>());
-    CHECK(std::abs(a["y_max"].get<double>() - b["y_max"].get<double>()) <= 1e-7 * b["y_max"].get<double>());
+    const std::string example = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml";
     ::test::check_bad_input("frf --config '" + example + "' --jacobian sparse", {"--jacobian", "allowed automatic, dense, structured"},
                             dir);
     ::test::check_bad_config(::test::slurp(example) + "\n[solver]\njacobian = 3\n", {"solver.jacobian", "expected a string"},
                              dir);
-    ::test::check_bad_input("frf --law dahl --jacobian structured", {"jacobian = structured", "memoryless"}, dir);
+    ::test::check_bad_input("frf --law dahl --jacobian structured --harmonics odd:5",
+                            {"jacobian = structured", "odd_harmonics"}, dir);
 }

@@ -63,10 +63,11 @@ Formulation parse_formulation(const std::string& name);
 
 /// How the corrector and the tangent hold and solve dR/dX (structured_jacobian.hpp).
 enum class JacobianForm {
-    automatic,   ///< structured where allowed and the unknowns exceed structured_threshold, else dense
+    automatic,   ///< structured where allowed and the unknowns exceed structured_threshold (laws with
+                 ///< internal states: max_unknowns), else dense
     dense,       ///< formed densely, solved by dense factorisations (Ceres); at most max_unknowns
-    structured,  ///< condensed, every law memoryless, every harmonic: I + Gr Df kept in its
-                 ///< structure, Newton with preconditioned GMRES; for interfaces of many nodes
+    structured,  ///< condensed, every harmonic: I + Gr Df (and the internal states' blocks) kept in
+                 ///< its structure, Newton with preconditioned GMRES; for interfaces of many nodes
 };
 /// "automatic", "dense", "structured".
 std::string to_string(JacobianForm form);
@@ -133,7 +134,7 @@ public:
     static void validate(System system, HarmonicBalanceOptions options);
     /// The largest H <= `wanted` whose unknowns fit max_unknowns for `system` with `options`
     /// (their harmonics ignored): `wanted` itself where the structured Jacobian would carry the
-    /// unknowns (options.jacobian automatic or structured, memoryless laws, every harmonic);
+    /// unknowns (options.jacobian automatic or structured, condensed, every harmonic);
     /// below the excitation harmonic h where not even H = h fits. Builds the formulation once
     /// at H = h (the condensed formulation factorises the static problem). Throws what the
     /// constructor throws for the system.
@@ -311,7 +312,7 @@ private:
     std::unique_ptr<Fourier> fourier_;
     bool condensed_ = false;
     bool structured_ = false;
-    bool structurable_ = false;  // the structured Jacobian could apply (memoryless, condensed, every harmonic)
+    bool structurable_ = false;  // the structured Jacobian could apply (condensed, every harmonic)
     std::unique_ptr<Receptance> receptance_;
     // per k = 0..H at receptance_omega_; shared with the structured Jacobians built from it
     // (copied on write when a new omega finds it shared)

@@ -80,9 +80,10 @@ void FrfFlags::add_to(CLI::App& command) {
         ->capture_default_str()->type_name("INT");
     command.add_option("--jacobian", jacobian,
                        "the corrector's Jacobian: dense, structured (GMRES, many contact nodes) or automatic\nhow the corrector holds dR/dX: dense (formed; Ceres' dense solvers; at most 6000 unknowns), "
-                       "structured (condensed formulation with memoryless laws and every harmonic: I + G Df kept in "
-                       "its block structure, Newton steps by GMRES preconditioned with the contacts' mean tangents; "
-                       "interfaces of many nodes), automatic (structured above 1500 unknowns where allowed). A "
+                       "structured (condensed formulation with every harmonic: I + G Df and the internal states' blocks "
+                       "kept in their block structure, Newton steps by GMRES preconditioned with the contacts' mean "
+                       "tangents; interfaces of many nodes), automatic (structured where allowed above 1500 unknowns, "
+                       "above 6000 for laws with internal states: coulomb, dahl, lugre, unilateral). A "
                        "--config file's [solver] jacobian applies unless given")
         ->type_name("FORM");
     command.add_option("--formulation", formulation,

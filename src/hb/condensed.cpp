@@ -296,7 +296,17 @@ void HarmonicBalance::evaluate_structured(const Eigen::VectorXd& x, double omega
         jacobian->harmonics_ = harmonics_;
         jacobian->first_ = signal_first_;
         jacobian->count_ = signal_count_;
+        jacobian->states_ = (all_unknowns_ - ns * n) / n;
+        jacobian->state_count_ = state_count_;
+        jacobian->state_first_.resize(static_cast<std::size_t>(nc));
+        for (int d = 0; d < nc; ++d) {
+            const int offset = state_offset_[static_cast<std::size_t>(d)];
+            jacobian->state_first_[static_cast<std::size_t>(d)] = offset < 0 ? 0 : (offset - ns * n) / n;
+        }
         jacobian->df_.resize(static_cast<std::size_t>(nc));
+        jacobian->fz_.resize(static_cast<std::size_t>(nc));
+        jacobian->rq_.resize(static_cast<std::size_t>(nc));
+        jacobian->rz_.resize(static_cast<std::size_t>(nc));
     }
     statistics_.structure_seconds += watch.lap();
     // Every contact's forces (and their blocks) through the AFT.
@@ -305,15 +315,24 @@ void HarmonicBalance::evaluate_structured(const Eigen::VectorXd& x, double omega
     for (int d = 0; d < nc; ++d) {
         const auto dd = static_cast<std::size_t>(d);
         const int first = signal_first_[dd], count = signal_count_[dd];
-        FrictionEvaluation& e = scratch_;
-        models_[dd]->evaluate(*fourier_, omega, x.segment(first * n, count * n), Eigen::VectorXd(), e, want_jacobian);
-        shift_force(d, omega, x.segment(first * n, count * n), e, want_jacobian);
+        const FrictionEvaluation& e = evaluate_contact(x, omega, d, want_jacobian);
         const double model_seconds = watch.lap();
         statistics_.aft_seconds += model_seconds - e.jacobian_seconds;
         statistics_.jacobian_seconds += e.jacobian_seconds;
         Eigen::Map<Eigen::VectorXd>(forces_.col(first).data(), count * n) = e.force;
         if (jacobian_omega) Eigen::Map<Eigen::VectorXd>(forces_omega_.col(first).data(), count * n) = e.force_omega;
         if (jacobian) jacobian->df_[dd] = e.force_q;
+        const int offset = state_offset_[dd];
+        if (offset >= 0) {  // the states' rows (unscaled) and their blocks
+            const int states = state_count_[dd] * n;
+            residual.segment(offset, states) = e.state_residual;
+            if (jacobian) {
+                jacobian->fz_[dd] = e.force_z;
+                jacobian->rq_[dd] = e.state_q;
+                jacobian->rz_[dd] = e.state_z;
+            }
+            if (jacobian_omega) jacobian_omega->segment(offset, states) = e.state_omega;
+        }
         statistics_.jacobian_seconds += watch.lap();
     }
     // + Gr f, all contacts at once per harmonic; d/domega: Gr f_omega + Gr' f.
@@ -328,7 +347,7 @@ void HarmonicBalance::evaluate_structured(const Eigen::VectorXd& x, double omega
     }
     statistics_.structure_seconds += watch.lap();
     // Rows scaled by S (evaluate_condensed); the scale depends on omega.
-    if (jacobian) jacobian->row_scale_.resize(all_unknowns_);
+    if (jacobian) jacobian->row_scale_.setOnes(all_unknowns_);
     scale_rows(ns, n, row_scale_, row_scale_omega_, residual, jacobian_omega, [jacobian](int i, double scale) {
         if (jacobian) jacobian->row_scale_(i) = scale;
     });

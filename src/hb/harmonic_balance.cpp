@@ -345,39 +345,35 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
         state_count_.push_back(model->state_signals());
         all_unknowns_ += model->state_signals() * n;
     }
-    // The Jacobian's form: structured only for the condensed formulation with memoryless laws
-    // and every harmonic (structured_jacobian.hpp).
+    // The Jacobian's form: structured only for the condensed formulation with every harmonic
+    // (structured_jacobian.hpp). Automatic: above structured_threshold unknowns for memoryless
+    // laws; where the contacts carry internal states (Lagrange multipliers, bristles), only
+    // where the dense form is not allowed (its trust-region corrector is the more robust on
+    // their nonsmooth residuals).
     const bool memoryless =
         std::all_of(state_count_.begin(), state_count_.end(), [](int states) { return states == 0; });
-    const bool structurable = condensed_ && memoryless && !options.odd_harmonics;
+    const bool structurable = condensed_ && !options.odd_harmonics;
     structurable_ = structurable;
-    if (options.jacobian == JacobianForm::structured && !structurable) {
-        std::string stateful;  // the first contact of each law with internal states
-        std::set<std::string> laws;
-        for (std::size_t c = 0; c < state_count_.size(); ++c) {
-            const std::string law = to_string(system_.contacts[c].law);
-            if (state_count_[c] > 0 && laws.insert(law).second)
-                stateful += (stateful.empty() ? "" : ", ") + contact_name(system_.contacts, c) + ": law " + law;
-        }
+    if (options.jacobian == JacobianForm::structured && !structurable)
         throw InvalidInput(std::string("jacobian = structured needs ") +
                            (!condensed_ ? "the condensed formulation, which this system does not use"
-                            : !memoryless ? "memoryless contact laws; these carry internal states (a Lagrange multiplier "
-                                            "or a bristle state per harmonic): " + stateful
-                                          : "every harmonic (odd_harmonics = false)") +
+                                        : "every harmonic (odd_harmonics = false)") +
                            ": allowed jacobian = dense or automatic");
-    }
     structured_ = options.jacobian == JacobianForm::structured ||
-                  (options.jacobian == JacobianForm::automatic && structurable && all_unknowns_ > structured_threshold);
+                  (options.jacobian == JacobianForm::automatic && structurable &&
+                   all_unknowns_ > (memoryless ? structured_threshold : max_unknowns));
     if (structured_) {
         // The receptances (G_k and dG_k/domega, or G_B, G_B' and an LU: up to 48 bytes per
         // entry), held twice (this evaluation's and the preconditioner's older one), the
         // preconditioner's LU and the products' temporaries: measured 150 to 180 (H + 1) n_s^2
-        // bytes of peak memory (benchmarks/interface_nodes: 534 MB at n_s = 600, H = 7).
-        const double bytes = 160.0 * (harmonics_ + 1) * static_cast<double>(ns) * ns;
+        // bytes of peak memory (benchmarks/interface_nodes: 534 MB at n_s = 600, H = 7); with
+        // internal states the preconditioner's blocks take n_s + n_z rows (counted as n_s).
+        const double nu = static_cast<double>(all_unknowns_ / n);
+        const double bytes = 160.0 * (harmonics_ + 1) * nu * nu;
         if (bytes > max_structured_bytes)
-            throw InvalidInput("harmonics = " + std::to_string(harmonics_) + " with " + std::to_string(ns) +
-                               " contact directions needs " + format_number(std::round(bytes / 1048576.0)) +
-                               " MB for the receptances and the preconditioner (about 160 (H + 1) n_s^2 bytes): allowed at most " +
+            throw InvalidInput("harmonics = " + std::to_string(harmonics_) + " with " + std::to_string(all_unknowns_ / n) +
+                               (memoryless ? " contact directions" : " contact directions and internal states") + " needs " + format_number(std::round(bytes / 1048576.0)) +
+                               " MB for the receptances and the preconditioner (about 160 (H + 1) n^2 bytes): allowed at most " +
                                format_number(max_structured_bytes / 1048576.0) +
                                " MB (fewer harmonics, fewer contact nodes)");
     }

@@ -23,16 +23,24 @@ void add_harmonic_amplitudes(const Eigen::VectorXcd& y, int k, Eigen::Ref<Eigen:
 }
 
 void StructuredJacobian::apply(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
-    const int n = coefficients_;
+    const int n = coefficients_, top = n * signals_;
     work_.resize(n, signals_);
-    // u = Df v, contact by contact (each one's directions are consecutive signals, so their
-    // coefficients are one consecutive segment of v).
+    out.resize(size());
+    // u = Df v_q + Fz v_z, contact by contact (each one's directions are consecutive signals,
+    // its states consecutive states, so their coefficients are consecutive segments of v);
+    // the states' rows Rq v_q + Rz v_z likewise.
     for (std::size_t d = 0; d < df_.size(); ++d) {
         const int length = count_[d] * n, start = first_[d] * n;
-        Eigen::Map<Eigen::VectorXd>(work_.data() + start, length).noalias() = df_[d] * v.segment(start, length);
+        Eigen::Map<Eigen::VectorXd> u(work_.data() + start, length);
+        u.noalias() = df_[d] * v.segment(start, length);
+        if (state_count_[d] == 0) continue;
+        const int states = state_count_[d] * n, at = top + state_first_[d] * n;
+        u.noalias() += fz_[d] * v.segment(at, states);
+        out.segment(at, states).noalias() = rq_[d] * v.segment(start, length);
+        out.segment(at, states).noalias() += rz_[d] * v.segment(at, states);
     }
-    // out = v + Gr u, harmonic by harmonic.
-    out = v;
+    // v_q + Gr u, harmonic by harmonic.
+    out.head(top) = v.head(top);
     Eigen::Map<Eigen::MatrixXd> o(out.data(), n, signals_);
     const auto& g = *receptance_;
     for (int k = 0; k <= harmonics_; ++k)
@@ -40,13 +48,20 @@ void StructuredJacobian::apply(const Eigen::VectorXd& v, Eigen::VectorXd& out) c
 }
 
 Eigen::VectorXd StructuredJacobian::abs_row_sums() const {
-    const int n = coefficients_;
+    const int n = coefficients_, top = n * signals_;
     Eigen::MatrixXd u(n, signals_);
+    Eigen::VectorXd all = Eigen::VectorXd::Zero(size());
     for (std::size_t d = 0; d < df_.size(); ++d) {
         const int length = count_[d] * n, start = first_[d] * n;
-        Eigen::Map<Eigen::VectorXd>(u.data() + start, length) = df_[d].cwiseAbs().rowwise().sum();
+        Eigen::Map<Eigen::VectorXd> row(u.data() + start, length);
+        row = df_[d].cwiseAbs().rowwise().sum();
+        if (state_count_[d] == 0) continue;
+        const int states = state_count_[d] * n, at = top + state_first_[d] * n;
+        row += fz_[d].cwiseAbs().rowwise().sum();
+        all.segment(at, states) = rq_[d].cwiseAbs().rowwise().sum() + rz_[d].cwiseAbs().rowwise().sum();
     }
-    Eigen::MatrixXd sums = Eigen::MatrixXd::Ones(n, signals_);
+    Eigen::Map<Eigen::MatrixXd> sums(all.data(), n, signals_);
+    sums.setOnes();
     const auto& g = *receptance_;
     for (int k = 0; k <= harmonics_; ++k) {
         // G_k factored: formed here, on a copy of its factors (rarely asked: the corrector's
@@ -69,7 +84,7 @@ Eigen::VectorXd StructuredJacobian::abs_row_sums() const {
             sums.row(2 * k) += bound.transpose();
         }
     }
-    return row_scale_.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(sums.data(), size()));
+    return row_scale_.cwiseProduct(all);
 }
 
 Eigen::MatrixXd StructuredJacobian::dense() const {
@@ -86,48 +101,79 @@ Eigen::MatrixXd StructuredJacobian::dense() const {
 
 double StructuredJacobian::bytes() const {
     double b = 8.0 * (row_scale_.size() + work_.size());
-    for (const auto& d : df_) b += 8.0 * static_cast<double>(d.size());
+    for (const auto* blocks : {&df_, &fz_, &rq_, &rz_})
+        for (const auto& d : *blocks) b += 8.0 * static_cast<double>(d.size());
     return b;
 }
 
+namespace {
+/// Harmonic k of the block between signal i and signal j of a per-contact block B (n
+/// coefficients a signal) in complex form: k = 0 its constant entry; k > 0 the
+/// rotation-invariant part p + i q of the (cos k, sin k) block [[al, be], [ga, de]], p = (al +
+/// de) / 2, q = (be - ga) / 2 (acting on Y = c - i s as [[p, q], [-q, p]]).
+std::complex<double> harmonic_entry(const Eigen::MatrixXd& block, int i, int j, int k, int n) {
+    if (k == 0) return block(i * n, j * n);
+    const int ci = i * n + 2 * k - 1, cj = j * n + 2 * k - 1;
+    return {0.5 * (block(ci, cj) + block(ci + 1, cj + 1)), 0.5 * (block(ci, cj + 1) - block(ci + 1, cj))};
+}
+/// Writes harmonic k of a complex vector y into the rows of v (k = 0: the real parts).
+void set_harmonic_amplitudes(const Eigen::Ref<const Eigen::VectorXcd>& y, int k, Eigen::Ref<Eigen::MatrixXd> v) {
+    if (k == 0) {
+        v.row(0) = y.real().transpose();
+        return;
+    }
+    v.row(2 * k - 1) = y.real().transpose();
+    v.row(2 * k) = -y.imag().transpose();
+}
+}  // namespace
+
 BlockPreconditioner::BlockPreconditioner(const StructuredJacobian& jacobian)
-    : coefficients_(jacobian.coefficients_), signals_(jacobian.signals_), harmonics_(jacobian.harmonics_) {
-    const int n = coefficients_, ns = signals_;
+    : coefficients_(jacobian.coefficients_),
+      signals_(jacobian.signals_),
+      states_(jacobian.states_),
+      harmonics_(jacobian.harmonics_) {
+    const int n = coefficients_, ns = signals_, nz = states_;
     const auto& g = *jacobian.receptance_;
     lu_.resize(static_cast<std::size_t>(harmonics_ + 1));
     factored_.resize(static_cast<std::size_t>(harmonics_ + 1));
-    Eigen::MatrixXcd dbar(ns, ns);
+    Eigen::MatrixXcd dbar(ns, ns), fzbar = Eigen::MatrixXcd::Zero(ns, nz);
+    Eigen::MatrixXcd pk(ns + nz, ns + nz);
     for (int k = 0; k <= harmonics_; ++k) {
         const Receptance::Harmonic& h = g[static_cast<std::size_t>(k)];
         const auto& factored = h.factored;
-        // Dbar_k, block-diagonal by contact: between directions i and j of a contact, the
-        // (cos k, sin k) block [[al, be], [ga, de]] of Df in complex form: p + i q with
-        // p = (al + de) / 2, q = (be - ga) / 2 (acting on Y = c - i s as [[p, q], [-q, p]]).
+        // The bars, block-diagonal by contact: Dbar and Fzbar (the signals' rows), Rqbar and
+        // Rzbar (the states' rows, straight into P_k's bottom rows).
         dbar.setZero();
+        pk.setZero();
         for (std::size_t d = 0; d < jacobian.df_.size(); ++d) {
-            const Eigen::MatrixXd& df = jacobian.df_[d];
             const int first = jacobian.first_[d], count = jacobian.count_[d];
             for (int i = 0; i < count; ++i)
+                for (int j = 0; j < count; ++j)
+                    dbar(first + i, first + j) = harmonic_entry(jacobian.df_[d], i, j, k, n);
+            const int sfirst = jacobian.state_first_[d], scount = jacobian.state_count_[d];
+            for (int i = 0; i < scount; ++i) {
                 for (int j = 0; j < count; ++j) {
-                    if (k == 0) {
-                        dbar(first + i, first + j) = df(i * n, j * n);
-                        continue;
-                    }
-                    const int ci = i * n + 2 * k - 1, cj = j * n + 2 * k - 1;
-                    const double p = 0.5 * (df(ci, cj) + df(ci + 1, cj + 1));
-                    const double q = 0.5 * (df(ci, cj + 1) - df(ci + 1, cj));
-                    dbar(first + i, first + j) = {p, q};
+                    fzbar(first + j, sfirst + i) = harmonic_entry(jacobian.fz_[d], j, i, k, n);
+                    pk(ns + sfirst + i, first + j) = harmonic_entry(jacobian.rq_[d], i, j, k, n);
                 }
+                for (int j = 0; j < scount; ++j)
+                    pk(ns + sfirst + i, ns + sfirst + j) = harmonic_entry(jacobian.rz_[d], i, j, k, n);
+            }
         }
-        // P_k = I + G_k Dbar, Dbar block-diagonal: column block by column block. With G_k factored
-        // (G_B (I + S G_B)^-1 = (I + G_B S)^-1 G_B): P_k = (I + G_B S)^-1 (I + G_B (S + Dbar)),
-        // so P_k^-1 v = M^-1 (v + G_B S v) with M = I + G_B (S + Dbar): one LU, no inverse.
+        // P_k's signal rows [I + G_k Dbar, G_k Fzbar], Dbar and Fzbar block-diagonal: column
+        // block by column block. With G_k factored (G_B (I + S G_B)^-1 = (I + G_B S)^-1 G_B)
+        // those rows are (I + G_B S)^-1 [I + G_B (S + Dbar), G_B Fzbar]: P_k^-1 [v; w] = M^-1
+        // [v + G_B S v; w], M the matrix with those rows: one LU, no inverse.
         if (factored) dbar.diagonal() += factored->shift;
         const Eigen::MatrixXcd& gk = factored ? factored->g_b : h.contact;
-        Eigen::MatrixXcd pk = Eigen::MatrixXcd::Identity(ns, ns);
+        pk.topLeftCorner(ns, ns).setIdentity();
         for (std::size_t d = 0; d < jacobian.df_.size(); ++d) {
             const int first = jacobian.first_[d], count = jacobian.count_[d];
-            pk.middleCols(first, count).noalias() += gk.middleCols(first, count) * dbar.block(first, first, count, count);
+            pk.block(0, first, ns, count).noalias() += gk.middleCols(first, count) * dbar.block(first, first, count, count);
+            const int sfirst = jacobian.state_first_[d], scount = jacobian.state_count_[d];
+            if (scount > 0)
+                pk.block(0, ns + sfirst, ns, scount).noalias() =
+                    gk.middleCols(first, count) * fzbar.block(first, sfirst, count, scount);
         }
         lu_[static_cast<std::size_t>(k)].compute(pk);
         factored_[static_cast<std::size_t>(k)] = factored;
@@ -135,23 +181,20 @@ BlockPreconditioner::BlockPreconditioner(const StructuredJacobian& jacobian)
 }
 
 void BlockPreconditioner::apply(const Eigen::VectorXd& v, Eigen::VectorXd& out) const {
-    const int n = coefficients_;
+    const int n = coefficients_, ns = signals_, nz = states_;
     out = v;  // harmonics not balanced: identity
-    const Eigen::Map<const Eigen::MatrixXd> in(v.data(), n, signals_);
-    Eigen::Map<Eigen::MatrixXd> o(out.data(), n, signals_);
+    const Eigen::Map<const Eigen::MatrixXd> in(v.data(), n, ns), in_z(v.data() + n * ns, n, nz);
+    Eigen::Map<Eigen::MatrixXd> o(out.data(), n, ns), o_z(out.data() + n * ns, n, nz);
+    Eigen::VectorXcd z(ns + nz);
     for (int k = 0; k <= harmonics_; ++k) {
         const auto& lu = lu_[static_cast<std::size_t>(k)];
         if (lu.rows() == 0) continue;
-        Eigen::VectorXcd z = harmonic_amplitudes(in, k);
-        if (const auto& f = factored_[static_cast<std::size_t>(k)]) z += f->g_b * f->shift.cwiseProduct(z);
+        z.head(ns) = harmonic_amplitudes(in, k);
+        if (nz > 0) z.tail(nz) = harmonic_amplitudes(in_z, k);
+        if (const auto& f = factored_[static_cast<std::size_t>(k)]) z.head(ns) += f->g_b * f->shift.cwiseProduct(z.head(ns));
         const Eigen::VectorXcd y = lu.solve(z);
-        // replace harmonic k of out by y
-        if (k == 0) {
-            o.row(0) = y.real().transpose();
-        } else {
-            o.row(2 * k - 1) = y.real().transpose();
-            o.row(2 * k) = -y.imag().transpose();
-        }
+        set_harmonic_amplitudes(y.head(ns), k, o);  // replace harmonic k of out by y
+        if (nz > 0) set_harmonic_amplitudes(y.tail(nz), k, o_z);
     }
 }
 

@@ -187,7 +187,7 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
                     s.harmonics_note = "H = " + std::to_string(fits) + " instead of the automatic " +
                                        std::to_string(hbo.harmonics) + ": the largest whose unknowns fit the dense "
                                        "Jacobian's bound of " + std::to_string(HarmonicBalance::max_unknowns) +
-                                       " (a larger H: fewer contacts, or a memoryless law with the structured Jacobian)";
+                                       " (a larger H: fewer contacts, or jacobian = structured)";
                     hbo.harmonics = fits;
                 }
             } catch (const InvalidInput&) {
