@@ -632,7 +632,7 @@ TEST_CASE("Optimisation and map results carry the verdict hbf and Python report"
     CHECK_THAT(map.warnings.at(0), Catch::StartsWith("1 of 3 FRFs failed"));
 }
 
-TEST_CASE("The automatic H fits the dense Jacobian's bound and says so, or keeps the law's H with the structured one; "
+TEST_CASE("The automatic H fits the dense Jacobian's bound and says so, or keeps the law's H with the structured one, "
           "an explicit H too large names the H that fits",
           "[design][settings]") {
     // 80 masses in a chain, each with an exact Coulomb contact to the ground: the condensed

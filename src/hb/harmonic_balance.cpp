@@ -374,7 +374,7 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
             throw InvalidInput("harmonics = " + std::to_string(harmonics_) + " with " + std::to_string(all_unknowns_ / n) +
                                (memoryless ? " contact directions" : " contact directions and internal states") + " needs " + format_number(std::round(bytes / 1048576.0)) +
                                " MB for the receptances and the preconditioner (about 160 (H + 1) n^2 bytes): allowed at most " +
-                               format_number(max_structured_bytes / 1048576.0) +
+                               format_number(std::floor(max_structured_bytes / 1048576.0)) +
                                " MB (fewer harmonics, fewer contact nodes)");
     }
     // The dense Jacobian (all_unknowns_^2 doubles, held by the corrector, Ceres and the
