@@ -90,6 +90,16 @@ public:
     virtual std::string time_samples_reason() const {
         return "to resolve its regularised friction law's turn (2 pi max|v| / eps)";
     }
+    /// Laws whose residual switches between two forms (law unilateral's permanent stick) hold
+    /// the form while `on`: the first evaluation after hold_switch(true) decides it, every later
+    /// one keeps it, until hold_switch(false). A corrector holds it for one Newton solve (the
+    /// residual is discontinuous across the switch away from a solution, and Newton may cycle
+    /// across it) and judges the solution with the switch free. Returns whether the law has such
+    /// a switch (default: none, nothing held).
+    virtual bool hold_switch(bool on) const {
+        (void)on;
+        return false;
+    }
 };
 
 /// A smooth law's local linearisation at one instant, in time t (not tau): the force

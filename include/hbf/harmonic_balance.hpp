@@ -243,6 +243,9 @@ public:
     /// set_mass_damping); residual, dofs(), contact_response() follow. Throws InvalidInput in the full
     /// formulation (modes.hpp adds -xi w (D1 Y) M itself) and for odd harmonics only.
     void set_free_motion(double xi);
+    /// Holds (or frees) every contact's switch between residual forms (FrictionModel::
+    /// hold_switch): the corrector holds them for one solve. Returns whether any contact has one.
+    bool hold_switches(bool on);
     /// Condensed (every harmonic): the contacts' forces minus the shift's springs and dampers at
     /// harmonic k >= 1, Lambda'_k (one per signal, complex c - i s), and with `d_x` their
     /// derivatives in the unknowns (signals x unknowns): what dofs() applies the shifted

@@ -36,15 +36,20 @@
 // iteration then stalls). Balanced like the
 // equations of motion: r = Lambda - P proj(E ...), with the force f = lambda. The Jacobian is
 // exact on each open/stick/slip pattern of the samples (semi-smooth). In permanent stick (every
-// sample closed, and a constant shift of the tangential forces puts every sample strictly inside
-// the cone: a stuck motion exists, whether or not the current iterate's forces touch the cone)
-// every sample is taken as stuck (its force t, unprojected) and the mean tangential force, which
-// the stuck equations leave free, is fixed by replacing its c0 row with
-//   2D: max_j (lambda_T,j - mu N_j) + min_j (lambda_T,j + mu N_j) = 0, the force centred between
-//       the cone's limits: law elastic's centred slider (normal_contact.hpp) when the node is
-//       tied to its structure by a spring;
-//   3D: the largest-margin force, lambda_T shifted by argmin_c max_j (|lambda_T,j + c| - mu N_j)
+// sample closed, and a constant shift of the trial forces t_j = lambda_T,j + eps_t u'_j puts every
+// sample strictly inside the cone: a stuck motion exists, whether or not the current iterate's
+// forces touch the cone) every sample is taken as stuck (its force t, unprojected) and the mean
+// tangential force, which the stuck equations leave free, is fixed by replacing its c0 row with
+//   2D: max_j (t_j - mu N_j) + min_j (t_j + mu N_j) = 0, the force centred between the cone's
+//       limits: law elastic's centred slider (normal_contact.hpp) when the node is tied to its
+//       structure by a spring;
+//   3D: the largest-margin force, t shifted by argmin_c max_j (|t_j + c| - mu N_j)
 //       (enclosing_circle.hpp; rotation-equivariant; law elastic's centred slider likewise).
+// (At a solution in stick u' = 0 and t = lambda_T; deciding on t, the samples the projection
+// classifies, keeps the switch consistent with the slip states.) Away from a solution the
+// residual jumps at the switch (the two forms agree there only on the centred state), so a
+// corrector holds the form for each Newton solve (hold_switch) and judges the solution with it
+// free (measured on liftoff3_rigid: Newton cycling across the switch for 20 iterations otherwise).
 // A node then leaves permanent stick where its cone can no longer hold the motion with any mean,
 // continuously (the centred forces touch the cone there). Deciding permanent stick by the
 // iterate's own samples instead (all strictly inside) leaves other roots: a mean at the edge of
@@ -129,22 +134,28 @@ public:
         double centring[2] = {0.0, 0.0};  // the c0 rows' residuals in permanent stick
         if (closed) {
             if (d == 1) {
-                const Eigen::VectorXd lt = s.lambda.col(0);
+                const Eigen::VectorXd lt = s.t.col(0);
                 const double upper = (lt - e_.mu * s.normal).maxCoeff(&high);
                 const double lower = (lt + e_.mu * s.normal).minCoeff(&low);
                 permanent_stick = upper < lower;
                 centring[0] = 0.5 * (upper + lower);
             } else {
-                // The shift c of the mean that centres the forces, argmin_c max_k (|lambda_T,k + c|
-                // - mu N_k): the residual is -c (0 at the largest-margin force).
-                points = -s.lambda;
+                // The shift c of the mean that centres the forces, argmin_c max_k (|t_k + c| - mu
+                // N_k): the residual is -c (0 at the largest-margin force).
+                points = -s.t;
                 radii = e_.mu * s.normal;
-                const double scale = std::max(
-                    {s.lambda.cwiseAbs().maxCoeff(), radii.maxCoeff(), std::numeric_limits<double>::min()});
+                const double scale =
+                    std::max({s.t.cwiseAbs().maxCoeff(), radii.maxCoeff(), std::numeric_limits<double>::min()});
                 circle = detail::smallest_enclosing_circle(points, radii, scale);
                 permanent_stick = circle.value < 0.0;
                 for (int j = 0; j < d; ++j) centring[j] = -circle.centre(j);
             }
+        }
+        if (holding_ && closed) {  // the form held for this solve (FrictionModel::hold_switch)
+            if (held_ < 0)
+                held_ = permanent_stick ? 1 : 0;
+            else
+                permanent_stick = held_ == 1;
         }
         if (permanent_stick) {
             s.force = s.t;
@@ -212,11 +223,13 @@ public:
                 out.state_z.row(0).setZero();
                 out.state_q.row(0).setZero();
                 out.state_z.block(0, 0, 1, n) = 0.5 * (E.row(high) + E.row(low));
+                out.state_q.block(0, 0, 1, n) = 0.5 * e_.eps_t * (E.row(high) + E.row(low)) * fourier.derivative();
                 out.state_z.block(0, n, 1, n) = 0.5 * e_.mu * (E.row(low) - E.row(high));
                 out.state_q.block(0, n, 1, n) = 0.5 * e_.mu * e_.eps_n * (E.row(low) - E.row(high));
             } else {
-                // d(-c) = -sum over the basis of (dc/du_i du_i + dc/dr_i dr_i), u_i = -lambda_T,i,
-                // r_i = mu N_i, N_i = lambda_N,i + eps_n (v_i - g_0) (closed throughout).
+                // d(-c) = -sum over the basis of (dc/du_i du_i + dc/dr_i dr_i), u_i = -t_i =
+                // -(lambda_T,i + eps_t u'_i), r_i = mu N_i, N_i = lambda_N,i + eps_n (v_i - g_0)
+                // (closed throughout).
                 const Eigen::MatrixXd& E = fourier.synthesis();
                 const detail::EnclosingDerivative dd = detail::enclosing_circle_derivative(points, radii, circle);
                 for (int j = 0; j < d; ++j) {
@@ -227,8 +240,12 @@ public:
                     const int i = circle.member[static_cast<std::size_t>(k)];
                     const Eigen::Matrix2d& du = dd.du[static_cast<std::size_t>(k)];
                     const Eigen::Vector2d& dr = dd.dr[static_cast<std::size_t>(k)];
+                    const Eigen::RowVectorXd rate = e_.eps_t * E.row(i) * fourier.derivative();
                     for (int j = 0; j < d; ++j) {
-                        for (int c = 0; c < d; ++c) out.state_z.block(j * n, c * n, 1, n) += du(j, c) * E.row(i);
+                        for (int c = 0; c < d; ++c) {
+                            out.state_z.block(j * n, c * n, 1, n) += du(j, c) * E.row(i);
+                            out.state_q.block(j * n, c * n, 1, n) += du(j, c) * rate;
+                        }
                         out.state_z.block(j * n, d * n, 1, n) -= dr(j) * e_.mu * E.row(i);
                         out.state_q.block(j * n, d * n, 1, n) -= dr(j) * e_.mu * e_.eps_n * E.row(i);
                     }
@@ -303,7 +320,15 @@ private:
         return s;
     }
 
+    bool hold_switch(bool on) const override {
+        holding_ = on;
+        held_ = -1;
+        return true;
+    }
+
     Unilateral e_;
+    mutable bool holding_ = false;  // hold_switch
+    mutable int held_ = -1;         // the held form: -1 not decided yet, 1 permanent stick, 0 not
 };
 
 class UnilateralLaw final : public detail::NormalDirectionLaw {

@@ -249,6 +249,9 @@ struct Corrector::Impl {
     }
     bool correct_newton(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
                         int& iterations, double& residual, double omega_scale);
+    /// One solve (Corrector::correct without the switches' handling).
+    bool correct_once(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
+                      int& iterations, double& residual, double omega_scale);
     /// The corrector's acceptance of a residual max|R| / force_scale above the tolerance but
     /// within the evaluation's own rounding noise (Corrector::correct).
     bool noise_limited(const Eigen::VectorXd& x, double omega, double x_scale, double residual);
@@ -375,6 +378,41 @@ bool Corrector::Impl::correct_newton(Eigen::VectorXd& x, double& omega, const Ei
 bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
                         int& iterations, double& residual, double omega_scale) {
     Impl& m = *impl_;
+    // Laws with a switch between residual forms (FrictionModel::hold_switch) hold it for each
+    // solve: the form the predictor is in, then the form each solution is in, at most three
+    // solves; a solution counts where the residual with the switch free passes the test.
+    const bool switches = m.hb.hold_switches(false);
+    if (!switches) return m.correct_once(x, omega, tangent, x_scale, iterations, residual, omega_scale);
+    iterations = 0;
+    Eigen::VectorXd decided_at;
+    double decided_omega = 0.0;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        Eigen::VectorXd xs = x, r;
+        double ws = omega;
+        int it = 0;
+        m.hb.hold_switches(true);
+        if (attempt > 0) m.hb.evaluate(decided_at, decided_omega, r);  // the first evaluation decides
+        if (m.newton) m.newton->valid = false;
+        const bool solved = m.correct_once(xs, ws, tangent, x_scale, it, residual, omega_scale);
+        m.hb.hold_switches(false);
+        iterations += it;
+        if (!solved) return false;
+        m.hb.evaluate(xs, ws, r);
+        residual = r.allFinite() ? r.cwiseAbs().maxCoeff() / m.hb.force_scale() : INFINITY;
+        if (residual <= m.options.tolerance || m.noise_limited(xs, ws, x_scale, residual)) {
+            x = xs;
+            omega = ws;
+            return true;
+        }
+        decided_at = xs;
+        decided_omega = ws;
+    }
+    return false;
+}
+
+bool Corrector::Impl::correct_once(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd& tangent, double x_scale,
+                                   int& iterations, double& residual, double omega_scale) {
+    Impl& m = *this;
     if (m.newton) {
         const double evaluated_before = evaluation_seconds(m.hb.statistics());
         detail::Stopwatch watch;

@@ -108,6 +108,12 @@ void HarmonicBalance::add_receptance(int c, int d, const Eigen::Ref<const Eigen:
     }
 }
 
+bool HarmonicBalance::hold_switches(bool on) {
+    bool any = false;
+    for (const auto& model : models_) any = model->hold_switch(on) || any;
+    return any;
+}
+
 void HarmonicBalance::set_free_motion(double xi) {
     if (!condensed_)
         throw InvalidInput("set_free_motion: the condensed formulation's (the full formulation adds -xi w (D1 Y) M itself)");
