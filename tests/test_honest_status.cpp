@@ -703,7 +703,7 @@ TEST_CASE("hbf map --time-limit: the FRFs done and the one running are written, 
     CHECK(::test::parse_csv(::test::slurp(csv)).size() > 2);
 }
 
-TEST_CASE("StopRequest: the time limit, a caught signal and the crawl watch", "[status][cli]") {
+TEST_CASE("StopRequest: the time limit, a caught signal and the crawl watch, paused while the run works elsewhere", "[status][cli]") {
     {
         hbf::cli::StopRequest stop("test", 0.05);
         CHECK(stop.why().empty());
@@ -723,6 +723,18 @@ TEST_CASE("StopRequest: the time limit, a caught signal and the crawl watch", "[
         std::this_thread::sleep_for(std::chrono::milliseconds(80));
         ask();
         CHECK(stop.crawls().size() == 1);
+        // Paused (the folds located, the polish): no crawl until w is reported again, then the
+        // window restarts there.
+        stop.pause_crawl();
+        std::this_thread::sleep_for(std::chrono::milliseconds(80));
+        ask();
+        CHECK(stop.crawls().size() == 1);
+        stop.reached(0.6);
+        ask();
+        CHECK(stop.crawls().size() == 1);
+        std::this_thread::sleep_for(std::chrono::milliseconds(80));
+        ask();
+        CHECK(stop.crawls().size() == 2);  // stuck at 0.6 for a window after the pause
         // A signal the process receives is caught once and said.
         std::raise(SIGTERM);
         CHECK(stop.why() == "interrupted (SIGTERM)");

@@ -150,17 +150,20 @@ int run(const CLI::App& command, const FrfOptions& o) {
         std::snprintf(text, sizeof text, "w = %-12.6g %6d points", omega, points);
         progress.update(text);
     };
-    co.fold_progress = [&progress](int done, int total) {
+    co.fold_progress = [&progress, &stop](int done, int total) {
+        stop.pause_crawl();  // the branch waits while its folds are located
         char text[64];
         std::snprintf(text, sizeof text, "locating folds %6d of %d", done, total);
         progress.update(text);
     };
-    settings.polish_progress = [&progress](int done, int total) {
+    settings.polish_progress = [&progress, &stop](int done, int total) {
+        stop.pause_crawl();
         char text[64];
         std::snprintf(text, sizeof text, "exact polish %6d of %d points", done, total);
         progress.update(text);
     };
-    settings.stability_options.progress = [&progress](int done, int total) {
+    settings.stability_options.progress = [&progress, &stop](int done, int total) {
+        stop.pause_crawl();
         char text[64];
         std::snprintf(text, sizeof text, "stability %6d of %d points", done, total);
         progress.update(text);

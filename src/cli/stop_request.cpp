@@ -98,6 +98,11 @@ void StopRequest::reached(double omega) {
     }
 }
 
+void StopRequest::pause_crawl() {
+    has_omega_ = false;
+    crawling_ = false;
+}
+
 void StopRequest::watch_crawl(double range, double share, double window) {
     range_ = range;
     share_ = share;

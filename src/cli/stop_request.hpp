@@ -34,6 +34,9 @@ public:
     /// The crawl watch: where over `window` seconds the frequency moved by less than `share` of
     /// `range`, a warning on standard error (once per crawl) and a line for the verdict.
     void watch_crawl(double range, double share = 1e-3, double window = 120.0);
+    /// The run works elsewhere (locating folds, the polish, stability): no crawl until the
+    /// continuation reports a frequency again (its window restarts there).
+    void pause_crawl();
     /// The crawls seen, one sentence each (for the verdict's notes).
     const std::vector<std::string>& crawls() const { return crawls_; }
 
