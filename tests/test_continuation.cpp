@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "hbf/analytic.hpp"
 #include "hbf/absorber.hpp"
@@ -240,6 +241,31 @@ TEST_CASE("An unbounded resonance stops at the amplitude cap and restarts from w
     }
     REQUIRE(second);
     CHECK(last_w == o.omega_end);  // branch 2 is written in increasing w
+}
+
+TEST_CASE("Fold location stops within one bracketing step when the run is asked to stop (an interrupt, the time "
+          "limit), and says so",
+          "[continuation][fold]") {
+    // The Dahl oscillator's two folds (the test below); the stop request trips as the first
+    // fold's location starts: it is not located, nor is the second, and the branch says why.
+    HarmonicBalance hb(test::dahl_oscillator(10.0, 1.0, 1.28, 0.003), HarmonicBalanceOptions{20, 0});
+    ContinuationOptions o;
+    o.omega_start = 0.5;
+    o.omega_end = 0.6;
+    bool locating = false;
+    int started = 0;
+    o.fold_progress = [&](int, int) {
+        locating = true;
+        ++started;
+    };
+    o.stop = [&]() { return locating ? std::string("the test's stop") : std::string(); };
+    const BranchResult b = continue_branch(hb, o);
+    CHECK(started == 1);
+    CHECK(b.located_folds == 0);
+    CHECK(b.unconfirmed_folds == 0);
+    CHECK(b.status == ContinuationStatus::stopped);
+    CHECK_THAT(b.message, Catch::Contains("2 fold(s) not located (stopped: the test's stop)"));
+    CHECK(b.points.back().omega == o.omega_end);  // the branch itself is whole
 }
 
 TEST_CASE("Continuation through folds: the branch bends over and comes back", "[continuation][fold]") {

@@ -75,6 +75,22 @@ Eigen::VectorXd solution_at(HarmonicBalance& hb, double omega) {
     return first.points.front().x;
 }
 
+/// The largest amplitude bound over a branch's points.
+double peak(HarmonicBalance& hb, const BranchResult& r) {
+    double best = 0;
+    for (const SolutionPoint& p : r.points) best = std::max(best, hb.amplitude_bound(p.x, p.omega));
+    return best;
+}
+
+/// The FRF band of the block's first resonance, transitions not located.
+ContinuationOptions band() {
+    ContinuationOptions o;
+    o.omega_start = 0.6;
+    o.omega_end = 1.2;
+    o.locate_transitions = false;
+    return o;
+}
+
 }  // namespace
 
 TEST_CASE("Structured Jacobian: S (I + Gr Df) equals the dense condensed Jacobian, stuck, slipping and open",
@@ -223,19 +239,10 @@ TEST_CASE("Structured Jacobian: Newton with GMRES lands on the dense corrector's
     REQUIRE(newton.statistics().krylov_iterations > 0);
     REQUIRE(newton.statistics().factorizations > 0);
     // The whole FRF: the same branch (status, folds) and the same largest response.
-    ContinuationOptions o;
-    o.omega_start = 0.6;
-    o.omega_end = 1.2;
-    o.locate_transitions = false;
-    const BranchResult a = continue_branch(structured, o), b = continue_branch(dense, o);
+    const BranchResult a = continue_branch(structured, band()), b = continue_branch(dense, band());
     REQUIRE(a.status == ContinuationStatus::completed);
     REQUIRE(b.status == ContinuationStatus::completed);
     REQUIRE(a.located_folds == b.located_folds);
-    auto peak = [](HarmonicBalance& hb, const BranchResult& r) {
-        double best = 0;
-        for (const SolutionPoint& p : r.points) best = std::max(best, hb.amplitude_bound(p.x, p.omega));
-        return best;
-    };
     // Different steps sample the peak differently: a loose bound, the points themselves are
     // solutions to 1e-9 (the corrector's tolerance) on both.
     REQUIRE(std::abs(peak(structured, a) - peak(dense, b)) <= 0.02 * peak(dense, b));
@@ -266,18 +273,9 @@ TEST_CASE("Structured Jacobian with law unilateral: Newton with GMRES lands on t
         REQUIRE(max_abs(xs - xd) <= 1e-8 * max_abs(xd));
     }
     REQUIRE(newton.statistics().krylov_iterations > 0);
-    ContinuationOptions o;
-    o.omega_start = 0.6;
-    o.omega_end = 1.2;
-    o.locate_transitions = false;
-    const BranchResult a = continue_branch(structured, o), b = continue_branch(dense, o);
+    const BranchResult a = continue_branch(structured, band()), b = continue_branch(dense, band());
     REQUIRE(a.status == ContinuationStatus::completed);
     REQUIRE(b.status == ContinuationStatus::completed);
-    auto peak = [](HarmonicBalance& hb, const BranchResult& r) {
-        double best = 0;
-        for (const SolutionPoint& p : r.points) best = std::max(best, hb.amplitude_bound(p.x, p.omega));
-        return best;
-    };
     REQUIRE(std::abs(peak(structured, a) - peak(dense, b)) <= 0.02 * peak(dense, b));
 }
 

@@ -121,7 +121,8 @@ bool bisect_transition(HarmonicBalance& hb, Corrector& corrector, Corrector& pat
 /// by rounding (on nearly vertical segments, where omega is constant to ~1e-12, the sign of
 /// t_omega is noise).
 bool locate_fold(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, const SolutionPoint& a,
-                 const SolutionPoint& b, double omega_scale, SolutionPoint& out) {
+                 const SolutionPoint& b, double omega_scale, SolutionPoint& out,
+                 const std::function<std::string()>& stop) {
     const int n = hb.unknowns();
     const Chord c = chord_between(hb, a, b, omega_scale);
     if (!(c.length > 0.0)) return false;
@@ -141,6 +142,7 @@ bool locate_fold(HarmonicBalance& hb, Corrector& corrector, Corrector& patient, 
     // branch itself.
     for (int iteration = 0; iteration < 60 && (t_hi - t_lo) > 1e-12 && (t_hi - t_lo) * c.length > 1e-10;
          ++iteration) {
+        if (stop && !stop().empty()) return false;  // an interrupt or the time limit: asked each step
         double t = (t_lo * g_hi - t_hi * g_lo) / (g_hi - g_lo);
         if (!(t > t_lo && t < t_hi)) t = 0.5 * (t_lo + t_hi);
         SolutionPoint m = a;
@@ -282,10 +284,10 @@ void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOpti
             SolutionPoint fold;
             if (progress) progress(done++, marked);
             b.kind = PointKind::regular;
-            if (locate_fold(hb, corrector, patient, result.points[k - 1], b, omega_scale, fold)) {
+            if (locate_fold(hb, corrector, patient, result.points[k - 1], b, omega_scale, fold, stop)) {
                 points.push_back(std::move(fold));
                 ++result.located_folds;
-            } else {
+            } else if (!stop_location(stop, stopped, result, std::to_string(marked - done + 1) + " fold(s) not located")) {
                 ++result.unconfirmed_folds;
             }
         }
