@@ -234,6 +234,17 @@ struct NewtonCorrector {
 };
 }  // namespace
 
+namespace {
+/// Holds the contacts' switches between residual forms while it lives (FrictionModel::hold_switch).
+struct SwitchHold {
+    explicit SwitchHold(HarmonicBalance& h) : hb(h) { hb.hold_switches(true); }
+    ~SwitchHold() { hb.hold_switches(false); }
+    SwitchHold(const SwitchHold&) = delete;
+    SwitchHold& operator=(const SwitchHold&) = delete;
+    HarmonicBalance& hb;
+};
+}  // namespace
+
 struct Corrector::Impl {
     HarmonicBalance& hb;
     CorrectorOptions options;
@@ -390,11 +401,13 @@ bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd
         Eigen::VectorXd xs = x, r;
         double ws = omega;
         int it = 0;
-        m.hb.hold_switches(true);
-        if (attempt > 0) m.hb.evaluate(decided_at, decided_omega, r);  // the first evaluation decides
-        if (m.newton) m.newton->valid = false;
-        const bool solved = m.correct_once(xs, ws, tangent, x_scale, it, residual, omega_scale);
-        m.hb.hold_switches(false);
+        bool solved = false;
+        {
+            const SwitchHold hold(m.hb);  // freed on leaving, by an exception too
+            if (attempt > 0) m.hb.evaluate(decided_at, decided_omega, r);  // the first evaluation decides
+            if (m.newton) m.newton->valid = false;
+            solved = m.correct_once(xs, ws, tangent, x_scale, it, residual, omega_scale);
+        }
         iterations += it;
         if (!solved) return false;
         m.hb.evaluate(xs, ws, r);
