@@ -3,11 +3,13 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "hbf/analytic.hpp"
 #include "hbf/absorber.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/error.hpp"
 #include "hbf/linear_limits.hpp"
 #include "hbf/post_processing.hpp"
 #include "support.hpp"
@@ -266,6 +268,68 @@ TEST_CASE("Fold location stops within one bracketing step when the run is asked 
     CHECK(b.status == ContinuationStatus::stopped);
     CHECK_THAT(b.message, Catch::Contains("2 fold(s) not located (stopped: the test's stop)"));
     CHECK(b.points.back().omega == o.omega_end);  // the branch itself is whole
+}
+
+TEST_CASE("A solver exception during a step ends the branch with status solver_error, the points before it kept",
+          "[continuation][status]") {
+    // The exception comes from the progress callback, called after each accepted point: the
+    // same path as a contact model that throws inside the next step's correction.
+    HarmonicBalance hb(test::dahl_oscillator(10.0, 1.0, 1.28, 0.003), HarmonicBalanceOptions{20, 0});
+    ContinuationOptions o;
+    o.omega_start = 0.5;
+    o.omega_end = 0.6;
+    o.locate_folds = false;
+    const BranchResult whole = continue_branch(hb, o);
+    REQUIRE(whole.status == ContinuationStatus::completed);
+    REQUIRE(whole.points.size() > 12);
+    o.progress = [](double, int points) {
+        if (points == 12) throw std::runtime_error("the model could not evaluate the point");
+    };
+    const BranchResult b = continue_branch(hb, o);
+    CHECK(b.status == ContinuationStatus::solver_error);
+    CHECK(to_string(b.status) == "solver_error");
+    REQUIRE(b.points.size() == 12);
+    CHECK_THAT(b.message, Catch::Contains("the solver failed on the step from w = ") &&
+                              Catch::Contains("the model could not evaluate the point"));
+    // The points kept are the branch's own: those of the uninterrupted run.
+    for (std::size_t k = 0; k < b.points.size(); ++k) {
+        CHECK(b.points[k].omega == Approx(whole.points[k].omega).epsilon(1e-12));
+        CHECK((b.points[k].x - whole.points[k].x).cwiseAbs().maxCoeff() <= 1e-12 * whole.points[k].x.norm());
+    }
+    CHECK(b.coverage < whole.coverage);
+    // Bad input is not a solver failure: it propagates.
+    o.progress = [](double, int points) {
+        if (points == 3) throw InvalidInput("x = 1 is out of range");
+    };
+    CHECK_THROWS_AS(continue_branch(hb, o), InvalidInput);
+}
+
+TEST_CASE("A fold whose location the solver ends by an exception is counted, said, and the branch kept",
+          "[continuation][fold][status]") {
+    // The Dahl oscillator's two folds (the test below): the first location's first stop request
+    // throws (inside the location's solves), the second fold is located as usual.
+    HarmonicBalance hb(test::dahl_oscillator(10.0, 1.0, 1.28, 0.003), HarmonicBalanceOptions{20, 0});
+    ContinuationOptions o;
+    o.omega_start = 0.5;
+    o.omega_end = 0.6;
+    int started = 0;
+    bool thrown = false;
+    o.fold_progress = [&](int, int) { ++started; };
+    o.stop = [&]() {
+        if (started == 1 && !thrown) {
+            thrown = true;
+            throw std::runtime_error("the contact solve broke down");
+        }
+        return std::string();
+    };
+    const BranchResult b = continue_branch(hb, o);
+    CHECK(thrown);
+    CHECK(started == 2);
+    CHECK(b.status == ContinuationStatus::completed);
+    CHECK(b.location_errors == 1);
+    CHECK(b.located_folds == 1);
+    CHECK_THAT(b.message, Catch::Contains("a fold's location failed in the solver: the contact solve broke down"));
+    CHECK(b.points.back().omega == o.omega_end);
 }
 
 TEST_CASE("Continuation through folds: the branch bends over and comes back", "[continuation][fold]") {

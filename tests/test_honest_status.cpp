@@ -358,12 +358,25 @@ TEST_CASE("A branch's outcome sets the verdict: unlocated transitions and trunca
         REQUIRE(truncated.warnings.size() == 1);
         CHECK_THAT(truncated.warnings[0], Catch::Contains("spans 25 %"));
     }
-    for (ContinuationStatus s : {ContinuationStatus::min_step, ContinuationStatus::start_failed}) {
+    for (ContinuationStatus s :
+         {ContinuationStatus::min_step, ContinuationStatus::solver_error, ContinuationStatus::start_failed}) {
         const auto stalled = judged(s, 1, 0.5);
         INFO(to_string(s));
         CHECK(stalled.status() == "failed");
         CHECK(stalled.errors.size() == 1);
     }
+    // A fold's location ended by the solver: the branch is whole, a fold is unmarked.
+    BranchResult lost;
+    lost.coverage = 1.0;
+    lost.location_errors = 1;
+    lost.message = "a fold's location failed in the solver: the contact solve broke down";
+    FrfResult frf;
+    frf.branch = lost;
+    const auto unmarked = judge_frf(frf, FrfSettings{});
+    CHECK(unmarked.status() == "incomplete");
+    REQUIRE(unmarked.warnings.size() == 1);
+    CHECK_THAT(unmarked.warnings[0], Catch::Contains("1 fold or transition location(s) ended by the solver") &&
+                                         Catch::Contains("the contact solve broke down"));
 }
 
 TEST_CASE("The exact polish's rows carry the exact orbit's energy balance: no false alarm at a transition",

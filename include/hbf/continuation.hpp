@@ -70,7 +70,8 @@ struct ContinuationOptions {
                                   ///< between the two caps, followed both ways
     CorrectorOptions corrector;
     /// Called after each accepted branch point with its omega and the number of points so far
-    /// (all branches): a progress display. May be empty; it must not throw.
+    /// (all branches): a progress display. May be empty. An exception it throws (other than
+    /// InvalidInput) ends the branch like a solver failure: status solver_error, points kept.
     std::function<void(double omega, int points)> progress;
     /// Called before each marked fold is located (with locate_folds) with the folds done and
     /// their number: locating them can take longer than the branch (a 99-node interface's many
@@ -118,9 +119,12 @@ struct SolutionPoint {
 /// an incomplete result: amplitude_cap (the response exceeds max_amplitude: an unbounded
 /// resonance, capped), left_range (the branch turned back out of the range before spanning
 /// it), point_budget (max_points reached), stopped (ContinuationOptions::stop asked it: an
-/// interrupt or a time limit), min_step (the corrector stalled), start_failed.
+/// interrupt or a time limit), min_step (the corrector stalled), solver_error (the solver threw
+/// during a step: a contact model that cannot evaluate the point, a broken-down linear solve;
+/// the message says where and why, the points before it are kept), start_failed.
 /// With several branches (restarts past a cap) the status is the worst of them, in the order
-/// completed < amplitude_cap < left_range < point_budget < stopped < min_step < start_failed.
+/// completed < amplitude_cap < left_range < point_budget < stopped < min_step < solver_error <
+/// start_failed.
 /// Throws InvalidInput naming the first option out of range (continue_branch calls it).
 void validate(const ContinuationOptions& options);
 /// The range of ContinuationOptions::start_harmonics against a balance of `harmonics` harmonics
@@ -128,7 +132,16 @@ void validate(const ContinuationOptions& options);
 /// 0, not yet chosen: 0..max_harmonics). Throws InvalidInput naming start_harmonics.
 void check_start_harmonics(int start_harmonics, int harmonics, int load_harmonic = 1);
 
-enum class ContinuationStatus { completed, amplitude_cap, left_range, point_budget, stopped, min_step, start_failed };
+enum class ContinuationStatus {
+    completed,
+    amplitude_cap,
+    left_range,
+    point_budget,
+    stopped,
+    min_step,
+    solver_error,
+    start_failed
+};
 std::string to_string(ContinuationStatus status);
 
 struct BranchResult {
@@ -149,6 +162,9 @@ struct BranchResult {
     int crossed_corners = 0;
     int unlocated_transitions = 0;      ///< regime changes between two points whose boundary
                                         ///< could not be located (named in message)
+    /// fold or transition locations the solver ended by throwing (not located; the first
+    /// exception's message in message)
+    int location_errors = 0;
     double coverage = 0;                ///< share of [wmin, wmax] spanned by the branch segments
     /// The linear structure's resonances in [omega_start, omega_end] (resolve_resonances).
     std::vector<LinearResonance> resonances;

@@ -298,7 +298,8 @@ samples. Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / 
 --config: the file's units).
 Columns:)",
         io::frf_columns({Output::dof(0), Output::dof(1)}, 1, {0}, {InterfaceContacts{}}),  // with the normal-contact columns
-        R"(Exit code 1 when the continuation could not start or stalled (min step), when the exact polish
+        R"(Exit code 1 when the continuation could not start, stalled (min step) or its solver failed on a
+step (solver_error: a contact model that could not evaluate the point), when the exact polish
 failed at some point (those rows keep their HB values, exact = failed), or when an --at frequency
 got no row (outside the branch, or its solve failed; named on standard error); the points computed
 so far are still written. Exit code 3 when the result is written but incomplete or doubtful: an

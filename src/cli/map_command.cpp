@@ -363,7 +363,7 @@ void add_flags(CLI::App& command, MapOptions& o) {
     describe_output(command, {
         R"(Output: a tidy CSV, one row per FRF point: the parameter's value (column named after it), frf_status
 (the FRF's continuation status: completed, amplitude_cap, left_range, point_budget, stopped, min_step,
-start_failed), then the columns of hbf frf:)",
+solver_error, start_failed), then the columns of hbf frf:)",
         io::frf_columns(2),
         R"(An FRF that fails is one row with its status and empty fields, and the map goes on. Exit code 3 when
 any FRF failed, is incomplete (also stopped by --time-limit or an interrupt) or has an unbounded

@@ -39,7 +39,7 @@ constexpr detail::EnumName<ContinuationStatus> continuation_status_names[] = {
     {ContinuationStatus::completed, "completed"}, {ContinuationStatus::amplitude_cap, "amplitude_cap"},
     {ContinuationStatus::left_range, "left_range"}, {ContinuationStatus::min_step, "min_step"},
     {ContinuationStatus::point_budget, "point_budget"}, {ContinuationStatus::stopped, "stopped"},
-    {ContinuationStatus::start_failed, "start_failed"}};
+    {ContinuationStatus::solver_error, "solver_error"}, {ContinuationStatus::start_failed, "start_failed"}};
 
 std::string to_string(ContinuationStatus status) {
     return detail::enum_name(continuation_status_names, status, "continuation status");
@@ -244,12 +244,10 @@ struct Trace {
 /// omega_ref of the arclength (see the file comment of continuation.hpp).
 double frequency_scale(const ContinuationOptions& o) { return o.omega_scale > 0.0 ? o.omega_scale : o.omega_end; }
 
-/// Follows one branch from the solution (x, omega) in the direction of increasing
-/// (direction = +1) or decreasing (-1) omega until it leaves [omega_low, omega_high].
-Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, Eigen::VectorXd x, double omega,
-            int iterations, double residual, int direction, double omega_low, double omega_high, double x_scale,
-            int branch, BranchResult& result) {
-    Trace out;
+/// trace's steps, filling `out` as they go.
+void trace_into(Trace& out, HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, Eigen::VectorXd x,
+                double omega, int iterations, double residual, int direction, double omega_low, double omega_high,
+                double x_scale, int branch, BranchResult& result) {
     int& corrections = result.corrections;
     int& failures = result.failed_corrections;
     const double w_scale = frequency_scale(o);
@@ -280,7 +278,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         out.message = "amplitude cap " + format_number(o.max_amplitude) + " reached at w = " + format_number(w);
         return true;
     };
-    if (capped(omega)) return out;
+    if (capped(omega)) return;
     Eigen::VectorXd previous = Eigen::VectorXd::Zero(n + 1);
     previous(n) = direction;
     Eigen::VectorXd t = tangent(x, omega, previous);
@@ -320,12 +318,12 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         if (const std::string why = o.stop ? o.stop() : std::string(); !why.empty()) {
             out.status = ContinuationStatus::stopped;
             out.message = "stopped at w = " + format_number(omega) + ": " + why;
-            return out;
+            return;
         }
         if (static_cast<int>(out.points.size()) >= o.max_points) {
             out.status = ContinuationStatus::point_budget;
             out.message = "point budget of " + std::to_string(o.max_points) + " reached at w = " + format_number(omega);
-            return out;
+            return;
         }
         Eigen::VectorXd xp = x + h * x_scale * t.head(n);
         double wp = omega + h * w_scale * t(n);
@@ -394,7 +392,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
                     leaps = 0;
                     rejected_turn = -1.0;
                     crossed = true;
-                    if (!advance(make_point(wq, xq, it, res, distance), t_new)) return out;
+                    if (!advance(make_point(wq, xq, it, res, distance), t_new)) return;
                     break;
                 }
                 if (crossed) continue;
@@ -407,7 +405,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
                               "): the branch is not smooth enough there for the corrector (a sharp stick-slip "
                               "kink: more harmonics or a looser tolerance may pass it), or the solution stops "
                               "existing (an unbounded or singular response)";
-                return out;
+                return;
             }
             continue;
         }
@@ -433,14 +431,14 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
             if (corrector.solve_at(xe, end, x_scale, it, res)) {
                 out.points.push_back(make_point(end, xe, it, res, h));
                 capped(end);
-                return out;
+                return;
             }
             ++failures;
             h *= 0.5;
             if (h < o.min_step) {
                 out.status = ContinuationStatus::min_step;
                 out.message = "could not land on w = " + format_number(end);
-                return out;
+                return;
             }
             continue;
         }
@@ -459,7 +457,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         if (wp < omega_low || wp > omega_high) {  // turned back out of the range
             out.status = ContinuationStatus::left_range;
             out.message = "branch turned back and left the frequency range at w = " + format_number(wp);
-            return out;
+            return;
         }
         const Eigen::VectorXd t_new = tangent(xp, wp, t);
         const double turn = std::acos(std::clamp(t_new.dot(t), -1.0, 1.0));
@@ -475,7 +473,7 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         leaps = 0;
         SolutionPoint p = make_point(wp, xp, it, res, h);
         if (t_new(n) * t(n) < 0.0) p.kind = PointKind::fold;
-        if (!advance(p, t_new)) return out;
+        if (!advance(p, t_new)) return;
         // Next step: grow after an easy correction, at most up to where the tangent would
         // turn by about 0.7 max_turn (the turn grows about linearly with the step; not at a
         // kink, whose turn does not depend on the step).
@@ -483,6 +481,28 @@ Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions
         if (turn > 0.0 && !kink) factor = std::min(factor, std::max(0.5, 0.7 * o.max_turn / turn));
         h = std::clamp(h * factor, o.min_step, o.max_step);
     }
+}
+
+/// Follows one branch from the solution (x, omega) in the direction of increasing
+/// (direction = +1) or decreasing (-1) omega until it leaves [omega_low, omega_high].
+/// An exception of the solver (a contact model that cannot evaluate a point, a broken-down
+/// linear solve) ends the trace with status solver_error and the points before it kept; bad
+/// input (InvalidInput) is not a solver failure and propagates.
+Trace trace(HarmonicBalance& hb, Corrector& corrector, const ContinuationOptions& o, const Eigen::VectorXd& x,
+            double omega, int iterations, double residual, int direction, double omega_low, double omega_high,
+            double x_scale, int branch, BranchResult& result) {
+    Trace out;
+    try {
+        trace_into(out, hb, corrector, o, x, omega, iterations, residual, direction, omega_low, omega_high, x_scale,
+                   branch, result);
+    } catch (const InvalidInput&) {
+        throw;
+    } catch (const std::exception& e) {
+        out.status = ContinuationStatus::solver_error;
+        const double last = out.points.empty() ? omega : out.points.back().omega;
+        out.message = "the solver failed on the step from w = " + format_number(last) + ": " + e.what();
+    }
+    return out;
 }
 
 /// The worse of two statuses (the order of the ContinuationStatus declaration).

@@ -14,6 +14,27 @@ namespace hbf::detail {
 
 namespace {
 
+/// f(), a location's solve: an exception of the solver (not bad input) makes it a failed
+/// location, counted in result.location_errors, the first such message kept in `error`.
+template <class F>
+bool guarded(F&& f, std::string& error, BranchResult& result) {
+    try {
+        return f();
+    } catch (const InvalidInput&) {
+        throw;
+    } catch (const std::exception& e) {
+        if (error.empty()) error = e.what();
+        ++result.location_errors;
+        return false;
+    }
+}
+
+/// Appends "; <what> failed in the solver: <error>" to the result's message when `error` is set.
+void say_solver_error(BranchResult& result, const std::string& what, const std::string& error) {
+    if (error.empty()) return;
+    result.message += (result.message.empty() ? "" : "; ") + what + " failed in the solver: " + error;
+}
+
 /// The regime of contact `contact` at a point (stick_pattern).
 std::string regime_at(HarmonicBalance& hb, const SolutionPoint& p, int contact) {
     return stick_pattern(hb.stick_indicator(p.x, p.omega, contact),
@@ -219,7 +240,7 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
     points.push_back(result.points.front());
     const bool several = previous.size() > 1;
     int lost = 0;
-    std::string where, stopped;
+    std::string where, stopped, solver_error;
     for (std::size_t k = 1; k < result.points.size(); ++k) {
         const SolutionPoint &a = result.points[k - 1], &b = result.points[k];
         const std::vector<std::string> current = regimes_at(hb, b);
@@ -230,7 +251,8 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
                 for (const Boundary boundary : {Boundary::stick_stick_slip, Boundary::stick_slip_slip}) {
                     if (stick_side(boundary, previous[i]) == stick_side(boundary, current[i])) continue;
                     SolutionPoint t;
-                    if (bisect_transition(hb, corrector, patient, a, b, boundary, c, omega_scale, t)) {
+                    if (guarded([&] { return bisect_transition(hb, corrector, patient, a, b, boundary, c, omega_scale, t); },
+                                solver_error, result)) {
                         found.push_back(std::move(t));
                     } else {
                         ++lost;
@@ -257,6 +279,7 @@ void insert_transitions(HarmonicBalance& hb, Corrector& corrector, const Correct
     if (lost > 0)
         result.message += (result.message.empty() ? "" : "; ") + std::to_string(lost) +
                           " stick-slip transition(s) not located (correction failed): " + where;
+    say_solver_error(result, "a transition's location", solver_error);
 }
 
 void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOptions& options, double omega_scale,
@@ -270,7 +293,7 @@ void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOpti
     const int marked = static_cast<int>(std::count_if(result.points.begin(), result.points.end(),
                                                       [](const SolutionPoint& p) { return p.kind == PointKind::fold; }));
     int done = 0;
-    std::string stopped;
+    std::string stopped, solver_error;
     for (std::size_t k = 0; k < result.points.size(); ++k) {
         SolutionPoint b = result.points[k];
         // The last point of a capped trace keeps its mark (the cap stopped it there).
@@ -284,7 +307,8 @@ void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOpti
             SolutionPoint fold;
             if (progress) progress(done++, marked);
             b.kind = PointKind::regular;
-            if (locate_fold(hb, corrector, patient, result.points[k - 1], b, omega_scale, fold, stop)) {
+            if (guarded([&] { return locate_fold(hb, corrector, patient, result.points[k - 1], b, omega_scale, fold, stop); },
+                        solver_error, result)) {
                 points.push_back(std::move(fold));
                 ++result.located_folds;
             } else if (!stop_location(stop, stopped, result, std::to_string(marked - done + 1) + " fold(s) not located")) {
@@ -294,6 +318,7 @@ void insert_folds(HarmonicBalance& hb, Corrector& corrector, const CorrectorOpti
         points.push_back(std::move(b));
     }
     result.points = std::move(points);
+    say_solver_error(result, "a fold's location", solver_error);
 }
 
 }  // namespace hbf::detail

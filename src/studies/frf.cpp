@@ -68,6 +68,7 @@ PeakValue largest_peak(const FrfResult& r, const FrfSettings& settings) {
         case ContinuationStatus::point_budget:
         case ContinuationStatus::stopped: p.state = PeakState::incomplete; break;
         case ContinuationStatus::min_step:
+        case ContinuationStatus::solver_error:
         case ContinuationStatus::start_failed: p.state = PeakState::failed; break;
     }
     if (r.polish && r.polish->failed > 0) p.state = PeakState::failed;
@@ -213,13 +214,17 @@ FrfSettings default_frf_settings(const System& system, const std::vector<Output>
 Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
     Verdict v;
     const BranchResult& branch = frf.branch;
-    if (branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::start_failed)
+    if (branch.status == ContinuationStatus::min_step || branch.status == ContinuationStatus::solver_error ||
+        branch.status == ContinuationStatus::start_failed)
         v.errors.push_back(branch.summary() + " (the points computed so far are written)");
     else if (branch.status != ContinuationStatus::completed)
         v.warnings.push_back(branch.summary() + "; the branch spans " + format_number(100.0 * branch.coverage) +
                              " % of [wmin, wmax]");
     else if (branch.unlocated_transitions > 0)
         v.warnings.push_back(branch.message + " (the branch points are right; the CSV lacks those transition rows)");
+    if (branch.location_errors > 0)
+        v.warnings.push_back(std::to_string(branch.location_errors) +
+                             " fold or transition location(s) ended by the solver (not marked): " + branch.message);
     if (branch.status == ContinuationStatus::completed && branch.unresolved_resonances > 0)
         v.warnings.push_back(branch.message + " (the branch may jump across an unbounded resonance there)");
     // A point whose exact polish failed is HB's value, flagged exact = failed: a doubtful result.
