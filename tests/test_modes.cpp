@@ -208,6 +208,77 @@ TEST_CASE("Nonlinear modes: a Jenkins oscillator at H = 1 is the describing func
     CHECK(errors[0] / errors[1] >= 10.0);
 }
 
+TEST_CASE("Nonlinear modes: in the linear regime a step's advance in log10 a is the same however many DOFs, "
+          "by hand",
+          "[modes]") {
+    // Stuck, the motion is a phi cos(theta): X = a X_1, w and xi constant, and X is scaled by
+    // its norm. In the scaled coordinates (u = |X| / |X_0|, s = log10 a - log10 a_0; X_0, a_0
+    // the previous point's) the backbone is u = 10^s: its unit tangent there is
+    // (ln 10, 1) / r, r = sqrt(1 + ln^2 10), the predictor is (p, h / r), p = 1 + h ln 10 / r,
+    // and the corrector lands where the hyperplane through it normal to the tangent (X scaled
+    // by the predictor's |X|, p |X_0|) cuts the curve:
+    //   ln 10 (10^d - p) / p + d - h / r = 0,   d the step in log10 a, h the arclength's,
+    // whatever the size of X (with X scaled by a |phi|_inf instead, d fell with the DOFs). A
+    // chain of n unit masses and springs (n >= 3: |X| above a |phi|_inf, the scale's floor)
+    // with a gap spring from its last mass to the ground that never closes in the range (a
+    // force element without internal states: the unknowns are X, w and xi alone).
+    const double ln10 = std::log(10.0), r = std::sqrt(1.0 + ln10 * ln10);
+    const auto advance = [&](double h) {
+        const double p = 1.0 + h * ln10 / r;
+        double d = h / r;
+        for (int it = 0; it < 50; ++it)
+            d -= (ln10 * (std::pow(10.0, d) - p) / p + d - h / r) / (ln10 * ln10 * std::pow(10.0, d) / p + 1.0);
+        return d;
+    };
+    // The steps: initial_step 0.05, then 1.5 times larger up to max_step 0.1; the last cut at
+    // a_max (one point there).
+    std::size_t points = 1;
+    for (double reached = 0.0, h = 0.05; reached < 2.0 - 1e-12; h = std::min(1.5 * h, 0.1)) {
+        reached += advance(h);
+        ++points;
+    }
+    const double expected = advance(0.1);
+    for (int n : {3, 12, 40}) {
+        System s;
+        Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+        for (int i = 0; i < n; ++i) {
+            k(i, i) += 1.0;  // to the previous mass (the ground for the first)
+            if (i + 1 < n) {
+                k(i, i) += 1.0;
+                k(i + 1, i) -= 1.0;
+                k(i, i + 1) -= 1.0;
+            }
+        }
+        s.mass = sparse(Eigen::MatrixXd::Identity(n, n));
+        s.stiffness = sparse(k);
+        s.damping = sparse(Eigen::MatrixXd::Zero(n, n));
+        s.excitation = Eigen::VectorXd::Ones(n);
+        Contact g;
+        g.law = FrictionLaw::gap;
+        g.dof = n - 1;
+        g.stiffness = 0.5;
+        g.values["gap"] = 1e3;  // far beyond the range's motion
+        s.contacts.push_back(g);
+        ModeOptions o;
+        o.amplitude_min = 1e-3;
+        o.amplitude_max = 1e-1;
+        o.max_step = 0.1;
+        HarmonicBalanceOptions hbo;
+        hbo.harmonics = 3;
+        hbo.formulation = Formulation::full;
+        NonlinearModes nm(s, hbo, o);
+        const Backbone b = nm.follow();
+        INFO("n = " << n << ": " << b.message);
+        REQUIRE(b.status == ModeStatus::completed);
+        REQUIRE(b.points.size() > 10);
+        CHECK(std::log10(b.points[1].amplitude / b.points[0].amplitude) == Approx(advance(0.05)).epsilon(1e-6));
+        CHECK(std::log10(b.points[2].amplitude / b.points[1].amplitude) == Approx(advance(0.075)).epsilon(1e-6));
+        for (std::size_t i = 2; i + 2 < b.points.size(); ++i)
+            CHECK(std::log10(b.points[i + 1].amplitude / b.points[i].amplitude) == Approx(expected).epsilon(1e-6));
+        CHECK(b.points.size() == points);
+    }
+}
+
 TEST_CASE("Nonlinear modes: the Jenkins backbone at H = 7 conserves energy and softens to the released system",
           "[modes]") {
     const double m = 1.0, c = 0.0, k = 1.0, kt = 0.5, limit = 0.1;

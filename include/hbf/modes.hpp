@@ -191,7 +191,8 @@ struct Backbone {
     ModeStatus status = ModeStatus::completed;
     std::string message;            ///< where and why it stopped (empty when completed)
     int failed_steps = 0;           ///< steps retried with half the length
-    int corners = 0;                ///< turns sharper than 0.3 rad crossed at a step <= 1e-4 (stick/slip switches)
+    int corners = 0;                ///< turns sharper than 0.3 rad crossed (stick/slip switches: the
+                                    ///< turn did not shrink with the step, or at a step <= 1e-4)
     long long evaluations = 0;      ///< residual and Jacobian evaluations
     double seconds = 0;
     /// How the first point was reached (NonlinearModes::follow): "linear" (a_min is in the
@@ -291,9 +292,9 @@ public:
     /// Newton from `point` (its x, omega, xi the guess) at point.amplitude; true when the
     /// tolerance is met (point holds the result, iterations and residual).
     bool solve(ModePoint& point);
-    /// The unit tangent of the backbone at a solution in the scaled coordinates (x / (a
-    /// |phi|_inf), internal states by their size, omega / w0, xi / w0, log10 a) (size unknowns
-    /// + 3), oriented along `previous`.
+    /// The unit tangent of the backbone at a solution in the scaled coordinates (column_scale:
+    /// x by its size, the internal states by theirs, omega / w0, xi / w0, log10 a) (size
+    /// unknowns + 3), oriented along `previous`.
     Eigen::VectorXd tangent(const ModePoint& point, const Eigen::VectorXd& previous);
     /// The linear mode's motion at amplitude a: y = a phi cos(theta) (with the static state on
     /// harmonic 0), omega and xi of the linear mode: the first guess; where the stuck structure
@@ -333,8 +334,10 @@ private:
     /// residual() of the condensed formulation.
     void residual_condensed(const Eigen::VectorXd& x, double omega, double xi, double amplitude, Eigen::VectorXd& r,
                             Eigen::MatrixXd* jacobian);
-    /// The arclength's coordinate scales at a point: a |phi|_inf for the DOFs, each contact's
-    /// internal states by their largest entry (at least a |phi|_inf), w0, w0, 1.
+    /// The arclength's coordinate scales at a point: the coefficients by |x|_2, the contacts'
+    /// internal states by |z|_2 (each at least a |phi|_inf), w0, w0, 1. Where x grows like a
+    /// (the linear regime) a decade of a then moves the coefficients by ln 10 whatever their
+    /// number: log10 a keeps its share of the arclength on models with many unknowns.
     Eigen::VectorXd column_scale(const ModePoint& point) const;
     System system_;
     ModeOptions options_;

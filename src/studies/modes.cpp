@@ -374,16 +374,21 @@ bool NonlinearModes::solve(ModePoint& point) { return correct(point, nullptr, nu
 
 Eigen::VectorXd NonlinearModes::column_scale(const ModePoint& point) const {
     const int u = hb_->unknowns(), n = hb_->coefficients();
+    // The coefficients by their own size |x|_2 (at least a |phi|_inf): where x grows like a (the
+    // linear regime), a decade of a moves them by ln 10 whatever the number of unknowns, so that
+    // log10 a keeps its share of the arclength.
     const double displacement = point.amplitude * phi_max_;
-    Eigen::VectorXd scale = Eigen::VectorXd::Constant(u + 3, displacement);
-    // Internal states (Dahl's z, exact Coulomb's multiplier: a force) by their own size.
-    int offset = n * static_cast<int>(guess_shape_.size());
-    for (int c = 0; c < static_cast<int>(system_.contacts.size()); ++c) {
-        const auto states = static_cast<int>(hb_->state(point.x, c).size());
-        if (states == 0) continue;
-        scale.segment(offset, states).setConstant(std::max(displacement, infinity_norm(point.x.segment(offset, states))));
-        offset += states;
-    }
+    const Eigen::Index coefficients = n * static_cast<Eigen::Index>(guess_shape_.size());
+    const double shape = std::max(displacement, point.x.head(coefficients).norm());
+    Eigen::VectorXd scale = Eigen::VectorXd::Constant(u + 3, shape);
+    // Internal states (Dahl's z, exact Coulomb's multiplier: a force) by their own size: all of
+    // the states together (|z|_2), for the same reason.
+    int offset = static_cast<int>(coefficients);
+    const Eigen::Index first_state = offset;
+    for (int c = 0; c < static_cast<int>(system_.contacts.size()); ++c) offset += static_cast<int>(hb_->state(point.x, c).size());
+    if (offset > first_state)
+        scale.segment(first_state, offset - first_state)
+            .setConstant(std::max(displacement, point.x.segment(first_state, offset - first_state).norm()));
     scale(u) = scale(u + 1) = linear_.omega;
     scale(u + 2) = 1.0;
     return scale;
@@ -667,6 +672,7 @@ void NonlinearModes::continue_from(const ModePoint& start, double a_first, doubl
     Eigen::VectorXd t = tangent(start, direction);
     double h = options_.initial_step;
     const double corner_step = std::max(1e-4, 16.0 * options_.min_step);
+    double rejected_turn = -1.0;  // turn of the last step rejected for turning too sharply
     while (true) {
         const ModePoint& previous = b.points.back();
         const double s = std::log10(previous.amplitude);
@@ -713,13 +719,23 @@ void NonlinearModes::continue_from(const ModePoint& start, double a_first, doubl
         }
         Eigen::VectorXd next;
         bool corner = false;
+        bool turned = false;
         if (ok) {
             next = tangent(trial, t);
-            // A sharper turn than 0.3 rad: a smaller step; still at a short step, a corner of
-            // the backbone (a stick/slip switch: its tangent jumps), crossed.
-            corner = next.dot(t) < std::cos(0.3);
-            ok = !corner || h <= corner_step;
+            // A sharper turn than 0.3 rad: a smaller step; a corner of the backbone (a
+            // stick/slip switch of a time sample: its tangent jumps) is crossed where the turn
+            // does not shrink with the step (at least 3/4 of the turn the longer step made),
+            // or at a short step.
+            const double turn = std::acos(std::clamp(next.dot(t), -1.0, 1.0));
+            corner = turn > 0.3;
+            const bool kink = rejected_turn > 0.0 && turn > 0.75 * rejected_turn;
+            ok = !corner || h <= corner_step || kink;
+            if (!ok) {
+                rejected_turn = turn;
+                turned = true;
+            }
         }
+        if (!turned) rejected_turn = -1.0;
         if (!ok) {
             ++b.failed_steps;
             h *= 0.5;
