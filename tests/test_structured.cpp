@@ -15,9 +15,11 @@
 #include "cli_support.hpp"
 #include "nodes_model.hpp"
 #include "hbf/continuation.hpp"
+#include "hbf/frf.hpp"
 #include "hbf/error.hpp"
 #include "hbf/harmonic_balance.hpp"
 #include "hbf/structured_jacobian.hpp"
+#include "studies/hb_error.hpp"
 
 using namespace hbf;
 using ::test::TempDir;
@@ -382,4 +384,38 @@ TEST_CASE("hbf frf --jacobian structured: the lift-off examples' FRFs and peaks 
                              dir);
     ::test::check_bad_input("frf --law dahl --jacobian structured --harmonics odd:5",
                             {"jacobian = structured", "odd_harmonics"}, dir);
+}
+
+TEST_CASE("HB error estimate: above structured_threshold unknowns at 2H, automatic solves it with the structured "
+          "Jacobian, the dense estimate's value",
+          "[structured]") {
+    // The rigid block (36 unknowns a coefficient) at H = 11: the branch dense (828 unknowns),
+    // the estimate at H = 22 (1,620 unknowns) structured under automatic, dense when asked.
+    const System s = rigid_block();
+    std::vector<double> estimates;
+    for (JacobianForm form : {JacobianForm::automatic, JacobianForm::dense}) {
+        FrfSettings settings = default_frf_settings(s, {Output::dof(0)});
+        settings.harmonic_balance = options(11, form);
+        settings.continuation.omega_start = 0.95;
+        settings.continuation.omega_end = 1.0;
+        settings.continuation.locate_transitions = false;
+        settings.exact = false;
+        settings.peaks = false;
+        settings.error_points = 1;
+        HarmonicBalance hb(s, settings.harmonic_balance);
+        REQUIRE_FALSE(hb.structured());
+        FrfResult r = compute_frf(hb, settings);
+        REQUIRE(r.branch.status == ContinuationStatus::completed);
+        REQUIRE(r.error_harmonics == 22);
+        REQUIRE(std::isfinite(r.hb_error));
+        estimates.push_back(r.hb_error);
+        // The same estimate again, to read which Jacobian it took.
+        const detail::HbErrorSummary again = detail::estimate_hb_error(hb, settings, settings.outputs, r);
+        CHECK(again.structured == (form == JacobianForm::automatic));
+        CHECK(again.failed == 0);
+        CHECK(again.largest == Approx(r.hb_error).epsilon(1e-12));
+    }
+    INFO("automatic " << estimates[0] << ", dense " << estimates[1]);
+    CHECK(estimates[0] > 1e-8);  // a real difference between H and 2H, not a copy
+    CHECK(estimates[0] == Approx(estimates[1]).epsilon(1e-6));
 }

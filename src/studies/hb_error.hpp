@@ -17,6 +17,7 @@ struct HbErrorSummary {
     std::string why_not;
     int estimated = 0;       ///< points with an estimate
     int failed = 0;          ///< points whose solve at the larger H did not converge
+    bool structured = false; ///< solved with the structured Jacobian (automatic above structured_threshold)
     double largest = std::numeric_limits<double>::quiet_NaN();  ///< the largest estimate
     double omega = std::numeric_limits<double>::quiet_NaN();    ///< where
 };
