@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <complex>
 #include <limits>
 #include <string>
@@ -349,6 +350,51 @@ TEST_CASE("rigid exact: a stop request ends the solve after the period it answer
     CHECK(off >= 10);
     CHECK(std::count(partial.verdict.notes.begin(), partial.verdict.notes.end(),
                      "not done after the stop: the exact polish's remaining points") == 1);
+}
+
+TEST_CASE("rigid exact: an exception inside an orbit's solve fails that orbit, not the FRF", "[rigid_exact]") {
+    // The solver asks the stop request after every period it flows: while the fifth point is
+    // polished, every question but the polish's own (asked before the orbit) throws, as a
+    // contact model that cannot evaluate a state would. The FRF is written; the other points
+    // are the uninterrupted polish's, and the fifth is failed with the exception's message or
+    // exact from another start (the polish's second pass; in permanent stick, as there, another
+    // member of the family of held positions).
+    const SystemConfig config = read_system_config(liftoff3);
+    FrfSettings settings = frf_settings(config.system, config.outputs, config.choices);
+    REQUIRE(settings.exact);
+    const FrfResult exact = compute_frf(config.system, settings);
+    REQUIRE(exact.polish);
+    REQUIRE(exact.polish->failed == 0);
+    int asked = -1, thrown = 0;
+    settings.polish_progress = [&asked](int done, int) { asked = done == 4 ? 0 : -1; };
+    settings.continuation.stop = [&asked, &thrown]() -> std::string {
+        if (asked >= 0 && ++asked >= 2) {
+            ++thrown;
+            throw std::runtime_error("the contact solve broke down");
+        }
+        return std::string();
+    };
+    const FrfResult frf = compute_frf(config.system, settings);
+    REQUIRE(frf.polish);
+    INFO(frf.polish->summary());
+    CHECK(thrown >= 1);
+    REQUIRE(frf.points.size() == exact.points.size());
+    int failed = 0;
+    for (std::size_t k = 0; k < frf.points.size(); ++k) {
+        INFO("w = " << frf.points[k].omega << ": " << frf.exact[k].message);
+        if (frf.exact[k].status == PolishStatus::failed) {
+            ++failed;
+            CHECK(k == 4);
+            CHECK_THAT(frf.exact[k].message, Catch::Contains("the exact solver failed: the contact solve broke down"));
+        } else if (k == 4) {
+            CHECK(frf.exact[k].status == PolishStatus::exact);
+        } else {
+            CHECK(frf.exact[k].status == exact.exact[k].status);
+            CHECK(relative(frf.metrics[k].output_max[0], exact.metrics[k].output_max[0]) <= 1e-7);
+        }
+    }
+    CHECK(failed == frf.polish->failed);
+    CHECK(failed <= 1);
 }
 
 // 3D contacts (a second tangential direction): the slip direction is a state, flowed by Taylor

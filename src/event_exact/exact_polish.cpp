@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -125,9 +126,21 @@ public:
     bool rigid() const { return rigid_; }
     /// The solver's own refusal of the model, empty when it takes it.
     std::string refusal() const { return rigid_ ? rigid_solver_refusal(system()) : exact_solver_refusal(system()); }
+    /// The orbit at omega from `start`. An exception of the solver (not bad input) is an orbit
+    /// not converged, its message saying why: that point fails, the polish goes on.
     ExactOrbit orbit(double omega, const Eigen::VectorXd& start) const {
-        ExactOrbit o = rigid_ ? rigid_periodic_orbit(system(), omega, start, options_)
-                              : exact_periodic_orbit(system(), omega, start, options_);
+        ExactOrbit o;
+        try {
+            o = rigid_ ? rigid_periodic_orbit(system(), omega, start, options_)
+                       : exact_periodic_orbit(system(), omega, start, options_);
+        } catch (const InvalidInput&) {
+            throw;
+        } catch (const std::exception& e) {
+            ExactOrbit failed;
+            failed.omega = omega;
+            failed.message = std::string("the exact solver failed: ") + e.what();
+            return failed;
+        }
         if (!modal_) {
             if (options_.dof_maxima || o.output_max.size() != options_.outputs.size()) return o;
             for (std::size_t k = 0; k < options_.outputs.size(); ++k)
