@@ -292,9 +292,9 @@ public:
     /// Newton from `point` (its x, omega, xi the guess) at point.amplitude; true when the
     /// tolerance is met (point holds the result, iterations and residual).
     bool solve(ModePoint& point);
-    /// The unit tangent of the backbone at a solution in the scaled coordinates (column_scale:
-    /// x by its size, the internal states by theirs, omega / w0, xi / w0, log10 a) (size
-    /// unknowns + 3), oriented along `previous`.
+    /// The unit tangent of the backbone at a solution in the scaled coordinates (x / (a
+    /// |phi|_inf), internal states by their size, omega / w0, xi / w0, log10 a) (size unknowns
+    /// + 3), oriented along `previous`.
     Eigen::VectorXd tangent(const ModePoint& point, const Eigen::VectorXd& previous);
     /// The linear mode's motion at amplitude a: y = a phi cos(theta) (with the static state on
     /// harmonic 0), omega and xi of the linear mode: the first guess; where the stuck structure
@@ -323,8 +323,14 @@ public:
 private:
     std::vector<double> metrics_of(const ModePoint& point, const std::vector<Output>& outputs);
     /// Newton on G = 0 at fixed amplitude (tangent null), or with log10 a free and the
-    /// arclength condition t . (v - predicted) / scale = 0.
+    /// arclength condition t . (v - predicted) / scale = 0. Where contacts switch between
+    /// residual forms (FrictionModel::hold_switch: law unilateral's permanent stick), each form
+    /// is held for one Newton solve (decided at the start, then at each solution, at most three
+    /// solves) and a solution is accepted only if the residual with the switches free passes,
+    /// as the FRF's corrector does.
     bool correct(ModePoint& point, const Eigen::VectorXd* tangent, const Eigen::VectorXd* predicted);
+    /// correct()'s Newton, with the switches as they are.
+    bool correct_once(ModePoint& point, const Eigen::VectorXd* tangent, const Eigen::VectorXd* predicted);
     /// The continuation loop of follow() from `start` (pushed first) over log10 a in
     /// [log10 a_first, log10 a_last].
     void continue_from(const ModePoint& start, double a_first, double a_last, Backbone& b);
@@ -334,10 +340,8 @@ private:
     /// residual() of the condensed formulation.
     void residual_condensed(const Eigen::VectorXd& x, double omega, double xi, double amplitude, Eigen::VectorXd& r,
                             Eigen::MatrixXd* jacobian);
-    /// The arclength's coordinate scales at a point: the coefficients by |x|_2, the contacts'
-    /// internal states by |z|_2 (each at least a |phi|_inf), w0, w0, 1. Where x grows like a
-    /// (the linear regime) a decade of a then moves the coefficients by ln 10 whatever their
-    /// number: log10 a keeps its share of the arclength on models with many unknowns.
+    /// The arclength's coordinate scales at a point: a |phi|_inf for the DOFs, each contact's
+    /// internal states by their largest entry (at least a |phi|_inf), w0, w0, 1.
     Eigen::VectorXd column_scale(const ModePoint& point) const;
     System system_;
     ModeOptions options_;

@@ -359,7 +359,7 @@ void add_flags(CLI::App& command, ModesOptions& o) {
                            default_text(CorrectorOptions::smallest_tolerance) + ".." +
                            default_text(CorrectorOptions::largest_tolerance))
         ->capture_default_str()->type_name("NUMBER");
-    command.add_option("--max-step", o.max_step, "largest pseudo-arclength step in the scaled coordinates (the harmonics' coefficients by their norm, w / w0, xi / w0, log10 a: decades), (0, 1]")
+    command.add_option("--max-step", o.max_step, "largest pseudo-arclength step in the scaled coordinates (x / (a |phi|), w / w0, xi / w0, log10 a: decades), (0, 1]")
         ->capture_default_str()->type_name("NUMBER");
     command.add_option("--max-points", o.max_points, "point budget, 2..100000 (exit 3 when reached)")
         ->capture_default_str()->type_name("INT");

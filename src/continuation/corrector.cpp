@@ -12,6 +12,7 @@
 #include "hbf/error.hpp"
 #include "base/enum_table.hpp"
 #include "base/stopwatch.hpp"
+#include "continuation/switch_hold.hpp"
 
 namespace hbf {
 
@@ -234,17 +235,6 @@ struct NewtonCorrector {
 };
 }  // namespace
 
-namespace {
-/// Holds the contacts' switches between residual forms while it lives (FrictionModel::hold_switch).
-struct SwitchHold {
-    explicit SwitchHold(HarmonicBalance& h) : hb(h) { hb.hold_switches(true); }
-    ~SwitchHold() { hb.hold_switches(false); }
-    SwitchHold(const SwitchHold&) = delete;
-    SwitchHold& operator=(const SwitchHold&) = delete;
-    HarmonicBalance& hb;
-};
-}  // namespace
-
 struct Corrector::Impl {
     HarmonicBalance& hb;
     CorrectorOptions options;
@@ -403,7 +393,7 @@ bool Corrector::correct(Eigen::VectorXd& x, double& omega, const Eigen::VectorXd
         int it = 0;
         bool solved = false;
         {
-            const SwitchHold hold(m.hb);  // freed on leaving, by an exception too
+            const detail::SwitchHold hold(m.hb);  // freed on leaving, by an exception too
             if (attempt > 0) m.hb.evaluate(decided_at, decided_omega, r);  // the first evaluation decides
             if (m.newton) m.newton->valid = false;
             solved = m.correct_once(xs, ws, tangent, x_scale, it, residual, omega_scale);

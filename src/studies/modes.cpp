@@ -11,6 +11,7 @@
 #include "hbf/static_state.hpp"
 #include "base/stopwatch.hpp"
 #include "base/enum_table.hpp"
+#include "continuation/switch_hold.hpp"
 
 namespace hbf {
 
@@ -374,27 +375,60 @@ bool NonlinearModes::solve(ModePoint& point) { return correct(point, nullptr, nu
 
 Eigen::VectorXd NonlinearModes::column_scale(const ModePoint& point) const {
     const int u = hb_->unknowns(), n = hb_->coefficients();
-    // The coefficients by their own size |x|_2 (at least a |phi|_inf): where x grows like a (the
-    // linear regime), a decade of a moves them by ln 10 whatever the number of unknowns, so that
-    // log10 a keeps its share of the arclength.
     const double displacement = point.amplitude * phi_max_;
-    const Eigen::Index coefficients = n * static_cast<Eigen::Index>(guess_shape_.size());
-    const double shape = std::max(displacement, point.x.head(coefficients).norm());
-    Eigen::VectorXd scale = Eigen::VectorXd::Constant(u + 3, shape);
-    // Internal states (Dahl's z, exact Coulomb's multiplier: a force) by their own size: all of
-    // the states together (|z|_2), for the same reason.
-    int offset = static_cast<int>(coefficients);
-    const Eigen::Index first_state = offset;
-    for (int c = 0; c < static_cast<int>(system_.contacts.size()); ++c) offset += static_cast<int>(hb_->state(point.x, c).size());
-    if (offset > first_state)
-        scale.segment(first_state, offset - first_state)
-            .setConstant(std::max(displacement, point.x.segment(first_state, offset - first_state).norm()));
+    Eigen::VectorXd scale = Eigen::VectorXd::Constant(u + 3, displacement);
+    // Internal states (Dahl's z, exact Coulomb's multiplier: a force) by their own size.
+    int offset = n * static_cast<int>(guess_shape_.size());
+    for (int c = 0; c < static_cast<int>(system_.contacts.size()); ++c) {
+        const auto states = static_cast<int>(hb_->state(point.x, c).size());
+        if (states == 0) continue;
+        scale.segment(offset, states).setConstant(std::max(displacement, infinity_norm(point.x.segment(offset, states))));
+        offset += states;
+    }
     scale(u) = scale(u + 1) = linear_.omega;
     scale(u + 2) = 1.0;
     return scale;
 }
 
 bool NonlinearModes::correct(ModePoint& point, const Eigen::VectorXd* tangent, const Eigen::VectorXd* predicted) {
+    if (!hb_->hold_switches(false)) return correct_once(point, tangent, predicted);
+    // The residual jumps at a switch away from a solution: Newton with the switches free can
+    // cycle across it. Each solve holds the forms decided at its start.
+    int iterations = 0;
+    ModePoint decided;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        ModePoint trial = point;
+        bool solved = false;
+        {
+            const detail::SwitchHold hold(*hb_);
+            if (attempt > 0) {  // the first evaluation decides: at the last solution
+                Eigen::VectorXd g;
+                residual(decided.x, decided.omega, decided.xi, decided.amplitude, g, nullptr);
+            }
+            solved = correct_once(trial, tangent, predicted);
+        }
+        iterations += trial.iterations;
+        if (!solved) {
+            point.iterations = iterations;
+            point.residual = trial.residual;
+            return false;
+        }
+        Eigen::VectorXd g;
+        residual(trial.x, trial.omega, trial.xi, trial.amplitude, g, nullptr);
+        const double free = infinity_norm(g);
+        if (free <= options_.tolerance) {
+            point = trial;
+            point.iterations = iterations;
+            point.residual = free;
+            return true;
+        }
+        decided = trial;
+    }
+    point.iterations = iterations;
+    return false;
+}
+
+bool NonlinearModes::correct_once(ModePoint& point, const Eigen::VectorXd* tangent, const Eigen::VectorXd* predicted) {
     const int u = hb_->unknowns();
     const bool arclength = tangent != nullptr;
     const int size = arclength ? u + 3 : u + 2;
@@ -673,6 +707,7 @@ void NonlinearModes::continue_from(const ModePoint& start, double a_first, doubl
     double h = options_.initial_step;
     const double corner_step = std::max(1e-4, 16.0 * options_.min_step);
     double rejected_turn = -1.0;  // turn of the last step rejected for turning too sharply
+    int leaps = 0;                // steps over a spot the corrector cannot land on (below)
     while (true) {
         const ModePoint& previous = b.points.back();
         const double s = std::log10(previous.amplitude);
@@ -739,6 +774,14 @@ void NonlinearModes::continue_from(const ModePoint& start, double a_first, doubl
         if (!ok) {
             ++b.failed_steps;
             h *= 0.5;
+            if (h < options_.min_step && leaps < 3) {
+                // The corrector cannot land near here (the residual of a nonsmooth law is
+                // piecewise smooth: at a pattern boundary Newton may cycle): step over the spot
+                // with 16, 64, 256 times the corner step, each leap corrected and checked like
+                // any step (the FRF's continuation does the same).
+                h = std::min(options_.max_step, 16.0 * corner_step * std::pow(4.0, leaps++));
+                continue;
+            }
             if (h < options_.min_step) {
                 b.status = ModeStatus::min_step;
                 b.message = "no point beyond a = " + format_number(previous.amplitude) + " (omega = " +
@@ -773,6 +816,7 @@ void NonlinearModes::continue_from(const ModePoint& start, double a_first, doubl
             break;
         }
         trial.step = h;
+        leaps = 0;
         if (corner) ++b.corners;
         b.points.push_back(trial);
         t = next;
