@@ -245,15 +245,24 @@ TEST_CASE("An unbounded resonance stops at the amplitude cap and restarts from w
     CHECK(last_w == o.omega_end);  // branch 2 is written in increasing w
 }
 
+namespace {
+/// The band of the Dahl oscillator's superharmonic resonance whose branch folds twice
+/// (test::dahl_oscillator(10, 1, 1.28, 0.003) at H = 20: the tests below).
+ContinuationOptions folding_band() {
+    ContinuationOptions o;
+    o.omega_start = 0.5;
+    o.omega_end = 0.6;
+    return o;
+}
+}  // namespace
+
 TEST_CASE("Fold location stops within one bracketing step when the run is asked to stop (an interrupt, the time "
           "limit), and says so",
           "[continuation][fold]") {
     // The Dahl oscillator's two folds (the test below); the stop request trips as the first
     // fold's location starts: it is not located, nor is the second, and the branch says why.
     HarmonicBalance hb(test::dahl_oscillator(10.0, 1.0, 1.28, 0.003), HarmonicBalanceOptions{20, 0});
-    ContinuationOptions o;
-    o.omega_start = 0.5;
-    o.omega_end = 0.6;
+    ContinuationOptions o = folding_band();
     bool locating = false;
     int started = 0;
     o.fold_progress = [&](int, int) {
@@ -275,9 +284,7 @@ TEST_CASE("A solver exception during a step ends the branch with status solver_e
     // The exception comes from the progress callback, called after each accepted point: the
     // same path as a contact model that throws inside the next step's correction.
     HarmonicBalance hb(test::dahl_oscillator(10.0, 1.0, 1.28, 0.003), HarmonicBalanceOptions{20, 0});
-    ContinuationOptions o;
-    o.omega_start = 0.5;
-    o.omega_end = 0.6;
+    ContinuationOptions o = folding_band();
     o.locate_folds = false;
     const BranchResult whole = continue_branch(hb, o);
     REQUIRE(whole.status == ContinuationStatus::completed);
@@ -309,9 +316,7 @@ TEST_CASE("A fold whose location the solver ends by an exception is counted, sai
     // The Dahl oscillator's two folds (the test below): the first location's first stop request
     // throws (inside the location's solves), the second fold is located as usual.
     HarmonicBalance hb(test::dahl_oscillator(10.0, 1.0, 1.28, 0.003), HarmonicBalanceOptions{20, 0});
-    ContinuationOptions o;
-    o.omega_start = 0.5;
-    o.omega_end = 0.6;
+    ContinuationOptions o = folding_band();
     int started = 0;
     bool thrown = false;
     o.fold_progress = [&](int, int) { ++started; };
@@ -337,9 +342,7 @@ TEST_CASE("Continuation through folds: the branch bends over and comes back", "[
     // the threshold 4 F_c / pi: its superharmonic resonance near w = 0.55 (3w on the softened
     // stiffness) bends over. Measured fold frequencies: H = 20 and H = 40 agree to 5e-4.
     HarmonicBalance hb(test::dahl_oscillator(10.0, 1.0, 1.28, 0.003), HarmonicBalanceOptions{20, 0});
-    ContinuationOptions o;
-    o.omega_start = 0.5;
-    o.omega_end = 0.6;
+    ContinuationOptions o = folding_band();
     const BranchResult b = continue_branch(hb, o);
     REQUIRE(b.status == ContinuationStatus::completed);
     CHECK(b.points.back().omega == o.omega_end);  // not lost: the branch reaches wmax
