@@ -72,8 +72,8 @@ HbErrorSummary estimate_hb_error(HarmonicBalance& hb, const FrfSettings& setting
     // dense and did not converge).
     std::optional<HarmonicBalance> built;
     const long long signals = hb.unknowns() / std::max(1, hb.coefficients());
-    if (settings.harmonic_balance.jacobian == JacobianForm::automatic && o.jacobian == JacobianForm::dense &&
-        signals * (2LL * wanted + 1) > HarmonicBalance::structured_threshold) {
+    if (wanted > h && settings.harmonic_balance.jacobian == JacobianForm::automatic &&
+        o.jacobian == JacobianForm::dense && signals * (2LL * wanted + 1) > HarmonicBalance::structured_threshold) {
         HarmonicBalanceOptions structured = o;
         structured.jacobian = JacobianForm::structured;
         try {
