@@ -36,7 +36,10 @@
 // (Newton failed, or y_max differs by more than exact_gap). Rigid unilateral contacts (law
 // unilateral on massless nodes) likewise from the rigid-contact exact solver (rigid_exact.hpp:
 // in 2D the exact monodromy, in 3D the flow's derivative or the period map's central
-// differences where that derivative fails its check). Law elastic has no verdict.
+// differences where that derivative fails its check). Law elastic (contacts with a normal
+// direction and mass) likewise from its periodic-orbit solver (elastic_exact.hpp: the flow's
+// derivative with the saltation at the events), started from the HB orbit's state, sliders and
+// modes at t = 0.
 #pragma once
 
 #include <Eigen/Dense>

@@ -324,7 +324,8 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
 
 /// Why the event-exact solver cannot sweep `system` from omega_min up (hbf timeint --method
 /// exact; one sentence), empty when it can: law unilateral's rigid_solver_refusal
-/// (rigid_exact.hpp), else exact_cost_refusal (event_exact.hpp).
+/// (rigid_exact.hpp), law elastic's elastic_solver_refusal (elastic_exact.hpp), else
+/// exact_cost_refusal (event_exact.hpp).
 std::string exact_sweep_refusal(const System& system, double omega_min);
 
 /// The start of a sweep's next exact orbit at omega (hbf timeint --method exact) from the
@@ -335,7 +336,8 @@ Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std:
                                   const Eigen::VectorXd& first);
 
 /// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`; for law
-/// unilateral rigid_periodic_orbit, rigid_exact.hpp, from rest where `start` is zero) as a
+/// unilateral rigid_periodic_orbit, rigid_exact.hpp, and for law elastic
+/// elastic_periodic_orbit, elastic_exact.hpp, from rest where `start` is zero) as a
 /// time-integration result (hbf timeint --method exact): when it fails, it is tried again
 /// after min(max_periods, 200) plain periods; `periods` counts the period maps of both;
 /// options.stop's answer ends it (stopped). max_multiplier is the orbit's.

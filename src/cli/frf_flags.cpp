@@ -160,8 +160,10 @@ void FrfFlags::add_to(CLI::App& command) {
                        "variational equation integrated over one period by CVODE: no sorting), both or on (both; "
                        "uncertain where they disagree); coulomb, jenkins, unilateral: any value but off takes the event-exact "
                        "orbit's multipliers (the polish's, when it runs; else the exact orbit solved from each HB point, "
-                       "uncertain where it is not that point's orbit); elastic: refused. Needs M positive definite "
-                       "(unilateral: on the DOFs with mass). Off by default: on costs about 10 times the FRF for the "
+                       "uncertain where it is not that point's orbit); elastic: the multipliers of the periodic orbit "
+                       "law elastic's own solver finds from each HB point (the flow's derivative through the events; "
+                       "uncertain where it is not that point's orbit). "
+                       "Needs M positive definite (unilateral: on the DOFs with mass). Off by default: on costs about 10 times the FRF for the "
                        "smooth laws (docs: Stability)")
         ->capture_default_str()->type_name("off|on|hill|monodromy|both");
 }

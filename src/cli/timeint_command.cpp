@@ -225,11 +225,13 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
         ->capture_default_str()->type_name("INT");
     command.add_option("--method", o.method,
                         "CVODE method: adams or bdf\nCVODE method: adams (fixed-point iteration; fastest here) or bdf (Newton, dense "
-                        "difference-quotient Jacobian; for stiff contacts); or exact (coulomb, jenkins, and law unilateral on "
-                        "massless contact nodes): the event-exact solver, flows between stick/slip/lift-off events "
+                        "difference-quotient Jacobian; for stiff contacts); or exact (coulomb, jenkins, law unilateral on "
+                        "massless contact nodes, law elastic): the event-exact solver, flows between stick/slip/lift-off events "
                         "and Newton shooting on the period map, each point from the previous point's orbit (steady "
                         "state to --steady-tol, default 1e-12 with it; --rtol and --atol do not apply; periods counts "
-                        "the period maps evaluated). With law unilateral, orbits on which some nodes stick all period "
+                        "the period maps evaluated; law elastic: its event-driven flow at a tolerance of 1e-11 with the "
+                        "flow's derivative, converged at 1e-9 where that is its accuracy). With laws unilateral and "
+                        "elastic, orbits on which some nodes stick all period "
                         "form a family (any held position inside the friction cones): the sweep keeps the member its "
                         "history leads to, as a slow sweep of the structure would")
         ->capture_default_str()->type_name("adams|bdf|exact");

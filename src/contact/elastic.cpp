@@ -17,8 +17,9 @@
 //
 // Harmonic balance: no extra unknowns; the AFT marches the slider over the period from its
 // periodic fixed point (normal_contact.cpp), with the exact Jacobian on the
-// stick/slip/separation pattern. Not smooth, no exact-stick solver (so no stability verdict);
-// time integration by its own event-driven integrator (time_integration/elastic_contacts.hpp).
+// stick/slip/separation pattern. Not smooth, no exact stick (its periodic orbits and stability
+// verdicts come from its own solver, elastic_exact.hpp); time integration by its own
+// event-driven integrator (time_integration/elastic_contacts.hpp).
 #include <cmath>
 #include <limits>
 

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "hbf/contact_law.hpp"
+#include "hbf/elastic_exact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/modal_exact.hpp"
@@ -84,6 +85,10 @@ std::string stability_refusal(const System& system) {
         const std::string why = rigid_solver_refusal(system);
         return why.empty() ? "" : "the stability of law unilateral comes from the rigid-contact exact solver, which refuses: " + why;
     }
+    if (elastic_contacts_only(system)) {
+        const std::string why = elastic_solver_refusal(system);
+        return why.empty() ? "" : "the stability of law elastic comes from its periodic-orbit solver, which refuses: " + why;
+    }
     for (const Contact& c : system.contacts)
         if (!contact_law(c.law).time_domain())
             return "law " + to_string(c.law) + " is not smooth and has no event-exact solver: no stability analysis";
@@ -122,8 +127,19 @@ StabilityAnalyser::StabilityAnalyser(HarmonicBalance& hb, StabilityOptions optio
 }
 
 Eigen::VectorXd StabilityAnalyser::start_state(const SolutionPoint& point) {
-    Eigen::VectorXd state = exact_start_state(hb_, point);
     const System& s = hb_.system();
+    if (elastic_contacts_only(s)) {  // [y, y', sliders, modes] at t = 0 from the HB orbit's samples
+        const Eigen::MatrixXd y = hb_.dofs(point.x, point.omega);
+        Eigen::MatrixXd samples(hb_.time_samples(), s.dofs());
+        Eigen::VectorXd column(hb_.time_samples()), velocity = Eigen::VectorXd::Zero(s.dofs());
+        for (int i = 0; i < s.dofs(); ++i) {
+            hb_.fourier().to_time(y.col(i), column);
+            samples.col(i) = column;
+            for (int k = 1; 2 * k < y.rows(); ++k) velocity(i) += point.omega * k * y(2 * k, i);
+        }
+        return elastic_start_state(s, samples, velocity);
+    }
+    Eigen::VectorXd state = exact_start_state(hb_, point);
     const int n = s.dofs(), nc = static_cast<int>(s.contacts.size());
     for (int c = 0; c < nc; ++c) {
         const FrictionLaw law = s.contacts[static_cast<std::size_t>(c)].law;
@@ -161,16 +177,17 @@ FloquetResult StabilityAnalyser::operator()(const SolutionPoint& point) {
         // exact solver's size has its verdicts from the polish on its modal form
         // (analyse_branch_stability's `polish`); without it, none. Law unilateral: the
         // rigid-contact exact orbit from the same state (y and y' alone).
-        const bool rigid = rigid_contacts_only(hb_.system());
-        if (!rigid && !exact_solver_supports(hb_.system())) {
+        const bool rigid = rigid_contacts_only(hb_.system()), elastic = elastic_contacts_only(hb_.system());
+        if (!rigid && !elastic && !exact_solver_supports(hb_.system())) {
             r.message = "the stability of coulomb/jenkins contacts on this model comes from the exact polish on its "
                         "modal form (modal_exact.hpp), which did not run here (exact off)";
             return r;
         }
         ExactOptions exact;
         exact.stop = options_.stop;
-        const ExactOrbit orbit = rigid ? rigid_periodic_orbit(hb_.system(), point.omega, start_state(point), exact)
-                                       : exact_periodic_orbit(hb_.system(), point.omega, start_state(point), exact);
+        const ExactOrbit orbit = rigid     ? rigid_periodic_orbit(hb_.system(), point.omega, start_state(point), exact)
+                                 : elastic ? elastic_periodic_orbit(hb_.system(), point.omega, start_state(point), exact)
+                                           : exact_periodic_orbit(hb_.system(), point.omega, start_state(point), exact);
         r.route = "exact";
         r.multipliers = orbit.multipliers;
         r.margin = orbit.max_multiplier;

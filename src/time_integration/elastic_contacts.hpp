@@ -18,7 +18,7 @@
 // State layout (initial_state, PeriodicResponse::state): [y (N), y' (N), s_1 (d_1), ..., s_m
 // (d_m), mode_1, ..., mode_m], mode 0 separated, 1 stuck, 2 slipping; state_size() counts it.
 // Inconsistent given states are repaired at t = 0 (the mode from N and the cone, the slider
-// projected onto the cone).
+// projected onto the cone; a slipping contact's slider put on it).
 //
 // Metrics of the final period: quadratures integrated with the motion (first harmonics,
 // friction energy int sum_c (T_c . u_c' + N_c v_c') dt, in which the conservative normal

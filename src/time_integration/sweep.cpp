@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "hbf/elastic_exact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
@@ -13,12 +14,15 @@ namespace hbf {
 
 PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
                                     const Eigen::VectorXd& start) {
-    // law unilateral: the rigid-contact solver, from rest where the start is rest (zeros: the
-    // static state under the preloads holds the nodes, not y = 0)
-    const bool rigid = rigid_contacts_only(system);
-    const Eigen::VectorXd from = rigid && start.size() > 0 && start.isZero(0.0) ? Eigen::VectorXd() : start;
+    // laws unilateral and elastic: their own solvers, from rest where the start is rest (zeros:
+    // the static state under the preloads holds the nodes, not y = 0)
+    const bool rigid = rigid_contacts_only(system), elastic = elastic_contacts_only(system);
+    const Eigen::VectorXd from =
+        (rigid || elastic) && start.size() > 0 && start.isZero(0.0) ? Eigen::VectorXd() : start;
     auto solve = [&] {
-        return rigid ? rigid_periodic_orbit(system, omega, from, options) : exact_periodic_orbit(system, omega, from, options);
+        return rigid     ? rigid_periodic_orbit(system, omega, from, options)
+               : elastic ? elastic_periodic_orbit(system, omega, from, options)
+                         : exact_periodic_orbit(system, omega, from, options);
     };
     ExactOrbit orbit = solve();
     int periods = orbit.periods;
@@ -53,7 +57,9 @@ PeriodicResponse exact_steady_state(const System& system, double omega, ExactOpt
 }
 
 std::string exact_sweep_refusal(const System& system, double omega_min) {
-    return rigid_contacts_only(system) ? rigid_solver_refusal(system) : exact_cost_refusal(system, omega_min);
+    if (rigid_contacts_only(system)) return rigid_solver_refusal(system);
+    if (elastic_contacts_only(system)) return elastic_solver_refusal(system);
+    return exact_cost_refusal(system, omega_min);
 }
 
 Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done,
