@@ -16,6 +16,8 @@
 #include "hbf/error.hpp"
 #include "hbf/normal_contact.hpp"
 #include "hbf/time_integration.hpp"
+#include <nlohmann/json.hpp>
+#include "cli_support.hpp"
 #include "support.hpp"
 
 using namespace hbf;
@@ -227,4 +229,60 @@ TEST_CASE("elastic exact: bad input is refused naming the cause", "[elastic_exac
     mixed.contacts[0].law = FrictionLaw::jenkins;
     CHECK(elastic_solver_refusal(mixed).find("all of law elastic") != std::string::npos);
     CHECK_THROWS_AS(elastic_periodic_orbit(mixed, 1.0, Eigen::VectorXd()), InvalidInput);
+}
+
+TEST_CASE("law elastic from the command line: the exact sweep equals the integrator where it settles, and the band "
+          "where it settles nowhere is unstable",
+          "[elastic_exact][cli]") {
+    ::test::TempDir dir;
+    const std::string example = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml";
+    const std::string grid = " --wmin 1.9 --wmax 2.4 --points 6";
+    const auto exact_csv = dir.path / "exact.csv", ti_csv = dir.path / "ti.csv";
+    const ::test::Result exact =
+        ::test::run_hbf("timeint --config '" + example + "' --method exact" + grid + " --out '" + exact_csv.string() + "'", dir);
+    INFO(exact.err);
+    REQUIRE(exact.exit_code == 0);
+    CHECK(exact.err.find("2 of 6 exact orbits are unstable") != std::string::npos);
+    const ::test::Result ti =
+        ::test::run_hbf("timeint --config '" + example + "'" + grid + " --out '" + ti_csv.string() + "'", dir);
+    INFO(ti.err);
+    CHECK(ti.exit_code == 1);  // no steady state at 2.2 and 2.3
+    const auto e = ::test::parse_csv(::test::slurp(exact_csv)), t = ::test::parse_csv(::test::slurp(ti_csv));
+    REQUIRE(e.size() == 7);
+    REQUIRE(t.size() == 7);
+    int compared = 0;
+    for (std::size_t k = 1; k < e.size(); ++k) {
+        const double w = std::stod(e[k][0]);
+        INFO("w = " << w);
+        const auto at = static_cast<std::size_t>(std::find(t.front().begin(), t.front().end(), "converged") - t.front().begin());
+        REQUIRE(at < t.front().size());
+        CHECK(e[k][at] == "true");  // the same columns
+        const bool settled = t[k][at] == "true";
+        CHECK(settled == !(w > 2.15 && w < 2.35));
+        if (!settled) continue;
+        for (const char* name : {"y1_max", "y2_max", "y1_amp1", "y2_amp1", "stick_fraction", "separated_fraction"})
+            CHECK(::test::column(e, e[k], name) == Approx(::test::column(t, t[k], name)).epsilon(1e-6).margin(1e-9));
+        ++compared;
+    }
+    CHECK(compared == 4);
+
+    const auto summary = dir.path / "frf.json";
+    const ::test::Result frf = ::test::run_hbf("frf --config '" + example + "' --wmin 2.0 --wmax 2.5 --stability on --out '" +
+                                                   (dir.path / "frf.csv").string() + "' --summary '" + summary.string() + "'",
+                                               dir);
+    INFO(frf.err);
+    REQUIRE(frf.exit_code == 0);
+    const nlohmann::json stability = nlohmann::json::parse(::test::slurp(summary))["stability"];
+    // unstable between two period doublings near 2.19 and 2.31 (a multiplier through -1)
+    REQUIRE(stability["unstable_intervals"].size() == 1);
+    const double from = stability["unstable_intervals"][0]["w_from"], to = stability["unstable_intervals"][0]["w_to"];
+    CHECK(from > 2.15);
+    CHECK(from < 2.25);
+    CHECK(to > 2.3);
+    CHECK(to < 2.35);
+    REQUIRE(stability["bifurcations"].size() == 2);
+    for (const auto& b : stability["bifurcations"]) CHECK(b["kind"] == "period-doubling");
+    CHECK(stability["bifurcations"][0]["w"].get<double>() == Approx(2.19).margin(0.03));
+    CHECK(stability["bifurcations"][1]["w"].get<double>() == Approx(2.31).margin(0.03));
+    CHECK(stability["uncertain"] == 0);
 }
