@@ -127,7 +127,7 @@ TEST_CASE("elastic exact: from time integration's final state, the orbit equals 
         const PeriodicResponse ti = integrate_steady_state(s, omega, tight, nullptr);
         INFO("system with " << s.dofs() << " DOFs");
         // from the integrator's final state: the orbit it settled on (at 2.4 the solver from
-        // rest finds another stable orbit, of six times the amplitude)
+        // rest finds another stable orbit, its maxima 3 to 8 times these)
         const ExactOrbit orbit = elastic_periodic_orbit(s, omega, ti.state);
         INFO("w = " << omega << ": " << ti.message << " | " << orbit.message);
         REQUIRE(ti.converged);

@@ -12,6 +12,7 @@
 #include "hbf/corrector.hpp"
 #include "hbf/cyclic.hpp"
 #include "hbf/diagnostics.hpp"
+#include "hbf/elastic_exact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
 #include "hbf/exact_polish.hpp"
