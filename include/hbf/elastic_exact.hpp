@@ -53,6 +53,10 @@ constexpr int elastic_variational_max_states = 64;
 /// True when the system has contacts and every one is of law elastic.
 bool elastic_contacts_only(const System& system);
 
+/// The continuous states of law elastic's flow: 2 N + one slider component per tangential
+/// direction of each contact (the state's last entries, one mode per contact, are discrete).
+int elastic_continuous_states(const System& system);
+
 /// Why elastic_periodic_orbit cannot take `system` (one sentence naming the cause), empty when it
 /// can: every contact of law elastic, M positive definite, at most elastic_solver_max_states
 /// continuous states.

@@ -93,10 +93,19 @@ struct PolishedBranch {
     std::string summary() const;
 };
 
-/// The state at t = 0 (time_integration.hpp's convention) of an HB solution: y and y' from the
-/// coefficients, a Jenkins slider from its force sample s = q - f / k_t, modes from the stick
-/// indicator.
+/// The state at t = 0 of an HB solution, in the convention of the solver that polishes it: y and
+/// y' from the coefficients, then (time_integration.hpp's convention, 1D friction) a Jenkins
+/// slider from its force sample s = q - f / k_t and modes from the stick indicator; rigid
+/// contacts (rigid_exact.hpp) y and y' alone; law elastic (elastic_exact.hpp) each contact's
+/// slider and mode from its periodic cycle on the HB orbit's time samples.
 Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& point);
+
+/// Why the exact polish of `system` cannot run (one sentence), empty when it can: on the
+/// structure or on its modal form (exact_solver_modes with `modes`), down to omega_min when
+/// omega_min > 0 (exact_cost_refusal); rigid contacts by rigid_solver_refusal, law elastic by
+/// elastic_solver_refusal (their cost is measured by the polish's probe instead). Builds the
+/// modal form once when it is needed.
+std::string exact_polish_refusal(const System& system, double omega_min = 0.0, int modes = 0);
 
 /// Polishes `points` (a branch in order, then samples of kind sample) as described above.
 /// `hb_metrics[k]` are the HB metrics of points[k]. A model beyond exact_solver_max_dofs DOFs with

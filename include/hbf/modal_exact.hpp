@@ -101,9 +101,4 @@ constexpr double modal_truncation_tolerance = 1e-9;
 /// the FRF; an automatic polish is declined before its work).
 constexpr double modal_truncation_warning = 1e-6;
 
-/// Why the exact polish of `system` cannot run (one sentence), empty when it can: on the
-/// structure or on its modal form (exact_solver_modes with `modes`), down to omega_min when
-/// omega_min > 0 (exact_cost_refusal). Builds the modal form once when it is needed.
-std::string exact_polish_refusal(const System& system, double omega_min = 0.0, int modes = 0);
-
 }  // namespace hbf

@@ -27,6 +27,8 @@ private:
 class ThreadCpuStopwatch {
 public:
     ThreadCpuStopwatch() : start_(now()) {}
+    /// Seconds since construction or the previous lap, without restarting.
+    double seconds() const { return now() - start_; }
     double lap() {
         const double t = now();
         const double seconds = t - start_;

@@ -125,11 +125,13 @@ void FrfFlags::add_to(CLI::App& command) {
                        "--law override the file; the preset's parameter flags (--r, --mu, ...) are then rejected")
         ->option_text("FILE.toml");
     command.add_option("--exact", exact,
-                       "polish every point by the event-exact solver (exact Coulomb, Jenkins, rigid contacts): on or off\npolish every branch point, sample, transition and peak by the event-exact periodic solver "
+                       "polish every point by the event-exact solver (exact Coulomb, Jenkins, rigid and elastic contacts): on or off\npolish every branch point, sample, transition and peak by the event-exact periodic solver "
                        "(exact Coulomb and Jenkins: Newton shooting on closed-form flows between stick/slip events, "
                        "Floquet stability; law unilateral on massless DOFs: the same with open, stuck and slipping "
-                       "nodes, in 3D by Taylor series of the turning slip direction), on or off [default: off for 3D "
-                       "unilateral contacts; on for coulomb, jenkins and 2D unilateral contacts on models of at most "
+                       "nodes, in 3D by Taylor series of the turning slip direction; law elastic: Newton shooting on "
+                       "its event-driven flow at 1e-11 with the flow's derivative through the events), on or off "
+                       "[default: off for 3D unilateral contacts and for law elastic beyond 64 continuous states (2 N "
+                       "+ the sliders); on for law elastic up to that and for coulomb, jenkins and 2D unilateral contacts on models of at most "
                        "64 DOFs with mass (massless DOFs are condensed statically: a contact on them becomes a "
                        "Jenkins element), a force at harmonic 1 and a period at wmin of at most 50000 Taylor steps (fewer "
                        "on large models: 2e6 / the flow's state size) "

@@ -191,20 +191,4 @@ int largest_exact_modes(const System& system) {
     return std::max(1, std::min(system.dofs(), exact_solver_max_dofs - static_cast<int>(system.contacts.size()) - 1));
 }
 
-std::string exact_polish_refusal(const System& system, double omega_min, int modes) {
-    if (system.cyclic.active())
-        return "the exact polish is not available for a sector model (cyclic symmetry): the FRF is harmonic balance's";
-    if (rigid_contacts_only(system)) return rigid_solver_refusal(system);
-    const int m = exact_solver_modes(system, modes);
-    if (m == 0) return omega_min > 0.0 ? exact_cost_refusal(system, omega_min) : exact_solver_refusal(system);
-    try {
-        const ModalExactModel model(system, m);
-        const std::string why =
-            omega_min > 0.0 ? exact_cost_refusal(model.system(), omega_min) : exact_solver_refusal(model.system());
-        return why.empty() ? why : "on its modal form (" + std::to_string(model.modes()) + " modes): " + why;
-    } catch (const InvalidInput& e) {
-        return e.what();
-    }
-}
-
 }  // namespace hbf

@@ -128,18 +128,8 @@ StabilityAnalyser::StabilityAnalyser(HarmonicBalance& hb, StabilityOptions optio
 
 Eigen::VectorXd StabilityAnalyser::start_state(const SolutionPoint& point) {
     const System& s = hb_.system();
-    if (elastic_contacts_only(s)) {  // [y, y', sliders, modes] at t = 0 from the HB orbit's samples
-        const Eigen::MatrixXd y = hb_.dofs(point.x, point.omega);
-        Eigen::MatrixXd samples(hb_.time_samples(), s.dofs());
-        Eigen::VectorXd column(hb_.time_samples()), velocity = Eigen::VectorXd::Zero(s.dofs());
-        for (int i = 0; i < s.dofs(); ++i) {
-            hb_.fourier().to_time(y.col(i), column);
-            samples.col(i) = column;
-            for (int k = 1; 2 * k < y.rows(); ++k) velocity(i) += point.omega * k * y(2 * k, i);
-        }
-        return elastic_start_state(s, samples, velocity);
-    }
     Eigen::VectorXd state = exact_start_state(hb_, point);
+    if (elastic_contacts_only(s)) return state;  // [y, y', sliders, modes], law elastic's own
     const int n = s.dofs(), nc = static_cast<int>(s.contacts.size());
     for (int c = 0; c < nc; ++c) {
         const FrictionLaw law = s.contacts[static_cast<std::size_t>(c)].law;

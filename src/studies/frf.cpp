@@ -15,6 +15,7 @@
 
 #include "hbf/contact_law.hpp"
 #include "hbf/diagnostics.hpp"
+#include "hbf/elastic_exact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/static_state.hpp"
 #include "hbf/event_exact.hpp"
@@ -158,6 +159,15 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
                            "second_direction: where a node slips under a small normal force its slip direction turns "
                            "faster than the solver's steps follow, and the flow can stop): the FRF is harmonic "
                            "balance's, its error against the exact orbit not measured (exact on polishes anyway)";
+        }
+        if (s.exact && elastic_contacts_only(system) && elastic_continuous_states(system) > elastic_variational_max_states) {
+            s.exact = false;
+            s.exact_note = "the exact polish is off by default for law elastic on " +
+                           std::to_string(elastic_continuous_states(system)) +
+                           " continuous states (more than " + std::to_string(elastic_variational_max_states) +
+                           ": Newton's matrix by central differences, two periods per state and iteration): the FRF "
+                           "is harmonic balance's, its error against the exact orbit not measured (exact on polishes "
+                           "anyway)";
         }
         if (elements > static_cast<std::size_t>(max_automatic_exact_elements)) {
             s.exact = false;

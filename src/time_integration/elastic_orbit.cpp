@@ -36,13 +36,17 @@ bool elastic_contacts_only(const System& system) {
            });
 }
 
+int elastic_continuous_states(const System& system) {
+    return detail::elastic_state_size(system) - static_cast<int>(system.contacts.size());
+}
+
 std::string elastic_solver_refusal(const System& system) {
     if (!elastic_contacts_only(system))
         return "the elastic-contact exact solver takes systems whose contacts are all of law elastic";
     if (system.cyclic.active()) return "the elastic-contact exact solver does not take a sector model (cyclic symmetry)";
     if (!system.has_positive_definite_mass())
         return "the mass matrix is singular (massless DOFs): law elastic's flow needs M positive definite";
-    const int states = detail::elastic_state_size(system) - static_cast<int>(system.contacts.size());
+    const int states = elastic_continuous_states(system);
     if (states > elastic_solver_max_states)
         return "the model has " + std::to_string(states) + " continuous states (2 N + the sliders), the elastic-contact "
                "exact solver at most " + std::to_string(elastic_solver_max_states) +

@@ -6,15 +6,18 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
 #include "hbf/modal_exact.hpp"
+#include "hbf/elastic_exact.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "base/stopwatch.hpp"
 #include "base/enum_table.hpp"
@@ -49,7 +52,8 @@ PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb, cons
     return m;
 }
 
-/// The HB gap above which a rigid-contact polish's exact orbit is taken for another orbit.
+/// The HB gap above which a normal-contact polish's exact orbit (laws unilateral and elastic) is
+/// taken for another orbit.
 constexpr double another_orbit_gap = 0.25;
 
 /// hb_gap of DOF `dof`, or of output 0 when the orbit has outputs.
@@ -85,12 +89,15 @@ ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof)
 class ExactModel {
 public:
     ExactModel(const System& structure, int modes, const ExactOptions& options, int dof)
-        : structure_(structure), original_(options.outputs), rigid_(rigid_contacts_only(structure)) {
+        : structure_(structure),
+          original_(options.outputs),
+          rigid_(rigid_contacts_only(structure)),
+          elastic_(elastic_contacts_only(structure)) {
         options_ = options;
-        // Rigid contacts: no restarts by plain periods, which settle on an attractor (another
+        // Normal contacts: no restarts by plain periods, which settle on an attractor (another
         // orbit where the point's is unstable or HB's branch folds elsewhere than the exact one).
-        if (rigid_) options_.restarts = 0;
-        if (modes > 0 && !rigid_) {
+        if (rigid_ || elastic_) options_.restarts = 0;
+        if (modes > 0 && !rigid_ && !elastic_) {
             modal_.emplace(structure, modes);
             if (options_.outputs.empty()) {  // the DOF of hb_gap and the peaks, as an output of the model
                 options_.outputs = {Output::dof(dof)};
@@ -116,23 +123,35 @@ public:
     const System& system() const { return modal_ ? modal_->system() : structure_; }
     int modes() const { return modal_ ? modal_->modes() : 0; }
     /// Entries of a model state before its stick/slip hints: y, y' and the sliders (rigid
-    /// contacts: y and y' only, no hints).
+    /// contacts: y and y' only, no hints; law elastic: a slider component per tangential
+    /// direction, the hints its contacts' modes).
     Eigen::Index state_dofs() const {
         const System& s = system();
+        if (elastic_) return elastic_continuous_states(s);
         return 2 * s.dofs() + (rigid_ ? 0 : time_domain_elements(s));
     }
     /// A state of the structure (exact_start_state) as a start of the model.
     Eigen::VectorXd start(const Eigen::VectorXd& state) const { return modal_ ? modal_->reduce_state(state) : state; }
     bool rigid() const { return rigid_; }
+    /// Contacts with a normal direction (laws unilateral and elastic).
+    bool normal() const { return rigid_ || elastic_; }
+    /// Replaces the stop request of the solves (ExactOptions::stop).
+    void set_stop(std::function<std::string()> stop) { options_.stop = std::move(stop); }
+    const std::function<std::string()>& stop() const { return options_.stop; }
     /// The solver's own refusal of the model, empty when it takes it.
-    std::string refusal() const { return rigid_ ? rigid_solver_refusal(system()) : exact_solver_refusal(system()); }
+    std::string refusal() const {
+        return rigid_     ? rigid_solver_refusal(system())
+               : elastic_ ? elastic_solver_refusal(system())
+                          : exact_solver_refusal(system());
+    }
     /// The orbit at omega from `start`. An exception of the solver (not bad input) is an orbit
     /// not converged, its message saying why: that point fails, the polish goes on.
     ExactOrbit orbit(double omega, const Eigen::VectorXd& start) const {
         ExactOrbit o;
         try {
-            o = rigid_ ? rigid_periodic_orbit(system(), omega, start, options_)
-                       : exact_periodic_orbit(system(), omega, start, options_);
+            o = rigid_     ? rigid_periodic_orbit(system(), omega, start, options_)
+                : elastic_ ? elastic_periodic_orbit(system(), omega, start, options_)
+                           : exact_periodic_orbit(system(), omega, start, options_);
         } catch (const InvalidInput&) {
             throw;
         } catch (const std::exception& e) {
@@ -173,7 +192,8 @@ private:
     const System& structure_;
     std::vector<Output> original_;  // the outputs as asked (of the structure)
     std::optional<ModalExactModel> modal_;
-    bool rigid_ = false;  // rigid unilateral contacts (rigid_exact.hpp)
+    bool rigid_ = false;    // rigid unilateral contacts (rigid_exact.hpp)
+    bool elastic_ = false;  // law elastic (elastic_exact.hpp)
     ExactOptions options_;
     int dof_output_ = -1;
     int extra_outputs_ = 0;  // DOFs appended to the outputs for their maxima (structure only)
@@ -278,53 +298,6 @@ std::string PolishedBranch::summary() const {
     return s.str();
 }
 
-Eigen::VectorXd exact_start_state(HarmonicBalance& hb, const SolutionPoint& point) {
-    const System& s = hb.system();
-    const bool rigid = rigid_contacts_only(s);  // the state: y and y' alone
-    const int n = s.dofs(), nc = rigid ? 0 : time_domain_elements(s);  // the state is per time-domain element
-    Eigen::VectorXd state = Eigen::VectorXd::Zero(2 * n + 2 * nc);
-    auto at_zero = [&](const Eigen::VectorXd& c, double& value, double& rate) {
-        value = c(0);
-        rate = 0.0;
-        for (int k = 1; 2 * k < c.size(); ++k) {
-            value += c(2 * k - 1);
-            rate += point.omega * k * c(2 * k);
-        }
-    };
-    const Eigen::MatrixXd y = hb.dofs(point.x, point.omega);
-    for (int i = 0; i < n; ++i) at_zero(y.col(i), state(i), state(n + i));
-    if (rigid) return state;
-    // an elastic slider holding the force f at q sits at s = q - f / k_t; it slips when |f| is at
-    // its limit and moves with the velocity
-    auto slider = [&](int e, const Contact& k, double q, double v, double f) {
-        state(2 * n + e) = q - f / k.stiffness;
-        state(2 * n + nc + e) = std::abs(f) >= k.friction_limit * (1.0 - 1e-9) && f * v > 0.0 ? (f > 0 ? 1 : -1) : 0;
-    };
-    int e = 0;
-    for (int c = 0; c < static_cast<int>(s.contacts.size()); ++c) {
-        const Contact& k = s.contacts[static_cast<std::size_t>(c)];
-        double q = 0, v = 0;
-        const Eigen::VectorXd relative = hb.relative(point.x, c);
-        at_zero(relative, q, v);
-        const std::vector<Contact> elements = contact_law(k.law).time_elements(k);
-        if (elements.size() > 1) {  // each element's force from its own law on the contact's q(t)
-            for (const Contact& element : elements) {
-                const double f = contact_law(element.law)
-                                     .periodic_model(element)
-                                     ->force_samples(hb.fourier(), point.omega, relative, Eigen::VectorXd())(0);
-                if (elastic_slider(element)) slider(e, element, q, v, f);
-                ++e;
-            }
-        } else if (elastic_slider(k)) {
-            slider(e++, k, q, v, hb.force_samples(point.x, point.omega, c)(0));
-        } else {
-            const double phi = hb.stick_indicator(point.x, point.omega, c)(0);
-            state(2 * n + nc + e++) = phi < 0.0 ? 0 : (v > 0 ? 1 : -1);
-        }
-    }
-    return state;
-}
-
 PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoint>& points,
                              const std::vector<PointMetrics>& hb_metrics, const PolishOptions& options,
                              const CorrectorOptions& corrector_options) {
@@ -393,19 +366,33 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         // time (a preemption during a sub-millisecond orbit must not decline the polish), and
         // measured again when over the budget but cheap (the first orbit also fills the caches
         // the next ones reuse): the smaller of the two.
+        // The probe stops once it alone exceeds the budget (an orbit of a large model may take
+        // minutes): the polish is then declined without waiting for it.
+        bool over_budget = false;
         const auto orbit_seconds = [&] {
             detail::ThreadCpuStopwatch orbit_watch;
+            const std::function<std::string()> outer = model.stop();
+            model.set_stop([&]() -> std::string {
+                if (std::string why = outer ? outer() : std::string(); !why.empty()) return why;
+                if (orbit_watch.seconds() <= options.decline_seconds) return {};
+                over_budget = true;
+                return "the probe's budget";
+            });
             (void)model.orbit(probe->omega, model.start(exact_start_state(hb, *probe)));
+            model.set_stop(outer);
             return orbit_watch.lap();
         };
         double each = orbit_seconds();
+        if (over_budget) each = std::max(each, options.decline_seconds);
         if (each * static_cast<double>(points.size()) > options.decline_seconds && each < 0.1 * options.decline_seconds)
             each = std::min(each, orbit_seconds());
         const double estimate = each * static_cast<double>(points.size());
         if (estimate > options.decline_seconds) {
             PolishedBranch declined;
-            declined.declined = "one exact orbit at w = " + format_number(probe->omega) + " took " + format_number(each) +
-                                " s of CPU: about " + format_number(std::round(estimate)) + " s for the " +
+            declined.declined = "one exact orbit at w = " + format_number(probe->omega) +
+                                (over_budget ? " was stopped after " : " took ") + format_number(each) +
+                                " s of CPU: " + (over_budget ? "more than " : "about ") +
+                                format_number(std::round(estimate)) + " s for the " +
                                 std::to_string(points.size()) + " points, above the budget of " +
                                 format_number(options.decline_seconds) +
                                 " s (max(2 s, 10 times the harmonic-balance branch))";
@@ -470,9 +457,11 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                 predicted = previous->orbit.state + (hb_start - previous_start);
             }
             predicted.tail(hints) = hb_start.tail(hints);
-            // Rigid contacts: HB's own start first (the secant along the exact branch carries the
-            // polish past an exact fold onto another orbit where HB's branch folds elsewhere).
-            q.orbit = model.rigid() ? solve(model, p.omega, hb_start, &predicted) : solve(model, p.omega, predicted, &hb_start);
+            // Normal contacts: HB's own start first (rigid: the secant along the exact branch
+            // carries the polish past an exact fold onto another orbit where HB's branch folds
+            // elsewhere; elastic: where a contact sticks all period the orbits form a family in
+            // its slider, and the secant moves the slider to another member than HB's).
+            q.orbit = model.normal() ? solve(model, p.omega, hb_start, &predicted) : solve(model, p.omega, predicted, &hb_start);
         } else {
             q.orbit = solve(model, p.omega, hb_start, previous ? &previous->orbit.state : nullptr);
         }
@@ -525,11 +514,11 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             }
         }
     }
-    // Rigid contacts: an exact orbit far from the HB point's (its y_max gap above
+    // Normal contacts: an exact orbit far from the HB point's (its y_max gap above
     // another_orbit_gap) is another orbit (a branch whose exact fold lies elsewhere than HB's, or
     // an HB branch without an exact counterpart): the point keeps HB's values, marked failed.
     const auto another_orbit = [&](ExactOrbit& orbit, const PointMetrics& hb_point) {
-        if (!model.rigid() || !orbit.converged) return;
+        if (!model.normal() || !orbit.converged) return;
         const double gap = exact_point(orbit, hb_point, dof).hb_gap;
         if (!(gap > another_orbit_gap)) return;
         orbit.converged = false;
@@ -579,7 +568,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             bool ok = true, closed_form = false;
             const bool a_stuck = regime(a.orbit) == "stick";
             const ExactOrbit& stick_end = (a_stuck ? a : b).orbit;
-            if (boundary == Boundary::stick_stick_slip && all_stuck(stick_end) && !model.rigid()) {
+            if (boundary == Boundary::stick_stick_slip && all_stuck(stick_end) && !model.normal()) {
                 // From full stick: where the permanent-stick state's load crosses 1 (closed
                 // form), if contact c is the one at its limit there (another contact may break
                 // away first: then c's boundary lies on a stick-slip orbit, found below).
