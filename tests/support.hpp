@@ -208,4 +208,34 @@ inline std::vector<Eigen::MatrixXd> sampled_dofs(const System& system, const Har
     return y;
 }
 
+/// A chain of n unit masses and springs (fixed at DOF 1's end, free at DOF n's, damping
+/// 0.05 M + 0.02 K), forced at DOF n (1.0); DOF 1 on a law elastic contact whose normal
+/// coordinate is DOF 2 (k_t 2, k_n 5, mu 0.3, preload 1): with n = 33 stick, slip and lift-off
+/// at w = 0.3 to 1.5.
+inline System elastic_chain(int n) {
+    System s;
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+    for (int i = 0; i < n; ++i) {
+        k(i, i) = i + 1 < n ? 2.0 : 1.0;
+        if (i + 1 < n) k(i, i + 1) = k(i + 1, i) = -1.0;
+    }
+    s.mass = sparse(Eigen::MatrixXd::Identity(n, n));
+    s.stiffness = sparse(k);
+    s.damping = sparse(0.05 * Eigen::MatrixXd::Identity(n, n) + 0.02 * k);
+    s.excitation = Eigen::VectorXd::Zero(n);
+    s.excitation(n - 1) = 1.0;
+    Contact c;
+    c.law = FrictionLaw::elastic;
+    c.dof = 0;
+    c.stiffness = 2.0;
+    c.values["normal_stiffness"] = 5.0;
+    c.values["friction_coefficient"] = 0.3;
+    c.values["preload"] = 1.0;
+    std::vector<double> normal(static_cast<std::size_t>(n), 0.0);
+    normal[1] = 1.0;
+    c.lists["normal_direction"] = normal;
+    s.contacts = {c};
+    return s;
+}
+
 }  // namespace hbf::test

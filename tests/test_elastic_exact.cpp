@@ -225,6 +225,37 @@ TEST_CASE("elastic exact: an unstable orbit (liftoff3.toml at w = 2.2, where tim
     CHECK(rate == Approx(orbit.max_multiplier).epsilon(1e-3));
 }
 
+TEST_CASE("elastic exact: Newton-Krylov on a 67-state chain equals the full matrix's route", "[elastic_exact]") {
+    // 33 DOFs and one contact: 67 continuous states, beyond the variational equation's size.
+    const System s = hbf::test::elastic_chain(33);
+    REQUIRE(elastic_continuous_states(s) == 67);
+    const double omega = 0.6;
+    const PeriodicResponse ti = integrate_steady_state(s, omega, hbf::test::tight_time_integration(), nullptr);
+    INFO(ti.message);
+    REQUIRE(ti.converged);
+    REQUIRE(ti.contacts[0].stick_fraction < 0.9);  // stick, slip and lift-off: events in the period
+    REQUIRE(ti.contacts[0].separated_fraction > 0.1);
+    const ExactOrbit krylov = elastic_periodic_orbit(s, omega, ti.state);
+    const ExactOrbit full = detail::elastic_orbit(s, omega, ti.state, {}, detail::ElasticRoute::differences);
+    INFO(krylov.message << " | " << full.message);
+    REQUIRE(krylov.converged);
+    REQUIRE(full.converged);
+    CHECK_THAT(krylov.message, Catch::Contains("Newton-Krylov"));
+    for (std::size_t i : {std::size_t{0}, std::size_t{32}}) CHECK(krylov.y_max[i] == Approx(ti.y_max[i]).epsilon(1e-8));
+    CHECK(krylov.contacts[0].stick_fraction == Approx(ti.contacts[0].stick_fraction).margin(1e-8));
+    // Each multiplier Arnoldi returns is one of the full matrix's (to the differences' accuracy),
+    // the largest among them.
+    REQUIRE(krylov.multipliers.size() >= 1);
+    for (Eigen::Index i = 0; i < krylov.multipliers.size(); ++i) {
+        const double nearest = (full.multipliers.array() - krylov.multipliers(i)).abs().minCoeff();
+        CHECK(nearest <= 1e-4 * std::max(1.0, std::abs(krylov.multipliers(i))));
+    }
+    CHECK(krylov.max_multiplier == Approx(full.max_multiplier).margin(1e-4));
+    CHECK(krylov.stable == full.stable);
+    // fewer periods than the matrix's 2 c + 1 per Newton iteration and for the multipliers
+    CHECK(krylov.periods < full.periods);
+}
+
 TEST_CASE("elastic exact: bad input is refused naming the cause", "[elastic_exact]") {
     const System s = liftoff3();
     CHECK_THROWS_WITH(elastic_periodic_orbit(s, 0.0, Eigen::VectorXd()), Catch::Contains("omega = 0"));

@@ -91,8 +91,11 @@ struct ContinuationOptions {
 /// without a turn, through -1, a complex pair), set by the stability analysis.
 enum class PointKind { regular, fold, sample, transition, cap, branch_point, period_doubling, neimark_sacker };
 /// The regime boundary a transition point lies on (of the contact SolutionPoint::contact).
-enum class Boundary { none, stick_stick_slip, stick_slip_slip };
-/// "", "stick|stick-slip", "stick-slip|slip".
+/// closed_lift_off: a contact with a normal direction closed all period on one side, opening
+/// for part of it on the other (located by the exact polish only; the point is the grazing
+/// orbit, on the closed side).
+enum class Boundary { none, stick_stick_slip, stick_slip_slip, closed_lift_off };
+/// "", "stick|stick-slip", "stick-slip|slip", "closed|lift-off".
 std::string to_string(Boundary boundary);
 struct SolutionPoint;
 /// The transition points of `points` per contact (`contacts` entries: SolutionPoint::contact).

@@ -13,10 +13,14 @@
 // Between the events the flow is smooth, so P is differentiable wherever no event grazes (a root
 // touched without crossing) or two contacts' events coincide. Where the variational equation is
 // stiff (in 3D, a slip next to an opening or a closing: the slip direction turns as fast as the
-// normal force vanishes, and Adams' fixed-point iterations fail or crawl) and on models with more
-// than elastic_variational_max_states continuous states, Newton's matrix and the multipliers are
-// central differences of P instead (steps of 1e-5 of the state's size, each perturbed state's
-// modes settled; about 1e-5 accurate; the message says so).
+// normal force vanishes, and Adams' fixed-point iterations fail or crawl), Newton's matrix and the
+// multipliers are central differences of P instead (steps of 1e-5 of the state's size, each
+// perturbed state's modes settled; about 1e-5 accurate; the message says so). On models with more
+// than elastic_variational_max_states continuous states no matrix is formed: Newton-Krylov (GMRES
+// on (P' - I) u = -(P(z) - z) to 1e-3 of the residual, each product P' v a central difference of
+// P along v: two periods), and the dominant multipliers by Arnoldi on the same products at the
+// orbit (the Ritz values whose residual estimate is below 1e-5, the 10 largest of modulus >=
+// 0.05 converged or said so; at most 120 vectors): multipliers contains those, not all c.
 //
 // The sliders of contacts slipping at t = 0 lie on their cone and those of open contacts at
 // their node (s = u): each iterate is put back there. Multipliers at 1: a contact stuck all
@@ -29,7 +33,8 @@
 // scale; Newton stops at options.tolerance or where its residual is below 1e-9 and a step no
 // longer lowers it (the message says so). Cost: each Newton iteration integrates c + 1 columns
 // (c = 2 N + the slider components) with the motion, about c^3 operations a step, or 2 c + 1
-// periods by differences (on the block example, 242 states, about 8 minutes an iteration).
+// periods by differences; beyond elastic_variational_max_states, two periods per GMRES step and
+// per Arnoldi step (at most 240 each).
 #pragma once
 
 #include <Eigen/Dense>
@@ -43,11 +48,11 @@ namespace hbf {
 /// The flow's relative and absolute tolerance (the absolute one of the response's scale, as
 /// time_integration.hpp's absolute_tolerance).
 constexpr double elastic_flow_tolerance = 1e-11;
-/// The most continuous states (2 N + the slider components) the solver takes: beyond, a
-/// matrix of central differences (two periods per state) is out of reach.
+/// The most continuous states (2 N + the slider components) the solver takes (its dense flow
+/// costs about c^2 operations an evaluation).
 constexpr int elastic_solver_max_states = 600;
 /// Up to this many continuous states Newton's matrix is the variational equation's (about c^3
-/// operations a step); beyond, central differences of the period map (2 c periods).
+/// operations a step); beyond, Newton-Krylov on central differences of the period map.
 constexpr int elastic_variational_max_states = 64;
 
 /// True when the system has contacts and every one is of law elastic.

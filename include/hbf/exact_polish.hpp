@@ -1,16 +1,20 @@
-// hbfriction — harmonic-balance branches polished by the event-exact solver.
+// hbfriction — harmonic-balance branches polished by the exact periodic-orbit solvers.
 //
-// For exact Coulomb and Jenkins contacts, harmonic balance at a modest H gives the branch
-// (topology, folds, starting guesses) and event_exact.hpp gives each point exactly: every
-// branch point and sample is re-solved at its frequency by Newton shooting from the HB
-// solution's state at t = 0. A point whose polish fails keeps its HB values and is flagged.
+// Harmonic balance at a modest H gives the branch (topology, folds, starting guesses) and the
+// exact solver of the contacts' law gives each point: exact Coulomb and Jenkins contacts
+// (event_exact.hpp, on the structure or its modal form), rigid unilateral contacts
+// (rigid_exact.hpp), law elastic (elastic_exact.hpp, to its flow's tolerance). Every branch point
+// and sample is re-solved at its frequency by Newton shooting from the HB solution's state at
+// t = 0. A point whose polish fails keeps its HB values and is flagged.
 // Then, from the exact points:
-//   * transitions: wherever the exact regime of contact 1 changes between two consecutive
+//   * transitions: wherever the exact regime of a contact changes between two consecutive
 //     points of a branch, the frequency where the stick phase appears or vanishes is found by
 //     bisection in omega on the exact regime (each trial solved exactly from the nearer
 //     side's orbit) to |delta omega| <= 1e-10 omega, and inserted as a point of kind
 //     transition, on the stick side (stick|stick-slip) or the stick-slip side
-//     (stick-slip|slip); HB's own transition points (O(1/H) misplaced) are dropped;
+//     (stick-slip|slip); for contacts with a normal direction also where a contact starts to
+//     open (closed|lift-off: its separated share leaves 0), the point on the closed side; HB's
+//     own transition points (O(1/H) misplaced) are dropped;
 //   * peaks: every exact local maximum of y_max of the reported DOF among the branch points,
 //     refined by a search in omega (Brent's method) on exact solves to |delta omega| <= 1e-9 omega.
 #pragma once
@@ -80,6 +84,9 @@ struct PolishedBranch {
     double modal_truncation = 0;
     double truncation_omega = 0;
     std::vector<int> contact_transitions;  ///< transitions per contact
+    /// Regime changes between two exact neighbours whose bisection failed (a solve there did not
+    /// converge; rigid contacts next to grazing, where the flow chatters): not inserted.
+    int unlocated_transitions = 0;
     double max_hb_gap = 0;              ///< largest hb_gap over the polished points
     double seconds = 0;
     /// Why an optional polish was declined before its work (PolishOptions::decline_seconds;

@@ -31,7 +31,7 @@ std::string to_string(PointKind kind) { return detail::enum_name(point_kind_name
 
 constexpr detail::EnumName<Boundary> boundary_names[] = {
     {Boundary::none, ""}, {Boundary::stick_stick_slip, "stick|stick-slip"},
-    {Boundary::stick_slip_slip, "stick-slip|slip"}};
+    {Boundary::stick_slip_slip, "stick-slip|slip"}, {Boundary::closed_lift_off, "closed|lift-off"}};
 
 std::string to_string(Boundary boundary) { return detail::enum_name(boundary_names, boundary, "boundary"); }
 

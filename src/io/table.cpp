@@ -287,7 +287,9 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
     const std::vector<Column> rest = {
         {"branch", "branch number: 1, 2 for the branch restarted from wmax after an amplitude cap, 3 for the branch between two capped resonances", ColumnType::integer},
         {"point", "regular, fold (located where the tangent's w-component is zero: dR/dX singular, a real turn of the branch in w), transition (located boundary between stick and stick-slip "
-                  "or between stick-slip and slip, contact 1), cap (the amplitude bound passed --max-amplitude here: "
+                  "or between stick-slip and slip; with the exact polish of contacts with a normal direction also "
+                  "where a contact starts to open, the grazing orbit: the JSON's transitions name the contact and "
+                  "the boundary), cap (the amplitude bound passed --max-amplitude here: "
                   "an unbounded resonance, the branch stops; its largest point; a cap exactly on an undamped resonance that no "
                   "contact sees has inf in the DOFs it moves and is not polished), sample (solved exactly at an --at "
                   "frequency), or with --stability the first point past a change of stability: branch-point (a real "

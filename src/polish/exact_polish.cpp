@@ -292,6 +292,7 @@ std::string PolishedBranch::summary() const {
           << " at w = " << format_number(truncation_omega) << ")";
     s << ": " << polished << " points exact, " << failed << " failed (HB values kept), " << unstable
       << " unstable, " << transitions << " transitions" << per_contact_counts(contact_transitions)
+      << (unlocated_transitions > 0 ? " (" + std::to_string(unlocated_transitions) + " more not located)" : std::string())
       << ", largest HB gap " << format_number(max_hb_gap) << ", "
       << format_number(seconds) << " s";
     if (!stopped.empty()) s << "; stopped (" << stopped << "): the points after it are harmonic balance's";
@@ -545,7 +546,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     std::vector<Polished> with_transitions;
     Corrector corrector(hb, corrector_options);
     Analyser analyse(hb, {dof}, options.exact.outputs);
-    int transitions = 0;
+    int transitions = 0, unlocated = 0;
     const int contacts = static_cast<int>(system.contacts.size());
     const auto all_stuck = [](const ExactOrbit& o) {
         for (const ContactRegime& r : o.contacts)
@@ -559,6 +560,41 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
         if (a.point.branch != b.point.branch || !a.orbit.converged || !b.orbit.converged) continue;
         if (a.point.omega == b.point.omega) continue;
         std::vector<Polished> found;
+        // A transition at w (its orbit `side`) of `boundary`, with HB's gap there.
+        const auto transition = [&](const ExactOrbit& side, Boundary boundary, int c) {
+            Polished t;
+            t.point.omega = side.omega;
+            t.point.kind = PointKind::transition;
+            t.point.boundary = boundary;
+            t.point.contact = c;
+            t.point.branch = a.point.branch;
+            t.orbit = side;
+            // The HB solution at that frequency, for the HB gap.
+            const double s = (side.omega - a.point.omega) / (b.point.omega - a.point.omega);
+            t.point.x = a.point.x + s * (b.point.x - a.point.x);
+            const double x_scale = hb.unknown_scale(t.point.x);
+            const bool hb_ok = corrector.solve_at(t.point.x, side.omega, x_scale, t.point.iterations, t.point.residual);
+            PointMetrics hb_m = analyse(t.point);
+            t.exact = exact_point(side, hb_m, dof);
+            if (!hb_ok) t.exact.hb_gap = std::numeric_limits<double>::quiet_NaN();
+            t.metrics = exact_metrics(side, hb_m, hb.system());
+            found.push_back(std::move(t));
+        };
+        // Normal contacts: where a contact starts to open (its separated share leaves 0), by
+        // bisection in w on that share, the point on the closed side (the grazing orbit).
+        for (int c = 0; c < contacts && model.normal(); ++c) {
+            const auto opens = [c](const ExactOrbit& o) { return o.contacts[static_cast<std::size_t>(c)].separated_fraction > 0.0; };
+            if (opens(a.orbit) == opens(b.orbit)) continue;
+            ExactOrbit lo = a.orbit, hi = b.orbit;
+            bool ok = true;
+            while (ok && std::abs(hi.omega - lo.omega) > 1e-10 * std::abs(hi.omega)) {
+                ExactOrbit o = solve(model, 0.5 * (lo.omega + hi.omega), lo.state, &hi.state);
+                ok = o.converged;
+                if (ok) (opens(o) == opens(lo) ? lo : hi) = std::move(o);
+            }
+            if (ok) transition(opens(lo) ? hi : lo, Boundary::closed_lift_off, c);
+            else ++unlocated;  // rigid contacts: the flow chatters next to grazing
+        }
         for (int c = 0; c < contacts; ++c) {
             const auto regime = [c](const ExactOrbit& o) { return o.contacts[static_cast<std::size_t>(c)].regime; };
             const Boundary boundary = boundary_between(regime(a.orbit), regime(b.orbit));
@@ -595,25 +631,11 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                 }
                 (regime(o) == regime(lo) ? lo : hi) = std::move(o);
             }
-            if (!ok) continue;
-            const ExactOrbit& side = closed_form || regime(lo) == stuck_side ? lo : hi;
-            Polished t;
-            t.point.omega = side.omega;
-            t.point.kind = PointKind::transition;
-            t.point.boundary = boundary;
-            t.point.contact = c;
-            t.point.branch = a.point.branch;
-            t.orbit = side;
-            // The HB solution at that frequency, for the HB gap.
-            const double s = (side.omega - a.point.omega) / (b.point.omega - a.point.omega);
-            t.point.x = a.point.x + s * (b.point.x - a.point.x);
-            const double x_scale = hb.unknown_scale(t.point.x);
-            const bool hb_ok = corrector.solve_at(t.point.x, side.omega, x_scale, t.point.iterations, t.point.residual);
-            PointMetrics hb_m = analyse(t.point);
-            t.exact = exact_point(side, hb_m, dof);
-            if (!hb_ok) t.exact.hb_gap = std::numeric_limits<double>::quiet_NaN();
-            t.metrics = exact_metrics(side, hb_m, hb.system());
-            found.push_back(std::move(t));
+            if (!ok) {
+                ++unlocated;
+                continue;
+            }
+            transition(closed_form || regime(lo) == stuck_side ? lo : hi, boundary, c);
         }
         // In branch order (omega runs monotonically between two neighbouring points).
         const bool rising = b.point.omega > a.point.omega;
@@ -629,6 +651,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
     out.modal_truncation = modal.truncation;
     out.truncation_omega = modal.omega;
     out.transitions = transitions;
+    out.unlocated_transitions = unlocated;
     out.contact_transitions.assign(static_cast<std::size_t>(contacts), 0);
     for (const Polished& q : with_transitions)
         if (q.point.kind == PointKind::transition) ++out.contact_transitions[static_cast<std::size_t>(q.point.contact)];

@@ -160,14 +160,13 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
                            "faster than the solver's steps follow, and the flow can stop): the FRF is harmonic "
                            "balance's, its error against the exact orbit not measured (exact on polishes anyway)";
         }
-        if (s.exact && elastic_contacts_only(system) && elastic_continuous_states(system) > elastic_variational_max_states) {
+        if (s.exact && elastic_contacts_only(system)) {
             s.exact = false;
-            s.exact_note = "the exact polish is off by default for law elastic on " +
-                           std::to_string(elastic_continuous_states(system)) +
-                           " continuous states (more than " + std::to_string(elastic_variational_max_states) +
-                           ": Newton's matrix by central differences, two periods per state and iteration): the FRF "
-                           "is harmonic balance's, its error against the exact orbit not measured (exact on polishes "
-                           "anyway)";
+            s.exact_note = "the exact polish is off by default for law elastic (its penalty contacts make harmonic "
+                           "balance converge fast, and its estimated error is given instead; the exact orbit is not "
+                           "found at harmonic balance's own fold points where the exact fold lies elsewhere, nor "
+                           "always exactly at a grazing change of the contact state): the FRF is harmonic balance's "
+                           "(exact on polishes)";
         }
         if (elements > static_cast<std::size_t>(max_automatic_exact_elements)) {
             s.exact = false;

@@ -146,7 +146,8 @@ TrackResult track_with(const std::function<System(double)>& system, const FrfSet
             if (k.output == 0) starts.push_back({k.omega, k.branch, 0, Boundary::none});
     } else {
         for (const SolutionPoint& q : start.points)
-            if (q.kind == PointKind::transition && (options.contact < 0 || q.contact == options.contact))
+            if (q.kind == PointKind::transition && q.boundary != Boundary::closed_lift_off &&
+                (options.contact < 0 || q.contact == options.contact))
                 starts.push_back({q.omega, q.branch, q.contact, q.boundary});
     }
     for (const Start& s : starts) found += (found.empty() ? "" : ", ") + format_number(s.omega);

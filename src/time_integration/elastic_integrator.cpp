@@ -486,6 +486,14 @@ void elastic_metrics(const System& system, double omega, const ElasticIntegrator
         ContactRegime regime = contact_regime(f.stuck_time[c], period);
         regime.separated_fraction = f.open_time[c] / period;
         regime.energy = std::numeric_limits<double>::quiet_NaN();
+        if (samples > 0) {  // N = max(0, n_0 + k_n v) on the period's equally spaced samples
+            const Eigen::MatrixXd w = system.contact_directions(system.contacts[c]);
+            const ElasticContact e = elastic_element(system.contacts[c]);
+            const Eigen::VectorXd normal =
+                ((f.displacement * w.col(w.cols() - 1)).array() * e.normal_stiffness + e.normal_offset).cwiseMax(0.0);
+            regime.normal_mean = normal.mean();
+            regime.normal_amplitude = 0.5 * (normal.maxCoeff() - normal.minCoeff());
+        }
         out.contacts.push_back(regime);
     }
     summarise_contacts(out);

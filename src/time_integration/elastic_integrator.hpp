@@ -129,4 +129,13 @@ Eigen::VectorXd elastic_rest_state(const System& system);
 void check_elastic_system(const System& system);
 constexpr int elastic_max_dofs = 2000;  // dense M^-1 and state
 
+/// How elastic_orbit builds Newton's matrix and the multipliers: automatic (the variational
+/// equation up to elastic_variational_max_states continuous states, central differences where
+/// it is stiff; Newton-Krylov beyond), or one route forced (for tests and comparisons).
+enum class ElasticRoute { automatic, variational, differences, krylov };
+
+/// elastic_periodic_orbit (elastic_exact.hpp) by the given route.
+ExactOrbit elastic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
+                         const ExactOptions& options, ElasticRoute route);
+
 }  // namespace hbf::detail

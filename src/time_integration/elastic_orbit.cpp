@@ -3,6 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -25,7 +27,109 @@ constexpr int record_samples = 4096;
 /// The central differences' step, of the state's size.
 constexpr double difference_step = 1e-5;
 
+/// Newton-Krylov: GMRES stops at this residual relative to Newton's (an inexact Newton step).
+constexpr double krylov_forcing = 1e-3;
+/// At most this many Krylov vectors (GMRES, and Arnoldi for the multipliers).
+constexpr int krylov_max_steps = 120;
+/// Arnoldi's Ritz values count as multipliers where their residual estimate is below this
+/// (relative to max(1, |mu|)): about the central differences' accuracy.
+constexpr double arnoldi_tolerance = 1e-5;
+/// Arnoldi stops once the arnoldi_count largest Ritz values of at least arnoldi_dominant in
+/// modulus have converged (the verdict needs the largest; the next ones say how close others are).
+constexpr double arnoldi_dominant = 0.05;
+constexpr int arnoldi_count = 10;
+
 using detail::ElasticIntegrator;
+using detail::ElasticRoute;
+
+/// y = op(x) on scaled states; false where a period failed or a stop came.
+using Operator = std::function<bool(const Eigen::VectorXd&, Eigen::VectorXd&)>;
+
+/// Arnoldi step j: op(v_j) orthogonalised (modified Gram-Schmidt, twice) against v_0..v_j into
+/// column j of h (zero on entry), v_{j+1} its direction; breakdown where nothing is left.
+bool arnoldi_step(const Operator& op, Eigen::MatrixXd& v, Eigen::MatrixXd& h, int j, bool& breakdown) {
+    Eigen::VectorXd w;
+    if (!op(v.col(j), w)) return false;
+    const double before = w.norm();
+    for (int pass = 0; pass < 2; ++pass)
+        for (int i = 0; i <= j; ++i) {
+            const double c = v.col(i).dot(w);
+            h(i, j) += c;
+            w -= c * v.col(i);
+        }
+    h(j + 1, j) = w.norm();
+    breakdown = !(h(j + 1, j) > 1e-14 * std::max(before, 1e-300));
+    if (!breakdown) v.col(j + 1) = w / h(j + 1, j);
+    return true;
+}
+
+/// GMRES on op u = b from u = 0 until |b - op u| <= eta |b|, a breakdown or `most` steps; u the
+/// minimum-norm least-squares solution on the Krylov space (op may be singular: a family of
+/// orbits). False where op failed.
+bool gmres(const Operator& op, const Eigen::VectorXd& b, double eta, int most, Eigen::VectorXd& u, int& steps) {
+    const double beta = b.norm();
+    u = Eigen::VectorXd::Zero(b.size());
+    steps = 0;
+    if (!(beta > 0.0)) return true;
+    Eigen::MatrixXd v = Eigen::MatrixXd::Zero(b.size(), most + 1), h = Eigen::MatrixXd::Zero(most + 1, most);
+    v.col(0) = b / beta;
+    Eigen::VectorXd y;
+    for (int j = 0; j < most; ++j) {
+        bool breakdown = false;
+        if (!arnoldi_step(op, v, h, j, breakdown)) return false;
+        steps = j + 1;
+        Eigen::VectorXd rhs = Eigen::VectorXd::Zero(j + 2);
+        rhs(0) = beta;
+        const Eigen::MatrixXd hj = h.topLeftCorner(j + 2, j + 1);
+        Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(hj);
+        decomposition.setThreshold(1e-12);
+        y = decomposition.solve(rhs);
+        if (breakdown || (rhs - hj * y).norm() <= eta * beta) break;
+    }
+    u = v.leftCols(steps) * y;
+    return true;
+}
+
+/// The dominant eigenvalues of op by Arnoldi from `start`: stopped once the arnoldi_count
+/// largest Ritz values of modulus >= arnoldi_dominant have a residual estimate |h_{m+1,m} y_m|
+/// below arnoldi_tolerance max(1, |theta|), at an invariant subspace, or after `most` steps.
+/// `values`: the converged Ritz values; `largest`: the largest modulus of all (converged or not);
+/// `unconverged`: those among the arnoldi_count largest not converged. False where op failed.
+bool dominant_eigenvalues(const Operator& op, const Eigen::VectorXd& start, int most, Eigen::VectorXcd& values,
+                          double& largest, int& unconverged, int& steps) {
+    const auto k = start.size();
+    Eigen::MatrixXd v = Eigen::MatrixXd::Zero(k, most + 1), h = Eigen::MatrixXd::Zero(most + 1, most);
+    v.col(0) = start.normalized();
+    for (int j = 0; j < most; ++j) {
+        bool breakdown = false;
+        if (!arnoldi_step(op, v, h, j, breakdown)) return false;
+        steps = j + 1;
+        const int m = j + 1;
+        Eigen::EigenSolver<Eigen::MatrixXd> ritz(h.topLeftCorner(m, m), true);
+        if (ritz.info() != Eigen::Success) continue;
+        std::vector<int> order(static_cast<std::size_t>(m));
+        for (int i = 0; i < m; ++i) order[static_cast<std::size_t>(i)] = i;
+        std::sort(order.begin(), order.end(), [&](int a, int b) {
+            return std::abs(ritz.eigenvalues()(a)) > std::abs(ritz.eigenvalues()(b));
+        });
+        std::vector<std::complex<double>> kept;
+        largest = m > 0 ? std::abs(ritz.eigenvalues()(order.front())) : 0.0;
+        unconverged = 0;
+        for (int rank = 0; rank < m; ++rank) {
+            const int i = order[static_cast<std::size_t>(rank)];
+            const std::complex<double> theta = ritz.eigenvalues()(i);
+            const Eigen::VectorXcd y = ritz.eigenvectors().col(i).normalized();
+            const double residual = breakdown ? 0.0 : h(m, m - 1) * std::abs(y(m - 1));
+            if (residual <= arnoldi_tolerance * std::max(1.0, std::abs(theta)))
+                kept.push_back(theta);
+            else if (rank < arnoldi_count && std::abs(theta) >= arnoldi_dominant)
+                ++unconverged;
+        }
+        values = Eigen::Map<Eigen::VectorXcd>(kept.data(), static_cast<Eigen::Index>(kept.size()));
+        if (breakdown || (unconverged == 0 && m >= std::min<int>(static_cast<int>(k), 8))) break;
+    }
+    return true;
+}
 
 }  // namespace
 
@@ -50,12 +154,18 @@ std::string elastic_solver_refusal(const System& system) {
     if (states > elastic_solver_max_states)
         return "the model has " + std::to_string(states) + " continuous states (2 N + the sliders), the elastic-contact "
                "exact solver at most " + std::to_string(elastic_solver_max_states) +
-               " (Newton's matrix by central differences costs two periods per state)";
+               " (each Newton step and the multipliers take up to " + std::to_string(2 * krylov_max_steps) +
+               " periods of the flow)";
     return "";
 }
 
 ExactOrbit elastic_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
                                   const ExactOptions& options) {
+    return detail::elastic_orbit(system, omega, initial_state, options, ElasticRoute::automatic);
+}
+
+ExactOrbit detail::elastic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
+                                 const ExactOptions& options, ElasticRoute route) {
     options.validate();
     if (const std::string why = elastic_solver_refusal(system); !why.empty()) throw InvalidInput(why);
     if (!(omega > 0.0) || !std::isfinite(omega))
@@ -73,8 +183,10 @@ ExactOrbit elastic_periodic_orbit(const System& system, double omega, const Eige
     const double scale = response_scale(system, omega);
     ElasticIntegrator plain(system, omega, flow, scale);
     const int k = plain.continuous();
+    const bool krylov =
+        route == ElasticRoute::krylov || (route == ElasticRoute::automatic && k > elastic_variational_max_states);
     std::unique_ptr<ElasticIntegrator> variational_flow;
-    if (k <= elastic_variational_max_states)
+    if (route == ElasticRoute::variational || (route == ElasticRoute::automatic && k <= elastic_variational_max_states))
         variational_flow = std::make_unique<ElasticIntegrator>(system, omega, flow, scale, true);
 
     ExactOrbit out;
@@ -127,8 +239,54 @@ ExactOrbit elastic_periodic_orbit(const System& system, double omega, const Eige
     // turns as fast as the normal force vanishes) or larger central differences of the period
     // map; after two stiff periods in a row, differences from then on.
     bool differences = false;  // the last derivative was by differences
-    int stiff = k <= elastic_variational_max_states ? 0 : 2;
+    int stiff = variational_flow ? 0 : 2;
+    // Newton-Krylov: the derivative along v by central differences of the period map (two
+    // periods, the perturbed states' modes settled).
+    std::string krylov_failure;
+    long krylov_periods = 0;
+    auto along = [&](const Eigen::VectorXd& z, const Eigen::VectorXd& v, Eigen::VectorXd& derivative) {
+        if (std::string why = options.stop_reason(); !why.empty()) {
+            out.stopped = why;
+            krylov_failure = "stopped: " + why;
+            return false;
+        }
+        const double length = norm(v);
+        if (!(length > 0.0)) {
+            derivative = Eigen::VectorXd::Zero(k);
+            return true;
+        }
+        const double h = difference_step * std::max(norm(z), 1e-300) / length;
+        Eigen::VectorXd plus = z, minus = z;
+        plus.head(k) += h * v;
+        minus.head(k) -= h * v;
+        plain.settle(plus);
+        plain.settle(minus);
+        const ElasticIntegrator::Record a = plain.period(plus, 0), b = plain.period(minus, 0);
+        out.periods += 2;
+        krylov_periods += 2;
+        if (!a.ok || !b.ok) {
+            krylov_failure = "the flow failed in a period of the differences: " + (a.ok ? b.failure : a.failure);
+            return false;
+        }
+        derivative = (a.end.head(k) - b.end.head(k)) / (2.0 * h);
+        return true;
+    };
+    // The monodromy in scaled units (velocities divided by omega) at z, as an operator.
+    auto monodromy_at = [&](const Eigen::VectorXd& z) -> Operator {
+        return [&, z](const Eigen::VectorXd& u, Eigen::VectorXd& y) {
+            Eigen::VectorXd d;
+            if (!along(z, unit.cwiseProduct(u), d)) return false;
+            y = d.cwiseQuotient(unit);
+            return true;
+        };
+    };
     auto with_derivative = [&](const Eigen::VectorXd& z) {
+        if (krylov) {  // the period alone: Newton's steps and the multipliers come from `along`
+            ElasticIntegrator::Record r = plain.period(z, 0);
+            ++out.periods;
+            if (r.ok) plain_steps = r.steps;
+            return r;
+        }
         if (stiff < 2) {
             ElasticIntegrator::Record r = variational_flow->period(z, 0, std::max<long>(20000, 20 * plain_steps));
             ++out.periods;
@@ -187,12 +345,26 @@ ExactOrbit elastic_periodic_orbit(const System& system, double omega, const Eige
         }
         if (out.iterations >= options.max_iterations) break;
         ++out.iterations;
-        const Eigen::MatrixXd matrix = unit.cwiseInverse().asDiagonal() *
-                                       (at.monodromy - Eigen::MatrixXd::Identity(k, k)) * unit.asDiagonal();
-        Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(matrix);
-        decomposition.setThreshold(1e-12);
-        const Eigen::VectorXd step =
-            unit.cwiseProduct(decomposition.solve(-(at.end.head(k) - x.head(k)).cwiseQuotient(unit)));
+        const Eigen::VectorXd rhs = -(at.end.head(k) - x.head(k)).cwiseQuotient(unit);
+        Eigen::VectorXd step;
+        if (krylov) {  // GMRES on (M - I) u = rhs, M's products by differences at x
+            const Operator m = monodromy_at(x);
+            const Operator a = [&](const Eigen::VectorXd& u, Eigen::VectorXd& y) {
+                if (!m(u, y)) return false;
+                y -= u;
+                return true;
+            };
+            Eigen::VectorXd u;
+            int steps = 0;
+            if (!gmres(a, rhs, krylov_forcing, std::min(k, krylov_max_steps), u, steps)) return fail(krylov_failure);
+            step = unit.cwiseProduct(u);
+        } else {
+            const Eigen::MatrixXd matrix = unit.cwiseInverse().asDiagonal() *
+                                           (at.monodromy - Eigen::MatrixXd::Identity(k, k)) * unit.asDiagonal();
+            Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(matrix);
+            decomposition.setThreshold(1e-12);
+            step = unit.cwiseProduct(decomposition.solve(rhs));
+        }
         bool moved = false;
         double length = 1.0;
         for (int trial = 0; trial < 5 && !moved; ++trial, length *= 0.5) {
@@ -232,12 +404,38 @@ ExactOrbit elastic_periodic_orbit(const System& system, double omega, const Eige
     }
     if (differences)
         out.message += std::string("; Newton's matrix and the multipliers by central differences of the period map (") +
-                       (k <= elastic_variational_max_states ? "the variational equation was stiff"
-                                                             : "a model beyond the variational equation's size") +
+                       (route == ElasticRoute::differences ? "as asked"
+                        : k <= elastic_variational_max_states ? "the variational equation was stiff"
+                                                              : "a model beyond the variational equation's size") +
                        "; accuracy about 1e-5)";
-    out.multipliers = Eigen::EigenSolver<Eigen::MatrixXd>(at.monodromy, false).eigenvalues();
-    out.max_multiplier = out.multipliers.size() > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
-    out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
+    if (krylov) {
+        // the dominant multipliers: Arnoldi on the monodromy's products at the orbit, from a
+        // fixed start that excites every component
+        Eigen::VectorXd start(k);
+        for (int i = 0; i < k; ++i) start(i) = 1.0 + 0.5 * std::sin(1.0 + 0.7 * i);
+        double largest = 0.0;
+        int unconverged = 0, steps = 0;
+        const long newton_periods = krylov_periods;
+        if (!dominant_eigenvalues(monodromy_at(x), start, std::min(k, krylov_max_steps), out.multipliers, largest,
+                                  unconverged, steps))
+            return fail(krylov_failure);
+        out.max_multiplier = largest;
+        out.stable = largest <= 1.0 + options.stability_tolerance;
+        out.message += "; Newton-Krylov (GMRES on central differences of the period map, " +
+                       std::to_string(newton_periods) + " periods) and the dominant multipliers by Arnoldi (" +
+                       std::to_string(out.multipliers.size()) + " converged to about 1e-5 in " + std::to_string(steps) +
+                       " steps" +
+                       (unconverged > 0 ? ", " + std::to_string(unconverged) + " of modulus >= " +
+                                              format_number(arnoldi_dominant) + " among the " +
+                                              std::to_string(arnoldi_count) + " largest not converged: the verdict takes "
+                                              "the largest Ritz value, " + format_number(largest)
+                                        : std::string()) +
+                       ")";
+    } else {
+        out.multipliers = Eigen::EigenSolver<Eigen::MatrixXd>(at.monodromy, false).eigenvalues();
+        out.max_multiplier = out.multipliers.size() > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
+        out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
+    }
 
     // the orbit's metrics: one recorded period
     const ElasticIntegrator::Record f = plain.period(x, std::max(16 * flow.samples_per_period, record_samples));
