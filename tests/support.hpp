@@ -208,6 +208,19 @@ inline std::vector<Eigen::MatrixXd> sampled_dofs(const System& system, const Har
     return y;
 }
 
+/// A law elastic contact on DOF 1 (k_t, k_n, mu, preload N_0) whose normal direction is `normal`.
+inline Contact elastic_contact(double kt, double kn, double mu, double preload, const std::vector<double>& normal) {
+    Contact c;
+    c.law = FrictionLaw::elastic;
+    c.dof = 0;
+    c.stiffness = kt;
+    c.values["normal_stiffness"] = kn;
+    c.values["friction_coefficient"] = mu;
+    c.values["preload"] = preload;
+    c.lists["normal_direction"] = normal;
+    return c;
+}
+
 /// A chain of n unit masses and springs (fixed at DOF 1's end, free at DOF n's, damping
 /// 0.05 M + 0.02 K), forced at DOF n (1.0); DOF 1 on a law elastic contact whose normal
 /// coordinate is DOF 2 (k_t 2, k_n 5, mu 0.3, preload 1): with n = 33 stick, slip and lift-off
@@ -224,17 +237,9 @@ inline System elastic_chain(int n) {
     s.damping = sparse(0.05 * Eigen::MatrixXd::Identity(n, n) + 0.02 * k);
     s.excitation = Eigen::VectorXd::Zero(n);
     s.excitation(n - 1) = 1.0;
-    Contact c;
-    c.law = FrictionLaw::elastic;
-    c.dof = 0;
-    c.stiffness = 2.0;
-    c.values["normal_stiffness"] = 5.0;
-    c.values["friction_coefficient"] = 0.3;
-    c.values["preload"] = 1.0;
     std::vector<double> normal(static_cast<std::size_t>(n), 0.0);
     normal[1] = 1.0;
-    c.lists["normal_direction"] = normal;
-    s.contacts = {c};
+    s.contacts = {elastic_contact(2.0, 5.0, 0.3, 1.0, normal)};
     return s;
 }
 

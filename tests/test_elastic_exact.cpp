@@ -34,14 +34,7 @@ System cone3d(double normal_force) {
     s.damping = sparse(0.02 * Eigen::Vector3d(1.0, 1.7, 2.0).asDiagonal());
     s.stiffness = sparse(Eigen::Vector3d(1.0, 1.7, 2.0).asDiagonal());
     s.excitation = Eigen::Vector3d(0.6, 0.5, normal_force);
-    Contact c;
-    c.law = FrictionLaw::elastic;
-    c.dof = 0;
-    c.stiffness = 1.5;
-    c.values["normal_stiffness"] = 4.0;
-    c.values["friction_coefficient"] = 0.3;
-    c.values["preload"] = 1.0;
-    c.lists["normal_direction"] = {0.0, 0.0, 1.0};
+    Contact c = hbf::test::elastic_contact(1.5, 4.0, 0.3, 1.0, {0.0, 0.0, 1.0});
     c.lists["second_direction"] = {0.0, 1.0, 0.0};
     s.contacts = {c};
     return s;
