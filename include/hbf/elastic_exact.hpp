@@ -70,7 +70,8 @@ std::string elastic_solver_refusal(const System& system);
 /// The periodic orbit at omega near `initial_state` (elastic_contacts.hpp's state: [y (N), y'
 /// (N), sliders, modes (0 open, 1 stuck, 2 slipping)]; empty: from rest, the static state under
 /// the preloads). options.warmup_periods plain periods first, then Newton; where Newton stalls,
-/// again after 8, 32, 128, ... plain periods (options.restarts). ExactOrbit as in
+/// again after 8, 32, 128, ... plain periods (options.restarts). options.max_events_per_period
+/// counts per contact here (a meshed interface's nodes each have their events). ExactOrbit as in
 /// event_exact.hpp, with: state in this convention; events' modes 0, 1, 2; contacts[c] with the
 /// open share; friction_force (samples) the first tangential component; y_max from 4096 samples
 /// a period refined by a parabola (within about 1e-11 of the maximum); energy the contact

@@ -177,7 +177,9 @@ ExactOrbit detail::elastic_orbit(const System& system, double omega, const Eigen
                            " finite values (2 N + the contacts' sliders and modes), or none (from rest)");
     TimeIntegrationOptions flow;
     flow.relative_tolerance = flow.absolute_tolerance = elastic_flow_tolerance;
-    flow.max_events_per_period = options.max_events_per_period;
+    // per contact: a meshed interface's nodes each close, open, stick and slip every period
+    flow.max_events_per_period =
+        options.max_events_per_period * std::max(1, static_cast<int>(system.contacts.size()));
     flow.samples_per_period = options.samples > 0 ? options.samples : 256;
     flow.outputs = options.outputs;
     const double scale = response_scale(system, omega);
