@@ -19,6 +19,7 @@
 #include "hbf/modal_exact.hpp"
 #include "hbf/elastic_exact.hpp"
 #include "hbf/rigid_exact.hpp"
+#include "time_integration/law_orbit.hpp"
 #include "base/stopwatch.hpp"
 #include "base/enum_table.hpp"
 
@@ -149,9 +150,7 @@ public:
     ExactOrbit orbit(double omega, const Eigen::VectorXd& start) const {
         ExactOrbit o;
         try {
-            o = rigid_     ? rigid_periodic_orbit(system(), omega, start, options_)
-                : elastic_ ? elastic_periodic_orbit(system(), omega, start, options_)
-                           : exact_periodic_orbit(system(), omega, start, options_);
+            o = detail::law_periodic_orbit(system(), omega, start, options_);
         } catch (const InvalidInput&) {
             throw;
         } catch (const std::exception& e) {

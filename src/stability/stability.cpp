@@ -15,6 +15,7 @@
 #include "hbf/rigid_exact.hpp"
 #include "hbf/contact_force.hpp"
 #include "stability/monodromy.hpp"
+#include "time_integration/law_orbit.hpp"
 #include "stability/variational.hpp"
 #include "base/enum_table.hpp"
 
@@ -175,9 +176,7 @@ FloquetResult StabilityAnalyser::operator()(const SolutionPoint& point) {
         }
         ExactOptions exact;
         exact.stop = options_.stop;
-        const ExactOrbit orbit = rigid     ? rigid_periodic_orbit(hb_.system(), point.omega, start_state(point), exact)
-                                 : elastic ? elastic_periodic_orbit(hb_.system(), point.omega, start_state(point), exact)
-                                           : exact_periodic_orbit(hb_.system(), point.omega, start_state(point), exact);
+        const ExactOrbit orbit = detail::law_periodic_orbit(hb_.system(), point.omega, start_state(point), exact);
         r.route = "exact";
         r.multipliers = orbit.multipliers;
         r.margin = orbit.max_multiplier;

@@ -5,12 +5,20 @@
 #include <string>
 #include <vector>
 
+#include "time_integration/law_orbit.hpp"
 #include "hbf/elastic_exact.hpp"
 #include "hbf/error.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
 
 namespace hbf {
+
+ExactOrbit detail::law_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& start,
+                                      const ExactOptions& options) {
+    if (rigid_contacts_only(system)) return rigid_periodic_orbit(system, omega, start, options);
+    if (elastic_contacts_only(system)) return elastic_periodic_orbit(system, omega, start, options);
+    return exact_periodic_orbit(system, omega, start, options);
+}
 
 PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
                                     const Eigen::VectorXd& start) {
@@ -19,11 +27,7 @@ PeriodicResponse exact_steady_state(const System& system, double omega, ExactOpt
     const bool rigid = rigid_contacts_only(system), elastic = elastic_contacts_only(system);
     const Eigen::VectorXd from =
         (rigid || elastic) && start.size() > 0 && start.isZero(0.0) ? Eigen::VectorXd() : start;
-    auto solve = [&] {
-        return rigid     ? rigid_periodic_orbit(system, omega, from, options)
-               : elastic ? elastic_periodic_orbit(system, omega, from, options)
-                         : exact_periodic_orbit(system, omega, from, options);
-    };
+    auto solve = [&] { return detail::law_periodic_orbit(system, omega, from, options); };
     ExactOrbit orbit = solve();
     int periods = orbit.periods;
     if (!orbit.converged && orbit.stopped.empty() && max_periods > 1) {
