@@ -1,8 +1,8 @@
 // Verification: periodic orbits of law elastic (contacts with a normal direction and mass at the
-// nodes, e.g. the block example's Craig-Bampton model) and their stability, from the time
-// integrator alone. Law elastic has no exact solver and no stability analysis; here its
-// event-driven integrator (CVODE with the stick, slip and separation events located) is the
-// period map P, and
+// nodes, e.g. the block example's Craig-Bampton model) and their stability, two ways: from the
+// time integrator alone (its event-driven CVODE flow, the stick, slip and separation events
+// located, as the period map P, and Newton with a Jacobian built here), and by the library's
+// periodic-orbit solver (elastic_exact.hpp) from the same saved states:
 //   1. --periods N integrates N periods from rest (the static state under the preloads), one at
 //      a time, and prints per period the mean of each output over the period (zero on a
 //      half-wave symmetric orbit, y(t + T/2) = -y(t), for the outputs the symmetry turns over),
@@ -14,7 +14,11 @@
 //      discrete modes taken from the period's end), at most --newton iterations, and prints the
 //      eigenvalues of the last Jacobian: the orbit's Floquet multipliers to the differences'
 //      accuracy (the integrator's tolerance over the step: about 1e-4 with the defaults). Each
-//      iterate is written to --save-orbit.
+//      iterate is written to --save-orbit;
+//   3. --orbit FILE runs elastic_periodic_orbit from the state in FILE (Newton-Krylov beyond 64
+//      continuous states, the dominant multipliers by Arnoldi) and prints its status, the
+//      multipliers and each output's mean, max and first harmonic on the orbit; --time-limit
+//      bounds it (a stop is reported, exit 1).
 #include <CLI/CLI.hpp>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -26,6 +30,7 @@
 #include <vector>
 
 #include "hbf/config.hpp"
+#include "hbf/elastic_exact.hpp"
 #include "hbf/output_file.hpp"
 #include "hbf/time_integration.hpp"
 #include "state_file.hpp"
@@ -41,8 +46,9 @@ double seconds_since(clock_type::time_point start) { return std::chrono::duratio
 
 int main(int argc, char** argv) {
     CLI::App app{"law elastic: periods from rest, Newton shooting on the integrator's period map, multipliers"};
-    std::string file = std::string(HBF_SOURCE_DIR) + "/examples/systems/block/block.toml", shoot, save_stem, save_orbit;
-    double omega = 17900.0, step = 1e-6;
+    std::string file = std::string(HBF_SOURCE_DIR) + "/examples/systems/block/block.toml", shoot, save_stem, save_orbit,
+                orbit_from;
+    double omega = 17900.0, step = 1e-6, orbit_tolerance = 1e-9, time_limit = 3600.0;
     int periods = 0, newton = 6;
     std::vector<int> save_at;
     app.add_option("--config", file, "a system file of law elastic contacts");
@@ -54,14 +60,18 @@ int main(int argc, char** argv) {
     app.add_option("--newton", newton, "Newton iterations at most");
     app.add_option("--step", step, "the differences' step, relative to the state's scale");
     app.add_option("--save-orbit", save_orbit, "the last Newton iterate");
+    app.add_option("--orbit", orbit_from, "the library's periodic-orbit solver from the state in this file");
+    app.add_option("--orbit-tolerance", orbit_tolerance, "its Newton tolerance (relative residual)");
+    app.add_option("--time-limit", time_limit, "seconds the library's solver may take");
     CLI11_PARSE(app, argc, argv);
     try {
         std::vector<io::OutputTarget> targets;
         if (!save_orbit.empty()) targets.push_back({"--save-orbit", save_orbit, true, false, false});
         for (int k : save_at) targets.push_back({"--save-at", save_stem + "_" + std::to_string(k) + ".txt", true, false, false});
-        io::check_outputs(targets, {{"--shoot", shoot}, {"--config", file}});
+        io::check_outputs(targets, {{"--shoot", shoot}, {"--orbit", orbit_from}, {"--config", file}});
         if (!save_at.empty() && save_stem.empty()) throw std::runtime_error("--save-at needs --save-stem");
-        if (!(omega > 0.0) || periods < 0 || newton < 0 || !(step > 0.0)) throw std::runtime_error("--w, --step > 0 and --periods, --newton >= 0");
+        if (!(omega > 0.0) || periods < 0 || newton < 0 || !(step > 0.0) || !(time_limit > 0.0))
+            throw std::runtime_error("--w, --step, --time-limit > 0 and --periods, --newton >= 0");
     } catch (const std::exception& e) {
         std::fprintf(stderr, "elastic_shooting: %s\n", e.what());
         return 2;
@@ -99,6 +109,32 @@ int main(int argc, char** argv) {
         }
         std::printf(" change %.3e (%.0f s)\n", r.poincare_change, seconds_since(start));
         std::fflush(stdout);
+    }
+    if (!orbit_from.empty()) {
+        // 3. the library's solver from a saved state
+        const Eigen::VectorXd from = read_state("--orbit", orbit_from);
+        ExactOptions e;
+        e.tolerance = orbit_tolerance;
+        e.outputs = outputs;
+        e.samples = 512;
+        e.dof_maxima = false;
+        e.stop = [&]() { return seconds_since(start) > time_limit ? std::string("--time-limit") : std::string(); };
+        const ExactOrbit r = elastic_periodic_orbit(system, omega, from, e);
+        std::printf("elastic_periodic_orbit from %s: %s%s; %d periods, %d Newton iterations (%.0f s)\n",
+                    orbit_from.c_str(), r.converged ? "" : "NOT converged: ", r.message.c_str(), r.periods,
+                    r.iterations, seconds_since(start));
+        if (!r.converged) return 1;
+        std::vector<std::complex<double>> sorted(r.multipliers.data(), r.multipliers.data() + r.multipliers.size());
+        std::sort(sorted.begin(), sorted.end(), [](auto a, auto b) { return std::abs(a) > std::abs(b); });
+        std::printf("  multipliers, largest |mu| (arg):");
+        for (std::size_t k = 0; k < std::min<std::size_t>(sorted.size(), 10); ++k)
+            std::printf(" %.6f (%+.4f)", std::abs(sorted[k]), std::arg(sorted[k]));
+        std::printf("\n  %s\n", r.stable ? "stable" : "UNSTABLE");
+        for (std::size_t j = 0; j < outputs.size(); ++j)
+            std::printf("  %s: mean %+.6e max %.6e amp1 %.6e\n", outputs[j].name().c_str(),
+                        outputs[j].combine(r.displacement).mean(), r.output_max[j], r.output_amp1[j]);
+        if (!save_orbit.empty()) write_state("--save-orbit", save_orbit, r.state);
+        return 0;
     }
     if (shoot.empty()) return 0;
 
