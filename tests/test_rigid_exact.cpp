@@ -1048,6 +1048,73 @@ TEST_CASE("rigid exact 3D: Newton's matrix over a period that ends in another pa
     CHECK(worst <= 1e-6);
 }
 
+namespace {
+
+/// The mitre's structure with every contact DOF held (its stuck structure), from M, C, K alone:
+/// the DOFs with mass no contact direction touches (`mass_dofs`), the massless ones (the loaded
+/// DOF, condensed), the state matrix of the mass DOFs and its eigenvalues.
+struct MitreStuck {
+    std::vector<int> mass_dofs, massless;
+    Eigen::MatrixXd Mm, Cm, Keff, Kmb, Kbb;
+    Eigen::VectorXcd lambda;
+};
+
+Eigen::MatrixXd mitre_block(const Eigen::MatrixXd& A, const std::vector<int>& rows, const std::vector<int>& cols) {
+    Eigen::MatrixXd out(rows.size(), cols.size());
+    for (std::size_t r = 0; r < rows.size(); ++r)
+        for (std::size_t c = 0; c < cols.size(); ++c) out(r, c) = A(rows[r], cols[c]);
+    return out;
+}
+
+MitreStuck mitre_stuck(const System& system) {
+    const int N = system.dofs();
+    std::vector<char> held(static_cast<std::size_t>(N), 0);
+    for (const Contact& c : system.contacts) {
+        const Eigen::MatrixXd w = system.contact_directions(c);
+        for (int i = 0; i < N; ++i)
+            if (w.row(i).cwiseAbs().maxCoeff() > 0.0) held[static_cast<std::size_t>(i)] = 1;
+    }
+    const Eigen::MatrixXd M(system.mass), K(system.stiffness), C(system.damping);
+    MitreStuck s;
+    for (int i = 0; i < N; ++i)
+        if (!held[static_cast<std::size_t>(i)]) (M.row(i).cwiseAbs().maxCoeff() > 0.0 ? s.mass_dofs : s.massless).push_back(i);
+    REQUIRE(s.mass_dofs.size() == 10);
+    REQUIRE(s.massless.size() == 1);
+    s.Kbb = mitre_block(K, s.massless, s.massless);
+    s.Kmb = mitre_block(K, s.mass_dofs, s.massless);
+    s.Keff = mitre_block(K, s.mass_dofs, s.mass_dofs) - s.Kmb * s.Kbb.inverse() * s.Kmb.transpose();
+    REQUIRE(mitre_block(C, s.massless, s.massless).cwiseAbs().maxCoeff() == 0.0);
+    REQUIRE(mitre_block(C, s.mass_dofs, s.massless).cwiseAbs().maxCoeff() == 0.0);
+    s.Mm = mitre_block(M, s.mass_dofs, s.mass_dofs);
+    s.Cm = mitre_block(C, s.mass_dofs, s.mass_dofs);
+    const int m = static_cast<int>(s.mass_dofs.size());
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * m, 2 * m);
+    A.topRightCorner(m, m).setIdentity();
+    A.bottomLeftCorner(m, m) = -s.Mm.inverse() * s.Keff;
+    A.bottomRightCorner(m, m) = -s.Mm.inverse() * s.Cm;
+    s.lambda = Eigen::EigenSolver<Eigen::MatrixXd>(A, false).eigenvalues();
+    return s;
+}
+
+/// The orbit's multipliers off the unit circle against exp(Re(lambda) T) of the stuck
+/// structure (moduli, sorted), and the rest within 1e-6 of 1 (the held positions' family).
+void check_stuck_multipliers(const MitreStuck& s, const ExactOrbit& orbit) {
+    const double period = 2.0 * M_PI / orbit.omega;
+    std::vector<double> expected, found, neutral;
+    for (Eigen::Index k = 0; k < s.lambda.size(); ++k) expected.push_back(std::exp(s.lambda(k).real() * period));
+    for (Eigen::Index k = 0; k < orbit.multipliers.size(); ++k) {
+        const double modulus = std::abs(orbit.multipliers(k));
+        (std::abs(modulus - 1.0) <= 1e-6 ? neutral : found).push_back(modulus);
+    }
+    std::sort(expected.begin(), expected.end());
+    std::sort(found.begin(), found.end());
+    REQUIRE(found.size() == expected.size());
+    for (std::size_t k = 0; k < found.size(); ++k) CHECK(std::abs(found[k] - expected[k]) <= 1e-7);
+    CHECK(neutral.size() == static_cast<std::size_t>(orbit.multipliers.size()) - expected.size());
+}
+
+}  // namespace
+
 TEST_CASE("rigid exact 3D: a node that grazes its cone's edge keeps the orbit's own multipliers: the stuck structure's",
           "[rigid_exact]") {
     // The mitre at 10 N: every node sticks all period at 15,000 and 15,100 rad/s. Solved from the
@@ -1073,48 +1140,51 @@ TEST_CASE("rigid exact 3D: a node that grazes its cone's edge keeps the orbit's 
     CHECK(orbit.message.find("grazes") != std::string::npos);
     CHECK(orbit.message.find("central differences") == std::string::npos);
     CHECK(orbit.periods <= 30);
-    // the stuck structure: the DOFs no contact direction touches
-    const int N = system.dofs();
-    std::vector<char> held(static_cast<std::size_t>(N), 0);
-    for (const Contact& c : system.contacts) {
-        const Eigen::MatrixXd w = system.contact_directions(c);
-        for (int i = 0; i < N; ++i)
-            if (w.row(i).cwiseAbs().maxCoeff() > 0.0) held[static_cast<std::size_t>(i)] = 1;
-    }
-    const Eigen::MatrixXd M(system.mass), K(system.stiffness), C(system.damping);
-    std::vector<int> mass_dofs, massless;
-    for (int i = 0; i < N; ++i)
-        if (!held[static_cast<std::size_t>(i)]) (M.row(i).cwiseAbs().maxCoeff() > 0.0 ? mass_dofs : massless).push_back(i);
-    REQUIRE(mass_dofs.size() == 10);
-    REQUIRE(massless.size() == 1);
-    auto block = [](const Eigen::MatrixXd& A, const std::vector<int>& rows, const std::vector<int>& cols) {
-        Eigen::MatrixXd out(rows.size(), cols.size());
-        for (std::size_t r = 0; r < rows.size(); ++r)
-            for (std::size_t c = 0; c < cols.size(); ++c) out(r, c) = A(rows[r], cols[c]);
-        return out;
-    };
-    const Eigen::MatrixXd Kbb = block(K, massless, massless);
-    const Eigen::MatrixXd Keff = block(K, mass_dofs, mass_dofs) - block(K, mass_dofs, massless) * Kbb.inverse() * block(K, massless, mass_dofs);
-    REQUIRE(block(C, massless, massless).cwiseAbs().maxCoeff() == 0.0);
-    REQUIRE(block(C, mass_dofs, massless).cwiseAbs().maxCoeff() == 0.0);
-    const Eigen::MatrixXd Mm = block(M, mass_dofs, mass_dofs), Cm = block(C, mass_dofs, mass_dofs);
-    const int m = static_cast<int>(mass_dofs.size());
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * m, 2 * m);
-    A.topRightCorner(m, m).setIdentity();
-    A.bottomLeftCorner(m, m) = -Mm.inverse() * Keff;
-    A.bottomRightCorner(m, m) = -Mm.inverse() * Cm;
-    const Eigen::VectorXcd lambda = Eigen::EigenSolver<Eigen::MatrixXd>(A, false).eigenvalues();
-    const double period = 2.0 * M_PI / omega;
-    std::vector<double> expected, found, neutral;
-    for (Eigen::Index k = 0; k < lambda.size(); ++k) expected.push_back(std::exp(lambda(k).real() * period));
-    for (Eigen::Index k = 0; k < orbit.multipliers.size(); ++k) {
-        const double modulus = std::abs(orbit.multipliers(k));
-        (std::abs(modulus - 1.0) <= 1e-6 ? neutral : found).push_back(modulus);
-    }
-    std::sort(expected.begin(), expected.end());
-    std::sort(found.begin(), found.end());
-    REQUIRE(found.size() == expected.size());
-    for (std::size_t k = 0; k < found.size(); ++k) CHECK(std::abs(found[k] - expected[k]) <= 1e-7);
-    CHECK(neutral.size() == static_cast<std::size_t>(orbit.multipliers.size()) - expected.size());
+    const MitreStuck stuck = mitre_stuck(system);
+    check_stuck_multipliers(stuck, orbit);
     CHECK(orbit.stable);
+}
+
+TEST_CASE("rigid exact 3D: a start whose nodes stay stuck gives the stuck structure's orbit in a few periods",
+          "[rigid_exact]") {
+    // The mitre at 10 N, 12,000 rad/s, from the orbit at 12,100 (a sweep down: the amplitude
+    // falls): every node stays stuck where that orbit holds it, so the orbit is the stuck
+    // structure's steady state about those held positions. Its first harmonic of the output y365
+    // must be the stuck structure's, (K_eff - w^2 M + i w C) y = F with DOF 365 massless and
+    // condensed, from M, C, K alone; its multipliers exp(lambda T) and 1; and a few periods (a
+    // plain one, one with the derivative, a recorded one, two perturbed ones for the kink
+    // check), not the general solve's dozen.
+    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    const System& system = mitre.system;
+    ExactOptions options;
+    options.outputs = mitre.outputs;
+    options.dof_maxima = false;
+    const ExactOrbit before = rigid_periodic_orbit(system, 12100.0, Eigen::VectorXd(), options);
+    REQUIRE(before.converged);
+    const double omega = 12000.0;
+    const ExactOrbit orbit = rigid_periodic_orbit(system, omega, before.state, options);
+    INFO(orbit.message);
+    REQUIRE(orbit.converged);
+    CHECK(orbit.permanent_stick);
+    CHECK(orbit.switches == 0);
+    CHECK(orbit.periods <= 6);
+    CHECK(orbit.residual <= 1e-9);
+    const MitreStuck s = mitre_stuck(system);
+    const auto m = static_cast<Eigen::Index>(s.mass_dofs.size());
+    const std::complex<double> i(0.0, 1.0);
+    Eigen::VectorXcd Fm(m), Fb(1);
+    for (Eigen::Index k = 0; k < m; ++k) Fm(k) = system.excitation(s.mass_dofs[static_cast<std::size_t>(k)]);
+    Fb(0) = system.excitation(s.massless[0]);
+    const Eigen::MatrixXcd A = s.Keff.cast<std::complex<double>>() - omega * omega * s.Mm.cast<std::complex<double>>() +
+                               i * omega * s.Cm.cast<std::complex<double>>();
+    const Eigen::VectorXcd ym = A.partialPivLu().solve(Fm - s.Kmb.cast<std::complex<double>>() * (s.Kbb.inverse() * Fb));
+    const Eigen::VectorXcd yb = s.Kbb.inverse() * (Fb - s.Kmb.transpose().cast<std::complex<double>>() * ym);
+    Eigen::VectorXcd y = Eigen::VectorXcd::Zero(system.dofs());
+    for (Eigen::Index k = 0; k < m; ++k) y(s.mass_dofs[static_cast<std::size_t>(k)]) = ym(k);
+    y(s.massless[0]) = yb(0);
+    std::complex<double> output = 0.0;
+    for (const auto& [dof, c] : mitre.outputs[0].terms()) output += c * y(dof);
+    INFO(mitre.outputs[0].name() << ": exact amp1 " << orbit.output_amp1[0] << ", stuck structure " << std::abs(output));
+    CHECK(std::abs(orbit.output_amp1[0] - std::abs(output)) <= 1e-9 * std::abs(output));
+    check_stuck_multipliers(s, orbit);
 }

@@ -76,7 +76,11 @@ std::string rigid_solver_refusal(const System& system);
 /// keeps the nodes in their friction cones is periodic. Convention: the nodes held where the
 /// start holds them (its massless DOFs' tangential displacements; the static state's for a
 /// start at rest) when the orbit about them sticks throughout (permanent_stick = true), else
-/// the orbit Newton found.
+/// the orbit Newton found. A given start (not rest) that holds every contact stuck is tried
+/// first as such an orbit, without the warm-up and the general solve: a plain period checks that
+/// no node leaves stick, one with the derivative gives y, y' (the stuck structure is linear), a
+/// recorded period confirms (a few periods instead of a dozen: a sweep through stick); where a
+/// node slips in that first period (a shakedown), the general solve takes over.
 /// Newton stops at options.tolerance, or where no step lowers a residual below 1e-9 (the
 /// rounding of the flow over a period: converged, the message and residual say so).
 /// Throws InvalidInput where rigid_solver_refusal is not empty, for omega <= 0, bad options

@@ -193,6 +193,11 @@ void rigid_metrics(E& e, const PatternEngine::Flow& flow, double t_s, const Exac
 /// Newton's residual below which a stall (no step lowers it) is the rounding of the flow.
 constexpr double stall_floor = 1e-9;
 
+/// The message's note where a perturbed period has events the orbit lacks.
+constexpr const char* grazing_note =
+    "; a contact grazes an edge of its friction cone or its gap (a perturbation of 1e-6 adds events there): the "
+    "multipliers are those of the orbit's own events";
+
 /// Whether every contact is stuck over the whole recorded period.
 bool permanently_stuck(const PatternEngine::Flow& flow) {
     if (!flow.events.empty()) return false;
@@ -232,6 +237,92 @@ void hold_where_started(E& e, const VectorXd& where, VectorXd& x, PatternEngine:
     out.permanent_stick = true;
     out.message = "permanent stick: the contacts held where the start holds them (convention for the "
                   "undetermined held position)";
+}
+
+/// A start that holds every contact stuck (the orbit before it in a sweep, an FRF point's state;
+/// not rest, whose first period is the preload's and the force's transient):
+/// first the stuck structure's orbit about where the start holds the nodes, the convention of
+/// hold_where_started, without the warm-up, the section's choice and Newton on the held
+/// positions. The stuck structure is linear: Newton on y, y' from one period with its
+/// derivative (which is the same at every state) lands in one step, a second for rounding; each
+/// checked by a recorded period. False where a contact leaves stick on the way (the start holds
+/// the nodes where the orbit about them slips: a shakedown, seen in the first, plain period):
+/// the general solve then takes over.
+template <class E, class Flow>
+bool held_start_orbit(E& e, VectorXd zhat, const Modes& modes, const VectorXd& where, const Flow& flow,
+                      const ExactOptions& options, ExactOrbit& out) {
+    if (std::any_of(modes.begin(), modes.end(), [](int m) { return m != rigid_stuck; })) return false;
+    const int nm = e.dofs();
+    const auto held = static_cast<Eigen::Index>(where.size()), nu = 2 * nm + held;
+    zhat.segment(2 * nm, held) = where;
+    zhat(e.cos_index()) = 1.0;
+    zhat(e.sin_index()) = 0.0;
+    e.make_consistent(zhat, modes, 0.0);
+    // a plain period first: where the start's nodes slip, that is all this costs (a period with
+    // the derivative costs many plain ones)
+    const PatternEngine::Flow plain = flow(zhat, modes, 0.0, e.period(), false, false, options.max_events_per_period);
+    ++out.periods;
+    if (!plain.ok || !permanently_stuck(plain)) return false;
+    const PatternEngine::Flow f = flow(zhat, modes, 0.0, e.period(), true, false, options.max_events_per_period);
+    ++out.periods;
+    if (!f.ok || !permanently_stuck(f) || f.psi.size() == 0) return false;
+    std::vector<Eigen::Index> unknowns(static_cast<std::size_t>(nu));
+    for (Eigen::Index k = 0; k < nu; ++k) unknowns[static_cast<std::size_t>(k)] = k;
+    MatrixXd d(nu, nu);
+    if constexpr (std::is_same_v<E, RigidEngine>) {
+        d = f.psi.topLeftCorner(nu, nu);
+    } else {
+        try {
+            d = end_derivative(e, f, unknowns);
+        } catch (const std::runtime_error&) {
+            return false;
+        }
+    }
+    const MatrixXd jacobian = MatrixXd(d.topLeftCorner(2 * nm, 2 * nm)) - MatrixXd::Identity(2 * nm, 2 * nm);
+    const Eigen::PartialPivLU<MatrixXd> lu(jacobian);
+    SectionNorm norm{nm, e.omega(), 0.0};
+    norm.reference = norm.size(zhat.head(nu));
+    VectorXd end = f.zhat;
+    PatternEngine::Flow last;
+    for (int step = 1; step <= 2; ++step) {
+        zhat.head(2 * nm) -= lu.solve(end.head(2 * nm) - zhat.head(2 * nm));
+        e.make_consistent(zhat, modes, 0.0);
+        last = flow(zhat, modes, 0.0, e.period(), false, true, options.max_events_per_period);
+        ++out.periods;
+        if (!last.ok || !permanently_stuck(last)) return false;
+        end = last.zhat;
+        out.iterations = step;
+        out.residual = norm.relative_change(end.head(nu), zhat.head(nu));
+        if (out.residual <= options.tolerance) break;
+    }
+    if (!(out.residual <= std::max(options.tolerance, stall_floor))) return false;
+    out.converged = true;
+    out.permanent_stick = true;
+    out.message = "permanent stick: the contacts held where the start holds them (convention for the "
+                  "undetermined held position)";
+    rigid_metrics(e, last, 0.0, options, out);
+    out.multipliers = Eigen::EigenSolver<MatrixXd>(d, false).eigenvalues();
+    out.max_multiplier = out.multipliers.cwiseAbs().maxCoeff();
+    out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
+    if constexpr (!std::is_same_v<E, RigidEngine>) {
+        // The kink check of the general solve: a perturbation of 1e-6 of y, y' along a fixed
+        // direction that adds events (a node whose force touches its cone's edge at an instant).
+        VectorXd direction(2 * nm);
+        for (int k = 0; k < 2 * nm; ++k)
+            direction(k) = std::sin(1.0 + 2.0 * static_cast<double>(k)) * norm.reference * (k >= nm ? e.omega() : 1.0);
+        for (const double sign : {1.0, -1.0}) {
+            VectorXd z = zhat;
+            z.head(2 * nm) += sign * 1e-6 * direction;
+            e.make_consistent(z, modes, 0.0);
+            const PatternEngine::Flow g = flow(z, modes, 0.0, e.period(), false, false, options.max_events_per_period);
+            ++out.periods;
+            if (!g.ok || !g.events.empty()) {
+                out.message += grazing_note;
+                break;
+            }
+        }
+    }
+    return true;
 }
 
 }  // namespace
@@ -384,6 +475,11 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
     };
     try {
         Modes modes = e.initial_modes(zhat);
+        if (initial_state.size() > 0) {  // a start that holds every contact stuck: the stuck structure's orbit first
+            ExactOrbit held = out;
+            if (held_start_orbit(e, zhat, modes, start_sliders, flow, options, held)) return held;
+            out.periods = held.periods;
+        }
 
         // Plain periods from (zhat, modes) at t = 0; the last one's events kept in f.
         auto plain_periods = [&](int periods) {
@@ -718,8 +814,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                         std::abs(last.events[a].time - last.events[b].time) <= 1e-9 * period);
                     const Mismatch mismatch = differences_only ? Mismatch{} : derivative_mismatch(x, reduced, last.events);
                     if (mismatch.share > derivative_check_tolerance && mismatch.kink && !coincident) {
-                        out.message += "; a contact grazes an edge of its friction cone or its gap (a perturbation of 1e-6 "
-                                       "adds events there): the multipliers are those of the orbit's own events";
+                        out.message += grazing_note;
                     } else if (mismatch.share > derivative_check_tolerance) {
                         differences_only = true;
                         reduced = derivative(x, last);
