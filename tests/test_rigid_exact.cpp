@@ -1113,6 +1113,24 @@ void check_stuck_multipliers(const MitreStuck& s, const ExactOrbit& orbit) {
     CHECK(neutral.size() == static_cast<std::size_t>(orbit.multipliers.size()) - expected.size());
 }
 
+/// A sweep's step on the mitre (10 N, its outputs' maxima only): the orbit at `to` from the
+/// orbit at `from`, solved from rest.
+struct MitreStep {
+    SystemConfig config;
+    ExactOrbit orbit;
+};
+
+MitreStep mitre_step(double from, double to) {
+    MitreStep step{read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml"), {}};
+    ExactOptions options;
+    options.outputs = step.config.outputs;
+    options.dof_maxima = false;
+    const ExactOrbit first = rigid_periodic_orbit(step.config.system, from, Eigen::VectorXd(), options);
+    REQUIRE(first.converged);
+    step.orbit = rigid_periodic_orbit(step.config.system, to, first.state, options);
+    return step;
+}
+
 }  // namespace
 
 TEST_CASE("rigid exact 3D: a node that grazes its cone's edge keeps the orbit's own multipliers: the stuck structure's",
@@ -1125,15 +1143,9 @@ TEST_CASE("rigid exact 3D: a node that grazes its cone's edge keeps the orbit's 
     // and condensed): exp(lambda T) for its eigenvalues lambda, computed here from M, C, K alone,
     // plus 1 for each held position (a family of orbits); and without differences (two periods
     // per unknown: 148 here) the solve takes a few periods.
-    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
-    const System& system = mitre.system;
-    ExactOptions options;
-    options.outputs = mitre.outputs;
-    options.dof_maxima = false;
-    const ExactOrbit first = rigid_periodic_orbit(system, 15000.0, Eigen::VectorXd(), options);
-    REQUIRE(first.converged);
-    const double omega = 15100.0;
-    const ExactOrbit orbit = rigid_periodic_orbit(system, omega, first.state, options);
+    const MitreStep step = mitre_step(15000.0, 15100.0);
+    const System& system = step.config.system;
+    const ExactOrbit& orbit = step.orbit;
     INFO(orbit.message);
     REQUIRE(orbit.converged);
     CHECK(orbit.switches == 0);
@@ -1154,15 +1166,11 @@ TEST_CASE("rigid exact 3D: a start whose nodes stay stuck gives the stuck struct
     // condensed, from M, C, K alone; its multipliers exp(lambda T) and 1; and a few periods (a
     // plain one, one with the derivative, a recorded one, two perturbed ones for the kink
     // check), not the general solve's dozen.
-    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    const MitreStep step = mitre_step(12100.0, 12000.0);
+    const SystemConfig& mitre = step.config;
     const System& system = mitre.system;
-    ExactOptions options;
-    options.outputs = mitre.outputs;
-    options.dof_maxima = false;
-    const ExactOrbit before = rigid_periodic_orbit(system, 12100.0, Eigen::VectorXd(), options);
-    REQUIRE(before.converged);
-    const double omega = 12000.0;
-    const ExactOrbit orbit = rigid_periodic_orbit(system, omega, before.state, options);
+    const ExactOrbit& orbit = step.orbit;
+    const double omega = orbit.omega;
     INFO(orbit.message);
     REQUIRE(orbit.converged);
     CHECK(orbit.permanent_stick);
