@@ -12,7 +12,7 @@
 // --check-samples N integrates two periods from the exact orbit's state at N, 2N and 4N samples
 // (the second one's metrics): their differences from the exact orbit, and the change of the state
 // over the first, fall with the step where the orbit is a solution.
-// --sweep A,B,K first sweeps K equally spaced frequencies from A to B with exact orbits, each
+// --sweep A,B,K first sweeps K equally spaced frequencies from A to B (A > B: down) with exact orbits, each
 // from the previous one (exact_steady_state: hbf timeint --method exact), and prints each point
 // and the seconds per point; the integrator's runs at --w then give the ratio of its seconds per
 // frequency (from rest, both step sizes) to the sweep's per point, and the sweep's point at each
@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
     app.add_option("--start", start_file, "with --no-integrator: the exact orbit's start, [y, y'] of every DOF, one a line");
     app.add_option("--save-orbit", save_file, "the last converged exact orbit's state, one number a line");
     std::vector<double> sweep;
-    app.add_option("--sweep", sweep, "A,B,K: first an exact sweep of K frequencies from A to B, each from the previous orbit")
+    app.add_option("--sweep", sweep, "A,B,K: first an exact sweep of K frequencies from A to B (up or down), each from the previous orbit")
         ->delimiter(',')
         ->expected(3);
     app.add_option("--fd-multipliers", fd_samples,
@@ -173,8 +173,8 @@ int main(int argc, char** argv) {
     double sweep_seconds = 0.0;
     if (!sweep.empty()) {
         const int points = static_cast<int>(sweep[2]);
-        if (points < 2 || !(sweep[1] > sweep[0]) || !(sweep[0] > 0.0)) {
-            std::fprintf(stderr, "mitre_exact: --sweep A,B,K needs 0 < A < B and K >= 2\n");
+        if (points < 2 || !(sweep[1] != sweep[0]) || !(std::min(sweep[0], sweep[1]) > 0.0)) {
+            std::fprintf(stderr, "mitre_exact: --sweep A,B,K needs A, B > 0, A != B (A > B: a sweep down) and K >= 2\n");
             return 2;
         }
         ExactOptions eo;
