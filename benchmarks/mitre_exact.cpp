@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
     double sweep_seconds = 0.0;
     if (!sweep.empty()) {
         const int points = static_cast<int>(sweep[2]);
-        if (points < 2 || !(sweep[1] != sweep[0]) || !(std::min(sweep[0], sweep[1]) > 0.0)) {
+        if (points < 2 || !(sweep[0] > 0.0) || !(sweep[1] > 0.0) || sweep[0] == sweep[1]) {
             std::fprintf(stderr, "mitre_exact: --sweep A,B,K needs A, B > 0, A != B (A > B: a sweep down) and K >= 2\n");
             return 2;
         }

@@ -198,6 +198,10 @@ constexpr const char* grazing_note =
     "; a contact grazes an edge of its friction cone or its gap (a perturbation of 1e-6 adds events there): the "
     "multipliers are those of the orbit's own events";
 
+/// The message of an orbit held where its start holds the nodes (permanent stick's convention).
+constexpr const char* permanent_stick_note =
+    "permanent stick: the contacts held where the start holds them (convention for the undetermined held position)";
+
 /// Whether every contact is stuck over the whole recorded period.
 bool permanently_stuck(const PatternEngine::Flow& flow) {
     if (!flow.events.empty()) return false;
@@ -235,8 +239,7 @@ void hold_where_started(E& e, const VectorXd& where, VectorXd& x, PatternEngine:
     x = held;
     last = std::move(f);
     out.permanent_stick = true;
-    out.message = "permanent stick: the contacts held where the start holds them (convention for the "
-                  "undetermined held position)";
+    out.message = permanent_stick_note;
 }
 
 /// A start that holds every contact stuck (the orbit before it in a sweep, an FRF point's state;
@@ -265,13 +268,13 @@ bool held_start_orbit(E& e, VectorXd zhat, const Modes& modes, const VectorXd& w
     if (!plain.ok || !permanently_stuck(plain)) return false;
     const PatternEngine::Flow f = flow(zhat, modes, 0.0, e.period(), true, false, options.max_events_per_period);
     ++out.periods;
-    if (!f.ok || !permanently_stuck(f) || f.psi.size() == 0) return false;
-    std::vector<Eigen::Index> unknowns(static_cast<std::size_t>(nu));
-    for (Eigen::Index k = 0; k < nu; ++k) unknowns[static_cast<std::size_t>(k)] = k;
+    if (!f.ok || f.psi.size() == 0) return false;
     MatrixXd d(nu, nu);
     if constexpr (std::is_same_v<E, RigidEngine>) {
         d = f.psi.topLeftCorner(nu, nu);
     } else {
+        std::vector<Eigen::Index> unknowns(static_cast<std::size_t>(nu));
+        for (Eigen::Index k = 0; k < nu; ++k) unknowns[static_cast<std::size_t>(k)] = k;
         try {
             d = end_derivative(e, f, unknowns);
         } catch (const std::runtime_error&) {
@@ -298,8 +301,7 @@ bool held_start_orbit(E& e, VectorXd zhat, const Modes& modes, const VectorXd& w
     if (!(out.residual <= std::max(options.tolerance, stall_floor))) return false;
     out.converged = true;
     out.permanent_stick = true;
-    out.message = "permanent stick: the contacts held where the start holds them (convention for the "
-                  "undetermined held position)";
+    out.message = permanent_stick_note;
     rigid_metrics(e, last, 0.0, options, out);
     out.multipliers = Eigen::EigenSolver<MatrixXd>(d, false).eigenvalues();
     out.max_multiplier = out.multipliers.cwiseAbs().maxCoeff();
