@@ -330,8 +330,10 @@ std::string exact_sweep_refusal(const System& system, double omega_min);
 
 /// The start of a sweep's next exact orbit at omega (hbf timeint --method exact) from the
 /// points done (in sweep order): with law unilateral (states [y, y'], smooth in omega) the
-/// secant through the last two, where both converged and omega is beyond the last; otherwise
-/// the last point's state, or `first` where none is done.
+/// secant through the last two for y, y' of the DOFs with mass, where both converged and omega
+/// is beyond the last, and the last point's for the massless DOFs (where stuck contacts are
+/// held: a slow sweep leaves them there); otherwise the last point's state, or `first` where
+/// none is done.
 Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done,
                                   const Eigen::VectorXd& first);
 

@@ -17,6 +17,7 @@
 #include "hbf/output_file.hpp"
 #include "hbf/plot.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/exact_branch.hpp"
 #include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -24,6 +25,9 @@ namespace hbf::cli {
 
 namespace {
 constexpr long long max_points = 10000;
+/// --sweep branch: at most this many times --points points (a branch through peaks and folds
+/// has more points than a flat one of the same step).
+constexpr int branch_point_factor = 10;
 
 struct TimeintOptions {
     AbsorberFlags absorber;
@@ -77,8 +81,8 @@ std::vector<double> frequencies(const CLI::App& command, const TimeintOptions& o
     const long long points = parse_integer("--points", o.points);
     if (points < 2 || points > max_points)
         throw UsageError("--points = '" + o.points + "' is out of range: allowed 2.." + std::to_string(max_points));
-    if (o.sweep != "up" && o.sweep != "down")
-        throw UsageError("--sweep = '" + o.sweep + "' is not allowed: allowed up, down");
+    if (o.sweep != "up" && o.sweep != "down" && o.sweep != "branch")
+        throw UsageError("--sweep = '" + o.sweep + "' is not allowed: allowed up, down, branch");
     std::vector<double> grid = analytic::uniform_grid(wmin, wmax, points);
     if (o.sweep == "down") std::reverse(grid.begin(), grid.end());
     return grid;
@@ -118,6 +122,10 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         throw UsageError("--method = '" + o.method + "' is not allowed: allowed adams, bdf, exact");
     tio.method = o.method == "bdf" ? IntegrationMethod::bdf : IntegrationMethod::adams;
     const bool exact = o.method == "exact";
+    const bool branch = o.sweep == "branch";
+    if (branch && !exact)
+        throw UsageError("--sweep branch follows the branch of exact orbits through its folds: it needs --method exact "
+                         "(time integration sweeps up or down)");
     if (exact) {  // at the lowest w, a period costs the most Taylor steps (exact_cost_refusal)
         const std::string refusal = exact_sweep_refusal(system, *std::min_element(omegas.begin(), omegas.end()));
         if (!refusal.empty()) throw UsageError("--method exact: " + refusal + " (use adams or bdf)");
@@ -141,7 +149,32 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     std::vector<PeriodicResponse> responses;
     responses.reserve(omegas.size());
     Eigen::VectorXd state = linear_stuck_state(system, omegas.front());
-    for (std::size_t k = 0; k < omegas.size(); ++k) {
+    Verdict verdict;
+    if (branch) {
+        ExactBranchOptions bo;
+        bo.omega_min = omegas.front();
+        bo.omega_max = omegas.back();
+        bo.step = 1.0 / static_cast<double>(omegas.size() - 1);
+        bo.max_points = branch_point_factor * static_cast<int>(omegas.size());
+        bo.exact = eo;
+        if (progress)
+            bo.progress = [](const PeriodicResponse& r, double step) {
+                std::cerr << "\rhbf timeint: branch point, w = " << format_number(r.omega)
+                          << ", step " << format_number(step) << "        " << std::flush;
+            };
+        ExactBranch b = exact_branch(system, bo, state);
+        responses = std::move(b.points);
+        if (b.status == "failed")
+            verdict.error(b.message);
+        else if (b.status != "completed")
+            verdict.warning(b.message + " (" + std::to_string(responses.size()) + " points written)");
+        for (const ExactFold& fold : b.folds)
+            verdict.note("a fold at w = " + format_number(fold.omega) + " (branch point " + std::to_string(fold.point + 1) +
+                         ": the parabola's vertex through the exact orbits about the turn)");
+        verdict.note(std::to_string(responses.size()) + " branch points, " + std::to_string(b.folds.size()) + " fold(s), " +
+                     std::to_string(b.rejected) + " solve(s) not taken (the step halved)");
+    }
+    for (std::size_t k = 0; !branch && k < omegas.size(); ++k) {
         if (const std::string why = stop.why(); !why.empty()) {
             stopped = "stopped before w = " + format_number(omegas[k]) + ": " + why;
             break;
@@ -168,22 +201,28 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         spec.xlabel = "w";
         const std::string& name = chosen.outputs.front().name();
         spec.ylabel = name + "_max = max over one period of |" + name + "(t)|";
-        io::PlotCurve line{"time integration (sweep order)", {}, {}, io::PlotCurve::Style::line, 7};
-        io::PlotCurve converged{"converged", {}, {}, io::PlotCurve::Style::markers, 4};
+        io::PlotCurve line{exact ? (branch ? "exact orbits (branch order)" : "exact orbits (sweep order)")
+                                 : "time integration (sweep order)",
+                           {}, {}, io::PlotCurve::Style::line, 7};
+        io::PlotCurve converged{exact ? "stable" : "converged", {}, {}, io::PlotCurve::Style::markers, 4};
+        io::PlotCurve unstable{"unstable (a Floquet multiplier above 1)", {}, {}, io::PlotCurve::Style::markers, 1};
         io::PlotCurve failed{"not converged", {}, {}, io::PlotCurve::Style::markers, 3};
         for (const PeriodicResponse& r : responses) {
             line.x.push_back(r.omega);
             line.y.push_back(r.output_max.front());
-            (r.converged ? converged : failed).x.push_back(r.omega);
-            (r.converged ? converged : failed).y.push_back(r.output_max.front());
+            io::PlotCurve& marks = !r.converged ? failed
+                                   : r.max_multiplier > 1.0 + ExactOptions{}.stability_tolerance ? unstable
+                                                                                                   : converged;
+            marks.x.push_back(r.omega);
+            marks.y.push_back(r.output_max.front());
         }
-        spec.curves = {line, converged, failed};
+        spec.curves = {line, converged, unstable, failed};
         io::write_plot(o.output.plot, spec);  // before the CSV is committed: a failed plot leaves no output
     }
     out.commit();
     // Points that did not converge (errors) and converged points out of energy balance
     // (warnings): judge_sweep, frf.hpp.
-    Verdict verdict = judge_sweep(system, responses, tio, exact);
+    verdict.add(judge_sweep(system, responses, tio, exact));
     verdict.add(messages.messages());
     if (!stopped.empty())
         verdict.warning(stopped + " (" + std::to_string(responses.size()) + " of " + std::to_string(omegas.size()) +
@@ -201,8 +240,11 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
         ->type_name("INT");
     command.add_option("--sweep", o.sweep,
                         "sweep direction: up (wmin to wmax) or down (wmax to wmin); each point starts from the "
-                        "previous point's steady state")
-        ->capture_default_str()->type_name("up|down");
+                        "previous point's steady state; or branch (--method exact): the branch of exact orbits from wmin "
+                        "followed by its arclength through its folds until it leaves [wmin, wmax], each point solved at "
+                        "the w predicted along the branch (steps at most those of --points on a flat branch, adapted; at "
+                        "most 10 --points points), the folds located")
+        ->capture_default_str()->type_name("up|down|branch");
     command.add_option("--rtol", o.rtol,
                        "CVODE relative tolerance, " +
                            range_text(Tio::smallest_relative_tolerance, Tio::largest_relative_tolerance))

@@ -8,6 +8,7 @@
 #include "time_integration/law_orbit.hpp"
 #include "hbf/elastic_exact.hpp"
 #include "hbf/error.hpp"
+#include "hbf/exact_branch.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
 
@@ -20,21 +21,19 @@ ExactOrbit detail::law_periodic_orbit(const System& system, double omega, const 
     return exact_periodic_orbit(system, omega, start, options);
 }
 
-PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
-                                    const Eigen::VectorXd& start) {
-    // laws unilateral and elastic: their own solvers, from rest where the start is rest (zeros:
-    // the static state under the preloads holds the nodes, not y = 0)
-    const bool rigid = rigid_contacts_only(system), elastic = elastic_contacts_only(system);
-    const Eigen::VectorXd from =
-        (rigid || elastic) && start.size() > 0 && start.isZero(0.0) ? Eigen::VectorXd() : start;
-    auto solve = [&] { return detail::law_periodic_orbit(system, omega, from, options); };
-    ExactOrbit orbit = solve();
-    int periods = orbit.periods;
-    if (!orbit.converged && orbit.stopped.empty() && max_periods > 1) {
-        options.warmup_periods = std::min(max_periods, 200);
-        orbit = solve();
-        periods += orbit.periods;
-    }
+namespace {
+
+/// Whether each DOF carries mass (a non-zero entry in its row of M).
+std::vector<bool> dofs_with_mass(const System& system) {
+    std::vector<bool> massive(static_cast<std::size_t>(system.dofs()), false);
+    for (int k = 0; k < system.mass.outerSize(); ++k)
+        for (SparseMatrix::InnerIterator it(system.mass, k); it; ++it)
+            if (it.value() != 0.0) massive[static_cast<std::size_t>(it.row())] = true;
+    return massive;
+}
+
+/// An exact orbit as a time-integration row (`periods`: all its solves').
+PeriodicResponse orbit_response(const ExactOrbit& orbit, double omega, int periods) {
     PeriodicResponse r;
     r.omega = omega;
     r.converged = orbit.converged;
@@ -60,6 +59,26 @@ PeriodicResponse exact_steady_state(const System& system, double omega, ExactOpt
     return r;
 }
 
+}  // namespace
+
+PeriodicResponse exact_steady_state(const System& system, double omega, ExactOptions options, int max_periods,
+                                    const Eigen::VectorXd& start) {
+    // laws unilateral and elastic: their own solvers, from rest where the start is rest (zeros:
+    // the static state under the preloads holds the nodes, not y = 0)
+    const bool rigid = rigid_contacts_only(system), elastic = elastic_contacts_only(system);
+    const Eigen::VectorXd from =
+        (rigid || elastic) && start.size() > 0 && start.isZero(0.0) ? Eigen::VectorXd() : start;
+    auto solve = [&] { return detail::law_periodic_orbit(system, omega, from, options); };
+    ExactOrbit orbit = solve();
+    int periods = orbit.periods;
+    if (!orbit.converged && orbit.stopped.empty() && max_periods > 1) {
+        options.warmup_periods = std::min(max_periods, 200);
+        orbit = solve();
+        periods += orbit.periods;
+    }
+    return orbit_response(orbit, omega, periods);
+}
+
 std::string exact_sweep_refusal(const System& system, double omega_min) {
     if (rigid_contacts_only(system)) return rigid_solver_refusal(system);
     if (elastic_contacts_only(system)) return elastic_solver_refusal(system);
@@ -76,7 +95,211 @@ Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std:
     if (!last.converged || !before.converged || last.state.size() != before.state.size() || step == 0.0 ||
         (omega - last.omega) / step <= 0.0)
         return last.state;
-    return last.state + (last.state - before.state) * ((omega - last.omega) / step);
+    Eigen::VectorXd next = last.state;
+    const double share = (omega - last.omega) / step;
+    const std::vector<bool> massive = dofs_with_mass(system);
+    const int n = system.dofs();
+    for (int i = 0; i < n; ++i)
+        if (massive[static_cast<std::size_t>(i)])
+            for (const int k : {i, n + i}) next(k) += share * (last.state(k) - before.state(k));
+    return next;
+}
+
+void ExactBranchOptions::validate() const {
+    if (!(omega_min > 0.0) || !std::isfinite(omega_min))
+        throw InvalidInput("omega_min = " + format_number(omega_min) + " is out of range: allowed > 0");
+    if (!(omega_max > omega_min) || !std::isfinite(omega_max))
+        throw InvalidInput("omega_max = " + format_number(omega_max) + " is out of range: allowed > omega_min = " +
+                           format_number(omega_min));
+    if (!(step > 0.0 && step <= 1.0)) throw InvalidInput("step = " + format_number(step) + " is out of range: allowed (0, 1]");
+    if (max_points < 2) throw InvalidInput("max_points = " + std::to_string(max_points) + " is out of range: allowed >= 2");
+    exact.validate();
+}
+
+namespace {
+
+/// A point of the branch in the predictor's coordinates: w and x = [y, y' / w] of the DOFs with
+/// mass at t = 0.
+struct BranchPoint {
+    double omega = 0.0;
+    Eigen::VectorXd x;
+};
+
+/// The chord length of exact_branch.hpp between a and b.
+double chord(const BranchPoint& a, const BranchPoint& b, double band) {
+    const double size = std::max({a.x.cwiseAbs().maxCoeff(), b.x.cwiseAbs().maxCoeff(), 1e-300});
+    return std::hypot((a.omega - b.omega) / band, (a.x - b.x).cwiseAbs().maxCoeff() / size);
+}
+
+/// Lagrange weights at s of the nodes `at` (1, 2 or 3 of them).
+std::vector<double> lagrange(const std::vector<double>& at, double s) {
+    std::vector<double> w(at.size(), 1.0);
+    for (std::size_t i = 0; i < at.size(); ++i)
+        for (std::size_t j = 0; j < at.size(); ++j)
+            if (j != i) w[i] *= (s - at[j]) / (at[i] - at[j]);
+    return w;
+}
+
+}  // namespace
+
+ExactBranch exact_branch(const System& system, const ExactBranchOptions& options, const Eigen::VectorXd& start) {
+    options.validate();
+    if (const std::string why = exact_sweep_refusal(system, options.omega_min); !why.empty()) throw InvalidInput(why);
+    const int n = system.dofs();
+    const std::vector<bool> massive = dofs_with_mass(system);
+    std::vector<int> moving;  // the state's entries the predictor extrapolates
+    for (int i = 0; i < n; ++i)
+        if (massive[static_cast<std::size_t>(i)]) moving.push_back(i);
+    const auto m = static_cast<Eigen::Index>(moving.size());
+    const double band = options.omega_max - options.omega_min;
+    auto coordinates = [&](const PeriodicResponse& r) {
+        BranchPoint p{r.omega, Eigen::VectorXd(2 * m)};
+        for (Eigen::Index k = 0; k < m; ++k) {
+            p.x(k) = r.state(moving[static_cast<std::size_t>(k)]);
+            p.x(m + k) = r.state(n + moving[static_cast<std::size_t>(k)]) / r.omega;
+        }
+        return p;
+    };
+    ExactBranch out;
+    auto stopped = [&](const PeriodicResponse& r) {
+        out.status = "stopped";
+        out.message = "stopped at w = " + format_number(r.omega) + " (not written): " + r.message;
+        return out;
+    };
+    // The first point: the sweep's solve (with its retry after plain periods).
+    const double first_omega = options.up ? options.omega_min : options.omega_max;
+    PeriodicResponse first = exact_steady_state(system, first_omega, options.exact, 200, start);
+    if (first.stopped) return stopped(first);
+    if (!first.converged) {
+        out.status = "failed";
+        out.message = "the first point, w = " + format_number(first_omega) + ", did not converge: " + first.message;
+        return out;
+    }
+    std::vector<BranchPoint> taken{coordinates(first)};
+    out.points.push_back(std::move(first));
+    if (options.progress) options.progress(out.points.back(), options.step);
+    const double direction = options.up ? 1.0 : -1.0;
+    const double smallest = 1e-4 * options.step;
+    double ds = options.step;
+    std::string last_failure;
+    while (true) {
+        if (static_cast<int>(out.points.size()) >= options.max_points) {
+            out.status = "incomplete";
+            out.message = "the branch reached " + std::to_string(options.max_points) + " points at w = " +
+                          format_number(out.points.back().omega) + " before leaving the band";
+            return out;
+        }
+        if (ds < smallest) {
+            out.status = "failed";
+            out.message = "the step fell below " + format_number(smallest) + " after w = " +
+                          format_number(out.points.back().omega) + " (no orbit near the predicted starts" +
+                          (last_failure.empty() ? std::string(")") : "; the last solve: " + last_failure + ")");
+            return out;
+        }
+        // The prediction: the polynomial through the last (up to) three points in chord length.
+        const std::size_t used = std::min<std::size_t>(3, taken.size());
+        std::vector<double> s(used, 0.0);
+        for (std::size_t k = 1; k < used; ++k)
+            s[k] = s[k - 1] + chord(taken[taken.size() - used + k - 1], taken[taken.size() - used + k], band);
+        auto predict = [&](double at) {
+            BranchPoint p{0.0, Eigen::VectorXd::Zero(2 * m)};
+            if (used == 1) {
+                p = taken.back();
+                p.omega += direction * at * band;
+                return p;
+            }
+            const std::vector<double> w = lagrange(s, at);
+            for (std::size_t k = 0; k < used; ++k) {
+                p.omega += w[k] * taken[taken.size() - used + k].omega;
+                p.x += w[k] * taken[taken.size() - used + k].x;
+            }
+            return p;
+        };
+        double reach = s.back() + ds;
+        BranchPoint p = predict(reach);
+        // At the band's edge: the step shortened so that the predicted w is on it.
+        bool edge = false;
+        const double last_omega = taken.back().omega;
+        for (const double bound : {options.omega_min, options.omega_max})
+            if ((p.omega - bound) * (last_omega - bound) < 0.0 ||
+                (p.omega == bound && last_omega != bound)) {
+                reach = s.back() + ds * (bound - last_omega) / (p.omega - last_omega);
+                p = predict(reach);
+                p.omega = bound;
+                edge = true;
+            }
+        if (!(p.omega > 0.0) || !p.x.allFinite()) {
+            ds *= 0.5;
+            continue;
+        }
+        Eigen::VectorXd from = out.points.back().state;
+        for (Eigen::Index k = 0; k < m; ++k) {
+            from(moving[static_cast<std::size_t>(k)]) = p.x(k);
+            from(n + moving[static_cast<std::size_t>(k)]) = p.x(m + k) * p.omega;
+        }
+        const ExactOrbit orbit = detail::law_periodic_orbit(system, p.omega, from, options.exact);
+        PeriodicResponse r = orbit_response(orbit, p.omega, orbit.periods);
+        if (r.stopped) return stopped(r);
+        bool taken_ok = r.converged;
+        double distance = 0.0;
+        if (taken_ok) {
+            const BranchPoint c = coordinates(r);
+            distance = chord(c, p, band);
+            const double step_taken = reach - s.back();
+            // onwards: the chord from the last point does not turn back along the previous one
+            bool onwards = true;
+            if (taken.size() >= 2) {
+                const BranchPoint& a = taken[taken.size() - 2];
+                const BranchPoint& b = taken.back();
+                const double size = std::max({a.x.cwiseAbs().maxCoeff(), b.x.cwiseAbs().maxCoeff(),
+                                              c.x.cwiseAbs().maxCoeff(), 1e-300});
+                const double dot = (b.omega - a.omega) * (c.omega - b.omega) / (band * band) +
+                                   (b.x - a.x).dot(c.x - b.x) / (size * size);
+                onwards = dot > 0.0;
+            } else {
+                onwards = direction * (c.omega - taken.back().omega) > 0.0;
+            }
+            // (the first step predicts the last state at the next w: its distance is the branch's slope)
+            taken_ok = (used == 1 || distance <= 0.5 * step_taken) && onwards;
+            if (!taken_ok)
+                last_failure = "at w = " + format_number(p.omega) + " the orbit found lies " +
+                               format_number(distance / step_taken) + " steps from its prediction" +
+                               (onwards ? "" : ", back along the branch");
+            if (taken_ok) {
+                taken.push_back(c);
+                out.points.push_back(std::move(r));
+                if (options.progress) options.progress(out.points.back(), ds);
+                // a turn in w: a fold, its w the vertex of the parabola through the three points
+                const std::size_t k = out.points.size();
+                if (k >= 3) {
+                    const double w0 = out.points[k - 3].omega, w1 = out.points[k - 2].omega, w2 = out.points[k - 1].omega;
+                    if ((w1 - w0) * (w2 - w1) < 0.0) {
+                        const double s1 = chord(taken[k - 3], taken[k - 2], band), s2 = s1 + chord(taken[k - 2], taken[k - 1], band);
+                        // w(s) = w0 + a s + b s^2 through (0, w0), (s1, w1), (s2, w2)
+                        const double d1 = (w1 - w0) / s1, d2 = (w2 - w0) / s2;
+                        const double b = (d2 - d1) / (s2 - s1), a = d1 - b * s1;
+                        double vertex = w1;
+                        if (b != 0.0) {
+                            const double sv = -a / (2.0 * b);
+                            if (sv >= 0.0 && sv <= s2) vertex = w0 + a * sv + b * sv * sv;
+                        }
+                        out.folds.push_back(ExactFold{vertex, static_cast<int>(k - 2)});
+                    }
+                }
+                if (edge) {
+                    out.status = "completed";
+                    out.message = "the branch left the band at w = " + format_number(p.omega);
+                    return out;
+                }
+                if (used > 1) ds = std::min(options.step, ds * std::min(2.0, std::max(0.5, std::sqrt(0.1 * step_taken / std::max(distance, 1e-300)))));
+                continue;
+            }
+        } else {
+            last_failure = "at w = " + format_number(p.omega) + ": " + r.message;
+        }
+        ++out.rejected;
+        ds *= 0.5;
+    }
 }
 
 Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,

@@ -1,0 +1,73 @@
+// hbfriction — the branch of exact periodic orbits over a frequency band, followed through its
+// folds (hbf timeint --method exact --sweep branch).
+//
+// A sweep in w (time_integration.hpp: sweep, exact_sweep_start) cannot pass a fold: past it the
+// branch's orbit does not exist at the next w, and the solver lands on another branch (the jump of
+// a slow sweep). Here the branch is followed by its arclength instead. Each point is an exact
+// periodic orbit solved at a fixed w (the law's exact solver: exact_steady_state's), from a start
+// predicted along the branch: the parabola through the last three points as functions of their
+// chord length (w and the state's y, y' of the DOFs with mass), evaluated one step further. Near a
+// fold that parabola turns with the branch, so the predicted w itself goes back and the start
+// lies on the far side of the fold, where the solver at that w finds the far branch's orbit (the
+// two orbits at one w near a fold are about twice the step apart in the state, the start within
+// the step's cube of the far one). The state's other entries (massless DOFs' held positions,
+// sliders, modes) are the last point's: a slow sweep leaves stuck nodes where they are.
+//
+// The chord length of two points a, b: sqrt(((w_a - w_b) / (w_max - w_min))^2 + (|x_a - x_b| /
+// max(|x_a|, |x_b|))^2), x = [y, y' / w] of the DOFs with mass at t = 0, |.| the max norm: a share
+// of the band and a relative change of the orbit weigh alike. A point is taken where it converged,
+// lies within half a step of its prediction and goes on from the last point (not back along the
+// branch); the next step is then scaled by sqrt(0.1 step / distance) within [1/2, 2], at most
+// options.step. Otherwise the step halves; below 1e-4 of options.step the branch ends (failed).
+// A fold is where w turns: its w is the parabola's vertex through the three points about the turn,
+// each an exact orbit (the fold itself is estimated, not solved: its error is of the order of the
+// steps there). The branch ends where it leaves [omega_min, omega_max] (its last point then on
+// the bound: completed), after options.max_points points (incomplete) or at a stop request.
+#pragma once
+
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hbf/event_exact.hpp"
+#include "hbf/model.hpp"
+#include "hbf/time_integration.hpp"
+
+namespace hbf {
+
+struct ExactBranchOptions {
+    double omega_min = 0.0, omega_max = 0.0;  ///< the band, 0 < omega_min < omega_max
+    bool up = true;                           ///< from omega_min upwards, else from omega_max down
+    /// The largest chord step (the share of the band it would be on a flat branch), (0, 1].
+    double step = 0.01;
+    int max_points = 1000;   ///< at most this many points, >= 2
+    ExactOptions exact;      ///< each orbit's solve (tolerance, outputs, stop request)
+    /// Called after each point taken (progress lines).
+    std::function<void(const PeriodicResponse&, double step)> progress;
+    /// Throws InvalidInput naming the offending field and its range.
+    void validate() const;
+};
+
+/// A turning point of the branch in w.
+struct ExactFold {
+    double omega = 0.0;  ///< the parabola's vertex through the three points about the turn
+    int point = 0;       ///< the point at the turn (0-based: the middle one of the three)
+};
+
+struct ExactBranch {
+    std::vector<PeriodicResponse> points;  ///< in branch order, each converged
+    std::vector<ExactFold> folds;
+    int rejected = 0;  ///< solves not taken (a step halved)
+    /// completed (the branch left the band), incomplete (max_points reached), stopped (the
+    /// stop request), failed (the first point, or the step collapsed).
+    std::string status;
+    std::string message;  ///< where and why it ended
+};
+
+/// The branch of exact orbits from the band's end (options.up: omega_min) through the band,
+/// starting from `start` (time_integration.hpp's convention; empty: rest). Throws InvalidInput
+/// where exact_sweep_refusal is not empty or the options are out of range.
+ExactBranch exact_branch(const System& system, const ExactBranchOptions& options, const Eigen::VectorXd& start);
+
+}  // namespace hbf
