@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "hbf/absorber.hpp"
 #include "hbf/config.hpp"
 #include "hbf/error.hpp"
 #include "hbf/exact_branch.hpp"
@@ -140,6 +141,42 @@ TEST_CASE("exact branch: liftoff3_rigid through both folds of its lift-off reson
     REQUIRE(fine.folds.size() == 2);
     CHECK(std::abs(fine.folds[0].omega - upper.omega) <= 1e-5);
     CHECK(std::abs(fine.folds[1].omega - lower.omega) <= 1e-5);
+}
+
+TEST_CASE("exact branch: law elastic's solver finds the same folds on liftoff3.toml", "[exact][branch]") {
+    // liftoff3.toml is liftoff3_rigid.toml's structure with law elastic's element (the massless
+    // node tied by springs is that element's slider): the same physics by another exact solver
+    // (law elastic's event-driven CVODE flow at 1e-11, its own Newton): the same folds.
+    const SystemConfig rigid = io::read_system_config(branch_system);
+    const SystemConfig elastic = io::read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3.toml");
+    const ExactBranch a = liftoff3_branch(rigid.system, 1.0 / 30.0), b = liftoff3_branch(elastic.system, 1.0 / 30.0);
+    REQUIRE(a.status == "completed");
+    REQUIRE(b.status == "completed");
+    REQUIRE(a.folds.size() == 2);
+    REQUIRE(b.folds.size() == 2);
+    for (std::size_t k = 0; k < 2; ++k) CHECK(std::abs(a.folds[k].omega - b.folds[k].omega) <= 1e-8);
+}
+
+TEST_CASE("exact branch: the paper's absorber turns vertical, and the branch says so", "[exact][branch]") {
+    // The Coulomb absorber's branch (defaults, [0.5, 1.6]) rises through stick-slip to a stretch
+    // where w stands still (to 1e-12) while the orbit goes on changing (the stick share grows):
+    // a solver at a fixed w cannot follow it. The branch ends there (failed) and says why.
+    const System system = friction_absorber(AbsorberParameters{}, FrictionLaw::coulomb);
+    ExactBranchOptions o;
+    o.omega_min = 0.5;
+    o.omega_max = 1.6;
+    o.step = 0.01;
+    o.max_points = 5000;
+    const ExactBranch b = exact_branch(system, o, linear_stuck_state(system, 0.5));
+    INFO(b.message);
+    REQUIRE(b.status == "failed");
+    CHECK_THAT(b.message, Catch::Contains("turns vertical"));
+    REQUIRE(b.points.size() > 20);
+    const PeriodicResponse& last = b.points.back();
+    const PeriodicResponse& earlier = b.points[b.points.size() - 12];
+    CHECK(std::abs(last.omega - earlier.omega) <= 1e-8 * last.omega);
+    CHECK(std::abs(last.y_max[0] / earlier.y_max[0] - 1.0) >= 1e-5);
+    CHECK(std::abs(last.contacts[0].stick_fraction - earlier.contacts[0].stick_fraction) >= 1e-4);
 }
 
 TEST_CASE("exact branch: bounded, stoppable, and bad options refused", "[exact][branch]") {

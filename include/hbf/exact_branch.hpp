@@ -6,22 +6,28 @@
 // a slow sweep). Here the branch is followed by its arclength instead. Each point is an exact
 // periodic orbit solved at a fixed w (the law's exact solver: exact_steady_state's), from a start
 // predicted along the branch: the parabola through the last three points as functions of their
-// chord length (w and the state's y, y' of the DOFs with mass), evaluated one step further. Near a
+// chord length (w, the first harmonics and the state's y, y' at t = 0 of the DOFs with mass),
+// evaluated one step further. Near a
 // fold that parabola turns with the branch, so the predicted w itself goes back and the start
 // lies on the far side of the fold, where the solver at that w finds the far branch's orbit (the
 // two orbits at one w near a fold are about twice the step apart in the state, the start within
 // the step's cube of the far one). The state's other entries (massless DOFs' held positions,
 // sliders, modes) are the last point's: a slow sweep leaves stuck nodes where they are.
 //
-// The chord length of two points a, b: sqrt(((w_a - w_b) / (w_max - w_min))^2 + (|x_a - x_b| /
-// max(|x_a|, |x_b|))^2), x = [y, y' / w] of the DOFs with mass at t = 0, |.| the max norm: a share
-// of the band and a relative change of the orbit weigh alike. A point is taken where it converged,
-// lies within half a step of its prediction and goes on from the last point (not back along the
+// The chord length of two points a, b: sqrt(((w_a - w_b) / (w_max - w_min))^2 + (|h_a - h_b| /
+// max(|h_a|, |h_b|))^2), h the first harmonics' cosine and sine parts of the DOFs with mass, |.|
+// the max norm: a share of the band and a relative change of the orbit weigh alike (the
+// harmonics, integrals over the period, stay smooth in w where an event of the orbit passes t =
+// 0; the state at t = 0 does not). A point is taken where it converged, lies within half a step
+// of its prediction (in that chord length) and goes on from the last point (not back along the
 // branch); the next step is then scaled by sqrt(0.1 step / distance) within [1/2, 2], at most
 // options.step. Otherwise the step halves; below 1e-4 of options.step the branch ends (failed).
 // A fold is where w turns: its w is the parabola's vertex through the three points about the turn,
 // each an exact orbit (the fold itself is estimated, not solved: its error is of the order of the
-// steps there). The branch ends where it leaves [omega_min, omega_max] (its last point then on
+// steps there). Where the branch has a corner (its tangent turns at a point: a contact's state
+// changes, e.g. from permanent stick to stick-slip), the parabola's error shrinks only like the
+// step: the point where the halved steps show that is taken as the corner and the prediction
+// restarts from it (the next step from its state, in the direction w moved). The branch ends where it leaves [omega_min, omega_max] (its last point then on
 // the bound: completed), after options.max_points points (incomplete) or at a stop request.
 #pragma once
 
@@ -58,6 +64,10 @@ struct ExactFold {
 struct ExactBranch {
     std::vector<PeriodicResponse> points;  ///< in branch order, each converged
     std::vector<ExactFold> folds;
+    /// The w of the points where the branch's tangent turns (a corner: a contact's state changes
+    /// there, e.g. permanent stick to stick-slip), taken where the prediction's error stayed of
+    /// the order of the step (at most twice it) as the step halved below 1/16 of options.step.
+    std::vector<double> corners;
     int rejected = 0;  ///< solves not taken (a step halved)
     /// completed (the branch left the band), incomplete (max_points reached), stopped (the
     /// stop request), failed (the first point, or the step collapsed).

@@ -171,7 +171,11 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         for (const ExactFold& fold : b.folds)
             verdict.note("a fold at w = " + format_number(fold.omega) + " (branch point " + std::to_string(fold.point + 1) +
                          ": the parabola's vertex through the exact orbits about the turn)");
+        for (const double w : b.corners)
+            verdict.note("a corner of the branch at w = " + format_number(w) +
+                         " (its tangent turns there: a contact's state changes)");
         verdict.note(std::to_string(responses.size()) + " branch points, " + std::to_string(b.folds.size()) + " fold(s), " +
+                     std::to_string(b.corners.size()) + " corner(s), " +
                      std::to_string(b.rejected) + " solve(s) not taken (the step halved)");
     }
     for (std::size_t k = 0; !branch && k < omegas.size(); ++k) {

@@ -2,6 +2,7 @@
 // time-integration result, and the verdict on a sweep's points (time_integration.hpp).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -118,18 +119,31 @@ void ExactBranchOptions::validate() const {
 
 namespace {
 
-/// A point of the branch in the predictor's coordinates: w and x = [y, y' / w] of the DOFs with
-/// mass at t = 0.
+/// A point of the branch in the predictor's coordinates: w, h = the first harmonics (cosine and
+/// sine parts) of the DOFs with mass (smooth in w where an event of the orbit passes t = 0), and
+/// the start x = [y, y' / w] of the DOFs with mass at t = 0 (predicted for the solver only).
 struct BranchPoint {
     double omega = 0.0;
-    Eigen::VectorXd x;
+    Eigen::VectorXd h, x;
 };
 
 /// The chord length of exact_branch.hpp between a and b.
 double chord(const BranchPoint& a, const BranchPoint& b, double band) {
-    const double size = std::max({a.x.cwiseAbs().maxCoeff(), b.x.cwiseAbs().maxCoeff(), 1e-300});
-    return std::hypot((a.omega - b.omega) / band, (a.x - b.x).cwiseAbs().maxCoeff() / size);
+    const double size = std::max({a.h.cwiseAbs().maxCoeff(), b.h.cwiseAbs().maxCoeff(), 1e-300});
+    return std::hypot((a.omega - b.omega) / band, (a.h - b.h).cwiseAbs().maxCoeff() / size);
 }
+
+/// A prediction off by at most this many steps whose error does not shrink as the step halves
+/// is a corner of the branch.
+constexpr double corner_ratio = 2.0;
+
+/// A failed branch whose last vertical_points points lie within vertical_share of w is said to
+/// turn vertical.
+constexpr std::size_t vertical_points = 8;
+constexpr double vertical_share = 1e-9;
+
+/// A turn in w is a fold where both of its steps in w exceed this share of w (not rounding).
+constexpr double fold_turn = 1e-11;
 
 /// Lagrange weights at s of the nodes `at` (1, 2 or 3 of them).
 std::vector<double> lagrange(const std::vector<double>& at, double s) {
@@ -153,10 +167,13 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
     const auto m = static_cast<Eigen::Index>(moving.size());
     const double band = options.omega_max - options.omega_min;
     auto coordinates = [&](const PeriodicResponse& r) {
-        BranchPoint p{r.omega, Eigen::VectorXd(2 * m)};
+        BranchPoint p{r.omega, Eigen::VectorXd(2 * m), Eigen::VectorXd(2 * m)};
         for (Eigen::Index k = 0; k < m; ++k) {
-            p.x(k) = r.state(moving[static_cast<std::size_t>(k)]);
-            p.x(m + k) = r.state(n + moving[static_cast<std::size_t>(k)]) / r.omega;
+            const auto i = moving[static_cast<std::size_t>(k)];
+            p.h(k) = r.harmonic1(i).real();
+            p.h(m + k) = r.harmonic1(i).imag();
+            p.x(k) = r.state(i);
+            p.x(m + k) = r.state(n + i) / r.omega;
         }
         return p;
     };
@@ -178,10 +195,12 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
     std::vector<BranchPoint> taken{coordinates(first)};
     out.points.push_back(std::move(first));
     if (options.progress) options.progress(out.points.back(), options.step);
-    const double direction = options.up ? 1.0 : -1.0;
+    double direction = options.up ? 1.0 : -1.0;  // of the first step, and after a corner
     const double smallest = 1e-4 * options.step;
     double ds = options.step;
     std::string last_failure;
+    std::size_t history = 0;  // the predictor's first point (after a corner: the corner)
+    double rejected_ratio = std::numeric_limits<double>::quiet_NaN();  // of the last rejection
     while (true) {
         if (static_cast<int>(out.points.size()) >= options.max_points) {
             out.status = "incomplete";
@@ -194,15 +213,30 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
             out.message = "the step fell below " + format_number(smallest) + " after w = " +
                           format_number(out.points.back().omega) + " (no orbit near the predicted starts" +
                           (last_failure.empty() ? std::string(")") : "; the last solve: " + last_failure + ")");
+            // A branch that stands still in w while the orbit changes: a vertical stretch, which
+            // a solver at a fixed w cannot follow.
+            const std::size_t k = out.points.size();
+            if (k >= vertical_points) {
+                double low = out.points.back().omega, high = low;
+                for (std::size_t j = k - vertical_points; j < k; ++j) {
+                    low = std::min(low, out.points[j].omega);
+                    high = std::max(high, out.points[j].omega);
+                }
+                if (high - low <= vertical_share * high)
+                    out.message += "; over its last " + std::to_string(vertical_points) + " points w changed by " +
+                                   format_number((high - low) / high) +
+                                   " of itself while the orbit changed: the branch turns vertical there, where a "
+                                   "solver at a fixed w cannot follow it";
+            }
             return out;
         }
         // The prediction: the polynomial through the last (up to) three points in chord length.
-        const std::size_t used = std::min<std::size_t>(3, taken.size());
+        const std::size_t used = std::min<std::size_t>(3, taken.size() - history);
         std::vector<double> s(used, 0.0);
         for (std::size_t k = 1; k < used; ++k)
             s[k] = s[k - 1] + chord(taken[taken.size() - used + k - 1], taken[taken.size() - used + k], band);
         auto predict = [&](double at) {
-            BranchPoint p{0.0, Eigen::VectorXd::Zero(2 * m)};
+            BranchPoint p{0.0, Eigen::VectorXd::Zero(2 * m), Eigen::VectorXd::Zero(2 * m)};
             if (used == 1) {
                 p = taken.back();
                 p.omega += direction * at * band;
@@ -211,6 +245,7 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
             const std::vector<double> w = lagrange(s, at);
             for (std::size_t k = 0; k < used; ++k) {
                 p.omega += w[k] * taken[taken.size() - used + k].omega;
+                p.h += w[k] * taken[taken.size() - used + k].h;
                 p.x += w[k] * taken[taken.size() - used + k].x;
             }
             return p;
@@ -228,7 +263,7 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
                 p.omega = bound;
                 edge = true;
             }
-        if (!(p.omega > 0.0) || !p.x.allFinite()) {
+        if (!(p.omega > 0.0) || !p.x.allFinite() || !p.h.allFinite()) {
             ds *= 0.5;
             continue;
         }
@@ -251,16 +286,29 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
             if (taken.size() >= 2) {
                 const BranchPoint& a = taken[taken.size() - 2];
                 const BranchPoint& b = taken.back();
-                const double size = std::max({a.x.cwiseAbs().maxCoeff(), b.x.cwiseAbs().maxCoeff(),
-                                              c.x.cwiseAbs().maxCoeff(), 1e-300});
+                const double size = std::max({a.h.cwiseAbs().maxCoeff(), b.h.cwiseAbs().maxCoeff(),
+                                              c.h.cwiseAbs().maxCoeff(), 1e-300});
                 const double dot = (b.omega - a.omega) * (c.omega - b.omega) / (band * band) +
-                                   (b.x - a.x).dot(c.x - b.x) / (size * size);
+                                   (b.h - a.h).dot(c.h - b.h) / (size * size);
                 onwards = dot > 0.0;
             } else {
                 onwards = direction * (c.omega - taken.back().omega) > 0.0;
             }
             // (the first step predicts the last state at the next w: its distance is the branch's slope)
             taken_ok = (used == 1 || distance <= 0.5 * step_taken) && onwards;
+            // A corner (the tangent turns at a point: a contact's state changes): the prediction's
+            // error then shrinks like the step, not its square, as the step halves, and stays of
+            // the order of the angle.
+            const double ratio = distance / step_taken;
+            const bool corner = !taken_ok && onwards && ratio <= corner_ratio && step_taken <= options.step / 16.0 &&
+                                rejected_ratio <= corner_ratio && ratio >= rejected_ratio / 1.5;
+            rejected_ratio = taken_ok || !onwards ? std::numeric_limits<double>::quiet_NaN() : ratio;
+            if (corner) {
+                taken_ok = true;
+                out.corners.push_back(c.omega);
+                history = taken.size();  // the corner's index once taken
+                direction = c.omega >= taken.back().omega ? 1.0 : -1.0;
+            }
             if (!taken_ok)
                 last_failure = "at w = " + format_number(p.omega) + " the orbit found lies " +
                                format_number(distance / step_taken) + " steps from its prediction" +
@@ -273,7 +321,9 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
                 const std::size_t k = out.points.size();
                 if (k >= 3) {
                     const double w0 = out.points[k - 3].omega, w1 = out.points[k - 2].omega, w2 = out.points[k - 1].omega;
-                    if ((w1 - w0) * (w2 - w1) < 0.0) {
+                    // (a turn by rounding, on a stretch where w stays put, is none)
+                    const double rounding = fold_turn * std::abs(w1);
+                    if ((w1 - w0) * (w2 - w1) < 0.0 && std::abs(w1 - w0) > rounding && std::abs(w2 - w1) > rounding) {
                         const double s1 = chord(taken[k - 3], taken[k - 2], band), s2 = s1 + chord(taken[k - 2], taken[k - 1], band);
                         // w(s) = w0 + a s + b s^2 through (0, w0), (s1, w1), (s2, w2)
                         const double d1 = (w1 - w0) / s1, d2 = (w2 - w0) / s2;
@@ -291,11 +341,12 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
                     out.message = "the branch left the band at w = " + format_number(p.omega);
                     return out;
                 }
-                if (used > 1) ds = std::min(options.step, ds * std::min(2.0, std::max(0.5, std::sqrt(0.1 * step_taken / std::max(distance, 1e-300)))));
+                if (used > 1 && history + 1 < taken.size()) ds = std::min(options.step, ds * std::min(2.0, std::max(0.5, std::sqrt(0.1 * step_taken / std::max(distance, 1e-300)))));
                 continue;
             }
         } else {
             last_failure = "at w = " + format_number(p.omega) + ": " + r.message;
+            rejected_ratio = std::numeric_limits<double>::quiet_NaN();
         }
         ++out.rejected;
         ds *= 0.5;
