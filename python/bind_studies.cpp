@@ -24,6 +24,28 @@ std::function<std::string()> python_stop(double time_limit) {
         return "";
     };
 }
+
+/// Per steady state of a sweep or branch: converged, message, state and the sampled period.
+py::list response_details(const std::vector<PeriodicResponse>& responses) {
+    py::list details;
+    for (const PeriodicResponse& r : responses) {
+        py::dict d;
+        d["converged"] = r.converged;
+        d["message"] = r.message;
+        d["summary"] = r.summary();
+        d["state"] = to_list(r.state);
+        d["t"] = to_list(r.time);
+        d["y"] = matrix(r.displacement);
+        d["velocity"] = matrix(r.velocity);
+        d["friction_force"] = matrix(r.friction_force);
+        d["input_energy"] = r.input_energy;
+        d["viscous_energy"] = r.viscous_energy;
+        d["seconds"] = r.seconds;
+        d["max_multiplier"] = r.max_multiplier;
+        details.append(d);
+    }
+    return details;
+}
 }  // namespace
 
 void bind_studies(py::module_& m) {
@@ -188,22 +210,7 @@ void bind_studies(py::module_& m) {
                 verdict.add(messages.messages());
                 return 0;
             });
-            py::list details;
-            for (const PeriodicResponse& r : responses) {
-                py::dict d;
-                d["converged"] = r.converged;
-                d["message"] = r.message;
-                d["summary"] = r.summary();
-                d["state"] = to_list(r.state);
-                d["t"] = to_list(r.time);
-                d["y"] = matrix(r.displacement);
-                d["velocity"] = matrix(r.velocity);
-                d["friction_force"] = matrix(r.friction_force);
-                d["input_energy"] = r.input_energy;
-                d["viscous_energy"] = r.viscous_energy;
-                d["seconds"] = r.seconds;
-                details.append(d);
-            }
+            const py::list details = response_details(responses);
             py::dict v;
             v["status"] = verdict.status();
             v["errors"] = verdict.errors;
@@ -211,6 +218,54 @@ void bind_studies(py::module_& m) {
             return py::make_tuple(table_columns(table), details, v);
         },
         py::arg("system"), py::arg("omegas"), py::arg("options"), py::arg("exact"), py::arg("exact_tolerance"));
+
+    m.def(
+        "exact_branch",
+        [](const PySystem& s, double wmin, double wmax, long long points, std::vector<Output> outputs, double tolerance,
+           double time_limit) {
+            if (!(points >= 2 && points <= 10000))
+                bad("points = " + std::to_string(points) + " is out of range: allowed 2..10000");
+            ExactBranchOptions o;
+            o.omega_min = wmin;
+            o.omega_max = wmax;
+            o.step = 1.0 / static_cast<double>(points - 1);
+            o.max_points = 10 * static_cast<int>(points);
+            o.exact.outputs = outputs.empty() ? s.reported() : outputs;
+            o.exact.tolerance = tolerance;
+            o.exact.stop = python_stop(time_limit);
+            o.validate();
+            s.system.validate();
+            if (const std::string why = exact_sweep_refusal(s.system, wmin); !why.empty()) bad(why);
+            ExactBranch b;
+            io::Table table;
+            Verdict verdict;
+            without_gil([&] {
+                // as hbf timeint --method exact --sweep branch: from the stuck linear state at wmin
+                b = exact_branch(s.system, o, linear_stuck_state(s.system, wmin));
+                table = io::timeint_table(b.points, o.exact.outputs);
+                verdict = judge_sweep(s.system, b.points, TimeIntegrationOptions{}, true);
+                return 0;
+            });
+            py::list folds;
+            for (const ExactFold& f : b.folds) {
+                py::dict d;
+                d["w"] = f.omega;
+                d["point"] = f.point;
+                folds.append(d);
+            }
+            py::dict v;
+            v["status"] = b.status;
+            v["message"] = b.message;
+            v["errors"] = verdict.errors;
+            v["warnings"] = verdict.warnings;
+            v["notes"] = verdict.notes;
+            v["folds"] = folds;
+            v["corners"] = b.corners;
+            v["rejected"] = b.rejected;
+            return py::make_tuple(table_columns(table), response_details(b.points), v);
+        },
+        py::arg("system"), py::arg("wmin"), py::arg("wmax"), py::arg("points"), py::arg("outputs"), py::arg("tolerance"),
+        py::arg("time_limit"));
 
     m.def("mode_defaults", [] {
         const ModeOptions o;

@@ -26,6 +26,7 @@
 #include "hbf/diagnostics.hpp"
 #include "hbf/error.hpp"
 #include "hbf/event_exact.hpp"
+#include "hbf/exact_branch.hpp"
 #include "hbf/frf.hpp"
 #include "hbf/modal_exact.hpp"
 #include "hbf/interface.hpp"

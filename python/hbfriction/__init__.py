@@ -58,7 +58,7 @@ from ._core import (AbsorberParameters, Contact, ContinuationOptions, CorrectorO
 
 __version__ = _core.__version__
 # hbfriction.map is left out of __all__: a star import would hide the built-in map.
-__all__ = ["absorber", "load", "reduce", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "modes", "analytic",
+__all__ = ["absorber", "load", "reduce", "check_output", "System", "Contact", "Output", "frf", "solve_at", "timeint", "exact_branch", "modes", "analytic",
            "nodal_diameters",
            "optimize", "track", "TrackResult", "TrackCurve", "options", "Branch", "Solution", "Table", "ModeResult", "OptimizeResult", "MapResult",
            "IncompleteResultWarning", "SolveError", "AbsorberParameters", "FrfSettings",
@@ -756,6 +756,51 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
     table.errors = verdict["errors"]
     table.warnings = verdict["warnings"]
     _judge(table.status, table.errors + table.warnings, "the time integration")
+    return table
+
+
+def exact_branch(system, wmin, wmax, *, points=101, outputs=None, tolerance=1e-12, time_limit=0):
+    """The branch of exact periodic orbits from wmin followed through its folds until it leaves
+    [wmin, wmax] (hbf timeint --method exact --sweep branch; coulomb, jenkins, laws unilateral and
+    elastic): each point the exact orbit at the w predicted along the branch, its steps at most
+    those of `points` points on a flat branch (adapted), at most 10 points points.
+    tolerance: Newton's on the period map; time_limit: seconds (0: none; then, or on Ctrl-C, the
+    points so far with status stopped). Returns a Table with hbf timeint's columns in branch
+    order, plus ``responses`` (as timeint's, with each orbit's max_multiplier), ``folds`` (per
+    turn in w a dict: w, the parabola's vertex through the exact orbits about it, and point, the
+    row of the turn), ``corners`` (w where the branch's tangent turns), ``branch_status``
+    (completed, incomplete, stopped, failed) and ``message`` (where and why it ended), and
+    status/errors/warnings as hbf timeint's exit codes (an IncompleteResultWarning unless
+    completed)."""
+    _check_system(system)
+    selected = _outputs(system, outputs) if outputs is not None else []
+    columns, details, verdict = _core.exact_branch(system, _real("wmin", wmin), _real("wmax", wmax),
+                                                  _integer("points", points), selected, _real("tolerance", tolerance),
+                                                  _real("time_limit", time_limit))
+    table = Table(columns)
+    table.responses = []
+    for d in details:
+        r = dict(d)
+        for key in ("y", "velocity", "friction_force"):
+            flat, shape = d[key]
+            r[key] = _np.array(flat).reshape(shape)
+        r["t"] = _np.array(d["t"])
+        r["state"] = _np.array(d["state"])
+        table.responses.append(r)
+    table.folds = verdict["folds"]
+    table.corners = verdict["corners"]
+    table.branch_status = verdict["status"]
+    table.message = verdict["message"]
+    errors = list(verdict["errors"])
+    warnings = list(verdict["warnings"])
+    if verdict["status"] == "failed":
+        errors.insert(0, verdict["message"])
+    elif verdict["status"] != "completed":
+        warnings.insert(0, verdict["message"])
+    table.errors = errors
+    table.warnings = warnings
+    table.status = "failed" if errors else "incomplete" if warnings else "completed"
+    _judge(table.status, table.errors + table.warnings, "the exact branch")
     return table
 
 

@@ -166,3 +166,23 @@ def test_timeint_that_does_not_converge_is_failed_with_the_reason():
     assert t.status == "failed" and list(t.converged) == ["false"]
     assert_table_equals_csv(t, text)
     assert [e for e in t.errors if "did not converge" in e] and all(e in err for e in t.errors)
+
+
+def test_exact_branch_equals_hbf_timeint_sweep_branch():
+    # liftoff3_rigid.toml over [2.2, 2.8]: the branch of exact orbits through its two folds, as
+    # hbf timeint --method exact --sweep branch has it (the same table, folds and status).
+    path = os.path.join(SOURCE, "examples", "systems", "liftoff3_rigid.toml")
+    _, text, err = run_hbf("timeint", "--config", path, "--wmin", "2.2", "--wmax", "2.8", "--points", "31",
+                           "--method", "exact", "--sweep", "branch")
+    b = hbfriction.exact_branch(hbfriction.load(path), 2.2, 2.8, points=31)
+    assert_table_equals_csv(b, text)
+    assert b.status == "completed" and b.branch_status == "completed"
+    assert len(b.folds) == 2 and b.folds[0]["w"] > b.folds[1]["w"]
+    for fold in b.folds:
+        assert ("a fold at w = %s" % format_number(fold["w"])) in err
+    # the orbit at each fold's turn: unstable on one side, stable on the other (a saddle-node)
+    for fold in b.folds:
+        before, after = b.responses[fold["point"] - 2], b.responses[fold["point"] + 2]
+        assert (before["max_multiplier"] - 1) * (after["max_multiplier"] - 1) < 0
+    with pytest.raises(ValueError, match="points = 1 is out of range"):
+        hbfriction.exact_branch(hbfriction.load(path), 2.2, 2.8, points=1)
