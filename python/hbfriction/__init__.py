@@ -710,6 +710,21 @@ def solve_at(system, omega, *, omega_from=None, contact=0, harmonics=None, time_
     return solution
 
 
+def _responses_table(columns, details):
+    """A Table of hbf timeint's columns with ``responses``: per row a dict, its signals as arrays."""
+    table = Table(columns)
+    table.responses = []
+    for d in details:
+        r = dict(d)
+        for key in ("y", "velocity", "friction_force"):
+            flat, shape = d[key]
+            r[key] = _np.array(flat).reshape(shape)
+        r["t"] = _np.array(d["t"])
+        r["state"] = _np.array(d["state"])
+        table.responses.append(r)
+    return table
+
+
 def timeint(system, w, *, outputs=None, options=None, method=None, **values):
     """Periodic steady states by time integration (hbf timeint): at each frequency of w (a number
     or a sequence, swept in the order given, each from the previous final state, the first from
@@ -742,16 +757,7 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
         system.outputs or [Output.dof(i) for i in range(system.dofs)])
     omegas = _reals("w", w)
     columns, details, verdict = _core.timeint(system, omegas, o, method == "exact", exact_tolerance)
-    table = Table(columns)
-    table.responses = []
-    for d in details:
-        r = dict(d)
-        for key in ("y", "velocity", "friction_force"):
-            flat, shape = d[key]
-            r[key] = _np.array(flat).reshape(shape)
-        r["t"] = _np.array(d["t"])
-        r["state"] = _np.array(d["state"])
-        table.responses.append(r)
+    table = _responses_table(columns, details)
     table.status = verdict["status"]
     table.errors = verdict["errors"]
     table.warnings = verdict["warnings"]
@@ -777,16 +783,7 @@ def exact_branch(system, wmin, wmax, *, points=101, outputs=None, tolerance=1e-1
     columns, details, verdict = _core.exact_branch(system, _real("wmin", wmin), _real("wmax", wmax),
                                                   _integer("points", points), selected, _real("tolerance", tolerance),
                                                   _real("time_limit", time_limit))
-    table = Table(columns)
-    table.responses = []
-    for d in details:
-        r = dict(d)
-        for key in ("y", "velocity", "friction_force"):
-            flat, shape = d[key]
-            r[key] = _np.array(flat).reshape(shape)
-        r["t"] = _np.array(d["t"])
-        r["state"] = _np.array(d["state"])
-        table.responses.append(r)
+    table = _responses_table(columns, details)
     table.folds = verdict["folds"]
     table.corners = verdict["corners"]
     table.branch_status = verdict["status"]
