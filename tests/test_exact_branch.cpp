@@ -209,6 +209,9 @@ TEST_CASE("exact branch: bounded, stoppable, and bad options refused", "[exact][
     bad = o;
     bad.max_points = 1;
     refused(bad, "max_points");
+    bad = o;
+    bad.max_periods = 0;
+    refused(bad, "max_periods");
 }
 
 TEST_CASE("exact sweep start: the secant for the DOFs with mass, the held positions kept", "[exact][branch]") {

@@ -48,6 +48,9 @@ struct ExactBranchOptions {
     /// The largest chord step (the share of the band it would be on a flat branch), (0, 1].
     double step = 0.01;
     int max_points = 1000;   ///< at most this many points, >= 2
+    /// The first point as exact_steady_state's (its retry after min(max_periods, 200) plain
+    /// periods), >= 1.
+    int max_periods = 200;
     ExactOptions exact;      ///< each orbit's solve (tolerance, outputs, stop request)
     /// Called after each point taken (progress lines).
     std::function<void(const PeriodicResponse&, double step)> progress;

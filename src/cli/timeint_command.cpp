@@ -157,6 +157,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         bo.step = 1.0 / static_cast<double>(omegas.size() - 1);
         bo.max_points = branch_point_factor * static_cast<int>(omegas.size());
         bo.exact = eo;
+        bo.max_periods = tio.max_periods;
         if (progress)
             bo.progress = [](const PeriodicResponse& r, double step) {
                 std::cerr << "\rhbf timeint: branch point, w = " << format_number(r.omega)

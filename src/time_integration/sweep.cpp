@@ -114,6 +114,7 @@ void ExactBranchOptions::validate() const {
                            format_number(omega_min));
     if (!(step > 0.0 && step <= 1.0)) throw InvalidInput("step = " + format_number(step) + " is out of range: allowed (0, 1]");
     if (max_points < 2) throw InvalidInput("max_points = " + std::to_string(max_points) + " is out of range: allowed >= 2");
+    if (max_periods < 1) throw InvalidInput("max_periods = " + std::to_string(max_periods) + " is out of range: allowed >= 1");
     exact.validate();
 }
 
@@ -185,7 +186,7 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
     };
     // The first point: the sweep's solve (with its retry after plain periods).
     const double first_omega = options.up ? options.omega_min : options.omega_max;
-    PeriodicResponse first = exact_steady_state(system, first_omega, options.exact, 200, start);
+    PeriodicResponse first = exact_steady_state(system, first_omega, options.exact, options.max_periods, start);
     if (first.stopped) return stopped(first);
     if (!first.converged) {
         out.status = "failed";
