@@ -182,6 +182,7 @@ TEST_CASE("A time-integration row without one integrated period keeps every colu
     CHECK(field(2, "periods") == "7");
     CHECK(field(2, "converged") == "true");
     CHECK(field(2, "switches") == "2");
+    CHECK(field(2, "max_multiplier").empty());  // time integration: not computed
 }
 
 TEST_CASE("hbf timeint far above the resonances: the stuck closed form and the exact solver, or not converged",

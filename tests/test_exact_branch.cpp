@@ -249,6 +249,15 @@ TEST_CASE("hbf timeint --sweep branch: the exact branch through its folds, in br
     for (std::size_t k = 3; k < rows.size(); ++k)
         turns += (std::stod(rows[k - 1][0]) - std::stod(rows[k - 2][0])) * (std::stod(rows[k][0]) - std::stod(rows[k - 1][0])) < 0.0;
     CHECK(turns == 2);
+    // each orbit's largest multiplier, as the note counts the unstable ones
+    const auto at = std::find(rows[0].begin(), rows[0].end(), "max_multiplier");
+    REQUIRE(at != rows[0].end());
+    const auto column = static_cast<std::size_t>(at - rows[0].begin());
+    int unstable = 0;
+    for (std::size_t k = 1; k < rows.size(); ++k) unstable += std::stod(rows[k][column]) > 1.0 + 1e-6;
+    CHECK(unstable > 0);
+    CHECK_THAT(r.err, Catch::Contains(std::to_string(unstable) + " of " + std::to_string(rows.size() - 1) +
+                                      " exact orbits are unstable"));
     const Result time_stepping = run_hbf(base, dir);
     CHECK(time_stepping.exit_code == 2);
     CHECK_THAT(time_stepping.err, Catch::Contains("--sweep branch") && Catch::Contains("--method exact"));

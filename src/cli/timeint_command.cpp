@@ -244,8 +244,10 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
     command.add_option("--points", o.points, "number of frequencies of the uniform sweep grid, 2..10000")
         ->type_name("INT");
     command.add_option("--sweep", o.sweep,
-                        "sweep direction: up (wmin to wmax) or down (wmax to wmin); each point starts from the "
-                        "previous point's steady state; or branch (--method exact): the branch of exact orbits from wmin "
+                        "sweep: up (wmin to wmax), down (wmax to wmin), or branch (--method exact: the exact orbits "
+                        "through the folds)\nsweep direction: up (wmin to wmax) or down (wmax to wmin); each point "
+                        "starts from the previous point's steady state; or branch (--method exact): the branch of exact "
+                        "orbits from wmin "
                         "followed by its arclength through its folds until it leaves [wmin, wmax], each point solved at "
                         "the w predicted along the branch (steps at most those of --points on a flat branch, adapted; at "
                         "most 10 --points points), the folds located")

@@ -430,6 +430,8 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
                              "|T| / (mu N) - 1 stuck, 0 slipping, 1 open, at every step)"},
         {"stick_margin_max", "max of the stick indicator (< 0: full stick; coulomb also at each velocity reversal)"},
         {"switches", "stick/slip mode changes of all contacts in the final period", ColumnType::integer},
+        {"max_multiplier", "--method exact: the orbit's largest |Floquet multiplier| (above 1 + 1e-6: unstable, a "
+                           "time integration there goes to another response); empty for time integration"},
     };
     columns.insert(columns.end(), rest.begin(), rest.end());
     return columns;
@@ -449,7 +451,7 @@ Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::v
             row.resize(1 + 2 * outputs.size());
             for (int c = 0; c < contacts; ++c) row.insert(row.end(), {Cell(), std::string("failed")});
             for (std::size_t c = 0; c < normal.size() + 3 * interfaces.size(); ++c) row.emplace_back();
-            row.insert(row.end(), {Cell(), static_cast<long long>(r.periods), std::string("false"), Cell(), Cell(), Cell()});
+            row.insert(row.end(), {Cell(), static_cast<long long>(r.periods), std::string("false"), Cell(), Cell(), Cell(), Cell()});
             table.add_row(std::move(row));
             continue;
         }
@@ -464,7 +466,8 @@ Table timeint_table(const std::vector<PeriodicResponse>& responses, const std::v
         }
         add_share_cells(row, r.contacts, interfaces);
         row.insert(row.end(), {r.energy, static_cast<long long>(r.periods), std::string(r.converged ? "true" : "false"),
-                               r.stick_margin_min, r.stick_margin_max, static_cast<long long>(r.switches)});
+                               r.stick_margin_min, r.stick_margin_max, static_cast<long long>(r.switches),
+                               std::isfinite(r.max_multiplier) ? Cell(r.max_multiplier) : Cell()});
         table.add_row(std::move(row));
     }
     return table;
