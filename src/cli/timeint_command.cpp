@@ -303,7 +303,9 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
         R"(Each frequency is integrated period by period until the Poincare map converges (with Newton shooting
 steps when it contracts slowly). The first frequency starts from the linear steady state with the
 contact stuck, the next ones from the previous steady state (a sweep follows one branch: hysteresis
-between up and down sweeps). Output: CSV with a header row, one row per frequency in sweep order.
+between up and down sweeps; --sweep branch with --method exact follows the branch of exact orbits
+through its folds, the folds in notes). Output: CSV with a header row, one row per frequency in
+sweep (or branch) order.
 Nondimensional as in the paper: y = x / x_s, x_s = N / k1, w = Omega / omega1.
 Columns:)",
         io::timeint_columns({Output::dof(0), Output::dof(1)}, 1, {0}, {InterfaceContacts{}}),  // with law elastic's and an interface's columns
