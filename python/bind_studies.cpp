@@ -229,7 +229,7 @@ void bind_studies(py::module_& m) {
             o.omega_min = wmin;
             o.omega_max = wmax;
             o.step = 1.0 / static_cast<double>(points - 1);
-            o.max_points = 10 * static_cast<int>(points);
+            o.max_points = exact_branch_point_factor * static_cast<int>(points);
             o.exact.outputs = outputs.empty() ? s.reported() : outputs;
             o.exact.tolerance = tolerance;
             o.exact.stop = python_stop(time_limit);

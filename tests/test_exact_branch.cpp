@@ -143,6 +143,33 @@ TEST_CASE("exact branch: liftoff3_rigid through both folds of its lift-off reson
     CHECK(std::abs(fine.folds[1].omega - lower.omega) <= 1e-5);
 }
 
+TEST_CASE("exact branch: liftoff3_rigid's corners where its contact starts and stops slipping", "[exact][branch]") {
+    // Below the folds the branch passes points where the contact's regime changes (permanent
+    // stick to stick-slip and back): the branch is not smooth there. Each is taken as a corner,
+    // and the exact orbits either side of it have the two regimes.
+    const SystemConfig config = io::read_system_config(branch_system);
+    ExactBranchOptions o;
+    o.omega_min = 0.9;
+    o.omega_max = 1.4;
+    o.step = 1.0 / 40.0;
+    o.max_points = 5000;
+    o.exact.outputs = {Output::dof(0)};
+    const ExactBranch b = exact_branch(config.system, o, Eigen::VectorXd());
+    INFO(b.message);
+    REQUIRE(b.status == "completed");
+    REQUIRE(b.corners.size() == 2);
+    for (const double w : b.corners) {
+        INFO("corner at w = " << w);
+        std::size_t k = 0;
+        while (k < b.points.size() && b.points[k].omega != w) ++k;
+        REQUIRE(k >= 2);
+        REQUIRE(k + 2 < b.points.size());
+        const std::string before = b.points[k - 2].regime, after = b.points[k + 2].regime;
+        CHECK(before != after);
+        CHECK(((before == "stick" && after == "stick-slip") || (before == "stick-slip" && after == "stick")));
+    }
+}
+
 TEST_CASE("exact branch: law elastic's solver finds the same folds on liftoff3.toml", "[exact][branch]") {
     // liftoff3.toml is liftoff3_rigid.toml's structure with law elastic's element (the massless
     // node tied by springs is that element's slider): the same physics by another exact solver

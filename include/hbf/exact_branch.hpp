@@ -24,10 +24,12 @@
 // options.step. Otherwise the step halves; below 1e-4 of options.step the branch ends (failed).
 // A fold is where w turns: its w is the parabola's vertex through the three points about the turn,
 // each an exact orbit (the fold itself is estimated, not solved: its error is of the order of the
-// steps there). Where the branch has a corner (its tangent turns at a point: a contact's state
-// changes, e.g. from permanent stick to stick-slip), the parabola's error shrinks only like the
-// step: the point where the halved steps show that is taken as the corner and the prediction
-// restarts from it (the next step from its state, in the direction w moved). The branch ends where it leaves [omega_min, omega_max] (its last point then on
+// steps there). Where the branch is not smooth (a contact's regime changes, e.g. from permanent
+// stick to stick-slip: a corner, or a weaker singularity where a slip phase's length grows like a
+// root of the distance in w), the parabola's error shrinks slower than the step's square as the
+// step halves: the point where that shows (its error at most corner_ratio = 3 steps, at most
+// 1.5 times smaller than at twice the step, below 1/16 of options.step) is taken as a corner
+// and the prediction restarts from it (the next step from its state, in the direction w moved). The branch ends where it leaves [omega_min, omega_max] (its last point then on
 // the bound: completed), after options.max_points points (incomplete) or at a stop request.
 #pragma once
 
@@ -41,6 +43,11 @@
 #include "hbf/time_integration.hpp"
 
 namespace hbf {
+
+/// hbf timeint --sweep branch and hbfriction.exact_branch take at most this many times --points
+/// points (the step of --points on a flat branch): a branch through peaks, corners and folds
+/// takes more points than a flat one of the same step.
+constexpr int exact_branch_point_factor = 20;
 
 struct ExactBranchOptions {
     double omega_min = 0.0, omega_max = 0.0;  ///< the band, 0 < omega_min < omega_max
@@ -67,9 +74,8 @@ struct ExactFold {
 struct ExactBranch {
     std::vector<PeriodicResponse> points;  ///< in branch order, each converged
     std::vector<ExactFold> folds;
-    /// The w of the points where the branch's tangent turns (a corner: a contact's state changes
-    /// there, e.g. permanent stick to stick-slip), taken where the prediction's error stayed of
-    /// the order of the step (at most twice it) as the step halved below 1/16 of options.step.
+    /// The w of the points where the branch is not smooth (corners: a contact's regime changes
+    /// there, e.g. permanent stick to stick-slip; see above).
     std::vector<double> corners;
     int rejected = 0;  ///< solves not taken (a step halved)
     /// completed (the branch left the band), incomplete (max_points reached), stopped (the

@@ -769,7 +769,7 @@ def exact_branch(system, wmin, wmax, *, points=101, outputs=None, tolerance=1e-1
     """The branch of exact periodic orbits from wmin followed through its folds until it leaves
     [wmin, wmax] (hbf timeint --method exact --sweep branch; coulomb, jenkins, laws unilateral and
     elastic): each point the exact orbit at the w predicted along the branch, its steps at most
-    those of `points` points on a flat branch (adapted), at most 10 points points.
+    those of `points` points on a flat branch (adapted), at most 20 points points.
     tolerance: Newton's on the period map; time_limit: seconds (0: none; then, or on Ctrl-C, the
     points so far with status stopped). Returns a Table with hbf timeint's columns in branch
     order, plus ``responses`` (as timeint's, with each orbit's max_multiplier), ``folds`` (per

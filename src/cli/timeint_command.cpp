@@ -25,9 +25,7 @@ namespace hbf::cli {
 
 namespace {
 constexpr long long max_points = 10000;
-/// --sweep branch: at most this many times --points points (a branch through peaks and folds
-/// has more points than a flat one of the same step).
-constexpr int branch_point_factor = 10;
+
 
 struct TimeintOptions {
     AbsorberFlags absorber;
@@ -155,7 +153,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         bo.omega_min = omegas.front();
         bo.omega_max = omegas.back();
         bo.step = 1.0 / static_cast<double>(omegas.size() - 1);
-        bo.max_points = branch_point_factor * static_cast<int>(omegas.size());
+        bo.max_points = exact_branch_point_factor * static_cast<int>(omegas.size());
         bo.exact = eo;
         bo.max_periods = tio.max_periods;
         if (progress)
@@ -174,7 +172,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
                          ": the parabola's vertex through the exact orbits about the turn)");
         for (const double w : b.corners)
             verdict.note("a corner of the branch at w = " + format_number(w) +
-                         " (its tangent turns there: a contact's state changes)");
+                         " (not smooth there: a contact's regime changes, e.g. stick to stick-slip)");
         verdict.note(std::to_string(responses.size()) + " branch points, " + std::to_string(b.folds.size()) + " fold(s), " +
                      std::to_string(b.corners.size()) + " corner(s), " +
                      std::to_string(b.rejected) + " solve(s) not taken (the step halved)");
@@ -250,7 +248,7 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
                         "orbits from wmin "
                         "followed by its arclength through its folds until it leaves [wmin, wmax], each point solved at "
                         "the w predicted along the branch (steps at most those of --points on a flat branch, adapted; at "
-                        "most 10 --points points), the folds located")
+                        "most 20 --points points), the folds located")
         ->capture_default_str()->type_name("up|down|branch");
     command.add_option("--rtol", o.rtol,
                        "CVODE relative tolerance, " +

@@ -136,7 +136,7 @@ double chord(const BranchPoint& a, const BranchPoint& b, double band) {
 
 /// A prediction off by at most this many steps whose error does not shrink as the step halves
 /// is a corner of the branch.
-constexpr double corner_ratio = 2.0;
+constexpr double corner_ratio = 3.0;
 
 /// A failed branch whose last vertical_points points lie within vertical_share of w is said to
 /// turn vertical.
