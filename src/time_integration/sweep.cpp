@@ -171,8 +171,10 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
         BranchPoint p{r.omega, Eigen::VectorXd(2 * m), Eigen::VectorXd(2 * m)};
         for (Eigen::Index k = 0; k < m; ++k) {
             const auto i = moving[static_cast<std::size_t>(k)];
-            p.h(k) = r.harmonic1(i).real();
-            p.h(m + k) = r.harmonic1(i).imag();
+            // (every exact solver fills harmonic1; the state's y, y' / w stand in otherwise)
+            const bool harmonics = r.harmonic1.size() == n;
+            p.h(k) = harmonics ? r.harmonic1(i).real() : r.state(i);
+            p.h(m + k) = harmonics ? r.harmonic1(i).imag() : r.state(n + i) / r.omega;
             p.x(k) = r.state(i);
             p.x(m + k) = r.state(n + i) / r.omega;
         }
