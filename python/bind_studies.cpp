@@ -223,13 +223,7 @@ void bind_studies(py::module_& m) {
         "exact_branch",
         [](const PySystem& s, double wmin, double wmax, long long points, std::vector<Output> outputs, double tolerance,
            double time_limit) {
-            if (!(points >= 2 && points <= 10000))
-                bad("points = " + std::to_string(points) + " is out of range: allowed 2..10000");
-            ExactBranchOptions o;
-            o.omega_min = wmin;
-            o.omega_max = wmax;
-            o.step = 1.0 / static_cast<double>(points - 1);
-            o.max_points = exact_branch_point_factor * static_cast<int>(points);
+            ExactBranchOptions o = exact_branch_options(wmin, wmax, points);
             o.exact.outputs = outputs.empty() ? s.reported() : outputs;
             o.exact.tolerance = tolerance;
             o.exact.stop = python_stop(time_limit);

@@ -65,6 +65,11 @@ struct ExactBranchOptions {
     void validate() const;
 };
 
+/// The options of hbf timeint --sweep branch and hbfriction.exact_branch for `points` points
+/// (2..10000, as a sweep's grid): the largest step 1 / (points - 1), at most
+/// exact_branch_point_factor points points. Throws InvalidInput naming points out of range.
+ExactBranchOptions exact_branch_options(double omega_min, double omega_max, long long points);
+
 /// A turning point of the branch in w.
 struct ExactFold {
     double omega = 0.0;  ///< the parabola's vertex through the three points about the turn

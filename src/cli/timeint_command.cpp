@@ -149,11 +149,8 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     Eigen::VectorXd state = linear_stuck_state(system, omegas.front());
     Verdict verdict;
     if (branch) {
-        ExactBranchOptions bo;
-        bo.omega_min = omegas.front();
-        bo.omega_max = omegas.back();
-        bo.step = 1.0 / static_cast<double>(omegas.size() - 1);
-        bo.max_points = exact_branch_point_factor * static_cast<int>(omegas.size());
+        ExactBranchOptions bo =
+            exact_branch_options(omegas.front(), omegas.back(), static_cast<long long>(omegas.size()));
         bo.exact = eo;
         bo.max_periods = tio.max_periods;
         if (progress)

@@ -118,6 +118,17 @@ void ExactBranchOptions::validate() const {
     exact.validate();
 }
 
+ExactBranchOptions exact_branch_options(double omega_min, double omega_max, long long points) {
+    if (points < 2 || points > 10000)
+        throw InvalidInput("points = " + std::to_string(points) + " is out of range: allowed 2..10000");
+    ExactBranchOptions o;
+    o.omega_min = omega_min;
+    o.omega_max = omega_max;
+    o.step = 1.0 / static_cast<double>(points - 1);
+    o.max_points = exact_branch_point_factor * static_cast<int>(points);
+    return o;
+}
+
 namespace {
 
 /// A point of the branch in the predictor's coordinates: w, h = the first harmonics (cosine and
