@@ -865,10 +865,22 @@ TEST_CASE("rigid exact 3D: where mirror-image nodes change pattern at one instan
         const ExactOrbit orbit = rigid_periodic_orbit(mirror_pair(asymmetry), 0.7, Eigen::VectorXd());
         INFO("asymmetry " << asymmetry << ": " << orbit.message);
         REQUIRE(orbit.converged);
-        differenced = differenced || orbit.message.find("central differences") != std::string::npos;
+        const bool by_differences = orbit.message.find("central differences") != std::string::npos;
+        differenced = differenced || by_differences;
         CHECK(std::abs(orbit.y_amp1[0] - symmetric.y_amp1[0]) <= 1e-7 * symmetric.y_amp1[0]);
         CHECK(std::abs(orbit.max_multiplier - symmetric.max_multiplier) <= 1e-7);
         CHECK(orbit.stable == symmetric.stable);
+        if (by_differences) {  // Arnoldi's dominant multipliers: each one of the symmetric orbit's
+            CHECK(orbit.message.find("Arnoldi") != std::string::npos);
+            REQUIRE(orbit.multipliers.size() > 0);
+            for (const std::complex<double>& mu : orbit.multipliers) {
+                if (std::abs(mu) < 0.05) continue;
+                double nearest = std::numeric_limits<double>::infinity();
+                for (const std::complex<double>& nu : symmetric.multipliers) nearest = std::min(nearest, std::abs(mu - nu));
+                INFO("multiplier " << mu);
+                CHECK(nearest <= 1e-6);
+            }
+        }
     }
     CHECK(differenced);  // the check was met where the flow's derivative is off
     CHECK(symmetric.max_multiplier < 0.5);

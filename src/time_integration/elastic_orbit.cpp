@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "numerics/krylov.hpp"
 #include "time_integration/elastic_contacts.hpp"
 #include "time_integration/elastic_integrator.hpp"
 #include "hbf/contact_law.hpp"
@@ -31,105 +32,13 @@ constexpr double difference_step = 1e-5;
 constexpr double krylov_forcing = 1e-3;
 /// At most this many Krylov vectors (GMRES, and Arnoldi for the multipliers).
 constexpr int krylov_max_steps = 120;
-/// Arnoldi's Ritz values count as multipliers where their residual estimate is below this
-/// (relative to max(1, |mu|)): about the central differences' accuracy.
-constexpr double arnoldi_tolerance = 1e-5;
-/// Arnoldi stops once the arnoldi_count largest Ritz values of at least arnoldi_dominant in
-/// modulus have converged (the verdict needs the largest; the next ones say how close others are).
-constexpr double arnoldi_dominant = 0.05;
-constexpr int arnoldi_count = 10;
 
 using detail::ElasticIntegrator;
 using detail::ElasticRoute;
-
-/// y = op(x) on scaled states; false where a period failed or a stop came.
-using Operator = std::function<bool(const Eigen::VectorXd&, Eigen::VectorXd&)>;
-
-/// Arnoldi step j: op(v_j) orthogonalised (modified Gram-Schmidt, twice) against v_0..v_j into
-/// column j of h (zero on entry), v_{j+1} its direction; breakdown where nothing is left.
-bool arnoldi_step(const Operator& op, Eigen::MatrixXd& v, Eigen::MatrixXd& h, int j, bool& breakdown) {
-    Eigen::VectorXd w;
-    if (!op(v.col(j), w)) return false;
-    const double before = w.norm();
-    for (int pass = 0; pass < 2; ++pass)
-        for (int i = 0; i <= j; ++i) {
-            const double c = v.col(i).dot(w);
-            h(i, j) += c;
-            w -= c * v.col(i);
-        }
-    h(j + 1, j) = w.norm();
-    breakdown = !(h(j + 1, j) > 1e-14 * std::max(before, 1e-300));
-    if (!breakdown) v.col(j + 1) = w / h(j + 1, j);
-    return true;
-}
-
-/// GMRES on op u = b from u = 0 until |b - op u| <= eta |b|, a breakdown or `most` steps; u the
-/// minimum-norm least-squares solution on the Krylov space (op may be singular: a family of
-/// orbits). False where op failed.
-bool gmres(const Operator& op, const Eigen::VectorXd& b, double eta, int most, Eigen::VectorXd& u, int& steps) {
-    const double beta = b.norm();
-    u = Eigen::VectorXd::Zero(b.size());
-    steps = 0;
-    if (!(beta > 0.0)) return true;
-    Eigen::MatrixXd v = Eigen::MatrixXd::Zero(b.size(), most + 1), h = Eigen::MatrixXd::Zero(most + 1, most);
-    v.col(0) = b / beta;
-    Eigen::VectorXd y;
-    for (int j = 0; j < most; ++j) {
-        bool breakdown = false;
-        if (!arnoldi_step(op, v, h, j, breakdown)) return false;
-        steps = j + 1;
-        Eigen::VectorXd rhs = Eigen::VectorXd::Zero(j + 2);
-        rhs(0) = beta;
-        const Eigen::MatrixXd hj = h.topLeftCorner(j + 2, j + 1);
-        Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(hj);
-        decomposition.setThreshold(1e-12);
-        y = decomposition.solve(rhs);
-        if (breakdown || (rhs - hj * y).norm() <= eta * beta) break;
-    }
-    u = v.leftCols(steps) * y;
-    return true;
-}
-
-/// The dominant eigenvalues of op by Arnoldi from `start`: stopped once the arnoldi_count
-/// largest Ritz values of modulus >= arnoldi_dominant have a residual estimate |h_{m+1,m} y_m|
-/// below arnoldi_tolerance max(1, |theta|), at an invariant subspace, or after `most` steps.
-/// `values`: the converged Ritz values; `largest`: the largest modulus of all (converged or not);
-/// `unconverged`: those among the arnoldi_count largest not converged. False where op failed.
-bool dominant_eigenvalues(const Operator& op, const Eigen::VectorXd& start, int most, Eigen::VectorXcd& values,
-                          double& largest, int& unconverged, int& steps) {
-    const auto k = start.size();
-    Eigen::MatrixXd v = Eigen::MatrixXd::Zero(k, most + 1), h = Eigen::MatrixXd::Zero(most + 1, most);
-    v.col(0) = start.normalized();
-    for (int j = 0; j < most; ++j) {
-        bool breakdown = false;
-        if (!arnoldi_step(op, v, h, j, breakdown)) return false;
-        steps = j + 1;
-        const int m = j + 1;
-        Eigen::EigenSolver<Eigen::MatrixXd> ritz(h.topLeftCorner(m, m), true);
-        if (ritz.info() != Eigen::Success) continue;
-        std::vector<int> order(static_cast<std::size_t>(m));
-        for (int i = 0; i < m; ++i) order[static_cast<std::size_t>(i)] = i;
-        std::sort(order.begin(), order.end(), [&](int a, int b) {
-            return std::abs(ritz.eigenvalues()(a)) > std::abs(ritz.eigenvalues()(b));
-        });
-        std::vector<std::complex<double>> kept;
-        largest = m > 0 ? std::abs(ritz.eigenvalues()(order.front())) : 0.0;
-        unconverged = 0;
-        for (int rank = 0; rank < m; ++rank) {
-            const int i = order[static_cast<std::size_t>(rank)];
-            const std::complex<double> theta = ritz.eigenvalues()(i);
-            const Eigen::VectorXcd y = ritz.eigenvectors().col(i).normalized();
-            const double residual = breakdown ? 0.0 : h(m, m - 1) * std::abs(y(m - 1));
-            if (residual <= arnoldi_tolerance * std::max(1.0, std::abs(theta)))
-                kept.push_back(theta);
-            else if (rank < arnoldi_count && std::abs(theta) >= arnoldi_dominant)
-                ++unconverged;
-        }
-        values = Eigen::Map<Eigen::VectorXcd>(kept.data(), static_cast<Eigen::Index>(kept.size()));
-        if (breakdown || (unconverged == 0 && m >= std::min<int>(static_cast<int>(k), 8))) break;
-    }
-    return true;
-}
+using detail::KrylovOperator;
+using detail::arnoldi_count;
+using detail::arnoldi_dominant;
+using Operator = KrylovOperator;
 
 }  // namespace
 
