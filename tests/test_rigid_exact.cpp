@@ -25,6 +25,7 @@
 #include "hbf/time_integration.hpp"
 
 #include "event_exact/cone_engine.hpp"
+#include "event_exact/radau.hpp"
 
 #include "../benchmarks/contact_chain.hpp"
 #include "support.hpp"
@@ -689,6 +690,48 @@ int check_flow_derivative(const System& system, double omega, int pieces, double
 }
 
 }  // namespace
+
+TEST_CASE("rigid exact 3D: the collocation's Newton system split by A's eigenvalues is the whole system's",
+          "[rigid_exact]") {
+    // (I - h A (x) J) dZ = -G solved whole (size s m) and as s complex systems of size m
+    // (radau.hpp), for tables of 2 to 7 stages (odd: a real eigenvalue; even: pairs only) and a
+    // stiff J with complex eigenvalues.
+    const int m = 7;
+    Eigen::MatrixXd J(m, m), G(m, 1);
+    for (int i = 0; i < m; ++i)
+        for (int j = 0; j < m; ++j) J(i, j) = std::sin(1.0 + 3.0 * i + 7.0 * j) * (i == j ? 40.0 : 25.0);
+    for (int stages = 2; stages <= 7; ++stages) {
+        const detail::exact::RadauTable& R = detail::exact::radau_table(stages);
+        const int s = R.stages;
+        // A^-1 V = V diag(lambda)
+        const Eigen::MatrixXcd a = R.a.cast<std::complex<double>>();
+        CHECK((R.vectors - a * R.vectors * R.lambda.asDiagonal()).norm() <= 1e-12 * R.vectors.norm());
+        G.resize(m, s);
+        for (int i = 0; i < m; ++i)
+            for (int k = 0; k < s; ++k) G(i, k) = std::cos(0.3 + i + 2.0 * k);
+        for (double h : {1e-3, 0.05, 1.0}) {
+            Eigen::MatrixXd M = Eigen::MatrixXd::Identity(s * m, s * m);
+            for (int i = 0; i < s; ++i)
+                for (int j = 0; j < s; ++j) M.block(i * m, j * m, m, m) -= (h * R.a(i, j)) * J;
+            const Eigen::VectorXd whole = M.fullPivLu().solve(-Eigen::Map<const Eigen::VectorXd>(G.data(), G.size()));
+            const Eigen::MatrixXcd rhs = -G * R.right;
+            Eigen::MatrixXcd w(m, s);
+            int solved = 0;
+            for (int k = 0; k < s; ++k)
+                if (R.partner(k) < 0) {
+                    ++solved;
+                    const Eigen::MatrixXcd K = R.lambda(k) * Eigen::MatrixXcd::Identity(m, m) - (h * J).cast<std::complex<double>>();
+                    w.col(k) = K.fullPivLu().solve(rhs.col(k));
+                }
+            for (int k = 0; k < s; ++k)
+                if (R.partner(k) >= 0) w.col(k) = w.col(R.partner(k)).conjugate();
+            const Eigen::MatrixXd split = (w * R.vectors.transpose()).real();
+            INFO(s << " stages, h = " << h);
+            CHECK(solved == (s + 1) / 2);  // one system per conjugate pair, one per real eigenvalue
+            CHECK((Eigen::Map<const Eigen::VectorXd>(split.data(), split.size()) - whole).norm() <= 1e-10 * whole.norm());
+        }
+    }
+}
 
 TEST_CASE("rigid exact 3D: a flow's derivative without events is its central differences", "[rigid_exact]") {
     CHECK(check_flow_derivative(bench::contact_chain_3d(3, 1.0, 0.8), 0.6, 48, 1.0 / 48.0, 3, false) >= 2);

@@ -476,10 +476,24 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
     if (start.rate.size() != m) start.rate = rate(zhat);
     const VectorXd& f0 = start.rate;
     const MatrixXd& J = start.J;
-    MatrixXd M = MatrixXd::Identity(s * m, s * m);
-    for (int i = 0; i < s; ++i)
-        for (int j = 0; j < s; ++j) M.block(i * m, j * m, m, m) -= (h * R.a(i, j)) * J;
-    const Eigen::PartialPivLU<MatrixXd> lu(M);
+    // Newton's matrix I - h A (x) J by A's eigen-decomposition (radau.hpp): one complex m x m
+    // system per eigenvalue, one per conjugate pair, instead of one of size s m.
+    std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> lus(static_cast<std::size_t>(s));
+    {
+        const Eigen::MatrixXcd hJ = (h * J).cast<std::complex<double>>();
+        for (int k = 0; k < s; ++k)
+            if (R.partner(k) < 0)
+                lus[static_cast<std::size_t>(k)].compute(R.lambda(k) * Eigen::MatrixXcd::Identity(m, m) - hJ);
+    }
+    auto newton_step = [&](const MatrixXd& G) {
+        const Eigen::MatrixXcd rhs = -G * R.right;
+        Eigen::MatrixXcd w(m, s);
+        for (int k = 0; k < s; ++k)
+            if (R.partner(k) < 0) w.col(k) = lus[static_cast<std::size_t>(k)].solve(rhs.col(k));
+        for (int k = 0; k < s; ++k)
+            if (R.partner(k) >= 0) w.col(k) = w.col(R.partner(k)).conjugate();
+        return MatrixXd((w * R.vectors.transpose()).real());
+    };
     // The stage increments Z_i = V_i - v_0 are the unknowns (their rounding relative to
     // themselves, not to v_0: the polynomial's slope stays accurate on short steps).
     // First guess: the previous step's polynomial extrapolated to the stages (it ends where this
@@ -506,11 +520,10 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
         start.iterations = it + 1;
         for (int i = 0; i < s; ++i) F.col(i) = rate(full(v0 + Z.col(i), R.c(i)));
         if (!F.allFinite()) return false;
-        const MatrixXd G = Z - h * F * R.a.transpose();
-        const VectorXd dz = lu.solve(-Eigen::Map<const VectorXd>(G.data(), G.size()));
-        Z += Eigen::Map<const MatrixXd>(dz.data(), m, s);
+        const MatrixXd dz = newton_step(Z - h * F * R.a.transpose());
+        Z += dz;
         double change = 0.0;
-        for (int i = 0; i < s; ++i) change = std::max(change, (dz.segment(i * m, m).array().abs() / scale.array()).maxCoeff());
+        for (int i = 0; i < s; ++i) change = std::max(change, (dz.col(i).array().abs() / scale.array()).maxCoeff());
         if (!std::isfinite(change)) return false;
         if (change <= newton_share * collocation_tolerance) {
             converged = true;

@@ -1,7 +1,9 @@
 // hbfriction — the Radau IIA collocation tables (radau.hpp), computed in long double.
 #include "event_exact/radau.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
+#include <complex>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -80,6 +82,32 @@ RadauTable make_table(int s) {
         for (int k = 0; k <= s; ++k) w(i, k) = k == 0 ? 1.0L : std::pow(sigma, static_cast<long double>(k));
     }
     t.to_monomial = w.fullPivLu().inverse().cast<double>();
+    // The eigen-decomposition of A^-1 (in long double, then rounded): the stages' systems apart.
+    const LongMatrix a_inverse = [&] {
+        LongMatrix a(s, s);
+        for (int i = 0; i < s; ++i)
+            for (int j = 0; j < s; ++j) {
+                long double sum = 0.0L;
+                for (int k = 0; k < s; ++k)
+                    sum += l(k, j) * std::pow(c[static_cast<std::size_t>(i)], static_cast<long double>(k + 1)) / (k + 1);
+                a(i, j) = sum;
+            }
+        return LongMatrix(a.fullPivLu().inverse());
+    }();
+    const Eigen::EigenSolver<LongMatrix> eigen(a_inverse, true);
+    if (eigen.info() != Eigen::Success) throw std::logic_error("radau_table: eigenvalues of A^-1");
+    using LongComplex = Eigen::Matrix<std::complex<long double>, Eigen::Dynamic, Eigen::Dynamic>;
+    const LongComplex vectors = eigen.eigenvectors();
+    const LongComplex right = (LongComplex(vectors.inverse()) * a_inverse.cast<std::complex<long double>>()).transpose();
+    t.lambda = eigen.eigenvalues().cast<std::complex<double>>();
+    t.vectors = vectors.cast<std::complex<double>>();
+    t.right = right.cast<std::complex<double>>();
+    t.partner = Eigen::VectorXi::Constant(s, -1);
+    for (int k = 0; k + 1 < s; ++k)
+        if (t.lambda(k).imag() > 0.0 && std::abs(t.lambda(k + 1) - std::conj(t.lambda(k))) <= 1e-12 * std::abs(t.lambda(k))) {
+            t.partner(k + 1) = k;
+            ++k;
+        }
     return t;
 }
 

@@ -19,6 +19,16 @@ struct RadauTable {
     /// (s + 1) x (s + 1): the monomial coefficients (in sigma in [0, 1]) of the polynomial through
     /// the values at sigma = 0, c_1, ..., c_s are to_monomial * values.
     Eigen::MatrixXd to_monomial;
+    /// A^-1 = V diag(lambda) V^-1 (complex; a real A's eigenvalues come in conjugate pairs, each
+    /// pair consecutive with conjugate vectors): the simplified Newton system of the stages,
+    /// (I - h A (x) J) dZ = -G (dZ, G: m x s, a column a stage), splits into s systems
+    /// (lambda_k I - h J) dW_k = R_k with R = -G right, right = (V^-1 A^-1)^T, and dZ = Re(dW V^T);
+    /// of a conjugate pair only the first is solved, the second is its conjugate.
+    Eigen::VectorXcd lambda;
+    Eigen::MatrixXcd vectors;  ///< V
+    Eigen::MatrixXcd right;    ///< (V^-1 A^-1)^T
+    /// partner(k): the column whose conjugate column k is (-1: column k is solved).
+    Eigen::VectorXi partner;
 };
 
 /// The table of `stages` stages (2..12), computed in long double once and kept.
