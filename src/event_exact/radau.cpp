@@ -67,15 +67,17 @@ RadauTable make_table(int s) {
     t.stages = s;
     t.c.resize(s);
     t.a.resize(s, s);
+    LongMatrix a(s, s);
     for (int i = 0; i < s; ++i) {
         const long double ci = c[static_cast<std::size_t>(i)];
         t.c(i) = static_cast<double>(ci);
         for (int j = 0; j < s; ++j) {
             long double sum = 0.0L;
             for (int k = 0; k < s; ++k) sum += l(k, j) * std::pow(ci, static_cast<long double>(k + 1)) / (k + 1);
-            t.a(i, j) = static_cast<double>(sum);
+            a(i, j) = sum;
         }
     }
+    t.a = a.cast<double>();
     LongMatrix w(s + 1, s + 1);
     for (int i = 0; i <= s; ++i) {
         const long double sigma = i == 0 ? 0.0L : c[static_cast<std::size_t>(i - 1)];
@@ -83,17 +85,7 @@ RadauTable make_table(int s) {
     }
     t.to_monomial = w.fullPivLu().inverse().cast<double>();
     // The eigen-decomposition of A^-1 (in long double, then rounded): the stages' systems apart.
-    const LongMatrix a_inverse = [&] {
-        LongMatrix a(s, s);
-        for (int i = 0; i < s; ++i)
-            for (int j = 0; j < s; ++j) {
-                long double sum = 0.0L;
-                for (int k = 0; k < s; ++k)
-                    sum += l(k, j) * std::pow(c[static_cast<std::size_t>(i)], static_cast<long double>(k + 1)) / (k + 1);
-                a(i, j) = sum;
-            }
-        return LongMatrix(a.fullPivLu().inverse());
-    }();
+    const LongMatrix a_inverse = a.fullPivLu().inverse();
     const Eigen::EigenSolver<LongMatrix> eigen(a_inverse, true);
     if (eigen.info() != Eigen::Success) throw std::logic_error("radau_table: eigenvalues of A^-1");
     using LongComplex = Eigen::Matrix<std::complex<long double>, Eigen::Dynamic, Eigen::Dynamic>;

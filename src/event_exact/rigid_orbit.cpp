@@ -641,6 +641,27 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 return std::max({norm.reference, at.head(nm).cwiseAbs().maxCoeff(),
                                  at.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
             };
+            // The period map's central difference along `direction` (in the unknowns' own
+            // units) at `at`, steps of 1e-6 of it: d x_end / d x times direction. False where a
+            // perturbed period failed (`failure` says why).
+            std::string failure;
+            // `events`: the perturbed periods' events, where given.
+            auto difference_along = [&](const VectorXd& at, const VectorXd& direction, VectorXd& out_difference,
+                                        std::vector<ExactEvent>* events = nullptr) {
+                constexpr double delta = 1e-6;
+                const VectorXd plus = at + delta * direction, minus = at - delta * direction;
+                PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
+                if (!fp.ok || !fm.ok) {
+                    failure = (fp.ok ? fm : fp).message;
+                    return false;
+                }
+                out_difference = (pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta);
+                if (events) {
+                    events[0] = std::move(fp.events);
+                    events[1] = std::move(fm.events);
+                }
+                return true;
+            };
             auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
                 MatrixXd d(nu, nu);
                 if constexpr (exact_monodromy) {
@@ -658,13 +679,10 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     }
                     const VectorXd scale = units(difference_size(at));
                     for (Eigen::Index k = 0; k < nu; ++k) {
-                        const double delta = 1e-6 * scale(k);
-                        VectorXd plus = at, minus = at;
-                        plus(k) += delta;
-                        minus(k) -= delta;
-                        const PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
-                        if (!fp.ok || !fm.ok) throw std::runtime_error("the period map's derivative: " + (fp.ok ? fm : fp).message);
-                        d.col(k) = (pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta);
+                        VectorXd column;
+                        if (!difference_along(at, scale(k) * VectorXd::Unit(nu, k), column))
+                            throw std::runtime_error("the period map's derivative: " + failure);
+                        d.col(k) = column / scale(k);
                     }
                 }
                 return d;
@@ -683,11 +701,11 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 VectorXd pattern(nu);  // entries of one size and no symmetry
                 for (Eigen::Index k = 0; k < nu; ++k) pattern(k) = std::sin(1.0 + 2.0 * static_cast<double>(k));
                 const VectorXd direction = scale.cwiseProduct(pattern);
-                constexpr double delta = 1e-6;
-                const VectorXd plus = at + delta * direction, minus = at - delta * direction;
-                const PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
-                if (!fp.ok || !fm.ok) return Mismatch{std::numeric_limits<double>::infinity(), false};
-                const VectorXd differences = ((pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta)).cwiseQuotient(scale);
+                VectorXd differences;
+                std::vector<ExactEvent> perturbed[2];
+                if (!difference_along(at, direction, differences, perturbed))
+                    return Mismatch{std::numeric_limits<double>::infinity(), false};
+                differences = differences.cwiseQuotient(scale);
                 const VectorXd predicted = (d * direction).cwiseQuotient(scale);
                 const double size_of = std::max({differences.cwiseAbs().maxCoeff(), predicted.cwiseAbs().maxCoeff(),
                                                  pattern.cwiseAbs().maxCoeff()});
@@ -697,7 +715,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     return n;
                 };
                 const std::vector<int> own = counts(orbit);
-                const bool kink = counts(fp.events) != own || counts(fm.events) != own;
+                const bool kink = counts(perturbed[0]) != own || counts(perturbed[1]) != own;
                 return Mismatch{(differences - predicted).cwiseAbs().maxCoeff() / size_of, kink};
             };
             // Newton works on the unknowns in their units (the state's size, velocities times
@@ -829,30 +847,21 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                         // period map (two periods a product), in the unknowns' units: a few
                         // tens of periods where the whole matrix takes two per unknown.
                         const VectorXd scale = units(difference_size(x));
-                        std::string failure;
                         const detail::KrylovOperator product = [&](const VectorXd& u, VectorXd& y) {
                             const double length = u.cwiseAbs().maxCoeff();
                             if (!(length > 0.0)) {
                                 y = VectorXd::Zero(nu);
                                 return true;
                             }
-                            const double delta = 1e-6 / length;
-                            const VectorXd plus = x + delta * scale.cwiseProduct(u), minus = x - delta * scale.cwiseProduct(u);
-                            const PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
-                            if (!fp.ok || !fm.ok) {
-                                failure = (fp.ok ? fm : fp).message;
-                                return false;
-                            }
-                            y = ((pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta)).cwiseQuotient(scale);
+                            if (!difference_along(x, scale.cwiseProduct(u) / length, y)) return false;
+                            y = (length * y).cwiseQuotient(scale);
                             return true;
                         };
-                        VectorXd begin(nu);  // a start with entries of one size and no symmetry
-                        for (Eigen::Index k = 0; k < nu; ++k) begin(k) = 1.0 + 0.5 * std::sin(1.0 + 0.7 * static_cast<double>(k));
                         double largest = 0.0;
                         int unconverged = 0, steps = 0;
                         Eigen::VectorXcd values;
-                        if (!detail::dominant_eigenvalues(product, begin, static_cast<int>(nu), values, largest, unconverged,
-                                                          steps, multiplier_tolerance))
+                        if (!detail::dominant_eigenvalues(product, detail::arnoldi_start(nu), static_cast<int>(nu), values,
+                                                          largest, unconverged, steps, multiplier_tolerance))
                             throw std::runtime_error("the multipliers' central differences: " + failure);
                         out.multipliers = values;
                         out.max_multiplier = largest;

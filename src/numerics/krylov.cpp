@@ -31,6 +31,12 @@ bool arnoldi_step(const KrylovOperator& op, Eigen::MatrixXd& v, Eigen::MatrixXd&
 
 }  // namespace
 
+Eigen::VectorXd arnoldi_start(Eigen::Index size) {
+    Eigen::VectorXd start(size);
+    for (Eigen::Index i = 0; i < size; ++i) start(i) = 1.0 + 0.5 * std::sin(1.0 + 0.7 * static_cast<double>(i));
+    return start;
+}
+
 bool gmres(const KrylovOperator& op, const Eigen::VectorXd& b, double eta, int most, Eigen::VectorXd& u, int& steps) {
     const double beta = b.norm();
     u = Eigen::VectorXd::Zero(b.size());

@@ -21,6 +21,10 @@ constexpr double arnoldi_tolerance = 1e-5;
 constexpr double arnoldi_dominant = 0.05;
 constexpr int arnoldi_count = 10;
 
+/// A start for Arnoldi of `size` entries, all of one size and without symmetry (every
+/// component excited).
+Eigen::VectorXd arnoldi_start(Eigen::Index size);
+
 /// GMRES on op u = b from u = 0 until |b - op u| <= eta |b|, a breakdown or `most` steps; u the
 /// minimum-norm least-squares solution on the Krylov space (op may be singular: a family of
 /// orbits). `steps`: the products taken. False where op failed.

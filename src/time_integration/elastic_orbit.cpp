@@ -322,8 +322,7 @@ ExactOrbit detail::elastic_orbit(const System& system, double omega, const Eigen
     if (krylov) {
         // the dominant multipliers: Arnoldi on the monodromy's products at the orbit, from a
         // fixed start that excites every component
-        Eigen::VectorXd start(k);
-        for (int i = 0; i < k; ++i) start(i) = 1.0 + 0.5 * std::sin(1.0 + 0.7 * i);
+        const Eigen::VectorXd start = detail::arnoldi_start(k);
         double largest = 0.0;
         int unconverged = 0, steps = 0;
         const long newton_periods = krylov_periods;
