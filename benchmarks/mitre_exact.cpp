@@ -130,6 +130,9 @@ int main(int argc, char** argv) {
     app.add_option("--w", omegas, "frequencies [rad/s]")->delimiter(',');
     app.add_option("--samples", samples, "the integrator's coarse samples a period (fine: twice)");
     app.add_option("--stepping", stepping, "automatic, taylor or collocation");
+    std::string newton = "automatic";
+    app.add_option("--newton", newton, "Newton's steps: automatic (the flow's derivative first) or differences (GMRES on central differences)")
+        ->check(CLI::IsMember({"automatic", "differences"}));
     app.add_option("--config", file, "the system file");
     app.add_option("--force-scale", force_scale, "a factor on the file's excitation");
     app.add_option("--steady-tol", steady, "the integrator's steady-state tolerance");
@@ -167,6 +170,7 @@ int main(int argc, char** argv) {
     const ConeStepping choice = stepping == "taylor"        ? ConeStepping::taylor
                                 : stepping == "collocation" ? ConeStepping::collocation
                                                             : ConeStepping::automatic;
+    const ConeNewton newton_choice = newton == "differences" ? ConeNewton::differences : ConeNewton::automatic;
     nlohmann::json all = nlohmann::json::array();
     // The exact sweep: seconds per point, and its orbits by frequency.
     std::vector<PeriodicResponse> swept;
@@ -239,7 +243,7 @@ int main(int argc, char** argv) {
         } else if (no_integrator) {
             eo.warmup_periods = std::max(1, warmup);
         }
-        const ExactOrbit exact = rigid_periodic_orbit(system, omega, exact_start, eo, choice);
+        const ExactOrbit exact = rigid_periodic_orbit(system, omega, exact_start, eo, choice, newton_choice);
         const double exact_seconds = seconds_since(start);
         if (exact.converged && fd_samples > 0) {
             const auto t0 = clock_type::now();

@@ -14,15 +14,17 @@
 // truncation is below rounding, or where the directions are stiff (their relaxation far faster
 // than the period) by implicit collocation steps (ConeStepping). For 3D contacts, Newton's
 // matrix and the Floquet multipliers come from the flow's own derivative over a period (the
-// variational equation along the steps and the saltation at the events), or from central
-// differences of the period map (steps of 1e-6 of the state's size) where that is not
-// available or a Newton step with it failed. The periodic orbit is the fixed point of the
+// variational equation along the steps and the saltation at the events); where that is not
+// available or a Newton step with it failed, Newton's steps are solved by GMRES on central
+// differences of the period map (steps of 1e-6 of the state's size; two periods a product),
+// preconditioned by the flow's last Newton matrix. The periodic orbit is the fixed point of the
 // period map, solved by Newton's method; its derivative's eigenvalues are the Floquet
 // multipliers. Where contacts of a symmetric interface change pattern at one instant and are
 // coupled, the period map is only piecewise differentiable and the flow's derivative through
 // that instant follows the order in which rounding puts the events: it can be far off. So the
 // derivative at the orbit is checked along one direction against a central difference of the
-// period map (two periods), and where they differ by more than 1e-3 the multipliers are the
+// period map (two periods; again with steps of 1e-8 where those of 1e-6 meet other events), and
+// where they differ by more than 1e-3 the multipliers are the
 // dominant ones of the period map's central differences, by Arnoldi (two periods a product;
 // those of modulus >= 0.05 among the 10 largest converged to about 1e-8 or said so:
 // multipliers then holds those, not all; the message says so); except where the
@@ -97,8 +99,15 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Eigen:
 /// Taylor series only, or collocation only. 2D contacts are flowed in closed form either way.
 enum class ConeStepping { automatic, taylor, collocation };
 
-/// rigid_periodic_orbit with a chosen stepping (tests, benchmarks).
+/// Newton's steps for 3D contacts: automatic (Newton's matrix from the flow's derivative,
+/// updated by Broyden's formula; GMRES on central differences of the period map where the
+/// derivative is missing or a step with it fails), or GMRES on central differences from the
+/// first step (tests, benchmarks). 2D contacts take the exact monodromy either way.
+enum class ConeNewton { automatic, differences };
+
+/// rigid_periodic_orbit with a chosen stepping and Newton's steps (tests, benchmarks).
 ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Eigen::VectorXd& initial_state,
-                                const ExactOptions& options, ConeStepping stepping);
+                                const ExactOptions& options, ConeStepping stepping,
+                                ConeNewton newton = ConeNewton::automatic);
 
 }  // namespace hbf

@@ -356,8 +356,10 @@ MatrixXd ConeEngine::event_sensitivity(const MatrixXd& u, double h, double s_end
     if (!cascade) times.of.assign(static_cast<std::size_t>(n_contacts_), Eigen::RowVectorXd());
     for (const Guard& t : triggers) times.of[static_cast<std::size_t>(t.contact)] = dtau_of[static_cast<std::size_t>(t.contact)];
     times.first = dtau;
-    // the rates after
-    const MatrixXd next = series(zhat_after, after, 0.0, 1, closing, false);
+    // the rates after, with the directions the flow's next step holds: those closing here and
+    // the slipping contacts pressed below hold_share (one that closed at this instant, before a
+    // cascade: its free direction's rate would divide by its zero normal force)
+    const MatrixXd next = series(zhat_after, after, 0.0, 1, closing, true);
     MatrixXd out(static_cast<Eigen::Index>(xa.size()), phi.cols());
     std::vector<char> triggered(static_cast<std::size_t>(n_contacts_), 0);
     for (const Guard& t : triggers) triggered[static_cast<std::size_t>(t.contact)] = 1;

@@ -69,8 +69,10 @@
 // slip that stops at once), move with those (EventTimes); a trigger that meets its guard with
 // no slope (grazing) moves no time (Flow::grazing says so). psi is left empty where a
 // pattern's equations are singular on the way or it is not finite. The periodic-orbit solver
-// (rigid_orbit.cpp) takes it for Newton's matrix and the multipliers (central differences of
-// the period map where it is missing or a Newton step with it fails).
+// (rigid_orbit.cpp) takes it for Newton's matrix and the multipliers (GMRES and Arnoldi on
+// central differences of the period map where it is missing or a Newton step with it fails).
+// The rates after an event hold the directions the next step holds (closing contacts, and
+// slipping ones pressed below hold_share), as the flow does.
 #pragma once
 
 #include <Eigen/Dense>

@@ -440,7 +440,8 @@ constexpr double multiplier_tolerance = 1e-8;
 /// Newton shooting on the period map of engine e (RigidEngine: linear patterns, the exact
 /// monodromy; ConeEngine: Taylor flows, the period map's derivative by central differences).
 template <class E>
-ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initial_state, const ExactOptions& options) {
+ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initial_state, const ExactOptions& options,
+                 ConeNewton newton = ConeNewton::automatic) {
     constexpr bool exact_monodromy = std::is_same_v<E, RigidEngine>;
     const int N = system.dofs();
     const detail::MasslessContacts& split = e.split();
@@ -620,14 +621,11 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 ++out.periods;
                 return flow(start(from), ms, t_s, period, exact_monodromy, record, options.max_events_per_period);
             };
-            // d x_end / d x: the monodromy (RigidEngine), or central differences of the map with
-            // steps of 1e-6 of the state's size (velocities over omega, directions in radians).
-            // ConeEngine: Newton's matrix and the multipliers from the flow's own derivative (a
+            // d x_end / d x: the monodromy (RigidEngine); ConeEngine: the flow's own derivative (a
             // period with the variational equation and the saltations; end_derivative where the
-            // period ends in another pattern); central differences where it is missing (a
-            // pattern's equations singular on the way), and from the first Newton step with it
-            // that failed on.
-            bool differences_only = false;
+            // period ends in another pattern), checked against central differences of the map
+            // with steps of 1e-6 of the state's size (velocities over omega, directions in
+            // radians), which take over where it is missing or fails (below).
             // The unknowns' units at `size` (the state's): displacements and held positions in
             // it, velocities in it times omega, directions (last) in radians.
             auto units = [&](double size) {
@@ -647,8 +645,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             std::string failure;
             // `events`: the perturbed periods' events, where given.
             auto difference_along = [&](const VectorXd& at, const VectorXd& direction, VectorXd& out_difference,
-                                        std::vector<ExactEvent>* events = nullptr) {
-                constexpr double delta = 1e-6;
+                                        std::vector<ExactEvent>* events = nullptr, double delta = 1e-6) {
                 const VectorXd plus = at + delta * direction, minus = at - delta * direction;
                 PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
                 if (!fp.ok || !fm.ok) {
@@ -662,30 +659,42 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 }
                 return true;
             };
-            auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
+            // The period map's whole derivative by central differences (two periods per unknown).
+            auto differences_matrix = [&](const VectorXd& at) {
                 MatrixXd d(nu, nu);
+                const VectorXd scale = units(difference_size(at));
+                for (Eigen::Index k = 0; k < nu; ++k) {
+                    VectorXd column;
+                    if (!difference_along(at, scale(k) * VectorXd::Unit(nu, k), column))
+                        throw std::runtime_error("the period map's derivative: " + failure);
+                    d.col(k) = column / scale(k);
+                }
+                return d;
+            };
+            // d x_end / d x from the flow: the monodromy (RigidEngine), or a period with the
+            // variational equation and the saltations (ConeEngine); empty where that is missing
+            // (a pattern's equations singular on the way or at the end).
+            auto flow_derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
                 if constexpr (exact_monodromy) {
+                    MatrixXd d(nu, nu);
                     for (Eigen::Index k = 0; k < nu; ++k) d.row(k) = fx.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
+                    return d;
                 } else {
-                    const PatternEngine::Flow fv = differences_only ? PatternEngine::Flow{}
-                                                                    : flow(start(at), ms, t_s, period, true, false,
-                                                                             options.max_events_per_period);
-                    if (!differences_only) ++out.periods;
+                    const PatternEngine::Flow fv = flow(start(at), ms, t_s, period, true, false, options.max_events_per_period);
+                    ++out.periods;
                     if (fv.ok && fv.psi.size() > 0) {
                         try {
                             return end_derivative(e, fv, unknowns);
-                        } catch (const std::runtime_error&) {  // a singular pattern at the end: differences
+                        } catch (const std::runtime_error&) {  // a singular pattern at the end
                         }
                     }
-                    const VectorXd scale = units(difference_size(at));
-                    for (Eigen::Index k = 0; k < nu; ++k) {
-                        VectorXd column;
-                        if (!difference_along(at, scale(k) * VectorXd::Unit(nu, k), column))
-                            throw std::runtime_error("the period map's derivative: " + failure);
-                        d.col(k) = column / scale(k);
-                    }
+                    return MatrixXd();
                 }
-                return d;
+            };
+            // The flow's derivative, or the differences' where it is missing.
+            auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
+                MatrixXd d = flow_derivative(at, fx);
+                return d.size() > 0 ? d : differences_matrix(at);
             };
             // The largest difference, in the unknowns' units, between d x_end / d x along a fixed
             // direction and a central difference of the period map along it (steps of 1e-6 of the
@@ -696,43 +705,98 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 double share = 0.0;
                 bool kink = false;
             };
+            // A perturbation of 1e-6 that adds events (a node within it of an edge of its cone or
+            // its gap) is tried again at 1e-8: where the events stay the orbit's there, that
+            // decides (the flow's derivative is the period map's, a kink or not further out).
             auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d, const std::vector<ExactEvent>& orbit) {
                 const VectorXd scale = units(difference_size(at));
                 VectorXd pattern(nu);  // entries of one size and no symmetry
                 for (Eigen::Index k = 0; k < nu; ++k) pattern(k) = std::sin(1.0 + 2.0 * static_cast<double>(k));
                 const VectorXd direction = scale.cwiseProduct(pattern);
-                VectorXd differences;
-                std::vector<ExactEvent> perturbed[2];
-                if (!difference_along(at, direction, differences, perturbed))
-                    return Mismatch{std::numeric_limits<double>::infinity(), false};
-                differences = differences.cwiseQuotient(scale);
                 const VectorXd predicted = (d * direction).cwiseQuotient(scale);
-                const double size_of = std::max({differences.cwiseAbs().maxCoeff(), predicted.cwiseAbs().maxCoeff(),
-                                                 pattern.cwiseAbs().maxCoeff()});
                 auto counts = [&](const std::vector<ExactEvent>& events) {
                     std::vector<int> n(static_cast<std::size_t>(e.contacts()), 0);
                     for (const ExactEvent& event : events) ++n[static_cast<std::size_t>(event.contact)];
                     return n;
                 };
                 const std::vector<int> own = counts(orbit);
-                const bool kink = counts(perturbed[0]) != own || counts(perturbed[1]) != own;
-                return Mismatch{(differences - predicted).cwiseAbs().maxCoeff() / size_of, kink};
+                Mismatch result;
+                for (const double delta : {1e-6, 1e-8}) {
+                    VectorXd differences;
+                    std::vector<ExactEvent> perturbed[2];
+                    if (!difference_along(at, direction, differences, perturbed, delta))
+                        return Mismatch{std::numeric_limits<double>::infinity(), false};
+                    differences = differences.cwiseQuotient(scale);
+                    const double size_of = std::max({differences.cwiseAbs().maxCoeff(), predicted.cwiseAbs().maxCoeff(),
+                                                     pattern.cwiseAbs().maxCoeff()});
+                    result = Mismatch{(differences - predicted).cwiseAbs().maxCoeff() / size_of,
+                                      counts(perturbed[0]) != own || counts(perturbed[1]) != own};
+                    if (!(result.share > derivative_check_tolerance && result.kink)) break;
+                }
+                return result;
             };
             // Newton works on the unknowns in their units (the state's size, velocities times
             // omega, angles in radians): its matrix and steps in those units, so that the rank
             // threshold below and Broyden's update do not mix metres, metres per second and radians.
             VectorXd unit(nu);
+            // Newton's matrix d(x_end - x)/dx from the flow's derivative; empty where that is missing.
             auto newton_matrix = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
                 unit = units(std::max(norm.reference, norm.size(at)));
-                return MatrixXd(unit.cwiseInverse().asDiagonal() * (derivative(at, fx) - MatrixXd::Identity(nu, nu)) *
-                                unit.asDiagonal());
+                const MatrixXd d = flow_derivative(at, fx);
+                if (d.size() == 0) return MatrixXd();
+                return MatrixXd(unit.cwiseInverse().asDiagonal() * (d - MatrixXd::Identity(nu, nu)) * unit.asDiagonal());
+            };
+            // The minimum-norm solve: a contact stuck all period leaves its held position free (a
+            // multiplier at 1, a singular Jacobian), and Newton does not move it.
+            auto decompose = [](const MatrixXd& m) {
+                Eigen::CompleteOrthogonalDecomposition<MatrixXd> decomposition(m.rows(), m.cols());
+                decomposition.setThreshold(1e-9);  // a multiplier within 1e-9 of 1: its direction is free
+                decomposition.compute(m);
+                return decomposition;
+            };
+            // ConeEngine, where the flow's derivative is missing or a step with it failed (events
+            // of coupled contacts at one instant: it follows the order rounding puts them in):
+            // Newton's step by GMRES on central differences of the period map (two periods a
+            // product), right-preconditioned by the flow's last Newton matrix where there is one
+            // (off along the few directions those events touch: a few products, not two periods
+            // per unknown).
+            bool krylov = !exact_monodromy && newton == ConeNewton::differences, preconditioned = false;
+            Eigen::CompleteOrthogonalDecomposition<MatrixXd> preconditioner;
+            int products = 0;
+            auto krylov_step = [&](const VectorXd& at, const VectorXd& rhs) {
+                const VectorXd scale = units(difference_size(at));
+                auto precondition = [&](const VectorXd& w) { return preconditioned ? VectorXd(preconditioner.solve(w)) : w; };
+                const detail::KrylovOperator op = [&](const VectorXd& w, VectorXd& y) {
+                    const VectorXd u = precondition(w), d = unit.cwiseProduct(u);
+                    const double length = d.cwiseQuotient(scale).cwiseAbs().maxCoeff();
+                    if (!(length > 0.0)) {
+                        y = VectorXd::Zero(nu);
+                        return true;
+                    }
+                    VectorXd difference;
+                    if (!difference_along(at, d / length, difference)) return false;
+                    y = (length * difference).cwiseQuotient(unit) - u;
+                    return true;
+                };
+                VectorXd w;
+                int steps = 0;
+                if (!detail::gmres(op, rhs, detail::newton_forcing, static_cast<int>(nu), w, steps))
+                    throw std::runtime_error("Newton's step by central differences: " + failure);
+                products += steps;
+                return VectorXd(unit.cwiseProduct(precondition(w)));
             };
             f = map(x, false);
             bool stalled = false;
-            // Newton's matrix d(x_end - x)/dx; with differences (3D) computed once and then
-            // updated by Broyden's rank-one formula, again by differences where a step fails.
+            // Newton's matrix: the monodromy's at every step (RigidEngine); ConeEngine: the flow's
+            // derivative once, then updated by Broyden's rank-one formula, again where an updated
+            // step fails, and GMRES on differences (above) once a step with a fresh one failed.
             MatrixXd jacobian;
             bool fresh = false;  // computed at the current x
+            auto refresh = [&]() {
+                jacobian = newton_matrix(x, f);
+                fresh = true;
+                krylov = krylov || jacobian.size() == 0;
+            };
             for (int iteration = 0;; ++iteration) {
                 if (!f.ok) {
                     out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
@@ -754,23 +818,21 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     break;
                 }
                 ++out.iterations;
-                if (exact_monodromy || jacobian.size() == 0) {
-                    jacobian = newton_matrix(x, f);
-                    fresh = true;
+                if (!krylov && (exact_monodromy || jacobian.size() == 0)) refresh();
+                VectorXd dx;
+                if (krylov) {
+                    unit = units(std::max(norm.reference, norm.size(x)));
+                    dx = krylov_step(x, norm.difference(x, end).cwiseQuotient(unit));
+                } else {
+                    dx = unit.cwiseProduct(decompose(jacobian).solve(norm.difference(x, end).cwiseQuotient(unit)));
                 }
-                // the minimum-norm step: a contact stuck all period leaves its held position free
-                // (a multiplier at 1, a singular Jacobian), and Newton does not move it
-                Eigen::CompleteOrthogonalDecomposition<MatrixXd> decomposition(jacobian.rows(), jacobian.cols());
-                decomposition.setThreshold(1e-9);  // a multiplier within 1e-9 of 1: its direction is free
-                decomposition.compute(jacobian);
-                const VectorXd dx = unit.cwiseProduct(decomposition.solve(norm.difference(x, end).cwiseQuotient(unit)));
                 // Halving steps until the residual falls.
                 bool moved = false;
                 for (double alpha = 1.0; alpha >= 1.0 / 256; alpha *= 0.5) {
                     const VectorXd trial = x + alpha * dx;
                     PatternEngine::Flow g = map(trial, false);
                     if (g.ok && norm.relative_change(pick_end(g, trial), trial) < out.residual) {
-                        if constexpr (!exact_monodromy) {  // Broyden: the secant through the step
+                        if (!exact_monodromy && !krylov) {  // Broyden: the secant through the step
                             const VectorXd step = (trial - x).cwiseQuotient(unit),
                                            change = (norm.difference(pick_end(g, trial), trial) - norm.difference(end, x))
                                                         .cwiseQuotient(unit);
@@ -783,15 +845,14 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                         break;
                     }
                 }
-                if (!moved && !fresh) {  // an updated matrix that failed: differences again
-                    jacobian = newton_matrix(x, f);
-                    fresh = true;
+                if (!moved && !krylov && !fresh) {  // an updated matrix that failed: the flow's derivative again
+                    refresh();
                     continue;
                 }
-                if (!moved && !exact_monodromy && !differences_only && out.residual > stall_floor) {
-                    differences_only = true;  // the flow's derivative failed: differences from here on
-                    jacobian = newton_matrix(x, f);
-                    fresh = true;
+                if (!moved && !exact_monodromy && !krylov && out.residual > stall_floor) {
+                    krylov = true;  // the flow's derivative failed: GMRES on differences from here on
+                    preconditioner = decompose(jacobian);
+                    preconditioned = true;
                     continue;
                 }
                 if (!moved) {
@@ -808,6 +869,9 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     break;
                 }
             }
+            if (products > 0)
+                out.message += " (Newton's steps by GMRES on central differences of the period map: " +
+                               std::to_string(products) + " products)";
             if (out.converged || !stalled || attempt >= options.restarts) {
                 // The recorded period of the last iterate: metrics and multipliers.
                 PatternEngine::Flow last = map(x, true);
@@ -818,7 +882,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 }
                 if (out.converged && permanently_stuck(last)) hold_where_started(e, start_sliders, x, last, map, derivative, options, out);
                 rigid_metrics(e, last, t_s, options, out);
-                MatrixXd reduced = derivative(x, last);  // the multipliers
+                MatrixXd reduced = flow_derivative(x, last);  // the multipliers
                 if constexpr (!exact_monodromy) {
                     // The flow's derivative checked along one direction against a central
                     // difference of the period map: where coupled contacts change pattern at one
@@ -839,7 +903,10 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                         for (std::size_t b = a + 1; b < last.events.size(); ++b)
                             coincident = coincident || (last.events[a].contact != last.events[b].contact &&
                                                         std::abs(last.events[a].time - last.events[b].time) <= 1e-9 * period);
-                    const Mismatch mismatch = differences_only ? Mismatch{} : derivative_mismatch(x, reduced, last.events);
+                    // Where the flow's derivative is missing: Arnoldi's multipliers.
+                    const Mismatch mismatch = reduced.size() == 0
+                                                  ? Mismatch{std::numeric_limits<double>::infinity(), false}
+                                                  : derivative_mismatch(x, reduced, last.events);
                     if (mismatch.share > derivative_check_tolerance && mismatch.kink && !coincident) {
                         out.message += grazing_note;
                     } else if (mismatch.share > derivative_check_tolerance) {
@@ -874,8 +941,9 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                               format_number(detail::arnoldi_dominant) +
                                                               " not converged: the verdict takes the largest Ritz value"
                                                         : std::string()) +
-                                       "; the flow's derivative differs from them by " + format_number(mismatch.share) +
-                                       " along a test direction)";
+                                       (reduced.size() == 0 ? std::string("; the flow's derivative is missing)")
+                                                            : "; the flow's derivative differs from them by " +
+                                                                  format_number(mismatch.share) + " along a test direction)");
                         return out;
                     }
                 }
@@ -924,7 +992,7 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
 }
 
 ExactOrbit rigid_periodic_orbit(const System& system, double omega, const VectorXd& initial_state,
-                                const ExactOptions& options, ConeStepping stepping) {
+                                const ExactOptions& options, ConeStepping stepping, ConeNewton newton) {
     system.validate();
     refuse_cyclic(system, "the exact solver of law unilateral");
     options.validate();
@@ -943,7 +1011,7 @@ ExactOrbit rigid_periodic_orbit(const System& system, double omega, const Vector
                        : stepping == ConeStepping::collocation ? ConeEngine::Stepping::collocation
                                                                : ConeEngine::Stepping::automatic);
         if (e.dofs() > exact_solver_max_dofs) throw InvalidInput(rigid_solver_refusal(system));
-        return shoot(e, system, omega, initial_state, options);
+        return shoot(e, system, omega, initial_state, options, newton);
     }
     RigidEngine e(system, omega);
     if (e.dofs() > exact_solver_max_dofs) throw InvalidInput(rigid_solver_refusal(system));

@@ -21,6 +21,9 @@ constexpr double arnoldi_tolerance = 1e-5;
 constexpr double arnoldi_dominant = 0.05;
 constexpr int arnoldi_count = 10;
 
+/// Newton-Krylov: GMRES stops at this residual relative to Newton's (an inexact Newton step).
+constexpr double newton_forcing = 1e-3;
+
 /// A start for Arnoldi of `size` entries, all of one size and without symmetry (every
 /// component excited).
 Eigen::VectorXd arnoldi_start(Eigen::Index size);

@@ -28,8 +28,6 @@ constexpr int record_samples = 4096;
 /// The central differences' step, of the state's size.
 constexpr double difference_step = 1e-5;
 
-/// Newton-Krylov: GMRES stops at this residual relative to Newton's (an inexact Newton step).
-constexpr double krylov_forcing = 1e-3;
 /// At most this many Krylov vectors (GMRES, and Arnoldi for the multipliers).
 constexpr int krylov_max_steps = 120;
 
@@ -267,7 +265,7 @@ ExactOrbit detail::elastic_orbit(const System& system, double omega, const Eigen
             };
             Eigen::VectorXd u;
             int steps = 0;
-            if (!gmres(a, rhs, krylov_forcing, std::min(k, krylov_max_steps), u, steps)) return fail(krylov_failure);
+            if (!gmres(a, rhs, detail::newton_forcing, std::min(k, krylov_max_steps), u, steps)) return fail(krylov_failure);
             step = unit.cwiseProduct(u);
         } else {
             const Eigen::MatrixXd matrix = unit.cwiseInverse().asDiagonal() *
