@@ -12,10 +12,11 @@
 // --check-samples N integrates two periods from the exact orbit's state at N, 2N and 4N samples
 // (the second one's metrics): their differences from the exact orbit, and the change of the state
 // over the first, fall with the step where the orbit is a solution.
-// --sweep A,B,K first sweeps K equally spaced frequencies from A to B (A > B: down) with exact orbits, each
-// from the previous one (exact_steady_state: hbf timeint --method exact), and prints each point
-// and the seconds per point; the integrator's runs at --w then give the ratio of its seconds per
-// frequency (from rest, both step sizes) to the sweep's per point, and the sweep's point at each
+// --sweep A,B,K first sweeps K equally spaced frequencies from A to B (A > B: down) with exact orbits,
+// each from the previous one (the first from --start where given; exact_steady_state: hbf timeint
+// --method exact), and prints each point and the seconds per point; the integrator's runs at --w
+// then give the ratio of its seconds per frequency (from rest, both step sizes) to the sweep's per
+// point, and the sweep's point at each
 // --w against the exact orbit from the integrator's state (the two may be different members of
 // a family of orbits where nodes stick all period).
 // --fd-multipliers N checks each exact orbit's Floquet multipliers against the eigenvalues of the
@@ -190,7 +191,7 @@ int main(int argc, char** argv) {
         for (int k = 0; k < points; ++k) {
             const double omega = sweep[0] + (sweep[1] - sweep[0]) * k / (points - 1);
             const auto t0 = clock_type::now();
-            PeriodicResponse r = exact_steady_state(system, omega, eo, 200, exact_sweep_start(system, omega, swept, {}));
+            PeriodicResponse r = exact_steady_state(system, omega, eo, 200, exact_sweep_start(system, omega, swept, given_start));
             const double seconds = seconds_since(t0);
             if (r.converged) {
                 std::printf("sweep w = %g: y365 max %.12g amp1 %.12g, stuck %.6f open %.6f, %d periods, %.2f s, |mu| %.6f\n", omega,

@@ -961,6 +961,21 @@ TEST_CASE("rigid exact 3D: Newton's steps by GMRES on central differences reach 
     }
 }
 
+namespace {
+
+/// A saved exact orbit of the mitre (tests/data, benchmarks/mitre_exact --save-orbit): [y, y'].
+Eigen::VectorXd mitre_state(const std::string& name, const System& system) {
+    std::ifstream in(std::string(HBF_SOURCE_DIR) + "/tests/data/" + name);
+    REQUIRE(in.good());
+    std::vector<double> values;
+    for (std::string line; std::getline(in, line);)
+        if (!line.empty() && line[0] != '#') values.push_back(std::stod(line));
+    REQUIRE(static_cast<int>(values.size()) == 2 * system.dofs());
+    return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+}  // namespace
+
 TEST_CASE("rigid exact 3D: where a node closes into slip as another sticks, the flow's derivative is the period map's",
           "[rigid_exact]") {
     // The mitre's orbit at 21,550 rad/s (its file's force: stick, slip and lift-off): a node
@@ -974,13 +989,7 @@ TEST_CASE("rigid exact 3D: where a node closes into slip as another sticks, the 
     // message says so). The perturbations of 1e-6 meet other events (nodes within that of a
     // lift-off or a cone's edge): the check's steps of 1e-8 decide.
     SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
-    std::ifstream in(std::string(HBF_SOURCE_DIR) + "/tests/data/mitre_orbit_21550.txt");
-    REQUIRE(in.good());
-    std::vector<double> values;
-    for (std::string line; std::getline(in, line);)
-        if (!line.empty() && line[0] != '#') values.push_back(std::stod(line));
-    REQUIRE(static_cast<int>(values.size()) == 2 * mitre.system.dofs());
-    const Eigen::VectorXd state = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+    const Eigen::VectorXd state = mitre_state("mitre_orbit_21550.txt", mitre.system);
     ExactOptions options;
     options.outputs = mitre.outputs;
     options.dof_maxima = false;
@@ -995,6 +1004,55 @@ TEST_CASE("rigid exact 3D: where a node closes into slip as another sticks, the 
     CHECK(orbit.message.find("central differences") == std::string::npos);
     // the held positions of the nodes stuck all period: a family, multipliers at 1
     CHECK(std::abs(orbit.max_multiplier - 1.0) <= 1e-6);
+}
+
+TEST_CASE("rigid exact 3D: where stuck nodes graze their cones and nodes cascade, the multipliers are the orbit's own",
+          "[rigid_exact]") {
+    // The mitre's orbit at 21,574 rad/s (a branch point after 21,550): the nodes stuck all
+    // period have settled where their friction force just reaches its cone's edge at an instant
+    // (a shakedown), so a perturbation of 1e-8 already makes them slip: the period map has a
+    // kink at the orbit, and central differences straddle it. The multipliers are then the
+    // orbit's own sequence of events' (the side the orbit is on). Two things must not send them
+    // to differences: cascades (a node sticking at the instant another starts to slip or
+    // closes: one caused by the other, settled in order) and a grazing node's trigger met with
+    // another contact's event (its pattern kept: not an event). The family's structure is the
+    // independent reference: each node stuck all period has its held position free (two
+    // tangential directions), multipliers at 1 exactly; the rest of the orbit is damped.
+    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    const Eigen::VectorXd state = mitre_state("mitre_orbit_21574.txt", mitre.system);
+    ExactOptions options;
+    options.outputs = mitre.outputs;
+    options.dof_maxima = false;
+    const ExactOrbit orbit = rigid_periodic_orbit(mitre.system, 21574.1666666667, state, options);
+    INFO(orbit.message);
+    REQUIRE(orbit.converged);
+    CHECK(orbit.iterations <= 1);
+    int stuck = 0;
+    double open = 0.0;
+    for (const ContactRegime& c : orbit.contacts) {
+        stuck += c.stick_fraction == 1.0;
+        open = std::max(open, c.separated_fraction);
+    }
+    CHECK(stuck >= 10);
+    CHECK(open > 0.01);
+    bool cascade = false;  // events of two contacts at one instant
+    for (std::size_t a = 0; a + 1 < orbit.events.size(); ++a)
+        cascade = cascade || (orbit.events[a].contact != orbit.events[a + 1].contact &&
+                              orbit.events[a].time == orbit.events[a + 1].time);
+    CHECK(cascade);
+    CHECK(orbit.message.find("grazes") != std::string::npos);
+    CHECK(orbit.message.find("central differences") == std::string::npos);
+    int at_one = 0;
+    double inside = 0.0;
+    for (const std::complex<double>& mu : orbit.multipliers) {
+        if (std::abs(mu - 1.0) <= 1e-9)
+            ++at_one;
+        else
+            inside = std::max(inside, std::abs(mu));
+    }
+    CHECK(at_one == 2 * stuck);
+    CHECK(inside < 0.999);
+    CHECK(orbit.stable);
 }
 
 TEST_CASE("rigid exact 3D: one copy of the contact rows serves every pattern", "[rigid_exact]") {

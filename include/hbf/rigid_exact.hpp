@@ -29,7 +29,8 @@
 // those of modulus >= 0.05 among the 10 largest converged to about 1e-8 or said so:
 // multipliers then holds those, not all; the message says so); except where the
 // perturbed periods have another number of events at some contact than the orbit and no two
-// contacts' events coincide (within 1e-9 of the period): a contact grazing an edge of its
+// contacts change pattern at one instant independently (a cascade, one node's event making
+// another stick or slip at its instant, does not count): a contact grazing an edge of its
 // friction cone or its gap (a node stuck all period whose force touches the cone's edge at an
 // instant, as a shakedown leaves it), where the period map has a kink that the differences
 // straddle; the multipliers are then the flow's own, of the orbit's side of the kink (the

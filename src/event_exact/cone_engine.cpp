@@ -746,6 +746,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
     std::vector<char> frozen(static_cast<std::size_t>(n_contacts_), 0);
     std::vector<char> started(static_cast<std::size_t>(n_contacts_), 0);  // slipping from rest since this instant
     int instant_events = 0;  // events at the instant of the last step's end
+    double last_event = -std::numeric_limits<double>::infinity();  // the last event's time
     const long max_steps = 200000;
     long steps = 0;
     taylor_steps_ = collocation_steps_ = 0;
@@ -972,6 +973,16 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         if (!found) continue;
         std::vector<char> closing;
         const Modes next = settle_state(zhat, modes, triggers, closing);
+        {
+            // Two triggers whose contacts both change (a trigger whose contact the settled
+            // pattern keeps, a stuck node whose force grazes its cone's edge at that instant, is
+            // not an event), or an event within 1e-9 of the period of the last by a step.
+            int changed = 0;
+            for (const Guard& g : triggers)
+                changed += next[static_cast<std::size_t>(g.contact)] != modes[static_cast<std::size_t>(g.contact)];
+            if (changed > 1 || (changed > 0 && s_end > 0.0 && t - last_event <= 1e-9 * period_)) out.simultaneous = true;
+            if (changed > 0) last_event = t;
+        }
         if (phi.size() > 0) {
             try {
                 phi = event_sensitivity(u, h, s_end, modes, step_frozen, triggers, next, zhat, closing, phi, event_times);

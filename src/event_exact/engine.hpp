@@ -142,6 +142,12 @@ public:
         std::vector<Eigen::VectorXd> event_states;  // zhat at each event
         std::vector<Step> steps;
         bool grazing = false;
+        /// Events of two contacts met at one instant independently (both triggers of one step
+        /// change their contacts' patterns, or an event comes within 1e-9 of the period of the
+        /// last by a step: mirror-image nodes of a symmetric interface), not one caused by the
+        /// other (a cascade, settled at the instant of an event): the order the flow settles
+        /// them in, and its derivative, follow rounding (ConeEngine).
+        bool simultaneous = false;
     };
 
     /// Flows zhat from t0 over `duration` (modes: the modes at t0, consistent with zhat).

@@ -896,13 +896,13 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     // kink at the orbit: the differences straddle it and are not its derivative
                     // either. The multipliers are then the orbit's own sequence of events' (the
                     // side the orbit is on), and the message says so.
-                    // Not where events of two contacts coincide (within 1e-9 of the period): the
-                    // flow's derivative may then follow rounding's order, and the check decides.
-                    bool coincident = false;
-                    for (std::size_t a = 0; a < last.events.size(); ++a)
-                        for (std::size_t b = a + 1; b < last.events.size(); ++b)
-                            coincident = coincident || (last.events[a].contact != last.events[b].contact &&
-                                                        std::abs(last.events[a].time - last.events[b].time) <= 1e-9 * period);
+                    // Not where events of two contacts coincide independently (mirror-image
+                    // nodes: PatternEngine::Flow::simultaneous): the flow's derivative may then
+                    // follow rounding's order, and the check decides. A cascade (a node's event
+                    // making another stick or slip at its instant) is settled in its causal order
+                    // and does not count: a node closing into slip as another sticks is common on
+                    // a meshed interface whose stuck nodes graze their cones.
+                    const bool coincident = last.simultaneous;
                     // Where the flow's derivative is missing: Arnoldi's multipliers.
                     const Mismatch mismatch = reduced.size() == 0
                                                   ? Mismatch{std::numeric_limits<double>::infinity(), false}
