@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 
 #include "arguments.hpp"
 #include "stop_request.hpp"
 #include "outputs.hpp"
+#include "progress.hpp"
 #include "commands.hpp"
 #include "hbf/analytic.hpp"
 #include "hbf/error.hpp"
@@ -136,12 +138,20 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     const double time_limit = parse_time_limit(o.time_limit);
     if (o.output.dry_run) return o.output.dry_run_done("timeint");
     io::OutputFile out(o.output.out);  // opened before the work: an unwritable path fails fast
-    const bool progress = o.output.verbose();
     MessageCollector messages;  // what CVODE reports during the sweep
     // An interrupt or the time limit ends the sweep: the frequencies done are written (exit 3);
     // the integration under way stops after its current period and is not written.
     StopRequest stop("timeint", time_limit);
-    tio.stop = [&stop] { return stop.why(); };
+    // The progress line: the point under way and the periods it has taken (asked after every
+    // period: an exact cold start on a meshed interface takes thousands).
+    ProgressLine progress(o.output.progress(), "timeint");
+    std::string where;
+    long long periods = 0;
+    tio.stop = [&stop, &progress, &where, &periods] {
+        ++periods;
+        progress.update(where + ", " + std::to_string(periods) + (periods == 1 ? " period" : " periods"));
+        return stop.why();
+    };
     eo.stop = tio.stop;
     std::string stopped;
     std::vector<PeriodicResponse> responses;
@@ -153,11 +163,14 @@ int run(const CLI::App& command, const TimeintOptions& o) {
             exact_branch_options(omegas.front(), omegas.back(), static_cast<long long>(omegas.size()));
         bo.exact = eo;
         bo.max_periods = tio.max_periods;
-        if (progress)
-            bo.progress = [](const PeriodicResponse& r, double step) {
-                std::cerr << "\rhbf timeint: branch point, w = " << format_number(r.omega)
-                          << ", step " << format_number(step) << "        " << std::flush;
-            };
+        where = "branch from w = " + format_number(omegas.front());
+        int done = 0;
+        bo.progress = [&where, &periods, &done](const PeriodicResponse& r, double step) {
+            char text[96];
+            std::snprintf(text, sizeof text, "branch point %d at w = %.9g (step %.3g), next", ++done, r.omega, step);
+            where = text;
+            periods = 0;
+        };
         ExactBranch b = exact_branch(system, bo, state);
         responses = std::move(b.points);
         if (b.status == "failed")
@@ -179,9 +192,10 @@ int run(const CLI::App& command, const TimeintOptions& o) {
             stopped = "stopped before w = " + format_number(omegas[k]) + ": " + why;
             break;
         }
-        if (progress)
-            std::cerr << "\rhbf timeint: point " << k + 1 << "/" << omegas.size() << ", w = " << format_number(omegas[k])
-                      << "        " << std::flush;
+        char text[96];
+        std::snprintf(text, sizeof text, "point %zu of %zu, w = %.9g", k + 1, omegas.size(), omegas[k]);
+        where = text;
+        periods = 0;
         PeriodicResponse r = exact ? exact_steady_state(system, omegas[k], eo, tio.max_periods,
                                                         exact_sweep_start(system, omegas[k], responses, state))
                                    : integrate_steady_state(system, omegas[k], tio, &state);
@@ -192,7 +206,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         responses.push_back(std::move(r));
         state = responses.back().state;
     }
-    if (progress) std::cerr << "\n";
+    progress.clear();
     io::write_timeint_csv(out.stream(), responses, chosen.outputs,
                           chosen.config ? chosen.config->interfaces : std::vector<InterfaceContacts>());
     if (!o.output.plot.empty()) {
