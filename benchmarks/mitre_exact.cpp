@@ -186,12 +186,15 @@ int main(int argc, char** argv) {
         eo.max_events_per_period = max_events;
         eo.outputs = outputs;
         eo.dof_maxima = false;
+        if (app.count("--warmup") > 0) eo.warmup_periods = std::max(1, warmup);
         const auto start = clock_type::now();
         int failed = 0;
         for (int k = 0; k < points; ++k) {
             const double omega = sweep[0] + (sweep[1] - sweep[0]) * k / (points - 1);
             const auto t0 = clock_type::now();
-            PeriodicResponse r = exact_steady_state(system, omega, eo, 200, exact_sweep_start(system, omega, swept, given_start));
+            PeriodicResponse r = exact_steady_state(system, omega,
+                                                    app.count("--warmup") > 0 ? eo : exact_sweep_options(system, eo, !swept.empty() || given_start.size() > 0),
+                                                    200, exact_sweep_start(system, omega, swept, given_start));
             const double seconds = seconds_since(t0);
             if (r.converged) {
                 std::printf("sweep w = %g: y365 max %.12g amp1 %.12g, stuck %.6f open %.6f, %d periods, %.2f s, |mu| %.6f\n", omega,

@@ -1388,3 +1388,34 @@ TEST_CASE("rigid exact 3D: a start whose nodes stay stuck gives the stuck struct
     CHECK(std::abs(orbit.output_amp1[0] - std::abs(output)) <= 1e-9 * std::abs(output));
     check_stuck_multipliers(s, orbit);
 }
+
+TEST_CASE("rigid exact 3D: a sweep's shakedown periods before Newton reach the orbit Newton alone reaches",
+          "[rigid_exact]") {
+    // exact_sweep_options adds plain periods before Newton where a 3D rigid sweep starts from the
+    // previous frequency's orbit (and nowhere else). Where the orbit is unique the shaken start
+    // must end on the same orbit as Newton from the previous orbit directly: two independent
+    // solves from different starts, compared to 1e-9.
+    const System flat = three_contacts(2.0);
+    CHECK(exact_sweep_options(flat, ExactOptions{}, true).warmup_periods == 1);
+    const System system = bench::contact_chain_3d(3, 1.0, 0.8);
+    CHECK(exact_sweep_options(system, ExactOptions{}, false).warmup_periods == 1);
+    const ExactOptions shaken = exact_sweep_options(system, ExactOptions{}, true);
+    CHECK(shaken.warmup_periods == exact_shakedown_periods);
+    const PeriodicResponse cold = integrated(system, 0.6, 256, {});
+    REQUIRE(cold.converged);
+    const PeriodicResponse first = exact_steady_state(system, 0.6, ExactOptions{}, 200, cold.state);
+    REQUIRE(first.converged);
+    const double omega = 0.66;
+    const Eigen::VectorXd start = exact_sweep_start(system, omega, {first}, cold.state);
+    const PeriodicResponse plain = exact_steady_state(system, omega, ExactOptions{}, 200, start);
+    const PeriodicResponse shook = exact_steady_state(system, omega, shaken, 200, start);
+    INFO(plain.message << " / " << shook.message);
+    REQUIRE(plain.converged);
+    REQUIRE(shook.converged);
+    CHECK(shook.periods >= exact_shakedown_periods + 1);
+    for (std::size_t i = 0; i < 6; ++i) {
+        INFO("DOF " << i + 1 << ": " << plain.y_amp1[i] << " / " << shook.y_amp1[i]);
+        CHECK(std::abs(shook.y_amp1[i] - plain.y_amp1[i]) <= 1e-9 * std::abs(plain.y_amp1[i]));
+        CHECK(std::abs(shook.y_max[i] - plain.y_max[i]) <= 1e-9 * std::abs(plain.y_max[i]));
+    }
+}

@@ -337,6 +337,21 @@ std::string exact_sweep_refusal(const System& system, double omega_min);
 Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done,
                                   const Eigen::VectorXd& first);
 
+/// Plain periods before Newton where a sweep's exact orbit starts from another frequency's
+/// orbit on 3D rigid contacts (law unilateral with a second_direction): exact_sweep_options.
+constexpr int exact_shakedown_periods = 6;
+
+/// The options of a sweep's next exact orbit (hbf timeint --method exact, the branch) started
+/// from another frequency's orbit (`from_orbit`): on 3D rigid contacts at least
+/// exact_shakedown_periods plain periods before Newton. Nodes stuck all period there graze the
+/// edges of their friction cones (a shakedown leaves them so), and at the next frequency they
+/// slip briefly; the period map is not smooth where such a slip starts, and Newton from the
+/// previous orbit crept across those switches (100 to 170 periods a point on the mitre in
+/// lift-off) where a few plain periods (the structure's own shakedown) first bring it to 30 or
+/// so. Otherwise `options` unchanged. (exact_branch skips it after a point known unstable:
+/// plain periods would leave that orbit.)
+ExactOptions exact_sweep_options(const System& system, ExactOptions options, bool from_orbit);
+
 /// The event-exact periodic orbit at omega (exact_periodic_orbit from `start`; for law
 /// unilateral rigid_periodic_orbit, rigid_exact.hpp, and for law elastic
 /// elastic_periodic_orbit, elastic_exact.hpp, from rest where `start` is zero) as a

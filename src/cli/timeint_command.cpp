@@ -196,7 +196,8 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         std::snprintf(text, sizeof text, "point %zu of %zu, w = %.9g", k + 1, omegas.size(), omegas[k]);
         where = text;
         periods = 0;
-        PeriodicResponse r = exact ? exact_steady_state(system, omegas[k], eo, tio.max_periods,
+        PeriodicResponse r = exact ? exact_steady_state(system, omegas[k], exact_sweep_options(system, eo, !responses.empty()),
+                                                        tio.max_periods,
                                                         exact_sweep_start(system, omegas[k], responses, state))
                                    : integrate_steady_state(system, omegas[k], tio, &state);
         if (r.stopped) {

@@ -106,6 +106,12 @@ Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std:
     return next;
 }
 
+ExactOptions exact_sweep_options(const System& system, ExactOptions options, bool from_orbit) {
+    if (from_orbit && rigid_contacts_3d(system))
+        options.warmup_periods = std::max(options.warmup_periods, exact_shakedown_periods);
+    return options;
+}
+
 void ExactBranchOptions::validate() const {
     if (!(omega_min > 0.0) || !std::isfinite(omega_min))
         throw InvalidInput("omega_min = " + format_number(omega_min) + " is out of range: allowed > 0");
@@ -206,6 +212,8 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
         out.message = "the first point, w = " + format_number(first_omega) + ", did not converge: " + first.message;
         return out;
     }
+    // (the shakedown's plain periods only after a point not known unstable: they would leave it)
+    const ExactOptions shaken = exact_sweep_options(system, options.exact, true);
     std::vector<BranchPoint> taken{coordinates(first)};
     out.points.push_back(std::move(first));
     if (options.progress) options.progress(out.points.back(), options.step);
@@ -286,7 +294,8 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
             from(moving[static_cast<std::size_t>(k)]) = p.x(k);
             from(n + moving[static_cast<std::size_t>(k)]) = p.x(m + k) * p.omega;
         }
-        const ExactOrbit orbit = detail::law_periodic_orbit(system, p.omega, from, options.exact);
+        const bool unstable = out.points.back().max_multiplier > 1.0 + options.exact.stability_tolerance;
+        const ExactOrbit orbit = detail::law_periodic_orbit(system, p.omega, from, unstable ? options.exact : shaken);
         PeriodicResponse r = orbit_response(orbit, p.omega, orbit.periods);
         if (r.stopped) return stopped(r);
         bool taken_ok = r.converged;
