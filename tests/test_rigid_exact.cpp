@@ -974,6 +974,16 @@ Eigen::VectorXd mitre_state(const std::string& name, const System& system) {
     return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
 
+/// The mitre's exact orbit at omega (its file's force) from the state saved in tests/data/`name`.
+ExactOrbit saved_mitre_orbit(const std::string& name, double omega) {
+    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    const Eigen::VectorXd state = mitre_state(name, mitre.system);
+    ExactOptions options;
+    options.outputs = mitre.outputs;
+    options.dof_maxima = false;
+    return rigid_periodic_orbit(mitre.system, omega, state, options);
+}
+
 }  // namespace
 
 TEST_CASE("rigid exact 3D: where a node closes into slip as another sticks, the flow's derivative is the period map's",
@@ -988,12 +998,7 @@ TEST_CASE("rigid exact 3D: where a node closes into slip as another sticks, the 
     // period map, which here must agree (else the multipliers come from differences and the
     // message says so). The perturbations of 1e-6 meet other events (nodes within that of a
     // lift-off or a cone's edge): the check's steps of 1e-8 decide.
-    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
-    const Eigen::VectorXd state = mitre_state("mitre_orbit_21550.txt", mitre.system);
-    ExactOptions options;
-    options.outputs = mitre.outputs;
-    options.dof_maxima = false;
-    const ExactOrbit orbit = rigid_periodic_orbit(mitre.system, 21550.0, state, options);
+    const ExactOrbit orbit = saved_mitre_orbit("mitre_orbit_21550.txt", 21550.0);
     INFO(orbit.message);
     REQUIRE(orbit.converged);
     CHECK(orbit.iterations <= 1);
@@ -1018,12 +1023,7 @@ TEST_CASE("rigid exact 3D: where stuck nodes graze their cones and nodes cascade
     // another contact's event (its pattern kept: not an event). The family's structure is the
     // independent reference: each node stuck all period has its held position free (two
     // tangential directions), multipliers at 1 exactly; the rest of the orbit is damped.
-    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
-    const Eigen::VectorXd state = mitre_state("mitre_orbit_21574.txt", mitre.system);
-    ExactOptions options;
-    options.outputs = mitre.outputs;
-    options.dof_maxima = false;
-    const ExactOrbit orbit = rigid_periodic_orbit(mitre.system, 21574.1666666667, state, options);
+    const ExactOrbit orbit = saved_mitre_orbit("mitre_orbit_21574.txt", 21574.1666666667);
     INFO(orbit.message);
     REQUIRE(orbit.converged);
     CHECK(orbit.iterations <= 1);
@@ -1418,4 +1418,40 @@ TEST_CASE("rigid exact 3D: a sweep's shakedown periods before Newton reach the o
         CHECK(std::abs(shook.y_amp1[i] - plain.y_amp1[i]) <= 1e-9 * std::abs(plain.y_amp1[i]));
         CHECK(std::abs(shook.y_max[i] - plain.y_max[i]) <= 1e-9 * std::abs(plain.y_max[i]));
     }
+}
+
+TEST_CASE("rigid exact 3D: a start's plain periods take fewer implicit steps, to their looser tolerance", "[rigid_exact]") {
+    // set_start_flows: the collocation's local tolerance 1e-10 instead of 1e-12 (the plain
+    // periods before Newton). Two periods from rest by collocation alone on the 3D chain: the
+    // looser flows take fewer steps (an order-7 estimate: about 100^(1/7) = 1.9 times fewer)
+    // and end within their tolerance's reach of the tight ones.
+    using namespace detail::exact;
+    const System system = bench::contact_chain_3d(3, 1.0, 0.8);
+    auto two_periods = [&](bool start, long& steps) {
+        ConeEngine e(system, 0.6);
+        e.set_stepping(ConeEngine::Stepping::collocation);
+        e.set_start_flows(start);
+        Eigen::VectorXd zhat = e.augment(Eigen::VectorXd::Zero(e.nz()), 0.0);
+        Modes modes = e.initial_modes(zhat);
+        steps = 0;
+        for (int p = 0; p < 2; ++p) {
+            const PatternEngine::Flow f = e.flow(zhat, modes, 0.0, e.period(), false, false, 5000);
+            REQUIRE(f.ok);
+            steps += e.collocation_steps();
+            zhat = f.zhat;
+            modes = f.modes;
+            zhat(e.cos_index()) = 1.0;
+            zhat(e.sin_index()) = 0.0;
+        }
+        return zhat;
+    };
+    long tight_steps = 0, loose_steps = 0;
+    const Eigen::VectorXd tight = two_periods(false, tight_steps);
+    const Eigen::VectorXd loose = two_periods(true, loose_steps);
+    const auto dofs = static_cast<Eigen::Index>(system.dofs());
+    const double size = tight.head(dofs).cwiseAbs().maxCoeff();
+    const double apart = (loose.head(dofs) - tight.head(dofs)).cwiseAbs().maxCoeff();
+    INFO("collocation steps " << tight_steps << " tight, " << loose_steps << " loose; ends apart " << apart / size);
+    CHECK(loose_steps <= 0.8 * tight_steps);
+    CHECK(apart <= 1e-7 * size);
 }

@@ -17,8 +17,10 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-/// The local error allowed per step, relative to the state's size (directions: radians).
+/// The local error allowed per step, relative to the state's size (directions: radians); in a
+/// start's flows (ConeEngine::set_start_flows) start_tolerance.
 constexpr double collocation_tolerance = 1e-12;
+constexpr double start_tolerance = 1e-10;
 /// Newton's update below this share of the tolerance ends the stage iteration.
 constexpr double newton_share = 1e-2;
 constexpr int newton_iterations = 12;
@@ -433,6 +435,7 @@ MatrixXd ConeEngine::event_sensitivity(const MatrixXd& u, double h, double s_end
 
 bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, double h, const std::vector<char>& frozen,
                                   StartJacobian& start, const PreviousStep& last, MatrixXd& u, double& error) const {
+    const double tolerance = start_flows_ ? start_tolerance : collocation_tolerance;
     const RadauTable& R = radau_table(collocation_stages);
     const int s = R.stages, nm = n_dofs_, n = n_, L = s_.lambdas;
     // The integrated components: y, y' and the directions of the slipping 3D contacts not held.
@@ -527,12 +530,12 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
         double change = 0.0;
         for (int i = 0; i < s; ++i) change = std::max(change, (dz.col(i).array().abs() / scale.array()).maxCoeff());
         if (!std::isfinite(change)) return false;
-        if (change <= newton_share * collocation_tolerance) {
+        if (change <= newton_share * tolerance) {
             converged = true;
             break;
         }
         if (it >= 2 && change > 0.5 * previous) {  // not contracting: rounding, or a shorter step
-            converged = change <= collocation_tolerance;
+            converged = change <= tolerance;
             break;
         }
         previous = change;
@@ -576,7 +579,7 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
         const VectorXd e = filter.solve(h * defect);
         if (!e.allFinite()) return false;
         const double worst = (e.array().abs() / scale.array()).maxCoeff();
-        error = std::max(error, worst / collocation_tolerance);
+        error = std::max(error, worst / tolerance);
     }
     return true;
 }

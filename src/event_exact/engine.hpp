@@ -150,6 +150,10 @@ public:
         bool simultaneous = false;
     };
 
+    /// Whether the next flows only start Newton (plain periods before it): an engine may take
+    /// them to a looser local tolerance (ConeEngine); by default nothing changes.
+    virtual void set_start_flows(bool start) { (void)start; }
+
     /// Flows zhat from t0 over `duration` (modes: the modes at t0, consistent with zhat).
     virtual Flow flow(Eigen::VectorXd zhat, Modes modes, double t0, double duration, bool monodromy, bool record,
               int max_events);

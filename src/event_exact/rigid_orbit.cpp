@@ -492,7 +492,15 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
         }
 
         // Plain periods from (zhat, modes) at t = 0; the last one's events kept in f.
+        // (a start for Newton: the engine's looser start flows, restored however they end)
         auto plain_periods = [&](int periods) {
+            struct Start {
+                PatternEngine& engine;
+                explicit Start(PatternEngine& e) : engine(e) { engine.set_start_flows(true); }
+                ~Start() { engine.set_start_flows(false); }
+                Start(const Start&) = delete;
+                Start& operator=(const Start&) = delete;
+            } start_flows(e);
             for (int p = 0; p < periods; ++p) {
                 zhat(e.cos_index()) = 1.0;
                 zhat(e.sin_index()) = 0.0;
