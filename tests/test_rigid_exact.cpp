@@ -1455,3 +1455,95 @@ TEST_CASE("rigid exact 3D: a start's plain periods take fewer implicit steps, to
     CHECK(loose_steps <= 0.8 * tight_steps);
     CHECK(apart <= 1e-7 * size);
 }
+
+TEST_CASE("rigid exact 3D: a held contact stays stuck past its friction limit, the others as without the hold",
+          "[rigid_exact]") {
+    // ConeEngine::hold_stuck drops a stuck contact's friction limit from its guards (Newton's
+    // predictor on orbits whose nodes stick all period). On the 3D chain from rest: contact 0
+    // first slips at t1 without the hold; held, it has no slip event and just after t1 its
+    // tangential force is past mu lambda_N (the limit really is not enforced), while a flow that
+    // ends before t1 is the same with and without the hold (nothing else changes).
+    using namespace detail::exact;
+    const System system = bench::contact_chain_3d(3, 1.0, 0.8);
+    ConeEngine e(system, 0.6);
+    Eigen::VectorXd zhat = e.augment(Eigen::VectorXd::Zero(e.nz()), 0.0);
+    const Modes modes = e.initial_modes(zhat);
+    REQUIRE(modes[0] == ConeEngine::stuck);
+    const PatternEngine::Flow free = e.flow(zhat, modes, 0.0, e.period(), false, false, 5000);
+    REQUIRE(free.ok);
+    double t1 = -1.0;
+    for (const ExactEvent& event : free.events)
+        if (event.contact == 0 && event.mode_before == ConeEngine::stuck && event.mode_after != ConeEngine::open) {
+            t1 = event.time;
+            break;
+        }
+    REQUIRE(t1 > 0.0);
+    std::vector<char> held(static_cast<std::size_t>(e.contacts()), 0);
+    held[0] = 1;
+    const PatternEngine::Flow before = e.flow(zhat, modes, 0.0, 0.9 * t1, false, false, 5000);
+    e.hold_stuck(held);
+    const PatternEngine::Flow held_before = e.flow(zhat, modes, 0.0, 0.9 * t1, false, false, 5000);
+    const PatternEngine::Flow past = e.flow(zhat, modes, 0.0, t1 + 0.02 * e.period(), false, false, 5000);
+    e.hold_stuck({});
+    REQUIRE(before.ok);
+    REQUIRE(held_before.ok);
+    REQUIRE(past.ok);
+    CHECK((held_before.zhat - before.zhat).cwiseAbs().maxCoeff() <= 1e-12 * before.zhat.cwiseAbs().maxCoeff());
+    for (const ExactEvent& event : past.events) CHECK(!(event.contact == 0 && event.mode_before == ConeEngine::stuck &&
+                                                        event.mode_after != ConeEngine::open));
+    REQUIRE(past.modes[0] == ConeEngine::stuck);
+    const Eigen::MatrixXd u = e.series(past.zhat, past.modes, t1 + 0.02 * e.period(), 0);
+    const Eigen::Index lambda = e.n(), T = e.tangential(0), N = e.normal(0);
+    const double tangential = std::hypot(u(lambda + T, 0), u(lambda + T + 1, 0));
+    const double limit = e.split().blocks[0].mu * u(lambda + N, 0);
+    INFO("|lambda_T| " << tangential << ", mu lambda_N " << limit);
+    CHECK(tangential > limit * (1.0 + 1e-6));
+}
+
+TEST_CASE("rigid exact 3D: Newton with the nodes stuck all period held first ends on the integrator's orbit",
+          "[rigid_exact]") {
+    // The mitre's sweep step 21,574 -> 21,599 rad/s from the saved orbit (its file's force:
+    // stick, slip and lift-off): after the shakedown a dozen nodes stick all period, Newton first
+    // solves with them held (their held positions not unknowns), drags those that the new
+    // frequency pushes past their cones' edges by a plain period, and ends on all unknowns. The
+    // orbit must be a true orbit of the unheld flow, checked by the time integrator (independent
+    // code): two periods from its state at 1024 and 2048 samples, whose second period's output
+    // maximum and first harmonic approach the exact ones like dt^2.
+    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    const System& system = mitre.system;
+    const Eigen::VectorXd state = mitre_state("mitre_orbit_21574.txt", system);
+    ExactOptions options = exact_sweep_options(system, ExactOptions{}, true);
+    options.outputs = mitre.outputs;
+    options.dof_maxima = false;
+    const double omega = 21599.1666666667;
+    const ExactOrbit orbit = rigid_periodic_orbit(system, omega, state, options);
+    INFO(orbit.message);
+    REQUIRE(orbit.converged);
+    CHECK(orbit.residual <= 1e-12);
+    CHECK(orbit.message.find("from the orbit with the nodes stuck all period held") != std::string::npos);
+    int stuck = 0;
+    for (const ContactRegime& c : orbit.contacts) stuck += c.stick_fraction == 1.0;
+    CHECK(stuck >= 10);
+    double error[2][2] = {};
+    for (int k = 0; k < 2; ++k) {
+        TimeIntegrationOptions o;
+        o.samples_per_period = 1024 << k;
+        o.min_periods = 1;
+        o.max_periods = 1;
+        o.steady_tolerance = 1e-2;  // the first period "converges": the second is recorded
+        o.shooting = false;
+        o.stick_restart = false;
+        o.max_events_per_period = 1000000;
+        o.outputs = mitre.outputs;
+        const PeriodicResponse one = integrate_steady_state(system, omega, o, &orbit.state);
+        INFO(one.message);
+        REQUIRE(one.converged);
+        error[k][0] = relative(one.output_max[0], orbit.output_max[0]);
+        error[k][1] = relative(one.output_amp1[0], orbit.output_amp1[0]);
+    }
+    INFO("max: " << error[0][0] << " -> " << error[1][0] << "; amp1: " << error[0][1] << " -> " << error[1][1]);
+    CHECK(error[1][0] <= 1e-5);
+    CHECK(error[1][1] <= 1e-5);
+    CHECK(error[1][0] <= 0.4 * error[0][0]);
+    CHECK(error[1][1] <= 0.4 * error[0][1]);
+}

@@ -409,6 +409,7 @@ std::vector<Guard> ConeEngine::guards(const MatrixXd& u, const Modes& modes, int
         const RowVectorXd lambda_n = u.row(n + N);
         out.push_back({q, lambda_n, {}, guard_normal});
         if (mode == stuck) {
+            if (!held_.empty() && held_[static_cast<std::size_t>(q)]) continue;
             if (b.d == 1) {
                 out.push_back({q, b.mu * lambda_n - u.row(n + T), {}, guard_limit});
                 out.push_back({q, b.mu * lambda_n + u.row(n + T), {}, guard_limit_negative});

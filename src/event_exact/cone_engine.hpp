@@ -97,6 +97,12 @@ public:
     /// instead of 1e-12, a fifth of the implicit steps on a meshed interface in lift-off (the
     /// directions of slipping nodes under small normal forces set the step there).
     void set_start_flows(bool start) override { start_flows_ = start; }
+    /// Contacts held stuck (an entry per contact, 1: held; empty: none): their friction limits
+    /// are not guards, so a held contact stays stuck whatever its tangential force (it can still
+    /// open). Newton's predictor on orbits whose nodes stick all period (rigid_orbit.cpp): such
+    /// a node's held position is free (a family of orbits), and a Newton iterate that pushes its
+    /// force past the cone's edge makes it slip for an instant, a kink in the period map.
+    void hold_stuck(std::vector<char> contacts) { held_ = std::move(contacts); }
     /// Stages of the collocation (order 2s - 1 at a step's end, s + 1 inside: the order of its
     /// local error estimate, which the step control uses).
     static constexpr int collocation_stages = 6;
@@ -316,6 +322,7 @@ private:
     const System& system_;
     MasslessContacts s_;
     std::vector<int> slider_first_;
+    std::vector<char> held_;  ///< hold_stuck's contacts
     int tangential_entries_ = 0;
     Eigen::MatrixXd free_;        ///< q0 as rows over zhat
     Eigen::MatrixXd free_nodes_;  ///< y_c without contact forces, rows over zhat

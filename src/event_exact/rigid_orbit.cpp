@@ -437,6 +437,26 @@ constexpr double derivative_check_tolerance = 1e-3;
 /// the unit circle (unstable by ExactOptions::stability_tolerance).
 constexpr double multiplier_tolerance = 1e-8;
 
+/// Newton's iterations at most with the nodes stuck all period held (shoot's predictor).
+constexpr int held_newton_iterations = 12;
+/// Held rounds at most after the first (each: a plain period that drags the held nodes that slip
+/// to their cones' edges, then Newton with them held there).
+constexpr int max_held_rounds = 4;
+/// A held round's residual before the check that its nodes stay inside their cones (the last
+/// round, where none slips, goes on to the solve's tolerance).
+constexpr double held_round_tolerance = 1e-8;
+
+/// The contacts stuck at the section (`modes`) that have no event in the plain period f: stuck
+/// all of it. None where f has no events (permanent stick: hold_where_started's convention) or
+/// is not a period.
+std::vector<char> stuck_all_period(const ConeEngine& e, const PatternEngine::Flow& f, const Modes& modes) {
+    if (f.zhat.size() == 0 || !f.ok || f.events.empty()) return {};
+    std::vector<char> held(static_cast<std::size_t>(e.contacts()), 0);
+    for (int c = 0; c < e.contacts(); ++c) held[static_cast<std::size_t>(c)] = modes[static_cast<std::size_t>(c)] == rigid_stuck;
+    for (const ExactEvent& event : f.events) held[static_cast<std::size_t>(event.contact)] = 0;
+    return held;
+}
+
 /// Newton shooting on the period map of engine e (RigidEngine: linear patterns, the exact
 /// monodromy; ConeEngine: Taylor flows, the period map's derivative by central differences).
 template <class E>
@@ -570,399 +590,480 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 }
             }
             const double t_s = sections[chosen].t;
-            const VectorXd zs = sections[chosen].z;
+            VectorXd zs = sections[chosen].z;  // a held round's start moves it (below)
             const Modes ms = sections[chosen].modes;
-            // The unknowns: y, y', the sliders of the contacts stuck at the section and the slip
-            // directions of 3D contacts slipping there; the other sliders are their contacts'
-            // tangential displacements (rows of the pattern, or its contact problem's solution).
-            // The directions (angles) last: the norm compares them modulo 2 pi.
-            std::vector<Eigen::Index> unknowns;
-            for (int k = 0; k < 2 * nm; ++k) unknowns.push_back(k);
-            for (int c = 0; c < e.contacts(); ++c)
-                if (ms[static_cast<std::size_t>(c)] == rigid_stuck)
-                    for (int j = 0; j < e.directions(c); ++j) unknowns.push_back(e.slider(c) + j);
-            norm.angles = 0;
-            std::vector<int> angle_contacts;  // the contact of each angle unknown
-            if constexpr (!exact_monodromy)
+            // Nodes stuck all of the last period (ConeEngine; a sweep's shakedown leaves them on
+            // their cones' edges): Newton first on the orbit with them held stuck (hold_stuck) at
+            // the section's held positions, which are then not unknowns. That map is smooth where
+            // the whole one has a kink (a Newton iterate that pushes such a node's force past its
+            // cone's edge makes it slip for an instant, and Newton creeps). Held rounds solve to
+            // held_round_tolerance; the period without the hold then drags the held nodes that
+            // slip in it to their cones' edges and starts the next round (max_held_rounds), and
+            // where none slips a last round goes to the tolerance. Then Newton on all the
+            // unknowns from that orbit: where the held nodes stay inside their cones without the
+            // hold it is the orbit at once (a period); otherwise it is the start. Where a held
+            // round does not converge, the whole Newton starts from the section (as dragged).
+            std::vector<char> held;
+            if constexpr (!exact_monodromy) held = stuck_all_period(e, f, ms);
+            VectorXd carried;       // the held phase's orbit at the section (zhat), where it converged
+            VectorXd restart_from;  // a restart's start (zhat at the section)
+            int held_iterations = 0;
+            int held_rounds = 0;
+            bool loose_round = true;  // a held round to held_round_tolerance (not the last one)
+            MatrixXd held_jacobian;   // Newton's matrix of the held rounds, kept from one to the next
+            VectorXd held_unit;
+            for (bool holding = std::find(held.begin(), held.end(), 1) != held.end();;) {
+                std::vector<Eigen::Index> fixed;  // held sliders: zhat entries kept at zs's
+                if constexpr (!exact_monodromy) {
+                    e.hold_stuck(holding ? held : std::vector<char>());
+                    if (holding)
+                        for (int c = 0; c < e.contacts(); ++c)
+                            if (held[static_cast<std::size_t>(c)])
+                                for (int j = 0; j < e.directions(c); ++j) fixed.push_back(e.slider(c) + j);
+                }
+                const int first_iteration = out.iterations;
+                // The unknowns: y, y', the sliders of the contacts stuck at the section and the slip
+                // directions of 3D contacts slipping there; the other sliders are their contacts'
+                // tangential displacements (rows of the pattern, or its contact problem's solution).
+                // The directions (angles) last: the norm compares them modulo 2 pi.
+                std::vector<Eigen::Index> unknowns;
+                for (int k = 0; k < 2 * nm; ++k) unknowns.push_back(k);
                 for (int c = 0; c < e.contacts(); ++c)
-                    if (ms[static_cast<std::size_t>(c)] == rigid_slip_positive && e.directions(c) == 2) {
-                        unknowns.push_back(e.theta(c));
-                        angle_contacts.push_back(c);
-                        ++norm.angles;
-                    }
-            const auto nu = static_cast<Eigen::Index>(unknowns.size());
-            MatrixXd lift = MatrixXd::Zero(e.n(), nu);  // d zhat / d x
-            if constexpr (exact_monodromy) {
-                const ModeData& section = e.mode(ms);
-                for (Eigen::Index k = 0; k < nu; ++k) lift(unknowns[static_cast<std::size_t>(k)], k) = 1.0;
-                for (int c = 0; c < e.contacts(); ++c)
-                    if (ms[static_cast<std::size_t>(c)] != rigid_stuck)
-                        for (Eigen::Index k = 0; k < nu; ++k)
-                            lift(e.slider(c), k) = section.relative(e.tangential(c), unknowns[static_cast<std::size_t>(k)]);
-            }
-            auto start = [&](const VectorXd& x) {
-                VectorXd zh = e.augment(VectorXd::Zero(nz), t_s);
-                for (Eigen::Index k = 0; k < nu; ++k) zh(unknowns[static_cast<std::size_t>(k)]) = x(k);
-                e.make_consistent(zh, ms, t_s);
-                return zh;
-            };
-            auto pick = [&](const VectorXd& zh) {
-                VectorXd x(nu);
-                for (Eigen::Index k = 0; k < nu; ++k) x(k) = zh(unknowns[static_cast<std::size_t>(k)]);
-                return x;
-            };
-            // The unknowns at a flow's end. A contact that slipped at the section but does not
-            // slip at the end (far from the orbit: the patterns differ) has no direction there
-            // (the one it stopped with is stale): its angle is not compared, and Newton does
-            // not move it by that stale value (end_derivative's row for it is zero).
-            auto pick_end = [&](const PatternEngine::Flow& g, const VectorXd& from) {
-                VectorXd x_end = pick(g.zhat);
-                for (std::size_t a = 0; a < angle_contacts.size(); ++a) {
-                    const auto k = nu - norm.angles + static_cast<Eigen::Index>(a);
-                    if (g.modes[static_cast<std::size_t>(angle_contacts[a])] != rigid_slip_positive) x_end(k) = from(k);
-                }
-                return x_end;
-            };
-            VectorXd x = pick(zs);
-            norm.reference = std::max(norm.reference, norm.size(x));
-            auto map = [&](const VectorXd& from, bool record) {
-                ++out.periods;
-                return flow(start(from), ms, t_s, period, exact_monodromy, record, options.max_events_per_period);
-            };
-            // d x_end / d x: the monodromy (RigidEngine); ConeEngine: the flow's own derivative (a
-            // period with the variational equation and the saltations; end_derivative where the
-            // period ends in another pattern), checked against central differences of the map
-            // with steps of 1e-6 of the state's size (velocities over omega, directions in
-            // radians), which take over where it is missing or fails (below).
-            // The unknowns' units at `size` (the state's): displacements and held positions in
-            // it, velocities in it times omega, directions (last) in radians.
-            auto units = [&](double size) {
-                VectorXd u(nu);
-                for (Eigen::Index k = 0; k < nu; ++k)
-                    u(k) = k >= nu - norm.angles ? 1.0 : (k >= nm && k < 2 * nm ? omega : 1.0) * size;
-                return u;
-            };
-            // The size the differences' steps are measured in at `at`.
-            auto difference_size = [&](const VectorXd& at) {
-                return std::max({norm.reference, at.head(nm).cwiseAbs().maxCoeff(),
-                                 at.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
-            };
-            // The period map's central difference along `direction` (in the unknowns' own
-            // units) at `at`, steps of 1e-6 of it: d x_end / d x times direction. False where a
-            // perturbed period failed (`failure` says why).
-            std::string failure;
-            // `events`: the perturbed periods' events, where given.
-            auto difference_along = [&](const VectorXd& at, const VectorXd& direction, VectorXd& out_difference,
-                                        std::vector<ExactEvent>* events = nullptr, double delta = 1e-6) {
-                const VectorXd plus = at + delta * direction, minus = at - delta * direction;
-                PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
-                if (!fp.ok || !fm.ok) {
-                    failure = (fp.ok ? fm : fp).message;
-                    return false;
-                }
-                out_difference = (pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta);
-                if (events) {
-                    events[0] = std::move(fp.events);
-                    events[1] = std::move(fm.events);
-                }
-                return true;
-            };
-            // The period map's whole derivative by central differences (two periods per unknown).
-            auto differences_matrix = [&](const VectorXd& at) {
-                MatrixXd d(nu, nu);
-                const VectorXd scale = units(difference_size(at));
-                for (Eigen::Index k = 0; k < nu; ++k) {
-                    VectorXd column;
-                    if (!difference_along(at, scale(k) * VectorXd::Unit(nu, k), column))
-                        throw std::runtime_error("the period map's derivative: " + failure);
-                    d.col(k) = column / scale(k);
-                }
-                return d;
-            };
-            // d x_end / d x from the flow: the monodromy (RigidEngine), or a period with the
-            // variational equation and the saltations (ConeEngine); empty where that is missing
-            // (a pattern's equations singular on the way or at the end).
-            auto flow_derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
-                if constexpr (exact_monodromy) {
-                    MatrixXd d(nu, nu);
-                    for (Eigen::Index k = 0; k < nu; ++k) d.row(k) = fx.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
-                    return d;
-                } else {
-                    const PatternEngine::Flow fv = flow(start(at), ms, t_s, period, true, false, options.max_events_per_period);
-                    ++out.periods;
-                    if (fv.ok && fv.psi.size() > 0) {
-                        try {
-                            return end_derivative(e, fv, unknowns);
-                        } catch (const std::runtime_error&) {  // a singular pattern at the end
+                    if (ms[static_cast<std::size_t>(c)] == rigid_stuck && !(holding && held[static_cast<std::size_t>(c)]))
+                        for (int j = 0; j < e.directions(c); ++j) unknowns.push_back(e.slider(c) + j);
+                norm.angles = 0;
+                std::vector<int> angle_contacts;  // the contact of each angle unknown
+                if constexpr (!exact_monodromy)
+                    for (int c = 0; c < e.contacts(); ++c)
+                        if (ms[static_cast<std::size_t>(c)] == rigid_slip_positive && e.directions(c) == 2) {
+                            unknowns.push_back(e.theta(c));
+                            angle_contacts.push_back(c);
+                            ++norm.angles;
                         }
-                    }
-                    return MatrixXd();
+                const auto nu = static_cast<Eigen::Index>(unknowns.size());
+                MatrixXd lift = MatrixXd::Zero(e.n(), nu);  // d zhat / d x
+                if constexpr (exact_monodromy) {
+                    const ModeData& section = e.mode(ms);
+                    for (Eigen::Index k = 0; k < nu; ++k) lift(unknowns[static_cast<std::size_t>(k)], k) = 1.0;
+                    for (int c = 0; c < e.contacts(); ++c)
+                        if (ms[static_cast<std::size_t>(c)] != rigid_stuck)
+                            for (Eigen::Index k = 0; k < nu; ++k)
+                                lift(e.slider(c), k) = section.relative(e.tangential(c), unknowns[static_cast<std::size_t>(k)]);
                 }
-            };
-            // The flow's derivative, or the differences' where it is missing.
-            auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
-                MatrixXd d = flow_derivative(at, fx);
-                return d.size() > 0 ? d : differences_matrix(at);
-            };
-            // The largest difference, in the unknowns' units, between d x_end / d x along a fixed
-            // direction and a central difference of the period map along it (steps of 1e-6 of the
-            // unknowns' units), relative to the larger of the two and the direction; and whether
-            // a perturbed period has another number of events at some contact than `orbit` (the
-            // orbit's events): a contact that touches an edge of its cone or gap without crossing it.
-            struct Mismatch {
-                double share = 0.0;
-                bool kink = false;
-            };
-            // A perturbation of 1e-6 that adds events (a node within it of an edge of its cone or
-            // its gap) is tried again at 1e-8: where the events stay the orbit's there, that
-            // decides (the flow's derivative is the period map's, a kink or not further out).
-            auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d, const std::vector<ExactEvent>& orbit) {
-                const VectorXd scale = units(difference_size(at));
-                VectorXd pattern(nu);  // entries of one size and no symmetry
-                for (Eigen::Index k = 0; k < nu; ++k) pattern(k) = std::sin(1.0 + 2.0 * static_cast<double>(k));
-                const VectorXd direction = scale.cwiseProduct(pattern);
-                const VectorXd predicted = (d * direction).cwiseQuotient(scale);
-                auto counts = [&](const std::vector<ExactEvent>& events) {
-                    std::vector<int> n(static_cast<std::size_t>(e.contacts()), 0);
-                    for (const ExactEvent& event : events) ++n[static_cast<std::size_t>(event.contact)];
-                    return n;
+                auto start = [&](const VectorXd& x) {
+                    VectorXd zh = e.augment(VectorXd::Zero(nz), t_s);
+                    for (Eigen::Index k = 0; k < nu; ++k) zh(unknowns[static_cast<std::size_t>(k)]) = x(k);
+                    for (const Eigen::Index i : fixed) zh(i) = zs(i);
+                    e.make_consistent(zh, ms, t_s);
+                    return zh;
                 };
-                const std::vector<int> own = counts(orbit);
-                Mismatch result;
-                for (const double delta : {1e-6, 1e-8}) {
-                    VectorXd differences;
-                    std::vector<ExactEvent> perturbed[2];
-                    if (!difference_along(at, direction, differences, perturbed, delta))
-                        return Mismatch{std::numeric_limits<double>::infinity(), false};
-                    differences = differences.cwiseQuotient(scale);
-                    const double size_of = std::max({differences.cwiseAbs().maxCoeff(), predicted.cwiseAbs().maxCoeff(),
-                                                     pattern.cwiseAbs().maxCoeff()});
-                    result = Mismatch{(differences - predicted).cwiseAbs().maxCoeff() / size_of,
-                                      counts(perturbed[0]) != own || counts(perturbed[1]) != own};
-                    if (!(result.share > derivative_check_tolerance && result.kink)) break;
-                }
-                return result;
-            };
-            // Newton works on the unknowns in their units (the state's size, velocities times
-            // omega, angles in radians): its matrix and steps in those units, so that the rank
-            // threshold below and Broyden's update do not mix metres, metres per second and radians.
-            VectorXd unit(nu);
-            // Newton's matrix d(x_end - x)/dx from the flow's derivative; empty where that is missing.
-            auto newton_matrix = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
-                unit = units(std::max(norm.reference, norm.size(at)));
-                const MatrixXd d = flow_derivative(at, fx);
-                if (d.size() == 0) return MatrixXd();
-                return MatrixXd(unit.cwiseInverse().asDiagonal() * (d - MatrixXd::Identity(nu, nu)) * unit.asDiagonal());
-            };
-            // The minimum-norm solve: a contact stuck all period leaves its held position free (a
-            // multiplier at 1, a singular Jacobian), and Newton does not move it.
-            auto decompose = [](const MatrixXd& m) {
-                Eigen::CompleteOrthogonalDecomposition<MatrixXd> decomposition(m.rows(), m.cols());
-                decomposition.setThreshold(1e-9);  // a multiplier within 1e-9 of 1: its direction is free
-                decomposition.compute(m);
-                return decomposition;
-            };
-            // ConeEngine, where the flow's derivative is missing or a step with it failed (events
-            // of coupled contacts at one instant: it follows the order rounding puts them in):
-            // Newton's step by GMRES on central differences of the period map (two periods a
-            // product), right-preconditioned by the flow's last Newton matrix where there is one
-            // (off along the few directions those events touch: a few products, not two periods
-            // per unknown).
-            bool krylov = !exact_monodromy && newton == ConeNewton::differences, preconditioned = false;
-            Eigen::CompleteOrthogonalDecomposition<MatrixXd> preconditioner;
-            int products = 0;
-            auto krylov_step = [&](const VectorXd& at, const VectorXd& rhs) {
-                const VectorXd scale = units(difference_size(at));
-                auto precondition = [&](const VectorXd& w) { return preconditioned ? VectorXd(preconditioner.solve(w)) : w; };
-                const detail::KrylovOperator op = [&](const VectorXd& w, VectorXd& y) {
-                    const VectorXd u = precondition(w), d = unit.cwiseProduct(u);
-                    const double length = d.cwiseQuotient(scale).cwiseAbs().maxCoeff();
-                    if (!(length > 0.0)) {
-                        y = VectorXd::Zero(nu);
-                        return true;
+                auto pick = [&](const VectorXd& zh) {
+                    VectorXd x(nu);
+                    for (Eigen::Index k = 0; k < nu; ++k) x(k) = zh(unknowns[static_cast<std::size_t>(k)]);
+                    return x;
+                };
+                // The unknowns at a flow's end. A contact that slipped at the section but does not
+                // slip at the end (far from the orbit: the patterns differ) has no direction there
+                // (the one it stopped with is stale): its angle is not compared, and Newton does
+                // not move it by that stale value (end_derivative's row for it is zero).
+                auto pick_end = [&](const PatternEngine::Flow& g, const VectorXd& from) {
+                    VectorXd x_end = pick(g.zhat);
+                    for (std::size_t a = 0; a < angle_contacts.size(); ++a) {
+                        const auto k = nu - norm.angles + static_cast<Eigen::Index>(a);
+                        if (g.modes[static_cast<std::size_t>(angle_contacts[a])] != rigid_slip_positive) x_end(k) = from(k);
                     }
-                    VectorXd difference;
-                    if (!difference_along(at, d / length, difference)) return false;
-                    y = (length * difference).cwiseQuotient(unit) - u;
+                    return x_end;
+                };
+                VectorXd x = pick(carried.size() > 0 ? carried : zs);
+                norm.reference = std::max(norm.reference, norm.size(x));
+                auto map = [&](const VectorXd& from, bool record) {
+                    ++out.periods;
+                    return flow(start(from), ms, t_s, period, exact_monodromy, record, options.max_events_per_period);
+                };
+                // d x_end / d x: the monodromy (RigidEngine); ConeEngine: the flow's own derivative (a
+                // period with the variational equation and the saltations; end_derivative where the
+                // period ends in another pattern), checked against central differences of the map
+                // with steps of 1e-6 of the state's size (velocities over omega, directions in
+                // radians), which take over where it is missing or fails (below).
+                // The unknowns' units at `size` (the state's): displacements and held positions in
+                // it, velocities in it times omega, directions (last) in radians.
+                auto units = [&](double size) {
+                    VectorXd u(nu);
+                    for (Eigen::Index k = 0; k < nu; ++k)
+                        u(k) = k >= nu - norm.angles ? 1.0 : (k >= nm && k < 2 * nm ? omega : 1.0) * size;
+                    return u;
+                };
+                // The size the differences' steps are measured in at `at`.
+                auto difference_size = [&](const VectorXd& at) {
+                    return std::max({norm.reference, at.head(nm).cwiseAbs().maxCoeff(),
+                                     at.segment(nm, nm).cwiseAbs().maxCoeff() / omega});
+                };
+                // The period map's central difference along `direction` (in the unknowns' own
+                // units) at `at`, steps of 1e-6 of it: d x_end / d x times direction. False where a
+                // perturbed period failed (`failure` says why).
+                std::string failure;
+                // `events`: the perturbed periods' events, where given.
+                auto difference_along = [&](const VectorXd& at, const VectorXd& direction, VectorXd& out_difference,
+                                            std::vector<ExactEvent>* events = nullptr, double delta = 1e-6) {
+                    const VectorXd plus = at + delta * direction, minus = at - delta * direction;
+                    PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
+                    if (!fp.ok || !fm.ok) {
+                        failure = (fp.ok ? fm : fp).message;
+                        return false;
+                    }
+                    out_difference = (pick_end(fp, plus) - pick_end(fm, minus)) / (2.0 * delta);
+                    if (events) {
+                        events[0] = std::move(fp.events);
+                        events[1] = std::move(fm.events);
+                    }
                     return true;
                 };
-                VectorXd w;
-                int steps = 0;
-                if (!detail::gmres(op, rhs, detail::newton_forcing, static_cast<int>(nu), w, steps))
-                    throw std::runtime_error("Newton's step by central differences: " + failure);
-                products += steps;
-                return VectorXd(unit.cwiseProduct(precondition(w)));
-            };
-            f = map(x, false);
-            bool stalled = false;
-            // Newton's matrix: the monodromy's at every step (RigidEngine); ConeEngine: the flow's
-            // derivative once, then updated by Broyden's rank-one formula, again where an updated
-            // step fails, and GMRES on differences (above) once a step with a fresh one failed.
-            MatrixXd jacobian;
-            bool fresh = false;  // computed at the current x
-            auto refresh = [&]() {
-                jacobian = newton_matrix(x, f);
-                fresh = true;
-                krylov = krylov || jacobian.size() == 0;
-            };
-            for (int iteration = 0;; ++iteration) {
-                if (!f.ok) {
-                    out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
-                    stalled = true;
-                    break;
-                }
-                const VectorXd end = pick_end(f, x);
-                out.residual = norm.relative_change(end, x);
-                if (out.residual <= options.tolerance) {
-                    out.converged = true;
-                    out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "") +
-                                  (f.modes == ms ? "" : " (a contact's event at the section)");
-                    break;
-                }
-                if (out.iterations >= options.max_iterations) {
-                    out.message = "Newton reached " + std::to_string(options.max_iterations) + " iterations, residual " +
-                                  format_number(out.residual);
-                    stalled = true;
-                    break;
-                }
-                ++out.iterations;
-                if (!krylov && (exact_monodromy || jacobian.size() == 0)) refresh();
-                VectorXd dx;
-                if (krylov) {
-                    unit = units(std::max(norm.reference, norm.size(x)));
-                    dx = krylov_step(x, norm.difference(x, end).cwiseQuotient(unit));
-                } else {
-                    dx = unit.cwiseProduct(decompose(jacobian).solve(norm.difference(x, end).cwiseQuotient(unit)));
-                }
-                // Halving steps until the residual falls.
-                bool moved = false;
-                for (double alpha = 1.0; alpha >= 1.0 / 256; alpha *= 0.5) {
-                    const VectorXd trial = x + alpha * dx;
-                    PatternEngine::Flow g = map(trial, false);
-                    if (g.ok && norm.relative_change(pick_end(g, trial), trial) < out.residual) {
-                        if (!exact_monodromy && !krylov) {  // Broyden: the secant through the step
-                            const VectorXd step = (trial - x).cwiseQuotient(unit),
-                                           change = (norm.difference(pick_end(g, trial), trial) - norm.difference(end, x))
-                                                        .cwiseQuotient(unit);
-                            jacobian += (change - jacobian * step) * step.transpose() / step.squaredNorm();
-                            fresh = false;
+                // The period map's whole derivative by central differences (two periods per unknown).
+                auto differences_matrix = [&](const VectorXd& at) {
+                    MatrixXd d(nu, nu);
+                    const VectorXd scale = units(difference_size(at));
+                    for (Eigen::Index k = 0; k < nu; ++k) {
+                        VectorXd column;
+                        if (!difference_along(at, scale(k) * VectorXd::Unit(nu, k), column))
+                            throw std::runtime_error("the period map's derivative: " + failure);
+                        d.col(k) = column / scale(k);
+                    }
+                    return d;
+                };
+                // d x_end / d x from the flow: the monodromy (RigidEngine), or a period with the
+                // variational equation and the saltations (ConeEngine); empty where that is missing
+                // (a pattern's equations singular on the way or at the end).
+                auto flow_derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
+                    if constexpr (exact_monodromy) {
+                        MatrixXd d(nu, nu);
+                        for (Eigen::Index k = 0; k < nu; ++k) d.row(k) = fx.psi.row(unknowns[static_cast<std::size_t>(k)]) * lift;
+                        return d;
+                    } else {
+                        const PatternEngine::Flow fv = flow(start(at), ms, t_s, period, true, false, options.max_events_per_period);
+                        ++out.periods;
+                        if (fv.ok && fv.psi.size() > 0) {
+                            try {
+                                return end_derivative(e, fv, unknowns);
+                            } catch (const std::runtime_error&) {  // a singular pattern at the end
+                            }
                         }
-                        x = trial;
-                        f = std::move(g);
-                        moved = true;
+                        return MatrixXd();
+                    }
+                };
+                // The flow's derivative, or the differences' where it is missing.
+                auto derivative = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
+                    MatrixXd d = flow_derivative(at, fx);
+                    return d.size() > 0 ? d : differences_matrix(at);
+                };
+                // The largest difference, in the unknowns' units, between d x_end / d x along a fixed
+                // direction and a central difference of the period map along it (steps of 1e-6 of the
+                // unknowns' units), relative to the larger of the two and the direction; and whether
+                // a perturbed period has another number of events at some contact than `orbit` (the
+                // orbit's events): a contact that touches an edge of its cone or gap without crossing it.
+                struct Mismatch {
+                    double share = 0.0;
+                    bool kink = false;
+                };
+                // A perturbation of 1e-6 that adds events (a node within it of an edge of its cone or
+                // its gap) is tried again at 1e-8: where the events stay the orbit's there, that
+                // decides (the flow's derivative is the period map's, a kink or not further out).
+                auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d, const std::vector<ExactEvent>& orbit) {
+                    const VectorXd scale = units(difference_size(at));
+                    VectorXd pattern(nu);  // entries of one size and no symmetry
+                    for (Eigen::Index k = 0; k < nu; ++k) pattern(k) = std::sin(1.0 + 2.0 * static_cast<double>(k));
+                    const VectorXd direction = scale.cwiseProduct(pattern);
+                    const VectorXd predicted = (d * direction).cwiseQuotient(scale);
+                    auto counts = [&](const std::vector<ExactEvent>& events) {
+                        std::vector<int> n(static_cast<std::size_t>(e.contacts()), 0);
+                        for (const ExactEvent& event : events) ++n[static_cast<std::size_t>(event.contact)];
+                        return n;
+                    };
+                    const std::vector<int> own = counts(orbit);
+                    Mismatch result;
+                    for (const double delta : {1e-6, 1e-8}) {
+                        VectorXd differences;
+                        std::vector<ExactEvent> perturbed[2];
+                        if (!difference_along(at, direction, differences, perturbed, delta))
+                            return Mismatch{std::numeric_limits<double>::infinity(), false};
+                        differences = differences.cwiseQuotient(scale);
+                        const double size_of = std::max({differences.cwiseAbs().maxCoeff(), predicted.cwiseAbs().maxCoeff(),
+                                                         pattern.cwiseAbs().maxCoeff()});
+                        result = Mismatch{(differences - predicted).cwiseAbs().maxCoeff() / size_of,
+                                          counts(perturbed[0]) != own || counts(perturbed[1]) != own};
+                        if (!(result.share > derivative_check_tolerance && result.kink)) break;
+                    }
+                    return result;
+                };
+                // Newton works on the unknowns in their units (the state's size, velocities times
+                // omega, angles in radians): its matrix and steps in those units, so that the rank
+                // threshold below and Broyden's update do not mix metres, metres per second and radians.
+                VectorXd unit(nu);
+                // Newton's matrix d(x_end - x)/dx from the flow's derivative; empty where that is missing.
+                auto newton_matrix = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
+                    unit = units(std::max(norm.reference, norm.size(at)));
+                    const MatrixXd d = flow_derivative(at, fx);
+                    if (d.size() == 0) return MatrixXd();
+                    return MatrixXd(unit.cwiseInverse().asDiagonal() * (d - MatrixXd::Identity(nu, nu)) * unit.asDiagonal());
+                };
+                // The minimum-norm solve: a contact stuck all period leaves its held position free (a
+                // multiplier at 1, a singular Jacobian), and Newton does not move it.
+                auto decompose = [](const MatrixXd& m) {
+                    Eigen::CompleteOrthogonalDecomposition<MatrixXd> decomposition(m.rows(), m.cols());
+                    decomposition.setThreshold(1e-9);  // a multiplier within 1e-9 of 1: its direction is free
+                    decomposition.compute(m);
+                    return decomposition;
+                };
+                // ConeEngine, where the flow's derivative is missing or a step with it failed (events
+                // of coupled contacts at one instant: it follows the order rounding puts them in):
+                // Newton's step by GMRES on central differences of the period map (two periods a
+                // product), right-preconditioned by the flow's last Newton matrix where there is one
+                // (off along the few directions those events touch: a few products, not two periods
+                // per unknown).
+                bool krylov = !exact_monodromy && newton == ConeNewton::differences, preconditioned = false;
+                Eigen::CompleteOrthogonalDecomposition<MatrixXd> preconditioner;
+                int products = 0;
+                auto krylov_step = [&](const VectorXd& at, const VectorXd& rhs) {
+                    const VectorXd scale = units(difference_size(at));
+                    auto precondition = [&](const VectorXd& w) { return preconditioned ? VectorXd(preconditioner.solve(w)) : w; };
+                    const detail::KrylovOperator op = [&](const VectorXd& w, VectorXd& y) {
+                        const VectorXd u = precondition(w), d = unit.cwiseProduct(u);
+                        const double length = d.cwiseQuotient(scale).cwiseAbs().maxCoeff();
+                        if (!(length > 0.0)) {
+                            y = VectorXd::Zero(nu);
+                            return true;
+                        }
+                        VectorXd difference;
+                        if (!difference_along(at, d / length, difference)) return false;
+                        y = (length * difference).cwiseQuotient(unit) - u;
+                        return true;
+                    };
+                    VectorXd w;
+                    int steps = 0;
+                    if (!detail::gmres(op, rhs, detail::newton_forcing, static_cast<int>(nu), w, steps))
+                        throw std::runtime_error("Newton's step by central differences: " + failure);
+                    products += steps;
+                    return VectorXd(unit.cwiseProduct(precondition(w)));
+                };
+                f = map(x, false);
+                // The held orbit's period without the hold: where a held node slips in it (the
+                // new frequency pushes its force past its cone's edge), the period's end drags it
+                // to the edge; from there another held round (the nodes held at their new places).
+                // Where none slips but the period is not the orbit to the tolerance (the rounds
+                // stop at held_round_tolerance), a last held round to the tolerance.
+                if (!holding && carried.size() > 0 && held_rounds < max_held_rounds && f.ok && f.modes == ms &&
+                    norm.relative_change(pick_end(f, x), x) > options.tolerance) {
+                    const bool slipped = std::any_of(f.events.begin(), f.events.end(), [&](const ExactEvent& event) {
+                        return held[static_cast<std::size_t>(event.contact)] != 0;
+                    });
+                    if (slipped || loose_round) {
+                        if (slipped) {
+                            zs = f.zhat;
+                            carried.resize(0);
+                        }
+                        loose_round = slipped;
+                        ++held_rounds;
+                        holding = true;
+                        continue;
+                    }
+                }
+                bool stalled = false;
+                // Newton's matrix: the monodromy's at every step (RigidEngine); ConeEngine: the flow's
+                // derivative once, then updated by Broyden's rank-one formula, again where an updated
+                // step fails, and GMRES on differences (above) once a step with a fresh one failed.
+                MatrixXd jacobian;
+                bool fresh = false;  // computed at the current x
+                if (holding && held_jacobian.size() > 0) {
+                    jacobian = held_jacobian;
+                    unit = held_unit;
+                }
+                auto refresh = [&]() {
+                    jacobian = newton_matrix(x, f);
+                    fresh = true;
+                    krylov = krylov || jacobian.size() == 0;
+                };
+                for (int iteration = 0;; ++iteration) {
+                    if (!f.ok) {
+                        out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
+                        stalled = true;
+                        break;
+                    }
+                    const VectorXd end = pick_end(f, x);
+                    out.residual = norm.relative_change(end, x);
+                    if (out.residual <= (holding && loose_round ? std::max(options.tolerance, held_round_tolerance)
+                                                                : options.tolerance)) {
+                        out.converged = true;
+                        out.message = "Newton on the period map converged" + std::string(f.grazing ? " (a grazing event)" : "") +
+                                      (f.modes == ms ? "" : " (a contact's event at the section)");
+                        break;
+                    }
+                    if (out.iterations - (holding ? first_iteration : held_iterations) >=
+                        (holding ? held_newton_iterations : options.max_iterations)) {
+                        out.message = "Newton reached " + std::to_string(options.max_iterations) + " iterations, residual " +
+                                      format_number(out.residual);
+                        stalled = true;
+                        break;
+                    }
+                    ++out.iterations;
+                    if (!krylov && (exact_monodromy || jacobian.size() == 0)) refresh();
+                    VectorXd dx;
+                    if (krylov) {
+                        unit = units(std::max(norm.reference, norm.size(x)));
+                        dx = krylov_step(x, norm.difference(x, end).cwiseQuotient(unit));
+                    } else {
+                        dx = unit.cwiseProduct(decompose(jacobian).solve(norm.difference(x, end).cwiseQuotient(unit)));
+                    }
+                    // Halving steps until the residual falls.
+                    bool moved = false;
+                    for (double alpha = 1.0; alpha >= 1.0 / 256; alpha *= 0.5) {
+                        const VectorXd trial = x + alpha * dx;
+                        PatternEngine::Flow g = map(trial, false);
+                        if (g.ok && norm.relative_change(pick_end(g, trial), trial) < out.residual) {
+                            if (!exact_monodromy && !krylov) {  // Broyden: the secant through the step
+                                const VectorXd step = (trial - x).cwiseQuotient(unit),
+                                               change = (norm.difference(pick_end(g, trial), trial) - norm.difference(end, x))
+                                                            .cwiseQuotient(unit);
+                                jacobian += (change - jacobian * step) * step.transpose() / step.squaredNorm();
+                                fresh = false;
+                            }
+                            x = trial;
+                            f = std::move(g);
+                            moved = true;
+                            break;
+                        }
+                    }
+                    if (!moved && !krylov && !fresh) {  // an updated matrix that failed: the flow's derivative again
+                        refresh();
+                        continue;
+                    }
+                    if (!moved && holding) {  // a predictor: no steps by differences
+                        out.message = "Newton with the held nodes stalled at residual " + format_number(out.residual);
+                        stalled = true;
+                        break;
+                    }
+                    if (!moved && !exact_monodromy && !krylov && out.residual > stall_floor) {
+                        krylov = true;  // the flow's derivative failed: GMRES on differences from here on
+                        preconditioner = decompose(jacobian);
+                        preconditioned = true;
+                        continue;
+                    }
+                    if (!moved) {
+                        // No step lowers the residual: the rounding of the flow over one period.
+                        // Below stall_floor that is the orbit (converged, the residual says how close).
+                        if (out.residual <= stall_floor) {
+                            out.converged = true;
+                            out.message = "Newton on the period map converged to its rounding (residual " +
+                                          format_number(out.residual) + ")";
+                        } else {
+                            out.message = "Newton stalled at residual " + format_number(out.residual);
+                            stalled = true;
+                        }
                         break;
                     }
                 }
-                if (!moved && !krylov && !fresh) {  // an updated matrix that failed: the flow's derivative again
-                    refresh();
-                    continue;
-                }
-                if (!moved && !exact_monodromy && !krylov && out.residual > stall_floor) {
-                    krylov = true;  // the flow's derivative failed: GMRES on differences from here on
-                    preconditioner = decompose(jacobian);
-                    preconditioned = true;
-                    continue;
-                }
-                if (!moved) {
-                    // No step lowers the residual: the rounding of the flow over one period.
-                    // Below stall_floor that is the orbit (converged, the residual says how close).
-                    if (out.residual <= stall_floor) {
-                        out.converged = true;
-                        out.message = "Newton on the period map converged to its rounding (residual " +
-                                      format_number(out.residual) + ")";
-                    } else {
-                        out.message = "Newton stalled at residual " + format_number(out.residual);
-                        stalled = true;
-                    }
-                    break;
-                }
-            }
-            if (products > 0)
-                out.message += " (Newton's steps by GMRES on central differences of the period map: " +
-                               std::to_string(products) + " products)";
-            if (out.converged || !stalled || attempt >= options.restarts) {
-                // The recorded period of the last iterate: metrics and multipliers.
-                PatternEngine::Flow last = map(x, true);
-                if (!last.ok) {
+                if (holding) {
+                    held_iterations += out.iterations - first_iteration;
+                    held_jacobian = jacobian;
+                    held_unit = unit;
+                    if (out.converged) carried = start(x);
                     out.converged = false;
-                    out.message = last.message;
-                    return out;
+                    holding = false;
+                    continue;
                 }
-                if (out.converged && permanently_stuck(last)) hold_where_started(e, start_sliders, x, last, map, derivative, options, out);
-                rigid_metrics(e, last, t_s, options, out);
-                MatrixXd reduced = flow_derivative(x, last);  // the multipliers
-                if constexpr (!exact_monodromy) {
-                    // The flow's derivative checked along one direction against a central
-                    // difference of the period map: where coupled contacts change pattern at one
-                    // instant (mirror-image nodes of a symmetric interface) it follows the order
-                    // rounding puts their events in and can be far off; the multipliers are then
-                    // the differences' (two periods per unknown).
-                    // Where a perturbed period has another number of events at a contact than the
-                    // orbit (it touches an edge of its cone or its gap without crossing it: a node
-                    // stuck all period after a shakedown, whose friction force reaches the limit at
-                    // an instant, or a slipping node that touches lift-off), the period map has a
-                    // kink at the orbit: the differences straddle it and are not its derivative
-                    // either. The multipliers are then the orbit's own sequence of events' (the
-                    // side the orbit is on), and the message says so.
-                    // Not where events of two contacts coincide independently (mirror-image
-                    // nodes: PatternEngine::Flow::simultaneous): the flow's derivative may then
-                    // follow rounding's order, and the check decides. A cascade (a node's event
-                    // making another stick or slip at its instant) is settled in its causal order
-                    // and does not count: a node closing into slip as another sticks is common on
-                    // a meshed interface whose stuck nodes graze their cones.
-                    const bool coincident = last.simultaneous;
-                    // Where the flow's derivative is missing: Arnoldi's multipliers.
-                    const Mismatch mismatch = reduced.size() == 0
-                                                  ? Mismatch{std::numeric_limits<double>::infinity(), false}
-                                                  : derivative_mismatch(x, reduced, last.events);
-                    if (mismatch.share > derivative_check_tolerance && mismatch.kink && !coincident) {
-                        out.message += grazing_note;
-                    } else if (mismatch.share > derivative_check_tolerance) {
-                        // The dominant multipliers by Arnoldi on central differences of the
-                        // period map (two periods a product), in the unknowns' units: a few
-                        // tens of periods where the whole matrix takes two per unknown.
-                        const VectorXd scale = units(difference_size(x));
-                        const detail::KrylovOperator product = [&](const VectorXd& u, VectorXd& y) {
-                            const double length = u.cwiseAbs().maxCoeff();
-                            if (!(length > 0.0)) {
-                                y = VectorXd::Zero(nu);
-                                return true;
-                            }
-                            if (!difference_along(x, scale.cwiseProduct(u) / length, y)) return false;
-                            y = (length * y).cwiseQuotient(scale);
-                            return true;
-                        };
-                        double largest = 0.0;
-                        int unconverged = 0, steps = 0;
-                        Eigen::VectorXcd values;
-                        if (!detail::dominant_eigenvalues(product, detail::arnoldi_start(nu), static_cast<int>(nu), values,
-                                                          largest, unconverged, steps, multiplier_tolerance))
-                            throw std::runtime_error("the multipliers' central differences: " + failure);
-                        out.multipliers = values;
-                        out.max_multiplier = largest;
-                        out.stable = largest <= 1.0 + options.stability_tolerance;
-                        out.message += "; the dominant multipliers by Arnoldi on central differences of the period map (" +
-                                       std::to_string(values.size()) + " converged to about " +
-                                       format_number(multiplier_tolerance) + " in " + std::to_string(steps) +
-                                       " products" +
-                                       (unconverged > 0 ? ", " + std::to_string(unconverged) + " of modulus >= " +
-                                                              format_number(detail::arnoldi_dominant) +
-                                                              " not converged: the verdict takes the largest Ritz value"
-                                                        : std::string()) +
-                                       (reduced.size() == 0 ? std::string("; the flow's derivative is missing)")
-                                                            : "; the flow's derivative differs from them by " +
-                                                                  format_number(mismatch.share) + " along a test direction)");
+                if (held_iterations > 0)
+                    out.message += carried.size() > 0 ? " (from the orbit with the nodes stuck all period held, " +
+                                                             std::to_string(held_iterations) + " Newton iterations in " +
+                                                             std::to_string(held_rounds + 1) + " rounds)"
+                                                       : " (Newton with the nodes stuck all period held did not converge in " +
+                                                             std::to_string(held_iterations) + " iterations)";
+                if (products > 0)
+                    out.message += " (Newton's steps by GMRES on central differences of the period map: " +
+                                   std::to_string(products) + " products)";
+                if (out.converged || !stalled || attempt >= options.restarts) {
+                    // The recorded period of the last iterate: metrics and multipliers.
+                    PatternEngine::Flow last = map(x, true);
+                    if (!last.ok) {
+                        out.converged = false;
+                        out.message = last.message;
                         return out;
                     }
+                    if (out.converged && permanently_stuck(last)) hold_where_started(e, start_sliders, x, last, map, derivative, options, out);
+                    rigid_metrics(e, last, t_s, options, out);
+                    MatrixXd reduced = flow_derivative(x, last);  // the multipliers
+                    if constexpr (!exact_monodromy) {
+                        // The flow's derivative checked along one direction against a central
+                        // difference of the period map: where coupled contacts change pattern at one
+                        // instant (mirror-image nodes of a symmetric interface) it follows the order
+                        // rounding puts their events in and can be far off; the multipliers are then
+                        // the differences' (two periods per unknown).
+                        // Where a perturbed period has another number of events at a contact than the
+                        // orbit (it touches an edge of its cone or its gap without crossing it: a node
+                        // stuck all period after a shakedown, whose friction force reaches the limit at
+                        // an instant, or a slipping node that touches lift-off), the period map has a
+                        // kink at the orbit: the differences straddle it and are not its derivative
+                        // either. The multipliers are then the orbit's own sequence of events' (the
+                        // side the orbit is on), and the message says so.
+                        // Not where events of two contacts coincide independently (mirror-image
+                        // nodes: PatternEngine::Flow::simultaneous): the flow's derivative may then
+                        // follow rounding's order, and the check decides. A cascade (a node's event
+                        // making another stick or slip at its instant) is settled in its causal order
+                        // and does not count: a node closing into slip as another sticks is common on
+                        // a meshed interface whose stuck nodes graze their cones.
+                        const bool coincident = last.simultaneous;
+                        // Where the flow's derivative is missing: Arnoldi's multipliers.
+                        const Mismatch mismatch = reduced.size() == 0
+                                                      ? Mismatch{std::numeric_limits<double>::infinity(), false}
+                                                      : derivative_mismatch(x, reduced, last.events);
+                        if (mismatch.share > derivative_check_tolerance && mismatch.kink && !coincident) {
+                            out.message += grazing_note;
+                        } else if (mismatch.share > derivative_check_tolerance) {
+                            // The dominant multipliers by Arnoldi on central differences of the
+                            // period map (two periods a product), in the unknowns' units: a few
+                            // tens of periods where the whole matrix takes two per unknown.
+                            const VectorXd scale = units(difference_size(x));
+                            const detail::KrylovOperator product = [&](const VectorXd& u, VectorXd& y) {
+                                const double length = u.cwiseAbs().maxCoeff();
+                                if (!(length > 0.0)) {
+                                    y = VectorXd::Zero(nu);
+                                    return true;
+                                }
+                                if (!difference_along(x, scale.cwiseProduct(u) / length, y)) return false;
+                                y = (length * y).cwiseQuotient(scale);
+                                return true;
+                            };
+                            double largest = 0.0;
+                            int unconverged = 0, steps = 0;
+                            Eigen::VectorXcd values;
+                            if (!detail::dominant_eigenvalues(product, detail::arnoldi_start(nu), static_cast<int>(nu), values,
+                                                              largest, unconverged, steps, multiplier_tolerance))
+                                throw std::runtime_error("the multipliers' central differences: " + failure);
+                            out.multipliers = values;
+                            out.max_multiplier = largest;
+                            out.stable = largest <= 1.0 + options.stability_tolerance;
+                            out.message += "; the dominant multipliers by Arnoldi on central differences of the period map (" +
+                                           std::to_string(values.size()) + " converged to about " +
+                                           format_number(multiplier_tolerance) + " in " + std::to_string(steps) +
+                                           " products" +
+                                           (unconverged > 0 ? ", " + std::to_string(unconverged) + " of modulus >= " +
+                                                                  format_number(detail::arnoldi_dominant) +
+                                                                  " not converged: the verdict takes the largest Ritz value"
+                                                            : std::string()) +
+                                           (reduced.size() == 0 ? std::string("; the flow's derivative is missing)")
+                                                                : "; the flow's derivative differs from them by " +
+                                                                      format_number(mismatch.share) + " along a test direction)");
+                            return out;
+                        }
+                    }
+                    Eigen::EigenSolver<MatrixXd> eigen(reduced, false);
+                    out.multipliers = eigen.eigenvalues();
+                    out.max_multiplier = nu > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
+                    out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
+                    return out;
                 }
-                Eigen::EigenSolver<MatrixXd> eigen(reduced, false);
-                out.multipliers = eigen.eigenvalues();
-                out.max_multiplier = nu > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
-                out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
-                return out;
+                restart_from = start(x);
+                break;
             }
             // A restart: plain periods from the last iterate, then a new section.
-            zhat = start(x);
+            zhat = restart_from;
             modes = ms;
             // back to t = 0: flow the rest of the period
             if (t_s > 0.0) {
@@ -982,10 +1083,12 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             restart_periods *= 4;
         }
     } catch (const StopRequested& stop) {
+        if constexpr (!exact_monodromy) e.hold_stuck({});
         out.converged = false;
         out.stopped = stop.why;
         out.message = "stopped after " + std::to_string(out.periods) + " periods: " + stop.why;
     } catch (const std::runtime_error& error) {
+        if constexpr (!exact_monodromy) e.hold_stuck({});
         out.converged = false;
         out.message = error.what();
     }
