@@ -41,6 +41,7 @@
 #include "hbf/output_file.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
+#include "integrator_check.hpp"
 #include "state_file.hpp"
 
 using namespace hbf;
@@ -286,15 +287,8 @@ int main(int argc, char** argv) {
                 std::printf("  stuck share %.6f, open share %.6f, max multiplier %.6f\n", mean_share(exact.contacts, false),
                             mean_share(exact.contacts, true), exact.max_multiplier);
             for (int k = 0; k < 3 && exact.converged && check_samples > 0; ++k) {
-                TimeIntegrationOptions o;  // two periods from the exact state: the second's metrics
-                o.samples_per_period = check_samples << k;
-                o.min_periods = 1;
-                o.max_periods = 1;
-                o.steady_tolerance = 1e-2;  // the first period "converges": the second is recorded
-                o.shooting = false;
-                o.stick_restart = false;
-                o.max_events_per_period = 1000000;
-                o.outputs = outputs;
+                // two periods from the exact state: the second's metrics
+                const TimeIntegrationOptions o = bench::two_periods_from_state(check_samples << k, outputs);
                 const auto t0 = clock_type::now();
                 const PeriodicResponse one = integrate_steady_state(system, omega, o, &exact.state);
                 if (!one.converged) {

@@ -29,6 +29,7 @@
 #include "event_exact/radau.hpp"
 
 #include "../benchmarks/contact_chain.hpp"
+#include "../benchmarks/integrator_check.hpp"
 #include "support.hpp"
 
 using namespace hbf;
@@ -1526,15 +1527,7 @@ TEST_CASE("rigid exact 3D: Newton with the nodes stuck all period held first end
     CHECK(stuck >= 10);
     double error[2][2] = {};
     for (int k = 0; k < 2; ++k) {
-        TimeIntegrationOptions o;
-        o.samples_per_period = 1024 << k;
-        o.min_periods = 1;
-        o.max_periods = 1;
-        o.steady_tolerance = 1e-2;  // the first period "converges": the second is recorded
-        o.shooting = false;
-        o.stick_restart = false;
-        o.max_events_per_period = 1000000;
-        o.outputs = mitre.outputs;
+        const TimeIntegrationOptions o = bench::two_periods_from_state(1024 << k, mitre.outputs);
         const PeriodicResponse one = integrate_steady_state(system, omega, o, &orbit.state);
         INFO(one.message);
         REQUIRE(one.converged);
