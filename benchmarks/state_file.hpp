@@ -10,11 +10,20 @@
 
 namespace hbf::bench {
 
-/// The numbers of `file`; `flag` names it in the error.
+/// The numbers of `file`, lines starting with '#' skipped (the saved orbits under tests/data
+/// carry a header); `flag` names it in the error.
 inline Eigen::VectorXd read_state(const std::string& flag, const std::string& file) {
     std::ifstream in(file);
+    if (!in) throw std::runtime_error(flag + " " + file + ": cannot be read");
     std::vector<double> values;
-    for (double v; in >> v;) values.push_back(v);
+    for (std::string line; std::getline(in, line);) {
+        if (line.empty() || line[0] == '#') continue;
+        try {
+            values.push_back(std::stod(line));
+        } catch (const std::exception&) {
+            throw std::runtime_error(flag + " " + file + ": not a number: " + line);
+        }
+    }
     if (values.empty()) throw std::runtime_error(flag + " " + file + ": no numbers read");
     return Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
 }

@@ -442,10 +442,24 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
     const std::vector<int> dyn = moving_entries(modes, frozen);
     const int m = static_cast<int>(dyn.size());
     const double size = size_scale_ > 0.0 ? size_scale_ : 1.0;
+    // A direction's error counts by the friction force it steers: in radians at a contact pressed
+    // by the largest force met, looser in proportion where its normal force is smaller (the
+    // tangential force's error mu lambda_N dtheta is then the same share of the forces).
+    VectorXd w0;
+    try {
+        w0 = series(zhat, modes, 0.0, 0, frozen, false).col(0);
+    } catch (const std::runtime_error&) {  // a singular pattern at the start: a failed step
+        return false;
+    }
+    auto direction_scale = [&](int k, double pressed) {
+        const int q = dyn[static_cast<std::size_t>(k)] - theta(0);
+        const double normal_force = std::max(pressed, w0(n + normal(q)));
+        return normal_force > 0.0 && force_scale_ > normal_force ? force_scale_ / normal_force : 1.0;
+    };
     VectorXd scale(m);
     for (int k = 0; k < m; ++k) scale(k) = dyn[static_cast<std::size_t>(k)] < nm ? size
                                            : dyn[static_cast<std::size_t>(k)] < 2 * nm ? size * omega_
-                                                                                        : 1.0;
+                                                                                        : direction_scale(k, 0.0);
     const std::complex<double> phase(zhat(cos_index()), zhat(sin_index()));
     auto full = [&](const VectorXd& v, double sigma) {
         VectorXd z = zhat;
@@ -543,7 +557,6 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
     if (!converged) return false;
     // The recorded vector [zhat, lambda] at the nodes, and its polynomial in sigma: the value at
     // sigma = 0 plus the polynomial of the increments (the integrated rows' from Z).
-    const VectorXd w0 = series(zhat, modes, 0.0, 0, frozen, false).col(0);
     MatrixXd increments = MatrixXd::Zero(n + L, s + 1);
     for (int i = 0; i < s; ++i) {
         try {
@@ -563,22 +576,24 @@ bool ConeEngine::collocation_step(const VectorXd& zhat, const Modes& modes, doub
     for (int i = 0; i < s; ++i) {
         const double sigma = 0.5 * (left + R.c(i));
         left = R.c(i);
-        VectorXd value = VectorXd::Zero(n), slope = VectorXd::Zero(n);
+        VectorXd value = VectorXd::Zero(n + L), slope = VectorXd::Zero(n);
         double power = 1.0;
         for (int k = 0; k <= s; ++k) {
-            value += power * u.col(k).head(n);
+            value += power * u.col(k);
             if (k + 1 <= s) slope += (k + 1) * power * u.col(k + 1).head(n);
             power *= sigma;
         }
-        VectorXd v(m), dv(m);
+        VectorXd v(m), dv(m), weight = scale;
         for (int k = 0; k < m; ++k) {
             v(k) = value(dyn[static_cast<std::size_t>(k)]);
             dv(k) = slope(dyn[static_cast<std::size_t>(k)]) / h;
+            if (dyn[static_cast<std::size_t>(k)] >= 2 * nm)
+                weight(k) = direction_scale(k, value(n + normal(dyn[static_cast<std::size_t>(k)] - theta(0))));
         }
         const VectorXd defect = dv - rate(full(v, sigma));
         const VectorXd e = filter.solve(h * defect);
         if (!e.allFinite()) return false;
-        const double worst = (e.array().abs() / scale.array()).maxCoeff();
+        const double worst = (e.array().abs() / weight.array()).maxCoeff();
         error = std::max(error, worst / tolerance);
     }
     return true;

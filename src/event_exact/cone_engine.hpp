@@ -51,7 +51,9 @@
 // stages) on y, y' and the moving directions theta, Newton's matrix from the rates' differences,
 // the step's length controlled by the collocation polynomial's defect at the midpoints between
 // its nodes, filtered by (I - h J)^-1 (so that a stiff direction on its slow manifold does not
-// shorten the step), to collocation_tolerance of the state's size; its recorded vector is the
+// shorten the step), to collocation_tolerance of the state's size (a direction's in radians
+// times its contact's normal force over the largest contact force met: the error of the friction
+// force mu lambda_N d it steers, as a share of the forces); its recorded vector is the
 // polynomial through the nodes' values (order s + 1 inside the step, 2s - 1 at its end), and a
 // step in which a guard has its root is repeated ending there, so that the event's state is the
 // step's end.
