@@ -33,6 +33,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -164,8 +165,18 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "mitre_exact: %s\n", e.what());
         return 2;
     }
-    const Eigen::VectorXd given_start = start_file.empty() ? Eigen::VectorXd() : read_state("--start", start_file);
-    const io::SystemConfig config = io::read_system_config(file);
+    Eigen::VectorXd given_start;
+    io::SystemConfig config;
+    try {
+        if (!start_file.empty()) given_start = read_state("--start", start_file);
+        config = io::read_system_config(file);
+        if (given_start.size() > 0 && given_start.size() != 2 * config.system.dofs())
+            throw std::runtime_error("--start " + start_file + " has " + std::to_string(given_start.size()) +
+                                     " numbers: the state of " + file + " has " + std::to_string(2 * config.system.dofs()));
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "mitre_exact: %s\n", e.what());
+        return 2;
+    }
     System system = config.system;
     system.excitation *= force_scale;
     const std::vector<Output>& outputs = config.outputs;
