@@ -111,8 +111,7 @@ void fill_stability(const Eigen::MatrixXd& psi, const Eigen::MatrixXd& basis, co
         out.stable = true;
         return;
     }
-    Eigen::EigenSolver<Eigen::MatrixXd> eigen(reduced, false);
-    out.multipliers = eigen.eigenvalues();
+    out.multipliers = balanced_eigenvalues(reduced);
     out.max_multiplier = out.multipliers.cwiseAbs().maxCoeff();
     out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
 }

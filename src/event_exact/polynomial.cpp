@@ -38,6 +38,11 @@ Eigen::VectorXd balance(Eigen::MatrixXd& a) {
     return d;
 }
 
+Eigen::VectorXcd balanced_eigenvalues(Eigen::MatrixXd a) {
+    balance(a);
+    return Eigen::EigenSolver<Eigen::MatrixXd>(a, false).eigenvalues();
+}
+
 /// The fast modes of a (n x n, its last 3 states cos, sin, 1 of the forcing; nz = n - 3), the
 /// slow flow's coordinates (ModeData) and the largest slow |eigenvalue|. The dynamic block az
 /// is balanced first (d^-1 az d); its eigenvectors give right [d v; 0] and left

@@ -45,6 +45,13 @@ inline Eigen::VectorXd evaluate(const Eigen::Ref<const Eigen::MatrixXd>& u, doub
 /// to its largest eigenvalue instead of its largest stiffness over mass.
 Eigen::VectorXd balance(Eigen::MatrixXd& a);
 
+/// The eigenvalues of a (a period map's derivative: Floquet multipliers), balanced first. The
+/// similarity by powers of 2 changes no eigenvalue, but the raw entries of a mechanical period
+/// map spread over many decades (dy'/dy ~ w^2 T against dy/dy' ~ T, metres against radians),
+/// and unbalanced the eigensolver's error scales with the largest of them: 1e-7 on the
+/// multipliers of a 92-coordinate structure where balanced it is 1e-11.
+Eigen::VectorXcd balanced_eigenvalues(Eigen::MatrixXd a);
+
 /// exp(a d) by scaling and squaring of its Taylor series (to rounding), on a balanced a.
 Eigen::MatrixXd taylor_exp(const Eigen::MatrixXd& a, double d);
 

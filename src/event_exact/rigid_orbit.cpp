@@ -304,7 +304,7 @@ bool held_start_orbit(E& e, VectorXd zhat, const Modes& modes, const VectorXd& w
     out.permanent_stick = true;
     out.message = permanent_stick_note;
     rigid_metrics(e, last, 0.0, options, out);
-    out.multipliers = Eigen::EigenSolver<MatrixXd>(d, false).eigenvalues();
+    out.multipliers = balanced_eigenvalues(d);
     out.max_multiplier = out.multipliers.cwiseAbs().maxCoeff();
     out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
     if constexpr (!std::is_same_v<E, RigidEngine>) {
@@ -1053,8 +1053,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                             return out;
                         }
                     }
-                    Eigen::EigenSolver<MatrixXd> eigen(reduced, false);
-                    out.multipliers = eigen.eigenvalues();
+                    out.multipliers = balanced_eigenvalues(reduced);
                     out.max_multiplier = nu > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
                     out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
                     return out;
