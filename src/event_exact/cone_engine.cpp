@@ -3,6 +3,7 @@
 #include "event_exact/cone_engine.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -748,6 +749,8 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
     std::vector<char> started(static_cast<std::size_t>(n_contacts_), 0);  // slipping from rest since this instant
     int instant_events = 0;  // events at the instant of the last step's end
     double last_event = -std::numeric_limits<double>::infinity();  // the last event's time
+    std::vector<int> last_slips;  // the contacts that started to slip (from stuck) at it
+    std::vector<int> regrip;      // of those, the ones an event just after must stick again
     const long max_steps = 200000;
     long steps = 0;
     taylor_steps_ = collocation_steps_ = 0;
@@ -971,18 +974,42 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
             previous.h = 0.0;
         }
         std::fill(frozen.begin(), frozen.end(), 0);
+        if (s_end > 0.0 && !regrip.empty()) {  // time went on with them slipping: a coincidence
+            out.simultaneous = true;
+            regrip.clear();
+        }
         if (!found) continue;
         std::vector<char> closing;
         const Modes next = settle_state(zhat, modes, triggers, closing);
         {
             // Two triggers whose contacts both change (a trigger whose contact the settled
             // pattern keeps, a stuck node whose force grazes its cone's edge at that instant, is
-            // not an event), or an event within 1e-9 of the period of the last by a step.
+            // not an event), or an event within 1e-9 of the period of the last by a step. Not
+            // where the last event started stuck nodes slipping that this instant's cascade
+            // sticks again: nodes stuck all period grazing their cones at the instant of another
+            // contact's event (where a shakedown leaves them: their forces' largest ratio is at
+            // that kink), whose triggers the root finding put a rounding's time before it.
             int changed = 0;
             for (const Guard& g : triggers)
                 changed += next[static_cast<std::size_t>(g.contact)] != modes[static_cast<std::size_t>(g.contact)];
-            if (changed > 1 || (changed > 0 && s_end > 0.0 && t - last_event <= 1e-9 * period_)) out.simultaneous = true;
-            if (changed > 0) last_event = t;
+            regrip.erase(std::remove_if(regrip.begin(), regrip.end(),
+                                        [&](int c) { return next[static_cast<std::size_t>(c)] == stuck; }),
+                         regrip.end());
+            if (changed > 1) {
+                out.simultaneous = true;
+            } else if (changed > 0 && s_end > 0.0 && t - last_event <= 1e-9 * period_) {
+                if (last_slips.empty())
+                    out.simultaneous = true;
+                else
+                    regrip = last_slips;
+            }
+            if (changed > 0) {
+                last_event = t;
+                last_slips.clear();
+                for (const Guard& g : triggers)
+                    if (modes[static_cast<std::size_t>(g.contact)] == stuck && next[static_cast<std::size_t>(g.contact)] == slip)
+                        last_slips.push_back(g.contact);
+            }
         }
         if (phi.size() > 0) {
             try {
@@ -1016,6 +1043,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         modes = next;
         if (!counted) break;
     }
+    if (!regrip.empty()) out.simultaneous = true;
     out.zhat = zhat;
     out.modes = modes;
     if (phi.size() > 0 && out.ok) {
