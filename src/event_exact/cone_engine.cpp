@@ -3,7 +3,6 @@
 #include "event_exact/cone_engine.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
 #include <complex>
 #include <limits>
