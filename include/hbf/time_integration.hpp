@@ -329,11 +329,14 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
 std::string exact_sweep_refusal(const System& system, double omega_min);
 
 /// The start of a sweep's next exact orbit at omega (hbf timeint --method exact) from the
-/// points done (in sweep order): with law unilateral (states [y, y'], smooth in omega) the
-/// secant through the last two for y, y' of the DOFs with mass, where both converged and omega
-/// is beyond the last, and the last point's for the massless DOFs (where stuck contacts are
-/// held: a slow sweep leaves them there); otherwise the last point's state, or `first` where
-/// none is done.
+/// points done (in sweep order): with law unilateral in 2D (states [y, y'], smooth in omega)
+/// the secant through the last two for y, y' of the DOFs with mass, where both converged and
+/// omega is beyond the last, and the last point's for the massless DOFs (where stuck contacts
+/// are held: a slow sweep leaves them there); otherwise the last point's state, or `first`
+/// where none is done. Not the secant where a contact is 3D: nodes stuck all period there are
+/// held anywhere inside their cones (a family of orbits), the member reached moves from one
+/// point to the next, and the secant carries that move on while the held positions stay, which
+/// pushes stuck nodes' forces past their cones' edges at the start.
 Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std::vector<PeriodicResponse>& done,
                                   const Eigen::VectorXd& first);
 

@@ -90,7 +90,7 @@ Eigen::VectorXd exact_sweep_start(const System& system, double omega, const std:
                                   const Eigen::VectorXd& first) {
     if (done.empty()) return first;
     const PeriodicResponse& last = done.back();
-    if (done.size() < 2 || !rigid_contacts_only(system)) return last.state;
+    if (done.size() < 2 || !rigid_contacts_only(system) || rigid_contacts_3d(system)) return last.state;
     const PeriodicResponse& before = done[done.size() - 2];
     const double step = last.omega - before.omega;
     if (!last.converged || !before.converged || last.state.size() != before.state.size() || step == 0.0 ||
