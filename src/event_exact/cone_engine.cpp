@@ -30,8 +30,13 @@ constexpr double closing_step = 1e-8;
 /// A slipping 3D contact holds its direction while its normal force is below this share of
 /// the largest contact force.
 constexpr double hold_share = 1e-6;
-/// A Taylor step shorter than period / stiff_steps is stiff: an implicit step instead.
+/// A Taylor step shorter than period / stiff_steps is short; after stiff_run short ones in a row
+/// the stretch is stiff: implicit steps there, until a Taylor step is long again. A short step
+/// now and then (a slip direction turning fast under a small normal force for an instant, near a
+/// lift-off) is cheaper as a Taylor step than as an implicit one started cold, and its error is
+/// rounding's where the implicit step's is 1e-12.
 constexpr double stiff_steps = 1000.0;
+constexpr int stiff_run = 16;
 /// The order of the collocation's local error estimate (cone_engine.hpp).
 constexpr int collocation_order = ConeEngine::collocation_stages + 1;
 /// A Jacobian is kept for the next implicit step of a pattern while Newton needed at most this
@@ -754,6 +759,7 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
     long steps = 0;
     taylor_steps_ = collocation_steps_ = 0;
     double implicit_h = 0.0;  // the collocation's next step
+    int short_steps = 0;      // Taylor steps shorter than period / stiff_steps in a row
     // The last implicit step, its pattern and held directions: the next one's first guess.
     PreviousStep previous;
     const PreviousStep none;
@@ -816,7 +822,9 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
                     if (worst <= 1.0) break;
                     h *= std::max(0.1, 0.9 * std::pow(worst, -1.0 / order));
                 }
-                if (stepping_ == Stepping::automatic && h < cap && h < period_ / stiff_steps) {
+                const bool short_step = h < cap && h < period_ / stiff_steps;
+                short_steps = short_step ? short_steps + 1 : 0;
+                if (stepping_ == Stepping::automatic && short_step && short_steps > stiff_run) {
                     implicit = true;  // stiff: an implicit step goes further
                 } else {
                     if (h >= remaining * (1.0 - 1e-12)) h = remaining;
