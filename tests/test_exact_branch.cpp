@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hbf/absorber.hpp"
@@ -17,6 +18,7 @@
 #include "hbf/exact_branch.hpp"
 #include "hbf/time_integration.hpp"
 
+#include "../benchmarks/contact_chain.hpp"
 #include "cli_support.hpp"
 
 using namespace hbf;
@@ -242,23 +244,31 @@ TEST_CASE("exact branch: bounded, stoppable, and bad options refused", "[exact][
 }
 
 TEST_CASE("exact sweep start: the secant for the DOFs with mass, the held positions kept", "[exact][branch]") {
-    // liftoff3_rigid: y4, y5 massless (the contact nodes, held where stuck).
+    // Two converged points (w = 1, 1.1), the second's state twice the first's: the start at 1.15
+    // by the secant is 2.5 times the first's state where it extrapolates, the second's elsewhere.
+    auto start_at = [](const System& system) {
+        const int n = system.dofs();
+        std::vector<PeriodicResponse> done(2);
+        done[0].omega = 1.0;
+        done[1].omega = 1.1;
+        for (PeriodicResponse& r : done) r.converged = true;
+        done[0].state = Eigen::VectorXd::LinSpaced(2 * n, 1.0, 2.0 * n);
+        done[1].state = 2.0 * done[0].state;
+        return std::make_pair(done[0].state, exact_sweep_start(system, 1.15, done, Eigen::VectorXd()));
+    };
+    // liftoff3_rigid (2D): y4, y5 massless (the contact nodes, held where stuck).
     const SystemConfig config = io::read_system_config(branch_system);
-    const System& system = config.system;
-    const int n = system.dofs();
-    std::vector<PeriodicResponse> done(2);
-    done[0].omega = 1.0;
-    done[1].omega = 1.1;
-    for (PeriodicResponse& r : done) r.converged = true;
-    done[0].state = Eigen::VectorXd::LinSpaced(2 * n, 1.0, 2.0 * n);
-    done[1].state = 2.0 * done[0].state;
-    const Eigen::VectorXd next = exact_sweep_start(system, 1.15, done, Eigen::VectorXd());
+    const int n = config.system.dofs();
+    const auto [first, next] = start_at(config.system);
     for (int i = 0; i < n; ++i) {
         INFO("DOF " << i + 1);
         const bool massless = i >= 3;
-        for (const int k : {i, n + i})
-            CHECK(next(k) == Approx(massless ? done[1].state(k) : 2.5 * done[0].state(k)).epsilon(1e-14));
+        for (const int k : {i, n + i}) CHECK(next(k) == Approx((massless ? 2.0 : 2.5) * first(k)).epsilon(1e-14));
     }
+    // 3D contacts: the last orbit as it is (nodes stuck all period are held anywhere inside their
+    // cones, and the secant would carry the move from one member of that family to another on).
+    const auto [first_3d, next_3d] = start_at(bench::contact_chain_3d(3, 1.0, 0.8));
+    CHECK((next_3d - 2.0 * first_3d).cwiseAbs().maxCoeff() == 0.0);
 }
 
 TEST_CASE("hbf timeint --sweep branch: the exact branch through its folds, in branch order", "[cli][exact][branch]") {

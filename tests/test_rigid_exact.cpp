@@ -522,33 +522,6 @@ TEST_CASE("rigid exact 3D: the force's work is what friction and damping take ou
     }
 }
 
-TEST_CASE("exact sweep start: with 3D contacts the last orbit's state, not the secant", "[rigid_exact][branch]") {
-    // 2D: the secant through the last two orbits for the DOFs with mass; 3D: the last orbit as it
-    // is (nodes stuck all period are held anywhere inside their cones, and the secant would carry
-    // the move from one member of that family to another on).
-    for (const bool spatial : {false, true}) {
-        const System system = spatial ? bench::contact_chain_3d(3, 1.0, 0.8) : bench::contact_chain(3, 1.0);
-        const int n = system.dofs();
-        std::vector<PeriodicResponse> done(2);
-        done[0].omega = 1.0;
-        done[1].omega = 1.1;
-        for (PeriodicResponse& r : done) r.converged = true;
-        done[0].state = Eigen::VectorXd::LinSpaced(2 * n, 1.0, 2.0 * n);
-        done[1].state = 2.0 * done[0].state;
-        const Eigen::VectorXd next = exact_sweep_start(system, 1.15, done, Eigen::VectorXd());
-        INFO((spatial ? "3D" : "2D"));
-        const Eigen::MatrixXd M(system.mass);
-        int extrapolated = 0;
-        for (int i = 0; i < n; ++i) {
-            const bool secant = !spatial && M.col(i).cwiseAbs().maxCoeff() > 0.0;
-            extrapolated += secant;
-            for (const int k : {i, n + i})
-                CHECK(next(k) == Approx((secant ? 2.5 * done[0].state : done[1].state)(k)).epsilon(1e-14));
-        }
-        CHECK(extrapolated == (spatial ? 0 : 3));
-    }
-}
-
 TEST_CASE("rigid exact 3D: the FRF's polish is off by default, with its reason, and on when asked", "[rigid_exact]") {
     const System spatial = bench::contact_chain_3d(3, 1.0, 0.8);
     CHECK(rigid_contacts_3d(spatial));
