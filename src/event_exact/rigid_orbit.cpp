@@ -243,17 +243,55 @@ void hold_where_started(E& e, const VectorXd& where, VectorXd& x, PatternEngine:
     out.message = permanent_stick_note;
 }
 
+/// Plain periods at most that a start holding every contact stuck may take to shake down (its
+/// nodes slip at the new frequency and settle at new held positions) before the stuck
+/// structure's orbit is solved about where they settled.
+constexpr int max_shakedown_periods = 30;
+
+/// ConeEngine, every contact stuck: the rates of y, y' are affine in the state, y'' = A (y, y')
+/// + g cos(w t) + h sin(w t) + r0 (r0: the held positions' and the preload's share), so the orbit
+/// about zhat's held positions is the stuck structure's forced response, solved in the frequency
+/// domain: (y, y')(0) = -A^-1 r0 + Re((i w - A)^-1 (g - i h)). Its multipliers are exp(lambda T)
+/// of A's eigenvalues and 1 for each held position (the family). zhat (at t = 0) gets that state.
+void stuck_orbit_state(ConeEngine& e, VectorXd& zhat, const Modes& modes, Eigen::VectorXcd& multipliers) {
+    const int nm = e.dofs();
+    const std::vector<int> dyn = e.moving_entries(modes, {});
+    MatrixXd A;
+    VectorXd rate;
+    e.rates_jacobian(zhat, modes, {}, dyn, A, rate);
+    auto rates_at = [&](double c, double s) {
+        VectorXd z = zhat;
+        z.head(2 * nm).setZero();
+        z(e.cos_index()) = c;
+        z(e.sin_index()) = s;
+        return VectorXd(e.series(z, modes, 0.0, 1).col(1).head(2 * nm));
+    };
+    const VectorXd r0 = rates_at(0.0, 0.0), g = rates_at(1.0, 0.0) - r0, h = rates_at(0.0, 1.0) - r0;
+    const std::complex<double> i(0.0, 1.0);
+    const Eigen::MatrixXcd shifted = i * e.omega() * Eigen::MatrixXcd::Identity(2 * nm, 2 * nm) - A.cast<std::complex<double>>();
+    const Eigen::VectorXcd response = shifted.partialPivLu().solve(g.cast<std::complex<double>>() - i * h);
+    zhat.head(2 * nm) = -A.partialPivLu().solve(r0) + response.real();
+    zhat(e.cos_index()) = 1.0;
+    zhat(e.sin_index()) = 0.0;
+    e.make_consistent(zhat, modes, 0.0);
+    const Eigen::VectorXcd lambda = balanced_eigenvalues(A);  // A's entries spread by w^2: balanced
+    multipliers = Eigen::VectorXcd::Ones(2 * nm + e.tangential_entries());
+    for (int k = 0; k < 2 * nm; ++k) multipliers(k) = std::exp(lambda(k) * e.period());
+}
+
 /// A start that holds every contact stuck (the orbit before it in a sweep, an FRF point's state;
 /// not rest, whose first period is the preload's and the force's transient):
 /// first the stuck structure's orbit about where the start holds the nodes, the convention of
 /// hold_where_started, without the warm-up, the section's choice and Newton on the held
-/// positions. The stuck structure is linear: Newton on y, y' from one period with its
-/// derivative (which is the same at every state) lands in one step, a second for rounding; each
-/// checked by a recorded period. False where a contact leaves stick on the way (the start holds
-/// the nodes where the orbit about them slips: a shakedown, seen in the first, plain period):
-/// the general solve then takes over.
+/// positions. The first, plain period from the start says whether its nodes stay stuck at the
+/// new frequency. RigidEngine: then Newton on y, y' from one period with its derivative (the
+/// stuck structure is linear: the derivative is the same at every state), which lands in one
+/// step, a second for rounding. ConeEngine: the orbit in closed form (stuck_orbit_state); where
+/// nodes slip in the first period, plain periods until one keeps every node stuck (a shakedown,
+/// at most max_shakedown_periods), then the orbit about where they settled. Each checked by a
+/// recorded period. False where that fails (the general solve then takes over).
 template <class E, class Flow>
-bool held_start_orbit(E& e, VectorXd zhat, const Modes& modes, const VectorXd& where, const Flow& flow,
+bool held_start_orbit(E& e, VectorXd zhat, Modes modes, const VectorXd& where, const Flow& flow,
                       const ExactOptions& options, ExactOrbit& out) {
     if (std::any_of(modes.begin(), modes.end(), [](int m) { return m != rigid_stuck; })) return false;
     const int nm = e.dofs();
@@ -264,50 +302,73 @@ bool held_start_orbit(E& e, VectorXd zhat, const Modes& modes, const VectorXd& w
     e.make_consistent(zhat, modes, 0.0);
     // a plain period first: where the start's nodes slip, that is all this costs (a period with
     // the derivative costs many plain ones)
-    const PatternEngine::Flow plain = flow(zhat, modes, 0.0, e.period(), false, false, options.max_events_per_period);
+    PatternEngine::Flow plain = flow(zhat, modes, 0.0, e.period(), false, false, options.max_events_per_period);
     ++out.periods;
-    if (!plain.ok || !permanently_stuck(plain)) return false;
-    const PatternEngine::Flow f = flow(zhat, modes, 0.0, e.period(), true, false, options.max_events_per_period);
-    ++out.periods;
-    if (!f.ok || f.psi.size() == 0) return false;
-    MatrixXd d(nu, nu);
-    if constexpr (std::is_same_v<E, RigidEngine>) {
-        d = f.psi.topLeftCorner(nu, nu);
-    } else {
-        std::vector<Eigen::Index> unknowns(static_cast<std::size_t>(nu));
-        for (Eigen::Index k = 0; k < nu; ++k) unknowns[static_cast<std::size_t>(k)] = k;
-        try {
-            d = end_derivative(e, f, unknowns);
-        } catch (const std::runtime_error&) {
-            return false;
-        }
-    }
-    const MatrixXd jacobian = MatrixXd(d.topLeftCorner(2 * nm, 2 * nm)) - MatrixXd::Identity(2 * nm, 2 * nm);
-    const Eigen::PartialPivLU<MatrixXd> lu(jacobian);
     SectionNorm norm{nm, e.omega(), 0.0};
-    norm.reference = norm.size(zhat.head(nu));
-    VectorXd end = f.zhat;
     PatternEngine::Flow last;
-    for (int step = 1; step <= 2; ++step) {
-        zhat.head(2 * nm) -= lu.solve(end.head(2 * nm) - zhat.head(2 * nm));
-        e.make_consistent(zhat, modes, 0.0);
-        last = flow(zhat, modes, 0.0, e.period(), false, true, options.max_events_per_period);
+    if constexpr (std::is_same_v<E, ConeEngine>) {
+        norm.reference = norm.size(zhat.head(nu));
+        bool tried = false;  // the orbit about the current held positions tried (and slipped)
+        int shaken = 0;
+        for (;; ++shaken) {
+            if (!plain.ok) return false;
+            if (!permanently_stuck(plain)) {
+                tried = false;
+            } else if (!tried) {
+                VectorXd z = zhat;
+                stuck_orbit_state(e, z, modes, out.multipliers);
+                last = flow(z, modes, 0.0, e.period(), false, true, options.max_events_per_period);
+                ++out.periods;
+                if (last.ok && permanently_stuck(last)) {
+                    zhat = z;
+                    break;
+                }
+                tried = true;
+            }
+            if (shaken == max_shakedown_periods) return false;
+            zhat = plain.zhat;
+            modes = plain.modes;
+            zhat(e.cos_index()) = 1.0;
+            zhat(e.sin_index()) = 0.0;
+            plain = flow(zhat, modes, 0.0, e.period(), false, false, options.max_events_per_period);
+            ++out.periods;
+        }
+        out.residual = norm.relative_change(last.zhat.head(nu), zhat.head(nu));
+        out.iterations = 0;
+        if (shaken > 0)
+            out.message = "permanent stick: the contacts held where " + std::to_string(shaken) +
+                          " periods of the start's shakedown left them (convention for the undetermined held position)";
+    } else {
+        if (!plain.ok || !permanently_stuck(plain)) return false;
+        const PatternEngine::Flow f = flow(zhat, modes, 0.0, e.period(), true, false, options.max_events_per_period);
         ++out.periods;
-        if (!last.ok || !permanently_stuck(last)) return false;
-        end = last.zhat;
-        out.iterations = step;
-        out.residual = norm.relative_change(end.head(nu), zhat.head(nu));
-        if (out.residual <= options.tolerance) break;
+        if (!f.ok || f.psi.size() == 0) return false;
+        const MatrixXd d = f.psi.topLeftCorner(nu, nu);
+        const MatrixXd jacobian = MatrixXd(d.topLeftCorner(2 * nm, 2 * nm)) - MatrixXd::Identity(2 * nm, 2 * nm);
+        const Eigen::PartialPivLU<MatrixXd> lu(jacobian);
+        norm.reference = norm.size(zhat.head(nu));
+        VectorXd end = f.zhat;
+        for (int step = 1; step <= 2; ++step) {
+            zhat.head(2 * nm) -= lu.solve(end.head(2 * nm) - zhat.head(2 * nm));
+            e.make_consistent(zhat, modes, 0.0);
+            last = flow(zhat, modes, 0.0, e.period(), false, true, options.max_events_per_period);
+            ++out.periods;
+            if (!last.ok || !permanently_stuck(last)) return false;
+            end = last.zhat;
+            out.iterations = step;
+            out.residual = norm.relative_change(end.head(nu), zhat.head(nu));
+            if (out.residual <= options.tolerance) break;
+        }
+        out.multipliers = balanced_eigenvalues(d);
     }
     if (!(out.residual <= std::max(options.tolerance, stall_floor))) return false;
     out.converged = true;
     out.permanent_stick = true;
-    out.message = permanent_stick_note;
+    if (out.message.empty()) out.message = permanent_stick_note;
     rigid_metrics(e, last, 0.0, options, out);
-    out.multipliers = balanced_eigenvalues(d);
     out.max_multiplier = out.multipliers.cwiseAbs().maxCoeff();
     out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
-    if constexpr (!std::is_same_v<E, RigidEngine>) {
+    if constexpr (std::is_same_v<E, ConeEngine>) {
         // The kink check of the general solve: a perturbation of 1e-6 of y, y' along a fixed
         // direction that adds events (a node whose force touches its cone's edge at an instant).
         VectorXd direction(2 * nm);
