@@ -1584,7 +1584,9 @@ TEST_CASE("rigid exact 3D: a held contact stays stuck past its friction limit, t
     // predictor on orbits whose nodes stick all period). On the 3D chain from rest: contact 0
     // first slips at t1 without the hold; held, it has no slip event and just after t1 its
     // tangential force is past mu lambda_N (the limit really is not enforced), while a flow that
-    // ends before t1 is the same with and without the hold (nothing else changes).
+    // ends before t1 is the same with and without the hold (nothing else changes), and so is its
+    // derivative, but for the held positions of the held contact, which it leaves out (their
+    // columns zero where the flow without the hold depends on them).
     using namespace detail::exact;
     const System system = bench::contact_chain_3d(3, 1.0, 0.8);
     ConeEngine e(system, 0.6);
@@ -1602,15 +1604,28 @@ TEST_CASE("rigid exact 3D: a held contact stays stuck past its friction limit, t
     REQUIRE(t1 > 0.0);
     std::vector<char> held(static_cast<std::size_t>(e.contacts()), 0);
     held[0] = 1;
-    const PatternEngine::Flow before = e.flow(zhat, modes, 0.0, 0.9 * t1, false, false, 5000);
+    const PatternEngine::Flow before = e.flow(zhat, modes, 0.0, 0.9 * t1, true, false, 5000);
     e.hold_stuck(held);
-    const PatternEngine::Flow held_before = e.flow(zhat, modes, 0.0, 0.9 * t1, false, false, 5000);
+    const PatternEngine::Flow held_before = e.flow(zhat, modes, 0.0, 0.9 * t1, true, false, 5000);
     const PatternEngine::Flow past = e.flow(zhat, modes, 0.0, t1 + 0.02 * e.period(), false, false, 5000);
     e.hold_stuck({});
     REQUIRE(before.ok);
     REQUIRE(held_before.ok);
     REQUIRE(past.ok);
     CHECK((held_before.zhat - before.zhat).cwiseAbs().maxCoeff() <= 1e-12 * before.zhat.cwiseAbs().maxCoeff());
+    REQUIRE(before.psi.size() > 0);
+    REQUIRE(held_before.psi.size() == before.psi.size());
+    const double size = before.psi.cwiseAbs().maxCoeff();
+    for (Eigen::Index j = 0; j < before.psi.cols(); ++j) {
+        const bool left_out = j >= e.slider(0) && j < e.slider(0) + e.directions(0);
+        INFO("column " << j << (left_out ? " (contact 0's held position)" : ""));
+        if (left_out) {
+            CHECK(held_before.psi.col(j).cwiseAbs().maxCoeff() == 0.0);
+            CHECK(before.psi.col(j).head(2 * e.dofs()).cwiseAbs().maxCoeff() > 1e-6 * size);
+        } else {
+            CHECK((held_before.psi.col(j) - before.psi.col(j)).cwiseAbs().maxCoeff() <= 1e-12 * size);
+        }
+    }
     for (const ExactEvent& event : past.events) CHECK(!(event.contact == 0 && event.mode_before == ConeEngine::stuck &&
                                                         event.mode_after != ConeEngine::open));
     REQUIRE(past.modes[0] == ConeEngine::stuck);

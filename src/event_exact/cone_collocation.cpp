@@ -195,10 +195,19 @@ void ConeEngine::step_sensitivity(const MatrixXd& u, double h, double s_end, boo
     const auto nx = static_cast<Eigen::Index>(x.size());
     const std::vector<int> dyn = moving_entries(modes, frozen);
     const auto m = static_cast<Eigen::Index>(dyn.size());
-    // the rows of x that move (dyn), and those that stay
+    // the rows of x that move (dyn), and those that stay; of those, the ones phi depends on (a
+    // held position's row is zero where the flow is not differentiated with respect to it and
+    // no event has set it: its Jacobian's column is not needed)
     std::vector<Eigen::Index> moves, stays;
-    for (Eigen::Index k = 0; k < nx; ++k)
-        (std::find(dyn.begin(), dyn.end(), x[static_cast<std::size_t>(k)]) != dyn.end() ? moves : stays).push_back(k);
+    for (Eigen::Index k = 0; k < nx; ++k) {
+        if (std::find(dyn.begin(), dyn.end(), x[static_cast<std::size_t>(k)]) != dyn.end())
+            moves.push_back(k);
+        else if (phi.row(k).cwiseAbs().maxCoeff() > 0.0)
+            stays.push_back(k);
+    }
+    // the Jacobian's columns: the moving entries (dyn's order), then the stays
+    std::vector<int> wrt = dyn;
+    for (const Eigen::Index k : stays) wrt.push_back(x[static_cast<std::size_t>(k)]);
     // At a step's end where a slipping contact opens, its direction equation is singular (its
     // normal force is zero there): the Jacobian just before the end instead.
     auto stage_jacobian = [&](double sigma) {
@@ -206,8 +215,8 @@ void ConeEngine::step_sensitivity(const MatrixXd& u, double h, double s_end, boo
         VectorXd rate;
         for (double back : {0.0, 1e-9, 1e-7, 1e-5}) {
             try {
-                rates_jacobian(evaluate(u, sigma * (1.0 - back)).head(n), modes, frozen, dyn, x, J, rate);
-                return J;  // m x nx, columns in x's order
+                rates_jacobian(evaluate(u, sigma * (1.0 - back)).head(n), modes, frozen, dyn, wrt, J, rate);
+                return J;  // m x wrt
             } catch (const std::runtime_error&) {
                 if (back == 1e-5) throw;
             }
@@ -220,32 +229,28 @@ void ConeEngine::step_sensitivity(const MatrixXd& u, double h, double s_end, boo
         const double fastest = std::sqrt(J0.block(nm, 0, nm, nm).cwiseAbs().rowwise().sum().maxCoeff());
         substeps = std::clamp(static_cast<int>(std::ceil(s_end * h * fastest / 0.5)), 1, 256);
     }
+    const auto held = static_cast<Eigen::Index>(stays.size());
+    MatrixXd dc(held, phi.cols());
+    for (Eigen::Index k = 0; k < held; ++k) dc.row(k) = phi.row(stays[static_cast<std::size_t>(k)]);
     for (int sub = 0; sub < substeps; ++sub) {
         const double a0 = s_end * sub / substeps, width = s_end / substeps, length = width * h;
-        std::vector<MatrixXd> Jv(static_cast<std::size_t>(s)), Jc(static_cast<std::size_t>(s));
+        // per stage: Jv (m x m), and Jc dc (the held entries' share of the rates' change)
+        std::vector<MatrixXd> Jv(static_cast<std::size_t>(s)), Jcdc(static_cast<std::size_t>(s));
         for (int i = 0; i < s; ++i) {
             const MatrixXd J = stage_jacobian(a0 + R.c(i) * width);
-            Jv[static_cast<std::size_t>(i)].resize(m, m);
-            Jc[static_cast<std::size_t>(i)].resize(m, static_cast<Eigen::Index>(stays.size()));
-            for (Eigen::Index k = 0; k < m; ++k) {
-                // column of dyn entry k in x
-                const auto at = std::find(x.begin(), x.end(), dyn[static_cast<std::size_t>(k)]) - x.begin();
-                Jv[static_cast<std::size_t>(i)].col(k) = J.col(at);
-            }
-            for (std::size_t k = 0; k < stays.size(); ++k)
-                Jc[static_cast<std::size_t>(i)].col(static_cast<Eigen::Index>(k)) = J.col(stays[k]);
+            Jv[static_cast<std::size_t>(i)] = J.leftCols(m);
+            if (held > 0) Jcdc[static_cast<std::size_t>(i)].noalias() = J.rightCols(held) * dc;
         }
         // (I - length (A x I) blockdiag(Jv)) dV = 1 x dv_a + length (A x I) [Jc_j dc]
         MatrixXd M = MatrixXd::Identity(s * m, s * m);
-        MatrixXd dva(m, phi.cols()), dc(static_cast<Eigen::Index>(stays.size()), phi.cols());
+        MatrixXd dva(m, phi.cols());
         for (Eigen::Index k = 0; k < m; ++k) dva.row(k) = phi.row(moves[static_cast<std::size_t>(k)]);
-        for (std::size_t k = 0; k < stays.size(); ++k) dc.row(static_cast<Eigen::Index>(k)) = phi.row(stays[k]);
         MatrixXd rhs(s * m, phi.cols());
         for (int i = 0; i < s; ++i) {
             rhs.middleRows(i * m, m) = dva;
             for (int j = 0; j < s; ++j) {
                 M.block(i * m, j * m, m, m) -= (length * R.a(i, j)) * Jv[static_cast<std::size_t>(j)];
-                if (!stays.empty()) rhs.middleRows(i * m, m) += (length * R.a(i, j)) * (Jc[static_cast<std::size_t>(j)] * dc);
+                if (held > 0) rhs.middleRows(i * m, m) += (length * R.a(i, j)) * Jcdc[static_cast<std::size_t>(j)];
             }
         }
         const MatrixXd dV = M.partialPivLu().solve(rhs);

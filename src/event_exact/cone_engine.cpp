@@ -736,10 +736,23 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
     // The derivative of the state's independent entries with respect to the start's, through the
     // steps (step_sensitivity) and the events (event_sensitivity): rows independent(modes),
     // columns the start's.
+    // The columns: the start's independent entries but the held positions of contacts held
+    // stuck (hold_stuck): constant over the flow, they are not differentiated with respect to
+    // (their columns of psi stay zero), and the steps' sensitivities skip them.
     MatrixXd phi;
     const std::vector<int> start_entries = independent(modes);
-    const auto count = static_cast<Eigen::Index>(start_entries.size());
-    if (monodromy) phi = MatrixXd::Identity(count, count);
+    std::vector<int> columns;
+    for (const int i : start_entries) {
+        const bool held_slider = i >= 2 * n_dofs_ && i < theta(0) && !held_.empty() &&
+                                 held_[static_cast<std::size_t>(slider_contact(i))] &&
+                                 modes[static_cast<std::size_t>(slider_contact(i))] == stuck;
+        if (!held_slider) columns.push_back(i);
+    }
+    if (monodromy) {
+        phi = MatrixXd::Zero(static_cast<Eigen::Index>(start_entries.size()), static_cast<Eigen::Index>(columns.size()));
+        for (std::size_t r = 0, c = 0; r < start_entries.size() && c < columns.size(); ++r)
+            if (start_entries[r] == columns[c]) phi(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c++)) = 1.0;
+    }
     double t = t0;
     const double t_end = t0 + duration;
     int events = 0;
@@ -1057,8 +1070,8 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         const std::vector<int> x = independent(modes);
         out.psi = MatrixXd::Zero(n, n);
         for (std::size_t i = 0; i < x.size(); ++i)
-            for (std::size_t j = 0; j < start_entries.size(); ++j)
-                out.psi(x[i], start_entries[j]) = phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+            for (std::size_t j = 0; j < columns.size(); ++j)
+                out.psi(x[i], columns[j]) = phi(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
     }
     return out;
 }

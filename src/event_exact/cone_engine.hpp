@@ -103,7 +103,10 @@ public:
     /// are not guards, so a held contact stays stuck whatever its tangential force (it can still
     /// open). Newton's predictor on orbits whose nodes stick all period (rigid_orbit.cpp): such
     /// a node's held position is free (a family of orbits), and a Newton iterate that pushes its
-    /// force past the cone's edge makes it slip for an instant, a kink in the period map.
+    /// force past the cone's edge makes it slip for an instant, a kink in the period map. A flow
+    /// with the derivative leaves out the held positions of held contacts stuck at its start
+    /// (constant over it): psi's columns for them stay zero, and no step differentiates with
+    /// respect to them.
     void hold_stuck(std::vector<char> contacts) { held_ = std::move(contacts); }
     /// Stages of the collocation (order 2s - 1 at a step's end, s + 1 inside: the order of its
     /// local error estimate, which the step control uses).

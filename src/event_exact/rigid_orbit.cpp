@@ -248,6 +248,18 @@ void hold_where_started(E& e, const VectorXd& where, VectorXd& x, PatternEngine:
 /// structure's orbit is solved about where they settled.
 constexpr int max_shakedown_periods = 30;
 
+/// Whether a period's events are those of a shakedown: contacts that slip once, each a single
+/// slip phase in it (at most 3 events: one that starts or ends at its ends), and none opens. A
+/// contact that slips twice (4 events: both ways, as a node in stick-slip must to come back)
+/// or opens is on an orbit that slips or lifts off: no stuck orbit is near.
+bool ratchets(const ConeEngine& e, const PatternEngine::Flow& plain) {
+    std::vector<int> count(static_cast<std::size_t>(e.contacts()), 0);
+    for (const ExactEvent& event : plain.events) {
+        if (event.mode_after == rigid_open || ++count[static_cast<std::size_t>(event.contact)] > 3) return false;
+    }
+    return true;
+}
+
 /// ConeEngine, every contact stuck: the rates of y, y' are affine in the state, y'' = A (y, y')
 /// + g cos(w t) + h sin(w t) + r0 (r0: the held positions' and the preload's share), so the orbit
 /// about zhat's held positions is the stuck structure's forced response, solved in the frequency
@@ -287,9 +299,10 @@ void stuck_orbit_state(ConeEngine& e, VectorXd& zhat, const Modes& modes, Eigen:
 /// new frequency. RigidEngine: then Newton on y, y' from one period with its derivative (the
 /// stuck structure is linear: the derivative is the same at every state), which lands in one
 /// step, a second for rounding. ConeEngine: the orbit in closed form (stuck_orbit_state); where
-/// nodes slip in the first period, plain periods until one keeps every node stuck (a shakedown,
-/// at most max_shakedown_periods), then the orbit about where they settled. Each checked by a
-/// recorded period. False where that fails (the general solve then takes over).
+/// nodes slip in the first period, plain periods while they ratchet (ratchets) until one keeps
+/// every node stuck (a shakedown, at most max_shakedown_periods), then the orbit about where
+/// they settled. Each checked by a recorded period. False where that fails (the general solve
+/// then takes over).
 template <class E, class Flow>
 bool held_start_orbit(E& e, VectorXd zhat, Modes modes, const VectorXd& where, const Flow& flow,
                       const ExactOptions& options, ExactOrbit& out) {
@@ -313,6 +326,7 @@ bool held_start_orbit(E& e, VectorXd zhat, Modes modes, const VectorXd& where, c
         for (;; ++shaken) {
             if (!plain.ok) return false;
             if (!permanently_stuck(plain)) {
+                if (!ratchets(e, plain)) return false;
                 tried = false;
             } else if (!tried) {
                 VectorXd z = zhat;
@@ -828,10 +842,13 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 // A perturbation of 1e-6 that adds events (a node within it of an edge of its cone or
                 // its gap) is tried again at 1e-8: where the events stay the orbit's there, that
                 // decides (the flow's derivative is the period map's, a kink or not further out).
-                auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d, const std::vector<ExactEvent>& orbit) {
+                // `kept`: unknowns d was not differentiated with respect to (the direction leaves them).
+                auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d, const std::vector<ExactEvent>& orbit,
+                                               const std::vector<Eigen::Index>& kept) {
                     const VectorXd scale = units(difference_size(at));
                     VectorXd pattern(nu);  // entries of one size and no symmetry
                     for (Eigen::Index k = 0; k < nu; ++k) pattern(k) = std::sin(1.0 + 2.0 * static_cast<double>(k));
+                    for (const Eigen::Index k : kept) pattern(k) = 0.0;
                     const VectorXd direction = scale.cwiseProduct(pattern);
                     const VectorXd predicted = (d * direction).cwiseQuotient(scale);
                     auto counts = [&](const std::vector<ExactEvent>& events) {
@@ -1049,7 +1066,28 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     }
                     if (out.converged && permanently_stuck(last)) hold_where_started(e, start_sliders, x, last, map, derivative, options, out);
                     rigid_metrics(e, last, t_s, options, out);
-                    MatrixXd reduced = flow_derivative(x, last);  // the multipliers
+                    // The multipliers. ConeEngine: the contacts stuck all of the orbit's period are
+                    // held over the period with the derivative, which then leaves out their held
+                    // positions (a node stuck all period keeps its held position: its rows are
+                    // the identity's, and the multipliers are those of the other unknowns and 1 for
+                    // each of them; their columns, the other entries' dependence on them, are not
+                    // needed for those): fewer columns through every step.
+                    std::vector<Eigen::Index> kept;
+                    if constexpr (!exact_monodromy) {
+                        const std::vector<char> still = stuck_all_period(e, last, ms);
+                        for (Eigen::Index k = 2 * nm; k < nu - norm.angles && !still.empty(); ++k)
+                            if (still[static_cast<std::size_t>(e.slider_contact(static_cast<int>(unknowns[static_cast<std::size_t>(k)])))])
+                                kept.push_back(k);
+                        if (!kept.empty()) e.hold_stuck(still);
+                    }
+                    MatrixXd reduced = flow_derivative(x, last);
+                    if constexpr (!exact_monodromy) e.hold_stuck({});
+                    if (reduced.size() > 0)
+                        for (const Eigen::Index k : kept) {
+                            reduced.row(k).setZero();
+                            reduced.col(k).setZero();
+                            reduced(k, k) = 1.0;
+                        }
                     if constexpr (!exact_monodromy) {
                         // The flow's derivative checked along one direction against a central
                         // difference of the period map: where coupled contacts change pattern at one
@@ -1073,7 +1111,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                         // Where the flow's derivative is missing: Arnoldi's multipliers.
                         const Mismatch mismatch = reduced.size() == 0
                                                       ? Mismatch{std::numeric_limits<double>::infinity(), false}
-                                                      : derivative_mismatch(x, reduced, last.events);
+                                                      : derivative_mismatch(x, reduced, last.events, kept);
                         if (mismatch.share > derivative_check_tolerance && mismatch.kink && !coincident) {
                             out.message += grazing_note;
                         } else if (mismatch.share > derivative_check_tolerance) {
