@@ -83,9 +83,12 @@ std::string rigid_solver_refusal(const System& system);
 /// start at rest) when the orbit about them sticks throughout (permanent_stick = true), else
 /// the orbit Newton found. A given start (not rest) that holds every contact stuck is tried
 /// first as such an orbit, without the warm-up and the general solve: a plain period checks that
-/// no node leaves stick, one with the derivative gives y, y' (the stuck structure is linear), a
-/// recorded period confirms (a few periods instead of a dozen: a sweep through stick); where a
-/// node slips in that first period (a shakedown), the general solve takes over.
+/// no node leaves stick, the stuck structure's orbit about the held positions follows in closed
+/// form (3D contacts; 2D: from one period with the derivative; the stuck structure is linear),
+/// and a recorded period confirms (a few periods instead of a dozen: a sweep through stick).
+/// 3D contacts: where nodes slip in that first period, plain periods follow while each slipping
+/// node slips once a period and none opens (a shakedown, at most 30), then the orbit about where
+/// they settled (the message says how many periods); otherwise the general solve takes over.
 /// Newton stops at options.tolerance, or where no step lowers a residual below 1e-9 (the
 /// rounding of the flow over a period: converged, the message and residual say so).
 /// Throws InvalidInput where rigid_solver_refusal is not empty, for omega <= 0, bad options
