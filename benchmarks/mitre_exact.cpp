@@ -16,7 +16,8 @@
 // each from the previous one (the first from --start where given; exact_steady_state: hbf timeint
 // --method exact), and prints each point and the seconds per point; the integrator's runs at --w
 // then give the ratio of its seconds per frequency (from rest, both step sizes) to the sweep's per
-// point, and the sweep's point at each
+// point (--messages: each point's solve message, the path it took, under its line), and the
+// sweep's point at each
 // --w against the exact orbit from the integrator's state (the two may be different members of
 // a family of orbits where nodes stick all period).
 // --fd-multipliers N checks each exact orbit's Floquet multipliers against the eigenvalues of the
@@ -129,6 +130,7 @@ int main(int argc, char** argv) {
     double force_scale = 1.0, steady = 1e-8;
     int max_events = 2000, warmup = 2, check_samples = 0, fd_samples = 0;
     bool no_integrator = false;
+    bool messages = false;
     std::string start_file, save_file;
     app.add_option("--w", omegas, "frequencies [rad/s]")->delimiter(',');
     app.add_option("--samples", samples, "the integrator's coarse samples a period (fine: twice)");
@@ -150,6 +152,7 @@ int main(int argc, char** argv) {
     app.add_option("--sweep", sweep, "A,B,K: first an exact sweep of K frequencies from A to B (up or down), each from the previous orbit")
         ->delimiter(',')
         ->expected(3);
+    app.add_flag("--messages", messages, "with --sweep: each point's solve message under its line (the path it took)");
     app.add_option("--fd-multipliers", fd_samples,
                    "the exact multipliers against the integrator's period map's, by central differences at N samples");
     app.add_option("--check-samples", check_samples,
@@ -212,6 +215,7 @@ int main(int argc, char** argv) {
                 std::printf("sweep w = %g: y365 max %.12g amp1 %.12g, stuck %.6f open %.6f, %d periods, %.2f s, |mu| %.6f\n", omega,
                             r.output_max[0], r.output_amp1[0], mean_share(r.contacts, false), mean_share(r.contacts, true),
                             r.periods, seconds, r.max_multiplier);
+                if (messages) std::printf("  %s\n", r.message.c_str());
             } else {
                 ++failed;
                 std::printf("sweep w = %g: NOT converged (%s), %.2f s\n", omega, r.message.c_str(), seconds);
