@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
     int max_events = 2000, warmup = 2, check_samples = 0, fd_samples = 0;
     bool no_integrator = false;
     bool messages = false;
-    std::string start_file, save_file;
+    std::string start_file, save_file, save_sweep_file;
     app.add_option("--w", omegas, "frequencies [rad/s]")->delimiter(',');
     app.add_option("--samples", samples, "the integrator's coarse samples a period (fine: twice)");
     app.add_option("--stepping", stepping, "automatic, taylor or collocation");
@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 1000));
     app.add_option("--start", start_file, "with --no-integrator: the exact orbit's start, [y, y'] of every DOF, one a line");
     app.add_option("--save-orbit", save_file, "the last converged exact orbit's state, one number a line");
+    app.add_option("--save-sweep", save_sweep_file, "with --sweep: the sweep's last converged orbit's state, one number a line");
     std::vector<double> sweep;
     app.add_option("--sweep", sweep, "A,B,K: first an exact sweep of K frequencies from A to B (up or down), each from the previous orbit")
         ->delimiter(',')
@@ -161,6 +162,9 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     // --save-orbit may not replace an input of the run (the start, the system file): checked first.
     try {
+        if (!save_sweep_file.empty())
+            io::check_outputs({{"--save-sweep", save_sweep_file, true, false, false}},
+                              {{"--start", start_file}, {"--config", file}});
         if (!save_file.empty())
             io::check_outputs({{"--save-orbit", save_file, true, false, false}},
                               {{"--start", start_file}, {"--config", file}});
@@ -224,6 +228,11 @@ int main(int argc, char** argv) {
             swept.push_back(std::move(r));
         }
         sweep_seconds = seconds_since(start);
+        for (auto r = swept.rbegin(); r != swept.rend() && !save_sweep_file.empty(); ++r)
+            if (r->converged) {
+                write_state("--save-sweep", save_sweep_file, r->state);
+                break;
+            }
         std::printf("sweep: %d points (%d not converged) in %.1f s, %.3f s a point\n", points, failed, sweep_seconds,
                     sweep_seconds / points);
     }

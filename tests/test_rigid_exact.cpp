@@ -1134,6 +1134,53 @@ TEST_CASE("rigid exact 3D: the sweep's step from a grazing orbit keeps the famil
     CHECK(orbit.periods <= 60);
 }
 
+TEST_CASE("rigid exact 3D: Arnoldi's multipliers with the nodes stuck all period held are the flow's derivative's",
+          "[rigid_exact]") {
+    // Where the flow's derivative is unusable (mirror-image events) the multipliers are Arnoldi's
+    // on central differences of the period map, with the nodes stuck all period held through
+    // them and their held positions left out (multipliers 1 each, not a cluster for Arnoldi to
+    // resolve). Asked for on the mitre's orbit at 21,550 rad/s (a dozen nodes stuck all period,
+    // the others slipping and lifting off), they must be the flow's derivative's (the other
+    // path, independent code: the variational equation and the saltations): the converged
+    // Ritz values among its multipliers, as many 1s as held positions, the largest modulus.
+    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    ExactOptions options;
+    options.outputs = mitre.outputs;
+    options.dof_maxima = false;
+    const Eigen::VectorXd state = mitre_state("mitre_orbit_21550.txt", mitre.system);
+    const ExactOrbit own = rigid_periodic_orbit(mitre.system, 21550.0, state, options);
+    const ExactOrbit arnoldi =
+        rigid_periodic_orbit(mitre.system, 21550.0, state, options, ConeStepping::automatic, ConeNewton::differences);
+    INFO(own.message << " / " << arnoldi.message);
+    REQUIRE(own.converged);
+    REQUIRE(arnoldi.converged);
+    CHECK(std::abs(arnoldi.output_max[0] - own.output_max[0]) <= 1e-9 * own.output_max[0]);
+    const std::string tag = ", with the ";
+    const std::size_t at = arnoldi.message.find(tag);
+    REQUIRE(at != std::string::npos);
+    const int held = std::stoi(arnoldi.message.substr(at + tag.size()));
+    int stuck = 0;
+    for (const ContactRegime& c : own.contacts) stuck += c.stick_fraction == 1.0;
+    CHECK(held == 2 * stuck);
+    CHECK(stuck >= 10);
+    int ones = 0, compared = 0;
+    for (const std::complex<double>& mu : arnoldi.multipliers) {
+        if (mu == std::complex<double>(1.0, 0.0)) {
+            ++ones;
+            continue;
+        }
+        if (std::abs(mu) < 0.05) continue;
+        double nearest = std::numeric_limits<double>::infinity();
+        for (const std::complex<double>& nu : own.multipliers) nearest = std::min(nearest, std::abs(mu - nu));
+        INFO("multiplier " << mu);
+        CHECK(nearest <= 1e-6);
+        ++compared;
+    }
+    CHECK(ones >= held);
+    CHECK(compared >= 5);
+    CHECK(std::abs(arnoldi.max_multiplier - own.max_multiplier) <= 1e-7);
+}
+
 TEST_CASE("rigid exact 3D: one copy of the contact rows serves every pattern", "[rigid_exact]") {
     // The recorded vector's rows do not depend on the pattern: the engine's memory must not grow
     // with the patterns a flow meets (thousands a period on a meshed interface).

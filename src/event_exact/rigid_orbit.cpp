@@ -1073,14 +1073,17 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     // each of them; their columns, the other entries' dependence on them, are not
                     // needed for those): fewer columns through every step.
                     std::vector<Eigen::Index> kept;
+                    std::vector<char> still;
                     if constexpr (!exact_monodromy) {
-                        const std::vector<char> still = stuck_all_period(e, last, ms);
+                        still = stuck_all_period(e, last, ms);
                         for (Eigen::Index k = 2 * nm; k < nu - norm.angles && !still.empty(); ++k)
                             if (still[static_cast<std::size_t>(e.slider_contact(static_cast<int>(unknowns[static_cast<std::size_t>(k)])))])
                                 kept.push_back(k);
                         if (!kept.empty()) e.hold_stuck(still);
                     }
-                    MatrixXd reduced = flow_derivative(x, last);
+                    // ConeNewton::differences: the multipliers by Arnoldi too (below), without the flow's derivative.
+                    const bool by_request = !exact_monodromy && newton == ConeNewton::differences;
+                    MatrixXd reduced = by_request ? MatrixXd() : flow_derivative(x, last);
                     if constexpr (!exact_monodromy) e.hold_stuck({});
                     if (reduced.size() > 0)
                         for (const Eigen::Index k : kept) {
@@ -1117,38 +1120,64 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                         } else if (mismatch.share > derivative_check_tolerance) {
                             // The dominant multipliers by Arnoldi on central differences of the
                             // period map (two periods a product), in the unknowns' units: a few
-                            // tens of periods where the whole matrix takes two per unknown.
+                            // tens of periods where the whole matrix takes two per unknown. The
+                            // contacts stuck all period are held through them and their held
+                            // positions left out (the map is block triangular in them, with the
+                            // identity's rows: their multipliers are 1, a cluster Arnoldi would
+                            // otherwise have to resolve): Arnoldi works on the other unknowns.
+                            std::vector<Eigen::Index> free;
+                            for (Eigen::Index k = 0, next = 0; k < nu; ++k) {
+                                if (next < static_cast<Eigen::Index>(kept.size()) && kept[static_cast<std::size_t>(next)] == k) {
+                                    ++next;
+                                    continue;
+                                }
+                                free.push_back(k);
+                            }
+                            const auto nf = static_cast<Eigen::Index>(free.size());
                             const VectorXd scale = units(difference_size(x));
                             const detail::KrylovOperator product = [&](const VectorXd& u, VectorXd& y) {
                                 const double length = u.cwiseAbs().maxCoeff();
                                 if (!(length > 0.0)) {
-                                    y = VectorXd::Zero(nu);
+                                    y = VectorXd::Zero(nf);
                                     return true;
                                 }
-                                if (!difference_along(x, scale.cwiseProduct(u) / length, y)) return false;
-                                y = (length * y).cwiseQuotient(scale);
+                                VectorXd direction = VectorXd::Zero(nu), whole;
+                                for (Eigen::Index k = 0; k < nf; ++k)
+                                    direction(free[static_cast<std::size_t>(k)]) = scale(free[static_cast<std::size_t>(k)]) * u(k) / length;
+                                if (!difference_along(x, direction, whole)) return false;
+                                y.resize(nf);
+                                for (Eigen::Index k = 0; k < nf; ++k)
+                                    y(k) = length * whole(free[static_cast<std::size_t>(k)]) / scale(free[static_cast<std::size_t>(k)]);
                                 return true;
                             };
                             double largest = 0.0;
                             int unconverged = 0, steps = 0;
                             Eigen::VectorXcd values;
-                            if (!detail::dominant_eigenvalues(product, detail::arnoldi_start(nu), static_cast<int>(nu), values,
-                                                              largest, unconverged, steps, multiplier_tolerance))
-                                throw std::runtime_error("the multipliers' central differences: " + failure);
-                            out.multipliers = values;
-                            out.max_multiplier = largest;
-                            out.stable = largest <= 1.0 + options.stability_tolerance;
+                            if constexpr (!exact_monodromy)
+                                if (!kept.empty()) e.hold_stuck(still);
+                            const bool done = nf == 0 || detail::dominant_eigenvalues(product, detail::arnoldi_start(nf), static_cast<int>(nf),
+                                                                                      values, largest, unconverged, steps, multiplier_tolerance);
+                            if constexpr (!exact_monodromy) e.hold_stuck({});
+                            if (!done) throw std::runtime_error("the multipliers' central differences: " + failure);
+                            out.multipliers.resize(values.size() + static_cast<Eigen::Index>(kept.size()));
+                            out.multipliers << values, Eigen::VectorXcd::Ones(static_cast<Eigen::Index>(kept.size()));
+                            out.max_multiplier = kept.empty() ? largest : std::max(largest, 1.0);
+                            out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
                             out.message += "; the dominant multipliers by Arnoldi on central differences of the period map (" +
                                            std::to_string(values.size()) + " converged to about " +
                                            format_number(multiplier_tolerance) + " in " + std::to_string(steps) +
                                            " products" +
+                                           (kept.empty() ? std::string()
+                                                         : ", with the " + std::to_string(kept.size()) +
+                                                               " held positions of the nodes stuck all period held: 1 each") +
                                            (unconverged > 0 ? ", " + std::to_string(unconverged) + " of modulus >= " +
                                                                   format_number(detail::arnoldi_dominant) +
                                                                   " not converged: the verdict takes the largest Ritz value"
                                                             : std::string()) +
-                                           (reduced.size() == 0 ? std::string("; the flow's derivative is missing)")
-                                                                : "; the flow's derivative differs from them by " +
-                                                                      format_number(mismatch.share) + " along a test direction)");
+                                           (by_request            ? std::string("; by differences as asked)")
+                                            : reduced.size() == 0 ? std::string("; the flow's derivative is missing)")
+                                                                  : "; the flow's derivative differs from them by " +
+                                                                        format_number(mismatch.share) + " along a test direction)");
                             return out;
                         }
                     }
