@@ -27,7 +27,8 @@
 // where they differ by more than 1e-3 the multipliers are the
 // dominant ones of the period map's central differences, by Arnoldi (two periods a product;
 // those of modulus >= 0.05 among the 10 largest converged to about 1e-8 or said so:
-// multipliers then holds those, not all; the message says so); except where the
+// multipliers then holds those, not all; the message says so; the nodes stuck all period held
+// through them and their held positions left out, each a multiplier 1); except where the
 // perturbed periods have another number of events at some contact than the orbit and no two
 // contacts change pattern at one instant independently (a cascade, one node's event making
 // another stick or slip at its instant, does not count): a contact grazing an edge of its
@@ -106,7 +107,8 @@ enum class ConeStepping { automatic, taylor, collocation };
 /// Newton's steps for 3D contacts: automatic (Newton's matrix from the flow's derivative,
 /// updated by Broyden's formula; GMRES on central differences of the period map where the
 /// derivative is missing or a step with it fails), or GMRES on central differences from the
-/// first step (tests, benchmarks). 2D contacts take the exact monodromy either way.
+/// first step, and the multipliers by Arnoldi on them (tests, benchmarks). 2D contacts take the
+/// exact monodromy either way.
 enum class ConeNewton { automatic, differences };
 
 /// rigid_periodic_orbit with a chosen stepping and Newton's steps (tests, benchmarks).
