@@ -1159,8 +1159,8 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                                                       values, largest, unconverged, steps, multiplier_tolerance);
                             if constexpr (!exact_monodromy) e.hold_stuck({});
                             if (!done) throw std::runtime_error("the multipliers' central differences: " + failure);
-                            out.multipliers.resize(values.size() + static_cast<Eigen::Index>(kept.size()));
-                            out.multipliers << values, Eigen::VectorXcd::Ones(static_cast<Eigen::Index>(kept.size()));
+                            out.multipliers = Eigen::VectorXcd::Ones(values.size() + static_cast<Eigen::Index>(kept.size()));
+                            out.multipliers.head(values.size()) = values;
                             out.max_multiplier = kept.empty() ? largest : std::max(largest, 1.0);
                             out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
                             out.message += "; the dominant multipliers by Arnoldi on central differences of the period map (" +
