@@ -19,7 +19,9 @@
 // point (--messages: each point's solve message, the path it took, under its line), and the
 // sweep's point at each
 // --w against the exact orbit from the integrator's state (the two may be different members of
-// a family of orbits where nodes stick all period).
+// a family of orbits where nodes stick all period). --save-sweep F writes the sweep's last
+// orbit. Each exact orbit's line ends with its distance from its mirror image (the mitre is
+// symmetric about its mid-plane: model/mirror.hpp), where the system has one.
 // --fd-multipliers N checks each exact orbit's Floquet multipliers against the eigenvalues of the
 // integrator's period map differentiated at that orbit by central differences (N samples a
 // period, steps of 1e-6 of the state's size in each displacement of every DOF and velocity of
@@ -36,6 +38,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +47,7 @@
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
 #include "integrator_check.hpp"
+#include "model/mirror.hpp"
 #include "state_file.hpp"
 
 using namespace hbf;
@@ -192,6 +196,16 @@ int main(int argc, char** argv) {
                                                             : ConeStepping::automatic;
     const ConeNewton newton_choice = newton == "differences" ? ConeNewton::differences : ConeNewton::automatic;
     nlohmann::json all = nlohmann::json::array();
+    // Where the model is mirror-symmetric (the mitre about its mid-plane): each orbit's distance
+    // from its mirror image at t = 0 (the largest |P y - y| over the DOFs; 0 for a symmetric
+    // orbit, the held positions' walk for one a sweep pushed sideways).
+    const std::optional<hbf::detail::Mirror> mirror = hbf::detail::find_mirror(system);
+    auto mirror_note = [&](const Eigen::VectorXd& state) {
+        if (!mirror || state.size() < system.dofs()) return std::string();
+        char text[64];
+        std::snprintf(text, sizeof text, ", mirror offset %.2e", hbf::detail::mirror_offset(*mirror, state.head(system.dofs())));
+        return std::string(text);
+    };
     // The exact sweep: seconds per point, and its orbits by frequency.
     std::vector<PeriodicResponse> swept;
     double sweep_seconds = 0.0;
@@ -216,9 +230,9 @@ int main(int argc, char** argv) {
                                                     200, exact_sweep_start(system, omega, swept, given_start));
             const double seconds = seconds_since(t0);
             if (r.converged) {
-                std::printf("sweep w = %g: y365 max %.12g amp1 %.12g, stuck %.6f open %.6f, %d periods, %.2f s, |mu| %.6f\n", omega,
+                std::printf("sweep w = %g: y365 max %.12g amp1 %.12g, stuck %.6f open %.6f, %d periods, %.2f s, |mu| %.6f%s\n", omega,
                             r.output_max[0], r.output_amp1[0], mean_share(r.contacts, false), mean_share(r.contacts, true),
-                            r.periods, seconds, r.max_multiplier);
+                            r.periods, seconds, r.max_multiplier, mirror_note(r.state).c_str());
                 if (messages) std::printf("  %s\n", r.message.c_str());
             } else {
                 ++failed;
@@ -301,9 +315,9 @@ int main(int argc, char** argv) {
         }
         if (exact.converged && !save_file.empty()) write_state("--save-orbit", save_file, exact.state);
         if (no_integrator) {
-            std::printf("w = %g: exact %s (%s) in %.1f s, %d events, %d Newton iterations, %d periods, residual %.3e\n",
+            std::printf("w = %g: exact %s (%s) in %.1f s, %d events, %d Newton iterations, %d periods, residual %.3e%s\n",
                         omega, exact.converged ? "converged" : "NOT converged", exact.message.c_str(), exact_seconds,
-                        exact.switches, exact.iterations, exact.periods, exact.residual);
+                        exact.switches, exact.iterations, exact.periods, exact.residual, mirror_note(exact.state).c_str());
             for (std::size_t j = 0; j < outputs.size() && exact.converged; ++j)
                 std::printf("  %s: max %.12g amp1 %.12g\n", outputs[j].name().c_str(), exact.output_max[j],
                             exact.output_amp1[j]);
