@@ -164,14 +164,13 @@ int main(int argc, char** argv) {
                    "with --no-integrator: two periods of the integrator from the exact state at N, 2N, 4N samples")
         ->check(CLI::Range(0, 1 << 20));
     CLI11_PARSE(app, argc, argv);
-    // --save-orbit may not replace an input of the run (the start, the system file): checked first.
+    // --save-orbit and --save-sweep may not replace an input of the run (the start, the system
+    // file) nor each other: checked first.
     try {
-        if (!save_sweep_file.empty())
-            io::check_outputs({{"--save-sweep", save_sweep_file, true, false, false}},
-                              {{"--start", start_file}, {"--config", file}});
-        if (!save_file.empty())
-            io::check_outputs({{"--save-orbit", save_file, true, false, false}},
-                              {{"--start", start_file}, {"--config", file}});
+        std::vector<io::OutputTarget> targets;
+        if (!save_file.empty()) targets.push_back({"--save-orbit", save_file, true, false, false});
+        if (!save_sweep_file.empty()) targets.push_back({"--save-sweep", save_sweep_file, true, false, false});
+        if (!targets.empty()) io::check_outputs(targets, {{"--start", start_file}, {"--config", file}});
     } catch (const std::exception& e) {
         std::fprintf(stderr, "mitre_exact: %s\n", e.what());
         return 2;
