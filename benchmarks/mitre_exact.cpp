@@ -21,7 +21,8 @@
 // --w against the exact orbit from the integrator's state (the two may be different members of
 // a family of orbits where nodes stick all period). --save-sweep F writes the sweep's last
 // orbit. Each exact orbit's line ends with its distance from its mirror image (the mitre is
-// symmetric about its mid-plane: model/mirror.hpp), where the system has one.
+// symmetric about its mid-plane: model/mirror.hpp), where the system has one; --symmetric solves
+// the exact orbits among the symmetric states (ExactOptions::mirror_symmetric).
 // --fd-multipliers N checks each exact orbit's Floquet multipliers against the eigenvalues of the
 // integrator's period map differentiated at that orbit by central differences (N samples a
 // period, steps of 1e-6 of the state's size in each displacement of every DOF and velocity of
@@ -135,6 +136,7 @@ int main(int argc, char** argv) {
     int max_events = 2000, warmup = 2, check_samples = 0, fd_samples = 0;
     bool no_integrator = false;
     bool messages = false;
+    bool symmetric = false;
     std::string start_file, save_file, save_sweep_file;
     app.add_option("--w", omegas, "frequencies [rad/s]")->delimiter(',');
     app.add_option("--samples", samples, "the integrator's coarse samples a period (fine: twice)");
@@ -158,6 +160,7 @@ int main(int argc, char** argv) {
         ->delimiter(',')
         ->expected(3);
     app.add_flag("--messages", messages, "with --sweep: each point's solve message under its line (the path it took)");
+    app.add_flag("--symmetric", symmetric, "exact orbits among the mirror-symmetric states (ExactOptions::mirror_symmetric)");
     app.add_option("--fd-multipliers", fd_samples,
                    "the exact multipliers against the integrator's period map's, by central differences at N samples");
     app.add_option("--check-samples", check_samples,
@@ -217,6 +220,7 @@ int main(int argc, char** argv) {
         ExactOptions eo;
         eo.max_events_per_period = max_events;
         eo.outputs = outputs;
+        eo.mirror_symmetric = symmetric;
         eo.dof_maxima = false;
         if (app.count("--warmup") > 0) eo.warmup_periods = std::max(1, warmup);
         const auto start = clock_type::now();
@@ -275,6 +279,7 @@ int main(int argc, char** argv) {
         ExactOptions eo;
         eo.max_events_per_period = max_events;
         eo.outputs = outputs;
+        eo.mirror_symmetric = symmetric;
         eo.dof_maxima = false;
         const auto start = clock_type::now();
         Eigen::VectorXd exact_start = no_integrator ? given_start : ti[1].state;

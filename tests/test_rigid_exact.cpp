@@ -931,6 +931,24 @@ TEST_CASE("rigid exact 3D: where mirror-image nodes change pattern at one instan
     }
     CHECK(differenced);  // the check was met where the flow's derivative is off
     CHECK(symmetric.max_multiplier < 0.5);
+
+    // Solved among the mirror-symmetric states (ExactOptions::mirror_symmetric): the same orbit
+    // and multipliers (the flow's derivative, its part that commutes with the mirror); the
+    // option says why it does nothing where the pair's symmetry is broken.
+    ExactOptions among;
+    among.mirror_symmetric = true;
+    const ExactOrbit projected = rigid_periodic_orbit(mirror_pair(0.0), 0.7, Eigen::VectorXd(), among);
+    INFO(projected.message);
+    REQUIRE(projected.converged);
+    CHECK(projected.message.find("among the mirror-symmetric states") != std::string::npos);
+    CHECK(std::abs(projected.y_amp1[0] - symmetric.y_amp1[0]) <= 1e-10 * symmetric.y_amp1[0]);
+    CHECK(std::abs(projected.y_amp1[1] - symmetric.y_amp1[1]) <= 1e-10 * symmetric.y_amp1[0]);
+    CHECK(std::abs(projected.max_multiplier - symmetric.max_multiplier) <= 1e-9);
+    const ExactOrbit broken = rigid_periodic_orbit(mirror_pair(1e-9), 0.7, Eigen::VectorXd(), among);
+    INFO(broken.message);
+    REQUIRE(broken.converged);
+    CHECK(broken.message.find("not among the mirror-symmetric states: the structure has no mirror symmetry") !=
+          std::string::npos);
 }
 
 TEST_CASE("rigid exact 3D: Newton's steps by GMRES on central differences reach the flow's derivative's orbit",
@@ -1172,6 +1190,55 @@ TEST_CASE("a system's mirror symmetry: the mirror-image pair's and the mitre's, 
     CHECK(detail::mirror_offset(*mirror, linear) <= 1e-10 * size);
     const Eigen::VectorXd walked = mitre_state("mitre_orbit_21550.txt", mitre.system).head(mitre.system.dofs());
     CHECK(detail::mirror_offset(*mirror, walked) >= 1e-6);
+    // The face's tangential directions by the file's interface: t1 in the face across the bar
+    // (kept by the mirror), t2 = n x t1 = z (reversed), the normal kept.
+    for (const std::vector<double>& signs : mirror->direction_sign) CHECK(signs == std::vector<double>({1, -1, 1}));
+    const std::optional<detail::Mirror> again = detail::find_mirror(mirror_pair(0.0));
+    CHECK(again->direction_sign == std::vector<std::vector<double>>({{1, -1, 1}, {1, -1, 1}}));
+}
+
+TEST_CASE("rigid exact 3D: the mitre's symmetric orbit, solved among the mirror-symmetric states, is the whole map's",
+          "[rigid_exact]") {
+    // From the tests' saved orbit at 21,550 rad/s, whose face a sweep walked sideways (its held
+    // positions far from mirror images), ExactOptions::mirror_symmetric solves for the family's
+    // symmetric member: symmetric to rounding, converged. The independent check is the solver
+    // without the option (Newton on every unknown, nothing projected) started from it: it is
+    // that solver's orbit at once (at most two Newton iterations), the same to 1e-9 in the
+    // output's maximum and first harmonic, and still symmetric. The walked start's own orbit is
+    // another member (0.25 % apart in the maximum).
+    SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
+    const System& system = mitre.system;
+    const int n = system.dofs();
+    const std::optional<detail::Mirror> mirror = detail::find_mirror(system);
+    REQUIRE(mirror.has_value());
+    auto offset = [&](const Eigen::VectorXd& state) {
+        return std::max(detail::mirror_offset(*mirror, state.head(n)), detail::mirror_offset(*mirror, state.segment(n, n)) / 21550.0);
+    };
+    ExactOptions options;
+    options.outputs = mitre.outputs;
+    options.dof_maxima = false;
+    options.mirror_symmetric = true;
+    const Eigen::VectorXd walked = mitre_state("mitre_orbit_21550.txt", system);
+    const ExactOrbit symmetric = rigid_periodic_orbit(system, 21550.0, walked, options);
+    INFO(symmetric.message);
+    REQUIRE(symmetric.converged);
+    CHECK(symmetric.message.find("among the mirror-symmetric states") != std::string::npos);
+    const double size = symmetric.state.head(n).cwiseAbs().maxCoeff();
+    CHECK(offset(symmetric.state) <= 1e-12 * size);
+    CHECK(offset(walked) >= 1e-6);
+
+    options.mirror_symmetric = false;
+    const ExactOrbit whole = rigid_periodic_orbit(system, 21550.0, symmetric.state, options);
+    INFO(whole.message);
+    REQUIRE(whole.converged);
+    CHECK(whole.iterations <= 2);
+    CHECK(std::abs(whole.output_max[0] - symmetric.output_max[0]) <= 1e-9 * symmetric.output_max[0]);
+    CHECK(std::abs(whole.output_amp1[0] - symmetric.output_amp1[0]) <= 1e-9 * symmetric.output_amp1[0]);
+    CHECK(offset(whole.state) <= 1e-10 * size);
+    const ExactOrbit other = rigid_periodic_orbit(system, 21550.0, walked, options);
+    REQUIRE(other.converged);
+    CHECK(std::abs(other.output_max[0] - symmetric.output_max[0]) >= 1e-3 * symmetric.output_max[0]);
+    CHECK(offset(other.state) >= 1e-6);
 }
 
 TEST_CASE("rigid exact 3D: Arnoldi's multipliers with the nodes stuck all period held are the flow's derivative's",

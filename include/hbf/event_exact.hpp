@@ -94,6 +94,15 @@ struct ExactOptions {
     /// outputs' maxima only (a modal model's coordinates, whose maxima mean nothing; the DOFs a
     /// caller does not report).
     bool dof_maxima = true;
+    /// Rigid 3D contacts (rigid_exact.hpp) on a structure with a mirror symmetry (a reflection
+    /// of its DOFs that leaves M, C, K, the loads and the contacts unchanged): the orbit is
+    /// solved among the symmetric states, the start projected onto them at the section (where
+    /// nodes stuck all period leave a family of orbits, its symmetric member); Newton's residual
+    /// is then the symmetric part of P(z) - z, and the message gives the other, the flow's own
+    /// asymmetry over a period (a lower bound of the computed map's error). Ignored without such a symmetry or where the section's contact
+    /// patterns are not their own mirror image (the message says so). false: the orbit the
+    /// start leads to, symmetric or not.
+    bool mirror_symmetric = false;
     /// Asked after every period the rigid-contact solver (rigid_exact.hpp) flows, and by an
     /// FRF's polish (exact_polish.hpp) before every orbit it solves: a non-empty answer (why:
     /// an interrupt, a time limit) ends the solve there, not converged, with

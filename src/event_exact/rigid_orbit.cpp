@@ -3,8 +3,10 @@
 #include "hbf/rigid_exact.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
+#include <optional>
 #include <limits>
 #include <stdexcept>
 #include <type_traits>
@@ -14,6 +16,7 @@
 #include "event_exact/metrics.hpp"
 #include "event_exact/cone_engine.hpp"
 #include "event_exact/rigid_engine.hpp"
+#include "model/mirror.hpp"
 #include "numerics/krylov.hpp"
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
@@ -532,6 +535,149 @@ std::vector<char> stuck_all_period(const ConeEngine& e, const PatternEngine::Flo
     return held;
 }
 
+/// A mirror symmetry of the structure (model/mirror.hpp) on the ConeEngine's state zhat: each
+/// entry's image and sign (y, y', the held positions: (P z)[image[i]] = sign[i] z[i]), and the slip
+/// directions, which map as angles: the image contact's is atan2(s_2 sin theta, s_1 cos theta)
+/// (s_k: the signs its tangential directions take), of derivative s_1 s_2. The forcing's entries
+/// are their own images (the load is symmetric).
+struct StateMirror {
+    std::vector<int> image;      ///< per entry of zhat (its n_z first)
+    std::vector<double> sign;
+    std::vector<int> angle_of;   ///< per entry: the contact whose direction it is, or -1
+    std::vector<std::array<double, 2>> turn;  ///< per contact: (s_1, s_2) of its tangential directions
+    std::vector<int> contact_image;           ///< per contact
+    bool valid() const { return !image.empty(); }
+    /// theta of contact c seen from its image contact.
+    double angle(int c, double theta) const {
+        const auto& s = turn[static_cast<std::size_t>(c)];
+        return std::atan2(s[1] * std::sin(theta), s[0] * std::cos(theta));
+    }
+};
+
+/// The mean of two angles (of their unit vectors), near the first.
+double mean_angle(double own, double seen) {
+    const double mean = std::atan2(std::sin(own) + std::sin(seen), std::cos(own) + std::cos(seen));
+    return own + std::remainder(mean - own, 2.0 * pi);
+}
+
+StateMirror state_mirror(const detail::Mirror& m, const ConeEngine& e) {
+    StateMirror out;
+    const detail::MasslessContacts& split = e.split();
+    const int nm = e.dofs();
+    out.image.resize(static_cast<std::size_t>(e.nz()));
+    for (std::size_t i = 0; i < out.image.size(); ++i) out.image[i] = static_cast<int>(i);
+    out.sign.assign(static_cast<std::size_t>(e.nz()), 1.0);
+    out.angle_of.assign(static_cast<std::size_t>(e.nz()), -1);
+    for (int k = 0; k < nm; ++k) {
+        const int dof = split.massive[static_cast<std::size_t>(k)];
+        const auto at = std::find(split.massive.begin(), split.massive.end(), m.image[static_cast<std::size_t>(dof)]);
+        if (at == split.massive.end()) return {};
+        const int image = static_cast<int>(at - split.massive.begin());
+        for (const int shift : {0, nm}) {
+            out.image[static_cast<std::size_t>(k + shift)] = image + shift;
+            out.sign[static_cast<std::size_t>(k + shift)] = m.sign[static_cast<std::size_t>(dof)];
+        }
+    }
+    out.turn.assign(static_cast<std::size_t>(e.contacts()), {1.0, 1.0});
+    out.contact_image = m.contact_image;
+    for (int c = 0; c < e.contacts(); ++c) {
+        const int image = m.contact_image[static_cast<std::size_t>(c)];
+        const std::vector<double>& signs = m.direction_sign[static_cast<std::size_t>(c)];
+        if (e.directions(image) != e.directions(c) || static_cast<int>(signs.size()) < e.directions(c)) return {};
+        for (int j = 0; j < e.directions(c); ++j) {
+            out.image[static_cast<std::size_t>(e.slider(c) + j)] = e.slider(image) + j;
+            out.sign[static_cast<std::size_t>(e.slider(c) + j)] = signs[static_cast<std::size_t>(j)];
+        }
+        if (e.directions(c) == 2) out.turn[static_cast<std::size_t>(c)] = {signs[0], signs[1]};
+        out.image[static_cast<std::size_t>(e.theta(c))] = e.theta(image);
+        out.sign[static_cast<std::size_t>(e.theta(c))] = e.directions(c) == 2 ? signs[0] * signs[1] : 1.0;
+        out.angle_of[static_cast<std::size_t>(e.theta(c))] = c;
+    }
+    return out;
+}
+
+/// The symmetric state nearest z's pair by pair: (z + P z) / 2 on y, y' and the held positions,
+/// each slip direction the mean of its own and its image's seen from it (their unit vectors'
+/// mean, near its own value). Every entry of zhat's first n_z.
+VectorXd symmetric_state(const StateMirror& q, const VectorXd& z) {
+    VectorXd out = z;
+    for (std::size_t i = 0; i < q.image.size(); ++i) {
+        const auto k = static_cast<Eigen::Index>(i);
+        const int image = q.image[i];
+        out(k) = q.angle_of[i] < 0 ? 0.5 * (z(k) + q.sign[i] * z(image)) : mean_angle(z(k), q.angle(q.angle_of[i], z(image)));
+    }
+    return out;
+}
+
+/// How far z's y, y' (over omega) and held positions are from their mirror images, relative to
+/// their largest entry; infinity where the patterns `modes` are not the mirror's image of
+/// themselves (a contact and its image in different patterns).
+double section_mirror_offset(const StateMirror& q, const ConeEngine& e, const VectorXd& z, const Modes& modes, double omega) {
+    for (int c = 0; c < e.contacts(); ++c)
+        if (modes[static_cast<std::size_t>(c)] != modes[static_cast<std::size_t>(q.contact_image[static_cast<std::size_t>(c)])])
+            return std::numeric_limits<double>::infinity();
+    double offset = 0.0, size = 0.0;
+    for (int i = 0; i < e.theta(0); ++i) {
+        const double unit = i >= e.dofs() && i < 2 * e.dofs() ? 1.0 / omega : 1.0;
+        offset = std::max(offset, unit * std::abs(z(i) - q.sign[static_cast<std::size_t>(i)] * z(q.image[static_cast<std::size_t>(i)])));
+        size = std::max(size, unit * std::abs(z(i)));
+    }
+    return size > 0.0 ? offset / size : offset;
+}
+
+/// The mirror on Newton's unknowns (entries `unknowns` of zhat): each one's image among them and
+/// its sign (an angle's: the derivative of its map). Empty where an unknown's image is not one
+/// (the section's patterns not symmetric).
+struct UnknownMirror {
+    std::vector<Eigen::Index> image, zhat;  ///< per unknown: its image, and its entry of zhat
+    VectorXd sign;
+    const StateMirror* state_mirror = nullptr;
+    bool valid() const { return !image.empty(); }
+    /// The symmetric unknowns nearest x (symmetric_state's rule).
+    VectorXd state(const VectorXd& x) const {
+        VectorXd out(x.size());
+        for (Eigen::Index k = 0; k < x.size(); ++k) {
+            const Eigen::Index other = image[static_cast<std::size_t>(k)];
+            const int c = state_mirror->angle_of[static_cast<std::size_t>(zhat[static_cast<std::size_t>(k)])];
+            out(k) = c < 0 ? 0.5 * (x(k) + sign(k) * x(other)) : mean_angle(x(k), state_mirror->angle(c, x(other)));
+        }
+        return out;
+    }
+    /// (v + Q v) / 2 for a change of the unknowns (linear: an angle's by its sign).
+    VectorXd symmetric(const VectorXd& v) const {
+        VectorXd out(v.size());
+        for (Eigen::Index k = 0; k < v.size(); ++k)
+            out(k) = 0.5 * (v(k) + sign(k) * v(image[static_cast<std::size_t>(k)]));
+        return out;
+    }
+    /// (D + Q D Q) / 2: the derivative's part that commutes with the mirror.
+    MatrixXd symmetric(const MatrixXd& d) const {
+        MatrixXd out(d.rows(), d.cols());
+        for (Eigen::Index k = 0; k < d.rows(); ++k)
+            for (Eigen::Index l = 0; l < d.cols(); ++l)
+                out(k, l) = 0.5 * (d(k, l) + sign(k) * sign(l) *
+                                                 d(image[static_cast<std::size_t>(k)], image[static_cast<std::size_t>(l)]));
+        return out;
+    }
+};
+
+UnknownMirror unknown_mirror(const StateMirror& q, const std::vector<Eigen::Index>& unknowns) {
+    UnknownMirror out;
+    out.state_mirror = &q;
+    const auto nu = static_cast<Eigen::Index>(unknowns.size());
+    out.sign.resize(nu);
+    for (Eigen::Index k = 0; k < nu; ++k) {
+        const Eigen::Index i = unknowns[static_cast<std::size_t>(k)];
+        const int image = q.image[static_cast<std::size_t>(i)];
+        const auto at = std::find(unknowns.begin(), unknowns.end(), static_cast<Eigen::Index>(image));
+        if (at == unknowns.end()) return {};
+        out.image.push_back(at - unknowns.begin());
+        out.zhat.push_back(i);
+        out.sign(k) = q.sign[static_cast<std::size_t>(i)];
+    }
+    return out;
+}
+
 /// Newton shooting on the period map of engine e (RigidEngine: linear patterns, the exact
 /// monodromy; ConeEngine: Taylor flows, the period map's derivative by central differences).
 template <class E>
@@ -568,6 +714,20 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
     }
     SectionNorm norm{nm, omega, 0.0};
     PatternEngine::Flow f;
+    // A mirror-symmetric structure (ConeEngine): its symmetric orbits are solved among the
+    // symmetric states (below).
+    StateMirror mirror;
+    std::string no_mirror;  // why ExactOptions::mirror_symmetric finds no symmetric states to solve in
+    if (options.mirror_symmetric) {
+        if constexpr (exact_monodromy) {
+            no_mirror = "the option is for 3D contacts";
+        } else if (const std::optional<detail::Mirror> m = detail::find_mirror(system)) {
+            mirror = state_mirror(*m, e);
+            if (!mirror.valid()) no_mirror = "the structure's mirror does not map its DOFs with mass onto each other";
+        } else {
+            no_mirror = "the structure has no mirror symmetry";
+        }
+    }
     // Every flow, then the stop request (ExactOptions::stop): a period of a meshed 3D interface
     // can take seconds, a solve hundreds of periods.
     struct StopRequested {
@@ -667,6 +827,19 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             const double t_s = sections[chosen].t;
             VectorXd zs = sections[chosen].z;  // a held round's start moves it (below)
             const Modes ms = sections[chosen].modes;
+            // ExactOptions::mirror_symmetric: the section's state projected onto the symmetric
+            // ones, where its patterns are their own mirror image.
+            bool symmetric = false;
+            double section_offset = 0.0;
+            if constexpr (!exact_monodromy)
+                if (mirror.valid()) {
+                    section_offset = section_mirror_offset(mirror, e, zs, ms, omega);
+                    symmetric = std::isfinite(section_offset);
+                    if (symmetric) {
+                        zs.head(e.nz()) = symmetric_state(mirror, zs.head(e.nz()));
+                        e.make_consistent(zs, ms, t_s);
+                    }
+                }
             // Nodes stuck all of the last period (ConeEngine; a sweep's shakedown leaves them on
             // their cones' edges): Newton first on the orbit with them held stuck (hold_stuck) at
             // the section's held positions, which are then not unknowns. That map is smooth where
@@ -716,6 +889,8 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                             ++norm.angles;
                         }
                 const auto nu = static_cast<Eigen::Index>(unknowns.size());
+                const UnknownMirror qx = symmetric ? unknown_mirror(mirror, unknowns) : UnknownMirror();
+                auto on_mirror = [&](const VectorXd& v) { return qx.valid() ? qx.state(v) : v; };
                 MatrixXd lift = MatrixXd::Zero(e.n(), nu);  // d zhat / d x
                 if constexpr (exact_monodromy) {
                     const ModeData& section = e.mode(ms);
@@ -749,7 +924,14 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     }
                     return x_end;
                 };
-                VectorXd x = pick(carried.size() > 0 ? carried : zs);
+                VectorXd x = on_mirror(pick(carried.size() > 0 ? carried : zs));
+                // Newton's residual |P(x) - x|; among the symmetric states its symmetric part (the
+                // other is the flow's own asymmetry over a period, its rounding and local errors
+                // on mirror-image nodes: the message gives it).
+                auto residual_of = [&](const VectorXd& end, const VectorXd& from) {
+                    if (!qx.valid()) return norm.relative_change(end, from);
+                    return norm.relative_change(VectorXd(from + qx.symmetric(norm.difference(end, from))), from);
+                };
                 norm.reference = std::max(norm.reference, norm.size(x));
                 auto map = [&](const VectorXd& from, bool record) {
                     ++out.periods;
@@ -879,8 +1061,9 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 // Newton's matrix d(x_end - x)/dx from the flow's derivative; empty where that is missing.
                 auto newton_matrix = [&](const VectorXd& at, const PatternEngine::Flow& fx) {
                     unit = units(std::max(norm.reference, norm.size(at)));
-                    const MatrixXd d = flow_derivative(at, fx);
+                    MatrixXd d = flow_derivative(at, fx);
                     if (d.size() == 0) return MatrixXd();
+                    if (qx.valid()) d = qx.symmetric(d);
                     return MatrixXd(unit.cwiseInverse().asDiagonal() * (d - MatrixXd::Identity(nu, nu)) * unit.asDiagonal());
                 };
                 // The minimum-norm solve: a contact stuck all period leaves its held position free (a
@@ -929,13 +1112,18 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 // Where none slips but the period is not the orbit to the tolerance (the rounds
                 // stop at held_round_tolerance), a last held round to the tolerance.
                 if (!holding && carried.size() > 0 && held_rounds < max_held_rounds && f.ok && f.modes == ms &&
-                    norm.relative_change(pick_end(f, x), x) > options.tolerance) {
+                    residual_of(pick_end(f, x), x) > options.tolerance) {
                     const bool slipped = std::any_of(f.events.begin(), f.events.end(), [&](const ExactEvent& event) {
                         return held[static_cast<std::size_t>(event.contact)] != 0;
                     });
                     if (slipped || loose_round) {
                         if (slipped) {
                             zs = f.zhat;
+                            if constexpr (!exact_monodromy)
+                                if (symmetric) {
+                                    zs.head(e.nz()) = symmetric_state(mirror, zs.head(e.nz()));
+                                    e.make_consistent(zs, ms, t_s);
+                                }
                             carried.resize(0);
                         }
                         loose_round = slipped;
@@ -966,7 +1154,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                         break;
                     }
                     const VectorXd end = pick_end(f, x);
-                    out.residual = norm.relative_change(end, x);
+                    out.residual = residual_of(end, x);
                     if (out.residual <= (holding && loose_round ? std::max(options.tolerance, held_round_tolerance)
                                                                 : options.tolerance)) {
                         out.converged = true;
@@ -987,20 +1175,22 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     if (krylov) {
                         unit = units(std::max(norm.reference, norm.size(x)));
                         dx = krylov_step(x, norm.difference(x, end).cwiseQuotient(unit));
+                        if (qx.valid()) dx = qx.symmetric(dx);
                     } else {
                         dx = unit.cwiseProduct(decompose(jacobian).solve(norm.difference(x, end).cwiseQuotient(unit)));
                     }
                     // Halving steps until the residual falls.
                     bool moved = false;
                     for (double alpha = 1.0; alpha >= 1.0 / 256; alpha *= 0.5) {
-                        const VectorXd trial = x + alpha * dx;
+                        const VectorXd trial = on_mirror(x + alpha * dx);
                         PatternEngine::Flow g = map(trial, false);
-                        if (g.ok && norm.relative_change(pick_end(g, trial), trial) < out.residual) {
+                        if (g.ok && residual_of(pick_end(g, trial), trial) < out.residual) {
                             if (!exact_monodromy && !krylov) {  // Broyden: the secant through the step
                                 const VectorXd step = (trial - x).cwiseQuotient(unit),
                                                change = (norm.difference(pick_end(g, trial), trial) - norm.difference(end, x))
                                                             .cwiseQuotient(unit);
                                 jacobian += (change - jacobian * step) * step.transpose() / step.squaredNorm();
+                                if (qx.valid()) jacobian = qx.symmetric(jacobian);
                                 fresh = false;
                             }
                             x = trial;
@@ -1053,6 +1243,21 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                              std::to_string(held_rounds + 1) + " rounds)"
                                                        : " (Newton with the nodes stuck all period held did not converge in " +
                                                              std::to_string(held_iterations) + " iterations)";
+                if (options.mirror_symmetric) {
+                    if (qx.valid() && f.ok) {
+                        const VectorXd r = norm.difference(pick_end(f, x), x);
+                        out.message += " (among the mirror-symmetric states: the section's start " + format_number(section_offset) +
+                                       " off them, relative to its size; the period's own asymmetry " +
+                                       format_number(norm.size(VectorXd(r - qx.symmetric(r))) /
+                                                     std::max(norm.reference, norm.size(x))) +
+                                       ")";
+                    } else {
+                        out.message += " (not among the mirror-symmetric states: " +
+                                       (no_mirror.empty() ? std::string("the section's contact patterns are not their own mirror image")
+                                                          : no_mirror) +
+                                       ")";
+                    }
+                }
                 if (products > 0)
                     out.message += " (Newton's steps by GMRES on central differences of the period map: " +
                                    std::to_string(products) + " products)";
@@ -1084,6 +1289,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     // ConeNewton::differences: the multipliers by Arnoldi too (below), without the flow's derivative.
                     const bool by_request = !exact_monodromy && newton == ConeNewton::differences;
                     MatrixXd reduced = by_request ? MatrixXd() : flow_derivative(x, last);
+                    if (reduced.size() > 0 && qx.valid()) reduced = qx.symmetric(reduced);
                     if constexpr (!exact_monodromy) e.hold_stuck({});
                     if (reduced.size() > 0)
                         for (const Eigen::Index k : kept) {

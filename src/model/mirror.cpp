@@ -199,14 +199,12 @@ std::optional<Mirror> find_mirror(const System& system, double tolerance) {
     const std::size_t nc = system.contacts.size();
     mirror.contact_image.assign(nc, -1);
     std::vector<MatrixXd> directions;
-    for (const Contact& contact : system.contacts) {
-        MatrixXd d = system.contact_directions(contact);
-        for (Eigen::Index k = 0; k < d.cols(); ++k) {
-            const double largest = d.col(k).cwiseAbs().maxCoeff();
-            if (largest > 0.0) d.col(k) /= largest;
-        }
-        directions.push_back(std::move(d));
-    }
+    for (const Contact& contact : system.contacts) directions.push_back(system.contact_directions(contact));
+    double largest = 0.0;  // the directions' scale
+    for (const MatrixXd& d : directions) largest = std::max(largest, d.cwiseAbs().maxCoeff());
+    if (largest > 0.0)
+        for (MatrixXd& d : directions) d /= largest;
+    mirror.direction_sign.assign(nc, {});
     for (std::size_t c = 0; c < nc; ++c) {
         const Contact& contact = system.contacts[c];
         const bool normal = contact.lists.count("normal_direction") > 0;
@@ -215,12 +213,20 @@ std::optional<Mirror> find_mirror(const System& system, double tolerance) {
         for (std::size_t o = 0; o < nc && mirror.contact_image[c] < 0; ++o) {
             if (directions[o].cols() != moved.cols() || !same_parameters(contact, system.contacts[o], n, tolerance)) continue;
             bool match = true;
+            std::vector<double> signs;
             for (Eigen::Index k = 0; k < moved.cols() && match; ++k) {
                 const bool last_normal = normal && k == moved.cols() - 1;
-                match = (moved.col(k) - directions[o].col(k)).cwiseAbs().maxCoeff() <= tolerance ||
-                        (!last_normal && (moved.col(k) + directions[o].col(k)).cwiseAbs().maxCoeff() <= tolerance);
+                if ((moved.col(k) - directions[o].col(k)).cwiseAbs().maxCoeff() <= tolerance) {
+                    signs.push_back(1.0);
+                } else {
+                    match = !last_normal && (moved.col(k) + directions[o].col(k)).cwiseAbs().maxCoeff() <= tolerance;
+                    signs.push_back(-1.0);
+                }
             }
-            if (match) mirror.contact_image[c] = static_cast<int>(o);
+            if (match) {
+                mirror.contact_image[c] = static_cast<int>(o);
+                mirror.direction_sign[c] = std::move(signs);
+            }
         }
         if (mirror.contact_image[c] < 0) return std::nullopt;
     }

@@ -28,6 +28,10 @@ struct Mirror {
     std::vector<int> image;          ///< DOF i's image (image[image[i]] = i)
     std::vector<double> sign;        ///< +1 or -1: (P y)[image[i]] = sign[i] y[i]
     std::vector<int> contact_image;  ///< contact c's image
+    /// Per contact, per direction (its columns in System::contact_directions): P carries
+    /// direction k of contact c onto direction_sign[c][k] times direction k of its image (the
+    /// normal one: +1), so that the image's relative displacements are q_c'(P y) = sign q_c(y).
+    std::vector<std::vector<double>> direction_sign;
 
     /// P y.
     Eigen::VectorXd apply(const Eigen::VectorXd& y) const;
