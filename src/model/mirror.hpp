@@ -4,9 +4,9 @@
 //
 // A mirror is a signed permutation P of the DOFs, (P y)[image[i]] = sign[i] y[i], with P P = I,
 // P^T M P = M, P^T C P = C, P^T K P = K, P F = F, P F_s = F_s, and a permutation of the contacts
-// (contact c onto contact_image[c]) whose directions P carries onto the image's, the tangential
-// ones up to their sign (Coulomb's cone is isotropic), the normal one exactly, with every other
-// parameter equal. The identity is not one. Such a structure has symmetric orbits (P x(t) =
+// (contact c onto contact_image[c]) whose directions P carries onto the image's (of the same
+// length), the tangential ones up to their sign (Coulomb's cone is isotropic: direction_sign),
+// the normal one exactly, with every other parameter equal. The identity is not one. Such a structure has symmetric orbits (P x(t) =
 // x(t)); where contacts of a symmetric pair change pattern at one instant the period map is only
 // piecewise differentiable off the symmetric states.
 //
