@@ -831,14 +831,17 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             // ones, where its patterns are their own mirror image.
             bool symmetric = false;
             double section_offset = 0.0;
+            auto project_section = [&]() {
+                if constexpr (!exact_monodromy) {
+                    zs.head(e.nz()) = symmetric_state(mirror, zs.head(e.nz()));
+                    e.make_consistent(zs, ms, t_s);
+                }
+            };
             if constexpr (!exact_monodromy)
                 if (mirror.valid()) {
                     section_offset = section_mirror_offset(mirror, e, zs, ms, omega);
                     symmetric = std::isfinite(section_offset);
-                    if (symmetric) {
-                        zs.head(e.nz()) = symmetric_state(mirror, zs.head(e.nz()));
-                        e.make_consistent(zs, ms, t_s);
-                    }
+                    if (symmetric) project_section();
                 }
             // Nodes stuck all of the last period (ConeEngine; a sweep's shakedown leaves them on
             // their cones' edges): Newton first on the orbit with them held stuck (hold_stuck) at
@@ -1119,11 +1122,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     if (slipped || loose_round) {
                         if (slipped) {
                             zs = f.zhat;
-                            if constexpr (!exact_monodromy)
-                                if (symmetric) {
-                                    zs.head(e.nz()) = symmetric_state(mirror, zs.head(e.nz()));
-                                    e.make_consistent(zs, ms, t_s);
-                                }
+                            if (symmetric) project_section();
                             carried.resize(0);
                         }
                         loose_round = slipped;
