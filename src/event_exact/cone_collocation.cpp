@@ -182,7 +182,7 @@ std::vector<int> ConeEngine::independent(const Modes& modes) const {
 }
 
 void ConeEngine::step_sensitivity(const MatrixXd& u, double h, double s_end, bool implicit, const Modes& modes,
-                                  const std::vector<char>& frozen, MatrixXd& phi) const {
+                                  const std::vector<char>& frozen, bool opens_at_end, MatrixXd& phi) const {
     // The variational equation d(dv)/dt = J_v dv + J_c dc along the step's polynomial (dv: y, y'
     // and the moving directions; dc: the held positions and held directions, constant over the
     // step), by Radau IIA with collocation_stages stages: on an implicit step over the step
@@ -208,11 +208,19 @@ void ConeEngine::step_sensitivity(const MatrixXd& u, double h, double s_end, boo
     // the Jacobian's columns: the moving entries (dyn's order), then the stays
     std::vector<int> wrt = dyn;
     for (const Eigen::Index k : stays) wrt.push_back(x[static_cast<std::size_t>(k)]);
-    // At a step's end where a slipping contact opens, its direction equation is singular (its
-    // normal force is zero there): the Jacobian just before the end instead.
+    int substeps = 1;
+    // At a step's end where a slipping contact opens, its direction's rate is 0 / 0 (its normal
+    // force and the force's turning are both zero to rounding there): the last stage's Jacobian
+    // is then rounding divided by rounding, and the stiff stage equation (the direction's rate
+    // ~ 1 / lambda_N) carries it into the whole step's sensitivity. The stage is taken
+    // opening_back_off of its substep before the end instead (where the quotient is accurate and
+    // the stage still as stiff: the result does not change between 1e-7 and 1e-3 of it). Where
+    // the matrix itself is singular there, the Jacobian just before the end.
     auto stage_jacobian = [&](double sigma) {
         MatrixXd J;
         VectorXd rate;
+        if (opens_at_end && s_end > 0.0 && sigma >= s_end * (1.0 - 1e-12))
+            sigma = s_end - opening_back_off * s_end / substeps;
         for (double back : {0.0, 1e-9, 1e-7, 1e-5}) {
             try {
                 rates_jacobian(evaluate(u, sigma * (1.0 - back)).head(n), modes, frozen, dyn, wrt, J, rate);
@@ -223,7 +231,6 @@ void ConeEngine::step_sensitivity(const MatrixXd& u, double h, double s_end, boo
         }
         return J;
     };
-    int substeps = 1;
     if (!implicit) {
         const MatrixXd J0 = stage_jacobian(0.0);
         const double fastest = std::sqrt(J0.block(nm, 0, nm, nm).cwiseAbs().rowwise().sum().maxCoeff());

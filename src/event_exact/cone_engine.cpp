@@ -973,7 +973,12 @@ PatternEngine::Flow ConeEngine::taylor_flow(VectorXd zhat, Modes modes, double t
         }
         if (phi.size() > 0) {
             try {
-                step_sensitivity(u, h, s_end, implicit, modes, frozen, phi);
+                // a slipping 3D contact whose direction moves opens at the step's end
+                const bool opens_at_end = std::any_of(triggers.begin(), triggers.end(), [&](const Guard& g) {
+                    const auto c = static_cast<std::size_t>(g.contact);
+                    return g.kind == guard_normal && modes[c] == slip && directions(g.contact) == 2 && !frozen[c];
+                });
+                step_sensitivity(u, h, s_end, implicit, modes, frozen, opens_at_end, phi);
                 if (s_end > 0.0) event_times.clear();  // not a cascade of the last events
                 if (!phi.allFinite()) phi.resize(0, 0);
             } catch (const std::runtime_error&) {  // a singular direction equation inside the step

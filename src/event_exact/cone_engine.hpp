@@ -111,6 +111,9 @@ public:
     /// Stages of the collocation (order 2s - 1 at a step's end, s + 1 inside: the order of its
     /// local error estimate, which the step control uses).
     static constexpr int collocation_stages = 6;
+    /// Where a slipping 3D contact opens at a step's end, the sensitivity's last stage is taken
+    /// this share of its substep before the end (step_sensitivity).
+    static constexpr double opening_back_off = 1e-5;
     /// Steps of the last flow by kind.
     long taylor_steps() const { return taylor_steps_; }
     long collocation_steps() const { return collocation_steps_; }
@@ -212,8 +215,10 @@ public:
     /// Multiplies phi (rows: the independent entries of the pattern, in independent()'s order;
     /// any number of columns) by the derivative of a step's end (at s_end) with respect to its
     /// start, along the step's recorded polynomial u over h (implicit: a collocation step).
+    /// `opens_at_end`: a slipping 3D contact whose direction moves opens at the step's end (its
+    /// normal force is zero there to rounding, and its direction's rate 0 / 0).
     void step_sensitivity(const Eigen::MatrixXd& u, double h, double s_end, bool implicit, const Modes& modes,
-                          const std::vector<char>& frozen, Eigen::MatrixXd& phi) const;
+                          const std::vector<char>& frozen, bool opens_at_end, Eigen::MatrixXd& phi) const;
 
     /// y, y' and the moving directions: the entries an implicit step integrates.
     std::vector<int> moving_entries(const Modes& modes, const std::vector<char>& frozen) const;
