@@ -1097,7 +1097,9 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                             return true;
                         }
                         VectorXd difference;
-                        if (!difference_along(at, d / length, difference)) return false;
+                        if (!difference_along(at, d / length, difference) &&
+                            !difference_along(at, d / length, difference, nullptr, 1e-7))  // as Arnoldi's below
+                            return false;
                         y = (length * difference).cwiseQuotient(unit) - u;
                         return true;
                     };
@@ -1349,7 +1351,11 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                 VectorXd direction = VectorXd::Zero(nu), whole;
                                 for (Eigen::Index k = 0; k < nf; ++k)
                                     direction(free[static_cast<std::size_t>(k)]) = scale(free[static_cast<std::size_t>(k)]) * u(k) / length;
-                                if (!difference_along(x, direction, whole)) return false;
+                                // a perturbed period that fails (events that repeat without time
+                                // passing where a perturbation of 1e-6 puts two nodes' events at
+                                // one instant) is taken again at 1e-7
+                                if (!difference_along(x, direction, whole) && !difference_along(x, direction, whole, nullptr, 1e-7))
+                                    return false;
                                 y.resize(nf);
                                 for (Eigen::Index k = 0; k < nf; ++k)
                                     y(k) = length * whole(free[static_cast<std::size_t>(k)]) / scale(free[static_cast<std::size_t>(k)]);
