@@ -978,6 +978,14 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     }
                     return true;
                 };
+                // The same for the Krylov products (GMRES's and Arnoldi's), where one failed period
+                // would end the whole iteration: a perturbed period that fails (events that repeat
+                // without time passing where a perturbation of 1e-6 puts two nodes' events at one
+                // instant) is taken again at 1e-7.
+                auto krylov_difference = [&](const VectorXd& at, const VectorXd& direction, VectorXd& out_difference) {
+                    return difference_along(at, direction, out_difference) ||
+                           difference_along(at, direction, out_difference, nullptr, 1e-7);
+                };
                 // The period map's whole derivative by central differences (two periods per unknown).
                 auto differences_matrix = [&](const VectorXd& at) {
                     MatrixXd d(nu, nu);
@@ -1097,9 +1105,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                             return true;
                         }
                         VectorXd difference;
-                        if (!difference_along(at, d / length, difference) &&
-                            !difference_along(at, d / length, difference, nullptr, 1e-7))  // as Arnoldi's below
-                            return false;
+                        if (!krylov_difference(at, d / length, difference)) return false;
                         y = (length * difference).cwiseQuotient(unit) - u;
                         return true;
                     };
@@ -1351,11 +1357,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                 VectorXd direction = VectorXd::Zero(nu), whole;
                                 for (Eigen::Index k = 0; k < nf; ++k)
                                     direction(free[static_cast<std::size_t>(k)]) = scale(free[static_cast<std::size_t>(k)]) * u(k) / length;
-                                // a perturbed period that fails (events that repeat without time
-                                // passing where a perturbation of 1e-6 puts two nodes' events at
-                                // one instant) is taken again at 1e-7
-                                if (!difference_along(x, direction, whole) && !difference_along(x, direction, whole, nullptr, 1e-7))
-                                    return false;
+                                if (!krylov_difference(x, direction, whole)) return false;
                                 y.resize(nf);
                                 for (Eigen::Index k = 0; k < nf; ++k)
                                     y(k) = length * whole(free[static_cast<std::size_t>(k)]) / scale(free[static_cast<std::size_t>(k)]);
