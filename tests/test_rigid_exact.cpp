@@ -998,6 +998,34 @@ TEST_CASE("rigid exact 3D: Newton's steps by GMRES on central differences reach 
     }
 }
 
+TEST_CASE("rigid exact 3D: Newton's iterations are one budget over all attempts, and no restart is taken without any left",
+          "[rigid_exact]") {
+    const System system = bench::contact_chain_3d(3, 1.0, 0.8);
+    const double omega = 2.0;
+    const ExactOrbit reference = rigid_periodic_orbit(system, omega, Eigen::VectorXd());
+    INFO(reference.message);
+    REQUIRE(reference.converged);
+    REQUIRE(reference.iterations > 1);  // from rest Newton needs more than one step here
+    // its own count of iterations is enough
+    ExactOptions enough;
+    enough.max_iterations = reference.iterations;
+    const ExactOrbit exact = rigid_periodic_orbit(system, omega, Eigen::VectorXd(), enough);
+    CHECK(exact.converged);
+    CHECK(exact.iterations == reference.iterations);
+    // one iteration: spent by the first attempt, so the restarts' plain periods are not taken
+    // (a restart from then could not iterate): the same periods as with no restart allowed
+    ExactOptions one, one_alone;
+    one.max_iterations = one_alone.max_iterations = 1;
+    one_alone.restarts = 0;
+    const ExactOrbit short_of = rigid_periodic_orbit(system, omega, Eigen::VectorXd(), one);
+    const ExactOrbit alone = rigid_periodic_orbit(system, omega, Eigen::VectorXd(), one_alone);
+    INFO(short_of.message);
+    CHECK_FALSE(short_of.converged);
+    CHECK(short_of.message.find("Newton reached 1 iteration,") != std::string::npos);
+    CHECK(short_of.iterations == 1);
+    CHECK(short_of.periods == alone.periods);
+}
+
 namespace {
 
 /// A saved exact orbit of the mitre (tests/data, benchmarks/mitre_exact --save-orbit): [y, y'].

@@ -73,7 +73,9 @@ struct ExactOptions {
     /// that the test is relative and independent of the units). 1e-15..1e-2.
     double tolerance = 1e-12;
     /// Newton iterations over all attempts (each one period map with its monodromy, plus
-    /// line-search trials), >= 1.
+    /// line-search trials), >= 1; a restart is taken only while some are left. The 3D
+    /// rigid-contact solver's rounds with the nodes stuck all period held (before Newton on all
+    /// the unknowns) count apart, 12 at most a round.
     int max_iterations = 40;
     /// Plain periods integrated from the given start before Newton (>= 1): the first settles
     /// the stick/slip pattern on which the section is chosen.

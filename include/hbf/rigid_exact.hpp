@@ -14,10 +14,13 @@
 // truncation is below rounding, or where the directions are stiff (their relaxation far faster
 // than the period) by implicit collocation steps (ConeStepping). For 3D contacts, Newton's
 // matrix and the Floquet multipliers come from the flow's own derivative over a period (the
-// variational equation along the steps and the saltation at the events); where that is not
-// available or a Newton step with it failed, Newton's steps are solved by GMRES on central
-// differences of the period map (steps of 1e-6 of the state's size; two periods a product),
-// preconditioned by the flow's last Newton matrix. The periodic orbit is the fixed point of the
+// variational equation along the steps and the saltation at the events, updated by Broyden's
+// formula between fresh ones). Where a Newton step with a fresh derivative fails, or Newton's
+// residual (above 1e-6) has not fallen tenfold in 8 iterations (a derivative that is off, below),
+// Newton restarts (ExactOptions::restarts: plain periods from its last iterate, a new section);
+// in the last attempt, or where the derivative is not available, Newton's steps are solved by
+// GMRES on central differences of the period map (steps of 1e-6 of the state's size; two periods
+// a product), preconditioned by the flow's last Newton matrix. The periodic orbit is the fixed point of the
 // period map, solved by Newton's method; its derivative's eigenvalues are the Floquet
 // multipliers. Where contacts of a symmetric interface change pattern at one instant and are
 // coupled, the period map is only piecewise differentiable and the flow's derivative through

@@ -197,6 +197,17 @@ void rigid_metrics(E& e, const PatternEngine::Flow& flow, double t_s, const Exac
 /// Newton's residual below which a stall (no step lowers it) is the rounding of the flow.
 constexpr double stall_floor = 1e-9;
 
+/// ConeEngine, before the last restart: Newton on all the unknowns whose residual (above
+/// creep_floor) has not fallen by creep_factor over creep_window iterations has a derivative that is off (events of coupled
+/// contacts at one instant) and stops: plain periods from its last iterate and a new section (a
+/// restart) cost less than creeping on, or GMRES on differences (tens of periods a step). The
+/// last attempt goes on, and turns to GMRES where a step with a fresh derivative fails.
+constexpr int creep_window = 8;
+constexpr double creep_factor = 0.1;
+/// Below it Newton is near the orbit and goes on: the last digits fall slowly where the flow's
+/// rounding is near (a restart there would throw a nearly converged orbit away).
+constexpr double creep_floor = 1e-6;
+
 /// The message's note where a perturbed period has events the orbit lacks.
 constexpr const char* grazing_note =
     "; a contact grazes an edge of its friction cone or its gap (a perturbation of 1e-6 adds events there): the "
@@ -772,6 +783,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
             return out;
         }
         int restart_periods = 8;
+        int whole_iterations = 0;  // Newton's on all the unknowns, over all attempts (held rounds apart)
         for (int attempt = 0;; ++attempt) {
             // The section: the middle of a long event-free stretch of the last period, where the
             // fewest 3D contacts slip (their directions are unknowns, and a slow slip's direction
@@ -1154,6 +1166,8 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     fresh = true;
                     krylov = krylov || jacobian.size() == 0;
                 };
+                const bool last_attempt = attempt >= options.restarts;
+                std::vector<double> residuals;  // this Newton's, one an iteration
                 for (int iteration = 0;; ++iteration) {
                     if (!f.ok) {
                         out.message = "Newton iteration " + std::to_string(iteration) + ": " + f.message;
@@ -1169,14 +1183,24 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                       (f.modes == ms ? "" : " (a contact's event at the section)");
                         break;
                     }
-                    if (out.iterations - (holding ? first_iteration : held_iterations) >=
-                        (holding ? held_newton_iterations : options.max_iterations)) {
-                        out.message = "Newton reached " + std::to_string(options.max_iterations) + " iterations, residual " +
+                    // A held round's iterations, or the whole Newton's over all attempts.
+                    const int budget = holding ? held_newton_iterations : options.max_iterations;
+                    if ((holding ? out.iterations - first_iteration : whole_iterations) >= budget) {
+                        out.message = "Newton reached " + std::to_string(budget) + (budget == 1 ? " iteration" : " iterations") + ", residual " +
                                       format_number(out.residual);
                         stalled = true;
                         break;
                     }
+                    residuals.push_back(out.residual);
+                    if (!exact_monodromy && !holding && !last_attempt && !krylov && residuals.size() > creep_window &&
+                        out.residual > creep_floor && out.residual > creep_factor * residuals[residuals.size() - 1 - creep_window]) {
+                        out.message = "Newton crept from residual " + format_number(residuals[residuals.size() - 1 - creep_window]) +
+                                      " to " + format_number(out.residual) + " in " + std::to_string(creep_window) + " iterations";
+                        stalled = true;
+                        break;
+                    }
                     ++out.iterations;
+                    if (!holding) ++whole_iterations;
                     if (!krylov && (exact_monodromy || jacobian.size() == 0)) refresh();
                     VectorXd dx;
                     if (krylov) {
@@ -1215,7 +1239,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                         stalled = true;
                         break;
                     }
-                    if (!moved && !exact_monodromy && !krylov && out.residual > stall_floor) {
+                    if (!moved && !exact_monodromy && !krylov && out.residual > stall_floor && last_attempt) {
                         krylov = true;  // the flow's derivative failed: GMRES on differences from here on
                         preconditioner = decompose(jacobian);
                         preconditioned = true;
@@ -1268,7 +1292,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 if (products > 0)
                     out.message += " (Newton's steps by GMRES on central differences of the period map: " +
                                    std::to_string(products) + " products)";
-                if (out.converged || !stalled || attempt >= options.restarts) {
+                if (out.converged || !stalled || attempt >= options.restarts || whole_iterations >= options.max_iterations) {
                     // The recorded period of the last iterate: metrics and multipliers.
                     PatternEngine::Flow last = map(x, true);
                     if (!last.ok) {
