@@ -967,6 +967,50 @@ TEST_CASE("rigid exact 3D: where mirror-image nodes change pattern at one instan
           std::string::npos);
 }
 
+TEST_CASE("rigid exact 3D: central differences on two threads give the one-thread orbit and multipliers",
+          "[rigid_exact]") {
+    // ExactOptions::threads = 2 flows each difference's two perturbed periods at once, the second
+    // on a twin engine that follows the first's run state. Newton by GMRES and the multipliers by
+    // Arnoldi, both on differences (forced), must give the one-thread run's orbit to Newton's
+    // tolerance and its multipliers to the differences' accuracy, in the same periods.
+    struct Case {
+        System system;
+        double omega;
+    };
+    for (const Case& c : {Case{bench::contact_chain_3d(3, 1.0, 0.8), 2.0}, Case{mirror_pair(1e-9), 0.7}}) {
+        ExactOptions one, two;
+        one.threads = 1;
+        two.threads = 2;
+        const ExactOrbit serial =
+            rigid_periodic_orbit(c.system, c.omega, Eigen::VectorXd(), one, ConeStepping::automatic, ConeNewton::differences);
+        const ExactOrbit parallel =
+            rigid_periodic_orbit(c.system, c.omega, Eigen::VectorXd(), two, ConeStepping::automatic, ConeNewton::differences);
+        INFO("w = " << c.omega << ": " << serial.message << " / " << parallel.message);
+        REQUIRE(serial.converged);
+        REQUIRE(parallel.converged);
+        REQUIRE(serial.message.find("Arnoldi") != std::string::npos);
+        CHECK(parallel.switches == serial.switches);
+        CHECK(parallel.periods == serial.periods);
+        for (std::size_t i = 0; i < serial.y_amp1.size(); ++i) {
+            INFO("DOF " << i + 1);
+            CHECK(std::abs(parallel.y_amp1[i] - serial.y_amp1[i]) <= 1e-10 * serial.y_amp1[0]);
+            CHECK(std::abs(parallel.y_max[i] - serial.y_max[i]) <= 1e-10 * serial.y_max[0]);
+        }
+        CHECK(std::abs(parallel.max_multiplier - serial.max_multiplier) <= 1e-7);
+        REQUIRE(parallel.multipliers.size() == serial.multipliers.size());
+        for (const std::complex<double>& mu : parallel.multipliers) {
+            double nearest = std::numeric_limits<double>::infinity();
+            for (const std::complex<double>& nu : serial.multipliers) nearest = std::min(nearest, std::abs(mu - nu));
+            INFO("multiplier " << mu);
+            CHECK(nearest <= 1e-7);
+        }
+    }
+    ExactOptions three;
+    three.threads = 3;
+    CHECK_THROWS_WITH(rigid_periodic_orbit(bench::contact_chain_3d(3, 1.0, 0.8), 2.0, Eigen::VectorXd(), three),
+                      Catch::Contains("exact threads = 3 is out of range"));
+}
+
 TEST_CASE("rigid exact 3D: Newton's steps by GMRES on central differences reach the flow's derivative's orbit",
           "[rigid_exact]") {
     // The path Newton takes where the flow's derivative is missing or a step with it fails,

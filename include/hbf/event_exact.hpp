@@ -105,6 +105,13 @@ struct ExactOptions {
     /// patterns are not their own mirror image (the message says so). false: the orbit the
     /// start leads to, symmetric or not.
     bool mirror_symmetric = false;
+    /// Threads of the 3D rigid-contact solver (rigid_exact.hpp): with 2, the two perturbed
+    /// periods of each central difference of the period map (Newton's steps by GMRES, the
+    /// multipliers by Arnoldi, the check of the flow's derivative) flow at once, on a second
+    /// copy of the solver's engine; with 1, one after the other. Either way the answer is the
+    /// same to the solver's tolerance (the two copies round differently). 0: 2 where the
+    /// hardware has two or more cores, else 1. 0..2.
+    int threads = 0;
     /// Asked after every period the rigid-contact solver (rigid_exact.hpp) flows, and by an
     /// FRF's polish (exact_polish.hpp) before every orbit it solves: a non-empty answer (why:
     /// an interrupt, a time limit) ends the solve there, not converged, with

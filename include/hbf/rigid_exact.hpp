@@ -38,7 +38,9 @@
 // friction cone or its gap (a node stuck all period whose force touches the cone's edge at an
 // instant, as a shakedown leaves it), where the period map has a kink that the differences
 // straddle; the multipliers are then the flow's own, of the orbit's side of the kink (the
-// message says so). Patterns, events and the choice of the pattern after an event:
+// message says so). The two perturbed periods of every central difference flow at once on two
+// threads (ExactOptions::threads; the second on a copy of the engine), which halves the time of
+// the products, not their number. Patterns, events and the choice of the pattern after an event:
 // src/event_exact/rigid_engine.hpp (2D) and src/event_exact/cone_engine.hpp (3D).
 #pragma once
 

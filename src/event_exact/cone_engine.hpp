@@ -79,6 +79,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -108,6 +109,24 @@ public:
     /// (constant over it): psi's columns for them stay zero, and no step differentiates with
     /// respect to them.
     void hold_stuck(std::vector<char> contacts) { held_ = std::move(contacts); }
+    /// Takes another engine's run state (of one system at one frequency): its held contacts,
+    /// stepping, start flows and the scales its flows met (force_scale_, size_scale_). A twin
+    /// that has followed an engine flows a state as that engine would (to rounding: each keeps
+    /// its own factorisations); the exact solver flows the two perturbed periods of a central
+    /// difference at once on an engine and its twin.
+    void follow(const ConeEngine& other) {
+        held_ = other.held_;
+        stepping_ = other.stepping_;
+        start_flows_ = other.start_flows_;
+        force_scale_ = other.force_scale_;
+        size_scale_ = other.size_scale_;
+    }
+    /// After flows on a twin: the larger of each scale the two met (as one engine that had
+    /// flowed both).
+    void merge_scales(const ConeEngine& twin) {
+        force_scale_ = std::max(force_scale_, twin.force_scale_);
+        size_scale_ = std::max(size_scale_, twin.size_scale_);
+    }
     /// Stages of the collocation (order 2s - 1 at a step's end, s + 1 inside: the order of its
     /// local error estimate, which the step control uses).
     static constexpr int collocation_stages = 6;

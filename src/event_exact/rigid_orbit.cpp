@@ -6,9 +6,12 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <future>
+#include <memory>
 #include <optional>
 #include <limits>
 #include <stdexcept>
+#include <thread>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -749,6 +752,9 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
         if (std::string why = options.stop_reason(); !why.empty()) throw StopRequested{std::move(why)};
         return g;
     };
+    // ExactOptions::threads: the second engine of central differences (created at the first).
+    const bool parallel = options.threads == 2 || (options.threads == 0 && std::thread::hardware_concurrency() >= 2);
+    std::unique_ptr<ConeEngine> twin;
     try {
         Modes modes = e.initial_modes(zhat);
         if (initial_state.size() > 0) {  // a start that holds every contact stuck: the stuck structure's orbit first
@@ -952,6 +958,37 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                     ++out.periods;
                     return flow(start(from), ms, t_s, period, exact_monodromy, record, options.max_events_per_period);
                 };
+                // The periods from a and b (a central difference's two): on two threads where
+                // options.threads allows (ConeEngine), b on the twin, which first follows the
+                // engine's run state; the engine then keeps the larger of the scales both met.
+                // The stop request is asked on this thread only.
+                auto map_pair = [&](const VectorXd& a, const VectorXd& b, PatternEngine::Flow& fa, PatternEngine::Flow& fb) {
+                    if constexpr (!exact_monodromy) {
+                        if (parallel) {
+                            if (!twin) {
+                                twin = std::make_unique<ConeEngine>(system, omega);
+                            }
+                            twin->follow(e);
+                            const VectorXd zb = start(b);
+                            std::future<PatternEngine::Flow> other = std::async(std::launch::async, [&, zb]() {
+                                return twin->flow(zb, ms, t_s, period, false, false, options.max_events_per_period);
+                            });
+                            try {
+                                fa = map(a, false);
+                            } catch (...) {
+                                other.wait();
+                                throw;
+                            }
+                            fb = other.get();
+                            e.merge_scales(*twin);
+                            ++out.periods;
+                            if (std::string why = options.stop_reason(); !why.empty()) throw StopRequested{std::move(why)};
+                            return;
+                        }
+                    }
+                    fa = map(a, false);
+                    fb = map(b, false);
+                };
                 // d x_end / d x: the monodromy (RigidEngine); ConeEngine: the flow's own derivative (a
                 // period with the variational equation and the saltations; end_derivative where the
                 // period ends in another pattern), checked against central differences of the map
@@ -978,7 +1015,8 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 auto difference_along = [&](const VectorXd& at, const VectorXd& direction, VectorXd& out_difference,
                                             std::vector<ExactEvent>* events = nullptr, double delta = 1e-6) {
                     const VectorXd plus = at + delta * direction, minus = at - delta * direction;
-                    PatternEngine::Flow fp = map(plus, false), fm = map(minus, false);
+                    PatternEngine::Flow fp, fm;
+                    map_pair(plus, minus, fp, fm);
                     if (!fp.ok || !fm.ok) {
                         failure = (fp.ok ? fm : fp).message;
                         return false;
