@@ -991,6 +991,7 @@ TEST_CASE("rigid exact 3D: central differences on two threads give the one-threa
         REQUIRE(serial.message.find("Arnoldi") != std::string::npos);
         CHECK(parallel.switches == serial.switches);
         CHECK(parallel.periods == serial.periods);
+        CHECK(parallel.iterations == serial.iterations);
         for (std::size_t i = 0; i < serial.y_amp1.size(); ++i) {
             INFO("DOF " << i + 1);
             CHECK(std::abs(parallel.y_amp1[i] - serial.y_amp1[i]) <= 1e-10 * serial.y_amp1[0]);
@@ -1004,6 +1005,25 @@ TEST_CASE("rigid exact 3D: central differences on two threads give the one-threa
             INFO("multiplier " << mu);
             CHECK(nearest <= 1e-7);
         }
+    }
+    // Newton with the flow's derivative and Broyden's updates (the derivative's check at the
+    // orbit by a central difference): the one-thread run's steps and multipliers.
+    for (const Case& c : {Case{bench::contact_chain_3d(3, 1.0, 0.8), 0.6}, Case{mirror_pair(1e-9), 0.7}}) {
+        ExactOptions one, two;
+        one.threads = 1;
+        two.threads = 2;
+        const ExactOrbit serial = rigid_periodic_orbit(c.system, c.omega, Eigen::VectorXd(), one);
+        const ExactOrbit parallel = rigid_periodic_orbit(c.system, c.omega, Eigen::VectorXd(), two);
+        INFO("w = " << c.omega << ": " << serial.message << " / " << parallel.message);
+        REQUIRE(serial.converged);
+        REQUIRE(parallel.converged);
+        CHECK(serial.iterations >= 2);
+        CHECK(parallel.iterations == serial.iterations);
+        CHECK(parallel.periods == serial.periods);
+        CHECK(parallel.switches == serial.switches);
+        for (std::size_t i = 0; i < serial.y_amp1.size(); ++i)
+            CHECK(std::abs(parallel.y_amp1[i] - serial.y_amp1[i]) <= 1e-10 * serial.y_amp1[0]);
+        CHECK(std::abs(parallel.max_multiplier - serial.max_multiplier) <= 1e-7);
     }
     ExactOptions three;
     three.threads = 3;
