@@ -38,7 +38,16 @@
 // friction cone or its gap (a node stuck all period whose force touches the cone's edge at an
 // instant, as a shakedown leaves it), where the period map has a kink that the differences
 // straddle; the multipliers are then the flow's own, of the orbit's side of the kink (the
-// message says so). The two perturbed periods of every central difference flow at once on two
+// message says so). On a symmetric orbit of a mirror-symmetric structure (src/model/mirror.hpp;
+// the orbit's unknowns their mirror images' to 1e-8 of the differences' unit) the period map's
+// derivative commutes with the mirror and the multipliers split: those of the symmetric changes
+// from the flow's derivative where a central difference along a symmetric direction confirms it
+// (to 1e-3), those of the antisymmetric changes by Arnoldi on them alone (about half the
+// products); each product's symmetric part is measured, and above 1e-6 of its direction Arnoldi
+// takes all the free unknowns again (the message says which). Along antisymmetric changes the
+// map is only piecewise smooth at such an orbit (the mirror images' events part either way) and
+// central differences there depend on the direction: those multipliers are defined to about
+// 1e-4 (docs/methods/contact-laws-hb.md). The two perturbed periods of every central difference flow at once on two
 // threads (ExactOptions::threads; the second on a copy of the engine), which halves the time of
 // the products, not their number. Patterns, events and the choice of the pattern after an event:
 // src/event_exact/rigid_engine.hpp (2D) and src/event_exact/cone_engine.hpp (3D).

@@ -529,6 +529,14 @@ constexpr double derivative_check_tolerance = 1e-3;
 /// the unit circle (unstable by ExactOptions::stability_tolerance).
 constexpr double multiplier_tolerance = 1e-8;
 
+/// A converged orbit is taken as mirror-symmetric (its multipliers split by the mirror) where its
+/// unknowns are their mirror images' to this, in the differences' units (1e-6 of it is their step).
+constexpr double mirror_split_tolerance = 1e-8;
+/// The split's check: an antisymmetric change's central difference has a symmetric part of at most
+/// this share of the change (the derivative's commutation with the mirror, seen to the differences'
+/// accuracy); above it, the multipliers are Arnoldi's on all the free unknowns.
+constexpr double mirror_leak_tolerance = 1e-6;
+
 /// Newton's iterations at most with the nodes stuck all period held (shoot's predictor).
 constexpr int held_newton_iterations = 12;
 /// Held rounds at most after the first (each: a plain period that drags the held nodes that slip
@@ -692,6 +700,57 @@ UnknownMirror unknown_mirror(const StateMirror& q, const std::vector<Eigen::Inde
     return out;
 }
 
+/// How far unknowns x are from their mirror images (q), in the units `scale` (angles in
+/// radians, modulo a turn).
+double unknowns_mirror_offset(const UnknownMirror& q, const VectorXd& x, const VectorXd& scale) {
+    double offset = 0.0;
+    for (Eigen::Index k = 0; k < x.size(); ++k) {
+        const Eigen::Index other = q.image[static_cast<std::size_t>(k)];
+        const int c = q.state_mirror->angle_of[static_cast<std::size_t>(q.zhat[static_cast<std::size_t>(k)])];
+        const double gap = c < 0 ? x(k) - q.sign(k) * x(other) : std::remainder(x(k) - q.state_mirror->angle(c, x(other)), 2.0 * pi);
+        offset = std::max(offset, std::abs(gap) / scale(k));
+    }
+    return offset;
+}
+
+/// A mirror-symmetric orbit's changes split by the mirror (q, an involution: its period map's
+/// derivative commutes with it): orthonormal bases, in the coordinates of the unknowns `free`
+/// (indices into q's), of the symmetric changes (Q v = v) and the antisymmetric ones (Q v = -v).
+/// Each pair of images gives one of each, an unknown that is its own image one of either. Both
+/// empty where an image of a free unknown is not free.
+struct MirrorSplit {
+    MatrixXd symmetric, antisymmetric;
+    bool valid() const { return symmetric.cols() + antisymmetric.cols() > 0; }
+};
+
+MirrorSplit mirror_split(const UnknownMirror& q, const std::vector<Eigen::Index>& free) {
+    const auto nf = static_cast<Eigen::Index>(free.size());
+    std::vector<VectorXd> even, odd;
+    for (Eigen::Index i = 0; i < nf; ++i) {
+        const Eigen::Index k = free[static_cast<std::size_t>(i)], image = q.image[static_cast<std::size_t>(k)];
+        const auto at = std::find(free.begin(), free.end(), image);
+        if (at == free.end()) return {};
+        const auto j = static_cast<Eigen::Index>(at - free.begin());
+        if (j < i) continue;
+        if (j == i) {
+            (q.sign(k) > 0.0 ? even : odd).push_back(VectorXd::Unit(nf, i));
+            continue;
+        }
+        VectorXd plus = VectorXd::Zero(nf), minus = VectorXd::Zero(nf);
+        plus(i) = minus(i) = std::sqrt(0.5);
+        plus(j) = q.sign(k) * std::sqrt(0.5);
+        minus(j) = -q.sign(k) * std::sqrt(0.5);
+        even.push_back(plus);
+        odd.push_back(minus);
+    }
+    MirrorSplit out;
+    out.symmetric.resize(nf, static_cast<Eigen::Index>(even.size()));
+    out.antisymmetric.resize(nf, static_cast<Eigen::Index>(odd.size()));
+    for (std::size_t c = 0; c < even.size(); ++c) out.symmetric.col(static_cast<Eigen::Index>(c)) = even[c];
+    for (std::size_t c = 0; c < odd.size(); ++c) out.antisymmetric.col(static_cast<Eigen::Index>(c)) = odd[c];
+    return out;
+}
+
 /// Newton shooting on the period map of engine e (RigidEngine: linear patterns, the exact
 /// monodromy; ConeEngine: Taylor flows, the period map's derivative by central differences).
 template <class E>
@@ -730,18 +789,18 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
     PatternEngine::Flow f;
     // A mirror-symmetric structure (ConeEngine): its symmetric orbits are solved among the
     // symmetric states (below).
-    StateMirror mirror;
+    // Without the option, the structure's mirror splits a symmetric orbit's multipliers (below).
+    StateMirror mirror, structure_mirror;
     std::string no_mirror;  // why ExactOptions::mirror_symmetric finds no symmetric states to solve in
-    if (options.mirror_symmetric) {
-        if constexpr (exact_monodromy) {
-            no_mirror = "the option is for 3D contacts";
-        } else if (const std::optional<detail::Mirror> m = detail::find_mirror(system)) {
-            mirror = state_mirror(*m, e);
-            if (!mirror.valid()) no_mirror = "the structure's mirror does not map its DOFs with mass onto each other";
-        } else {
-            no_mirror = "the structure has no mirror symmetry";
-        }
+    if constexpr (exact_monodromy) {
+        if (options.mirror_symmetric) no_mirror = "the option is for 3D contacts";
+    } else if (const std::optional<detail::Mirror> m = detail::find_mirror(system)) {
+        structure_mirror = state_mirror(*m, e);
+        if (!structure_mirror.valid()) no_mirror = "the structure's mirror does not map its DOFs with mass onto each other";
+    } else {
+        no_mirror = "the structure has no mirror symmetry";
     }
+    if (options.mirror_symmetric) mirror = structure_mirror;
     // Every flow, then the stop request (ExactOptions::stop): a period of a meshed 3D interface
     // can take seconds, a solve hundreds of periods.
     struct StopRequested {
@@ -1086,11 +1145,13 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                 // its gap) is tried again at 1e-8: where the events stay the orbit's there, that
                 // decides (the flow's derivative is the period map's, a kink or not further out).
                 // `kept`: unknowns d was not differentiated with respect to (the direction leaves them).
+                // `mirrored`: the direction's symmetric part (a symmetric orbit's symmetric changes).
                 auto derivative_mismatch = [&](const VectorXd& at, const MatrixXd& d, const std::vector<ExactEvent>& orbit,
-                                               const std::vector<Eigen::Index>& kept) {
+                                               const std::vector<Eigen::Index>& kept, const UnknownMirror* mirrored = nullptr) {
                     const VectorXd scale = units(difference_size(at));
                     VectorXd pattern(nu);  // entries of one size and no symmetry
                     for (Eigen::Index k = 0; k < nu; ++k) pattern(k) = std::sin(1.0 + 2.0 * static_cast<double>(k));
+                    if (mirrored) pattern = mirrored->symmetric(pattern);
                     for (const Eigen::Index k : kept) pattern(k) = 0.0;
                     const VectorXd direction = scale.cwiseProduct(pattern);
                     const VectorXd predicted = (d * direction).cwiseQuotient(scale);
@@ -1410,49 +1471,132 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                             }
                             const auto nf = static_cast<Eigen::Index>(free.size());
                             const VectorXd scale = units(difference_size(x));
-                            const detail::KrylovOperator product = [&](const VectorXd& u, VectorXd& y) {
-                                const double length = u.cwiseAbs().maxCoeff();
-                                if (!(length > 0.0)) {
-                                    y = VectorXd::Zero(nf);
-                                    return true;
+                            // A symmetric orbit of a mirror-symmetric structure: its period map's
+                            // derivative commutes with the mirror, and its multipliers are those of
+                            // the symmetric changes and those of the antisymmetric ones. The
+                            // symmetric changes keep mirror-image events at one instant, and the
+                            // flow's derivative is theirs where a central difference along a
+                            // symmetric direction confirms it: Arnoldi then works on the
+                            // antisymmetric changes only (about half the free unknowns). The
+                            // products' symmetric parts (the commutation's defect) are measured;
+                            // where one exceeds mirror_leak_tolerance, Arnoldi works on all of them.
+                            MirrorSplit halves;
+                            Eigen::VectorXcd symmetric_values;
+                            double symmetric_share = 0.0;
+                            std::string unsplit;  // why a symmetric orbit's multipliers are not split
+                            if (reduced.size() > 0 && structure_mirror.valid() && nf > 0) {
+                                const UnknownMirror qs = qx.valid() ? qx : unknown_mirror(structure_mirror, unknowns);
+                                if (qs.valid() && std::isfinite(section_mirror_offset(structure_mirror, e, start(x), ms, omega)) &&
+                                    unknowns_mirror_offset(qs, x, scale) <= mirror_split_tolerance) {
+                                    halves = mirror_split(qs, free);
+                                    if (!halves.valid())
+                                        unsplit = "; the orbit is mirror-symmetric, but its nodes stuck all period are not their mirror "
+                                                  "images' (the multipliers not split by the mirror)";
                                 }
-                                VectorXd direction = VectorXd::Zero(nu), whole;
-                                for (Eigen::Index k = 0; k < nf; ++k)
-                                    direction(free[static_cast<std::size_t>(k)]) = scale(free[static_cast<std::size_t>(k)]) * u(k) / length;
-                                if (!krylov_difference(x, direction, whole)) return false;
-                                y.resize(nf);
-                                for (Eigen::Index k = 0; k < nf; ++k)
-                                    y(k) = length * whole(free[static_cast<std::size_t>(k)]) / scale(free[static_cast<std::size_t>(k)]);
-                                return true;
+                                if (halves.valid() && halves.antisymmetric.cols() > 0) {
+                                    symmetric_share = derivative_mismatch(x, reduced, last.events, kept, &qs).share;
+                                    if (symmetric_share <= derivative_check_tolerance) {
+                                        MatrixXd scaled(nf, nf);
+                                        for (Eigen::Index i = 0; i < nf; ++i)
+                                            for (Eigen::Index j = 0; j < nf; ++j) {
+                                                const Eigen::Index a = free[static_cast<std::size_t>(i)], b = free[static_cast<std::size_t>(j)];
+                                                scaled(i, j) = reduced(a, b) * scale(b) / scale(a);
+                                            }
+                                        symmetric_values =
+                                            balanced_eigenvalues(halves.symmetric.transpose() * scaled * halves.symmetric);
+                                    } else {
+                                        unsplit = "; the orbit is mirror-symmetric, but the flow's derivative differs from a central "
+                                                  "difference along a symmetric direction by " +
+                                                  format_number(symmetric_share) + " (the multipliers not split by the mirror)";
+                                        halves = MirrorSplit();
+                                    }
+                                } else {
+                                    halves = MirrorSplit();
+                                }
+                            }
+                            // Arnoldi on the changes basis * u (columns orthonormal in the free
+                            // unknowns, in their units).
+                            struct Ritz {
+                                Eigen::VectorXcd values;
+                                double largest = 0.0, leak = 0.0;
+                                int unconverged = 0, steps = 0;
                             };
-                            double largest = 0.0;
-                            int unconverged = 0, steps = 0;
-                            Eigen::VectorXcd values;
-                            if constexpr (!exact_monodromy)
-                                if (!kept.empty()) e.hold_stuck(still);
-                            const bool done = nf == 0 || detail::dominant_eigenvalues(product, detail::arnoldi_start(nf), static_cast<int>(nf),
-                                                                                      values, largest, unconverged, steps, multiplier_tolerance);
-                            if constexpr (!exact_monodromy) e.hold_stuck({});
-                            if (!done) throw std::runtime_error("the multipliers' central differences: " + failure);
-                            out.multipliers = Eigen::VectorXcd::Ones(values.size() + static_cast<Eigen::Index>(kept.size()));
-                            out.multipliers.head(values.size()) = values;
-                            out.max_multiplier = kept.empty() ? largest : std::max(largest, 1.0);
+                            auto arnoldi = [&](const MatrixXd& basis) {
+                                Ritz r;
+                                const Eigen::Index nb = basis.cols();
+                                const detail::KrylovOperator product = [&](const VectorXd& u, VectorXd& y) {
+                                    const VectorXd v = basis * u;
+                                    const double length = v.cwiseAbs().maxCoeff();
+                                    if (!(length > 0.0)) {
+                                        y = VectorXd::Zero(nb);
+                                        return true;
+                                    }
+                                    VectorXd direction = VectorXd::Zero(nu), whole;
+                                    for (Eigen::Index k = 0; k < nf; ++k)
+                                        direction(free[static_cast<std::size_t>(k)]) = scale(free[static_cast<std::size_t>(k)]) * v(k) / length;
+                                    if (!krylov_difference(x, direction, whole)) return false;
+                                    VectorXd image(nf);
+                                    for (Eigen::Index k = 0; k < nf; ++k)
+                                        image(k) = length * whole(free[static_cast<std::size_t>(k)]) / scale(free[static_cast<std::size_t>(k)]);
+                                    y = basis.transpose() * image;
+                                    r.leak = std::max(r.leak, (image - basis * y).norm() / u.norm());
+                                    return true;
+                                };
+                                if constexpr (!exact_monodromy)
+                                    if (!kept.empty()) e.hold_stuck(still);
+                                const bool done = nb == 0 || detail::dominant_eigenvalues(product, detail::arnoldi_start(nb), static_cast<int>(nb),
+                                                                                          r.values, r.largest, r.unconverged, r.steps,
+                                                                                          multiplier_tolerance);
+                                if constexpr (!exact_monodromy) e.hold_stuck({});
+                                if (!done) throw std::runtime_error("the multipliers' central differences: " + failure);
+                                return r;
+                            };
+                            Ritz ritz;
+                            if (halves.valid()) {
+                                ritz = arnoldi(halves.antisymmetric);
+                                if (ritz.leak > mirror_leak_tolerance) {
+                                    unsplit = "; the orbit is mirror-symmetric, but a product's symmetric part was " +
+                                              format_number(ritz.leak) +
+                                              " of its direction (the multipliers not split by the mirror)";
+                                    halves = MirrorSplit();
+                                    symmetric_values.resize(0);
+                                }
+                            }
+                            if (!halves.valid()) ritz = arnoldi(MatrixXd::Identity(nf, nf));
+                            const Eigen::Index ns = symmetric_values.size(), na = ritz.values.size();
+                            out.multipliers = Eigen::VectorXcd::Ones(ns + na + static_cast<Eigen::Index>(kept.size()));
+                            out.multipliers.head(ns) = symmetric_values;
+                            out.multipliers.segment(ns, na) = ritz.values;
+                            const double symmetric_largest = ns > 0 ? symmetric_values.cwiseAbs().maxCoeff() : 0.0;
+                            out.max_multiplier = std::max({ritz.largest, symmetric_largest, kept.empty() ? 0.0 : 1.0});
                             out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
-                            out.message += "; the dominant multipliers by Arnoldi on central differences of the period map (" +
-                                           std::to_string(values.size()) + " converged to about " +
-                                           format_number(multiplier_tolerance) + " in " + std::to_string(steps) +
-                                           " products" +
-                                           (kept.empty() ? std::string()
-                                                         : ", with the " + std::to_string(kept.size()) +
-                                                               " held positions of the nodes stuck all period held: 1 each") +
-                                           (unconverged > 0 ? ", " + std::to_string(unconverged) + " of modulus >= " +
-                                                                  format_number(detail::arnoldi_dominant) +
-                                                                  " not converged: the verdict takes the largest Ritz value"
-                                                            : std::string()) +
-                                           (by_request            ? std::string("; by differences as asked)")
-                                            : reduced.size() == 0 ? std::string("; the flow's derivative is missing)")
-                                                                  : "; the flow's derivative differs from them by " +
-                                                                        format_number(mismatch.share) + " along a test direction)");
+                            const std::string counted = std::to_string(na) + " converged to about " + format_number(multiplier_tolerance) +
+                                                        " in " + std::to_string(ritz.steps) + " products";
+                            const std::string held_note =
+                                kept.empty() ? std::string()
+                                             : ", with the " + std::to_string(kept.size()) + " held positions of the nodes stuck all period held: 1 each";
+                            const std::string unconverged_note =
+                                ritz.unconverged > 0 ? ", " + std::to_string(ritz.unconverged) + " of modulus >= " +
+                                                           format_number(detail::arnoldi_dominant) +
+                                                           " not converged: the verdict takes the largest Ritz value"
+                                                     : std::string();
+                            if (halves.valid())
+                                out.message += "; the multipliers of the mirror-symmetric orbit by halves: the symmetric changes' " +
+                                               std::to_string(ns) +
+                                               " from the flow's derivative (it matches a central difference along a symmetric direction to " +
+                                               format_number(symmetric_share) +
+                                               "), the antisymmetric changes' dominant ones by Arnoldi on central differences of the period map (" +
+                                               counted + held_note + unconverged_note + "; the products' symmetric parts at most " +
+                                               format_number(ritz.leak) + " of their directions; the flow's derivative differs from them by " +
+                                               format_number(mismatch.share) + " along a test direction)";
+                            else
+                                out.message += "; the dominant multipliers by Arnoldi on central differences of the period map (" + counted +
+                                               held_note + unconverged_note +
+                                               (by_request            ? std::string("; by differences as asked)")
+                                                : reduced.size() == 0 ? std::string("; the flow's derivative is missing)")
+                                                                      : "; the flow's derivative differs from them by " +
+                                                                            format_number(mismatch.share) + " along a test direction)") +
+                                               unsplit;
                             return out;
                         }
                     }
