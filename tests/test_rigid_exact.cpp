@@ -1107,6 +1107,14 @@ Eigen::VectorXd mitre_state(const std::string& name, const System& system) {
     return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
 
+/// The exact solver's options for the mitre's tests: its file's outputs, no maxima per DOF.
+ExactOptions mitre_options(const SystemConfig& mitre) {
+    ExactOptions options;
+    options.outputs = mitre.outputs;
+    options.dof_maxima = false;
+    return options;
+}
+
 /// The mitre's exact orbit at omega (its file's force) from the state saved in tests/data/`name`,
 /// each coordinate times 1 + `perturbation` (k mod 3 - 1) for its index k.
 ExactOrbit saved_mitre_orbit(const std::string& name, double omega, double perturbation = 0.0,
@@ -1414,9 +1422,7 @@ TEST_CASE("rigid exact 3D: Arnoldi's multipliers with the nodes stuck all period
     // path, independent code: the variational equation and the saltations): the converged
     // Ritz values among its multipliers, as many 1s as held positions, the largest modulus.
     SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
-    ExactOptions options;
-    options.outputs = mitre.outputs;
-    options.dof_maxima = false;
+    const ExactOptions options = mitre_options(mitre);
     const Eigen::VectorXd state = mitre_state("mitre_orbit_21550.txt", mitre.system);
     const ExactOrbit own = rigid_periodic_orbit(mitre.system, 21550.0, state, options);
     const ExactOrbit arnoldi =
@@ -1467,9 +1473,7 @@ TEST_CASE("rigid exact 3D: a symmetric orbit's multipliers by the mirror's halve
     // Arnoldi's two Krylov spaces give those multipliers 1e-4 apart (measured: up to 2.6e-4),
     // while the symmetric changes' agree to 2e-7. The tolerances are set so.
     SystemConfig mitre = read_system_config(std::string(HBF_SOURCE_DIR) + "/examples/systems/mitre/mitre.toml");
-    ExactOptions options;
-    options.outputs = mitre.outputs;
-    options.dof_maxima = false;
+    ExactOptions options = mitre_options(mitre);
     options.mirror_symmetric = true;
     const Eigen::VectorXd state = mitre_state("mitre_orbit_22700.txt", mitre.system);
     const ExactOrbit halves = rigid_periodic_orbit(mitre.system, 22700.0, state, options);
