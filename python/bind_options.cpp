@@ -51,6 +51,8 @@ void bind_options(py::module_& m) {
         .def_readwrite("integration_tolerance", &StabilityOptions::integration_tolerance)
         .def_readwrite("max_hill_size", &StabilityOptions::max_hill_size)
         .def_readwrite("exact_gap", &StabilityOptions::exact_gap)
+        .def_readwrite("exact_threads", &StabilityOptions::exact_threads,
+                       "the exact solver's threads for rigid 3D contacts: 0 (two where the hardware has two cores), 1 or 2")
         .def("validate", &StabilityOptions::validate);
     sto.def_property(
         "method", [](const StabilityOptions& o) { return to_string(o.method); },
@@ -69,6 +71,9 @@ void bind_options(py::module_& m) {
         .def_readwrite("stability_options", &FrfSettings::stability_options)
         .def_readwrite("error_points", &FrfSettings::error_points, "harmonic balance's error estimated at this many maxima and spread points (0: none)")
         .def_readwrite("error_limit", &FrfSettings::error_limit, "an estimated error above this is a warning")
+        .def_readwrite("exact_threads", &FrfSettings::exact_threads,
+                       "the exact solver's threads for rigid 3D contacts in the polish and the stability: 0 (two where the "
+                       "hardware has two cores), 1 or 2")
         .def("validate", &FrfSettings::validate,
              "the library's ranges (frf.hpp: FrfSettings::validate): ValueError naming the field");
     m.def(

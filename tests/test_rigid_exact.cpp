@@ -1029,6 +1029,12 @@ TEST_CASE("rigid exact 3D: central differences on two threads give the one-threa
     three.threads = 3;
     CHECK_THROWS_WITH(rigid_periodic_orbit(bench::contact_chain_3d(3, 1.0, 0.8), 2.0, Eigen::VectorXd(), three),
                       Catch::Contains("exact threads = 3 is out of range"));
+    // The FRF's setting (the polish's and the stability's exact solver), checked before any work.
+    FrfSettings frf;
+    frf.exact_threads = -1;
+    CHECK_THROWS_WITH(frf.validate(), Catch::Contains("exact_threads = -1 is out of range: allowed 0"));
+    frf.exact_threads = 1;
+    CHECK_NOTHROW(frf.validate());
 }
 
 TEST_CASE("rigid exact 3D: Newton's steps by GMRES on central differences reach the flow's derivative's orbit",

@@ -485,6 +485,9 @@ TEST_CASE("Stability options and refusals", "[stability]") {
     o = {};
     o.integration_tolerance = 1e-2;
     CHECK_THROWS_AS(o.validate(), InvalidInput);
+    o = {};
+    o.exact_threads = 3;
+    CHECK_THROWS_WITH(o.validate(), Catch::Contains("stability exact_threads = 3 is out of range: allowed 0"));
     CHECK_THROWS_AS(parse_stability_method("sorted"), InvalidInput);
     CHECK(parse_stability_method("monodromy") == StabilityMethod::monodromy);
     // Mixed laws: no route covers both.

@@ -68,6 +68,11 @@ struct FrfSettings {
     /// An estimate above this (relative) is a warning: the FRF is doubtful (exit code 3).
     /// > 0; infinity: never.
     double error_limit = 1e-2;
+    /// The exact solver's threads for rigid 3D contacts in the polish and the stability
+    /// (ExactOptions::threads; stability_options.exact_threads is set to it): 0 two where the
+    /// hardware has two cores, 1 or 2. compute_frfs running several FRFs at once takes 1 (each
+    /// FRF on one core).
+    int exact_threads = 0;
     /// The exact polish's progress (PolishOptions::progress); the continuation's is
     /// continuation.progress. May be empty.
     std::function<void(int done, int total)> polish_progress;

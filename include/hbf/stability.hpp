@@ -82,6 +82,9 @@ struct StabilityOptions {
     /// orbit for which the exact multipliers are taken as the HB point's (HB's own error at
     /// H = 10 reaches ~10 % near a Jenkins resonance; a different orbit differs by far more). > 0.
     double exact_gap = 0.25;
+    /// The exact solver's threads for rigid 3D contacts (ExactOptions::threads): 0 two where the
+    /// hardware has two cores, 1 or 2.
+    int exact_threads = 0;
     /// analyse_branch_stability's progress: called after each point with the points done and
     /// their total; must not throw. May be empty.
     std::function<void(int done, int total)> progress;

@@ -126,6 +126,9 @@ void check_study_options(const FrfSettings& s) {
                                " more than once: allowed distinct frequencies (each is one solved row)");
     }
     if (s.stability) s.stability_options.validate();
+    if (s.exact_threads < 0 || s.exact_threads > 2)
+        throw InvalidInput("exact_threads = " + std::to_string(s.exact_threads) +
+                           " is out of range: allowed 0 (two where the hardware has two cores), 1 or 2");
     if (s.error_points < 0 || s.error_points > 1000)
         throw InvalidInput("error_points = " + std::to_string(s.error_points) +
                            " is out of range: allowed 0..1000 (0: no estimate of harmonic balance's error)");
@@ -521,6 +524,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
         po.peaks_of_every_output = settings.peaks_of_every_output;
         po.progress = settings.polish_progress;
         po.exact.stop = settings.continuation.stop;
+        po.exact.threads = settings.exact_threads;
         if (settings.exact_automatic) po.decline_seconds = std::max(2.0, 10.0 * seconds_since(started));
         r.polish = polish_branch(hb, r.points, r.metrics, po, corrector);
         if (!r.polish->declined.empty()) {
@@ -554,6 +558,7 @@ FrfResult compute_frf(HarmonicBalance& hb, const FrfSettings& settings) {
     if (settings.stability && !stop_before("the stability analysis")) {
         StabilityOptions so = settings.stability_options;
         if (!so.stop) so.stop = settings.continuation.stop;
+        so.exact_threads = settings.exact_threads;
         r.stability = analyse_branch_stability(hb, r.points, so, r.polish ? &r.exact : nullptr);
         mark_bifurcations(*r.stability, r.points);
         if (!r.stability->stopped.empty() && stopped.empty()) {
@@ -627,6 +632,9 @@ std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>&
     settings.validate();  // once, before any work (a bad system is that FRF's start_failed)
     if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min(threads, count));
+    // Several FRFs at once: each one's exact solver on its own thread (no second thread each).
+    FrfSettings each = settings;
+    if (threads > 1) each.exact_threads = 1;
     std::vector<FrfResult> results(static_cast<std::size_t>(count));
     std::atomic<int> next{0};
     std::mutex lock;
@@ -656,7 +664,7 @@ std::vector<FrfResult> compute_frfs(int count, const std::function<System(int)>&
                     if (error) return;
                     system = systems(k);
                 }
-                r = compute_frf(system, settings);
+                r = compute_frf(system, each);
             } catch (const InvalidInput& e) {
                 r = FrfResult{};
                 r.branch.status = ContinuationStatus::start_failed;

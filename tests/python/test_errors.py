@@ -52,6 +52,7 @@ def test_out_of_range_parameters_carry_the_cli_message():
     (lambda: hbfriction.frf(hbfriction.absorber(), toleranse=1e-9), "unknown option 'toleranse'"),
     (lambda: hbfriction.frf(hbfriction.absorber(), tolerance=-1), "tolerance"),
     (lambda: hbfriction.frf(hbfriction.absorber(), at=[-1.0]), "at = -1.0 is out of range"),
+    (lambda: hbfriction.frf(hbfriction.absorber(), exact_threads=3), "exact_threads = 3 is out of range: allowed 0"),
     (lambda: hbfriction.frf(hbfriction.absorber(), outputs=[5]), "DOF 5 is out of range: allowed 0..1"),
     (lambda: hbfriction.frf(hbfriction.absorber(), outputs=[("x", [1.0])]), "'x' has 1 coefficients: allowed 2"),
     (lambda: hbfriction.frf(hbfriction.absorber(), stability="sideways"), "method"),
