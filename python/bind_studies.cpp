@@ -175,7 +175,7 @@ void bind_studies(py::module_& m) {
     m.def(
         "timeint",
         [](const PySystem& s, const std::vector<double>& omegas, TimeIntegrationOptions options, bool exact,
-           double exact_tolerance) {
+           double exact_tolerance, bool symmetric) {
             if (omegas.empty()) bad("w: no frequency given: allowed one or more frequencies > 0");
             for (double w : omegas)
                 if (!(std::isfinite(w) && w > 0.0))
@@ -186,9 +186,14 @@ void bind_studies(py::module_& m) {
             ExactOptions eo;
             eo.outputs = options.outputs;
             eo.tolerance = exact_tolerance;
+            eo.mirror_symmetric = symmetric;
+            if (symmetric && !exact) bad("symmetric = True applies to method = 'exact': allowed False here");
             if (exact) {
                 const std::string refusal = exact_sweep_refusal(s.system, *std::min_element(omegas.begin(), omegas.end()));
                 if (!refusal.empty()) bad("method = 'exact': " + refusal + " (use adams or bdf)");
+                if (symmetric)
+                    if (const std::string why = mirror_symmetric_refusal(s.system); !why.empty())
+                        bad("symmetric = True: " + why + ": allowed False here");
                 eo.validate();
             }
             std::vector<PeriodicResponse> responses;
@@ -200,8 +205,8 @@ void bind_studies(py::module_& m) {
                 MessageCollector messages;  // what CVODE reports during the sweep
                 Eigen::VectorXd state = linear_stuck_state(s.system, omegas.front());
                 for (double w : omegas) {
-                    responses.push_back(exact ? exact_steady_state(s.system, w, eo, options.max_periods,
-                                                                   exact_sweep_start(s.system, w, responses, state))
+                    responses.push_back(exact ? exact_steady_state(s.system, w, exact_sweep_options(s.system, eo, !responses.empty()),
+                                                                   options.max_periods, exact_sweep_start(s.system, w, responses, state))
                                               : integrate_steady_state(s.system, w, options, &state));
                     state = responses.back().state;
                 }
@@ -217,7 +222,8 @@ void bind_studies(py::module_& m) {
             v["warnings"] = verdict.warnings;
             return py::make_tuple(table_columns(table), details, v);
         },
-        py::arg("system"), py::arg("omegas"), py::arg("options"), py::arg("exact"), py::arg("exact_tolerance"));
+        py::arg("system"), py::arg("omegas"), py::arg("options"), py::arg("exact"), py::arg("exact_tolerance"),
+        py::arg("symmetric"));
 
     m.def(
         "exact_branch",

@@ -35,6 +35,7 @@
 #include "hbf/optimize.hpp"
 #include "hbf/output_file.hpp"
 #include "hbf/reduction.hpp"
+#include "hbf/rigid_exact.hpp"
 #include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
 #include "hbf/tracking.hpp"

@@ -294,3 +294,52 @@ TEST_CASE("hbf timeint --method exact with law unilateral: the integrator's limi
         CHECK(std::stoi(a[k][column("periods")]) < std::stoi(b[k][column("periods")]));
     }
 }
+
+TEST_CASE("hbf timeint --method exact --symmetric on: the mirror-symmetric orbits, the unprojected solver's", "[cli][timeint]") {
+    // tests/data/mirror_pair.toml: two masses on preloaded 3D rigid contacts, mirror images of
+    // each other (y1 <-> y3, y2 <-> -y4). Swept from rest, whose start is symmetric, the solver
+    // without the option (Newton on every unknown, nothing projected) finds the same orbits:
+    // the option's projections must not move them (1e-9), and its orbits must be their own
+    // mirror images (mirror-image DOFs' maxima and first harmonics equal to 1e-10).
+    // Refused where it would do nothing: without --method exact, on contacts without a normal
+    // and two tangential directions, on a structure without a mirror symmetry.
+    TempDir dir;
+    const std::string file = std::string(HBF_SOURCE_DIR) + "/tests/data/mirror_pair.toml";
+    const std::string sweep = "timeint --config '" + file + "' --method exact --wmin 0.6 --wmax 0.9 --points 4 ";
+    const Result on = run_hbf(sweep + "--symmetric on", dir);
+    const Result off = run_hbf(sweep + "--symmetric off", dir);
+    INFO(on.err << "\n" << off.err);
+    REQUIRE(on.exit_code == 0);
+    REQUIRE(off.exit_code == 0);
+    const auto a = parse_csv(on.out), b = parse_csv(off.out);
+    REQUIRE(a.size() == 5);
+    REQUIRE(b.size() == 5);
+    REQUIRE(a[0] == b[0]);
+    for (std::size_t k = 1; k < a.size(); ++k) {
+        INFO("w = " << a[k][0]);
+        CHECK(a[k][0] == b[k][0]);
+        const double size = column(a, a[k], "y1_max");
+        for (const char* name : {"y1_max", "y2_max", "y3_max", "y4_max", "y1_amp1", "y2_amp1", "y3_amp1", "y4_amp1"})
+            CHECK(std::abs(column(a, a[k], name) - column(b, b[k], name)) <= 1e-9 * size);
+        CHECK(std::abs(column(a, a[k], "y1_max") - column(a, a[k], "y3_max")) <= 1e-10 * size);
+        CHECK(std::abs(column(a, a[k], "y2_max") - column(a, a[k], "y4_max")) <= 1e-10 * size);
+        CHECK(std::abs(column(a, a[k], "y1_amp1") - column(a, a[k], "y3_amp1")) <= 1e-10 * size);
+        CHECK(std::abs(column(a, a[k], "y2_amp1") - column(a, a[k], "y4_amp1")) <= 1e-10 * size);
+    }
+
+    check_bad_input("timeint --config '" + file + "' --w 0.7 --symmetric on", {"--symmetric on applies to --method exact"}, dir);
+    check_bad_input("timeint --config '" + file + "' --w 0.7 --method exact --symmetric yes",
+                    {"--symmetric = 'yes' is not allowed: allowed on, off"}, dir);
+    const std::string liftoff = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3_rigid.toml";
+    check_bad_input("timeint --config '" + liftoff + "' --w 2.1 --method exact --symmetric on",
+                    {"--symmetric on: mirror-symmetric orbits apply to law unilateral's 3D contacts"}, dir);
+    // one spring 1e-6 stiffer on mass a's side: no mirror
+    std::string text = slurp(file);
+    const std::string row = "stiffness = [[11, 0.5,";
+    REQUIRE(text.find(row) != std::string::npos);
+    text.replace(text.find(row), row.size(), "stiffness = [[11.000001, 0.5,");
+    const fs::path broken = dir.path / "broken.toml";
+    write_file(broken, text);
+    check_bad_input("timeint --config '" + broken.string() + "' --w 0.7 --method exact --symmetric on",
+                    {"--symmetric on: the structure has no mirror symmetry"}, dir);
+}

@@ -99,7 +99,8 @@ struct ExactOptions {
     /// Rigid 3D contacts (rigid_exact.hpp) on a structure with a mirror symmetry (a reflection
     /// of its DOFs that leaves M, C, K, the loads and the contacts unchanged): the orbit is
     /// solved among the symmetric states, the start projected onto them at the section (where
-    /// nodes stuck all period leave a family of orbits, its symmetric member); Newton's residual
+    /// nodes stuck all period leave a family of orbits, the symmetric member Newton reaches from the
+    /// projected start: symmetric held positions are free too, so it is not unique); Newton's residual
     /// is then the symmetric part of P(z) - z, and the message gives the other, the flow's own
     /// asymmetry over a period (a lower bound of the computed map's error). Ignored without such a symmetry or where the section's contact
     /// patterns are not their own mirror image (the message says so). false: the orbit the
@@ -123,6 +124,10 @@ struct ExactOptions {
     /// stop's answer, "" without one.
     std::string stop_reason() const { return stop ? stop() : std::string(); }
 };
+
+/// Throws InvalidInput unless threads (ExactOptions::threads, or an FRF's or a stability
+/// analysis's setting passed on to it) is 0, 1 or 2; the message starts with name.
+void check_exact_threads(int threads, const std::string& name);
 
 /// One contact event of the periodic orbit.
 struct ExactEvent {

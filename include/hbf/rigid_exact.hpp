@@ -70,6 +70,12 @@ bool rigid_contacts_only(const System& system);
 /// implicit steps and the multipliers difference the period map: costly on meshed interfaces).
 bool rigid_contacts_3d(const System& system);
 
+/// Why ExactOptions::mirror_symmetric would do nothing on `system` (one sentence naming the
+/// cause: its contacts are not law unilateral's 3D ones, or it has no mirror symmetry, a
+/// reflection of its DOFs that leaves M, C, K, the loads and the contacts unchanged), empty
+/// when the option applies.
+std::string mirror_symmetric_refusal(const System& system);
+
 /// The most contacts the rigid-contact exact solver takes: each step solves the contact
 /// equations (size 2 or 3 per contact) with a dense LU, whose cost grows as their cube.
 constexpr int rigid_solver_max_contacts = 256;

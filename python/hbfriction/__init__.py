@@ -725,13 +725,17 @@ def _responses_table(columns, details):
     return table
 
 
-def timeint(system, w, *, outputs=None, options=None, method=None, **values):
+def timeint(system, w, *, outputs=None, options=None, method=None, symmetric=False, **values):
     """Periodic steady states by time integration (hbf timeint): at each frequency of w (a number
     or a sequence, swept in the order given, each from the previous final state, the first from
     the stuck linear state). method: adams (default) or bdf (CVODE), or exact (coulomb, jenkins
     and law unilateral on massless contact nodes: the event-exact solver, steady state to
     steady_tolerance if given, else 1e-12; law unilateral's first orbit from rest, each next one
-    from the secant through the previous two).
+    from the secant through the previous two). symmetric (method exact, law unilateral's 3D
+    contacts on a structure with a mirror symmetry; hbf timeint --symmetric on): each orbit
+    solved among the mirror-symmetric states (where nodes stick all period: the symmetric member
+    of the family Newton reaches from the start projected onto them); raises where the structure
+    has no such symmetry.
     options/values: TimeIntegrationOptions (C++ names, e.g. relative_tolerance=1e-9,
     max_periods=500). Returns a Table with hbf timeint's columns, plus ``responses`` (per
     frequency a dict with converged, message, state, t, y, velocity, friction_force: one period
@@ -756,7 +760,7 @@ def timeint(system, w, *, outputs=None, options=None, method=None, **values):
     o.outputs = _outputs(system, outputs) if outputs is not None else (
         system.outputs or [Output.dof(i) for i in range(system.dofs)])
     omegas = _reals("w", w)
-    columns, details, verdict = _core.timeint(system, omegas, o, method == "exact", exact_tolerance)
+    columns, details, verdict = _core.timeint(system, omegas, o, method == "exact", exact_tolerance, bool(symmetric))
     table = _responses_table(columns, details)
     table.status = verdict["status"]
     table.errors = verdict["errors"]

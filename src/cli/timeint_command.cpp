@@ -22,6 +22,7 @@
 #include "hbf/exact_branch.hpp"
 #include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
+#include "hbf/rigid_exact.hpp"
 
 namespace hbf::cli {
 
@@ -39,7 +40,7 @@ struct TimeintOptions {
                 max_periods = std::to_string(TimeIntegrationOptions{}.max_periods),
                 min_periods = std::to_string(TimeIntegrationOptions{}.min_periods);
     OutputFlags output;
-    std::string config, time_limit = "0";
+    std::string config, time_limit = "0", symmetric = "off";
 };
 
 bool given(const CLI::App& command, const char* flag) { return command.count(flag) > 0; }
@@ -130,10 +131,19 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         const std::string refusal = exact_sweep_refusal(system, *std::min_element(omegas.begin(), omegas.end()));
         if (!refusal.empty()) throw UsageError("--method exact: " + refusal + " (use adams or bdf)");
     }
+    if (o.symmetric != "on" && o.symmetric != "off")
+        throw UsageError("--symmetric = '" + o.symmetric + "' is not allowed: allowed on, off");
+    const bool symmetric = o.symmetric == "on";
+    if (symmetric) {  // refused where it would do nothing, before the work
+        if (!exact) throw UsageError("--symmetric on applies to --method exact: allowed off here");
+        if (const std::string why = mirror_symmetric_refusal(system); !why.empty())
+            throw UsageError("--symmetric on: " + why + ": allowed off here");
+    }
     tio.outputs = chosen.outputs;
     ExactOptions eo;
     eo.outputs = chosen.outputs;
     eo.tolerance = given(command, "--steady-tol") ? tio.steady_tolerance : 1e-12;
+    eo.mirror_symmetric = symmetric;
 
     const double time_limit = parse_time_limit(o.time_limit);
     if (o.output.dry_run) return o.output.dry_run_done("timeint");
@@ -238,6 +248,18 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     // Points that did not converge (errors) and converged points out of energy balance
     // (warnings): judge_sweep, frf.hpp.
     verdict.add(judge_sweep(system, responses, tio, exact));
+    if (symmetric) {  // the points --symmetric on could not solve among the symmetric states
+        std::string where_not;
+        int count = 0;
+        for (const PeriodicResponse& r : responses)
+            if (r.converged && r.message.find("(not among the mirror-symmetric states") != std::string::npos) {
+                if (++count <= 5) where_not += (count > 1 ? ", " : "") + format_number(r.omega);
+            }
+        if (count > 0)
+            verdict.note("--symmetric on: " + std::to_string(count) + " of " + std::to_string(responses.size()) +
+                         " orbits were solved as with off, their contact patterns at the section not their own mirror "
+                         "image (w = " + where_not + (count > 5 ? ", ..." : "") + ")");
+    }
     verdict.add(messages.messages());
     if (!stopped.empty())
         verdict.warning(stopped + " (" + std::to_string(responses.size()) + " of " + std::to_string(omegas.size()) +
@@ -294,6 +316,18 @@ void add_flags(CLI::App& command, TimeintOptions& o) {
                         "form a family (any held position inside the friction cones): the sweep keeps the member its "
                         "history leads to, as a slow sweep of the structure would")
         ->capture_default_str()->type_name("adams|bdf|exact");
+    command.add_option("--symmetric", o.symmetric,
+                       "on: each exact orbit among the mirror-symmetric states (--method exact, law unilateral in "
+                       "3D)\non: each exact orbit is solved among the states of a mirror-symmetric structure that are "
+                       "their own mirror images (--method exact, law unilateral's 3D contacts; refused where the "
+                       "structure has no mirror symmetry). Where nodes stick all period the orbits form a family (any "
+                       "held position inside the friction cones), and this is the symmetric member Newton reaches "
+                       "from the start projected onto the symmetric states (not unique either: a sweep's history can "
+                       "still move the held positions, but not sideways); where the "
+                       "orbit's contact patterns at its section are not their own mirror image the point is solved "
+                       "as with off, and its message says so. off: the orbit the sweep's history leads to, "
+                       "symmetric or not")
+        ->capture_default_str()->type_name("on|off");
     o.output.add_to(command, {"write the CSV to FILE instead of standard output", "", "FILE",
                                       "draw y1_max against w (sweep order, non-converged points marked) through gnuplot "
                                       "(.png or .svg)",

@@ -491,6 +491,15 @@ bool rigid_contacts_3d(const System& system) {
                        [](const Contact& c) { return c.lists.count("second_direction") != 0; });
 }
 
+std::string mirror_symmetric_refusal(const System& system) {
+    if (!rigid_contacts_3d(system))
+        return "mirror-symmetric orbits apply to law unilateral's 3D contacts (a normal and two tangential directions each)";
+    if (!detail::find_mirror(system))
+        return "the structure has no mirror symmetry (a reflection of its DOFs that leaves M, C, K, the loads and the "
+               "contacts unchanged, to 1e-10 of each)";
+    return {};
+}
+
 namespace {
 
 /// Whether a contact has two tangential directions (3D): the cone engine's systems.
@@ -1570,8 +1579,15 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                             const double symmetric_largest = ns > 0 ? symmetric_values.cwiseAbs().maxCoeff() : 0.0;
                             out.max_multiplier = std::max({ritz.largest, symmetric_largest, kept.empty() ? 0.0 : 1.0});
                             out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
-                            const std::string counted = std::to_string(na) + " converged to about " + format_number(multiplier_tolerance) +
-                                                        " in " + std::to_string(ritz.steps) + " products";
+                            // The tolerance bounds the Ritz residuals of the differences' map, not the
+                            // multipliers' error: where events part at the orbit (mirror-image nodes,
+                            // grazing ones) the period map is only piecewise smooth there, and
+                            // differences along other directions give other values.
+                            const std::string counted = std::to_string(na) + " with Ritz residuals below about " +
+                                                        format_number(multiplier_tolerance) + " in " + std::to_string(ritz.steps) +
+                                                        " products";
+                            const std::string residual_note =
+                                "; the residuals are the differences' map's, not the multipliers' accuracy, which is the differences'";
                             const std::string held_note =
                                 kept.empty() ? std::string()
                                              : ", with the " + std::to_string(kept.size()) + " held positions of the nodes stuck all period held: 1 each";
@@ -1586,12 +1602,12 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                " from the flow's derivative (it matches a central difference along a symmetric direction to " +
                                                format_number(symmetric_share) +
                                                "), the antisymmetric changes' dominant ones by Arnoldi on central differences of the period map (" +
-                                               counted + held_note + unconverged_note + "; the products' symmetric parts at most " +
+                                               counted + held_note + unconverged_note + residual_note + "; the products' symmetric parts at most " +
                                                format_number(ritz.leak) + " of their directions; the flow's derivative differs from them by " +
                                                format_number(mismatch.share) + " along a test direction)";
                             else
                                 out.message += "; the dominant multipliers by Arnoldi on central differences of the period map (" + counted +
-                                               held_note + unconverged_note +
+                                               held_note + unconverged_note + residual_note +
                                                (by_request            ? std::string("; by differences as asked)")
                                                 : reduced.size() == 0 ? std::string("; the flow's derivative is missing)")
                                                                       : "; the flow's derivative differs from them by " +

@@ -93,8 +93,13 @@ void ExactOptions::validate() const {
                            " is out of range: allowed 0..1");
     if (samples < 0 || samples > 10000000)
         throw InvalidInput("exact samples = " + std::to_string(samples) + " is out of range: allowed 0..1e7");
+    check_exact_threads(threads, "exact threads");
+}
+
+void check_exact_threads(int threads, const std::string& name) {
     if (threads < 0 || threads > 2)
-        throw InvalidInput("exact threads = " + std::to_string(threads) + " is out of range: allowed 0 (2 where the hardware has two cores or more), 1 or 2");
+        throw InvalidInput(name + " = " + std::to_string(threads) +
+                           " is out of range: allowed 0 (2 where the hardware has two cores or more), 1 or 2");
 }
 
 std::string exact_solver_refusal(const System& system) {

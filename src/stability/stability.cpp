@@ -56,9 +56,7 @@ void StabilityOptions::validate() const {
                            " is out of range: allowed 10..20000");
     if (!(exact_gap > 0.0 && std::isfinite(exact_gap)))
         throw InvalidInput("stability exact_gap = " + format_number(exact_gap) + " is out of range: allowed > 0");
-    if (exact_threads < 0 || exact_threads > 2)
-        throw InvalidInput("stability exact_threads = " + std::to_string(exact_threads) +
-                           " is out of range: allowed 0 (two where the hardware has two cores), 1 or 2");
+    check_exact_threads(exact_threads, "stability exact_threads");
 }
 
 namespace {

@@ -126,9 +126,7 @@ void check_study_options(const FrfSettings& s) {
                                " more than once: allowed distinct frequencies (each is one solved row)");
     }
     if (s.stability) s.stability_options.validate();
-    if (s.exact_threads < 0 || s.exact_threads > 2)
-        throw InvalidInput("exact_threads = " + std::to_string(s.exact_threads) +
-                           " is out of range: allowed 0 (two where the hardware has two cores), 1 or 2");
+    check_exact_threads(s.exact_threads, "exact_threads");
     if (s.error_points < 0 || s.error_points > 1000)
         throw InvalidInput("error_points = " + std::to_string(s.error_points) +
                            " is out of range: allowed 0..1000 (0: no estimate of harmonic balance's error)");

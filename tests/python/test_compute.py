@@ -126,6 +126,33 @@ def test_timeint_exact_with_rigid_contacts_equals_hbf_timeint():
     assert "exact orbits are unstable" in err
 
 
+def test_timeint_exact_symmetric_equals_hbf_timeint_symmetric_on():
+    # tests/data/mirror_pair.toml (two masses on 3D rigid contacts, mirror images of each other):
+    # Python's symmetric=True is hbf timeint --symmetric on (the same table to 1e-12), its orbits
+    # their own mirror images (y1 <-> y3, y2 <-> -y4: equal maxima); refused where it would do
+    # nothing, naming why.
+    path = os.path.join(SOURCE, "tests", "data", "mirror_pair.toml")
+    _, text, _ = run_hbf("timeint", "--config", path, "--wmin", "0.6", "--wmax", "0.9", "--points", "4",
+                         "--method", "exact", "--symmetric", "on")
+    t = hbfriction.timeint(hbfriction.load(path), [0.6, 0.7, 0.8, 0.9], method="exact", symmetric=True)
+    fields, header = read_csv(text)
+    assert t.columns == header
+    for name in header:
+        for value, cli in zip(t[name], fields[name]):
+            if t[name].dtype.kind == "U":
+                assert value == cli, name
+            else:
+                assert value == pytest.approx(float(cli), rel=1e-12, abs=1e-15), name
+    assert t.status == "completed"
+    for a, b in (("y1_max", "y3_max"), ("y2_max", "y4_max")):
+        assert np.allclose(t[a], t[b], rtol=1e-10, atol=0.0)
+    with pytest.raises(ValueError, match="symmetric = True applies to method = 'exact'"):
+        hbfriction.timeint(hbfriction.load(path), 0.7, symmetric=True)
+    liftoff = os.path.join(SOURCE, "examples", "systems", "liftoff3_rigid.toml")
+    with pytest.raises(ValueError, match="symmetric = True: mirror-symmetric orbits apply to law unilateral's 3D"):
+        hbfriction.timeint(hbfriction.load(liftoff), 2.1, method="exact", symmetric=True)
+
+
 def test_frf_start_harmonics_equals_hbf_frf_and_the_cold_start():
     # liftoff3_rigid.toml at w = 1.1, H = 10: the start from the H = 3 solution is the cold start's
     # point (unique there), and Python's start_harmonics is hbf frf --start-harmonics; a value at
