@@ -104,16 +104,9 @@ def test_timeint_exact_equals_hbf_timeint_method_exact():
         hbfriction.timeint(hbfriction.absorber("dahl"), 1.0, method="exact")
 
 
-def test_timeint_exact_with_rigid_contacts_equals_hbf_timeint():
-    # law unilateral (liftoff3_rigid.toml): the exact sweep from Python, each orbit from the secant
-    # through the previous two as in hbf timeint --method exact: the same table; at w = 2.3 the
-    # orbit is unstable (a note, the status stays completed).
-    path = os.path.join(SOURCE, "examples", "systems", "liftoff3_rigid.toml")
-    _, text, err = run_hbf("timeint", "--config", path, "--wmin", "2.1", "--wmax", "2.7", "--points", "4",
-                           "--method", "exact")
-    t = hbfriction.timeint(hbfriction.load(path), [2.1, 2.3, 2.5, 2.7], method="exact")
-    # the numbers to 1e-12 (Newton's last step on the unstable orbit at 2.3 leaves a rounding
-    # that the module's and the executable's builds need not share), the words exactly
+def assert_table_near_csv(t, text):
+    """The table is the CLI's CSV: the words exactly, the numbers to 1e-12 (an exact orbit's last
+    Newton step leaves a rounding that the module's and the executable's builds need not share)."""
     fields, header = read_csv(text)
     assert t.columns == header
     for name in header:
@@ -122,6 +115,17 @@ def test_timeint_exact_with_rigid_contacts_equals_hbf_timeint():
                 assert value == cli, name
             else:
                 assert value == pytest.approx(float(cli), rel=1e-12, abs=1e-15), name
+
+
+def test_timeint_exact_with_rigid_contacts_equals_hbf_timeint():
+    # law unilateral (liftoff3_rigid.toml): the exact sweep from Python, each orbit from the secant
+    # through the previous two as in hbf timeint --method exact: the same table; at w = 2.3 the
+    # orbit is unstable (a note, the status stays completed).
+    path = os.path.join(SOURCE, "examples", "systems", "liftoff3_rigid.toml")
+    _, text, err = run_hbf("timeint", "--config", path, "--wmin", "2.1", "--wmax", "2.7", "--points", "4",
+                           "--method", "exact")
+    t = hbfriction.timeint(hbfriction.load(path), [2.1, 2.3, 2.5, 2.7], method="exact")
+    assert_table_near_csv(t, text)
     assert t.status == "completed"
     assert "exact orbits are unstable" in err
 
@@ -135,14 +139,7 @@ def test_timeint_exact_symmetric_equals_hbf_timeint_symmetric_on():
     _, text, _ = run_hbf("timeint", "--config", path, "--wmin", "0.6", "--wmax", "0.9", "--points", "4",
                          "--method", "exact", "--symmetric", "on")
     t = hbfriction.timeint(hbfriction.load(path), [0.6, 0.7, 0.8, 0.9], method="exact", symmetric=True)
-    fields, header = read_csv(text)
-    assert t.columns == header
-    for name in header:
-        for value, cli in zip(t[name], fields[name]):
-            if t[name].dtype.kind == "U":
-                assert value == cli, name
-            else:
-                assert value == pytest.approx(float(cli), rel=1e-12, abs=1e-15), name
+    assert_table_near_csv(t, text)
     assert t.status == "completed"
     for a, b in (("y1_max", "y3_max"), ("y2_max", "y4_max")):
         assert np.allclose(t[a], t[b], rtol=1e-10, atol=0.0)
