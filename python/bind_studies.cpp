@@ -175,7 +175,7 @@ void bind_studies(py::module_& m) {
     m.def(
         "timeint",
         [](const PySystem& s, const std::vector<double>& omegas, TimeIntegrationOptions options, bool exact,
-           double exact_tolerance, bool symmetric) {
+           double exact_tolerance, bool symmetric, double time_limit) {
             if (omegas.empty()) bad("w: no frequency given: allowed one or more frequencies > 0");
             for (double w : omegas)
                 if (!(std::isfinite(w) && w > 0.0))
@@ -187,6 +187,10 @@ void bind_studies(py::module_& m) {
             eo.outputs = options.outputs;
             eo.tolerance = exact_tolerance;
             eo.mirror_symmetric = symmetric;
+            // as hbf timeint's --time-limit: asked before each frequency and after every period
+            const std::function<std::string()> stop = python_stop(time_limit);
+            options.stop = stop;
+            eo.stop = stop;
             if (symmetric && !exact) bad("symmetric = True applies to method = 'exact': allowed False here");
             if (exact) {
                 const std::string refusal = exact_sweep_refusal(s.system, *std::min_element(omegas.begin(), omegas.end()));
@@ -199,31 +203,45 @@ void bind_studies(py::module_& m) {
             std::vector<PeriodicResponse> responses;
             io::Table table;
             Verdict verdict;
+            std::string stopped;  // why the sweep ended early (time_limit, an interrupt)
             without_gil([&] {
                 // The sweep of hbf timeint: from the stuck linear state at the first frequency,
                 // each point from the previous one's final state.
                 MessageCollector messages;  // what CVODE reports during the sweep
                 Eigen::VectorXd state = linear_stuck_state(s.system, omegas.front());
                 for (double w : omegas) {
-                    responses.push_back(exact ? exact_steady_state(s.system, w, exact_sweep_options(s.system, eo, !responses.empty()),
-                                                                   options.max_periods, exact_sweep_start(s.system, w, responses, state))
-                                              : integrate_steady_state(s.system, w, options, &state));
+                    if (const std::string why = stop(); !why.empty()) {
+                        stopped = "stopped before w = " + format_number(w) + ": " + why;
+                        break;
+                    }
+                    PeriodicResponse r = exact ? exact_steady_state(s.system, w, exact_sweep_options(s.system, eo, !responses.empty()),
+                                                                    options.max_periods, exact_sweep_start(s.system, w, responses, state))
+                                               : integrate_steady_state(s.system, w, options, &state);
+                    if (r.stopped) {
+                        stopped = r.message + "; that frequency is not computed";
+                        break;
+                    }
+                    responses.push_back(std::move(r));
                     state = responses.back().state;
                 }
                 table = io::timeint_table(responses, options.outputs);
                 verdict = judge_sweep(s.system, responses, options, exact);
                 verdict.add(messages.messages());
+                if (!stopped.empty())
+                    verdict.warning(stopped + " (" + std::to_string(responses.size()) + " of " + std::to_string(omegas.size()) +
+                                    " frequencies computed)");
                 return 0;
             });
             const py::list details = response_details(responses);
             py::dict v;
             v["status"] = verdict.status();
+            v["stopped"] = !stopped.empty();
             v["errors"] = verdict.errors;
             v["warnings"] = verdict.warnings;
             return py::make_tuple(table_columns(table), details, v);
         },
         py::arg("system"), py::arg("omegas"), py::arg("options"), py::arg("exact"), py::arg("exact_tolerance"),
-        py::arg("symmetric"));
+        py::arg("symmetric"), py::arg("time_limit"));
 
     m.def(
         "exact_branch",

@@ -725,7 +725,7 @@ def _responses_table(columns, details):
     return table
 
 
-def timeint(system, w, *, outputs=None, options=None, method=None, symmetric=False, **values):
+def timeint(system, w, *, outputs=None, options=None, method=None, symmetric=False, time_limit=0, **values):
     """Periodic steady states by time integration (hbf timeint): at each frequency of w (a number
     or a sequence, swept in the order given, each from the previous final state, the first from
     the stuck linear state). method: adams (default) or bdf (CVODE), or exact (coulomb, jenkins
@@ -735,7 +735,9 @@ def timeint(system, w, *, outputs=None, options=None, method=None, symmetric=Fal
     contacts on a structure with a mirror symmetry; hbf timeint --symmetric on): each orbit
     solved among the mirror-symmetric states (where nodes stick all period: the symmetric member
     of the family Newton reaches from the start projected onto them); raises where the structure
-    has no such symmetry.
+    has no such symmetry. time_limit: seconds (0: none) after which the sweep stops, as on Ctrl-C:
+    the frequencies done are the result (status incomplete, ``stopped`` True, a warning naming
+    where), the one under way is not.
     options/values: TimeIntegrationOptions (C++ names, e.g. relative_tolerance=1e-9,
     max_periods=500). Returns a Table with hbf timeint's columns, plus ``responses`` (per
     frequency a dict with converged, message, state, t, y, velocity, friction_force: one period
@@ -760,8 +762,10 @@ def timeint(system, w, *, outputs=None, options=None, method=None, symmetric=Fal
     o.outputs = _outputs(system, outputs) if outputs is not None else (
         system.outputs or [Output.dof(i) for i in range(system.dofs)])
     omegas = _reals("w", w)
-    columns, details, verdict = _core.timeint(system, omegas, o, method == "exact", exact_tolerance, bool(symmetric))
+    columns, details, verdict = _core.timeint(system, omegas, o, method == "exact", exact_tolerance, bool(symmetric),
+                                              _real("time_limit", time_limit))
     table = _responses_table(columns, details)
+    table.stopped = verdict["stopped"]
     table.status = verdict["status"]
     table.errors = verdict["errors"]
     table.warnings = verdict["warnings"]

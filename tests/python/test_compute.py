@@ -210,3 +210,24 @@ def test_exact_branch_equals_hbf_timeint_sweep_branch():
         assert (before["max_multiplier"] - 1) * (after["max_multiplier"] - 1) < 0
     with pytest.raises(ValueError, match="points = 1 is out of range"):
         hbfriction.exact_branch(hbfriction.load(path), 2.2, 2.8, points=1)
+
+
+def test_a_time_limit_stops_timeint_and_keeps_its_frequencies():
+    # 400 frequencies of the Dahl absorber take about 4 s; stopped after 0.5 s, the frequencies
+    # done are the result (status incomplete, stopped, a warning naming the limit), each equal to
+    # a whole run's over the same frequencies; the one under way is not written.
+    system = hbfriction.absorber("dahl")
+    w = np.linspace(0.5, 1.6, 400)
+    with pytest.warns(hbfriction.IncompleteResultWarning, match="time limit of 0.5 s"):
+        t = hbfriction.timeint(system, w, time_limit=0.5)
+    assert t.stopped
+    assert t.status == "incomplete"
+    n = len(t.w)
+    assert 1 <= n < len(w)
+    assert any("%d of 400 frequencies computed" % n in m for m in t.warnings)
+    whole = hbfriction.timeint(system, w[:n])
+    assert not whole.stopped
+    assert np.array_equal(t.w, whole.w)
+    assert np.allclose(t.y1_max, whole.y1_max, rtol=1e-12, atol=0)
+    with pytest.raises(ValueError, match="time_limit = -1 is out of range"):
+        hbfriction.timeint(system, 1.0, time_limit=-1)
