@@ -3,10 +3,14 @@
 // verdict against a perturbed time integration.
 #include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
+#include <vector>
 
 #include "cli_support.hpp"
 #include "hbf/config.hpp"
@@ -16,6 +20,7 @@
 #include "hbf/frf.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/stability.hpp"
+#include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
 
 using namespace hbf;
@@ -605,4 +610,66 @@ TEST_CASE("Bifurcations from the multipliers: fold and branch point and period d
     CHECK(points[5].kind == PointKind::branch_point);
     b.points.pop_back();
     CHECK_THROWS_AS(find_bifurcations(points, 1e-6, b), InvalidInput);
+}
+
+TEST_CASE("An exact orbit whose multipliers are unknown is neither stable nor unstable", "[stability][exact]") {
+    // The exact solver leaves max_multiplier NaN (no multipliers) where a converged orbit's could
+    // not be computed (law unilateral's central differences, where a perturbed period fails):
+    // every reader takes that as unknown, never as a verdict (NaN compares false either way).
+    const double NaN = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<double> margins = {0.9, NaN, 1.5};
+    const System s = linear_dahl(0.1);
+    REQUIRE(s.damping.nonZeros() > 0);  // judge_sweep's energy balance (undamped only) stays out
+    HarmonicBalance hb(s, {5, 0});
+    std::vector<SolutionPoint> points(margins.size());
+    std::vector<ExactPoint> polish(margins.size());
+    std::vector<PeriodicResponse> responses(margins.size());
+    for (std::size_t k = 0; k < margins.size(); ++k) {
+        points[k].omega = responses[k].omega = 1.0 + 0.1 * static_cast<double>(k);
+        points[k].x = Eigen::VectorXd::Zero(hb.unknowns());
+        polish[k].status = PolishStatus::exact;
+        polish[k].max_multiplier = responses[k].max_multiplier = margins[k];
+        polish[k].stable = margins[k] <= 1.0 + 1e-6;
+        if (std::isfinite(margins[k])) polish[k].multipliers = Eigen::VectorXcd::Constant(1, margins[k]);
+        polish[k].message = "the orbit's message " + std::to_string(k);
+        responses[k].converged = true;
+        responses[k].message = "Newton on the period map converged" +
+                               std::string(std::isfinite(margins[k]) ? "" : "; the multipliers are unknown (why)");
+    }
+    // the FRF's verdicts from its polish
+    const BranchStability b = analyse_branch_stability(hb, points, StabilityOptions{}, &polish);
+    REQUIRE(b.points.size() == margins.size());
+    CHECK(b.points[0].stability == Stability::stable);
+    CHECK(b.points[1].stability == Stability::uncertain);
+    CHECK_THAT(b.points[1].message, Catch::Contains("could not be computed") && Catch::Contains("the orbit's message 1"));
+    CHECK(b.points[2].stability == Stability::unstable);
+    CHECK(b.stable == 1);
+    CHECK(b.uncertain == 1);
+    CHECK(b.unstable_points == 1);
+    // the FRF's table (the polish alone): stable = uncertain and no margin where unknown
+    std::ostringstream csv;
+    io::write_frf_csv(csv, points, std::vector<PointMetrics>(margins.size()), {}, polish);
+    const auto rows = test::parse_csv(csv.str());
+    REQUIRE(rows.size() == margins.size() + 1);
+    auto column = [&](const std::string& name) {
+        const auto at = std::find(rows[0].begin(), rows[0].end(), name);
+        REQUIRE(at != rows[0].end());
+        return static_cast<std::size_t>(at - rows[0].begin());
+    };
+    const std::size_t stable = column("stable"), margin = column("stability_margin");
+    CHECK(rows[1][stable] == "true");
+    CHECK(rows[2][stable] == "uncertain");
+    CHECK(rows[3][stable] == "false");
+    CHECK(std::stod(rows[1][margin]) == 0.9);
+    CHECK(rows[2][margin].empty());
+    CHECK(std::stod(rows[3][margin]) == 1.5);
+    // hbf timeint --method exact's verdict: a note for each kind, no warning, no error
+    const Verdict v = judge_sweep(s, responses, TimeIntegrationOptions{}, true);
+    CHECK(v.errors.empty());
+    CHECK(v.warnings.empty());
+    REQUIRE(v.notes.size() == 2);
+    CHECK_THAT(v.notes[0], Catch::Contains("1 of 3 exact orbits have an unknown stability") && Catch::Contains("the first at w = 1.1: the multipliers are unknown (why)"));
+    CHECK_THAT(v.notes[1], Catch::Contains("1 of 3 exact orbits are unstable") && Catch::Contains("the largest, 1.5,"));
+    // time integration's responses have no multipliers at all: nothing said
+    CHECK(judge_sweep(s, responses, TimeIntegrationOptions{}, false).notes.empty());
 }

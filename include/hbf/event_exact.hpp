@@ -171,8 +171,12 @@ struct ExactOrbit {
     double stick_margin_min = 0, stick_margin_max = 0;
 
     // ---- stability ----
-    Eigen::VectorXcd multipliers;  ///< Floquet multipliers on the section's state manifold
-    double max_multiplier = 0;     ///< largest |mu|
+    /// Floquet multipliers on the section's state manifold. Empty, with max_multiplier NaN and
+    /// stable false, where a converged orbit's multipliers could not be computed (law
+    /// unilateral's central differences, where a perturbed period fails): the orbit stands,
+    /// its stability is unknown, and the message says why.
+    Eigen::VectorXcd multipliers;
+    double max_multiplier = 0;     ///< largest |mu| (NaN: unknown, above)
     bool stable = false;           ///< max |mu| <= 1 + stability_tolerance
 
     // ---- sampled signals (options.samples > 0): t_j = j T / samples ----

@@ -57,7 +57,9 @@ std::string to_string(PolishStatus status);
 struct ExactPoint {
     PolishStatus status = PolishStatus::off;
     bool stable = false;          ///< Floquet verdict (status exact only)
-    double max_multiplier = 0;    ///< largest |Floquet multiplier|
+    /// Largest |Floquet multiplier|; NaN where the orbit's multipliers could not be computed
+    /// (stable false, stability unknown: the message says why).
+    double max_multiplier = 0;
     Eigen::VectorXcd multipliers; ///< the exact orbit's Floquet multipliers (status exact only)
     /// |y_max[dof] by HB - y_max[dof] exact| / y_max[dof] exact; NaN where there is no HB
     /// solution at this frequency (an exact transition whose HB correction failed) or no
@@ -75,6 +77,9 @@ struct PolishedBranch {
     std::vector<Peak> peaks;            ///< exact peaks of `dof` or of the outputs (refined = the
                                         ///< search in omega converged)
     int polished = 0, failed = 0, unstable = 0, transitions = 0;
+    /// Polished points whose multipliers could not be computed (max_multiplier NaN): their
+    /// stability is unknown, counted neither stable nor unstable.
+    int stability_unknown = 0;
     /// Modes of the modal form the exact solver ran on (modal_exact.hpp: models beyond
     /// exact_solver_max_dofs), 0 where it ran on the structure itself.
     int modes = 0;

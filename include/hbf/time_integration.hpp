@@ -245,7 +245,8 @@ struct PeriodicResponse {
     /// metrics are those of the last full period if any, and the message says why).
     bool stopped = false;
     /// exact_steady_state only: the orbit's largest |Floquet multiplier| (above 1: unstable, a
-    /// time integration leaves it); NaN where not computed.
+    /// time integration leaves it); NaN where not computed, and where a converged orbit's
+    /// multipliers could not be (its stability unknown: the message says why).
     double max_multiplier = std::numeric_limits<double>::quiet_NaN();
     /// Marks this response stopped after `periods` periods for `why` (the message says so).
     void stop_after(int periods, const std::string& why);

@@ -1525,10 +1525,13 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                             }
                             // Arnoldi on the changes basis * u (columns orthonormal in the free
                             // unknowns, in their units).
+                            // `failed`: a perturbed period failed at both steps (`failure` says
+                            // why): the orbit stands, its multipliers are unknown.
                             struct Ritz {
                                 Eigen::VectorXcd values;
                                 double largest = 0.0, leak = 0.0;
                                 int unconverged = 0, steps = 0;
+                                bool failed = false;
                             };
                             auto arnoldi = [&](const MatrixXd& basis) {
                                 Ritz r;
@@ -1557,13 +1560,13 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                                                           r.values, r.largest, r.unconverged, r.steps,
                                                                                           multiplier_tolerance);
                                 if constexpr (!exact_monodromy) e.hold_stuck({});
-                                if (!done) throw std::runtime_error("the multipliers' central differences: " + failure);
+                                r.failed = !done;
                                 return r;
                             };
                             Ritz ritz;
                             if (halves.valid()) {
                                 ritz = arnoldi(halves.antisymmetric);
-                                if (ritz.leak > mirror_leak_tolerance) {
+                                if (!ritz.failed && ritz.leak > mirror_leak_tolerance) {
                                     unsplit = "; the orbit is mirror-symmetric, but a product's symmetric part was " +
                                               format_number(ritz.leak) +
                                               " of its direction (the multipliers not split by the mirror)";
@@ -1572,6 +1575,16 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                 }
                             }
                             if (!halves.valid()) ritz = arnoldi(MatrixXd::Identity(nf, nf));
+                            if (ritz.failed) {
+                                // The orbit is converged: it stands, with its stability unknown.
+                                out.multipliers.resize(0);
+                                out.max_multiplier = std::numeric_limits<double>::quiet_NaN();
+                                out.stable = false;
+                                out.message += "; the multipliers are unknown (a perturbed period of their central "
+                                               "differences failed: " +
+                                               failure + ")";
+                                return out;
+                            }
                             const Eigen::Index ns = symmetric_values.size(), na = ritz.values.size();
                             out.multipliers = Eigen::VectorXcd::Ones(ns + na + static_cast<Eigen::Index>(kept.size()));
                             out.multipliers.head(ns) = symmetric_values;

@@ -304,7 +304,8 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
                   ColumnType::text},
         {"stable", "Floquet stability of the periodic solution: true (every |multiplier| <= 1 + 1e-6), false "
                    "(unstable: a small perturbation grows), uncertain (the two routes of --stability disagree, or "
-                   "the exact solver did not reproduce the HB orbit); from the exact orbit where exact = yes, from "
+                   "the exact solver did not reproduce the HB orbit, or the exact orbit's multipliers could not be "
+                   "computed); from the exact orbit where exact = yes, from "
                    "--stability otherwise (empty without it)", ColumnType::text},
         {"hb_gap", "|y_max by HB - y_max exact| / y_max exact of the first reported output: harmonic balance's own "
                    "error at this point; empty unless exact = yes (and an HB solution exists at this w)"},
@@ -374,7 +375,10 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
         if (polished) {
             const ExactPoint& e = exact[k];
             row.insert(row.end(), {std::string("yes"),
-                                   floquet ? to_string(floquet->stability) : e.stable ? "true" : "false",
+                                   floquet                                ? to_string(floquet->stability)
+                                   : !std::isfinite(e.max_multiplier) ? to_string(Stability::uncertain)
+                                   : e.stable                         ? "true"
+                                                                      : "false",
                                    std::isfinite(e.hb_gap) ? Cell(e.hb_gap) : Cell()});
         } else {
             row.insert(row.end(), {k < exact.size() ? to_string(exact[k].status) : std::string("off"),
@@ -382,7 +386,7 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
         }
         row.push_back(std::isfinite(m.hb_error) ? Cell(m.hb_error) : Cell());
         row.emplace_back(m.energy_error);
-        if (polished && !floquet) row.emplace_back(exact[k].max_multiplier);
+        if (polished && !floquet && std::isfinite(exact[k].max_multiplier)) row.emplace_back(exact[k].max_multiplier);
         else if (floquet && std::isfinite(floquet->margin)) row.emplace_back(floquet->margin);
         else row.emplace_back();
         table.add_row(std::move(row));
@@ -431,7 +435,8 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
         {"stick_margin_max", "max of the stick indicator (< 0: full stick; coulomb also at each velocity reversal)"},
         {"switches", "stick/slip mode changes of all contacts in the final period", ColumnType::integer},
         {"max_multiplier", "--method exact: the orbit's largest |Floquet multiplier| (above 1 + 1e-6: unstable, a "
-                           "time integration there goes to another response); empty for time integration"},
+                           "time integration there goes to another response); empty for time integration, and where the "
+                           "orbit's multipliers could not be computed (its stability unknown: said on standard error)"},
     };
     columns.insert(columns.end(), rest.begin(), rest.end());
     return columns;

@@ -290,7 +290,8 @@ std::string PolishedBranch::summary() const {
           << (std::isfinite(modal_truncation) ? format_number(modal_truncation) : std::string("not estimated"))
           << " at w = " << format_number(truncation_omega) << ")";
     s << ": " << polished << " points exact, " << failed << " failed (HB values kept), " << unstable
-      << " unstable, " << transitions << " transitions" << per_contact_counts(contact_transitions)
+      << " unstable, "
+      << (stability_unknown > 0 ? std::to_string(stability_unknown) + " of unknown stability, " : std::string()) << transitions << " transitions" << per_contact_counts(contact_transitions)
       << (unlocated_transitions > 0 ? " (" + std::to_string(unlocated_transitions) + " more not located)" : std::string())
       << ", largest HB gap " << format_number(max_hb_gap) << ", "
       << format_number(seconds) << " s";
@@ -661,7 +662,8 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             out.exact.push_back(q.exact);
             if (q.exact.status == PolishStatus::exact) {
                 ++out.polished;
-                if (!q.exact.stable) ++out.unstable;
+                if (!std::isfinite(q.exact.max_multiplier)) ++out.stability_unknown;
+                else if (!q.exact.stable) ++out.unstable;
                 if (std::isfinite(q.exact.hb_gap)) out.max_hb_gap = std::max(out.max_hb_gap, q.exact.hb_gap);
             } else if (q.exact.status == PolishStatus::failed) {
                 ++out.failed;

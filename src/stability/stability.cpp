@@ -209,6 +209,11 @@ FloquetResult StabilityAnalyser::operator()(const SolutionPoint& point) {
                         format_number(gap / scale) + ")";
             return r;
         }
+        if (!std::isfinite(orbit.max_multiplier)) {
+            r.stability = Stability::uncertain;
+            r.message = "the exact orbit's multipliers could not be computed: " + orbit.message;
+            return r;
+        }
         r.stability = orbit.stable ? Stability::stable : Stability::unstable;
         return r;
     }
@@ -376,7 +381,10 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
             const ExactPoint& e = (*polish)[k];
             FloquetResult r;
             r.route = "exact";
-            if (e.status == PolishStatus::exact) {
+            if (e.status == PolishStatus::exact && !std::isfinite(e.max_multiplier)) {
+                r.stability = Stability::uncertain;
+                r.message = "the exact orbit's multipliers could not be computed: " + e.message;
+            } else if (e.status == PolishStatus::exact) {
                 r.stability = e.stable ? Stability::stable : Stability::unstable;
                 r.margin = e.max_multiplier;
                 r.multipliers = e.multipliers;

@@ -401,6 +401,18 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
                     largest_w = r.omega;
                 }
             }
+        int unknown = 0;
+        const PeriodicResponse* first = nullptr;
+        for (const PeriodicResponse& r : responses)
+            if (r.converged && !std::isfinite(r.max_multiplier) && unknown++ == 0) first = &r;
+        if (first) {
+            // the solver's reason, where its message gives one (ExactOrbit::multipliers)
+            const std::size_t why = first->message.find("the multipliers are unknown");
+            v.note(std::to_string(unknown) + " of " + std::to_string(responses.size()) +
+                   " exact orbits have an unknown stability (their multipliers could not be computed: max_multiplier "
+                   "empty), the first at w = " +
+                   format_number(first->omega) + (why == std::string::npos ? std::string() : ": " + first->message.substr(why)));
+        }
         if (unstable > 0)
             v.note(std::to_string(unstable) + " of " + std::to_string(responses.size()) +
                    " exact orbits are unstable (a Floquet multiplier above 1; the largest, " + format_number(largest) +
