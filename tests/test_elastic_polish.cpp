@@ -122,6 +122,10 @@ TEST_CASE("elastic polish: off by default, the solver's bound, the probe's budge
     // beyond the solver's bound the polish is refused, naming the count
     CHECK_THAT(exact_polish_refusal(hbf::test::elastic_chain(300)), Catch::Contains("601 continuous states"));
     CHECK(exact_polish_refusal(hbf::test::elastic_chain(299)).empty());
+    // and an FRF of such a model is harmonic balance's, the note saying why
+    const FrfSettings beyond = frf_settings(hbf::test::elastic_chain(300), {}, automatic);
+    CHECK_FALSE(beyond.exact);
+    CHECK_THAT(beyond.exact_note, Catch::Contains("the exact polish is off here") && Catch::Contains("601 continuous states"));
 
     // An optional polish whose probe exceeds the budget is stopped there and declined.
     const System s = liftoff3_example();

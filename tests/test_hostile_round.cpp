@@ -45,6 +45,7 @@ TEST_CASE("The law names of a system's contacts are listed once each, in order (
 }
 
 #include "hbf/absorber.hpp"
+#include "hbf/event_exact.hpp"
 #include "hbf/frf.hpp"
 #include "hbf/model.hpp"
 #include "hbf/time_integration.hpp"
@@ -307,6 +308,18 @@ TEST_CASE("Iwan joints of many sliders are not polished by default (bounded cost
     bool said = false;
     for (const std::string& n : r.verdict.notes) said = said || n.find("off by default") != std::string::npos;
     CHECK(said);
+    // A model the exact solver cannot take over the band (a Coulomb absorber from a frequency
+    // so low that one period takes more steps than the bound): off, and the note says why.
+    const System coulomb = friction_absorber(p, FrictionLaw::coulomb);
+    FrfChoices low;
+    low.omega_start = 1e-5;
+    low.omega_end = 1.0;
+    const std::string why = exact_cost_refusal(coulomb, 1e-5);
+    REQUIRE_FALSE(why.empty());
+    CHECK(exact_cost_refusal(coulomb, 0.5).empty());
+    const FrfSettings slow = frf_settings(coulomb, {}, low);
+    CHECK_FALSE(slow.exact);
+    CHECK_THAT(slow.exact_note, Catch::Contains("the exact polish is off here (" + why + ")"));
     // The same joint polished on request agrees with harmonic balance within its H = 10 error.
     const System jenkins = friction_absorber(p, FrictionLaw::jenkins);
     const FrfSettings j = default_frf_settings(jenkins, {});

@@ -123,7 +123,8 @@ struct FrfChoices {
 /// Python's automatic choices. Where not chosen:
 ///  - exact: the polish where the exact solver covers the system at the lowest frequency
 ///    (exact_cost_refusal at omega_start; exact_solver_supports if omega_start is not > 0)
-///    with at most max_automatic_exact_elements elements (else off, exact_note says why),
+///    with at most max_automatic_exact_elements elements (else off, exact_note says why, as it
+///    does where the solver refuses a model whose laws it covers),
 ///    marked exact_automatic (declined at run time where not certain or not affordable);
 ///  - H: automatic_harmonics(system, exact), lowered to the largest H whose unknowns fit the
 ///    dense Jacobian's bound where the structured one does not apply (harmonics_note says so);

@@ -150,10 +150,17 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
         bool exact_laws = !system.contacts.empty();
         for (const Contact& c : system.contacts) exact_laws = exact_laws && contact_law(c.law).exact_stick();
         const std::size_t elements = exact_laws ? time_domain_system(system).contacts.size() : 0;
-        s.exact = elements <= static_cast<std::size_t>(max_automatic_exact_elements) &&
-                  exact_polish_refusal(system, co.omega_start > 0.0 && std::isfinite(co.omega_start) ? co.omega_start : 0.0,
-                                       0)
-                      .empty();
+        const std::string refusal =
+            elements <= static_cast<std::size_t>(max_automatic_exact_elements)
+                ? exact_polish_refusal(system, co.omega_start > 0.0 && std::isfinite(co.omega_start) ? co.omega_start : 0.0, 0)
+                : std::string();
+        s.exact = elements <= static_cast<std::size_t>(max_automatic_exact_elements) && refusal.empty();
+        // A model the exact solver cannot take, whose laws it covers: said, with the reason.
+        if (!refusal.empty() && (exact_laws || rigid_contacts_only(system) || elastic_contacts_only(system)))
+            s.exact_note = refusal.rfind("the exact polish", 0) == 0
+                               ? refusal
+                               : "the exact polish is off here (" + refusal +
+                                     "): the FRF is harmonic balance's, its error against the exact orbit not measured";
         if (s.exact && rigid_contacts_3d(system)) {
             s.exact = false;
             s.exact_note = "the exact polish is off by default for 3D rigid contacts (law unilateral with a "
