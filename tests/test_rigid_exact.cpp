@@ -276,6 +276,27 @@ TEST_CASE("rigid exact: the FRF polish makes liftoff3_rigid's points exact and s
     INFO(polish.summary());
     CHECK(polish.failed == 0);  // through HB's three branches near w = 2.4 too
     CHECK(polish.unstable > 0);  // the middle one
+    // The first lift-off (closed|lift-off), located where the flow does not chatter: on its
+    // closed side the orbit grazes, the normal force N = 1 + 5 y2 (the preload 1, the node's
+    // spring 5, y5 held at the wall) touching 0, so max |y2| = 1/5; the time integrator stays
+    // closed 1e-3 below it and opens 1e-3 above it.
+    CHECK(polish.unlocated_transitions == 0);
+    int lift_offs = 0;
+    for (std::size_t k = 0; k < frf.points.size(); ++k) {
+        if (frf.points[k].kind != PointKind::transition || frf.points[k].boundary != Boundary::closed_lift_off) continue;
+        ++lift_offs;
+        const double w = frf.points[k].omega;
+        INFO("closed|lift-off at w = " << w);
+        CHECK(frf.metrics[k].contacts[0].separated_fraction == 0.0);
+        CHECK(frf.metrics[k].output_max[1] == Approx(0.2).epsilon(1e-7));
+        const PeriodicResponse below = integrated(config.system, w * (1.0 - 1e-3), 1024, config.outputs);
+        const PeriodicResponse above = integrated(config.system, w * (1.0 + 1e-3), 1024, config.outputs);
+        REQUIRE(below.converged);
+        REQUIRE(above.converged);
+        CHECK(below.contacts[0].separated_fraction == 0.0);
+        CHECK(above.contacts[0].separated_fraction > 1e-3);
+    }
+    CHECK(lift_offs == 1);
     // Exact points near w = 1.2 (stick-slip) and 2.5 (lift-off) against the time integrator
     // converged in the step (independent of the event solver), started from rest: near 2.5 three
     // branches coexist, so the point compared is the nearest stable one on the integrator's

@@ -412,11 +412,19 @@ TEST_CASE("law unilateral without the polish: each point's exact orbit from its 
     HarmonicBalance& hb = *run.hb;
     const FrfResult& plain = run.frf;
     REQUIRE(plain.stability);
-    REQUIRE(plain.points.size() == polished.points.size());
+    // The polish adds the first lift-off (closed|lift-off near 2.1025), which the HB branch
+    // has no point for: the other points pair up in order.
+    std::vector<std::size_t> pairs;
+    for (std::size_t k = 0; k < polished.points.size(); ++k)
+        if (polished.points[k].kind != PointKind::transition || polished.points[k].boundary != Boundary::closed_lift_off)
+            pairs.push_back(k);
+    CHECK(polished.points.size() - pairs.size() == 1);
+    REQUIRE(plain.points.size() == pairs.size());
     int same = 0;
     for (std::size_t k = 0; k < plain.points.size(); ++k) {
         const FloquetResult& a = plain.stability->points[k];
-        const FloquetResult& b = polished.stability->points[k];
+        const FloquetResult& b = polished.stability->points[pairs[k]];
+        CHECK(plain.points[k].omega == Approx(polished.points[pairs[k]].omega).epsilon(1e-9));
         CHECK(a.route == "exact");
         if (a.stability == Stability::uncertain) continue;  // HB 25 % off the exact orbit there
         CHECK(a.stability == b.stability);

@@ -13,7 +13,8 @@
 //     side's orbit) to |delta omega| <= 1e-10 omega, and inserted as a point of kind
 //     transition, on the stick side (stick|stick-slip) or the stick-slip side
 //     (stick-slip|slip); for contacts with a normal direction also where a contact starts to
-//     open (closed|lift-off: its separated share leaves 0), the point on the closed side; HB's
+//     open (closed|lift-off: its separated share leaves 0), the point on the closed side (rigid
+//     contacts: to 1e-7 omega where the flow chatters nearer the grazing orbit); HB's
 //     own transition points (O(1/H) misplaced) are dropped;
 //   * peaks: every exact local maximum of y_max of the reported DOF among the branch points,
 //     refined by a search in omega (Brent's method) on exact solves to |delta omega| <= 1e-9 omega.

@@ -57,6 +57,12 @@ PointMetrics exact_metrics(const ExactOrbit& orbit, const PointMetrics& hb, cons
 /// taken for another orbit.
 constexpr double another_orbit_gap = 0.25;
 
+/// Rigid contacts (law unilateral): within about 1e-8 of w from a grazing orbit (a node's normal
+/// force touching zero at an instant) the flow chatters and the solve fails. A first lift-off
+/// whose bisection stops there is taken on its closed side where the bracket is below this
+/// (relative to w), instead of not at all.
+constexpr double grazing_bracket = 1e-7;
+
 /// hb_gap of DOF `dof`, or of output 0 when the orbit has outputs.
 ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof) {
     ExactPoint e;
@@ -592,8 +598,10 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
                 ok = o.converged;
                 if (ok) (opens(o) == opens(lo) ? lo : hi) = std::move(o);
             }
-            if (ok) transition(opens(lo) ? hi : lo, Boundary::closed_lift_off, c);
-            else ++unlocated;  // rigid contacts: the flow chatters next to grazing
+            if (ok || std::abs(hi.omega - lo.omega) <= grazing_bracket * std::abs(hi.omega))
+                transition(opens(lo) ? hi : lo, Boundary::closed_lift_off, c);
+            else
+                ++unlocated;
         }
         for (int c = 0; c < contacts; ++c) {
             const auto regime = [c](const ExactOrbit& o) { return o.contacts[static_cast<std::size_t>(c)].regime; };

@@ -248,6 +248,12 @@ Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
     if (frf.polish && frf.polish->failed > 0)
         v.errors.push_back(frf.polish->summary() +
                            "; the failed rows keep their harmonic-balance values (column exact = failed)");
+    // Regime changes between exact neighbours whose location failed: the CSV lacks their rows
+    // (harmonic balance's own transitions are dropped by the polish), as for the branch's.
+    if (frf.polish && frf.polish->unlocated_transitions > 0)
+        v.warnings.push_back(std::to_string(frf.polish->unlocated_transitions) +
+                             " exact transition(s) not located (a solve near it did not converge): the points are "
+                             "exact; the CSV lacks those transition rows");
     // A polish on the modal form of a large model (modal_exact.hpp) is exact for that form: its
     // estimated truncation is said, and flagged where it is large or could not be estimated.
     if (frf.polish && frf.polish->modes > 0) {
