@@ -377,6 +377,17 @@ TEST_CASE("A branch's outcome sets the verdict: unlocated transitions and trunca
     REQUIRE(unmarked.warnings.size() == 1);
     CHECK_THAT(unmarked.warnings[0], Catch::Contains("1 fold or transition location(s) ended by the solver") &&
                                          Catch::Contains("the contact solve broke down"));
+    // The exact polish's own: its transitions replace the branch's, so one it could not locate
+    // is missing from the CSV as well.
+    FrfResult polished;
+    polished.branch.coverage = 1.0;
+    polished.polish = PolishedBranch{};
+    polished.polish->unlocated_transitions = 1;
+    const auto missing = judge_frf(polished, FrfSettings{});
+    CHECK(missing.status() == "incomplete");
+    REQUIRE(missing.warnings.size() == 1);
+    CHECK_THAT(missing.warnings[0],
+               Catch::Contains("1 exact transition(s) not located") && Catch::Contains("lacks those transition rows"));
 }
 
 TEST_CASE("The exact polish's rows carry the exact orbit's energy balance: no false alarm at a transition",
