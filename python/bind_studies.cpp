@@ -208,22 +208,9 @@ void bind_studies(py::module_& m) {
                 // The sweep of hbf timeint: from the stuck linear state at the first frequency,
                 // each point from the previous one's final state.
                 MessageCollector messages;  // what CVODE reports during the sweep
-                Eigen::VectorXd state = linear_stuck_state(s.system, omegas.front());
-                for (double w : omegas) {
-                    if (const std::string why = stop(); !why.empty()) {
-                        stopped = "stopped before w = " + format_number(w) + ": " + why;
-                        break;
-                    }
-                    PeriodicResponse r = exact ? exact_steady_state(s.system, w, exact_sweep_options(s.system, eo, !responses.empty()),
-                                                                    options.max_periods, exact_sweep_start(s.system, w, responses, state))
-                                               : integrate_steady_state(s.system, w, options, &state);
-                    if (r.stopped) {
-                        stopped = r.message + "; that frequency is not computed";
-                        break;
-                    }
-                    responses.push_back(std::move(r));
-                    state = responses.back().state;
-                }
+                SteadySweep sweep = sweep_steady_states(s.system, omegas, options, exact ? &eo : nullptr, stop);
+                responses = std::move(sweep.responses);
+                stopped = std::move(sweep.stopped);
                 table = io::timeint_table(responses, options.outputs);
                 verdict = judge_sweep(s.system, responses, options, exact);
                 verdict.add(messages.messages());

@@ -38,6 +38,7 @@
 #include "hbf/rigid_exact.hpp"
 #include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
+#include "hbf/timeint_sweep.hpp"
 #include "hbf/tracking.hpp"
 
 namespace py = pybind11;

@@ -22,6 +22,7 @@
 #include "hbf/exact_branch.hpp"
 #include "hbf/table.hpp"
 #include "hbf/time_integration.hpp"
+#include "hbf/timeint_sweep.hpp"
 #include "hbf/rigid_exact.hpp"
 
 namespace hbf::cli {
@@ -165,10 +166,9 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     eo.stop = tio.stop;
     std::string stopped;
     std::vector<PeriodicResponse> responses;
-    responses.reserve(omegas.size());
-    Eigen::VectorXd state = linear_stuck_state(system, omegas.front());
     Verdict verdict;
     if (branch) {
+        Eigen::VectorXd state = linear_stuck_state(system, omegas.front());
         ExactBranchOptions bo =
             exact_branch_options(omegas.front(), omegas.back(), static_cast<long long>(omegas.size()));
         bo.exact = eo;
@@ -197,25 +197,17 @@ int run(const CLI::App& command, const TimeintOptions& o) {
                      std::to_string(b.corners.size()) + " corner(s), " +
                      std::to_string(b.rejected) + " solve(s) not taken (the step halved)");
     }
-    for (std::size_t k = 0; !branch && k < omegas.size(); ++k) {
-        if (const std::string why = stop.why(); !why.empty()) {
-            stopped = "stopped before w = " + format_number(omegas[k]) + ": " + why;
-            break;
-        }
-        char text[96];
-        std::snprintf(text, sizeof text, "point %zu of %zu, w = %.9g", k + 1, omegas.size(), omegas[k]);
-        where = text;
-        periods = 0;
-        PeriodicResponse r = exact ? exact_steady_state(system, omegas[k], exact_sweep_options(system, eo, !responses.empty()),
-                                                        tio.max_periods,
-                                                        exact_sweep_start(system, omegas[k], responses, state))
-                                   : integrate_steady_state(system, omegas[k], tio, &state);
-        if (r.stopped) {
-            stopped = r.message + "; that frequency is not written";
-            break;
-        }
-        responses.push_back(std::move(r));
-        state = responses.back().state;
+    if (!branch) {
+        SteadySweep sweep = sweep_steady_states(
+            system, omegas, tio, exact ? &eo : nullptr, [&stop] { return stop.why(); },
+            [&](std::size_t k) {
+                char text[96];
+                std::snprintf(text, sizeof text, "point %zu of %zu, w = %.9g", k + 1, omegas.size(), omegas[k]);
+                where = text;
+                periods = 0;
+            });
+        responses = std::move(sweep.responses);
+        stopped = std::move(sweep.stopped);
     }
     progress.clear();
     io::write_timeint_csv(out.stream(), responses, chosen.outputs,

@@ -12,6 +12,7 @@
 #include "hbf/exact_branch.hpp"
 #include "hbf/rigid_exact.hpp"
 #include "hbf/time_integration.hpp"
+#include "hbf/timeint_sweep.hpp"
 
 namespace hbf {
 
@@ -447,6 +448,35 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
                                  ", at w = " + format_number(worst_w) + "): a tighter --steady-tol may help");
     }
     return v;
+}
+
+SteadySweep sweep_steady_states(const System& system, const std::vector<double>& omegas,
+                                const TimeIntegrationOptions& options, const ExactOptions* exact,
+                                const std::function<std::string()>& stop,
+                                const std::function<void(std::size_t)>& before) {
+    SteadySweep out;
+    if (omegas.empty()) return out;
+    out.responses.reserve(omegas.size());
+    Eigen::VectorXd state = linear_stuck_state(system, omegas.front());
+    for (std::size_t k = 0; k < omegas.size(); ++k) {
+        const double w = omegas[k];
+        if (const std::string why = stop ? stop() : std::string(); !why.empty()) {
+            out.stopped = "stopped before w = " + format_number(w) + ": " + why;
+            break;
+        }
+        if (before) before(k);
+        PeriodicResponse r =
+            exact ? exact_steady_state(system, w, exact_sweep_options(system, *exact, !out.responses.empty()),
+                                       options.max_periods, exact_sweep_start(system, w, out.responses, state))
+                  : integrate_steady_state(system, w, options, &state);
+        if (r.stopped) {
+            out.stopped = r.message + "; that frequency is not computed";
+            break;
+        }
+        out.responses.push_back(std::move(r));
+        state = out.responses.back().state;
+    }
+    return out;
 }
 
 }  // namespace hbf
