@@ -11,7 +11,9 @@
 // computes the exact orbit alone (from rest after --warmup exact periods, or from --start), and
 // --check-samples N integrates two periods from the exact orbit's state at N, 2N and 4N samples
 // (the second one's metrics): their differences from the exact orbit, and the change of the state
-// over the first, fall with the step where the orbit is a solution.
+// over the first, fall with the step where the orbit is a solution. Per-node shares (stuck, open,
+// slipping) are compared node by node, the largest difference printed: the integrator counts them
+// on its steps, so theirs fall like 1/N.
 // --sweep A,B,K first sweeps K equally spaced frequencies from A to B (A > B: down) with exact orbits,
 // each from the previous one (the first from --start where given; exact_steady_state: hbf timeint
 // --method exact), and prints each point and the seconds per point; the integrator's runs at --w
@@ -33,6 +35,7 @@
 #include <CLI/CLI.hpp>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <complex>
 #include <chrono>
 #include <cmath>
@@ -63,6 +66,20 @@ double mean_share(const std::vector<ContactRegime>& contacts, bool open) {
     double sum = 0.0;
     for (const ContactRegime& c : contacts) sum += open ? c.separated_fraction : c.stick_fraction;
     return contacts.empty() ? 0.0 : sum / static_cast<double>(contacts.size());
+}
+
+/// The largest difference over the nodes of `a`'s and `b`'s per-node shares of the period
+/// stuck, open and slipping (the rest), in that order.
+std::array<double, 3> node_share_gaps(const std::vector<ContactRegime>& a, const std::vector<ContactRegime>& b) {
+    std::array<double, 3> gap{0.0, 0.0, 0.0};
+    for (std::size_t c = 0; c < std::min(a.size(), b.size()); ++c) {
+        const double slip_a = 1.0 - a[c].stick_fraction - a[c].separated_fraction;
+        const double slip_b = 1.0 - b[c].stick_fraction - b[c].separated_fraction;
+        gap[0] = std::max(gap[0], std::abs(a[c].stick_fraction - b[c].stick_fraction));
+        gap[1] = std::max(gap[1], std::abs(a[c].separated_fraction - b[c].separated_fraction));
+        gap[2] = std::max(gap[2], std::abs(slip_a - slip_b));
+    }
+    return gap;
 }
 
 /// `samples`-step periods of law unilateral's integrator from `state` ([y, y'] of every DOF): the
@@ -164,7 +181,7 @@ int main(int argc, char** argv) {
     app.add_option("--fd-multipliers", fd_samples,
                    "the exact multipliers against the integrator's period map's, by central differences at N samples");
     app.add_option("--check-samples", check_samples,
-                   "with --no-integrator: two periods of the integrator from the exact state at N, 2N, 4N samples")
+                   "two periods of the integrator from the exact state at N, 2N, 4N samples: outputs and per-node shares")
         ->check(CLI::Range(0, 1 << 20));
     CLI11_PARSE(app, argc, argv);
     // --save-orbit and --save-sweep may not replace an input of the run (the start, the system
@@ -290,6 +307,44 @@ int main(int argc, char** argv) {
         } else if (no_integrator) {
             eo.warmup_periods = std::max(1, warmup);
         }
+        // --check-samples: two periods of the integrator from the exact state at N, 2N and 4N
+        // samples, the second one's outputs and per-node shares against the exact orbit's.
+        auto check_from_exact = [&](const ExactOrbit& exact, nlohmann::json& row) {
+            for (int k = 0; k < 3 && exact.converged && check_samples > 0; ++k) {
+                // two periods from the exact state: the second's metrics
+                const TimeIntegrationOptions o = bench::two_periods_from_state(check_samples << k, outputs);
+                const auto t0 = clock_type::now();
+                const PeriodicResponse one = integrate_steady_state(system, omega, o, &exact.state);
+                if (!one.converged) {
+                    std::printf("  the integrator at %d samples from the exact state: %s\n", check_samples << k,
+                                one.message.c_str());
+                    continue;
+                }
+                std::printf("  the integrator at %d samples from the exact state (%.1f s): its change over a period %.3e; "
+                            "its second period relative to exact:",
+                            check_samples << k, seconds_since(t0), one.poincare_change);
+                for (std::size_t j = 0; j < outputs.size(); ++j) {
+                    const double m = exact.output_max[j], a = exact.output_amp1[j];
+                    std::printf(" %s max %.3e amp1 %.3e;", outputs[j].name().c_str(), (one.output_max[j] - m) / m,
+                                a > 1e-9 * m ? (one.output_amp1[j] - a) / a : one.output_amp1[j] / m);
+                }
+                const std::array<double, 3> gap = node_share_gaps(one.contacts, exact.contacts);
+                std::printf(" stuck %.6f open %.6f; per node, largest |share - exact|: stuck %.1e open %.1e slip %.1e\n",
+                            mean_share(one.contacts, false), mean_share(one.contacts, true), gap[0], gap[1], gap[2]);
+                std::fflush(stdout);
+                nlohmann::json check;
+                check["samples"] = check_samples << k;
+                check["change"] = one.poincare_change;
+                for (std::size_t j = 0; j < outputs.size(); ++j) {
+                    check[outputs[j].name() + "_max"] = one.output_max[j];
+                    check[outputs[j].name() + "_amp1"] = one.output_amp1[j];
+                }
+                check["stuck_share"] = mean_share(one.contacts, false);
+                check["open_share"] = mean_share(one.contacts, true);
+                check["node_share_gaps"] = {gap[0], gap[1], gap[2]};
+                row["check"].push_back(check);
+            }
+        };
         const ExactOrbit exact = rigid_periodic_orbit(system, omega, exact_start, eo, choice, newton_choice);
         const double exact_seconds = seconds_since(start);
         if (exact.converged && fd_samples > 0) {
@@ -328,37 +383,7 @@ int main(int argc, char** argv) {
             if (exact.converged)
                 std::printf("  stuck share %.6f, open share %.6f, max multiplier %.6f\n", mean_share(exact.contacts, false),
                             mean_share(exact.contacts, true), exact.max_multiplier);
-            for (int k = 0; k < 3 && exact.converged && check_samples > 0; ++k) {
-                // two periods from the exact state: the second's metrics
-                const TimeIntegrationOptions o = bench::two_periods_from_state(check_samples << k, outputs);
-                const auto t0 = clock_type::now();
-                const PeriodicResponse one = integrate_steady_state(system, omega, o, &exact.state);
-                if (!one.converged) {
-                    std::printf("  the integrator at %d samples from the exact state: %s\n", check_samples << k,
-                                one.message.c_str());
-                    continue;
-                }
-                std::printf("  the integrator at %d samples from the exact state (%.1f s): its change over a period %.3e; "
-                            "its second period relative to exact:",
-                            check_samples << k, seconds_since(t0), one.poincare_change);
-                for (std::size_t j = 0; j < outputs.size(); ++j) {
-                    const double m = exact.output_max[j], a = exact.output_amp1[j];
-                    std::printf(" %s max %.3e amp1 %.3e;", outputs[j].name().c_str(), (one.output_max[j] - m) / m,
-                                a > 1e-9 * m ? (one.output_amp1[j] - a) / a : one.output_amp1[j] / m);
-                }
-                std::printf(" stuck %.6f open %.6f\n", mean_share(one.contacts, false), mean_share(one.contacts, true));
-                std::fflush(stdout);
-                nlohmann::json check;
-                check["samples"] = check_samples << k;
-                check["change"] = one.poincare_change;
-                for (std::size_t j = 0; j < outputs.size(); ++j) {
-                    check[outputs[j].name() + "_max"] = one.output_max[j];
-                    check[outputs[j].name() + "_amp1"] = one.output_amp1[j];
-                }
-                check["stuck_share"] = mean_share(one.contacts, false);
-                check["open_share"] = mean_share(one.contacts, true);
-                row["check"].push_back(check);
-            }
+            check_from_exact(exact, row);
             row["exact_converged"] = exact.converged;
             row["exact_seconds"] = exact_seconds;
             for (std::size_t j = 0; j < outputs.size() && exact.converged; ++j) {
@@ -389,9 +414,21 @@ int main(int argc, char** argv) {
                 row[outputs[j].name() + (amp ? "_amp1" : "_max")] = {e, c, f};
             }
         }
-        if (exact.converged)
+        if (exact.converged) {
             std::printf("  stuck share %.6f (TI %.6f), open share %.6f (TI %.6f)\n", mean_share(exact.contacts, false),
                         mean_share(ti[1].contacts, false), mean_share(exact.contacts, true), mean_share(ti[1].contacts, true));
+            // the integrator counts each node's state on its steps: a share is within a step or
+            // two of the period (1/N a transition) of the exact one
+            for (int k = 0; k < 2; ++k) {
+                const std::array<double, 3> gap = node_share_gaps(ti[k].contacts, exact.contacts);
+                std::printf("  per node, largest |TI %d share - exact|: stuck %.1e open %.1e slip %.1e\n", samples << k,
+                            gap[0], gap[1], gap[2]);
+                row["node_share_gaps_ti" + std::to_string(k)] = {gap[0], gap[1], gap[2]};
+            }
+            row["stuck_share"] = mean_share(exact.contacts, false);
+            row["open_share"] = mean_share(exact.contacts, true);
+        }
+        check_from_exact(exact, row);
         for (const PeriodicResponse& r : swept)
             if (std::abs(r.omega - omega) <= 1e-9 * omega && r.converged && exact.converged) {
                 std::printf("  the sweep's orbit here against the one from the integrator's state: y365 max %.3e, amp1 %.3e, "
