@@ -671,6 +671,28 @@ TEST_CASE("An exact orbit whose multipliers are unknown is neither stable nor un
     CHECK(std::stod(rows[1][margin]) == 0.9);
     CHECK(rows[2][margin].empty());
     CHECK(std::stod(rows[3][margin]) == 1.5);
+    // the FRF's verdict without --stability: the polish's unknown verdicts are noted, with the
+    // first one's w and message; with --stability its own note says it instead
+    FrfResult frf;
+    frf.branch.status = ContinuationStatus::completed;
+    frf.points = points;
+    frf.metrics.resize(margins.size());
+    frf.exact = polish;
+    frf.polish = PolishedBranch{};
+    frf.polish->polished = static_cast<int>(margins.size());
+    frf.polish->stability_unknown = 1;
+    FrfSettings settings;
+    settings.peaks = false;
+    const Verdict polished = judge_frf(frf, settings);
+    CHECK(polished.errors.empty());
+    CHECK(polished.warnings.empty());
+    REQUIRE(polished.notes.size() == 1);
+    CHECK_THAT(polished.notes[0], Catch::Contains("1 exact point(s) of unknown stability") &&
+                                      Catch::Contains("the first at w = 1.1: the orbit's message 1"));
+    frf.stability = b;
+    const Verdict analysed = judge_frf(frf, settings);
+    REQUIRE(analysed.notes.size() == 1);
+    CHECK_THAT(analysed.notes[0], Catch::Contains("stable = uncertain (or empty) have no verdict"));
     // hbf timeint --method exact's verdict: a note for each kind, no warning, no error
     const Verdict v = judge_sweep(s, responses, TimeIntegrationOptions{}, true);
     CHECK(v.errors.empty());

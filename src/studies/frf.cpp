@@ -297,6 +297,17 @@ Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
                 example = "; e.g. at w = " + format_number(frf.points[k].omega) + ": " + b.points[k].message;
         v.notes.push_back(b.summary() + ": the points with stable = uncertain (or empty) have no verdict" + example);
     }
+    // Without --stability the polish's own verdicts stand in the CSV: exact orbits whose
+    // multipliers could not be computed (max_multiplier NaN, stable = uncertain) are said.
+    if (!frf.stability && frf.polish && frf.polish->stability_unknown > 0) {
+        std::string first;
+        for (std::size_t k = 0; k < frf.exact.size() && k < frf.points.size() && first.empty(); ++k)
+            if (frf.exact[k].status == PolishStatus::exact && !std::isfinite(frf.exact[k].max_multiplier))
+                first = "; the first at w = " + format_number(frf.points[k].omega) + ": " + frf.exact[k].message;
+        v.notes.push_back(std::to_string(frf.polish->stability_unknown) +
+                          " exact point(s) of unknown stability (their Floquet multipliers could not be computed): "
+                          "stable = uncertain in the CSV" + first);
+    }
     // A refined peak between two branch points may climb past the amplitude cap the branch
     // points respect: a resonance unbounded as far as the cap goes, never a completed FRF.
     const double cap = settings.continuation.max_amplitude;
