@@ -702,4 +702,12 @@ TEST_CASE("An exact orbit whose multipliers are unknown is neither stable nor un
     CHECK_THAT(v.notes[1], Catch::Contains("1 of 3 exact orbits are unstable") && Catch::Contains("the largest, 1.5,"));
     // time integration's responses have no multipliers at all: nothing said
     CHECK(judge_sweep(s, responses, TimeIntegrationOptions{}, false).notes.empty());
+    // an exact orbit Newton left at the flow's rounding (its residual above the tolerance, the
+    // solver's floor below 1e-9) is converged, and its accuracy is said
+    responses[0].poincare_change = 3e-10;
+    responses[2].poincare_change = 1e-13;  // within the tolerance 1e-12: not counted
+    const Verdict rounded = judge_sweep(s, responses, TimeIntegrationOptions{}, true);
+    REQUIRE(rounded.notes.size() == 3);
+    CHECK_THAT(rounded.notes[1], Catch::Contains("1 of 3 exact orbits converged to the flow's rounding") &&
+                                     Catch::Contains("up to 3e-10 (at w = 1)"));
 }

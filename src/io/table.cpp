@@ -412,7 +412,7 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
         contacts,
         {"stick_fraction", "share of the final period in stick (coulomb, jenkins, elastic: exact event times; "
                            "dahl, lugre: |sigma0 z| < 0.95 g(v); coulomb-reg: |tanh(v/eps)| < 0.95; iwan: every "
-                           "slider stuck; unilateral: its steps, |T| < mu N)"},
+                           "slider stuck; unilateral: its steps, |T| < mu N; --method exact: exact event times)"},
         {"regime", "stick (never left stick in the final period), slip (never stuck) or stick-slip; none for a "
                    "structure without contacts; failed where not one period could be integrated (the row's "
                    "numbers are then empty)", ColumnType::text});
@@ -420,7 +420,7 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
     for (int c : normal)
         columns.push_back({"separated_fraction" + (contacts > 1 ? "_c" + std::to_string(c + 1) : std::string()),
                            "laws elastic, unilateral only: share of the final period the contact is open (N = 0; elastic: "
-                           "exact event times; unilateral: its steps)" + (contacts > 1 ? " (contact " + std::to_string(c + 1) + ")" : std::string())});
+                           "exact event times; unilateral: its steps; --method exact: exact event times)" + (contacts > 1 ? " (contact " + std::to_string(c + 1) + ")" : std::string())});
     add_share_columns(columns, interfaces, "the final period");
     const std::vector<Column> rest = {
         {"energy", "friction energy dissipated per cycle, integral of f q' over the final period (laws elastic, "
@@ -429,7 +429,9 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
         {"converged", "true if the state at the start of consecutive periods changed by <= steady-tol (relative) "
                       "and the final period passed its physics checks (energy balance; contacts stuck for the whole "
                       "period keep their relative displacement; permanent stick is the centred linear stuck "
-                      "state); false: the row holds the last period integrated", ColumnType::text},
+                      "state); --method exact: Newton on the period map reached its tolerance (1e-12 of the "
+                      "state) or, where no step lowers its residual, the flow's rounding below 1e-9 (a note "
+                      "counts those); false: the row holds the last period integrated", ColumnType::text},
         {"stick_margin_min", "min over the final period of contact 1's stick indicator (< 0 in stick; laws elastic, unilateral: "
                              "|T| / (mu N) - 1 stuck, 0 slipping, 1 open, at every step)"},
         {"stick_margin_max", "max of the stick indicator (< 0: full stick; coulomb also at each velocity reversal)"},

@@ -414,6 +414,23 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
                    "empty), the first at w = " +
                    format_number(first->omega) + (why == std::string::npos ? std::string() : ": " + first->message.substr(why)));
         }
+        // Orbits Newton left where no step lowered the residual (the flow's rounding over a
+        // period, below the solver's floor): converged, with an accuracy their residual states.
+        int rounded = 0;
+        double loosest = 0.0, loosest_w = 0.0;
+        for (const PeriodicResponse& r : responses)
+            if (r.converged && r.poincare_change > ExactOptions{}.tolerance) {
+                ++rounded;
+                if (r.poincare_change > loosest) {
+                    loosest = r.poincare_change;
+                    loosest_w = r.omega;
+                }
+            }
+        if (rounded > 0)
+            v.note(std::to_string(rounded) + " of " + std::to_string(responses.size()) +
+                   " exact orbits converged to the flow's rounding, not to the tolerance " +
+                   format_number(ExactOptions{}.tolerance) + ": the period map's residual, relative to the state, is up to " +
+                   format_number(loosest) + " (at w = " + format_number(loosest_w) + ")");
         if (unstable > 0)
             v.note(std::to_string(unstable) + " of " + std::to_string(responses.size()) +
                    " exact orbits are unstable (a Floquet multiplier above 1; the largest, " + format_number(largest) +
