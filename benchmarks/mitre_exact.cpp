@@ -13,7 +13,7 @@
 // (the second one's metrics): their differences from the exact orbit, and the change of the state
 // over the first, fall with the step where the orbit is a solution. Per-node shares (stuck, open,
 // slipping) are compared node by node, the largest difference printed: the integrator counts them
-// on its steps, so theirs fall like 1/N.
+// on its steps, so each transition's instant is off by up to a step.
 // --sweep A,B,K first sweeps K equally spaced frequencies from A to B (A > B: down) with exact orbits,
 // each from the previous one (the first from --start where given; exact_steady_state: hbf timeint
 // --method exact), and prints each point and the seconds per point; the integrator's runs at --w
