@@ -91,8 +91,8 @@ int main(int argc, char** argv) {
     std::vector<int> harmonics_list = {5, 10, 20, 40};
     std::string file = std::string(HBF_SOURCE_DIR) + "/examples/systems/liftoff3_rigid.toml";
     int samples = 16384, warmup = 200;
-    app.add_option("--w", omegas, "frequencies")->delimiter(',');
-    app.add_option("--harmonics", harmonics_list, "H")->delimiter(',');
+    app.add_option("--w", omegas, "frequencies, > 0")->delimiter(',')->check(CLI::PositiveNumber);
+    app.add_option("--harmonics", harmonics_list, "H, 1..200")->delimiter(',')->check(CLI::Range(1, 200));
     app.add_option("--config", file, "the system file (law unilateral on massless nodes)");
     app.add_option("--samples", samples, "the exact orbit's samples a period")->check(CLI::Range(256, 1 << 20));
     app.add_option("--warmup", warmup, "exact periods from rest before Newton")->check(CLI::Range(1, 100000));
