@@ -212,7 +212,7 @@ void bind_studies(py::module_& m) {
                 responses = std::move(sweep.responses);
                 stopped = std::move(sweep.stopped);
                 table = io::timeint_table(responses, options.outputs);
-                verdict = judge_sweep(s.system, responses, options, exact);
+                verdict = judge_sweep(s.system, responses, options, exact ? &eo : nullptr);
                 verdict.add(messages.messages());
                 if (!stopped.empty())
                     verdict.warning(stopped + " (" + std::to_string(responses.size()) + " of " + std::to_string(omegas.size()) +
@@ -225,6 +225,7 @@ void bind_studies(py::module_& m) {
             v["stopped"] = !stopped.empty();
             v["errors"] = verdict.errors;
             v["warnings"] = verdict.warnings;
+            v["notes"] = verdict.notes;
             return py::make_tuple(table_columns(table), details, v);
         },
         py::arg("system"), py::arg("omegas"), py::arg("options"), py::arg("exact"), py::arg("exact_tolerance"),
@@ -248,7 +249,7 @@ void bind_studies(py::module_& m) {
                 // as hbf timeint --method exact --sweep branch: from the stuck linear state at wmin
                 b = exact_branch(s.system, o, linear_stuck_state(s.system, wmin));
                 table = io::timeint_table(b.points, o.exact.outputs);
-                verdict = judge_sweep(s.system, b.points, TimeIntegrationOptions{}, true);
+                verdict = judge_sweep(s.system, b.points, TimeIntegrationOptions{}, &o.exact);
                 return 0;
             });
             py::list folds;

@@ -694,20 +694,29 @@ TEST_CASE("An exact orbit whose multipliers are unknown is neither stable nor un
     REQUIRE(analysed.notes.size() == 1);
     CHECK_THAT(analysed.notes[0], Catch::Contains("stable = uncertain (or empty) have no verdict"));
     // hbf timeint --method exact's verdict: a note for each kind, no warning, no error
-    const Verdict v = judge_sweep(s, responses, TimeIntegrationOptions{}, true);
+    const ExactOptions solver;  // the options the sweep ran with
+    const Verdict v = judge_sweep(s, responses, TimeIntegrationOptions{}, &solver);
     CHECK(v.errors.empty());
     CHECK(v.warnings.empty());
     REQUIRE(v.notes.size() == 2);
     CHECK_THAT(v.notes[0], Catch::Contains("1 of 3 exact orbits have an unknown stability") && Catch::Contains("the first at w = 1.1: the multipliers are unknown (why)"));
     CHECK_THAT(v.notes[1], Catch::Contains("1 of 3 exact orbits are unstable") && Catch::Contains("the largest, 1.5,"));
     // time integration's responses have no multipliers at all: nothing said
-    CHECK(judge_sweep(s, responses, TimeIntegrationOptions{}, false).notes.empty());
+    CHECK(judge_sweep(s, responses, TimeIntegrationOptions{}, nullptr).notes.empty());
     // an exact orbit Newton left at the flow's rounding (its residual above the tolerance, the
     // solver's floor below 1e-9) is converged, and its accuracy is said
     responses[0].poincare_change = 3e-10;
     responses[2].poincare_change = 1e-13;  // within the tolerance 1e-12: not counted
-    const Verdict rounded = judge_sweep(s, responses, TimeIntegrationOptions{}, true);
+    const Verdict rounded = judge_sweep(s, responses, TimeIntegrationOptions{}, &solver);
     REQUIRE(rounded.notes.size() == 3);
     CHECK_THAT(rounded.notes[1], Catch::Contains("1 of 3 exact orbits converged to the flow's rounding") &&
                                      Catch::Contains("up to 3e-10 (at w = 1)"));
+    // judged against the tolerance and stability margin the sweep ran with (--steady-tol 1e-9:
+    // a residual of 3e-10 is within it; a margin of 0.6 makes 1.5 stable), not the defaults
+    ExactOptions loose;
+    loose.tolerance = 1e-9;
+    loose.stability_tolerance = 0.6;
+    const Verdict judged = judge_sweep(s, responses, TimeIntegrationOptions{}, &loose);
+    REQUIRE(judged.notes.size() == 1);
+    CHECK_THAT(judged.notes[0], Catch::Contains("1 of 3 exact orbits have an unknown stability"));
 }

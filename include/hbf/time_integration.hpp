@@ -314,14 +314,16 @@ IntegrationMethod parse_integration_method(const std::string& name);
 
 /// The verdict on time-integration steady states (hbf timeint): errors for the points that did
 /// not converge (each one's summary, and their count). A converged time-integration point has
-/// passed its physics checks (energy balance, stick; integrate_steady_state). With `exact`
-/// (exact_steady_state) a warning when converged points of an undamped structure fail the
-/// energy balance (input work = friction energy per period, relative to the work the force
-/// could do on the first harmonic; limit options.physics_tolerance(); the exact solver does
-/// not integrate the viscous energy), and a note counting the unstable exact orbits
-/// (max_multiplier above 1 + ExactOptions::stability_tolerance).
+/// passed its physics checks (energy balance, stick; integrate_steady_state). With `exact`, the
+/// options the exact solver ran with (exact_steady_state; nullptr for time integration): a
+/// warning when converged points of an undamped structure fail the energy balance (input work =
+/// friction energy per period, relative to the work the force could do on the first harmonic;
+/// limit options.physics_tolerance(); the exact solver does not integrate the viscous energy),
+/// and notes counting the unstable exact orbits (max_multiplier above 1 +
+/// exact->stability_tolerance), those of unknown stability and those Newton left at the flow's
+/// rounding (period-map residual above exact->tolerance).
 Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
-                       const TimeIntegrationOptions& options, bool exact);
+                    const TimeIntegrationOptions& options, const ExactOptions* exact);
 
 /// Why the event-exact solver cannot sweep `system` from omega_min up (hbf timeint --method
 /// exact; one sentence), empty when it can: law unilateral's rigid_solver_refusal

@@ -742,7 +742,9 @@ def timeint(system, w, *, outputs=None, options=None, method=None, symmetric=Fal
     max_periods=500). Returns a Table with hbf timeint's columns, plus ``responses`` (per
     frequency a dict with converged, message, state, t, y, velocity, friction_force: one period
     of samples) and status/errors/warnings: failed where a point did not converge, incomplete
-    where converged points fail the energy balance (as hbf timeint's exit codes 1 and 3)."""
+    where converged points fail the energy balance (as hbf timeint's exit codes 1 and 3); ``notes``
+    as hbf timeint's (method exact: the unstable orbits, those of unknown stability, those Newton
+    left at the flow's rounding above the tolerance)."""
     _check_system(system)
     o = TimeIntegrationOptions() if options is None else _copy(options, TimeIntegrationOptions)
     exact_tolerance = 1e-12
@@ -769,6 +771,7 @@ def timeint(system, w, *, outputs=None, options=None, method=None, symmetric=Fal
     table.status = verdict["status"]
     table.errors = verdict["errors"]
     table.warnings = verdict["warnings"]
+    table.notes = verdict["notes"]
     _judge(table.status, table.errors + table.warnings, "the time integration")
     return table
 
@@ -785,7 +788,8 @@ def exact_branch(system, wmin, wmax, *, points=101, outputs=None, tolerance=1e-1
     row of the turn), ``corners`` (w where the branch's tangent turns), ``branch_status``
     (completed, incomplete, stopped, failed) and ``message`` (where and why it ended), and
     status/errors/warnings as hbf timeint's exit codes (an IncompleteResultWarning unless
-    completed)."""
+    completed); ``notes`` as hbf timeint's (unstable orbits, unknown stability, orbits at the
+    flow's rounding above the tolerance)."""
     _check_system(system)
     selected = _outputs(system, outputs) if outputs is not None else []
     columns, details, verdict = _core.exact_branch(system, _real("wmin", wmin), _real("wmax", wmax),
@@ -804,6 +808,7 @@ def exact_branch(system, wmin, wmax, *, points=101, outputs=None, tolerance=1e-1
         warnings.insert(0, verdict["message"])
     table.errors = errors
     table.warnings = warnings
+    table.notes = verdict["notes"]
     table.status = "failed" if errors else "incomplete" if warnings else "completed"
     _judge(table.status, table.errors + table.warnings, "the exact branch")
     return table

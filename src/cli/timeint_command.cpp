@@ -230,7 +230,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
             line.y.push_back(r.output_max.front());
             io::PlotCurve& marks = !r.converged                                                    ? failed
                                    : exact && !std::isfinite(r.max_multiplier)                     ? unknown
-                                   : r.max_multiplier > 1.0 + ExactOptions{}.stability_tolerance ? unstable
+                                     : r.max_multiplier > 1.0 + eo.stability_tolerance ? unstable
                                                                                                    : converged;
             marks.x.push_back(r.omega);
             marks.y.push_back(r.output_max.front());
@@ -241,7 +241,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
     out.commit();
     // Points that did not converge (errors) and converged points out of energy balance
     // (warnings): judge_sweep, frf.hpp.
-    verdict.add(judge_sweep(system, responses, tio, exact));
+    verdict.add(judge_sweep(system, responses, tio, exact ? &eo : nullptr));
     if (symmetric) {  // the points --symmetric on could not solve among the symmetric states
         std::string where_not;
         int count = 0;

@@ -378,7 +378,7 @@ ExactBranch exact_branch(const System& system, const ExactBranchOptions& options
 }
 
 Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& responses,
-                       const TimeIntegrationOptions& options, bool exact) {
+                    const TimeIntegrationOptions& options, const ExactOptions* exact) {
     Verdict v;
     int failed = 0;
     for (const PeriodicResponse& r : responses)
@@ -395,7 +395,7 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
         int unstable = 0;
         double largest = 0.0, largest_w = 0.0;
         for (const PeriodicResponse& r : responses)
-            if (r.converged && r.max_multiplier > 1.0 + ExactOptions{}.stability_tolerance) {
+            if (r.converged && r.max_multiplier > 1.0 + exact->stability_tolerance) {
                 ++unstable;
                 if (r.max_multiplier > largest) {
                     largest = r.max_multiplier;
@@ -419,7 +419,7 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
         int rounded = 0;
         double loosest = 0.0, loosest_w = 0.0;
         for (const PeriodicResponse& r : responses)
-            if (r.converged && r.poincare_change > ExactOptions{}.tolerance) {
+            if (r.converged && r.poincare_change > exact->tolerance) {
                 ++rounded;
                 if (r.poincare_change > loosest) {
                     loosest = r.poincare_change;
@@ -429,7 +429,7 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
         if (rounded > 0)
             v.note(std::to_string(rounded) + " of " + std::to_string(responses.size()) +
                    " exact orbits converged to the flow's rounding, not to the tolerance " +
-                   format_number(ExactOptions{}.tolerance) + ": the period map's residual, relative to the state, is up to " +
+                   format_number(exact->tolerance) + ": the period map's residual, relative to the state, is up to " +
                    format_number(loosest) + " (at w = " + format_number(loosest_w) + ")");
         if (unstable > 0)
             v.note(std::to_string(unstable) + " of " + std::to_string(responses.size()) +

@@ -1,6 +1,7 @@
 """solve_at, timeint, analytic, optimize and map: each equals its hbf command for the same case."""
 import json
 import os
+import re
 
 import numpy as np
 import pytest
@@ -128,6 +129,15 @@ def test_timeint_exact_with_rigid_contacts_equals_hbf_timeint():
     assert_table_near_csv(t, text)
     assert t.status == "completed"
     assert "exact orbits are unstable" in err
+    # the notes are the CLI's (their numbers to 1e-9, as the tables'): the unstable orbit's among them
+    assert any("1 of 4 exact orbits are unstable" in note for note in t.notes)
+    number = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+    cli_notes = [line.split("note: ", 1)[1] for line in err.splitlines() if ": note: " in line]
+    assert len(cli_notes) == len(t.notes)
+    for note, cli in zip(t.notes, cli_notes):
+        assert number.sub("#", note) == number.sub("#", cli), note
+        for ours, theirs in zip(number.findall(note), number.findall(cli)):
+            assert float(ours) == pytest.approx(float(theirs), rel=1e-9), note
 
 
 def test_timeint_exact_symmetric_equals_hbf_timeint_symmetric_on():
@@ -208,6 +218,10 @@ def test_exact_branch_equals_hbf_timeint_sweep_branch():
     for fold in b.folds:
         before, after = b.responses[fold["point"] - 2], b.responses[fold["point"] + 2]
         assert (before["max_multiplier"] - 1) * (after["max_multiplier"] - 1) < 0
+    # the unstable stretches between the folds are noted, as by the CLI
+    unstable = sum(r["max_multiplier"] > 1 + 1e-6 for r in b.responses)
+    assert unstable > 0
+    assert any(("%d of %d exact orbits are unstable" % (unstable, len(b.responses))) in note for note in b.notes)
     with pytest.raises(ValueError, match="points = 1 is out of range"):
         hbfriction.exact_branch(hbfriction.load(path), 2.2, 2.8, points=1)
 
