@@ -281,7 +281,7 @@ TEST_CASE("Structured Jacobian with law unilateral: Newton with GMRES lands on t
     REQUIRE(std::abs(peak(structured, a) - peak(dense, b)) <= 0.02 * peak(dense, b));
 }
 
-TEST_CASE("Structured Jacobian: chosen automatically above the threshold (laws with internal states: above the dense "
+TEST_CASE("Structured Jacobian: chosen automatically above the threshold (laws with internal states but unilateral: above the dense "
           "bound), refused where it does not apply",
           "[structured]") {
     // 100 nodes in 3D at H = 15: 9300 unknowns, beyond the dense bound, allowed structured.
@@ -303,10 +303,20 @@ TEST_CASE("Structured Jacobian: chosen automatically above the threshold (laws w
     System symmetric = small_block();
     REQUIRE_THROWS_WITH(HarmonicBalance(symmetric, odd), Catch::Contains("jacobian = structured") &&
                                                              Catch::Contains("odd_harmonics"));
-    // Laws with internal states: structured when asked; automatically only beyond the dense
-    // bound (36 unknowns a coefficient: 2196 at H = 30, 6516 at H = 90).
+    // Laws with internal states (but unilateral): structured when asked; automatically only
+    // beyond the dense bound.
     REQUIRE(HarmonicBalance(stateful_block(), options(3, JacobianForm::structured)).structured());
-    REQUIRE_FALSE(HarmonicBalance(rigid_block(), options(30, JacobianForm::automatic)).structured());
+    const HarmonicBalance stateful(stateful_block(), options(40, JacobianForm::automatic));
+    INFO("stateful_block at H = 40: " << stateful.unknowns() << " unknowns");
+    REQUIRE(stateful.unknowns() > HarmonicBalance::structured_threshold);
+    REQUIRE(stateful.unknowns() <= HarmonicBalance::max_unknowns);
+    REQUIRE_FALSE(stateful.structured());
+    // Law unilateral's multipliers do not hold it back: structured above structured_threshold,
+    // as the memoryless laws (36 unknowns a coefficient: 1476 at H = 20, 2196 at H = 30).
+    const HarmonicBalance below(rigid_block(), options(20, JacobianForm::automatic));
+    REQUIRE(below.unknowns() == 1476);
+    REQUIRE_FALSE(below.structured());
+    REQUIRE(HarmonicBalance(rigid_block(), options(30, JacobianForm::automatic)).structured());
     REQUIRE(HarmonicBalance(rigid_block(), options(90, JacobianForm::automatic)).structured());
     REQUIRE(HarmonicBalance::fitting_harmonics(rigid_block(), options(3, JacobianForm::automatic), 90) == 90);
     REQUIRE(HarmonicBalance::fitting_harmonics(rigid_block(), options(3, JacobianForm::dense), 90) == 82);

@@ -64,7 +64,7 @@ Formulation parse_formulation(const std::string& name);
 /// How the corrector and the tangent hold and solve dR/dX (structured_jacobian.hpp).
 enum class JacobianForm {
     automatic,   ///< structured where allowed and the unknowns exceed structured_threshold (laws with
-                 ///< internal states: max_unknowns), else dense
+                 ///< internal states other than unilateral: max_unknowns), else dense
     dense,       ///< formed densely, solved by dense factorisations (Ceres); at most max_unknowns
     structured,  ///< condensed, every harmonic: I + Gr Df (and the internal states' blocks) kept in
                  ///< its structure, Newton with preconditioned GMRES; for interfaces of many nodes

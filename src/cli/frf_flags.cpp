@@ -83,7 +83,7 @@ void FrfFlags::add_to(CLI::App& command) {
                        "structured (condensed formulation with every harmonic: I + G Df and the internal states' blocks "
                        "kept in their block structure, Newton steps by GMRES preconditioned with the contacts' mean "
                        "tangents; interfaces of many nodes), automatic (structured where allowed above 1500 unknowns, "
-                       "above 6000 for laws with internal states: coulomb, dahl, lugre, unilateral). A "
+                       "above 6000 for the other laws with internal states: coulomb, dahl, lugre). A "
                        "--config file's [solver] jacobian applies unless given")
         ->type_name("FORM");
     command.add_option("--formulation", formulation,
