@@ -239,6 +239,11 @@ public:
     /// naming it after `where` ("contact 1: "); `scales` are the structure along each of the
     /// contact's directions (System::contact_directions' order). The default does nothing.
     virtual void complete(Contact& contact, const std::vector<DirectionScale>& scales, const std::string& where) const;
+    /// Whether the automatic Jacobian (JacobianForm::automatic) keeps the dense form up to
+    /// HarmonicBalance::max_unknowns for the law's state signals (its trust-region corrector is
+    /// the more forgiving on their nonsmooth residuals); false: structured from
+    /// structured_threshold on, as for laws without states. The default is true.
+    virtual bool states_prefer_dense() const { return true; }
     /// The paper's absorber preset (absorber.hpp: friction_absorber, PresetParameter): the symbols
     /// of the preset parameters the law reads ("wb", "xi", ...), in the order they are checked.
     virtual std::vector<std::string> preset_parameters() const { return {}; }

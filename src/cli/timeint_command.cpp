@@ -230,7 +230,7 @@ int run(const CLI::App& command, const TimeintOptions& o) {
             line.y.push_back(r.output_max.front());
             io::PlotCurve& marks = !r.converged                                                    ? failed
                                    : exact && !std::isfinite(r.max_multiplier)                     ? unknown
-                                     : r.max_multiplier > 1.0 + eo.stability_tolerance ? unstable
+                                   : r.max_multiplier > 1.0 + eo.stability_tolerance               ? unstable
                                                                                                    : converged;
             marks.x.push_back(r.omega);
             marks.y.push_back(r.output_max.front());

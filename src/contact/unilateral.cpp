@@ -337,6 +337,10 @@ public:
         : NormalDirectionLaw(FrictionLaw::unilateral, "unilateral",
               "rigid unilateral contact with Coulomb friction on massless coordinates: N >= 0, v <= g_0, "
               "N (g_0 - v) = 0; |T| <= mu N, T = mu N u'/|u'| where sliding (2D; 3D with second_direction)") {}
+    // Measured on the mitre example at H = 5: cold starts at seven frequencies through stick,
+    // slip and lift-off converge structured at every one, to the dense form's solutions, 17 to
+    // 320 times faster (docs/benchmarks.md).
+    bool states_prefer_dense() const override { return false; }
     std::vector<LawParameter> parameters() const override {
         using R = LawParameter::Range;
         const NormalContactParameters shared = normal_contact_parameters();

@@ -347,17 +347,14 @@ HarmonicBalance::HarmonicBalance(System system, const HarmonicBalanceOptions& op
     }
     // The Jacobian's form: structured only for the condensed formulation with every harmonic
     // (structured_jacobian.hpp). Automatic: above structured_threshold unknowns for memoryless
-    // laws and law unilateral; where other contacts carry internal states (Lagrange
-    // multipliers, bristles), only where the dense form is not allowed (its trust-region
-    // corrector is the more robust on their nonsmooth residuals). Law unilateral's rigid
-    // contacts are the exception measured: on the mitre example at H = 5, cold starts at seven
-    // frequencies through stick, slip and lift-off converge structured at every one, to the
-    // dense form's solutions, 17 to 320 times faster (docs/benchmarks.md).
+    // laws; where contacts carry internal states (Lagrange multipliers, bristles) whose law
+    // prefers the dense form (ContactLaw::states_prefer_dense), only where the dense form is not
+    // allowed (its trust-region corrector is the more robust on their nonsmooth residuals).
     const bool memoryless =
         std::all_of(state_count_.begin(), state_count_.end(), [](int states) { return states == 0; });
     bool structured_early = true;  // structured from structured_threshold unknowns on
     for (std::size_t c = 0; c < state_count_.size(); ++c)
-        if (state_count_[c] > 0 && system_.contacts[c].law != FrictionLaw::unilateral) structured_early = false;
+        if (state_count_[c] > 0 && contact_law(system_.contacts[c].law).states_prefer_dense()) structured_early = false;
     const bool structurable = condensed_ && !options.odd_harmonics;
     structurable_ = structurable;
     if (options.jacobian == JacobianForm::structured && !structurable)
