@@ -694,11 +694,18 @@ TEST_CASE("hbf --force-scale scales a --config file's excitation: the response o
     write_file(dir.path / "halved.toml", halved);
     const auto path = [&dir](const char* name) { return "'" + (dir.path / name).string() + "'"; };
     const std::string at = " --at 0.5,1.2,2.5 --tolerance 1e-10 --error-points 0";
-    const Result scaled = run_hbf("frf --config " + path("base.toml") + " --force-scale 2 --out " + path("scaled.csv") + at, dir);
-    const Result reference = run_hbf("frf --config " + path("halved.toml") + " --out " + path("halved.csv") + at, dir);
+    const Result scaled = run_hbf("frf --config " + path("base.toml") + " --force-scale 2 --out " + path("scaled.csv") +
+                                      " --summary " + path("scaled.json") + at,
+                                  dir);
+    const Result reference = run_hbf("frf --config " + path("halved.toml") + " --out " + path("halved.csv") +
+                                         " --summary " + path("halved.json") + at,
+                                     dir);
     INFO(scaled.err << reference.err);
     REQUIRE(scaled.exit_code == 0);
     REQUIRE(reference.exit_code == 0);
+    // the summaries say which force level each run used
+    CHECK(nlohmann::json::parse(slurp(dir.path / "scaled.json"))["parameters"]["force_scale"].get<double>() == 2.0);
+    CHECK(nlohmann::json::parse(slurp(dir.path / "halved.json"))["parameters"]["force_scale"].get<double>() == 1.0);
     const auto a = parse_csv(slurp(dir.path / "scaled.csv")), b = parse_csv(slurp(dir.path / "halved.csv"));
     for (double w : {0.5, 1.2, 2.5}) {
         const auto ra = sample_row(a, w), rb = sample_row(b, w);

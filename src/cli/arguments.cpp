@@ -214,6 +214,7 @@ ChosenSystem choose_system(const CLI::App& command, const AbsorberFlags& flags, 
         if (!(scale > 0.0) || !std::isfinite(scale))
             throw UsageError("--force-scale = " + flags.force_scale + " is out of range: allowed a finite factor > 0");
         chosen.system.excitation *= scale;
+        chosen.force_scale = scale;
     }
     // Accepted, but rarely meant: said before the work (the exit code is the result's).
     for (const std::string& w : chosen.system.warnings())
