@@ -662,6 +662,28 @@ TEST_CASE("hbf frf --time-limit and SIGTERM: the points so far are written, stat
     CHECK_THAT(r.err, Catch::Contains("--time-limit = -1 is out of range"));
 }
 
+TEST_CASE("hbf frf --overlay-timeint under --time-limit: the checks so far are written, the stop said, exit 3",
+          "[status][cli]") {
+    // The absorber's FRF on [0.5, 0.8] takes a fraction of a second; 10,000 time-integration
+    // checks take minutes, so the time limit of 2 s stops them (or, on a slow machine, the FRF).
+    ::test::TempDir dir;
+    const auto csv = dir.path / "f.csv", json = dir.path / "s.json", checks = dir.path / "c.csv";
+    const ::test::Result r = ::test::run_hbf(
+        "frf --wmin 0.5 --wmax 0.8 --error-points 0 --overlay-timeint 10000 --time-limit 2 --out '" + csv.string() +
+            "' --summary '" + json.string() + "' --plot '" + (dir.path / "f.svg").string() + "' --overlay-out '" +
+            checks.string() + "'",
+        dir);
+    INFO(r.err);
+    CHECK(r.exit_code == 3);
+    CHECK_THAT(r.err, Catch::Contains("--overlay-timeint was stopped (the time limit of 2 s") &&
+                          Catch::Contains("of 10000 check frequencies"));
+    CHECK(nlohmann::json::parse(::test::slurp(json))["outcome"] == "incomplete");
+    const auto rows = ::test::parse_csv(::test::slurp(checks));
+    CHECK(rows.size() >= 2);  // the header and at least the stopped check
+    CHECK(rows.size() < 10001);
+    CHECK(::test::parse_csv(::test::slurp(csv)).size() > 2);
+}
+
 TEST_CASE("hbf modes --time-limit and SIGTERM: the backbone's points so far are written, status stopped, exit 3",
           "[status][cli]") {
     ::test::TempDir dir;

@@ -181,12 +181,27 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // Time-integration check points on a uniform grid, swept up from the stuck linear state.
     std::vector<PeriodicResponse> overlay;
     MessageCollector overlay_messages;  // the overlay's own (the FRF's are frf.messages)
+    Verdict overlay_verdict;            // its points that did not converge, its stop
     if (overlay_points > 0) {
         const std::vector<double> grid = analytic::uniform_grid(co.omega_start, co.omega_end, overlay_points);
         const Eigen::VectorXd start = linear_stuck_state(system, grid.front());
         TimeIntegrationOptions tio;
         tio.outputs = outputs;
+        stop.pause_crawl();  // the crawl watch is the continuation's
+        tio.stop = stop.function();
         overlay = sweep(system, grid, tio, &start);
+        // A check that did not converge or was stopped leaves the plot doubtful: said (exit 3).
+        const bool stopped = !overlay.empty() && overlay.back().stopped;
+        const std::vector<PeriodicResponse> finished(overlay.begin(), overlay.end() - (stopped ? 1 : 0));
+        const Verdict judged = judge_sweep(system, finished, tio, nullptr);
+        if (!judged.errors.empty())
+            overlay_verdict.warning("--overlay-timeint: " + judged.errors.back() + "; the first: " + judged.errors.front());
+        for (const std::string& w : judged.warnings) overlay_verdict.warning("--overlay-timeint: " + w);
+        for (const std::string& n : judged.notes) overlay_verdict.note("--overlay-timeint: " + n);
+        if (stopped)
+            overlay_verdict.warning("--overlay-timeint was stopped (" + stop.function()() + ") after " +
+                                    std::to_string(finished.size()) + " of " + std::to_string(grid.size()) +
+                                    " check frequencies");
     }
     io::OutputFile out(o.output.out);
     const BranchStability* stability = frf.stability ? &*frf.stability : nullptr;
@@ -197,6 +212,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     // stderr after the files are committed, and in the JSON summary (judge_frf, frf.hpp).
     Verdict verdict = frf.verdict;
     verdict.add(overlay_messages.messages());
+    verdict.add(overlay_verdict);
     for (const std::string& line : stop.crawls()) verdict.note(line);
     std::unique_ptr<io::OutputFile> summary;
     if (!o.output.summary.empty()) {
