@@ -631,6 +631,7 @@ TEST_CASE("hbf frf --start-harmonics: the start at H from the H0 solution is the
     CHECK(compared >= 10);
     const nlohmann::json summary = nlohmann::json::parse(slurp(json));
     CHECK(summary.at("status") == "completed");
+    CHECK_THAT(summary.at("message").get<std::string>(), Catch::Contains("from a cold start at H = 3, padded to H = 10"));
     for (const char* h0 : {"10", "12", "-1"}) {
         const fs::path out = dir.path / (std::string("bad") + h0 + ".csv");
         const Result bad = run_hbf(config + " --start-harmonics " + h0 + " --out '" + out.string() + "'", dir);

@@ -560,9 +560,13 @@ void follow_branches(HarmonicBalance& hb, Corrector& corrector, const Continuati
         p.residual = res;
         result.points.push_back(p);
         result.status = ContinuationStatus::completed;
-        result.message = "one point at w = " + format_number(o.omega_start) +
-                         ", solved from a cold start (no continuation: the folds and other solutions at this w are not "
-                         "searched)";
+        // start_note is non-empty where the start from start_harmonics failed (the search ran at H)
+        const std::string from = o.start_harmonics > 0 && start_note.empty()
+                                     ? "a cold start at H = " + std::to_string(o.start_harmonics) + ", padded to H = " +
+                                           std::to_string(hb.harmonics())
+                                     : std::string("a cold start");
+        result.message = "one point at w = " + format_number(o.omega_start) + ", solved from " + from +
+                         " (no continuation: the folds and other solutions at this w are not searched)";
         return;
     }
     Trace first = trace(hb, corrector, o, x, o.omega_start, it, res, +1, o.omega_start, o.omega_end, x_scale, 1,
