@@ -164,9 +164,11 @@ FrfSettings frf_settings(const System& system, const std::vector<Output>& output
         if (s.exact && rigid_contacts_3d(system)) {
             s.exact = false;
             s.exact_note = "the exact polish is off by default for 3D rigid contacts (law unilateral with a "
-                           "second_direction: where a node slips under a small normal force its slip direction turns "
-                           "faster than the solver's steps follow, and the flow can stop): the FRF is harmonic "
-                           "balance's, its error against the exact orbit not measured (exact on polishes anyway)";
+                           "second_direction: near a resonance of a meshed interface one exact orbit can take minutes, "
+                           "where nodes graze their friction cones or mirror-image nodes switch at one instant and the "
+                           "period map is only piecewise smooth): the FRF is harmonic balance's, its error against the "
+                           "exact orbit not measured (exact on polishes anyway; hbf timeint --method exact sweeps the "
+                           "exact orbits)";
         }
         if (s.exact && elastic_contacts_only(system)) {
             s.exact = false;
