@@ -12,6 +12,7 @@
 #include <sstream>
 #include <vector>
 
+#include "../benchmarks/contact_chain.hpp"
 #include "cli_support.hpp"
 #include "hbf/config.hpp"
 #include "hbf/absorber.hpp"
@@ -398,6 +399,36 @@ TEST_CASE("law unilateral: the exact route's verdicts confirmed by a perturbed t
     }
     CHECK(unstable >= 3);
     CHECK(stable >= 3);
+}
+
+TEST_CASE("law unilateral in 3D: the exact orbits' largest multipliers are the rates at which the time integrator "
+          "amplifies perturbations",
+          "[stability][exact]") {
+    // The 3D chain (three masses on rigid contacts with Coulomb friction, forced along both
+    // tangential directions: the nodes slip along curved paths) at three frequencies: each exact
+    // orbit's largest Floquet multiplier (from its monodromy or, where the flow's derivative is
+    // not the period map's, Arnoldi on central differences) against the rate per period at which
+    // law unilateral's time integrator (independent of the event solver; first order where a slip
+    // direction turns) amplifies a perturbation of that orbit.
+    const System system = bench::contact_chain_3d(3, 1.0, 0.8);
+    for (double omega : {0.6, 1.6, 2.5}) {
+        TimeIntegrationOptions o;
+        o.samples_per_period = 512;
+        const PeriodicResponse settled = integrate_steady_state(system, omega, o);
+        REQUIRE(settled.converged);
+        const ExactOrbit orbit = rigid_periodic_orbit(system, omega, settled.state);
+        INFO("w = " << omega << ": " << orbit.message);
+        REQUIRE(orbit.converged);
+        REQUIRE(std::isfinite(orbit.max_multiplier));
+        const double mu = orbit.max_multiplier;
+        // long enough for the largest multiplier to dominate and to move the gap a hundredfold
+        const double needed = std::log(100.0) / std::max(std::abs(std::log(mu)), 1e-3);
+        const int periods = static_cast<int>(std::clamp(std::ceil(needed), 4.0, 80.0));
+        const double rate = integrator_rate(system, omega, orbit.state, 8, periods, 2048);
+        INFO("largest |mu| " << mu << ", the integrator's rate " << rate << " over " << periods << " periods");
+        CHECK(std::abs(rate - mu) <= 0.01 * mu);
+        if (std::abs(mu - 1.0) > 0.05) CHECK((rate > 1.0) == !orbit.stable);
+    }
 }
 
 TEST_CASE("law unilateral without the polish: each point's exact orbit from its HB state, and a stop request ends "
