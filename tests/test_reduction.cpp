@@ -442,6 +442,16 @@ TEST_CASE("[reduction] in a system file: the stuck nonlinear FRF of the reduced 
     const auto y = hbf::test::sampled_dofs(config.system, {3, 0, Formulation::condensed}, omegas, 30.0, 80.0, 1e-10);
     for (std::size_t k = 0; k < omegas.size(); ++k)
         check_held_response(config.outputs, y[k], fe, {98, 198, 149}, {198}, omegas[k]);
+    // retain_loads = false: the loaded DOF is not kept, its load projected onto the modes (every
+    // one of the 199 kept again: exact), and the same response.
+    write_file(file, beam_file("[reduction]\nmodes = 199\nretain_loads = false\n"));
+    const hbf::io::SystemConfig projected = hbf::io::read_system_config(file.string());
+    REQUIRE(projected.reduction);
+    CHECK(projected.reduction->retained == std::vector<int>{198});
+    CHECK_THAT(projected.reduction->summary(), Catch::Contains("loads on 1 interior DOFs projected onto the modes"));
+    const auto yp = hbf::test::sampled_dofs(projected.system, {3, 0, Formulation::condensed}, omegas, 30.0, 80.0, 1e-10);
+    for (std::size_t k = 0; k < omegas.size(); ++k)
+        check_held_response(projected.outputs, yp[k], fe, {98, 198, 149}, {198}, omegas[k]);
 }
 
 TEST_CASE("Clamped DOFs (structure.fixed): the beam clamped at its tip by the file, with and without a reduction, against the "
