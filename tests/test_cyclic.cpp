@@ -326,7 +326,7 @@ TEST_CASE("Cyclic symmetry in a system file: [cyclic], neighbour_dof, hbf frf an
     CHECK(m["status"] == "completed");
     CHECK(m["nodal_diameter"] == 3);
     CHECK(m["sectors"] == 24);
-    CHECK(m["force_scale"].get<double>() == 1.0);  // the file's force, as given
+    CHECK_FALSE(m.contains("force_scale"));  // the file's force, as given
     CHECK(m["linear"]["omega"].get<double>() == Approx(stuck.frequencies(3, 0)).epsilon(1e-12));
     CHECK(m["largest_energy_error"].get<double>() <= 1e-8);
     const double w_last = m["last"]["w"].get<double>();  // slipping: just above the released frequency

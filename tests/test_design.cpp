@@ -705,7 +705,7 @@ TEST_CASE("hbf --force-scale scales a --config file's excitation: the response o
     REQUIRE(reference.exit_code == 0);
     // the summaries say which force level each run used
     CHECK(nlohmann::json::parse(slurp(dir.path / "scaled.json"))["parameters"]["force_scale"].get<double>() == 2.0);
-    CHECK(nlohmann::json::parse(slurp(dir.path / "halved.json"))["parameters"]["force_scale"].get<double>() == 1.0);
+    CHECK_FALSE(nlohmann::json::parse(slurp(dir.path / "halved.json"))["parameters"].contains("force_scale"));
     const auto a = parse_csv(slurp(dir.path / "scaled.csv")), b = parse_csv(slurp(dir.path / "halved.csv"));
     for (double w : {0.5, 1.2, 2.5}) {
         const auto ra = sample_row(a, w), rb = sample_row(b, w);

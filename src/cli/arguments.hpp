@@ -82,7 +82,7 @@ struct ChosenSystem {
     std::vector<Output> outputs = {Output::dof(0), Output::dof(1)};  ///< reported (preset: y1, y2)
     std::optional<io::SystemConfig> config;
     AbsorberParameters absorber;      ///< the preset's parameters (without --config)
-    double force_scale = 1.0;         ///< --force-scale, applied to system.excitation (1: none given)
+    std::optional<double> force_scale;  ///< --force-scale where given, applied to system.excitation
     /// The files the run reads (the config and its Matrix Market files): no output may be one.
     std::vector<io::InputFile> inputs() const { return config ? config->inputs : std::vector<io::InputFile>{}; }
 };

@@ -217,7 +217,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
     std::unique_ptr<io::OutputFile> summary;
     if (!o.output.summary.empty()) {
         auto parameters = io::frf_parameters(system, config ? nullptr : &p, hb, co);
-        if (config) parameters.emplace_back("force_scale", chosen.force_scale);  // the file's excitation times this
+        if (chosen.force_scale) parameters.emplace_back("force_scale", *chosen.force_scale);  // the file's excitation times this
         summary = std::make_unique<io::OutputFile>(o.output.summary);
         io::write_frf_summary(summary->stream(), law_name, parameters, branch, metrics, peaks, sample_count, seconds,
                               outputs, polish ? &*polish : nullptr, verdict.errors, verdict.warnings,

@@ -236,7 +236,7 @@ int run(const CLI::App& command, const MapOptions& o) {
         json j;
         j["command"] = "map";
         j["law"] = chosen.law_name;
-        if (chosen.config) j["force_scale"] = chosen.force_scale;
+        if (chosen.force_scale) j["force_scale"] = *chosen.force_scale;
         j["parameter"] = {{"name", o.param}, {"meaning", parameter.meaning()}, {"values", values}};
         j["output"] = columns.size() > 1 ? columns[1].name : "";
         j["ranks"] = mpi.size();

@@ -203,7 +203,7 @@ int run(const CLI::App& command, const ModesOptions& o) {
         json j;
         j["command"] = "modes";
         j["system"] = o.config.empty() ? chosen.law_name : o.config;
-        if (!o.config.empty()) j["force_scale"] = chosen.force_scale;
+        if (chosen.force_scale) j["force_scale"] = *chosen.force_scale;
         j["mode"] = b.linear.index;
         if (chosen.system.cyclic.active()) {
             j["sectors"] = chosen.system.cyclic.sectors;

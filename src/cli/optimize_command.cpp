@@ -314,7 +314,7 @@ int run(const CLI::App& command, const OptimizeOptions_& o) {
         json j;
         j["command"] = "optimize";
         j["law"] = chosen.law_name;
-        if (chosen.config) j["force_scale"] = chosen.force_scale;
+        if (chosen.force_scale) j["force_scale"] = *chosen.force_scale;
         j["parameter"] = {{"name", o.param}, {"meaning", parameter.meaning()}, {"range", {oo.lower, oo.upper}}};
         if (joint)
             j["parameter"]["wa"] = {{"meaning", "tuning ratio omega2/omega1, searched outside: each value gets a "

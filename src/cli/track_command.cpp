@@ -172,7 +172,7 @@ int run(const CLI::App& command, const TrackFlags& o) {
         json j;
         j["command"] = "track";
         j["law"] = chosen.law_name;
-        if (chosen.config) j["force_scale"] = chosen.force_scale;
+        if (chosen.force_scale) j["force_scale"] = *chosen.force_scale;
         j["feature"] = to_string(r.feature);
         j["output"] = value_name;
         j["parameter"] = {{"name", o.param}, {"meaning", parameter.meaning()}, {"range", {t.p_start, t.p_end}}};
