@@ -535,10 +535,10 @@ TEST_CASE("A stop (interrupt, time limit) ends the branch with status stopped an
     const BranchResult full = continue_branch(hb, whole);
     REQUIRE(full.status == ContinuationStatus::completed);
     REQUIRE(full.points.size() > 40);
-    // Asked at every step: stop at the 20th.
+    // Asked at every step and every corrector iteration: stop at the 80th question.
     ContinuationOptions o;
     int asked = 0;
-    o.stop = [&asked] { return ++asked >= 20 ? std::string("test stop") : std::string(); };
+    o.stop = [&asked] { return ++asked >= 80 ? std::string("test stop") : std::string(); };
     const BranchResult b = continue_branch(hb, o);
     CHECK(b.status == ContinuationStatus::stopped);
     CHECK_THAT(b.message, Catch::Contains("test stop"));

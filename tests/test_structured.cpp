@@ -250,6 +250,43 @@ TEST_CASE("Structured Jacobian: Newton with GMRES lands on the dense corrector's
     REQUIRE(std::abs(peak(structured, a) - peak(dense, b)) <= 0.02 * peak(dense, b));
 }
 
+TEST_CASE("A correction hears CorrectorOptions::stop between its iterations, by Newton with GMRES and by Ceres",
+          "[structured]") {
+    // From 10 % off the solution at w = 0.9 (stick-slip) each corrector needs several iterations;
+    // asked to stop, it ends unconverged after at most one, and converges again without the stop.
+    const System s = small_block();
+    for (const JacobianForm form : {JacobianForm::structured, JacobianForm::dense}) {
+        HarmonicBalance hb(s, options(5, form));
+        const double omega = 0.9;
+        const Eigen::VectorXd solution = solution_at(hb, omega);
+        const double scale = hb.unknown_scale(solution);
+        const Eigen::VectorXd start = 0.9 * solution;
+        CorrectorOptions co;
+        co.tolerance = 1e-11;
+        Eigen::VectorXd x = start;
+        int free_iterations = 0;
+        double residual = 0;
+        {
+            Corrector free(hb, co);
+            REQUIRE(free.solve_at(x, omega, scale, free_iterations, residual));
+        }
+        int asked = 0;
+        co.stop = [&asked]() {
+            ++asked;
+            return std::string("the test's stop");
+        };
+        Corrector stopped(hb, co);
+        x = start;
+        int iterations = 0;
+        INFO((form == JacobianForm::structured ? "structured" : "dense") << ": " << free_iterations
+                                                                           << " iterations without the stop");
+        CHECK(free_iterations >= 2);
+        CHECK_FALSE(stopped.solve_at(x, omega, scale, iterations, residual));
+        CHECK(asked >= 1);
+        CHECK(iterations <= 1);
+    }
+}
+
 TEST_CASE("Structured Jacobian with law unilateral: Newton with GMRES lands on the dense corrector's solutions "
           "through stick, slip and lift-off, and the FRF peak equals the dense one",
           "[structured]") {

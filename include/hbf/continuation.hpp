@@ -78,7 +78,8 @@ struct ContinuationOptions {
     /// folds at corners). May be empty; it must not throw.
     std::function<void(int done, int total)> fold_progress;
     /// Asked before each step, each restart, each solve of the search for a starting point (the
-    /// force ramp of a cold start among them) and each fold or transition to locate: a non-empty
+    /// force ramp of a cold start among them), each fold or transition to locate and, unless
+    /// corrector.stop is set, each iteration of a correction (CorrectorOptions::stop): a non-empty
     /// answer (why: an interrupt, a time limit) stops the continuation with status stopped, the
     /// points computed so far kept (folds and transitions not yet located stay unmarked). May be
     /// empty; it must not throw.

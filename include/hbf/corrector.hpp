@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -39,6 +40,11 @@ struct CorrectorOptions {
     TrustRegion trust_region = TrustRegion::levenberg_marquardt;  ///< Ceres trust-region strategy
     DenseSolver dense_solver = DenseSolver::normal_cholesky;                 ///< Ceres dense linear solver
     DenseLibrary dense_library = DenseLibrary::eigen;            ///< Ceres dense linear algebra
+    /// Asked after each iteration (Ceres) or before each Newton step (structured): a non-empty
+    /// answer ends the correction unconverged, so that an interrupt or a time limit is heard
+    /// within one iteration (a correction with many unknowns can take minutes). Empty: never
+    /// asked. The continuation sets it to ContinuationOptions::stop.
+    std::function<std::string()> stop;
 };
 
 /// Work counters of a Corrector.

@@ -664,8 +664,11 @@ void check_start_harmonics(int start_harmonics, int harmonics, int load_harmonic
                        ", from the excitation's harmonic " + std::to_string(load_harmonic) + " (0: automatic)");
 }
 
-BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& o) {
-    validate(o);
+BranchResult continue_branch(HarmonicBalance& hb, const ContinuationOptions& options) {
+    validate(options);
+    // Every correction hears the stop between its iterations, not only between corrections.
+    ContinuationOptions o = options;
+    if (!o.corrector.stop) o.corrector.stop = o.stop;
     detail::Stopwatch watch;
     const EvaluationStatistics before = hb.statistics();
     Corrector corrector(hb, o.corrector);

@@ -110,16 +110,18 @@ double evaluation_seconds(const EvaluationStatistics& s) {
 
 /// Ceres has no absolute residual test: stop as soon as |r|_2 = sqrt(2 cost) is below the
 /// tolerance (which implies |r|_inf below it), instead of iterating on at round-off level.
+/// CorrectorOptions::stop, asked after every iteration, aborts the solve.
 class ResidualTest final : public ceres::IterationCallback {
 public:
-    explicit ResidualTest(double tolerance) : tolerance_(tolerance) {}
+    ResidualTest(double tolerance, std::function<std::string()> stop) : tolerance_(tolerance), stop_(std::move(stop)) {}
     ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
-        return std::sqrt(2.0 * summary.cost) <= tolerance_ ? ceres::SOLVER_TERMINATE_SUCCESSFULLY
-                                                           : ceres::SOLVER_CONTINUE;
+        if (std::sqrt(2.0 * summary.cost) <= tolerance_) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+        return stop_ && !stop_().empty() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
     }
 
 private:
     double tolerance_;
+    std::function<std::string()> stop_;
 };
 
 /// The dense path: Ceres on the cost above.
@@ -132,7 +134,7 @@ struct CeresCorrector {
 
     CeresCorrector(HarmonicBalance& hb, const CorrectorOptions& o)
         : parameters(static_cast<std::size_t>(hb.unknowns() + 1)), cost(hb, parameters.data()),
-          problem(problem_options(&cost)), residual_test(o.tolerance) {
+          problem(problem_options(&cost)), residual_test(o.tolerance, o.stop) {
         problem.AddResidualBlock(&cost, nullptr, parameters.data());
         // Chosen by measurement (benchmarks/hb_branch, README): the dense normal-equations
         // Cholesky is twice as fast as QR at these sizes with identical results on a scan of
@@ -341,6 +343,7 @@ bool Corrector::Impl::correct_newton(Eigen::VectorXd& x, double& omega, const Ei
         residual = nm.r.cwiseAbs().maxCoeff() / f;
         if (residual <= options.tolerance) break;
         if (iterations >= options.max_iterations) return noise_limited(xk, wk, x_scale, residual) && (x = xk, omega = wk, true);
+        if (options.stop && !options.stop().empty()) return false;  // asked to stop: unconverged
         // Newton on [R; g] in (x, omega): rows 1..n divided by S, the last row times x_scale,
         // omega's step carried as mu = domega x_scale / omega_scale (a displacement, like x).
         const Eigen::VectorXd& s = nm.jacobian.row_scale();
