@@ -199,7 +199,7 @@ int run(const CLI::App& command, const FrfOptions& o) {
         for (const std::string& w : judged.warnings) overlay_verdict.warning("--overlay-timeint: " + w);
         for (const std::string& n : judged.notes) overlay_verdict.note("--overlay-timeint: " + n);
         if (stopped)
-            overlay_verdict.warning("--overlay-timeint was stopped (" + stop.function()() + ") after " +
+            overlay_verdict.warning("--overlay-timeint was stopped (" + stop.why() + ") after " +
                                     std::to_string(finished.size()) + " of " + std::to_string(grid.size()) +
                                     " check frequencies");
     }
