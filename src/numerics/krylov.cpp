@@ -52,8 +52,11 @@ bool gmres(const KrylovOperator& op, const Eigen::VectorXd& b, double eta, int m
         Eigen::VectorXd rhs = Eigen::VectorXd::Zero(j + 2);
         rhs(0) = beta;
         const Eigen::MatrixXd hj = h.topLeftCorner(j + 2, j + 1);
-        Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(hj);
+        // The threshold before the decomposition (set after it, solve() would apply Householder
+        // factors of Z the decomposition never formed where the new rank is smaller).
+        Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(hj.rows(), hj.cols());
         decomposition.setThreshold(1e-12);
+        decomposition.compute(hj);
         y = decomposition.solve(rhs);
         if (breakdown || (rhs - hj * y).norm() <= eta * beta) break;
     }

@@ -270,8 +270,12 @@ ExactOrbit detail::elastic_orbit(const System& system, double omega, const Eigen
         } else {
             const Eigen::MatrixXd matrix = unit.cwiseInverse().asDiagonal() *
                                            (at.monodromy - Eigen::MatrixXd::Identity(k, k)) * unit.asDiagonal();
-            Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(matrix);
+            // The threshold before the decomposition: the rank it finds decides which
+            // Householder factors of Z are formed, and solve() applies those of the rank the
+            // threshold gives (set after, a smaller rank applies factors never formed).
+            Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> decomposition(matrix.rows(), matrix.cols());
             decomposition.setThreshold(1e-12);
+            decomposition.compute(matrix);
             step = unit.cwiseProduct(decomposition.solve(rhs));
         }
         bool moved = false;
@@ -329,6 +333,7 @@ ExactOrbit detail::elastic_orbit(const System& system, double omega, const Eigen
             return fail(krylov_failure);
         out.max_multiplier = largest;
         out.stable = largest <= 1.0 + options.stability_tolerance;
+        out.multiplier_accuracy = difference_multiplier_accuracy;
         out.message += "; Newton-Krylov (GMRES on central differences of the period map, " +
                        std::to_string(newton_periods) + " periods) and the dominant multipliers by Arnoldi (" +
                        std::to_string(out.multipliers.size()) + " converged to about 1e-5 in " + std::to_string(steps) +
@@ -343,7 +348,12 @@ ExactOrbit detail::elastic_orbit(const System& system, double omega, const Eigen
         out.multipliers = Eigen::EigenSolver<Eigen::MatrixXd>(at.monodromy, false).eigenvalues();
         out.max_multiplier = out.multipliers.size() > 0 ? out.multipliers.cwiseAbs().maxCoeff() : 0.0;
         out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
+        if (differences) out.multiplier_accuracy = difference_multiplier_accuracy;
     }
+    if (out.stability_unresolved())
+        out.message += "; the largest multiplier " + format_number(out.max_multiplier) +
+                       " is within the differences' accuracy (" + format_number(out.multiplier_accuracy) +
+                       ") of 1: a neutral direction they cannot place, stability uncertain";
 
     // the orbit's metrics: one recorded period
     const ElasticIntegrator::Record f = plain.period(x, std::max(16 * flow.samples_per_period, record_samples));
