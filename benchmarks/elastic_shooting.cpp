@@ -129,7 +129,9 @@ int main(int argc, char** argv) {
         std::printf("  multipliers, largest |mu| (arg):");
         for (std::size_t k = 0; k < std::min<std::size_t>(sorted.size(), 10); ++k)
             std::printf(" %.6f (%+.4f)", std::abs(sorted[k]), std::arg(sorted[k]));
-        std::printf("\n  %s\n", r.stable ? "stable" : "UNSTABLE");
+        std::printf("\n  %s\n", r.stable                   ? "stable"
+                                 : r.stability_unresolved() ? "stability uncertain (within the differences' accuracy of 1)"
+                                                            : "UNSTABLE");
         for (std::size_t j = 0; j < outputs.size(); ++j)
             std::printf("  %s: mean %+.6e max %.6e amp1 %.6e\n", outputs[j].name().c_str(),
                         outputs[j].combine(r.displacement).mean(), r.output_max[j], r.output_amp1[j]);

@@ -42,6 +42,7 @@ py::list response_details(const std::vector<PeriodicResponse>& responses) {
         d["viscous_energy"] = r.viscous_energy;
         d["seconds"] = r.seconds;
         d["max_multiplier"] = r.max_multiplier;
+        d["multiplier_accuracy"] = r.multiplier_accuracy;
         details.append(d);
     }
     return details;

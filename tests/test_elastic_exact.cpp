@@ -188,6 +188,46 @@ TEST_CASE("elastic exact: on a permanently stuck orbit the multipliers are exp(l
     CHECK(orbit.max_multiplier == Approx(1.0).margin(1e-7));  // the held slider
 }
 
+TEST_CASE("elastic exact: multipliers by central differences carry their accuracy: on the permanently stuck orbit "
+          "each is within it of exp(lambda T), and the held slider's multiplier at 1 is never called unstable",
+          "[elastic_exact][stability]") {
+    const System s = liftoff3();
+    const double omega = 0.6;
+    const ExactOrbit own = orbit_from_rest(s, omega);  // the flow's own derivative
+    REQUIRE(own.permanent_stick);
+    CHECK(own.multiplier_accuracy == 0.0);
+    const ExactOrbit orbit = detail::elastic_orbit(s, omega, Eigen::VectorXd(), {}, detail::ElasticRoute::differences);
+    INFO(orbit.message);
+    REQUIRE(orbit.converged);
+    CHECK_THAT(orbit.message, Catch::Contains("central differences"));
+    CHECK(orbit.multiplier_accuracy == difference_multiplier_accuracy);
+    // Each multiplier by differences against the closed form's nearest (the flow's own
+    // derivative matches exp(lambda T) to 1e-7, previous test): the stated accuracy holds.
+    REQUIRE(orbit.multipliers.size() == own.multipliers.size());
+    double worst = 0.0;
+    for (Eigen::Index k = 0; k < orbit.multipliers.size(); ++k)
+        worst = std::max(worst, (own.multipliers.array() - orbit.multipliers(k)).abs().minCoeff());
+    INFO("largest gap to the flow's own multipliers " << worst << ", largest |mu| " << orbit.max_multiplier);
+    CHECK(worst <= orbit.multiplier_accuracy);
+    CHECK(std::abs(orbit.max_multiplier - 1.0) <= orbit.multiplier_accuracy);  // the held slider's 1
+    CHECK((orbit.stable || orbit.stability_unresolved()));
+    // The verdict's band: above 1 + stability_tolerance, within the accuracy of 1 is uncertain;
+    // beyond it, unstable; the summary line says which.
+    ExactOrbit near = orbit, beyond = orbit;
+    near.max_multiplier = 1.0 + 0.5 * difference_multiplier_accuracy;
+    near.stable = false;
+    beyond.max_multiplier = 1.0 + 2.0 * difference_multiplier_accuracy;
+    beyond.stable = false;
+    CHECK(near.stability_unresolved());
+    CHECK_THAT(near.summary(), Catch::Contains("stability uncertain"));
+    CHECK(!beyond.stability_unresolved());
+    CHECK_THAT(beyond.summary(), Catch::Contains("unstable"));
+    ExactOrbit exact_route = beyond;  // the flow's own multipliers: 1 + stability_tolerance decides
+    exact_route.max_multiplier = near.max_multiplier;
+    exact_route.multiplier_accuracy = 0.0;
+    CHECK(!exact_route.stability_unresolved());
+}
+
 TEST_CASE("elastic exact: an unstable orbit (liftoff3.toml at w = 2.2, where time integration settles nowhere): a "
           "perturbation grows by the largest multiplier each period",
           "[elastic_exact]") {

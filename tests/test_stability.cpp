@@ -131,6 +131,28 @@ Growth perturbed_growth(const System& s, double omega, const Eigen::VectorXd& st
     return g;
 }
 
+/// A completed FRF of these points, every one polished (its exact points `polish`).
+FrfResult polished_frf(const std::vector<SolutionPoint>& points, const std::vector<ExactPoint>& polish) {
+    FrfResult frf;
+    frf.branch.status = ContinuationStatus::completed;
+    frf.points = points;
+    frf.metrics.resize(points.size());
+    frf.exact = polish;
+    frf.polish = PolishedBranch{};
+    frf.polish->polished = static_cast<int>(points.size());
+    return frf;
+}
+
+/// An FRF's verdict without peaks, which has neither errors nor warnings.
+Verdict judged_quietly(const FrfResult& frf) {
+    FrfSettings settings;
+    settings.peaks = false;
+    Verdict v = judge_frf(frf, settings);
+    CHECK(v.errors.empty());
+    CHECK(v.warnings.empty());
+    return v;
+}
+
 }  // namespace
 
 TEST_CASE("Floquet multipliers of a linear Dahl oscillator: Hill and the monodromy against the closed form",
@@ -704,24 +726,14 @@ TEST_CASE("An exact orbit whose multipliers are unknown is neither stable nor un
     CHECK(std::stod(rows[3][margin]) == 1.5);
     // the FRF's verdict without --stability: the polish's unknown verdicts are noted, with the
     // first one's w and message; with --stability its own note says it instead
-    FrfResult frf;
-    frf.branch.status = ContinuationStatus::completed;
-    frf.points = points;
-    frf.metrics.resize(margins.size());
-    frf.exact = polish;
-    frf.polish = PolishedBranch{};
-    frf.polish->polished = static_cast<int>(margins.size());
+    FrfResult frf = polished_frf(points, polish);
     frf.polish->stability_unknown = 1;
-    FrfSettings settings;
-    settings.peaks = false;
-    const Verdict polished = judge_frf(frf, settings);
-    CHECK(polished.errors.empty());
-    CHECK(polished.warnings.empty());
+    const Verdict polished = judged_quietly(frf);
     REQUIRE(polished.notes.size() == 1);
     CHECK_THAT(polished.notes[0], Catch::Contains("1 exact point(s) of unknown stability") &&
                                       Catch::Contains("the first at w = 1.1: the orbit's message 1"));
     frf.stability = b;
-    const Verdict analysed = judge_frf(frf, settings);
+    const Verdict analysed = judged_quietly(frf);
     REQUIRE(analysed.notes.size() == 1);
     CHECK_THAT(analysed.notes[0], Catch::Contains("stable = uncertain (or empty) have no verdict"));
     // hbf timeint --method exact's verdict: a note for each kind, no warning, no error
@@ -750,4 +762,71 @@ TEST_CASE("An exact orbit whose multipliers are unknown is neither stable nor un
     const Verdict judged = judge_sweep(s, responses, TimeIntegrationOptions{}, &loose);
     REQUIRE(judged.notes.size() == 1);
     CHECK_THAT(judged.notes[0], Catch::Contains("1 of 3 exact orbits have an unknown stability"));
+}
+
+TEST_CASE("An exact orbit whose largest multiplier, from central differences, is within their accuracy of 1 is "
+          "uncertain, not unstable", "[stability][exact]") {
+    // The block example's offset orbit at 17,900 rad/s: 1.0017 by Arnoldi on differences, an orbit
+    // the integrator settles on (a neutral direction); its symmetric orbit: 1.0064, unstable. The
+    // same 1.0017 from the flow's own derivative (accuracy 0) is unstable.
+    const std::vector<double> margins = {1.0017, 1.0064, 1.0017};
+    const std::vector<double> accuracy = {difference_multiplier_accuracy, difference_multiplier_accuracy, 0.0};
+    const System s = linear_dahl(0.1);
+    HarmonicBalance hb(s, {5, 0});
+    std::vector<SolutionPoint> points(margins.size());
+    std::vector<ExactPoint> polish(margins.size());
+    std::vector<PeriodicResponse> responses(margins.size());
+    for (std::size_t k = 0; k < margins.size(); ++k) {
+        ExactOrbit orbit;
+        orbit.converged = true;
+        orbit.max_multiplier = margins[k];
+        orbit.stable = margins[k] <= 1.0 + ExactOptions{}.stability_tolerance;
+        orbit.multiplier_accuracy = accuracy[k];
+        points[k].omega = responses[k].omega = 1.0 + 0.1 * static_cast<double>(k);
+        points[k].x = Eigen::VectorXd::Zero(hb.unknowns());
+        polish[k].status = PolishStatus::exact;
+        polish[k].max_multiplier = responses[k].max_multiplier = margins[k];
+        polish[k].stable = orbit.stable;
+        polish[k].stability_unresolved = orbit.stability_unresolved();
+        polish[k].multipliers = Eigen::VectorXcd::Constant(1, margins[k]);
+        responses[k].multiplier_accuracy = accuracy[k];
+        responses[k].converged = true;
+    }
+    REQUIRE(polish[0].stability_unresolved);
+    REQUIRE(!polish[1].stability_unresolved);
+    REQUIRE(!polish[2].stability_unresolved);
+    const BranchStability b = analyse_branch_stability(hb, points, StabilityOptions{}, &polish);
+    REQUIRE(b.points.size() == margins.size());
+    CHECK(b.points[0].stability == Stability::uncertain);
+    CHECK_THAT(b.points[0].message, Catch::Contains("accuracy"));
+    CHECK(b.points[1].stability == Stability::unstable);
+    CHECK(b.points[2].stability == Stability::unstable);
+    // the FRF's table (the polish alone)
+    std::ostringstream csv;
+    io::write_frf_csv(csv, points, std::vector<PointMetrics>(margins.size()), {}, polish);
+    const auto rows = test::parse_csv(csv.str());
+    REQUIRE(rows.size() == margins.size() + 1);
+    const auto at = std::find(rows[0].begin(), rows[0].end(), std::string("stable"));
+    REQUIRE(at != rows[0].end());
+    const auto stable = static_cast<std::size_t>(at - rows[0].begin());
+    CHECK(rows[1][stable] == "uncertain");
+    CHECK(rows[2][stable] == "false");
+    CHECK(rows[3][stable] == "false");
+    // the FRF's verdict without --stability: a note with the first such point
+    FrfResult frf = polished_frf(points, polish);
+    frf.polish->stability_unresolved = 1;
+    frf.polish->unstable = 2;
+    const Verdict polished = judged_quietly(frf);
+    REQUIRE(polished.notes.size() == 1);
+    CHECK_THAT(polished.notes[0], Catch::Contains("1 exact point(s) of uncertain stability (the first at w = 1, "
+                                                  "largest multiplier 1.0017)") &&
+                                      Catch::Contains("stable = uncertain"));
+    // hbf timeint --method exact's verdict: the uncertain one apart from the two unstable ones
+    const ExactOptions solver;
+    const Verdict v = judge_sweep(s, responses, TimeIntegrationOptions{}, &solver);
+    CHECK(v.errors.empty());
+    CHECK(v.warnings.empty());
+    REQUIRE(v.notes.size() == 2);
+    CHECK_THAT(v.notes[0], Catch::Contains("2 of 3 exact orbits are unstable") && Catch::Contains("the largest, 1.0064,"));
+    CHECK_THAT(v.notes[1], Catch::Contains("1 of 3 exact orbits have an uncertain stability (the first at w = 1)"));
 }

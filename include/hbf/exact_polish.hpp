@@ -61,6 +61,9 @@ struct ExactPoint {
     /// Largest |Floquet multiplier|; NaN where the orbit's multipliers could not be computed
     /// (stable false, stability unknown: the message says why).
     double max_multiplier = 0;
+    /// The largest |multiplier| is above 1 + the stability tolerance but within the multipliers'
+    /// accuracy of 1 (ExactOrbit::stability_unresolved): stable false, stability uncertain.
+    bool stability_unresolved = false;
     Eigen::VectorXcd multipliers; ///< the exact orbit's Floquet multipliers (status exact only)
     /// |y_max[dof] by HB - y_max[dof] exact| / y_max[dof] exact; NaN where there is no HB
     /// solution at this frequency (an exact transition whose HB correction failed) or no
@@ -81,6 +84,9 @@ struct PolishedBranch {
     /// Polished points whose multipliers could not be computed (max_multiplier NaN): their
     /// stability is unknown, counted neither stable nor unstable.
     int stability_unknown = 0;
+    /// Polished points whose largest multiplier is within the multipliers' accuracy above 1
+    /// (ExactPoint::stability_unresolved): stability uncertain, counted neither stable nor unstable.
+    int stability_unresolved = 0;
     /// Modes of the modal form the exact solver ran on (modal_exact.hpp: models beyond
     /// exact_solver_max_dofs), 0 where it ran on the structure itself.
     int modes = 0;

@@ -248,6 +248,14 @@ struct PeriodicResponse {
     /// time integration leaves it); NaN where not computed, and where a converged orbit's
     /// multipliers could not be (its stability unknown: the message says why).
     double max_multiplier = std::numeric_limits<double>::quiet_NaN();
+    /// exact_steady_state only: the multipliers' accuracy (ExactOrbit::multiplier_accuracy). A
+    /// max_multiplier above 1 + the stability tolerance but at most 1 + this is a neutral
+    /// direction the multipliers cannot place: stability uncertain (stability_unresolved).
+    double multiplier_accuracy = 0;
+    /// Converged, max_multiplier above 1 + stability_tolerance and within multiplier_accuracy of 1.
+    bool stability_unresolved(double stability_tolerance) const {
+        return converged && max_multiplier > 1.0 + stability_tolerance && max_multiplier <= 1.0 + multiplier_accuracy;
+    }
     /// Marks this response stopped after `periods` periods for `why` (the message says so).
     void stop_after(int periods, const std::string& why);
 

@@ -741,9 +741,10 @@ def timeint(system, w, *, outputs=None, options=None, method=None, symmetric=Fal
     options/values: TimeIntegrationOptions (C++ names, e.g. relative_tolerance=1e-9,
     max_periods=500). Returns a Table with hbf timeint's columns, plus ``responses`` (per
     frequency a dict with converged, message, state, t, y, velocity, friction_force: one period
-    of samples) and status/errors/warnings: failed where a point did not converge, incomplete
+    of samples; method exact also max_multiplier and multiplier_accuracy, above 1 by less than
+    which the largest multiplier leaves the stability uncertain) and status/errors/warnings: failed where a point did not converge, incomplete
     where converged points fail the energy balance (as hbf timeint's exit codes 1 and 3); ``notes``
-    as hbf timeint's (method exact: the unstable orbits, those of unknown stability, those Newton
+    as hbf timeint's (method exact: the unstable orbits, those of unknown or uncertain stability, those Newton
     left at the flow's rounding above the tolerance)."""
     _check_system(system)
     o = TimeIntegrationOptions() if options is None else _copy(options, TimeIntegrationOptions)
@@ -788,7 +789,7 @@ def exact_branch(system, wmin, wmax, *, points=101, outputs=None, tolerance=1e-1
     row of the turn), ``corners`` (w where the branch's tangent turns), ``branch_status``
     (completed, incomplete, stopped, failed) and ``message`` (where and why it ended), and
     status/errors/warnings as hbf timeint's exit codes (an IncompleteResultWarning unless
-    completed); ``notes`` as hbf timeint's (unstable orbits, unknown stability, orbits at the
+    completed); ``notes`` as hbf timeint's (unstable orbits, unknown or uncertain stability, orbits at the
     flow's rounding above the tolerance)."""
     _check_system(system)
     selected = _outputs(system, outputs) if outputs is not None else []

@@ -225,17 +225,20 @@ int run(const CLI::App& command, const TimeintOptions& o) {
         io::PlotCurve unstable{"unstable (a Floquet multiplier above 1)", {}, {}, io::PlotCurve::Style::markers, 1};
         io::PlotCurve failed{"not converged", {}, {}, io::PlotCurve::Style::markers, 3};
         io::PlotCurve unknown{"stability unknown (multipliers not computed)", {}, {}, io::PlotCurve::Style::markers, 12};
+        io::PlotCurve uncertain{"stability uncertain (a multiplier at 1 within the differences' accuracy)", {}, {},
+                                io::PlotCurve::Style::markers, 10};
         for (const PeriodicResponse& r : responses) {
             line.x.push_back(r.omega);
             line.y.push_back(r.output_max.front());
             io::PlotCurve& marks = !r.converged                                                    ? failed
                                    : exact && !std::isfinite(r.max_multiplier)                     ? unknown
+                                   : r.stability_unresolved(eo.stability_tolerance)                ? uncertain
                                    : r.max_multiplier > 1.0 + eo.stability_tolerance               ? unstable
                                                                                                    : converged;
             marks.x.push_back(r.omega);
             marks.y.push_back(r.output_max.front());
         }
-        spec.curves = {line, converged, unstable, unknown, failed};
+        spec.curves = {line, converged, unstable, unknown, uncertain, failed};
         io::write_plot(o.output.plot, spec);  // before the CSV is committed: a failed plot leaves no output
     }
     out.commit();

@@ -252,8 +252,14 @@ std::string ExactOrbit::summary() const {
     s << "w = " << format_number(omega) << ": " << (converged ? "converged" : "not converged") << " (" << message
       << "), " << iterations << " Newton iterations, residual " << format_number(residual);
     if (!y_max.empty()) s << ", y1_max = " << format_number(y_max.front());
-    s << ", " << regime << ", " << (stable ? "stable" : "unstable") << " (max |multiplier| "
-      << format_number(max_multiplier) << ")";
+    s << ", " << regime << ", "
+      << (!std::isfinite(max_multiplier) ? "stability unknown"
+          : stable                       ? "stable"
+          : stability_unresolved()       ? "stability uncertain"
+                                         : "unstable")
+      << " (max |multiplier| " << format_number(max_multiplier);
+    if (stability_unresolved()) s << ", within the multipliers' accuracy " << format_number(multiplier_accuracy) << " of 1";
+    s << ")";
     return s.str();
 }
 

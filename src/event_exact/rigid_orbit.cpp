@@ -1592,6 +1592,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                             const double symmetric_largest = ns > 0 ? symmetric_values.cwiseAbs().maxCoeff() : 0.0;
                             out.max_multiplier = std::max({ritz.largest, symmetric_largest, kept.empty() ? 0.0 : 1.0});
                             out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
+                            out.multiplier_accuracy = difference_multiplier_accuracy;
                             // The tolerance bounds the Ritz residuals of the differences' map, not the
                             // multipliers' error: where events part at the orbit (mirror-image nodes,
                             // grazing ones) the period map is only piecewise smooth there, and
@@ -1626,6 +1627,11 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                                       : "; the flow's derivative differs from them by " +
                                                                             format_number(mismatch.share) + " along a test direction)") +
                                                unsplit;
+                            if (out.stability_unresolved())
+                                out.message += "; the largest multiplier " + format_number(out.max_multiplier) +
+                                               " is within the differences' accuracy (" +
+                                               format_number(out.multiplier_accuracy) +
+                                               ") of 1: a neutral direction they cannot place, stability uncertain";
                             return out;
                         }
                     }

@@ -16,6 +16,7 @@
 #include "hbf/absorber.hpp"
 #include "hbf/contact_law.hpp"
 #include "hbf/error.hpp"
+#include "hbf/event_exact.hpp"
 
 namespace hbf::io {
 
@@ -298,14 +299,15 @@ std::vector<Column> frf_columns(const std::vector<Output>& outputs, int contacts
         {"iterations", "corrector (Ceres) iterations of this point", ColumnType::integer},
         {"residual", "|R|_inf / force scale after correction"},
         {"step", "arclength step that led to this point"},
-        {"exact", "yes: the row is the event-exact periodic orbit at w (Newton shooting with exact stick/slip "
-                  "events; coulomb and jenkins), its metrics replace HB's; failed: the exact solver did not "
+        {"exact", "yes: the row is the event-exact periodic orbit at w (Newton shooting with the contacts' "
+                  "events located exactly), its metrics replace HB's; failed: the exact solver did not "
                   "converge here, the row keeps the HB values; off: plain harmonic balance (--exact off or another law)",
                   ColumnType::text},
         {"stable", "Floquet stability of the periodic solution: true (every |multiplier| <= 1 + 1e-6), false "
                    "(unstable: a small perturbation grows), uncertain (the two routes of --stability disagree, or "
                    "the exact solver did not reproduce the HB orbit, or the exact orbit's multipliers could not be "
-                   "computed); from the exact orbit where exact = yes, from "
+                   "computed, or its largest one, from central differences of the period map, is above 1 by less than "
+                   "their accuracy of " + format_number(difference_multiplier_accuracy) + ": a neutral direction they cannot place); from the exact orbit where exact = yes, from "
                    "--stability otherwise (empty without it)", ColumnType::text},
         {"hb_gap", "|y_max by HB - y_max exact| / y_max exact of the first reported output: harmonic balance's own "
                    "error at this point; empty unless exact = yes (and an HB solution exists at this w)"},
@@ -376,7 +378,7 @@ Table frf_table(const std::vector<SolutionPoint>& points, const std::vector<Poin
             const ExactPoint& e = exact[k];
             row.insert(row.end(), {std::string("yes"),
                                    floquet                                ? to_string(floquet->stability)
-                                   : !std::isfinite(e.max_multiplier) ? to_string(Stability::uncertain)
+                                   : !std::isfinite(e.max_multiplier) || e.stability_unresolved ? to_string(Stability::uncertain)
                                    : e.stable                         ? "true"
                                                                       : "false",
                                    std::isfinite(e.hb_gap) ? Cell(e.hb_gap) : Cell()});
@@ -437,7 +439,8 @@ std::vector<Column> timeint_columns(const std::vector<Output>& outputs, int cont
         {"stick_margin_max", "max of the stick indicator (< 0: full stick; coulomb also at each velocity reversal)"},
         {"switches", "stick/slip mode changes of all contacts in the final period", ColumnType::integer},
         {"max_multiplier", "--method exact: the orbit's largest |Floquet multiplier| (above 1 + 1e-6: unstable, a "
-                           "time integration there goes to another response); empty for time integration, and where the "
+                           "time integration there goes to another response; where the multipliers come from central "
+                           "differences of the period map, up to 1 + " + format_number(difference_multiplier_accuracy) + " is their accuracy: stability uncertain); empty for time integration, and where the "
                            "orbit's multipliers could not be computed (its stability unknown: said on standard error)"},
     };
     columns.insert(columns.end(), rest.begin(), rest.end());

@@ -79,6 +79,7 @@ ExactPoint exact_point(const ExactOrbit& orbit, const PointMetrics& hb, int dof)
     e.status = PolishStatus::exact;
     e.stable = orbit.stable;
     e.max_multiplier = orbit.max_multiplier;
+    e.stability_unresolved = orbit.stability_unresolved();
     e.multipliers = orbit.multipliers;
     const bool output = !orbit.output_max.empty();
     const double exact = output ? orbit.output_max.front() : orbit.y_max[static_cast<std::size_t>(dof)];
@@ -297,7 +298,9 @@ std::string PolishedBranch::summary() const {
           << " at w = " << format_number(truncation_omega) << ")";
     s << ": " << polished << " points exact, " << failed << " failed (HB values kept), " << unstable
       << " unstable, "
-      << (stability_unknown > 0 ? std::to_string(stability_unknown) + " of unknown stability, " : std::string()) << transitions << " transitions" << per_contact_counts(contact_transitions)
+      << (stability_unknown > 0 ? std::to_string(stability_unknown) + " of unknown stability, " : std::string())
+      << (stability_unresolved > 0 ? std::to_string(stability_unresolved) + " of uncertain stability, " : std::string())
+      << transitions << " transitions" << per_contact_counts(contact_transitions)
       << (unlocated_transitions > 0 ? " (" + std::to_string(unlocated_transitions) + " more not located)" : std::string())
       << ", largest HB gap " << format_number(max_hb_gap) << ", "
       << format_number(seconds) << " s";
@@ -671,6 +674,7 @@ PolishedBranch polish_branch(HarmonicBalance& hb, const std::vector<SolutionPoin
             if (q.exact.status == PolishStatus::exact) {
                 ++out.polished;
                 if (!std::isfinite(q.exact.max_multiplier)) ++out.stability_unknown;
+                else if (q.exact.stability_unresolved) ++out.stability_unresolved;
                 else if (!q.exact.stable) ++out.unstable;
                 if (std::isfinite(q.exact.hb_gap)) out.max_hb_gap = std::max(out.max_hb_gap, q.exact.hb_gap);
             } else if (q.exact.status == PolishStatus::failed) {

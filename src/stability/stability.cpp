@@ -214,6 +214,13 @@ FloquetResult StabilityAnalyser::operator()(const SolutionPoint& point) {
             r.message = "the exact orbit's multipliers could not be computed: " + orbit.message;
             return r;
         }
+        if (orbit.stability_unresolved()) {
+            r.stability = Stability::uncertain;
+            r.message = "the largest multiplier " + format_number(orbit.max_multiplier) +
+                        " is within the exact orbit's multipliers' accuracy (" + format_number(orbit.multiplier_accuracy) +
+                        ", central differences of the period map) of 1";
+            return r;
+        }
         r.stability = orbit.stable ? Stability::stable : Stability::unstable;
         return r;
     }
@@ -385,7 +392,12 @@ BranchStability analyse_branch_stability(HarmonicBalance& hb, const std::vector<
                 r.stability = Stability::uncertain;
                 r.message = "the exact orbit's multipliers could not be computed: " + e.message;
             } else if (e.status == PolishStatus::exact) {
-                r.stability = e.stable ? Stability::stable : Stability::unstable;
+                r.stability = e.stability_unresolved ? Stability::uncertain
+                              : e.stable             ? Stability::stable
+                                                     : Stability::unstable;
+                if (e.stability_unresolved)
+                    r.message = "the largest multiplier is within the exact orbit's multipliers' accuracy of 1 "
+                                "(central differences of the period map)";
                 r.margin = e.max_multiplier;
                 r.multipliers = e.multipliers;
             } else {

@@ -310,6 +310,18 @@ Verdict judge_frf(const FrfResult& frf, const FrfSettings& settings) {
                           " exact point(s) of unknown stability (their Floquet multipliers could not be computed): "
                           "stable = uncertain in the CSV" + first);
     }
+    if (!frf.stability && frf.polish && frf.polish->stability_unresolved > 0) {
+        std::string first;
+        for (std::size_t k = 0; k < frf.exact.size() && k < frf.points.size() && first.empty(); ++k)
+            if (frf.exact[k].status == PolishStatus::exact && frf.exact[k].stability_unresolved)
+                first = " (the first at w = " + format_number(frf.points[k].omega) + ", largest multiplier " +
+                        format_number(frf.exact[k].max_multiplier) + ")";
+        v.notes.push_back(std::to_string(frf.polish->stability_unresolved) +
+                          " exact point(s) of uncertain stability" + first +
+                          ": their largest multiplier, from central differences of the period map, is above 1 by less "
+                          "than the differences' accuracy (" + format_number(difference_multiplier_accuracy) +
+                          "), a neutral direction they cannot place: stable = uncertain in the CSV");
+    }
     // A refined peak between two branch points may climb past the amplitude cap the branch
     // points respect: a resonance unbounded as far as the cap goes, never a completed FRF.
     const double cap = settings.continuation.max_amplitude;

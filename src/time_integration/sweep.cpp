@@ -56,7 +56,10 @@ PeriodicResponse orbit_response(const ExactOrbit& orbit, double omega, int perio
     r.switches = orbit.switches;
     r.energy = orbit.energy;
     r.input_energy = orbit.input_energy;
-    if (orbit.converged) r.max_multiplier = orbit.max_multiplier;
+    if (orbit.converged) {
+        r.max_multiplier = orbit.max_multiplier;
+        r.multiplier_accuracy = orbit.multiplier_accuracy;
+    }
     if (!orbit.stopped.empty()) r.stop_after(periods, orbit.stopped);
     return r;
 }
@@ -392,10 +395,12 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
     // An exact orbit that is unstable is a periodic solution the structure would leave: said, by
     // count and the largest multiplier (a time integration there goes elsewhere).
     if (exact) {
-        int unstable = 0;
-        double largest = 0.0, largest_w = 0.0;
+        int unstable = 0, unresolved = 0;
+        double largest = 0.0, largest_w = 0.0, unresolved_w = 0.0;
         for (const PeriodicResponse& r : responses)
-            if (r.converged && r.max_multiplier > 1.0 + exact->stability_tolerance) {
+            if (r.stability_unresolved(exact->stability_tolerance)) {
+                if (unresolved++ == 0) unresolved_w = r.omega;
+            } else if (r.converged && r.max_multiplier > 1.0 + exact->stability_tolerance) {
                 ++unstable;
                 if (r.max_multiplier > largest) {
                     largest = r.max_multiplier;
@@ -436,6 +441,12 @@ Verdict judge_sweep(const System& system, const std::vector<PeriodicResponse>& r
                    " exact orbits are unstable (a Floquet multiplier above 1; the largest, " + format_number(largest) +
                    ", at w = " + format_number(largest_w) +
                    "): periodic solutions the structure leaves, where a time integration goes to another response");
+        if (unresolved > 0)
+            v.note(std::to_string(unresolved) + " of " + std::to_string(responses.size()) +
+                   " exact orbits have an uncertain stability (the first at w = " + format_number(unresolved_w) +
+                   "): their largest multiplier, from central differences of the period map, is above 1 by less than "
+                   "the differences' accuracy (" + format_number(difference_multiplier_accuracy) +
+                   "): a neutral direction they cannot place");
     }
     // Energy balance of the exact solver's steady states: input work = viscous + friction
     // energy per period, relative to the work the force could do on the first harmonic (it does
