@@ -243,6 +243,13 @@ void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOp
     }
 }
 
+void note_unresolved_stability(ExactOrbit& out) {
+    if (out.stability_unresolved())
+        out.message += "; the largest multiplier " + format_number(out.max_multiplier) +
+                       " is within the differences' accuracy (" + format_number(out.multiplier_accuracy) +
+                       ") of 1: a neutral direction they cannot place, stability uncertain";
+}
+
 }  // namespace hbf::detail::exact
 
 namespace hbf {

@@ -58,4 +58,8 @@ struct Probes {
 void fill_metrics(Engine& e, const Engine::Flow& flow, double t_s, const ExactOptions& options, ExactOrbit& out,
                   Probes* probes = nullptr);
 
+/// Where the orbit's largest multiplier is within its multipliers' accuracy of 1
+/// (ExactOrbit::stability_unresolved), says so in its message.
+void note_unresolved_stability(ExactOrbit& out);
+
 }  // namespace hbf::detail::exact

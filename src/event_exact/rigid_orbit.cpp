@@ -1627,11 +1627,7 @@ ExactOrbit shoot(E& e, const System& system, double omega, const VectorXd& initi
                                                                       : "; the flow's derivative differs from them by " +
                                                                             format_number(mismatch.share) + " along a test direction)") +
                                                unsplit;
-                            if (out.stability_unresolved())
-                                out.message += "; the largest multiplier " + format_number(out.max_multiplier) +
-                                               " is within the differences' accuracy (" +
-                                               format_number(out.multiplier_accuracy) +
-                                               ") of 1: a neutral direction they cannot place, stability uncertain";
+                            detail::exact::note_unresolved_stability(out);
                             return out;
                         }
                     }

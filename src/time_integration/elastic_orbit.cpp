@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "event_exact/metrics.hpp"
 #include "numerics/krylov.hpp"
 #include "time_integration/elastic_contacts.hpp"
 #include "time_integration/elastic_integrator.hpp"
@@ -350,10 +351,7 @@ ExactOrbit detail::elastic_orbit(const System& system, double omega, const Eigen
         out.stable = out.max_multiplier <= 1.0 + options.stability_tolerance;
         if (differences) out.multiplier_accuracy = difference_multiplier_accuracy;
     }
-    if (out.stability_unresolved())
-        out.message += "; the largest multiplier " + format_number(out.max_multiplier) +
-                       " is within the differences' accuracy (" + format_number(out.multiplier_accuracy) +
-                       ") of 1: a neutral direction they cannot place, stability uncertain";
+    detail::exact::note_unresolved_stability(out);
 
     // the orbit's metrics: one recorded period
     const ElasticIntegrator::Record f = plain.period(x, std::max(16 * flow.samples_per_period, record_samples));
