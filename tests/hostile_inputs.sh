@@ -512,12 +512,22 @@ manual() {
 }
 leftovers() { find "$M" -name '*.tmp*' | head -3; }
 # SIGTERM, SIGINT and SIGHUP during the computation: the frequencies done are written with a
-# warning naming the signal (exit 3), and no temporary file is left.
+# warning naming the signal (exit 3), and no temporary file is left. The signal is sent once hbf
+# itself catches it (/proc's SigCgt of the process running $HBF): a fixed delay raced a slow
+# start (a sanitizer build under load took more than a second to install its handler).
+handler_installed() {  # PID SIGNAL_NUMBER
+  [[ $(readlink "/proc/$1/exe" 2>/dev/null) == "$HBF" ]] || return 1
+  local mask
+  mask=$(awk '/^SigCgt:/ {print $2}' "/proc/$1/status" 2>/dev/null)
+  [[ -n $mask ]] && (((16#$mask >> ($2 - 1)) & 1))
+}
 for sig in TERM INT HUP; do
   manual "SIG$sig during hbf timeint"
   (cd "$M" && exec "$HBF" timeint --wmin 0.5 --wmax 1.6 --points 400 --out o.csv 2>"$WORK/err") &
   pid=$!
-  sleep 1
+  for _ in $(seq 600); do handler_installed "$pid" "$(kill -l "$sig")" && break; sleep 0.1; done
+  handler_installed "$pid" "$(kill -l "$sig")" || fail "SIG$sig: hbf did not catch the signal within 60 s"
+  sleep 0.2
   kill -s "$sig" "$pid" 2>/dev/null
   { wait "$pid"; } 2>/dev/null
   got=$?
